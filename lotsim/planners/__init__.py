@@ -1,0 +1,1 @@
+"""Planners: parking maneuvers and cooperative multi-vehicle search (later issues)."""
