@@ -183,7 +183,7 @@ def fillet_polyline(points: ArrayLike, radius: float) -> list[Segment]:
             f"{cut_in[i] + cut_out[i]:.2f} m"
         )
     segments: list[Segment] = []
-    for i, (leg_len, h) in enumerate(zip(lengths, headings)):
+    for i, (leg_len, h) in enumerate(zip(lengths, headings, strict=True)):
         a = p[i] + cut_in[i] * np.array([math.cos(h), math.sin(h)])
         straight = leg_len - cut_in[i] - cut_out[i]
         if straight > 1e-9:

@@ -1,0 +1,1 @@
+"""Reading and writing files: scenario YAML in, results out."""

@@ -1,0 +1,363 @@
+"""The lot graph: a :class:`networkx.DiGraph` a car can actually drive.
+
+Nodes are poses ``(x, y, theta)`` along the aisle lanes (integers, with
+attributes ``pose``, ``kind``, ``lane``, ``station``), plus one node per slot.
+Edges are pieces of path at constant curvature (``segment``, a
+:class:`~lotsim.geometry.Segment`) with ``length`` [m], ``gear`` (+1 forward,
+-1 reverse), ``speed_limit`` [m/s] and ``kind``:
+
+* ``lane`` — along a lane; straights and arcs no tighter than the lane's bend;
+* ``turn`` — a minimum-radius-or-wider arc from one aisle's lane into another's
+  where the aisles meet;
+* ``join`` — a lane that continues as another (zero length);
+* ``park`` / ``leave`` — from a slot's attachment pose on a lane into the slot
+  and back. Until the maneuver planner fills them in they are marked
+  ``placeholder=True`` and carry no segment.
+
+Every edge's geometry is tangent-continuous with its nodes' headings, and every
+turn and lane is swept with the design vehicle against slots, areas and the
+boundary before it is added.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import networkx as nx
+import numpy as np
+import shapely
+
+from lotsim.geometry import Pose, Segment, wrap_angle
+from lotsim.lot.build import SWEEP_STEP, lane_collider
+from lotsim.lot.clearance import Collider
+from lotsim.lot.model import Lane, Lot, Slot, unit
+
+TURN_RADIUS_FACTORS = (1.0, 1.25, 1.5, 2.0, 3.0)
+"""Junction turns try these multiples of the design radius, tightest first."""
+_EPS = 1e-6
+
+
+@dataclass(frozen=True, slots=True)
+class Turn:
+    """A junction arc from ``lane_a`` at ``station_a`` into ``lane_b`` at ``station_b``."""
+
+    lane_a: str
+    station_a: float
+    lane_b: str
+    station_b: float
+    segment: Segment
+
+
+@dataclass(frozen=True, slots=True)
+class Reachability:
+    """What cannot be driven to.
+
+    ``unreachable[entrance]`` lists the free slots that cannot be reached from
+    that entrance; ``stranded[exit]`` the slots from which that exit cannot be
+    reached. Both are empty in a good lot.
+    """
+
+    unreachable: dict[str, list[str]]
+    stranded: dict[str, list[str]]
+
+    @property
+    def ok(self) -> bool:
+        return not any(self.unreachable.values()) and not any(self.stranded.values())
+
+
+@dataclass
+class LotGraph:
+    """A lot with its drivable graph.
+
+    Attributes
+    ----------
+    lot : Lot
+    graph : networkx.DiGraph
+    entrances, exits : dict
+        Portal id → node.
+    slot_nodes : dict
+        Slot id → slot node.
+    attachments : dict
+        Slot id → lane nodes where its parking maneuver begins.
+    skipped_turns : list of str
+        Junction turns that no radius could make collision-free, with the reason.
+    """
+
+    lot: Lot
+    graph: nx.DiGraph
+    entrances: dict[str, int]
+    exits: dict[str, int]
+    slot_nodes: dict[str, int]
+    attachments: dict[str, list[int]] = field(default_factory=dict)
+    skipped_turns: list[str] = field(default_factory=list)
+
+    def reachability(self) -> Reachability:
+        """Free slots unreachable from each entrance; slots that cannot reach each exit."""
+        g = self.graph
+        free = [s.id for s in self.lot.free_slots]
+        unreachable = {}
+        for name, node in self.entrances.items():
+            seen = nx.descendants(g, node) | {node}
+            unreachable[name] = [sid for sid in free if self.slot_nodes[sid] not in seen]
+        stranded = {}
+        for name, node in self.exits.items():
+            seen = nx.ancestors(g, node) | {node}
+            stranded[name] = [s.id for s in self.lot.slots if self.slot_nodes[s.id] not in seen]
+        return Reachability(unreachable, stranded)
+
+
+def build_graph(lot: Lot, *, node_spacing: float = 4.0) -> LotGraph:
+    """Build the drivable graph of ``lot``.
+
+    Parameters
+    ----------
+    lot : Lot
+    node_spacing : float, keyword-only
+        Largest distance between consecutive nodes along a lane [m].
+
+    Returns
+    -------
+    LotGraph
+    """
+    lanes = {lane.id: lane for lane in lot.lanes}
+    collider = lane_collider(lot)
+    turns, skipped = _junction_turns(lot, collider)
+    joins = _joins(lot)
+    attach = _attachments(lot)
+
+    stations: dict[str, list[float]] = {lid: [0.0, lane.length] for lid, lane in lanes.items()}
+    for lid, lane in lanes.items():
+        stations[lid] += [float(s) for s in lane.starts]
+        stations[lid] += _zone_crossings(lot, lane)
+    for t in turns:
+        stations[t.lane_a].append(t.station_a)
+        stations[t.lane_b].append(t.station_b)
+    for portal in (*lot.entrances, *lot.exits):
+        lid, s = _portal_station(lot, portal.pose)
+        stations[lid].append(s)
+    for links in attach.values():
+        for lid, s in links:
+            stations[lid].append(s)
+
+    g = nx.DiGraph()
+    index: dict[str, np.ndarray] = {}
+    first: dict[str, int] = {}
+    for lid, lane in lanes.items():
+        st = _spaced(np.array(stations[lid]), lane.length, node_spacing)
+        index[lid] = st
+        first[lid] = g.number_of_nodes()
+        for k, s in enumerate(st):
+            g.add_node(first[lid] + k, pose=lane.pose_at(float(s)), kind="lane", lane=lid,
+                       station=float(s))
+        for k in range(len(st) - 1):
+            seg = _lane_piece(lane, float(st[k]), float(st[k + 1]))
+            _add_edge(g, lot, first[lid] + k, first[lid] + k + 1, seg, "lane")
+
+    def node_at(lid: str, s: float) -> int:
+        st = index[lid]
+        k = int(np.argmin(np.abs(st - s)))
+        return first[lid] + k
+
+    for t in turns:
+        _add_edge(g, lot, node_at(t.lane_a, t.station_a), node_at(t.lane_b, t.station_b),
+                  t.segment, "turn")
+    for a, b in joins:
+        g.add_edge(node_at(a, lanes[a].length), node_at(b, 0.0), kind="join", length=0.0,
+                   gear=1, segment=None, speed_limit=lot.speed_limit, placeholder=False)
+
+    entrances = {p.id: node_at(*_portal_station(lot, p.pose)) for p in lot.entrances}
+    exits = {p.id: node_at(*_portal_station(lot, p.pose)) for p in lot.exits}
+    for name, node in entrances.items():
+        g.nodes[node]["entrance"] = name
+    for name, node in exits.items():
+        g.nodes[node]["exit"] = name
+
+    slot_nodes: dict[str, int] = {}
+    attachments: dict[str, list[int]] = {}
+    for slot in lot.slots:
+        node = g.number_of_nodes()
+        slot_nodes[slot.id] = node
+        cx, cy = slot.center
+        g.add_node(node, pose=(cx, cy, slot.heading), kind="slot", slot=slot.id,
+                   occupied=slot.id in lot.occupied)
+        attachments[slot.id] = []
+        for lid, s in attach[slot.id]:
+            a = node_at(lid, s)
+            attachments[slot.id].append(a)
+            ax, ay, _ = g.nodes[a]["pose"]
+            reach = math.hypot(cx - ax, cy - ay)
+            gear = 1 if slot.kind == "angled" else -1
+            for u, v, kind in ((a, node, "park"), (node, a, "leave")):
+                g.add_edge(u, v, kind=kind, length=reach, gear=gear if kind == "park" else -gear,
+                           segment=None, speed_limit=lot.speed_limit, placeholder=True)
+    return LotGraph(lot, g, entrances, exits, slot_nodes, attachments, skipped)
+
+
+# -- helpers -----------------------------------------------------------------------------------
+def _spaced(stations: np.ndarray, length: float, spacing: float) -> np.ndarray:
+    """Sorted unique stations within [0, length], with extra ones so no gap exceeds spacing."""
+    st = np.unique(np.clip(stations, 0.0, length))
+    st = st[np.concatenate([[True], np.diff(st) > _EPS])]
+    out = [st[:1]]
+    for a, b in zip(st[:-1], st[1:], strict=True):
+        n = max(1, math.ceil((b - a) / spacing - 1e-9))
+        out.append(np.linspace(a, b, n + 1)[1:])
+    return np.concatenate(out)
+
+
+def _lane_piece(lane: Lane, s0: float, s1: float) -> Segment:
+    i, d0 = lane.locate(s0)
+    seg = lane.segments[i]
+    # A piece ending exactly on the next segment's start still belongs to segment i.
+    d1 = min(s1 - float(lane.starts[i]), seg.length)
+    return seg.piece(d0, d1)
+
+
+def _add_edge(g: nx.DiGraph, lot: Lot, u: int, v: int, seg: Segment, kind: str) -> None:
+    line = shapely.LineString(seg.sample(0.25)[:, :2])
+    limit = lot.speed_limit
+    for zone in lot.zones:
+        if zone.polygon.intersects(line) and zone.polygon.intersection(line).length > _EPS:
+            limit = min(limit, zone.limit)
+    g.add_edge(u, v, kind=kind, length=seg.length, gear=seg.gear, segment=seg,
+               speed_limit=limit, placeholder=False)
+
+
+def _zone_crossings(lot: Lot, lane: Lane) -> list[float]:
+    """Stations where the lane enters or leaves a speed zone, so limits change at nodes."""
+    out: list[float] = []
+    for zone in lot.zones:
+        cut = lane.line.intersection(zone.polygon.boundary)
+        if cut.is_empty:
+            continue
+        pts = shapely.get_coordinates(cut)
+        out += [float(lane.line.project(shapely.Point(p))) for p in pts]
+    return out
+
+
+def _portal_station(lot: Lot, pose: Pose) -> tuple[str, float]:
+    """The lane (and station on it) a portal pose stands on: nearest lane heading its way."""
+    best = None
+    for aisle in lot.aisles.values():
+        for lane in aisle.lanes:
+            s, dist = lane.project(pose[:2])
+            heading = lane.pose_at(s)[2]
+            if abs(wrap_angle(heading - pose[2])) > math.pi / 4:
+                continue
+            if dist <= aisle.width / 2 + 0.01 and (best is None or dist < best[0]):
+                best = (dist, lane.id, s)
+    if best is None:
+        from lotsim.errors import ScenarioError  # local: only raised for bad input
+
+        portal = next(p for p in (*lot.entrances, *lot.exits) if p.pose == pose)
+        raise ScenarioError(
+            portal.where,
+            f"{portal.id!r} at ({pose[0]:g}, {pose[1]:g}) heading "
+            f"{math.degrees(pose[2]):.0f}° is on no lane driven that way",
+        )
+    return best[1], best[2]
+
+
+def _attachments(lot: Lot) -> dict[str, list[tuple[str, float]]]:
+    """Lane and station where each slot's parking maneuver begins (placeholder: abeam)."""
+    out: dict[str, list[tuple[str, float]]] = {}
+    for slot in lot.slots:
+        aisle = lot.aisles[slot.aisle]
+        mid = slot.entry.mean(axis=0)
+        links = []
+        for lane in aisle.lanes:
+            s, _ = lane.project((float(mid[0]), float(mid[1])))
+            if _lane_serves(lane, s, slot):
+                links.append((lane.id, s))
+        out[slot.id] = links
+    return out
+
+
+def _lane_serves(lane: Lane, station: float, slot: Slot) -> bool:
+    """Whether a car on ``lane`` can begin this slot's maneuver: by kind and direction."""
+    if slot.kind == "perpendicular":
+        return True
+    heading = lane.pose_at(station)[2]
+    return float(np.dot(unit(heading), unit(slot.heading))) > 1e-9
+
+
+def _joins(lot: Lot) -> list[tuple[str, str]]:
+    """Pairs of lanes where one ends exactly where the next begins, heading the same way."""
+    lanes = lot.lanes
+    ends = [(lane, lane.pose_at(lane.length)) for lane in lanes]
+    out = []
+    for a, (x, y, t) in ends:
+        for b in lanes:
+            if b.aisle == a.aisle:
+                continue
+            bx, by, bt = b.pose_at(0.0)
+            if math.hypot(bx - x, by - y) < 0.05 and abs(wrap_angle(bt - t)) < math.radians(1):
+                out.append((a.id, b.id))
+    return out
+
+
+def _straights(lane: Lane) -> list[tuple[float, Segment]]:
+    return [(float(s0), seg) for s0, seg in zip(lane.starts, lane.segments, strict=True)
+            if seg.curvature == 0.0]
+
+
+def _junction_turns(lot: Lot, collider: Collider) -> tuple[list[Turn], list[str]]:
+    """Arcs between lanes of aisles that meet, each swept clear with the design vehicle."""
+    turns: list[Turn] = []
+    skipped: list[str] = []
+    lanes = lot.lanes
+    for a in lanes:
+        for b in lanes:
+            if a.aisle == b.aisle:
+                continue
+            aisle_a, aisle_b = lot.aisles[a.aisle], lot.aisles[b.aisle]
+            reach = max(aisle_a.width, aisle_b.width) / 2 + 1.0
+            for sa0, pa in _straights(a):
+                for sb0, pb in _straights(b):
+                    turn = _fillet_between(a, sa0, pa, b, sb0, pb, aisle_a, aisle_b, reach,
+                                           lot.design, collider)
+                    if isinstance(turn, Turn):
+                        turns.append(turn)
+                    elif turn:
+                        skipped.append(turn)
+    return turns, skipped
+
+
+def _fillet_between(a, sa0, pa, b, sb0, pb, aisle_a, aisle_b, reach, design,  # noqa: ANN001
+                    collider: Collider) -> Turn | str | None:
+    """The turn from straight ``pa`` of lane ``a`` into straight ``pb`` of lane ``b``.
+
+    Returns a Turn, a reason string when the aisles meet but no radius is
+    clear, or None when the two straights do not meet.
+    """
+    ta, tb = pa.start[2], pb.start[2]
+    delta = float(wrap_angle(tb - ta))
+    if abs(math.sin(delta)) < math.sin(math.radians(10)) or abs(delta) > math.radians(170):
+        return None
+    ua, ub = unit(ta), unit(tb)
+    pa_xy, pb_xy = np.array(pa.start[:2]), np.array(pb.start[:2])
+    # pa_xy + t ua = pb_xy + s ub
+    m = np.column_stack([ua, -ub])
+    t, s = np.linalg.solve(m, pb_xy - pa_xy)
+    x = pa_xy + t * ua
+    pt = shapely.Point(x)
+    if aisle_a.line.distance(pt) > reach or aisle_b.line.distance(pt) > reach:
+        return None
+    reason = None
+    for factor in TURN_RADIUS_FACTORS:
+        r = design.min_radius * factor
+        tangent = r * math.tan(abs(delta) / 2)
+        da, db = t - tangent, s + tangent  # distances into pa and pb
+        if not (-_EPS <= da <= pa.length + _EPS and -_EPS <= db <= pb.length + _EPS):
+            reason = reason or f"no room for a {r:.2f} m arc"
+            continue
+        start = pa.poses_at(min(max(da, 0.0), pa.length))[0]
+        arc = Segment(tuple(float(v) for v in start), r * abs(delta), math.copysign(1 / r, delta))
+        hit = collider.sweep_hit(design.footprints(arc.sample(SWEEP_STEP)))
+        if hit is not None:
+            reason = f"touches {hit.what}"
+            continue
+        return Turn(a.id, sa0 + da, b.id, sb0 + db, arc)
+    return (f"turn {a.id} → {b.id} near ({x[0]:.1f}, {x[1]:.1f}) skipped: {reason}"
+            if reason and "touches" in reason else None)

@@ -1,0 +1,259 @@
+"""The built lot: slots as polygons, aisles with their lanes, areas, zones.
+
+Everything here is geometry in metres and radians, made by
+:func:`lotsim.lot.build.build_lot` from a :class:`~lotsim.lot.spec.LotSpec`.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from functools import cached_property
+
+import numpy as np
+import shapely
+from shapely.geometry import LineString, Polygon
+
+from lotsim.errors import Location
+from lotsim.geometry import FloatArray, Pose, Segment
+
+
+@dataclass(frozen=True, slots=True)
+class DesignVehicle:
+    """The envelope of a scenario's vehicle types: what every aisle must carry.
+
+    Attributes
+    ----------
+    width, front, rear : float
+        Largest body width and rear-axle→bumper distances [m].
+    min_radius : float
+        Largest minimum turning radius [m]: every lane curve is at least this.
+    """
+
+    width: float
+    front: float
+    rear: float
+    min_radius: float
+
+    @classmethod
+    def envelope(cls, vehicle_types) -> DesignVehicle:  # noqa: ANN001 - any VehicleType-like
+        """The smallest envelope that holds every one of ``vehicle_types``."""
+        types = list(vehicle_types)
+        return cls(
+            width=max(v.width for v in types),
+            front=max(v.front for v in types),
+            rear=max(v.rear for v in types),
+            min_radius=max(v.min_turning_radius for v in types),
+        )
+
+    def footprints(self, poses: FloatArray) -> FloatArray:
+        """Envelope rectangles at poses (N, 3) → (N, 4, 2)."""
+        p = np.atleast_2d(poses)
+        h = self.width / 2
+        body = np.array([[-self.rear, -h], [self.front, -h], [self.front, h], [-self.rear, h]])
+        c, s = np.cos(p[:, 2])[:, None], np.sin(p[:, 2])[:, None]
+        x = p[:, :1] + c * body[:, 0] - s * body[:, 1]
+        y = p[:, 1:2] + s * body[:, 0] + c * body[:, 1]
+        return np.stack([x, y], axis=-1)
+
+
+@dataclass(frozen=True, eq=False)
+class Slot:
+    """A parking slot.
+
+    Attributes
+    ----------
+    id : str
+    kind : str
+        ``perpendicular``, ``parallel`` or ``angled``.
+    polygon : ndarray, shape (4, 2)
+        Corners, counter-clockwise [m].
+    entry : ndarray, shape (2, 2)
+        The side a car crosses to get in, facing the aisle [m].
+    heading : float
+        Heading of a car parked nose-in (perpendicular, angled: from the entry
+        into the slot) or parked in the direction of the adjacent lane's
+        traffic (parallel) [rad].
+    aisle : str
+        The aisle the slot opens onto.
+    side : str
+        ``left`` or ``right`` of the aisle's polyline direction.
+    station : float
+        Position of the entry's midpoint along the aisle centreline [m].
+    angle : float
+        Angle between the aisle direction and the slot's long axis [rad].
+    width, length : float
+        [m]
+    """
+
+    id: str
+    kind: str
+    polygon: FloatArray
+    entry: FloatArray
+    heading: float
+    aisle: str
+    side: str
+    station: float
+    angle: float
+    width: float
+    length: float
+    where: Location | None = field(default=None, repr=False)
+
+    @property
+    def center(self) -> tuple[float, float]:
+        c = self.polygon.mean(axis=0)
+        return (float(c[0]), float(c[1]))
+
+    @cached_property
+    def shape(self) -> Polygon:
+        return Polygon(self.polygon)
+
+
+@dataclass(frozen=True, eq=False)
+class Lane:
+    """One direction of travel along an aisle: tangent-continuous forward segments.
+
+    ``offset`` is the lane's distance to the right of the aisle centreline,
+    seen in the lane's own direction [m]; ``with_polyline`` says whether the
+    lane runs in the order of the aisle's points.
+    """
+
+    id: str
+    aisle: str
+    segments: tuple[Segment, ...]
+    offset: float
+    with_polyline: bool
+
+    @cached_property
+    def starts(self) -> FloatArray:
+        """Station at which each segment starts [m]."""
+        return np.concatenate([[0.0], np.cumsum([s.length for s in self.segments])[:-1]])
+
+    @property
+    def length(self) -> float:
+        return float(self.starts[-1] + self.segments[-1].length)
+
+    def locate(self, station: float) -> tuple[int, float]:
+        """Segment index and distance into it for a lane station [m]."""
+        i = int(np.searchsorted(self.starts, station, side="right") - 1)
+        i = min(max(i, 0), len(self.segments) - 1)
+        return i, min(max(station - float(self.starts[i]), 0.0), self.segments[i].length)
+
+    def pose_at(self, station: float) -> Pose:
+        i, d = self.locate(station)
+        x, y, t = self.segments[i].poses_at(d)[0]
+        return (float(x), float(y), float(t))
+
+    def trimmed(self, s0: float, s1: float) -> Lane:
+        """The part of the lane between stations ``s0 < s1`` [m]."""
+        pieces = []
+        for start, seg in zip(self.starts, self.segments, strict=True):
+            a, b = max(s0 - start, 0.0), min(s1 - start, seg.length)
+            if b - a > 1e-9:
+                pieces.append(seg.piece(float(a), float(b)))
+        return Lane(self.id, self.aisle, tuple(pieces), self.offset, self.with_polyline)
+
+    def sample(self, step: float = 0.1) -> FloatArray:
+        """Poses along the whole lane, at most ``step`` apart; (N, 3)."""
+        parts = [s.sample(step) for s in self.segments]
+        return np.concatenate([parts[0]] + [p[1:] for p in parts[1:]])
+
+    @cached_property
+    def line(self) -> LineString:
+        return LineString(self.sample(0.1)[:, :2])
+
+    def project(self, point: tuple[float, float]) -> tuple[float, float]:
+        """Station [m] of the lane point nearest ``point`` and its distance [m]."""
+        p = shapely.Point(point)
+        return float(self.line.project(p)), float(self.line.distance(p))
+
+
+@dataclass(frozen=True, eq=False)
+class Aisle:
+    """A built aisle: its polygon, centreline and lanes."""
+
+    id: str
+    centerline: FloatArray  # (N, 2) polyline as given
+    width: float
+    one_way: bool
+    bend_radius: float
+    polygon: Polygon
+    lanes: tuple[Lane, ...]
+    where: Location | None = field(default=None, repr=False)
+
+    @cached_property
+    def line(self) -> LineString:
+        return LineString(self.centerline)
+
+
+@dataclass(frozen=True, eq=False)
+class Area:
+    """A non-drivable polygon: ``wall``, ``obstacle`` or ``no_go``."""
+
+    id: str
+    kind: str
+    polygon: Polygon
+    where: Location | None = field(default=None, repr=False)
+
+
+@dataclass(frozen=True, eq=False)
+class SpeedZone:
+    """Where the speed ``limit`` [m/s] applies; ``source`` is ``bump`` or ``zone``.
+
+    For a bump, ``polygon`` is the region within its reach and ``line`` the bump.
+    """
+
+    id: str
+    source: str
+    polygon: Polygon
+    limit: float
+    line: LineString | None = None
+
+
+@dataclass(frozen=True, slots=True)
+class Portal:
+    """An entrance or exit pose [m, m, rad]."""
+
+    id: str
+    pose: Pose
+    where: Location | None = field(default=None, repr=False, compare=False)
+
+
+@dataclass(frozen=True, eq=False)
+class Lot:
+    """A parking lot ready to be turned into a graph."""
+
+    boundary: Polygon
+    aisles: dict[str, Aisle]
+    slots: tuple[Slot, ...]
+    areas: tuple[Area, ...]
+    zones: tuple[SpeedZone, ...]
+    entrances: tuple[Portal, ...]
+    exits: tuple[Portal, ...]
+    occupied: frozenset[str]
+    speed_limit: float
+    design: DesignVehicle
+
+    @cached_property
+    def slot_by_id(self) -> dict[str, Slot]:
+        return {s.id: s for s in self.slots}
+
+    @property
+    def free_slots(self) -> tuple[Slot, ...]:
+        return tuple(s for s in self.slots if s.id not in self.occupied)
+
+    @property
+    def lanes(self) -> tuple[Lane, ...]:
+        return tuple(lane for a in self.aisles.values() for lane in a.lanes)
+
+    def slot_counts(self) -> dict[str, int]:
+        """Number of slots of each kind."""
+        out = {"perpendicular": 0, "parallel": 0, "angled": 0}
+        for s in self.slots:
+            out[s.kind] += 1
+        return out
+
+
+def unit(theta: float) -> FloatArray:
+    """Unit vector at heading ``theta`` [rad]."""
+    return np.array([math.cos(theta), math.sin(theta)])

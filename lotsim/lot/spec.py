@@ -1,0 +1,162 @@
+"""Frozen specs of a lot layout, as read from a scenario file.
+
+Specs hold what the user wrote, in SI units and radians, with the
+:class:`~lotsim.errors.Location` of each item so that problems found later
+(when the lot is built) still point at the right line. They are built once,
+at the YAML boundary (:mod:`lotsim.io.scenario`); :func:`lotsim.lot.build.build_lot`
+turns them into geometry.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+from lotsim.errors import Location
+from lotsim.geometry import Pose
+
+Point = tuple[float, float]
+Points = tuple[Point, ...]
+
+SLOT_KINDS = ("perpendicular", "parallel", "angled")
+SIDES = ("left", "right")
+
+
+def _loc() -> Location | None:
+    return field(default=None, compare=False, repr=False)  # type: ignore[return-value]
+
+
+@dataclass(frozen=True, slots=True)
+class AisleSpec:
+    """A driving aisle along a centre polyline.
+
+    ``one_way`` aisles are driven in the order of the polyline's points.
+    ``bend_radius`` is the radius of the centreline at the polyline's corners
+    [m]; ``None`` lets the builder pick one that the vehicles can drive.
+    """
+
+    id: str
+    centerline: Points
+    width: float
+    one_way: bool = False
+    bend_radius: float | None = None
+    where: Location | None = _loc()
+
+
+@dataclass(frozen=True, slots=True)
+class RowSpec:
+    """``count`` equal slots side by side along one side of an aisle.
+
+    ``side`` is seen when driving along the aisle polyline. ``angle`` is the
+    angle between the aisle direction and the slot's long axis [rad]: pi/2 for
+    perpendicular, 0 for parallel, strictly between for angled (an angled slot
+    leans toward the direction of the polyline). ``start`` is the station along
+    the aisle centreline [m] where the first slot's entry begins; ``gap`` is
+    the free space between neighbours along the aisle [m].
+    """
+
+    aisle: str
+    side: str
+    kind: str
+    angle: float
+    count: int
+    slot_width: float
+    slot_length: float
+    start: float
+    gap: float = 0.0
+    id_prefix: str = ""
+    first_number: int = 1
+    where: Location | None = _loc()
+    angle_where: Location | None = _loc()
+
+
+@dataclass(frozen=True, slots=True)
+class SlotSpec:
+    """A single slot: either along an aisle (``aisle``, ``side``, ``at``) or
+    free-standing (``center``, ``heading``: the direction a car faces when it
+    has driven in forward [rad]). For a free-standing slot the builder finds
+    the aisle its entry side opens onto."""
+
+    id: str
+    kind: str
+    width: float
+    length: float
+    angle: float
+    aisle: str | None = None
+    side: str | None = None
+    at: float | None = None
+    center: Point | None = None
+    heading: float | None = None
+    where: Location | None = _loc()
+
+
+@dataclass(frozen=True, slots=True)
+class AreaSpec:
+    """A polygon that is not drivable: a wall, an obstacle (island, pillar) or a no-go zone."""
+
+    id: str
+    kind: str  # "wall" | "obstacle" | "no_go"
+    polygon: Points
+    where: Location | None = _loc()
+
+
+@dataclass(frozen=True, slots=True)
+class SpeedBumpSpec:
+    """A speed bump across the lanes; within ``reach`` metres of it the limit applies."""
+
+    id: str
+    line: Points
+    limit: float  # [m/s]
+    reach: float = 5.0
+    where: Location | None = _loc()
+
+
+@dataclass(frozen=True, slots=True)
+class SpeedZoneSpec:
+    """A polygon in which the speed ``limit`` [m/s] applies."""
+
+    id: str
+    polygon: Points
+    limit: float
+    where: Location | None = _loc()
+
+
+@dataclass(frozen=True, slots=True)
+class PortalSpec:
+    """An entrance or exit: a pose on an aisle lane; heading is the driving direction."""
+
+    id: str
+    pose: Pose
+    where: Location | None = _loc()
+
+
+@dataclass(frozen=True, slots=True)
+class OccupancySpec:
+    """Slots taken at start: listed ``ids``, or each taken with probability
+    ``fraction`` drawn from ``numpy.random.default_rng(seed)`` in slot order,
+    keeping at least ``min_free`` free."""
+
+    ids: tuple[str, ...] = ()
+    fraction: float | None = None
+    seed: int = 0
+    min_free: int = 1
+    where: Location | None = _loc()
+    id_where: tuple[Location | None, ...] = field(default=(), compare=False, repr=False)
+
+
+@dataclass(frozen=True, slots=True)
+class LotSpec:
+    """Everything the scenario says about the lot."""
+
+    boundary: Points
+    aisles: tuple[AisleSpec, ...]
+    rows: tuple[RowSpec, ...] = ()
+    slots: tuple[SlotSpec, ...] = ()
+    areas: tuple[AreaSpec, ...] = ()
+    speed_bumps: tuple[SpeedBumpSpec, ...] = ()
+    speed_zones: tuple[SpeedZoneSpec, ...] = ()
+    entrances: tuple[PortalSpec, ...] = ()
+    exits: tuple[PortalSpec, ...] = ()
+    occupancy: OccupancySpec = OccupancySpec()
+    speed_limit: float = 20 / 3.6
+    where: Location | None = _loc()
+    boundary_where: Location | None = _loc()

@@ -1,0 +1,43 @@
+"""The scenario: a lot layout, the vehicle types that use it, and a seed."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from lotsim.lot.spec import LotSpec
+from lotsim.vehicles.model import VehicleType
+
+
+@dataclass(frozen=True, slots=True)
+class Scenario:
+    """A validated scenario file.
+
+    Attributes
+    ----------
+    name : str
+    lot : LotSpec
+    vehicle_types : tuple of VehicleType
+        The types that drive in this lot; the lot is checked against all of them.
+    parked_vehicle : VehicleType
+        The type drawn in slots that are taken at start.
+    seed : int
+        Seed of every random choice made for this scenario.
+    source : str
+        The file it was read from.
+    description : str
+    """
+
+    name: str
+    lot: LotSpec
+    vehicle_types: tuple[VehicleType, ...]
+    parked_vehicle: VehicleType
+    seed: int = 0
+    source: str = "<memory>"
+    description: str = ""
+
+    def vehicle_type(self, name: str) -> VehicleType:
+        """The vehicle type called ``name``; KeyError if the scenario has none."""
+        for v in self.vehicle_types:
+            if v.name == name:
+                return v
+        raise KeyError(name)
