@@ -1,0 +1,50 @@
+"""Shared fixtures: building lots from YAML text, locating tokens in that text."""
+
+from __future__ import annotations
+
+import textwrap
+from pathlib import Path
+
+import pytest
+
+from lotsim.io.scenario import parse_scenario
+from lotsim.io.yamlnodes import parse_text
+from lotsim.lot.graph import LotGraph
+from lotsim.scenario import Scenario
+from lotsim.sim import prepare
+
+ROOT = Path(__file__).resolve().parents[1]
+SCENARIOS = sorted((ROOT / "scenarios").glob("*.yaml"))
+
+
+def scenario_from_text(text: str, file: str = "t.yaml") -> Scenario:
+    return parse_scenario(parse_text(textwrap.dedent(text), file))
+
+
+def graph_from_text(text: str) -> LotGraph:
+    return prepare(scenario_from_text(text))
+
+
+def position(text: str, needle: str, nth: int = 0) -> tuple[int, int]:
+    """1-based (line, column) of the ``nth`` occurrence of ``needle`` in dedented ``text``.
+
+    A ``|`` in ``needle`` marks the character meant: ``"angle_deg: |60"``.
+    """
+    text = textwrap.dedent(text)
+    shift = needle.find("|")
+    if shift >= 0:
+        needle = needle.replace("|", "", 1)
+    at = -1
+    for _ in range(nth + 1):
+        at = text.index(needle, at + 1)
+    at += max(shift, 0)
+    line = text.count("\n", 0, at) + 1
+    col = at - (text.rfind("\n", 0, at) + 1) + 1
+    return line, col
+
+
+@pytest.fixture(scope="session")
+def shipped_graphs() -> dict[str, LotGraph]:
+    from lotsim.io.scenario import load_scenario
+
+    return {p.stem: prepare(load_scenario(p)) for p in SCENARIOS}

@@ -1,0 +1,105 @@
+"""Closed-form motion against fine numerical integration; segment and fillet properties."""
+
+import math
+
+import numpy as np
+import pytest
+
+from lotsim.geometry import Segment, advance, ccw, fillet_polyline, signed_area, wrap_angle
+
+
+def integrate(pose, distance, curvature, steps=20_000):
+    """RK4 on x' = cos t, y' = sin t, t' = k, over arc length: an independent oracle."""
+    y = np.array(pose, dtype=float)
+    h = distance / steps
+
+    def f(state):
+        return np.array([math.cos(state[2]), math.sin(state[2]), curvature])
+
+    for _ in range(steps):
+        k1 = f(y)
+        k2 = f(y + h / 2 * k1)
+        k3 = f(y + h / 2 * k2)
+        k4 = f(y + h * k3)
+        y = y + h / 6 * (k1 + 2 * k2 + 2 * k3 + k4)
+    return y
+
+
+@pytest.mark.parametrize("seed", range(6))
+def test_advance_matches_numerical_integration(seed):
+    rng = np.random.default_rng(seed)
+    pose = rng.uniform([-10, -10, -math.pi], [10, 10, math.pi])
+    distance = rng.uniform(-15, 15)
+    curvature = rng.choice([0.0, rng.uniform(-0.4, 0.4), 1e-9])
+    exact = advance(pose, distance, curvature)
+    numeric = integrate(pose, distance, curvature, steps=2000)
+    assert np.allclose(exact, numeric, atol=1e-9)
+
+
+def test_advance_is_vectorised_over_poses_distances_and_curvatures():
+    rng = np.random.default_rng(1)
+    poses = rng.uniform(-5, 5, size=(50, 3))
+    dist = rng.uniform(-5, 5, size=50)
+    curv = rng.uniform(-0.3, 0.3, size=50)
+    batch = advance(poses, dist, curv)
+    one_by_one = np.array([advance(p, d, k) for p, d, k in zip(poses, dist, curv, strict=True)])
+    assert batch.shape == (50, 3)
+    assert np.allclose(batch, one_by_one)
+
+
+def test_full_circle_returns_to_start():
+    r = 4.2
+    end = advance([1.0, 2.0, 0.3], 2 * math.pi * r, 1 / r)
+    assert np.allclose(end[:2], [1.0, 2.0], atol=1e-9)
+    assert math.isclose(wrap_angle(end[2] - 0.3), 0.0, abs_tol=1e-9)
+
+
+def test_segment_pieces_add_up_and_join():
+    seg = Segment((0.0, 0.0, 0.5), -7.0, 0.2)
+    a, b = seg.piece(0.0, 3.0), seg.piece(3.0, 7.0)
+    assert a.length + b.length == pytest.approx(seg.length)
+    assert np.allclose(a.end, b.start)
+    assert np.allclose(b.end, seg.end)
+    assert a.gear == b.gear == -1
+
+
+@pytest.mark.parametrize("curvature", [0.0, 0.15, -0.2])
+def test_offset_segment_stays_at_constant_distance(curvature):
+    seg = Segment((2.0, -1.0, 1.1), 9.0, curvature)
+    off = seg.offset(1.5)
+    base = seg.sample(0.05)[:, :2]
+    shifted = off.sample(0.05)[:, :2]
+    # every offset point is 1.5 m from the base curve, on its right
+    d = np.min(np.linalg.norm(shifted[:, None, :] - base[None, :, :], axis=2), axis=1)
+    assert np.allclose(d, 1.5, atol=2e-3)
+    assert math.isclose(off.end[2], seg.end[2], abs_tol=1e-12)
+
+
+def test_reversed_segment_runs_back_along_the_same_curve():
+    seg = Segment((0.0, 0.0, 0.0), 6.0, 0.25)
+    back = seg.reversed()
+    assert np.allclose(back.end[:2], seg.start[:2])
+    assert math.isclose(wrap_angle(back.end[2] - seg.start[2] - math.pi), 0.0, abs_tol=1e-9)
+
+
+def test_fillet_polyline_is_tangent_continuous_and_hits_the_ends():
+    pts = [[0, 0], [20, 0], [20, 15], [5, 30]]
+    segs = fillet_polyline(pts, 4.0)
+    for a, b in zip(segs[:-1], segs[1:], strict=True):
+        assert np.allclose(a.end[:2], b.start[:2], atol=1e-9)
+        assert math.isclose(wrap_angle(a.end[2] - b.start[2]), 0.0, abs_tol=1e-9)
+    assert np.allclose(segs[0].start[:2], [0, 0])
+    assert np.allclose(segs[-1].end[:2], [5, 30], atol=1e-9)
+    arcs = [s for s in segs if s.curvature]
+    assert len(arcs) == 2 and all(math.isclose(s.radius, 4.0) for s in arcs)
+
+
+def test_fillet_polyline_rejects_corners_without_room():
+    with pytest.raises(ValueError, match="leg 1"):
+        fillet_polyline([[0, 0], [10, 0], [10, 3], [0, 3]], 4.0)
+
+
+def test_ccw_orients_rings():
+    cw = [[0, 0], [0, 1], [1, 1], [1, 0]]
+    assert signed_area(cw) < 0
+    assert signed_area(ccw(cw)) == pytest.approx(1.0)

@@ -1,0 +1,146 @@
+"""Slot corners of each kind against values worked out by hand, and occupancy rules."""
+
+import math
+
+import numpy as np
+import pytest
+import shapely
+
+from conftest import graph_from_text, scenario_from_text
+from lotsim.lot.build import build_lot
+from lotsim.lot.model import DesignVehicle
+
+S45, C45 = math.sin(math.radians(45)), math.cos(math.radians(45))
+S60, C60 = math.sin(math.radians(60)), math.cos(math.radians(60))
+
+LOT = """
+vehicle_types: [valet]
+lot:
+  boundary: [[-5, -20], [60, -20], [60, 20], [-5, 20]]
+  aisles:
+    - {{id: a, centerline: [[0, 0], [50, 0]], width: 6.0}}
+  rows:
+    - {row}
+  entrances:
+    - {{id: in, x: 1.0, y: -1.5, heading_deg: 0}}
+"""
+
+
+def slots_of(row: str):
+    sc = scenario_from_text(LOT.format(row=row))
+    return build_lot(sc.lot, DesignVehicle.envelope(sc.vehicle_types)).slots
+
+
+def same_corners(poly, expected):
+    got = {(round(x, 6), round(y, 6)) for x, y in poly}
+    want = {(round(x, 6), round(y, 6)) for x, y in expected}
+    return got == want
+
+
+def test_perpendicular_row_corners():
+    slots = slots_of("{aisle: a, side: left, kind: perpendicular, count: 3, slot_width: 2.5, "
+                     "slot_length: 5.0, start: 10.0, id_prefix: P}")
+    assert [s.id for s in slots] == ["P1", "P2", "P3"]
+    assert same_corners(slots[0].polygon, [(10, 3), (12.5, 3), (12.5, 8), (10, 8)])
+    assert same_corners(slots[2].polygon, [(15, 3), (17.5, 3), (17.5, 8), (15, 8)])
+    assert slots[0].heading == pytest.approx(math.pi / 2)  # nose-in faces north
+    assert same_corners(slots[0].entry, [(10, 3), (12.5, 3)])
+
+
+def test_parallel_row_on_the_right_corners():
+    slots = slots_of("{aisle: a, side: right, kind: parallel, count: 2, slot_width: 2.5, "
+                     "slot_length: 6.0, start: 10.0, gap: 0.5}")
+    assert same_corners(slots[0].polygon, [(10, -3), (16, -3), (16, -5.5), (10, -5.5)])
+    assert same_corners(slots[1].polygon, [(16.5, -3), (22.5, -3), (22.5, -5.5), (16.5, -5.5)])
+    assert same_corners(slots[0].entry, [(10, -3), (16, -3)])
+    assert slots[0].heading == pytest.approx(0.0)  # with the traffic of the right-hand lane
+
+
+@pytest.mark.parametrize(
+    ("deg", "s", "c"), [(45, S45, C45), (60, S60, C60)], ids=["45deg", "60deg"]
+)
+def test_angled_row_corners(deg, s, c):
+    w, length = 2.5, 5.0
+    slots = slots_of(f"{{aisle: a, side: left, kind: angled, angle_deg: {deg}, count: 2, "
+                     f"slot_width: {w}, slot_length: {length}, start: 10.0}}")
+    # back entry corner recessed by w·cos, front entry corner on the aisle edge (y = 3)
+    b = np.array([10.0, 3.0 + w * c])
+    a = np.array([10.0 + w * s, 3.0])
+    d = np.array([c, s])
+    assert same_corners(slots[0].polygon, [a, b, b + length * d, a + length * d])
+    pitch = w / s
+    assert same_corners(slots[1].polygon - [pitch, 0], slots[0].polygon)
+    assert slots[0].heading == pytest.approx(math.radians(deg))
+    assert slots[0].angle == pytest.approx(math.radians(deg))
+    # neighbours share a long side and do not overlap
+    p0, p1 = shapely.Polygon(slots[0].polygon), shapely.Polygon(slots[1].polygon)
+    assert p0.intersection(p1).area < 1e-9 and p0.distance(p1) < 1e-9
+
+
+def test_angled_row_on_the_right_mirrors_the_left():
+    left = slots_of("{aisle: a, side: left, kind: angled, angle_deg: 60, count: 1, "
+                    "slot_width: 2.5, slot_length: 5.0, start: 10.0}")[0]
+    right = slots_of("{aisle: a, side: right, kind: angled, angle_deg: 60, count: 1, "
+                     "slot_width: 2.5, slot_length: 5.0, start: 10.0}")[0]
+    assert same_corners(right.polygon, left.polygon * [1, -1])
+    assert right.heading == pytest.approx(-left.heading)
+
+
+def test_every_slot_polygon_is_counter_clockwise_with_its_size(shipped_graphs):
+    for lg in shipped_graphs.values():
+        for slot in lg.lot.slots:
+            poly = shapely.Polygon(slot.polygon)
+            assert poly.exterior.is_ccw
+            assert poly.area == pytest.approx(slot.width * slot.length)
+
+
+def test_free_standing_slot_finds_its_aisle():
+    lg = graph_from_text("""
+        lot:
+          boundary: [[0, -10], [40, -10], [40, 10], [0, 10]]
+          aisles:
+            - {id: a, centerline: [[0, 0], [40, 0]], width: 6.0}
+          slots:
+            - {id: X, kind: perpendicular, width: 2.5, length: 5.0, center: [20, -5.5],
+               heading_deg: -90}
+          entrances:
+            - {id: in, x: 1.0, y: -1.5, heading_deg: 0}
+        """)
+    slot = lg.lot.slot_by_id["X"]
+    assert slot.aisle == "a" and slot.side == "right"
+    assert same_corners(slot.entry, [(18.75, -3), (21.25, -3)])
+    assert slot.station == pytest.approx(20.0)
+
+
+OCC = """
+seed: 1
+lot:
+  boundary: [[0, -10], [60, -10], [60, 10], [0, 10]]
+  aisles:
+    - {{id: a, centerline: [[0, 0], [60, 0]], width: 6.0}}
+  rows:
+    - {{aisle: a, side: left, kind: perpendicular, count: 20, slot_width: 2.5,
+       slot_length: 5.0, start: 5.0, id_prefix: P}}
+  entrances:
+    - {{id: in, x: 1.0, y: -1.5, heading_deg: 0}}
+  occupied: {occ}
+"""
+
+
+def test_random_occupancy_is_the_seeded_draw():
+    lg = graph_from_text(OCC.format(occ="{fraction: 0.5, seed: 42, min_free: 1}"))
+    draw = np.random.default_rng(42).random(20) < 0.5
+    assert lg.lot.occupied == {f"P{i + 1}" for i in np.flatnonzero(draw)}
+
+
+def test_random_occupancy_keeps_min_free():
+    lg = graph_from_text(OCC.format(occ="{fraction: 1.0, seed: 3, min_free: 4}"))
+    assert len(lg.lot.occupied) == 16
+    again = graph_from_text(OCC.format(occ="{fraction: 1.0, seed: 3, min_free: 4}"))
+    assert again.lot.occupied == lg.lot.occupied
+
+
+def test_listed_occupancy():
+    lg = graph_from_text(OCC.format(occ="[P1, P7]"))
+    assert lg.lot.occupied == {"P1", "P7"}
+    assert len(lg.lot.free_slots) == 18

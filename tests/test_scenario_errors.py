@@ -1,0 +1,197 @@
+"""Every bad input is a ScenarioError at the right line and column, exit code 2, no traceback."""
+
+import textwrap
+
+import pytest
+
+from conftest import position
+from lotsim.cli import main
+
+GOOD = """\
+name: t
+vehicle_types: [valet]
+lot:
+  boundary: [[0, 0], [60, 0], [60, 30], [0, 30]]
+  aisles:
+    - id: a
+      centerline: [[0, 15], [60, 15]]
+      width: 7.0
+  rows:
+    - aisle: a
+      side: left
+      kind: perpendicular
+      count: 5
+      slot_width: 2.5
+      slot_length: 5.0
+      start: 10.0
+    - aisle: a
+      side: right
+      kind: angled
+      angle_deg: 45
+      count: 4
+      slot_width: 2.5
+      slot_length: 5.0
+      start: 10.0
+      id_prefix: Q
+  obstacles:
+    - {id: pillar, polygon: [[50, 24], [52, 24], [52, 26], [50, 26]]}
+  entrances:
+    - {id: in, x: 2.0, y: 13.25, heading_deg: 0}
+  exits:
+    - {id: out, x: 2.0, y: 16.75, heading_deg: 180}
+"""
+
+
+def run_validate(tmp_path, capsys, text):
+    path = tmp_path / "bad.yaml"
+    path.write_text(text)
+    code = main(["validate", str(path)])
+    err = capsys.readouterr().err
+    return code, err, str(path)
+
+
+def test_the_good_file_validates(tmp_path, capsys):
+    code, err, _ = run_validate(tmp_path, capsys, GOOD)
+    assert code == 0, err
+
+
+# (name, old text, new text, needle marking the reported position, key path, words expected)
+CASES = [
+    ("unknown key", "      width: 7.0", "      widht: 7.0", "widht", "lot.aisles[0].widht",
+     "did you mean 'width'"),
+    ("missing key", "      slot_length: 5.0\n      start: 10.0\n    - aisle",
+     "      slot_length: 5.0\n    - aisle", "aisle: a\n      side: left", "lot.rows[0]",
+     "missing key 'start'"),
+    ("wrong type", "      count: 5", "      count: five", "five", "lot.rows[0].count",
+     "expected an integer, found string 'five'"),
+    ("duplicate key", "      count: 5\n", "      count: 5\n      count: 6\n", "count: 6",
+     "lot.rows[0].count", "duplicate key 'count'"),
+    ("1e3 read as a string", "      start: 10.0\n    - aisle", "      start: 1e1\n    - aisle",
+     "1e1", "lot.rows[0].start", "YAML reads as a string"),
+    ("unknown kind", "      kind: perpendicular", "      kind: diagonal", "diagonal",
+     "lot.rows[0].kind", "one of perpendicular, parallel, angled"),
+    ("negative size", "      slot_width: 2.5\n      slot_length: 5.0\n      start: 10.0\n    - ",
+     "      slot_width: -2.5\n      slot_length: 5.0\n      start: 10.0\n    - ", "-2.5",
+     "lot.rows[0].slot_width", "positive"),
+    ("zero size", "      width: 7.0", "      width: 0", "0\n", "lot.aisles[0].width",
+     "positive"),
+    ("angle out of range", "angle_deg: 45", "angle_deg: 90", "90", "lot.rows[1].angle_deg",
+     "< 90"),
+    ("angle on a perpendicular row", "      kind: perpendicular",
+     "      kind: perpendicular\n      angle_deg: 60", "angle_deg: |60",
+     "lot.rows[0].angle_deg", "angled slots only"),
+    ("octal", "      count: 5", "      count: 012", "012", "lot.rows[0].count", "octal"),
+    ("yes for a string", "kind: perpendicular", "kind: yes", "yes", "lot.rows[0].kind",
+     "boolean"),
+    ("NaN", "start: 10.0\n    - aisle", "start: .nan\n    - aisle", ".nan",
+     "lot.rows[0].start", "finite"),
+    ("unknown aisle", "    - aisle: a\n      side: right", "    - aisle: b\n      side: right",
+     "aisle: b", "lot.rows[1]", "found 'b'"),
+    ("unknown car", "vehicle_types: [valet]", "vehicle_types: [valett]", "valett",
+     "vehicle_types[0]", "did you mean 'valet'"),
+]
+
+
+@pytest.mark.parametrize(("name", "old", "new", "needle", "key", "words"), CASES,
+                         ids=[c[0] for c in CASES])
+def test_schema_errors_are_located(tmp_path, capsys, name, old, new, needle, key, words):
+    assert old in GOOD, name
+    text = GOOD.replace(old, new, 1)
+    code, err, path = run_validate(tmp_path, capsys, text)
+    line, col = position(text, needle)
+    assert code == 2
+    assert err.startswith(f"lotsim: {path}:{line}:{col}: {key}: "), err
+    assert words in err
+    assert "Traceback" not in err and err.count("\n") == 1
+
+
+def geometry_case(old, new):
+    assert old in GOOD
+    return GOOD.replace(old, new, 1)
+
+
+GEOMETRY = [
+    ("slots overlap", geometry_case("      start: 10.0\n      id_prefix: Q", "      start: 10.0\n"
+     "      id_prefix: Q\n    - {aisle: a, side: right, kind: perpendicular, count: 1, "
+     "slot_width: 2.5, slot_length: 5.0, start: 12.0}"), "{aisle: a, side: right, kind: perp",
+     "overlaps slot 'Q1'"),
+    ("slot on an obstacle", geometry_case("[[50, 24], [52, 24], [52, 26], [50, 26]]",
+     "[[10, 20], [12, 20], [12, 22], [10, 22]]"), "aisle: a\n      side: left",
+     "overlaps obstacle 'pillar'"),
+    ("slot outside the boundary", geometry_case("slot_length: 5.0\n      start: 10.0\n    - ",
+     "slot_length: 25.0\n      start: 10.0\n    - "), "aisle: a\n      side: left",
+     "outside the lot boundary"),
+    ("slot past the aisle end", geometry_case("      count: 5", "      count: 50"),
+     "aisle: a\n      side: left", "past the end of aisle 'a'"),
+    ("entrance off every aisle", geometry_case("{id: in, x: 2.0, y: 13.25",
+     "{id: in, x: 2.0, y: 3.25"), "{id: in", "is on no aisle"),
+    ("aisle too narrow", geometry_case("      width: 7.0", "      width: 3.0"), "id: a",
+     "too narrow"),
+    ("slot opens onto no aisle", geometry_case("  obstacles:", "  slots:\n"
+     "    - {id: F, kind: perpendicular, width: 2.5, length: 5.0, center: [40, 27],"
+     " heading_deg: 90}\n  obstacles:"), "{id: F", "opens onto no aisle"),
+    ("occupied slot unknown", GOOD + "  occupied: [Q1, Z9]\n", "Z9", "no slot has"),
+]
+
+
+@pytest.mark.parametrize(("name", "text", "needle", "words"), GEOMETRY,
+                         ids=[g[0] for g in GEOMETRY])
+def test_geometry_errors_are_located(tmp_path, capsys, name, text, needle, words):
+    code, err, path = run_validate(tmp_path, capsys, text)
+    line, col = position(text, needle)
+    assert code == 2, err
+    assert err.startswith(f"lotsim: {path}:{line}:{col}: "), err
+    assert words in err, err
+    assert "Traceback" not in err
+
+
+CURVY = """\
+lot:
+  boundary: [[0, 0], [60, 0], [60, 60], [0, 60]]
+  aisles:
+    - id: bend
+      centerline: [[5, 5], [50, 5], [50, 50]]
+      width: 7.0
+      bend_radius: 3.0
+  entrances:
+    - {id: in, x: 10, y: 3.25, heading_deg: 0}
+"""
+
+
+def test_curve_too_tight(tmp_path, capsys):
+    code, err, path = run_validate(tmp_path, capsys, CURVY)
+    line, col = position(CURVY, "id: bend")
+    assert code == 2
+    assert err.startswith(f"lotsim: {path}:{line}:{col}: lot.aisles[0]: ")
+    assert "curves too tight" in err
+
+
+def test_yaml_syntax_error_is_located(tmp_path, capsys):
+    text = "lot:\n  boundary: [[0, 0], [1, 0]\n  aisles: []\n"
+    code, err, path = run_validate(tmp_path, capsys, text)
+    assert code == 2 and err.startswith(f"lotsim: {path}:3:")
+    assert "invalid YAML" in err
+
+
+def test_missing_file(tmp_path, capsys):
+    code = main(["validate", str(tmp_path / "nope.yaml")])
+    err = capsys.readouterr().err
+    assert code == 2 and "cannot read" in err and "Traceback" not in err
+
+
+def test_empty_file(tmp_path, capsys):
+    code, err, path = run_validate(tmp_path, capsys, "")
+    assert code == 2 and err.startswith(f"lotsim: {path}:1:1: ")
+
+
+def test_unknown_command_and_option_exit_2(capsys):
+    with pytest.raises(SystemExit) as exc:
+        main(["frobnicate"])
+    assert exc.value.code == 2
+    with pytest.raises(SystemExit) as exc:
+        main(["validate"])
+    assert exc.value.code == 2
+
+
+def test_position_helper_is_one_based():
+    assert position(textwrap.dedent("a: 1\nbb: 22\n"), "22") == (2, 5)
