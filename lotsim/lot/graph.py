@@ -28,6 +28,7 @@ import networkx as nx
 import numpy as np
 import shapely
 
+from lotsim.errors import ScenarioError
 from lotsim.geometry import Pose, Segment, wrap_angle
 from lotsim.lot.build import SWEEP_STEP, lane_collider
 from lotsim.lot.clearance import Collider
@@ -248,8 +249,6 @@ def _portal_station(lot: Lot, pose: Pose) -> tuple[str, float]:
             if dist <= aisle.width / 2 + 0.01 and (best is None or dist < best[0]):
                 best = (dist, lane.id, s)
     if best is None:
-        from lotsim.errors import ScenarioError  # local: only raised for bad input
-
         portal = next(p for p in (*lot.entrances, *lot.exits) if p.pose == pose)
         raise ScenarioError(
             portal.where,

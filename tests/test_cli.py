@@ -1,0 +1,49 @@
+"""The command line: cars, validate on every shipped scenario."""
+
+import math
+
+import pytest
+from test_vehicles import DESIGN_TABLE
+
+from conftest import SCENARIOS
+from lotsim.cli import main
+
+
+def test_cars_lists_the_catalogue_with_length_width_and_radius(capsys):
+    assert main(["cars"]) == 0
+    out = capsys.readouterr().out
+    rows = {line.split()[0]: line.split() for line in out.splitlines()[1:] if line[:1].isalpha()}
+    for name, (w, df, dr, b, deg) in DESIGN_TABLE.items():
+        row = rows[name]
+        assert float(row[1].rstrip("m")) == pytest.approx(df + dr, abs=1e-3)
+        assert float(row[2].rstrip("m")) == pytest.approx(w, abs=1e-3)
+        assert float(row[-1].rstrip("m")) == pytest.approx(b / math.tan(math.radians(deg)),
+                                                           abs=0.01)
+    assert "valet" in rows
+
+
+def test_validate_passes_on_every_shipped_scenario(capsys):
+    assert len(SCENARIOS) >= 5
+    assert main(["validate", "--strict", *map(str, SCENARIOS)]) == 0
+    out = capsys.readouterr().out
+    assert out.count(": ok — ") == len(SCENARIOS)
+    assert "slots: 1040" in out  # the large lot
+
+
+def test_validate_summary_counts_slots_by_kind(capsys):
+    path = next(p for p in SCENARIOS if p.stem == "mixed_lot")
+    assert main(["validate", str(path)]) == 0
+    out = capsys.readouterr().out
+    assert "perpendicular 22, parallel 7, angled 12" in out
+    assert "free 35, taken 6" in out
+    assert "valet (L 4.90 m, W 1.80 m, R 4.97 m)" in out
+
+
+def test_validate_reports_each_bad_file_and_goes_on(tmp_path, capsys):
+    bad = tmp_path / "bad.yaml"
+    bad.write_text("lot: 3\n")
+    good = next(p for p in SCENARIOS if p.stem == "quickstart")
+    assert main(["validate", str(bad), str(good)]) == 2
+    cap = capsys.readouterr()
+    assert f"{bad}:1:6: lot: expected a mapping, found integer '3'" in cap.err
+    assert ": ok — quickstart" in cap.out
