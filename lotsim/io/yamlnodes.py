@@ -29,6 +29,8 @@ _NULL = "tag:yaml.org,2002:null"
 _DECIMAL_INT = re.compile(r"^[-+]?(0|[1-9][0-9]*)$")
 _DECIMAL_FLOAT = re.compile(r"^[-+]?([0-9]+\.?[0-9]*|\.[0-9]+)([eE][-+]?[0-9]+)?$")
 _MAX_DEPTH = 64
+COORD_LIMIT = 1e6
+"""Largest coordinate a point may have [m]: a lot is not a continent."""
 
 
 class _ComposeLoader(yaml.SafeLoader):
@@ -244,7 +246,8 @@ class YNode:
     def point(self) -> tuple[float, float]:
         """Read ``[x, y]`` [m]."""
         x, y = self.items(min_len=2, max_len=2)
-        return (x.number(), y.number())
+        return (x.number(min=-COORD_LIMIT, max=COORD_LIMIT),
+                y.number(min=-COORD_LIMIT, max=COORD_LIMIT))
 
     def points(self, *, min_len: int) -> tuple[tuple[float, float], ...]:
         """Read a list of at least ``min_len`` points ``[[x, y], ...]`` [m]."""
