@@ -125,6 +125,8 @@ GEOMETRY = [
      "aisle: a\n      side: left", "past the end of aisle 'a'"),
     ("entrance off every aisle", geometry_case("{id: in, x: 2.0, y: 13.25",
      "{id: in, x: 2.0, y: 3.25"), "{id: in", "is on no aisle"),
+    ("entrance heading across the lanes", geometry_case("{id: in, x: 2.0, y: 13.25, heading_deg: 0",
+     "{id: in, x: 2.0, y: 13.25, heading_deg: 90"), "{id: in", "on no lane driven that way"),
     ("aisle too narrow", geometry_case("      width: 7.0", "      width: 3.0"), "id: a",
      "too narrow"),
     ("slot opens onto no aisle", geometry_case("  obstacles:", "  slots:\n"

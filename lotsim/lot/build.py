@@ -12,7 +12,7 @@ import math
 
 import numpy as np
 import shapely
-from shapely.geometry import LineString, Point, Polygon, box
+from shapely.geometry import LineString, Point, Polygon
 from shapely.ops import unary_union
 
 from lotsim.errors import ScenarioError
@@ -458,7 +458,3 @@ def _fit_lanes(aisle: Aisle, design: DesignVehicle, collider: Collider) -> Aisle
     return Aisle(aisle.id, aisle.centerline, aisle.width, aisle.one_way, aisle.bend_radius,
                  aisle.polygon, tuple(lanes), aisle.where)
 
-
-def bbox(lot: Lot) -> Polygon:
-    """Bounding box of the lot boundary."""
-    return box(*lot.boundary.bounds)

@@ -29,10 +29,10 @@ import numpy as np
 import shapely
 
 from lotsim.errors import ScenarioError
-from lotsim.geometry import Pose, Segment, wrap_angle
+from lotsim.geometry import Segment, wrap_angle
 from lotsim.lot.build import SWEEP_STEP, lane_collider
 from lotsim.lot.clearance import Collider
-from lotsim.lot.model import Lane, Lot, Slot, unit
+from lotsim.lot.model import Lane, Lot, Portal, Slot, unit
 
 TURN_RADIUS_FACTORS = (1.0, 1.25, 1.5, 2.0, 3.0)
 """Junction turns try these multiples of the design radius, tightest first."""
@@ -134,8 +134,8 @@ def build_graph(lot: Lot, *, node_spacing: float = 4.0) -> LotGraph:
     for t in turns:
         stations[t.lane_a].append(t.station_a)
         stations[t.lane_b].append(t.station_b)
-    for portal in (*lot.entrances, *lot.exits):
-        lid, s = _portal_station(lot, portal.pose)
+    portals = {p: _portal_station(lot, p) for p in (*lot.entrances, *lot.exits)}
+    for lid, s in portals.values():
         stations[lid].append(s)
     for links in attach.values():
         for lid, s in links:
@@ -167,8 +167,8 @@ def build_graph(lot: Lot, *, node_spacing: float = 4.0) -> LotGraph:
         g.add_edge(node_at(a, lanes[a].length), node_at(b, 0.0), kind="join", length=0.0,
                    gear=1, segment=None, speed_limit=lot.speed_limit, placeholder=False)
 
-    entrances = {p.id: node_at(*_portal_station(lot, p.pose)) for p in lot.entrances}
-    exits = {p.id: node_at(*_portal_station(lot, p.pose)) for p in lot.exits}
+    entrances = {p.id: node_at(*portals[p]) for p in lot.entrances}
+    exits = {p.id: node_at(*portals[p]) for p in lot.exits}
     for name, node in entrances.items():
         g.nodes[node]["entrance"] = name
     for name, node in exits.items():
@@ -237,8 +237,9 @@ def _zone_crossings(lot: Lot, lane: Lane) -> list[float]:
     return out
 
 
-def _portal_station(lot: Lot, pose: Pose) -> tuple[str, float]:
+def _portal_station(lot: Lot, portal: Portal) -> tuple[str, float]:
     """The lane (and station on it) a portal pose stands on: nearest lane heading its way."""
+    pose = portal.pose
     best = None
     for aisle in lot.aisles.values():
         for lane in aisle.lanes:
@@ -249,7 +250,6 @@ def _portal_station(lot: Lot, pose: Pose) -> tuple[str, float]:
             if dist <= aisle.width / 2 + 0.01 and (best is None or dist < best[0]):
                 best = (dist, lane.id, s)
     if best is None:
-        portal = next(p for p in (*lot.entrances, *lot.exits) if p.pose == pose)
         raise ScenarioError(
             portal.where,
             f"{portal.id!r} at ({pose[0]:g}, {pose[1]:g}) heading "
