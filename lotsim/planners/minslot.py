@@ -1,0 +1,345 @@
+"""The minimum-slot planner for parallel slots (seed 000, after Vlasák, Sojka & Hanzálek 2022).
+
+Slot frame: the slot is ``[0, L] × [0, W]`` with the road above (``y > W``). Its frame
+is three wall segments — the rear end ``x = 0``, the kerb ``y = 0`` and the front end
+``x = L`` — and its entry side ``y = W`` is open. The car starts with its right-front
+corner on the far entry corner ``p = (L, W)`` at heading ``theta0`` (0 ≤ theta0 ≤ 90°),
+reverses at full left lock until the next motion would touch the frame, then drives
+forward at full right lock, and so on, until its whole footprint is inside the slot.
+Every stroke turns the car clockwise about one centre, so each corner moves on a circle
+and the first contact — a car corner reaching a wall, or a wall end reaching a car side —
+is a circle–segment intersection, solved exactly for all start headings at once.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from lotsim.geometry import FloatArray, Segment, advance
+from lotsim.vehicles.model import VehicleType
+
+NO_SOLUTION = -1
+"""``changes`` value of a start heading from which the car cannot be parked."""
+_EPS_ANGLE = 1e-9
+_BACKOFF = 1e-7  # stop this many radians short of contact, so the next stroke starts free
+
+
+@dataclass(frozen=True, slots=True)
+class SlotFrame:
+    """A parallel slot ``[0, length] × [0, width]`` in its own frame [m]."""
+
+    length: float
+    width: float
+
+    @property
+    def walls(self) -> FloatArray:
+        """The three wall segments, (3, 2, 2): rear end, kerb, front end."""
+        L, W = self.length, self.width
+        return np.array([[[0, W], [0, 0]], [[0, 0], [L, 0]], [[L, 0], [L, W]]], dtype=float)
+
+    @property
+    def wall_points(self) -> FloatArray:
+        """Ends of the walls, (4, 2)."""
+        L, W = self.length, self.width
+        return np.array([[0, W], [0, 0], [L, 0], [L, W]], dtype=float)
+
+
+def start_poses(vehicle: VehicleType, frame: SlotFrame, theta0: FloatArray) -> FloatArray:
+    """Rear-axle poses (T, 3) with the right-front corner on ``(L, W)`` at headings ``theta0``."""
+    t = np.asarray(theta0, dtype=float)
+    c, s = np.cos(t), np.sin(t)
+    x = frame.length - vehicle.front * c - vehicle.width / 2 * s
+    y = frame.width - vehicle.front * s + vehicle.width / 2 * c
+    return np.stack([x, y, t], axis=-1)
+
+
+def _circle_segment_angles(
+    center: FloatArray, point: FloatArray, seg: FloatArray, direction: float
+) -> FloatArray:
+    """Rotation angles (in ``direction``, ±1) that bring ``point`` onto segment ``seg``.
+
+    Shapes broadcast: ``center`` (..., 2), ``point`` (..., 2), ``seg`` (..., 2, 2).
+    Returns (..., 2) angles in (0, 2π], ``inf`` where there is no intersection.
+    """
+    a, b = seg[..., 0, :], seg[..., 1, :]
+    d = b - a
+    f = a - center
+    rho2 = np.sum((point - center) ** 2, axis=-1)
+    qa = np.sum(d * d, axis=-1)
+    qb = 2 * np.sum(f * d, axis=-1)
+    qc = np.sum(f * f, axis=-1) - rho2
+    disc = qb * qb - 4 * qa * qc
+    ok = disc >= 0
+    root = np.sqrt(np.where(ok, disc, 0.0))
+    ts = np.stack([(-qb - root) / (2 * qa), (-qb + root) / (2 * qa)], axis=-1)
+    ok = ok[..., None] & (ts >= -1e-12) & (ts <= 1 + 1e-12)
+    q = a[..., None, :] + ts[..., None] * d[..., None, :]  # (..., 2, 2)
+    rel_q = q - center[..., None, :]
+    rel_p = (point - center)[..., None, :]
+    cross = rel_p[..., 0] * rel_q[..., 1] - rel_p[..., 1] * rel_q[..., 0]
+    dot = rel_p[..., 0] * rel_q[..., 0] + rel_p[..., 1] * rel_q[..., 1]
+    ang = np.arctan2(cross, dot)
+    ang = np.mod(direction * ang, 2 * math.pi)
+    ang = np.where(ang <= _EPS_ANGLE, ang + 2 * math.pi, ang)
+    return np.where(ok, ang, np.inf)
+
+
+def _circle_axis_angles(
+    center: FloatArray, point: FloatArray, axis: int, value: float, lo: float, hi: float,
+    direction: float,
+) -> FloatArray:
+    """Like :func:`_circle_segment_angles` for an axis-aligned segment.
+
+    The segment is ``coord[axis] == value`` with the other coordinate in ``[lo, hi]``;
+    ``center`` is (T, 1, 2), ``point`` (T, N, 2). Returns (T, N, 2).
+    """
+    other = 1 - axis
+    rel = point - center
+    rho2 = rel[..., 0] ** 2 + rel[..., 1] ** 2
+    off = value - center[..., axis]  # (T, 1)
+    h2 = rho2 - off * off
+    ok = h2 >= 0
+    h = np.sqrt(np.where(ok, h2, 0.0))
+    qo = np.stack([-h, h], axis=-1)  # other-coordinate offsets of the two hits, (T, N, 2)
+    along = center[..., other][..., None] + qo
+    ok = ok[..., None] & (along >= lo - 1e-12) & (along <= hi + 1e-12)
+    qa = np.broadcast_to(off[..., None], qo.shape)
+    q = (qa, qo) if axis == 0 else (qo, qa)  # (x, y) of the hits relative to the centre
+    px, py = rel[..., 0][..., None], rel[..., 1][..., None]
+    ang = np.arctan2(px * q[1] - py * q[0], px * q[0] + py * q[1])
+    ang = np.mod(direction * ang, 2 * math.pi)
+    ang = np.where(ang <= _EPS_ANGLE, ang + 2 * math.pi, ang)
+    return np.where(ok, ang, np.inf)
+
+
+def _rotate(points: FloatArray, center: FloatArray, angle: FloatArray) -> FloatArray:
+    """Rotate ``points`` (T, ..., 2) about ``center`` (T, 2) by ``angle`` (T, ...) CCW."""
+    c, s = np.cos(angle), np.sin(angle)
+    rel = points - center.reshape(center.shape[0], *([1] * (points.ndim - 2)), 2)
+    x = rel[..., 0] * c - rel[..., 1] * s
+    y = rel[..., 0] * s + rel[..., 1] * c
+    return np.stack([x, y], axis=-1) + center.reshape(
+        center.shape[0], *([1] * (points.ndim - 2)), 2
+    )
+
+
+def _inside(corners: FloatArray, frame: SlotFrame, tol: float = 1e-9) -> np.ndarray:
+    x, y = corners[..., 0], corners[..., 1]
+    ok = (x >= -tol) & (x <= frame.length + tol) & (y >= -tol) & (y <= frame.width + tol)
+    return ok.all(axis=-1)
+
+
+def _entry_events(center: FloatArray, corners: FloatArray, frame: SlotFrame) -> FloatArray:
+    """Clockwise angles (T, 8) at which a corner crosses the entry line y = W.
+
+    The car can only become inside when its last corner comes down through the
+    entry line: a corner below the entry line but beyond an end of the slot could
+    only come back in through a wall, which is a contact, not a motion.
+    """
+    ang = _circle_axis_angles(center[:, None, :], corners, 1, frame.width, -np.inf, np.inf, -1.0)
+    return ang.reshape(len(center), -1)
+
+
+def _stroke(vehicle: VehicleType, frame: SlotFrame, poses: FloatArray, k: int):
+    """One full-lock stroke from ``poses`` (T, 3): reverse-left when k is even, else forward-right.
+
+    Returns (rotation to contact (T,), rotation at which the car is first inside or inf (T,)).
+    Both are clockwise angles [rad].
+    """
+    kappa = vehicle.max_curvature if k % 2 == 0 else -vehicle.max_curvature
+    theta = poses[:, 2]
+    normal = np.stack([-np.sin(theta), np.cos(theta)], axis=-1)
+    center = poses[:, :2] + normal / kappa
+    corners = vehicle.footprints(poses)  # (T, 4, 2)
+    edges = np.stack([corners, np.roll(corners, -1, axis=1)], axis=2)  # (T, 4, 2, 2)
+    c1 = center[:, None, :]
+    L, W = frame.length, frame.width
+    # corners reaching walls (rear end, kerb, front end): corners turn clockwise
+    hit_a = np.minimum(
+        np.minimum(_circle_axis_angles(c1, corners, 0, 0.0, 0.0, W, -1.0),
+                   _circle_axis_angles(c1, corners, 1, 0.0, 0.0, L, -1.0)),
+        _circle_axis_angles(c1, corners, 0, L, 0.0, W, -1.0),
+    )
+    # wall ends reaching car sides: relative to the car they turn counter-clockwise
+    pts = frame.wall_points
+    hit_b = _circle_segment_angles(center[:, None, None, :], pts[None, :, None, :],
+                                   edges[:, None], 1.0)
+    contact = np.minimum(hit_a.reshape(len(poses), -1).min(axis=1),
+                         hit_b.reshape(len(poses), -1).min(axis=1))
+    # first angle (≤ contact) at which all corners are inside the slot
+    events = _entry_events(center, corners, frame)
+    events = np.concatenate([np.zeros((len(poses), 1)), events, contact[:, None]], axis=1)
+    events = np.where(events <= contact[:, None], events, np.inf)
+    order = np.sort(events, axis=1)
+    finite = np.where(np.isfinite(order), order, 0.0)
+    moved = _rotate(corners[:, None, :, :], center, -finite[:, :, None])  # (T, K, 4, 2)
+    inside = _inside(moved, frame) & np.isfinite(order)
+    first = np.where(inside.any(axis=1), order[np.arange(len(poses)), inside.argmax(axis=1)],
+                     np.inf)
+    return contact, first, kappa
+
+
+def simulate(
+    vehicle: VehicleType, frame: SlotFrame, theta0: FloatArray, *, max_changes: int = 10,
+    record: bool = False, stop_at_first: bool = False,
+):
+    """Run the strategy from every start heading at once.
+
+    Returns
+    -------
+    changes : ndarray of int, shape (T,)
+        Direction changes needed from each start heading, or ``NO_SOLUTION``
+        (with ``stop_at_first``, headings still unfinished when the first one
+        parks are left at ``NO_SOLUTION``).
+    strokes : list of list of Segment, only when ``record``
+        The strokes driven from each start heading.
+    """
+    theta0 = np.atleast_1d(np.asarray(theta0, dtype=float))
+    poses = start_poses(vehicle, frame, theta0)
+    changes = np.full(len(theta0), NO_SOLUTION, dtype=int)
+    active = _start_free(vehicle, frame, poses)
+    strokes: list[list[Segment]] = [[] for _ in theta0]
+    for k in range(max_changes + 1):
+        idx = np.flatnonzero(active)
+        if idx.size == 0:
+            break
+        contact, first, kappa = _stroke(vehicle, frame, poses[idx], k)
+        done = np.isfinite(first)
+        stuck = ~done & ~np.isfinite(contact)  # turns full circles without ever fitting
+        angle = np.where(done, first, np.maximum(contact - _BACKOFF, 0.0))
+        angle = np.where(stuck, 0.0, angle)
+        distance = -angle / kappa  # clockwise rotation: reverse when kappa > 0
+        if record:
+            for j, i in enumerate(idx):
+                if angle[j] > 0:
+                    strokes[i].append(Segment(tuple(map(float, poses[i])), float(distance[j]),
+                                              kappa))
+        poses[idx] = advance(poses[idx], distance, kappa)
+        changes[idx[done]] = k
+        active[idx[done | stuck]] = False
+        if stop_at_first and done.any():
+            break  # strokes run in lockstep: nobody can now need fewer changes
+    return (changes, strokes) if record else changes
+
+
+def _start_free(vehicle: VehicleType, frame: SlotFrame, poses: FloatArray) -> np.ndarray:
+    """Start poses whose body crosses no wall (touching the corner p is allowed)."""
+    corners = vehicle.footprints(poses) - np.array([1e-7, 0.0])
+    edges = np.stack([corners, np.roll(corners, -1, axis=1)], axis=2)  # (T, 4, 2, 2)
+    walls = frame.walls
+    p, r = edges[:, :, None, 0, :], edges[:, :, None, 1, :] - edges[:, :, None, 0, :]
+    q, s = walls[None, None, :, 0, :], walls[None, None, :, 1, :] - walls[None, None, :, 0, :]
+    denom = r[..., 0] * s[..., 1] - r[..., 1] * s[..., 0]
+    qp = q - p
+    with np.errstate(divide="ignore", invalid="ignore"):
+        t = (qp[..., 0] * s[..., 1] - qp[..., 1] * s[..., 0]) / denom
+        u = (qp[..., 0] * r[..., 1] - qp[..., 1] * r[..., 0]) / denom
+    cross = (denom != 0) & (t >= 0) & (t <= 1) & (u >= 0) & (u <= 1)
+    return ~cross.any(axis=(1, 2))
+
+
+def start_headings(step_deg: float = 0.1) -> FloatArray:
+    """The swept start headings, 0 to 90° inclusive [rad]."""
+    n = int(round(90 / step_deg))
+    return np.radians(np.linspace(0.0, 90.0, n + 1))
+
+
+def fewest_changes(
+    vehicle: VehicleType, length: float, width: float, *, max_changes: int = 10,
+    step_deg: float = 0.1,
+) -> tuple[int, float]:
+    """Fewest direction changes over all start headings, and the heading that needs them.
+
+    Returns ``(NO_SOLUTION, nan)`` when no heading parks the car with ≤ ``max_changes``.
+    """
+    if length < vehicle.length or width < vehicle.width:
+        return NO_SOLUTION, math.nan
+    thetas = start_headings(step_deg)
+    changes = simulate(vehicle, SlotFrame(length, width), thetas, max_changes=max_changes,
+                       stop_at_first=True)
+    ok = changes >= 0
+    if not ok.any():
+        return NO_SOLUTION, math.nan
+    best = int(changes[ok].min())
+    return best, float(thetas[np.flatnonzero(changes == best)[0]])
+
+
+@dataclass(frozen=True, slots=True)
+class MinSlotRow:
+    """The shortest slot for at most ``changes`` direction changes.
+
+    ``length`` [m] is ``None`` when no length up to the search limit works;
+    ``theta0`` [rad] is a start heading that achieves it.
+    """
+
+    changes: int
+    length: float | None
+    theta0: float | None
+
+
+def min_slot_lengths(
+    vehicle: VehicleType, width: float, *, max_changes: int = 10, resolution: float = 0.01,
+    step_deg: float = 0.2, max_length: float | None = None,
+) -> list[MinSlotRow]:
+    """Minimum parallel-slot length for each number of direction changes ``0..max_changes``.
+
+    Lengths are searched on multiples of ``resolution`` [m] from the car's length to
+    ``max_length`` (default 2.5 car lengths). More length never needs more changes in
+    this strategy, so the thresholds are found by bisection on the staircase
+    ``changes(L)``, evaluating each length once.
+
+    Examples
+    --------
+    >>> from lotsim.vehicles import CATALOGUE
+    >>> rows = min_slot_lengths(CATALOGUE["altis"], 2.5, max_changes=1)
+    >>> [(r.changes, round(r.length, 2)) for r in rows]
+    [(0, 6.46), (1, 5.59)]
+    """
+    if max_changes < 0:
+        raise ValueError("max_changes must be zero or more")
+    if width < vehicle.width:
+        return [MinSlotRow(g, None, None) for g in range(max_changes + 1)]
+    unsolved = max_changes + 1
+    first = math.ceil(vehicle.length / resolution - 1e-9)
+    last = math.floor((max_length or 2.5 * vehicle.length) / resolution + 1e-9)
+    cache: dict[int, tuple[int, float]] = {}
+
+    def g(k: int, cap: int) -> int:
+        if k not in cache:
+            c, t = fewest_changes(vehicle, k * resolution, width, max_changes=min(cap, max_changes),
+                                  step_deg=step_deg)
+            cache[k] = (unsolved if c == NO_SOLUTION else c, t)
+        return cache[k][0]
+
+    answer: dict[int, int] = {}
+    g_last = g(last, max_changes)
+    g_first = g(first, g_last)
+
+    def solve(lo: int, hi: int, g_lo: int, g_hi: int) -> None:
+        # invariant: g_lo > g_hi; thresholds for changes in [g_hi, g_lo) lie in (lo, hi]
+        if hi - lo == 1:
+            for c in range(g_hi, min(g_lo, unsolved)):
+                answer[c] = hi
+            return
+        mid = (lo + hi) // 2
+        g_mid = min(max(g(mid, g_lo), g_hi), g_lo)  # keep the staircase monotone
+        if g_lo > g_mid:
+            solve(lo, mid, g_lo, g_mid)
+        if g_mid > g_hi:
+            solve(mid, hi, g_mid, g_hi)
+
+    for c in range(g_first, unsolved):
+        answer[c] = first
+    if g_first > g_last:
+        solve(first, last, g_first, g_last)
+    rows = []
+    for c in range(max_changes + 1):
+        k = answer.get(c)
+        if k is None:
+            rows.append(MinSlotRow(c, None, None))
+        else:
+            rows.append(MinSlotRow(c, round(k * resolution, 10), cache[k][1]))
+    return rows
