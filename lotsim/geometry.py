@@ -53,7 +53,7 @@ def advance(poses: ArrayLike, distance: ArrayLike, curvature: ArrayLike) -> Floa
     circles and stays accurate as ``kappa -> 0`` (a line).
 
     >>> advance([0.0, 0.0, 0.0], math.pi / 2, 1.0).round(12).tolist()
-    [1.0, 1.0, 1.5707963267948966]
+    [1.0, 1.0, 1.570796326795]
     """
     p = np.asarray(poses, dtype=float)
     s = np.asarray(distance, dtype=float)

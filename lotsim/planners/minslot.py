@@ -296,7 +296,7 @@ def min_slot_lengths(
     >>> from lotsim.vehicles import CATALOGUE
     >>> rows = min_slot_lengths(CATALOGUE["altis"], 2.5, max_changes=1)
     >>> [(r.changes, round(r.length, 2)) for r in rows]
-    [(0, 6.46), (1, 5.59)]
+    [(0, 6.06), (1, 5.59)]
     """
     if max_changes < 0:
         raise ValueError("max_changes must be zero or more")
