@@ -38,6 +38,20 @@ def _parser() -> argparse.ArgumentParser:
     v.add_argument("--strict", action="store_true",
                    help="exit 1 when a slot or exit cannot be reached")
 
+    m = sub.add_parser("minslot", help="shortest parallel slot for each number of direction "
+                       "changes")
+    which = m.add_mutually_exclusive_group(required=True)
+    which.add_argument("--car", help="a catalogue name (see `lotsim cars`) or a vehicle YAML file")
+    which.add_argument("--all-cars", action="store_true", help="every catalogue car")
+    m.add_argument("--width", type=float, required=True, help="slot width [m]")
+    m.add_argument("--max-changes", type=int, default=10, help="largest number of direction "
+                   "changes to report (default 10)")
+    m.add_argument("--resolution", type=float, default=0.01, help="length step [m] (0.01)")
+    m.add_argument("--step-deg", type=float, default=0.1,
+                   help="start-heading sweep step [deg] (0.1)")
+    m.add_argument("--json", action="store_true", help="print JSON instead of a table")
+    m.add_argument("--plot", metavar="PNG", help="plot length against changes (matplotlib)")
+
     s = sub.add_parser("show", help="draw a scenario's lot to a PNG")
     s.add_argument("scenario", metavar="SCENARIO")
     s.add_argument("-o", "--output", default="lot.png", help="PNG to write (default lot.png)")
@@ -56,6 +70,8 @@ def main(argv: Sequence[str] | None = None) -> int:
             return _validate(args.scenarios, strict=args.strict)
         if args.command == "show":
             return _show(args)
+        if args.command == "minslot":
+            return _minslot(args)
     except ScenarioError as exc:
         print(f"lotsim: {exc}", file=sys.stderr)
         return EXIT_BAD_INPUT
@@ -158,4 +174,106 @@ def _show(args: argparse.Namespace) -> int:
         print(f"lotsim: {args.output}: cannot write: {exc.strerror or exc}", file=sys.stderr)
         return EXIT_BAD_INPUT
     print(f"wrote {args.output}")
+    return EXIT_OK
+
+
+def _bad(message: str) -> int:
+    print(f"lotsim: {message}", file=sys.stderr)
+    return EXIT_BAD_INPUT
+
+
+def _minslot(args: argparse.Namespace) -> int:
+    import json
+    from pathlib import Path
+
+    from lotsim.io.scenario import load_vehicle
+    from lotsim.planners.minslot import min_slot_lengths
+    from lotsim.vehicles.catalogue import CATALOGUE
+
+    if not (math.isfinite(args.width) and args.width > 0):
+        return _bad(f"--width: expected a positive slot width in metres, found {args.width:g}")
+    if args.max_changes < 0 or args.max_changes > 50:
+        return _bad(f"--max-changes: expected 0 to 50, found {args.max_changes}")
+    if not (0.001 <= args.resolution <= 1.0):
+        return _bad(f"--resolution: expected 0.001 to 1 m, found {args.resolution:g}")
+    if not (0.01 <= args.step_deg <= 5.0):
+        return _bad(f"--step-deg: expected 0.01 to 5 degrees, found {args.step_deg:g}")
+    if args.all_cars:
+        cars = list(CATALOGUE.values())
+    elif args.car in CATALOGUE:
+        cars = [CATALOGUE[args.car]]
+    elif Path(args.car).suffix in (".yaml", ".yml") or Path(args.car).exists():
+        cars = [load_vehicle(args.car)]
+    else:
+        return _bad(f"--car: unknown car {args.car!r}; expected one of "
+                    f"{', '.join(CATALOGUE)} or a vehicle YAML file")
+    narrow = [c for c in cars if c.width > args.width]
+    if narrow and not args.all_cars:
+        return _bad(f"--width: a {args.width:g} m slot is narrower than {narrow[0].name} "
+                    f"({narrow[0].width:g} m wide)")
+    results = []
+    show_progress = sys.stderr.isatty() and len(cars) > 1
+    for i, car in enumerate(cars):
+        if show_progress:
+            print(f"\r{i}/{len(cars)} cars … {car.name:8}", end="", file=sys.stderr, flush=True)
+        rows = min_slot_lengths(car, args.width, max_changes=args.max_changes,
+                                resolution=args.resolution, step_deg=args.step_deg)
+        results.append((car, rows))
+    if show_progress:
+        print("\r" + " " * 40 + "\r", end="", file=sys.stderr)
+    docs = [{"car": car.name, "car_length": round(car.length, 4), "width": args.width,
+             "rows": [{"changes": r.changes, "length": r.length,
+                       "ratio": None if r.length is None else round(r.length / car.length, 4)}
+                      for r in rows]} for car, rows in results]
+    if args.json:
+        print(json.dumps(docs[0] if len(docs) == 1 and not args.all_cars else docs, indent=2))
+    else:
+        for doc in docs:
+            print(f"{doc['car']}: car length {doc['car_length']:.3f} m, slot width "
+                  f"{args.width:g} m")
+            print(f"  {'changes':>7}  {'min length':>10}  {'L / car':>7}")
+            for r in doc["rows"]:
+                if r["length"] is None:
+                    print(f"  {r['changes']:>7}  {'none':>10}  {'':>7}")
+                else:
+                    print(f"  {r['changes']:>7}  {r['length']:>8.2f} m  {r['ratio']:>7.3f}")
+    if args.plot:
+        return _plot_minslot(docs, args.plot)
+    return EXIT_OK
+
+
+def _plot_minslot(docs: list, path: str) -> int:
+    import os
+    import tempfile
+
+    try:
+        import matplotlib
+
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+    except ImportError:
+        return _bad("--plot needs matplotlib: pip install 'lotsim[plot]'")
+    fig, ax = plt.subplots(figsize=(7, 4.5), dpi=120)
+    for doc in docs:
+        pts = [(r["length"], r["changes"]) for r in doc["rows"] if r["length"] is not None]
+        if pts:
+            xs, ys = zip(*pts, strict=True)
+            label = f"{doc['car']}-w-{doc['width']:g}"
+            ax.step(xs, ys, where="post", marker="o", ms=3, label=label)
+    ax.set_xlabel("slot length L [m]")
+    ax.set_ylabel("direction changes needed")
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=8)
+    folder = os.path.dirname(os.path.abspath(path))
+    fd, tmp = tempfile.mkstemp(suffix=".png", dir=folder)
+    os.close(fd)
+    try:
+        fig.savefig(tmp)
+        os.replace(tmp, path)
+    except OSError as exc:
+        os.unlink(tmp)
+        return _bad(f"{path}: cannot write: {exc.strerror or exc}")
+    finally:
+        plt.close(fig)
+    print(f"wrote {path}")
     return EXIT_OK

@@ -1,0 +1,61 @@
+"""`lotsim minslot`: table, JSON contract, vehicle files, bad input."""
+
+import json
+
+import pytest
+
+from lotsim.cli import main
+from lotsim.planners.closed_form import one_change_excess
+from lotsim.vehicles import CATALOGUE
+
+
+def test_json_rows_for_every_change_count(capsys):
+    assert main(["minslot", "--car", "msv", "--width", "2.2", "--max-changes", "3",
+                 "--json", "--step-deg", "0.2"]) == 0
+    doc = json.loads(capsys.readouterr().out)
+    assert doc["car"] == "msv" and doc["width"] == 2.2
+    assert [r["changes"] for r in doc["rows"]] == [0, 1, 2, 3]
+    lengths = [r["length"] for r in doc["rows"]]
+    assert lengths == sorted(lengths, reverse=True)
+    car = CATALOGUE["msv"]
+    assert lengths[1] == pytest.approx(car.length + one_change_excess(car, 2.2)[0], abs=0.02)
+
+
+def test_length_is_null_where_no_length_works(capsys):
+    # a 1.6 m slot fits only the corsa (1.532 m wide) of all catalogue cars
+    assert main(["minslot", "--all-cars", "--width", "1.6", "--max-changes", "1",
+                 "--json", "--resolution", "0.05", "--step-deg", "0.5"]) == 0
+    docs = {d["car"]: d for d in json.loads(capsys.readouterr().out)}
+    assert set(docs) == set(CATALOGUE)
+    assert all(r["length"] is not None for r in docs["corsa"]["rows"])
+    for name in set(CATALOGUE) - {"corsa"}:
+        assert [r["length"] for r in docs[name]["rows"]] == [None, None]
+
+
+def test_vehicle_yaml_file(tmp_path, capsys):
+    path = tmp_path / "van.yaml"
+    path.write_text("name: van\nwidth: 1.9\nfront: 3.9\nrear: 1.0\nwheelbase: 3.0\n"
+                    "max_steer_deg: 33\n")
+    assert main(["minslot", "--car", str(path), "--width", "2.3", "--max-changes", "1",
+                 "--step-deg", "0.5", "--resolution", "0.05"]) == 0
+    assert "van: car length 4.900 m" in capsys.readouterr().out
+
+
+@pytest.mark.parametrize(("argv", "words"), [
+    (["--car", "altis", "--width", "1.5"], "narrower than altis"),
+    (["--car", "altis", "--width", "-2"], "positive slot width"),
+    (["--car", "altis", "--width", "2.5", "--max-changes", "-1"], "expected 0 to 50"),
+    (["--car", "beetle", "--width", "2.5"], "unknown car 'beetle'"),
+])
+def test_bad_input_exits_2_with_a_message(capsys, argv, words):
+    assert main(["minslot", *argv]) == 2
+    err = capsys.readouterr().err
+    assert words in err and "Traceback" not in err
+
+
+def test_bad_vehicle_file_is_located(tmp_path, capsys):
+    path = tmp_path / "bad.yaml"
+    path.write_text("name: van\nwidth: -1.9\nfront: 3.9\nrear: 1.0\nwheelbase: 3.0\n"
+                    "max_steer_deg: 33\n")
+    assert main(["minslot", "--car", str(path), "--width", "2.3"]) == 2
+    assert f"{path}:2:8: width: expected a positive number" in capsys.readouterr().err
