@@ -133,14 +133,15 @@ def _inside(corners: FloatArray, frame: SlotFrame, tol: float = 1e-9) -> np.ndar
 
 
 def _entry_events(center: FloatArray, corners: FloatArray, frame: SlotFrame) -> FloatArray:
-    """Clockwise angles (T, 8) at which a corner crosses the entry line y = W.
+    """Clockwise angles (T, 4) at which each corner comes down through the entry line y = W.
 
     The car can only become inside when its last corner comes down through the
     entry line: a corner below the entry line but beyond an end of the slot could
-    only come back in through a wall, which is a contact, not a motion.
+    only come back in through a wall, which is a contact, not a motion. Turning
+    clockwise, a point moves down where it is right of the centre: the ``+h`` root.
     """
     ang = _circle_axis_angles(center[:, None, :], corners, 1, frame.width, -np.inf, np.inf, -1.0)
-    return ang.reshape(len(center), -1)
+    return ang[..., 1]
 
 
 def _stroke(vehicle: VehicleType, frame: SlotFrame, poses: FloatArray, k: int):
@@ -154,7 +155,6 @@ def _stroke(vehicle: VehicleType, frame: SlotFrame, poses: FloatArray, k: int):
     normal = np.stack([-np.sin(theta), np.cos(theta)], axis=-1)
     center = poses[:, :2] + normal / kappa
     corners = vehicle.footprints(poses)  # (T, 4, 2)
-    edges = np.stack([corners, np.roll(corners, -1, axis=1)], axis=2)  # (T, 4, 2, 2)
     c1 = center[:, None, :]
     L, W = frame.length, frame.width
     # corners reaching walls (rear end, kerb, front end): corners turn clockwise
@@ -163,22 +163,30 @@ def _stroke(vehicle: VehicleType, frame: SlotFrame, poses: FloatArray, k: int):
                    _circle_axis_angles(c1, corners, 1, 0.0, 0.0, L, -1.0)),
         _circle_axis_angles(c1, corners, 0, L, 0.0, W, -1.0),
     )
-    # wall ends reaching car sides: relative to the car they turn counter-clockwise
-    pts = frame.wall_points
-    hit_b = _circle_segment_angles(center[:, None, None, :], pts[None, :, None, :],
-                                   edges[:, None], 1.0)
+    # wall ends reaching car sides: in the car's own frame the sides are axis-aligned and
+    # the wall ends turn counter-clockwise about the centre (0, 1/kappa)
+    rel = frame.wall_points[None, :, :] - poses[:, None, :2]
+    cth, sth = np.cos(theta)[:, None], np.sin(theta)[:, None]
+    ends = np.stack([rel[..., 0] * cth + rel[..., 1] * sth,
+                     -rel[..., 0] * sth + rel[..., 1] * cth], axis=-1)  # (T, 4, 2)
+    c_body = np.broadcast_to(np.array([0.0, 1.0 / kappa]), (len(poses), 1, 2))
+    h = vehicle.width / 2
+    hit_b = np.minimum(
+        np.minimum(_circle_axis_angles(c_body, ends, 0, -vehicle.rear, -h, h, 1.0),
+                   _circle_axis_angles(c_body, ends, 0, vehicle.front, -h, h, 1.0)),
+        np.minimum(_circle_axis_angles(c_body, ends, 1, -h, -vehicle.rear, vehicle.front, 1.0),
+                   _circle_axis_angles(c_body, ends, 1, h, -vehicle.rear, vehicle.front, 1.0)),
+    )
     contact = np.minimum(hit_a.reshape(len(poses), -1).min(axis=1),
                          hit_b.reshape(len(poses), -1).min(axis=1))
     # first angle (≤ contact) at which all corners are inside the slot
     events = _entry_events(center, corners, frame)
     events = np.concatenate([np.zeros((len(poses), 1)), events, contact[:, None]], axis=1)
     events = np.where(events <= contact[:, None], events, np.inf)
-    order = np.sort(events, axis=1)
-    finite = np.where(np.isfinite(order), order, 0.0)
+    finite = np.where(np.isfinite(events), events, 0.0)
     moved = _rotate(corners[:, None, :, :], center, -finite[:, :, None])  # (T, K, 4, 2)
-    inside = _inside(moved, frame) & np.isfinite(order)
-    first = np.where(inside.any(axis=1), order[np.arange(len(poses)), inside.argmax(axis=1)],
-                     np.inf)
+    inside = _inside(moved, frame) & np.isfinite(events)
+    first = np.where(inside, events, np.inf).min(axis=1)
     return contact, first, kappa
 
 

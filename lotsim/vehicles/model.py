@@ -128,9 +128,12 @@ class VehicleType:
             Corners in world coordinates, counter-clockwise from rear right.
         """
         p = np.atleast_2d(np.asarray(poses, dtype=float))
-        c, s = np.cos(p[:, 2]), np.sin(p[:, 2])
-        rot = np.stack([np.stack([c, -s], -1), np.stack([s, c], -1)], -2)  # (N, 2, 2)
-        return np.einsum("nij,kj->nki", rot, self.outline) + p[:, None, :2]
+        c, s = np.cos(p[:, 2])[:, None], np.sin(p[:, 2])[:, None]
+        body = self.outline
+        out = np.empty((len(p), 4, 2))
+        out[..., 0] = p[:, :1] + c * body[:, 0] - s * body[:, 1]
+        out[..., 1] = p[:, 1:2] + s * body[:, 0] + c * body[:, 1]
+        return out
 
     def drive(self, poses: ArrayLike, distance: ArrayLike, steer: ArrayLike) -> FloatArray:
         """Poses after driving a signed ``distance`` [m] at constant ``steer`` [rad], exactly."""
