@@ -88,28 +88,32 @@ def _circle_segment_angles(
 
 
 def _circle_axis_angles(
-    center: FloatArray, point: FloatArray, axis: int, value: float, lo: float, hi: float,
-    direction: float,
+    center: FloatArray, point: FloatArray, segments: FloatArray, direction: float
 ) -> FloatArray:
-    """Like :func:`_circle_segment_angles` for an axis-aligned segment.
+    """Like :func:`_circle_segment_angles` for axis-aligned segments, all in one pass.
 
-    The segment is ``coord[axis] == value`` with the other coordinate in ``[lo, hi]``;
-    ``center`` is (T, 1, 2), ``point`` (T, N, 2). Returns (T, N, 2).
+    ``segments`` (S, 4) rows are ``(axis, value, lo, hi)``: the segment
+    ``coord[axis] == value`` with the other coordinate in ``[lo, hi]``.
+    ``center`` is (T, 1, 2), ``point`` (T, N, 2). Returns (T, N, S, 2).
     """
-    other = 1 - axis
-    rel = point - center
-    rho2 = rel[..., 0] ** 2 + rel[..., 1] ** 2
-    off = value - center[..., axis]  # (T, 1)
-    h2 = rho2 - off * off
+    axis = segments[:, 0].astype(int)
+    value, lo, hi = segments[:, 1], segments[:, 2], segments[:, 3]
+    rel = point - center  # (T, N, 2)
+    rho2 = (rel[..., 0] ** 2 + rel[..., 1] ** 2)[..., None]  # (T, N, 1)
+    c_axis = np.take(center, axis, axis=-1)  # (T, 1, S)
+    c_other = np.take(center, 1 - axis, axis=-1)
+    off = value - c_axis  # (T, 1, S)
+    h2 = rho2 - off * off  # (T, N, S)
     ok = h2 >= 0
-    h = np.sqrt(np.where(ok, h2, 0.0))
-    qo = np.stack([-h, h], axis=-1)  # other-coordinate offsets of the two hits, (T, N, 2)
-    along = center[..., other][..., None] + qo
-    ok = ok[..., None] & (along >= lo - 1e-12) & (along <= hi + 1e-12)
-    qa = np.broadcast_to(off[..., None], qo.shape)
-    q = (qa, qo) if axis == 0 else (qo, qa)  # (x, y) of the hits relative to the centre
-    px, py = rel[..., 0][..., None], rel[..., 1][..., None]
-    ang = np.arctan2(px * q[1] - py * q[0], px * q[0] + py * q[1])
+    h = np.sqrt(np.where(ok, h2, 0.0))[..., None] * np.array([-1.0, 1.0])  # (T, N, S, 2)
+    along = c_other[..., None] + h
+    ok = ok[..., None] & (along >= lo[:, None] - 1e-12) & (along <= hi[:, None] + 1e-12)
+    off4 = off[..., None]
+    on_x = (axis == 0)[:, None]
+    qx = np.where(on_x, off4, h)
+    qy = np.where(on_x, h, off4)
+    px, py = rel[..., 0][..., None, None], rel[..., 1][..., None, None]
+    ang = np.arctan2(px * qy - py * qx, px * qx + py * qy)
     ang = np.mod(direction * ang, 2 * math.pi)
     ang = np.where(ang <= _EPS_ANGLE, ang + 2 * math.pi, ang)
     return np.where(ok, ang, np.inf)
@@ -140,8 +144,8 @@ def _entry_events(center: FloatArray, corners: FloatArray, frame: SlotFrame) -> 
     only come back in through a wall, which is a contact, not a motion. Turning
     clockwise, a point moves down where it is right of the centre: the ``+h`` root.
     """
-    ang = _circle_axis_angles(center[:, None, :], corners, 1, frame.width, -np.inf, np.inf, -1.0)
-    return ang[..., 1]
+    entry = np.array([[1.0, frame.width, -np.inf, np.inf]])
+    return _circle_axis_angles(center[:, None, :], corners, entry, -1.0)[..., 0, 1]
 
 
 def _stroke(vehicle: VehicleType, frame: SlotFrame, poses: FloatArray, k: int):
@@ -158,11 +162,8 @@ def _stroke(vehicle: VehicleType, frame: SlotFrame, poses: FloatArray, k: int):
     c1 = center[:, None, :]
     L, W = frame.length, frame.width
     # corners reaching walls (rear end, kerb, front end): corners turn clockwise
-    hit_a = np.minimum(
-        np.minimum(_circle_axis_angles(c1, corners, 0, 0.0, 0.0, W, -1.0),
-                   _circle_axis_angles(c1, corners, 1, 0.0, 0.0, L, -1.0)),
-        _circle_axis_angles(c1, corners, 0, L, 0.0, W, -1.0),
-    )
+    walls = np.array([[0, 0.0, 0.0, W], [1, 0.0, 0.0, L], [0, L, 0.0, W]])
+    hit_a = _circle_axis_angles(c1, corners, walls, -1.0)
     # wall ends reaching car sides: in the car's own frame the sides are axis-aligned and
     # the wall ends turn counter-clockwise about the centre (0, 1/kappa)
     rel = frame.wall_points[None, :, :] - poses[:, None, :2]
@@ -170,13 +171,9 @@ def _stroke(vehicle: VehicleType, frame: SlotFrame, poses: FloatArray, k: int):
     ends = np.stack([rel[..., 0] * cth + rel[..., 1] * sth,
                      -rel[..., 0] * sth + rel[..., 1] * cth], axis=-1)  # (T, 4, 2)
     c_body = np.broadcast_to(np.array([0.0, 1.0 / kappa]), (len(poses), 1, 2))
-    h = vehicle.width / 2
-    hit_b = np.minimum(
-        np.minimum(_circle_axis_angles(c_body, ends, 0, -vehicle.rear, -h, h, 1.0),
-                   _circle_axis_angles(c_body, ends, 0, vehicle.front, -h, h, 1.0)),
-        np.minimum(_circle_axis_angles(c_body, ends, 1, -h, -vehicle.rear, vehicle.front, 1.0),
-                   _circle_axis_angles(c_body, ends, 1, h, -vehicle.rear, vehicle.front, 1.0)),
-    )
+    h, r, f = vehicle.width / 2, vehicle.rear, vehicle.front
+    sides = np.array([[0, -r, -h, h], [0, f, -h, h], [1, -h, -r, f], [1, h, -r, f]])
+    hit_b = _circle_axis_angles(c_body, ends, sides, 1.0)
     contact = np.minimum(hit_a.reshape(len(poses), -1).min(axis=1),
                          hit_b.reshape(len(poses), -1).min(axis=1))
     # first angle (≤ contact) at which all corners are inside the slot
