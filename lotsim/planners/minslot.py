@@ -207,6 +207,7 @@ def simulate(
     changes = np.full(len(theta0), NO_SOLUTION, dtype=int)
     active = _start_free(vehicle, frame, poses)
     strokes: list[list[Segment]] = [[] for _ in theta0]
+    floor = -_fitting_heading(vehicle, frame)
     for k in range(max_changes + 1):
         idx = np.flatnonzero(active)
         if idx.size == 0:
@@ -224,10 +225,26 @@ def simulate(
                                               kappa))
         poses[idx] = advance(poses[idx], distance, kappa)
         changes[idx[done]] = k
-        active[idx[done | stuck]] = False
+        # every stroke turns the car clockwise: once it leans out further than any
+        # heading at which it fits the slot, it never will
+        hopeless = poses[idx, 2] < floor
+        active[idx[done | stuck | hopeless]] = False
         if stop_at_first and done.any():
             break  # strokes run in lockstep: nobody can now need fewer changes
     return (changes, strokes) if record else changes
+
+
+def _fitting_heading(vehicle: VehicleType, frame: SlotFrame) -> float:
+    """A bound on |heading| [rad] beyond which the car cannot lie inside the slot.
+
+    The car's extent across the slot, ``l·|sin θ| + w·cos θ = sqrt(l² + w²)·sin(|θ| + φ)``
+    with ``φ = atan(w / l)``, exceeds ``W`` for every |θ| between the root of ``= W`` and
+    90° when ``w ≤ W < l``; otherwise no bound is claimed.
+    """
+    length, w = vehicle.length, vehicle.width
+    if not w <= frame.width < length:
+        return math.inf
+    return math.asin(frame.width / math.hypot(length, w)) - math.atan2(w, length)
 
 
 def _start_free(vehicle: VehicleType, frame: SlotFrame, poses: FloatArray) -> np.ndarray:
