@@ -308,8 +308,8 @@ def min_slot_lengths(
 ) -> list[MinSlotRow]:
     """Minimum parallel-slot length for each number of direction changes ``0..max_changes``.
 
-    Lengths are searched on multiples of ``resolution`` [m] from the car's length to
-    ``max_length`` (default 2.5 car lengths). More length never needs more changes in
+    Lengths are searched on multiples of ``resolution`` [m] from one step above the
+    car's length to ``max_length`` (default 2 car lengths). More length never needs more changes in
     this strategy, so the thresholds are found by bisection on the staircase
     ``changes(L)``, evaluating each length once.
 
@@ -326,7 +326,7 @@ def min_slot_lengths(
         return [MinSlotRow(g, None, None) for g in range(max_changes + 1)]
     unsolved = max_changes + 1
     first = math.ceil(vehicle.length / resolution - 1e-9)
-    last = math.floor((max_length or 2.5 * vehicle.length) / resolution + 1e-9)
+    last = math.floor((max_length or 2.0 * vehicle.length) / resolution + 1e-9)
     cache: dict[int, tuple[int, float]] = {}
 
     def g(k: int, cap: int) -> int:
@@ -338,7 +338,8 @@ def min_slot_lengths(
 
     answer: dict[int, int] = {}
     g_last = g(last, max_changes)
-    g_first = g(first, g_last)
+    # a slot within one length step of the car's own length leaves no room to turn in
+    g_first = unsolved if first * resolution - vehicle.length < resolution else g(first, g_last)
 
     def solve(lo: int, hi: int, g_lo: int, g_hi: int) -> None:
         # invariant: g_lo > g_hi; thresholds for changes in [g_hi, g_lo) lie in (lo, hi]
