@@ -255,7 +255,8 @@ def _plot_minslot(docs: list, path: str) -> int:
         return _bad("--plot needs matplotlib: pip install 'lotsim[plot]'")
     fig, ax = plt.subplots(figsize=(7, 4.5), dpi=120)
     for doc in docs:
-        pts = [(r["length"], r["changes"]) for r in doc["rows"] if r["length"] is not None]
+        # for L in [L_k, L_k-1) the car needs k changes: a step held to the right of each point
+        pts = sorted((r["length"], r["changes"]) for r in doc["rows"] if r["length"] is not None)
         if pts:
             xs, ys = zip(*pts, strict=True)
             label = f"{doc['car']}-w-{doc['width']:g}"

@@ -59,3 +59,15 @@ def test_bad_vehicle_file_is_located(tmp_path, capsys):
                     "max_steer_deg: 33\n")
     assert main(["minslot", "--car", str(path), "--width", "2.3"]) == 2
     assert f"{path}:2:8: width: expected a positive number" in capsys.readouterr().err
+
+
+def test_plot_writes_a_png(tmp_path, capsys):
+    pytest.importorskip("matplotlib")
+    from PIL import Image
+
+    out = tmp_path / "curve.png"
+    assert main(["minslot", "--car", "corsa", "--width", "2.0", "--max-changes", "2",
+                 "--step-deg", "0.5", "--resolution", "0.05", "--plot", str(out)]) == 0
+    with Image.open(out) as img:
+        assert img.format == "PNG" and img.size[0] > 300
+    assert [p.name for p in tmp_path.iterdir()] == ["curve.png"]
