@@ -247,11 +247,9 @@ def _fitting_heading(vehicle: VehicleType, frame: SlotFrame) -> float:
     return math.asin(frame.width / math.hypot(length, w)) - math.atan2(w, length)
 
 
-def _start_free(vehicle: VehicleType, frame: SlotFrame, poses: FloatArray) -> np.ndarray:
-    """Start poses whose body crosses no wall (touching the corner p is allowed)."""
-    corners = vehicle.footprints(poses) - np.array([1e-7, 0.0])
+def edges_cross_walls(corners: FloatArray, walls: FloatArray) -> np.ndarray:
+    """(T,) whether any side of the bodies ``corners`` (T, 4, 2) meets any wall (S, 2, 2)."""
     edges = np.stack([corners, np.roll(corners, -1, axis=1)], axis=2)  # (T, 4, 2, 2)
-    walls = frame.walls
     p, r = edges[:, :, None, 0, :], edges[:, :, None, 1, :] - edges[:, :, None, 0, :]
     q, s = walls[None, None, :, 0, :], walls[None, None, :, 1, :] - walls[None, None, :, 0, :]
     denom = r[..., 0] * s[..., 1] - r[..., 1] * s[..., 0]
@@ -259,8 +257,12 @@ def _start_free(vehicle: VehicleType, frame: SlotFrame, poses: FloatArray) -> np
     with np.errstate(divide="ignore", invalid="ignore"):
         t = (qp[..., 0] * s[..., 1] - qp[..., 1] * s[..., 0]) / denom
         u = (qp[..., 0] * r[..., 1] - qp[..., 1] * r[..., 0]) / denom
-    cross = (denom != 0) & (t >= 0) & (t <= 1) & (u >= 0) & (u <= 1)
-    return ~cross.any(axis=(1, 2))
+    return ((denom != 0) & (t >= 0) & (t <= 1) & (u >= 0) & (u <= 1)).any(axis=(1, 2))
+
+
+def _start_free(vehicle: VehicleType, frame: SlotFrame, poses: FloatArray) -> np.ndarray:
+    """Start poses whose body crosses no wall (touching the corner p is allowed)."""
+    return ~edges_cross_walls(vehicle.footprints(poses) - np.array([1e-7, 0.0]), frame.walls)
 
 
 def start_headings(step_deg: float = 0.1) -> FloatArray:

@@ -1,0 +1,120 @@
+"""Minimum-slot table: exact contacts against a 1 mm stepped simulation.
+
+Run: ``python benchmarks/bench_minslot.py [--processes 2] [--sample 3]``
+
+1. Computes the full table — seed 000's seven cars × slot widths {1.2, 1.3, 1.4, 1.5}
+   × car width × direction changes 0..10 at 1 cm — with the exact planner, in parallel
+   processes, and prints the wall time (target: under 10 s on 2 cores).
+2. For one car (altis, width 1.4 × car width) re-answers some of the same queries
+   ("fewest changes for slot length L") with a 1 mm stepped simulation of the same
+   strategy (vectorised over start headings, as the exact one is), checks that the
+   minimum lengths agree to 1 cm (stepped parks at L_Γ + 1 cm with ≤ Γ changes and not
+   at L_Γ − 1 cm), and prints the per-query time ratio (target: ≥ 100×).
+Everything is measured in this run, so the ratios do not depend on the machine.
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+import time
+from multiprocessing import Pool
+
+import numpy as np
+
+from lotsim.geometry import advance
+from lotsim.planners.minslot import (
+    NO_SOLUTION,
+    SlotFrame,
+    _inside,
+    _start_free,
+    edges_cross_walls,
+    fewest_changes,
+    min_slot_lengths,
+    start_headings,
+    start_poses,
+)
+from lotsim.vehicles import CATALOGUE
+
+CARS = ["msv", "zoe", "corsa", "vw", "benz", "altis", "vclass"]
+FACTORS = [1.2, 1.3, 1.4, 1.5]
+STEP_DEG = 0.1
+
+
+def _table_entry(job: tuple[str, float]) -> tuple[str, float, list]:
+    name, factor = job
+    car = CATALOGUE[name]
+    rows = min_slot_lengths(car, factor * car.width, max_changes=10, step_deg=STEP_DEG)
+    return name, factor, [r.length for r in rows]
+
+
+def stepped_fewest_changes(car, length, width, max_changes=10, step=0.001):
+    """The same strategy, stepped: 1 mm moves on the arcs, stop before the step that touches."""
+    frame = SlotFrame(length, width)
+    thetas = start_headings(STEP_DEG)
+    poses = start_poses(car, frame, thetas)
+    active = _start_free(car, frame, poses)
+    poses = poses[active]
+    walls = frame.walls
+    for k in range(max_changes + 1):
+        kappa = car.max_curvature if k % 2 == 0 else -car.max_curvature
+        gear = -1.0 if k % 2 == 0 else 1.0
+        moving = np.ones(len(poses), dtype=bool)
+        for _ in range(math.ceil(2 * math.pi / abs(kappa) / step)):
+            idx = np.flatnonzero(moving)
+            if idx.size == 0:
+                break
+            nxt = advance(poses[idx], gear * step, kappa)
+            corners = car.footprints(nxt)
+            if _inside(corners, frame).any():
+                return k
+            hit = edges_cross_walls(corners, walls)
+            poses[idx[~hit]] = nxt[~hit]
+            moving[idx[hit]] = False
+    return NO_SOLUTION
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--processes", type=int, default=2)
+    ap.add_argument("--sample", type=int, default=3, help="changes counts checked stepped")
+    args = ap.parse_args()
+
+    jobs = [(name, f) for name in CARS for f in FACTORS]
+    t0 = time.perf_counter()
+    with Pool(args.processes) as pool:
+        table = pool.map(_table_entry, jobs)
+    t_table = time.perf_counter() - t0
+    print(f"full table: {len(CARS)} cars × {len(FACTORS)} widths × changes 0..10 at 1 cm: "
+          f"{t_table:.1f} s on {args.processes} processes")
+    print(f"{'car':7} {'W/w':>4} " + " ".join(f"{g:>5}" for g in range(11)))
+    for name, f, lengths in table:
+        cells = " ".join(f"{v:5.2f}" if v is not None else "    -" for v in lengths)
+        print(f"{name:7} {f:4.1f} {cells}")
+
+    car = CATALOGUE["altis"]
+    width = 1.4 * car.width
+    lengths = dict(zip(range(11), next(t[2] for t in table if t[:2] == ("altis", 1.4)),
+                       strict=True))
+    exact_time = stepped_time = 0.0
+    queries = 0
+    for g in range(1, 1 + args.sample):
+        for length, must_park in ((lengths[g] + 0.01, True), (lengths[g] - 0.01, False)):
+            t1 = time.perf_counter()
+            exact, _ = fewest_changes(car, length, width, max_changes=10, step_deg=STEP_DEG)
+            t2 = time.perf_counter()
+            stepped = stepped_fewest_changes(car, length, width)
+            t3 = time.perf_counter()
+            exact_time += t2 - t1
+            stepped_time += t3 - t2
+            queries += 1
+            parks = stepped != NO_SOLUTION and stepped <= g
+            verdict = "agrees" if parks == must_park else "DISAGREES"
+            print(f"  altis W={width:.3f} L={length:.2f}: exact {exact} changes, "
+                  f"stepped {stepped}; min length for {g} {verdict} to 1 cm")
+    print(f"per query: exact {1e3 * exact_time / queries:.1f} ms, 1 mm stepped "
+          f"{1e3 * stepped_time / queries:.0f} ms, ratio {stepped_time / exact_time:.0f}x")
+
+
+if __name__ == "__main__":
+    main()
