@@ -197,6 +197,17 @@ def fillet_polyline(points: ArrayLike, radius: float) -> list[Segment]:
     return segments
 
 
+def rectangle_footprints(poses: ArrayLike, outline: ArrayLike) -> FloatArray:
+    """A body ``outline`` (K, 2, in the pose's frame) placed at many poses (N, 3) → (N, K, 2)."""
+    p = np.atleast_2d(np.asarray(poses, dtype=float))
+    body = np.asarray(outline, dtype=float)
+    c, s = np.cos(p[:, 2])[:, None], np.sin(p[:, 2])[:, None]
+    out = np.empty((len(p), len(body), 2))
+    out[..., 0] = p[:, :1] + c * body[:, 0] - s * body[:, 1]
+    out[..., 1] = p[:, 1:2] + s * body[:, 0] + c * body[:, 1]
+    return out
+
+
 def signed_area(ring: ArrayLike) -> float:
     """Signed area of a closed ring [m²]; positive when counter-clockwise."""
     r = np.asarray(ring, dtype=float)

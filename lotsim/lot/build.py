@@ -185,20 +185,6 @@ def _build_aisle(spec: AisleSpec, design: DesignVehicle, boundary: Polygon) -> A
     return Aisle(spec.id, line, spec.width, spec.one_way, radius, polygon, lanes, spec.where)
 
 
-def _legs(aisle: Aisle) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
-    """Per leg of the centreline: start station, length, straight range (lo, hi) stations."""
-    line = aisle.centerline
-    vec = np.diff(line, axis=0)
-    length = np.hypot(vec[:, 0], vec[:, 1])
-    start = np.concatenate([[0.0], np.cumsum(length)[:-1]])
-    heading = np.arctan2(vec[:, 1], vec[:, 0])
-    turns = np.abs(np.atleast_1d(wrap_angle(np.diff(heading)))) if len(vec) > 1 else np.zeros(0)
-    cut = aisle.bend_radius * np.tan(turns / 2)
-    lo = start + np.concatenate([[0.0], cut])
-    hi = start + length - np.concatenate([cut, [0.0]])
-    return start, heading, lo, hi
-
-
 # -- slots -------------------------------------------------------------------------------------
 def _slot_frame(
     aisle: Aisle, side: str, s0: float, s1: float, where, what: str  # noqa: ANN001
@@ -208,7 +194,7 @@ def _slot_frame(
     The entry of a slot spans stations ``s0..s1``; it must lie on one straight
     part of the centreline (not on a bend).
     """
-    start, heading, lo, hi = _legs(aisle)
+    start, heading, lo, hi = aisle.legs
     total = float(start[-1] + np.hypot(*(aisle.centerline[-1] - aisle.centerline[-2])))
     for i in range(len(start)):
         if lo[i] - 1e-9 <= s0 and s1 <= hi[i] + 1e-9:
@@ -321,7 +307,7 @@ def _free_slot(spec: SlotSpec, aisles: dict[str, Aisle]) -> Slot:
         )
     mid = edge.mean(axis=0)
     station = float(aisle.line.project(Point(mid)))
-    start, heading, _, _ = _legs(aisle)
+    start, heading, _, _ = aisle.legs
     leg = int(np.clip(np.searchsorted(start, station, side="right") - 1, 0, len(start) - 1))
     u = unit(float(heading[leg]))
     on_line = np.asarray(aisle.line.interpolate(station).coords[0])

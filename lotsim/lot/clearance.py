@@ -56,19 +56,17 @@ class Collider:
         """The first of ``bodies`` (N, K, 2 rings or hull point sets) that is not free."""
         if len(bodies) == 0:
             return None
-        polys = shapely.convex_hull(shapely.multipoints(bodies))
-        bad = np.flatnonzero(~shapely.covers(self.allowed, polys))
-        first = (int(bad[0]), "the lot boundary") if bad.size else None
-        pairs = self.tree.query(polys, predicate="intersects")
-        if pairs.shape[1]:
-            i = int(pairs[0].min())
-            if first is None or i < first[0]:
-                j = int(pairs[1][pairs[0] == i][0])
-                first = (i, self.labels[j])
-        if first is None:
+        bad = np.flatnonzero(self.blocked(bodies))
+        if not bad.size:
             return None
-        c = shapely.centroid(polys[first[0]])
-        return Hit(first[0], first[1], (float(c.x), float(c.y)))
+        i = int(bad[0])
+        poly = shapely.convex_hull(shapely.multipoints(bodies[i]))
+        if not self.allowed.covers(poly):
+            what = "the lot boundary"
+        else:
+            what = self.labels[int(self.tree.query(poly, predicate="intersects")[0])]
+        c = poly.centroid
+        return Hit(i, what, (float(c.x), float(c.y)))
 
     def sweep_hit(self, footprints: FloatArray) -> Hit | None:
         """First hit of the hulls of consecutive footprints (N, 4, 2): a sweep, not just samples.

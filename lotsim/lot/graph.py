@@ -216,8 +216,8 @@ def _lane_piece(lane: Lane, s0: float, s1: float) -> Segment:
 
 
 def _add_edge(g: nx.DiGraph, lot: Lot, u: int, v: int, seg: Segment, kind: str) -> None:
-    line = shapely.LineString(seg.sample(0.25)[:, :2])
     limit = lot.speed_limit
+    line = shapely.LineString(seg.sample(0.25)[:, :2]) if lot.zones else None
     for zone in lot.zones:
         if zone.polygon.intersects(line) and zone.polygon.intersection(line).length > _EPS:
             limit = min(limit, zone.limit)

@@ -15,7 +15,7 @@ import shapely
 from shapely.geometry import LineString, Polygon
 
 from lotsim.errors import Location
-from lotsim.geometry import FloatArray, Pose, Segment
+from lotsim.geometry import FloatArray, Pose, Segment, rectangle_footprints, wrap_angle
 
 
 @dataclass(frozen=True, slots=True)
@@ -48,13 +48,9 @@ class DesignVehicle:
 
     def footprints(self, poses: FloatArray) -> FloatArray:
         """Envelope rectangles at poses (N, 3) → (N, 4, 2)."""
-        p = np.atleast_2d(poses)
         h = self.width / 2
-        body = np.array([[-self.rear, -h], [self.front, -h], [self.front, h], [-self.rear, h]])
-        c, s = np.cos(p[:, 2])[:, None], np.sin(p[:, 2])[:, None]
-        x = p[:, :1] + c * body[:, 0] - s * body[:, 1]
-        y = p[:, 1:2] + s * body[:, 0] + c * body[:, 1]
-        return np.stack([x, y], axis=-1)
+        body = [[-self.rear, -h], [self.front, -h], [self.front, h], [-self.rear, h]]
+        return rectangle_footprints(poses, body)
 
 
 @dataclass(frozen=True, eq=False)
@@ -184,6 +180,20 @@ class Aisle:
     @cached_property
     def line(self) -> LineString:
         return LineString(self.centerline)
+
+    @cached_property
+    def legs(self) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
+        """Per leg of the centreline: start station, heading, and the station range
+        (lo, hi) of its straight part between the corner arcs [m, rad, m, m]."""
+        vec = np.diff(self.centerline, axis=0)
+        length = np.hypot(vec[:, 0], vec[:, 1])
+        start = np.concatenate([[0.0], np.cumsum(length)[:-1]])
+        heading = np.arctan2(vec[:, 1], vec[:, 0])
+        turns = np.abs(np.atleast_1d(wrap_angle(np.diff(heading)))) if len(vec) > 1 else np.zeros(0)
+        cut = self.bend_radius * np.tan(turns / 2)
+        lo = start + np.concatenate([[0.0], cut])
+        hi = start + length - np.concatenate([cut, [0.0]])
+        return start, heading, lo, hi
 
 
 @dataclass(frozen=True, eq=False)

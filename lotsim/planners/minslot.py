@@ -56,45 +56,15 @@ def start_poses(vehicle: VehicleType, frame: SlotFrame, theta0: FloatArray) -> F
     return np.stack([x, y, t], axis=-1)
 
 
-def _circle_segment_angles(
-    center: FloatArray, point: FloatArray, seg: FloatArray, direction: float
-) -> FloatArray:
-    """Rotation angles (in ``direction``, ±1) that bring ``point`` onto segment ``seg``.
-
-    Shapes broadcast: ``center`` (..., 2), ``point`` (..., 2), ``seg`` (..., 2, 2).
-    Returns (..., 2) angles in (0, 2π], ``inf`` where there is no intersection.
-    """
-    a, b = seg[..., 0, :], seg[..., 1, :]
-    d = b - a
-    f = a - center
-    rho2 = np.sum((point - center) ** 2, axis=-1)
-    qa = np.sum(d * d, axis=-1)
-    qb = 2 * np.sum(f * d, axis=-1)
-    qc = np.sum(f * f, axis=-1) - rho2
-    disc = qb * qb - 4 * qa * qc
-    ok = disc >= 0
-    root = np.sqrt(np.where(ok, disc, 0.0))
-    ts = np.stack([(-qb - root) / (2 * qa), (-qb + root) / (2 * qa)], axis=-1)
-    ok = ok[..., None] & (ts >= -1e-12) & (ts <= 1 + 1e-12)
-    q = a[..., None, :] + ts[..., None] * d[..., None, :]  # (..., 2, 2)
-    rel_q = q - center[..., None, :]
-    rel_p = (point - center)[..., None, :]
-    cross = rel_p[..., 0] * rel_q[..., 1] - rel_p[..., 1] * rel_q[..., 0]
-    dot = rel_p[..., 0] * rel_q[..., 0] + rel_p[..., 1] * rel_q[..., 1]
-    ang = np.arctan2(cross, dot)
-    ang = np.mod(direction * ang, 2 * math.pi)
-    ang = np.where(ang <= _EPS_ANGLE, ang + 2 * math.pi, ang)
-    return np.where(ok, ang, np.inf)
-
-
 def _circle_axis_angles(
     center: FloatArray, point: FloatArray, segments: FloatArray, direction: float
 ) -> FloatArray:
-    """Like :func:`_circle_segment_angles` for axis-aligned segments, all in one pass.
+    """Rotation angles (in ``direction``, ±1) that bring each point onto each segment.
 
     ``segments`` (S, 4) rows are ``(axis, value, lo, hi)``: the segment
     ``coord[axis] == value`` with the other coordinate in ``[lo, hi]``.
-    ``center`` is (T, 1, 2), ``point`` (T, N, 2). Returns (T, N, S, 2).
+    ``center`` is (T, 1, 2), ``point`` (T, N, 2). Returns (T, N, S, 2) angles in
+    (0, 2π], ``inf`` where the circle misses the segment.
     """
     axis = segments[:, 0].astype(int)
     value, lo, hi = segments[:, 1], segments[:, 2], segments[:, 3]

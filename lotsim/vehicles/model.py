@@ -8,7 +8,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from numpy.typing import ArrayLike
 
-from lotsim.geometry import FloatArray, advance
+from lotsim.geometry import FloatArray, advance, rectangle_footprints
 
 KMH = 1 / 3.6
 """One km/h in m/s."""
@@ -127,13 +127,7 @@ class VehicleType:
         ndarray, shape (N, 4, 2)
             Corners in world coordinates, counter-clockwise from rear right.
         """
-        p = np.atleast_2d(np.asarray(poses, dtype=float))
-        c, s = np.cos(p[:, 2])[:, None], np.sin(p[:, 2])[:, None]
-        body = self.outline
-        out = np.empty((len(p), 4, 2))
-        out[..., 0] = p[:, :1] + c * body[:, 0] - s * body[:, 1]
-        out[..., 1] = p[:, 1:2] + s * body[:, 0] + c * body[:, 1]
-        return out
+        return rectangle_footprints(poses, self.outline)
 
     def drive(self, poses: ArrayLike, distance: ArrayLike, steer: ArrayLike) -> FloatArray:
         """Poses after driving a signed ``distance`` [m] at constant ``steer`` [rad], exactly."""
