@@ -39,7 +39,7 @@ class Collider:
 
     def blocked(self, bodies: FloatArray) -> np.ndarray:
         """Boolean mask of the ``bodies`` (N, K, 2 point sets, taken as hulls) that are not free."""
-        polys = shapely.convex_hull(shapely.multipoints(bodies))
+        polys = shapely.convex_hull(shapely.linestrings(bodies))
         bad = ~shapely.covers(self.allowed, polys)
         hit = self.tree.query(polys, predicate="intersects")[0]
         bad[hit] = True
@@ -60,7 +60,7 @@ class Collider:
         if not bad.size:
             return None
         i = int(bad[0])
-        poly = shapely.convex_hull(shapely.multipoints(bodies[i]))
+        poly = shapely.convex_hull(shapely.linestrings(bodies[i]))
         if not self.allowed.covers(poly):
             what = "the lot boundary"
         else:

@@ -1,0 +1,711 @@
+"""Parking maneuvers: from a pose on an aisle lane into a slot, and back out.
+
+A maneuver is a chain of :class:`~lotsim.geometry.Segment` pieces — straights and
+arcs no tighter than the car's minimum turning radius, each driven forward or in
+reverse — from a pose on a lane (on its centreline, heading its way) to the
+parked pose inside the slot. Leaving is the same path driven backwards in time
+(:meth:`Maneuver.reversed`): each piece flips gear, so a car that reversed in
+drives out forward.
+
+How each kind is planned
+------------------------
+* **Perpendicular and angled** slots: the car is parked centred in the slot,
+  nose-in or nose-out. The planner works *outward* from the parked pose (the
+  departure, which is the constrained end): drive out straight some distance,
+  then shuffle — full lock turning toward the lane's heading until the next
+  motion would touch something, the other gear with the opposite lock (which
+  keeps turning the same way), and so on, as a driver does in a narrow aisle.
+  From every 0.5 m of every stroke it tries an exact closing move — a straight
+  then one arc of radius R·{1, 1.25, 1.5, 2, 3} that lands on the lane line
+  heading the lane's way. The fewest direction changes wins, then the shortest
+  path; the parking maneuver is that path reversed in time.
+* **Parallel** slots: the minimum-slot planner's strokes (:mod:`.minslot`) for
+  the real slot, shrunk by the safety margin on its three closed sides, over
+  start headings 0…90° in order of (changes, length), joined to the lane by
+  the same closing move from its start pose.
+
+Everything is checked against the lot: every other slot counts as taken —
+a perpendicular or angled slot by a strip as wide as the widest car centred
+across it, a parallel slot whole — as do walls, obstacles and no-go areas, each
+grown by the safety margin; the car stays inside the aisles, the slots and the
+lot boundary shrunk by the margin, so the far side of an aisle is a wall.
+Sweeps are checked as hulls of consecutive footprints 0.2 m apart.
+
+Same geometry, same maneuver: the planner works in a frame attached to the slot
+and its lane (mirrored so the slot is always on the right), and caches results
+by the vehicle type and the rounded geometry inside a window around the slot —
+the search cannot see past the window, so a cache hit is the maneuver it would
+have planned.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import math
+from collections.abc import Iterable, Sequence
+from dataclasses import dataclass, field
+
+import numpy as np
+import shapely
+from shapely.geometry import Polygon, box
+from shapely.ops import unary_union
+
+from lotsim.errors import InfeasibleManeuver
+from lotsim.geometry import FloatArray, Pose, Segment, advance, sample_segments, wrap_angle
+from lotsim.lot.build import drivable_region
+from lotsim.lot.model import Lane, Lot, Slot, unit
+from lotsim.planners.minslot import SlotFrame, simulate, start_headings
+from lotsim.vehicles.model import VehicleType
+
+MARGIN = 0.1
+"""Default clearance to parked cars, walls and the aisle's far side [m] (seed 004)."""
+SWEEP = 0.2
+"""Spacing of the footprints whose hulls cover a path when checking it [m]."""
+CLOSING_RADII = (1.0, 1.25, 1.5, 2.0, 3.0)
+"""Closing arcs try these multiples of the car's minimum turning radius."""
+STYLES = ("any", "forward", "reverse")
+"""``forward``: nose-in; ``reverse``: nose-out (backed in); ``any``: the better one."""
+_MIN_STROKE = 0.3  # shorter search strokes are not worth a stop [m]
+_PARALLEL_EXTRA = 0.02  # minslot strokes run to contact: keep them this far inside the margin [m]
+
+
+@dataclass(frozen=True)
+class Maneuver:
+    """A path from a lane pose into a slot (or, reversed, out of it).
+
+    Attributes
+    ----------
+    segments : tuple of Segment
+        In driving order; consecutive pieces meet exactly.
+    vehicle : str
+        Name of the vehicle type it was planned for.
+    slot : str
+    lane : str
+        The lane it starts on (parking) or ends on (leaving).
+    station : float
+        Station on ``lane`` where it starts or ends [m].
+    leaving : bool
+        False for the way in, True for the way out.
+    """
+
+    segments: tuple[Segment, ...]
+    vehicle: str
+    slot: str
+    lane: str
+    station: float
+    leaving: bool = False
+
+    @property
+    def start(self) -> Pose:
+        return self.segments[0].start
+
+    @property
+    def end(self) -> Pose:
+        return self.segments[-1].end
+
+    @property
+    def length(self) -> float:
+        """Path length [m]."""
+        return float(sum(s.length for s in self.segments))
+
+    @property
+    def gears(self) -> tuple[int, ...]:
+        return tuple(s.gear for s in self.segments)
+
+    @property
+    def changes(self) -> int:
+        """Direction changes (cusps) within the maneuver."""
+        g = self.gears
+        return sum(1 for a, b in zip(g[:-1], g[1:], strict=True) if a != b)
+
+    @property
+    def cusps(self) -> tuple[Pose, ...]:
+        """Poses where the car stops and changes direction."""
+        return tuple(a.end for a, b in zip(self.segments[:-1], self.segments[1:], strict=True)
+                     if a.gear != b.gear)
+
+    def strokes(self) -> list[tuple[int, float]]:
+        """Maximal runs of one gear as ``(gear, length)``: the car stops between them."""
+        out: list[tuple[int, float]] = []
+        for s in self.segments:
+            if out and out[-1][0] == s.gear:
+                out[-1] = (s.gear, out[-1][1] + s.length)
+            else:
+                out.append((s.gear, s.length))
+        return out
+
+    def sample(self, step: float = 0.05) -> tuple[FloatArray, np.ndarray]:
+        """Poses (N, 3) at most ``step`` apart along the path, and the gear of each (N,).
+
+        Cusps appear once, with the gear of the stroke they end.
+        """
+        parts, gears = [], []
+        for k, seg in enumerate(self.segments):
+            p = seg.sample(step)
+            if k:
+                p = p[1:]
+            parts.append(p)
+            gears.append(np.full(len(p), seg.gear))
+        return np.concatenate(parts), np.concatenate(gears)
+
+    def reversed(self) -> Maneuver:
+        """The same path driven backwards in time: each piece with the other gear."""
+        segs = tuple(Segment(s.end, -s.distance, s.curvature) for s in reversed(self.segments))
+        return Maneuver(segs, self.vehicle, self.slot, self.lane, self.station, not self.leaving)
+
+    def duration(self, vehicle: VehicleType, speed_limit: float = math.inf) -> float:
+        """Time to drive it from rest to rest, stopping at every cusp [s].
+
+        Each stroke is a trapezoidal speed profile under the vehicle's
+        acceleration and braking limits, at most its forward or reverse speed
+        limit and ``speed_limit`` [m/s].
+        """
+        lim = vehicle.limits
+        total = 0.0
+        for gear, length in self.strokes():
+            vmax = min(speed_limit, lim.max_forward_speed if gear > 0 else lim.max_reverse_speed)
+            total += _stroke_time(length, vmax, lim.max_accel, lim.max_brake)
+        return total
+
+
+def _stroke_time(length: float, vmax: float, accel: float, brake: float) -> float:
+    """Rest-to-rest time over ``length`` with a trapezoidal (or triangular) profile [s]."""
+    ramp = vmax * vmax / 2 * (1 / accel + 1 / brake)
+    if length >= ramp:
+        return length / vmax + vmax / 2 * (1 / accel + 1 / brake)
+    peak = math.sqrt(2 * length * accel * brake / (accel + brake))
+    return peak / accel + peak / brake
+
+
+# -- frames ------------------------------------------------------------------------------------
+@dataclass(frozen=True, slots=True)
+class _Frame:
+    """A rigid (possibly mirrored) frame: local ``(x, y)`` ↦ origin + R(heading)·(x, ±y)."""
+
+    x: float
+    y: float
+    heading: float
+    mirror: bool
+
+    def poses_to_world(self, p: FloatArray) -> FloatArray:
+        p = np.atleast_2d(np.asarray(p, dtype=float))
+        sy = -1.0 if self.mirror else 1.0
+        c, s = math.cos(self.heading), math.sin(self.heading)
+        lx, ly = p[:, 0], sy * p[:, 1]
+        return np.stack([self.x + c * lx - s * ly, self.y + s * lx + c * ly,
+                         wrap_angle(self.heading + sy * p[:, 2])], axis=-1)
+
+    def poses_to_local(self, p: FloatArray) -> FloatArray:
+        p = np.atleast_2d(np.asarray(p, dtype=float))
+        sy = -1.0 if self.mirror else 1.0
+        c, s = math.cos(self.heading), math.sin(self.heading)
+        dx, dy = p[:, 0] - self.x, p[:, 1] - self.y
+        return np.stack([c * dx + s * dy, sy * (-s * dx + c * dy),
+                         wrap_angle(sy * (p[:, 2] - self.heading))], axis=-1)
+
+    def points_to_local(self, pts: FloatArray) -> FloatArray:
+        pts = np.asarray(pts, dtype=float)
+        flat = np.column_stack([pts.reshape(-1, 2), np.zeros(pts.size // 2)])
+        return self.poses_to_local(flat)[:, :2].reshape(pts.shape)
+
+    def segment_to_world(self, seg: Segment) -> Segment:
+        x, y, t = self.poses_to_world(np.array(seg.start))[0]
+        k = -seg.curvature if self.mirror else seg.curvature
+        return Segment((float(x), float(y), float(t)), seg.distance, k)
+
+
+# -- the planner -------------------------------------------------------------------------------
+@dataclass
+class _Problem:
+    """One slot seen from one lane, in the slot's local frame (slot at y < 0, lane heading +x)."""
+
+    vehicle: VehicleType
+    slot: Slot
+    lane: Lane
+    frame: _Frame
+    lane_y: float  # the lane's straight near the slot is the line y = lane_y
+    lane_x: tuple[float, float]  # ... between these x [m]
+    lane_s0: float  # lane station at local x = 0
+    half: float  # window half-size [m]
+    index: int  # the slot's index in the lot
+    allowed: object = field(default=None, repr=False)  # prepared world region for this slot
+
+
+class ManeuverPlanner:
+    """Plans and caches parking maneuvers for one lot.
+
+    Parameters
+    ----------
+    lot : Lot
+    margin : float, keyword-only
+        Clearance kept to parked cars, walls, obstacles and the edges of the
+        drivable area [m].
+    parked_width : float, keyword-only
+        Width of the widest car that may stand in a perpendicular or angled
+        slot [m]; default the lot's design width.
+    max_changes : int, keyword-only
+        Most direction changes a maneuver may have.
+
+    Examples
+    --------
+    >>> from lotsim.io.scenario import load_scenario  # doctest: +SKIP
+    >>> planner = ManeuverPlanner(lot)  # doctest: +SKIP
+    >>> m = planner.best(vehicle, lot.slots[0])  # doctest: +SKIP
+    """
+
+    def __init__(self, lot: Lot, *, margin: float = MARGIN, parked_width: float | None = None,
+                 max_changes: int = 8):
+        if margin < 0:
+            raise ValueError("margin must be zero or more")
+        self.lot = lot
+        self.margin = margin
+        self.max_changes = max_changes
+        width = max(parked_width or 0.0, lot.design.width)
+        self._obstacle_shapes = [_taken_shape(s, width) for s in lot.slots]
+        polys = [g.buffer(margin, join_style="mitre") if margin else g
+                 for g in self._obstacle_shapes]
+        polys += [a.polygon.buffer(margin, join_style="mitre") if margin else a.polygon
+                  for a in lot.areas]
+        self._labels = [f"slot {s.id!r}" for s in lot.slots]
+        self._labels += [f"{a.kind.replace('_', '-')} {a.id!r}" for a in lot.areas]
+        self._polys = np.array(polys, dtype=object)
+        self._tree = shapely.STRtree(self._polys)
+        region = drivable_region(lot.boundary, lot.aisles, lot.design)
+        region = unary_union([region, *[s.shape for s in lot.slots]])
+        self._region = region.buffer(-margin, join_style="mitre") if margin else region
+        self._index = {s.id: k for k, s in enumerate(lot.slots)}
+        self._cache: dict[bytes, tuple[tuple[Segment, ...], float] | str] = {}
+        self.stats = {"planned": 0, "reused": 0}
+
+    # -- public API ---------------------------------------------------------------------------
+    def lanes_for(self, slot: Slot) -> list[Lane]:
+        """The lanes a car can park into ``slot`` from: by kind and direction of travel."""
+        aisle = self.lot.aisles[slot.aisle]
+        out = []
+        for lane in aisle.lanes:
+            s, _ = lane.project(tuple(slot.entry.mean(axis=0)))
+            if slot.kind == "perpendicular":
+                out.append(lane)
+            elif float(np.dot(unit(lane.pose_at(s)[2]), unit(slot.heading))) > 1e-9:
+                out.append(lane)
+        return out
+
+    def plan(self, vehicle: VehicleType, slot: Slot, lane: Lane, *,
+             style: str = "any") -> Maneuver:
+        """The parking maneuver into ``slot`` starting on ``lane``.
+
+        Raises
+        ------
+        InfeasibleManeuver
+            When no maneuver within the limits exists, with the reason.
+        """
+        if style not in STYLES:
+            raise ValueError(f"style must be one of {', '.join(STYLES)}")
+        problem = self._problem(vehicle, slot, lane)
+        key = self._key(problem, style)
+        hit = self._cache.get(key)
+        if hit is None:
+            hit = self._solve(problem, style)
+            self._cache[key] = hit
+            self.stats["planned"] += 1
+        else:
+            self.stats["reused"] += 1
+        if isinstance(hit, str):
+            raise InfeasibleManeuver(f"{vehicle.name} cannot park in slot {slot.id!r} from lane "
+                                     f"{lane.id!r}: {hit}")
+        local, x0 = hit
+        segs = tuple(problem.frame.segment_to_world(s) for s in local)
+        return Maneuver(segs, vehicle.name, slot.id, lane.id, problem.lane_s0 + x0)
+
+    def best(self, vehicle: VehicleType, slot: Slot, *, style: str = "any") -> Maneuver:
+        """The best maneuver into ``slot`` over its lanes: fewest changes, then shortest."""
+        return min(self.plan_all(vehicle, slot, style=style).values(),
+                   key=lambda m: (m.changes, m.length))
+
+    def plan_all(self, vehicle: VehicleType, slot: Slot, *,
+                 style: str = "any") -> dict[str, Maneuver]:
+        """Maneuvers into ``slot`` from every lane that has one (lane id → Maneuver).
+
+        Raises
+        ------
+        InfeasibleManeuver
+            When no lane has one; the message gives each lane's reason.
+        """
+        out, reasons = {}, []
+        lanes = self.lanes_for(slot)
+        for lane in lanes:
+            try:
+                out[lane.id] = self.plan(vehicle, slot, lane, style=style)
+            except InfeasibleManeuver as e:
+                reasons.append(str(e).split(": ", 1)[-1])
+        if not out:
+            why = "; ".join(dict.fromkeys(reasons)) or "no lane of its aisle leads to it"
+            raise InfeasibleManeuver(f"{vehicle.name} cannot park in slot {slot.id!r}: {why}")
+        return out
+
+    # -- problem set-up -----------------------------------------------------------------------
+    def _problem(self, vehicle: VehicleType, slot: Slot, lane: Lane) -> _Problem:
+        mid = slot.entry.mean(axis=0)
+        s_mid, _ = lane.project((float(mid[0]), float(mid[1])))
+        i, _ = lane.locate(s_mid)
+        seg = lane.segments[i]
+        heading = lane.pose_at(s_mid)[2]
+        d = np.asarray(slot.center) - mid
+        left = math.cos(heading) * d[1] - math.sin(heading) * d[0] > 0
+        frame = _Frame(float(mid[0]), float(mid[1]), heading, left)
+        if seg.curvature != 0.0:
+            lane_y, lane_x, s0 = math.nan, (0.0, 0.0), 0.0
+        else:
+            a = frame.poses_to_local(np.array(seg.start))[0]
+            lane_y = float(a[1])
+            lo = float(a[0])
+            s0 = float(lane.starts[i]) - lo
+        half = 2 * vehicle.min_turning_radius + vehicle.length + 1.0
+        if math.isfinite(lane_y):
+            lane_x = (max(lo, -half), min(lo + seg.length, half))
+        return _Problem(vehicle, slot, lane, frame, lane_y, lane_x, s0, half,
+                        self._index[slot.id])
+
+    def _window(self, p: _Problem) -> Polygon:
+        h = p.half
+        corners = np.array([[-h, -h, 0], [h, -h, 0], [h, h, 0], [-h, h, 0]], dtype=float)
+        return Polygon(p.frame.poses_to_world(corners)[:, :2])
+
+    def _key(self, p: _Problem, style: str) -> bytes:
+        """Rounded local geometry within the window: equal keys plan equal maneuvers."""
+        win = self._window(p)
+        p.allowed = self._region.intersection(win)
+        shapely.prepare(p.allowed)
+        near = [int(k) for k in self._tree.query(win) if k != p.index]
+        local = [_local_geometry(p.allowed, p.frame)]
+        local += [_local_geometry(self._polys[k].intersection(win), p.frame) for k in near]
+        local = sorted(local)
+        v = p.vehicle
+        s = p.slot
+        slot_local = np.round(p.frame.points_to_local(s.polygon), 2)
+        head = (v.name, v.width, v.front, v.rear, v.wheelbase, v.max_steer, s.kind, style,
+                round(p.lane_y, 3) if math.isfinite(p.lane_y) else None,
+                tuple(np.round(p.lane_x, 2)), round(p.half, 3))
+        h = hashlib.blake2b(repr(head).encode(), digest_size=20)
+        h.update(np.sort(slot_local.reshape(-1, 2), axis=0).tobytes())
+        for g in local:
+            h.update(g)
+        return h.digest()
+
+    # -- checking -----------------------------------------------------------------------------
+    def _blocked(self, p: _Problem, local_poses: FloatArray) -> np.ndarray:
+        """(N-1,) whether each sweep between consecutive local poses (N, 3) is not free
+        ((1,) for a single pose)."""
+        bodies = p.vehicle.footprints(p.frame.poses_to_world(local_poses))
+        if len(bodies) > 1:
+            bodies = np.concatenate([bodies[:-1], bodies[1:]], axis=1)
+        return self._bodies_blocked(p, bodies)
+
+    # -- solving ------------------------------------------------------------------------------
+    def _solve(self, p: _Problem, style: str) -> tuple[tuple[Segment, ...], float] | str:
+        v, s = p.vehicle, p.slot
+        if not math.isfinite(p.lane_y):
+            return "the lane bends beside the slot"
+        if v.width > s.width:
+            return f"the car is {v.width:.2f} m wide, the slot {s.width:.2f} m"
+        if v.length > s.length:
+            return f"the car is {v.length:.2f} m long, the slot {s.length:.2f} m"
+        if s.kind == "parallel":
+            return self._solve_parallel(p)
+        heading_in = float(p.frame.poses_to_local(np.array([0.0, 0.0, s.heading]))[0, 2])
+        centre = p.frame.points_to_local(np.asarray(s.center))
+        best = None
+        for nose_in in (True, False):
+            if style == ("reverse" if nose_in else "forward"):
+                continue
+            h = heading_in if nose_in else heading_in + math.pi
+            axle = centre - unit(h) * (v.front - v.rear) / 2
+            root = (float(axle[0]), float(axle[1]), float(wrap_angle(h)))
+            if self._blocked(p, np.array([root]))[0]:
+                continue
+            # leave-time: a nose-in car backs out, a nose-out car drives out
+            found = self._shuffle(p, root, -1 if nose_in else 1, best[:2] if best else None)
+            if found is not None and (best is None or found[:2] < best[:2]):
+                best = found
+        if best is None:
+            return (f"no way out with up to {self.max_changes} direction changes "
+                    f"keeping {self.margin:g} m from the neighbours and the aisle's far side")
+        return _park_path(best[2])
+
+    def _shuffle(self, p: _Problem, root: Pose, gear0: int, bound: tuple[int, float] | None
+                 ) -> tuple[int, float, list[Segment]] | None:
+        """The way out of a perpendicular or angled slot, in leave-time.
+
+        Drive out straight for ``d0`` (every 0.5 m up to the first contact),
+        then shuffle: full lock turning toward the lane heading until contact,
+        the other gear with the opposite lock (which keeps turning the same
+        way), and so on. From every 0.5 m of every stroke try the closing move
+        in either gear; the first level of direction changes with a clear
+        closing gives the answer, the shortest at that level.
+        """
+        kmax = p.vehicle.max_curvature
+        theta = float(wrap_angle(root[2]))
+        rho = -1.0 if theta > 0 else 1.0  # turn toward heading 0 the short way
+        e0 = float(self._extents(p, np.array([root]), gear0, 0.0)[0])
+        heads = []
+        for d0 in np.arange(0.0, e0 + 1e-9, 0.5):
+            segs = [Segment(root, gear0 * float(d0), 0.0)] if d0 > 0 else []
+            heads.append((segs, segs[-1].end if segs else root, float(d0)))
+        registry: list[tuple] = []  # per level: (heads, stops, poses, head of each pose)
+        pending = np.zeros((0, 7))  # rows: changes, length, level, m, gear, straight, κ
+        for k in range(self.max_changes + 1):
+            g = gear0 if k % 2 == 0 else -gear0
+            kappa = rho * g * kmax
+            turn_cap = abs(theta) + math.radians(20) if k == 0 else math.pi / 2
+            extents = self._extents(p, np.array([h[1] for h in heads]), g, kappa, turn_cap)
+            stops = [np.unique(np.concatenate([np.arange(0.0, e, 0.5), [e]])) for e in extents]
+            owner = np.repeat(np.arange(len(heads)), [len(st) for st in stops])
+            flat = np.concatenate(stops)
+            starts = np.array([h[1] for h in heads])[owner]
+            q = advance(starts, g * flat, kappa)
+            base = np.array([h[2] for h in heads])[owner] + flat
+            tab = self._closings(p, q, g, k, base)
+            registry.append((heads, flat, q, owner, g, kappa))
+            table = np.concatenate([pending, np.column_stack(
+                [tab[:, :2], np.full(len(tab), k), tab[:, 2:]])])
+            now = table[:, 0] == k
+            if bound is not None:
+                now &= (table[:, 0] < bound[0]) | ((table[:, 0] == bound[0])
+                                                   & (table[:, 1] < bound[1]))
+            level = table[now][np.argsort(table[now][:, 1], kind="stable")]
+            pending = table[table[:, 0] > k]
+
+            def build(row: FloatArray) -> tuple[int, float, list[Segment]]:
+                heads_, flat_, q_, owner_, g_, kappa_ = registry[int(row[2])]
+                m = int(row[3])
+                segs, pose, _ = heads_[owner_[m]]
+                head = segs + ([Segment(pose, g_ * float(flat_[m]), kappa_)]
+                               if flat_[m] > 1e-9 else [])
+                close = (int(row[4]), float(row[5]), float(row[6]))
+                return int(row[0]), float(row[1]), head + _closing_segments(
+                    tuple(map(float, q_[m])), close)
+
+            found = self._first_clear(p, level[:400], build)
+            if found is not None:
+                return found
+            if bound is not None and k >= bound[0]:
+                return None
+            heads = []
+            for (segs, pose, length), e in zip(registry[-1][0], extents, strict=True):
+                if e >= _MIN_STROKE:
+                    stroke = Segment(pose, g * float(e), kappa)
+                    heads.append((segs + [stroke], stroke.end, length + float(e)))
+            if not heads and not len(pending):
+                return None
+        return None
+
+    def _first_clear(self, p: _Problem, rows: Sequence, build=None, chunk: int = 8):  # noqa: ANN001, ANN202
+        """The first clear path of ``rows`` (in order), made by ``build(row)`` as
+        ``(changes, length, segments)`` (default: rows are already such triples).
+
+        A cheap pass over footprints 1 m apart drops most blocked paths first.
+        """
+        build = build or (lambda r: r)
+        for i in range(0, len(rows), 8 * chunk):
+            batch = [build(r) for r in rows[i : i + 8 * chunk]]
+            rough = self._paths_blocked(p, [c[2] for c in batch], step=1.0, sweep=False)
+            batch = [c for c, bad in zip(batch, rough, strict=True) if not bad]
+            for j in range(0, len(batch), chunk):
+                part = batch[j : j + chunk]
+                ok = np.flatnonzero(~self._paths_blocked(p, [c[2] for c in part]))
+                if ok.size:
+                    return part[int(ok[0])]
+        return None
+
+    def _paths_blocked(self, p: _Problem, paths: Sequence[Sequence[Segment]], *,
+                       step: float = SWEEP, sweep: bool = True) -> np.ndarray:
+        """(P,) whether each path (pieces in order, local frame) touches anything.
+
+        With ``sweep``, the hulls of consecutive footprints ``step`` apart are
+        checked (the whole swept area); without, only the footprints.
+        """
+        flat = [seg for path in paths for seg in path]
+        if not flat:
+            return np.zeros(len(paths), dtype=bool)
+        path_of = np.repeat(np.arange(len(paths)), [len(path) for path in paths])
+        poses, seg_of = sample_segments(flat, step)
+        own = path_of[seg_of]
+        bodies = p.vehicle.footprints(p.frame.poses_to_world(poses))
+        if sweep:
+            same = own[:-1] == own[1:]
+            bodies = np.concatenate([bodies[:-1][same], bodies[1:][same]], axis=1)
+            own = own[:-1][same]
+        bad = self._bodies_blocked(p, bodies)
+        return np.bincount(own[bad], minlength=len(paths)) > 0
+
+    def _bodies_blocked(self, p: _Problem, bodies: FloatArray) -> np.ndarray:
+        """(N,) whether each body (N, K, 2 points, taken as their hull) is not free."""
+        hulls = shapely.convex_hull(shapely.linestrings(bodies)) if bodies.shape[1] > 4 \
+            else shapely.polygons(bodies)
+        bad = ~shapely.covers(p.allowed, hulls)
+        src, hit = self._tree.query(hulls, predicate="intersects")
+        bad[src[hit != p.index]] = True
+        return bad
+
+    def _solve_parallel(self, p: _Problem) -> tuple[tuple[Segment, ...], float] | str:
+        v, s = p.vehicle, p.slot
+        m = self.margin + _PARALLEL_EXTRA
+        frame = SlotFrame(s.length - 2 * m, s.width - m)
+        if frame.length <= v.length or frame.width < v.width:
+            return (f"with {self.margin:g} m margins the slot leaves "
+                    f"{frame.length:.2f} × {frame.width:.2f} m for a "
+                    f"{v.length:.2f} × {v.width:.2f} m car")
+        thetas = start_headings(0.5)
+        changes, strokes = simulate(v, frame, thetas, max_changes=self.max_changes, record=True)
+        ok = np.flatnonzero(changes >= 0)
+        if not ok.size:
+            return (f"the minimum-slot maneuver needs more than {self.max_changes} direction "
+                    f"changes in a {s.length:.2f} m slot")
+        shift = np.array([-s.length / 2 + m, -s.width + m])  # minslot frame → local frame
+        ok = [k for k in ok if strokes[k]]
+        inside = [[Segment((x.start[0] + shift[0], x.start[1] + shift[1], x.start[2]),
+                           x.distance, x.curvature) for x in strokes[k]] for k in ok]
+        starts = np.array([segs[0].start for segs in inside]).reshape(-1, 3)
+        paths = []
+        for row in self._closings(p, starts, 0, 0, np.zeros(len(starts))):
+            j, close = int(row[2]), (int(row[3]), float(row[4]), float(row[5]))
+            path = _park_path(_closing_segments(inside[j][0].start, close))[0] + tuple(inside[j])
+            c = sum(1 for a, b in zip(path[:-1], path[1:], strict=True) if a.gear != b.gear)
+            paths.append((c, sum(x.length for x in path), list(path)))
+        paths.sort(key=lambda c: c[:2])
+        found = self._first_clear(p, paths)
+        if found is None:
+            return "no start heading of the minimum-slot maneuver joins the lane clear"
+        return tuple(found[2]), found[2][0].start[0]
+
+    def _closings(self, p: _Problem, q: FloatArray, gear: int, changes: int,
+                  base: FloatArray) -> FloatArray:
+        """Closing moves from poses ``q`` (M, 3): a straight then one arc that lands on the
+        lane line heading +x, in leave-time. Unchecked for collisions.
+
+        Returns rows ``(changes, length, m, gear, straight, curvature)`` sorted by
+        cost, where ``m`` indexes ``q``, ``base`` (M,) is the length already driven
+        and ``gear`` the gear driven so far (0: none). Curvature 0 means the pose
+        is already on the lane.
+        """
+        x, y = q[:, 0], q[:, 1]
+        th = np.asarray(wrap_angle(q[:, 2]), dtype=float)
+        sin, cos = np.sin(th), np.cos(th)
+        kmax = p.vehicle.max_curvature
+        index = np.arange(len(q), dtype=float)
+        turning = (np.abs(th) > 1e-9) & (np.abs(th) < math.pi - 1e-6)
+        on_lane = (np.abs(th) <= 1e-9) & (np.abs(y - p.lane_y) < 1e-6)
+        zeros = np.zeros(int(on_lane.sum()))
+        parts = [np.column_stack([zeros + changes, base[on_lane], index[on_lane], zeros + 1,
+                                  zeros, zeros])]
+        for g in (1, -1):
+            c = changes + (1 if gear and g != gear else 0)
+            for f in CLOSING_RADII:
+                kappa = np.where(-th * g >= 0, kmax / f, -kmax / f)
+                with np.errstate(divide="ignore", invalid="ignore"):
+                    d = (p.lane_y - y + (1 - cos) / kappa) / (g * sin)
+                d0 = np.maximum(d, 0.0)
+                end_x = x + g * d0 * cos - sin / kappa
+                ok = turning & (d >= -1e-9) & (end_x >= p.lane_x[0]) & (end_x <= p.lane_x[1])
+                n = int(ok.sum())
+                parts.append(np.column_stack([
+                    np.full(n, c), (base + d0 + np.abs(th / kappa))[ok], index[ok],
+                    np.full(n, g), d0[ok], kappa[ok]]))
+        out = np.concatenate(parts)
+        return out[np.lexsort((out[:, 1], out[:, 0]))]
+
+    def _extents(self, p: _Problem, poses: FloatArray, gear: int, kappa: float,
+                 turn_cap: float = math.pi) -> FloatArray:
+        """How far strokes from ``poses`` (H, 3) run clear [m], to the sweep step; (H,)."""
+        cap = 1.5 * p.vehicle.length + 2.0
+        if kappa:
+            cap = min(cap, turn_cap / abs(kappa))
+        n = max(1, math.ceil(cap / SWEEP))
+        s = np.linspace(0.0, cap, n + 1)
+        local = advance(poses[:, None, :], gear * s[None, :], kappa)  # (H, n+1, 3)
+        bodies = p.vehicle.footprints(p.frame.poses_to_world(local.reshape(-1, 3)))
+        bodies = bodies.reshape(len(poses), n + 1, 4, 2)
+        pairs = np.concatenate([bodies[:, :-1], bodies[:, 1:]], axis=2).reshape(-1, 8, 2)
+        bad = self._bodies_blocked(p, pairs).reshape(len(poses), n)
+        first = np.where(bad.any(axis=1), bad.argmax(axis=1), n)
+        return s[first]
+
+
+def _closing_segments(pose: Pose, close: tuple[int, float, float]) -> list[Segment]:
+    """The pieces of a closing move ``(gear, straight, curvature)`` from ``pose``."""
+    g, d, kappa = close
+    if kappa == 0.0:
+        return []
+    segs = []
+    if d > 1e-9:
+        segs.append(Segment(pose, g * d, 0.0))
+        pose = segs[0].end
+    segs.append(Segment(pose, -float(wrap_angle(pose[2])) / kappa, kappa))
+    return segs
+
+
+def _park_path(leave: Sequence[Segment]) -> tuple[tuple[Segment, ...], float]:
+    """Leave-time pieces → parking pieces (time-reversed), and the start's local x."""
+    segs = tuple(Segment(s.end, -s.distance, s.curvature) for s in reversed(leave))
+    return segs, (segs[0].start[0] if segs else 0.0)
+
+
+def _taken_shape(slot: Slot, width: float) -> Polygon:
+    """Where a car parked in ``slot`` may stand: the whole slot if parallel, else a strip
+    ``width`` wide centred across it, along its whole length."""
+    if slot.kind == "parallel" or width >= slot.width:
+        return slot.shape
+    c = np.asarray(slot.center)
+    u = unit(slot.heading)
+    n = np.array([-u[1], u[0]])
+    hl, hw = slot.length / 2, width / 2
+    return Polygon([c - hl * u - hw * n, c + hl * u - hw * n, c + hl * u + hw * n,
+                    c - hl * u + hw * n])
+
+
+def _local_geometry(geom, frame: _Frame) -> bytes:  # noqa: ANN001 - any shapely geometry
+    """Rounded (1 cm), normalised WKB of ``geom`` in ``frame``."""
+    local = shapely.transform(geom, lambda xy: frame.points_to_local(xy))
+    local = shapely.normalize(shapely.set_precision(local, 0.01))
+    return shapely.to_wkb(local)
+
+
+def plan_maneuver(vehicle: VehicleType, slot: Slot, lot: Lot, *, style: str = "any",
+                  margin: float = MARGIN, max_changes: int = 8) -> Maneuver:
+    """The best parking maneuver for one slot: fewest direction changes, then shortest.
+
+    A one-off convenience; to plan many slots of one lot, keep one
+    :class:`ManeuverPlanner`, which caches by geometry.
+
+    Raises
+    ------
+    InfeasibleManeuver
+        When ``vehicle`` cannot park in ``slot`` from any lane, with the reason.
+    """
+    planner = ManeuverPlanner(lot, margin=margin, max_changes=max_changes)
+    return planner.best(vehicle, slot, style=style)
+
+
+def plan_lot(planner: ManeuverPlanner, vehicles: Iterable[VehicleType], *,
+             style: str = "any") -> tuple[dict[tuple[str, str, str], Maneuver],
+                                          dict[str, dict[str, str]]]:
+    """Maneuvers for every slot, vehicle type and lane of a lot.
+
+    Returns
+    -------
+    maneuvers : dict
+        ``(vehicle name, slot id, lane id)`` → Maneuver.
+    infeasible : dict
+        vehicle name → {slot id: reason} for the slots it cannot use.
+    """
+    maneuvers: dict[tuple[str, str, str], Maneuver] = {}
+    infeasible: dict[str, dict[str, str]] = {}
+    for v in vehicles:
+        infeasible[v.name] = {}
+        for slot in planner.lot.slots:
+            try:
+                for lane, m in planner.plan_all(v, slot, style=style).items():
+                    maneuvers[(v.name, slot.id, lane)] = m
+            except InfeasibleManeuver as e:
+                infeasible[v.name][slot.id] = str(e).split(": ", 1)[-1]
+    return maneuvers, infeasible
