@@ -27,8 +27,9 @@ How each kind is planned
 Everything is checked against the lot: every other slot counts as taken —
 a perpendicular or angled slot by a strip as wide as the widest car centred
 across it, a parallel slot whole — as do walls, obstacles and no-go areas, each
-grown by the safety margin; the car stays inside the aisles, the slots and the
-lot boundary shrunk by the margin, so the far side of an aisle is a wall.
+grown by the safety margin; the car stays inside the lot boundary shrunk by the
+margin and short of the far side of the aisle by the margin (that side is a
+wall), or inside its own slot.
 Sweeps are checked as hulls of consecutive footprints 0.2 m apart.
 
 Same geometry, same maneuver: the planner works in a frame attached to the slot
@@ -41,6 +42,7 @@ have planned.
 from __future__ import annotations
 
 import hashlib
+import itertools
 import math
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass, field
@@ -48,11 +50,9 @@ from dataclasses import dataclass, field
 import numpy as np
 import shapely
 from shapely.geometry import Polygon, box
-from shapely.ops import unary_union
 
 from lotsim.errors import InfeasibleManeuver
 from lotsim.geometry import FloatArray, Pose, Segment, advance, sample_segments, wrap_angle
-from lotsim.lot.build import drivable_region
 from lotsim.lot.model import Lane, Lot, Slot, unit
 from lotsim.planners.minslot import SlotFrame, simulate, start_headings
 from lotsim.vehicles.model import VehicleType
@@ -270,9 +270,8 @@ class ManeuverPlanner:
         self._labels += [f"{a.kind.replace('_', '-')} {a.id!r}" for a in lot.areas]
         self._polys = np.array(polys, dtype=object)
         self._tree = shapely.STRtree(self._polys)
-        region = drivable_region(lot.boundary, lot.aisles, lot.design)
-        region = unary_union([region, *[s.shape for s in lot.slots]])
-        self._region = region.buffer(-margin, join_style="mitre") if margin else region
+        self._region = lot.boundary.buffer(-margin, join_style="mitre") if margin \
+            else lot.boundary
         self._index = {s.id: k for k, s in enumerate(lot.slots)}
         self._cache: dict[bytes, tuple[tuple[Segment, ...], float] | str] = {}
         self.stats = {"planned": 0, "reused": 0}
@@ -367,14 +366,21 @@ class ManeuverPlanner:
                         self._index[slot.id])
 
     def _window(self, p: _Problem) -> Polygon:
+        """The square the search may use, cut at the far side of the aisle less the margin."""
         h = p.half
-        corners = np.array([[-h, -h, 0], [h, -h, 0], [h, h, 0], [-h, h, 0]], dtype=float)
+        aisle = self.lot.aisles[p.slot.aisle]
+        mid = shapely.Point(p.slot.entry.mean(axis=0))
+        on_line = aisle.line.interpolate(aisle.line.project(mid))
+        centre_y = float(p.frame.points_to_local(np.array([on_line.x, on_line.y]))[1])
+        top = min(h, centre_y + aisle.width / 2 - self.margin)
+        corners = np.array([[-h, -h, 0], [h, -h, 0], [h, top, 0], [-h, top, 0]], dtype=float)
         return Polygon(p.frame.poses_to_world(corners)[:, :2])
 
     def _key(self, p: _Problem, style: str) -> bytes:
         """Rounded local geometry within the window: equal keys plan equal maneuvers."""
         win = self._window(p)
-        p.allowed = self._region.intersection(win)
+        # the slot itself is the car's to fill: no margin to its own lines
+        p.allowed = self._region.union(p.slot.shape).intersection(win)
         shapely.prepare(p.allowed)
         near = [int(k) for k in self._tree.query(win) if k != p.index]
         local = [_local_geometry(p.allowed, p.frame)]
@@ -457,11 +463,12 @@ class ManeuverPlanner:
             g = gear0 if k % 2 == 0 else -gear0
             kappa = rho * g * kmax
             turn_cap = abs(theta) + math.radians(20) if k == 0 else math.pi / 2
-            extents = self._extents(p, np.array([h[1] for h in heads]), g, kappa, turn_cap)
+            extents = (self._extents(p, np.array([h[1] for h in heads]), g, kappa, turn_cap)
+                       if heads else np.zeros(0))
             stops = [np.unique(np.concatenate([np.arange(0.0, e, 0.5), [e]])) for e in extents]
             owner = np.repeat(np.arange(len(heads)), [len(st) for st in stops])
-            flat = np.concatenate(stops)
-            starts = np.array([h[1] for h in heads])[owner]
+            flat = np.concatenate(stops) if stops else np.zeros(0)
+            starts = np.array([h[1] for h in heads]).reshape(-1, 3)[owner]
             q = advance(starts, g * flat, kappa)
             base = np.array([h[2] for h in heads])[owner] + flat
             tab = self._closings(p, q, g, k, base)
@@ -564,16 +571,19 @@ class ManeuverPlanner:
         shift = np.array([-s.length / 2 + m, -s.width + m])  # minslot frame → local frame
         ok = [k for k in ok if strokes[k]]
         inside = [[Segment((x.start[0] + shift[0], x.start[1] + shift[1], x.start[2]),
-                           x.distance, x.curvature) for x in strokes[k]] for k in ok]
+                           x.distance, x.curvature) for x in strokes[k] + _straighten(v, frame, strokes[k])]
+                  for k in ok]
         starts = np.array([segs[0].start for segs in inside]).reshape(-1, 3)
         paths = []
         for row in self._closings(p, starts, 0, 0, np.zeros(len(starts))):
             j, close = int(row[2]), (int(row[3]), float(row[4]), float(row[5]))
             path = _park_path(_closing_segments(inside[j][0].start, close))[0] + tuple(inside[j])
             c = sum(1 for a, b in zip(path[:-1], path[1:], strict=True) if a.gear != b.gear)
-            paths.append((c, sum(x.length for x in path), list(path)))
-        paths.sort(key=lambda c: c[:2])
-        found = self._first_clear(p, paths)
+            askew = abs(float(wrap_angle(path[-1].end[2]))) > math.radians(1.0)
+            paths.append((c, askew, sum(x.length for x in path), list(path)))
+        # fewest changes, then parked parallel to the kerb, then shortest
+        paths.sort(key=lambda c: c[:3])
+        found = self._first_clear(p, [(c[0], c[2], c[3]) for c in paths])
         if found is None:
             return "no start heading of the minimum-slot maneuver joins the lane clear"
         return tuple(found[2]), found[2][0].start[0]
@@ -629,6 +639,25 @@ class ManeuverPlanner:
         bad = self._bodies_blocked(p, pairs).reshape(len(poses), n)
         first = np.where(bad.any(axis=1), bad.argmax(axis=1), n)
         return s[first]
+
+
+def _straighten(vehicle: VehicleType, frame: SlotFrame, strokes: list[Segment]) -> list[Segment]:
+    """One full-lock arc that turns a car parked by the minimum-slot strategy (which stops
+    the moment it is inside, often askew) parallel to the kerb, staying inside ``frame``;
+    in the gear it was in if that fits, else the other. Nothing if neither fits."""
+    end = strokes[-1].end
+    th = float(wrap_angle(end[2]))
+    if abs(th) < math.radians(0.5):
+        return []
+    for g, f in itertools.product((strokes[-1].gear, -strokes[-1].gear), (1.0, 0.5, 0.25)):
+        kappa = vehicle.max_curvature * f
+        arc = Segment(end, g * abs(th) / kappa, -math.copysign(kappa, th * g))
+        corners = vehicle.footprints(arc.sample(0.05))
+        x, y = corners[..., 0], corners[..., 1]
+        if (x.min() >= 0 and x.max() <= frame.length and y.min() >= 0
+                and y.max() <= frame.width):
+            return [arc]
+    return []
 
 
 def _closing_segments(pose: Pose, close: tuple[int, float, float]) -> list[Segment]:

@@ -1073,7 +1073,12 @@ def save_lot_png(lot_graph, path: str | os.PathLike, **kwargs) -> None:
     The file is written to a temporary file in the same directory and moved
     into place, so ``path`` is never left half-written.
     """
-    img = draw_lot(lot_graph, **kwargs)
+    save_png(draw_lot(lot_graph, **kwargs), path)
+
+
+def save_png(img: Image.Image, path: str | os.PathLike) -> None:
+    """Write ``img`` to ``path`` as PNG through a temporary file in the same directory,
+    so ``path`` is never left half-written."""
     target = Path(path)
     fd, tmp = tempfile.mkstemp(prefix=f".{target.name}.", suffix=".tmp",
                                dir=target.parent if str(target.parent) else ".")
