@@ -8,6 +8,7 @@ results go to files; a one-screen summary goes to stdout.
 from __future__ import annotations
 
 import argparse
+import difflib
 import math
 import sys
 from collections.abc import Sequence
@@ -36,7 +37,8 @@ def _parser() -> argparse.ArgumentParser:
     v = sub.add_parser("validate", help="check scenario files and summarise each lot")
     v.add_argument("scenarios", nargs="+", metavar="SCENARIO")
     v.add_argument("--strict", action="store_true",
-                   help="exit 1 when a slot or exit cannot be reached")
+                   help="exit 1 when a slot or exit cannot be reached, or a vehicle "
+                   "type cannot park in a slot")
 
     m = sub.add_parser("minslot", help="shortest parallel slot for each number of direction "
                        "changes")
@@ -51,6 +53,18 @@ def _parser() -> argparse.ArgumentParser:
                    help="start-heading sweep step [deg] (0.1)")
     m.add_argument("--json", action="store_true", help="print JSON instead of a table")
     m.add_argument("--plot", metavar="PNG", help="plot length against changes (matplotlib)")
+
+    mv = sub.add_parser("maneuver", help="plan one slot's parking maneuver and draw it")
+    mv.add_argument("scenario", metavar="SCENARIO")
+    mv.add_argument("--slot", required=True, help="slot id")
+    mv.add_argument("--vehicle", help="vehicle type (default the scenario's first)")
+    mv.add_argument("--lane", help="lane id to start from (default the best)")
+    mv.add_argument("--style", choices=["any", "forward", "reverse"], default="any",
+                    help="nose-in (forward), backed in (reverse) or the better (any)")
+    mv.add_argument("--leave", action="store_true", help="the way out instead of the way in")
+    mv.add_argument("--margin", type=float, default=0.1, help="safety margin [m] (0.1)")
+    mv.add_argument("-o", "--output", help="PNG to write")
+    mv.add_argument("--size", default="900x700", help="image size WxH in pixels")
 
     s = sub.add_parser("show", help="draw a scenario's lot to a PNG")
     s.add_argument("scenario", metavar="SCENARIO")
@@ -72,6 +86,8 @@ def main(argv: Sequence[str] | None = None) -> int:
             return _show(args)
         if args.command == "minslot":
             return _minslot(args)
+        if args.command == "maneuver":
+            return _maneuver(args)
     except ScenarioError as exc:
         print(f"lotsim: {exc}", file=sys.stderr)
         return EXIT_BAD_INPUT
@@ -109,7 +125,7 @@ def _validate(paths: Sequence[str], *, strict: bool) -> int:
             continue
         reach = lg.reachability()
         print(_summary(path, scenario, lg, reach))
-        if strict and not reach.ok:
+        if strict and (not reach.ok or any(lg.infeasible.values())):
             worst = max(worst, EXIT_INCOMPLETE)
     return worst
 
@@ -142,6 +158,19 @@ def _summary(path, scenario, lg, reach) -> str:  # noqa: ANN001
     for name, slots in stranded.items():
         lines.append(f"  warning: exit {name!r} cannot be reached from {len(slots)} slots: "
                      f"{_ids(slots)}")
+    planner = lg.maneuver_planner
+    if planner is not None:
+        edges = sum(len(d["maneuvers"]) for _, _, d in lg.graph.edges(data=True)
+                    if d["kind"] == "park")
+        lines.append(f"  maneuvers: {edges} planned from {planner.stats['planned']} distinct "
+                     f"geometries (margin {planner.margin:g} m)")
+        for vname, slots in lg.infeasible.items():
+            if not slots:
+                continue
+            lines.append(f"  warning: {vname} cannot park in {len(slots)} slots: "
+                         f"{_ids(sorted(slots))}")
+            for why in sorted(set(slots.values()))[:3]:
+                lines.append(f"    because {why}")
     for note in lg.skipped_turns:
         lines.append(f"  note: {note}")
     return "\n".join(lines)
@@ -150,6 +179,87 @@ def _summary(path, scenario, lg, reach) -> str:  # noqa: ANN001
 def _ids(ids: list[str], most: int = 12) -> str:
     head = ", ".join(ids[:most])
     return head + (f", … (+{len(ids) - most})" if len(ids) > most else "")
+
+
+def _size(text: str) -> tuple[int, int] | None:
+    try:
+        w, h = (int(v) for v in text.lower().split("x"))
+    except ValueError:
+        return None
+    return (w, h) if 64 <= w <= 8000 and 64 <= h <= 8000 else None
+
+
+def _maneuver(args: argparse.Namespace) -> int:
+    from lotsim.errors import InfeasibleManeuver
+    from lotsim.io.scenario import load_scenario
+    from lotsim.lot.build import build_lot
+    from lotsim.lot.graph import build_graph
+    from lotsim.lot.model import DesignVehicle
+    from lotsim.planners.maneuver import ManeuverPlanner
+
+    size = _size(args.size)
+    if size is None:
+        print(f"lotsim: --size: expected WxH between 64 and 8000 pixels, found {args.size!r}",
+              file=sys.stderr)
+        return EXIT_BAD_INPUT
+    if not (0.0 <= args.margin <= 1.0):
+        print(f"lotsim: --margin: expected 0 to 1 m, found {args.margin:g}", file=sys.stderr)
+        return EXIT_BAD_INPUT
+    scenario = load_scenario(args.scenario)
+    names = [v.name for v in scenario.vehicle_types]
+    vname = args.vehicle or names[0]
+    if vname not in names:
+        print(f"lotsim: --vehicle: expected one of {', '.join(names)}, found {vname!r}",
+              file=sys.stderr)
+        return EXIT_BAD_INPUT
+    vehicle = scenario.vehicle_type(vname)
+    lot = build_lot(scenario.lot, DesignVehicle.envelope(scenario.vehicle_types))
+    slot = lot.slot_by_id.get(args.slot)
+    if slot is None:
+        close = difflib.get_close_matches(args.slot, list(lot.slot_by_id), n=3)
+        hint = f"; did you mean {', '.join(close)}?" if close else ""
+        print(f"lotsim: --slot: no slot {args.slot!r} in {args.scenario}{hint}", file=sys.stderr)
+        return EXIT_BAD_INPUT
+    planner = ManeuverPlanner(lot, margin=args.margin,
+                              parked_width=scenario.parked_vehicle.width,
+                              lane_ranges=build_graph(lot).through())
+    lanes = {lane.id: lane for lane in planner.lanes_for(slot)}
+    if args.lane is not None and args.lane not in lanes:
+        print(f"lotsim: --lane: slot {slot.id!r} is parked into from {', '.join(lanes)}, "
+              f"not {args.lane!r}", file=sys.stderr)
+        return EXIT_BAD_INPUT
+    try:
+        if args.lane is not None:
+            m = planner.plan(vehicle, slot, lanes[args.lane], style=args.style)
+        else:
+            m = planner.best(vehicle, slot, style=args.style)
+    except InfeasibleManeuver as exc:
+        print(f"lotsim: {exc}", file=sys.stderr)
+        return EXIT_INCOMPLETE
+    if args.leave:
+        m = m.reversed()
+    way = "out of" if args.leave else "into"
+    strokes = ", ".join(f"{'F' if g > 0 else 'R'} {length:.2f} m" for g, length in m.strokes())
+    print(f"{vehicle.name} {way} slot {slot.id} from lane {m.lane} at station {m.station:.2f} m: "
+          f"{m.changes} direction change{'s' * (m.changes != 1)}, {m.length:.2f} m, "
+          f"{m.duration(vehicle):.1f} s")
+    print(f"  strokes: {strokes}")
+    if args.output:
+        from lotsim.render.lot_image import save_png
+        from lotsim.render.maneuver_image import draw_maneuver
+
+        title = (f"{scenario.name}: {vehicle.name} {way} {slot.id}, {m.changes} changes, "
+                 f"{m.length:.1f} m")
+        img = draw_maneuver(lot, m, vehicle, parked_vehicle=scenario.parked_vehicle,
+                            size=size, title=title)
+        try:
+            save_png(img, args.output)
+        except OSError as exc:
+            print(f"lotsim: {args.output}: cannot write: {exc.strerror or exc}",
+                  file=sys.stderr)
+            return EXIT_BAD_INPUT
+        print(f"  wrote {args.output}")
+    return EXIT_OK
 
 
 def _show(args: argparse.Namespace) -> int:
@@ -166,7 +276,7 @@ def _show(args: argparse.Namespace) -> int:
               file=sys.stderr)
         return EXIT_BAD_INPUT
     scenario = load_scenario(args.scenario)
-    lg = prepare(scenario)
+    lg = prepare(scenario, maneuvers=args.graph)
     try:
         save_lot_png(lg, args.output, size=(w, h), show_graph=args.graph,
                      parked_vehicle=scenario.parked_vehicle, title=scenario.name)

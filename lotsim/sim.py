@@ -5,11 +5,17 @@ from __future__ import annotations
 from lotsim.lot.build import build_lot
 from lotsim.lot.graph import LotGraph, build_graph
 from lotsim.lot.model import DesignVehicle
+from lotsim.planners.maneuver import MARGIN, ManeuverPlanner, plan_lot
 from lotsim.scenario import Scenario
 
 
-def prepare(scenario: Scenario, *, node_spacing: float = 4.0) -> LotGraph:
-    """Build the scenario's lot for its vehicle types, and the lot's drivable graph.
+def prepare(scenario: Scenario, *, node_spacing: float = 4.0, maneuvers: bool = True,
+            margin: float = MARGIN) -> LotGraph:
+    """Build the scenario's lot for its vehicle types, plan every slot's parking maneuver
+    for every type, and build the lot's drivable graph through them.
+
+    The slots a type cannot use are in ``LotGraph.infeasible`` (type → slot → reason).
+    With ``maneuvers=False`` slots hang off placeholder links (quick, for pictures).
 
     Raises
     ------
@@ -17,4 +23,13 @@ def prepare(scenario: Scenario, *, node_spacing: float = 4.0) -> LotGraph:
         When the layout does not hold together (overlaps, narrow aisles, ...).
     """
     lot = build_lot(scenario.lot, DesignVehicle.envelope(scenario.vehicle_types))
-    return build_graph(lot, node_spacing=node_spacing)
+    if not maneuvers:
+        return build_graph(lot, node_spacing=node_spacing)
+    planner = ManeuverPlanner(lot, margin=margin, parked_width=scenario.parked_vehicle.width,
+                              lane_ranges=build_graph(lot, node_spacing=node_spacing).through())
+    planned, infeasible = plan_lot(planner, scenario.vehicle_types)
+    lg = build_graph(lot, node_spacing=node_spacing, maneuvers=planned,
+                     vehicles=scenario.vehicle_types)
+    lg.infeasible = infeasible
+    lg.maneuver_planner = planner
+    return lg

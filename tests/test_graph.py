@@ -57,14 +57,34 @@ def test_shipped_lots_reach_every_free_slot_and_exit(shipped_graphs):
         assert lg.entrances and lg.exits
 
 
-def test_every_slot_is_linked_by_a_marked_placeholder(shipped_graphs):
-    for lg in shipped_graphs.values():
+def test_every_slot_is_linked_through_real_maneuvers_that_start_at_their_lane_node(
+        shipped_graphs):
+    for name, lg in shipped_graphs.items():
         g = lg.graph
         for slot in lg.lot.slots:
             node = lg.slot_nodes[slot.id]
-            parks = [d for _, _, d in g.in_edges(node, data=True)]
-            assert parks and all(d["kind"] == "park" and d["placeholder"] for d in parks)
-            assert all(d["kind"] == "leave" for _, _, d in g.out_edges(node, data=True))
+            parks = list(g.in_edges(node, data=True))
+            assert parks, (name, slot.id)
+            for u, _, d in parks:
+                assert d["kind"] == "park" and not d["placeholder"] and d["maneuvers"]
+                pose = g.nodes[u]["pose"]
+                for m in d["maneuvers"].values():
+                    assert math.dist(m.start[:2], pose[:2]) < 1e-6, (name, slot.id)
+                    assert abs(wrap_angle(m.start[2] - pose[2])) < 1e-6, (name, slot.id)
+                leave = g.edges[node, u]
+                assert leave["kind"] == "leave" and set(leave["maneuvers"]) == set(d["maneuvers"])
+                assert d["length"] == pytest.approx(min(m.length for m in d["maneuvers"].values()))
+
+
+def test_without_maneuvers_slots_hang_off_marked_placeholders():
+    from lotsim.io.scenario import load_scenario
+    from lotsim.sim import prepare
+
+    path = next(p for p in SCENARIOS if p.stem == "quickstart")
+    lg = prepare(load_scenario(path), maneuvers=False)
+    for slot in lg.lot.slots:
+        parks = [d for _, _, d in lg.graph.in_edges(lg.slot_nodes[slot.id], data=True)]
+        assert parks and all(d["kind"] == "park" and d["placeholder"] for d in parks)
 
 
 def test_lane_and_turn_sweeps_touch_no_slot_or_area(shipped_graphs):

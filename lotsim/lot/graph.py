@@ -10,9 +10,13 @@ Edges are pieces of path at constant curvature (``segment``, a
 * ``turn`` — a minimum-radius-or-wider arc from one aisle's lane into another's
   where the aisles meet;
 * ``join`` — a lane that continues as another (zero length);
-* ``park`` / ``leave`` — from a slot's attachment pose on a lane into the slot
-  and back. Until the maneuver planner fills them in they are marked
-  ``placeholder=True`` and carry no segment.
+* ``park`` / ``leave`` — from a lane node into a slot node and back, through
+  real parking maneuvers: ``maneuvers`` maps each vehicle type that can use
+  the link to its :class:`~lotsim.planners.maneuver.Maneuver` (the leave edge
+  holds them reversed), ``duration`` maps it to seconds, ``length`` is the
+  shortest of them. A lane node sits exactly where each maneuver starts. Built
+  without maneuvers, the graph has ``placeholder=True`` links abeam of each
+  slot instead, with no geometry (enough to draw and check reachability).
 
 Every edge's geometry is tangent-continuous with its nodes' headings, and every
 turn and lane is swept with the design vehicle against slots, areas and the
@@ -83,6 +87,10 @@ class LotGraph:
         Slot id → lane nodes where its parking maneuver begins.
     skipped_turns : list of str
         Junction turns that no radius could make collision-free, with the reason.
+    infeasible : dict
+        Vehicle type → {slot id: reason} for slots that type cannot park in.
+    maneuver_planner : ManeuverPlanner or None
+        The planner (and its cache) the maneuvers came from.
     """
 
     lot: Lot
@@ -92,6 +100,27 @@ class LotGraph:
     slot_nodes: dict[str, int]
     attachments: dict[str, list[int]] = field(default_factory=dict)
     skipped_turns: list[str] = field(default_factory=list)
+    infeasible: dict[str, dict[str, str]] = field(default_factory=dict)
+    maneuver_planner: object = None
+
+    def through(self) -> dict[str, tuple[float, float]]:
+        """Per lane, the station range [m] whose nodes can be reached from an entrance and
+        can reach an exit (any node, when the lot has no exits): where a car may stop to
+        park and rejoin traffic after leaving."""
+        g = self.graph
+        come = set().union(*(nx.descendants(g, n) | {n} for n in self.entrances.values()))
+        if self.exits:
+            go = set().union(*(nx.ancestors(g, n) | {n} for n in self.exits.values()))
+        else:
+            go = set(g.nodes)
+        out: dict[str, tuple[float, float]] = {}
+        for n in come & go:
+            data = g.nodes[n]
+            if data["kind"] != "lane":
+                continue
+            lo, hi = out.get(data["lane"], (math.inf, -math.inf))
+            out[data["lane"]] = (min(lo, data["station"]), max(hi, data["station"]))
+        return out
 
     def reachability(self) -> Reachability:
         """Free slots unreachable from each entrance; slots that cannot reach each exit."""
@@ -108,7 +137,8 @@ class LotGraph:
         return Reachability(unreachable, stranded)
 
 
-def build_graph(lot: Lot, *, node_spacing: float = 4.0) -> LotGraph:
+def build_graph(lot: Lot, *, node_spacing: float = 4.0, maneuvers=None,  # noqa: ANN001
+                vehicles=()) -> LotGraph:  # noqa: ANN001
     """Build the drivable graph of ``lot``.
 
     Parameters
@@ -116,6 +146,11 @@ def build_graph(lot: Lot, *, node_spacing: float = 4.0) -> LotGraph:
     lot : Lot
     node_spacing : float, keyword-only
         Largest distance between consecutive nodes along a lane [m].
+    maneuvers : dict or None, keyword-only
+        ``(vehicle name, slot id, lane id)`` → parking Maneuver, from
+        :func:`lotsim.planners.maneuver.plan_lot`; ``None`` links slots by placeholders.
+    vehicles : sequence of VehicleType, keyword-only
+        The types named in ``maneuvers``, for the maneuvers' durations.
 
     Returns
     -------
@@ -125,7 +160,7 @@ def build_graph(lot: Lot, *, node_spacing: float = 4.0) -> LotGraph:
     collider = lane_collider(lot)
     turns, skipped = _junction_turns(lot, collider)
     joins = _joins(lot)
-    attach = _attachments(lot)
+    attach = _attachments(lot) if maneuvers is None else _maneuver_attachments(lot, maneuvers)
 
     stations: dict[str, list[float]] = {lid: [0.0, lane.length] for lid, lane in lanes.items()}
     for lid, lane in lanes.items():
@@ -183,19 +218,50 @@ def build_graph(lot: Lot, *, node_spacing: float = 4.0) -> LotGraph:
         g.add_node(node, pose=(cx, cy, slot.heading), kind="slot", slot=slot.id,
                    occupied=slot.id in lot.occupied)
         attachments[slot.id] = []
-        for lid, s in attach[slot.id]:
-            a = node_at(lid, s)
-            attachments[slot.id].append(a)
-            ax, ay, _ = g.nodes[a]["pose"]
-            reach = math.hypot(cx - ax, cy - ay)
-            gear = 1 if slot.kind == "angled" else -1
-            for u, v, kind in ((a, node, "park"), (node, a, "leave")):
-                g.add_edge(u, v, kind=kind, length=reach, gear=gear if kind == "park" else -gear,
-                           segment=None, speed_limit=lot.speed_limit, placeholder=True)
+        if maneuvers is None:
+            for lid, s in attach[slot.id]:
+                _add_placeholder(g, lot, node_at(lid, s), node, slot)
+                attachments[slot.id].append(node_at(lid, s))
+    if maneuvers is not None:
+        types = {v.name: v for v in vehicles}
+        for (vname, sid, lid), m in sorted(maneuvers.items(), key=lambda kv: kv[0]):
+            a, node = node_at(lid, m.station), slot_nodes[sid]
+            if a not in attachments[sid]:
+                attachments[sid].append(a)
+            limit = _zone_limit(lot, m.sample(0.25)[0][:, :2])
+            for u, v, kind, path in ((a, node, "park", m), (node, a, "leave", m.reversed())):
+                if not g.has_edge(u, v):
+                    g.add_edge(u, v, kind=kind, maneuvers={}, duration={}, length=math.inf,
+                               gear=path.segments[0].gear, segment=None, speed_limit=limit,
+                               placeholder=False)
+                e = g.edges[u, v]
+                e["maneuvers"][vname] = path
+                if vname in types:
+                    e["duration"][vname] = path.duration(types[vname], limit)
+                e["length"] = min(e["length"], path.length)
     return LotGraph(lot, g, entrances, exits, slot_nodes, attachments, skipped)
 
 
 # -- helpers -----------------------------------------------------------------------------------
+def _add_placeholder(g: nx.DiGraph, lot: Lot, a: int, node: int, slot: Slot) -> None:
+    ax, ay, _ = g.nodes[a]["pose"]
+    cx, cy = slot.center
+    reach = math.hypot(cx - ax, cy - ay)
+    gear = 1 if slot.kind == "angled" else -1
+    for u, v, kind in ((a, node, "park"), (node, a, "leave")):
+        g.add_edge(u, v, kind=kind, length=reach, gear=gear if kind == "park" else -gear,
+                   segment=None, speed_limit=lot.speed_limit, placeholder=True,
+                   maneuvers={}, duration={})
+
+
+def _maneuver_attachments(lot: Lot, maneuvers) -> dict[str, list[tuple[str, float]]]:  # noqa: ANN001
+    """Lane and station where each planned maneuver starts."""
+    out: dict[str, list[tuple[str, float]]] = {s.id: [] for s in lot.slots}
+    for (_, sid, lid), m in maneuvers.items():
+        out[sid].append((lid, m.station))
+    return out
+
+
 def _spaced(stations: np.ndarray, length: float, spacing: float) -> np.ndarray:
     """Sorted unique stations within [0, length], with extra ones so no gap exceeds spacing."""
     st = np.unique(np.clip(stations, 0.0, length))
@@ -215,14 +281,19 @@ def _lane_piece(lane: Lane, s0: float, s1: float) -> Segment:
     return seg.piece(d0, d1)
 
 
-def _add_edge(g: nx.DiGraph, lot: Lot, u: int, v: int, seg: Segment, kind: str) -> None:
+def _zone_limit(lot: Lot, points: np.ndarray) -> float:
+    """Speed limit along a path through ``points`` (N, 2): the lowest zone it runs in [m/s]."""
     limit = lot.speed_limit
-    line = shapely.LineString(seg.sample(0.25)[:, :2]) if lot.zones else None
+    line = shapely.LineString(points) if lot.zones else None
     for zone in lot.zones:
         if zone.polygon.intersects(line) and zone.polygon.intersection(line).length > _EPS:
             limit = min(limit, zone.limit)
+    return limit
+
+
+def _add_edge(g: nx.DiGraph, lot: Lot, u: int, v: int, seg: Segment, kind: str) -> None:
     g.add_edge(u, v, kind=kind, length=seg.length, gear=seg.gear, segment=seg,
-               speed_limit=limit, placeholder=False)
+               speed_limit=_zone_limit(lot, seg.sample(0.25)[:, :2]), placeholder=False)
 
 
 def _zone_crossings(lot: Lot, lane: Lane) -> list[float]:
@@ -267,13 +338,13 @@ def _attachments(lot: Lot) -> dict[str, list[tuple[str, float]]]:
         links = []
         for lane in aisle.lanes:
             s, _ = lane.project((float(mid[0]), float(mid[1])))
-            if _lane_serves(lane, s, slot):
+            if lane_serves(lane, s, slot):
                 links.append((lane.id, s))
         out[slot.id] = links
     return out
 
 
-def _lane_serves(lane: Lane, station: float, slot: Slot) -> bool:
+def lane_serves(lane: Lane, station: float, slot: Slot) -> bool:
     """Whether a car on ``lane`` can begin this slot's maneuver: by kind and direction."""
     if slot.kind == "perpendicular":
         return True

@@ -26,10 +26,11 @@ How each kind is planned
 
 Everything is checked against the lot: every other slot counts as taken —
 a perpendicular or angled slot by a strip as wide as the widest car centred
-across it, a parallel slot whole — as do walls, obstacles and no-go areas, each
-grown by the safety margin; the car stays inside the lot boundary shrunk by the
-margin and short of the far side of the aisle by the margin (that side is a
-wall), or inside its own slot.
+across it, a parallel slot whole (grown at its ends and kerb but not over its
+entry line, which the minimum-slot strategy starts on) — as do walls,
+obstacles and no-go areas, each grown by the safety margin; the car stays
+inside the lot boundary shrunk by the margin and short of the far side of the
+aisle by the margin (that side is a wall), or inside its own slot.
 Sweeps are checked as hulls of consecutive footprints 0.2 m apart.
 
 Same geometry, same maneuver: the planner works in a frame attached to the slot
@@ -49,10 +50,11 @@ from dataclasses import dataclass, field
 
 import numpy as np
 import shapely
-from shapely.geometry import Polygon, box
+from shapely.geometry import Polygon
 
 from lotsim.errors import InfeasibleManeuver
 from lotsim.geometry import FloatArray, Pose, Segment, advance, sample_segments, wrap_angle
+from lotsim.lot.graph import lane_serves
 from lotsim.lot.model import Lane, Lot, Slot, unit
 from lotsim.planners.minslot import SlotFrame, simulate, start_headings
 from lotsim.vehicles.model import VehicleType
@@ -229,6 +231,8 @@ class _Problem:
     half: float  # window half-size [m]
     index: int  # the slot's index in the lot
     allowed: object = field(default=None, repr=False)  # prepared world region for this slot
+    obstacles: object = field(default=None, repr=False)  # world obstacles near the slot
+    tree: object = field(default=None, repr=False)  # STRtree of ``obstacles``
 
 
 class ManeuverPlanner:
@@ -245,6 +249,10 @@ class ManeuverPlanner:
         slot [m]; default the lot's design width.
     max_changes : int, keyword-only
         Most direction changes a maneuver may have.
+    lane_ranges : dict, keyword-only
+        Lane id → (first, last) station [m] where a maneuver may start; default
+        the whole lane (:meth:`LotGraph.through` gives the part a car can reach
+        and leave again).
 
     Examples
     --------
@@ -254,16 +262,16 @@ class ManeuverPlanner:
     """
 
     def __init__(self, lot: Lot, *, margin: float = MARGIN, parked_width: float | None = None,
-                 max_changes: int = 8):
+                 max_changes: int = 8,
+                 lane_ranges: dict[str, tuple[float, float]] | None = None):
         if margin < 0:
             raise ValueError("margin must be zero or more")
         self.lot = lot
         self.margin = margin
         self.max_changes = max_changes
+        self.lane_ranges = lane_ranges or {}
         width = max(parked_width or 0.0, lot.design.width)
-        self._obstacle_shapes = [_taken_shape(s, width) for s in lot.slots]
-        polys = [g.buffer(margin, join_style="mitre") if margin else g
-                 for g in self._obstacle_shapes]
+        polys = [_taken_zone(s, width, margin) for s in lot.slots]
         polys += [a.polygon.buffer(margin, join_style="mitre") if margin else a.polygon
                   for a in lot.areas]
         self._labels = [f"slot {s.id!r}" for s in lot.slots]
@@ -279,15 +287,9 @@ class ManeuverPlanner:
     # -- public API ---------------------------------------------------------------------------
     def lanes_for(self, slot: Slot) -> list[Lane]:
         """The lanes a car can park into ``slot`` from: by kind and direction of travel."""
-        aisle = self.lot.aisles[slot.aisle]
-        out = []
-        for lane in aisle.lanes:
-            s, _ = lane.project(tuple(slot.entry.mean(axis=0)))
-            if slot.kind == "perpendicular":
-                out.append(lane)
-            elif float(np.dot(unit(lane.pose_at(s)[2]), unit(slot.heading))) > 1e-9:
-                out.append(lane)
-        return out
+        mid = slot.entry.mean(axis=0)
+        return [lane for lane in self.lot.aisles[slot.aisle].lanes
+                if lane_serves(lane, lane.project((float(mid[0]), float(mid[1])))[0], slot)]
 
     def plan(self, vehicle: VehicleType, slot: Slot, lane: Lane, *,
              style: str = "any") -> Maneuver:
@@ -361,7 +363,8 @@ class ManeuverPlanner:
             s0 = float(lane.starts[i]) - lo
         half = 2 * vehicle.min_turning_radius + vehicle.length + 1.0
         if math.isfinite(lane_y):
-            lane_x = (max(lo, -half), min(lo + seg.length, half))
+            first, last = self.lane_ranges.get(lane.id, (0.0, lane.length))
+            lane_x = (max(lo, -half, first - s0), min(lo + seg.length, half, last - s0))
         return _Problem(vehicle, slot, lane, frame, lane_y, lane_x, s0, half,
                         self._index[slot.id])
 
@@ -383,9 +386,12 @@ class ManeuverPlanner:
         p.allowed = self._region.union(p.slot.shape).intersection(win)
         shapely.prepare(p.allowed)
         near = [int(k) for k in self._tree.query(win) if k != p.index]
-        local = [_local_geometry(p.allowed, p.frame)]
-        local += [_local_geometry(self._polys[k].intersection(win), p.frame) for k in near]
-        local = sorted(local)
+        # the margin around neighbours stops at this slot's lines: the car may fill its slot
+        p.obstacles = shapely.difference(self._polys[near], p.slot.shape) if near \
+            else np.zeros(0, dtype=object)
+        p.tree = shapely.STRtree(p.obstacles)
+        clipped = np.concatenate([[p.allowed], shapely.intersection(p.obstacles, win)])
+        local = sorted(_local_geometry(clipped, p.frame))
         v = p.vehicle
         s = p.slot
         slot_local = np.round(p.frame.points_to_local(s.polygon), 2)
@@ -550,8 +556,7 @@ class ManeuverPlanner:
         hulls = shapely.convex_hull(shapely.linestrings(bodies)) if bodies.shape[1] > 4 \
             else shapely.polygons(bodies)
         bad = ~shapely.covers(p.allowed, hulls)
-        src, hit = self._tree.query(hulls, predicate="intersects")
-        bad[src[hit != p.index]] = True
+        bad[p.tree.query(hulls, predicate="intersects")[0]] = True
         return bad
 
     def _solve_parallel(self, p: _Problem) -> tuple[tuple[Segment, ...], float] | str:
@@ -571,8 +576,8 @@ class ManeuverPlanner:
         shift = np.array([-s.length / 2 + m, -s.width + m])  # minslot frame → local frame
         ok = [k for k in ok if strokes[k]]
         inside = [[Segment((x.start[0] + shift[0], x.start[1] + shift[1], x.start[2]),
-                           x.distance, x.curvature) for x in strokes[k] + _straighten(v, frame, strokes[k])]
-                  for k in ok]
+                           x.distance, x.curvature)
+                   for x in strokes[k] + _straighten(v, frame, strokes[k])] for k in ok]
         starts = np.array([segs[0].start for segs in inside]).reshape(-1, 3)
         paths = []
         for row in self._closings(p, starts, 0, 0, np.zeros(len(starts))):
@@ -679,24 +684,38 @@ def _park_path(leave: Sequence[Segment]) -> tuple[tuple[Segment, ...], float]:
     return segs, (segs[0].start[0] if segs else 0.0)
 
 
-def _taken_shape(slot: Slot, width: float) -> Polygon:
-    """Where a car parked in ``slot`` may stand: the whole slot if parallel, else a strip
-    ``width`` wide centred across it, along its whole length."""
-    if slot.kind == "parallel" or width >= slot.width:
-        return slot.shape
+def _taken_zone(slot: Slot, width: float, margin: float) -> Polygon:
+    """What a maneuver must keep out of because of a car parked in ``slot``.
+
+    Perpendicular and angled: a strip ``width`` wide centred across the slot
+    along its whole length (cars park centred), grown by ``margin``. Parallel:
+    the whole slot (the car may stand anywhere in it) grown by ``margin`` at
+    both ends and the kerb but not past the entry line — a car parking next to
+    it starts with its corner on that line (the minimum-slot strategy), and the
+    parked car does not reach over it.
+    """
     c = np.asarray(slot.center)
+    if slot.kind == "parallel":
+        a, b = slot.entry
+        u = (b - a) / np.linalg.norm(b - a)
+        n = c - (a + b) / 2
+        n = n / np.linalg.norm(n) * (slot.width + margin)
+        a, b = a - u * margin, b + u * margin
+        return Polygon([a, b, b + n, a + n])
     u = unit(slot.heading)
     n = np.array([-u[1], u[0]])
-    hl, hw = slot.length / 2, width / 2
-    return Polygon([c - hl * u - hw * n, c + hl * u - hw * n, c + hl * u + hw * n,
-                    c - hl * u + hw * n])
+    hl, hw = slot.length / 2, min(width, slot.width) / 2
+    strip = Polygon([c - hl * u - hw * n, c + hl * u - hw * n, c + hl * u + hw * n,
+                     c - hl * u + hw * n])
+    return strip.buffer(margin, join_style="mitre") if margin else strip
 
 
-def _local_geometry(geom, frame: _Frame) -> bytes:  # noqa: ANN001 - any shapely geometry
-    """Rounded (1 cm), normalised WKB of ``geom`` in ``frame``."""
-    local = shapely.transform(geom, lambda xy: frame.points_to_local(xy))
+def _local_geometry(geoms: np.ndarray, frame: _Frame) -> list[bytes]:
+    """Rounded (1 cm), normalised WKB of each of ``geoms`` in ``frame``."""
+    local = shapely.set_coordinates(geoms.copy(),
+                                    frame.points_to_local(shapely.get_coordinates(geoms)))
     local = shapely.normalize(shapely.set_precision(local, 0.01))
-    return shapely.to_wkb(local)
+    return list(shapely.to_wkb(local))
 
 
 def plan_maneuver(vehicle: VehicleType, slot: Slot, lot: Lot, *, style: str = "any",
