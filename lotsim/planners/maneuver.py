@@ -253,12 +253,6 @@ class ManeuverPlanner:
         Lane id → (first, last) station [m] where a maneuver may start; default
         the whole lane (:meth:`LotGraph.through` gives the part a car can reach
         and leave again).
-
-    Examples
-    --------
-    >>> from lotsim.io.scenario import load_scenario  # doctest: +SKIP
-    >>> planner = ManeuverPlanner(lot)  # doctest: +SKIP
-    >>> m = planner.best(vehicle, lot.slots[0])  # doctest: +SKIP
     """
 
     def __init__(self, lot: Lot, *, margin: float = MARGIN, parked_width: float | None = None,
