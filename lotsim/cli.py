@@ -193,9 +193,8 @@ def _maneuver(args: argparse.Namespace) -> int:
     from lotsim.errors import InfeasibleManeuver
     from lotsim.io.scenario import load_scenario
     from lotsim.lot.build import build_lot
-    from lotsim.lot.graph import build_graph
     from lotsim.lot.model import DesignVehicle
-    from lotsim.planners.maneuver import ManeuverPlanner
+    from lotsim.sim import maneuver_planner
 
     size = _size(args.size)
     if size is None:
@@ -220,9 +219,7 @@ def _maneuver(args: argparse.Namespace) -> int:
         hint = f"; did you mean {', '.join(close)}?" if close else ""
         print(f"lotsim: --slot: no slot {args.slot!r} in {args.scenario}{hint}", file=sys.stderr)
         return EXIT_BAD_INPUT
-    planner = ManeuverPlanner(lot, margin=args.margin,
-                              parked_width=scenario.parked_vehicle.width,
-                              lane_ranges=build_graph(lot).through())
+    planner = maneuver_planner(scenario, lot, margin=args.margin)
     lanes = {lane.id: lane for lane in planner.lanes_for(slot)}
     if args.lane is not None and args.lane not in lanes:
         print(f"lotsim: --lane: slot {slot.id!r} is parked into from {', '.join(lanes)}, "
@@ -267,18 +264,15 @@ def _show(args: argparse.Namespace) -> int:
     from lotsim.render import save_lot_png
     from lotsim.sim import prepare
 
-    try:
-        w, h = (int(v) for v in args.size.lower().split("x"))
-        if not (64 <= w <= 8000 and 64 <= h <= 8000):
-            raise ValueError
-    except ValueError:
+    size = _size(args.size)
+    if size is None:
         print(f"lotsim: --size: expected WxH between 64 and 8000 pixels, found {args.size!r}",
               file=sys.stderr)
         return EXIT_BAD_INPUT
     scenario = load_scenario(args.scenario)
     lg = prepare(scenario, maneuvers=args.graph)
     try:
-        save_lot_png(lg, args.output, size=(w, h), show_graph=args.graph,
+        save_lot_png(lg, args.output, size=size, show_graph=args.graph,
                      parked_vehicle=scenario.parked_vehicle, title=scenario.name)
     except OSError as exc:
         print(f"lotsim: {args.output}: cannot write: {exc.strerror or exc}", file=sys.stderr)

@@ -114,7 +114,7 @@ def speed_profile(limits: FloatArray, ds: float, accel: float, brake: float,
                   v0: float = 0.0) -> FloatArray:
     """Fastest speeds [m/s] at grid points ``ds`` apart under ``limits`` (per point),
     starting at ``v0`` and ending at rest, with the given acceleration and braking."""
-    v = np.minimum(limits.astype(float), np.inf)
+    v = limits.astype(float)  # a copy
     v[0] = min(v0, v[0])
     v[-1] = 0.0
     for i in range(1, len(v)):
@@ -208,8 +208,3 @@ def _drive_stroke(stroke: list[Piece], vehicle: VehicleType, t0: float, dt: floa
     steer = np.arctan(kappa * vehicle.wheelbase)
     gears = np.full(len(ts), gear, dtype=int)
     return Trajectory(t0 + ts, poses[:, 0], poses[:, 1], poses[:, 2], gear * vs, steer, gears)
-
-
-def path_end(pieces: Sequence[Piece]) -> Pose:
-    """The pose at the end of a path."""
-    return pieces[-1].segment.end

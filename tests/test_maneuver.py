@@ -97,10 +97,11 @@ def test_every_maneuver_of_every_shipped_slot_passes_the_independent_check(path,
     kinds = {v.name: v for v in scenario.vehicle_types}
     everyone = [*scenario.vehicle_types, scenario.parked_vehicle]
     checked = 0
-    for slot in lot.slots:
+    tree = shapely.STRtree([s.shape for s in lot.slots])
+    for k, slot in enumerate(lot.slots):
         node = lg.slot_nodes[slot.id]
-        others = [s for s in lot.slots if s.id != slot.id
-                  and s.shape.distance(slot.shape) < 12.0]
+        near = tree.query(slot.shape, predicate="dwithin", distance=12.0)
+        others = [lot.slots[i] for i in sorted(near) if i != k]
         cars = parked_bodies(others, everyone)
         for _, _, d in lg.graph.in_edges(node, data=True):
             for vname, m in d["maneuvers"].items():
