@@ -6,14 +6,19 @@ import shapely
 from shapely.geometry import box
 
 from lotsim.geometry import Segment
-from lotsim.planners.reservation import ReservationTable, bodies_at_rest, swept_by_step
-from lotsim.trajectory import Piece, drive, standing
+from lotsim.planners.reservation import (
+    ReservationTable,
+    standing_body,
+    swept_motion,
+    swept_trajectory,
+)
+from lotsim.trajectory import Piece, drive, rest_to_rest
 from lotsim.vehicles import CATALOGUE
 
 CAR = CATALOGUE["valet"]
 
 
-def _random_trajectory(rng, t0):
+def _random_pieces(rng):
     x, y = rng.uniform(-10, 10, size=2)
     th = rng.uniform(-np.pi, np.pi)
     pieces, pose = [], (float(x), float(y), float(th))
@@ -22,11 +27,12 @@ def _random_trajectory(rng, t0):
                       float(rng.uniform(-1, 1) * CAR.max_curvature))
         pieces.append(Piece(seg))
         pose = seg.end
-    return drive(pieces, CAR, t0=t0)
+    return pieces
 
 
 def _dense_overlap(a, b):
-    """Whether the two vehicles' footprints overlap at some common instant (every 10 ms)."""
+    """Whether the two vehicles' footprints overlap at some common instant (every 10 ms),
+    with the poses computed on the exact path (not interpolated)."""
     lo, hi = max(a.start_time, b.start_time), min(a.end_time, b.end_time)
     if hi <= lo:
         return False
@@ -40,15 +46,23 @@ def _dense_overlap(a, b):
     return bool(shapely.intersects(shapely.polygons(at(a)), shapely.polygons(at(b))).any())
 
 
-def test_random_crossings_that_touch_at_an_instant_are_always_caught():
+@pytest.mark.parametrize("via", ["motion", "trajectory"])
+def test_random_crossings_that_touch_at_an_instant_are_always_caught(via):
     rng = np.random.default_rng(11)
     caught = touching = 0
     for _ in range(150):
-        a = _random_trajectory(rng, float(rng.uniform(0, 3)))
-        b = _random_trajectory(rng, float(rng.uniform(0, 3)))
-        table = ReservationTable(dt=0.5)
-        table.reserve_trajectory("a", a, CAR)
-        conflict = table.first_conflict(swept_by_step(b, CAR, 0.5))
+        pa, pb = _random_pieces(rng), _random_pieces(rng)
+        ta, tb = float(rng.uniform(0, 3)), float(rng.uniform(0, 3))
+        # the dense reference drives the paths sampled every 2 ms
+        a, b = drive(pa, CAR, t0=ta, dt=0.002), drive(pb, CAR, t0=tb, dt=0.002)
+        table = ReservationTable()
+        if via == "motion":
+            table.reserve("a", swept_motion(rest_to_rest(pa, CAR), CAR), offset=ta)
+            conflict = table.first_conflict(swept_motion(rest_to_rest(pb, CAR), CAR),
+                                            offset=tb)
+        else:
+            table.reserve("a", swept_trajectory(drive(pa, CAR, t0=ta), CAR))
+            conflict = table.first_conflict(swept_trajectory(drive(pb, CAR, t0=tb), CAR))
         if _dense_overlap(a, b):
             touching += 1
             assert conflict is not None and conflict.owner == "a"
@@ -57,38 +71,52 @@ def test_random_crossings_that_touch_at_an_instant_are_always_caught():
     assert caught >= touching
 
 
+def test_hulls_cover_the_exact_footprints_of_a_tight_turn():
+    arc = Segment((0.0, 0.0, 0.3), 12.0, CAR.max_curvature)
+    hulls = swept_motion(rest_to_rest([Piece(arc)], CAR), CAR)
+    union = shapely.union_all([h for _, _, h in hulls])
+    exact = shapely.polygons(CAR.footprints(arc.sample(0.005)))
+    assert shapely.covers(union.buffer(0.005), exact).all()
+    assert max(t1 - t0 for t0, t1, _ in hulls) <= 0.5 + 1e-9
+
+
 def test_a_parked_car_blocks_only_from_when_it_parks_and_not_its_owner():
-    table = ReservationTable(dt=0.5)
-    table.reserve_parked("p", box(0, 0, 2, 5), since=10.0)
+    table = ReservationTable()
+    table.reserve_standing("p", box(0, 0, 2, 5), since=10.0)
     probe = box(1, 1, 3, 3)
-    assert table.is_free({19: probe})
-    assert table.first_conflict({20: probe}).owner == "p"
-    assert table.is_free({25: probe}, ignore="p")
+    assert table.is_free([(5.0, 9.5, probe)])
+    assert table.first_conflict([(9.0, 10.5, probe)]).owner == "p"
+    assert table.is_free([(200.0, 201.0, probe)], ignore="p")
+    assert table.free_from(probe, 0.0).owner == "p"
+    assert table.free_from(box(5, 5, 6, 6), 0.0) is None
 
 
-def test_release_after_a_time_keeps_the_past_and_the_parked_car_until_then():
-    table = ReservationTable(dt=1.0)
-    tr = drive([Piece(Segment((0.0, 0.0, 0.0), 10.0, 0.0))], CAR)
-    table.reserve_trajectory("v", tr, CAR, park=True)
-    end = bodies_at_rest(CAR, tr.poses[-1], [int(tr.end_time) + 5])
-    assert not table.is_free(end)
-    table.release("v", after=tr.end_time + 3)
-    assert table.is_free(end)
-    assert not table.is_free(bodies_at_rest(CAR, tr.poses[-1], [int(tr.end_time) + 1]))
-    assert not table.is_free(bodies_at_rest(CAR, tr.poses[0], [0]))
+def test_release_after_a_time_keeps_the_past_and_cuts_the_parked_car_there():
+    table = ReservationTable()
+    motion = rest_to_rest([Piece(Segment((0.0, 0.0, 0.0), 10.0, 0.0))], CAR)
+    table.reserve("v", swept_motion(motion, CAR))
+    end = standing_body(CAR, (10.0, 0.0, 0.0))
+    table.reserve_standing("v", end, since=motion.duration)
+    late = [(motion.duration + 5, motion.duration + 6, end)]
+    assert not table.is_free(late)
+    table.release("v", after=motion.duration + 3)
+    assert table.is_free(late)
+    assert not table.is_free([(motion.duration + 1, motion.duration + 2, end)])
+    assert not table.is_free([(0.0, 0.1, standing_body(CAR, (0.0, 0.0, 0.0)))])
     table.release("v")
-    assert table.owners() == set()
+    assert table.owners() == set() and len(table) == 0
 
 
-def test_a_standing_vehicle_reserves_every_step_it_stands():
-    table = ReservationTable(dt=0.5)
-    table.reserve_trajectory("w", standing((0.0, 0.0, 0.0), 2.0, 3.0), CAR)
-    body = shapely.Polygon(CAR.footprints([[0.0, 0.0, 0.0]])[0])
-    for k in range(4, 10):
-        assert table.first_conflict({k: body}).step == k
-    assert table.is_free({3: body}) and table.is_free({11: body})
+def test_long_and_short_entries_are_both_found_across_many_buckets():
+    table = ReservationTable(bucket=1.0)
+    table.reserve_standing("long", box(0, 0, 1, 1), since=3.0, until=500.0)
+    table.reserve("short", [(40.0, 40.5, box(10, 0, 11, 1))])
+    assert table.first_conflict([(499.0, 499.5, box(0.5, 0.5, 2, 2))]).owner == "long"
+    assert table.is_free([(500.5, 501.0, box(0.5, 0.5, 2, 2))])
+    assert table.first_conflict([(39.0, 40.0, box(10.5, 0, 12, 1))]).owner == "short"
+    assert table.is_free([(41.0, 42.0, box(10.5, 0, 12, 1))])
 
 
-def test_bad_step_length_is_refused():
+def test_bad_bucket_is_refused():
     with pytest.raises(ValueError):
-        ReservationTable(dt=0)
+        ReservationTable(bucket=0)
