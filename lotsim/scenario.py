@@ -5,6 +5,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from lotsim.lot.spec import LotSpec
+from lotsim.traffic import TrafficSpec
 from lotsim.vehicles.model import VehicleType
 
 
@@ -25,6 +26,8 @@ class Scenario:
     source : str
         The file it was read from.
     description : str
+    traffic : TrafficSpec or None
+        The vehicles that come to the lot; None when the scenario only describes a lot.
     """
 
     name: str
@@ -34,6 +37,7 @@ class Scenario:
     seed: int = 0
     source: str = "<memory>"
     description: str = ""
+    traffic: TrafficSpec | None = None
 
     def vehicle_type(self, name: str) -> VehicleType:
         """The vehicle type called ``name``; KeyError if the scenario has none."""

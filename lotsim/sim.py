@@ -1,12 +1,41 @@
-"""The simulation pipeline, scenario in, results out (the planning stages land in later issues)."""
+"""The simulation pipeline, scenario in, results out.
+
+:func:`prepare` builds a scenario's lot, plans every slot's maneuvers and the
+drivable graph; :func:`run` plans the scenario's traffic through it.
+"""
 
 from __future__ import annotations
 
+import heapq
+import math
+import time
+from dataclasses import dataclass, field
+
+import networkx as nx
+import numpy as np
+
+from lotsim.errors import ScenarioError
 from lotsim.lot.build import build_lot
 from lotsim.lot.graph import LotGraph, build_graph
 from lotsim.lot.model import DesignVehicle, Lot
+from lotsim.planners.cooperative import (
+    OMEGA,
+    PLANNERS,
+    Goal,
+    Move,
+    Plan,
+    ReverseResumable,
+    SearchGraph,
+    Status,
+    reserve_moves,
+    search,
+)
 from lotsim.planners.maneuver import MARGIN, ManeuverPlanner, plan_lot
+from lotsim.planners.reservation import ReservationTable, standing_body
 from lotsim.scenario import Scenario
+from lotsim.traffic import Arrival, arrivals
+from lotsim.trajectory import Trajectory
+from lotsim.vehicles.model import VehicleType
 
 
 def prepare(scenario: Scenario, *, node_spacing: float = 4.0, maneuvers: bool = True,
@@ -39,3 +68,439 @@ def maneuver_planner(scenario: Scenario, lot: Lot, *, margin: float = MARGIN) ->
     where a car can arrive from an entrance and leave for an exit."""
     return ManeuverPlanner(lot, margin=margin, parked_width=scenario.parked_vehicle.width,
                            lane_ranges=build_graph(lot).through())
+
+
+# -- running traffic -------------------------------------------------------------------------
+ASSIGNMENTS = ("nearest", "shortest")
+SAMPLE_DT = 0.05
+"""Interval of the samples of a moving vehicle in a run's result [s]."""
+STATUSES = ("parked", "departed", "waiting", "rejected")
+
+
+@dataclass(frozen=True, slots=True)
+class RunSettings:
+    """How :func:`run` plans.
+
+    Attributes
+    ----------
+    planner : {"ca", "hca", "whca"}
+    assignment : {"nearest", "shortest"}
+        Slot choice: straight-line distance from the entrance, or travel time
+        along the graph plus the maneuver's time.
+    seed : int or None
+        Seed of the traffic stream (None: the scenario's).
+    window : float
+        WHCA*'s window [s]; the vehicle replans every ``window / 2``.
+    omega : float
+        The search fuse factor.
+    retry : float
+        Wait before a vehicle whose search failed tries again [s].
+    """
+
+    planner: str = "hca"
+    assignment: str = "shortest"
+    seed: int | None = None
+    window: float = 10.0
+    omega: float = OMEGA
+    retry: float = 5.0
+
+
+@dataclass
+class VehicleRun:
+    """One vehicle's part of a run."""
+
+    arrival: Arrival
+    vehicle: VehicleType
+    slot: str | None = None
+    status: str = "waiting"
+    reason: str = ""
+    moves: list[Move] = field(default_factory=list)
+    parked_at: float | None = None
+    parked_pose: tuple[float, float, float] | None = None
+    left_at: float | None = None
+    searches: int = 0
+    expansions: int = 0
+    planning_time: float = 0.0
+    done: bool = False  # nothing more will happen to it
+
+    @property
+    def id(self) -> str:
+        return self.arrival.id
+
+
+@dataclass
+class RunResult:
+    """What :func:`run` returns: the lot, the settings and every vehicle's story."""
+
+    scenario: Scenario
+    lot_graph: LotGraph
+    settings: RunSettings
+    seed: int
+    vehicles: list[VehicleRun]
+    planning_time: float
+
+    def metrics(self) -> dict[str, float]:
+        """Counts by status and the timing figures of ``docs/result.md``."""
+        out: dict[str, float] = {s: 0 for s in STATUSES}
+        for v in self.vehicles:
+            out[v.status] += 1
+        out["vehicles"] = len(self.vehicles)
+        park = [v.parked_at - v.arrival.time for v in self.vehicles if v.parked_at is not None]
+        out["mean_time_to_park"] = float(np.mean(park)) if park else 0.0
+        out["max_time_to_park"] = float(np.max(park)) if park else 0.0
+        out["total_waiting"] = float(sum(m.t1 - m.t0 for v in self.vehicles for m in v.moves
+                                         if m.kind in ("wait", "outside"))
+                                     + sum(_queued(v) for v in self.vehicles))
+        ends = [v.moves[-1].t1 for v in self.vehicles if v.moves]
+        out["makespan"] = float(max(ends)) if ends else 0.0
+        out["planning_time"] = self.planning_time
+        out["expansions"] = int(sum(v.expansions for v in self.vehicles))
+        out["searches"] = int(sum(v.searches for v in self.vehicles))
+        per = [v.planning_time for v in self.vehicles if v.searches]
+        out["planning_time_median"] = float(np.median(per)) if per else 0.0
+        out["planning_time_p95"] = float(np.percentile(per, 95)) if per else 0.0
+        return out
+
+
+def _queued(v: VehicleRun) -> float:
+    """Time spent queued outside before the plan that brought it in began [s]."""
+    start = next((m.t0 for m in v.moves), None)
+    if start is None:
+        return 0.0
+    return max(0.0, start - v.arrival.time)
+
+
+def check_traffic(scenario: Scenario, lg: LotGraph, traffic: list[Arrival]) -> None:
+    """Refuse traffic the lot cannot serve at all: a type that fits no slot, an
+    entrance with no route to a slot, dwell times in a lot with no exit.
+
+    Raises
+    ------
+    ScenarioError
+        Located at the vehicle or stream that asks for it.
+    """
+    g = lg.graph
+    for name in sorted({a.vehicle for a in traffic}):
+        who = next(a for a in traffic if a.vehicle == name)
+        if not any(name in d.get("maneuvers", {}) for _, _, d in g.edges(data=True)
+                   if d["kind"] == "park"):
+            reasons = sorted(set(lg.infeasible.get(name, {}).values()))
+            why = f" ({reasons[0]})" if reasons else ""
+            raise ScenarioError(who.where, f"vehicle type {name!r} fits no slot of this "
+                                           f"lot{why}")
+    for gate in sorted({a.entrance for a in traffic}):
+        who = next(a for a in traffic if a.entrance == gate)
+        seen = nx.descendants(g, lg.entrances[gate])
+        if not any(lg.slot_nodes[s.id] in seen for s in lg.lot.free_slots):
+            raise ScenarioError(who.where, f"no route from entrance {gate!r} to a free slot")
+    if any(a.dwell is not None for a in traffic) and not lg.exits:
+        who = next(a for a in traffic if a.dwell is not None)
+        raise ScenarioError(who.where, "vehicles have dwell times but the lot has no exit "
+                                       "to leave by")
+
+
+def run(scenario: Scenario, settings: RunSettings | None = None, *, lot_graph=None,  # noqa: ANN001
+        progress=None) -> RunResult:  # noqa: ANN001
+    """Plan the scenario's traffic: assign slots, plan every vehicle in, and out again.
+
+    Vehicles are planned one after another in arrival order (their priority),
+    each against the reservations of those before it. A vehicle that finds no
+    free slot queues at its entrance and gets the next slot freed; one whose
+    search fails (fuse, no path) waits outside and tries again. After the
+    traffic's patience it is turned away, with the reason. Nothing is dropped:
+    every vehicle ends parked, departed, waiting or rejected.
+
+    Parameters
+    ----------
+    scenario : Scenario
+        Must have ``traffic``.
+    settings : RunSettings, optional
+    lot_graph : LotGraph, optional
+        The prepared lot (made with :func:`prepare` if not given).
+    progress : callable, optional
+        Called as ``progress(done, total)`` when a vehicle is settled.
+
+    Raises
+    ------
+    ScenarioError
+        For traffic the lot cannot serve at all (see :func:`check_traffic`).
+    """
+    settings = settings or RunSettings()
+    if settings.planner not in PLANNERS:
+        raise ValueError(f"unknown planner {settings.planner!r}")
+    if settings.assignment not in ASSIGNMENTS:
+        raise ValueError(f"unknown assignment {settings.assignment!r}")
+    if scenario.traffic is None:
+        raise ScenarioError(None, f"{scenario.source}: the scenario has no traffic section")
+    lg = lot_graph or prepare(scenario)
+    seed = scenario.seed if settings.seed is None else settings.seed
+    traffic = arrivals(scenario.traffic, seed)
+    check_traffic(scenario, lg, traffic)
+    sim = _Simulation(scenario, lg, settings, traffic, progress)
+    clock = time.perf_counter()
+    sim.go()
+    return RunResult(scenario, lg, settings, seed, sim.vehicles, time.perf_counter() - clock)
+
+
+class _Simulation:
+    def __init__(self, scenario: Scenario, lg: LotGraph, settings: RunSettings,
+                 traffic: list[Arrival], progress) -> None:  # noqa: ANN001
+        self.lg = lg
+        self.s = settings
+        self.patience = scenario.traffic.patience
+        self.table = ReservationTable()
+        self.graphs = {t.name: SearchGraph(lg, t) for t in scenario.vehicle_types}
+        types = {t.name: t for t in scenario.vehicle_types}
+        self.vehicles = [VehicleRun(a, types[a.vehicle]) for a in traffic]
+        self.free = {s.id for s in lg.lot.free_slots}
+        self.queue: list[int] = []
+        self.events: list[tuple[float, int, str, int]] = []
+        self.seq = 0
+        self.progress = progress
+        self.settled = 0
+        self._slot_times: dict[tuple[str, str], dict[str, float]] = {}
+        self._exits: dict[str, ReverseResumable] = {}
+        parked = scenario.parked_vehicle
+        for sid in sorted(lg.lot.occupied):
+            slot = lg.lot.slot_by_id[sid]
+            pose = slot.centered_pose(parked.front, parked.rear)
+            self.table.reserve_standing(f"parked:{sid}", standing_body(parked, pose), -math.inf)
+        last = max((a.time for a in traffic), default=0.0)
+        longest = max((a.dwell or 0.0 for a in traffic), default=0.0)
+        self.end_time = last + self.patience + longest + 3600.0
+        for i, a in enumerate(traffic):
+            self.at(a.time, "arrive", i)
+
+    def at(self, t: float, kind: str, i: int) -> None:
+        self.seq += 1
+        heapq.heappush(self.events, (t, self.seq, kind, i))
+
+    def go(self) -> None:
+        while self.events:
+            t, _, kind, i = heapq.heappop(self.events)
+            v = self.vehicles[i]
+            if v.done:
+                continue
+            if t > self.end_time:
+                if v.status == "parked":
+                    self.finish(v, "parked", "still parked when the run ended")
+                else:
+                    self.finish(v, "waiting", f"the run ended at {self.end_time:.0f} s first")
+                continue
+            getattr(self, f"on_{kind}")(i, v, t)
+        for v in self.vehicles:
+            if not v.done:
+                self.finish(v, v.status, v.reason or "the run ended")
+
+    def finish(self, v: VehicleRun, status: str, reason: str = "") -> None:
+        v.status, v.reason, v.done = status, reason, True
+        self.settled += 1
+        if self.progress is not None:
+            self.progress(self.settled, len(self.vehicles))
+
+    # -- arriving -----------------------------------------------------------------------------
+    def on_arrive(self, i: int, v: VehicleRun, t: float) -> None:
+        if self.patience > 0:
+            self.at(v.arrival.time + self.patience, "timeout", i)
+        self.on_retry(i, v, t)
+
+    def on_timeout(self, i: int, v: VehicleRun, t: float) -> None:
+        if v.moves:  # it got in
+            return
+        if i in self.queue:
+            self.queue.remove(i)
+        why = v.reason or "no slot was freed"
+        self.finish(v, "rejected", f"waited {self.patience:g} s outside: {why}")
+
+    def on_retry(self, i: int, v: VehicleRun, t: float) -> None:
+        if v.moves or v.done:
+            return
+        sg = self.graphs[v.vehicle.name]
+        options = self.slot_choice(v)
+        if not options:
+            v.reason = "the lot is full"
+            if i not in self.queue:
+                self.queue.append(i)
+            if self.patience == 0:
+                self.on_timeout(i, v, t)
+            return
+        for sid in options[:3]:  # the best few slots, in order
+            plan = self.plan(v, sg, start=self.lg.entrances[v.arrival.entrance], t0=t,
+                             goal=Goal(slot=self.lg.slot_nodes[sid]), outside=True,
+                             key=("slot", sid))
+            if plan.status in (Status.FOUND, Status.WINDOW):
+                if i in self.queue:
+                    self.queue.remove(i)
+                self.free.discard(sid)
+                v.slot = sid
+                self.commit(i, v, sg, plan)
+                return
+        v.reason = f"no conflict-free route found ({plan.status.value})"
+        if self.patience == 0:
+            self.on_timeout(i, v, t)
+            return
+        self.at(t + self.s.retry, "retry", i)
+
+    def slot_choice(self, v: VehicleRun) -> list[str]:
+        """Free slots this vehicle can park in, best first by the assignment policy."""
+        times = self.slot_times(v.arrival.entrance, v.vehicle.name)
+        usable = [s for s in self.free if s in times]
+        if self.s.assignment == "shortest":
+            return sorted(usable, key=lambda s: (times[s], s))
+        x, y, _ = self.lg.graph.nodes[self.lg.entrances[v.arrival.entrance]]["pose"]
+        slots = self.lg.lot.slot_by_id
+        return sorted(usable, key=lambda s: (math.dist((x, y), slots[s].center), s))
+
+    def slot_times(self, gate: str, vname: str) -> dict[str, float]:
+        """Static time [s] from entrance ``gate`` into each slot a ``vname`` can use."""
+        key = (gate, vname)
+        if key not in self._slot_times:
+            sg = self.graphs[vname]
+            dist = sg.forward_times(self.lg.entrances[gate])
+            out: dict[str, float] = {}
+            for e in sg.edges:
+                if e.kind == "park" and e.u in dist:
+                    sid = self.lg.graph.nodes[e.v]["slot"]
+                    tt = dist[e.u] + e.data["duration"][vname]
+                    out[sid] = min(out.get(sid, math.inf), tt)
+            self._slot_times[key] = out
+        return self._slot_times[key]
+
+    # -- planning -----------------------------------------------------------------------------
+    def plan(self, v: VehicleRun, sg: SearchGraph, *, key: tuple[str, str], **kw) -> Plan:  # noqa: ANN003
+        rra = None
+        if self.s.planner != "ca":
+            rra = self._exits.get(key[1]) if key[0] == "exit" else None
+        goal = kw["goal"]
+        if rra is None:
+            goals = ({goal.slot: 0.0} if goal.slot is not None
+                     else {n: 0.0 for n in goal.exits})
+            rra = sg.reverse_search(goals)
+            if key[0] == "exit":
+                self._exits[key[1]] = rra
+        clock = time.perf_counter()
+        plan = search(sg, self.table, owner=v.id, planner=self.s.planner, heuristic=rra,
+                      window=self.s.window if self.s.planner == "whca" else None,
+                      omega=self.s.omega, **kw)
+        v.planning_time += time.perf_counter() - clock
+        v.searches += 1
+        v.expansions += plan.expansions
+        return plan
+
+    def commit(self, i: int, v: VehicleRun, sg: SearchGraph, plan: Plan) -> None:
+        """Take ``plan`` (appended to ``v``'s moves) and reserve it."""
+        reserve_moves(self.table, v.id, sg, plan.moves,
+                      hold_end=plan.status is Status.WINDOW or v.left_at is None
+                      and not self.is_exit(plan))
+        v.moves.extend(plan.moves)
+        t_end = plan.end
+        if plan.status is Status.WINDOW:
+            v.status = "waiting"
+            v.reason = "stopped on the way (WHCA* window)"
+            self.at(max(t_end - self.s.window / 2, plan.moves[0].t0 + self.s.window / 2),
+                    "replan", i)
+            return
+        if self.is_exit(plan):
+            v.left_at = t_end
+            self.finish(v, "departed")
+            return
+        v.parked_at = t_end
+        v.parked_pose = plan.moves[-1].end_pose
+        v.status, v.reason = "parked", ""
+        if v.arrival.dwell is not None:
+            self.at(t_end + v.arrival.dwell, "depart", i)
+        else:
+            self.finish(v, "parked")
+
+    def is_exit(self, plan: Plan) -> bool:
+        return bool(plan.moves) and plan.moves[-1].node_to in self.lg.exits.values()
+
+    # -- leaving ------------------------------------------------------------------------------
+    def on_depart(self, i: int, v: VehicleRun, t: float) -> None:
+        sg = self.graphs[v.vehicle.name]
+        plan = self.plan(v, sg, start=self.lg.slot_nodes[v.slot], t0=t,
+                         start_pose=v.parked_pose, goal=Goal(exits=tuple(self.lg.exits.values())),
+                         key=("exit", v.vehicle.name))
+        if plan.status not in (Status.FOUND, Status.WINDOW):
+            v.reason = f"could not leave yet ({plan.status.value})"
+            self.at(t + self.s.retry, "depart", i)
+            return
+        self.table.release(v.id, after=t)
+        self.commit_departure(i, v, sg, plan, t)
+
+    def commit_departure(self, i: int, v: VehicleRun, sg: SearchGraph, plan: Plan,
+                         t: float) -> None:
+        v.left_at = t  # from now on its plans lead out
+        # the parked stretch until the departure's first move (already reserved until t)
+        if plan.moves[0].t0 > v.moves[-1].t1:
+            node = v.moves[-1].node_to
+            v.moves.append(Move("parked", v.moves[-1].t1, plan.moves[0].t0, node, node, 0, 0,
+                                end_pose=v.parked_pose))
+        self.commit(i, v, sg, plan)
+        self.free.add(v.slot)
+        self.wake(t)
+
+    def wake(self, t: float) -> None:
+        """Give freed slots to the queue, first come first served."""
+        for j in list(self.queue):
+            if not self.free:
+                break
+            self.on_retry(j, self.vehicles[j], t)
+
+    # -- WHCA* --------------------------------------------------------------------------------
+    def on_replan(self, i: int, v: VehicleRun, t: float) -> None:
+        sg = self.graphs[v.vehicle.name]
+        # keep the move under way at t, replan from where it ends
+        k = next((k for k, m in enumerate(v.moves) if m.t1 > t), len(v.moves) - 1)
+        kept, last = v.moves[: k + 1], v.moves[k]
+        leaving = v.left_at is not None
+        goal = (Goal(exits=tuple(self.lg.exits.values())) if leaving
+                else Goal(slot=self.lg.slot_nodes[v.slot]))
+        in_slot = last.node_to == self.lg.slot_nodes.get(v.slot)
+        plan = self.plan(v, sg, start=last.node_to, t0=last.t1, level=last.level_to,
+                         goal=goal, outside=last.kind == "outside",
+                         start_pose=v.parked_pose if in_slot else None,
+                         key=("exit", v.vehicle.name) if leaving else ("slot", v.slot))
+        if plan.status not in (Status.FOUND, Status.WINDOW):
+            if t > v.arrival.time + self.patience + (v.arrival.dwell or 0.0) + 3600:
+                self.finish(v, "waiting", f"stuck on the way ({plan.status.value})")
+                return
+            self.at(t + self.s.retry, "replan", i)  # its old plan still holds
+            return
+        self.table.release(v.id, after=last.t1)
+        v.moves = kept
+        self.commit(i, v, sg, plan)
+
+
+def samples(v: VehicleRun, *, dt: float = SAMPLE_DT) -> Trajectory | None:
+    """``v``'s motion sampled for a result: every ``dt`` [s] on a common clock (``k·dt``)
+    while it moves, plus every start, stop and cusp; standing stretches only at their ends
+    (gear 0). None when it never entered the lot."""
+    moves = [m for m in v.moves if m.kind != "outside"]
+    if not moves:
+        return None
+    parts: list[tuple[np.ndarray, ...]] = []
+    for m in moves:
+        if m.motion is None:  # standing
+            pose = m.end_pose
+            t = np.array([m.t0, m.t1])
+            z = np.zeros(2)
+            parts.append((t, z + pose[0], z + pose[1], z + pose[2], z, z, np.zeros(2, int)))
+            continue
+        grid = np.arange(math.floor(m.t0 / dt) + 1, math.ceil(m.t1 / dt)) * dt
+        tau = np.unique(np.concatenate([[0.0], grid - m.t0, m.motion.cusps,
+                                        [m.motion.duration]]))
+        tau = tau[(tau >= 0) & (tau <= m.motion.duration)]
+        p, speed, steer, gear = m.motion.at(tau, wheelbase=v.vehicle.wheelbase)
+        parts.append((m.t0 + tau, p[:, 0], p[:, 1], p[:, 2], speed, steer, gear))
+    cols = [np.concatenate([p[k] for p in parts]) for k in range(7)]
+    # one sample per instant: where moves meet, the later move's first sample stays
+    keep = np.append(np.diff(cols[0]) > 1e-6, True)
+    cols = [c[keep] for c in cols]
+    t, v_ = cols[0], cols[4]
+    # the ends of a long gap are standing still
+    gap = np.flatnonzero(np.diff(t) > dt + 1e-6)
+    for k in (gap, gap + 1):
+        cols[6][k] = np.where(np.abs(v_[k]) < 1e-9, 0, cols[6][k])
+    return Trajectory(*cols)
+

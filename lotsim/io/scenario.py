@@ -27,6 +27,7 @@ from lotsim.lot.spec import (
     SpeedZoneSpec,
 )
 from lotsim.scenario import Scenario
+from lotsim.traffic import PATIENCE, Arrival, StreamSpec, TrafficSpec
 from lotsim.vehicles.catalogue import CATALOGUE, DEFAULT_VEHICLE
 from lotsim.vehicles.model import KMH, VehicleLimits, VehicleType
 
@@ -64,7 +65,7 @@ def parse_scenario(root: YNode) -> Scenario:
     """Validate a composed scenario document."""
     f = root.fields(
         required=["lot"],
-        optional=["name", "description", "seed", "vehicle_types", "parked_vehicle"],
+        optional=["name", "description", "seed", "vehicle_types", "parked_vehicle", "traffic"],
     )
     name = f["name"].string() if "name" in f else Path(root.file).stem
     seed = f["seed"].integer(min=0, max=2**63 - 1) if "seed" in f else 0
@@ -87,14 +88,102 @@ def parse_scenario(root: YNode) -> Scenario:
         parked = pool[wanted]
     else:
         parked = types[0]
+    lot = parse_lot(f["lot"])
+    traffic = (parse_traffic(f["traffic"], [t.name for t in types],
+                             [p.id for p in lot.entrances]) if "traffic" in f else None)
     return Scenario(
         name=name,
-        lot=parse_lot(f["lot"]),
+        lot=lot,
+        traffic=traffic,
         vehicle_types=types,
         parked_vehicle=parked,
         seed=seed,
         source=root.file,
         description=f["description"].string(max_len=2000) if "description" in f else "",
+    )
+
+
+def parse_traffic(node: YNode, types: list[str], entrances: list[str]) -> TrafficSpec:
+    """Validate the ``traffic`` mapping against the scenario's vehicle types and entrances."""
+    f = node.fields(optional=["vehicles", "stream", "patience"])
+    if "vehicles" not in f and "stream" not in f:
+        raise node.error("expected 'vehicles' (a list), 'stream' (a mapping) or both")
+    if not entrances:
+        raise node.error("traffic needs an entrance: the lot has none")
+
+    def vehicle_type(n: YNode) -> str:
+        name = n.string()
+        if name not in types:
+            raise n.error(f"expected a vehicle type of this scenario ({', '.join(types)}), "
+                          f"found {name!r}")
+        return name
+
+    def entrance(n: YNode) -> str:
+        return n.string(choices=entrances)
+
+    vehicles = []
+    seen: dict[str, YNode] = {}
+    for n in f["vehicles"].items(min_len=1, max_len=MAX_ITEMS) if "vehicles" in f else ():
+        v = n.fields(required=["id", "arrival"], optional=["type", "entrance", "dwell"])
+        ident = v["id"].ident()
+        if ident in seen:
+            raise v["id"].error(f"vehicle id {ident!r} is used twice")
+        seen[ident] = v["id"]
+        vehicles.append(Arrival(
+            id=ident,
+            vehicle=vehicle_type(v["type"]) if "type" in v else types[0],
+            entrance=entrance(v["entrance"]) if "entrance" in v else entrances[0],
+            time=v["arrival"].number(min=0, max=1e7),
+            dwell=v["dwell"].number(positive=True, max=1e7) if "dwell" in v else None,
+            where=n.where,
+        ))
+    stream = _stream(f["stream"], types, entrances) if "stream" in f else None
+    if stream is not None:
+        for ident, n in seen.items():
+            if ident.startswith(stream.prefix) and ident[len(stream.prefix):].isdigit():
+                raise n.error(f"vehicle id {ident!r} may clash with the stream's ids "
+                              f"({stream.prefix}01, ...); pick another id or stream prefix")
+    return TrafficSpec(
+        vehicles=tuple(vehicles),
+        stream=stream,
+        patience=f["patience"].number(min=0, max=1e7) if "patience" in f else PATIENCE,
+        where=node.where,
+    )
+
+
+def _stream(node: YNode, types: list[str], entrances: list[str]) -> StreamSpec:
+    f = node.fields(required=["count", "rate_per_hour"],
+                    optional=["mix", "entrances", "start", "dwell", "seed", "prefix"])
+    if "mix" in f:
+        m = f["mix"].fields(optional=types)
+        if not m:
+            raise f["mix"].error("expected at least one vehicle type with a weight")
+        mix = tuple((k, n.number(positive=True, max=1e6)) for k, n in m.items())
+    else:
+        mix = tuple((t, 1.0) for t in types)
+    gates = (tuple(n.string(choices=entrances) for n in f["entrances"].items(min_len=1))
+             if "entrances" in f else tuple(entrances))
+    dwell = None
+    if "dwell" in f:
+        d = f["dwell"]
+        if d.is_sequence:
+            lo, hi = (n.number(positive=True, max=1e7) for n in d.items(min_len=2, max_len=2))
+            if hi < lo:
+                raise d.error(f"expected [min, max] with min <= max, found [{lo:g}, {hi:g}]")
+            dwell = (lo, hi)
+        else:
+            x = d.number(positive=True, max=1e7)
+            dwell = (x, x)
+    return StreamSpec(
+        count=f["count"].integer(min=1, max=MAX_ITEMS),
+        rate=f["rate_per_hour"].number(positive=True, max=1e6) / 3600.0,
+        mix=mix,
+        entrances=gates,
+        start=f["start"].number(min=0, max=1e7) if "start" in f else 0.0,
+        dwell=dwell,
+        seed=f["seed"].integer(min=0, max=2**63 - 1) if "seed" in f else None,
+        prefix=f["prefix"].ident() if "prefix" in f else "s",
+        where=node.where,
     )
 
 

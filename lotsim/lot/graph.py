@@ -326,6 +326,15 @@ def _portal_station(lot: Lot, portal: Portal) -> tuple[str, float]:
             f"{portal.id!r} at ({pose[0]:g}, {pose[1]:g}) heading "
             f"{math.degrees(pose[2]):.0f}° is on no lane driven that way",
         )
+    lane = next(ln for ln in lot.lanes if ln.id == best[1])
+    body = shapely.Polygon(lot.design.footprints(np.array([lane.pose_at(best[2])]))[0])
+    out = body.difference(lot.boundary).area
+    if out > 1e-6:
+        raise ScenarioError(
+            portal.where,
+            f"a car standing at {portal.id!r} sticks out of the lot boundary "
+            f"({out:.2f} m²); cars appear and vanish at portals, so move it inward",
+        )
     return best[1], best[2]
 
 

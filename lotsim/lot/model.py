@@ -104,6 +104,14 @@ class Slot:
     def shape(self) -> Polygon:
         return Polygon(self.polygon)
 
+    def centered_pose(self, front: float, rear: float) -> Pose:
+        """Rear-axle pose of a car (``front``, ``rear`` overhangs from the axle [m]) parked
+        centred in the slot, facing :attr:`heading`."""
+        cx, cy = self.center
+        shift = (front - rear) / 2
+        return (cx - shift * math.cos(self.heading), cy - shift * math.sin(self.heading),
+                self.heading)
+
 
 @dataclass(frozen=True, eq=False)
 class Lane:

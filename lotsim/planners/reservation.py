@@ -266,12 +266,12 @@ class ReservationTable:
     def _add(self, oid: int, t0: float, t1: float, geom: BaseGeometry) -> None:
         i = self._store.add(oid, t0, t1, geom)
         self._by_owner.setdefault(oid, []).append(i)
-        k0 = math.floor(t0 / self.bucket)
-        if math.isinf(t1) or math.floor(t1 / self.bucket) - k0 > _LONG:
+        if math.isinf(t0) or math.isinf(t1) or math.floor(t1 / self.bucket) - math.floor(
+                t0 / self.bucket) > _LONG:
             self._long.append(i)
             self._long_array = None
             return
-        for k in range(k0, math.floor(t1 / self.bucket) + 1):
+        for k in range(math.floor(t0 / self.bucket), math.floor(t1 / self.bucket) + 1):
             self._buckets.setdefault(k, []).append(i)
             self._bucket_arrays.pop(k, None)
 

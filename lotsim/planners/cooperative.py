@@ -1,0 +1,457 @@
+"""Cooperative space-time A* over the lot graph: CA*, HCA* and WHCA*.
+
+A vehicle's search state is ``(node, speed level, time)``: it stands on a lot
+graph node at a time [s], at rest (level 0) or passing through at one of a few
+speeds (multiples of 5 km/h up to its top speed). Moves are
+
+* **drive an edge** from speed level ``a`` to ``b``: the fastest closed-form
+  profile within the edge's speed limit, the vehicle's acceleration and
+  braking — so plans are the trajectories, with no re-timing afterwards;
+* **wait** at a node, at rest, for a fixed step;
+* **park** (from rest, through the slot's planned maneuver, ending at rest in
+  the slot) or **leave** (the same backwards), taking the maneuver's time;
+* **enter**: a vehicle not yet in the lot waits outside its entrance, taking
+  no space, until the entrance is free.
+
+Every move is checked against the :class:`~lotsim.planners.reservation.ReservationTable`
+with the hulls of what the vehicle sweeps, chunk by chunk — a cover of its real
+footprint at every instant, including the whole of a parking maneuver that
+sweeps across the aisle. A goal in a slot is accepted only if the slot stays
+free for ever after (the vehicle will stand there).
+
+Heuristics: CA* uses the straight-line distance at top speed; HCA* the true
+static time to the goal, from a Reverse Resumable A* (RRA*, Silver 2005) run
+backwards from the goal and resumed on demand. WHCA* searches only ``window``
+seconds ahead: it may end at rest anywhere once the window has passed, and the
+vehicle replans as the window rolls. The fuse of seed 004 stops a search that
+expands more than ``omega`` times the nodes its reverse search closed.
+"""
+
+from __future__ import annotations
+
+import heapq
+import math
+from dataclasses import dataclass, field
+from enum import Enum
+
+import numpy as np
+from shapely.geometry.base import BaseGeometry
+
+from lotsim.lot.graph import LotGraph
+from lotsim.planners.reservation import (
+    Interval,
+    ReservationTable,
+    standing_body,
+    swept_motion,
+)
+from lotsim.trajectory import Motion, Piece, Stroke, rest_to_rest, trapezoid
+from lotsim.vehicles.model import KMH, VehicleType
+
+SPEED_STEP = 5 * KMH
+"""Spacing of the speed levels a vehicle may pass a node at [m/s]."""
+WAIT = 0.5
+"""Length of one wait move [s]."""
+OMEGA = 10.0
+"""Fuse: a search stops after expanding ``OMEGA`` × its reverse search's closed nodes."""
+MIN_BUDGET = 2000
+"""A search may always expand at least this many states before the fuse blows."""
+_TIME_KEY = 0.05  # states closer in time than this at one node and speed are one [s]
+
+PLANNERS = ("ca", "hca", "whca")
+
+
+class Status(Enum):
+    """How a search ended."""
+
+    FOUND = "found"
+    WINDOW = "window"  # WHCA*: stopped at rest after the window, not at the goal
+    FUSE = "fuse"
+    NO_PATH = "no path"
+
+
+@dataclass(frozen=True, slots=True)
+class Move:
+    """One timed step of a plan.
+
+    ``kind`` is ``drive``, ``park``, ``leave``, ``wait``, ``parked`` (standing in
+    the slot until leaving) or ``outside`` (waiting to enter, taking no space).
+    ``motion`` is set for moving kinds, in time from ``t0``; ``end_pose`` is where
+    the move leaves the vehicle (None outside).
+    """
+
+    kind: str
+    t0: float
+    t1: float
+    node_from: int
+    node_to: int
+    level_from: int
+    level_to: int
+    edge: int = -1
+    motion: Motion | None = None
+    end_pose: tuple[float, float, float] | None = None
+
+
+@dataclass
+class Plan:
+    """A search's answer: the moves, how it ended and what it cost."""
+
+    status: Status
+    moves: list[Move] = field(default_factory=list)
+    expansions: int = 0
+
+    @property
+    def end(self) -> float:
+        return self.moves[-1].t1 if self.moves else math.nan
+
+
+@dataclass(frozen=True, slots=True)
+class _Edge:
+    u: int
+    v: int
+    kind: str
+    length: float
+    cap: float  # speed limit on the edge for this type [m/s]
+    data: dict
+
+
+class SearchGraph:
+    """The lot graph seen by one vehicle type: edges, speed levels, timed motions.
+
+    Motions and their swept hulls are computed on first use and kept.
+    """
+
+    def __init__(self, lg: LotGraph, vehicle: VehicleType):
+        self.lg = lg
+        self.vehicle = vehicle
+        g = lg.graph
+        top = vehicle.limits.max_forward_speed
+        n_levels = int(math.floor(top / SPEED_STEP + 1e-9))
+        levels = [k * SPEED_STEP for k in range(n_levels + 1)]
+        if top - levels[-1] > 1e-6:
+            levels.append(top)
+        self.levels = np.array(levels)
+        self.edges: list[_Edge] = []
+        self.out: dict[int, list[int]] = {n: [] for n in g.nodes}
+        self.into: dict[int, list[int]] = {n: [] for n in g.nodes}
+        for u, v, d in g.edges(data=True):
+            kind = d["kind"]
+            if kind in ("park", "leave"):
+                if vehicle.name not in d.get("maneuvers", {}):
+                    continue
+            elif d.get("placeholder"):
+                continue
+            i = len(self.edges)
+            self.edges.append(_Edge(u, v, kind, float(d["length"]),
+                                    min(float(d["speed_limit"]), top), d))
+            self.out[u].append(i)
+            self.into[v].append(i)
+        self.pose = {n: tuple(map(float, g.nodes[n]["pose"])) for n in g.nodes}
+        self._motions: dict[tuple[int, int, int], tuple[Motion, list[Interval]] | None] = {}
+        self._bodies: dict[int, BaseGeometry] = {}
+        self._static_time = [self._lower_time(e) for e in self.edges]
+
+    # -- motions ------------------------------------------------------------------------------
+    def motion(self, ei: int, a: int, b: int) -> tuple[Motion, list[Interval]] | None:
+        """Edge ``ei`` driven from speed level ``a`` to ``b``: the motion and its swept hulls
+        (in the motion's time), or None when the edge cannot join those speeds."""
+        key = (ei, a, b)
+        if key in self._motions:
+            return self._motions[key]
+        e = self.edges[ei]
+        out = None
+        if e.kind in ("park", "leave"):
+            if a == 0 and b == 0:
+                m = e.data["maneuvers"][self.vehicle.name]
+                motion = rest_to_rest([Piece(s, e.data["speed_limit"]) for s in m.segments],
+                                      self.vehicle)
+                out = (motion, swept_motion(motion, self.vehicle))
+        elif e.length > 0:
+            lim = self.vehicle.limits
+            va, vb = self.levels[a], self.levels[b]
+            if va <= e.cap + 1e-9 and vb <= e.cap + 1e-9:
+                prof = trapezoid(e.length, va, vb, e.cap, lim.max_accel, lim.max_brake)
+                if prof is not None:
+                    motion = Motion((Stroke((e.data["segment"],), prof),))
+                    out = (motion, swept_motion(motion, self.vehicle))
+        self._motions[key] = out
+        return out
+
+    def body(self, node: int) -> BaseGeometry:
+        """The vehicle's footprint standing at lane node ``node``."""
+        if node not in self._bodies:
+            self._bodies[node] = standing_body(self.vehicle, self.pose[node])
+        return self._bodies[node]
+
+    def parked_pose(self, ei: int) -> tuple[float, float, float]:
+        """Where park edge ``ei``'s maneuver leaves the vehicle, or leave edge ``ei``'s
+        begins."""
+        e = self.edges[ei]
+        m = e.data["maneuvers"][self.vehicle.name]
+        return tuple(map(float, m.end if e.kind == "park" else m.start))
+
+    def parked_body(self, ei: int) -> BaseGeometry:
+        """The footprint at :meth:`parked_pose`."""
+        key = -1 - ei
+        if key not in self._bodies:
+            self._bodies[key] = standing_body(self.vehicle, self.parked_pose(ei))
+        return self._bodies[key]
+
+    def _lower_time(self, e: _Edge) -> float:
+        if e.kind in ("park", "leave"):
+            return float(e.data["duration"].get(self.vehicle.name, 0.0))
+        return e.length / e.cap if e.length > 0 else 0.0
+
+    # -- static distances ---------------------------------------------------------------------
+    def reverse_search(self, goals: dict[int, float]) -> ReverseResumable:
+        """An RRA* from ``goals`` (node → extra time at it) over this graph's edges."""
+        return ReverseResumable(self, goals)
+
+    def forward_times(self, source: int) -> dict[int, float]:
+        """Static shortest times [s] from ``source`` to every node it reaches (Dijkstra,
+        entering no slot on the way)."""
+        dist = {source: 0.0}
+        heap = [(0.0, source)]
+        done: set[int] = set()
+        slots = self.lg.graph.nodes
+        while heap:
+            d, u = heapq.heappop(heap)
+            if u in done:
+                continue
+            done.add(u)
+            if slots[u]["kind"] == "slot":
+                continue
+            for ei in self.out[u]:
+                e = self.edges[ei]
+                nd = d + self._static_time[ei]
+                if nd < dist.get(e.v, math.inf):
+                    dist[e.v] = nd
+                    heapq.heappush(heap, (nd, e.v))
+        return dist
+
+
+class ReverseResumable:
+    """Reverse Resumable A*: true static time [s] from any node to the goals, computed
+    backwards from the goals and resumed only as far as each query needs.
+
+    Slot nodes other than the goals are not passed through.
+    """
+
+    def __init__(self, sg: SearchGraph, goals: dict[int, float]):
+        self.sg = sg
+        self.dist: dict[int, float] = {}
+        self.best = dict(goals)
+        self.heap = [(c, n) for n, c in goals.items()]
+        heapq.heapify(self.heap)
+        self.goals = set(goals)
+
+    @property
+    def closed(self) -> int:
+        return len(self.dist)
+
+    def __call__(self, node: int) -> float:
+        if node in self.dist:
+            return self.dist[node]
+        sg = self.sg
+        kinds = sg.lg.graph.nodes
+        while self.heap:
+            d, v = heapq.heappop(self.heap)
+            if v in self.dist:
+                continue
+            self.dist[v] = d
+            if kinds[v]["kind"] != "slot" or v in self.goals:
+                for ei in sg.into[v]:
+                    u = sg.edges[ei].u
+                    nd = d + sg._static_time[ei]
+                    if nd < self.best.get(u, math.inf) and u not in self.dist:
+                        self.best[u] = nd
+                        heapq.heappush(self.heap, (nd, u))
+            if v == node:
+                return d
+        self.dist.setdefault(node, math.inf)
+        return self.dist[node]
+
+
+@dataclass(frozen=True, slots=True)
+class Goal:
+    """Where a search ends: in ``slot`` (a slot node, for ever) or at any of ``exits``."""
+
+    slot: int | None = None
+    exits: tuple[int, ...] = ()
+
+
+def search(sg: SearchGraph, table: ReservationTable, *, owner: str, start: int, t0: float,
+           goal: Goal, level: int = 0, outside: bool = False,
+           start_pose: tuple[float, float, float] | None = None, planner: str = "hca",
+           heuristic: ReverseResumable | None = None, window: float | None = None,
+           omega: float = OMEGA, horizon: float = 3600.0) -> Plan:
+    """Plan one vehicle against the reservations of those planned before it.
+
+    Parameters
+    ----------
+    sg : SearchGraph
+        The lot graph for this vehicle's type.
+    table : ReservationTable
+        Everyone else's reservations (``owner``'s own are ignored).
+    owner : str
+    start : int
+        Start node; ``level`` its speed level (0: at rest).
+    t0 : float
+        Start time [s].
+    goal : Goal
+    outside : bool, keyword-only
+        The vehicle is not in the lot yet: it may wait outside ``start`` (an
+        entrance) for free, and appears there at rest.
+    start_pose : tuple, keyword-only
+        The parked pose, when ``start`` is a slot: only the leave maneuver that
+        begins there is driven, and waiting there holds this footprint.
+    planner : {"ca", "hca", "whca"}
+    heuristic : ReverseResumable, optional
+        The RRA* towards ``goal`` (made here if not given); also sizes the fuse.
+    window : float, optional
+        WHCA* only: how far ahead to plan [s].
+    omega : float
+        The fuse factor.
+    horizon : float
+        Give up on states later than ``t0 + horizon`` [s].
+
+    Returns
+    -------
+    Plan
+        ``FOUND`` (or ``WINDOW``) with the moves; ``FUSE`` or ``NO_PATH`` with none.
+    """
+    if planner not in PLANNERS:
+        raise ValueError(f"unknown planner {planner!r}; expected one of {PLANNERS}")
+    goals = ({goal.slot: 0.0} if goal.slot is not None else {n: 0.0 for n in goal.exits})
+    rra = heuristic or sg.reverse_search(goals)
+    top = float(sg.levels[-1])
+    goal_xy = np.array([sg.pose[n][:2] for n in goals])
+
+    if planner == "ca":
+        def h(n: int) -> float:
+            x, y, _ = sg.pose[n]
+            return float(np.min(np.hypot(goal_xy[:, 0] - x, goal_xy[:, 1] - y))) / top
+        # the reverse search still runs, for the fuse and to prune dead ends
+    else:
+        h = rra
+
+    windowed = planner == "whca" and window is not None
+    t_window = t0 + (window or 0.0)
+    nodes = sg.lg.graph.nodes
+    exits = set(goal.exits)
+    if rra(start) == math.inf:
+        return Plan(Status.NO_PATH)
+
+    start_body = (standing_body(sg.vehicle, start_pose) if start_pose is not None
+                  else sg.body(start))
+
+    # state: (node, level, time, outside); parents keyed by an integer id
+    heap: list[tuple[float, float, int]] = []
+    states: list[tuple[int, int, float, bool]] = []
+    parent: list[tuple[int, Move | None]] = []
+    closed: set[tuple[int, int, int, bool]] = set()
+
+    def push(node: int, lvl: int, t: float, out: bool, par: int, move: Move | None) -> None:
+        hv = h(node)
+        if hv == math.inf or rra(node) == math.inf:
+            return
+        states.append((node, lvl, t, out))
+        parent.append((par, move))
+        heapq.heappush(heap, (t + hv, -t, len(states) - 1))  # ties: deepest first
+
+    push(start, level, t0, outside, -1, None)
+    expansions = 0
+    while heap:
+        _, _, sid = heapq.heappop(heap)
+        node, lvl, t, out = states[sid]
+        key = (node, lvl, round(t / _TIME_KEY), out)
+        if key in closed:
+            continue
+        closed.add(key)
+        expansions += 1
+        if expansions > max(MIN_BUDGET, omega * rra.closed):
+            return Plan(Status.FUSE, expansions=expansions)
+        if t - t0 > horizon:
+            continue
+        if not out:
+            if node in exits:
+                return _plan(Status.FOUND, sid, parent, expansions)
+            if node == goal.slot:
+                return _plan(Status.FOUND, sid, parent, expansions)
+            if (windowed and t >= t_window and lvl == 0 and nodes[node]["kind"] == "lane"
+                    and table.free_from(sg.body(node), t, ignore=owner) is None):
+                return _plan(Status.WINDOW, sid, parent, expansions)
+        # wait: outside for free, or standing where it is
+        if lvl == 0:
+            if out:
+                push(node, 0, t + WAIT, True, sid, Move("outside", t, t + WAIT, node, node, 0, 0))
+            here = start_pose if node == start and start_pose is not None else sg.pose[node]
+            body = start_body if node == start else sg.body(node)
+            if table.is_free([(t, t + WAIT, body)], ignore=owner):
+                push(node, 0, t + WAIT, False, sid,
+                     Move("wait", t, t + WAIT, node, node, 0, 0, end_pose=here))
+        for ei in sg.out[node]:
+            e = sg.edges[ei]
+            if e.kind == "leave" and (node != start or out or not _same_pose(
+                    sg.parked_pose(ei), start_pose)):
+                continue
+            if e.kind == "park" and e.v != goal.slot:
+                continue
+            if e.kind == "join":
+                if not out:
+                    push(e.v, lvl, t, out, sid, None)
+                continue
+            ends = [0] if e.kind in ("park", "leave") else range(len(sg.levels))
+            for b in ends:
+                got = sg.motion(ei, lvl, b)
+                if got is None:
+                    continue
+                motion, hulls = got
+                t1 = t + motion.duration
+                # a parked vehicle must be able to stay for ever
+                if (e.kind == "park"
+                        and table.free_from(sg.parked_body(ei), t1, ignore=owner) is not None):
+                    continue
+                if not table.is_free(hulls, offset=t, ignore=owner):
+                    continue
+                kind = e.kind if e.kind in ("park", "leave") else "drive"
+                end = motion.at(np.array([motion.duration]), wheelbase=sg.vehicle.wheelbase)[0][0]
+                push(e.v, b, t1, False, sid,
+                     Move(kind, t, t1, node, e.v, lvl, b, ei, motion, tuple(map(float, end))))
+    return Plan(Status.NO_PATH, expansions=expansions)
+
+
+def _plan(status: Status, sid: int, parent: list[tuple[int, Move | None]],
+          expansions: int) -> Plan:
+    moves: list[Move] = []
+    while sid >= 0:
+        par, move = parent[sid]
+        if move is not None:
+            moves.append(move)
+        sid = par
+    moves.reverse()
+    return Plan(status, moves, expansions)
+
+
+def _same_pose(a: tuple[float, float, float] | None, b: tuple[float, float, float] | None
+               ) -> bool:
+    if a is None or b is None:
+        return a is b
+    return math.dist(a[:2], b[:2]) < 1e-6 and abs(math.remainder(a[2] - b[2], math.tau)) < 1e-6
+
+
+def reserve_moves(table: ReservationTable, owner: str, sg: SearchGraph, moves: list[Move], *,
+                  hold_end: bool) -> None:
+    """Reserve everything ``moves`` sweep for ``owner``; with ``hold_end``, also the last
+    pose from the end on, for ever (a parked car, or a WHCA* stop)."""
+    for m in moves:
+        if m.kind == "outside":
+            continue
+        if m.motion is None:
+            table.reserve_standing(owner, standing_body(sg.vehicle, m.end_pose), m.t0, m.t1)
+        else:
+            got = sg.motion(m.edge, m.level_from, m.level_to)
+            assert got is not None  # it was found by the search
+            table.reserve(owner, got[1], offset=m.t0)
+    if hold_end and moves and moves[-1].end_pose is not None:
+        table.reserve_standing(owner, standing_body(sg.vehicle, moves[-1].end_pose),
+                               moves[-1].t1)
