@@ -66,6 +66,24 @@ def _parser() -> argparse.ArgumentParser:
     mv.add_argument("-o", "--output", help="PNG to write")
     mv.add_argument("--size", default="900x700", help="image size WxH in pixels")
 
+    r = sub.add_parser("run", help="plan a scenario's traffic and write OUTDIR/result.json")
+    r.add_argument("scenario", metavar="SCENARIO")
+    r.add_argument("-o", "--output", metavar="OUTDIR",
+                   help="directory for result.json (default runs/<scenario name>)")
+    r.add_argument("--planner", choices=["ca", "hca", "whca"], default="hca",
+                   help="cooperative A* variant (default hca)")
+    r.add_argument("--assign", choices=["nearest", "shortest"], default="shortest",
+                   help="slot choice: straight-line distance or travel time (default)")
+    r.add_argument("--seed", type=int, help="seed of the traffic stream (default the "
+                   "scenario's)")
+    r.add_argument("--window", type=float, default=10.0, help="WHCA* window [s] (10)")
+    r.add_argument("--omega", type=float, default=10.0,
+                   help="search fuse: expansions allowed per reverse-search node (10)")
+
+    c = sub.add_parser("check", help="verify a result.json independently of the planner")
+    c.add_argument("result", metavar="RESULT_JSON")
+    c.add_argument("--max", type=int, default=20, help="violations to list (20)")
+
     s = sub.add_parser("show", help="draw a scenario's lot to a PNG")
     s.add_argument("scenario", metavar="SCENARIO")
     s.add_argument("-o", "--output", default="lot.png", help="PNG to write (default lot.png)")
@@ -88,6 +106,10 @@ def main(argv: Sequence[str] | None = None) -> int:
             return _minslot(args)
         if args.command == "maneuver":
             return _maneuver(args)
+        if args.command == "run":
+            return _run(args)
+        if args.command == "check":
+            return _check(args)
     except ScenarioError as exc:
         print(f"lotsim: {exc}", file=sys.stderr)
         return EXIT_BAD_INPUT
@@ -279,6 +301,76 @@ def _show(args: argparse.Namespace) -> int:
         return EXIT_BAD_INPUT
     print(f"wrote {args.output}")
     return EXIT_OK
+
+
+def _run(args: argparse.Namespace) -> int:
+    from pathlib import Path
+
+    from lotsim.io.result import result_dict, write_json
+    from lotsim.io.scenario import load_scenario
+    from lotsim.sim import RunSettings, run
+
+    if args.seed is not None and not 0 <= args.seed < 2**63:
+        return _bad(f"--seed: expected 0 to 2**63-1, found {args.seed}")
+    if not (math.isfinite(args.window) and 1.0 <= args.window <= 600.0):
+        return _bad(f"--window: expected 1 to 600 seconds, found {args.window:g}")
+    if not (math.isfinite(args.omega) and args.omega >= 1.0):
+        return _bad(f"--omega: expected a number of at least 1, found {args.omega:g}")
+    scenario = load_scenario(args.scenario)
+    if scenario.traffic is None:
+        return _bad(f"{args.scenario}: the scenario has no 'traffic' section to run "
+                    "(see docs/scenario.md)")
+    out = Path(args.output) if args.output else Path("runs") / scenario.name
+    if out.exists() and not out.is_dir():
+        return _bad(f"-o: {out} exists and is not a directory")
+    tty = sys.stderr.isatty()
+
+    def progress(done: int, total: int) -> None:
+        if tty:
+            print(f"\rplanned {done}/{total} vehicles", end="", file=sys.stderr, flush=True)
+
+    settings = RunSettings(planner=args.planner, assignment=args.assign, seed=args.seed,
+                           window=args.window, omega=args.omega)
+    rr = run(scenario, settings, progress=progress)
+    if tty:
+        print("\r" + " " * 40 + "\r", end="", file=sys.stderr)
+    doc = result_dict(rr)
+    out.mkdir(parents=True, exist_ok=True)
+    write_json(doc, out / "result.json")
+    m = doc["metrics"]
+    print(f"{scenario.name}: {m['vehicles']} vehicles, planner {args.planner}, "
+          f"assignment {args.assign}, seed {rr.seed}")
+    print(f"  parked {m['parked']}, departed {m['departed']}, waiting {m['waiting']}, "
+          f"rejected {m['rejected']}")
+    print(f"  time to park: mean {m['mean_time_to_park']:.1f} s, max "
+          f"{m['max_time_to_park']:.1f} s; total waiting {m['total_waiting']:.1f} s; "
+          f"makespan {m['makespan']:.1f} s")
+    print(f"  planning {m['planning_time']:.2f} s ({m['searches']} searches, "
+          f"{m['expansions']} expansions; per vehicle median "
+          f"{1000 * m['planning_time_median']:.0f} ms, p95 {1000 * m['planning_time_p95']:.0f} ms)")
+    for v in doc["vehicles"]:
+        if v["status"] in ("waiting", "rejected"):
+            print(f"  {v['id']}: {v['status']}: {v['reason']}")
+    print(f"  wrote {out / 'result.json'}")
+    return EXIT_INCOMPLETE if m["waiting"] else EXIT_OK
+
+
+def _check(args: argparse.Namespace) -> int:
+    from lotsim.check import ResultFormatError, check_result, load_result
+
+    try:
+        data = load_result(args.result)
+    except ResultFormatError as exc:
+        return _bad(str(exc))
+    report = check_result(data)
+    st = report.stats
+    if report.ok:
+        print(f"{args.result}: ok ({', '.join(f'{k} {v}' for k, v in st.items())})")
+        return EXIT_OK
+    print(f"{args.result}: {len(report.violations)} violation(s)")
+    for vi in report.violations[: max(1, args.max)]:
+        print(f"  {vi.rule}: {vi.message}")
+    return EXIT_INCOMPLETE
 
 
 def _bad(message: str) -> int:

@@ -1,0 +1,101 @@
+"""``result.json``: a run written out for checking and drawing (``docs/result.md``)."""
+
+from __future__ import annotations
+
+import json
+import os
+import tempfile
+from pathlib import Path
+
+import numpy as np
+import shapely
+
+from lotsim import __version__
+from lotsim.sim import RunResult, samples
+
+FORMAT = "lotsim-result"
+VERSION = 1
+
+
+def _ring(poly: shapely.Polygon) -> list[list[float]]:
+    return np.round(np.asarray(poly.exterior.coords)[:-1], 4).tolist()
+
+
+def result_dict(rr: RunResult) -> dict:
+    """The JSON document of a run."""
+    lg = rr.lot_graph
+    lot = lg.lot
+    parked = rr.scenario.parked_vehicle
+    g = lg.graph
+
+    def portal(name: str, node: int) -> dict:
+        x, y, th = g.nodes[node]["pose"]
+        return {"id": name, "pose": [round(float(x), 4), round(float(y), 4),
+                                     round(float(th), 6)]}
+
+    doc_lot = {
+        "name": rr.scenario.name,
+        "boundary": _ring(lot.boundary),
+        "slots": [{"id": s.id, "kind": s.kind, "polygon": np.round(s.polygon, 4).tolist(),
+                   "occupied": s.id in lot.occupied} for s in lot.slots],
+        "obstacles": [_ring(a.polygon) for a in lot.areas],
+        "parked": [np.round(parked.footprints(
+            np.array([s.centered_pose(parked.front, parked.rear)]))[0], 4).tolist()
+            for s in lot.slots if s.id in lot.occupied],
+        "speed_limit": round(lot.speed_limit, 6),
+        "speed_zones": [{"id": z.id, "polygon": _ring(z.polygon), "limit": round(z.limit, 6)}
+                        for z in lot.zones],
+        "entrances": [portal(k, n) for k, n in lg.entrances.items()],
+        "exits": [portal(k, n) for k, n in lg.exits.items()],
+    }
+    vehicles = []
+    for v in rr.vehicles:
+        t = v.vehicle
+        lim = t.limits
+        tr = samples(v)
+        cols = {"t": [], "x": [], "y": [], "theta": [], "v": [], "steer": [], "gear": []}
+        if tr is not None:
+            cols = {
+                "t": np.round(tr.t, 4).tolist(), "x": np.round(tr.x, 4).tolist(),
+                "y": np.round(tr.y, 4).tolist(), "theta": np.round(tr.theta, 6).tolist(),
+                "v": np.round(tr.v, 4).tolist(), "steer": np.round(tr.steer, 6).tolist(),
+                "gear": tr.gear.astype(int).tolist(),
+            }
+        vehicles.append({
+            "id": v.id,
+            "type": {"name": t.name, "width": t.width, "front": t.front, "rear": t.rear,
+                     "wheelbase": t.wheelbase, "max_steer": round(t.max_steer, 9),
+                     "max_forward_speed": round(lim.max_forward_speed, 6),
+                     "max_reverse_speed": round(lim.max_reverse_speed, 6),
+                     "max_accel": lim.max_accel, "max_brake": lim.max_brake},
+            "arrival": v.arrival.time,
+            "entrance": v.arrival.entrance,
+            "slot": v.slot,
+            "status": v.status,
+            "reason": v.reason,
+            "samples": cols,
+        })
+    s = rr.settings
+    settings = {"planner": s.planner, "assignment": s.assignment, "seed": rr.seed,
+                "dt": 0.05, "omega": s.omega, "lotsim_version": __version__,
+                "scenario": rr.scenario.name}
+    if s.planner == "whca":
+        settings["window"] = s.window
+    metrics = {k: (round(v, 4) if isinstance(v, float) else v) for k, v in rr.metrics().items()}
+    return {"format": FORMAT, "version": VERSION, "lot": doc_lot, "vehicles": vehicles,
+            "metrics": metrics, "settings": settings}
+
+
+def write_json(obj: dict, path: str | Path) -> None:
+    """Write ``obj`` as JSON to ``path`` atomically: a temporary file in the same directory,
+    renamed over the target; nothing is left behind on failure."""
+    path = Path(path)
+    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
+    try:
+        with os.fdopen(fd, "w", encoding="utf-8") as fh:
+            json.dump(obj, fh, separators=(",", ":"), allow_nan=False)
+            fh.write("\n")
+        os.replace(tmp, path)
+    except BaseException:
+        Path(tmp).unlink(missing_ok=True)
+        raise
