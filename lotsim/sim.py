@@ -264,7 +264,8 @@ class _Simulation:
         for sid in sorted(lg.lot.occupied):
             slot = lg.lot.slot_by_id[sid]
             pose = slot.centered_pose(parked.front, parked.rear)
-            self.table.reserve_standing(f"parked:{sid}", standing_body(parked, pose), -math.inf)
+            self.table.reserve_standing(f"parked:{sid}", standing_body(parked, pose), -math.inf,
+                                        in_slot=True)
         last = max((a.time for a in traffic), default=0.0)
         longest = max((a.dwell or 0.0 for a in traffic), default=0.0)
         self.end_time = last + self.patience + longest + 3600.0

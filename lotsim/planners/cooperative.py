@@ -39,8 +39,9 @@ from shapely.geometry.base import BaseGeometry
 
 from lotsim.lot.graph import LotGraph
 from lotsim.planners.reservation import (
-    Interval,
     ReservationTable,
+    Swept,
+    cells_of,
     standing_body,
     swept_motion,
 )
@@ -49,13 +50,14 @@ from lotsim.vehicles.model import KMH, VehicleType
 
 SPEED_STEP = 5 * KMH
 """Spacing of the speed levels a vehicle may pass a node at [m/s]."""
-WAIT = 0.5
+WAIT = 1.0
 """Length of one wait move [s]."""
 OMEGA = 10.0
 """Fuse: a search stops after expanding ``OMEGA`` × its reverse search's closed nodes."""
 MIN_BUDGET = 2000
 """A search may always expand at least this many states before the fuse blows."""
-_TIME_KEY = 0.05  # states closer in time than this at one node and speed are one [s]
+WEIGHT = 1.25
+_TIME_KEY = 0.5  # states this close in time at one node and speed are one [s]
 
 PLANNERS = ("ca", "hca", "whca")
 
@@ -105,6 +107,17 @@ class Plan:
 
 
 @dataclass(frozen=True, slots=True)
+class EdgeMotion:
+    """An edge driven between two speed levels: the motion, its duration [s], end pose,
+    and the hulls it sweeps (in its own time)."""
+
+    motion: Motion
+    duration: float
+    end: tuple[float, float, float]
+    swept: Swept
+
+
+@dataclass(frozen=True, slots=True)
 class _Edge:
     u: int
     v: int
@@ -146,14 +159,17 @@ class SearchGraph:
             self.out[u].append(i)
             self.into[v].append(i)
         self.pose = {n: tuple(map(float, g.nodes[n]["pose"])) for n in g.nodes}
-        self._motions: dict[tuple[int, int, int], tuple[Motion, list[Interval]] | None] = {}
+        self.slot_nodes = set(lg.slot_nodes.values())
+        self._motions: dict[tuple[int, int, int], EdgeMotion | None] = {}
         self._bodies: dict[int, BaseGeometry] = {}
+        self._cells: dict[int, tuple[tuple[int, int], ...]] = {}
+        self._standing: dict[int, Swept] = {}
         self._static_time = [self._lower_time(e) for e in self.edges]
 
     # -- motions ------------------------------------------------------------------------------
-    def motion(self, ei: int, a: int, b: int) -> tuple[Motion, list[Interval]] | None:
-        """Edge ``ei`` driven from speed level ``a`` to ``b``: the motion and its swept hulls
-        (in the motion's time), or None when the edge cannot join those speeds."""
+    def motion(self, ei: int, a: int, b: int) -> EdgeMotion | None:
+        """Edge ``ei`` driven from speed level ``a`` to ``b`` (None when the edge cannot join
+        those speeds)."""
         key = (ei, a, b)
         if key in self._motions:
             return self._motions[key]
@@ -164,17 +180,37 @@ class SearchGraph:
                 m = e.data["maneuvers"][self.vehicle.name]
                 motion = rest_to_rest([Piece(s, e.data["speed_limit"]) for s in m.segments],
                                       self.vehicle)
-                out = (motion, swept_motion(motion, self.vehicle))
+                out = self._timed(motion)
         elif e.length > 0:
             lim = self.vehicle.limits
             va, vb = self.levels[a], self.levels[b]
             if va <= e.cap + 1e-9 and vb <= e.cap + 1e-9:
                 prof = trapezoid(e.length, va, vb, e.cap, lim.max_accel, lim.max_brake)
                 if prof is not None:
-                    motion = Motion((Stroke((e.data["segment"],), prof),))
-                    out = (motion, swept_motion(motion, self.vehicle))
+                    out = self._timed(Motion((Stroke((e.data["segment"],), prof),)))
         self._motions[key] = out
         return out
+
+    def _timed(self, motion: Motion) -> EdgeMotion:
+        end = motion.at(np.array([motion.duration]), wheelbase=self.vehicle.wheelbase)[0][0]
+        return EdgeMotion(motion, motion.duration, tuple(map(float, end)),
+                          Swept.of(swept_motion(motion, self.vehicle)))
+
+    def edge_cells(self, ei: int, em: EdgeMotion) -> tuple[tuple[int, int], ...]:
+        """Grid cells of everything edge ``ei`` sweeps (the same at any speed)."""
+        cells = self._cells.get(ei)
+        if cells is None:
+            b = em.swept.bounds
+            cells = self._cells[ei] = cells_of((b[:, 0].min(), b[:, 1].min(), b[:, 2].max(),
+                                                b[:, 3].max()))
+        return cells
+
+    def standing(self, node: int) -> Swept:
+        """The footprint at lane node ``node`` held for one wait, from time 0."""
+        sw = self._standing.get(node)
+        if sw is None:
+            sw = self._standing[node] = Swept.of([(0.0, WAIT, self.body(node))])
+        return sw
 
     def body(self, node: int) -> BaseGeometry:
         """The vehicle's footprint standing at lane node ``node``."""
@@ -343,6 +379,7 @@ def search(sg: SearchGraph, table: ReservationTable, *, owner: str, start: int, 
 
     start_body = (standing_body(sg.vehicle, start_pose) if start_pose is not None
                   else sg.body(start))
+    start_stand = Swept.of([(0.0, WAIT, start_body)])
 
     # state: (node, level, time, outside); parents keyed by an integer id
     heap: list[tuple[float, float, int]] = []
@@ -350,10 +387,18 @@ def search(sg: SearchGraph, table: ReservationTable, *, owner: str, start: int, 
     parent: list[tuple[int, Move | None]] = []
     closed: set[tuple[int, int, int, bool]] = set()
 
+    lim = sg.vehicle.limits
+    # time lost reaching top speed from each level, and braking to rest before parking:
+    # exact on long runs, an overestimate on the last few metres (plans are near-optimal)
+    stop = top / (2 * lim.max_brake) if goal.slot is not None else 0.0
+    loss = [(top - v) ** 2 / (2 * lim.max_accel * top) + stop for v in sg.levels]
+    rest_seen: dict[int, float] = {}  # node → earliest time expanded standing there
+
     def push(node: int, lvl: int, t: float, out: bool, par: int, move: Move | None) -> None:
         hv = h(node)
         if hv == math.inf or rra(node) == math.inf:
             return
+        hv = WEIGHT * hv + loss[lvl]
         states.append((node, lvl, t, out))
         parent.append((par, move))
         heapq.heappush(heap, (t + hv, -t, len(states) - 1))  # ties: deepest first
@@ -366,6 +411,16 @@ def search(sg: SearchGraph, table: ReservationTable, *, owner: str, start: int, 
         key = (node, lvl, round(t / _TIME_KEY), out)
         if key in closed:
             continue
+        if lvl == 0 and not out:
+            # standing here later than an earlier visit that could have waited till now
+            move = parent[sid][1]
+            seen = rest_seen.get(node)
+            if seen is None:
+                rest_seen[node] = t
+            elif (t > seen and (move is None or move.kind != "wait")
+                  and table.is_free([(seen, t, start_body if node == start else sg.body(node))],
+                                    ignore=owner)):
+                continue
         closed.add(key)
         expansions += 1
         if expansions > max(MIN_BUDGET, omega * rra.closed):
@@ -385,8 +440,8 @@ def search(sg: SearchGraph, table: ReservationTable, *, owner: str, start: int, 
             if out:
                 push(node, 0, t + WAIT, True, sid, Move("outside", t, t + WAIT, node, node, 0, 0))
             here = start_pose if node == start and start_pose is not None else sg.pose[node]
-            body = start_body if node == start else sg.body(node)
-            if table.is_free([(t, t + WAIT, body)], ignore=owner):
+            stand = start_stand if node == start else sg.standing(node)
+            if table.is_free(stand, offset=t, ignore=owner):
                 push(node, 0, t + WAIT, False, sid,
                      Move("wait", t, t + WAIT, node, node, 0, 0, end_pose=here))
         for ei in sg.out[node]:
@@ -401,22 +456,23 @@ def search(sg: SearchGraph, table: ReservationTable, *, owner: str, start: int, 
                     push(e.v, lvl, t, out, sid, None)
                 continue
             ends = [0] if e.kind in ("park", "leave") else range(len(sg.levels))
-            for b in ends:
-                got = sg.motion(ei, lvl, b)
-                if got is None:
-                    continue
-                motion, hulls = got
-                t1 = t + motion.duration
+            variants = [(b, em) for b in ends if (em := sg.motion(ei, lvl, b)) is not None]
+            if not variants:
+                continue
+            # nobody near the edge while any variant drives it: no exact test needed
+            quiet = table.quiet(sg.edge_cells(ei, variants[0][1]), t,
+                                t + max(em.duration for _, em in variants), ignore=owner)
+            for b, em in variants:
+                t1 = t + em.duration
                 # a parked vehicle must be able to stay for ever
                 if (e.kind == "park"
                         and table.free_from(sg.parked_body(ei), t1, ignore=owner) is not None):
                     continue
-                if not table.is_free(hulls, offset=t, ignore=owner):
+                if not quiet and not table.is_free(em.swept, offset=t, ignore=owner):
                     continue
                 kind = e.kind if e.kind in ("park", "leave") else "drive"
-                end = motion.at(np.array([motion.duration]), wheelbase=sg.vehicle.wheelbase)[0][0]
                 push(e.v, b, t1, False, sid,
-                     Move(kind, t, t1, node, e.v, lvl, b, ei, motion, tuple(map(float, end))))
+                     Move(kind, t, t1, node, e.v, lvl, b, ei, em.motion, em.end))
     return Plan(Status.NO_PATH, expansions=expansions)
 
 
@@ -443,15 +499,17 @@ def reserve_moves(table: ReservationTable, owner: str, sg: SearchGraph, moves: l
                   hold_end: bool) -> None:
     """Reserve everything ``moves`` sweep for ``owner``; with ``hold_end``, also the last
     pose from the end on, for ever (a parked car, or a WHCA* stop)."""
+    slots = sg.slot_nodes
     for m in moves:
         if m.kind == "outside":
             continue
         if m.motion is None:
-            table.reserve_standing(owner, standing_body(sg.vehicle, m.end_pose), m.t0, m.t1)
+            table.reserve_standing(owner, standing_body(sg.vehicle, m.end_pose), m.t0, m.t1,
+                                   in_slot=m.node_to in slots)
         else:
-            got = sg.motion(m.edge, m.level_from, m.level_to)
-            assert got is not None  # it was found by the search
-            table.reserve(owner, got[1], offset=m.t0)
+            em = sg.motion(m.edge, m.level_from, m.level_to)
+            assert em is not None  # it was found by the search
+            table.reserve(owner, em.swept, offset=m.t0)
     if hold_end and moves and moves[-1].end_pose is not None:
         table.reserve_standing(owner, standing_body(sg.vehicle, moves[-1].end_pose),
-                               moves[-1].t1)
+                               moves[-1].t1, in_slot=moves[-1].node_to in slots)

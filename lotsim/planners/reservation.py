@@ -7,10 +7,11 @@ so two vehicles whose overlapping-in-time entries do not touch cannot touch at
 any instant, not only at samples. A standing vehicle reserves its footprint
 over the time it stands; a parked one with ``t1 = inf``.
 
-Time is bucketed (``bucket`` seconds); each bucket lists the entries whose
-interval meets it, and a query filters candidates by time and bounding box in
-numpy before an exact shapely test. Long entries (parked cars, long waits) sit
-in one list that every query scans.
+Entries are filed in a space-time grid — cells of :data:`CELL` metres and
+``bucket`` seconds — so a query in free space is a few dictionary lookups;
+candidates are filtered by time and bounding box and tested exactly with
+shapely in one batch. Long entries (long waits, a WHCA* stop) are filed by
+space only.
 """
 
 from __future__ import annotations
@@ -30,7 +31,9 @@ from lotsim.vehicles.model import VehicleType
 CHUNK = 0.5
 """Longest time one swept hull covers [s]."""
 _SAMPLE = 0.2  # largest distance between footprints inside a hull [m]
-_LONG = 16  # entries spanning more buckets than this go to the long list
+CELL = 6.0
+"""Side of the spatial grid cells entries are filed under [m]."""
+_LONG = 16  # entries spanning more time buckets than this are filed by space only
 _EPS = 1e-9
 
 Interval = tuple[float, float, BaseGeometry]
@@ -92,8 +95,13 @@ def swept(poses: FloatArray, times: FloatArray, vehicle: VehicleType, *,
 def swept_motion(motion: Motion, vehicle: VehicleType, *, chunk: float = CHUNK
                  ) -> list[Interval]:
     """:func:`swept` for a timed motion, in the motion's own time (from 0) [s]."""
-    top = max(vehicle.limits.max_forward_speed, vehicle.limits.max_reverse_speed)
-    tau = np.union1d(motion.times(_SAMPLE / top), chunk_edges(0.0, motion.duration, chunk))
+    edges = chunk_edges(0.0, motion.duration, chunk)
+    if all(g.curvature == 0 for st in motion.strokes for g in st.segments):
+        # along straights the hull of the ends is the exact sweep
+        tau = np.union1d(edges, motion.cusps)
+    else:
+        top = max(vehicle.limits.max_forward_speed, vehicle.limits.max_reverse_speed)
+        tau = np.union1d(motion.times(_SAMPLE / top), edges)
     poses = motion.at(tau, wheelbase=vehicle.wheelbase)[0]
     return swept(poses, tau, vehicle, chunk=chunk)
 
@@ -102,6 +110,38 @@ def swept_trajectory(trajectory: Trajectory, vehicle: VehicleType, *,
                      chunk: float = CHUNK) -> list[Interval]:
     """:func:`swept` for a sampled trajectory (in its own absolute times)."""
     return swept(trajectory.poses, trajectory.t, vehicle, chunk=chunk)
+
+
+@dataclass(frozen=True)
+class Swept:
+    """Intervals as arrays, for batched queries: times (N, 2) [s], hulls (N,), their
+    bounds (N, 4)."""
+
+    t: np.ndarray
+    geoms: np.ndarray
+    bounds: np.ndarray
+    cells: tuple[tuple[tuple[int, int], ...], ...] = ()
+
+    @classmethod
+    def of(cls, intervals: Sequence[Interval]) -> Swept:
+        geoms = np.empty(len(intervals), dtype=object)
+        geoms[:] = [g for _, _, g in intervals]
+        t = np.array([(a, b) for a, b, _ in intervals], dtype=float).reshape(-1, 2)
+        bounds = shapely.bounds(geoms).reshape(-1, 4)
+        return cls(t, geoms, bounds, tuple(cells_of(b) for b in bounds))
+
+    def __len__(self) -> int:
+        return len(self.geoms)
+
+    def __iter__(self):  # noqa: ANN204
+        for (a, b), g in zip(self.t, self.geoms, strict=True):
+            yield float(a), float(b), g
+
+
+def cells_of(bounds: Sequence[float]) -> tuple[tuple[int, int], ...]:
+    """The grid cells a bounding box ``(x0, y0, x1, y1)`` meets."""
+    x0, y0, x1, y1 = (math.floor(float(c) / CELL) for c in bounds)
+    return tuple((i, j) for i in range(x0, x1 + 1) for j in range(y0, y1 + 1))
 
 
 class _Store:
@@ -159,10 +199,8 @@ class ReservationTable:
             raise ValueError("bucket must be positive")
         self.bucket = bucket
         self._store = _Store()
-        self._buckets: dict[int, list[int]] = {}
-        self._bucket_arrays: dict[int, np.ndarray] = {}
-        self._long: list[int] = []
-        self._long_array: np.ndarray | None = None
+        self._grid: dict[tuple[int, int, int], list[int]] = {}
+        self._long_cells: dict[tuple[int, int], list[int]] = {}
         self._ids: dict[str, int] = {}
         self._names: list[str] = []
         self._by_owner: dict[int, list[int]] = {}
@@ -178,9 +216,16 @@ class ReservationTable:
             self._add(oid, t0 + offset, t1 + offset, geom)
 
     def reserve_standing(self, owner: str, body: BaseGeometry, since: float,
-                         until: float = math.inf) -> None:
-        """A body standing from ``since`` to ``until`` [s] (for ever by default: parked)."""
-        self._add(self._owner_id(owner), since, until, body)
+                         until: float = math.inf, *, in_slot: bool = False) -> None:
+        """A body standing from ``since`` to ``until`` [s] (for ever by default: parked).
+
+        With ``in_slot`` the body stands inside a parking slot. Such bodies are
+        seen only by :meth:`free_from` (the goal test), not by :meth:`first_conflict`:
+        lanes and turns are swept clear of every slot when the lot graph is
+        built, and each maneuver clear of a car parked in every other slot, so
+        no move can reach them, and the queries skip hundreds of parked cars.
+        """
+        self._add(self._owner_id(owner), since, until, body, in_slot=in_slot)
 
     def release(self, owner: str, *, after: float | None = None) -> None:
         """Drop ``owner``'s entries that begin at or after ``after`` [s] (all, if None);
@@ -203,33 +248,70 @@ class ReservationTable:
         self._by_owner[oid] = keep
 
     # -- asking -------------------------------------------------------------------------------
-    def first_conflict(self, intervals: Sequence[Interval], *, offset: float = 0.0,
+    def first_conflict(self, intervals: Sequence[Interval] | Swept, *, offset: float = 0.0,
                        ignore: str | None = None) -> Conflict | None:
-        """The first of ``intervals`` (shifted by ``offset``) that meets someone else's body
-        over overlapping time, as that body's owner and interval; None when all are free."""
+        """The earliest of ``intervals`` (shifted by ``offset``) that meets someone else's
+        body over overlapping time, as that body's owner and interval; None when all are
+        free.
+
+        Entries are filed in a space-time grid (cells of :data:`CELL` metres and
+        ``bucket`` seconds), so a query in free space costs a few dictionary
+        lookups; the few candidates are tested exactly with shapely in one batch.
+        """
+        sw = intervals if isinstance(intervals, Swept) else Swept.of(intervals)
         skip = self._ids.get(ignore, -1) if ignore is not None else -1
         st = self._store
-        for t0, t1, geom in intervals:
-            a, b = t0 + offset, t1 + offset
-            cand = self._candidates(a, b)
-            if cand.size == 0:
+        grid, long_cells, b = self._grid, self._long_cells, self.bucket
+        pairs_i: list[int] = []
+        pairs_j: list[int] = []
+        for j in range(len(sw.geoms)):
+            a, z = float(sw.t[j, 0]) + offset, float(sw.t[j, 1]) + offset
+            k0, k1 = math.floor((a - _EPS) / b), math.floor((z + _EPS) / b)
+            found: set[int] = set()
+            for cell in sw.cells[j]:
+                for k in range(k0, k1 + 1):
+                    hit = grid.get((cell[0], cell[1], k))
+                    if hit:
+                        found.update(hit)
+                hit = long_cells.get(cell)
+                if hit:
+                    found.update(hit)
+            if not found:
                 continue
-            x0, y0, x1, y1 = geom.bounds
-            bx = st.box[cand]
-            tt = st.t[cand]
-            sel = (st.alive[cand] & (st.owner[cand] != skip)
-                   & (tt[:, 0] <= b + _EPS) & (tt[:, 1] >= a - _EPS)
-                   & (bx[:, 0] <= x1) & (bx[:, 2] >= x0) & (bx[:, 1] <= y1) & (bx[:, 3] >= y0))
-            cand = cand[sel]
-            if cand.size == 0:
-                continue
-            hit = shapely.intersects(st.geom[cand], geom)
-            if hit.any():
-                i = int(cand[np.argmax(hit)])
-                return Conflict(self._names[st.owner[i]], float(st.t[i, 0]), float(st.t[i, 1]))
-        return None
+            x0, y0, x1, y1 = sw.bounds[j]
+            for i in sorted(found):
+                if (st.alive[i] and st.owner[i] != skip and st.t[i, 0] <= z + _EPS
+                        and st.t[i, 1] >= a - _EPS and st.box[i, 0] <= x1 and st.box[i, 2] >= x0
+                        and st.box[i, 1] <= y1 and st.box[i, 3] >= y0):
+                    pairs_i.append(i)
+                    pairs_j.append(j)
+        if not pairs_i:
+            return None
+        hit = shapely.intersects(sw.geoms[pairs_j], st.geom[pairs_i])
+        if not hit.any():
+            return None
+        i = pairs_i[int(np.argmax(hit))]  # pairs come in chunk order: the earliest first
+        return Conflict(self._names[st.owner[i]], float(st.t[i, 0]), float(st.t[i, 1]))
 
-    def is_free(self, intervals: Sequence[Interval], *, offset: float = 0.0,
+    def quiet(self, cells: Sequence[tuple[int, int]], t0: float, t1: float, *,
+              ignore: str | None = None) -> bool:
+        """Whether nobody but ``ignore`` has an entry filed in grid ``cells`` that overlaps
+        ``[t0, t1]`` [s] — a cheap test that makes exact ones unnecessary."""
+        skip = self._ids.get(ignore, -1) if ignore is not None else -1
+        st = self._store
+        grid, long_cells, b = self._grid, self._long_cells, self.bucket
+        k0, k1 = math.floor((t0 - _EPS) / b), math.floor((t1 + _EPS) / b)
+        for cell in cells:
+            for hit in [grid.get((cell[0], cell[1], k)) for k in range(k0, k1 + 1)] + [
+                    long_cells.get(cell)]:
+                if hit:
+                    for i in hit:
+                        if (st.alive[i] and st.owner[i] != skip and st.t[i, 0] <= t1 + _EPS
+                                and st.t[i, 1] >= t0 - _EPS):
+                            return False
+        return True
+
+    def is_free(self, intervals: Sequence[Interval] | Swept, *, offset: float = 0.0,
                 ignore: str | None = None) -> bool:
         return self.first_conflict(intervals, offset=offset, ignore=ignore) is None
 
@@ -263,34 +345,21 @@ class ReservationTable:
             self._names.append(owner)
         return self._ids[owner]
 
-    def _add(self, oid: int, t0: float, t1: float, geom: BaseGeometry) -> None:
+    def _add(self, oid: int, t0: float, t1: float, geom: BaseGeometry, *,
+             in_slot: bool = False) -> None:
         i = self._store.add(oid, t0, t1, geom)
         self._by_owner.setdefault(oid, []).append(i)
+        if in_slot:
+            return  # found by free_from's scan of the whole store only
+        cells = cells_of(geom.bounds)
         if math.isinf(t0) or math.isinf(t1) or math.floor(t1 / self.bucket) - math.floor(
                 t0 / self.bucket) > _LONG:
-            self._long.append(i)
-            self._long_array = None
+            for cell in cells:
+                self._long_cells.setdefault(cell, []).append(i)
             return
         for k in range(math.floor(t0 / self.bucket), math.floor(t1 / self.bucket) + 1):
-            self._buckets.setdefault(k, []).append(i)
-            self._bucket_arrays.pop(k, None)
-
-    def _candidates(self, t0: float, t1: float) -> np.ndarray:
-        parts = []
-        for k in range(math.floor((t0 - _EPS) / self.bucket),
-                       math.floor((t1 + _EPS) / self.bucket) + 1):
-            if k in self._buckets:
-                arr = self._bucket_arrays.get(k)
-                if arr is None:
-                    arr = self._bucket_arrays[k] = np.array(self._buckets[k], dtype=np.int64)
-                parts.append(arr)
-        if self._long:
-            if self._long_array is None:
-                self._long_array = np.array(self._long, dtype=np.int64)
-            parts.append(self._long_array)
-        if not parts:
-            return np.zeros(0, dtype=np.int64)
-        return parts[0] if len(parts) == 1 else np.concatenate(parts)
+            for cx, cy in cells:
+                self._grid.setdefault((cx, cy, k), []).append(i)
 
 
 def standing_body(vehicle: VehicleType, pose: FloatArray) -> BaseGeometry:
