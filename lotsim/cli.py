@@ -362,13 +362,13 @@ def _check(args: argparse.Namespace) -> int:
         data = load_result(args.result)
     except ResultFormatError as exc:
         return _bad(str(exc))
-    report = check_result(data)
+    report = check_result(data, max_violations=max(1, args.max))
     st = report.stats
     if report.ok:
         print(f"{args.result}: ok ({', '.join(f'{k} {v}' for k, v in st.items())})")
         return EXIT_OK
-    print(f"{args.result}: {len(report.violations)} violation(s)")
-    for vi in report.violations[: max(1, args.max)]:
+    print(f"{args.result}: {st.get('violations', len(report.violations))} violation(s)")
+    for vi in report.violations:
         print(f"  {vi.rule}: {vi.message}")
     return EXIT_INCOMPLETE
 

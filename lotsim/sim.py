@@ -94,7 +94,8 @@ class RunSettings:
     omega : float
         The search fuse factor.
     retry : float
-        Wait before a vehicle whose search failed tries again [s].
+        Wait before a vehicle whose search failed tries again [s]; it doubles with
+        each failure in a row, up to a minute.
     """
 
     planner: str = "hca"
@@ -119,6 +120,7 @@ class VehicleRun:
     parked_pose: tuple[float, float, float] | None = None
     left_at: float | None = None
     searches: int = 0
+    failures: int = 0  # failed searches in a row
     expansions: int = 0
     planning_time: float = 0.0
     done: bool = False  # nothing more will happen to it
@@ -293,6 +295,12 @@ class _Simulation:
             if not v.done:
                 self.finish(v, v.status, v.reason or "the run ended")
 
+    def backoff(self, v: VehicleRun) -> float:
+        """Wait before the next try after a failed search: ``retry``, doubling with each
+        failure in a row, at most a minute [s]."""
+        v.failures += 1
+        return min(60.0, self.s.retry * 2 ** (v.failures - 1))
+
     def finish(self, v: VehicleRun, status: str, reason: str = "") -> None:
         v.status, v.reason, v.done = status, reason, True
         self.settled += 1
@@ -340,7 +348,7 @@ class _Simulation:
         if self.patience == 0:
             self.on_timeout(i, v, t)
             return
-        self.at(t + self.s.retry, "retry", i)
+        self.at(t + self.backoff(v), "retry", i)
 
     def slot_choice(self, v: VehicleRun) -> list[str]:
         """Free slots this vehicle can park in, best first by the assignment policy."""
@@ -390,6 +398,7 @@ class _Simulation:
 
     def commit(self, i: int, v: VehicleRun, sg: SearchGraph, plan: Plan) -> None:
         """Take ``plan`` (appended to ``v``'s moves) and reserve it."""
+        v.failures = 0
         reserve_moves(self.table, v.id, sg, plan.moves,
                       hold_end=plan.status is Status.WINDOW or v.left_at is None
                       and not self.is_exit(plan))
@@ -424,7 +433,7 @@ class _Simulation:
                          key=("exit", v.vehicle.name))
         if plan.status not in (Status.FOUND, Status.WINDOW):
             v.reason = f"could not leave yet ({plan.status.value})"
-            self.at(t + self.s.retry, "depart", i)
+            self.at(t + self.backoff(v), "depart", i)
             return
         self.table.release(v.id, after=t)
         self.commit_departure(i, v, sg, plan, t)
@@ -466,7 +475,7 @@ class _Simulation:
             if t > v.arrival.time + self.patience + (v.arrival.dwell or 0.0) + 3600:
                 self.finish(v, "waiting", f"stuck on the way ({plan.status.value})")
                 return
-            self.at(t + self.s.retry, "replan", i)  # its old plan still holds
+            self.at(t + self.backoff(v), "replan", i)  # its old plan still holds
             return
         self.table.release(v.id, after=last.t1)
         v.moves = kept
@@ -495,13 +504,15 @@ def samples(v: VehicleRun, *, dt: float = SAMPLE_DT) -> Trajectory | None:
         p, speed, steer, gear = m.motion.at(tau, wheelbase=v.vehicle.wheelbase)
         parts.append((m.t0 + tau, p[:, 0], p[:, 1], p[:, 2], speed, steer, gear))
     cols = [np.concatenate([p[k] for p in parts]) for k in range(7)]
-    # one sample per instant: where moves meet, the later move's first sample stays
-    keep = np.append(np.diff(cols[0]) > 1e-6, True)
+    # one sample per instant: where moves meet the later move's first sample stays; two
+    # samples microseconds apart (written to 1 µs) are one, at the earlier time
+    t = cols[0]
+    near = np.append(np.diff(t) <= 2e-6, False)
+    later = np.flatnonzero(near) + 1
+    t[later] = t[later - 1]
+    keep = ~near
     cols = [c[keep] for c in cols]
-    t, v_ = cols[0], cols[4]
-    # the ends of a long gap are standing still
-    gap = np.flatnonzero(np.diff(t) > dt + 1e-6)
-    for k in (gap, gap + 1):
-        cols[6][k] = np.where(np.abs(v_[k]) < 1e-9, 0, cols[6][k])
+    # a sample at rest (a start, a stop, a cusp) is standing: gear 0
+    cols[6] = np.where(np.abs(cols[4]) < 1e-12, 0, cols[6])
     return Trajectory(*cols)
 

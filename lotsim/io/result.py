@@ -56,7 +56,7 @@ def result_dict(rr: RunResult) -> dict:
         cols = {"t": [], "x": [], "y": [], "theta": [], "v": [], "steer": [], "gear": []}
         if tr is not None:
             cols = {
-                "t": np.round(tr.t, 4).tolist(), "x": np.round(tr.x, 4).tolist(),
+                "t": np.round(tr.t, 6).tolist(), "x": np.round(tr.x, 4).tolist(),
                 "y": np.round(tr.y, 4).tolist(), "theta": np.round(tr.theta, 6).tolist(),
                 "v": np.round(tr.v, 4).tolist(), "steer": np.round(tr.steer, 6).tolist(),
                 "gear": tr.gear.astype(int).tolist(),

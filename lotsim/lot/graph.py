@@ -103,37 +103,51 @@ class LotGraph:
     infeasible: dict[str, dict[str, str]] = field(default_factory=dict)
     maneuver_planner: object = None
 
+    def _lane_reach(self) -> tuple[set[int], set[int]]:
+        """Lane nodes reachable from an entrance, and lane nodes that reach an exit (any,
+        when the lot has no exits), driving lanes, turns and joins only — never through a
+        slot (a car does not turn round in someone's parking space)."""
+        g = self.graph
+        lanes = g.subgraph(n for n, d in g.nodes(data=True) if d["kind"] != "slot")
+        come = set().union(*(nx.descendants(lanes, n) | {n} for n in self.entrances.values()))
+        if self.exits:
+            go = set().union(*(nx.ancestors(lanes, n) | {n} for n in self.exits.values()))
+        else:
+            go = set(lanes.nodes)
+        return come, go
+
     def through(self) -> dict[str, tuple[float, float]]:
         """Per lane, the station range [m] whose nodes can be reached from an entrance and
         can reach an exit (any node, when the lot has no exits): where a car may stop to
         park and rejoin traffic after leaving."""
         g = self.graph
-        come = set().union(*(nx.descendants(g, n) | {n} for n in self.entrances.values()))
-        if self.exits:
-            go = set().union(*(nx.ancestors(g, n) | {n} for n in self.exits.values()))
-        else:
-            go = set(g.nodes)
+        come, go = self._lane_reach()
         out: dict[str, tuple[float, float]] = {}
         for n in come & go:
             data = g.nodes[n]
-            if data["kind"] != "lane":
-                continue
             lo, hi = out.get(data["lane"], (math.inf, -math.inf))
             out[data["lane"]] = (min(lo, data["station"]), max(hi, data["station"]))
         return out
 
     def reachability(self) -> Reachability:
-        """Free slots unreachable from each entrance; slots that cannot reach each exit."""
+        """Free slots unreachable from each entrance; slots that cannot reach each exit
+        (driving lanes only, into the slot or out of it at the end)."""
         g = self.graph
         free = [s.id for s in self.lot.free_slots]
         unreachable = {}
         for name, node in self.entrances.items():
-            seen = nx.descendants(g, node) | {node}
-            unreachable[name] = [sid for sid in free if self.slot_nodes[sid] not in seen]
+            lanes = g.subgraph(n for n, d in g.nodes(data=True) if d["kind"] != "slot")
+            seen = nx.descendants(lanes, node) | {node}
+            unreachable[name] = [sid for sid in free
+                                 if not any(u in seen for u in g.predecessors(
+                                     self.slot_nodes[sid]))]
         stranded = {}
         for name, node in self.exits.items():
-            seen = nx.ancestors(g, node) | {node}
-            stranded[name] = [s.id for s in self.lot.slots if self.slot_nodes[s.id] not in seen]
+            lanes = g.subgraph(n for n, d in g.nodes(data=True) if d["kind"] != "slot")
+            seen = nx.ancestors(lanes, node) | {node}
+            stranded[name] = [s.id for s in self.lot.slots
+                              if not any(w in seen for w in g.successors(
+                                  self.slot_nodes[s.id]))]
         return Reachability(unreachable, stranded)
 
 

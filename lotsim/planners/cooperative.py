@@ -54,7 +54,7 @@ WAIT = 1.0
 """Length of one wait move [s]."""
 OMEGA = 10.0
 """Fuse: a search stops after expanding ``OMEGA`` × its reverse search's closed nodes."""
-MIN_BUDGET = 2000
+MIN_BUDGET = 20000
 """A search may always expand at least this many states before the fuse blows."""
 WEIGHT = 1.25
 _TIME_KEY = 0.5  # states this close in time at one node and speed are one [s]

@@ -250,9 +250,9 @@ class ManeuverPlanner:
     max_changes : int, keyword-only
         Most direction changes a maneuver may have.
     lane_ranges : dict, keyword-only
-        Lane id → (first, last) station [m] where a maneuver may start; default
-        the whole lane (:meth:`LotGraph.through` gives the part a car can reach
-        and leave again).
+        Lane id → (first, last) station [m] where a maneuver may start; a lane
+        not listed gets none. Default (None): every lane, whole.
+        :meth:`LotGraph.through` gives the part a car can reach and leave again.
     """
 
     def __init__(self, lot: Lot, *, margin: float = MARGIN, parked_width: float | None = None,
@@ -263,7 +263,7 @@ class ManeuverPlanner:
         self.lot = lot
         self.margin = margin
         self.max_changes = max_changes
-        self.lane_ranges = lane_ranges or {}
+        self.lane_ranges = lane_ranges
         width = max(parked_width or 0.0, lot.design.width)
         polys = [_taken_zone(s, width, margin) for s in lot.slots]
         polys += [a.polygon.buffer(margin, join_style="mitre") if margin else a.polygon
@@ -357,7 +357,9 @@ class ManeuverPlanner:
             s0 = float(lane.starts[i]) - lo
         half = 2 * vehicle.min_turning_radius + vehicle.length + 1.0
         if math.isfinite(lane_y):
-            first, last = self.lane_ranges.get(lane.id, (0.0, lane.length))
+            whole = (0.0, lane.length)
+            first, last = (whole if self.lane_ranges is None
+                           else self.lane_ranges.get(lane.id, (math.inf, -math.inf)))
             lane_x = (max(lo, -half, first - s0), min(lo + seg.length, half, last - s0))
         return _Problem(vehicle, slot, lane, frame, lane_y, lane_x, s0, half,
                         self._index[slot.id])
