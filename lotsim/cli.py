@@ -337,7 +337,7 @@ def _run(args: argparse.Namespace) -> int:
     doc = result_dict(rr)
     out.mkdir(parents=True, exist_ok=True)
     write_json(doc, out / "result.json")
-    m = doc["metrics"]
+    m = rr.metrics()
     print(f"{scenario.name}: {m['vehicles']} vehicles, planner {args.planner}, "
           f"assignment {args.assign}, seed {rr.seed}")
     print(f"  parked {m['parked']}, departed {m['departed']}, waiting {m['waiting']}, "
