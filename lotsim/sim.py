@@ -90,7 +90,8 @@ class RunSettings:
     seed : int or None
         Seed of the traffic stream (None: the scenario's).
     window : float
-        WHCA*'s window [s]; the vehicle replans every ``window / 2``.
+        WHCA*: the vehicle replans every ``window / 2`` seconds while it drives and keeps
+        the new plan when it arrives sooner [s].
     omega : float
         The search fuse factor.
     retry : float
@@ -118,6 +119,8 @@ class VehicleRun:
     moves: list[Move] = field(default_factory=list)
     parked_at: float | None = None
     parked_pose: tuple[float, float, float] | None = None
+    depart_at: float | None = None
+    leaving: bool = False
     left_at: float | None = None
     searches: int = 0
     failures: int = 0  # failed searches in a row
@@ -337,7 +340,7 @@ class _Simulation:
             plan = self.plan(v, sg, start=self.lg.entrances[v.arrival.entrance], t0=t,
                              goal=Goal(slot=self.lg.slot_nodes[sid]), outside=True,
                              key=("slot", sid))
-            if plan.status in (Status.FOUND, Status.WINDOW):
+            if plan.status is Status.FOUND:
                 if i in self.queue:
                     self.queue.remove(i)
                 self.free.discard(sid)
@@ -389,7 +392,6 @@ class _Simulation:
                 self._exits[key[1]] = rra
         clock = time.perf_counter()
         plan = search(sg, self.table, owner=v.id, planner=self.s.planner, heuristic=rra,
-                      window=self.s.window if self.s.planner == "whca" else None,
                       omega=self.s.omega, **kw)
         v.planning_time += time.perf_counter() - clock
         v.searches += 1
@@ -397,29 +399,34 @@ class _Simulation:
         return plan
 
     def commit(self, i: int, v: VehicleRun, sg: SearchGraph, plan: Plan) -> None:
-        """Take ``plan`` (appended to ``v``'s moves) and reserve it."""
+        """Take ``plan`` (appended to ``v``'s moves) and reserve it; WHCA* replans it half a
+        window on, while there is more than that left to drive."""
         v.failures = 0
-        reserve_moves(self.table, v.id, sg, plan.moves,
-                      hold_end=plan.status is Status.WINDOW or v.left_at is None
-                      and not self.is_exit(plan))
+        exit_ = self.is_exit(plan)
+        reserve_moves(self.table, v.id, sg, plan.moves, hold_end=not exit_)
         v.moves.extend(plan.moves)
         t_end = plan.end
-        if plan.status is Status.WINDOW:
-            v.status = "waiting"
-            v.reason = "stopped on the way (WHCA* window)"
-            self.at(max(t_end - self.s.window / 2, plan.moves[0].t0 + self.s.window / 2),
-                    "replan", i)
-            return
-        if self.is_exit(plan):
+        now = plan.moves[0].t0
+        if exit_:
             v.left_at = t_end
-            self.finish(v, "departed")
-            return
-        v.parked_at = t_end
-        v.parked_pose = plan.moves[-1].end_pose
-        v.status, v.reason = "parked", ""
-        if v.arrival.dwell is not None:
-            self.at(t_end + v.arrival.dwell, "depart", i)
         else:
+            v.parked_at = t_end
+            v.parked_pose = plan.moves[-1].end_pose
+            v.status, v.reason = "parked", ""
+            if v.arrival.dwell is not None:
+                v.depart_at = t_end + v.arrival.dwell
+                self.at(v.depart_at, "depart", i)
+        half = self.s.window / 2
+        if self.s.planner == "whca" and t_end > now + half:
+            self.at(now + half, "replan", i)
+        else:
+            self.settle(v)
+
+    def settle(self, v: VehicleRun) -> None:
+        """``v``'s plan is final: it departs, or parks for good."""
+        if v.left_at is not None:
+            self.finish(v, "departed")
+        elif v.arrival.dwell is None:
             self.finish(v, "parked")
 
     def is_exit(self, plan: Plan) -> bool:
@@ -427,20 +434,23 @@ class _Simulation:
 
     # -- leaving ------------------------------------------------------------------------------
     def on_depart(self, i: int, v: VehicleRun, t: float) -> None:
+        if v.depart_at is None or abs(t - v.depart_at) > 1e-9 or v.leaving:
+            return  # superseded (a WHCA* replan moved the parking time)
         sg = self.graphs[v.vehicle.name]
         plan = self.plan(v, sg, start=self.lg.slot_nodes[v.slot], t0=t,
                          start_pose=v.parked_pose, goal=Goal(exits=tuple(self.lg.exits.values())),
                          key=("exit", v.vehicle.name))
-        if plan.status not in (Status.FOUND, Status.WINDOW):
+        if plan.status is not Status.FOUND:
             v.reason = f"could not leave yet ({plan.status.value})"
-            self.at(t + self.backoff(v), "depart", i)
+            v.depart_at = t + self.backoff(v)
+            self.at(v.depart_at, "depart", i)
             return
         self.table.release(v.id, after=t)
         self.commit_departure(i, v, sg, plan, t)
 
     def commit_departure(self, i: int, v: VehicleRun, sg: SearchGraph, plan: Plan,
                          t: float) -> None:
-        v.left_at = t  # from now on its plans lead out
+        v.leaving = True  # from now on its plans lead out
         # the parked stretch until the departure's first move (already reserved until t)
         if plan.moves[0].t0 > v.moves[-1].t1:
             node = v.moves[-1].node_to
@@ -459,27 +469,29 @@ class _Simulation:
 
     # -- WHCA* --------------------------------------------------------------------------------
     def on_replan(self, i: int, v: VehicleRun, t: float) -> None:
+        """Replan from the end of the move under way at ``t``; keep the new plan if it gets
+        there sooner (the old one stays valid: nobody planned over it)."""
         sg = self.graphs[v.vehicle.name]
-        # keep the move under way at t, replan from where it ends
         k = next((k for k, m in enumerate(v.moves) if m.t1 > t), len(v.moves) - 1)
         kept, last = v.moves[: k + 1], v.moves[k]
-        leaving = v.left_at is not None
-        goal = (Goal(exits=tuple(self.lg.exits.values())) if leaving
-                else Goal(slot=self.lg.slot_nodes[v.slot]))
-        in_slot = last.node_to == self.lg.slot_nodes.get(v.slot)
-        plan = self.plan(v, sg, start=last.node_to, t0=last.t1, level=last.level_to,
-                         goal=goal, outside=last.kind == "outside",
-                         start_pose=v.parked_pose if in_slot else None,
-                         key=("exit", v.vehicle.name) if leaving else ("slot", v.slot))
-        if plan.status not in (Status.FOUND, Status.WINDOW):
-            if t > v.arrival.time + self.patience + (v.arrival.dwell or 0.0) + 3600:
-                self.finish(v, "waiting", f"stuck on the way ({plan.status.value})")
+        t_end = v.moves[-1].t1
+        if k < len(v.moves) - 1:
+            goal = (Goal(exits=tuple(self.lg.exits.values())) if v.leaving
+                    else Goal(slot=self.lg.slot_nodes[v.slot]))
+            in_slot = last.node_to == self.lg.slot_nodes.get(v.slot)
+            plan = self.plan(v, sg, start=last.node_to, t0=last.t1, level=last.level_to,
+                             goal=goal, outside=last.kind == "outside",
+                             start_pose=v.parked_pose if in_slot else None,
+                             key=("exit", v.vehicle.name) if v.leaving else ("slot", v.slot))
+            if plan.status is Status.FOUND and plan.end < t_end - 1e-6:
+                self.table.release(v.id, after=last.t1)
+                v.moves = kept
+                self.commit(i, v, sg, plan)
                 return
-            self.at(t + self.backoff(v), "replan", i)  # its old plan still holds
-            return
-        self.table.release(v.id, after=last.t1)
-        v.moves = kept
-        self.commit(i, v, sg, plan)
+        if t_end > t + self.s.window / 2:
+            self.at(t + self.s.window / 2, "replan", i)
+        else:
+            self.settle(v)
 
 
 def samples(v: VehicleRun, *, dt: float = SAMPLE_DT) -> Trajectory | None:

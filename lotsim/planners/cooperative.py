@@ -21,9 +21,9 @@ free for ever after (the vehicle will stand there).
 
 Heuristics: CA* uses the straight-line distance at top speed; HCA* the true
 static time to the goal, from a Reverse Resumable A* (RRA*, Silver 2005) run
-backwards from the goal and resumed on demand. WHCA* searches only ``window``
-seconds ahead: it may end at rest anywhere once the window has passed, and the
-vehicle replans as the window rolls. The fuse of seed 004 stops a search that
+backwards from the goal and resumed on demand. WHCA* (in :func:`lotsim.sim.run`)
+searches like HCA* and replans every half window as it drives, keeping the new
+plan when it arrives sooner. The fuse of seed 004 stops a search that
 expands more than ``omega`` times the nodes its reverse search closed.
 """
 
@@ -66,7 +66,6 @@ class Status(Enum):
     """How a search ended."""
 
     FOUND = "found"
-    WINDOW = "window"  # WHCA*: stopped at rest after the window, not at the goal
     FUSE = "fuse"
     NO_PATH = "no path"
 
@@ -318,7 +317,7 @@ class Goal:
 def search(sg: SearchGraph, table: ReservationTable, *, owner: str, start: int, t0: float,
            goal: Goal, level: int = 0, outside: bool = False,
            start_pose: tuple[float, float, float] | None = None, planner: str = "hca",
-           heuristic: ReverseResumable | None = None, window: float | None = None,
+           heuristic: ReverseResumable | None = None,
            omega: float = OMEGA, horizon: float = 3600.0) -> Plan:
     """Plan one vehicle against the reservations of those planned before it.
 
@@ -343,8 +342,6 @@ def search(sg: SearchGraph, table: ReservationTable, *, owner: str, start: int, 
     planner : {"ca", "hca", "whca"}
     heuristic : ReverseResumable, optional
         The RRA* towards ``goal`` (made here if not given); also sizes the fuse.
-    window : float, optional
-        WHCA* only: how far ahead to plan [s].
     omega : float
         The fuse factor.
     horizon : float
@@ -353,7 +350,7 @@ def search(sg: SearchGraph, table: ReservationTable, *, owner: str, start: int, 
     Returns
     -------
     Plan
-        ``FOUND`` (or ``WINDOW``) with the moves; ``FUSE`` or ``NO_PATH`` with none.
+        ``FOUND`` with the moves; ``FUSE`` or ``NO_PATH`` with none.
     """
     if planner not in PLANNERS:
         raise ValueError(f"unknown planner {planner!r}; expected one of {PLANNERS}")
@@ -370,9 +367,6 @@ def search(sg: SearchGraph, table: ReservationTable, *, owner: str, start: int, 
     else:
         h = rra
 
-    windowed = planner == "whca" and window is not None
-    t_window = t0 + (window or 0.0)
-    nodes = sg.lg.graph.nodes
     exits = set(goal.exits)
     if rra(start) == math.inf:
         return Plan(Status.NO_PATH)
@@ -432,9 +426,6 @@ def search(sg: SearchGraph, table: ReservationTable, *, owner: str, start: int, 
                 return _plan(Status.FOUND, sid, parent, expansions)
             if node == goal.slot:
                 return _plan(Status.FOUND, sid, parent, expansions)
-            if (windowed and t >= t_window and lvl == 0 and nodes[node]["kind"] == "lane"
-                    and table.free_from(sg.body(node), t, ignore=owner) is None):
-                return _plan(Status.WINDOW, sid, parent, expansions)
         # wait: outside for free, or standing where it is
         if lvl == 0:
             if out:
@@ -498,7 +489,7 @@ def _same_pose(a: tuple[float, float, float] | None, b: tuple[float, float, floa
 def reserve_moves(table: ReservationTable, owner: str, sg: SearchGraph, moves: list[Move], *,
                   hold_end: bool) -> None:
     """Reserve everything ``moves`` sweep for ``owner``; with ``hold_end``, also the last
-    pose from the end on, for ever (a parked car, or a WHCA* stop)."""
+    pose from the end on, for ever (a parked car)."""
     slots = sg.slot_nodes
     for m in moves:
         if m.kind == "outside":

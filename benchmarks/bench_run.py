@@ -1,0 +1,101 @@
+"""Multi-vehicle planning speed: ``lotsim run`` on the large lot (1040 slots).
+
+Run with::
+
+    python benchmarks/bench_run.py            # both cases (a few minutes)
+    python benchmarks/bench_run.py --quick    # the 100-vehicle case only
+
+Cases (fixed seeds):
+
+* 100 cars arriving at 600 an hour, staying: planning time against the 5 s target;
+* 1000 cars at 1200 an hour, each staying 10 to 30 minutes, so slots are freed and reused
+  (arrivals, departures, queueing): planning time against the 60 s target.
+
+For each it prints planning time, per-vehicle planning time (median, p95), expansions,
+the peak memory of the process, how every vehicle ended, and the check of the result by
+the independent checker. The baseline measured in the same run is CA* (straight-line
+heuristic) on the 100-car case: the ratio says what HCA*'s true-distance heuristic buys.
+Lot preparation (maneuvers for every slot) is timed apart; it is done once per lot.
+"""
+
+from __future__ import annotations
+
+import argparse
+import dataclasses
+import resource
+import sys
+import time
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(ROOT))
+
+from lotsim.check import check_result  # noqa: E402
+from lotsim.io.result import result_dict  # noqa: E402
+from lotsim.io.scenario import load_scenario  # noqa: E402
+from lotsim.sim import RunSettings, prepare, run  # noqa: E402
+from lotsim.traffic import StreamSpec, TrafficSpec  # noqa: E402
+
+
+def peak_mb() -> float:
+    """Peak resident memory of this process so far [MB] (Linux reports kB)."""
+    return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
+
+
+def case(sc, lg, count: int, rate: float, dwell, planner: str, *, check: bool = True) -> dict:
+    stream = StreamSpec(count=count, rate=rate / 3600, mix=((sc.vehicle_types[0].name, 1.0),),
+                        entrances=tuple(lg.entrances), dwell=dwell, seed=11)
+    sc = dataclasses.replace(sc, traffic=TrafficSpec(stream=stream, patience=900.0))
+    t = time.perf_counter()
+    rr = run(sc, RunSettings(planner=planner), lot_graph=lg)
+    wall = time.perf_counter() - t
+    m = rr.metrics()
+    out = {"wall": wall, **m, "peak_mb": peak_mb()}
+    if check:
+        t = time.perf_counter()
+        report = check_result(result_dict(rr))
+        out["check"] = "ok" if report.ok else f"{report.stats['violations']} violations"
+        out["check_s"] = time.perf_counter() - t
+    return out
+
+
+def show(name: str, r: dict, target: float | None) -> None:
+    met = "" if target is None else (
+        f"  target < {target:g} s: {'met' if r['planning_time'] < target else 'NOT met'}")
+    print(f"{name}")
+    print(f"  planning {r['planning_time']:.2f} s (run {r['wall']:.2f} s){met}")
+    print(f"  per vehicle: median {1000 * r['planning_time_median']:.1f} ms, "
+          f"p95 {1000 * r['planning_time_p95']:.1f} ms; {r['searches']} searches, "
+          f"{r['expansions']} expansions ({r['expansions'] / max(1, r['searches']):.0f} "
+          "per search)")
+    print(f"  parked {r['parked']}, departed {r['departed']}, waiting {r['waiting']}, "
+          f"rejected {r['rejected']}; mean time to park {r['mean_time_to_park']:.1f} s, "
+          f"total waiting {r['total_waiting']:.0f} s")
+    if "check" in r:
+        print(f"  lotsim check: {r['check']} ({r['check_s']:.1f} s); peak memory "
+              f"{r['peak_mb']:.0f} MB")
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--quick", action="store_true", help="only the 100-vehicle case")
+    args = ap.parse_args()
+    sc = load_scenario(ROOT / "scenarios" / "large_lot.yaml")
+    t = time.perf_counter()
+    lg = prepare(sc)
+    print(f"large lot: {len(lg.lot.slots)} slots ({len(lg.lot.free_slots)} free), "
+          f"{lg.graph.number_of_nodes()} nodes; prepared in {time.perf_counter() - t:.1f} s")
+    # CA* warms the shared motion caches first, so HCA* is not charged for them
+    base = case(sc, lg, 100, 600, None, "ca", check=False)
+    hca = case(sc, lg, 100, 600, None, "hca")
+    show("100 cars, CA* (baseline)", base, None)
+    show("100 cars, HCA*", hca, 5.0)
+    print(f"  HCA* / CA*: {base['planning_time'] / hca['planning_time']:.1f}x faster, "
+          f"{base['expansions'] / max(1, hca['expansions']):.1f}x fewer expansions")
+    if not args.quick:
+        big = case(sc, lg, 1000, 1200, (600.0, 1800.0), "hca")
+        show("1000 cars with departures, HCA*", big, 60.0)
+
+
+if __name__ == "__main__":
+    main()

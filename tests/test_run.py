@@ -1,0 +1,276 @@
+"""lotsim run: every result passes the independent checker; queues, rejections, assignment,
+determinism, the fuse, and the errors a user can make."""
+
+import dataclasses
+import json
+import math
+
+import networkx as nx
+import numpy as np
+import pytest
+
+from conftest import SCENARIOS, position, scenario_from_text
+from lotsim.check import check_result
+from lotsim.cli import main
+from lotsim.errors import ScenarioError
+from lotsim.io.result import result_dict
+from lotsim.io.scenario import load_scenario
+from lotsim.planners import cooperative
+from lotsim.sim import RunSettings, prepare, run
+from lotsim.traffic import Arrival, TrafficSpec
+
+LOT = """\
+name: small
+vehicle_types: [valet]
+lot:
+  boundary: [[0, 0], [50, 0], [50, 22], [0, 22]]
+  aisles:
+    - {id: a, centerline: [[0, 11], [50, 11]], width: 7.0, direction: one-way}
+  rows:
+    - {aisle: a, side: left, kind: perpendicular, count: 6, slot_width: 2.5,
+       slot_length: 5.0, start: 12, id_prefix: N}
+    - {aisle: a, side: right, kind: perpendicular, count: 6, slot_width: 2.5,
+       slot_length: 5.0, start: 12, id_prefix: S}
+  entrances:
+    - {id: in, x: 3.0, y: 11.0, heading_deg: 0}
+  exits:
+    - {id: out, x: 44.0, y: 11.0, heading_deg: 0}
+  occupied: [N1, N2, N3, N4, N5, S1, S2, S3, S4]
+"""
+
+
+@pytest.fixture(scope="module")
+def small():
+    sc = scenario_from_text(LOT + "traffic: {vehicles: [{id: x, arrival: 0}]}\n")
+    return sc, prepare(sc)
+
+
+def _run(sc, lg, vehicles, patience=60.0, **settings):
+    sc = dataclasses.replace(sc, traffic=TrafficSpec(vehicles=tuple(vehicles),
+                                                     patience=patience))
+    return run(sc, RunSettings(**settings), lot_graph=lg)
+
+
+def _checked(rr):
+    doc = result_dict(rr)
+    report = check_result(doc)
+    assert report.ok, [v.message for v in report.violations[:5]]
+    return doc
+
+
+@pytest.mark.parametrize("path", SCENARIOS, ids=[p.stem for p in SCENARIOS])
+def test_every_shipped_scenario_runs_and_passes_the_independent_check(path, shipped_graphs):
+    sc = load_scenario(path)
+    rr = run(sc, lot_graph=shipped_graphs[path.stem])
+    doc = _checked(rr)
+    m = doc["metrics"]
+    # nobody is lost: every vehicle is accounted for, with a reason where it did not park
+    assert m["parked"] + m["departed"] + m["waiting"] + m["rejected"] == len(rr.vehicles) > 0
+    assert m["parked"] + m["departed"] > 0
+    for v in doc["vehicles"]:
+        assert (v["status"] in ("waiting", "rejected")) == bool(v["reason"])
+
+
+@pytest.mark.parametrize("planner", ["ca", "hca", "whca"])
+@pytest.mark.parametrize("name", ["quickstart", "street", "seed003_two_rows"])
+def test_every_planner_and_policy_gives_a_checked_result(planner, name, shipped_graphs):
+    sc = load_scenario(next(p for p in SCENARIOS if p.stem == name))
+    assign = "nearest" if planner == "ca" else "shortest"
+    rr = run(sc, RunSettings(planner=planner, assignment=assign, window=6.0),
+             lot_graph=shipped_graphs[name])
+    _checked(rr)
+
+
+def test_samples_respect_speed_and_acceleration_limits(shipped_graphs):
+    sc = load_scenario(next(p for p in SCENARIOS if p.stem == "mixed_lot"))
+    doc = result_dict(run(sc, lot_graph=shipped_graphs["mixed_lot"]))
+    lim = sc.vehicle_types[0].limits
+    for v in doc["vehicles"]:
+        s = {k: np.array(a) for k, a in v["samples"].items()}
+        dt = np.diff(s["t"])
+        moving = dt <= 0.05 + 1e-6
+        acc = np.diff(s["v"])[moving] / dt[moving]
+        # within a stroke speed changes no faster than the car accelerates or brakes
+        # (forward: +accel / -brake; in reverse the signs swap); 2 % for rounding
+        assert np.all(np.abs(acc) <= max(lim.max_accel, lim.max_brake) * 1.02 + 0.01)
+        assert s["v"].max() <= lim.max_forward_speed + 1e-6
+        assert s["v"].min() >= -lim.max_reverse_speed - 1e-6
+        step = np.hypot(np.diff(s["x"]), np.diff(s["y"]))
+        assert step.max() <= 0.5
+
+
+def test_a_full_lot_queues_then_rejects_with_a_reason_and_loses_nobody(small):
+    sc, lg = small
+    cars = [Arrival(f"c{k}", "valet", "in", float(2 * k)) for k in range(6)]
+    rr = _run(sc, lg, cars, patience=30.0)
+    status = {v.id: v.status for v in rr.vehicles}
+    assert sorted(status.values()) == ["parked"] * 3 + ["rejected"] * 3
+    for v in rr.vehicles:
+        if v.status == "rejected":
+            assert "full" in v.reason and "30" in v.reason
+            assert v.moves == []
+    _checked(rr)
+
+
+def test_a_queued_vehicle_gets_the_next_freed_slot(small):
+    sc, lg = small
+    cars = [Arrival("a", "valet", "in", 0.0, dwell=20.0), Arrival("b", "valet", "in", 1.0),
+            Arrival("c", "valet", "in", 2.0), Arrival("d", "valet", "in", 3.0)]
+    rr = _run(sc, lg, cars, patience=300.0)
+    by = {v.id: v for v in rr.vehicles}
+    assert by["a"].status == "departed"
+    assert by["d"].status == "parked" and by["d"].slot == by["a"].slot
+    # it parked only after the first car had left the slot
+    assert by["d"].parked_at > by["a"].left_at - 30
+    assert by["d"].moves[0].t0 > by["a"].parked_at + 20.0 - 1e-6
+    _checked(rr)
+
+
+def test_a_later_vehicle_waits_for_an_earlier_one_instead_of_overlapping(small):
+    sc, lg = small
+    alone = _run(sc, lg, [Arrival("b", "valet", "in", 0.0)])
+    t_alone = alone.vehicles[0].parked_at
+    # two cars at once: the second is planned around the first
+    rr = _run(sc, lg, [Arrival("a", "valet", "in", 0.0), Arrival("b", "valet", "in", 0.0)])
+    a, b = rr.vehicles
+    assert a.parked_at == pytest.approx(t_alone)
+    assert b.parked_at > t_alone + 1.0
+    assert {a.slot, b.slot} <= {"N6", "S5", "S6"} and a.slot != b.slot
+    _checked(rr)
+
+
+def _static_times(lg, vehicle, source):
+    """Travel time lower bounds along lanes (networkx Dijkstra on length / limit)."""
+    g = nx.DiGraph()
+    top = vehicle.limits.max_forward_speed
+    for u, v, d in lg.graph.edges(data=True):
+        if d["kind"] in ("lane", "turn", "join"):
+            w = d["length"] / min(d["speed_limit"], top) if d["length"] > 0 else 0.0
+            g.add_edge(u, v, weight=w)
+    return nx.single_source_dijkstra_path_length(g, source)
+
+
+@pytest.mark.parametrize("policy", ["nearest", "shortest"])
+def test_the_first_vehicle_gets_the_best_slot_by_each_policy(policy, shipped_graphs):
+    sc = load_scenario(next(p for p in SCENARIOS if p.stem == "mixed_lot"))
+    lg = shipped_graphs["mixed_lot"]
+    car = sc.vehicle_types[0]
+    rr = _run(sc, lg, [Arrival("x", car.name, "gate-in", 0.0)], assignment=policy)
+    got = rr.vehicles[0].slot
+    gate = lg.entrances["gate-in"]
+    x, y, _ = lg.graph.nodes[gate]["pose"]
+    if policy == "nearest":
+        score = {s.id: math.dist((x, y), s.center) for s in lg.lot.free_slots}
+    else:
+        dist = _static_times(lg, car, gate)
+        score = {}
+        for u, v, d in lg.graph.edges(data=True):
+            if d["kind"] == "park" and car.name in d["duration"] and u in dist:
+                sid = lg.graph.nodes[v]["slot"]
+                score[sid] = min(score.get(sid, math.inf), dist[u] + d["duration"][car.name])
+    best = min(score.values())
+    assert score[got] == pytest.approx(best, abs=1e-6)
+
+
+def test_same_scenario_and_seed_give_the_same_file_byte_for_byte(tmp_path):
+    path = next(p for p in SCENARIOS if p.stem == "street")
+    outs = []
+    for k in range(2):
+        assert main(["run", str(path), "-o", str(tmp_path / f"r{k}")]) == 0
+        outs.append((tmp_path / f"r{k}" / "result.json").read_bytes())
+    assert outs[0] == outs[1]
+    assert main(["run", str(path), "-o", str(tmp_path / "r2"), "--seed", "99"]) == 0
+    other = json.loads((tmp_path / "r2" / "result.json").read_text())
+    assert [v["arrival"] for v in other["vehicles"]] != [
+        v["arrival"] for v in json.loads(outs[0])["vehicles"]]
+
+
+def test_a_blown_fuse_makes_the_vehicle_wait_then_leaves_it_rejected_with_the_reason(
+        small, monkeypatch):
+    sc, lg = small
+    monkeypatch.setattr(cooperative, "MIN_BUDGET", 3)
+    rr = _run(sc, lg, [Arrival("x", "valet", "in", 0.0)], patience=20.0, omega=0.01)
+    v = rr.vehicles[0]
+    assert v.status == "rejected" and "fuse" in v.reason
+    assert v.searches >= 3  # it tried again while it waited
+    _checked(rr)
+
+
+def test_run_cli_writes_a_result_that_check_accepts_and_a_corrupted_one_it_refuses(
+        tmp_path, capsys):
+    path = next(p for p in SCENARIOS if p.stem == "quickstart")
+    out = tmp_path / "out"
+    assert main(["run", str(path), "-o", str(out)]) == 0
+    text = capsys.readouterr().out
+    assert "parked" in text and "makespan" in text and "result.json" in text
+    assert [p.name for p in out.iterdir()] == ["result.json"]  # nothing half-written
+    assert main(["check", str(out / "result.json")]) == 0
+    capsys.readouterr()
+    doc = json.loads((out / "result.json").read_text())
+    a, b = doc["vehicles"][0], doc["vehicles"][2]
+    # drive the third car along the first one's path at the first one's time
+    b["samples"] = json.loads(json.dumps(a["samples"]))
+    bad = tmp_path / "bad.json"
+    bad.write_text(json.dumps(doc))
+    assert main(["check", str(bad)]) == 1
+    assert "overlap" in capsys.readouterr().out
+
+
+# -- bad input -------------------------------------------------------------------------------
+@pytest.mark.parametrize("traffic, needle, words", [
+    ("traffic: {vehicles: [{id: x, arrival: 0, type: bus}]}", "|bus", "vehicle type"),
+    ("traffic: {stream: {count: 5, rate_per_hour: 0}}", "rate_per_hour: |0", "positive"),
+    ("traffic: {stream: {count: 5, rate_per_hour: -3}}", "rate_per_hour: |-3", "positive"),
+    ("traffic: {vehicles: [{id: x, arrival: 0, entrance: gate}]}", "|gate}", "in"),
+    ("traffic: {vehicles: [{id: x, arrival: 0}, {id: x, arrival: 1}]}", "id: |x, arrival: 1",
+     "twice"),
+    ("traffic: {stream: {count: 5, rate_per_hour: 30, dwell: [90, 10]}}", "|[90", "min"),
+    ("traffic: {stream: {count: 5, rate_per_hour: 30, mix: {valet: 1, van: 2}}}", "|van",
+     "unknown key"),
+    ("traffic: {}", "|{}", "vehicles"),
+])
+def test_traffic_errors_point_at_the_value(traffic, needle, words):
+    text = LOT + traffic + "\n"
+    with pytest.raises(ScenarioError) as err:
+        scenario_from_text(text)
+    line, col = position(text, needle)
+    assert err.value.where.line == line and err.value.where.col == col
+    assert words in err.value.message
+
+
+def test_a_type_that_fits_no_slot_is_refused_at_its_vehicle(small):
+    sc = scenario_from_text(LOT.replace("vehicle_types: [valet]", """vehicle_types:
+  - valet
+  - {name: limo, width: 2.0, front: 5.5, rear: 1.2, wheelbase: 4.2, max_steer_deg: 30}""")
+        + "traffic: {vehicles: [{id: x, arrival: 0}, {id: long, arrival: 1, type: limo}]}\n")
+    with pytest.raises(ScenarioError) as err:
+        run(sc)
+    assert "'limo' fits no slot" in err.value.message
+    assert err.value.where.line == sc.traffic.vehicles[1].where.line
+
+
+def test_an_entrance_with_no_route_is_refused(small):
+    sc, lg = small
+    # an entrance past the last slot: no slot can be reached from it
+    text = LOT.replace("    - {id: in, x: 3.0, y: 11.0, heading_deg: 0}",
+                       "    - {id: in, x: 3.0, y: 11.0, heading_deg: 0}\n"
+                       "    - {id: late, x: 43.0, y: 11.0, heading_deg: 0}")
+    sc = scenario_from_text(text + "traffic: {vehicles: [{id: x, arrival: 0, entrance: late}]}\n")
+    with pytest.raises(ScenarioError, match="no route from entrance 'late'"):
+        run(sc)
+
+
+def test_cli_run_errors_are_clean(tmp_path, capsys):
+    bare = tmp_path / "bare.yaml"
+    bare.write_text(LOT)
+    assert main(["run", str(bare), "-o", str(tmp_path / "o")]) == 2
+    assert "no 'traffic' section" in capsys.readouterr().err
+    with pytest.raises(SystemExit) as exc:
+        main(["run", str(bare), "--planner", "dijkstra"])
+    assert exc.value.code == 2
+    assert "invalid choice" in capsys.readouterr().err
+    assert not (tmp_path / "o").exists()
+    junk = tmp_path / "junk.json"
+    junk.write_text("{not json")
+    assert main(["check", str(junk)]) == 2
+    assert "Traceback" not in capsys.readouterr().err
