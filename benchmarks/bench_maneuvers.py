@@ -32,7 +32,7 @@ def main() -> None:
     args = ap.parse_args()
     scenario = load_scenario(args.scenario)
     lot = build_lot(scenario.lot, DesignVehicle.envelope(scenario.vehicle_types))
-    ranges = build_graph(lot).through()
+    ranges = build_graph(lot).reachable()
 
     def planner() -> ManeuverPlanner:
         return ManeuverPlanner(lot, parked_width=scenario.parked_vehicle.width,

@@ -65,9 +65,9 @@ def prepare(scenario: Scenario, *, node_spacing: float = 4.0, maneuvers: bool = 
 
 def maneuver_planner(scenario: Scenario, lot: Lot, *, margin: float = MARGIN) -> ManeuverPlanner:
     """The maneuver planner for ``lot``: clear of the scenario's parked cars, starting only
-    where a car can arrive from an entrance and leave for an exit."""
+    where a car can arrive from an entrance (along lanes)."""
     return ManeuverPlanner(lot, margin=margin, parked_width=scenario.parked_vehicle.width,
-                           lane_ranges=build_graph(lot).through())
+                           lane_ranges=build_graph(lot).reachable())
 
 
 # -- running traffic -------------------------------------------------------------------------
@@ -198,10 +198,15 @@ def check_traffic(scenario: Scenario, lg: LotGraph, traffic: list[Arrival]) -> N
         seen = nx.descendants(g, lg.entrances[gate])
         if not any(lg.slot_nodes[s.id] in seen for s in lg.lot.free_slots):
             raise ScenarioError(who.where, f"no route from entrance {gate!r} to a free slot")
-    if any(a.dwell is not None for a in traffic) and not lg.exits:
-        who = next(a for a in traffic if a.dwell is not None)
-        raise ScenarioError(who.where, "vehicles have dwell times but the lot has no exit "
-                                       "to leave by")
+    leaving = [a for a in traffic if a.dwell is not None]
+    if leaving and not lg.exits:
+        raise ScenarioError(leaving[0].where, "vehicles have dwell times but the lot has no "
+                                              "exit to leave by")
+    if leaving:
+        out = lg.leave_nodes()
+        if not any(d["kind"] == "park" and u in out for u, _, d in g.edges(data=True)):
+            raise ScenarioError(leaving[0].where, "vehicles have dwell times but no slot can "
+                                                  "be left for an exit along the lanes")
 
 
 def run(scenario: Scenario, settings: RunSettings | None = None, *, lot_graph=None,  # noqa: ANN001
@@ -263,7 +268,8 @@ class _Simulation:
         self.seq = 0
         self.progress = progress
         self.settled = 0
-        self._slot_times: dict[tuple[str, str], dict[str, float]] = {}
+        self._slot_times: dict[tuple[str, str, bool], dict[str, float]] = {}
+        self.leave = lg.leave_nodes()
         self._exits: dict[str, ReverseResumable] = {}
         parked = scenario.parked_vehicle
         for sid in sorted(lg.lot.occupied):
@@ -338,8 +344,7 @@ class _Simulation:
             return
         for sid in options[:3]:  # the best few slots, in order
             plan = self.plan(v, sg, start=self.lg.entrances[v.arrival.entrance], t0=t,
-                             goal=Goal(slot=self.lg.slot_nodes[sid]), outside=True,
-                             key=("slot", sid))
+                             goal=self.park_goal(v, sid), outside=True, key=("slot", sid))
             if plan.status is Status.FOUND:
                 if i in self.queue:
                     self.queue.remove(i)
@@ -353,9 +358,14 @@ class _Simulation:
             return
         self.at(t + self.backoff(v), "retry", i)
 
+    def park_goal(self, v: VehicleRun, sid: str) -> Goal:
+        """Slot ``sid``, entered from where ``v`` can later leave if it will."""
+        return Goal(slot=self.lg.slot_nodes[sid],
+                    park_from=self.leave if v.arrival.dwell is not None else None)
+
     def slot_choice(self, v: VehicleRun) -> list[str]:
         """Free slots this vehicle can park in, best first by the assignment policy."""
-        times = self.slot_times(v.arrival.entrance, v.vehicle.name)
+        times = self.slot_times(v.arrival.entrance, v.vehicle.name, v.arrival.dwell is not None)
         usable = [s for s in self.free if s in times]
         if self.s.assignment == "shortest":
             return sorted(usable, key=lambda s: (times[s], s))
@@ -363,15 +373,16 @@ class _Simulation:
         slots = self.lg.lot.slot_by_id
         return sorted(usable, key=lambda s: (math.dist((x, y), slots[s].center), s))
 
-    def slot_times(self, gate: str, vname: str) -> dict[str, float]:
-        """Static time [s] from entrance ``gate`` into each slot a ``vname`` can use."""
-        key = (gate, vname)
+    def slot_times(self, gate: str, vname: str, leaving: bool) -> dict[str, float]:
+        """Static time [s] from entrance ``gate`` into each slot a ``vname`` can use (and,
+        if ``leaving``, leave again for an exit)."""
+        key = (gate, vname, leaving)
         if key not in self._slot_times:
             sg = self.graphs[vname]
             dist = sg.forward_times(self.lg.entrances[gate])
             out: dict[str, float] = {}
             for e in sg.edges:
-                if e.kind == "park" and e.u in dist:
+                if e.kind == "park" and e.u in dist and (not leaving or e.u in self.leave):
                     sid = self.lg.graph.nodes[e.v]["slot"]
                     tt = dist[e.u] + e.data["duration"][vname]
                     out[sid] = min(out.get(sid, math.inf), tt)
@@ -477,7 +488,7 @@ class _Simulation:
         t_end = v.moves[-1].t1
         if k < len(v.moves) - 1:
             goal = (Goal(exits=tuple(self.lg.exits.values())) if v.leaving
-                    else Goal(slot=self.lg.slot_nodes[v.slot]))
+                    else self.park_goal(v, v.slot))
             in_slot = last.node_to == self.lg.slot_nodes.get(v.slot)
             plan = self.plan(v, sg, start=last.node_to, t0=last.t1, level=last.level_to,
                              goal=goal, outside=last.kind == "outside",

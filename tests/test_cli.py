@@ -35,7 +35,7 @@ def test_validate_summary_counts_slots_by_kind(capsys):
     assert main(["validate", str(path)]) == 0
     out = capsys.readouterr().out
     assert "perpendicular 22, parallel 6, angled 12" in out
-    assert "free 34, taken 6" in out
+    assert "free 33, taken 7" in out
     assert "valet (L 4.90 m, W 1.80 m, R 4.97 m)" in out
 
 

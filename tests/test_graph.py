@@ -147,7 +147,7 @@ lot:
   entrances:
     - {id: in, x: 2, y: 10, heading_deg: 0}
   exits:
-    - {id: out, x: 58, y: 45, heading_deg: 0}
+    - {id: out, x: 54, y: 45, heading_deg: 0}
 """
 
 
@@ -156,7 +156,9 @@ def test_unreachable_slots_are_reported_not_dropped(tmp_path, capsys):
     reach = lg.reachability()
     assert not reach.ok
     assert reach.unreachable["in"] == ["B1", "B2", "B3"]
-    assert reach.stranded["out"] == ["A1", "A2", "A3"]
+    # A slots can be entered but not left for the exit; B slots get no maneuver at all,
+    # since no car can reach aisle b to start one
+    assert reach.stranded["out"] == ["A1", "A2", "A3", "B1", "B2", "B3"]
     assert len(lg.lot.slots) == 6
     path = tmp_path / "d.yaml"
     path.write_text(DISCONNECTED)
@@ -179,7 +181,7 @@ def test_junction_turns_join_aisles_with_feasible_arcs():
           entrances:
             - {id: in, x: 2, y: 8.25, heading_deg: 0}
           exits:
-            - {id: out, x: 2, y: 11.75, heading_deg: 180}
+            - {id: out, x: 5, y: 11.75, heading_deg: 180}
         """)
     turns = [d for _, _, d in lg.graph.edges(data=True) if d["kind"] == "turn"]
     # a T: from both lanes of a into b's up lane, and from b's down lane into both of a's
@@ -187,4 +189,8 @@ def test_junction_turns_join_aisles_with_feasible_arcs():
     for d in turns:
         assert d["segment"].radius >= lg.lot.design.min_radius - 1e-9
         assert abs(d["segment"].end[2] - d["segment"].start[2]) == pytest.approx(math.pi / 2)
-    assert lg.reachability().ok
+    # b is a dead end: cars reach its slots up its right lane but cannot turn round to
+    # leave (lotsim has no turnarounds, and never turns through a slot)
+    reach = lg.reachability()
+    assert reach.unreachable["in"] == []
+    assert reach.stranded["out"] == ["B1", "B2", "B3", "B4"]

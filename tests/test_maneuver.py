@@ -142,7 +142,7 @@ QUICK = """
       entrances:
         - {id: in, x: 2, y: 8.25, heading_deg: 0}
       exits:
-        - {id: out, x: 2, y: 11.75, heading_deg: 180}
+        - {id: out, x: 5, y: 11.75, heading_deg: 180}
 """.replace("AISLE", "7.0")
 
 

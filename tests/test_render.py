@@ -39,7 +39,7 @@ lot:
   entrances:
     - {id: in, x: 3.0, y: 8.25, heading_deg: 0}
   exits:
-    - {id: out, x: 3.0, y: 11.75, heading_deg: 180}
+    - {id: out, x: 5.0, y: 11.75, heading_deg: 180}
   occupied: [N2, S5]
 """
 
@@ -160,7 +160,7 @@ def test_entrance_green_exit_red(scene) -> None:  # noqa: ANN001
     img = draw_lot(g, size=SIZE)
     canvas = lot_layout(g, size=SIZE).canvas
     assert rgb(img, canvas.to_px([3.0, 8.25])) == li.ENTRANCE
-    assert rgb(img, canvas.to_px([3.0, 11.75])) == li.EXIT
+    assert rgb(img, canvas.to_px([5.0, 11.75])) == li.EXIT
 
 
 def test_show_graph_draws_along_the_lanes(scene) -> None:  # noqa: ANN001
@@ -275,7 +275,7 @@ lot:
   entrances:
     - {{id: in, x: 1.0, y: 6.75, heading_deg: 0}}
   exits:
-    - {{id: out, x: 1.0, y: 10.25, heading_deg: 180}}
+    - {{id: out, x: 5.0, y: 10.25, heading_deg: 180}}
   occupied: {{fraction: 0.3, seed: 1}}
 """
     _, g = build(text)

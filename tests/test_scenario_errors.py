@@ -38,7 +38,7 @@ lot:
   entrances:
     - {id: in, x: 2.0, y: 13.25, heading_deg: 0}
   exits:
-    - {id: out, x: 2.0, y: 16.75, heading_deg: 180}
+    - {id: out, x: 5.0, y: 16.75, heading_deg: 180}
 """
 
 

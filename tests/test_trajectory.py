@@ -85,15 +85,16 @@ def test_a_planned_maneuver_is_driven_on_its_exact_path():
         lot:
           boundary: [[0, 0], [60, 0], [60, 30], [0, 30]]
           aisles:
-            - {id: main, centerline: [[0, 10], [60, 10]], width: 6.0}
+            - {id: main, centerline: [[0, 10], [60, 10]], width: 4.6, direction: one-way}
           rows:
             - {aisle: main, side: left, kind: perpendicular, count: 10, slot_width: 2.5,
                slot_length: 5.0, start: 15}
           entrances:
-            - {id: in, x: 2, y: 8.5, heading_deg: 0}
+            - {id: in, x: 2, y: 10, heading_deg: 0}
     """)
-    m = next(m for _, _, d in lg.graph.edges(data=True) if d["kind"] == "park"
-             for m in d["maneuvers"].values() if m.changes >= 1)
+    # a 4.6 m aisle is too narrow to swing in at once
+    m = lg.maneuver_planner.best(CAR, lg.lot.slot_by_id["main-left-5"])
+    assert m.changes >= 1
     tr = drive([Piece(s, 10 * KMH) for s in m.segments], CAR, t0=5.0)
     _check_limits(tr)
     assert tr.start_time == 5.0

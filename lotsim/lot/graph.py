@@ -59,8 +59,8 @@ class Reachability:
     """What cannot be driven to.
 
     ``unreachable[entrance]`` lists the free slots that cannot be reached from
-    that entrance; ``stranded[exit]`` the slots from which that exit cannot be
-    reached. Both are empty in a good lot.
+    that entrance; ``stranded[exit]`` the free slots from which that exit cannot
+    be reached. Both are empty in a good lot.
     """
 
     unreachable: dict[str, list[str]]
@@ -116,22 +116,36 @@ class LotGraph:
             go = set(lanes.nodes)
         return come, go
 
+    def reachable(self) -> dict[str, tuple[float, float]]:
+        """Per lane, the station range [m] of the nodes a car can reach from an entrance
+        (driving lanes only): where a parking maneuver may start."""
+        come, _ = self._lane_reach()
+        return self._ranges(come)
+
     def through(self) -> dict[str, tuple[float, float]]:
         """Per lane, the station range [m] whose nodes can be reached from an entrance and
-        can reach an exit (any node, when the lot has no exits): where a car may stop to
-        park and rejoin traffic after leaving."""
-        g = self.graph
+        can reach an exit (any node, when the lot has no exits)."""
         come, go = self._lane_reach()
+        return self._ranges(come & go)
+
+    def leave_nodes(self) -> frozenset[int]:
+        """Lane nodes from which an exit can be reached (all, when the lot has no exits): a
+        car that will leave again parks only from these."""
+        return frozenset(self._lane_reach()[1])
+
+    def _ranges(self, nodes: set[int]) -> dict[str, tuple[float, float]]:
+        g = self.graph
         out: dict[str, tuple[float, float]] = {}
-        for n in come & go:
+        for n in nodes:
             data = g.nodes[n]
             lo, hi = out.get(data["lane"], (math.inf, -math.inf))
             out[data["lane"]] = (min(lo, data["station"]), max(hi, data["station"]))
         return out
 
     def reachability(self) -> Reachability:
-        """Free slots unreachable from each entrance; slots that cannot reach each exit
-        (driving lanes only, into the slot or out of it at the end)."""
+        """Free slots unreachable from each entrance, and free slots that cannot reach each
+        exit (driving lanes only, into the slot or out of it at the end). Cars parked at
+        start never move, so taken slots are not listed."""
         g = self.graph
         free = [s.id for s in self.lot.free_slots]
         unreachable = {}
@@ -145,9 +159,9 @@ class LotGraph:
         for name, node in self.exits.items():
             lanes = g.subgraph(n for n, d in g.nodes(data=True) if d["kind"] != "slot")
             seen = nx.ancestors(lanes, node) | {node}
-            stranded[name] = [s.id for s in self.lot.slots
+            stranded[name] = [sid for sid in free
                               if not any(w in seen for w in g.successors(
-                                  self.slot_nodes[s.id]))]
+                                  self.slot_nodes[sid]))]
         return Reachability(unreachable, stranded)
 
 

@@ -308,10 +308,12 @@ class ReverseResumable:
 
 @dataclass(frozen=True, slots=True)
 class Goal:
-    """Where a search ends: in ``slot`` (a slot node, for ever) or at any of ``exits``."""
+    """Where a search ends: in ``slot`` (a slot node, for ever; parking only from the lane
+    nodes in ``park_from``, if given) or at any of ``exits``."""
 
     slot: int | None = None
     exits: tuple[int, ...] = ()
+    park_from: frozenset[int] | None = None
 
 
 def search(sg: SearchGraph, table: ReservationTable, *, owner: str, start: int, t0: float,
@@ -440,7 +442,8 @@ def search(sg: SearchGraph, table: ReservationTable, *, owner: str, start: int, 
             if e.kind == "leave" and (node != start or out or not _same_pose(
                     sg.parked_pose(ei), start_pose)):
                 continue
-            if e.kind == "park" and e.v != goal.slot:
+            if e.kind == "park" and (e.v != goal.slot or (
+                    goal.park_from is not None and node not in goal.park_from)):
                 continue
             if e.kind == "join":
                 if not out:
