@@ -191,8 +191,7 @@ class SearchGraph:
         return out
 
     def _timed(self, motion: Motion) -> EdgeMotion:
-        end = motion.at(np.array([motion.duration]), wheelbase=self.vehicle.wheelbase)[0][0]
-        return EdgeMotion(motion, motion.duration, tuple(map(float, end)),
+        return EdgeMotion(motion, motion.duration, motion.strokes[-1].segments[-1].end,
                           Swept.of(swept_motion(motion, self.vehicle)))
 
     def edge_cells(self, ei: int, em: EdgeMotion) -> tuple[tuple[int, int], ...]:
@@ -287,13 +286,13 @@ class ReverseResumable:
         if node in self.dist:
             return self.dist[node]
         sg = self.sg
-        kinds = sg.lg.graph.nodes
+        slots = sg.slot_nodes
         while self.heap:
             d, v = heapq.heappop(self.heap)
             if v in self.dist:
                 continue
             self.dist[v] = d
-            if kinds[v]["kind"] != "slot" or v in self.goals:
+            if v not in slots or v in self.goals:
                 for ei in sg.into[v]:
                     u = sg.edges[ei].u
                     nd = d + sg._static_time[ei]
@@ -392,7 +391,7 @@ def search(sg: SearchGraph, table: ReservationTable, *, owner: str, start: int, 
 
     def push(node: int, lvl: int, t: float, out: bool, par: int, move: Move | None) -> None:
         hv = h(node)
-        if hv == math.inf or rra(node) == math.inf:
+        if hv == math.inf or (h is not rra and rra(node) == math.inf):
             return
         hv = WEIGHT * hv + loss[lvl]
         states.append((node, lvl, t, out))
