@@ -107,14 +107,18 @@ class LotGraph:
         """Lane nodes reachable from an entrance, and lane nodes that reach an exit (any,
         when the lot has no exits), driving lanes, turns and joins only — never through a
         slot (a car does not turn round in someone's parking space)."""
-        g = self.graph
-        lanes = g.subgraph(n for n, d in g.nodes(data=True) if d["kind"] != "slot")
+        lanes = self._lanes()
         come = set().union(*(nx.descendants(lanes, n) | {n} for n in self.entrances.values()))
         if self.exits:
             go = set().union(*(nx.ancestors(lanes, n) | {n} for n in self.exits.values()))
         else:
             go = set(lanes.nodes)
         return come, go
+
+    def _lanes(self) -> nx.DiGraph:
+        """The graph without its slot nodes: what a car drives between entering and parking."""
+        g = self.graph
+        return g.subgraph(n for n, d in g.nodes(data=True) if d["kind"] != "slot")
 
     def reachable(self) -> dict[str, tuple[float, float]]:
         """Per lane, the station range [m] of the nodes a car can reach from an entrance
@@ -148,20 +152,15 @@ class LotGraph:
         start never move, so taken slots are not listed."""
         g = self.graph
         free = [s.id for s in self.lot.free_slots]
-        unreachable = {}
-        for name, node in self.entrances.items():
-            lanes = g.subgraph(n for n, d in g.nodes(data=True) if d["kind"] != "slot")
-            seen = nx.descendants(lanes, node) | {node}
-            unreachable[name] = [sid for sid in free
-                                 if not any(u in seen for u in g.predecessors(
-                                     self.slot_nodes[sid]))]
-        stranded = {}
-        for name, node in self.exits.items():
-            lanes = g.subgraph(n for n, d in g.nodes(data=True) if d["kind"] != "slot")
-            seen = nx.ancestors(lanes, node) | {node}
-            stranded[name] = [sid for sid in free
-                              if not any(w in seen for w in g.successors(
-                                  self.slot_nodes[sid]))]
+        lanes = self._lanes()
+
+        def missing(seen: set[int], links) -> list[str]:  # noqa: ANN001
+            return [sid for sid in free if not any(n in seen for n in links(self.slot_nodes[sid]))]
+
+        unreachable = {name: missing(nx.descendants(lanes, node) | {node}, g.predecessors)
+                       for name, node in self.entrances.items()}
+        stranded = {name: missing(nx.ancestors(lanes, node) | {node}, g.successors)
+                    for name, node in self.exits.items()}
         return Reachability(unreachable, stranded)
 
 
