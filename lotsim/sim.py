@@ -11,7 +11,6 @@ import math
 import time
 from dataclasses import dataclass, field
 
-import networkx as nx
 import numpy as np
 
 from lotsim.errors import ScenarioError
@@ -175,7 +174,7 @@ def _queued(v: VehicleRun) -> float:
     return max(0.0, start - v.arrival.time)
 
 
-def check_traffic(scenario: Scenario, lg: LotGraph, traffic: list[Arrival]) -> None:
+def check_traffic(lg: LotGraph, traffic: list[Arrival]) -> None:
     """Refuse traffic the lot cannot serve at all: a type that fits no slot, an
     entrance with no route to a slot, dwell times in a lot with no exit.
 
@@ -193,10 +192,11 @@ def check_traffic(scenario: Scenario, lg: LotGraph, traffic: list[Arrival]) -> N
             why = f" ({reasons[0]})" if reasons else ""
             raise ScenarioError(who.where, f"vehicle type {name!r} fits no slot of this "
                                            f"lot{why}")
+    unreachable = lg.reachability().unreachable
+    free = len(lg.lot.free_slots)
     for gate in sorted({a.entrance for a in traffic}):
-        who = next(a for a in traffic if a.entrance == gate)
-        seen = nx.descendants(g, lg.entrances[gate])
-        if not any(lg.slot_nodes[s.id] in seen for s in lg.lot.free_slots):
+        if len(unreachable[gate]) == free:
+            who = next(a for a in traffic if a.entrance == gate)
             raise ScenarioError(who.where, f"no route from entrance {gate!r} to a free slot")
     leaving = [a for a in traffic if a.dwell is not None]
     if leaving and not lg.exits:
@@ -245,7 +245,7 @@ def run(scenario: Scenario, settings: RunSettings | None = None, *, lot_graph=No
     lg = lot_graph or prepare(scenario)
     seed = scenario.seed if settings.seed is None else settings.seed
     traffic = arrivals(scenario.traffic, seed)
-    check_traffic(scenario, lg, traffic)
+    check_traffic(lg, traffic)
     sim = _Simulation(scenario, lg, settings, traffic, progress)
     clock = time.perf_counter()
     sim.go()
@@ -294,15 +294,17 @@ class _Simulation:
             if v.done:
                 continue
             if t > self.end_time:
+                # a parked car that has not left yet is still parked (no reason: it is fine)
                 if v.status == "parked":
-                    self.finish(v, "parked", "still parked when the run ended")
+                    self.finish(v, "parked")
                 else:
                     self.finish(v, "waiting", f"the run ended at {self.end_time:.0f} s first")
                 continue
             getattr(self, f"on_{kind}")(i, v, t)
         for v in self.vehicles:
             if not v.done:
-                self.finish(v, v.status, v.reason or "the run ended")
+                unsettled = v.status in ("waiting", "rejected")
+                self.finish(v, v.status, (v.reason or "the run ended") if unsettled else "")
 
     def backoff(self, v: VehicleRun) -> float:
         """Wait before the next try after a failed search: ``retry``, doubling with each
