@@ -493,9 +493,14 @@ def paint_lot(
     lot,
     *,
     parked_vehicle=None,
+    parked_bodies: np.ndarray | None = None,
     labels: bool = True,
 ) -> None:
-    """Draw the static lot (everything but the graph and the margins) onto ``img``."""
+    """Draw the static lot (everything but the graph and the margins) onto ``img``.
+
+    Cars in the slots taken at start are ``parked_vehicle`` centred in them, or the
+    bodies ``parked_bodies`` (N, 4, 2) [m] when given (as a result file lists them).
+    """
     draw = ImageDraw.Draw(img)
     fill_geometry(img, canvas, lot.boundary, GROUND)
     for aisle in lot.aisles.values():
@@ -519,8 +524,10 @@ def paint_lot(
     _paint_lanes(img, canvas, lot)
     _paint_slot_lines(img, canvas, lot)
     _paint_bumps(img, canvas, lot)
-    taken = [s for s in lot.slots if s.id in lot.occupied]
-    paint_footprints(img, canvas, centered_footprints(taken, parked_vehicle))
+    if parked_bodies is None:
+        taken = [s for s in lot.slots if s.id in lot.occupied]
+        parked_bodies = centered_footprints(taken, parked_vehicle)
+    paint_footprints(img, canvas, parked_bodies)
     fill_geometry(img, canvas, lot.boundary, (0, 0, 0, 0), outline=BOUNDARY, width=3)
     if labels:
         paint_labels(img, canvas, lot)
@@ -873,7 +880,7 @@ class _Legend:
             cy = y + _PAD + _ROW * (1 + i % rows)
             e.swatch(img, (cx, cy + 2, cx + _SW, cy + _ROW - 3))
             draw_text(d, (cx + _SW + 6, cy + _ROW / 2), e.label, self.font, anchor="lm")
-        _paint_scale_bar(img, canvas, x + _PAD, y + h - _PAD - 6, w - 2 * _PAD)
+        paint_scale_bar(img, canvas, x + _PAD, y + h - _PAD - 6, w - 2 * _PAD)
 
 
 def _nice_length(max_m: float) -> float:
@@ -887,7 +894,7 @@ def _nice_length(max_m: float) -> float:
     return best
 
 
-def _paint_scale_bar(img: Image.Image, canvas: LotCanvas, x: float, y: float, width: float) -> None:
+def paint_scale_bar(img: Image.Image, canvas: LotCanvas, x: float, y: float, width: float) -> None:
     """A black/white bar of a round length with its value, bottom-left at (x, y)."""
     d = ImageDraw.Draw(img)
     f = font(12)

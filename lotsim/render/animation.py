@@ -1,0 +1,484 @@
+"""Animated GIF of a run, drawn from its ``result.json`` alone (``lotsim render``).
+
+The lot is drawn once (the picture of ``lotsim show``) and reduced to a palette;
+each frame is a copy of it on which Pillow draws, with palette indices, every
+vehicle in the lot as its real footprint at its interpolated pose: wheels (front
+wheels turned by the steer angle), a windscreen, a white bar across the rear
+while reversing, a faint trail, and its target slot outlined in its colour until
+it stands there. A header holds the clock and the counters, a footer the scale.
+
+Frames go to imageio v3 in chunks of :data:`CHUNK` ("P" frames with one fixed
+palette: no quantising per frame), each chunk as a complete GIF in memory; the
+chunks' frame blocks are spliced into one file, so memory does not grow with the
+length of the run. The file is written under a temporary name and renamed.
+"""
+
+from __future__ import annotations
+
+import colorsys
+import contextlib
+import math
+import os
+import tempfile
+from collections.abc import Callable
+from dataclasses import dataclass
+from pathlib import Path
+
+import imageio.v3 as iio
+import numpy as np
+from PIL import Image, ImageDraw
+
+from lotsim.render.lot_image import (
+    MARGIN,
+    LotCanvas,
+    font,
+    lot_bounds,
+    paint_lot,
+    paint_portals,
+    paint_scale_bar,
+)
+from lotsim.replay import COUNTERS, PHASES, Replay, assign_colours
+
+CHUNK = 48
+"""Frames encoded at a time: bounds memory to about ``CHUNK`` × width × height × 3 bytes."""
+MAX_FPS = 50
+"""GIF delays are whole centiseconds and players slow down delays under 2 cs."""
+VEHICLE_COLOURS = 24
+HEADER = 26
+"""Pixel height of the clock and counters band."""
+FOOTER = 22
+"""Pixel height of the band holding the scale bar."""
+BACKGROUND_COLOURS = 40
+"""Palette entries for the lot picture; the rest hold vehicles and text."""
+WHEEL = (0.62, 0.22)
+"""Tyre length and width drawn [m]."""
+
+HEADER_BG = (250, 250, 248)
+INK = (25, 25, 25)
+GLASS = (40, 48, 60)
+WHITE = (255, 255, 255)
+TYRE = (15, 15, 15)
+
+
+def vehicle_palette(n: int = VEHICLE_COLOURS) -> list[tuple[int, int, int]]:
+    """``n`` saturated colours, consecutive ones far apart in hue and brightness, none
+    close to the asphalt grey or the blue of cars parked at start (hue ~0.59)."""
+    out: list[tuple[int, int, int]] = []
+    k = 0
+    while len(out) < n:
+        hue = (k * 0.618034 + 0.02) % 1.0
+        k += 1
+        if 0.53 < hue < 0.66:
+            continue
+        m = len(out)
+        sat = (1.0, 0.8, 0.9)[m % 3]
+        val = (1.0, 0.85, 0.95, 0.75)[(m // 3) % 4]
+        r, g, b = colorsys.hsv_to_rgb(hue, sat, val)
+        out.append((int(r * 255), int(g * 255), int(b * 255)))
+    return out
+
+
+def pale(c: tuple[int, int, int], amount: float = 0.55) -> tuple[int, int, int]:
+    """``c`` mixed with white."""
+    return tuple(int(round(v + (255 - v) * amount)) for v in c)  # type: ignore[return-value]
+
+
+@dataclass(frozen=True, slots=True)
+class GifSettings:
+    """How to turn run time into frames.
+
+    Attributes
+    ----------
+    fps : float
+        Frames per second of the GIF (1 to :data:`MAX_FPS`).
+    speed : float
+        Seconds of run time per second of GIF.
+    size : (width, height)
+        Pixels.
+    start, end : float or None
+        Run time shown [s]; default from the first arrival to the last event.
+    max_frames : int
+        At most this many frames: a longer span is played faster (``FramePlan.speed``).
+    trail : float
+        Seconds of path drawn behind a moving vehicle.
+    """
+
+    fps: float = 20.0
+    speed: float = 4.0
+    size: tuple[int, int] = (800, 600)
+    start: float | None = None
+    end: float | None = None
+    max_frames: int = 3000
+    trail: float = 8.0
+
+    def problems(self) -> list[str]:
+        """What is wrong with these settings (empty when they are usable)."""
+        out = []
+        if not (math.isfinite(self.fps) and 1 <= self.fps <= MAX_FPS):
+            out.append(f"fps: expected 1 to {MAX_FPS}, found {self.fps:g}")
+        if not (math.isfinite(self.speed) and 0.01 <= self.speed <= 10_000):
+            out.append(f"speed: expected 0.01 to 10000, found {self.speed:g}")
+        w, h = self.size
+        if not (160 <= w <= 4000 and 120 <= h <= 4000):
+            out.append(f"size: expected 160x120 to 4000x4000 pixels, found {w}x{h}")
+        for name in ("start", "end"):
+            v = getattr(self, name)
+            if v is not None and not math.isfinite(v):
+                out.append(f"{name}: expected a time in seconds, found {v}")
+        if (self.start is not None and self.end is not None
+                and math.isfinite(self.start) and math.isfinite(self.end)
+                and self.end <= self.start):
+            out.append(f"the end ({self.end:g} s) must come after the start ({self.start:g} s)")
+        if not 1 <= self.max_frames <= 1_000_000:
+            out.append(f"max_frames: expected 1 to 1000000, found {self.max_frames}")
+        if not (math.isfinite(self.trail) and self.trail >= 0):
+            out.append(f"trail: expected seconds ≥ 0, found {self.trail:g}")
+        return out
+
+
+@dataclass(frozen=True)
+class FramePlan:
+    """The run times drawn and how long each frame shows."""
+
+    times: np.ndarray
+    """Run time of each frame [s]."""
+    durations: list[int]
+    """Display time of each frame [ms], whole centiseconds adding up to ``len / fps``."""
+    speed: float
+    """Run seconds per GIF second actually used (raised when ``max_frames`` bites)."""
+    start: float
+    end: float
+
+
+def plan_frames(replay: Replay, settings: GifSettings) -> FramePlan:
+    """Frame times from ``settings.start`` (default the first arrival) up to ``end``
+    (default the last event), ``speed / fps`` run seconds apart."""
+    start = replay.start if settings.start is None else settings.start
+    end = replay.end if settings.end is None else settings.end
+    end = max(end, start + 1e-6)
+    speed = settings.speed
+    n = max(1, math.ceil((end - start) * settings.fps / speed - 1e-9))
+    if n > settings.max_frames:
+        n = settings.max_frames
+        speed = (end - start) * settings.fps / n
+    times = start + np.arange(n) * (speed / settings.fps)
+    cs = np.round(np.arange(n + 1) * (100.0 / settings.fps)).astype(int)
+    return FramePlan(times, (10 * np.diff(cs)).tolist(), speed, start, end)
+
+
+def _clock(t: float) -> str:
+    sign = "-" if t < 0 else ""
+    t = abs(t)
+    h, rest = divmod(t, 3600)
+    m, s = divmod(rest, 60)
+    return f"{sign}{int(h)}:{int(m):02d}:{s:04.1f}" if h >= 1 else f"{sign}{int(m):02d}:{s:04.1f}"
+
+
+class GifRenderer:
+    """Draws frames of one result.
+
+    Parameters
+    ----------
+    doc : dict
+        The result document (``result.json``), holding ``lot.drawing``.
+    settings : GifSettings
+    """
+
+    def __init__(self, doc: dict, settings: GifSettings):
+        from lotsim.io.lot_json import lot_from_json
+
+        self.settings = settings
+        self.replay = Replay(doc)
+        self.lot = lot_from_json(doc["lot"]["drawing"])
+        w, h = settings.size
+        bounds = lot_bounds(self.lot)
+        self.canvas = LotCanvas(bounds, (w, h),
+                                frame=(MARGIN, HEADER + MARGIN // 2, w - MARGIN, h - FOOTER))
+        self._build_palette(doc)
+        tracks = self.replay.tracks
+        self.colour = assign_colours(tracks, VEHICLE_COLOURS, self.replay.end)
+        self.slot_polygon = {s.id: self.canvas.to_px(np.asarray(s.polygon, dtype=float))
+                             for s in self.lot.slots}
+        self._body = np.array([[[-tr.rear, -tr.width / 2], [tr.front, -tr.width / 2],
+                                [tr.front, tr.width / 2], [-tr.rear, tr.width / 2]]
+                               for tr in tracks]).reshape(-1, 4, 2)
+        self._font = font(13)
+        self._clock_font = font(15)
+        self._stamps: dict = {}
+
+    # -- the fixed picture ---------------------------------------------------------------------
+    def _build_palette(self, doc: dict) -> None:
+        w, h = self.settings.size
+        canvas = self.canvas
+        img = canvas.new_image()
+        parked = np.asarray(doc["lot"]["parked"], dtype=float).reshape(-1, 4, 2)
+        paint_lot(img, canvas, self.lot, parked_bodies=parked, labels=True)
+        paint_portals(img, canvas, self.lot, labels=True)
+        d = ImageDraw.Draw(img)
+        d.rectangle((0, 0, w, HEADER - 1), fill=HEADER_BG)
+        d.line((0, HEADER - 1, w, HEADER - 1), fill=(200, 200, 200))
+        paint_scale_bar(img, canvas, MARGIN, h - 6, min(260, w // 3))
+        bg = img.quantize(colors=BACKGROUND_COLOURS, method=Image.Quantize.MEDIANCUT,
+                          dither=Image.Dither.NONE)
+        n_bg = len(bg.getpalette()) // 3  # noqa: ANN001 - Pillow may return fewer colours
+        fixed = [INK, GLASS, WHITE, TYRE, HEADER_BG]
+        cars = vehicle_palette()
+        colours = [tuple(bg.getpalette()[3 * k: 3 * k + 3]) for k in range(n_bg)]
+        base = len(colours)
+        self.ink, self.glass, self.white, self.tyre, self.header_bg = range(base, base + 5)
+        self.car_index = np.arange(base + 5, base + 5 + len(cars))
+        self.pale_index = self.car_index + len(cars)
+        colours += fixed + cars + [pale(c) for c in cars]
+        self.rgb = [tuple(int(v) for v in c) for c in colours]
+        self.palette = bytes(np.asarray(self.rgb, dtype=np.uint8).ravel())
+        bg.putpalette(self.palette)
+        self.background = bg
+
+    def vehicle_rgb(self, j: int, *, parked: bool = False) -> tuple[int, int, int]:
+        """The colour vehicle ``j`` is drawn in while it moves (or pale, standing parked)."""
+        idx = (self.pale_index if parked else self.car_index)[self.colour[j]]
+        return self.rgb[int(idx)]
+
+    # -- frames --------------------------------------------------------------------------------
+    def frame(self, t: float, state: dict[str, np.ndarray] | None = None,
+              column: int = 0) -> Image.Image:
+        """The frame at run time ``t`` (``state``: :meth:`Replay.states` rows, if at hand)."""
+        if state is None:
+            state = self.replay.states(np.array([t]))
+        img = self.background.copy()
+        d = ImageDraw.Draw(img)
+        canvas = self.canvas
+        vis = np.flatnonzero(state["visible"][column])
+        phase = state["phase"][column, vis]
+        parked_phase = PHASES.index("parked")
+        still = phase == parked_phase
+        moving = vis[~still]
+        # trails and target slots under every car
+        lw = 2 if canvas.px(0.25) >= 1.5 else 1
+        trail = self.settings.trail
+        for j in moving:
+            c_pale = int(self.pale_index[self.colour[j]])
+            if trail > 0:
+                pts = self.replay.trail(int(j), t - trail, t)
+                here = (state["x"][column, j], state["y"][column, j])
+                pts = np.vstack([pts, [here]])
+                if len(pts) >= 2:
+                    d.line(np.rint(canvas.to_px(pts)).astype(int).ravel().tolist(),
+                           fill=c_pale, width=lw)
+            tr = self.replay.tracks[j]
+            if tr.slot is not None and t < tr.parked_from and tr.slot in self.slot_polygon:
+                ring = self.slot_polygon[tr.slot]
+                d.polygon(np.rint(ring).astype(int).ravel().tolist(),
+                          outline=int(self.car_index[self.colour[j]]), width=2)
+        # bodies: parked ones first, moving ones on top
+        order = np.concatenate([vis[still], moving])
+        if len(order):
+            self._paint_cars(d, state, column, order, n_still=int(still.sum()))
+        self._paint_header(img, t)
+        return img
+
+    def _paint_cars(self, d: ImageDraw.ImageDraw, state: dict, column: int,
+                    order: np.ndarray, n_still: int) -> None:
+        canvas = self.canvas
+        x, y, th = (state[k][column, order] for k in ("x", "y", "theta"))
+        steer, v = state["steer"][column, order], state["v"][column, order]
+        c, s = np.cos(th)[:, None], np.sin(th)[:, None]
+        body = self._body[order]
+
+        def world(local: np.ndarray) -> np.ndarray:  # (V, K, 2) car frame → pixels
+            wx = x[:, None] + c * local[..., 0] - s * local[..., 1]
+            wy = y[:, None] + s * local[..., 0] + c * local[..., 1]
+            return np.rint(canvas.to_px(np.stack([wx, wy], axis=-1))).astype(int)
+
+        px_body = world(body)
+        length_px = canvas.px(float(np.min(body[:, 1, 0] - body[:, 0, 0])))
+        rear, front = body[:, 0, 0], body[:, 1, 0]
+        half = body[:, 2, 1]
+        span = front - rear
+        glass = None
+        if length_px >= 12:
+            t0, t1 = rear + 0.60 * span, rear + 0.78 * span
+            glass = world(np.stack([np.stack([t0, -0.76 * half], -1),
+                                    np.stack([t1, -0.76 * half], -1),
+                                    np.stack([t1, 0.76 * half], -1),
+                                    np.stack([t0, 0.76 * half], -1)], axis=1))
+        wheels = None
+        if canvas.px(WHEEL[0]) >= 2.5:
+            wl, ww = WHEEL
+            wheelbase = np.array([self.replay.tracks[j].wheelbase for j in order])
+            inset = half - ww / 2 - 0.05
+            tyre = np.array([[-wl / 2, -ww / 2], [wl / 2, -ww / 2], [wl / 2, ww / 2],
+                             [-wl / 2, ww / 2]])
+            parts = []
+            for ax, side, turned in ((0.0, -1, False), (0.0, 1, False),
+                                     (1.0, -1, True), (1.0, 1, True)):
+                ang = steer if turned else np.zeros_like(steer)
+                ca, sa = np.cos(ang)[:, None], np.sin(ang)[:, None]
+                lx = ax * wheelbase[:, None] + ca * tyre[:, 0] - sa * tyre[:, 1]
+                ly = side * inset[:, None] + sa * tyre[:, 0] + ca * tyre[:, 1]
+                parts.append(world(np.stack([lx, ly], axis=-1)))
+            wheels = np.stack(parts, axis=1)  # (V, 4, 4, 2)
+        bar = max(2, int(round(canvas.px(0.3))))
+        for k, j in enumerate(order):
+            parked = k < n_still
+            fill = int((self.pale_index if parked else self.car_index)[self.colour[j]])
+            d.polygon(px_body[k].ravel().tolist(), fill=fill, outline=self.ink, width=1)
+            if wheels is not None:
+                for w in wheels[k]:
+                    d.polygon(w.ravel().tolist(), fill=self.tyre)
+            if glass is not None:
+                d.polygon(glass[k].ravel().tolist(), fill=self.glass)
+            if v[k] < -1e-3:  # reversing: a white bar across the rear
+                r0, r1 = px_body[k, 0], px_body[k, 3]
+                d.line([int(r0[0]), int(r0[1]), int(r1[0]), int(r1[1])], fill=self.white,
+                       width=bar)
+
+    def _paint_header(self, img: Image.Image, t: float) -> None:
+        counts = self.replay.counts(t)
+        shown = [k for k in COUNTERS if k != "rejected" or counts[k]]
+        text = "   ".join(f"{k} {counts[k]}" for k in shown)
+        x = MARGIN
+        for ch in _clock(t):  # the clock changes every frame: stamped glyph by glyph
+            x += self._stamp(img, (x, HEADER // 2), ch, self._clock_font)
+        self._stamp(img, (MARGIN + 90, HEADER // 2), text, self._font)
+
+    def _stamp(self, img: Image.Image, xy: tuple[int, int], text: str, f) -> int:  # noqa: ANN001
+        """Paste ``text`` in ink, vertically centred on ``xy``; returns its advance [px].
+
+        Rendered once per string into a two-level mask (palette frames take no
+        anti-aliasing) and cached."""
+        key = (text, id(f))
+        hit = self._stamps.get(key)
+        if hit is None:
+            if len(self._stamps) > 512:
+                self._stamps.clear()
+            left, top, right, bottom = f.getbbox(text)
+            mask = Image.new("L", (max(1, right - left + 2), max(1, bottom - top + 2)), 0)
+            ImageDraw.Draw(mask).text((-left + 1, -top + 1), text, fill=255, font=f)
+            mask = mask.point(lambda v: 255 if v >= 110 else 0)
+            digit = f.getbbox("0")  # one centre line per font keeps glyphs on a baseline
+            hit = (mask, left - 1, top - 1, (digit[1] + digit[3]) / 2,
+                   int(round(f.getlength(text))))
+            self._stamps[key] = hit
+        mask, dx, dy, mid, advance = hit
+        y = int(round(xy[1] - mid)) + dy
+        img.paste(self.ink, (int(xy[0]) + dx, y), mask)
+        return advance
+
+    def frames(self, times: np.ndarray) -> np.ndarray:
+        """Frames at ``times`` as palette indices, shaped (len(times), height, width)."""
+        state = self.replay.states(times)
+        w, h = self.settings.size
+        out = np.empty((len(times), h, w), dtype=np.uint8)
+        for k, t in enumerate(times):
+            out[k] = np.asarray(self.frame(float(t), state, k))
+        return out
+
+
+# -- writing -----------------------------------------------------------------------------------
+def _skip_sub_blocks(data: bytes, pos: int) -> int:
+    while True:
+        n = data[pos]
+        pos += 1
+        if n == 0:
+            return pos
+        pos += n
+
+
+def split_gif(data: bytes) -> tuple[bytes, bytes, bytes]:
+    """Cut a GIF into (screen: logical screen descriptor and global colour table,
+    preamble: the extensions before the first frame, frames: every frame's blocks,
+    without the trailer)."""
+    if data[:6] not in (b"GIF87a", b"GIF89a"):
+        raise ValueError("not a GIF")
+    flags = data[10]
+    pos = 13 + (3 * 2 ** ((flags & 7) + 1) if flags & 0x80 else 0)
+    screen_end = pos
+    first = None
+    while True:
+        tag = data[pos]
+        if tag == 0x3B:  # trailer
+            break
+        if tag == 0x21:  # extension: label, then sub-blocks
+            label = data[pos + 1]
+            if first is None and label == 0xF9:
+                first = pos
+            pos = _skip_sub_blocks(data, pos + 2)
+        elif tag == 0x2C:  # image: descriptor, local table, LZW code size, sub-blocks
+            if first is None:
+                first = pos
+            fl = data[pos + 9]
+            pos += 10 + (3 * 2 ** ((fl & 7) + 1) if fl & 0x80 else 0)
+            pos = _skip_sub_blocks(data, pos + 1)
+        else:
+            raise ValueError(f"unexpected GIF block 0x{tag:02x} at byte {pos}")
+    if first is None:
+        first = pos
+    return data[6:screen_end], data[screen_end:first], data[first:pos]
+
+
+@dataclass(frozen=True)
+class GifInfo:
+    """What :func:`write_gif` wrote."""
+
+    path: Path
+    frames: int
+    """Frames drawn (identical consecutive ones are merged in the file)."""
+    duration: float
+    """Total display time [s]."""
+    speed: float
+    start: float
+    end: float
+    bytes: int
+
+
+def write_gif(
+    doc: dict,
+    path: str | os.PathLike,
+    settings: GifSettings | None = None,
+    *,
+    progress: Callable[[int, int], None] | None = None,
+    chunk: int = CHUNK,
+) -> GifInfo:
+    """Render the run in ``doc`` (a result document) to the animated GIF ``path``.
+
+    The GIF loops for ever. Nothing is left at ``path`` or beside it if this fails
+    or is interrupted. ``progress(done, total)`` is called after each chunk of frames.
+    """
+    settings = settings or GifSettings()
+    bad = settings.problems()
+    if bad:
+        raise ValueError("; ".join(bad))
+    renderer = GifRenderer(doc, settings)
+    plan = plan_frames(renderer.replay, settings)
+    target = Path(path)
+    fd, tmp = tempfile.mkstemp(prefix=f".{target.name}.", suffix=".tmp",
+                               dir=target.parent if str(target.parent) else ".")
+    n = len(plan.times)
+    try:
+        with os.fdopen(fd, "wb") as fh:
+            screen = None
+            for a in range(0, n, chunk):
+                b = min(n, a + chunk)
+                frames = renderer.frames(plan.times[a:b])
+                data = iio.imwrite("<bytes>", frames, extension=".gif", mode="P",
+                                   palette=renderer.palette, loop=0,
+                                   duration=plan.durations[a:b])
+                scr, pre, body = split_gif(data)
+                if screen is None:
+                    screen = scr
+                    fh.write(data[:6] + scr + pre)
+                elif scr != screen:
+                    raise RuntimeError("GIF chunks came out with different colour tables")
+                fh.write(body)
+                if progress is not None:
+                    progress(b, n)
+            fh.write(b";")
+        os.chmod(tmp, 0o644)
+        os.replace(tmp, target)
+    except BaseException:
+        with contextlib.suppress(FileNotFoundError):
+            os.unlink(tmp)
+        raise
+    return GifInfo(target, n, sum(plan.durations) / 1000.0, plan.speed, plan.start, plan.end,
+                   target.stat().st_size)

@@ -1,0 +1,284 @@
+"""Replay a ``result.json``: where each vehicle is, and what it is doing, at any time.
+
+Everything here is read from the result document alone (``docs/result.md``), so a
+GIF or a timeline can be drawn for any result, without the scenario or the planner.
+A vehicle's life is cut into phases:
+
+``outside``
+    arrived, queued at its entrance (no samples yet); a rejected vehicle stays
+    outside until it is turned away;
+``driving``
+    in the lot on its way in: from its first sample until it stands in its slot
+    (stops on the way included);
+``parked``
+    standing in its slot;
+``leaving``
+    from the end of that stand until it vanishes at an exit.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from functools import cached_property
+
+import numpy as np
+
+PHASES = ("outside", "driving", "parked", "leaving")
+"""Phases of a vehicle's life, in order."""
+COUNTERS = ("arrived", "waiting", "driving", "parked", "departed", "rejected")
+"""What :meth:`Replay.counts` counts at a time."""
+
+
+class ReplayError(ValueError):
+    """A result document that cannot be replayed (a message naming the key)."""
+
+
+@dataclass(frozen=True, eq=False)
+class Track:
+    """One vehicle of a result: its body, samples and phase times.
+
+    Times are seconds of run time; ``inf`` means "never" (or "until the end").
+    """
+
+    id: str
+    type_name: str
+    width: float
+    front: float
+    rear: float
+    wheelbase: float
+    arrival: float
+    status: str
+    slot: str | None
+    t: np.ndarray
+    x: np.ndarray
+    y: np.ndarray
+    theta: np.ndarray
+    v: np.ndarray
+    steer: np.ndarray
+    gear: np.ndarray
+    entered: float
+    """First sample; ``inf`` if it never entered."""
+    parked_from: float
+    """Start of the stand in its slot; ``inf`` if it never parked."""
+    parked_until: float
+    """End of that stand (start of leaving); ``inf`` if it stays."""
+    gone: float
+    """When it vanished at an exit (last sample of a departed vehicle); ``inf`` otherwise."""
+    rejected_at: float
+    """When it was turned away; ``inf`` if it was not."""
+
+    @property
+    def length(self) -> float:
+        return self.front + self.rear
+
+    def phases(self, end: float) -> list[tuple[str, float, float]]:
+        """``(phase, t0, t1)`` intervals of this vehicle's life up to ``end`` (non-empty ones)."""
+        leave_from = self.parked_until if math.isfinite(self.parked_from) else self.gone
+        cuts = [
+            ("outside", self.arrival, min(self.entered, self.rejected_at)),
+            ("driving", self.entered, min(self.parked_from, self.gone)),
+            ("parked", self.parked_from, self.parked_until),
+            ("leaving", leave_from, self.gone),
+        ]
+        out = []
+        for name, t0, t1 in cuts:
+            t0, t1 = t0, min(t1, end)
+            if math.isfinite(t0) and t1 > t0:
+                out.append((name, float(t0), float(t1)))
+        return out
+
+    def active(self, end: float) -> list[tuple[float, float]]:
+        """Intervals in which the vehicle moves about the lot (driving or leaving)."""
+        return [(t0, t1) for name, t0, t1 in self.phases(end) if name in ("driving", "leaving")]
+
+
+def _inside(point: tuple[float, float], poly: np.ndarray) -> bool:
+    """``point`` inside the convex polygon ``poly`` (either orientation)."""
+    p = np.asarray(point, dtype=float)
+    a = poly
+    b = np.roll(poly, -1, axis=0)
+    cross = (b[:, 0] - a[:, 0]) * (p[1] - a[:, 1]) - (b[:, 1] - a[:, 1]) * (p[0] - a[:, 0])
+    return bool(np.all(cross >= -1e-9) or np.all(cross <= 1e-9))
+
+
+def _stand_in_slot(t, x, y, th, v, front, rear, poly) -> tuple[float, float] | None:
+    """The longest stretch between two samples in which the vehicle stands still with its
+    body centre in the slot polygon ``poly``; None if there is none."""
+    if poly is None or len(t) < 2:
+        return None
+    still = (v[:-1] == 0) & (v[1:] == 0) & (x[:-1] == x[1:]) & (y[:-1] == y[1:])
+    best = None
+    shift = (front - rear) / 2
+    for i in np.flatnonzero(still):
+        c = (x[i] + shift * math.cos(th[i]), y[i] + shift * math.sin(th[i]))
+        if _inside(c, poly) and (best is None or t[i + 1] - t[i] > best[1] - best[0]):
+            best = (float(t[i]), float(t[i + 1]))
+    return best
+
+
+class Replay:
+    """The vehicles of a result document, ready to be asked where they are.
+
+    Parameters
+    ----------
+    doc : dict
+        A ``result.json`` document (already read with :func:`json.load`).
+    """
+
+    def __init__(self, doc: dict):
+        try:
+            lot = doc["lot"]
+            slots = {s["id"]: np.asarray(s["polygon"], dtype=float) for s in lot["slots"]}
+            patience = doc.get("settings", {}).get("patience")
+            self.tracks = [self._track(v, slots, patience) for v in doc["vehicles"]]
+        except (KeyError, TypeError, ValueError, IndexError) as exc:
+            if isinstance(exc, ReplayError):
+                raise
+            raise ReplayError(f"not a lotsim result: {type(exc).__name__}: {exc}") from None
+        self.doc = doc
+
+    @staticmethod
+    def _track(v: dict, slots: dict, patience) -> Track:  # noqa: ANN001
+        s = v["samples"]
+        cols = {k: np.asarray(s[k], dtype=float) for k in ("t", "x", "y", "theta", "v", "steer")}
+        gear = np.asarray(s["gear"], dtype=np.int8)
+        n = len(cols["t"])
+        if any(len(c) != n for c in cols.values()) or len(gear) != n:
+            raise ReplayError(f"vehicle {v['id']!r}: sample arrays of different lengths")
+        typ = v["type"]
+        t, status = cols["t"], v["status"]
+        inf = math.inf
+        entered = float(t[0]) if n else inf
+        parked_from = parked_until = gone = rejected_at = inf
+        if status == "parked" and n:
+            parked_from = float(t[-1])
+        elif status == "departed" and n:
+            gone = float(t[-1])
+            stand = _stand_in_slot(t, cols["x"], cols["y"], cols["theta"], cols["v"],
+                                   float(typ["front"]), float(typ["rear"]),
+                                   slots.get(v["slot"]))
+            if stand is not None:
+                parked_from, parked_until = stand
+        elif status == "rejected":
+            rejected_at = float(v["arrival"]) + (float(patience) if patience is not None
+                                                 else 0.0)
+        return Track(
+            id=str(v["id"]), type_name=str(typ["name"]), width=float(typ["width"]),
+            front=float(typ["front"]), rear=float(typ["rear"]),
+            wheelbase=float(typ["wheelbase"]), arrival=float(v["arrival"]), status=status,
+            slot=v["slot"], t=t, x=cols["x"], y=cols["y"], theta=cols["theta"], v=cols["v"],
+            steer=cols["steer"], gear=gear, entered=entered, parked_from=parked_from,
+            parked_until=parked_until, gone=gone, rejected_at=rejected_at,
+        )
+
+    # -- time span -----------------------------------------------------------------------------
+    @cached_property
+    def start(self) -> float:
+        """The first arrival [s] (0 for a result without vehicles)."""
+        return min((tr.arrival for tr in self.tracks), default=0.0)
+
+    @cached_property
+    def end(self) -> float:
+        """The last thing that happens: the last sample, arrival or rejection [s]."""
+        ends = [self.start]
+        for tr in self.tracks:
+            ends.append(tr.arrival)
+            if len(tr.t):
+                ends.append(float(tr.t[-1]))
+            if math.isfinite(tr.rejected_at):
+                ends.append(tr.rejected_at)
+        return max(ends)
+
+    # -- where is everybody --------------------------------------------------------------------
+    def states(self, times: np.ndarray) -> dict[str, np.ndarray]:
+        """Every vehicle's state at each of ``times``; arrays shaped (len(times), vehicles).
+
+        Keys: ``x``, ``y``, ``theta`` (rear-axle pose, interpolated linearly, heading the
+        short way round), ``steer``, ``v``, ``visible`` (in the lot: from its first sample
+        to its last, or for ever after it when it did not leave) and ``phase`` (index into
+        :data:`PHASES`, -1 before arrival or after it is gone or turned away).
+        """
+        times = np.asarray(times, dtype=float)
+        m, n = len(times), len(self.tracks)
+        out = {k: np.zeros((m, n)) for k in ("x", "y", "theta", "steer", "v")}
+        out["visible"] = np.zeros((m, n), dtype=bool)
+        out["phase"] = np.full((m, n), -1, dtype=np.int8)
+        for j, tr in enumerate(self.tracks):
+            for name, t0, t1 in tr.phases(math.inf):
+                out["phase"][(times >= t0) & (times < t1), j] = PHASES.index(name)
+            if not len(tr.t):
+                continue
+            t = tr.t
+            last = t[-1] if tr.status == "departed" else math.inf
+            vis = (times >= t[0]) & (times <= last)
+            out["visible"][:, j] = vis
+            i = np.clip(np.searchsorted(t, times, side="right") - 1, 0, len(t) - 1)
+            i1 = np.minimum(i + 1, len(t) - 1)
+            span = t[i1] - t[i]
+            f = np.where(span > 0, np.clip((times - t[i]) / np.where(span > 0, span, 1), 0, 1),
+                         0.0)
+            for k in ("x", "y", "steer", "v"):
+                a = getattr(tr, k)
+                out[k][:, j] = a[i] + f * (a[i1] - a[i])
+            dth = (tr.theta[i1] - tr.theta[i] + math.pi) % (2 * math.pi) - math.pi
+            out["theta"][:, j] = tr.theta[i] + f * dth
+        return out
+
+    def counts(self, t: float) -> dict[str, int]:
+        """How many vehicles, at time ``t``, have arrived, wait outside, drive (in or out),
+        stand parked, have departed and have been turned away (:data:`COUNTERS`)."""
+        c = dict.fromkeys(COUNTERS, 0)
+        for tr in self.tracks:
+            if tr.arrival > t:
+                continue
+            c["arrived"] += 1
+            if tr.rejected_at <= t:
+                c["rejected"] += 1
+            elif tr.gone <= t:
+                c["departed"] += 1
+            elif tr.entered > t:
+                c["waiting"] += 1
+            elif tr.parked_from <= t < tr.parked_until:
+                c["parked"] += 1
+            else:
+                c["driving"] += 1
+        return c
+
+    def trail(self, j: int, t0: float, t1: float) -> np.ndarray:
+        """Rear-axle points (N, 2) of vehicle ``j`` between times ``t0`` and ``t1``."""
+        tr = self.tracks[j]
+        if not len(tr.t):
+            return np.zeros((0, 2))
+        a = int(np.searchsorted(tr.t, t0, side="left"))
+        b = int(np.searchsorted(tr.t, t1, side="right"))
+        return np.column_stack([tr.x[a:b], tr.y[a:b]])
+
+
+def assign_colours(tracks: list[Track], n_colours: int, end: float) -> list[int]:
+    """One colour index per vehicle, so that vehicles moving about the lot at the same time
+    get different colours whenever there are enough of them.
+
+    Vehicles are taken by the time they first move; each gets, of the indices that no
+    vehicle moving during any of its moves holds, the one used longest ago (never-used ones
+    first, lowest first), so colours repeat as seldom as they can; when every index is held,
+    the one held by the fewest such vehicles (greedy colouring of the overlap graph).
+    """
+    spans = [tr.active(end) for tr in tracks]
+    owner = np.array([j for j, s in enumerate(spans) for _ in s], dtype=int)
+    a = np.array([t0 for s in spans for t0, _ in s], dtype=float)
+    b = np.array([t1 for s in spans for _, t1 in s], dtype=float)
+    first = [s[0][0] if s else math.inf for s in spans]
+    colour = np.full(len(tracks), -1, dtype=int)
+    last_used = np.arange(n_colours, dtype=float) - n_colours  # never used: by index
+    for step, j in enumerate(sorted(range(len(tracks)), key=lambda j: (first[j], j))):
+        near = np.zeros(len(owner), dtype=bool)
+        for t0, t1 in spans[j]:
+            near |= (a < t1) & (t0 < b)
+        others = np.unique(owner[near & (colour[owner] >= 0)])
+        held = np.bincount(colour[others], minlength=n_colours)
+        # fewest holders first (none, when there are free colours), then used longest ago
+        c = int(np.lexsort((last_used, held))[0])
+        colour[j] = c
+        last_used[c] = step
+    return colour.tolist()
