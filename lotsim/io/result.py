@@ -11,6 +11,7 @@ import numpy as np
 import shapely
 
 from lotsim import __version__
+from lotsim.io.lot_json import lot_to_json
 from lotsim.sim import RunResult, samples
 
 FORMAT = "lotsim-result"
@@ -47,6 +48,7 @@ def result_dict(rr: RunResult) -> dict:
                         for z in lot.zones],
         "entrances": [portal(k, n) for k, n in lg.entrances.items()],
         "exits": [portal(k, n) for k, n in lg.exits.items()],
+        "drawing": lot_to_json(lot),
     }
     vehicles = []
     for v in rr.vehicles:
@@ -98,6 +100,7 @@ def write_json(obj: dict, path: str | Path) -> None:
         with os.fdopen(fd, "w", encoding="utf-8") as fh:
             json.dump(obj, fh, separators=(",", ":"), allow_nan=False)
             fh.write("\n")
+        os.chmod(tmp, 0o644)  # mkstemp makes it private; a result is not
         os.replace(tmp, path)
     except BaseException:
         Path(tmp).unlink(missing_ok=True)
