@@ -9,6 +9,7 @@ at the locations stored in the specs. The format is documented in
 from __future__ import annotations
 
 import math
+import re
 from pathlib import Path
 
 from lotsim.errors import ScenarioError
@@ -26,7 +27,7 @@ from lotsim.lot.spec import (
     SpeedBumpSpec,
     SpeedZoneSpec,
 )
-from lotsim.scenario import Scenario
+from lotsim.scenario import AnimationSpec, Scenario
 from lotsim.traffic import PATIENCE, Arrival, StreamSpec, TrafficSpec
 from lotsim.vehicles.catalogue import CATALOGUE, DEFAULT_VEHICLE
 from lotsim.vehicles.model import KMH, VehicleLimits, VehicleType
@@ -65,7 +66,8 @@ def parse_scenario(root: YNode) -> Scenario:
     """Validate a composed scenario document."""
     f = root.fields(
         required=["lot"],
-        optional=["name", "description", "seed", "vehicle_types", "parked_vehicle", "traffic"],
+        optional=["name", "description", "seed", "vehicle_types", "parked_vehicle", "traffic",
+                  "animation"],
     )
     name = f["name"].string() if "name" in f else Path(root.file).stem
     seed = f["seed"].integer(min=0, max=2**63 - 1) if "seed" in f else 0
@@ -95,11 +97,48 @@ def parse_scenario(root: YNode) -> Scenario:
         name=name,
         lot=lot,
         traffic=traffic,
+        animation=parse_animation(f["animation"]) if "animation" in f else None,
         vehicle_types=types,
         parked_vehicle=parked,
         seed=seed,
         source=root.file,
         description=f["description"].string(max_len=2000) if "description" in f else "",
+    )
+
+
+_GIF_NAME = re.compile(r"[A-Za-z0-9][A-Za-z0-9_.-]{0,100}\.gif")
+
+
+def parse_animation(node: YNode) -> AnimationSpec:
+    """Validate the ``animation`` mapping (``lotsim run`` writes a GIF beside result.json)."""
+    if node.is_null:
+        return AnimationSpec()
+    f = node.fields(optional=["gif", "fps", "speed", "size", "from", "to", "max_frames",
+                              "trail"])
+    gif = "run.gif"
+    if "gif" in f:
+        gif = f["gif"].string(max_len=100)
+        if not _GIF_NAME.fullmatch(gif) or ".." in gif:
+            raise f["gif"].error(f"expected a plain file name ending in .gif (it is written "
+                                 f"beside result.json), found {gif!r}")
+    size = None
+    if "size" in f:
+        w, h = (n.integer(min=m, max=4000) for n, m in
+                zip(f["size"].items(min_len=2, max_len=2), (160, 120), strict=True))
+        size = (w, h)
+    start = f["from"].number(what="a time in seconds") if "from" in f else None
+    end = f["to"].number(what="a time in seconds") if "to" in f else None
+    if start is not None and end is not None and end <= start:
+        raise f["to"].error(f"expected a time after 'from' ({start:g} s), found {end:g}")
+    return AnimationSpec(
+        gif=gif,
+        fps=f["fps"].number(min=1, max=50) if "fps" in f else None,
+        speed=f["speed"].number(min=0.01, max=10_000) if "speed" in f else None,
+        size=size,
+        start=start,
+        end=end,
+        max_frames=f["max_frames"].integer(min=1, max=1_000_000) if "max_frames" in f else None,
+        trail=f["trail"].number(min=0, max=3600) if "trail" in f else None,
     )
 
 

@@ -52,6 +52,8 @@ BACKGROUND_COLOURS = 40
 """Palette entries for the lot picture; the rest hold vehicles and text."""
 WHEEL = (0.62, 0.22)
 """Tyre length and width drawn [m]."""
+REVERSE_BAND = 0.45
+"""Depth of the white band drawn across the rear of a reversing car [m]."""
 
 HEADER_BG = (250, 250, 248)
 INK = (25, 25, 25)
@@ -111,28 +113,29 @@ class GifSettings:
     max_frames: int = 3000
     trail: float = 8.0
 
-    def problems(self) -> list[str]:
-        """What is wrong with these settings (empty when they are usable)."""
+    def problems(self) -> list[tuple[str, str]]:
+        """``(field, what is wrong)`` for each unusable setting (empty when all are fine)."""
         out = []
         if not (math.isfinite(self.fps) and 1 <= self.fps <= MAX_FPS):
-            out.append(f"fps: expected 1 to {MAX_FPS}, found {self.fps:g}")
+            out.append(("fps", f"expected 1 to {MAX_FPS} frames per second, found {self.fps:g}"))
         if not (math.isfinite(self.speed) and 0.01 <= self.speed <= 10_000):
-            out.append(f"speed: expected 0.01 to 10000, found {self.speed:g}")
+            out.append(("speed", f"expected 0.01 to 10000, found {self.speed:g}"))
         w, h = self.size
         if not (160 <= w <= 4000 and 120 <= h <= 4000):
-            out.append(f"size: expected 160x120 to 4000x4000 pixels, found {w}x{h}")
+            out.append(("size", f"expected 160x120 to 4000x4000 pixels, found {w}x{h}"))
         for name in ("start", "end"):
             v = getattr(self, name)
             if v is not None and not math.isfinite(v):
-                out.append(f"{name}: expected a time in seconds, found {v}")
+                out.append((name, f"expected a time in seconds, found {v}"))
         if (self.start is not None and self.end is not None
                 and math.isfinite(self.start) and math.isfinite(self.end)
                 and self.end <= self.start):
-            out.append(f"the end ({self.end:g} s) must come after the start ({self.start:g} s)")
+            out.append(("end", f"expected a time after the start ({self.start:g} s), "
+                               f"found {self.end:g}"))
         if not 1 <= self.max_frames <= 1_000_000:
-            out.append(f"max_frames: expected 1 to 1000000, found {self.max_frames}")
-        if not (math.isfinite(self.trail) and self.trail >= 0):
-            out.append(f"trail: expected seconds ≥ 0, found {self.trail:g}")
+            out.append(("max_frames", f"expected 1 to 1000000, found {self.max_frames}"))
+        if not (math.isfinite(self.trail) and 0 <= self.trail <= 3600):
+            out.append(("trail", f"expected 0 to 3600 seconds, found {self.trail:g}"))
         return out
 
 
@@ -174,6 +177,49 @@ def _clock(t: float) -> str:
     return f"{sign}{int(h)}:{int(m):02d}:{s:04.1f}" if h >= 1 else f"{sign}{int(m):02d}:{s:04.1f}"
 
 
+def car_parts(
+    x: np.ndarray, y: np.ndarray, theta: np.ndarray, steer: np.ndarray,
+    body: np.ndarray, wheelbase: np.ndarray,
+) -> dict[str, np.ndarray]:
+    """World corners of the drawn parts of cars at rear-axle poses ``(x, y, theta)``.
+
+    ``body`` (V, 4, 2) are the body corners in the car frame (rear right first, counter-
+    clockwise). Returns ``body`` (V, 4, 2), ``glass`` (V, 4, 2) — the windscreen, 60–78 %
+    of the way from the rear bumper to the front —, ``tail`` (V, 4, 2), the band across
+    the rear lit while reversing, and ``wheels`` (V, 4, 4, 2): rear right,
+    rear left, front right, front left tyres, :data:`WHEEL` in size, the rear ones centred
+    on the rear axle, the front ones on the front axle and turned by ``steer``.
+    """
+    c, s = np.cos(theta)[:, None], np.sin(theta)[:, None]
+
+    def world(local: np.ndarray) -> np.ndarray:  # (V, K, 2) car frame → world
+        wx = x[:, None] + c * local[..., 0] - s * local[..., 1]
+        wy = y[:, None] + s * local[..., 0] + c * local[..., 1]
+        return np.stack([wx, wy], axis=-1)
+
+    rear, front, half = body[:, 0, 0], body[:, 1, 0], body[:, 2, 1]
+    span = front - rear
+    t0, t1 = rear + 0.60 * span, rear + 0.78 * span
+    glass = np.stack([np.stack([t0, -0.76 * half], -1), np.stack([t1, -0.76 * half], -1),
+                      np.stack([t1, 0.76 * half], -1), np.stack([t0, 0.76 * half], -1)], axis=1)
+    d0, d1 = rear + 0.02, rear + REVERSE_BAND
+    tail = np.stack([np.stack([d0, -0.9 * half], -1), np.stack([d1, -0.9 * half], -1),
+                     np.stack([d1, 0.9 * half], -1), np.stack([d0, 0.9 * half], -1)], axis=1)
+    wl, ww = WHEEL
+    inset = half - ww / 2 - 0.05
+    tyre = np.array([[-wl / 2, -ww / 2], [wl / 2, -ww / 2], [wl / 2, ww / 2], [-wl / 2, ww / 2]])
+    wheels = []
+    for axle, side, turned in ((0.0, -1, False), (0.0, 1, False), (1.0, -1, True),
+                               (1.0, 1, True)):
+        ang = steer if turned else np.zeros_like(steer)
+        ca, sa = np.cos(ang)[:, None], np.sin(ang)[:, None]
+        lx = axle * wheelbase[:, None] + ca * tyre[:, 0] - sa * tyre[:, 1]
+        ly = side * inset[:, None] + sa * tyre[:, 0] + ca * tyre[:, 1]
+        wheels.append(world(np.stack([lx, ly], axis=-1)))
+    return {"body": world(body), "glass": world(glass), "tail": world(tail),
+            "wheels": np.stack(wheels, axis=1)}
+
+
 class GifRenderer:
     """Draws frames of one result.
 
@@ -189,7 +235,7 @@ class GifRenderer:
 
         self.settings = settings
         self.replay = Replay(doc)
-        self.lot = lot_from_json(doc["lot"]["drawing"])
+        self.lot = lot_from_json(doc["lot"]["drawing"], root="lot.drawing")
         w, h = settings.size
         bounds = lot_bounds(self.lot)
         self.canvas = LotCanvas(bounds, (w, h),
@@ -202,6 +248,7 @@ class GifRenderer:
         self._body = np.array([[[-tr.rear, -tr.width / 2], [tr.front, -tr.width / 2],
                                 [tr.front, tr.width / 2], [-tr.rear, tr.width / 2]]
                                for tr in tracks]).reshape(-1, 4, 2)
+        self._wheelbase = np.array([tr.wheelbase for tr in tracks], dtype=float)
         self._font = font(13)
         self._clock_font = font(15)
         self._stamps: dict = {}
@@ -282,56 +329,28 @@ class GifRenderer:
         canvas = self.canvas
         x, y, th = (state[k][column, order] for k in ("x", "y", "theta"))
         steer, v = state["steer"][column, order], state["v"][column, order]
-        c, s = np.cos(th)[:, None], np.sin(th)[:, None]
-        body = self._body[order]
+        wheelbase = self._wheelbase[order]
+        parts = car_parts(x, y, th, steer, self._body[order], wheelbase)
 
-        def world(local: np.ndarray) -> np.ndarray:  # (V, K, 2) car frame → pixels
-            wx = x[:, None] + c * local[..., 0] - s * local[..., 1]
-            wy = y[:, None] + s * local[..., 0] + c * local[..., 1]
-            return np.rint(canvas.to_px(np.stack([wx, wy], axis=-1))).astype(int)
+        def px(a: np.ndarray) -> np.ndarray:
+            return np.rint(canvas.to_px(a)).astype(int)
 
-        px_body = world(body)
-        length_px = canvas.px(float(np.min(body[:, 1, 0] - body[:, 0, 0])))
-        rear, front = body[:, 0, 0], body[:, 1, 0]
-        half = body[:, 2, 1]
-        span = front - rear
-        glass = None
-        if length_px >= 12:
-            t0, t1 = rear + 0.60 * span, rear + 0.78 * span
-            glass = world(np.stack([np.stack([t0, -0.76 * half], -1),
-                                    np.stack([t1, -0.76 * half], -1),
-                                    np.stack([t1, 0.76 * half], -1),
-                                    np.stack([t0, 0.76 * half], -1)], axis=1))
-        wheels = None
-        if canvas.px(WHEEL[0]) >= 2.5:
-            wl, ww = WHEEL
-            wheelbase = np.array([self.replay.tracks[j].wheelbase for j in order])
-            inset = half - ww / 2 - 0.05
-            tyre = np.array([[-wl / 2, -ww / 2], [wl / 2, -ww / 2], [wl / 2, ww / 2],
-                             [-wl / 2, ww / 2]])
-            parts = []
-            for ax, side, turned in ((0.0, -1, False), (0.0, 1, False),
-                                     (1.0, -1, True), (1.0, 1, True)):
-                ang = steer if turned else np.zeros_like(steer)
-                ca, sa = np.cos(ang)[:, None], np.sin(ang)[:, None]
-                lx = ax * wheelbase[:, None] + ca * tyre[:, 0] - sa * tyre[:, 1]
-                ly = side * inset[:, None] + sa * tyre[:, 0] + ca * tyre[:, 1]
-                parts.append(world(np.stack([lx, ly], axis=-1)))
-            wheels = np.stack(parts, axis=1)  # (V, 4, 4, 2)
-        bar = max(2, int(round(canvas.px(0.3))))
+        body = px(parts["body"])
+        short = float(np.min(self._body[order, 1, 0] - self._body[order, 0, 0]))
+        glass = px(parts["glass"]) if canvas.px(short) >= 12 else None
+        wheels = px(parts["wheels"]) if canvas.px(WHEEL[0]) >= 2.5 else None
+        tail = px(parts["tail"])
         for k, j in enumerate(order):
             parked = k < n_still
             fill = int((self.pale_index if parked else self.car_index)[self.colour[j]])
-            d.polygon(px_body[k].ravel().tolist(), fill=fill, outline=self.ink, width=1)
+            d.polygon(body[k].ravel().tolist(), fill=fill, outline=self.ink, width=1)
             if wheels is not None:
                 for w in wheels[k]:
                     d.polygon(w.ravel().tolist(), fill=self.tyre)
             if glass is not None:
                 d.polygon(glass[k].ravel().tolist(), fill=self.glass)
-            if v[k] < -1e-3:  # reversing: a white bar across the rear
-                r0, r1 = px_body[k, 0], px_body[k, 3]
-                d.line([int(r0[0]), int(r0[1]), int(r1[0]), int(r1[1])], fill=self.white,
-                       width=bar)
+            if v[k] < -1e-3:  # reversing: a white band across the rear
+                d.polygon(tail[k].ravel().tolist(), fill=self.white)
 
     def _paint_header(self, img: Image.Image, t: float) -> None:
         counts = self.replay.counts(t)
@@ -448,7 +467,7 @@ def write_gif(
     settings = settings or GifSettings()
     bad = settings.problems()
     if bad:
-        raise ValueError("; ".join(bad))
+        raise ValueError("; ".join(f"{k}: {m}" for k, m in bad))
     renderer = GifRenderer(doc, settings)
     plan = plan_frames(renderer.replay, settings)
     target = Path(path)
