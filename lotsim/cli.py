@@ -45,7 +45,8 @@ def _parser() -> argparse.ArgumentParser:
     which = m.add_mutually_exclusive_group(required=True)
     which.add_argument("--car", help="a catalogue name (see `lotsim cars`) or a vehicle YAML file")
     which.add_argument("--all-cars", action="store_true", help="every catalogue car")
-    m.add_argument("--width", type=float, required=True, help="slot width [m]")
+    m.add_argument("--width", type=float, nargs="+", required=True, metavar="WIDTH",
+                   help="slot width [m]; several give one table (and curve) per width")
     m.add_argument("--max-changes", type=int, default=10, help="largest number of direction "
                    "changes to report (default 10)")
     m.add_argument("--resolution", type=float, default=0.01, help="length step [m] (0.01)")
@@ -79,6 +80,28 @@ def _parser() -> argparse.ArgumentParser:
     r.add_argument("--window", type=float, default=10.0, help="WHCA* window [s] (10)")
     r.add_argument("--omega", type=float, default=10.0,
                    help="search fuse: expansions allowed per reverse-search node (10)")
+    gif = r.add_mutually_exclusive_group()
+    gif.add_argument("--gif", metavar="GIF", help="also write an animated GIF of the run "
+                     "(default: OUTDIR/run.gif when the scenario has an 'animation' section)")
+    gif.add_argument("--no-gif", action="store_true", help="write no GIF, whatever the "
+                     "scenario asks")
+
+    rd = sub.add_parser("render", help="draw a result.json: animated GIF, timeline plot")
+    rd.add_argument("result", metavar="RESULT_JSON")
+    rd.add_argument("--gif", metavar="GIF", help="animated GIF to write")
+    rd.add_argument("--timeline", metavar="PNG", help="timeline plot to write (matplotlib)")
+    rd.add_argument("--fps", type=float, default=20.0, help="GIF frames per second (20)")
+    rd.add_argument("--speed", type=float, default=4.0,
+                    help="run seconds per GIF second (4)")
+    rd.add_argument("--size", default="800x600", help="GIF size WxH in pixels (800x600)")
+    rd.add_argument("--from", dest="start", type=float, help="first run time shown [s] "
+                    "(default the first arrival)")
+    rd.add_argument("--to", dest="end", type=float, help="last run time shown [s] "
+                    "(default the last event)")
+    rd.add_argument("--max-frames", type=int, default=3000, help="at most this many frames; "
+                    "a longer span plays faster (3000)")
+    rd.add_argument("--trail", type=float, default=8.0,
+                    help="seconds of path drawn behind a moving car (8)")
 
     c = sub.add_parser("check", help="verify a result.json independently of the planner")
     c.add_argument("result", metavar="RESULT_JSON")
@@ -110,6 +133,8 @@ def main(argv: Sequence[str] | None = None) -> int:
             return _run(args)
         if args.command == "check":
             return _check(args)
+        if args.command == "render":
+            return _render(args)
     except ScenarioError as exc:
         print(f"lotsim: {exc}", file=sys.stderr)
         return EXIT_BAD_INPUT
@@ -321,6 +346,17 @@ def _run(args: argparse.Namespace) -> int:
         return _bad(f"{args.scenario}: the scenario has no 'traffic' section to run "
                     "(see docs/scenario.md)")
     out = Path(args.output) if args.output else Path("runs") / scenario.name
+    anim = scenario.animation
+    gif_path = None
+    if args.gif:
+        gif_path = Path(args.gif)
+        if gif_path.suffix.lower() != ".gif":
+            return _bad(f"--gif: expected a file name ending in .gif, found {args.gif!r}")
+        if not gif_path.parent.is_dir():
+            return _bad(f"--gif: folder {str(gif_path.parent)!r} does not exist")
+    elif anim is not None and not args.no_gif:
+        gif_path = out / anim.gif
+    settings_gif = _gif_settings(anim) if gif_path is not None else None
     if out.exists() and not out.is_dir():
         return _bad(f"-o: {out} exists and is not a directory")
     tty = sys.stderr.isatty()
@@ -352,7 +388,141 @@ def _run(args: argparse.Namespace) -> int:
         if v["status"] in ("waiting", "rejected"):
             print(f"  {v['id']}: {v['status']}: {v['reason']}")
     print(f"  wrote {out / 'result.json'}")
+    if gif_path is not None:
+        try:
+            code = _write_gif(doc, gif_path, settings_gif)
+        except KeyboardInterrupt:
+            print(f"lotsim: interrupted; {out / 'result.json'} was written, the GIF was not",
+                  file=sys.stderr)
+            return 130
+        if code != EXIT_OK:
+            return code
     return EXIT_INCOMPLETE if m["waiting"] else EXIT_OK
+
+
+def _gif_settings(anim=None, args: argparse.Namespace | None = None):  # noqa: ANN001, ANN202
+    """GIF settings from a scenario's animation section or from ``render``'s options."""
+    from lotsim.render.animation import GifSettings
+
+    if args is not None:
+        return GifSettings(fps=args.fps, speed=args.speed, size=args.size, start=args.start,
+                           end=args.end, max_frames=args.max_frames, trail=args.trail)
+    base = GifSettings()
+    if anim is None:
+        return base
+    given = {k: getattr(anim, k) for k in ("fps", "speed", "size", "start", "end",
+                                          "max_frames", "trail")
+             if getattr(anim, k) is not None}
+    return GifSettings(**{**{k: getattr(base, k) for k in given}, **given})
+
+
+class _ProgressBar:
+    """``label [#####-----] done/total, ~N s left`` on a terminal; silent otherwise."""
+
+    def __init__(self, label: str):
+        import time
+
+        self.label = label
+        self.on = sys.stderr.isatty()
+        self.t0 = time.perf_counter()
+        self.shown = False
+
+    def __call__(self, done: int, total: int) -> None:
+        import time
+
+        if not self.on or total <= 0:
+            return
+        frac = done / total
+        bar = "#" * int(24 * frac) + "-" * (24 - int(24 * frac))
+        spent = time.perf_counter() - self.t0
+        left = f", ~{spent / frac * (1 - frac):.0f} s left" if 0 < frac < 1 else ""
+        print(f"\r{self.label} [{bar}] {done}/{total}{left}   ", end="", file=sys.stderr,
+              flush=True)
+        self.shown = True
+
+    def close(self) -> None:
+        if self.shown:
+            print("\r" + " " * 79 + "\r", end="", file=sys.stderr, flush=True)
+
+
+def _write_gif(doc: dict, path, settings) -> int:  # noqa: ANN001
+    from lotsim.io.lot_json import LotFormatError
+    from lotsim.render.animation import write_gif
+    from lotsim.replay import ReplayError
+
+    bar = _ProgressBar("rendering frames")
+    try:
+        info = write_gif(doc, path, settings, progress=bar)
+    except (ReplayError, LotFormatError) as exc:
+        return _bad(f"cannot draw this result: {exc}")
+    except OSError as exc:
+        return _bad(f"{path}: cannot write: {exc.strerror or exc}")
+    finally:
+        bar.close()
+    faster = (f" (sped up from {settings.speed:g}× to fit {info.frames} frames)"
+              if info.speed > settings.speed * (1 + 1e-9) else "")
+    print(f"  wrote {info.path}: {info.frames} frames, {info.duration:.1f} s at "
+          f"{info.speed:.3g}× run time{faster}, {info.start:.1f}–{info.end:.1f} s of the run, "
+          f"{info.bytes / 1e6:.1f} MB")
+    return EXIT_OK
+
+
+def _render(args: argparse.Namespace) -> int:
+    from lotsim.check import ResultFormatError, load_result
+
+    if not args.gif and not args.timeline:
+        return _bad("render: nothing to do: give --gif GIF and/or --timeline PNG")
+    try:
+        w, h = (int(v) for v in args.size.lower().split("x"))
+    except ValueError:
+        return _bad(f"--size: expected WxH in pixels, such as 800x600, found {args.size!r}")
+    args.size = (w, h)
+    settings = _gif_settings(args=args)
+    options = {"fps": "--fps", "speed": "--speed", "size": "--size", "start": "--from",
+               "end": "--to", "max_frames": "--max-frames", "trail": "--trail"}
+    bad = settings.problems()
+    if bad:
+        field, message = bad[0]
+        return _bad(f"{options[field]}: {message}")
+    for opt, path in (("--gif", args.gif), ("--timeline", args.timeline)):
+        if path is None:
+            continue
+        from pathlib import Path
+
+        p = Path(path)
+        want = ".gif" if opt == "--gif" else ".png"
+        if p.suffix.lower() != want:
+            return _bad(f"{opt}: expected a file name ending in {want}, found {path!r}")
+        if not p.parent.is_dir():
+            return _bad(f"{opt}: folder {str(p.parent)!r} does not exist")
+    try:
+        doc = load_result(args.result)
+    except ResultFormatError as exc:
+        return _bad(str(exc))
+    if not isinstance(doc.get("lot"), dict) or "drawing" not in doc["lot"]:
+        return _bad(f"{args.result}: no lot.drawing: written by an older lotsim? run the "
+                    "scenario again")
+    if args.gif:
+        code = _write_gif(doc, args.gif, settings)
+        if code != EXIT_OK:
+            return code
+    if args.timeline:
+        from lotsim.replay import ReplayError
+
+        try:
+            from lotsim.render.plots import plot_timeline
+        except ImportError:
+            return _bad("--timeline needs matplotlib: pip install 'lotsim[plot]'")
+        try:
+            plot_timeline(doc, args.timeline)
+        except ImportError:
+            return _bad("--timeline needs matplotlib: pip install 'lotsim[plot]'")
+        except ReplayError as exc:
+            return _bad(f"cannot draw this result: {exc}")
+        except OSError as exc:
+            return _bad(f"{args.timeline}: cannot write: {exc.strerror or exc}")
+        print(f"  wrote {args.timeline}")
+    return EXIT_OK
 
 
 def _check(args: argparse.Namespace) -> int:
@@ -386,8 +556,10 @@ def _minslot(args: argparse.Namespace) -> int:
     from lotsim.planners.minslot import min_slot_lengths
     from lotsim.vehicles.catalogue import CATALOGUE
 
-    if not (math.isfinite(args.width) and args.width > 0):
-        return _bad(f"--width: expected a positive slot width in metres, found {args.width:g}")
+    widths = list(dict.fromkeys(args.width))  # a width given twice is computed once
+    for width in widths:
+        if not (math.isfinite(width) and width > 0):
+            return _bad(f"--width: expected a positive slot width in metres, found {width:g}")
     if args.max_changes < 0 or args.max_changes > 50:
         return _bad(f"--max-changes: expected 0 to 50, found {args.max_changes}")
     if not (0.001 <= args.resolution <= 1.0):
@@ -403,30 +575,39 @@ def _minslot(args: argparse.Namespace) -> int:
     else:
         return _bad(f"--car: unknown car {args.car!r}; expected one of "
                     f"{', '.join(CATALOGUE)} or a vehicle YAML file")
-    narrow = [c for c in cars if c.width > args.width]
-    if narrow and not args.all_cars:
-        return _bad(f"--width: a {args.width:g} m slot is narrower than {narrow[0].name} "
-                    f"({narrow[0].width:g} m wide)")
-    results = []
-    show_progress = sys.stderr.isatty() and len(cars) > 1
-    for i, car in enumerate(cars):
+    for width in widths:
+        narrow = [c for c in cars if c.width > width]
+        if narrow and not args.all_cars:
+            return _bad(f"--width: a {width:g} m slot is narrower than {narrow[0].name} "
+                        f"({narrow[0].width:g} m wide)")
+    if args.plot:
+        from lotsim.render.plots import MatplotlibMissing, require_matplotlib
+
+        try:  # before the sweep, which takes a while with --all-cars
+            require_matplotlib()
+        except MatplotlibMissing:
+            return _bad("--plot needs matplotlib: pip install 'lotsim[plot]'")
+    jobs = [(car, width) for car in cars for width in widths]
+    show_progress = sys.stderr.isatty() and len(jobs) > 1
+    docs = []
+    for i, (car, width) in enumerate(jobs):
         if show_progress:
-            print(f"\r{i}/{len(cars)} cars … {car.name:8}", end="", file=sys.stderr, flush=True)
-        rows = min_slot_lengths(car, args.width, max_changes=args.max_changes,
+            print(f"\r{i}/{len(jobs)} … {car.name:8} {width:g} m", end="", file=sys.stderr,
+                  flush=True)
+        rows = min_slot_lengths(car, width, max_changes=args.max_changes,
                                 resolution=args.resolution, step_deg=args.step_deg)
-        results.append((car, rows))
+        docs.append({"car": car.name, "car_length": round(car.length, 4), "width": width,
+                     "rows": [{"changes": r.changes, "length": r.length,
+                               "ratio": None if r.length is None
+                               else round(r.length / car.length, 4)} for r in rows]})
     if show_progress:
         print("\r" + " " * 40 + "\r", end="", file=sys.stderr)
-    docs = [{"car": car.name, "car_length": round(car.length, 4), "width": args.width,
-             "rows": [{"changes": r.changes, "length": r.length,
-                       "ratio": None if r.length is None else round(r.length / car.length, 4)}
-                      for r in rows]} for car, rows in results]
     if args.json:
         print(json.dumps(docs[0] if len(docs) == 1 and not args.all_cars else docs, indent=2))
     else:
         for doc in docs:
             print(f"{doc['car']}: car length {doc['car_length']:.3f} m, slot width "
-                  f"{args.width:g} m")
+                  f"{doc['width']:g} m")
             print(f"  {'changes':>7}  {'min length':>10}  {'L / car':>7}")
             for r in doc["rows"]:
                 if r["length"] is None:
@@ -434,43 +615,19 @@ def _minslot(args: argparse.Namespace) -> int:
                 else:
                     print(f"  {r['changes']:>7}  {r['length']:>8.2f} m  {r['ratio']:>7.3f}")
     if args.plot:
-        return _plot_minslot(docs, args.plot)
+        return _plot_minslot(docs, args.plot, stdout_is_json=args.json)
     return EXIT_OK
 
 
-def _plot_minslot(docs: list, path: str) -> int:
-    import os
-    import tempfile
+def _plot_minslot(docs: list, path: str, *, stdout_is_json: bool = False) -> int:
+    from lotsim.render.plots import MatplotlibMissing, plot_minslot
 
     try:
-        import matplotlib
-
-        matplotlib.use("Agg")
-        import matplotlib.pyplot as plt
-    except ImportError:
+        plot_minslot(docs, path)
+    except MatplotlibMissing:
         return _bad("--plot needs matplotlib: pip install 'lotsim[plot]'")
-    fig, ax = plt.subplots(figsize=(7, 4.5), dpi=120)
-    for doc in docs:
-        # for L in [L_k, L_k-1) the car needs k changes: a step held to the right of each point
-        pts = sorted((r["length"], r["changes"]) for r in doc["rows"] if r["length"] is not None)
-        if pts:
-            xs, ys = zip(*pts, strict=True)
-            label = f"{doc['car']}-w-{doc['width']:g}"
-            ax.step(xs, ys, where="post", marker="o", ms=3, label=label)
-    ax.set_xlabel("slot length L [m]")
-    ax.set_ylabel("direction changes needed")
-    ax.grid(alpha=0.3)
-    ax.legend(fontsize=8)
-    folder = os.path.dirname(os.path.abspath(path))
-    fd, tmp = tempfile.mkstemp(suffix=".png", dir=folder)
-    os.close(fd)
-    try:
-        fig.savefig(tmp)
-        os.replace(tmp, path)
     except OSError as exc:
-        os.unlink(tmp)
         return _bad(f"{path}: cannot write: {exc.strerror or exc}")
-    finally:
-        plt.close(fig)
-    print(f"wrote {path}")
+    # with --json, stdout holds the JSON alone
+    print(f"wrote {path}", file=sys.stderr if stdout_is_json else sys.stdout)
     return EXIT_OK

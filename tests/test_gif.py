@@ -1,0 +1,371 @@
+"""Animated GIFs of runs (``lotsim render``, ``lotsim run --gif``) and the replay they draw.
+
+Frames are read back with Pillow; what is drawn is compared with what the result file
+says, independently of the renderer's own bookkeeping where it can be.
+"""
+
+import json
+import math
+
+import numpy as np
+import pytest
+from PIL import Image, ImageSequence
+
+from conftest import ROOT, position, scenario_from_text
+from lotsim.cli import main
+from lotsim.errors import ScenarioError
+from lotsim.io.result import result_dict
+from lotsim.io.scenario import load_scenario
+from lotsim.render.animation import (
+    WHEEL,
+    GifRenderer,
+    GifSettings,
+    car_parts,
+    plan_frames,
+    split_gif,
+    write_gif,
+)
+from lotsim.replay import PHASES, Replay, assign_colours
+from lotsim.sim import RunSettings, run
+
+QUICKSTART = ROOT / "scenarios" / "quickstart.yaml"
+SMALL = GifSettings(size=(400, 300))
+
+
+@pytest.fixture(scope="module")
+def doc():
+    """quickstart's run: 6 cars, two of which leave; a round trip through JSON, as on disk."""
+    rr = run(load_scenario(QUICKSTART), RunSettings())
+    return json.loads(json.dumps(result_dict(rr)))
+
+
+@pytest.fixture(scope="module")
+def street():
+    """street: parallel parking, so cars reverse; 14 cars of 3 types coming and going."""
+    rr = run(load_scenario(ROOT / "scenarios" / "street.yaml"), RunSettings())
+    return json.loads(json.dumps(result_dict(rr)))
+
+
+def frames_of(path):
+    """(RGB array, start [ms], duration [ms]) of each frame of a GIF."""
+    out, t = [], 0
+    with Image.open(path) as im:
+        for f in ImageSequence.Iterator(im):
+            d = f.info["duration"]
+            out.append((np.asarray(f.convert("RGB")), t, d))
+            t += d
+    return out
+
+
+def frame_at(frames, ms):
+    """The frame shown at ``ms`` milliseconds into the GIF."""
+    for img, t0, d in frames:
+        if t0 <= ms < t0 + d:
+            return img
+    raise AssertionError(f"no frame at {ms} ms")
+
+
+# -- the file -----------------------------------------------------------------------------------
+def test_gif_loops_has_the_size_and_the_total_duration_asked(doc, tmp_path):
+    settings = GifSettings(fps=20, speed=4, size=(400, 300), start=0.0, end=40.0)
+    info = write_gif(doc, tmp_path / "a.gif", settings)
+    with Image.open(tmp_path / "a.gif") as im:
+        assert im.info["loop"] == 0  # 0: for ever
+        assert im.size == (400, 300)
+        durations = [f.info["duration"] for f in ImageSequence.Iterator(im)]
+    # 40 s of run at 4x is 10 s of GIF: 200 frames of 50 ms, identical ones merged
+    assert sum(durations) == 10_000
+    assert info.duration == pytest.approx(10.0)
+    assert len(durations) <= 200
+    assert not list(tmp_path.glob(".*"))  # no temporary file left
+
+
+def test_frame_delays_are_whole_centiseconds_that_add_up_for_any_fps(doc):
+    replay = Replay(doc)
+    for fps in (3, 7, 24, 30, 50):
+        plan = plan_frames(replay, GifSettings(fps=fps, speed=2, start=0.0, end=17.3))
+        assert all(d % 10 == 0 and d >= 20 for d in plan.durations)
+        n = len(plan.times)
+        assert n == math.ceil(17.3 * fps / 2)
+        assert abs(sum(plan.durations) / 1000 - n / fps) <= 0.005
+        assert np.allclose(np.diff(plan.times), 2 / fps)
+
+
+def test_max_frames_plays_a_long_span_faster(doc):
+    plan = plan_frames(Replay(doc), GifSettings(fps=10, speed=1, start=0.0, end=60.0,
+                                                max_frames=100))
+    assert len(plan.times) == 100
+    assert plan.speed == pytest.approx(6.0)
+    assert plan.times[-1] == pytest.approx(60.0 - 0.6)
+
+
+def test_spliced_chunks_decode_to_the_same_frames_as_one_chunk(doc, tmp_path):
+    settings = GifSettings(size=(320, 240), start=0.0, end=30.0)
+    write_gif(doc, tmp_path / "one.gif", settings, chunk=10_000)
+    write_gif(doc, tmp_path / "many.gif", settings, chunk=7)
+    a, b = frames_of(tmp_path / "one.gif"), frames_of(tmp_path / "many.gif")
+    # merging identical frames stops at chunk ends, so compare what is shown every 50 ms
+    for ms in range(0, 7500, 50):
+        assert np.array_equal(frame_at(a, ms), frame_at(b, ms)), ms
+    assert sum(d for *_, d in a) == sum(d for *_, d in b)
+
+
+def test_split_gif_cuts_at_the_first_frame():
+    import imageio.v3 as iio
+
+    frames = np.zeros((3, 8, 10), dtype=np.uint8)
+    frames[1, 2:4, 2:4] = 1
+    frames[2, 5:7, 3:9] = 2
+    pal = bytes([0, 0, 0, 255, 0, 0, 0, 255, 0])
+    data = iio.imwrite("<bytes>", frames, extension=".gif", mode="P", palette=pal, loop=0,
+                       duration=[30, 40, 50])
+    screen, pre, body = split_gif(data)
+    assert data == data[:6] + screen + pre + body + b";"
+    assert b"NETSCAPE2.0" in pre and b"NETSCAPE2.0" not in body
+    assert body[:2] == b"\x21\xf9"  # the first frame's graphic control extension
+    with pytest.raises(ValueError, match="not a GIF"):
+        split_gif(b"PNG..." + data[6:])
+
+
+def test_a_failed_render_leaves_nothing_behind(doc, tmp_path, monkeypatch):
+    calls = []
+
+    def broken(self, times):
+        calls.append(len(times))
+        if len(calls) == 2:
+            raise KeyboardInterrupt
+        return np.zeros((len(times), 300, 400), dtype=np.uint8)
+
+    monkeypatch.setattr(GifRenderer, "frames", broken)
+    (tmp_path / "old.gif").write_bytes(b"keep me")
+    with pytest.raises(KeyboardInterrupt):
+        write_gif(doc, tmp_path / "old.gif", SMALL, chunk=5)
+    assert len(calls) == 2
+    assert (tmp_path / "old.gif").read_bytes() == b"keep me"
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["old.gif"]
+
+
+# -- what is drawn --------------------------------------------------------------------------------
+def _moving_sample(doc, frame_dt, phase="driving"):
+    """(vehicle index, sample index) of a sample on the frame clock where a vehicle drives
+    forward in the middle of its way in (not at a stop)."""
+    replay = Replay(doc)
+    for j, tr in enumerate(replay.tracks):
+        for k in range(len(tr.t) // 3, len(tr.t)):
+            on_grid = abs(tr.t[k] / frame_dt - round(tr.t[k] / frame_dt)) < 1e-6
+            if on_grid and tr.v[k] > 1.0 and tr.entered < tr.t[k] < tr.parked_from:
+                return j, k
+    raise AssertionError("no vehicle drives on the frame clock")
+
+
+def _centre_px(renderer, v, k):
+    s = v["samples"]
+    x, y, th = s["x"][k], s["y"][k], s["theta"][k]
+    shift = (v["type"]["front"] - v["type"]["rear"]) / 2
+    c = renderer.canvas.to_px([x + shift * math.cos(th), y + shift * math.sin(th)])
+    return int(round(c[0])), int(round(c[1]))
+
+
+def test_a_vehicle_s_colour_is_under_its_footprint_centre(doc, tmp_path):
+    settings = GifSettings(fps=20, speed=4, size=(800, 600), start=0.0)
+    j, k = _moving_sample(doc, 4 / 20)
+    v = doc["vehicles"][j]
+    t = v["samples"]["t"][k]
+    write_gif(doc, tmp_path / "a.gif", settings)
+    renderer = GifRenderer(doc, settings)
+    frames = frames_of(tmp_path / "a.gif")
+    img = frame_at(frames, round(t / 4 * 1000))
+    col, row = _centre_px(renderer, v, k)
+    assert tuple(img[row, col]) == renderer.vehicle_rgb(j)
+    # every other vehicle's colour differs while both drive
+    others = [renderer.vehicle_rgb(i) for i, tr in enumerate(renderer.replay.tracks)
+              if i != j and any(a <= t < b for _, a, b in
+                                [p for p in tr.phases(1e9) if p[0] in ("driving", "leaving")])]
+    assert renderer.vehicle_rgb(j) not in others
+    # at the end, a parked car is shown in the pale version of its colour
+    last = frames[-1][0]
+    parked = [i for i, w in enumerate(doc["vehicles"]) if w["status"] == "parked"]
+    for i in parked:
+        w = doc["vehicles"][i]
+        col, row = _centre_px(renderer, w, len(w["samples"]["t"]) - 1)
+        assert tuple(last[row, col]) == renderer.vehicle_rgb(i, parked=True)
+
+
+def test_a_reversing_car_shows_a_white_bar_across_its_rear(street):
+    renderer = GifRenderer(street, GifSettings(size=(1200, 900)))
+    found = {True: 0, False: 0}
+    for tr in renderer.replay.tracks:
+        for k in range(1, len(tr.t) - 1, 7):
+            if abs(tr.v[k]) < 0.3 or found[bool(tr.v[k] < 0)] >= 6:
+                continue
+            img = np.asarray(renderer.frame(float(tr.t[k])).convert("RGB"))
+            # a point 0.1 m inside the rear bumper, on the centre line
+            p = renderer.canvas.to_px([tr.x[k] - (tr.rear - 0.1) * math.cos(tr.theta[k]),
+                                       tr.y[k] - (tr.rear - 0.1) * math.sin(tr.theta[k])])
+            rgb = tuple(img[int(round(p[1])), int(round(p[0]))])
+            reversing = tr.v[k] < 0
+            assert (rgb == (255, 255, 255)) == reversing, (tr.id, tr.t[k], rgb)
+            found[reversing] += 1
+    assert found == {True: 6, False: 6}
+
+
+def test_car_parts_put_the_wheels_on_the_axles_and_turn_the_front_ones():
+    rng = np.random.default_rng(5)
+    n = 40
+    x, y = rng.uniform(-50, 50, n), rng.uniform(-50, 50, n)
+    th, steer = rng.uniform(-np.pi, np.pi, n), rng.uniform(-0.6, 0.6, n)
+    wb = rng.uniform(2.3, 3.3, n)
+    body = np.array([[[-1.0, -0.9], [3.7, -0.9], [3.7, 0.9], [-1.0, 0.9]]] * n)
+    parts = car_parts(x, y, th, steer, body, wb)
+    wheels = parts["wheels"]
+    centres = wheels.mean(axis=2)  # (V, 4, 2)
+    front_axle = np.stack([x + wb * np.cos(th), y + wb * np.sin(th)], -1)
+    rear_axle = np.stack([x, y], -1)
+    assert np.allclose(centres[:, :2].mean(axis=1), rear_axle)
+    assert np.allclose(centres[:, 2:].mean(axis=1), front_axle)
+    for w, turn in ((0, 0.0), (1, 0.0), (2, steer), (3, steer)):
+        long_axis = wheels[:, w, 1] - wheels[:, w, 0]
+        ang = np.arctan2(long_axis[:, 1], long_axis[:, 0])
+        assert np.allclose(np.angle(np.exp(1j * (ang - th - turn))), 0, atol=1e-9)
+        assert np.allclose(np.hypot(*long_axis.T), WHEEL[0])
+    # the body is the footprint: rear bumper 1 m behind the axle, 1.8 m wide
+    b = parts["body"]
+    assert np.allclose(np.hypot(*(b[:, 1] - b[:, 0]).T), 4.7)
+    assert np.allclose(np.hypot(*(b[:, 3] - b[:, 0]).T), 1.8)
+    assert np.allclose(b.mean(axis=1), np.stack([x + 1.35 * np.cos(th), y + 1.35 * np.sin(th)],
+                                                -1))
+
+
+# -- the replay -----------------------------------------------------------------------------------
+def test_replay_states_hit_the_samples_and_turn_the_short_way():
+    v = {"id": "a", "arrival": 0.0, "status": "departed", "slot": None, "reason": "",
+         "type": {"name": "t", "width": 1.8, "front": 3.7, "rear": 1.0, "wheelbase": 2.7},
+         "samples": {"t": [0.0, 1.0, 2.0], "x": [0.0, 1.0, 3.0], "y": [0.0, 0.0, 0.0],
+                     "theta": [3.1, -3.1, -3.1], "v": [0.0, 1.0, 0.0],
+                     "steer": [0.0, 0.2, 0.0], "gear": [0, 1, 0]}}
+    r = Replay({"lot": {"slots": []}, "vehicles": [v], "settings": {}})
+    st = r.states(np.array([-1.0, 0.0, 0.5, 1.0, 1.5, 2.0, 2.5]))
+    assert st["visible"][:, 0].tolist() == [False, True, True, True, True, True, False]
+    assert st["x"][1:6, 0] == pytest.approx([0.0, 0.5, 1.0, 2.0, 3.0])
+    # from 3.1 to -3.1 rad the short way is across ±pi, not through 0
+    assert abs(math.cos(st["theta"][2, 0]) + 1) < 1e-3
+    assert st["steer"][2, 0] == pytest.approx(0.1)
+
+
+def test_counters_account_for_every_vehicle_and_agree_with_the_statuses(doc, street):
+    for d in (doc, street):
+        r = Replay(d)
+        for t in np.linspace(r.start - 1, r.end + 1, 60):
+            c = r.counts(t)
+            assert c["waiting"] + c["driving"] + c["parked"] + c["departed"] + c["rejected"] \
+                == c["arrived"] == sum(v["arrival"] <= t for v in d["vehicles"])
+        end = r.counts(r.end + 1)
+        assert end["departed"] == d["metrics"]["departed"]
+        assert end["parked"] == d["metrics"]["parked"]
+        # a car stands in its slot from its arrival there: the phase at its last sample
+        for tr in r.tracks:
+            if tr.status == "parked":
+                st = r.states(np.array([tr.t[-1] + 1.0]))
+                j = r.tracks.index(tr)
+                assert st["phase"][0, j] == PHASES.index("parked")
+
+
+def test_vehicles_that_move_at_the_same_time_get_different_colours(street):
+    r = Replay(street)
+    for n in (24, 3):
+        colour = assign_colours(r.tracks, n, r.end)
+        clashes = 0
+        for a in range(len(r.tracks)):
+            for b in range(a):
+                overlap = any(a0 < b1 and b0 < a1 for a0, a1 in r.tracks[a].active(r.end)
+                              for b0, b1 in r.tracks[b].active(r.end))
+                clashes += overlap and colour[a] == colour[b]
+        if n == 24:
+            assert clashes == 0
+            assert len(set(colour)) == len(r.tracks)  # enough colours: none repeats
+        assert all(0 <= c < n for c in colour)
+
+
+# -- the command line ---------------------------------------------------------------------------
+def test_render_writes_what_run_gif_wrote(tmp_path, capsys):
+    out = tmp_path / "run"
+    assert main(["run", str(QUICKSTART), "-o", str(out), "--gif", str(tmp_path / "a.gif")]) == 0
+    assert "a.gif" in capsys.readouterr().out
+    assert main(["render", str(out / "result.json"), "--gif", str(tmp_path / "b.gif")]) == 0
+    assert (tmp_path / "a.gif").read_bytes() == (tmp_path / "b.gif").read_bytes()
+    assert not list(tmp_path.glob(".*"))
+
+
+def test_run_writes_the_gif_the_scenario_asks_for_unless_told_not_to(tmp_path):
+    text = QUICKSTART.read_text() + "\nanimation: {gif: cars.gif, fps: 10, speed: 8, " \
+        "size: [320, 240]}\n"
+    path = tmp_path / "s.yaml"
+    path.write_text(text)
+    assert main(["run", str(path), "-o", str(tmp_path / "a")]) == 0
+    with Image.open(tmp_path / "a" / "cars.gif") as im:
+        assert im.size == (320, 240)
+        total = sum(f.info["duration"] for f in ImageSequence.Iterator(im))
+    span = Replay(json.loads((tmp_path / "a" / "result.json").read_text())).end
+    assert abs(total / 1000 - span / 8) <= 0.1 + 1e-9
+    assert main(["run", str(path), "-o", str(tmp_path / "b"), "--no-gif"]) == 0
+    assert sorted(p.name for p in (tmp_path / "b").iterdir()) == ["result.json"]
+
+
+@pytest.mark.parametrize(("text", "needle", "message"), [
+    ("animation: {fps: 0}\n", "fps: |0", "expected a number ≥ 1"),
+    ("animation: {gif: ../up.gif}\n", "gif: |../up.gif", "plain file name"),
+    ("animation: {gif: out.png}\n", "gif: |out.png", "ending in .gif"),
+    ("animation: {size: [800]}\n", "size: |[800]", "exactly 2 items"),
+    ("animation: {from: 50, to: 10}\n", "to: |10", "after 'from'"),
+    ("animation: {frames: 3}\n", "|frames", "unknown key 'frames'"),
+])
+def test_animation_section_errors_are_located(text, needle, message):
+    base = QUICKSTART.read_text() + "\n"
+    full = base + text
+    with pytest.raises(ScenarioError) as err:
+        scenario_from_text(full, "s.yaml")
+    line, col = position(full, needle)
+    assert f"s.yaml:{line}:{col}:" in str(err.value)
+    assert message in str(err.value)
+
+
+@pytest.mark.parametrize(("args", "message"), [
+    (["--fps", "60"], "--fps: expected 1 to 50"),
+    (["--speed", "0"], "--speed: expected"),
+    (["--size", "800by600"], "--size: expected WxH"),
+    (["--size", "100x100"], "--size: expected 160x120"),
+    (["--from", "30", "--to", "10"], "--to: expected a time after"),
+    (["--max-frames", "0"], "--max-frames: expected 1"),
+    (["--from", "nan"], "--from: expected a time"),
+])
+def test_render_option_errors(doc, tmp_path, capsys, args, message):
+    (tmp_path / "r.json").write_text(json.dumps(doc))
+    code = main(["render", str(tmp_path / "r.json"), "--gif", str(tmp_path / "x.gif"), *args])
+    err = capsys.readouterr().err
+    assert code == 2 and message in err and "Traceback" not in err
+    assert not (tmp_path / "x.gif").exists()
+
+
+def test_render_input_errors(doc, tmp_path, capsys):
+    cases = []
+    (tmp_path / "bad.json").write_text("{not json")
+    cases.append(([str(tmp_path / "bad.json"), "--gif", str(tmp_path / "x.gif")], "not JSON"))
+    old = json.loads(json.dumps(doc))
+    del old["lot"]["drawing"]
+    (tmp_path / "old.json").write_text(json.dumps(old))
+    cases.append(([str(tmp_path / "old.json"), "--gif", str(tmp_path / "x.gif")],
+                  "no lot.drawing"))
+    (tmp_path / "r.json").write_text(json.dumps(doc))
+    cases.append(([str(tmp_path / "r.json")], "nothing to do"))
+    cases.append(([str(tmp_path / "r.json"), "--gif", str(tmp_path / "x.png")], "ending in .gif"))
+    cases.append(([str(tmp_path / "r.json"), "--gif", str(tmp_path / "no" / "x.gif")],
+                  "does not exist"))
+    cases.append(([str(tmp_path / "missing.json"), "--gif", str(tmp_path / "x.gif")],
+                  "missing.json"))
+    for argv, message in cases:
+        assert main(["render", *argv]) == 2, argv
+        err = capsys.readouterr().err
+        assert message in err and "Traceback" not in err, (argv, err)
+    assert not (tmp_path / "x.gif").exists()
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["bad.json", "old.json", "r.json"]
+
