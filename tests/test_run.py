@@ -177,10 +177,10 @@ def test_same_scenario_and_seed_give_the_same_file_byte_for_byte(tmp_path):
     path = next(p for p in SCENARIOS if p.stem == "street")
     outs = []
     for k in range(2):
-        assert main(["run", str(path), "-o", str(tmp_path / f"r{k}")]) == 0
+        assert main(["run", str(path), "-o", str(tmp_path / f"r{k}"), "--no-gif"]) == 0
         outs.append((tmp_path / f"r{k}" / "result.json").read_bytes())
     assert outs[0] == outs[1]
-    assert main(["run", str(path), "-o", str(tmp_path / "r2"), "--seed", "99"]) == 0
+    assert main(["run", str(path), "-o", str(tmp_path / "r2"), "--seed", "99", "--no-gif"]) == 0
     other = json.loads((tmp_path / "r2" / "result.json").read_text())
     assert [v["arrival"] for v in other["vehicles"]] != [
         v["arrival"] for v in json.loads(outs[0])["vehicles"]]
@@ -201,7 +201,7 @@ def test_run_cli_writes_a_result_that_check_accepts_and_a_corrupted_one_it_refus
         tmp_path, capsys):
     path = next(p for p in SCENARIOS if p.stem == "quickstart")
     out = tmp_path / "out"
-    assert main(["run", str(path), "-o", str(out)]) == 0
+    assert main(["run", str(path), "-o", str(out), "--no-gif"]) == 0
     text = capsys.readouterr().out
     assert "parked" in text and "makespan" in text and "result.json" in text
     assert [p.name for p in out.iterdir()] == ["result.json"]  # nothing half-written
