@@ -270,6 +270,21 @@ def test_counters_account_for_every_vehicle_and_agree_with_the_statuses(doc, str
                 assert st["phase"][0, j] == PHASES.index("parked")
 
 
+def test_a_turned_away_car_waits_outside_for_its_patience_then_counts_as_rejected():
+    rr = run(load_scenario(ROOT / "scenarios" / "seed003_two_rows.yaml"), RunSettings())
+    d = json.loads(json.dumps(result_dict(rr)))
+    r = Replay(d)
+    patience = d["settings"]["patience"]
+    rejected = [tr for tr in r.tracks if tr.status == "rejected"]
+    assert rejected and patience > 0
+    for tr in rejected:
+        before = r.counts(tr.arrival + patience - 0.5)
+        after = r.counts(tr.arrival + patience + 0.5)
+        assert after["rejected"] == before["rejected"] + 1
+        assert [p[0] for p in tr.phases(r.end)] == ["outside"]
+    assert r.counts(r.end)["rejected"] == d["metrics"]["rejected"]
+
+
 def test_vehicles_that_move_at_the_same_time_get_different_colours(street):
     r = Replay(street)
     for n in (24, 3):

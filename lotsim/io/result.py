@@ -80,7 +80,8 @@ def result_dict(rr: RunResult) -> dict:
     s = rr.settings
     settings = {"planner": s.planner, "assignment": s.assignment, "seed": rr.seed,
                 "dt": 0.05, "omega": s.omega, "lotsim_version": __version__,
-                "scenario": rr.scenario.name}
+                "scenario": rr.scenario.name,
+                "patience": rr.scenario.traffic.patience if rr.scenario.traffic else None}
     if s.planner == "whca":
         settings["window"] = s.window
     # wall-clock timings differ run to run: they are printed, not written, so that the same
