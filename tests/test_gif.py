@@ -29,6 +29,9 @@ from lotsim.replay import PHASES, Replay, assign_colours
 from lotsim.sim import RunSettings, run
 
 QUICKSTART = ROOT / "scenarios" / "quickstart.yaml"
+BARE = "".join(line for line in QUICKSTART.read_text().splitlines(keepends=True)
+               if not line.startswith("animation:"))
+"""quickstart without its animation section (it has one: speed 2)."""
 SMALL = GifSettings(size=(400, 300))
 
 
@@ -306,13 +309,15 @@ def test_render_writes_what_run_gif_wrote(tmp_path, capsys):
     out = tmp_path / "run"
     assert main(["run", str(QUICKSTART), "-o", str(out), "--gif", str(tmp_path / "a.gif")]) == 0
     assert "a.gif" in capsys.readouterr().out
-    assert main(["render", str(out / "result.json"), "--gif", str(tmp_path / "b.gif")]) == 0
+    # quickstart's animation section asks for speed 2: run --gif takes it, render is told
+    assert main(["render", str(out / "result.json"), "--gif", str(tmp_path / "b.gif"),
+                 "--speed", "2"]) == 0
     assert (tmp_path / "a.gif").read_bytes() == (tmp_path / "b.gif").read_bytes()
     assert not list(tmp_path.glob(".*"))
 
 
 def test_run_writes_the_gif_the_scenario_asks_for_unless_told_not_to(tmp_path):
-    text = QUICKSTART.read_text() + "\nanimation: {gif: cars.gif, fps: 10, speed: 8, " \
+    text = BARE + "\nanimation: {gif: cars.gif, fps: 10, speed: 8, " \
         "size: [320, 240]}\n"
     path = tmp_path / "s.yaml"
     path.write_text(text)
@@ -335,7 +340,7 @@ def test_run_writes_the_gif_the_scenario_asks_for_unless_told_not_to(tmp_path):
     ("animation: {frames: 3}\n", "|frames", "unknown key 'frames'"),
 ])
 def test_animation_section_errors_are_located(text, needle, message):
-    base = QUICKSTART.read_text() + "\n"
+    base = BARE + "\n"
     full = base + text
     with pytest.raises(ScenarioError) as err:
         scenario_from_text(full, "s.yaml")
