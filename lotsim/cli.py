@@ -407,13 +407,11 @@ def _gif_settings(anim=None, args: argparse.Namespace | None = None):  # noqa: A
     if args is not None:
         return GifSettings(fps=args.fps, speed=args.speed, size=args.size, start=args.start,
                            end=args.end, max_frames=args.max_frames, trail=args.trail)
-    base = GifSettings()
     if anim is None:
-        return base
-    given = {k: getattr(anim, k) for k in ("fps", "speed", "size", "start", "end",
-                                          "max_frames", "trail")
-             if getattr(anim, k) is not None}
-    return GifSettings(**{**{k: getattr(base, k) for k in given}, **given})
+        return GifSettings()
+    return GifSettings(**{k: getattr(anim, k) for k in ("fps", "speed", "size", "start", "end",
+                                                        "max_frames", "trail")
+                          if getattr(anim, k) is not None})
 
 
 class _ProgressBar:

@@ -3,14 +3,13 @@
 from __future__ import annotations
 
 import json
-import os
-import tempfile
 from pathlib import Path
 
 import numpy as np
 import shapely
 
 from lotsim import __version__
+from lotsim.atomic import atomic_write
 from lotsim.io.lot_json import lot_to_json
 from lotsim.sim import RunResult, samples
 
@@ -95,14 +94,6 @@ def result_dict(rr: RunResult) -> dict:
 def write_json(obj: dict, path: str | Path) -> None:
     """Write ``obj`` as JSON to ``path`` atomically: a temporary file in the same directory,
     renamed over the target; nothing is left behind on failure."""
-    path = Path(path)
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
-    try:
-        with os.fdopen(fd, "w", encoding="utf-8") as fh:
-            json.dump(obj, fh, separators=(",", ":"), allow_nan=False)
-            fh.write("\n")
-        os.chmod(tmp, 0o644)  # mkstemp makes it private; a result is not
-        os.replace(tmp, path)
-    except BaseException:
-        Path(tmp).unlink(missing_ok=True)
-        raise
+    with atomic_write(path, "w", encoding="utf-8") as fh:
+        json.dump(obj, fh, separators=(",", ":"), allow_nan=False)
+        fh.write("\n")

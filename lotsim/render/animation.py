@@ -16,10 +16,8 @@ length of the run. The file is written under a temporary name and renamed.
 from __future__ import annotations
 
 import colorsys
-import contextlib
 import math
 import os
-import tempfile
 from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
@@ -28,6 +26,7 @@ import imageio.v3 as iio
 import numpy as np
 from PIL import Image, ImageDraw
 
+from lotsim.atomic import atomic_write
 from lotsim.render.lot_image import (
     MARGIN,
     LotCanvas,
@@ -486,33 +485,23 @@ def write_gif(
     renderer = GifRenderer(doc, settings)
     plan = plan_frames(renderer.replay, settings)
     target = Path(path)
-    fd, tmp = tempfile.mkstemp(prefix=f".{target.name}.", suffix=".tmp",
-                               dir=target.parent if str(target.parent) else ".")
     n = len(plan.times)
-    try:
-        with os.fdopen(fd, "wb") as fh:
-            screen = None
-            for a in range(0, n, chunk):
-                b = min(n, a + chunk)
-                frames = renderer.frames(plan.times[a:b])
-                data = iio.imwrite("<bytes>", frames, extension=".gif", mode="P",
-                                   palette=renderer.palette, loop=0,
-                                   duration=plan.durations[a:b])
-                scr, pre, body = split_gif(data)
-                if screen is None:
-                    screen = scr
-                    fh.write(data[:6] + scr + pre)
-                elif scr != screen:
-                    raise RuntimeError("GIF chunks came out with different colour tables")
-                fh.write(body)
-                if progress is not None:
-                    progress(b, n)
-            fh.write(b";")
-        os.chmod(tmp, 0o644)
-        os.replace(tmp, target)
-    except BaseException:
-        with contextlib.suppress(FileNotFoundError):
-            os.unlink(tmp)
-        raise
+    with atomic_write(target) as fh:
+        screen = None
+        for a in range(0, n, chunk):
+            b = min(n, a + chunk)
+            frames = renderer.frames(plan.times[a:b])
+            data = iio.imwrite("<bytes>", frames, extension=".gif", mode="P",
+                               palette=renderer.palette, loop=0, duration=plan.durations[a:b])
+            scr, pre, body = split_gif(data)
+            if screen is None:
+                screen = scr
+                fh.write(data[:6] + scr + pre)
+            elif scr != screen:
+                raise RuntimeError("GIF chunks came out with different colour tables")
+            fh.write(body)
+            if progress is not None:
+                progress(b, n)
+        fh.write(b";")
     return GifInfo(target, n, sum(plan.durations) / 1000.0, plan.speed, plan.start, plan.end,
                    target.stat().st_size)

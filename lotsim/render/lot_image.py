@@ -15,17 +15,16 @@ legend and scale bar in the margins.
 
 from __future__ import annotations
 
-import contextlib
 import math
 import os
-import tempfile
 from collections.abc import Callable, Iterable, Iterator, Sequence
 from dataclasses import dataclass
 from functools import lru_cache
-from pathlib import Path
 
 import numpy as np
 from PIL import Image, ImageChops, ImageDraw, ImageFont
+
+from lotsim.atomic import atomic_write
 
 Color = tuple[int, int, int]
 
@@ -1086,15 +1085,5 @@ def save_lot_png(lot_graph, path: str | os.PathLike, **kwargs) -> None:
 def save_png(img: Image.Image, path: str | os.PathLike) -> None:
     """Write ``img`` to ``path`` as PNG through a temporary file in the same directory,
     so ``path`` is never left half-written."""
-    target = Path(path)
-    fd, tmp = tempfile.mkstemp(prefix=f".{target.name}.", suffix=".tmp",
-                               dir=target.parent if str(target.parent) else ".")
-    try:
-        with os.fdopen(fd, "wb") as fh:
-            img.save(fh, format="PNG")
-        os.chmod(tmp, 0o644)  # mkstemp makes it private; a picture is not
-        os.replace(tmp, target)
-    except BaseException:
-        with contextlib.suppress(FileNotFoundError):
-            os.unlink(tmp)
-        raise
+    with atomic_write(path) as fh:
+        img.save(fh, format="PNG")

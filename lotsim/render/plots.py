@@ -13,17 +13,15 @@ it and write it to a PNG with :func:`save_figure`, and return it too.
 
 from __future__ import annotations
 
-import contextlib
 import math
 import os
 import sys
-import tempfile
 from collections.abc import Sequence
-from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from lotsim.atomic import atomic_write
 from lotsim.errors import LotsimError
 from lotsim.replay import Replay, assign_colours
 
@@ -90,19 +88,9 @@ def save_figure(fig: Figure, path: str | os.PathLike) -> None:
     >>> fig = minslot_figure([])  # doctest: +SKIP
     >>> save_figure(fig, "empty.png")  # doctest: +SKIP
     """
-    target = Path(path)
     try:
-        fd, tmp = tempfile.mkstemp(prefix=f".{target.name}.", suffix=".tmp",
-                                   dir=target.parent)
-        try:
-            with os.fdopen(fd, "wb") as fh:
-                fig.savefig(fh, format="png")
-            os.chmod(tmp, 0o644)  # mkstemp makes it private; a picture is not
-            os.replace(tmp, target)
-        except BaseException:
-            with contextlib.suppress(FileNotFoundError):
-                os.unlink(tmp)
-            raise
+        with atomic_write(path) as fh:
+            fig.savefig(fh, format="png")
     finally:
         # our figures are not pyplot's; a caller's pyplot figure is released from pyplot
         pyplot = sys.modules.get("matplotlib.pyplot")
