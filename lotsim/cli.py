@@ -453,6 +453,9 @@ def _write_gif(doc: dict, path, settings) -> int:  # noqa: ANN001
         info = write_gif(doc, path, settings, progress=bar)
     except (ReplayError, LotFormatError) as exc:
         return _bad(f"cannot draw this result: {exc}")
+    except ValueError as exc:  # the asked span is outside the run
+        field, _, message = str(exc).partition(": ")
+        return _bad(f"{_GIF_OPTIONS.get(field, field)}: {message}")
     except OSError as exc:
         return _bad(f"{path}: cannot write: {exc.strerror or exc}")
     finally:
@@ -463,6 +466,11 @@ def _write_gif(doc: dict, path, settings) -> int:  # noqa: ANN001
           f"{info.speed:.3g}× run time{faster}, {info.start:.1f}–{info.end:.1f} s of the run, "
           f"{info.bytes / 1e6:.1f} MB")
     return EXIT_OK
+
+
+_GIF_OPTIONS = {"fps": "--fps", "speed": "--speed", "size": "--size", "start": "--from",
+                "end": "--to", "max_frames": "--max-frames", "trail": "--trail"}
+"""GifSettings field → the ``render`` option that sets it."""
 
 
 def _render(args: argparse.Namespace) -> int:
@@ -476,12 +484,10 @@ def _render(args: argparse.Namespace) -> int:
         return _bad(f"--size: expected WxH in pixels, such as 800x600, found {args.size!r}")
     args.size = (w, h)
     settings = _gif_settings(args=args)
-    options = {"fps": "--fps", "speed": "--speed", "size": "--size", "start": "--from",
-               "end": "--to", "max_frames": "--max-frames", "trail": "--trail"}
     bad = settings.problems()
     if bad:
         field, message = bad[0]
-        return _bad(f"{options[field]}: {message}")
+        return _bad(f"{_GIF_OPTIONS[field]}: {message}")
     for opt, path in (("--gif", args.gif), ("--timeline", args.timeline)):
         if path is None:
             continue

@@ -357,6 +357,8 @@ def test_animation_section_errors_are_located(text, needle, message):
     (["--from", "30", "--to", "10"], "--to: expected a time after"),
     (["--max-frames", "0"], "--max-frames: expected 1"),
     (["--from", "nan"], "--from: expected a time"),
+    (["--from", "5000"], "--from: nothing to show from 5000 s"),
+    (["--to", "-5"], "--to: nothing to show from 0 s to -5 s"),
 ])
 def test_render_option_errors(doc, tmp_path, capsys, args, message):
     (tmp_path / "r.json").write_text(json.dumps(doc))
@@ -364,6 +366,19 @@ def test_render_option_errors(doc, tmp_path, capsys, args, message):
     err = capsys.readouterr().err
     assert code == 2 and message in err and "Traceback" not in err
     assert not (tmp_path / "x.gif").exists()
+
+
+def test_progress_shows_on_a_terminal_only(doc, tmp_path, capsys, monkeypatch):
+    (tmp_path / "r.json").write_text(json.dumps(doc))
+    argv = ["render", str(tmp_path / "r.json"), "--gif", str(tmp_path / "x.gif"),
+            "--size", "320x240", "--to", "20"]
+    assert main(argv) == 0
+    assert capsys.readouterr().err == ""  # a pipe: quiet
+    monkeypatch.setattr("sys.stderr.isatty", lambda: True)
+    assert main(argv) == 0
+    err = capsys.readouterr().err
+    assert "rendering frames [" in err and "100/100" in err
+    assert err.endswith("\r")  # the bar is wiped when done
 
 
 def test_render_input_errors(doc, tmp_path, capsys):

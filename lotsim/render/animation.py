@@ -162,7 +162,10 @@ def plan_frames(replay: Replay, settings: GifSettings) -> FramePlan:
     (default the last event), ``speed / fps`` run seconds apart."""
     start = replay.start if settings.start is None else settings.start
     end = replay.end if settings.end is None else settings.end
-    end = max(end, start + 1e-6)
+    if end <= start:
+        what = "start" if settings.start is not None else "end"
+        raise ValueError(f"{what}: nothing to show from {start:g} s to {end:g} s (the run "
+                         f"goes from {replay.start:g} s to {replay.end:g} s)")
     speed = settings.speed
     n = max(1, math.ceil((end - start) * settings.fps / speed - 1e-9))
     if n > settings.max_frames:
