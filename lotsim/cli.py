@@ -511,21 +511,31 @@ def _render(args: argparse.Namespace) -> int:
         if code != EXIT_OK:
             return code
     if args.timeline:
-        from lotsim.replay import ReplayError
+        try:
+            return _timeline(doc, args.timeline)
+        except KeyboardInterrupt:
+            if args.gif:
+                print(f"lotsim: interrupted; {args.gif} was written, the timeline was not",
+                      file=sys.stderr)
+                return 130
+            raise
+    return EXIT_OK
 
-        try:
-            from lotsim.render.plots import plot_timeline
-        except ImportError:
-            return _bad("--timeline needs matplotlib: pip install 'lotsim[plot]'")
-        try:
-            plot_timeline(doc, args.timeline)
-        except ImportError:
-            return _bad("--timeline needs matplotlib: pip install 'lotsim[plot]'")
-        except ReplayError as exc:
-            return _bad(f"cannot draw this result: {exc}")
-        except OSError as exc:
-            return _bad(f"{args.timeline}: cannot write: {exc.strerror or exc}")
-        print(f"  wrote {args.timeline}")
+
+def _timeline(doc: dict, path: str) -> int:
+    from lotsim.replay import ReplayError
+
+    try:
+        from lotsim.render.plots import plot_timeline
+
+        plot_timeline(doc, path)
+    except ImportError:
+        return _bad("--timeline needs matplotlib: pip install 'lotsim[plot]'")
+    except ReplayError as exc:
+        return _bad(f"cannot draw this result: {exc}")
+    except OSError as exc:
+        return _bad(f"{path}: cannot write: {exc.strerror or exc}")
+    print(f"  wrote {path}")
     return EXIT_OK
 
 

@@ -368,6 +368,21 @@ def test_render_option_errors(doc, tmp_path, capsys, args, message):
     assert not (tmp_path / "x.gif").exists()
 
 
+def test_render_timeline_writes_a_png_of_the_run(doc, tmp_path, capsys):
+    pytest.importorskip("matplotlib")
+    (tmp_path / "r.json").write_text(json.dumps(doc))
+    assert main(["render", str(tmp_path / "r.json"), "--timeline", str(tmp_path / "t.png")]) == 0
+    with Image.open(tmp_path / "t.png") as im:
+        assert im.format == "PNG"
+        colours = {c for _, c in im.convert("RGB").getcolors(1 << 20)}
+    renderer = GifRenderer(doc, SMALL)
+    for j, v in enumerate(doc["vehicles"]):  # each car's parked bar, in the GIF's pale colour
+        if v["status"] in ("parked", "departed"):
+            assert renderer.vehicle_rgb(j, parked=True) in colours
+    assert main(["render", str(tmp_path / "r.json"), "--timeline", str(tmp_path / "t.gif")]) == 2
+    assert "ending in .png" in capsys.readouterr().err
+
+
 def test_progress_shows_on_a_terminal_only(doc, tmp_path, capsys, monkeypatch):
     (tmp_path / "r.json").write_text(json.dumps(doc))
     argv = ["render", str(tmp_path / "r.json"), "--gif", str(tmp_path / "x.gif"),

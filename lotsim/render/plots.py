@@ -82,11 +82,6 @@ def save_figure(fig: Figure, path: str | os.PathLike) -> None:
     The PNG is written to a temporary file in the same directory and renamed over ``path``,
     so ``path`` is never half-written and nothing is left behind on failure (the
     :class:`OSError` is raised).
-
-    Examples
-    --------
-    >>> fig = minslot_figure([])  # doctest: +SKIP
-    >>> save_figure(fig, "empty.png")  # doctest: +SKIP
     """
     try:
         with atomic_write(path) as fh:
@@ -121,9 +116,9 @@ def minslot_figure(docs: Sequence[dict]) -> Figure:
     >>> doc = {"car": "zoe", "width": 2.5, "rows": [
     ...     {"changes": 0, "length": None}, {"changes": 1, "length": 6.1},
     ...     {"changes": 2, "length": 5.4}]}
-    >>> fig = minslot_figure([doc])  # doctest: +SKIP
-    >>> line = fig.axes[0].lines[0]  # doctest: +SKIP
-    >>> line.get_xdata().tolist(), line.get_ydata().tolist()  # doctest: +SKIP
+    >>> fig = minslot_figure([doc])
+    >>> line = fig.axes[0].lines[0]
+    >>> line.get_xdata().tolist(), line.get_ydata().tolist()
     ([1, 2], [6.1, 5.4])
     """
     fig = _new_figure(figsize=(7.5, 4.5), dpi=120, layout="constrained")
@@ -201,12 +196,6 @@ def timeline_figure(doc: dict, *, colours: Sequence[RGB] | None = None) -> Figur
         ``doc`` is not a result document.
     ValueError
         ``colours`` does not hold one colour per vehicle.
-
-    Examples
-    --------
-    >>> import json
-    >>> with open("runs/quickstart/result.json") as fh:  # doctest: +SKIP
-    ...     fig = timeline_figure(json.load(fh))
     """
     from lotsim.render.animation import pale, vehicle_palette
 
