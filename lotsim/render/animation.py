@@ -284,13 +284,16 @@ class GifRenderer:
         paint_scale_bar(img, canvas, MARGIN, h - 6, min(260, w // 3))
         bg = img.quantize(colors=BACKGROUND_COLOURS, method=Image.Quantize.MEDIANCUT,
                           dither=Image.Dither.NONE)
-        n_bg = len(bg.getpalette()) // 3  # noqa: ANN001 - Pillow may return fewer colours
-        fixed = [INK, GLASS, WHITE, TYRE, HEADER_BG]
+        # the quantised image uses indices below BACKGROUND_COLOURS; Pillow versions differ
+        # in how long a palette they report, so take exactly that many entries
+        pal = list(bg.getpalette() or [])[:3 * BACKGROUND_COLOURS]
+        pal += [0] * (3 * BACKGROUND_COLOURS - len(pal))
+        colours = [tuple(pal[3 * k: 3 * k + 3]) for k in range(BACKGROUND_COLOURS)]
+        fixed = [INK, GLASS, WHITE, TYRE]
         cars = vehicle_palette()
-        colours = [tuple(bg.getpalette()[3 * k: 3 * k + 3]) for k in range(n_bg)]
         base = len(colours)
-        self.ink, self.glass, self.white, self.tyre, self.header_bg = range(base, base + 5)
-        self.car_index = np.arange(base + 5, base + 5 + len(cars))
+        self.ink, self.glass, self.white, self.tyre = range(base, base + len(fixed))
+        self.car_index = np.arange(base + len(fixed), base + len(fixed) + len(cars))
         self.pale_index = self.car_index + len(cars)
         colours += fixed + cars + [pale(c) for c in cars]
         self.rgb = [tuple(int(v) for v in c) for c in colours]
