@@ -245,15 +245,6 @@ class Replay:
                 c["driving"] += 1
         return c
 
-    def trail(self, j: int, t0: float, t1: float) -> np.ndarray:
-        """Rear-axle points (N, 2) of vehicle ``j`` between times ``t0`` and ``t1``."""
-        tr = self.tracks[j]
-        if not len(tr.t):
-            return np.zeros((0, 2))
-        a = int(np.searchsorted(tr.t, t0, side="left"))
-        b = int(np.searchsorted(tr.t, t1, side="right"))
-        return np.column_stack([tr.x[a:b], tr.y[a:b]])
-
 
 def assign_colours(tracks: list[Track], n_colours: int, end: float) -> list[int]:
     """One colour index per vehicle, so that vehicles moving about the lot at the same time
