@@ -96,6 +96,16 @@ class RunSettings:
     retry : float
         Wait before a vehicle whose search failed tries again [s]; it doubles with
         each failure in a row, up to a minute.
+    order : tuple of str or None
+        None: each vehicle is planned when it arrives, earlier arrivals first (online).
+        Otherwise every vehicle id once: the traffic is booked ``horizon`` seconds ahead.
+        Arrivals are cut into batches ``horizon`` long from the first one; the vehicles of
+        a batch are planned at its start, in this order (their priority), each from its
+        own arrival time, against the reservations of those planned before it — later
+        arrivals of the batch included. Slots freed by departures go to queued vehicles
+        in this order.
+    horizon : float
+        How far ahead booked traffic is known [s] (``inf``: all of it, one batch).
     """
 
     planner: str = "hca"
@@ -104,6 +114,8 @@ class RunSettings:
     window: float = 10.0
     omega: float = OMEGA
     retry: float = 5.0
+    order: tuple[str, ...] | None = None
+    horizon: float = math.inf
 
 
 @dataclass
@@ -214,7 +226,8 @@ def run(scenario: Scenario, settings: RunSettings | None = None, *, lot_graph=No
     """Plan the scenario's traffic: assign slots, plan every vehicle in, and out again.
 
     Vehicles are planned one after another in arrival order (their priority),
-    each against the reservations of those before it. A vehicle that finds no
+    or in ``settings.order`` when the traffic is booked in advance, each against
+    the reservations of those before it. A vehicle that finds no
     free slot queues at its entrance and gets the next slot freed; one whose
     search fails (fuse, no path) waits outside and tries again. After the
     traffic's patience it is turned away, with the reason. Nothing is dropped:
@@ -245,6 +258,8 @@ def run(scenario: Scenario, settings: RunSettings | None = None, *, lot_graph=No
     lg = lot_graph or prepare(scenario)
     seed = scenario.seed if settings.seed is None else settings.seed
     traffic = arrivals(scenario.traffic, seed)
+    if settings.order is not None and sorted(settings.order) != sorted(a.id for a in traffic):
+        raise ValueError("order: expected every vehicle id of the traffic exactly once")
     check_traffic(lg, traffic)
     sim = _Simulation(scenario, lg, settings, traffic, progress)
     clock = time.perf_counter()
@@ -280,8 +295,17 @@ class _Simulation:
         last = max((a.time for a in traffic), default=0.0)
         longest = max((a.dwell or 0.0 for a in traffic), default=0.0)
         self.end_time = last + self.patience + longest + 3600.0
-        for i, a in enumerate(traffic):
-            self.at(a.time, "arrive", i)
+        if settings.order is None:
+            for i, a in enumerate(traffic):
+                self.at(a.time, "arrive", i)
+        else:  # booked: each batch is planned at its start, in this order
+            index = {a.id: i for i, a in enumerate(traffic)}
+            first = min((a.time for a in traffic), default=0.0)
+            h = settings.horizon
+            for vid in settings.order:
+                a = traffic[index[vid]]
+                batch = first if math.isinf(h) else first + math.floor((a.time - first) / h) * h
+                self.at(batch, "arrive", index[vid])
 
     def at(self, t: float, kind: str, i: int) -> None:
         self.seq += 1
@@ -335,6 +359,7 @@ class _Simulation:
     def on_retry(self, i: int, v: VehicleRun, t: float) -> None:
         if v.moves or v.done:
             return
+        t = max(t, v.arrival.time)  # a booked vehicle is planned before it arrives
         sg = self.graphs[v.vehicle.name]
         options = self.slot_choice(v)
         if not options:

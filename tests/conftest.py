@@ -5,6 +5,7 @@ from __future__ import annotations
 import textwrap
 from pathlib import Path
 
+import networkx as nx
 import pytest
 
 from lotsim.io.scenario import parse_scenario
@@ -48,3 +49,14 @@ def shipped_graphs() -> dict[str, LotGraph]:
     from lotsim.io.scenario import load_scenario
 
     return {p.stem: prepare(load_scenario(p)) for p in SCENARIOS}
+
+
+def static_times(lg, vehicle, source):
+    """Travel time lower bounds along lanes (networkx Dijkstra on length / limit)."""
+    g = nx.DiGraph()
+    top = vehicle.limits.max_forward_speed
+    for u, v, d in lg.graph.edges(data=True):
+        if d["kind"] in ("lane", "turn", "join"):
+            w = d["length"] / min(d["speed_limit"], top) if d["length"] > 0 else 0.0
+            g.add_edge(u, v, weight=w)
+    return nx.single_source_dijkstra_path_length(g, source)

@@ -5,11 +5,10 @@ import dataclasses
 import json
 import math
 
-import networkx as nx
 import numpy as np
 import pytest
 
-from conftest import SCENARIOS, position, scenario_from_text
+from conftest import SCENARIOS, position, scenario_from_text, static_times
 from lotsim.check import check_result
 from lotsim.cli import main
 from lotsim.errors import ScenarioError
@@ -140,17 +139,6 @@ def test_a_later_vehicle_waits_for_an_earlier_one_instead_of_overlapping(small):
     _checked(rr)
 
 
-def _static_times(lg, vehicle, source):
-    """Travel time lower bounds along lanes (networkx Dijkstra on length / limit)."""
-    g = nx.DiGraph()
-    top = vehicle.limits.max_forward_speed
-    for u, v, d in lg.graph.edges(data=True):
-        if d["kind"] in ("lane", "turn", "join"):
-            w = d["length"] / min(d["speed_limit"], top) if d["length"] > 0 else 0.0
-            g.add_edge(u, v, weight=w)
-    return nx.single_source_dijkstra_path_length(g, source)
-
-
 @pytest.mark.parametrize("policy", ["nearest", "shortest"])
 def test_the_first_vehicle_gets_the_best_slot_by_each_policy(policy, shipped_graphs):
     sc = load_scenario(next(p for p in SCENARIOS if p.stem == "mixed_lot"))
@@ -163,7 +151,7 @@ def test_the_first_vehicle_gets_the_best_slot_by_each_policy(policy, shipped_gra
     if policy == "nearest":
         score = {s.id: math.dist((x, y), s.center) for s in lg.lot.free_slots}
     else:
-        dist = _static_times(lg, car, gate)
+        dist = static_times(lg, car, gate)
         score = {}
         for u, v, d in lg.graph.edges(data=True):
             if d["kind"] == "park" and car.name in d["duration"] and u in dist:
