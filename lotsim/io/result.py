@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import math
 from pathlib import Path
 
 import numpy as np
@@ -83,6 +84,9 @@ def result_dict(rr: RunResult) -> dict:
                 "patience": rr.scenario.traffic.patience if rr.scenario.traffic else None}
     if s.planner == "whca":
         settings["window"] = s.window
+    if s.order is not None:  # booked traffic, planned in this order
+        settings["order"] = list(s.order)
+        settings["horizon"] = s.horizon if math.isfinite(s.horizon) else None
     # wall-clock timings differ run to run: they are printed, not written, so that the same
     # scenario and seed give the same file byte for byte
     metrics = {k: (round(v, 4) if isinstance(v, float) else v) for k, v in rr.metrics().items()
