@@ -156,13 +156,16 @@ def genetic_order(scenario, settings: RunSettings, *, lot_graph, ga: GASettings,
 
 
 def run_with_priority(scenario, settings: RunSettings, *, priority: str, lot_graph,  # noqa: ANN001
-                      ga: GASettings | None = None) -> tuple[RunResult, dict]:
+                      ga: GASettings | None = None,
+                      progress=None) -> tuple[RunResult, dict]:  # noqa: ANN001
     """Plan the scenario with a priority policy (:data:`PRIORITIES`).
 
     Returns the run and a record: ``order_time`` (seconds spent choosing the order,
     the GA's evaluation runs included), ``evaluations`` (runs planned to choose it),
     ``fitness`` (the run's total time to park, :func:`fitness`) and, for ``ga``, the
     fitness of the arrival and shortest-first orders from the same search.
+    ``progress(done, most)`` is called after each order the GA plans (``most``: the
+    population times the generations plus one; repeated orders are not planned again).
     """
     if priority not in PRIORITIES:
         raise ValueError(f"unknown priority {priority!r}; expected one of "
@@ -174,8 +177,11 @@ def run_with_priority(scenario, settings: RunSettings, *, priority: str, lot_gra
     elif priority == "shortest_first":
         order = shortest_first(scenario, lot_graph, settings.seed)
     else:
-        order, found = genetic_order(scenario, settings, lot_graph=lot_graph,
-                                     ga=ga or GASettings())
+        ga = ga or GASettings()
+        most = max(2, ga.population) * (ga.generations + 1)
+        order, found = genetic_order(
+            scenario, settings, lot_graph=lot_graph, ga=ga,
+            progress=None if progress is None else (lambda k: progress(k, most)))
         extra.update({k: v for k, v in found.items() if k != "fitness"})
     extra["order_time"] = time.perf_counter() - clock
     rr = run(scenario, dataclasses.replace(settings, order=order), lot_graph=lot_graph)
