@@ -80,6 +80,13 @@ def _parser() -> argparse.ArgumentParser:
     r.add_argument("--window", type=float, default=10.0, help="WHCA* window [s] (10)")
     r.add_argument("--omega", type=float, default=10.0,
                    help="search fuse: expansions allowed per reverse-search node (10)")
+    r.add_argument("--priority", choices=["arrival", "shortest_first", "ga"],
+                   default="arrival", help="planning order: online in arrival order "
+                   "(default), or booked in advance: shortest static time first, or the "
+                   "best order a genetic algorithm finds (total time to park)")
+    r.add_argument("--horizon", type=float, default=math.inf,
+                   help="with --priority shortest_first/ga: how far ahead arrivals are "
+                   "booked [s] (default all)")
     gif = r.add_mutually_exclusive_group()
     gif.add_argument("--gif", metavar="GIF", help="also write an animated GIF of the run "
                      "(default: OUTDIR/run.gif when the scenario has an 'animation' section)")
@@ -112,6 +119,18 @@ def _parser() -> argparse.ArgumentParser:
     s.add_argument("-o", "--output", default="lot.png", help="PNG to write (default lot.png)")
     s.add_argument("--graph", action="store_true", help="draw the lot graph too")
     s.add_argument("--size", default="1200x900", help="image size WxH in pixels")
+
+    b = sub.add_parser("bench", help="run a benchmark suite: scenarios × planners × "
+                       "assignments × priorities × arrival rates × seeds")
+    b.add_argument("suite", metavar="SUITE", help="suite YAML file (docs/bench.md)")
+    b.add_argument("-o", "--output", metavar="OUTDIR",
+                   help="directory for runs.csv, summary.md and the plots "
+                   "(default runs/bench/<suite name>)")
+    where = b.add_mutually_exclusive_group()
+    where.add_argument("--jobs", type=int, metavar="N", help="local worker processes "
+                       "(default: the number of CPUs; 1 runs in this process)")
+    where.add_argument("--scheduler", metavar="ADDRESS", help="run on the Dask distributed "
+                       "cluster whose scheduler is at ADDRESS (pip install 'lotsim[dask]')")
     return p
 
 
@@ -135,12 +154,19 @@ def main(argv: Sequence[str] | None = None) -> int:
             return _check(args)
         if args.command == "render":
             return _render(args)
+        if args.command == "bench":
+            return _bench(args)
     except ScenarioError as exc:
         print(f"lotsim: {exc}", file=sys.stderr)
         return EXIT_BAD_INPUT
     except KeyboardInterrupt:
         print("lotsim: interrupted; nothing was written", file=sys.stderr)
         return 130
+    except BrokenPipeError:  # stdout closed early (| head): stop quietly
+        import os
+
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+        return 141
     raise AssertionError(args.command)
 
 
@@ -365,9 +391,27 @@ def _run(args: argparse.Namespace) -> int:
         if tty:
             print(f"\rplanned {done}/{total} vehicles", end="", file=sys.stderr, flush=True)
 
+    if not (args.horizon > 0):
+        return _bad(f"--horizon: expected a positive number of seconds, found {args.horizon:g}")
     settings = RunSettings(planner=args.planner, assignment=args.assign, seed=args.seed,
-                           window=args.window, omega=args.omega)
-    rr = run(scenario, settings, progress=progress)
+                           window=args.window, omega=args.omega, horizon=args.horizon)
+    if args.priority == "arrival":
+        rr = run(scenario, settings, progress=progress)
+    else:
+        from lotsim.priority import run_with_priority
+        from lotsim.sim import prepare
+
+        bar = _ProgressBar("trying orders")
+        try:
+            rr, found = run_with_priority(scenario, settings, priority=args.priority,
+                                          lot_graph=prepare(scenario), progress=bar)
+        finally:
+            bar.close()
+        extra = (f", arrival order {found['fitness_arrival']:.1f} s, shortest first "
+                 f"{found['fitness_shortest_first']:.1f} s ({found['evaluations']} orders "
+                 "tried)" if args.priority == "ga" else "")
+        print(f"priority {args.priority}: total time to park {found['fitness']:.1f} s{extra}; "
+              f"choosing the order took {found['order_time']:.1f} s")
     if tty:
         print("\r" + " " * 40 + "\r", end="", file=sys.stderr)
     doc = result_dict(rr)
@@ -645,3 +689,57 @@ def _plot_minslot(docs: list, path: str, *, stdout_is_json: bool = False) -> int
     # with --json, stdout holds the JSON alone
     print(f"wrote {path}", file=sys.stderr if stdout_is_json else sys.stdout)
     return EXIT_OK
+
+
+def _bench(args: argparse.Namespace) -> int:
+    import os
+    from pathlib import Path
+
+    from lotsim import bench
+
+    if args.jobs is not None and not 1 <= args.jobs <= 1024:
+        return _bad(f"--jobs: expected 1 to 1024, found {args.jobs}")
+    suite = bench.load_suite(args.suite)
+    out = Path(args.output) if args.output else Path("runs") / "bench" / suite.name
+    if out.exists() and not out.is_dir():
+        return _bad(f"-o: {out} exists and is not a directory")
+    try:
+        from lotsim.render.plots import require_matplotlib
+
+        require_matplotlib()
+        plots = True
+    except ImportError:
+        plots = False
+    client = None
+    if args.scheduler is not None:
+        try:
+            client = bench.connect(args.scheduler, timeout=bench.CONNECT_TIMEOUT)
+        except (bench.DaskMissing, bench.SchedulerUnreachable) as exc:
+            return _bad(str(exc))
+        where = f"on the Dask cluster at {args.scheduler}"
+    else:
+        jobs = min(args.jobs or os.cpu_count() or 1, suite.size)
+        where = "in this process" if jobs == 1 else f"on {jobs} local processes"
+    print(f"{suite.name}: {suite.size} run{'s' * (suite.size != 1)} {where}", flush=True)
+    bar = _ProgressBar("runs")
+    try:
+        rows = bench.run_suite(suite, jobs=args.jobs, client=client, progress=bar)
+    finally:
+        bar.close()
+        if client is not None:
+            client.close()
+    try:
+        paths = bench.write_outputs(suite, rows, out, where=where, plots=plots)
+    except OSError as exc:
+        return _bad(f"{out}: cannot write: {exc.strerror or exc}")
+    print(bench.table_text(rows))
+    failed = [r for r in rows if not r["ok"]]
+    for r in failed[:10]:
+        print(f"  run {r['run']} failed (seed {r['seed']}): {r['problem']}")
+    if len(failed) > 10:
+        print(f"  … and {len(failed) - 10} more failed runs (summary.md lists them all)")
+    for path in paths:
+        print(f"  wrote {path}")
+    if not plots:
+        print("  no plots: they need matplotlib (pip install 'lotsim[plot]')")
+    return EXIT_INCOMPLETE if failed else EXIT_OK

@@ -176,3 +176,22 @@ def test_run_with_priority_records_the_search(burst):
         assert (extra["evaluations"] > 0) == (priority == "ga")
     with pytest.raises(ValueError, match="unknown priority"):
         run_with_priority(busy, RunSettings(), priority="random", lot_graph=lg)
+
+
+def test_run_cli_plans_booked_traffic_in_the_order_asked(tmp_path, capsys):
+    import json
+
+    from lotsim.cli import main
+
+    path = ROOT / "scenarios" / "street.yaml"
+    out = tmp_path / "o"
+    assert main(["run", str(path), "-o", str(out), "--no-gif", "--priority",
+                 "shortest_first", "--horizon", "120"]) == 0
+    assert "priority shortest_first: total time to park" in capsys.readouterr().out
+    doc = json.loads((out / "result.json").read_text())
+    sc = load_scenario(path)
+    assert tuple(doc["settings"]["order"]) == shortest_first(sc, prepare(sc))
+    assert doc["settings"]["horizon"] == 120
+    assert check_result(doc).ok
+    assert main(["run", str(path), "--priority", "ga", "--horizon", "0"]) == 2
+    assert "--horizon: expected a positive" in capsys.readouterr().err
