@@ -28,7 +28,6 @@ import threading
 import time
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
-from importlib.util import find_spec
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -41,7 +40,8 @@ from lotsim.errors import LotsimError, ScenarioError
 from lotsim.io.result import result_dict
 from lotsim.io.scenario import MAX_ITEMS, load_scenario, parse_scenario
 from lotsim.io.yamlnodes import YNode, parse_text, read_yaml
-from lotsim.sim import ASSIGNMENTS, RunResult, RunSettings, prepare, run
+from lotsim.priority import PRIORITIES, GASettings, run_with_priority
+from lotsim.sim import ASSIGNMENTS, RunResult, RunSettings, prepare
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
@@ -50,7 +50,6 @@ if TYPE_CHECKING:
     from lotsim.scenario import Scenario
 
 PLANNERS = ("ca", "hca", "whca")
-PRIORITIES = ("arrival", "shortest_first", "ga")
 """Priority orders (``lotsim.priority``): ``arrival`` is what ``lotsim run`` does."""
 GA_KEYS = ("population", "generations", "seed")
 MAX_RUNS = 100_000
@@ -209,11 +208,6 @@ def parse_suite(root: YNode) -> Suite:
     if "priorities" in f:
         priorities = tuple(_unique(f["priorities"], lambda n: n.string(choices=PRIORITIES),
                                    "priority"))
-        other = [(n, p) for n, p in zip(f["priorities"].items(), priorities, strict=True)
-                 if p != "arrival"]
-        if other and find_spec("lotsim.priority") is None:
-            raise other[0][0].error(f"priority {other[0][1]!r} needs lotsim.priority, "
-                                    "which this lotsim does not have")
     ga: tuple[tuple[str, int], ...] = ()
     if "ga" in f:
         if "ga" not in priorities:
@@ -340,18 +334,10 @@ def spec_settings(spec: RunSpec) -> RunSettings:
 
 
 def _plan(spec: RunSpec, scenario: Scenario, lg: LotGraph) -> tuple[RunResult, dict]:
-    """Plan with the spec's priority order: through ``lotsim.priority`` when this lotsim has
-    it, else (arrival order only) with :func:`lotsim.sim.run`."""
-    settings = spec_settings(spec)
-    if find_spec("lotsim.priority") is None:
-        if spec.priority != "arrival":
-            raise ScenarioError(None, f"priority {spec.priority!r} needs lotsim.priority, "
-                                      "which this lotsim does not have")
-        return run(scenario, settings, lot_graph=lg), {}
-    from lotsim.priority import GASettings, run_with_priority
-
+    """Plan with the spec's priority order (:func:`lotsim.priority.run_with_priority`)."""
     ga = GASettings(**dict(spec.ga)) if spec.priority == "ga" else None
-    return run_with_priority(scenario, settings, priority=spec.priority, lot_graph=lg, ga=ga)
+    return run_with_priority(scenario, spec_settings(spec), priority=spec.priority,
+                             lot_graph=lg, ga=ga)
 
 
 def peak_memory_mb() -> float:

@@ -371,7 +371,6 @@ def test_progress_shows_on_a_terminal_only(tmp_path, capsys, monkeypatch):
 
 
 def test_priority_orders_fill_their_columns(tmp_path):
-    pytest.importorskip("lotsim.priority")
     text = (SUITE.replace("[hca, ca]", "[hca]").replace("[360, 1440]", "[1440]")
             .replace("[1, 2]", "[1]")
             + "priorities: [arrival, shortest_first, ga]\n"
