@@ -41,7 +41,7 @@ from lotsim.io.result import result_dict
 from lotsim.io.scenario import MAX_ITEMS, load_scenario, parse_scenario
 from lotsim.io.yamlnodes import YNode, parse_text, read_yaml
 from lotsim.priority import PRIORITIES, GASettings, run_with_priority
-from lotsim.sim import ASSIGNMENTS, RunResult, RunSettings, prepare
+from lotsim.sim import ASSIGNMENTS, BOOKING_HORIZON, RunResult, RunSettings, prepare
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
@@ -120,6 +120,7 @@ class RunSpec:
     count: int | None
     seed: int
     ga: tuple[tuple[str, int], ...] = ()
+    horizon: float = BOOKING_HORIZON
 
 
 @dataclass(frozen=True, slots=True)
@@ -137,6 +138,8 @@ class Suite:
     count: int | None
     seeds: tuple[int, ...]
     ga: tuple[tuple[str, int], ...] = ()
+    horizon: float = BOOKING_HORIZON
+    """How far ahead booked priorities (shortest_first, ga) know the arrivals [s]."""
 
     @property
     def size(self) -> int:
@@ -158,7 +161,8 @@ class Suite:
                             for seed in self.seeds:
                                 out.append(RunSpec(len(out), sc, pv, asg, prio, rate,
                                                    self.count, seed,
-                                                   self.ga if prio == "ga" else ()))
+                                                   self.ga if prio == "ga" else (),
+                                                   self.horizon))
         return out
 
 
@@ -178,7 +182,7 @@ def parse_suite(root: YNode) -> Suite:
     """Validate a composed suite document (:func:`load_suite`)."""
     f = root.fields(required=["scenarios", "planners", "seeds"],
                     optional=["name", "description", "assignments", "priorities",
-                              "rates_per_hour", "count", "ga"])
+                              "rates_per_hour", "count", "ga", "horizon"])
     base = Path(root.file).parent
     if "name" in f:
         name = f["name"].string(max_len=100)
@@ -217,6 +221,12 @@ def parse_suite(root: YNode) -> Suite:
                   "seed": (0, 2**63 - 1)}
         ga = tuple((k, n.integer(min=bounds[k][0], max=bounds[k][1])) for k, n in g.items())
     seeds = tuple(_unique(f["seeds"], lambda n: n.integer(min=0, max=2**63 - 1), "seed"))
+    horizon = BOOKING_HORIZON
+    if "horizon" in f:
+        if not set(priorities) & {"shortest_first", "ga"}:
+            raise f["horizon"].error("a booking horizon is given but 'priorities' has no "
+                                     "booked order (shortest_first, ga)")
+        horizon = f["horizon"].number(positive=True, max=1e9)
     suite = Suite(
         name=name,
         description=f["description"].string(max_len=2000) if "description" in f else "",
@@ -229,6 +239,7 @@ def parse_suite(root: YNode) -> Suite:
         count=count,
         seeds=seeds,
         ga=ga,
+        horizon=horizon,
     )
     if suite.size > MAX_RUNS:
         raise root.error(f"the grid has {suite.size} runs; at most {MAX_RUNS}")
@@ -330,7 +341,7 @@ def spec_settings(spec: RunSpec) -> RunSettings:
                           "seed": spec.seed}
     if spec.planner.window is not None:
         kw["window"] = spec.planner.window
-    return RunSettings(**kw)
+    return RunSettings(**kw, horizon=spec.horizon)
 
 
 def _plan(spec: RunSpec, scenario: Scenario, lg: LotGraph) -> tuple[RunResult, dict]:
@@ -784,7 +795,9 @@ def summary_markdown(suite: Suite, rows: Sequence[dict], *, where: str = "") -> 
         f"- scenarios: {', '.join(f'{s.name} (`{Path(s.file).name}`)' for s in suite.scenarios)}",
         f"- planners: {', '.join(p.label for p in suite.planners)}; assignments: "
         f"{', '.join(suite.assignments)}; priorities: {', '.join(suite.priorities)}"
-        + (f" (GA: {ga})" if ga else ""),
+        + (f" (GA: {ga})" if ga else "")
+        + (f"; booked orders know arrivals {suite.horizon:g} s ahead"
+           if set(suite.priorities) & {"shortest_first", "ga"} else ""),
         f"- arrival rates: {rates}" + (f"; {suite.count} vehicles" if suite.count else ""),
         f"- seeds: {', '.join(str(s) for s in suite.seeds)}",
         f"- {len(rows)} runs: {len(rows) - len(failed)} pass `lotsim check`, "
@@ -941,7 +954,8 @@ def _spread(gs: Sequence[dict], metric: str) -> tuple[np.ndarray, np.ndarray]:
     mean = np.array([np.nan if g[metric] is None else g[metric] for g in gs], dtype=float)
     lo = np.array([np.nan if g[f"{metric}_min"] is None else g[f"{metric}_min"] for g in gs])
     hi = np.array([np.nan if g[f"{metric}_max"] is None else g[f"{metric}_max"] for g in gs])
-    return mean, np.vstack([mean - lo, hi - mean])
+    # a mean can land a rounding error outside its own min and max: whiskers never negative
+    return mean, np.clip(np.vstack([mean - lo, hi - mean]), 0.0, None)
 
 
 def _lines(ax, gs, metric, planners, ways, colours, styles, several) -> None:  # noqa: ANN001

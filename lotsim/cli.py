@@ -84,9 +84,9 @@ def _parser() -> argparse.ArgumentParser:
                    default="arrival", help="planning order: online in arrival order "
                    "(default), or booked in advance: shortest static time first, or the "
                    "best order a genetic algorithm finds (total time to park)")
-    r.add_argument("--horizon", type=float, default=math.inf,
+    r.add_argument("--horizon", type=float, default=60.0,
                    help="with --priority shortest_first/ga: how far ahead arrivals are "
-                   "booked [s] (default all)")
+                   "booked [s] (60; inf: all)")
     gif = r.add_mutually_exclusive_group()
     gif.add_argument("--gif", metavar="GIF", help="also write an animated GIF of the run "
                      "(default: OUTDIR/run.gif when the scenario has an 'animation' section)")

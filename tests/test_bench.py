@@ -396,3 +396,13 @@ def test_priority_orders_fill_their_columns(tmp_path):
 def test_the_shipped_suites_are_valid(name, runs):
     suite = bench.load_suite(ROOT / "scenarios" / "bench" / f"{name}.yaml")
     assert suite.size == runs == len(suite.specs())
+
+
+def test_the_booking_horizon_reaches_the_runs_and_needs_a_booked_priority(tmp_path):
+    base = SUITE.replace("[hca, ca]", "[hca]").replace("[360, 1440]", "[1440]")
+    suite = bench.load_suite(_write(tmp_path, base + "priorities: [arrival, shortest_first]\n"
+                                    + "horizon: 15\n"))
+    assert {s.horizon for s in suite.specs()} == {15.0}
+    assert bench.spec_settings(suite.specs()[0]).horizon == 15.0
+    with pytest.raises(ScenarioError, match="no booked order"):
+        bench.load_suite(_write(tmp_path, base + "horizon: 15\n"))
