@@ -17,6 +17,26 @@ from lotsim.sim import prepare
 ROOT = Path(__file__).resolve().parents[1]
 SCENARIOS = sorted((ROOT / "scenarios").glob("*.yaml"))
 
+ONE_AISLE = """\
+name: small
+vehicle_types: [valet]
+lot:
+  boundary: [[0, 0], [50, 0], [50, 22], [0, 22]]
+  aisles:
+    - {id: a, centerline: [[0, 11], [50, 11]], width: 7.0, direction: one-way}
+  rows:
+    - {aisle: a, side: left, kind: perpendicular, count: 6, slot_width: 2.5,
+       slot_length: 5.0, start: 12, id_prefix: N}
+    - {aisle: a, side: right, kind: perpendicular, count: 6, slot_width: 2.5,
+       slot_length: 5.0, start: 12, id_prefix: S}
+  entrances:
+    - {id: in, x: 3.0, y: 11.0, heading_deg: 0}
+  exits:
+    - {id: out, x: 44.0, y: 11.0, heading_deg: 0}
+  occupied: [N1, N2, N3, N4, N5, S1, S2, S3, S4]
+"""
+"""A one-way aisle between two rows of six perpendicular slots, nine of them taken."""
+
 
 def scenario_from_text(text: str, file: str = "t.yaml") -> Scenario:
     return parse_scenario(parse_text(textwrap.dedent(text), file))

@@ -8,7 +8,7 @@ import math
 import numpy as np
 import pytest
 
-from conftest import SCENARIOS, position, scenario_from_text, static_times
+from conftest import ONE_AISLE, SCENARIOS, position, scenario_from_text, static_times
 from lotsim.check import check_result
 from lotsim.cli import main
 from lotsim.errors import ScenarioError
@@ -18,24 +18,7 @@ from lotsim.planners import cooperative
 from lotsim.sim import RunSettings, prepare, run
 from lotsim.traffic import Arrival, TrafficSpec
 
-LOT = """\
-name: small
-vehicle_types: [valet]
-lot:
-  boundary: [[0, 0], [50, 0], [50, 22], [0, 22]]
-  aisles:
-    - {id: a, centerline: [[0, 11], [50, 11]], width: 7.0, direction: one-way}
-  rows:
-    - {aisle: a, side: left, kind: perpendicular, count: 6, slot_width: 2.5,
-       slot_length: 5.0, start: 12, id_prefix: N}
-    - {aisle: a, side: right, kind: perpendicular, count: 6, slot_width: 2.5,
-       slot_length: 5.0, start: 12, id_prefix: S}
-  entrances:
-    - {id: in, x: 3.0, y: 11.0, heading_deg: 0}
-  exits:
-    - {id: out, x: 44.0, y: 11.0, heading_deg: 0}
-  occupied: [N1, N2, N3, N4, N5, S1, S2, S3, S4]
-"""
+LOT = ONE_AISLE
 
 
 @pytest.fixture(scope="module")
