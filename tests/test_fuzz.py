@@ -1,0 +1,132 @@
+"""A fuzzer for scenario files: mutations of the shipped YAML must end in a valid scenario
+or a clean ``path:line:col:`` error — never another exception, a hang, or a written file.
+
+Each mutation is read and built as ``lotsim validate`` does, without planning maneuvers
+(that is what takes seconds; the slow profile plans them for a sample of the mutants).
+The default run tries :data:`QUICK` mutations; ``pytest -m slow`` tries :data:`SLOW`.
+"""
+
+from __future__ import annotations
+
+import re
+import signal
+from contextlib import contextmanager
+
+import numpy as np
+import pytest
+
+from conftest import ROOT
+from lotsim.errors import ScenarioError
+from lotsim.io.scenario import load_scenario
+from lotsim.sim import check_traffic, prepare
+from lotsim.traffic import arrivals
+
+FILES = ("quickstart.yaml", "street.yaml", "seed003_two_rows.yaml", "mixed_lot.yaml")
+QUICK = 240
+SLOW = 2000
+LIMIT = 20.0
+"""Seconds a mutant may take to be read and built before it counts as a hang."""
+
+VALUES = [
+    "0", "-1", "-1e9", "1e308", "1.0e+308", "9" * 400, "-0.0", ".nan", ".NaN", ".inf", "-.inf",
+    "nan", "inf", "1e3", "012", "0x1F", "yes", "no", "on", "null", "~", "''", '""', "[]", "{}",
+    "[1, 2]", "[[1, 2], [3, 4]]", "{a: 1}", "x" * 5000, "é€𝄞", "'quoted'",
+    "!!python/object:os.system ls",
+    "!!binary aGVsbG8=", "&a 1", "*a", "? complex", "- item", "|", ">", "%YAML 1.1", "@", "`",
+    "\t1", "1:2", "[" * 200 + "]" * 200, "{" * 60 + "}" * 60, "2.5.5", "1_000", "+5", "true",
+]
+GARBAGE = [
+    "garbage", ":", "- - -", "key: [unclosed", "key: {unclosed", "\t- tab", "---", "...",
+    "&anchor", "*alias", "!!python/name:os.system", "? ", "!!str", "a: b: c", "\x00",
+    "x: " + "[" * 500, "deep: " + "[" * 3000 + "]" * 3000, "long: " + "y" * 200_000,
+]
+_SCALAR = re.compile(r"(:\s+|-\s+|\[\s*|,\s*)([^\s,\[\]{}#][^,\[\]{}#]*?)(\s*(?:[,\]}#]|$))")
+
+
+def mutate(text: str, rng: np.random.Generator) -> str:
+    """One to three random edits of a YAML text."""
+    lines = text.split("\n")
+    for _ in range(int(rng.integers(1, 4))):
+        if not lines:
+            lines = [""]
+        k = int(rng.integers(len(lines)))
+        op = int(rng.integers(7))
+        if op == 0:  # delete a line
+            del lines[k]
+        elif op == 1:  # duplicate a line
+            lines.insert(k, lines[k])
+        elif op == 2:  # swap two lines
+            j = int(rng.integers(len(lines)))
+            lines[k], lines[j] = lines[j], lines[k]
+        elif op == 3:  # insert garbage
+            lines.insert(k, GARBAGE[int(rng.integers(len(GARBAGE)))])
+        elif op in (4, 5):  # replace a scalar value
+            hits = list(_SCALAR.finditer(lines[k]))
+            if hits:
+                m = hits[int(rng.integers(len(hits)))]
+                new = VALUES[int(rng.integers(len(VALUES)))]
+                lines[k] = lines[k][: m.start(2)] + new + lines[k][m.end(2):]
+        else:  # change the indentation of a line
+            lines[k] = " " * int(rng.integers(0, 9)) + lines[k].lstrip()
+    return "\n".join(lines)
+
+
+@contextmanager
+def time_limit(seconds: float):
+    def stop(signum, frame):  # noqa: ARG001
+        raise TimeoutError(f"took more than {seconds:g} s")
+
+    old = signal.signal(signal.SIGALRM, stop)
+    signal.setitimer(signal.ITIMER_REAL, seconds)
+    try:
+        yield
+    finally:
+        signal.setitimer(signal.ITIMER_REAL, 0)
+        signal.signal(signal.SIGALRM, old)
+
+
+def outcome(path, *, maneuvers: bool = False) -> str:
+    """``ok`` or ``error``; raises AssertionError for anything a user must never see."""
+    try:
+        with time_limit(LIMIT):
+            sc = load_scenario(path)
+            lg = prepare(sc, maneuvers=maneuvers)
+            if maneuvers and sc.traffic is not None:
+                check_traffic(lg, arrivals(sc.traffic, sc.seed))
+    except ScenarioError as exc:
+        message = str(exc)
+        assert re.match(rf"{re.escape(str(path))}:\d+:\d+: ", message), message
+        assert "\n" not in message.strip() or "Traceback" not in message
+        return "error"
+    return "ok"
+
+
+def _fuzz(tmp_path, count: int, seed: int, *, maneuvers_every: int = 0) -> dict:
+    rng = np.random.default_rng(seed)
+    texts = {name: (ROOT / "scenarios" / name).read_text() for name in FILES}
+    seen = {"ok": 0, "error": 0}
+    for k in range(count):
+        name = FILES[k % len(FILES)]
+        text = mutate(texts[name], rng)
+        path = tmp_path / f"m{k}.yaml"
+        path.write_text(text, encoding="utf-8", errors="surrogatepass")
+        try:
+            full = maneuvers_every and k % maneuvers_every == 0
+            seen[outcome(path, maneuvers=bool(full))] += 1
+        except BaseException as exc:
+            raise AssertionError(f"mutant {k} of {name} (kept at {path}): "
+                                 f"{type(exc).__name__}: {exc}") from exc
+        path.unlink()
+    assert sorted(p.name for p in tmp_path.iterdir()) == []  # nothing written beside them
+    return seen
+
+
+def test_mutated_scenarios_end_in_a_scenario_or_a_located_error(tmp_path):
+    seen = _fuzz(tmp_path, QUICK, seed=2026)
+    assert seen["error"] > QUICK // 4 and seen["ok"] > 5  # the mutations bite, and not all
+
+
+@pytest.mark.slow
+def test_many_mutated_scenarios_end_in_a_scenario_or_a_located_error(tmp_path):
+    seen = _fuzz(tmp_path, SLOW, seed=7, maneuvers_every=25)
+    print(f"{SLOW} mutations: {seen['ok']} valid, {seen['error']} located errors")
