@@ -376,10 +376,9 @@ def _run(args: argparse.Namespace) -> int:
     gif_path = None
     if args.gif:
         gif_path = Path(args.gif)
-        if gif_path.suffix.lower() != ".gif":
-            return _bad(f"--gif: expected a file name ending in .gif, found {args.gif!r}")
-        if not gif_path.parent.is_dir():
-            return _bad(f"--gif: folder {str(gif_path.parent)!r} does not exist")
+        problem = _output_problem("--gif", args.gif, ".gif")
+        if problem:
+            return _bad(problem)
     elif anim is not None and not args.no_gif:
         gif_path = out / anim.gif
     settings_gif = _gif_settings(anim) if gif_path is not None else None
@@ -517,6 +516,18 @@ _GIF_OPTIONS = {"fps": "--fps", "speed": "--speed", "size": "--size", "start": "
 """GifSettings field → the ``render`` option that sets it."""
 
 
+def _output_problem(opt: str, path: str, suffix: str) -> str | None:
+    """What is wrong with an output file named by option ``opt`` (None if nothing)."""
+    from pathlib import Path
+
+    p = Path(path)
+    if p.suffix.lower() != suffix:
+        return f"{opt}: expected a file name ending in {suffix}, found {path!r}"
+    if not p.parent.is_dir():
+        return f"{opt}: folder {str(p.parent)!r} does not exist"
+    return None
+
+
 def _render(args: argparse.Namespace) -> int:
     from lotsim.check import ResultFormatError, load_result
 
@@ -532,17 +543,10 @@ def _render(args: argparse.Namespace) -> int:
     if bad:
         field, message = bad[0]
         return _bad(f"{_GIF_OPTIONS[field]}: {message}")
-    for opt, path in (("--gif", args.gif), ("--timeline", args.timeline)):
-        if path is None:
-            continue
-        from pathlib import Path
-
-        p = Path(path)
-        want = ".gif" if opt == "--gif" else ".png"
-        if p.suffix.lower() != want:
-            return _bad(f"{opt}: expected a file name ending in {want}, found {path!r}")
-        if not p.parent.is_dir():
-            return _bad(f"{opt}: folder {str(p.parent)!r} does not exist")
+    for opt, path, suffix in (("--gif", args.gif, ".gif"), ("--timeline", args.timeline, ".png")):
+        problem = path and _output_problem(opt, path, suffix)
+        if problem:
+            return _bad(problem)
     try:
         doc = load_result(args.result)
     except ResultFormatError as exc:
