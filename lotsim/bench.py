@@ -21,7 +21,6 @@ import dataclasses
 import hashlib
 import io
 import os
-import re
 import resource
 import sys
 import threading
@@ -38,7 +37,7 @@ from lotsim.atomic import atomic_write
 from lotsim.check import check_result
 from lotsim.errors import LotsimError, ScenarioError
 from lotsim.io.result import result_dict
-from lotsim.io.scenario import MAX_ITEMS, load_scenario, parse_scenario
+from lotsim.io.scenario import MAX_ITEMS, load_scenario, name_from_file, parse_scenario
 from lotsim.io.yamlnodes import YNode, parse_text, read_yaml
 from lotsim.priority import PRIORITIES, GASettings, run_with_priority
 from lotsim.sim import ASSIGNMENTS, BOOKING_HORIZON, RunResult, RunSettings, prepare
@@ -61,7 +60,6 @@ SATURATED = 0.9
 SATURATION_VEHICLES = 20
 """Fewest vehicles per run for :func:`saturation` to judge: rates estimated from a handful
 of arrivals are noise."""
-_NAME = re.compile(r"[A-Za-z0-9][A-Za-z0-9_.-]{0,100}")
 
 
 class DaskMissing(LotsimError):
@@ -185,12 +183,9 @@ def parse_suite(root: YNode) -> Suite:
                               "rates_per_hour", "count", "ga", "horizon"])
     base = Path(root.file).parent
     if "name" in f:
-        name = f["name"].string(max_len=100)
-        if not _NAME.fullmatch(name) or ".." in name:
-            raise f["name"].error("expected letters, digits, '_', '-' or '.' (it names the "
-                                  f"output folder runs/bench/NAME), found {name!r}")
+        name = f["name"].file_name(purpose="it names the output folder runs/bench/NAME")
     else:
-        name = Path(root.file).stem
+        name = name_from_file(root.file)
     rates = None
     if "rates_per_hour" in f:
         rates = tuple(_unique(f["rates_per_hour"], lambda n: n.number(positive=True, max=1e6),

@@ -1,8 +1,9 @@
 """The ``lotsim`` command line.
 
 Exit codes: 0 ok, 1 incomplete (something could not be planned or reached, with
-``--strict``), 2 bad input. Errors go to stderr as ``file:line:col: key: message``;
-results go to files; a one-screen summary goes to stdout.
+``--strict``), 2 bad input, or a run stopped by its memory or time limit. Errors go to
+stderr as ``file:line:col: key: message``; results go to files; a one-screen summary goes
+to stdout.
 """
 
 from __future__ import annotations
@@ -87,6 +88,12 @@ def _parser() -> argparse.ArgumentParser:
     r.add_argument("--horizon", type=float, default=60.0,
                    help="with --priority shortest_first/ga: how far ahead arrivals are "
                    "booked [s] (60; inf: all)")
+    r.add_argument("--memory-limit", metavar="SIZE", help="stop, writing nothing, when the "
+                   "run holds or is projected to need more memory than this, e.g. 4G "
+                   "(default 80%% of the memory available)")
+    r.add_argument("--time-limit", type=float, default=7200.0, metavar="SECONDS",
+                   help="stop, writing nothing, when planning takes or is projected to take "
+                   "longer than this (default 7200; 0: no limit)")
     gif = r.add_mutually_exclusive_group()
     gif.add_argument("--gif", metavar="GIF", help="also write an animated GIF of the run "
                      "(default: OUTDIR/run.gif when the scenario has an 'animation' section)")
@@ -359,6 +366,7 @@ def _run(args: argparse.Namespace) -> int:
 
     from lotsim.io.result import result_dict, write_json
     from lotsim.io.scenario import load_scenario
+    from lotsim.limits import Watchdog
     from lotsim.sim import RunSettings, run
 
     if args.seed is not None and not 0 <= args.seed < 2**63:
@@ -392,18 +400,25 @@ def _run(args: argparse.Namespace) -> int:
 
     if not (args.horizon > 0):
         return _bad(f"--horizon: expected a positive number of seconds, found {args.horizon:g}")
+    budget = _budget(args)
+    if isinstance(budget, int):
+        return budget
     settings = RunSettings(planner=args.planner, assignment=args.assign, seed=args.seed,
                            window=args.window, omega=args.omega, horizon=args.horizon)
+    traffic = scenario.traffic
+    where = traffic.stream.where if traffic.stream is not None else traffic.where
     if args.priority == "arrival":
-        rr = run(scenario, settings, progress=progress)
+        with Watchdog(budget, where, then=progress) as dog:
+            rr = run(scenario, settings, progress=dog.progress)
     else:
         from lotsim.priority import run_with_priority
         from lotsim.sim import prepare
 
         bar = _ProgressBar("trying orders")
         try:
-            rr, found = run_with_priority(scenario, settings, priority=args.priority,
-                                          lot_graph=prepare(scenario), progress=bar)
+            with Watchdog(budget, where):
+                rr, found = run_with_priority(scenario, settings, priority=args.priority,
+                                              lot_graph=prepare(scenario), progress=bar)
         finally:
             bar.close()
         extra = (f", arrival order {found['fitness_arrival']:.1f} s, shortest first "
@@ -441,6 +456,25 @@ def _run(args: argparse.Namespace) -> int:
         if code != EXIT_OK:
             return code
     return EXIT_INCOMPLETE if m["waiting"] else EXIT_OK
+
+
+def _budget(args: argparse.Namespace):  # noqa: ANN202
+    """The run's :class:`~lotsim.limits.Budget` from ``--memory-limit``/``--time-limit``, or
+    the exit code of a bad value."""
+    from lotsim.limits import Budget, parse_size
+
+    memory = None
+    if args.memory_limit is not None:
+        try:
+            memory = parse_size(args.memory_limit)
+        except ValueError as exc:
+            return _bad(f"--memory-limit: {exc}")
+        if memory < 2**20:
+            return _bad(f"--memory-limit: expected at least 1M, found {args.memory_limit!r}")
+    t = args.time_limit
+    if not t >= 0:
+        return _bad(f"--time-limit: expected a number of seconds ≥ 0, found {t:g}")
+    return Budget.default(memory=memory, seconds=None if t in (0, math.inf) else t)
 
 
 def _gif_settings(anim=None, args: argparse.Namespace | None = None):  # noqa: ANN001, ANN202

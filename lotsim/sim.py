@@ -245,7 +245,9 @@ def run(scenario: Scenario, settings: RunSettings | None = None, *, lot_graph=No
     lot_graph : LotGraph, optional
         The prepared lot (made with :func:`prepare` if not given).
     progress : callable, optional
-        Called as ``progress(done, total)`` when a vehicle is settled.
+        Called as ``progress(done, total)`` as vehicles are dealt with: once for each, when
+        its way in is planned or, if it never parks, when it is turned away. It may raise
+        (e.g. :class:`lotsim.limits.LimitExceeded`) to stop the run.
 
     Raises
     ------
@@ -286,7 +288,7 @@ class _Simulation:
         self.events: list[tuple[float, int, str, int]] = []
         self.seq = 0
         self.progress = progress
-        self.settled = 0
+        self._handled: set[str] = set()
         self._slot_times: dict[tuple[str, str, bool], dict[str, float]] = {}
         self.leave = lg.leave_nodes()
         self._exits: dict[str, ReverseResumable] = {}
@@ -342,9 +344,14 @@ class _Simulation:
 
     def finish(self, v: VehicleRun, status: str, reason: str = "") -> None:
         v.status, v.reason, v.done = status, reason, True
-        self.settled += 1
-        if self.progress is not None:
-            self.progress(self.settled, len(self.vehicles))
+        self.handled(v)
+
+    def handled(self, v: VehicleRun) -> None:
+        """Count ``v`` for ``progress`` once: when its way in is planned or it settles."""
+        if v.arrival.id not in self._handled:
+            self._handled.add(v.arrival.id)
+            if self.progress is not None:
+                self.progress(len(self._handled), len(self.vehicles))
 
     # -- arriving -----------------------------------------------------------------------------
     def on_arrive(self, i: int, v: VehicleRun, t: float) -> None:
@@ -455,6 +462,7 @@ class _Simulation:
             v.parked_at = t_end
             v.parked_pose = plan.moves[-1].end_pose
             v.status, v.reason = "parked", ""
+            self.handled(v)
             if v.arrival.dwell is not None:
                 v.depart_at = t_end + v.arrival.dwell
                 self.at(v.depart_at, "depart", i)

@@ -333,7 +333,7 @@ def test_run_writes_the_gif_the_scenario_asks_for_unless_told_not_to(tmp_path):
 
 @pytest.mark.parametrize(("text", "needle", "message"), [
     ("animation: {fps: 0}\n", "fps: |0", "expected a number ≥ 1"),
-    ("animation: {gif: ../up.gif}\n", "gif: |../up.gif", "plain file name"),
+    ("animation: {gif: ../up.gif}\n", "gif: |../up.gif", "ending in .gif (it is written beside"),
     ("animation: {gif: out.png}\n", "gif: |out.png", "ending in .gif"),
     ("animation: {size: [800]}\n", "size: |[800]", "exactly 2 items"),
     ("animation: {from: 50, to: 10}\n", "to: |10", "after 'from'"),

@@ -8,6 +8,7 @@ at the locations stored in the specs. The format is documented in
 
 from __future__ import annotations
 
+import itertools
 import math
 import re
 from pathlib import Path
@@ -69,7 +70,8 @@ def parse_scenario(root: YNode) -> Scenario:
         optional=["name", "description", "seed", "vehicle_types", "parked_vehicle", "traffic",
                   "animation"],
     )
-    name = f["name"].string() if "name" in f else Path(root.file).stem
+    name = (f["name"].file_name(purpose="it names the output folder runs/NAME")
+            if "name" in f else name_from_file(root.file))
     seed = f["seed"].integer(min=0, max=2**63 - 1) if "seed" in f else 0
     if "vehicle_types" in f:
         types = tuple(parse_vehicle(n) for n in f["vehicle_types"].items(min_len=1))
@@ -106,7 +108,14 @@ def parse_scenario(root: YNode) -> Scenario:
     )
 
 
-_GIF_NAME = re.compile(r"[A-Za-z0-9][A-Za-z0-9_.-]{0,100}\.gif")
+def name_from_file(file: str) -> str:
+    """A scenario's default name: its file name without the suffix, made a plain name.
+
+    >>> name_from_file("lots/my lot (v2).yaml"), name_from_file("...yaml")
+    ('my_lot_v2', 'scenario')
+    """
+    name = re.sub(r"[^A-Za-z0-9_.-]+", "_", Path(file).stem).strip("._")
+    return name[:100] or "scenario"
 
 
 def parse_animation(node: YNode) -> AnimationSpec:
@@ -117,10 +126,7 @@ def parse_animation(node: YNode) -> AnimationSpec:
                               "trail"])
     gif = "run.gif"
     if "gif" in f:
-        gif = f["gif"].string(max_len=100)
-        if not _GIF_NAME.fullmatch(gif) or ".." in gif:
-            raise f["gif"].error(f"expected a plain file name ending in .gif (it is written "
-                                 f"beside result.json), found {gif!r}")
+        gif = f["gif"].file_name(purpose="it is written beside result.json", suffix=".gif")
     size = None
     if "size" in f:
         w, h = (n.integer(min=m, max=4000) for n, m in
@@ -306,7 +312,38 @@ def parse_lot(node: YNode) -> LotSpec:
         boundary_where=f["boundary"].where,
     )
     _check_unique_ids(f, spec)
+    _check_size(f, spec)
     return spec
+
+
+MAX_LOT_SIZE = 2000.0
+"""Longest side of the boundary's bounding box lotsim plans [m] (16 × the large lot)."""
+MAX_AISLE_LENGTH = 20_000.0
+"""Total length of the aisles' centrelines lotsim plans [m]."""
+MAX_SLOTS = 20_000
+"""Slots lotsim plans in one lot: 20 × the large lot, about 80 s and 300 MB to build."""
+
+
+def _check_size(f: dict[str, YNode], spec: LotSpec) -> None:
+    """Refuse lots too big to build and plan on one machine in reasonable time, with the
+    first value that crosses a limit (the limits are measured, see docs/scenario.md)."""
+    xs, ys = zip(*spec.boundary, strict=True)
+    size = max(max(xs) - min(xs), max(ys) - min(ys))
+    if size > MAX_LOT_SIZE:
+        raise f["boundary"].error(f"the lot is {size:,.0f} m across; lotsim plans lots of at "
+                                  f"most {MAX_LOT_SIZE:,.0f} m (is the unit metres?)")
+    total = 0.0
+    for a in spec.aisles:
+        total += sum(math.dist(p, q) for p, q in itertools.pairwise(a.centerline))
+        if total > MAX_AISLE_LENGTH:
+            raise ScenarioError(a.where, f"the aisles are {total:,.0f} m long up to here; lotsim "
+                                f"plans lots with at most {MAX_AISLE_LENGTH:,.0f} m of aisle")
+    slots = len(spec.slots)
+    for r in spec.rows:
+        slots += r.count
+        if slots > MAX_SLOTS:
+            raise ScenarioError(r.where, f"the lot has {slots:,} slots up to this row; lotsim "
+                                f"plans lots of at most {MAX_SLOTS:,} slots")
 
 
 def _check_unique_ids(f: dict[str, YNode], spec: LotSpec) -> None:

@@ -29,6 +29,7 @@ _NULL = "tag:yaml.org,2002:null"
 _DECIMAL_INT = re.compile(r"^[-+]?(0|[1-9][0-9]*)$")
 _DECIMAL_FLOAT = re.compile(r"^[-+]?([0-9]+\.?[0-9]*|\.[0-9]+)([eE][-+]?[0-9]+)?$")
 _MAX_DEPTH = 64
+_FILE_NAME = re.compile(r"[A-Za-z0-9][A-Za-z0-9_.-]{0,99}")
 COORD_LIMIT = 1e6
 """Largest coordinate a point may have [m]: a lot is not a continent."""
 
@@ -235,6 +236,31 @@ class YNode:
         if len(node.value) > 100:
             raise self.error("expected a name of at most 100 characters")
         return node.value
+
+    def file_name(self, *, purpose: str, suffix: str = "") -> str:
+        """Read a plain file or folder name (letters, digits, ``_ - .``; no ``/``, no ``..``).
+
+        ``purpose`` says where the name is used, for the error message: a name from a
+        scenario can only ever name something inside the folder lotsim was given.
+
+        Examples
+        --------
+        >>> parse_text("runs-2", "f.yaml").file_name(purpose="it names a folder")
+        'runs-2'
+        >>> parse_text("../x", "f.yaml").file_name(purpose="it names a folder")
+        Traceback (most recent call last):
+        lotsim.errors.ScenarioError: f.yaml:1:1: expected letters, digits, '_', '-' or '.' ...
+        """
+        node = self._scalar()
+        if node.tag != _STR:
+            raise self._expected("a name")
+        name = node.value
+        if (not _FILE_NAME.fullmatch(name) or ".." in name
+                or not name.lower().endswith(suffix)):
+            ending = f", ending in {suffix}" if suffix else ""
+            raise self.error(f"expected letters, digits, '_', '-' or '.'{ending} ({purpose}), "
+                             f"found {name!r}")
+        return name
 
     def boolean(self) -> bool:
         """Read ``true`` or ``false`` (not yes/no/on/off)."""

@@ -1,0 +1,220 @@
+"""Memory and time budgets: stop a run that would outgrow the machine, saying so.
+
+A lot's size is bounded when the scenario is read (:data:`lotsim.io.scenario.MAX_SLOTS` and
+its neighbours). How much a run needs depends on its traffic and can only be seen while it
+plans, so :class:`Watchdog` watches it: a thread samples the process's resident memory and
+the clock four times a second and, from the vehicles dealt with so far, projects what the
+whole run will need. When the memory in use or projected passes the memory budget, or the
+time spent or projected passes the time budget, it interrupts the main thread with
+:class:`LimitExceeded` — a :class:`~lotsim.errors.ScenarioError` located at the scenario's
+traffic, so the CLI prints one line and exits 2, before anything is written.
+
+The default memory budget is 80 % of the memory available when the run starts; projections
+need :data:`WARMUP` vehicles and two seconds of planning before they count.
+"""
+
+from __future__ import annotations
+
+import _thread
+import os
+import re
+import signal
+import sys
+import threading
+import time
+from dataclasses import dataclass
+
+from lotsim.errors import Location, ScenarioError
+
+WARMUP = 10
+"""Vehicles dealt with before a projection is trusted."""
+POLL = 0.25
+"""Seconds between two looks at memory and clock."""
+DOC_FACTOR = 3.0
+"""A run's peak memory growth (planning, then the result document and its JSON) as a multiple
+of the planner's own growth: measured 2.1 with 200 and 2.65 with 800 vehicles on the large
+lot (``benchmarks/bench_limits.py``)."""
+_UNITS = {"": 1, "k": 2**10, "m": 2**20, "g": 2**30, "t": 2**40}
+
+
+class LimitExceeded(ScenarioError):
+    """A run stopped because it needs more memory or time than its budget."""
+
+
+def available_memory() -> int | None:
+    """Bytes of memory available to a new process now (Linux ``MemAvailable``), or None."""
+    try:
+        with open("/proc/meminfo", encoding="ascii") as fh:
+            for line in fh:
+                if line.startswith("MemAvailable:"):
+                    return int(line.split()[1]) * 1024
+    except (OSError, ValueError, IndexError):
+        pass
+    try:
+        return os.sysconf("SC_AVPHYS_PAGES") * os.sysconf("SC_PAGE_SIZE")
+    except (ValueError, OSError, AttributeError):
+        return None
+
+
+def resident_memory() -> int:
+    """Bytes of memory this process holds now (its peak where the current is unknown)."""
+    try:
+        with open("/proc/self/statm", encoding="ascii") as fh:
+            return int(fh.read().split()[1]) * os.sysconf("SC_PAGE_SIZE")
+    except (OSError, ValueError, IndexError):
+        import resource
+
+        peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
+        return peak if sys.platform == "darwin" else peak * 1024
+
+
+def parse_size(text: str) -> int:
+    """Bytes from ``500M``, ``4G``, ``1.5g``, ``2048`` (binary units).
+
+    >>> parse_size("4G"), parse_size("512m"), parse_size("1000")
+    (4294967296, 536870912, 1000)
+    """
+    m = re.fullmatch(r"\s*(\d+(?:\.\d+)?)\s*([kmgt]?)i?b?\s*", text.lower())
+    if not m:
+        raise ValueError(f"expected a size such as 500M or 4G, found {text!r}")
+    return int(float(m.group(1)) * _UNITS[m.group(2)])
+
+
+def human(n: float) -> str:
+    """``1.5 GB``, ``300 MB``: a byte count for a message.
+
+    >>> human(1.5 * 2**30), human(3e8), human(2**40 * 49)
+    ('1.5 GB', '286 MB', '50176 GB')
+    """
+    if n >= 2**30:
+        return f"{n / 2**30:.1f} GB" if n < 100 * 2**30 else f"{n / 2**30:.0f} GB"
+    return f"{n / 2**20:.0f} MB"
+
+
+def duration(s: float) -> str:
+    """``0.3 s``, ``45 s``, ``12 min``, ``3.2 h``.
+
+    >>> duration(0.3), duration(45), duration(720), duration(11520)
+    ('0.3 s', '45 s', '12 min', '3.2 h')
+    """
+    if s < 10:
+        return f"{s:.1f} s"
+    if s < 120:
+        return f"{s:.0f} s"
+    return f"{s / 60:.0f} min" if s < 7200 else f"{s / 3600:.1f} h"
+
+
+@dataclass(frozen=True, slots=True)
+class Budget:
+    """At most ``memory`` bytes held by the process and ``seconds`` of work; None: no limit.
+
+    ``memory_note`` says where the memory figure came from, for messages.
+    """
+
+    memory: int | None = None
+    seconds: float | None = None
+    memory_note: str = "--memory-limit"
+
+    @classmethod
+    def default(cls, *, memory: int | None = None, seconds: float | None = None) -> Budget:
+        """``memory`` if given, else 80 % of the memory available now."""
+        if memory is not None:
+            return cls(memory, seconds)
+        free = available_memory()
+        if free is None:
+            return cls(None, seconds)
+        return cls(int(0.8 * free), seconds,
+                   memory_note=f"80 % of the {human(free)} available; --memory-limit")
+
+
+class Watchdog:
+    """Watch a run's memory and time against ``budget``; a context manager.
+
+    Pass :meth:`progress` as the run's progress callback (it chains to ``then``). Inside the
+    ``with`` block the main thread may be interrupted with :class:`LimitExceeded`, located
+    at ``where`` (the scenario's traffic). Outside the main thread, or without a budget, it
+    only chains the progress.
+    """
+
+    def __init__(self, budget: Budget, where: Location | None, *, what: str = "vehicles",
+                 then=None) -> None:  # noqa: ANN001
+        self.budget = budget
+        self.where = where
+        self.what = what
+        self.then = then
+        self.done = 0
+        self.total = 0
+        self.message: str | None = None
+        self.first: tuple[float, int, int] | None = None
+        self._stop = threading.Event()
+        self._thread: threading.Thread | None = None
+        self._old = None
+
+    # -- the main thread ----------------------------------------------------------------------
+    def __enter__(self) -> Watchdog:
+        self.start = time.perf_counter()
+        watched = self.budget.memory is not None or self.budget.seconds is not None
+        if (watched and hasattr(signal, "SIGUSR1")
+                and threading.current_thread() is threading.main_thread()):
+            self._old = signal.signal(signal.SIGUSR1, self._raise)
+            self._thread = threading.Thread(target=self._watch, name="lotsim-watchdog",
+                                            daemon=True)
+            self._thread.start()
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self._stop.set()
+        if self._thread is not None:
+            self._thread.join()
+            signal.signal(signal.SIGUSR1, self._old)
+
+    def progress(self, done: int, total: int) -> None:
+        if self.done == 0 and done > 0:  # the lot is built: projections count from here
+            self.first = (time.perf_counter(), resident_memory(), done)
+        self.done, self.total = done, total
+        if self.then is not None:
+            self.then(done, total)
+
+    def _raise(self, signum, frame) -> None:  # noqa: ANN001, ARG002
+        if self.message is not None:
+            raise LimitExceeded(self.where, self.message)
+
+    # -- the watching thread ------------------------------------------------------------------
+    def _watch(self) -> None:
+        while not self._stop.wait(POLL):
+            problem = self.problem(time.perf_counter() - self.start, resident_memory())
+            if problem is not None:
+                self.message = problem
+                _thread.interrupt_main(signal.SIGUSR1)
+                return
+
+    def problem(self, elapsed: float, rss: int) -> str | None:
+        """What is over budget after ``elapsed`` seconds holding ``rss`` bytes, or None."""
+        b = self.budget
+        done, total = self.done, self.total
+        so_far = (f"after dealing with {done} of {total} {self.what} in {duration(elapsed)}"
+                  if total else f"after {duration(elapsed)}")
+        tail = "; nothing was written. Plan fewer vehicles or raise the limit"
+        if b.memory is not None and rss > b.memory:
+            return (f"stopped {so_far}: it holds {human(rss)} of memory, over the budget of "
+                    f"{human(b.memory)} ({b.memory_note}){tail}")
+        if b.seconds is not None and elapsed > b.seconds:
+            return (f"stopped {so_far}: over the time limit of {duration(b.seconds)} "
+                    f"(--time-limit){tail}")
+        if self.first is None or done >= total:
+            return None
+        t1, rss1, done1 = self.first
+        if done - done1 < WARMUP or self.start + elapsed - t1 < 2.0:
+            return None
+        each = (self.start + elapsed - t1) / (done - done1)  # per vehicle, once the lot is built
+        need = elapsed + each * (total - done)
+        if b.seconds is not None and need > b.seconds:
+            return (f"stopped {so_far}: at this pace the run needs about {duration(need)}, "
+                    f"over the time limit of {duration(b.seconds)} (--time-limit){tail}")
+        grow = max(rss - rss1, 0) / (done - done1)
+        need = rss1 + DOC_FACTOR * grow * total
+        if b.memory is not None and need > b.memory:
+            return (f"stopped {so_far}: at this pace the run needs about {human(need)} of "
+                    f"memory, over the budget of {human(b.memory)} ({b.memory_note}){tail}")
+        return None
+
