@@ -396,7 +396,7 @@ def _run(args: argparse.Namespace) -> int:
 
     def progress(done: int, total: int) -> None:
         if tty:
-            print(f"\rplanned {done}/{total} vehicles", end="", file=sys.stderr, flush=True)
+            print(f"\rplanned {done}/{total} trips in and out", end="", file=sys.stderr, flush=True)
 
     if not (args.horizon > 0):
         return _bad(f"--horizon: expected a positive number of seconds, found {args.horizon:g}")

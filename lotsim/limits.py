@@ -3,14 +3,15 @@
 A lot's size is bounded when the scenario is read (:data:`lotsim.io.scenario.MAX_SLOTS` and
 its neighbours). How much a run needs depends on its traffic and can only be seen while it
 plans, so :class:`Watchdog` watches it: a thread samples the process's resident memory and
-the clock four times a second and, from the vehicles dealt with so far, projects what the
-whole run will need. When the memory in use or projected passes the memory budget, or the
-time spent or projected passes the time budget, it interrupts the main thread with
-:class:`LimitExceeded` — a :class:`~lotsim.errors.ScenarioError` located at the scenario's
-traffic, so the CLI prints one line and exits 2, before anything is written.
+the clock four times a second and, from the trips (a vehicle's way in, and out if it leaves)
+planned so far, projects what the whole run will need. When the memory in use or projected
+passes the memory budget, or the time spent or projected passes the time budget, it
+interrupts the main thread with :class:`LimitExceeded` — a
+:class:`~lotsim.errors.ScenarioError` located at the scenario's traffic, so the CLI prints
+one line and exits 2, before anything is written.
 
 The default memory budget is 80 % of the memory available when the run starts; projections
-need :data:`WARMUP` vehicles and two seconds of planning before they count.
+need :data:`WARMUP` trips and two seconds of planning before they count.
 """
 
 from __future__ import annotations
@@ -27,7 +28,7 @@ from dataclasses import dataclass
 from lotsim.errors import Location, ScenarioError
 
 WARMUP = 10
-"""Vehicles dealt with before a projection is trusted."""
+"""Trips (a vehicle's way in, or out) planned before a projection is trusted."""
 POLL = 0.25
 """Seconds between two looks at memory and clock."""
 DOC_FACTOR = 3.0
@@ -136,7 +137,7 @@ class Watchdog:
     only chains the progress.
     """
 
-    def __init__(self, budget: Budget, where: Location | None, *, what: str = "vehicles",
+    def __init__(self, budget: Budget, where: Location | None, *, what: str = "trips",
                  then=None) -> None:  # noqa: ANN001
         self.budget = budget
         self.where = where
@@ -192,7 +193,7 @@ class Watchdog:
         """What is over budget after ``elapsed`` seconds holding ``rss`` bytes, or None."""
         b = self.budget
         done, total = self.done, self.total
-        so_far = (f"after dealing with {done} of {total} {self.what} in {duration(elapsed)}"
+        so_far = (f"after planning {done} of {total} {self.what} in {duration(elapsed)}"
                   if total else f"after {duration(elapsed)}")
         tail = "; nothing was written. Plan fewer vehicles or raise the limit"
         if b.memory is not None and rss > b.memory:
@@ -201,20 +202,28 @@ class Watchdog:
         if b.seconds is not None and elapsed > b.seconds:
             return (f"stopped {so_far}: over the time limit of {duration(b.seconds)} "
                     f"(--time-limit){tail}")
+        need = self.projection(elapsed, rss)
+        if need is None:
+            return None
+        if b.seconds is not None and need[0] > b.seconds:
+            return (f"stopped {so_far}: at this pace the run needs about {duration(need[0])}, "
+                    f"over the time limit of {duration(b.seconds)} (--time-limit){tail}")
+        if b.memory is not None and need[1] > b.memory:
+            return (f"stopped {so_far}: at this pace the run needs about {human(need[1])} of "
+                    f"memory, over the budget of {human(b.memory)} ({b.memory_note}){tail}")
+        return None
+
+    def projection(self, elapsed: float, rss: int) -> tuple[float, float] | None:
+        """Seconds and peak bytes the whole run will take, extrapolated linearly from the
+        trips planned since the lot was built; None before :data:`WARMUP` trips and
+        two seconds, or once all are done."""
+        done, total = self.done, self.total
         if self.first is None or done >= total:
             return None
         t1, rss1, done1 = self.first
         if done - done1 < WARMUP or self.start + elapsed - t1 < 2.0:
             return None
-        each = (self.start + elapsed - t1) / (done - done1)  # per vehicle, once the lot is built
-        need = elapsed + each * (total - done)
-        if b.seconds is not None and need > b.seconds:
-            return (f"stopped {so_far}: at this pace the run needs about {duration(need)}, "
-                    f"over the time limit of {duration(b.seconds)} (--time-limit){tail}")
+        each = (self.start + elapsed - t1) / (done - done1)
         grow = max(rss - rss1, 0) / (done - done1)
-        need = rss1 + DOC_FACTOR * grow * total
-        if b.memory is not None and need > b.memory:
-            return (f"stopped {so_far}: at this pace the run needs about {human(need)} of "
-                    f"memory, over the budget of {human(b.memory)} ({b.memory_note}){tail}")
-        return None
+        return elapsed + each * (total - done), rss1 + DOC_FACTOR * grow * total
 

@@ -245,9 +245,10 @@ def run(scenario: Scenario, settings: RunSettings | None = None, *, lot_graph=No
     lot_graph : LotGraph, optional
         The prepared lot (made with :func:`prepare` if not given).
     progress : callable, optional
-        Called as ``progress(done, total)`` as vehicles are dealt with: once for each, when
-        its way in is planned or, if it never parks, when it is turned away. It may raise
-        (e.g. :class:`lotsim.limits.LimitExceeded`) to stop the run.
+        Called as ``progress(done, total)`` as trips are dealt with: a vehicle's way in when
+        it is planned, its way out (if it has a dwell) when that is, or both when it is
+        turned away or the run ends. It may raise (e.g.
+        :class:`lotsim.limits.LimitExceeded`) to stop the run.
 
     Raises
     ------
@@ -288,7 +289,9 @@ class _Simulation:
         self.events: list[tuple[float, int, str, int]] = []
         self.seq = 0
         self.progress = progress
-        self._handled: set[str] = set()
+        self._trips = sum(1 + (v.arrival.dwell is not None) for v in self.vehicles)
+        self._trips_done = 0
+        self._counted: dict[str, int] = {}
         self._slot_times: dict[tuple[str, str, bool], dict[str, float]] = {}
         self.leave = lg.leave_nodes()
         self._exits: dict[str, ReverseResumable] = {}
@@ -344,14 +347,18 @@ class _Simulation:
 
     def finish(self, v: VehicleRun, status: str, reason: str = "") -> None:
         v.status, v.reason, v.done = status, reason, True
-        self.handled(v)
+        self.handled(v, 2)
 
-    def handled(self, v: VehicleRun) -> None:
-        """Count ``v`` for ``progress`` once: when its way in is planned or it settles."""
-        if v.arrival.id not in self._handled:
-            self._handled.add(v.arrival.id)
+    def handled(self, v: VehicleRun, trips: int) -> None:
+        """Count ``v``'s first ``trips`` trips (1: in, 2: in and out, if it leaves) as dealt
+        with, for ``progress``."""
+        trips = min(trips, 1 + (v.arrival.dwell is not None))
+        more = trips - self._counted.get(v.arrival.id, 0)
+        if more > 0:
+            self._counted[v.arrival.id] = trips
+            self._trips_done += more
             if self.progress is not None:
-                self.progress(len(self._handled), len(self.vehicles))
+                self.progress(self._trips_done, self._trips)
 
     # -- arriving -----------------------------------------------------------------------------
     def on_arrive(self, i: int, v: VehicleRun, t: float) -> None:
@@ -462,7 +469,7 @@ class _Simulation:
             v.parked_at = t_end
             v.parked_pose = plan.moves[-1].end_pose
             v.status, v.reason = "parked", ""
-            self.handled(v)
+            self.handled(v, 1)
             if v.arrival.dwell is not None:
                 v.depart_at = t_end + v.arrival.dwell
                 self.at(v.depart_at, "depart", i)

@@ -80,13 +80,13 @@ def test_a_run_projected_past_its_time_limit_stops_early_and_writes_nothing(tmp_
     located at the stream, long before the limit itself would."""
     text = ONE_AISLE + STREAM.replace("COUNT", "100000")
     path = _write(tmp_path, text)
-    code = main(["run", str(path), "-o", str(tmp_path / "out"), "--time-limit", "300"])
+    code = main(["run", str(path), "-o", str(tmp_path / "out"), "--time-limit", "60"])
     err = _located(capsys, path, text, "stream: |{count")
     assert code == 2
-    m = re.search(r"after dealing with (\d+) of 100000 vehicles in ([\d.]+) s: at this pace the "
-                  r"run needs about ([\d.]+) (h|min), over the time limit of 5 min", err)
+    m = re.search(r"after planning (\d+) of 200000 trips in ([\d.]+) s: at this pace the "
+                  r"run needs about ([\d.]+) (h|min), over the time limit of 60 s", err)
     assert m, err
-    assert WARMUP <= int(m[1]) < 100000 and float(m[2]) < 120
+    assert WARMUP <= int(m[1]) < 200000 and float(m[2]) < 50
     assert "nothing was written" in err and _nothing_in(tmp_path / "out")
 
 
@@ -150,7 +150,7 @@ def test_projections_wait_for_the_warm_up_and_extrapolate_linearly(monkeypatch):
     assert dog.problem(11.0, 110 * mb) is None  # not yet two seconds
     # 0.5 s and 1 MB a vehicle: 15 + 0.5 * 989 = 509.5 s needed
     err = dog.problem(15.0, 110 * mb)
-    assert "dealing with 11 of 1000 vehicles in 15 s" in err and "about 8 min" in err
+    assert "planning 11 of 1000 trips in 15 s" in err and "about 8 min" in err
     dog.budget = Budget(1000 * mb, 600.0)
     # memory: 100 MB + DOC_FACTOR * 1 MB * 1000 vehicles
     need = 100 + limits.DOC_FACTOR * 1000
