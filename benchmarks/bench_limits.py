@@ -11,8 +11,9 @@ process, so that its peak memory is its own:
 
 * ``watched``: planned under a :class:`lotsim.limits.Watchdog` with no budget that records
   its projection of the run's total time and peak memory after 10 %, 25 % and 50 % of the
-  cars, then writes result.json; the projections are printed as ratios to what the run
-  really took (1.00 is exact; above 1 the watchdog stops a run too early, below 1 too late);
+  trips planned (a car's way in or out), then writes result.json; the projections are
+  printed as ratios to what the run really took (1.00 is exact; above 1 the watchdog stops
+  a run too early, below 1 too late);
 * ``unwatched``: the same run without a watchdog, for the cost of watching (the ratio of the
   two planning times).
 """
@@ -96,7 +97,7 @@ def main() -> None:
           f"{w['planning']:.1f} s), peak memory {w['peak'] / mb:.0f} MB")
     print("projection after   time ratio   memory ratio")
     for share, (seconds, memory) in sorted(w["seen"].items()):
-        print(f"  {100 * share:3.0f} % of cars    {seconds / w['total']:10.2f}   "
+        print(f"  {100 * share:3.0f} % of trips   {seconds / w['total']:10.2f}   "
               f"{memory / w['peak']:12.2f}")
     u = _measure(args.count, False)
     print(f"unwatched: run {u['total']:.1f} s (planning {u['planning']:.1f} s); "

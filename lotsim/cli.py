@@ -377,7 +377,7 @@ def _run(args: argparse.Namespace) -> int:
         return _bad(f"--omega: expected a number of at least 1, found {args.omega:g}")
     scenario = load_scenario(args.scenario)
     if scenario.traffic is None:
-        return _bad(f"{args.scenario}: the scenario has no 'traffic' section to run "
+        return _bad(f"{args.scenario}:1:1: the scenario has no 'traffic' section to run "
                     "(see docs/scenario.md)")
     out = Path(args.output) if args.output else Path("runs") / scenario.name
     anim = scenario.animation

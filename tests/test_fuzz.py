@@ -1,21 +1,31 @@
 """A fuzzer for scenario files: mutations of the shipped YAML must end in a valid scenario
 or a clean ``path:line:col:`` error — never another exception, a hang, or a written file.
 
-Each mutation is read and built as ``lotsim validate`` does, without planning maneuvers
-(that is what takes seconds; the slow profile plans them for a sample of the mutants).
-The default run tries :data:`QUICK` mutations; ``pytest -m slow`` tries :data:`SLOW`.
+Two fuzzers share the mutations:
+
+* reading: each mutant is read and built as ``lotsim validate`` does, without planning
+  maneuvers (that is what takes seconds; the slow profile plans them for a sample);
+  :data:`QUICK` mutants by default, :data:`SLOW` with ``pytest -m slow``;
+* running: each mutant goes through ``lotsim run`` itself, which must exit 0 or 1 with a
+  result.json that passes ``lotsim check`` (and a whole GIF when one is asked for), or exit
+  2 with one located line and nothing in the output folder; :data:`QUICK_RUN` mutants by
+  default, :data:`SLOW_RUN` with ``pytest -m slow``.
 """
 
 from __future__ import annotations
 
+import json
 import re
 import signal
 from contextlib import contextmanager
 
 import numpy as np
 import pytest
+from PIL import Image
 
 from conftest import ROOT
+from lotsim.check import check_result
+from lotsim.cli import main
 from lotsim.errors import ScenarioError
 from lotsim.io.scenario import load_scenario
 from lotsim.sim import check_traffic, prepare
@@ -26,6 +36,12 @@ QUICK = 240
 SLOW = 2000
 LIMIT = 20.0
 """Seconds a mutant may take to be read and built before it counts as a hang."""
+QUICK_RUN = 20
+SLOW_RUN = 1000
+RUN_LIMIT = 120.0
+"""Seconds ``lotsim run`` may take on a mutant (it is given ``--time-limit 30``)."""
+GIF_FILES = ("quickstart.yaml", "street.yaml")
+"""Mutants of these keep their animation section (the others run with ``--no-gif``)."""
 
 VALUES = [
     "0", "-1", "-1e9", "1e308", "1.0e+308", "9" * 400, "-0.0", ".nan", ".NaN", ".inf", "-.inf",
@@ -130,3 +146,61 @@ def test_mutated_scenarios_end_in_a_scenario_or_a_located_error(tmp_path):
 def test_many_mutated_scenarios_end_in_a_scenario_or_a_located_error(tmp_path):
     seen = _fuzz(tmp_path, SLOW, seed=7, maneuvers_every=25)
     print(f"{SLOW} mutations: {seen['ok']} valid, {seen['error']} located errors")
+
+
+def run_outcome(path, out, capsys, *, gif: bool) -> int:
+    """``lotsim run``'s exit code on a mutant, after checking everything it wrote or said."""
+    args = ["run", str(path), "-o", str(out), "--time-limit", "30"] + ([] if gif else
+                                                                       ["--no-gif"])
+    capsys.readouterr()
+    with time_limit(RUN_LIMIT):
+        code = main(args)
+    err = capsys.readouterr().err
+    assert "Traceback" not in err
+    written = sorted(p.name for p in out.iterdir()) if out.exists() else []
+    if code == 2:
+        assert re.fullmatch(rf"lotsim: {re.escape(str(path))}:\d+:\d+: [^\n]+\n", err), err
+        assert written == [], written
+        return code
+    assert code in (0, 1), (code, err)
+    doc = json.loads((out / "result.json").read_text(encoding="utf-8"))
+    report = check_result(doc)
+    assert report.ok, [v.message for v in report.violations[:5]]
+    assert (code == 1) == (doc["metrics"]["waiting"] > 0)
+    gifs = [name for name in written if name.endswith(".gif")]
+    assert written == sorted(["result.json", *gifs]), written  # no temporary file
+    assert len(gifs) <= (1 if gif else 0)
+    for name in gifs:
+        with Image.open(out / name) as im:
+            im.seek(im.n_frames - 1)  # every frame is there and decodes
+            assert im.n_frames >= 1
+    return code
+
+
+def _fuzz_run(tmp_path, capsys, count: int, seed: int) -> dict:
+    rng = np.random.default_rng(seed)
+    texts = {name: (ROOT / "scenarios" / name).read_text() for name in FILES}
+    seen = {0: 0, 1: 0, 2: 0}
+    for k in range(count):
+        name = FILES[k % len(FILES)]
+        path = tmp_path / f"m{k}.yaml"
+        path.write_text(mutate(texts[name], rng), encoding="utf-8", errors="surrogatepass")
+        try:
+            seen[run_outcome(path, tmp_path / f"out{k}", capsys, gif=name in GIF_FILES)] += 1
+        except BaseException as exc:
+            raise AssertionError(f"mutant {k} of {name} (kept at {path}): "
+                                 f"{type(exc).__name__}: {exc}") from exc
+    return seen
+
+
+def test_mutated_scenarios_run_or_fail_cleanly(tmp_path, capsys):
+    seen = _fuzz_run(tmp_path, capsys, QUICK_RUN, seed=11)
+    assert seen[2] > QUICK_RUN // 4 and seen[0] + seen[1] >= 2
+
+
+@pytest.mark.slow
+def test_many_mutated_scenarios_run_or_fail_cleanly(tmp_path, capsys):
+    seen = _fuzz_run(tmp_path, capsys, SLOW_RUN, seed=12)
+    with capsys.disabled():
+        print(f"\nlotsim run on {SLOW_RUN} mutations: {seen[0]} exit 0, {seen[1]} exit 1 "
+              f"(cars left waiting), {seen[2]} located errors")

@@ -326,8 +326,15 @@ def parse_text(text: str, file: str) -> YNode:
         mark = exc.problem_mark or exc.context_mark
         where = Location(file, mark.line + 1, mark.column + 1) if mark else Location(file, 1, 1)
         raise ScenarioError(where, f"invalid YAML: {exc.problem or exc.context}") from None
+    except yaml.reader.ReaderError as exc:  # a character YAML does not allow: no mark
+        before = text[: exc.position]
+        where = Location(file, before.count("\n") + 1, exc.position - before.rfind("\n"))
+        c = exc.character if isinstance(exc.character, int) else ord(exc.character)
+        raise ScenarioError(where, f"invalid YAML: character U+{c:04X} is not allowed "
+                                   "in a YAML file") from None
     except yaml.YAMLError as exc:
-        raise ScenarioError(Location(file, 1, 1), f"invalid YAML: {exc}") from None
+        message = " ".join(str(exc).split())
+        raise ScenarioError(Location(file, 1, 1), f"invalid YAML: {message}") from None
     except RecursionError:
         raise ScenarioError(Location(file, 1, 1), "nesting is too deep") from None
     if not nodes:
