@@ -576,8 +576,12 @@ def _run_pool(workers: int, specs: list[RunSpec], take: Callable[[int, dict], No
             except Exception as exc:  # noqa: BLE001 - BrokenProcessPool: a worker died
                 row = _lost(spec, exc)
             take(spec.index, row)
-    finally:
+    except BaseException:  # Ctrl-C, or an error: stop the runs in flight instead of waiting
+        for proc in list((getattr(pool, "_processes", None) or {}).values()):
+            proc.terminate()
         pool.shutdown(wait=True, cancel_futures=True)
+        raise
+    pool.shutdown(wait=True)
 
 
 def connect(address: str, *, timeout: float = CONNECT_TIMEOUT) -> Any:

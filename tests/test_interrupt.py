@@ -92,3 +92,18 @@ def test_ctrl_c_while_rendering_leaves_an_older_gif_untouched(tmp_path, when):
     assert err.strip().splitlines()[-1] == "lotsim: interrupted; nothing was written", err
     assert old.read_bytes() == b"GIF89a an older picture"
     assert sorted(p.name for p in tmp_path.iterdir()) == ["old.gif", "out"]
+
+
+def test_ctrl_c_during_a_benchmark_on_two_processes_writes_nothing(tmp_path):
+    """The runs in flight (each takes several seconds) are stopped, not waited for, and no
+    worker prints a traceback."""
+    proc = _start("bench", str(SCENARIOS / "bench" / "seed004.yaml"), "-o", "out", "--jobs",
+                  "2", cwd=tmp_path)
+    time.sleep(8.0)
+    assert proc.poll() is None
+    clock = time.monotonic()
+    code, out, err = _ctrl_c(proc)
+    assert time.monotonic() - clock < 5.0
+    assert code == 130
+    assert err.strip() == "lotsim: interrupted; nothing was written", err
+    assert not (tmp_path / "out").exists()
