@@ -2,7 +2,9 @@
 
 from __future__ import annotations
 
+import signal
 import textwrap
+from contextlib import contextmanager
 from pathlib import Path
 
 import networkx as nx
@@ -36,6 +38,21 @@ lot:
   occupied: [N1, N2, N3, N4, N5, S1, S2, S3, S4]
 """
 """A one-way aisle between two rows of six perpendicular slots, nine of them taken."""
+
+
+@contextmanager
+def time_limit(seconds: float):
+    """Raise TimeoutError in the block after ``seconds``: a hang becomes a test failure."""
+    def stop(signum, frame):  # noqa: ARG001
+        raise TimeoutError(f"took more than {seconds:g} s")
+
+    old = signal.signal(signal.SIGALRM, stop)
+    signal.setitimer(signal.ITIMER_REAL, seconds)
+    try:
+        yield
+    finally:
+        signal.setitimer(signal.ITIMER_REAL, 0)
+        signal.signal(signal.SIGALRM, old)
 
 
 def scenario_from_text(text: str, file: str = "t.yaml") -> Scenario:

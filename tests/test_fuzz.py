@@ -16,14 +16,12 @@ from __future__ import annotations
 
 import json
 import re
-import signal
-from contextlib import contextmanager
 
 import numpy as np
 import pytest
 from PIL import Image
 
-from conftest import ROOT
+from conftest import ROOT, time_limit
 from lotsim.check import check_result
 from lotsim.cli import main
 from lotsim.errors import ScenarioError
@@ -85,20 +83,6 @@ def mutate(text: str, rng: np.random.Generator) -> str:
         else:  # change the indentation of a line
             lines[k] = " " * int(rng.integers(0, 9)) + lines[k].lstrip()
     return "\n".join(lines)
-
-
-@contextmanager
-def time_limit(seconds: float):
-    def stop(signum, frame):  # noqa: ARG001
-        raise TimeoutError(f"took more than {seconds:g} s")
-
-    old = signal.signal(signal.SIGALRM, stop)
-    signal.setitimer(signal.ITIMER_REAL, seconds)
-    try:
-        yield
-    finally:
-        signal.setitimer(signal.ITIMER_REAL, 0)
-        signal.signal(signal.SIGALRM, old)
 
 
 def outcome(path, *, maneuvers: bool = False) -> str:
