@@ -199,6 +199,61 @@ def test_a_parallel_slot_uses_no_more_changes_than_the_minimum_slot_planner_says
     assert abs(wrap_angle(m.end[2])) < math.radians(1.0)
 
 
+PARALLEL = """
+    vehicle_types: [{car}]
+    lot:
+      boundary: [[0, 0], [40, 0], [40, 30], [0, 30]]
+      aisles:
+        - {{id: a, centerline: [[0, 15], [40, 15]], width: {aisle}, direction: one-way}}
+      rows:
+        - {{aisle: a, side: right, kind: parallel, count: 2, slot_width: {w}, slot_length: {l},
+           start: 12}}
+      entrances:
+        - {{id: in, x: 2, y: 15, heading_deg: 0}}
+"""
+
+
+@pytest.mark.parametrize("car", sorted(CATALOGUE))
+def test_a_roomier_aisle_never_makes_a_parallel_slot_unusable(car):
+    """Found by the property tests: a fixed search window cut off the long closing straight
+    from a parallel slot to a lane 3 m or more away, so an msv could park beside a 5 m aisle
+    but not beside a 7 m one. Every car parks in a slot 0.5 m wider and 1.5 m longer than
+    itself beside aisles from 4 to 8 m, and the maneuver passes the independent check."""
+    v = CATALOGUE[car]
+    for aisle in (4.0, 6.0, 8.0):
+        lot, _ = _lot(PARALLEL.format(car=car, aisle=aisle, w=round(v.width + 0.5, 2),
+                                      l=round(v.length + 1.5, 2)))
+        slot = lot.slots[1]
+        m = plan_maneuver(v, slot, lot)
+        others = [s for s in lot.slots if s.id != slot.id]
+        assert check_maneuver(lot, m, v, parked_bodies(others, [v])) == [], (car, aisle)
+
+
+def test_a_turned_row_of_parallel_slots_is_planned():
+    """Found by the property tests: GEOS threw a TopologyException when rounding a
+    neighbour's thin margin strip for the geometry cache key, at some turns of the layout."""
+    lot, _ = _lot("""
+        vehicle_types: [vw]
+        lot:
+          boundary: [[0.0044, 0.009], [-16.2734, -33.0738], [-4.8821, -38.6787],
+                     [11.3957, -5.5959]]
+          aisles:
+            - {id: a0, centerline: [[5.5947, -2.7528], [-10.6742, -35.8176]], width: 5.257,
+               direction: one-way}
+          rows:
+            - {aisle: a0, side: right, start: 10.089, kind: parallel, count: 3,
+               slot_width: 2.578, slot_length: 6.0}
+          entrances:
+            - {id: en00, x: 4.9325, y: -4.0987, heading_deg: 243.8014}
+    """)
+    planner = ManeuverPlanner(lot)
+    v = CATALOGUE["vw"]
+    for slot in lot.slots:
+        m = planner.best(v, slot)
+        others = [s for s in lot.slots if s.id != slot.id]
+        assert check_maneuver(lot, m, v, parked_bodies(others, [v])) == [], slot.id
+
+
 def test_angled_slots_on_a_one_way_aisle_are_driven_into_forward_without_stopping():
     lot, _ = _lot("""
         vehicle_types: [valet]

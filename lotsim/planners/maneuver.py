@@ -356,6 +356,11 @@ class ManeuverPlanner:
             lo = float(a[0])
             s0 = float(lane.starts[i]) - lo
         half = 2 * vehicle.min_turning_radius + vehicle.length + 1.0
+        if slot.kind == "parallel" and math.isfinite(lane_y):
+            # a parallel slot is left at a shallow heading (about 25°), so the closing
+            # straight onto a lane lane_y away reaches some 2 lane_y along it: the window
+            # must hold the car at its end (a fixed window refused roomy aisles)
+            half += 2.0 * abs(lane_y)
         if math.isfinite(lane_y):
             whole = (0.0, lane.length)
             first, last = (whole if self.lane_ranges is None
@@ -710,7 +715,10 @@ def _local_geometry(geoms: np.ndarray, frame: _Frame) -> list[bytes]:
     """Rounded (1 cm), normalised WKB of each of ``geoms`` in ``frame``."""
     local = shapely.set_coordinates(geoms.copy(),
                                     frame.points_to_local(shapely.get_coordinates(geoms)))
-    local = shapely.normalize(shapely.set_precision(local, 0.01))
+    # pointwise: a cache key needs rounded coordinates, not a valid polygon (a neighbour's
+    # thin margin strip, moved into the local frame, may self-touch, and GEOS's default
+    # mode then throws a TopologyException)
+    local = shapely.normalize(shapely.set_precision(local, 0.01, mode="pointwise"))
     return list(shapely.to_wkb(local))
 
 
