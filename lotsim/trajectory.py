@@ -324,7 +324,9 @@ def _grid_profile(stroke: list[Piece], top: float, accel: float, brake: float) -
     lengths = np.array([p.segment.length for p in stroke])
     starts = np.concatenate([[0.0], np.cumsum(lengths)[:-1]])
     total = float(lengths.sum())
-    n = max(1, math.ceil(total / _DS))
+    # at least two steps: with one, both grid points are at rest and a stroke under _DS
+    # would last 0 s and never be driven
+    n = max(2, math.ceil(total / _DS))
     s = np.linspace(0.0, total, n + 1)
     which = np.clip(np.searchsorted(starts, s, side="right") - 1, 0, len(stroke) - 1)
     piece_limit = np.array([min(p.speed_limit, top) for p in stroke])

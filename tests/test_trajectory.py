@@ -116,3 +116,19 @@ def test_standing_then_driving_joins_seamlessly():
     assert np.all(tr.gear[tr.t < 3.0] == 0) and np.all(tr.v[tr.t <= 3.0] == 0)
     with pytest.raises(ValueError):
         go.then(wait)
+
+
+@pytest.mark.parametrize("length", [0.001, 0.02, 0.0353, 0.049, 0.05, 0.07])
+def test_a_stroke_of_a_few_centimetres_is_driven_too(length):
+    """Found by the property tests: a last stroke under the 5 cm grid step was timed at 0 s,
+    so a car's samples stopped 3.5 cm short of its parked pose and out of its slot. A short
+    stroke after a cusp takes at least the closed-form triangle's time and ends where its
+    path ends."""
+    back = Segment((0.0, 0.0, 0.0), -2.0, 0.0)
+    end = back.poses_at(2.0)[0]
+    tiny = Segment((float(end[0]), float(end[1]), float(end[2])), length, 0.2)
+    tr = drive([Piece(back), Piece(tiny)], CAR)
+    want = tiny.poses_at(length)[0]
+    assert np.allclose([tr.x[-1], tr.y[-1], tr.theta[-1]], want, atol=1e-9)
+    cusp = int(np.flatnonzero(tr.gear > 0)[0]) - 1  # the sample where the car stops to shift
+    assert tr.t[-1] - tr.t[cusp] >= rest_to_rest(length, CAR.limits.max_forward_speed) - 1e-9
