@@ -137,11 +137,10 @@ class Watchdog:
     only chains the progress.
     """
 
-    def __init__(self, budget: Budget, where: Location | None, *, what: str = "trips",
+    def __init__(self, budget: Budget, where: Location | None, *,
                  then=None) -> None:  # noqa: ANN001
         self.budget = budget
         self.where = where
-        self.what = what
         self.then = then
         self.done = 0
         self.total = 0
@@ -193,7 +192,7 @@ class Watchdog:
         """What is over budget after ``elapsed`` seconds holding ``rss`` bytes, or None."""
         b = self.budget
         done, total = self.done, self.total
-        so_far = (f"after planning {done} of {total} {self.what} in {duration(elapsed)}"
+        so_far = (f"after planning {done} of {total} trips in {duration(elapsed)}"
                   if total else f"after {duration(elapsed)}")
         tail = "; nothing was written. Plan fewer vehicles or raise the limit"
         if b.memory is not None and rss > b.memory:
