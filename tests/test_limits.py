@@ -80,13 +80,15 @@ def test_a_run_projected_past_its_time_limit_stops_early_and_writes_nothing(tmp_
     located at the stream, long before the limit itself would."""
     text = ONE_AISLE + STREAM.replace("COUNT", "100000")
     path = _write(tmp_path, text)
-    code = main(["run", str(path), "-o", str(tmp_path / "out"), "--time-limit", "60"])
+    # the limit sits far below the projected need (about a minute on a fast machine, more
+    # under load), so the projection and not the limit stops the run, whatever the pace
+    code = main(["run", str(path), "-o", str(tmp_path / "out"), "--time-limit", "20"])
     err = _located(capsys, path, text, "stream: |{count")
     assert code == 2
     m = re.search(r"after planning (\d+) of 200000 trips in ([\d.]+) s: at this pace the "
-                  r"run needs about ([\d.]+) (h|min), over the time limit of 60 s", err)
+                  r"run needs about ([\d.]+) (h|min|s), over the time limit of 20 s", err)
     assert m, err
-    assert WARMUP <= int(m[1]) < 200000 and float(m[2]) < 50
+    assert WARMUP <= int(m[1]) < 200000 and float(m[2]) < 20
     assert "nothing was written" in err and _nothing_in(tmp_path / "out")
 
 
