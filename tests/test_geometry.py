@@ -5,7 +5,17 @@ import math
 import numpy as np
 import pytest
 
-from lotsim.geometry import Segment, advance, ccw, fillet_polyline, signed_area, wrap_angle
+from lotsim.geometry import (
+    Segment,
+    advance,
+    cc_polyline,
+    cc_turn,
+    ccw,
+    fillet_polyline,
+    signed_area,
+    travel,
+    wrap_angle,
+)
 
 
 def integrate(pose, distance, curvature, steps=20_000):
@@ -103,3 +113,83 @@ def test_ccw_orients_rings():
     cw = [[0, 0], [0, 1], [1, 1], [1, 0]]
     assert signed_area(cw) < 0
     assert signed_area(ccw(cw)) == pytest.approx(1.0)
+
+
+# -- clothoids ---------------------------------------------------------------------------------
+def integrate_clothoid(pose, distance, curvature, sharpness, steps=4000):
+    """RK4 with the curvature a function of the path length driven: an independent oracle."""
+    y = np.array(pose, dtype=float)
+    g = 1.0 if distance >= 0 else -1.0
+    h = abs(distance) / steps
+
+    def f(state, u):
+        return np.array([g * math.cos(state[2]), g * math.sin(state[2]),
+                         g * (curvature + sharpness * u)])
+
+    for i in range(steps):
+        u = i * h
+        k1 = f(y, u)
+        k2 = f(y + h / 2 * k1, u + h / 2)
+        k3 = f(y + h / 2 * k2, u + h / 2)
+        k4 = f(y + h * k3, u + h)
+        y = y + h / 6 * (k1 + 2 * k2 + 2 * k3 + k4)
+    return y
+
+
+@pytest.mark.parametrize("seed", range(8))
+def test_travel_along_a_clothoid_matches_numerical_integration(seed):
+    rng = np.random.default_rng(seed)
+    pose = rng.uniform([-5, -5, -math.pi], [5, 5, math.pi])
+    distance = rng.uniform(-12, 12)
+    k0, sigma = rng.uniform(-0.3, 0.3), rng.uniform(-0.1, 0.1)
+    got = travel(pose, distance, k0, sigma)
+    want = integrate_clothoid(pose, distance, k0, sigma)
+    assert np.allclose(got, want, atol=1e-9)
+
+
+def test_clothoid_pieces_and_backwards_driving_retrace_the_same_path():
+    seg = Segment((1.0, -2.0, 0.4), -7.0, 0.05, 0.03)
+    a, b = seg.piece(0.0, 2.5), seg.piece(2.5, 7.0)
+    assert np.allclose(b.start, a.end) and np.allclose(b.end, seg.end, atol=1e-12)
+    assert b.curvature == pytest.approx(a.end_curvature)
+    back = seg.backwards()
+    assert np.allclose(back.end, seg.start, atol=1e-12)
+    u = np.linspace(0, 7, 15)
+    # the same points, with the same steering, visited in the opposite order
+    assert np.allclose(back.poses_at(u)[::-1], seg.poses_at(u), atol=1e-12)
+    assert np.allclose(back.curvature_at(u)[::-1], seg.curvature_at(u))
+
+
+@pytest.mark.parametrize("deflection", [0.05, 0.3, 1.0, math.pi / 2, 2.5, -0.4, -math.pi / 2])
+def test_cc_turns_are_curvature_continuous_and_end_on_their_tangent_lines(deflection):
+    kmax, sigma = 0.2, 0.04
+    segs, tangent = cc_turn(deflection, kmax, sigma, start=(3.0, 4.0, 0.7))
+    assert segs[0].curvature == 0 and abs(segs[-1].end_curvature) < 1e-12
+    for a, b in zip(segs[:-1], segs[1:], strict=True):
+        assert np.allclose(a.end, b.start) and b.curvature == pytest.approx(a.end_curvature)
+    assert all(s.max_curvature <= kmax + 1e-12 for s in segs)
+    assert all(abs(s.sharpness) <= sigma + 1e-12 for s in segs)
+    end = segs[-1].end
+    assert wrap_angle(end[2] - 0.7 - deflection) == pytest.approx(0.0, abs=1e-12)
+    # the corner: tangent metres along the start heading, then tangent metres along the end
+    corner = np.array([3.0, 4.0]) + tangent * np.array([math.cos(0.7), math.sin(0.7)])
+    back = np.array(end[:2]) - tangent * np.array([math.cos(end[2]), math.sin(end[2])])
+    assert np.allclose(corner, back, atol=1e-9)
+    # and the numerically integrated path ends at the same place
+    pose = (3.0, 4.0, 0.7)
+    for s in segs:
+        pose = integrate_clothoid(pose, s.distance, s.curvature, s.sharpness, steps=2000)
+    assert np.allclose(pose, end, atol=1e-9)
+
+
+def test_cc_polyline_ends_on_the_last_point_and_keeps_curvature_continuous():
+    pts = [[0, 0], [30, 0], [30, 25], [60, 40]]
+    segs = cc_polyline(pts, [6.0, 8.0], 0.05)
+    assert np.allclose(segs[0].start, (0, 0, 0))
+    assert np.allclose(segs[-1].end[:2], (60, 40), atol=1e-9)
+    for a, b in zip(segs[:-1], segs[1:], strict=True):
+        assert np.allclose(a.end, b.start, atol=1e-9)
+        assert b.curvature == pytest.approx(a.end_curvature, abs=1e-12)
+    # plain arcs when the sharpness is infinite: fillet_polyline's corners
+    plain = cc_polyline(pts, 6.0, math.inf)
+    assert [s.length for s in plain] == pytest.approx([s.length for s in fillet_polyline(pts, 6.0)])
