@@ -14,8 +14,9 @@ structure
     (numbers finite and at most ``MAX_MAGNITUDE`` = 1e9 in size, polygons valid);
     sample arrays of equal length, ``t`` strictly increasing, ``gear`` in {-1, 0, 1};
     known statuses and entrances; unique ids; vehicles in arrival order; one car in
-    ``lot.parked`` per occupied slot. A vehicle whose structure is broken is skipped by
-    every later rule.
+    ``lot.parked`` per occupied slot; every limit of the vehicle type present and positive
+    (the speeds, ``max_accel``, ``max_brake``, ``max_lateral_accel``, ``max_steer_rate``,
+    ``max_jerk``). A vehicle whose structure is broken is skipped by every later rule.
 sampling
     Consecutive samples at most ``MAX_DT`` = 0.05 s (+ ``TIME_TOL`` = 0.2 ms) apart unless
     the vehicle stands still between them (same pose within ``STILL_TOL`` = 1e-6,
@@ -29,8 +30,22 @@ sideways
     minimum turning radius ``R = wheelbase / tan(max_steer)``.
 curvature
     ``|Δθ| ≤ |d| / R · CURVATURE_REL + CURVATURE_ABS`` (1.01 and 1e-4 rad).
+heading
+    The kinematic single-track model: the heading change between two samples is the
+    curvature ``κ = tan(steer) / wheelbase`` integrated over the distance driven,
+    ``Δθ ≈ dir · s · (κ₀ + κ₁) / 2`` with ``dir`` the sign of the chord along the mean
+    heading and ``s = |d| / sinc(Δθ / 2)`` the arc length of the chord (exact for a
+    curvature constant or linear in arc length, i.e. arcs and clothoids). Allowed:
+    ``HEADING_ABS`` (1e-5 rad: headings rounded to 1 µrad) + ``HEADING_CHORD`` (0.15 mm:
+    the chord's rounding) · mean ``|κ|`` + ``HEADING_KINK`` (0.5) · ``s · |κ₁ - κ₀|``
+    (a kink of the curvature inside the interval) + ``HEADING_REL`` (1e-3) · the
+    prediction. Standing still (``d`` = 0) the steer may change, the heading may not.
 steer
     ``|steer| ≤ max_steer + STEER_TOL`` (1e-6 rad).
+steer_rate
+    ``|Δsteer| ≤ max_steer_rate · Δt + STEER_RATE_TOL`` between consecutive samples
+    (5 µrad: two steers rounded to 1 µrad and ``Δt`` to 1 µs, with a margin), standing or
+    moving.
 gear
     ``v`` agrees with ``gear`` (+1: ``v ≥ -GEAR_SPEED_TOL``; -1: ``v ≤ GEAR_SPEED_TOL``;
     0: ``|v| ≤ GEAR_SPEED_TOL``, 1e-3 m/s). Where the chord's component along the mean
@@ -44,6 +59,26 @@ speed
     ``|d| ≤ (limit · CHORD_SPEED_REL + SPEED_TOL) · dt + CHORD_SLACK`` (1.01, 1 mm for
     rounded numbers), the limit of a pair being the looser of its two ends' lot and zone
     limits and the reverse top speed if either end is in reverse.
+lateral
+    ``v² · |tan(steer)| / wheelbase ≤ max_lateral_accel + LATERAL_TOL`` at every sample
+    (1e-3 m/s², ten times what rounding ``v`` to 0.1 mm/s changes it by).
+accel
+    Between consecutive samples ``|v|`` grows by at most ``max_accel · Δt`` and shrinks by
+    at most ``max_brake · Δt``, plus ``ACCEL_TOL`` (2e-4 m/s: two speeds rounded to
+    0.1 mm/s, doubled). By the mean value theorem the chord's slope is the acceleration
+    at some instant in between, so this is exact for any speed profile. A pair whose
+    speeds have opposite signs must leave time to stop and start again:
+    ``(|v₀| - ACCEL_TOL) / max_brake + (|v₁| - ACCEL_TOL) / max_accel ≤ Δt``.
+jerk
+    On the samples thinned to at least ``JERK_MIN_DT`` = 0.02 s apart (a sample closer
+    than that to the one before it is left out; the last is always kept), twice the
+    second divided difference of the signed speed, ``2 · v[t₀, t₁, t₂]``, is at most
+    ``max_jerk`` in size plus what rounding can make of it: ``2 · (e₀₁ + e₁₂) / (t₂ - t₀)``,
+    ``e = (2 · V_ROUND + 2 · T_ROUND · |slope|) / h`` the error of a first divided
+    difference over ``h`` (``V_ROUND`` = 5e-5 m/s and ``T_ROUND`` = 5e-7 s, half the last
+    digit written); about ``4 · V_ROUND / h²``, 0.08 m/s³ at 0.05 s and 0.5 m/s³ at
+    0.02 s. For a speed with a continuous acceleration and a bounded jerk,
+    ``2 · v[t₀, t₁, t₂]`` is a weighted mean of the jerk over ``[t₀, t₂]``.
 overlap, parked, obstacle, boundary
     Footprints shrunk by ``SHRINK`` = 1 cm on every side are compared at the common
     instants ``k · GRID_DT`` (0.05 s) from the earliest to the latest sample, poses
@@ -102,7 +137,8 @@ LOT_KEYS = ("boundary", "slots", "obstacles", "parked", "speed_limit", "speed_zo
             "entrances", "exits")
 VEHICLE_KEYS = ("id", "type", "arrival", "entrance", "slot", "status", "reason", "samples")
 TYPE_NUMBERS = ("width", "front", "rear", "wheelbase", "max_steer", "max_forward_speed",
-                "max_reverse_speed", "max_accel", "max_brake")
+                "max_reverse_speed", "max_accel", "max_brake", "max_lateral_accel",
+                "max_steer_rate", "max_jerk")
 SAMPLE_KEYS = ("t", "x", "y", "theta", "v", "steer", "gear")
 STATUSES = ("parked", "departed", "waiting", "rejected")
 SLOT_KINDS = ("perpendicular", "parallel", "angled")
@@ -127,6 +163,44 @@ CURVATURE_ABS = 1e-4
 """Slack on the heading change between two samples [rad]."""
 STEER_TOL = 1e-6
 """Slack on ``max_steer`` [rad]."""
+STEER_RATE_TOL = 5e-6
+"""Slack on the steer change between two samples [rad]: both steers are rounded to 1 µrad
+(together up to 1 µrad off) and the times to 1 µs (``max_steer_rate`` · 1 µs, below
+1 µrad); five times that, so two samples 2 µs apart differing by rounding pass."""
+HEADING_ABS = 1e-5
+"""Slack on the heading change predicted from the steer [rad]: both headings rounded to
+1 µrad, the steers to 1 µrad (a curvature off by under 1e-6 / m over at most 0.5 m), and
+the trapezoid rule's error ``s³ |κ''| / 12`` for a smoothly varying curvature."""
+HEADING_CHORD = 1.5e-4
+"""... plus this [m] times the mean ``|κ|``: the chord length is computed from positions
+rounded to 0.1 mm, so it is up to 2 · √2 · 0.05 mm = 0.14 mm off."""
+HEADING_KINK = 0.5
+"""... plus this times ``s · |κ₁ - κ₀|``: where the curvature has a kink inside the
+interval (an arc meets a clothoid) the trapezoid rule is no longer exact, but for any
+curvature monotone between its end values the integral lies between ``s · κ₀`` and
+``s · κ₁``, so the trapezoid errs by at most half their difference. A quarter, the error
+of a kink halfway, is not enough: a kink with the arc over the fraction ``f`` of the
+interval errs by ``f / 2 · s · |Δκ|`` (0.45 at ``f`` = 0.9), and with 0.25 a result
+planned by lotsim (``scenarios/mixed_lot.yaml``) failed this rule."""
+HEADING_REL = 1e-3
+"""... plus this fraction of the predicted turn: the arc length is recovered from the
+chord assuming a constant curvature, which a clothoid bends by a relative
+``O((s · Δκ)²)``, and the rounding of the steer."""
+LATERAL_TOL = 1e-3
+"""Slack on ``max_lateral_accel`` [m/s²]: ``v`` rounded to 0.1 mm/s changes
+``v² · |κ|`` by at most ``2 · |v| · 5e-5 · |κ|``, about 1e-4 m/s² at 5 m/s and
+``|κ|`` = 0.2 / m."""
+ACCEL_TOL = 2e-4
+"""Slack on the speed change between two samples [m/s]: two speeds rounded to 0.1 mm/s
+differ by up to 0.1 mm/s more or less than the true ones; twice that."""
+JERK_MIN_DT = 0.02
+"""Samples closer than this [s] to the sample before them are left out of the jerk test
+(a stroke's end a few µs after a grid sample), so the kept ones are at least this far
+apart: the rounding error of a second divided difference grows as ``1 / h²``."""
+V_ROUND = 5e-5
+"""Largest rounding error of a speed in the file [m/s] (half of 0.1 mm/s)."""
+T_ROUND = 5e-7
+"""Largest rounding error of a time in the file [s] (half of 1 µs)."""
 GEAR_MIN_STEP = 1e-3
 """Chord component along the heading above which the direction of travel is judged [m]
 (ten times the rounding of positions in the file)."""
@@ -157,8 +231,8 @@ MAX_INSTANTS = 50_000_000
 """Vehicle-instants beyond which the footprint rules give up (memory) [-]."""
 
 RULES = ("internal", "structure", "status", "arrival", "sampling", "sideways", "curvature",
-         "steer", "gear", "speed", "overlap", "parked", "obstacle", "boundary", "slot",
-         "exit", "reason", "metrics")
+         "heading", "steer", "steer_rate", "gear", "speed", "lateral", "accel", "jerk",
+         "overlap", "parked", "obstacle", "boundary", "slot", "exit", "reason", "metrics")
 """Every rule tag, in the order violations are listed."""
 
 _PAIR_BUDGET = 2_000_000  # candidate pairs tested per numpy batch (bounds memory)
@@ -353,6 +427,11 @@ class _Vehicle:
     max_steer: float
     max_forward_speed: float
     max_reverse_speed: float
+    max_accel: float
+    max_brake: float
+    max_lateral_accel: float
+    max_steer_rate: float
+    max_jerk: float
     t: FloatArray
     x: FloatArray
     y: FloatArray
@@ -642,9 +721,8 @@ def _parse_vehicle(i: int, raw: Any, lot: _Lot, out: list[Violation]) -> _Vehicl
         _add(out, "structure", name, None, f"{name}: {p}")
     if problems or cols is None:
         return None
-    return _Vehicle(i, name, status, slot, reason, float(arrival), dims["width"],
-                    dims["front"], dims["rear"], dims["wheelbase"], dims["max_steer"],
-                    dims["max_forward_speed"], dims["max_reverse_speed"], **cols)
+    return _Vehicle(i, name, status, slot, reason, float(arrival),
+                    **{key: dims[key] for key in TYPE_NUMBERS}, **cols)
 
 
 # ----------------------------------------------------------------------------- rules
@@ -717,7 +795,7 @@ def _first(out: list[Violation], rule: str, veh: _Vehicle, mask: np.ndarray,
 
 
 def _check_motion(veh: _Vehicle, lot: _Lot, out: list[Violation]) -> None:
-    """Rules 2-4 on one vehicle's samples: sampling, kinematics, speed."""
+    """Rules 2-5 on one vehicle's samples: sampling, kinematics, speed, dynamics."""
     t, x, y, th, v, steer, gear = veh.t, veh.x, veh.y, veh.theta, veh.v, veh.steer, veh.gear
     if t[0] < veh.arrival - TIME_TOL:
         _add(out, "arrival", veh.id, t[0], f"{veh.id}: first sample at t={t[0]:.2f} s, "
@@ -741,6 +819,14 @@ def _check_motion(veh: _Vehicle, lot: _Lot, out: list[Violation]) -> None:
     _first(out, "speed", veh, np.abs(v) > limit + SPEED_TOL,
            lambda i: f"|v|={abs(v[i]):.3f} m/s at t={t[i]:.2f} s exceeds the limit "
                      f"{limit[i]:.3f} m/s at ({x[i]:.2f}, {y[i]:.2f})")
+
+    kappa = np.tan(steer) / veh.wheelbase  # signed curvature the steer drives [1/m]
+    lateral = v * v * np.abs(kappa)
+    _first(out, "lateral", veh, lateral > veh.max_lateral_accel + LATERAL_TOL,
+           lambda i: f"v={v[i]:.3f} m/s at steer {steer[i]:.4f} rad (radius "
+                     f"{1 / max(abs(kappa[i]), 1e-12):.2f} m) at t={t[i]:.2f} s: lateral "
+                     f"acceleration {lateral[i]:.3f} m/s² exceeds max_lateral_accel "
+                     f"{veh.max_lateral_accel:.3f} m/s²")
     if len(t) < 2:
         return
 
@@ -792,6 +878,113 @@ def _check_motion(veh: _Vehicle, lot: _Lot, out: list[Violation]) -> None:
            lambda i: f"covers {d[i]:.3f} m in {dt[i]:.3f} s from t={t[i]:.2f} s "
                      f"({chord_speed[i]:.3f} m/s), limit {pair_limit[i]:.3f} m/s",
            "intervals")
+
+    _check_dynamics(veh, out, kappa, d, dth, direction)
+
+
+def _check_dynamics(veh: _Vehicle, out: list[Violation], kappa: FloatArray, d: FloatArray,
+                    dth: FloatArray, direction: FloatArray) -> None:
+    """Rules heading, steer_rate, accel and jerk on consecutive samples (rules 3 and 5).
+
+    ``kappa`` is the curvature the steer drives at each sample, ``d``, ``dth`` and
+    ``direction`` the chord length, the wrapped heading change and the sign of the chord
+    along the mean heading of each interval.
+    """
+    t, v, steer = veh.t, veh.v, veh.steer
+    dt = np.diff(t)
+
+    # heading: the single-track model turns by the curvature integrated over the arc
+    # driven. The arc length is recovered from the chord as for a circular arc,
+    # s = d / sinc(Δθ / 2) (Δθ is wrapped, so the factor is at most π / 2); the trapezoid
+    # rule on the end curvatures is exact for a curvature linear in arc length.
+    s = d / np.sinc(dth / (2 * np.pi))
+    k0, k1 = kappa[:-1], kappa[1:]
+    predicted = direction * s * (k0 + k1) / 2
+    turn_tol = (HEADING_ABS + HEADING_CHORD * (np.abs(k0) + np.abs(k1)) / 2
+                + HEADING_KINK * s * np.abs(k1 - k0) + HEADING_REL * np.abs(predicted))
+    _first(out, "heading", veh, np.abs(dth - predicted) > turn_tol,
+           lambda i: f"turns {dth[i]:+.5f} rad over {d[i]:.3f} m between t={t[i]:.2f} and "
+                     f"{t[i + 1]:.2f} s, but its steer ({steer[i]:.4f}, {steer[i + 1]:.4f} "
+                     f"rad) turns it {predicted[i]:+.5f} rad (allowed ±{turn_tol[i]:.5f})",
+           "intervals")
+
+    # steer_rate: the road wheels turn at most max_steer_rate, standing or moving
+    dsteer = np.diff(steer)
+    fast = np.abs(dsteer) > veh.max_steer_rate * dt + STEER_RATE_TOL
+    _first(out, "steer_rate", veh, fast,
+           lambda i: f"steer changes {dsteer[i]:+.5f} rad in {dt[i]:.6f} s from t={t[i]:.2f} "
+                     f"s ({abs(dsteer[i]) / dt[i]:.3f} rad/s), more than max_steer_rate "
+                     f"{veh.max_steer_rate:.3f} rad/s", "intervals")
+
+    # accel: by the mean value theorem (|v1| - |v0|) / dt is d|v|/dt somewhere in between,
+    # where the car speeds up (limit max_accel) or slows down (max_brake)
+    speed = np.abs(v)
+    dspeed = np.diff(speed)
+    flips = v[:-1] * v[1:] < 0
+    up = ~flips & (dspeed > veh.max_accel * dt + ACCEL_TOL)
+    down = ~flips & (-dspeed > veh.max_brake * dt + ACCEL_TOL)
+    _first(out, "accel", veh, up,
+           lambda i: f"speeds up from |v|={speed[i]:.4f} to {speed[i + 1]:.4f} m/s in "
+                     f"{dt[i]:.6f} s from t={t[i]:.2f} s ({dspeed[i] / dt[i]:.3f} m/s²), "
+                     f"more than max_accel {veh.max_accel:.3f} m/s²", "intervals")
+    _first(out, "accel", veh, down,
+           lambda i: f"slows from |v|={speed[i]:.4f} to {speed[i + 1]:.4f} m/s in "
+                     f"{dt[i]:.6f} s from t={t[i]:.2f} s ({-dspeed[i] / dt[i]:.3f} m/s²), "
+                     f"more than max_brake {veh.max_brake:.3f} m/s²", "intervals")
+    # a change of direction between two samples passes through a stop
+    need = (np.maximum(speed[:-1] - ACCEL_TOL, 0) / veh.max_brake
+            + np.maximum(speed[1:] - ACCEL_TOL, 0) / veh.max_accel)
+    _first(out, "accel", veh, flips & (need > dt),
+           lambda i: f"goes from v={v[i]:.4f} to {v[i + 1]:.4f} m/s in {dt[i]:.6f} s from "
+                     f"t={t[i]:.2f} s; stopping and starting again takes at least "
+                     f"{need[i]:.4f} s at max_brake and max_accel", "intervals")
+
+    # jerk: for a speed with a continuous acceleration whose derivative (the jerk) is
+    # bounded, 2 · v[t0, t1, t2] is a weighted mean of the jerk over [t0, t2] (the Peano
+    # kernel of a second divided difference is a positive B-spline of integral 1/2), hence
+    # at most max_jerk in size. Samples a few µs apart would let rounding dominate (its
+    # error grows as 1 / h²), so the speeds are thinned to at least JERK_MIN_DT apart.
+    keep = _thin(t, JERK_MIN_DT)
+    if len(keep) < 3:
+        return
+    tk, vk = t[keep], v[keep]
+    h = np.diff(tk)
+    slope = np.diff(vk) / h
+    span = tk[2:] - tk[:-2]
+    jerk = 2 * np.diff(slope) / span
+    # rounding: each speed is off by up to V_ROUND and each time by up to T_ROUND, so a
+    # slope over h is off by up to (2 V_ROUND + 2 T_ROUND |slope|) / h (to first order)
+    # and twice the difference of two slopes over the span by 2 (e01 + e12) / span
+    err = (2 * V_ROUND + 2 * T_ROUND * np.abs(slope)) / h
+    jerk_tol = 2 * (err[:-1] + err[1:]) / (span - 2 * T_ROUND)
+    mask = np.zeros(len(t), dtype=bool)
+    bad = np.abs(jerk) > veh.max_jerk + jerk_tol
+    middle = keep[1:-1]
+    mask[middle[bad]] = True
+
+    def describe(i: int) -> str:
+        j = int(np.searchsorted(middle, i))
+        return (f"jerk about {jerk[j]:+.2f} m/s³ around t={t[i]:.2f} s (from v="
+                f"{vk[j]:.4f}, {vk[j + 1]:.4f}, {vk[j + 2]:.4f} m/s at t={tk[j]:.6f}, "
+                f"{tk[j + 1]:.6f}, {tk[j + 2]:.6f} s), more than max_jerk "
+                f"{veh.max_jerk:.3f} m/s³ (+{jerk_tol[j]:.3f} for rounding)")
+
+    _first(out, "jerk", veh, mask, describe)
+
+
+def _thin(t: FloatArray, min_dt: float) -> np.ndarray:
+    """Indices of the samples kept for the jerk test: the first and every one at least
+    ``min_dt`` after the sample before it, so consecutive kept samples are at least
+    ``min_dt`` apart; the last is always kept, in place of the kept one before it when
+    it was dropped (``t`` strictly increasing)."""
+    keep = np.concatenate([[0], np.flatnonzero(np.diff(t) >= min_dt) + 1])
+    last = len(t) - 1
+    if keep[-1] != last:
+        if len(keep) > 1:
+            keep[-1] = last  # further from keep[-2] than the one it replaces
+        else:
+            keep = np.append(keep, last)
+    return keep.astype(int)
 
 
 # ------------------------------------------------------------------------ footprints
@@ -1047,7 +1240,7 @@ def _first_per_key(keys: np.ndarray, k: np.ndarray) -> np.ndarray:
 
 def _check_footprints(vehicles: list[_Vehicle], lot: _Lot, out: list[Violation],
                       stats: dict[str, Any]) -> None:
-    """Rule 5 (overlap, parked, obstacle, boundary) and slot sharing (rule 6)."""
+    """Rule 6 (overlap, parked, obstacle, boundary) and slot sharing (rule 7)."""
     if not vehicles:
         return
     kmin, kmax = _instant_range(min(v.t[0] for v in vehicles), max(v.t[-1] for v in vehicles))
@@ -1172,7 +1365,7 @@ def _check_slot_sharing(vehicles: list[_Vehicle], items: _Items, lot: _Lot, kmax
 
 
 def _check_final(vehicles: list[_Vehicle], lot: _Lot, out: list[Violation]) -> None:
-    """Rule 6 per vehicle: slot, exit, reason, status."""
+    """Rule 7 per vehicle: slot, exit, reason, status."""
     for veh in vehicles:
         name, status = veh.id, veh.status
         if status in ("waiting", "rejected") and not veh.reason.strip():

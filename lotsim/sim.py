@@ -564,7 +564,8 @@ def samples(v: VehicleRun, *, dt: float = SAMPLE_DT) -> Trajectory | None:
             pose = m.end_pose
             t = np.array([m.t0, m.t1])
             z = np.zeros(2)
-            parts.append((t, z + pose[0], z + pose[1], z + pose[2], z, z, np.zeros(2, int)))
+            parts.append((t, z + pose[0], z + pose[1], z + pose[2], z, z + m.steer,
+                          np.zeros(2, int)))
             continue
         grid = np.arange(math.floor(m.t0 / dt) + 1, math.ceil(m.t1 / dt)) * dt
         tau = np.unique(np.concatenate([[0.0], grid - m.t0, m.motion.cusps,

@@ -1,15 +1,25 @@
-"""Timed trajectories: a path of segments driven within a vehicle's limits.
+"""Timed trajectories: paths driven the way a real car drives them.
 
-A path is a list of :class:`Piece` — a :class:`~lotsim.geometry.Segment` and the
-speed limit that applies on it. Consecutive pieces in one gear form a *stroke*;
-the car stops at the end of every stroke (a cusp or the end of the path). Along
-each stroke the speed follows the fastest profile that respects the piecewise
-speed limit, the vehicle's forward or reverse top speed, its acceleration and its
-braking: a forward pass accelerating from the entry speed, a backward pass braking
-to every lower limit ahead and to rest at the end (the classic two-pass profile).
+A path is a list of :class:`Piece` — a :class:`~lotsim.geometry.Segment` (a
+straight, an arc or a clothoid) and the speed limit that applies on it. A car
+drives it within every one of its limits:
 
-Trajectories are sampled in time — every ``dt`` seconds — with the pose taken on
-the exact geometry of the segments, so samples never cut corners.
+* **speed** along each stroke follows a jerk-limited S-curve
+  (:func:`scurve`): acceleration ramps at most at ``max_jerk``, stays within
+  ``max_accel`` speeding up and ``max_brake`` slowing down, and is zero where a
+  profile starts and ends, so it is continuous from one profile to the next;
+* **curves** cap the speed: ``v² · |κ| ≤ max_lateral_accel`` on arcs and
+  clothoids, and on a clothoid of sharpness ``σ`` the steering rate the car
+  needs, ``v · σ · b / (1 + (κ b)²)``, stays within ``max_steer_rate``
+  (:func:`speed_cap`);
+* **steering** is continuous: where consecutive pieces' curvatures differ (a
+  cusp, or an arc straight after a straight in a parking maneuver), the car
+  stops and turns its wheels standing (:class:`Steering`), which takes
+  ``|Δφ| / max_steer_rate`` seconds.
+
+The car stops at the end of every stroke; a :class:`Motion` is the strokes and
+the standing steering between them, timed one after the other. Trajectories
+are sampled in time, with the pose taken on the exact geometry of the segments.
 """
 
 from __future__ import annotations
@@ -20,12 +30,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from lotsim.geometry import FloatArray, Pose, Segment, advance
+from lotsim.geometry import FloatArray, Pose, Segment, travel
 from lotsim.vehicles.model import VehicleType
 
 DT = 0.05
 """Default sampling interval [s]: at 20 km/h samples are 0.28 m apart."""
-_DS = 0.05  # arc-length grid of the speed profile [m]
 
 
 @dataclass(frozen=True, slots=True)
@@ -97,78 +106,142 @@ def standing(pose: Pose, t0: float, duration: float, *, dt: float = DT) -> Traje
     return Trajectory(t, z + pose[0], z + pose[1], z + pose[2], z, z, np.zeros(n + 1, dtype=int))
 
 
-def strokes(pieces: Sequence[Piece]) -> list[list[Piece]]:
-    """Consecutive pieces grouped into runs of one gear."""
-    out: list[list[Piece]] = []
-    for p in pieces:
-        if p.segment.length <= 0:
-            continue
-        if out and out[-1][-1].segment.gear == p.segment.gear:
-            out[-1].append(p)
-        else:
-            out.append([p])
-    return out
+_KAPPA_TOL = 1e-9  # curvatures this close are one: no steering between the pieces [1/m]
 
 
-def speed_profile(limits: FloatArray, ds: float, accel: float, brake: float,
-                  v0: float = 0.0) -> FloatArray:
-    """Fastest speeds [m/s] at grid points ``ds`` apart under ``limits`` (per point),
-    starting at ``v0`` and ending at rest, with the given acceleration and braking."""
-    v = limits.astype(float)  # a copy
-    v[0] = min(v0, v[0])
-    v[-1] = 0.0
-    for i in range(1, len(v)):
-        v[i] = min(v[i], math.sqrt(v[i - 1] ** 2 + 2 * accel * ds))
-    for i in range(len(v) - 2, -1, -1):
-        v[i] = min(v[i], math.sqrt(v[i + 1] ** 2 + 2 * brake * ds))
-    return v
+def speed_cap(segment: Segment, vehicle: VehicleType) -> float:
+    """The highest constant speed [m/s] at which ``vehicle`` drives ``segment`` within its
+    lateral-acceleration and steering-rate limits (not its top speed: see the limits).
+
+    >>> from lotsim.vehicles import CATALOGUE
+    >>> valet = CATALOGUE["valet"]
+    >>> round(speed_cap(Segment((0.0, 0.0, 0.0), 5.0, 0.2), valet) * 3.6, 2)   # √(2 m/s² · 5 m)
+    11.38
+    """
+    lim = vehicle.limits
+    cap = math.inf
+    k = segment.max_curvature
+    if k > 0:
+        cap = math.sqrt(lim.max_lateral_accel / k)
+    if segment.sharpness:
+        k0, k1 = segment.curvature, segment.end_curvature
+        least = 0.0 if k0 * k1 <= 0 else min(abs(k0), abs(k1))
+        b = vehicle.wheelbase
+        cap = min(cap, lim.max_steer_rate * (1 + (least * b) ** 2) / (abs(segment.sharpness) * b))
+    return cap
 
 
-def trapezoid(length: float, v0: float, v1: float, vmax: float, accel: float,
-              brake: float) -> Profile | None:
-    """The fastest speed profile over ``length`` [m] from speed ``v0`` to ``v1`` [m/s] with
-    top speed ``vmax``, acceleration ``accel`` and braking ``brake`` [m/s²] (closed form);
-    None when the ends cannot be joined within the length.
+def steer_time(a: float, b: float, vehicle: VehicleType) -> float:
+    """Time to turn the road wheels from ``a`` to ``b`` [rad] standing [s]."""
+    return abs(b - a) / vehicle.limits.max_steer_rate
+
+
+def _shift(dv: float, limit: float, jerk: float) -> tuple[float, float]:
+    """The fastest change of speed by ``dv`` ≥ 0 [m/s] from and to zero acceleration, within
+    acceleration ``limit`` and ``jerk``: (time of each jerk ramp, time at full
+    acceleration) [s]."""
+    if dv <= 0:
+        return 0.0, 0.0
+    if dv >= limit * limit / jerk:
+        return limit / jerk, dv / limit - limit / jerk
+    return math.sqrt(dv / jerk), 0.0
+
+
+def _shift_distance(v0: float, v1: float, accel: float, brake: float, jerk: float) -> float:
+    """Distance [m] of the fastest change from speed ``v0`` to ``v1``: its mean speed times
+    its time (the acceleration is symmetric in time)."""
+    ramp, hold = _shift(abs(v1 - v0), accel if v1 >= v0 else brake, jerk)
+    return (2 * ramp + hold) * (v0 + v1) / 2
+
+
+def scurve(length: float, v0: float, v1: float, vmax: float, accel: float, brake: float,
+           jerk: float) -> Profile | None:
+    """The fastest jerk-limited speed profile over ``length`` [m] from speed ``v0`` to ``v1``
+    [m/s], with zero acceleration at both ends; None when they cannot be joined.
+
+    The speed rises to a peak, cruises there when the peak is ``vmax``, and falls,
+    each change being the fastest one within ``accel`` (speeding up), ``brake``
+    (slowing down) [m/s²] and ``jerk`` [m/s³]: jerk ramps, then full acceleration
+    if the change is large enough to reach it. The peak is the highest whose
+    changes fit in the length (by bisection: the distance grows with the peak).
 
     Examples
     --------
-    >>> p = trapezoid(10.0, 0.0, 0.0, 5.0, 2.5, 5.0)   # 5 m ramp up, 2.5 m down, 2.5 m cruise
-    >>> round(p.duration, 6), p.at(np.array([2.0]))[1].tolist()
-    (3.5, [5.0])
+    >>> p = scurve(20.0, 0.0, 0.0, 20 / 3.6, 3.0, 6.0, 20.0)
+    >>> round(p.duration, 3), round(float(p.v.max()) * 3.6, 3), round(float(p.a.max()), 3)
+    (5.214, 20.0, 3.0)
+    >>> scurve(0.5, 5.0, 0.0, 5.0, 3.0, 6.0, 20.0) is None   # 5 m/s cannot stop in 0.5 m
+    True
     """
-    if length <= 0 or v0 > vmax + 1e-9 or v1 > vmax + 1e-9:
+    eps = 1e-9
+    if length < 0 or v0 < 0 or v1 < 0 or v0 > vmax + eps or v1 > vmax + eps:
         return None
     v0, v1 = min(v0, vmax), min(v1, vmax)
-    if (v1 * v1 - v0 * v0) / (2 * accel) > length + 1e-9:
+
+    def need(peak: float) -> float:
+        return (_shift_distance(v0, peak, accel, brake, jerk)
+                + _shift_distance(peak, v1, accel, brake, jerk))
+
+    low = max(v0, v1)
+    if need(low) > length + eps:
         return None
-    if (v0 * v0 - v1 * v1) / (2 * brake) > length + 1e-9:
+    if need(vmax) <= length:
+        peak = vmax
+    else:
+        hi = vmax
+        for _ in range(100):
+            mid = (low + hi) / 2
+            if need(mid) <= length:
+                low = mid
+            else:
+                hi = mid
+            if hi - low < 1e-12:
+                break
+        peak = low
+    if peak <= 0:
         return None
-    peak2 = (2 * accel * brake * length + brake * v0 * v0 + accel * v1 * v1) / (accel + brake)
-    p = max(min(vmax, math.sqrt(peak2)), v0, v1)
-    d_acc = (p * p - v0 * v0) / (2 * accel)
-    d_dec = (p * p - v1 * v1) / (2 * brake)
-    cruise = max(0.0, length - d_acc - d_dec)
-    if p <= 0:
-        return None
-    t_acc, t_dec = (p - v0) / accel, (p - v1) / brake
-    t = np.array([0.0, t_acc, t_acc + cruise / p, t_acc + cruise / p + t_dec])
-    s = np.array([0.0, d_acc, d_acc + cruise, length])
-    return Profile(t, s, np.array([v0, p, p, v1]))
+    cruise = max(0.0, length - need(peak))
+    pieces: list[tuple[float, float]] = []  # (duration, jerk)
+    for dv, limit, sign in ((peak - v0, accel, 1.0), (peak - v1, brake, -1.0)):
+        ramp, hold = _shift(dv, limit, jerk)
+        part = [(ramp, sign * jerk), (hold, 0.0), (ramp, -sign * jerk)]
+        if sign > 0:
+            pieces += part
+            pieces.append((cruise / peak, 0.0))
+        else:
+            pieces += part
+    pieces = [(d, j) for d, j in pieces if d > 0]
+    t, sv, v, a = [0.0], [0.0], [v0], [0.0]
+    for d, j in pieces:
+        a0, v0_, s0 = a[-1], v[-1], sv[-1]
+        t.append(t[-1] + d)
+        a.append(a0 + j * d)
+        v.append(v0_ + a0 * d + j * d * d / 2)
+        sv.append(s0 + v0_ * d + a0 * d * d / 2 + j * d ** 3 / 6)
+    arr = [np.array(c) for c in (t, sv, v, a)]
+    arr[1][-1] = length  # the integration's rounding (under a nanometre)
+    arr[2][-1], arr[3][-1] = v1, 0.0
+    if len(arr[0]) == 1:  # nothing to drive
+        arr = [np.array([0.0, 0.0]), np.array([0.0, 0.0]), np.array([v0, v1]),
+               np.zeros(2)]
+    return Profile(*arr)
 
 
 @dataclass(frozen=True)
 class Profile:
-    """Speed along one stroke in time: constant acceleration between breakpoints.
+    """Speed along one stroke in time: constant jerk between breakpoints.
 
     Attributes
     ----------
-    t, s, v : ndarray
-        Breakpoint times [s] (from 0), path lengths [m] and speeds (≥ 0) [m/s].
+    t, s, v, a : ndarray
+        Breakpoint times [s] (from 0), path lengths [m], speeds (≥ 0) [m/s] and
+        accelerations [m/s²].
     """
 
     t: FloatArray
     s: FloatArray
     v: FloatArray
+    a: FloatArray
 
     @property
     def duration(self) -> float:
@@ -180,18 +253,23 @@ class Profile:
 
     def at(self, tau: FloatArray) -> tuple[FloatArray, FloatArray]:
         """Path length [m] and speed [m/s] at times ``tau`` (0 ≤ tau ≤ duration) [s]."""
-        t, s, v = self.t, self.s, self.v
+        t, s, v, a = self.t, self.s, self.v, self.a
+        tau = np.asarray(tau, dtype=float)
         k = np.clip(np.searchsorted(t, tau, side="right") - 1, 0, len(t) - 2)
         cell = t[k + 1] - t[k]
-        acc = np.where(cell > 0, (v[k + 1] - v[k]) / np.where(cell > 0, cell, 1.0), 0.0)
+        jerk = np.where(cell > 0, (a[k + 1] - a[k]) / np.where(cell > 0, cell, 1.0), 0.0)
         d = np.clip(tau - t[k], 0.0, cell)
-        pos = np.minimum(s[k] + v[k] * d + 0.5 * acc * d * d, s[k + 1])
-        return pos, np.maximum(v[k] + acc * d, 0.0)
+        pos = s[k] + v[k] * d + a[k] * d * d / 2 + jerk * d ** 3 / 6
+        speed = v[k] + a[k] * d + jerk * d * d / 2
+        done = tau >= t[-1]  # the end exactly, without the cubic's rounding
+        pos, speed = np.where(done, s[-1], pos), np.where(done, v[-1], speed)
+        return np.clip(pos, 0.0, s[-1]), np.maximum(speed, 0.0)
 
 
 @dataclass(frozen=True)
 class Stroke:
-    """Consecutive segments in one gear and the speed profile they are driven with."""
+    """Consecutive segments in one gear, curvature-continuous, and the speed profile they
+    are driven with."""
 
     segments: tuple[Segment, ...]
     profile: Profile
@@ -199,6 +277,14 @@ class Stroke:
     @property
     def gear(self) -> int:
         return self.segments[0].gear
+
+    @property
+    def duration(self) -> float:
+        return self.profile.duration
+
+    @property
+    def end(self) -> Pose:
+        return self.segments[-1].end
 
     def poses(self, s: FloatArray) -> tuple[FloatArray, FloatArray]:
         """Poses (N, 3) and curvatures (N,) after path lengths ``s`` [m]."""
@@ -209,79 +295,212 @@ class Stroke:
         into = np.clip(s - starts[pid], 0.0, lengths[pid])
         seg_start = np.array([g.start for g in segs])[pid]
         kappa = np.array([g.curvature for g in segs])[pid]
-        return advance(seg_start, self.gear * into, kappa), kappa
+        sigma = np.array([g.sharpness for g in segs])[pid]
+        return travel(seg_start, self.gear * into, kappa, sigma), kappa + sigma * into
+
+
+@dataclass(frozen=True)
+class Steering:
+    """Standing at ``pose`` while the road wheels turn from ``start`` to ``end`` [rad] at a
+    steady rate, for ``duration`` [s]."""
+
+    pose: Pose
+    start: float
+    end: float
+    duration: float
+
+
+Phase = Stroke | Steering
 
 
 @dataclass(frozen=True)
 class Motion:
-    """A path timed stroke after stroke, from ``0`` to ``duration`` [s].
+    """Strokes and standing steering, timed one after the other from ``0`` to ``duration``
+    [s].
 
-    The vehicle stops at the end of every stroke but the last, whose end
-    speed may be non-zero (a lane edge driven through).
+    The vehicle stops at the end of every stroke but the last, whose end speed
+    may be non-zero (a lane edge driven through).
     """
 
-    strokes: tuple[Stroke, ...]
+    phases: tuple[Phase, ...]
+
+    @property
+    def strokes(self) -> tuple[Stroke, ...]:
+        return tuple(p for p in self.phases if isinstance(p, Stroke))
 
     @property
     def duration(self) -> float:
-        return float(sum(st.profile.duration for st in self.strokes))
+        return float(sum(p.duration for p in self.phases))
 
     @property
     def offsets(self) -> FloatArray:
-        """Start time of each stroke [s]."""
-        d = [st.profile.duration for st in self.strokes]
+        """Start time of each phase [s]."""
+        d = [p.duration for p in self.phases]
         return np.concatenate([[0.0], np.cumsum(d)[:-1]])
 
     @property
     def cusps(self) -> FloatArray:
-        """Times of the stops between strokes [s]."""
+        """Times where one phase ends and the next begins (the car stands there) [s]."""
         return self.offsets[1:]
+
+    @property
+    def end(self) -> Pose:
+        last = self.phases[-1]
+        return last.end if isinstance(last, Stroke) else last.pose
+
+    @property
+    def steering_stops(self) -> list[tuple[Pose, float]]:
+        """Where the car stands to steer, and for how long [s]."""
+        return [(p.pose, p.duration) for p in self.phases if isinstance(p, Steering)]
 
     def at(self, tau: FloatArray, *, wheelbase: float) -> tuple[FloatArray, ...]:
         """Poses (N, 3), signed speeds, steering angles and gears at times ``tau`` [s]."""
         tau = np.asarray(tau, dtype=float)
         off = self.offsets
-        # a time at a stop between strokes belongs to the stroke that ends there
+        # a time at a boundary between phases belongs to the phase that ends there
         which = np.clip(np.searchsorted(off, tau, side="left") - 1, 0, len(off) - 1)
         poses = np.empty((len(tau), 3))
-        v = np.empty(len(tau))
+        v = np.zeros(len(tau))
         steer = np.empty(len(tau))
-        gear = np.empty(len(tau), dtype=int)
-        for i, st in enumerate(self.strokes):
+        gear = np.zeros(len(tau), dtype=int)
+        for i, ph in enumerate(self.phases):
             sel = which == i
             if not sel.any():
                 continue
-            s, speed = st.profile.at(tau[sel] - off[i])
-            poses[sel], kappa = st.poses(s)
-            v[sel] = st.gear * speed
+            if isinstance(ph, Steering):
+                poses[sel] = ph.pose
+                frac = np.clip((tau[sel] - off[i]) / ph.duration, 0.0, 1.0) if ph.duration \
+                    else np.ones(int(sel.sum()))
+                steer[sel] = ph.start + (ph.end - ph.start) * frac
+                continue
+            s, speed = ph.profile.at(tau[sel] - off[i])
+            poses[sel], kappa = ph.poses(s)
+            v[sel] = ph.gear * speed
             steer[sel] = np.arctan(kappa * wheelbase)
-            gear[sel] = st.gear
+            gear[sel] = ph.gear
         return poses, v, steer, gear
 
     def times(self, dt: float) -> FloatArray:
-        """Sample times every ``dt`` within each stroke, each stroke's ends included."""
+        """Sample times every ``dt`` within each phase, each phase's ends included."""
         out = []
-        for st, t0 in zip(self.strokes, self.offsets, strict=True):
-            d = st.profile.duration
+        for ph, t0 in zip(self.phases, self.offsets, strict=True):
+            d = ph.duration
             m = max(1, math.ceil(d / dt - 1e-9))
             out.append(t0 + np.linspace(0.0, d, m + 1))
         return np.unique(np.concatenate(out)) if out else np.zeros(1)
 
 
-def rest_to_rest(pieces: Sequence[Piece], vehicle: VehicleType) -> Motion:
-    """Time a path from rest to rest within the vehicle's limits, stopping at every cusp."""
+def runs(pieces: Sequence[Piece]) -> list[list[Piece]]:
+    """Consecutive pieces grouped into runs a car drives without stopping: one gear, and
+    each piece starting with the curvature the one before ends with."""
+    out: list[list[Piece]] = []
+    for p in pieces:
+        if p.segment.length <= 0:
+            continue
+        if out:
+            last = out[-1][-1].segment
+            if (last.gear == p.segment.gear
+                    and abs(last.end_curvature - p.segment.curvature) <= _KAPPA_TOL):
+                out[-1].append(p)
+                continue
+        out.append([p])
+    return out
+
+
+def piece_caps(run: Sequence[Piece], vehicle: VehicleType) -> list[float]:
+    """Each piece's speed limit [m/s]: its own, the gear's top speed and what its curvature
+    allows (:func:`speed_cap`)."""
     lim = vehicle.limits
-    out = []
-    for stroke in strokes(pieces):
-        top = lim.max_forward_speed if stroke[0].segment.gear > 0 else lim.max_reverse_speed
-        out.append(Stroke(tuple(p.segment for p in stroke),
-                          _grid_profile(stroke, top, lim.max_accel, lim.max_brake)))
-    return Motion(tuple(out))
+    top = lim.max_forward_speed if run[0].segment.gear > 0 else lim.max_reverse_speed
+    return [min(top, p.speed_limit, speed_cap(p.segment, vehicle)) for p in run]
+
+
+def _reach(length: float, v: float, cap: float, accel: float, jerk: float) -> float:
+    """The highest speed ≤ ``cap`` [m/s] a change from ``v`` can reach (or, braking, come
+    from) within ``length`` [m]."""
+    if _shift_distance(v, cap, accel, accel, jerk) <= length:
+        return cap
+    lo, hi = v, cap
+    for _ in range(100):
+        mid = (lo + hi) / 2
+        if _shift_distance(v, mid, accel, accel, jerk) <= length:
+            lo = mid
+        else:
+            hi = mid
+        if hi - lo < 1e-12:
+            break
+    return lo
+
+
+def run_profile(lengths: Sequence[float], caps: Sequence[float], vehicle: VehicleType
+                ) -> Profile:
+    """The rest-to-rest profile of a run of pieces with their own speed limits: the speed at
+    each boundary is as high as the limits on both sides and the braking and accelerating
+    around it allow (a backward then a forward pass), and each piece is the fastest
+    :func:`scurve` between its boundary speeds, with zero acceleration at the boundaries."""
+    lim = vehicle.limits
+    a, b, j = lim.max_accel, lim.max_brake, lim.max_jerk
+    # merge neighbours with the same limit: no boundary needed between them
+    merged: list[list[float]] = []
+    for length, cap in zip(lengths, caps, strict=True):
+        if merged and abs(merged[-1][1] - cap) <= 1e-12:
+            merged[-1][0] += length
+        else:
+            merged.append([length, cap])
+    n = len(merged)
+    w = [0.0] + [min(merged[k][1], merged[k + 1][1]) for k in range(n - 1)] + [0.0]
+    for k in range(n - 1, -1, -1):
+        w[k] = min(w[k], _reach(merged[k][0], w[k + 1], merged[k][1], b, j))
+    for k in range(n):
+        w[k + 1] = min(w[k + 1], _reach(merged[k][0], w[k], merged[k][1], a, j))
+    parts = []
+    for k, (length, cap) in enumerate(merged):
+        prof = scurve(length, w[k], w[k + 1], cap, a, b, j)
+        assert prof is not None, "the passes keep every piece's ends joinable"
+        parts.append(prof)
+    if len(parts) == 1:
+        return parts[0]
+    t0 = np.cumsum([0.0] + [p.duration for p in parts[:-1]])
+    s0 = np.cumsum([0.0] + [p.length for p in parts[:-1]])
+    cols = [np.concatenate([parts[0].t] + [p.t[1:] + t for p, t in zip(parts[1:], t0[1:],
+                                                                      strict=True)]),
+            np.concatenate([parts[0].s] + [p.s[1:] + s for p, s in zip(parts[1:], s0[1:],
+                                                                      strict=True)])]
+    cols += [np.concatenate([parts[0].v] + [p.v[1:] for p in parts[1:]]),
+             np.concatenate([parts[0].a] + [p.a[1:] for p in parts[1:]])]
+    return Profile(*cols)
+
+
+def timed_path(pieces: Sequence[Piece], vehicle: VehicleType, *, steer_from: float = 0.0,
+               steer_to: float = 0.0) -> Motion:
+    """Time a path from rest to rest within the vehicle's limits.
+
+    The car stops at every cusp and wherever the curvature jumps between pieces,
+    and turns its wheels there standing; it also steers standing from
+    ``steer_from`` to the first piece's steering before it moves, and to
+    ``steer_to`` after it stops [rad]. Each run between stops is driven from rest to
+    rest by :func:`run_profile` under :func:`piece_caps`.
+    """
+    b = vehicle.wheelbase
+    phases: list[Phase] = []
+    steer = steer_from
+    pose = pieces[0].segment.start if pieces else (0.0, 0.0, 0.0)
+    for run in runs(pieces):
+        first, last = run[0].segment, run[-1].segment
+        want = math.atan(first.curvature * b)
+        if abs(want - steer) > 1e-12:
+            phases.append(Steering(pose, steer, want, steer_time(steer, want, vehicle)))
+        prof = run_profile([p.segment.length for p in run], piece_caps(run, vehicle), vehicle)
+        phases.append(Stroke(tuple(p.segment for p in run), prof))
+        steer, pose = math.atan(last.end_curvature * b), last.end
+    if phases and abs(steer_to - steer) > 1e-12:
+        phases.append(Steering(pose, steer, steer_to, steer_time(steer, steer_to, vehicle)))
+    return Motion(tuple(phases))
 
 
 def drive(pieces: Sequence[Piece], vehicle: VehicleType, *, t0: float = 0.0,
           dt: float = DT) -> Trajectory:
-    """Time-parameterise a path from rest to rest, stopping at every cusp.
+    """Time-parameterise a path from rest to rest (:func:`timed_path`) and sample it.
 
     Parameters
     ----------
@@ -306,8 +525,8 @@ def drive(pieces: Sequence[Piece], vehicle: VehicleType, *, t0: float = 0.0,
     >>> round(float(tr.x[-1]), 6), float(tr.v[-1]), round(float(tr.v.max()) * 3.6, 3)
     (20.0, 0.0, 20.0)
     """
-    motion = rest_to_rest(pieces, vehicle)
-    if not motion.strokes:
+    motion = timed_path(pieces, vehicle)
+    if not motion.phases:
         first = pieces[0].segment.start if pieces else (0.0, 0.0, 0.0)
         return standing(first, t0, 0.0, dt=dt)
     return sampled(motion, vehicle, t0, motion.times(dt))
@@ -317,26 +536,3 @@ def sampled(motion: Motion, vehicle: VehicleType, t0: float, tau: FloatArray) ->
     """``motion`` started at ``t0`` [s], sampled at times ``tau`` after it [s]."""
     poses, v, steer, gear = motion.at(tau, wheelbase=vehicle.wheelbase)
     return Trajectory(t0 + tau, poses[:, 0], poses[:, 1], poses[:, 2], v, steer, gear)
-
-
-def _grid_profile(stroke: list[Piece], top: float, accel: float, brake: float) -> Profile:
-    """Two-pass rest-to-rest profile on a fine arc-length grid under per-piece limits."""
-    lengths = np.array([p.segment.length for p in stroke])
-    starts = np.concatenate([[0.0], np.cumsum(lengths)[:-1]])
-    total = float(lengths.sum())
-    # at least two steps: with one, both grid points are at rest and a stroke under _DS
-    # would last 0 s and never be driven
-    n = max(2, math.ceil(total / _DS))
-    s = np.linspace(0.0, total, n + 1)
-    which = np.clip(np.searchsorted(starts, s, side="right") - 1, 0, len(stroke) - 1)
-    piece_limit = np.array([min(p.speed_limit, top) for p in stroke])
-    limit = piece_limit[which]
-    # a grid point on a boundary obeys the lower of the two pieces' limits
-    on_edge = np.isin(np.round(s, 9), np.round(starts[1:], 9))
-    prev = np.clip(which - 1, 0, None)
-    limit = np.where(on_edge, np.minimum(limit, piece_limit[prev]), limit)
-    v = speed_profile(limit, total / n, accel, brake)
-    vm = (v[:-1] + v[1:]) / 2
-    with np.errstate(divide="ignore"):
-        dtime = np.where(vm > 0, (total / n) / vm, 0.0)
-    return Profile(np.concatenate([[0.0], np.cumsum(dtime)]), s, v)

@@ -32,9 +32,13 @@ from lotsim.check import CheckReport, ResultFormatError, check_result, load_resu
 
 DT = 0.05
 SPEED = 0.9
+# The paths here are kinematic sketches: constant speed, steering by jumps, stops in one
+# sample. Their dynamic limits are set out of reach so each test sees only the rule it
+# breaks; tests/test_check_dynamics.py checks those limits on a car that drives like one.
 TYPE = {"name": "valet", "width": 1.8, "front": 3.9, "rear": 1.0, "wheelbase": 2.8,
         "max_steer": 0.5, "max_forward_speed": 5.0, "max_reverse_speed": 2.0,
-        "max_accel": 3.0, "max_brake": 6.0}
+        "max_accel": 1e3, "max_brake": 1e3, "max_jerk": 1e6, "max_steer_rate": 1e3,
+        "max_lateral_accel": 1e3}
 R = TYPE["wheelbase"] / math.tan(TYPE["max_steer"])  # 5.12 m
 SLOT_X = 21.3  # centre line of P1
 PARK_Y = 15.8  # rear axle of a car parked nose-in in P1
@@ -271,14 +275,18 @@ def test_sideways_step(result):
 
 
 def test_curvature_tighter_than_the_minimum_radius(result):
-    # the steering angle is still recorded at its maximum: only the geometry is wrong
+    # the steering angle is still recorded at its maximum: the geometry is too tight, and
+    # it no longer matches the steering either
     by_id(result, "v2")["samples"] = v2_path(radius=0.8 * R, steer_radius=R)
-    assert_only(result, "curvature")
+    refresh_metrics(result)
+    assert rules(check_result(result)) == {"curvature", "heading"}
 
 
 def test_steer_beyond_max(result):
+    # the path keeps its radius R: a steer past the maximum turns it tighter than it drove
     by_id(result, "v2")["samples"] = v2_path(steer_radius=0.8 * R)
-    assert_only(result, "steer")
+    refresh_metrics(result)
+    assert rules(check_result(result)) == {"steer", "heading"}
 
 
 def test_gear_against_the_direction_of_travel(result):

@@ -13,19 +13,29 @@ from lotsim.vehicles import KMH
 
 
 def driven_edges(lg):
-    return [(u, v, d) for u, v, d in lg.graph.edges(data=True) if d["segment"] is not None]
+    return [(u, v, d) for u, v, d in lg.graph.edges(data=True) if d["path"] is not None]
+
+
+def path_poses(path, step):
+    return np.concatenate([s.sample(step) for s in path])
 
 
 def test_every_edge_starts_and_ends_at_its_nodes_poses(shipped_graphs):
     for name, lg in shipped_graphs.items():
         g = lg.graph
         for u, v, d in driven_edges(lg):
-            seg = d["segment"]
-            for pose, node in ((seg.start, u), (seg.end, v)):
+            path = d["path"]
+            for pose, node in ((path[0].start, u), (path[-1].end, v)):
                 ref = g.nodes[node]["pose"]
                 assert math.dist(pose[:2], ref[:2]) < 1e-6, (name, u, v)
                 assert abs(wrap_angle(pose[2] - ref[2])) < 1e-6, (name, u, v)
-            assert d["length"] == pytest.approx(seg.length)
+            # and the curvature is the nodes' at both ends, continuous in between
+            assert path[0].curvature == pytest.approx(g.nodes[u]["curvature"], abs=1e-9)
+            assert path[-1].end_curvature == pytest.approx(g.nodes[v]["curvature"], abs=1e-9)
+            for a, b in zip(path[:-1], path[1:], strict=True):
+                assert np.allclose(a.end, b.start, atol=1e-9)
+                assert b.curvature == pytest.approx(a.end_curvature, abs=1e-9)
+            assert d["length"] == pytest.approx(sum(seg.length for seg in path))
 
 
 def test_heading_is_continuous_through_every_lane_node(shipped_graphs):
@@ -34,9 +44,9 @@ def test_heading_is_continuous_through_every_lane_node(shipped_graphs):
         for n, data in g.nodes(data=True):
             if data["kind"] != "lane":
                 continue
-            ins = [d["segment"].end[2] for _, _, d in g.in_edges(n, data=True) if d["segment"]]
-            outs = [d["segment"].start[2] for _, _, d in g.out_edges(n, data=True)
-                    if d["segment"]]
+            ins = [d["path"][-1].end[2] for _, _, d in g.in_edges(n, data=True) if d["path"]]
+            outs = [d["path"][0].start[2] for _, _, d in g.out_edges(n, data=True)
+                    if d["path"]]
             for a in ins:
                 for b in outs:
                     assert abs(wrap_angle(a - b)) < 1e-6
@@ -46,7 +56,7 @@ def test_curvature_never_exceeds_the_largest_vehicles_limit(shipped_graphs):
     for lg in shipped_graphs.values():
         limit = 1 / lg.lot.design.min_radius
         for _, _, d in driven_edges(lg):
-            assert abs(d["segment"].curvature) <= limit + 1e-9
+            assert all(seg.max_curvature <= limit + 1e-9 for seg in d["path"])
             assert d["gear"] == 1  # lanes and turns are driven forward
 
 
@@ -100,7 +110,7 @@ def test_lane_and_turn_sweeps_touch_no_slot_or_area(shipped_graphs):
         tree = shapely.STRtree(blockers)
         for vehicle in load_scenario(path).vehicle_types:
             for _, _, d in driven_edges(lg):
-                polys = shapely.polygons(vehicle.footprints(d["segment"].sample(0.05)))
+                polys = shapely.polygons(vehicle.footprints(path_poses(d["path"], 0.05)))
                 left, right = tree.query(polys, predicate="intersects")
                 if left.size:
                     area = shapely.area(shapely.intersection(polys[left],
@@ -122,7 +132,7 @@ def test_speed_bump_lowers_the_limit_within_5_m(shipped_graphs):
     bump = shapely.LineString([(40, 26.5), (40, 33.5)])
     slow = fast = 0
     for _, _, d in driven_edges(lg):
-        line = shapely.LineString(d["segment"].sample(0.25)[:, :2])
+        line = shapely.LineString(path_poses(d["path"], 0.25)[:, :2])
         gap = line.distance(bump)
         if gap > 5.0 + 1e-6:
             assert d["speed_limit"] == pytest.approx(20 * KMH)
@@ -185,10 +195,14 @@ def test_junction_turns_join_aisles_with_feasible_arcs():
         """)
     turns = [d for _, _, d in lg.graph.edges(data=True) if d["kind"] == "turn"]
     # a T: from both lanes of a into b's up lane, and from b's down lane into both of a's
-    assert len(turns) == 4
+    assert len(turns) == 8  # the fastest clear turn and the tightest, for each pair
     for d in turns:
-        assert d["segment"].radius >= lg.lot.design.min_radius - 1e-9
-        assert abs(d["segment"].end[2] - d["segment"].start[2]) == pytest.approx(math.pi / 2)
+        path = d["path"]
+        assert min(seg.radius for seg in path) >= lg.lot.design.min_radius - 1e-9
+        assert abs(path[-1].end[2] - path[0].start[2]) == pytest.approx(math.pi / 2)
+        # clothoid in, arc, clothoid out: the wheels turn while the car rolls
+        assert path[0].sharpness != 0 and path[-1].sharpness != 0
+        assert path[0].curvature == 0 and abs(path[-1].end_curvature) < 1e-12
     # b is a dead end: cars reach its slots up its right lane but cannot turn round to
     # leave (lotsim has no turnarounds, and never turns through a slot)
     reach = lg.reachability()

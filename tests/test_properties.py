@@ -47,6 +47,7 @@ from lotsim.io.yamlnodes import parse_text
 from lotsim.sim import RunSettings, prepare, run
 from lotsim.traffic import arrivals
 from lotsim.vehicles.catalogue import CATALOGUE
+from single_track import assert_reproduced
 
 _COMMON = dict(deadline=None, database=None, print_blob=True,
                suppress_health_check=[HealthCheck.too_slow, HealthCheck.data_too_large])
@@ -352,6 +353,7 @@ def plan_and_check(case: Case) -> None:
     doc = json.loads(json.dumps(result_dict(rr), allow_nan=False))  # what the file holds
     report = check_result(doc)
     assert report.ok, "\n".join([report.summary(), *map(str, report.violations[:12])])
+    assert_reproduced(doc)
     accounted_for(doc, drawn)
     parked_in_their_slots(doc)
     start_at_their_entrance(doc)

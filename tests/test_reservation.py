@@ -12,7 +12,7 @@ from lotsim.planners.reservation import (
     swept_motion,
     swept_trajectory,
 )
-from lotsim.trajectory import Piece, drive, rest_to_rest
+from lotsim.trajectory import Piece, drive, timed_path
 from lotsim.vehicles import CATALOGUE
 
 CAR = CATALOGUE["valet"]
@@ -57,8 +57,8 @@ def test_random_crossings_that_touch_at_an_instant_are_always_caught(via):
         a, b = drive(pa, CAR, t0=ta, dt=0.002), drive(pb, CAR, t0=tb, dt=0.002)
         table = ReservationTable()
         if via == "motion":
-            table.reserve("a", swept_motion(rest_to_rest(pa, CAR), CAR), offset=ta)
-            conflict = table.first_conflict(swept_motion(rest_to_rest(pb, CAR), CAR),
+            table.reserve("a", swept_motion(timed_path(pa, CAR), CAR), offset=ta)
+            conflict = table.first_conflict(swept_motion(timed_path(pb, CAR), CAR),
                                             offset=tb)
         else:
             table.reserve("a", swept_trajectory(drive(pa, CAR, t0=ta), CAR))
@@ -73,7 +73,7 @@ def test_random_crossings_that_touch_at_an_instant_are_always_caught(via):
 
 def test_hulls_cover_the_exact_footprints_of_a_tight_turn():
     arc = Segment((0.0, 0.0, 0.3), 12.0, CAR.max_curvature)
-    hulls = swept_motion(rest_to_rest([Piece(arc)], CAR), CAR)
+    hulls = swept_motion(timed_path([Piece(arc)], CAR), CAR)
     union = shapely.union_all([h for _, _, h in hulls])
     exact = shapely.polygons(CAR.footprints(arc.sample(0.005)))
     assert shapely.covers(union.buffer(0.005), exact).all()
@@ -93,7 +93,7 @@ def test_a_parked_car_blocks_only_from_when_it_parks_and_not_its_owner():
 
 def test_release_after_a_time_keeps_the_past_and_cuts_the_parked_car_there():
     table = ReservationTable()
-    motion = rest_to_rest([Piece(Segment((0.0, 0.0, 0.0), 10.0, 0.0))], CAR)
+    motion = timed_path([Piece(Segment((0.0, 0.0, 0.0), 10.0, 0.0))], CAR)
     table.reserve("v", swept_motion(motion, CAR))
     end = standing_body(CAR, (10.0, 0.0, 0.0))
     table.reserve_standing("v", end, since=motion.duration)

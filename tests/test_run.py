@@ -17,6 +17,7 @@ from lotsim.io.scenario import load_scenario
 from lotsim.planners import cooperative
 from lotsim.sim import RunSettings, prepare, run
 from lotsim.traffic import Arrival, TrafficSpec
+from single_track import assert_reproduced
 
 LOT = ONE_AISLE
 
@@ -37,6 +38,7 @@ def _checked(rr):
     doc = result_dict(rr)
     report = check_result(doc)
     assert report.ok, [v.message for v in report.violations[:5]]
+    assert_reproduced(doc)  # and the vehicle model, integrated, drives every car as planned
     return doc
 
 

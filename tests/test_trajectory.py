@@ -7,44 +7,78 @@ import pytest
 
 from conftest import graph_from_text
 from lotsim.geometry import Segment, wrap_angle
-from lotsim.trajectory import Piece, drive, standing
+from lotsim.trajectory import Piece, drive, speed_cap, standing, timed_path
 from lotsim.vehicles import CATALOGUE, KMH
 
 CAR = CATALOGUE["valet"]
-A, B = CAR.limits.max_accel, CAR.limits.max_brake
+LIM = CAR.limits
+A, B, J = LIM.max_accel, LIM.max_brake, LIM.max_jerk
 
 
-def rest_to_rest(length, vmax):
-    """Closed form: accelerate at A, cruise, brake at B (or a triangle when too short)."""
-    ramp = vmax * vmax / 2 * (1 / A + 1 / B)
-    if length >= ramp:
-        return length / vmax + vmax / 2 * (1 / A + 1 / B)
-    peak = math.sqrt(2 * length * A * B / (A + B))
-    return peak / A + peak / B
+def double_s_time(length, vmax):
+    """Textbook rest-to-rest double-S time (Biagiotti & Melchiorri, 2008, §3.4), written
+    out independently: the ramps' times first, then either a cruise at vmax or, when the
+    length is too short for one, the highest peak found by bisection on the distance."""
+    def ramp(v, acc):  # time of a 0 → v change and its distance
+        tj = min(acc / J, math.sqrt(v / J))
+        ta = tj + v / (J * tj)  # = 2 tj on a triangle, tj + v / acc on a trapezoid
+        return ta, ta * v / 2
+
+    ta, da = ramp(vmax, A)
+    td, dd = ramp(vmax, B)
+    if da + dd <= length:
+        return ta + td + (length - da - dd) / vmax
+    lo, hi = 0.0, vmax
+    for _ in range(200):
+        mid = (lo + hi) / 2
+        if ramp(mid, A)[1] + ramp(mid, B)[1] <= length:
+            lo = mid
+        else:
+            hi = mid
+    return ramp(lo, A)[0] + ramp(lo, B)[0]
 
 
-@pytest.mark.parametrize("length", [0.5, 3.0, 20.0, 80.0])
+@pytest.mark.parametrize("length", [0.05, 0.5, 3.0, 20.0, 80.0])
 @pytest.mark.parametrize("gear", [1, -1])
-def test_straight_takes_the_closed_form_time(length, gear):
-    tr = drive([Piece(Segment((0.0, 0.0, 0.0), gear * length, 0.0))], CAR)
-    top = CAR.limits.max_forward_speed if gear > 0 else CAR.limits.max_reverse_speed
-    assert tr.end_time == pytest.approx(rest_to_rest(length, top), abs=0.02)
+def test_straight_takes_the_double_s_time(length, gear):
+    tr = drive([Piece(Segment((0.0, 0.0, 0.0), gear * length, 0.0))], CAR, dt=0.01)
+    top = LIM.max_forward_speed if gear > 0 else LIM.max_reverse_speed
+    assert tr.end_time == pytest.approx(double_s_time(length, top), abs=1e-6)
     assert tr.x[-1] == pytest.approx(gear * length, abs=1e-9)
     assert tr.v[0] == 0 and tr.v[-1] == 0
+    _check_limits(tr)
 
 
-def _check_limits(tr, pieces=None):
+def _spaced(t, h=0.02):
+    keep, last = [0], t[0]
+    for i in range(1, len(t)):
+        if t[i] - last >= h - 1e-12:
+            keep.append(i)
+            last = t[i]
+    return np.array(keep)
+
+
+def _check_limits(tr):
+    """Every limit, from the samples alone (divided differences bound the derivatives)."""
     dt = np.diff(tr.t)
     assert np.all(dt > 0) and dt.max() <= 0.1 + 1e-9
     step = np.hypot(np.diff(tr.x), np.diff(tr.y))
     assert step.max() <= 0.5
-    assert np.all(tr.v <= CAR.limits.max_forward_speed + 1e-9)
-    assert np.all(tr.v >= -CAR.limits.max_reverse_speed - 1e-9)
-    acc = np.diff(tr.v) / dt
-    moving = (tr.gear[1:] == tr.gear[:-1])
-    assert np.all(np.abs(acc[moving]) <= max(A, B) + 1e-6)
+    assert np.all(tr.v <= LIM.max_forward_speed + 1e-9)
+    assert np.all(tr.v >= -LIM.max_reverse_speed - 1e-9)
+    speed = np.abs(tr.v)
+    acc = np.diff(speed) / dt
+    assert acc.max() <= A + 1e-6 and acc.min() >= -B - 1e-6
+    k = _spaced(tr.t)
+    a = np.diff(tr.v[k]) / np.diff(tr.t[k])
+    jerk = 2 * np.diff(a) / (tr.t[k][2:] - tr.t[k][:-2])
+    assert np.abs(jerk).max(initial=0) <= J * (1 + 1e-6) + 1e-6
+    # continuous steering within its rate, lateral acceleration within its bound
+    assert np.all(np.abs(np.diff(tr.steer)) <= LIM.max_steer_rate * dt + 1e-9)
+    kappa = np.tan(tr.steer) / CAR.wheelbase
+    assert np.all(tr.v ** 2 * np.abs(kappa) <= LIM.max_lateral_accel + 1e-9)
     # no jumps: between samples the car covers no more than its speed allows
-    fastest = np.maximum(np.abs(tr.v[1:]), np.abs(tr.v[:-1])) + max(A, B) * dt
+    fastest = np.maximum(speed[1:], speed[:-1]) + max(A, B) * dt
     assert np.all(step <= fastest * dt + 1e-9)
 
 
@@ -60,23 +94,41 @@ def test_a_slow_piece_is_driven_within_its_limit_and_the_rest_faster():
     assert tr.v.max() > 19 * KMH
 
 
-def test_every_cusp_is_a_stop_and_gears_flip_there():
+def test_every_cusp_and_every_change_of_curvature_is_a_stop_to_steer():
     a = Segment((0.0, 0.0, 0.0), 6.0, 0.2)
     b = Segment(a.end, -4.0, -0.2)
     c = Segment(b.end, 5.0, 0.0)
-    tr = drive([Piece(a), Piece(b), Piece(c)], CAR)
+    motion = timed_path([Piece(a), Piece(b), Piece(c)], CAR)
+    tr = drive([Piece(a), Piece(b), Piece(c)], CAR, dt=0.01)
     _check_limits(tr)
-    flips = np.flatnonzero(np.diff(tr.gear) != 0)
-    assert len(flips) == 2
-    for i, cusp in zip(flips, (a.end, b.end), strict=True):
-        assert tr.v[i] == 0
-        assert math.dist((tr.x[i], tr.y[i]), cusp[:2]) < 1e-9
-    end = c.end
-    assert math.dist((tr.x[-1], tr.y[-1]), end[:2]) < 1e-9
-    # steering follows curvature
-    assert np.allclose(np.unique(np.round(tr.steer, 9)),
-                       np.unique(np.round(np.arctan([0.2 * CAR.wheelbase, -0.2 * CAR.wheelbase,
-                                                     0.0]), 9)))
+    # steer in place to 0.2 rad of curvature, drive, steer across to -0.2, back, steer to
+    # straight, drive, and nothing at the end (the last piece is straight)
+    stops = motion.steering_stops
+    assert [s[0] for s in stops] == [(0.0, 0.0, 0.0), a.end, b.end]
+    lock = math.atan(0.2 * CAR.wheelbase)
+    assert [d for _, d in stops] == pytest.approx(
+        [lock / LIM.max_steer_rate, 2 * lock / LIM.max_steer_rate, lock / LIM.max_steer_rate])
+    # the car stands while it steers: no motion where the wheels turn
+    turning = np.abs(np.diff(tr.steer)) > 1e-12
+    assert np.all(np.hypot(np.diff(tr.x), np.diff(tr.y))[turning] < 1e-12)
+    assert math.dist((tr.x[-1], tr.y[-1]), c.end[:2]) < 1e-9
+
+
+def test_speed_on_a_curve_respects_lateral_acceleration_and_on_a_clothoid_the_steering_rate():
+    arc = Segment((0.0, 0.0, 0.0), 30.0, 0.2)  # R 5 m
+    assert speed_cap(arc, CAR) == pytest.approx(math.sqrt(LIM.max_lateral_accel * 5.0))
+    sigma = 0.05
+    clothoid = Segment((0.0, 0.0, 0.0), 4.0, 0.0, sigma)
+    # dφ/dt = v σ b / (1 + (κ b)²), largest at κ = 0
+    assert speed_cap(clothoid, CAR) == pytest.approx(
+        min(LIM.max_steer_rate / (sigma * CAR.wheelbase),
+            math.sqrt(LIM.max_lateral_accel / clothoid.end_curvature)))
+    tr = drive([Piece(clothoid), Piece(Segment(clothoid.end, 10.0, 0.2))], CAR, dt=0.01)
+    _check_limits(tr)
+    # within each piece's own cap, and no slower than the arc's where there is room for it
+    travelled = np.concatenate([[0.0], np.cumsum(np.hypot(np.diff(tr.x), np.diff(tr.y)))])
+    assert tr.v[travelled < 4.0 - 1e-3].max() <= speed_cap(clothoid, CAR) + 1e-9
+    assert tr.v.max() == pytest.approx(speed_cap(arc, CAR))
 
 
 def test_a_planned_maneuver_is_driven_on_its_exact_path():
@@ -103,9 +155,8 @@ def test_a_planned_maneuver_is_driven_on_its_exact_path():
     d = np.hypot(tr.x[:, None] - fine[None, :, 0], tr.y[:, None] - fine[None, :, 1]).min(axis=1)
     assert d.max() < 0.01
     assert abs(wrap_angle(tr.theta[-1] - m.end[2])) < 1e-9
-    assert np.count_nonzero(np.diff(tr.gear)) == m.changes
-    # duration agrees with the maneuver's own estimate, computed stroke by stroke
-    assert tr.end_time - 5.0 == pytest.approx(m.duration(CAR, 10 * KMH), abs=0.05)
+    # duration agrees with the maneuver's own estimate
+    assert tr.end_time - 5.0 == pytest.approx(m.duration(CAR, 10 * KMH), abs=1e-9)
 
 
 def test_standing_then_driving_joins_seamlessly():
@@ -122,13 +173,13 @@ def test_standing_then_driving_joins_seamlessly():
 def test_a_stroke_of_a_few_centimetres_is_driven_too(length):
     """Found by the property tests: a last stroke under the 5 cm grid step was timed at 0 s,
     so a car's samples stopped 3.5 cm short of its parked pose and out of its slot. A short
-    stroke after a cusp takes at least the closed-form triangle's time and ends where its
-    path ends."""
+    stroke after a cusp takes the double-S time and ends where its path ends."""
     back = Segment((0.0, 0.0, 0.0), -2.0, 0.0)
     end = back.poses_at(2.0)[0]
     tiny = Segment((float(end[0]), float(end[1]), float(end[2])), length, 0.2)
     tr = drive([Piece(back), Piece(tiny)], CAR)
     want = tiny.poses_at(length)[0]
     assert np.allclose([tr.x[-1], tr.y[-1], tr.theta[-1]], want, atol=1e-9)
-    cusp = int(np.flatnonzero(tr.gear > 0)[0]) - 1  # the sample where the car stops to shift
-    assert tr.t[-1] - tr.t[cusp] >= rest_to_rest(length, CAR.limits.max_forward_speed) - 1e-9
+    last = timed_path([Piece(back), Piece(tiny)], CAR).strokes[-1]
+    assert last.segments == (tiny,)
+    assert last.duration == pytest.approx(double_s_time(length, speed_cap(tiny, CAR)), abs=1e-9)

@@ -11,8 +11,9 @@ The dict mirrors the model's attributes, with ``"format": "lotsim-lot"`` and
 polygonal geometry (boundary, aisle, area and zone polygons) is a GeoJSON
 geometry object, ``{"type": "Polygon" | "MultiPolygon", "coordinates": ...}``,
 rings closed (first point repeated), exterior first, then the holes. A lane's
-segments are rows ``[x, y, theta, distance, curvature]`` (start pose, signed
-length, signed curvature); a lane belongs to the aisle it is listed under.
+segments are rows ``[x, y, theta, distance, curvature, sharpness]`` (start pose, signed
+length, signed curvature at the start, its change per metre); a lane belongs to the aisle
+it is listed under.
 Source locations (``where``) are not written: the rebuilt model has ``None``.
 
 Lengths, angles and speeds are rounded to 6 decimals (1 µm, 1 µrad, 1 µm/s), except
@@ -51,14 +52,15 @@ ZONE_SOURCES = ("bump", "zone")
 
 _TOP_KEYS = ("format", "version", "boundary", "aisles", "slots", "areas", "zones",
              "entrances", "exits", "occupied", "speed_limit", "design")
-_AISLE_KEYS = ("id", "centerline", "width", "one_way", "bend_radius", "polygon", "lanes")
+_AISLE_KEYS = ("id", "centerline", "width", "one_way", "bend_radius", "bend_sharpness", "polygon",
+               "lanes")
 _LANE_KEYS = ("id", "offset", "with_polyline", "segments")
 _SLOT_KEYS = ("id", "kind", "polygon", "entry", "heading", "aisle", "side", "station",
               "angle", "width", "length")
 _AREA_KEYS = ("id", "kind", "polygon")
 _ZONE_KEYS = ("id", "source", "polygon", "limit", "line")
 _PORTAL_KEYS = ("id", "pose")
-_DESIGN_KEYS = ("width", "front", "rear", "min_radius")
+_DESIGN_KEYS = ("width", "front", "rear", "min_radius", "max_curvature_rate", "max_lateral_accel")
 _GEOMETRY_KEYS = ("type", "coordinates")
 
 
@@ -91,7 +93,7 @@ def lot_to_json(lot: Lot) -> dict[str, Any]:
     >>> from shapely.geometry import box
     >>> lot = Lot(boundary=box(0, 0, 10, 5), aisles={}, slots=(), areas=(), zones=(),
     ...           entrances=(), exits=(), occupied=frozenset(), speed_limit=10 / 3.6,
-    ...           design=DesignVehicle(1.8, 3.9, 1.0, 5.0))
+    ...           design=DesignVehicle(1.8, 3.9, 1.0, 5.0, 0.156, 2.0))
     >>> d = lot_to_json(lot)
     >>> d["format"], d["version"], d["speed_limit"], d["boundary"]["type"]
     ('lotsim-lot', 1, 2.777778, 'Polygon')
@@ -143,11 +145,13 @@ def _geometry_json(geom: Polygon | MultiPolygon) -> dict[str, Any]:
 def _aisle_json(a: Aisle) -> dict[str, Any]:
     lanes = []
     for lane in a.lanes:
-        rows = [[float(v) for v in (*s.start, s.distance, s.curvature)] for s in lane.segments]
+        rows = [[float(v) for v in (*s.start, s.distance, s.curvature, s.sharpness)]
+                for s in lane.segments]
         lanes.append({"id": lane.id, "offset": _round(lane.offset),
                       "with_polyline": bool(lane.with_polyline), "segments": rows})
     return {"id": a.id, "centerline": _points_json(a.centerline), "width": _round(a.width),
             "one_way": bool(a.one_way), "bend_radius": _round(a.bend_radius),
+            "bend_sharpness": float(a.bend_sharpness),
             "polygon": _geometry_json(a.polygon), "lanes": lanes}
 
 
@@ -259,15 +263,17 @@ def _aisle(raw: Any, path: str, geometry: Callable[[Any, str], Any]) -> Aisle:
     for j, lraw in enumerate(_list(o["lanes"], f"{path}.lanes")):
         lpath = f"{path}.lanes[{j}]"
         lo = _object(lraw, lpath, _LANE_KEYS)
-        rows = _array(lo["segments"], f"{lpath}.segments", (None, 5), min_rows=1,
-                      what="a list of at least one [x, y, theta, distance, curvature] row")
-        segments = tuple(Segment((x, y, t), s, k) for x, y, t, s, k in rows.tolist())
+        rows = _array(lo["segments"], f"{lpath}.segments", (None, 6), min_rows=1,
+                      what="a list of at least one [x, y, theta, distance, curvature, "
+                           "sharpness] row")
+        segments = tuple(Segment((x, y, t), s, k, g) for x, y, t, s, k, g in rows.tolist())
         lanes.append(Lane(_str(lo, "id", lpath), aid, segments, _number(lo, "offset", lpath),
                           _bool(lo, "with_polyline", lpath)))
     centerline = _array(o["centerline"], f"{path}.centerline", (None, 2), min_rows=2,
                         what="a list of at least 2 [x, y] points")
     return Aisle(aid, centerline, _number(o, "width", path), _bool(o, "one_way", path),
-                 _number(o, "bend_radius", path), geometry(o["polygon"], f"{path}.polygon"),
+                 _number(o, "bend_radius", path), _number(o, "bend_sharpness", path),
+                 geometry(o["polygon"], f"{path}.polygon"),
                  tuple(lanes))
 
 

@@ -44,6 +44,7 @@ _LIMIT_KEYS = {
     "max_brake": ("max_brake", 1.0),
     "max_jerk": ("max_jerk", 1.0),
     "max_steer_rate_deg": ("max_steer_rate", math.pi / 180),
+    "max_lateral_accel": ("max_lateral_accel", 1.0),
 }
 
 

@@ -16,7 +16,7 @@ from shapely.geometry import LineString, Point, Polygon
 from shapely.ops import unary_union
 
 from lotsim.errors import ScenarioError
-from lotsim.geometry import FloatArray, ccw, fillet_polyline, wrap_angle
+from lotsim.geometry import FloatArray, cc_polyline, ccw, wrap_angle
 from lotsim.lot.clearance import Collider
 from lotsim.lot.model import (
     Aisle,
@@ -54,7 +54,7 @@ def build_lot(spec: LotSpec, design: DesignVehicle) -> Lot:
         The first problem found, located in the scenario file.
     """
     boundary = _polygon(spec.boundary, spec.boundary_where, "the lot boundary")
-    aisles = {a.id: _build_aisle(a, design, boundary) for a in spec.aisles}
+    aisles = {a.id: _build_aisle(a, design, boundary, spec.speed_limit) for a in spec.aisles}
     areas = tuple(
         Area(a.id, a.kind, _polygon(a.polygon, a.where, f"{a.kind} {a.id!r}"), a.where)
         for a in spec.areas
@@ -143,7 +143,31 @@ def lane_offset(aisle: AisleSpec | Aisle) -> float:
     return 0.0 if aisle.one_way else aisle.width / 4
 
 
-def _build_aisle(spec: AisleSpec, design: DesignVehicle, boundary: Polygon) -> Aisle:
+def bend_sharpness(radius: float, offset: float, design: DesignVehicle,
+                   speed_limit: float) -> float:
+    """Sharpness [1/m²] of the clothoids into and out of an aisle's bends: what every type
+    can steer at the speed the tightest lane's arc allows (lateral acceleration, the lot's
+    limit)."""
+    speed = min(speed_limit, math.sqrt(design.max_lateral_accel * max(radius - offset, 1e-9)))
+    return design.sharpness(speed)
+
+
+def offset_polyline(points: FloatArray, right: float) -> FloatArray:
+    """The polyline shifted ``right`` metres to the right of its direction, corners mitred."""
+    p = np.asarray(points, dtype=float)
+    d = np.diff(p, axis=0)
+    d = d / np.hypot(d[:, 0], d[:, 1])[:, None]
+    n = np.column_stack([d[:, 1], -d[:, 0]])  # right normals of the legs
+    out = np.empty_like(p)
+    out[0], out[-1] = p[0] + right * n[0], p[-1] + right * n[-1]
+    for i in range(1, len(p) - 1):
+        a, b = n[i - 1], n[i]
+        out[i] = p[i] + right * (a + b) / (1 + float(np.dot(a, b)))
+    return out
+
+
+def _build_aisle(spec: AisleSpec, design: DesignVehicle, boundary: Polygon,
+                 speed_limit: float) -> Aisle:
     line = np.asarray(spec.centerline, dtype=float)
     if not boundary.buffer(1e-6).covers(LineString(line)):
         raise ScenarioError(spec.where, f"aisle {spec.id!r} leaves the lot boundary")
@@ -166,23 +190,24 @@ def _build_aisle(spec: AisleSpec, design: DesignVehicle, boundary: Polygon) -> A
             f"on a {radius - offset:.2f} m radius, below the {design.min_radius:.2f} m minimum "
             f"turning radius of the largest vehicle type",
         )
-    try:
-        centre = fillet_polyline(line, radius)
-    except ValueError as exc:
-        raise ScenarioError(
-            spec.where, f"aisle {spec.id!r}: curves too tight for a {radius:.2f} m bend: {exc}"
-        ) from None
-    if spec.one_way:
-        lanes = (Lane(f"{spec.id}>", spec.id, tuple(centre), 0.0, True),)
-    else:
-        fwd = tuple(s.offset(offset) for s in centre)
-        bwd = tuple(s.reversed().offset(offset) for s in reversed(centre))
-        lanes = (
-            Lane(f"{spec.id}>", spec.id, fwd, offset, True),
-            Lane(f"{spec.id}<", spec.id, bwd, offset, False),
-        )
+    sharpness = bend_sharpness(radius, offset, design, speed_limit)
+    paths = [(line, 0.0)] if spec.one_way else [(line, offset), (line[::-1], offset)]
+    lanes = []
+    for k, (pts, right) in enumerate(paths):
+        # concentric corners: a lane right of the centreline is outside a left turn
+        heading = np.arctan2(*np.diff(pts, axis=0).T[::-1])
+        radii = radius + right * np.sign(np.atleast_1d(wrap_angle(np.diff(heading))))
+        try:
+            segs = cc_polyline(offset_polyline(pts, right), radii, sharpness)
+        except ValueError as exc:
+            raise ScenarioError(
+                spec.where, f"aisle {spec.id!r}: curves too tight for a {radius:.2f} m bend: {exc}"
+            ) from None
+        lanes.append(Lane(f"{spec.id}{'>' if k == 0 else '<'}", spec.id, tuple(segs), right,
+                          k == 0))
     polygon = LineString(line).buffer(spec.width / 2, cap_style="flat", join_style="round")
-    return Aisle(spec.id, line, spec.width, spec.one_way, radius, polygon, lanes, spec.where)
+    return Aisle(spec.id, line, spec.width, spec.one_way, radius, sharpness, polygon,
+                 tuple(lanes), spec.where)
 
 
 # -- slots -------------------------------------------------------------------------------------
@@ -442,5 +467,5 @@ def _fit_lanes(aisle: Aisle, design: DesignVehicle, collider: Collider) -> Aisle
             lane = lane.trimmed(s0, s1 if s1 is not None else lane.length)
         lanes.append(lane)
     return Aisle(aisle.id, aisle.centerline, aisle.width, aisle.one_way, aisle.bend_radius,
-                 aisle.polygon, tuple(lanes), aisle.where)
+                 aisle.bend_sharpness, aisle.polygon, tuple(lanes), aisle.where)
 

@@ -2,13 +2,16 @@
 
 Nodes are poses ``(x, y, theta)`` along the aisle lanes (integers, with
 attributes ``pose``, ``kind``, ``lane``, ``station``), plus one node per slot.
-Edges are pieces of path at constant curvature (``segment``, a
-:class:`~lotsim.geometry.Segment`) with ``length`` [m], ``gear`` (+1 forward,
--1 reverse), ``speed_limit`` [m/s] and ``kind``:
+Lane nodes carry the lane's ``curvature`` there [1/m] (0 on straights): a car
+passing or standing at a node steers for it. Edges are pieces of path
+(``path``, a tuple of :class:`~lotsim.geometry.Segment`) with ``length`` [m],
+``gear`` (+1 forward, -1 reverse), ``speed_limit`` [m/s] and ``kind``:
 
-* ``lane`` — along a lane; straights and arcs no tighter than the lane's bend;
-* ``turn`` — a minimum-radius-or-wider arc from one aisle's lane into another's
-  where the aisles meet;
+* ``lane`` — along a lane: one straight, clothoid or arc of it;
+* ``turn`` — a continuous-curvature turn (clothoid, arc, clothoid: a car
+  turning its wheels at a steady rate as it rolls) from one aisle's lane into
+  another's where the aisles meet, sized for a design speed
+  (:data:`TURN_SPEEDS`);
 * ``join`` — a lane that continues as another (zero length);
 * ``park`` / ``leave`` — from a lane node into a slot node and back, through
   real parking maneuvers: ``maneuvers`` maps each vehicle type that can use
@@ -18,9 +21,9 @@ Edges are pieces of path at constant curvature (``segment``, a
   without maneuvers, the graph has ``placeholder=True`` links abeam of each
   slot instead, with no geometry (enough to draw and check reachability).
 
-Every edge's geometry is tangent-continuous with its nodes' headings, and every
-turn and lane is swept with the design vehicle against slots, areas and the
-boundary before it is added.
+Every edge's geometry is tangent- and curvature-continuous with its nodes'
+headings and curvatures, and every turn and lane is swept with the design
+vehicle against slots, areas and the boundary before it is added.
 """
 
 from __future__ import annotations
@@ -33,25 +36,27 @@ import numpy as np
 import shapely
 
 from lotsim.errors import ScenarioError
-from lotsim.geometry import Segment, wrap_angle
+from lotsim.geometry import Segment, cc_turn, sample_segments, wrap_angle
 from lotsim.lot.build import SWEEP_STEP, lane_collider
 from lotsim.lot.clearance import Collider
 from lotsim.lot.model import Lane, Lot, Portal, Slot, unit
 
-TURN_RADIUS_FACTORS = (1.0, 1.25, 1.5, 2.0, 3.0)
-"""Junction turns try these multiples of the design radius, tightest first."""
+TURN_SPEEDS = tuple(k / 3.6 for k in (15.0, 12.5, 10.0, 7.5, 5.0, 3.0))
+"""Design speeds junction turns try, fastest first [m/s]: a turn for speed ``v`` has an arc
+of radius ``max(R, v² / a_lat)`` and clothoids every type can steer at ``v``; the first
+that is clear of everything is built."""
 _EPS = 1e-6
 
 
 @dataclass(frozen=True, slots=True)
 class Turn:
-    """A junction arc from ``lane_a`` at ``station_a`` into ``lane_b`` at ``station_b``."""
+    """A junction turn from ``lane_a`` at ``station_a`` into ``lane_b`` at ``station_b``."""
 
     lane_a: str
     station_a: float
     lane_b: str
     station_b: float
-    segment: Segment
+    segments: tuple[Segment, ...]
 
 
 @dataclass(frozen=True, slots=True)
@@ -212,10 +217,10 @@ def build_graph(lot: Lot, *, node_spacing: float = 4.0, maneuvers=None,  # noqa:
         first[lid] = g.number_of_nodes()
         for k, s in enumerate(st):
             g.add_node(first[lid] + k, pose=lane.pose_at(float(s)), kind="lane", lane=lid,
-                       station=float(s))
+                       station=float(s), curvature=lane.curvature_at(float(s)))
         for k in range(len(st) - 1):
             seg = _lane_piece(lane, float(st[k]), float(st[k + 1]))
-            _add_edge(g, lot, first[lid] + k, first[lid] + k + 1, seg, "lane")
+            _add_edge(g, lot, first[lid] + k, first[lid] + k + 1, (seg,), "lane")
 
     def node_at(lid: str, s: float) -> int:
         st = index[lid]
@@ -224,10 +229,10 @@ def build_graph(lot: Lot, *, node_spacing: float = 4.0, maneuvers=None,  # noqa:
 
     for t in turns:
         _add_edge(g, lot, node_at(t.lane_a, t.station_a), node_at(t.lane_b, t.station_b),
-                  t.segment, "turn")
+                  t.segments, "turn")
     for a, b in joins:
         g.add_edge(node_at(a, lanes[a].length), node_at(b, 0.0), kind="join", length=0.0,
-                   gear=1, segment=None, speed_limit=lot.speed_limit, placeholder=False)
+                   gear=1, path=None, speed_limit=lot.speed_limit, placeholder=False)
 
     entrances = {p.id: node_at(*portals[p]) for p in lot.entrances}
     exits = {p.id: node_at(*portals[p]) for p in lot.exits}
@@ -243,7 +248,7 @@ def build_graph(lot: Lot, *, node_spacing: float = 4.0, maneuvers=None,  # noqa:
         slot_nodes[slot.id] = node
         cx, cy = slot.center
         g.add_node(node, pose=(cx, cy, slot.heading), kind="slot", slot=slot.id,
-                   occupied=slot.id in lot.occupied)
+                   occupied=slot.id in lot.occupied, curvature=0.0)
         attachments[slot.id] = []
         if maneuvers is None:
             for lid, s in attach[slot.id]:
@@ -259,7 +264,7 @@ def build_graph(lot: Lot, *, node_spacing: float = 4.0, maneuvers=None,  # noqa:
             for u, v, kind, path in ((a, node, "park", m), (node, a, "leave", m.reversed())):
                 if not g.has_edge(u, v):
                     g.add_edge(u, v, kind=kind, maneuvers={}, duration={}, length=math.inf,
-                               gear=path.segments[0].gear, segment=None, speed_limit=limit,
+                               gear=path.segments[0].gear, path=None, speed_limit=limit,
                                placeholder=False)
                 e = g.edges[u, v]
                 e["maneuvers"][vname] = path
@@ -277,7 +282,7 @@ def _add_placeholder(g: nx.DiGraph, lot: Lot, a: int, node: int, slot: Slot) -> 
     gear = 1 if slot.kind == "angled" else -1
     for u, v, kind in ((a, node, "park"), (node, a, "leave")):
         g.add_edge(u, v, kind=kind, length=reach, gear=gear if kind == "park" else -gear,
-                   segment=None, speed_limit=lot.speed_limit, placeholder=True,
+                   path=None, speed_limit=lot.speed_limit, placeholder=True,
                    maneuvers={}, duration={})
 
 
@@ -318,9 +323,11 @@ def _zone_limit(lot: Lot, points: np.ndarray) -> float:
     return limit
 
 
-def _add_edge(g: nx.DiGraph, lot: Lot, u: int, v: int, seg: Segment, kind: str) -> None:
-    g.add_edge(u, v, kind=kind, length=seg.length, gear=seg.gear, segment=seg,
-               speed_limit=_zone_limit(lot, seg.sample(0.25)[:, :2]), placeholder=False)
+def _add_edge(g: nx.DiGraph, lot: Lot, u: int, v: int, path: tuple[Segment, ...],
+              kind: str) -> None:
+    g.add_edge(u, v, kind=kind, length=sum(s.length for s in path), gear=path[0].gear,
+               path=path, speed_limit=_zone_limit(lot, sample_segments(path, 0.25)[0][:, :2]),
+               placeholder=False)
 
 
 def _zone_crossings(lot: Lot, lane: Lane) -> list[float]:
@@ -405,7 +412,7 @@ def _joins(lot: Lot) -> list[tuple[str, str]]:
 
 def _straights(lane: Lane) -> list[tuple[float, Segment]]:
     return [(float(s0), seg) for s0, seg in zip(lane.starts, lane.segments, strict=True)
-            if seg.curvature == 0.0]
+            if seg.curvature == 0.0 and seg.sharpness == 0.0]
 
 
 def _junction_turns(lot: Lot, collider: Collider) -> tuple[list[Turn], list[str]]:
@@ -422,20 +429,22 @@ def _junction_turns(lot: Lot, collider: Collider) -> tuple[list[Turn], list[str]
             for sa0, pa in _straights(a):
                 for sb0, pb in _straights(b):
                     turn = _fillet_between(a, sa0, pa, b, sb0, pb, aisle_a, aisle_b, reach,
-                                           lot.design, collider)
-                    if isinstance(turn, Turn):
-                        turns.append(turn)
+                                           lot.design, collider, lot.speed_limit)
+                    if isinstance(turn, list):
+                        turns.extend(turn)
                     elif turn:
                         skipped.append(turn)
     return turns, skipped
 
 
 def _fillet_between(a, sa0, pa, b, sb0, pb, aisle_a, aisle_b, reach, design,  # noqa: ANN001
-                    collider: Collider) -> Turn | str | None:
-    """The turn from straight ``pa`` of lane ``a`` into straight ``pb`` of lane ``b``.
+                    collider: Collider, lot_speed: float) -> list[Turn] | str | None:
+    """The turns from straight ``pa`` of lane ``a`` into straight ``pb`` of lane ``b``: the
+    fastest that is clear and, when it is another, the tightest (slowest) that is clear —
+    it starts later and ends sooner, so it can reach a node the wide one passes by.
 
-    Returns a Turn, a reason string when the aisles meet but no radius is
-    clear, or None when the two straights do not meet.
+    Returns the turns, a reason string when the aisles meet but no turn is clear,
+    or None when the two straights do not meet.
     """
     ta, tb = pa.start[2], pb.start[2]
     delta = float(wrap_angle(tb - ta))
@@ -451,19 +460,24 @@ def _fillet_between(a, sa0, pa, b, sb0, pb, aisle_a, aisle_b, reach, design,  # 
     if aisle_a.line.distance(pt) > reach or aisle_b.line.distance(pt) > reach:
         return None
     reason = None
-    for factor in TURN_RADIUS_FACTORS:
-        r = design.min_radius * factor
-        tangent = r * math.tan(abs(delta) / 2)
+    found: list[Turn] = []
+    for speed in TURN_SPEEDS:
+        if speed > lot_speed + 1e-9 and speed != TURN_SPEEDS[-1]:
+            continue
+        r = max(design.min_radius, speed * speed / design.max_lateral_accel)
+        _, tangent = cc_turn(delta, 1 / r, design.sharpness(speed))
         da, db = t - tangent, s + tangent  # distances into pa and pb
         if not (-_EPS <= da <= pa.length + _EPS and -_EPS <= db <= pb.length + _EPS):
-            reason = reason or f"no room for a {r:.2f} m arc"
+            reason = reason or f"no room for a turn at {speed * 3.6:.1f} km/h"
             continue
-        start = pa.poses_at(min(max(da, 0.0), pa.length))[0]
-        arc = Segment(tuple(float(v) for v in start), r * abs(delta), math.copysign(1 / r, delta))
-        hit = collider.sweep_hit(design.footprints(arc.sample(SWEEP_STEP)))
+        start = tuple(float(v) for v in pa.poses_at(min(max(da, 0.0), pa.length))[0])
+        segs, _ = cc_turn(delta, 1 / r, design.sharpness(speed), start)
+        hit = collider.sweep_hit(design.footprints(sample_segments(segs, SWEEP_STEP)[0]))
         if hit is not None:
             reason = f"touches {hit.what}"
             continue
-        return Turn(a.id, sa0 + da, b.id, sb0 + db, arc)
+        found[1:] = [Turn(a.id, sa0 + da, b.id, sb0 + db, tuple(segs))]  # first, latest
+    if found:
+        return found
     return (f"turn {a.id} → {b.id} near ({x[0]:.1f}, {x[1]:.1f}) skipped: {reason}"
             if reason and "touches" in reason else None)

@@ -15,7 +15,7 @@ import shapely
 from shapely.geometry import LineString, Polygon
 
 from lotsim.errors import Location
-from lotsim.geometry import FloatArray, Pose, Segment, rectangle_footprints, wrap_angle
+from lotsim.geometry import FloatArray, Pose, Segment, cc_turn, rectangle_footprints, wrap_angle
 
 
 @dataclass(frozen=True, slots=True)
@@ -28,12 +28,20 @@ class DesignVehicle:
         Largest body width and rear-axle→bumper distances [m].
     min_radius : float
         Largest minimum turning radius [m]: every lane curve is at least this.
+    max_curvature_rate : float
+        Smallest ``max_steer_rate / wheelbase`` [1/(m·s)]: how fast every type can
+        change its path's curvature, steering from straight ahead. A clothoid of
+        sharpness ``σ`` driven at ``v`` asks for ``σ · v`` of it.
+    max_lateral_accel : float
+        Smallest lateral-acceleration limit [m/s²].
     """
 
     width: float
     front: float
     rear: float
     min_radius: float
+    max_curvature_rate: float
+    max_lateral_accel: float
 
     @classmethod
     def envelope(cls, vehicle_types) -> DesignVehicle:  # noqa: ANN001 - any VehicleType-like
@@ -44,7 +52,14 @@ class DesignVehicle:
             front=max(v.front for v in types),
             rear=max(v.rear for v in types),
             min_radius=max(v.min_turning_radius for v in types),
+            max_curvature_rate=min(v.limits.max_steer_rate / v.wheelbase for v in types),
+            max_lateral_accel=min(v.limits.max_lateral_accel for v in types),
         )
+
+    def sharpness(self, speed: float) -> float:
+        """Sharpness [1/m²] of the clothoids every type can drive at ``speed`` [m/s] within
+        its steering rate."""
+        return self.max_curvature_rate / speed
 
     def footprints(self, poses: FloatArray) -> FloatArray:
         """Envelope rectangles at poses (N, 3) → (N, 4, 2)."""
@@ -148,6 +163,11 @@ class Lane:
         x, y, t = self.segments[i].poses_at(d)[0]
         return (float(x), float(y), float(t))
 
+    def curvature_at(self, station: float) -> float:
+        """Signed curvature of the lane at ``station`` [1/m] (continuous along it)."""
+        i, d = self.locate(station)
+        return float(self.segments[i].curvature_at(d))
+
     def trimmed(self, s0: float, s1: float) -> Lane:
         """The part of the lane between stations ``s0 < s1`` [m]."""
         pieces = []
@@ -169,7 +189,8 @@ class Lane:
         Straights are not sampled, so projecting a point costs as much on a 2 km aisle as on a
         20 m one (a lane sampled every 0.1 m made building a long row quadratic in its slots).
         """
-        parts = [s.sample(0.1 if s.curvature else max(s.length, 0.1)) for s in self.segments]
+        parts = [s.sample(0.1 if s.max_curvature else max(s.length, 0.1))
+                 for s in self.segments]
         return LineString(np.concatenate([parts[0]] + [p[1:] for p in parts[1:]])[:, :2])
 
     def project(self, point: tuple[float, float]) -> tuple[float, float]:
@@ -187,6 +208,7 @@ class Aisle:
     width: float
     one_way: bool
     bend_radius: float
+    bend_sharpness: float  # of the clothoids into and out of its bends [1/m²]
     polygon: Polygon
     lanes: tuple[Lane, ...]
     where: Location | None = field(default=None, repr=False)
@@ -204,7 +226,8 @@ class Aisle:
         start = np.concatenate([[0.0], np.cumsum(length)[:-1]])
         heading = np.arctan2(vec[:, 1], vec[:, 0])
         turns = np.abs(np.atleast_1d(wrap_angle(np.diff(heading)))) if len(vec) > 1 else np.zeros(0)
-        cut = self.bend_radius * np.tan(turns / 2)
+        cut = np.array([cc_turn(float(t), 1 / self.bend_radius, self.bend_sharpness)[1]
+                        if t > 1e-12 else 0.0 for t in turns])
         lo = start + np.concatenate([[0.0], cut])
         hi = start + length - np.concatenate([cut, [0.0]])
         return start, heading, lo, hi

@@ -4,12 +4,17 @@ A vehicle's search state is ``(node, speed level, time)``: it stands on a lot
 graph node at a time [s], at rest (level 0) or passing through at one of a few
 speeds (multiples of 5 km/h up to its top speed). Moves are
 
-* **drive an edge** from speed level ``a`` to ``b``: the fastest closed-form
-  profile within the edge's speed limit, the vehicle's acceleration and
-  braking — so plans are the trajectories, with no re-timing afterwards;
+* **drive an edge** from speed level ``a`` to ``b``: the fastest jerk-limited
+  profile (:func:`~lotsim.trajectory.scurve`) within the edge's speed limit —
+  the lowest of the lot's, the vehicle's top speed, and what the edge's curves
+  allow for lateral acceleration and steering rate — and the vehicle's
+  acceleration, braking and jerk, with zero acceleration at both nodes; so plans
+  are the trajectories, with no re-timing afterwards;
 * **wait** at a node, at rest, for a fixed step;
 * **park** (from rest, through the slot's planned maneuver, ending at rest in
-  the slot) or **leave** (the same backwards), taking the maneuver's time;
+  the slot) or **leave** (the same backwards), taking the maneuver's time,
+  with the car standing to turn its wheels wherever the maneuver's curvature
+  changes (:func:`~lotsim.trajectory.timed_path`);
 * **enter**: a vehicle not yet in the lot waits outside its entrance, taking
   no space, until the entrance is free.
 
@@ -45,7 +50,7 @@ from lotsim.planners.reservation import (
     standing_body,
     swept_motion,
 )
-from lotsim.trajectory import Motion, Piece, Stroke, rest_to_rest, trapezoid
+from lotsim.trajectory import Motion, Piece, Stroke, scurve, speed_cap, timed_path
 from lotsim.vehicles.model import KMH, VehicleType
 
 SPEED_STEP = 5 * KMH
@@ -90,6 +95,7 @@ class Move:
     edge: int = -1
     motion: Motion | None = None
     end_pose: tuple[float, float, float] | None = None
+    steer: float = 0.0  # road-wheel angle while standing [rad]
 
 
 @dataclass
@@ -153,11 +159,15 @@ class SearchGraph:
             elif d.get("placeholder"):
                 continue
             i = len(self.edges)
-            self.edges.append(_Edge(u, v, kind, float(d["length"]),
-                                    min(float(d["speed_limit"]), top), d))
+            cap = min(float(d["speed_limit"]), top)
+            for seg in d.get("path") or ():
+                cap = min(cap, speed_cap(seg, vehicle))
+            self.edges.append(_Edge(u, v, kind, float(d["length"]), cap, d))
             self.out[u].append(i)
             self.into[v].append(i)
         self.pose = {n: tuple(map(float, g.nodes[n]["pose"])) for n in g.nodes}
+        self.steer = {n: math.atan(g.nodes[n].get("curvature", 0.0) * vehicle.wheelbase)
+                      for n in g.nodes}
         self.slot_nodes = set(lg.slot_nodes.values())
         self._motions: dict[tuple[int, int, int], EdgeMotion | None] = {}
         self._bodies: dict[int, BaseGeometry] = {}
@@ -177,21 +187,23 @@ class SearchGraph:
         if e.kind in ("park", "leave"):
             if a == 0 and b == 0:
                 m = e.data["maneuvers"][self.vehicle.name]
-                motion = rest_to_rest([Piece(s, e.data["speed_limit"]) for s in m.segments],
-                                      self.vehicle)
+                motion = timed_path([Piece(s, e.data["speed_limit"]) for s in m.segments],
+                                    self.vehicle, steer_from=self.steer[e.u],
+                                    steer_to=self.steer[e.v])
                 out = self._timed(motion)
         elif e.length > 0:
             lim = self.vehicle.limits
             va, vb = self.levels[a], self.levels[b]
             if va <= e.cap + 1e-9 and vb <= e.cap + 1e-9:
-                prof = trapezoid(e.length, va, vb, e.cap, lim.max_accel, lim.max_brake)
+                prof = scurve(e.length, va, vb, e.cap, lim.max_accel, lim.max_brake,
+                              lim.max_jerk)
                 if prof is not None:
-                    out = self._timed(Motion((Stroke((e.data["segment"],), prof),)))
+                    out = self._timed(Motion((Stroke(tuple(e.data["path"]), prof),)))
         self._motions[key] = out
         return out
 
     def _timed(self, motion: Motion) -> EdgeMotion:
-        return EdgeMotion(motion, motion.duration, motion.strokes[-1].segments[-1].end,
+        return EdgeMotion(motion, motion.duration, motion.end,
                           Swept.of(swept_motion(motion, self.vehicle)))
 
     def edge_cells(self, ei: int, em: EdgeMotion) -> tuple[tuple[int, int], ...]:
@@ -435,7 +447,8 @@ def search(sg: SearchGraph, table: ReservationTable, *, owner: str, start: int, 
             stand = start_stand if node == start else sg.standing(node)
             if table.is_free(stand, offset=t, ignore=owner):
                 push(node, 0, t + WAIT, False, sid,
-                     Move("wait", t, t + WAIT, node, node, 0, 0, end_pose=here))
+                     Move("wait", t, t + WAIT, node, node, 0, 0, end_pose=here,
+                          steer=sg.steer[node]))
         for ei in sg.out[node]:
             e = sg.edges[ei]
             if e.kind == "leave" and (node != start or out or not _same_pose(

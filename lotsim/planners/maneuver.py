@@ -57,6 +57,7 @@ from lotsim.geometry import FloatArray, Pose, Segment, advance, sample_segments,
 from lotsim.lot.graph import lane_serves
 from lotsim.lot.model import Lane, Lot, Slot, unit
 from lotsim.planners.minslot import SlotFrame, simulate, start_headings
+from lotsim.trajectory import Motion, Piece, timed_path
 from lotsim.vehicles.model import VehicleType
 
 MARGIN = 0.1
@@ -152,31 +153,19 @@ class Maneuver:
 
     def reversed(self) -> Maneuver:
         """The same path driven backwards in time: each piece with the other gear."""
-        segs = tuple(Segment(s.end, -s.distance, s.curvature) for s in reversed(self.segments))
+        segs = tuple(s.backwards() for s in reversed(self.segments))
         return Maneuver(segs, self.vehicle, self.slot, self.lane, self.station, not self.leaving)
 
+    def motion(self, vehicle: VehicleType, speed_limit: float = math.inf) -> Motion:
+        """The maneuver timed from rest, wheels straight, to rest, wheels straight
+        (:func:`~lotsim.trajectory.timed_path`): the car stops at every cusp and wherever
+        the curvature changes, and turns its wheels there standing."""
+        return timed_path([Piece(s, speed_limit) for s in self.segments], vehicle)
+
     def duration(self, vehicle: VehicleType, speed_limit: float = math.inf) -> float:
-        """Time to drive it from rest to rest, stopping at every cusp [s].
-
-        Each stroke is a trapezoidal speed profile under the vehicle's
-        acceleration and braking limits, at most its forward or reverse speed
-        limit and ``speed_limit`` [m/s].
-        """
-        lim = vehicle.limits
-        total = 0.0
-        for gear, length in self.strokes():
-            vmax = min(speed_limit, lim.max_forward_speed if gear > 0 else lim.max_reverse_speed)
-            total += _stroke_time(length, vmax, lim.max_accel, lim.max_brake)
-        return total
-
-
-def _stroke_time(length: float, vmax: float, accel: float, brake: float) -> float:
-    """Rest-to-rest time over ``length`` with a trapezoidal (or triangular) profile [s]."""
-    ramp = vmax * vmax / 2 * (1 / accel + 1 / brake)
-    if length >= ramp:
-        return length / vmax + vmax / 2 * (1 / accel + 1 / brake)
-    peak = math.sqrt(2 * length * accel * brake / (accel + brake))
-    return peak / accel + peak / brake
+        """Time to drive it (:meth:`motion`) [s]: jerk-limited rest-to-rest runs within the
+        vehicle's limits and ``speed_limit`` [m/s], and the steering between them."""
+        return self.motion(vehicle, speed_limit).duration
 
 
 # -- frames ------------------------------------------------------------------------------------

@@ -96,7 +96,7 @@ def swept_motion(motion: Motion, vehicle: VehicleType, *, chunk: float = CHUNK
                  ) -> list[Interval]:
     """:func:`swept` for a timed motion, in the motion's own time (from 0) [s]."""
     edges = chunk_edges(0.0, motion.duration, chunk)
-    if all(g.curvature == 0 for st in motion.strokes for g in st.segments):
+    if all(g.curvature == 0 and g.sharpness == 0 for st in motion.strokes for g in st.segments):
         # along straights the hull of the ends is the exact sweep
         tau = np.union1d(edges, motion.cusps)
     else:

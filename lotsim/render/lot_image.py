@@ -696,7 +696,7 @@ def paint_graph(img: Image.Image, canvas: LotCanvas, lot_graph) -> None:
     for u, v, d in g.edges(data=True):
         kind = d.get("kind", "lane")
         color = GRAPH_EDGE.get(kind, GRAPH_EDGE["lane"])
-        pts = None if d.get("placeholder") else _segment_points(d.get("segment"), step)
+        pts = None if d.get("placeholder") else _segment_points(d.get("path"), step)
         if pts is None:
             key = (min(u, v), max(u, v))
             if key in done:
