@@ -321,6 +321,11 @@ def _maneuver(args: argparse.Namespace) -> int:
           f"{m.changes} direction change{'s' * (m.changes != 1)}, {m.length:.2f} m, "
           f"{m.duration(vehicle):.1f} s")
     print(f"  strokes: {strokes}")
+    stops = m.motion(vehicle).steering_stops
+    if stops:
+        print(f"  steers standing {len(stops)} time{'s' * (len(stops) != 1)}, "
+              f"{sum(d for _, d in stops):.1f} s in all (at the start, cusps, the end and "
+              f"wherever the curvature jumps)")
     if args.output:
         from lotsim.render.lot_image import save_png
         from lotsim.render.maneuver_image import draw_maneuver

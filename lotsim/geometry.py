@@ -441,6 +441,54 @@ def cc_polyline(points: ArrayLike, radius: ArrayLike, sharpness: float) -> list[
     return segments
 
 
+def ease_joints(segments: Sequence[Segment], *, max_offset: float = 0.02,
+                min_ramp: float = 0.1) -> list[Segment]:
+    """The path with each jump of curvature inside a stroke replaced by a clothoid ramp.
+
+    Where two consecutive segments of one gear meet with different curvatures
+    (``κa`` then ``κb``), the last ``L/2`` of the first and the first ``L/2`` of
+    the second become a clothoid from ``κa`` to ``κb``: the wheels turn while the
+    car rolls instead of while it stands. The ramp turns the car by the same angle
+    as the corner it replaces, so headings after it are unchanged; the path is
+    displaced sideways by ``|κb − κa| L² / 24``, which sizes the ramp:
+    ``L = sqrt(24 max_offset / |κb − κa|)``, at most half of each neighbour. Joints
+    at cusps, and ramps shorter than ``min_ramp`` [m], are left as they are. The
+    start pose is kept; the end moves by the ramps' offsets (check it).
+
+    >>> segs = [Segment((0.0, 0.0, 0.0), 5.0, 0.0), Segment((5.0, 0.0, 0.0), 5.0, 0.2)]
+    >>> eased = ease_joints(segs)
+    >>> [round(s.sharpness, 3) for s in eased], round(eased[-1].end[2] - segs[-1].end[2], 12)
+    ([0.0, 0.129, 0.0], 0.0)
+    """
+    segs = [s for s in segments if s.length > 0]
+    n = len(segs)
+    ramp = [0.0] * (n + 1)  # ramp[j]: length of the ramp at the joint before segs[j]
+    for j in range(1, n):
+        a, b = segs[j - 1], segs[j]
+        jump = abs(b.curvature - a.end_curvature)
+        if a.gear != b.gear or jump <= 1e-12 or a.sharpness or b.sharpness:
+            continue
+        length = min(math.sqrt(24 * max_offset / jump), a.length / 2, b.length / 2)
+        if length >= min_ramp:
+            ramp[j] = length
+    out: list[Segment] = []
+    pose = segs[0].start if segs else (0.0, 0.0, 0.0)
+    for j, seg in enumerate(segs):
+        g = seg.gear
+        if ramp[j]:
+            a = segs[j - 1]
+            sigma = (seg.curvature - a.curvature) / ramp[j]
+            piece = Segment(pose, g * ramp[j], a.curvature, sigma)
+            out.append(piece)
+            pose = piece.end
+        middle = seg.length - ramp[j] / 2 - ramp[j + 1] / 2
+        if middle > 1e-12:
+            piece = Segment(pose, g * middle, seg.curvature)
+            out.append(piece)
+            pose = piece.end
+    return out
+
+
 def rectangle_footprints(poses: ArrayLike, outline: ArrayLike) -> FloatArray:
     """A body ``outline`` (K, 2, in the pose's frame) placed at many poses (N, 3) → (N, K, 2)."""
     p = np.atleast_2d(np.asarray(poses, dtype=float))

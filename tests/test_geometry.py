@@ -11,6 +11,7 @@ from lotsim.geometry import (
     cc_polyline,
     cc_turn,
     ccw,
+    ease_joints,
     fillet_polyline,
     signed_area,
     travel,
@@ -193,3 +194,26 @@ def test_cc_polyline_ends_on_the_last_point_and_keeps_curvature_continuous():
     # plain arcs when the sharpness is infinite: fillet_polyline's corners
     plain = cc_polyline(pts, 6.0, math.inf)
     assert [s.length for s in plain] == pytest.approx([s.length for s in fillet_polyline(pts, 6.0)])
+
+
+@pytest.mark.parametrize("gear", [1, -1])
+def test_eased_joints_turn_like_the_corners_they_replace_within_the_stated_offset(gear):
+    a = Segment((1.0, 2.0, 0.3), gear * 4.0, 0.1)
+    b = Segment(a.end, gear * 3.0, 0.0)
+    c = Segment(b.end, gear * 6.0, -0.2)
+    eased = ease_joints([a, b, c], max_offset=0.02)
+    for p, q in zip(eased[:-1], eased[1:], strict=True):
+        assert np.allclose(p.end, q.start, atol=1e-12)
+        assert q.curvature == pytest.approx(p.end_curvature, abs=1e-12)  # no jump left
+    assert eased[0].start == a.start
+    assert wrap_angle(eased[-1].end[2] - c.end[2]) == pytest.approx(0.0, abs=1e-12)
+    # each ramp shifts the path by |Δκ| L² / 24 ≤ 0.02 m; two ramps, plus the turn after
+    assert math.dist(eased[-1].end[:2], c.end[:2]) <= 2 * 0.02 + 1e-9
+    assert sum(s.length for s in eased) == pytest.approx(13.0)
+
+
+def test_cusps_and_short_joints_are_left_for_steering_standing():
+    a = Segment((0.0, 0.0, 0.0), 3.0, 0.2)
+    b = Segment(a.end, -3.0, -0.2)  # a cusp: the car stops anyway
+    c = Segment(b.end, -0.1, 0.0)  # too short for a ramp of min_ramp
+    assert ease_joints([a, b, c], min_ramp=0.1) == [a, b, c]

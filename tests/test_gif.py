@@ -419,3 +419,16 @@ def test_render_input_errors(doc, tmp_path, capsys):
     assert not (tmp_path / "x.gif").exists()
     assert sorted(p.name for p in tmp_path.iterdir()) == ["bad.json", "old.json", "r.json"]
 
+
+
+def test_front_wheels_turn_gradually_within_the_steering_rate(street):
+    """The GIF draws each car's front wheels at the replayed steer: between frames 0.1 s
+    apart they turn no faster than the car can steer, and they do turn (parallel parking)."""
+    replay = Replay(street)
+    times = np.arange(replay.start, replay.end, 0.1)
+    st = replay.states(times)
+    rates = np.array([v["type"]["max_steer_rate"] for v in street["vehicles"]])
+    turn = np.abs(np.diff(st["steer"], axis=0))
+    both = st["visible"][1:] & st["visible"][:-1]
+    assert turn[both].max() > 0.02  # the wheels move
+    assert np.all(turn[both] <= rates[None, :].repeat(len(turn), 0)[both] * 0.1 + 1e-5)

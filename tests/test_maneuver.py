@@ -8,6 +8,7 @@ sampled poses; and it asks whether the final footprint lies in the slot.
 """
 
 import math
+import re
 
 import numpy as np
 import pytest
@@ -316,6 +317,7 @@ def test_cli_maneuver_draws_one_and_reports_bad_input(tmp_path, capsys):
     assert main(["maneuver", str(path), "--slot", "main-left-5", "-o", str(png)]) == 0
     out = capsys.readouterr().out
     assert "direction change" in out and png.stat().st_size > 1000
+    assert re.search(r"steers standing \d+ times?, [\d.]+ s in all", out)
     from PIL import Image
 
     assert Image.open(png).size == (900, 700)
@@ -325,3 +327,30 @@ def test_cli_maneuver_draws_one_and_reports_bad_input(tmp_path, capsys):
     path.write_text(QUICK.replace("vehicle_types: [valet]", "vehicle_types: [vclass]"))
     assert main(["maneuver", str(path), "--slot", "main-left-5"]) == 1
     assert "cannot park" in capsys.readouterr().err
+
+
+def test_the_maneuver_picture_rings_every_place_the_car_stops_to_steer():
+    from lotsim.render.lot_image import MARGIN, LotCanvas
+    from lotsim.render.maneuver_image import STEER, draw_maneuver
+
+    lot, _ = _lot(QUICK)
+    car = CATALOGUE["valet"]
+    m = ManeuverPlanner(lot).best(car, lot.slot_by_id["main-left-5"])
+    stops = m.motion(car).steering_stops
+    assert stops  # it starts with straight wheels on the lane and turns them there
+    img = np.asarray(draw_maneuver(lot, m, car).convert("RGB")).astype(int)
+    ring = np.all(np.abs(img - np.array(STEER)) <= 2, axis=2)
+    assert ring.any()
+    # the rings' pixels lie around the stops and nowhere else
+    ys, xs = np.nonzero(ring)
+    poses, _ = m.sample(0.05)
+    bodies = car.footprints(poses)
+    lo = bodies.reshape(-1, 2).min(axis=0) - 3.0
+    hi = bodies.reshape(-1, 2).max(axis=0) + 3.0
+    canvas = LotCanvas((lo[0], lo[1], hi[0], hi[1]), (900, 700),
+                       frame=(MARGIN, MARGIN, 900 - MARGIN, 700 - MARGIN))
+    centres = np.array([canvas.to_px(np.array(p[:2])) for p, _ in stops])
+    legend = ys > 700 - 40
+    dist = np.hypot(xs[:, None] - centres[None, :, 0], ys[:, None] - centres[None, :, 1])
+    assert np.all((dist.min(axis=1) < 20) | legend)  # nowhere else
+    assert np.all(dist[~legend].min(axis=0) < 20)  # and around every stop

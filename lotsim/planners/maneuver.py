@@ -53,7 +53,15 @@ import shapely
 from shapely.geometry import Polygon
 
 from lotsim.errors import InfeasibleManeuver
-from lotsim.geometry import FloatArray, Pose, Segment, advance, sample_segments, wrap_angle
+from lotsim.geometry import (
+    FloatArray,
+    Pose,
+    Segment,
+    advance,
+    ease_joints,
+    sample_segments,
+    wrap_angle,
+)
 from lotsim.lot.graph import lane_serves
 from lotsim.lot.model import Lane, Lot, Slot, unit
 from lotsim.planners.minslot import SlotFrame, simulate, start_headings
@@ -68,6 +76,9 @@ CLOSING_RADII = (1.0, 1.25, 1.5, 2.0, 3.0)
 """Closing arcs try these multiples of the car's minimum turning radius."""
 STYLES = ("any", "forward", "reverse")
 """``forward``: nose-in; ``reverse``: nose-out (backed in); ``any``: the better one."""
+EASE_DRIFT = 0.03
+"""Farthest an eased maneuver may end from the planned parked pose [m] (the clothoid
+ramps that let the car steer as it rolls shift the path by a few millimetres each)."""
 _MIN_STROKE = 0.3  # shorter search strokes are not worth a stop [m]
 _PARALLEL_EXTRA = 0.02  # minslot strokes run to contact: keep them this far inside the margin [m]
 
@@ -201,8 +212,9 @@ class _Frame:
 
     def segment_to_world(self, seg: Segment) -> Segment:
         x, y, t = self.poses_to_world(np.array(seg.start))[0]
-        k = -seg.curvature if self.mirror else seg.curvature
-        return Segment((float(x), float(y), float(t)), seg.distance, k)
+        sign = -1.0 if self.mirror else 1.0
+        return Segment((float(x), float(y), float(t)), seg.distance, sign * seg.curvature,
+                       sign * seg.sharpness)
 
 
 # -- the planner -------------------------------------------------------------------------------
@@ -290,6 +302,8 @@ class ManeuverPlanner:
         hit = self._cache.get(key)
         if hit is None:
             hit = self._solve(problem, style)
+            if not isinstance(hit, str):
+                hit = (self._eased(problem, hit[0]), hit[1])
             self._cache[key] = hit
             self.stats["planned"] += 1
         else:
@@ -337,7 +351,7 @@ class ManeuverPlanner:
         d = np.asarray(slot.center) - mid
         left = math.cos(heading) * d[1] - math.sin(heading) * d[0] > 0
         frame = _Frame(float(mid[0]), float(mid[1]), heading, left)
-        if seg.curvature != 0.0:
+        if seg.curvature != 0.0 or seg.sharpness != 0.0:
             lane_y, lane_x, s0 = math.nan, (0.0, 0.0), 0.0
         else:
             a = frame.poses_to_local(np.array(seg.start))[0]
@@ -402,6 +416,26 @@ class ManeuverPlanner:
         if len(bodies) > 1:
             bodies = np.concatenate([bodies[:-1], bodies[1:]], axis=1)
         return self._bodies_blocked(p, bodies)
+
+    def _eased(self, p: _Problem, local: tuple[Segment, ...]) -> tuple[Segment, ...]:
+        """``local`` with its curvature jumps inside strokes eased by clothoids
+        (:func:`~lotsim.geometry.ease_joints`: the car steers as it rolls instead of
+        stopping to steer) when the eased path is as clear as the original, ends inside the
+        slot and within :data:`EASE_DRIFT` of the original end; else ``local``."""
+        eased = tuple(ease_joints(local))
+        if len(eased) == len(local):
+            return local
+        end, was = np.array(eased[-1].end), np.array(local[-1].end)
+        if (math.dist(end[:2], was[:2]) > EASE_DRIFT
+                or abs(wrap_angle(end[2] - was[2])) > 1e-9):
+            return local
+        poses, _ = sample_segments(eased, SWEEP)
+        if self._blocked(p, poses).any():
+            return local
+        body = Polygon(p.vehicle.footprints(p.frame.poses_to_world(end))[0])
+        if not p.slot.shape.buffer(1e-9).covers(body):
+            return local
+        return eased
 
     # -- solving ------------------------------------------------------------------------------
     def _solve(self, p: _Problem, style: str) -> tuple[tuple[Segment, ...], float] | str:

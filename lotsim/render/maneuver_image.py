@@ -20,6 +20,8 @@ FORWARD = (30, 120, 255)
 REVERSE = (255, 140, 0)
 """Strokes driven in reverse."""
 CUSP = (220, 20, 60)
+STEER = (128, 0, 160)
+"""A ring where the car stands to turn its wheels."""
 GHOST_EDGE = (245, 245, 245)
 CAR_FILL = (250, 250, 250)
 
@@ -37,8 +39,10 @@ def draw_maneuver(
     """Draw ``maneuver`` zoomed onto the lot around it.
 
     The path of the rear-axle centre is drawn blue where the car drives forward
-    and orange in reverse, with a red dot at each cusp; the car's outline every
-    ``every`` metres of travel [m], and solid at the start and the end.
+    and orange in reverse, with a red dot at each cusp and a purple ring where the
+    car stands to turn its wheels (at the start, at cusps, at the end, and wherever
+    the curvature jumps); the car's outline every ``every`` metres of travel [m],
+    and solid at the start and the end.
     """
     poses, gears = maneuver.sample(0.05)
     bodies = vehicle.footprints(poses)
@@ -67,10 +71,16 @@ def draw_maneuver(
     for x, y, _ in maneuver.cusps:
         cx, cy = canvas.to_px(np.array([x, y]))
         draw.ellipse((cx - r, cy - r, cx + r, cy + r), fill=CUSP, outline=(255, 255, 255))
+    ring = r + max(2, w)
+    for (x, y, _), _ in maneuver.motion(vehicle).steering_stops:
+        cx, cy = canvas.to_px(np.array([x, y]))
+        draw.ellipse((cx - ring, cy - ring, cx + ring, cy + ring), outline=STEER,
+                     width=max(2, w // 2 + 1))
     d = ImageDraw.Draw(img)
     if title:
         draw_text(d, (MARGIN, MARGIN), title, font(18), anchor="lt")
-    key = [("forward", FORWARD), ("reverse", REVERSE), ("cusp", CUSP)]
+    key = [("forward", FORWARD), ("reverse", REVERSE), ("cusp", CUSP),
+           ("stops to steer", STEER)]
     x = MARGIN
     y = size[1] - MARGIN - 16
     for label, color in key:
