@@ -63,28 +63,34 @@ def integrate(samples: dict, wheelbase: float, *, substeps: int = 20) -> np.ndar
     out = np.empty((n, 3))
     if n == 0:
         return out
-    pose = np.array([samples["x"][0], samples["y"][0], samples["theta"][0]], dtype=float)
-    out[0] = pose
-    for i in range(n - 1):
-        t0, dt = t[i], t[i + 1] - t[i]
-        v0, dv, p0, dp = v[i], v[i + 1] - v[i], phi[i], phi[i + 1] - phi[i]
+    out[0] = (samples["x"][0], samples["y"][0], samples["theta"][0])
+    if n == 1:
+        return out
+    # The model is the same in every rigid frame, so each interval is integrated from the
+    # origin, all intervals at once (RK4, ``substeps`` steps), and the local moves are then
+    # chained: the same arithmetic as integrating interval after interval, in numpy.
+    dt = np.diff(t)
+    v0, dv, p0, dp = v[:-1], np.diff(v), phi[:-1], np.diff(phi)
+    h = dt / substeps
+    pose = np.zeros((n - 1, 3))
 
-        def rate(tau: float, p: np.ndarray, t0=t0, dt=dt, v0=v0, dv=dv, p0=p0,
-                 dp=dp) -> np.ndarray:
-            f = (tau - t0) / dt
-            speed, steer = v0 + f * dv, p0 + f * dp
-            return np.array([speed * np.cos(p[2]), speed * np.sin(p[2]),
-                             speed * np.tan(steer) / wheelbase])
+    def rate(f: np.ndarray, p: np.ndarray) -> np.ndarray:
+        speed, steer = v0 + f * dv, p0 + f * dp
+        return np.column_stack([speed * np.cos(p[:, 2]), speed * np.sin(p[:, 2]),
+                                speed * np.tan(steer) / wheelbase])
 
-        h = dt / substeps
-        for k in range(substeps):
-            tau = t0 + k * h
-            k1 = rate(tau, pose)
-            k2 = rate(tau + h / 2, pose + h / 2 * k1)
-            k3 = rate(tau + h / 2, pose + h / 2 * k2)
-            k4 = rate(tau + h, pose + h * k3)
-            pose = pose + h / 6 * (k1 + 2 * k2 + 2 * k3 + k4)
-        out[i + 1] = pose
+    for k in range(substeps):
+        f0, fh, f1 = k / substeps, (k + 0.5) / substeps, (k + 1) / substeps
+        k1 = rate(f0, pose)
+        k2 = rate(fh, pose + (h / 2)[:, None] * k1)
+        k3 = rate(fh, pose + (h / 2)[:, None] * k2)
+        k4 = rate(f1, pose + h[:, None] * k3)
+        pose = pose + (h / 6)[:, None] * (k1 + 2 * k2 + 2 * k3 + k4)
+    heading = out[0, 2] + np.concatenate([[0.0], np.cumsum(pose[:, 2])])
+    c, s_ = np.cos(heading[:-1]), np.sin(heading[:-1])
+    out[1:, 0] = out[0, 0] + np.cumsum(c * pose[:, 0] - s_ * pose[:, 1])
+    out[1:, 1] = out[0, 1] + np.cumsum(s_ * pose[:, 0] + c * pose[:, 1])
+    out[:, 2] = heading
     return out
 
 
