@@ -38,8 +38,10 @@ heading
     curvature constant or linear in arc length, i.e. arcs and clothoids). Allowed:
     ``HEADING_ABS`` (1e-5 rad: headings rounded to 1 µrad) + ``HEADING_CHORD`` (0.15 mm:
     the chord's rounding) · mean ``|κ|`` + ``HEADING_KINK`` (0.5) · ``s · |κ₁ - κ₀|``
-    (a kink of the curvature inside the interval) + ``HEADING_REL`` (1e-3) · the
-    prediction. Standing still (``d`` = 0) the steer may change, the heading may not.
+    (a kink of the curvature inside the interval), or ``s · K · Δt / 2`` when larger (a
+    curvature that bends back inside the interval, within the steering rate: ``K`` =
+    ``max_steer_rate / (b cos² φ)``), + ``HEADING_REL`` (1e-3) · the prediction.
+    Standing still (``d`` = 0) the steer may change, the heading may not.
 steer
     ``|steer| ≤ max_steer + STEER_TOL`` (1e-6 rad).
 steer_rate
@@ -900,8 +902,15 @@ def _check_dynamics(veh: _Vehicle, out: list[Violation], kappa: FloatArray, d: F
     s = d / np.sinc(dth / (2 * np.pi))
     k0, k1 = kappa[:-1], kappa[1:]
     predicted = direction * s * (k0 + k1) / 2
+    # between samples the curvature may also bend back (a V: a clothoid down, one up), so
+    # the trapezoid may miss a dip; a steer within its rate moves the curvature at most
+    # K = max_steer_rate / (b cos² φ) per second, and any curvature with |dκ/dt| ≤ K
+    # stays within K·Δt/2 of the straight line between its end values
+    reach = np.maximum(np.abs(steer[:-1]), np.abs(steer[1:])) + veh.max_steer_rate * dt / 2
+    k_rate = veh.max_steer_rate / (veh.wheelbase * np.cos(np.minimum(reach, 1.5)) ** 2)
     turn_tol = (HEADING_ABS + HEADING_CHORD * (np.abs(k0) + np.abs(k1)) / 2
-                + HEADING_KINK * s * np.abs(k1 - k0) + HEADING_REL * np.abs(predicted))
+                + s * np.maximum(HEADING_KINK * np.abs(k1 - k0), k_rate * dt / 2)
+                + HEADING_REL * np.abs(predicted))
     _first(out, "heading", veh, np.abs(dth - predicted) > turn_tol,
            lambda i: f"turns {dth[i]:+.5f} rad over {d[i]:.3f} m between t={t[i]:.2f} and "
                      f"{t[i + 1]:.2f} s, but its steer ({steer[i]:.4f}, {steer[i + 1]:.4f} "

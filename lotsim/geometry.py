@@ -441,51 +441,75 @@ def cc_polyline(points: ArrayLike, radius: ArrayLike, sharpness: float) -> list[
     return segments
 
 
-def ease_joints(segments: Sequence[Segment], *, max_offset: float = 0.02,
+def ease_joints(segments: Sequence[Segment], ramp: float, *,
                 min_ramp: float = 0.1) -> list[Segment]:
-    """The path with each jump of curvature inside a stroke replaced by a clothoid ramp.
+    """The path with its jumps of curvature inside each stroke smoothed into clothoids.
 
-    Where two consecutive segments of one gear meet with different curvatures
-    (``κa`` then ``κb``), the last ``L/2`` of the first and the first ``L/2`` of
-    the second become a clothoid from ``κa`` to ``κb``: the wheels turn while the
-    car rolls instead of while it stands. The ramp turns the car by the same angle
-    as the corner it replaces, so headings after it are unchanged; the path is
-    displaced sideways by ``|κb − κa| L² / 24``, which sizes the ramp:
-    ``L = sqrt(24 max_offset / |κb − κa|)``, at most half of each neighbour. Joints
-    at cusps, and ramps shorter than ``min_ramp`` [m], are left as they are. The
-    start pose is kept; the end moves by the ramps' offsets (check it).
+    Within a run of one gear, the curvature (piecewise constant: straights and
+    arcs) is replaced by its moving average over ``ramp`` metres of path: each
+    jump becomes a linear ramp ``ramp`` long centred on it, and ramps closer than
+    that merge, so a short straight between two arcs becomes one smooth swing
+    instead of two tight steering ramps. The car then turns its wheels while it
+    rolls instead of while it stands. Curvature is averaged with the ends held,
+    so the start pose, and the curvature and heading at each stroke's ends, are
+    kept; the path is displaced by about ``|Δκ| ramp² / 24`` per jump, so the end
+    moves a little (check it). Strokes whose first or last piece is shorter than
+    ``ramp / 2`` get a shorter ramp; none shorter than ``min_ramp`` [m].
 
     >>> segs = [Segment((0.0, 0.0, 0.0), 5.0, 0.0), Segment((5.0, 0.0, 0.0), 5.0, 0.2)]
-    >>> eased = ease_joints(segs)
+    >>> eased = ease_joints(segs, 1.5)
     >>> [round(s.sharpness, 3) for s in eased], round(eased[-1].end[2] - segs[-1].end[2], 12)
-    ([0.0, 0.129, 0.0], 0.0)
+    ([0.0, 0.133, 0.0], 0.0)
     """
-    segs = [s for s in segments if s.length > 0]
-    n = len(segs)
-    ramp = [0.0] * (n + 1)  # ramp[j]: length of the ramp at the joint before segs[j]
-    for j in range(1, n):
-        a, b = segs[j - 1], segs[j]
-        jump = abs(b.curvature - a.end_curvature)
-        if a.gear != b.gear or jump <= 1e-12 or a.sharpness or b.sharpness:
-            continue
-        length = min(math.sqrt(24 * max_offset / jump), a.length / 2, b.length / 2)
-        if length >= min_ramp:
-            ramp[j] = length
     out: list[Segment] = []
-    pose = segs[0].start if segs else (0.0, 0.0, 0.0)
-    for j, seg in enumerate(segs):
-        g = seg.gear
-        if ramp[j]:
-            a = segs[j - 1]
-            sigma = (seg.curvature - a.curvature) / ramp[j]
-            piece = Segment(pose, g * ramp[j], a.curvature, sigma)
-            out.append(piece)
-            pose = piece.end
-        middle = seg.length - ramp[j] / 2 - ramp[j + 1] / 2
-        if middle > 1e-12:
-            piece = Segment(pose, g * middle, seg.curvature)
-            out.append(piece)
-            pose = piece.end
+    stroke: list[Segment] = []
+    pose = segments[0].start if segments else (0.0, 0.0, 0.0)
+    for seg in [s for s in segments if s.length > 0] + [None]:
+        if seg is not None and (not stroke or stroke[-1].gear == seg.gear):
+            stroke.append(seg)
+            continue
+        for piece in _eased_stroke(stroke, ramp, min_ramp):
+            moved = Segment(pose, piece.distance, piece.curvature, piece.sharpness)
+            out.append(moved)
+            pose = moved.end
+        stroke = [seg] if seg is not None else []
+    return out
+
+
+def _eased_stroke(stroke: list[Segment], ramp: float, min_ramp: float) -> list[Segment]:
+    """One stroke's pieces with the curvature averaged over ``ramp`` [m] (poses unset)."""
+    lengths = np.array([s.length for s in stroke])
+    kappa = np.array([s.curvature for s in stroke])
+    jumps = np.abs(np.diff(kappa)) > 1e-12
+    width = min(ramp, 2 * lengths[0], 2 * lengths[-1])
+    if not jumps.any() or any(s.sharpness for s in stroke) or width < min_ramp:
+        return list(stroke)
+    knots = np.concatenate([[0.0], np.cumsum(lengths)])
+    total = float(knots[-1])
+    area = np.concatenate([[0.0], np.cumsum(kappa * lengths)])  # ∫κ at the knots
+
+    def integral(u: FloatArray) -> FloatArray:  # ∫κ from 0 to u, κ held beyond the ends
+        inside = np.interp(u, knots, area)
+        return inside + np.where(u < 0, kappa[0] * u, 0.0) \
+            + np.where(u > total, kappa[-1] * (u - total), 0.0)
+
+    inner = knots[1:-1][jumps]
+    cuts = np.unique(np.clip(np.concatenate([[0.0, total], inner - width / 2,
+                                             inner + width / 2]), 0.0, total))
+    avg = (integral(cuts + width / 2) - integral(cuts - width / 2)) / width
+    # a window within one piece (or past an end) averages nothing: its curvature exactly
+    lo = np.clip(np.searchsorted(knots, cuts - width / 2 + 1e-12, side="right") - 1, 0,
+                 len(kappa) - 1)
+    hi = np.clip(np.searchsorted(knots, cuts + width / 2 - 1e-12, side="right") - 1, 0,
+                 len(kappa) - 1)
+    avg = np.where(lo == hi, kappa[lo], avg)
+    g = stroke[0].gear
+    out = []
+    for a, b, ka, kb in zip(cuts[:-1], cuts[1:], avg[:-1], avg[1:], strict=True):
+        if b - a > 1e-12:
+            sigma = (kb - ka) / (b - a)
+            out.append(Segment((0.0, 0.0, 0.0), float(g * (b - a)), float(ka),
+                               float(sigma) if abs(sigma) > 1e-12 else 0.0))
     return out
 
 

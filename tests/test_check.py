@@ -275,18 +275,17 @@ def test_sideways_step(result):
 
 
 def test_curvature_tighter_than_the_minimum_radius(result):
-    # the steering angle is still recorded at its maximum: the geometry is too tight, and
-    # it no longer matches the steering either
+    # the steering angle is still recorded at its maximum: only the geometry is wrong (the
+    # steer no longer matches it either, but with this file's unlimited steering rate the
+    # wheels could have swung anywhere between samples: tests/test_check_dynamics.py
+    # tests the heading rule)
     by_id(result, "v2")["samples"] = v2_path(radius=0.8 * R, steer_radius=R)
-    refresh_metrics(result)
-    assert rules(check_result(result)) == {"curvature", "heading"}
+    assert_only(result, "curvature")
 
 
 def test_steer_beyond_max(result):
-    # the path keeps its radius R: a steer past the maximum turns it tighter than it drove
     by_id(result, "v2")["samples"] = v2_path(steer_radius=0.8 * R)
-    refresh_metrics(result)
-    assert rules(check_result(result)) == {"steer", "heading"}
+    assert_only(result, "steer")
 
 
 def test_gear_against_the_direction_of_travel(result):

@@ -257,7 +257,9 @@ def test_heading_uses_the_arc_length_not_the_chord():
     result["vehicles"][0]["type"] |= {"max_steer": 0.9, "max_forward_speed": 10.0,
                                       "max_lateral_accel": 50.0}
     assert check_result(result).ok, [str(x) for x in check_result(result).violations]
-    result["vehicles"][0]["samples"]["steer"] = [0.995 * steer] * len(t)
+    # between samples 0.05 s apart the steer could swing within its rate and back, which the
+    # rule allows for (s · K · Δt / 2, 4.6 mrad here): a steer 3 % off turns 9.6 mrad less
+    result["vehicles"][0]["samples"]["steer"] = [0.97 * steer] * len(t)
     assert_only(result, "heading")
 
 

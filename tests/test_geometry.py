@@ -196,24 +196,39 @@ def test_cc_polyline_ends_on_the_last_point_and_keeps_curvature_continuous():
     assert [s.length for s in plain] == pytest.approx([s.length for s in fillet_polyline(pts, 6.0)])
 
 
+@pytest.mark.parametrize("ramp", [0.5, 1.5, 3.0])
 @pytest.mark.parametrize("gear", [1, -1])
-def test_eased_joints_turn_like_the_corners_they_replace_within_the_stated_offset(gear):
+def test_eased_joints_turn_like_the_corners_they_replace_within_the_stated_offset(gear, ramp):
     a = Segment((1.0, 2.0, 0.3), gear * 4.0, 0.1)
-    b = Segment(a.end, gear * 3.0, 0.0)
+    b = Segment(a.end, gear * 0.6, 0.0)  # shorter than the ramp: its two ramps merge
     c = Segment(b.end, gear * 6.0, -0.2)
-    eased = ease_joints([a, b, c], max_offset=0.02)
+    eased = ease_joints([a, b, c], ramp)
     for p, q in zip(eased[:-1], eased[1:], strict=True):
         assert np.allclose(p.end, q.start, atol=1e-12)
         assert q.curvature == pytest.approx(p.end_curvature, abs=1e-12)  # no jump left
+        assert p.gear == gear
     assert eased[0].start == a.start
+    assert eased[0].curvature == a.curvature and eased[-1].end_curvature == c.curvature
     assert wrap_angle(eased[-1].end[2] - c.end[2]) == pytest.approx(0.0, abs=1e-12)
-    # each ramp shifts the path by |Δκ| L² / 24 ≤ 0.02 m; two ramps, plus the turn after
-    assert math.dist(eased[-1].end[:2], c.end[:2]) <= 2 * 0.02 + 1e-9
-    assert sum(s.length for s in eased) == pytest.approx(13.0)
+    assert sum(s.length for s in eased) == pytest.approx(10.6)
+    # no ramp is steeper than the jumps within one ramp's length spread over it
+    assert max(abs(s.sharpness) for s in eased) <= (0.1 + 0.2) / ramp + 1e-12
+    # each jump's ramp shifts the path sideways by |Δκ| ramp² / 24 (to first order)
+    assert math.dist(eased[-1].end[:2], c.end[:2]) <= 1.1 * (0.1 + 0.2) * ramp ** 2 / 24
 
 
-def test_cusps_and_short_joints_are_left_for_steering_standing():
-    a = Segment((0.0, 0.0, 0.0), 3.0, 0.2)
-    b = Segment(a.end, -3.0, -0.2)  # a cusp: the car stops anyway
-    c = Segment(b.end, -0.1, 0.0)  # too short for a ramp of min_ramp
-    assert ease_joints([a, b, c], min_ramp=0.1) == [a, b, c]
+def test_strokes_are_eased_one_by_one_and_cusps_left_for_steering_standing():
+    a = Segment((0.0, 0.0, 0.0), 3.0, 0.0)
+    b = Segment(a.end, 3.0, 0.2)
+    c = Segment(b.end, -4.0, -0.2)  # a cusp: the car stops there anyway
+    eased = ease_joints([a, b, c], 1.0)
+    gears = [s.gear for s in eased]
+    assert gears == sorted(gears, reverse=True)  # forward pieces, then reverse ones
+    fwd = [s for s in eased if s.gear > 0]
+    assert sum(s.length for s in fwd) == pytest.approx(6.0)
+    assert fwd[-1].end_curvature == pytest.approx(0.2)  # the stroke ends as it did
+    back = [s for s in eased if s.gear < 0]
+    assert len(back) == 1 and back[0].curvature == -0.2 and back[0].length == 4.0
+    # too short a first piece for any ramp: the stroke is left alone
+    short = [Segment((0.0, 0.0, 0.0), 0.05, 0.0), Segment((0.05, 0.0, 0.0), 3.0, 0.2)]
+    assert ease_joints(short, 1.0, min_ramp=0.2) == short

@@ -76,6 +76,10 @@ CLOSING_RADII = (1.0, 1.25, 1.5, 2.0, 3.0)
 """Closing arcs try these multiples of the car's minimum turning radius."""
 STYLES = ("any", "forward", "reverse")
 """``forward``: nose-in; ``reverse``: nose-out (backed in); ``any``: the better one."""
+EASE_RAMPS = (3.0, 2.2, 1.6, 1.1, 0.7, 0.4)
+"""Lengths of path over which a maneuver's curvature jumps are smoothed, longest first [m]:
+a longer ramp is driven faster (the steering rate caps ``v`` at ``φ̇ / (σ b)``) but moves
+the path further from the planned one."""
 EASE_DRIFT = 0.03
 """Farthest an eased maneuver may end from the planned parked pose [m] (the clothoid
 ramps that let the car steer as it rolls shift the path by a few millimetres each)."""
@@ -420,22 +424,25 @@ class ManeuverPlanner:
     def _eased(self, p: _Problem, local: tuple[Segment, ...]) -> tuple[Segment, ...]:
         """``local`` with its curvature jumps inside strokes eased by clothoids
         (:func:`~lotsim.geometry.ease_joints`: the car steers as it rolls instead of
-        stopping to steer) when the eased path is as clear as the original, ends inside the
-        slot and within :data:`EASE_DRIFT` of the original end; else ``local``."""
-        eased = tuple(ease_joints(local))
-        if len(eased) == len(local):
-            return local
-        end, was = np.array(eased[-1].end), np.array(local[-1].end)
-        if (math.dist(end[:2], was[:2]) > EASE_DRIFT
-                or abs(wrap_angle(end[2] - was[2])) > 1e-9):
-            return local
-        poses, _ = sample_segments(eased, SWEEP)
-        if self._blocked(p, poses).any():
-            return local
-        body = Polygon(p.vehicle.footprints(p.frame.poses_to_world(end))[0])
-        if not p.slot.shape.buffer(1e-9).covers(body):
-            return local
-        return eased
+        stopping to steer), with the longest ramp of :data:`EASE_RAMPS` whose path is as
+        clear as the original, ends inside the slot and within :data:`EASE_DRIFT` of the
+        original end; else ``local``."""
+        was = np.array(local[-1].end)
+        for ramp in EASE_RAMPS:
+            eased = tuple(ease_joints(local, ramp))
+            if len(eased) == len(local):
+                return local  # nothing to ease
+            end = np.array(eased[-1].end)
+            if (math.dist(end[:2], was[:2]) > EASE_DRIFT
+                    or abs(wrap_angle(end[2] - was[2])) > 1e-9):
+                continue
+            poses, _ = sample_segments(eased, SWEEP)
+            if self._blocked(p, poses).any():
+                continue
+            body = Polygon(p.vehicle.footprints(p.frame.poses_to_world(end))[0])
+            if p.slot.shape.buffer(1e-9).covers(body):
+                return eased
+        return local
 
     # -- solving ------------------------------------------------------------------------------
     def _solve(self, p: _Problem, style: str) -> tuple[tuple[Segment, ...], float] | str:
