@@ -133,6 +133,23 @@ def travel(poses: ArrayLike, distance: ArrayLike, curvature: ArrayLike,
     return out.reshape(shape + (3,))
 
 
+def _clothoid_end(start: Pose, distance: float, curvature: float, sharpness: float) -> Pose:
+    """:func:`travel` for one pose and one distance, without broadcasting: the same
+    quadrature (a segment's end is asked for often)."""
+    x, y, t = start
+    u = abs(distance)
+    gear = -1.0 if distance < 0 else 1.0
+    phase = abs(curvature) * u + abs(sharpness) * u * u / 2
+    cells = max(1, math.ceil(phase / _GL_PHASE))
+    frac = (np.arange(cells)[:, None] + (_GL_X[None, :] + 1) / 2).ravel() / cells
+    w = u * frac
+    head = t + gear * (curvature * w + sharpness * w * w / 2)
+    weight = np.tile(_GL_W, cells) * (u / (2 * cells))
+    return (float(x + gear * np.dot(weight, np.cos(head))),
+            float(y + gear * np.dot(weight, np.sin(head))),
+            float(t + gear * (curvature * u + sharpness * u * u / 2)))
+
+
 @dataclass(frozen=True, slots=True)
 class Segment:
     """A piece of path: a straight, a circular arc or a clothoid.
@@ -185,8 +202,13 @@ class Segment:
     @property
     def end(self) -> Pose:
         """Pose at the end."""
-        x, y, t = travel(self.start, self.distance, self.curvature, self.sharpness)
-        return (float(x), float(y), float(t))
+        if self.sharpness == 0.0:  # a line or a circle: :func:`advance`, in scalars
+            x, y, t = self.start
+            half = self.curvature * self.distance / 2
+            chord = self.distance * (math.sin(half) / half if half else 1.0)
+            return (x + chord * math.cos(t + half), y + chord * math.sin(t + half),
+                    t + 2 * half)
+        return _clothoid_end(self.start, self.distance, self.curvature, self.sharpness)
 
     def poses_at(self, s: ArrayLike) -> FloatArray:
         """Poses after travelling path lengths ``s`` (0 ≤ s ≤ length) [m]; shape (N, 3)."""

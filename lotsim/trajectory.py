@@ -24,6 +24,7 @@ are sampled in time, with the pose taken on the exact geometry of the segments.
 
 from __future__ import annotations
 
+import functools
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass
@@ -439,7 +440,15 @@ def run_profile(lengths: Sequence[float], caps: Sequence[float], vehicle: Vehicl
     around it allow (a backward then a forward pass), and each piece is the fastest
     :func:`scurve` between its boundary speeds, with zero acceleration at the boundaries."""
     lim = vehicle.limits
-    a, b, j = lim.max_accel, lim.max_brake, lim.max_jerk
+    return _run_profile(tuple(map(float, lengths)), tuple(map(float, caps)), lim.max_accel,
+                        lim.max_brake, lim.max_jerk)
+
+
+@functools.lru_cache(maxsize=1 << 16)
+def _run_profile(lengths: tuple[float, ...], caps: tuple[float, ...], a: float, b: float,
+                 j: float) -> Profile:
+    """:func:`run_profile` for hashable arguments, kept: a lot's maneuvers repeat a few
+    shapes, each timed once."""
     # merge neighbours with the same limit: no boundary needed between them
     merged: list[list[float]] = []
     for length, cap in zip(lengths, caps, strict=True):
