@@ -354,3 +354,62 @@ def test_the_maneuver_picture_rings_every_place_the_car_stops_to_steer():
     dist = np.hypot(xs[:, None] - centres[None, :, 0], ys[:, None] - centres[None, :, 1])
     assert np.all((dist.min(axis=1) < 20) | legend)  # nowhere else
     assert np.all(dist[~legend].min(axis=0) < 20)  # and around every stop
+
+
+# -- the planner's seams: settings, results with a status, a frozen problem ------------------
+def test_settings_check_themselves():
+    from lotsim.planners.maneuver import ManeuverSettings
+
+    for bad in ({"margin": -0.1}, {"margin": 2.0}, {"max_changes": -1}, {"probe": 0.0},
+                {"candidates": 0}, {"closing_radii": (0.5,)}, {"ease_ramps": (1.0, -1.0)}):
+        with pytest.raises(ValueError):
+            ManeuverSettings(**bad)
+    planner = ManeuverPlanner(_lot(QUICK)[0], margin=0.2, max_changes=3)
+    assert (planner.settings.margin, planner.settings.max_changes) == (0.2, 3)
+
+
+def test_solve_answers_with_a_status_and_the_reason_plan_lot_keeps_as_it_is():
+    from lotsim.planners.maneuver import ManeuverStatus, plan_lot
+
+    lot, _ = _lot(QUICK)
+    planner = ManeuverPlanner(lot)
+    slot = lot.slot_by_id["main-left-3"]
+    lane = planner.lanes_for(slot)[0]
+    found = planner.solve(CATALOGUE["valet"], slot, lane)
+    assert found.status is ManeuverStatus.FOUND and found.ok and found.maneuver.slot == slot.id
+    refused = planner.solve(CATALOGUE["vclass"], slot, lane)
+    assert refused.status is ManeuverStatus.INFEASIBLE and refused.maneuver is None
+    assert refused.reason.startswith("the car is 5.37 m long")
+    _, infeasible = plan_lot(planner, [CATALOGUE["vclass"]])
+    assert infeasible["vclass"][slot.id] == refused.reason  # no message parsed back
+
+
+def test_the_problem_is_frozen_and_its_key_has_no_side_effects():
+    import dataclasses
+
+    lot, _ = _lot(QUICK)
+    planner = ManeuverPlanner(lot)
+    slot = lot.slot_by_id["main-left-4"]
+    problem = planner._problem(CATALOGUE["valet"], slot, planner.lanes_for(slot)[0])
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        problem.half = 1.0
+    keys = {planner._key(problem, "any") for _ in range(3)}
+    assert len(keys) == 1 and planner._key(problem, "forward") not in keys
+
+
+def test_the_settings_are_used():
+    from lotsim.planners.maneuver import ManeuverSettings
+
+    narrow = QUICK.replace("width: 7.0", "width: 4.6")
+    lot, _ = _lot(narrow)
+    car, slot = CATALOGUE["valet"], lot.slot_by_id["main-left-5"]
+    m = ManeuverPlanner(lot).best(car, slot)
+    assert m.changes >= 1
+    with pytest.raises(InfeasibleManeuver, match="up to 0 direction changes"):
+        ManeuverPlanner(lot, settings=ManeuverSettings(max_changes=0)).best(car, slot)
+    # no easing: the car stands to steer at every change of curvature
+    plain = ManeuverPlanner(lot, settings=ManeuverSettings(ease_ramps=())).best(car, slot)
+    assert not any(s.sharpness for s in plain.segments)
+    assert any(s.sharpness for s in m.segments)
+    assert len(plain.motion(car).steering_stops) > len(m.motion(car).steering_stops)
+    assert plain.duration(car) > m.duration(car)

@@ -42,15 +42,18 @@ have planned.
 
 from __future__ import annotations
 
+import dataclasses
 import hashlib
 import itertools
 import math
 from collections.abc import Iterable, Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass
+from enum import Enum
 
 import numpy as np
 import shapely
 from shapely.geometry import Polygon
+from shapely.geometry.base import BaseGeometry
 
 from lotsim.errors import InfeasibleManeuver
 from lotsim.geometry import (
@@ -83,8 +86,102 @@ the path further from the planned one."""
 EASE_DRIFT = 0.03
 """Farthest an eased maneuver may end from the planned parked pose [m] (the clothoid
 ramps that let the car steer as it rolls shift the path by a few millimetres each)."""
-_MIN_STROKE = 0.3  # shorter search strokes are not worth a stop [m]
-_PARALLEL_EXTRA = 0.02  # minslot strokes run to contact: keep them this far inside the margin [m]
+
+
+@dataclass(frozen=True, slots=True)
+class ManeuverSettings:
+    """The maneuver planner's tuning, checked on construction.
+
+    Attributes
+    ----------
+    margin : float
+        Clearance kept to parked cars, walls, obstacles and the edges of the
+        drivable area [m], 0 to 1.
+    max_changes : int
+        Most direction changes a maneuver may have, 0 to 50.
+    probe : float
+        Spacing of the places along every stroke (and of the straight exits from a
+        perpendicular or angled slot) where a closing move onto the lane is tried [m].
+    first_turn : float
+        The first full-lock stroke out of a slot turns at most the slot's angle to the
+        lane plus this [rad] (20°).
+    candidates : int
+        Closing moves checked for collisions per number of direction changes, cheapest
+        first.
+    closing_radii : tuple of float
+        Multiples of the minimum turning radius the closing arc tries.
+    sweep : float
+        Spacing of the footprints whose hulls cover a path when checking it [m].
+    min_stroke : float
+        Shorter strokes of the perpendicular search are not worth a stop [m].
+    parallel_extra : float
+        Parallel slots: the minimum-slot strokes run to contact, so they are kept
+        this far inside the margin [m].
+    parallel_heading_step : float
+        Parallel slots: spacing of the start headings tried [°].
+    ease_ramps : tuple of float
+        :data:`EASE_RAMPS`.
+    ease_drift : float
+        :data:`EASE_DRIFT` [m].
+
+    Examples
+    --------
+    >>> ManeuverSettings(margin=0.2).margin
+    0.2
+    >>> ManeuverSettings(probe=0.0)
+    Traceback (most recent call last):
+      ...
+    ValueError: probe must be positive, got 0.0
+    """
+
+    margin: float = MARGIN
+    max_changes: int = 8
+    probe: float = 0.5
+    first_turn: float = math.radians(20)
+    candidates: int = 400
+    closing_radii: tuple[float, ...] = CLOSING_RADII
+    sweep: float = SWEEP
+    min_stroke: float = 0.3
+    parallel_extra: float = 0.02
+    parallel_heading_step: float = 0.5
+    ease_ramps: tuple[float, ...] = EASE_RAMPS
+    ease_drift: float = EASE_DRIFT
+
+    def __post_init__(self) -> None:
+        if not 0.0 <= self.margin <= 1.0:
+            raise ValueError(f"margin must be 0 to 1 m, got {self.margin!r}")
+        if not 0 <= self.max_changes <= 50:
+            raise ValueError(f"max_changes must be 0 to 50, got {self.max_changes!r}")
+        for key in ("probe", "sweep", "parallel_heading_step", "candidates"):
+            if not getattr(self, key) > 0:
+                raise ValueError(f"{key} must be positive, got {getattr(self, key)!r}")
+        for key in ("first_turn", "min_stroke", "parallel_extra", "ease_drift"):
+            if not getattr(self, key) >= 0:
+                raise ValueError(f"{key} must be zero or more, got {getattr(self, key)!r}")
+        if not self.closing_radii or min(self.closing_radii) < 1.0:
+            raise ValueError("closing_radii must be multiples of at least 1")
+        if any(r <= 0 for r in self.ease_ramps):
+            raise ValueError("ease_ramps must be positive")
+
+
+class ManeuverStatus(Enum):
+    """How a maneuver search ended."""
+
+    FOUND = "found"
+    INFEASIBLE = "infeasible"
+
+
+@dataclass(frozen=True)
+class ManeuverResult:
+    """A search's answer: ``maneuver`` when ``status`` is FOUND, else why not (``reason``)."""
+
+    status: ManeuverStatus
+    maneuver: Maneuver | None = None
+    reason: str = ""
+
+    @property
+    def ok(self) -> bool:
+        return self.status is ManeuverStatus.FOUND
 
 
 @dataclass(frozen=True)
@@ -222,9 +319,10 @@ class _Frame:
 
 
 # -- the planner -------------------------------------------------------------------------------
-@dataclass
+@dataclass(frozen=True, eq=False)
 class _Problem:
-    """One slot seen from one lane, in the slot's local frame (slot at y < 0, lane heading +x)."""
+    """One slot seen from one lane, in the slot's local frame (slot at y < 0, lane heading
+    +x): frozen, with what a state or a motion may not touch (its validity checks)."""
 
     vehicle: VehicleType
     slot: Slot
@@ -235,9 +333,49 @@ class _Problem:
     lane_s0: float  # lane station at local x = 0
     half: float  # window half-size [m]
     index: int  # the slot's index in the lot
-    allowed: object = field(default=None, repr=False)  # prepared world region for this slot
-    obstacles: object = field(default=None, repr=False)  # world obstacles near the slot
-    tree: object = field(default=None, repr=False)  # STRtree of ``obstacles``
+    allowed: BaseGeometry  # prepared world region the car must stay in
+    obstacles: np.ndarray  # world obstacles near the slot
+    tree: shapely.STRtree  # of ``obstacles``
+    sweep: float  # footprint spacing when checking a motion [m]
+
+    # -- validity: OMPL's state validity checker and motion validator ---------------------
+    def bodies_blocked(self, bodies: FloatArray) -> np.ndarray:
+        """(N,) whether each body (N, K, 2 points, taken as their hull) is not free."""
+        hulls = shapely.convex_hull(shapely.linestrings(bodies)) if bodies.shape[1] > 4 \
+            else shapely.polygons(bodies)
+        bad = ~shapely.covers(self.allowed, hulls)
+        bad[self.tree.query(hulls, predicate="intersects")[0]] = True
+        return bad
+
+    def poses_blocked(self, local_poses: FloatArray) -> np.ndarray:
+        """(N-1,) whether each sweep between consecutive local poses (N, 3) is not free
+        ((1,) for a single pose)."""
+        bodies = self.vehicle.footprints(self.frame.poses_to_world(local_poses))
+        if len(bodies) > 1:
+            bodies = np.concatenate([bodies[:-1], bodies[1:]], axis=1)
+        return self.bodies_blocked(bodies)
+
+    def paths_blocked(self, paths: Sequence[Sequence[Segment]], *, step: float | None = None,
+                      sweep: bool = True) -> np.ndarray:
+        """(P,) whether each path (pieces in order, local frame) touches anything.
+
+        With ``sweep``, the hulls of consecutive footprints ``step`` apart (default
+        the problem's sweep step) are checked (the whole swept area); without, only
+        the footprints.
+        """
+        flat = [seg for path in paths for seg in path]
+        if not flat:
+            return np.zeros(len(paths), dtype=bool)
+        path_of = np.repeat(np.arange(len(paths)), [len(path) for path in paths])
+        poses, seg_of = sample_segments(flat, step or self.sweep)
+        own = path_of[seg_of]
+        bodies = self.vehicle.footprints(self.frame.poses_to_world(poses))
+        if sweep:
+            same = own[:-1] == own[1:]
+            bodies = np.concatenate([bodies[:-1][same], bodies[1:][same]], axis=1)
+            own = own[:-1][same]
+        bad = self.bodies_blocked(bodies)
+        return np.bincount(own[bad], minlength=len(paths)) > 0
 
 
 class ManeuverPlanner:
@@ -246,35 +384,46 @@ class ManeuverPlanner:
     Parameters
     ----------
     lot : Lot
+    settings : ManeuverSettings, keyword-only
+        The tuning; ``margin`` and ``max_changes``, when given, replace its own.
     margin : float, keyword-only
         Clearance kept to parked cars, walls, obstacles and the edges of the
-        drivable area [m].
+        drivable area [m] (:attr:`ManeuverSettings.margin`).
     parked_width : float, keyword-only
         Width of the widest car that may stand in a perpendicular or angled
         slot [m]; default the lot's design width.
     max_changes : int, keyword-only
-        Most direction changes a maneuver may have.
+        Most direction changes a maneuver may have (:attr:`ManeuverSettings.max_changes`).
     lane_ranges : dict, keyword-only
         Lane id → (first, last) station [m] where a maneuver may start; a lane
         not listed gets none. Default (None): every lane, whole.
-        :meth:`LotGraph.through` gives the part a car can reach and leave again.
+        :meth:`LotGraph.reachable` gives the part a car can reach.
+
+    Notes
+    -----
+    The shape is OMPL's: a frozen problem per slot and lane (its cache key derived
+    from it without side effects), a state validity checker and a motion validator
+    on the problem, and :meth:`solve`, which returns a :class:`ManeuverResult` with a
+    status and a reason instead of raising.
     """
 
-    def __init__(self, lot: Lot, *, margin: float = MARGIN, parked_width: float | None = None,
-                 max_changes: int = 8,
+    def __init__(self, lot: Lot, *, settings: ManeuverSettings | None = None,
+                 margin: float | None = None, parked_width: float | None = None,
+                 max_changes: int | None = None,
                  lane_ranges: dict[str, tuple[float, float]] | None = None):
-        if margin < 0:
-            raise ValueError("margin must be zero or more")
+        settings = settings or ManeuverSettings()
+        changes = {k: v for k, v in (("margin", margin), ("max_changes", max_changes))
+                   if v is not None}
+        if changes:
+            settings = dataclasses.replace(settings, **changes)
+        self.settings = settings
+        margin = settings.margin
         self.lot = lot
-        self.margin = margin
-        self.max_changes = max_changes
         self.lane_ranges = lane_ranges
         width = max(parked_width or 0.0, lot.design.width)
         polys = [_taken_zone(s, width, margin) for s in lot.slots]
         polys += [a.polygon.buffer(margin, join_style="mitre") if margin else a.polygon
                   for a in lot.areas]
-        self._labels = [f"slot {s.id!r}" for s in lot.slots]
-        self._labels += [f"{a.kind.replace('_', '-')} {a.id!r}" for a in lot.areas]
         self._polys = np.array(polys, dtype=object)
         self._tree = shapely.STRtree(self._polys)
         self._region = lot.boundary.buffer(-margin, join_style="mitre") if margin \
@@ -283,6 +432,15 @@ class ManeuverPlanner:
         self._cache: dict[bytes, tuple[tuple[Segment, ...], float] | str] = {}
         self.stats = {"planned": 0, "reused": 0}
 
+    @property
+    def margin(self) -> float:
+        """Clearance kept [m] (:attr:`ManeuverSettings.margin`)."""
+        return self.settings.margin
+
+    @property
+    def max_changes(self) -> int:
+        return self.settings.max_changes
+
     # -- public API ---------------------------------------------------------------------------
     def lanes_for(self, slot: Slot) -> list[Lane]:
         """The lanes a car can park into ``slot`` from: by kind and direction of travel."""
@@ -290,14 +448,39 @@ class ManeuverPlanner:
         return [lane for lane in self.lot.aisles[slot.aisle].lanes
                 if lane_serves(lane, lane.project((float(mid[0]), float(mid[1])))[0], slot)]
 
-    def plan(self, vehicle: VehicleType, slot: Slot, lane: Lane, *,
-             style: str = "any") -> Maneuver:
-        """The parking maneuver into ``slot`` starting on ``lane``.
+    def solve(self, vehicle: VehicleType, slot: Slot, lane: Lane, *,
+              style: str = "any") -> ManeuverResult:
+        """Search for the parking maneuver into ``slot`` starting on ``lane``.
 
-        Raises
-        ------
-        InfeasibleManeuver
-            When no maneuver within the limits exists, with the reason.
+        Returns
+        -------
+        ManeuverResult
+            FOUND with the maneuver, or INFEASIBLE with the reason.
+
+        Examples
+        --------
+        >>> from lotsim.io.scenario import parse_scenario
+        >>> from lotsim.io.yamlnodes import parse_text
+        >>> from lotsim.lot.build import build_lot
+        >>> from lotsim.lot.model import DesignVehicle
+        >>> from lotsim.vehicles import CATALOGUE
+        >>> sc = parse_scenario(parse_text('''
+        ... lot:
+        ...   boundary: [[0, 0], [40, 0], [40, 20], [0, 20]]
+        ...   aisles: [{id: a, centerline: [[0, 10], [40, 10]], width: 7.0}]
+        ...   rows: [{aisle: a, side: left, kind: perpendicular, count: 4, slot_width: 2.5,
+        ...           slot_length: 5.0, start: 10}]
+        ...   entrances: [{id: in, x: 2, y: 8.25, heading_deg: 0}]
+        ... traffic: {vehicles: [{id: x, arrival: 0}]}
+        ... ''', "doc.yaml"))
+        >>> lot = build_lot(sc.lot, DesignVehicle.envelope(sc.vehicle_types))
+        >>> planner = ManeuverPlanner(lot)
+        >>> slot = lot.slot_by_id["a-left-2"]
+        >>> result = planner.solve(CATALOGUE["valet"], slot, planner.lanes_for(slot)[0])
+        >>> result.status.value, result.maneuver.slot
+        ('found', 'a-left-2')
+        >>> planner.solve(CATALOGUE["vclass"], slot, planner.lanes_for(slot)[0]).reason
+        'the car is 5.37 m long, the slot 5.00 m'
         """
         if style not in STYLES:
             raise ValueError(f"style must be one of {', '.join(STYLES)}")
@@ -313,11 +496,27 @@ class ManeuverPlanner:
         else:
             self.stats["reused"] += 1
         if isinstance(hit, str):
-            raise InfeasibleManeuver(f"{vehicle.name} cannot park in slot {slot.id!r} from lane "
-                                     f"{lane.id!r}: {hit}")
+            return ManeuverResult(ManeuverStatus.INFEASIBLE, reason=hit)
         local, x0 = hit
         segs = tuple(problem.frame.segment_to_world(s) for s in local)
-        return Maneuver(segs, vehicle.name, slot.id, lane.id, problem.lane_s0 + x0)
+        return ManeuverResult(ManeuverStatus.FOUND,
+                              Maneuver(segs, vehicle.name, slot.id, lane.id,
+                                       problem.lane_s0 + x0))
+
+    def plan(self, vehicle: VehicleType, slot: Slot, lane: Lane, *,
+             style: str = "any") -> Maneuver:
+        """The parking maneuver into ``slot`` starting on ``lane`` (:meth:`solve`).
+
+        Raises
+        ------
+        InfeasibleManeuver
+            When no maneuver within the limits exists, with the reason.
+        """
+        result = self.solve(vehicle, slot, lane, style=style)
+        if not result.ok:
+            raise InfeasibleManeuver(f"{vehicle.name} cannot park in slot {slot.id!r} from lane "
+                                     f"{lane.id!r}: {result.reason}")
+        return result.maneuver
 
     def best(self, vehicle: VehicleType, slot: Slot, *, style: str = "any") -> Maneuver:
         """The best maneuver into ``slot`` over its lanes: fewest changes, then shortest."""
@@ -333,17 +532,25 @@ class ManeuverPlanner:
         InfeasibleManeuver
             When no lane has one; the message gives each lane's reason.
         """
-        out, reasons = {}, []
-        lanes = self.lanes_for(slot)
-        for lane in lanes:
-            try:
-                out[lane.id] = self.plan(vehicle, slot, lane, style=style)
-            except InfeasibleManeuver as e:
-                reasons.append(str(e).split(": ", 1)[-1])
+        out, why = self.solve_all(vehicle, slot, style=style)
         if not out:
-            why = "; ".join(dict.fromkeys(reasons)) or "no lane of its aisle leads to it"
             raise InfeasibleManeuver(f"{vehicle.name} cannot park in slot {slot.id!r}: {why}")
         return out
+
+    def solve_all(self, vehicle: VehicleType, slot: Slot, *,
+                  style: str = "any") -> tuple[dict[str, Maneuver], str]:
+        """Maneuvers into ``slot`` from every lane that has one, and, when none has, why
+        (each lane's reason, once; empty when some lane has one)."""
+        out, reasons = {}, []
+        for lane in self.lanes_for(slot):
+            result = self.solve(vehicle, slot, lane, style=style)
+            if result.ok:
+                out[lane.id] = result.maneuver
+            else:
+                reasons.append(result.reason)
+        if out:
+            return out, ""
+        return out, "; ".join(dict.fromkeys(reasons)) or "no lane of its aisle leads to it"
 
     # -- problem set-up -----------------------------------------------------------------------
     def _problem(self, vehicle: VehicleType, slot: Slot, lane: Lane) -> _Problem:
@@ -373,31 +580,32 @@ class ManeuverPlanner:
             first, last = (whole if self.lane_ranges is None
                            else self.lane_ranges.get(lane.id, (math.inf, -math.inf)))
             lane_x = (max(lo, -half, first - s0), min(lo + seg.length, half, last - s0))
-        return _Problem(vehicle, slot, lane, frame, lane_y, lane_x, s0, half,
-                        self._index[slot.id])
+        index = self._index[slot.id]
+        win = self._window(slot, frame, half)
+        # the slot itself is the car's to fill: no margin to its own lines
+        allowed = self._region.union(slot.shape).intersection(win)
+        shapely.prepare(allowed)
+        near = [int(k) for k in self._tree.query(win) if k != index]
+        # the margin around neighbours stops at this slot's lines: the car may fill its slot
+        obstacles = (shapely.difference(self._polys[near], slot.shape) if near
+                     else np.zeros(0, dtype=object))
+        return _Problem(vehicle, slot, lane, frame, lane_y, lane_x, s0, half, index, allowed,
+                        obstacles, shapely.STRtree(obstacles), self.settings.sweep)
 
-    def _window(self, p: _Problem) -> Polygon:
+    def _window(self, slot: Slot, frame: _Frame, half: float) -> Polygon:
         """The square the search may use, cut at the far side of the aisle less the margin."""
-        h = p.half
-        aisle = self.lot.aisles[p.slot.aisle]
-        mid = shapely.Point(p.slot.entry.mean(axis=0))
+        h = half
+        aisle = self.lot.aisles[slot.aisle]
+        mid = shapely.Point(slot.entry.mean(axis=0))
         on_line = aisle.line.interpolate(aisle.line.project(mid))
-        centre_y = float(p.frame.points_to_local(np.array([on_line.x, on_line.y]))[1])
+        centre_y = float(frame.points_to_local(np.array([on_line.x, on_line.y]))[1])
         top = min(h, centre_y + aisle.width / 2 - self.margin)
         corners = np.array([[-h, -h, 0], [h, -h, 0], [h, top, 0], [-h, top, 0]], dtype=float)
-        return Polygon(p.frame.poses_to_world(corners)[:, :2])
+        return Polygon(frame.poses_to_world(corners)[:, :2])
 
     def _key(self, p: _Problem, style: str) -> bytes:
         """Rounded local geometry within the window: equal keys plan equal maneuvers."""
-        win = self._window(p)
-        # the slot itself is the car's to fill: no margin to its own lines
-        p.allowed = self._region.union(p.slot.shape).intersection(win)
-        shapely.prepare(p.allowed)
-        near = [int(k) for k in self._tree.query(win) if k != p.index]
-        # the margin around neighbours stops at this slot's lines: the car may fill its slot
-        p.obstacles = shapely.difference(self._polys[near], p.slot.shape) if near \
-            else np.zeros(0, dtype=object)
-        p.tree = shapely.STRtree(p.obstacles)
+        win = self._window(p.slot, p.frame, p.half)
         clipped = np.concatenate([[p.allowed], shapely.intersection(p.obstacles, win)])
         local = sorted(_local_geometry(clipped, p.frame))
         v = p.vehicle
@@ -412,32 +620,24 @@ class ManeuverPlanner:
             h.update(g)
         return h.digest()
 
-    # -- checking -----------------------------------------------------------------------------
-    def _blocked(self, p: _Problem, local_poses: FloatArray) -> np.ndarray:
-        """(N-1,) whether each sweep between consecutive local poses (N, 3) is not free
-        ((1,) for a single pose)."""
-        bodies = p.vehicle.footprints(p.frame.poses_to_world(local_poses))
-        if len(bodies) > 1:
-            bodies = np.concatenate([bodies[:-1], bodies[1:]], axis=1)
-        return self._bodies_blocked(p, bodies)
-
+    # -- solving ------------------------------------------------------------------------------
     def _eased(self, p: _Problem, local: tuple[Segment, ...]) -> tuple[Segment, ...]:
         """``local`` with its curvature jumps inside strokes eased by clothoids
         (:func:`~lotsim.geometry.ease_joints`: the car steers as it rolls instead of
-        stopping to steer), with the longest ramp of :data:`EASE_RAMPS` whose path is as
-        clear as the original, ends inside the slot and within :data:`EASE_DRIFT` of the
+        stopping to steer), with the longest ramp of ``settings.ease_ramps`` whose path is as
+        clear as the original, ends inside the slot and within ``settings.ease_drift`` of the
         original end; else ``local``."""
         was = np.array(local[-1].end)
-        for ramp in EASE_RAMPS:
+        for ramp in self.settings.ease_ramps:
             eased = tuple(ease_joints(local, ramp))
             if len(eased) == len(local):
                 return local  # nothing to ease
             end = np.array(eased[-1].end)
-            if (math.dist(end[:2], was[:2]) > EASE_DRIFT
+            if (math.dist(end[:2], was[:2]) > self.settings.ease_drift
                     or abs(wrap_angle(end[2] - was[2])) > 1e-9):
                 continue
-            poses, _ = sample_segments(eased, SWEEP)
-            if self._blocked(p, poses).any():
+            poses, _ = sample_segments(eased, self.settings.sweep)
+            if p.poses_blocked(poses).any():
                 continue
             body = Polygon(p.vehicle.footprints(p.frame.poses_to_world(end))[0])
             if p.slot.shape.buffer(1e-9).covers(body):
@@ -464,7 +664,7 @@ class ManeuverPlanner:
             h = heading_in if nose_in else heading_in + math.pi
             axle = centre - unit(h) * (v.front - v.rear) / 2
             root = (float(axle[0]), float(axle[1]), float(wrap_angle(h)))
-            if self._blocked(p, np.array([root]))[0]:
+            if p.poses_blocked(np.array([root]))[0]:
                 continue
             # leave-time: a nose-in car backs out, a nose-out car drives out
             found = self._shuffle(p, root, -1 if nose_in else 1, best[:2] if best else None)
@@ -491,7 +691,8 @@ class ManeuverPlanner:
         rho = -1.0 if theta > 0 else 1.0  # turn toward heading 0 the short way
         e0 = float(self._extents(p, np.array([root]), gear0, 0.0)[0])
         heads = []
-        for d0 in np.arange(0.0, e0 + 1e-9, 0.5):
+        probe = self.settings.probe
+        for d0 in np.arange(0.0, e0 + 1e-9, probe):
             segs = [Segment(root, gear0 * float(d0), 0.0)] if d0 > 0 else []
             heads.append((segs, segs[-1].end if segs else root, float(d0)))
         registry: list[tuple] = []  # per level: (heads, stops, poses, head of each pose)
@@ -499,10 +700,11 @@ class ManeuverPlanner:
         for k in range(self.max_changes + 1):
             g = gear0 if k % 2 == 0 else -gear0
             kappa = rho * g * kmax
-            turn_cap = abs(theta) + math.radians(20) if k == 0 else math.pi / 2
+            turn_cap = abs(theta) + self.settings.first_turn if k == 0 else math.pi / 2
             extents = (self._extents(p, np.array([h[1] for h in heads]), g, kappa, turn_cap)
                        if heads else np.zeros(0))
-            stops = [np.unique(np.concatenate([np.arange(0.0, e, 0.5), [e]])) for e in extents]
+            stops = [np.unique(np.concatenate([np.arange(0.0, e, probe), [e]]))
+                     for e in extents]
             owner = np.repeat(np.arange(len(heads)), [len(st) for st in stops])
             flat = np.concatenate(stops) if stops else np.zeros(0)
             starts = np.array([h[1] for h in heads]).reshape(-1, 3)[owner]
@@ -529,14 +731,14 @@ class ManeuverPlanner:
                 return int(row[0]), float(row[1]), head + _closing_segments(
                     tuple(map(float, q_[m])), close)
 
-            found = self._first_clear(p, level[:400], build)
+            found = self._first_clear(p, level[:self.settings.candidates], build)
             if found is not None:
                 return found
             if bound is not None and k >= bound[0]:
                 return None
             heads = []
             for (segs, pose, length), e in zip(registry[-1][0], extents, strict=True):
-                if e >= _MIN_STROKE:
+                if e >= self.settings.min_stroke:
                     stroke = Segment(pose, g * float(e), kappa)
                     heads.append((segs + [stroke], stroke.end, length + float(e)))
             if not heads and not len(pending):
@@ -552,53 +754,24 @@ class ManeuverPlanner:
         build = build or (lambda r: r)
         for i in range(0, len(rows), 8 * chunk):
             batch = [build(r) for r in rows[i : i + 8 * chunk]]
-            rough = self._paths_blocked(p, [c[2] for c in batch], step=1.0, sweep=False)
+            rough = p.paths_blocked([c[2] for c in batch], step=1.0, sweep=False)
             batch = [c for c, bad in zip(batch, rough, strict=True) if not bad]
             for j in range(0, len(batch), chunk):
                 part = batch[j : j + chunk]
-                ok = np.flatnonzero(~self._paths_blocked(p, [c[2] for c in part]))
+                ok = np.flatnonzero(~p.paths_blocked([c[2] for c in part]))
                 if ok.size:
                     return part[int(ok[0])]
         return None
 
-    def _paths_blocked(self, p: _Problem, paths: Sequence[Sequence[Segment]], *,
-                       step: float = SWEEP, sweep: bool = True) -> np.ndarray:
-        """(P,) whether each path (pieces in order, local frame) touches anything.
-
-        With ``sweep``, the hulls of consecutive footprints ``step`` apart are
-        checked (the whole swept area); without, only the footprints.
-        """
-        flat = [seg for path in paths for seg in path]
-        if not flat:
-            return np.zeros(len(paths), dtype=bool)
-        path_of = np.repeat(np.arange(len(paths)), [len(path) for path in paths])
-        poses, seg_of = sample_segments(flat, step)
-        own = path_of[seg_of]
-        bodies = p.vehicle.footprints(p.frame.poses_to_world(poses))
-        if sweep:
-            same = own[:-1] == own[1:]
-            bodies = np.concatenate([bodies[:-1][same], bodies[1:][same]], axis=1)
-            own = own[:-1][same]
-        bad = self._bodies_blocked(p, bodies)
-        return np.bincount(own[bad], minlength=len(paths)) > 0
-
-    def _bodies_blocked(self, p: _Problem, bodies: FloatArray) -> np.ndarray:
-        """(N,) whether each body (N, K, 2 points, taken as their hull) is not free."""
-        hulls = shapely.convex_hull(shapely.linestrings(bodies)) if bodies.shape[1] > 4 \
-            else shapely.polygons(bodies)
-        bad = ~shapely.covers(p.allowed, hulls)
-        bad[p.tree.query(hulls, predicate="intersects")[0]] = True
-        return bad
-
     def _solve_parallel(self, p: _Problem) -> tuple[tuple[Segment, ...], float] | str:
         v, s = p.vehicle, p.slot
-        m = self.margin + _PARALLEL_EXTRA
+        m = self.margin + self.settings.parallel_extra
         frame = SlotFrame(s.length - 2 * m, s.width - m)
         if frame.length <= v.length or frame.width < v.width:
             return (f"with {self.margin:g} m margins the slot leaves "
                     f"{frame.length:.2f} × {frame.width:.2f} m for a "
                     f"{v.length:.2f} × {v.width:.2f} m car")
-        thetas = start_headings(0.5)
+        thetas = start_headings(self.settings.parallel_heading_step)
         changes, strokes = simulate(v, frame, thetas, max_changes=self.max_changes, record=True)
         ok = np.flatnonzero(changes >= 0)
         if not ok.size:
@@ -646,7 +819,7 @@ class ManeuverPlanner:
                                   zeros, zeros])]
         for g in (1, -1):
             c = changes + (1 if gear and g != gear else 0)
-            for f in CLOSING_RADII:
+            for f in self.settings.closing_radii:
                 kappa = np.where(-th * g >= 0, kmax / f, -kmax / f)
                 with np.errstate(divide="ignore", invalid="ignore"):
                     d = (p.lane_y - y + (1 - cos) / kappa) / (g * sin)
@@ -666,13 +839,13 @@ class ManeuverPlanner:
         cap = 1.5 * p.vehicle.length + 2.0
         if kappa:
             cap = min(cap, turn_cap / abs(kappa))
-        n = max(1, math.ceil(cap / SWEEP))
+        n = max(1, math.ceil(cap / self.settings.sweep))
         s = np.linspace(0.0, cap, n + 1)
         local = advance(poses[:, None, :], gear * s[None, :], kappa)  # (H, n+1, 3)
         bodies = p.vehicle.footprints(p.frame.poses_to_world(local.reshape(-1, 3)))
         bodies = bodies.reshape(len(poses), n + 1, 4, 2)
         pairs = np.concatenate([bodies[:, :-1], bodies[:, 1:]], axis=2).reshape(-1, 8, 2)
-        bad = self._bodies_blocked(p, pairs).reshape(len(poses), n)
+        bad = p.bodies_blocked(pairs).reshape(len(poses), n)
         first = np.where(bad.any(axis=1), bad.argmax(axis=1), n)
         return s[first]
 
@@ -785,9 +958,9 @@ def plan_lot(planner: ManeuverPlanner, vehicles: Iterable[VehicleType], *,
     for v in vehicles:
         infeasible[v.name] = {}
         for slot in planner.lot.slots:
-            try:
-                for lane, m in planner.plan_all(v, slot, style=style).items():
-                    maneuvers[(v.name, slot.id, lane)] = m
-            except InfeasibleManeuver as e:
-                infeasible[v.name][slot.id] = str(e).split(": ", 1)[-1]
+            found, why = planner.solve_all(v, slot, style=style)
+            for lane, m in found.items():
+                maneuvers[(v.name, slot.id, lane)] = m
+            if not found:
+                infeasible[v.name][slot.id] = why
     return maneuvers, infeasible
