@@ -324,8 +324,10 @@ def _maneuver(args: argparse.Namespace) -> int:
     stops = m.motion(vehicle).steering_stops
     if stops:
         print(f"  steers standing {len(stops)} time{'s' * (len(stops) != 1)}, "
-              f"{sum(d for _, d in stops):.1f} s in all (at the start, cusps, the end and "
-              f"wherever the curvature jumps)")
+              f"{sum(d for _, d in stops):.1f} s in all (at cusps, and where a change of "
+              f"curvature could not be eased into a clothoid)")
+    else:
+        print("  steers only while rolling (clothoids)")
     if args.output:
         from lotsim.render.lot_image import save_png
         from lotsim.render.maneuver_image import draw_maneuver

@@ -53,6 +53,18 @@ def test_every_shipped_scenario_runs_and_passes_the_independent_check(path, ship
     assert m["parked"] + m["departed"] > 0
     for v in doc["vehicles"]:
         assert (v["status"] in ("waiting", "rejected")) == bool(v["reason"])
+    # no stop that serves nothing: every stroke (motion between two stops) is at least
+    # 10 cm long — cars no longer creep millimetres from one lane node to the next
+    assert min(_stroke_lengths(doc), default=1.0) >= 0.10
+
+
+def _stroke_lengths(doc):
+    for v in doc["vehicles"]:
+        x, y, speed = (np.array(v["samples"][k]) for k in ("x", "y", "v"))
+        edges = np.flatnonzero(np.diff(np.concatenate([[0], (speed != 0).astype(int), [0]])))
+        for a, b in zip(edges[::2], edges[1::2], strict=True):
+            a, b = max(a - 1, 0), min(b, len(x) - 1)  # from the stop before to the one after
+            yield float(np.sum(np.hypot(np.diff(x[a:b + 1]), np.diff(y[a:b + 1]))))
 
 
 @pytest.mark.parametrize("planner", ["ca", "hca", "whca"])

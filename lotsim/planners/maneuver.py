@@ -123,6 +123,13 @@ class ManeuverSettings:
         :data:`EASE_RAMPS`.
     ease_drift : float
         :data:`EASE_DRIFT` [m].
+    start_grid : float
+        Maneuvers start (and leaving ends) on lane stations that are multiples of this
+        [m]: every vehicle type's maneuvers into nearby slots share lane nodes, and no car
+        creeps a few millimetres from one node to the next (0: anywhere).
+    approach : float
+        ... at least this far along the lane from where the closing arc meets it [m]: a
+        straight on which the car turns its wheels as it rolls into the arc.
 
     Examples
     --------
@@ -146,6 +153,8 @@ class ManeuverSettings:
     parallel_heading_step: float = 0.5
     ease_ramps: tuple[float, ...] = EASE_RAMPS
     ease_drift: float = EASE_DRIFT
+    start_grid: float = 0.5
+    approach: float = 0.5
 
     def __post_init__(self) -> None:
         if not 0.0 <= self.margin <= 1.0:
@@ -155,7 +164,8 @@ class ManeuverSettings:
         for key in ("probe", "sweep", "parallel_heading_step", "candidates"):
             if not getattr(self, key) > 0:
                 raise ValueError(f"{key} must be positive, got {getattr(self, key)!r}")
-        for key in ("first_turn", "min_stroke", "parallel_extra", "ease_drift"):
+        for key in ("first_turn", "min_stroke", "parallel_extra", "ease_drift", "start_grid",
+                    "approach"):
             if not getattr(self, key) >= 0:
                 raise ValueError(f"{key} must be zero or more, got {getattr(self, key)!r}")
         if not self.closing_radii or min(self.closing_radii) < 1.0:
@@ -696,7 +706,7 @@ class ManeuverPlanner:
             segs = [Segment(root, gear0 * float(d0), 0.0)] if d0 > 0 else []
             heads.append((segs, segs[-1].end if segs else root, float(d0)))
         registry: list[tuple] = []  # per level: (heads, stops, poses, head of each pose)
-        pending = np.zeros((0, 7))  # rows: changes, length, level, m, gear, straight, κ
+        pending = np.zeros((0, 8))  # rows: changes, length, level, m, gear, straight, κ, extend
         for k in range(self.max_changes + 1):
             g = gear0 if k % 2 == 0 else -gear0
             kappa = rho * g * kmax
@@ -727,7 +737,7 @@ class ManeuverPlanner:
                 segs, pose, _ = heads_[owner_[m]]
                 head = segs + ([Segment(pose, g_ * float(flat_[m]), kappa_)]
                                if flat_[m] > 1e-9 else [])
-                close = (int(row[4]), float(row[5]), float(row[6]))
+                close = (int(row[4]), float(row[5]), float(row[6]), float(row[7]))
                 return int(row[0]), float(row[1]), head + _closing_segments(
                     tuple(map(float, q_[m])), close)
 
@@ -785,7 +795,7 @@ class ManeuverPlanner:
         starts = np.array([segs[0].start for segs in inside]).reshape(-1, 3)
         paths = []
         for row in self._closings(p, starts, 0, 0, np.zeros(len(starts))):
-            j, close = int(row[2]), (int(row[3]), float(row[4]), float(row[5]))
+            j, close = int(row[2]), (int(row[3]), float(row[4]), float(row[5]), float(row[6]))
             path = _park_path(_closing_segments(inside[j][0].start, close))[0] + tuple(inside[j])
             c = sum(1 for a, b in zip(path[:-1], path[1:], strict=True) if a.gear != b.gear)
             askew = abs(float(wrap_angle(path[-1].end[2]))) > math.radians(1.0)
@@ -799,10 +809,12 @@ class ManeuverPlanner:
 
     def _closings(self, p: _Problem, q: FloatArray, gear: int, changes: int,
                   base: FloatArray) -> FloatArray:
-        """Closing moves from poses ``q`` (M, 3): a straight then one arc that lands on the
-        lane line heading +x, in leave-time. Unchecked for collisions.
+        """Closing moves from poses ``q`` (M, 3): a straight, one arc that lands on the
+        lane line heading +x, and a straight along the lane to a station on the start grid
+        (:attr:`ManeuverSettings.start_grid`, at least ``approach`` on), in leave-time.
+        Unchecked for collisions.
 
-        Returns rows ``(changes, length, m, gear, straight, curvature)`` sorted by
+        Returns rows ``(changes, length, m, gear, straight, curvature, extend)`` sorted by
         cost, where ``m`` indexes ``q``, ``base`` (M,) is the length already driven
         and ``gear`` the gear driven so far (0: none). Curvature 0 means the pose
         is already on the lane.
@@ -811,12 +823,13 @@ class ManeuverPlanner:
         th = np.asarray(wrap_angle(q[:, 2]), dtype=float)
         sin, cos = np.sin(th), np.cos(th)
         kmax = p.vehicle.max_curvature
+        grid, lead = self.settings.start_grid, self.settings.approach
         index = np.arange(len(q), dtype=float)
         turning = (np.abs(th) > 1e-9) & (np.abs(th) < math.pi - 1e-6)
         on_lane = (np.abs(th) <= 1e-9) & (np.abs(y - p.lane_y) < 1e-6)
         zeros = np.zeros(int(on_lane.sum()))
         parts = [np.column_stack([zeros + changes, base[on_lane], index[on_lane], zeros + 1,
-                                  zeros, zeros])]
+                                  zeros, zeros, zeros])]
         for g in (1, -1):
             c = changes + (1 if gear and g != gear else 0)
             for f in self.settings.closing_radii:
@@ -825,11 +838,21 @@ class ManeuverPlanner:
                     d = (p.lane_y - y + (1 - cos) / kappa) / (g * sin)
                 d0 = np.maximum(d, 0.0)
                 end_x = x + g * d0 * cos - sin / kappa
-                ok = turning & (d >= -1e-9) & (end_x >= p.lane_x[0]) & (end_x <= p.lane_x[1])
+                station = p.lane_s0 + end_x
+                if grid > 0:  # on along the lane, in the same gear, to a grid station
+                    with np.errstate(invalid="ignore"):
+                        target = (np.ceil((station + lead) / grid - 1e-9) if g > 0
+                                  else np.floor((station - lead) / grid + 1e-9)) * grid
+                    extend = np.abs(target - station)
+                else:
+                    extend = np.zeros(len(q))
+                last_x = end_x + g * extend
+                ok = (turning & (d >= -1e-9) & (end_x >= p.lane_x[0]) & (end_x <= p.lane_x[1])
+                      & (last_x >= p.lane_x[0] - 1e-9) & (last_x <= p.lane_x[1] + 1e-9))
                 n = int(ok.sum())
                 parts.append(np.column_stack([
-                    np.full(n, c), (base + d0 + np.abs(th / kappa))[ok], index[ok],
-                    np.full(n, g), d0[ok], kappa[ok]]))
+                    np.full(n, c), (base + d0 + np.abs(th / kappa) + extend)[ok], index[ok],
+                    np.full(n, g), d0[ok], kappa[ok], extend[ok]]))
         out = np.concatenate(parts)
         return out[np.lexsort((out[:, 1], out[:, 0]))]
 
@@ -869,9 +892,10 @@ def _straighten(vehicle: VehicleType, frame: SlotFrame, strokes: list[Segment]) 
     return []
 
 
-def _closing_segments(pose: Pose, close: tuple[int, float, float]) -> list[Segment]:
-    """The pieces of a closing move ``(gear, straight, curvature)`` from ``pose``."""
-    g, d, kappa = close
+def _closing_segments(pose: Pose, close: tuple[int, float, float, float]) -> list[Segment]:
+    """The pieces of a closing move ``(gear, straight, curvature, extend)`` from ``pose``:
+    the straight, the arc onto the lane, and ``extend`` metres along the lane."""
+    g, d, kappa, extend = close
     if kappa == 0.0:
         return []
     segs = []
@@ -879,6 +903,8 @@ def _closing_segments(pose: Pose, close: tuple[int, float, float]) -> list[Segme
         segs.append(Segment(pose, g * d, 0.0))
         pose = segs[0].end
     segs.append(Segment(pose, -float(wrap_angle(pose[2])) / kappa, kappa))
+    if extend > 1e-9:
+        segs.append(Segment(segs[-1].end, g * extend, 0.0))
     return segs
 
 
