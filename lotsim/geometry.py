@@ -303,36 +303,7 @@ def fillet_polyline(points: ArrayLike, radius: float) -> list[Segment]:
     >>> [round(s.length, 4) for s in segs]
     [8.0, 3.1416, 8.0]
     """
-    p = np.asarray(points, dtype=float)
-    legs = np.diff(p, axis=0)
-    lengths = np.hypot(legs[:, 0], legs[:, 1])
-    headings = np.arctan2(legs[:, 1], legs[:, 0])
-    turns = wrap_angle(np.diff(headings)) if len(legs) > 1 else np.zeros(0)
-    turns = np.atleast_1d(turns)
-    if np.any(np.abs(turns) >= math.radians(179)):
-        i = int(np.argmax(np.abs(turns) >= math.radians(179))) + 1
-        raise ValueError(f"the polyline turns back on itself at vertex {i}")
-    tangents = radius * np.tan(np.abs(turns) / 2)
-    cut_in = np.concatenate([[0.0], tangents])  # trimmed at the start of each leg
-    cut_out = np.concatenate([tangents, [0.0]])  # trimmed at the end of each leg
-    for i in np.flatnonzero(cut_in + cut_out > lengths + 1e-9):
-        raise ValueError(
-            f"leg {i} is {lengths[i]:.2f} m long but its corner arcs need "
-            f"{cut_in[i] + cut_out[i]:.2f} m"
-        )
-    segments: list[Segment] = []
-    for i, (leg_len, h) in enumerate(zip(lengths, headings, strict=True)):
-        a = p[i] + cut_in[i] * np.array([math.cos(h), math.sin(h)])
-        straight = leg_len - cut_in[i] - cut_out[i]
-        if straight > 1e-9:
-            segments.append(Segment((float(a[0]), float(a[1]), float(h)), float(straight), 0.0))
-        if i < len(turns) and abs(turns[i]) > 1e-12:
-            b = p[i + 1] - cut_out[i] * np.array([math.cos(h), math.sin(h)])
-            k = math.copysign(1.0 / radius, turns[i])
-            segments.append(
-                Segment((float(b[0]), float(b[1]), float(h)), float(radius * abs(turns[i])), k)
-            )
-    return segments
+    return cc_polyline(points, radius, math.inf)
 
 
 def cc_turn(deflection: float, max_curvature: float, sharpness: float,

@@ -191,9 +191,15 @@ def test_cc_polyline_ends_on_the_last_point_and_keeps_curvature_continuous():
     for a, b in zip(segs[:-1], segs[1:], strict=True):
         assert np.allclose(a.end, b.start, atol=1e-9)
         assert b.curvature == pytest.approx(a.end_curvature, abs=1e-12)
-    # plain arcs when the sharpness is infinite: fillet_polyline's corners
+    # plain arcs when the sharpness is infinite: straights and arcs of radius 6 whose
+    # lengths are the closed form's (legs less r·tan(|turn|/2) at each corner, r·|turn|)
     plain = cc_polyline(pts, 6.0, math.inf)
-    assert [s.length for s in plain] == pytest.approx([s.length for s in fillet_polyline(pts, 6.0)])
+    turns = [math.pi / 2, math.atan2(15, 30) - math.pi / 2]  # left, then right
+    cut = [6.0 * math.tan(abs(t) / 2) for t in turns]
+    want = [30 - cut[0], 6.0 * abs(turns[0]), 25 - cut[0] - cut[1], 6.0 * abs(turns[1]),
+            math.hypot(30, 15) - cut[1]]
+    assert [s.length for s in plain] == pytest.approx(want)
+    assert all(s.sharpness == 0 for s in plain)
 
 
 @pytest.mark.parametrize("ramp", [0.5, 1.5, 3.0])
