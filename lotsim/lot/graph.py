@@ -41,10 +41,10 @@ from lotsim.lot.build import SWEEP_STEP, lane_collider
 from lotsim.lot.clearance import Collider
 from lotsim.lot.model import Lane, Lot, Portal, Slot, unit
 
-TURN_SPEEDS = tuple(k / 3.6 for k in (15.0, 12.5, 10.0, 7.5, 5.0, 3.0))
+TURN_SPEEDS = tuple(k / 3.6 for k in (15.0, 12.5, 10.0, 7.5, 5.0, 3.0, 1.5))
 """Design speeds junction turns try, fastest first [m/s]: a turn for speed ``v`` has an arc
-of radius ``max(R, v² / a_lat)`` and clothoids every type can steer at ``v``; the first
-that is clear of everything is built."""
+of radius ``max(R, v² / a_lat)`` (or 2 R or 3 R, when wider) and clothoids every type can
+steer at ``v``; the fastest and the tightest that are clear of everything are built."""
 _EPS = 1e-6
 
 
@@ -437,6 +437,22 @@ def _junction_turns(lot: Lot, collider: Collider) -> tuple[list[Turn], list[str]
     return turns, skipped
 
 
+def _turn_designs(design, lot_speed: float) -> list[tuple[float, float]]:  # noqa: ANN001
+    """(design speed [m/s], arc radius [m]) of the junction turns to try, fastest first,
+    tightest first at each speed: the tightest arc the speed allows, and twice and three
+    times the design radius (a wide arc clears a corner that a tight one's body sweeps
+    over)."""
+    out = []
+    for speed in TURN_SPEEDS:
+        if speed > lot_speed + 1e-9 and speed != TURN_SPEEDS[-1]:
+            continue
+        least = max(design.min_radius, speed * speed / design.max_lateral_accel)
+        for r in sorted({least, 2 * design.min_radius, 3 * design.min_radius}):
+            if r >= least:
+                out.append((speed, r))
+    return out
+
+
 def _fillet_between(a, sa0, pa, b, sb0, pb, aisle_a, aisle_b, reach, design,  # noqa: ANN001
                     collider: Collider, lot_speed: float) -> list[Turn] | str | None:
     """The turns from straight ``pa`` of lane ``a`` into straight ``pb`` of lane ``b``: the
@@ -460,24 +476,37 @@ def _fillet_between(a, sa0, pa, b, sb0, pb, aisle_a, aisle_b, reach, design,  # 
     if aisle_a.line.distance(pt) > reach or aisle_b.line.distance(pt) > reach:
         return None
     reason = None
-    found: list[Turn] = []
-    for speed in TURN_SPEEDS:
-        if speed > lot_speed + 1e-9 and speed != TURN_SPEEDS[-1]:
-            continue
-        r = max(design.min_radius, speed * speed / design.max_lateral_accel)
+    fits = []  # (speed, radius, tangent) of the turns with room on both lanes
+    for speed, r in _turn_designs(design, lot_speed):
         _, tangent = cc_turn(delta, 1 / r, design.sharpness(speed))
         da, db = t - tangent, s + tangent  # distances into pa and pb
-        if not (-_EPS <= da <= pa.length + _EPS and -_EPS <= db <= pb.length + _EPS):
+        if -_EPS <= da <= pa.length + _EPS and -_EPS <= db <= pb.length + _EPS:
+            fits.append((speed, r, tangent))
+        else:
             reason = reason or f"no room for a turn at {speed * 3.6:.1f} km/h"
-            continue
-        start = tuple(float(v) for v in pa.poses_at(min(max(da, 0.0), pa.length))[0])
-        segs, _ = cc_turn(delta, 1 / r, design.sharpness(speed), start)
-        hit = collider.sweep_hit(design.footprints(sample_segments(segs, SWEEP_STEP)[0]))
-        if hit is not None:
-            reason = f"touches {hit.what}"
-            continue
-        found[1:] = [Turn(a.id, sa0 + da, b.id, sb0 + db, tuple(segs))]  # first, latest
+    clear: dict[int, Turn | None] = {}
+
+    def sweep(k: int) -> Turn | None:
+        """The k-th fitting turn if its swept body touches nothing (each swept once)."""
+        nonlocal reason
+        if k not in clear:
+            speed, r, tangent = fits[k]
+            da = t - tangent
+            start = tuple(float(v) for v in pa.poses_at(min(max(da, 0.0), pa.length))[0])
+            segs, _ = cc_turn(delta, 1 / r, design.sharpness(speed), start)
+            hit = collider.sweep_hit(design.footprints(sample_segments(segs, SWEEP_STEP)[0]))
+            if hit is not None:
+                reason = f"touches {hit.what}"
+            clear[k] = None if hit is not None else Turn(a.id, sa0 + da, b.id,
+                                                          sb0 + s + tangent, tuple(segs))
+        return clear[k]
+
+    # the fastest clear turn, and the tightest (shortest tangent: starts latest, ends soonest)
+    fastest = next((tn for k in range(len(fits)) if (tn := sweep(k)) is not None), None)
+    tight = sorted(range(len(fits)), key=lambda k: fits[k][2])
+    tightest = next((tn for k in tight if (tn := sweep(k)) is not None), None)
+    found = [tn for tn in (fastest, tightest) if tn is not None]
     if found:
-        return found
+        return found if found[0] is not found[-1] else found[:1]
     return (f"turn {a.id} → {b.id} near ({x[0]:.1f}, {x[1]:.1f}) skipped: {reason}"
             if reason and "touches" in reason else None)
