@@ -13,8 +13,8 @@ speeds (multiples of 5 km/h up to its top speed). Moves are
 * **wait** at a node, at rest, for a fixed step;
 * **park** (from rest, through the slot's planned maneuver, ending at rest in
   the slot) or **leave** (the same backwards), taking the maneuver's time,
-  with the car standing to turn its wheels wherever the maneuver's curvature
-  changes (:func:`~lotsim.trajectory.timed_path`);
+  with the car standing to turn its wheels at cusps and wherever the maneuver's
+  curvature still jumps (:func:`~lotsim.trajectory.timed_path`);
 * **enter**: a vehicle not yet in the lot waits outside its entrance, taking
   no space, until the entrance is free.
 
