@@ -235,27 +235,6 @@ class Segment:
         gear, the same steering at every point."""
         return Segment(self.end, -self.distance, self.end_curvature, -self.sharpness)
 
-    def offset(self, right: float) -> Segment:
-        """The parallel path shifted ``right`` metres to the right of the heading.
-
-        Arcs stay concentric: a left turn offset right gets a larger radius. A
-        clothoid's offset is no clothoid: offsetting one raises ValueError.
-        """
-        if self.sharpness:
-            raise ValueError("a clothoid cannot be offset")
-        x, y, t = self.start
-        grow = 1.0 + self.curvature * right
-        if grow <= 0:
-            raise ValueError("offset reaches past the centre of the arc")
-        start = (x + right * math.sin(t), y - right * math.cos(t), t)
-        return Segment(start, self.distance * grow, self.curvature / grow)
-
-    def reversed(self) -> Segment:
-        """The same curve driven the other way (same gear, heading flipped)."""
-        x, y, t = self.end
-        return Segment((x, y, float(wrap_angle(t + math.pi))), self.distance,
-                       -self.end_curvature, self.sharpness)
-
 
 def sample_segments(segments: Sequence[Segment], step: float) -> tuple[FloatArray, np.ndarray]:
     """Poses along many segments at once, each every ``step`` metres or closer, ends included.

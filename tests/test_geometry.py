@@ -74,25 +74,6 @@ def test_segment_pieces_add_up_and_join():
     assert a.gear == b.gear == -1
 
 
-@pytest.mark.parametrize("curvature", [0.0, 0.15, -0.2])
-def test_offset_segment_stays_at_constant_distance(curvature):
-    seg = Segment((2.0, -1.0, 1.1), 9.0, curvature)
-    off = seg.offset(1.5)
-    base = seg.sample(0.05)[:, :2]
-    shifted = off.sample(0.05)[:, :2]
-    # every offset point is 1.5 m from the base curve, on its right
-    d = np.min(np.linalg.norm(shifted[:, None, :] - base[None, :, :], axis=2), axis=1)
-    assert np.allclose(d, 1.5, atol=2e-3)
-    assert math.isclose(off.end[2], seg.end[2], abs_tol=1e-12)
-
-
-def test_reversed_segment_runs_back_along_the_same_curve():
-    seg = Segment((0.0, 0.0, 0.0), 6.0, 0.25)
-    back = seg.reversed()
-    assert np.allclose(back.end[:2], seg.start[:2])
-    assert math.isclose(wrap_angle(back.end[2] - seg.start[2] - math.pi), 0.0, abs_tol=1e-9)
-
-
 def test_fillet_polyline_is_tangent_continuous_and_hits_the_ends():
     pts = [[0, 0], [20, 0], [20, 15], [5, 30]]
     segs = fillet_polyline(pts, 4.0)
