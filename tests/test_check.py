@@ -639,3 +639,13 @@ def test_overlaps_match_brute_force(seed):
             found[tuple(sorted((a, b)))] = round(v.t / DT)
     assert len(expected) >= 5  # the traffic is dense enough to mean something
     assert found == expected
+
+
+def test_a_standing_pose_written_one_rounding_unit_apart_still_stands(result):
+    """Found by the property tests: a node's pose and a motion's first sample, computed along
+    two paths, were written 0.1 mm apart (a coordinate on a half unit); the car stood."""
+    s = by_id(result, "v2")["samples"]  # v2 ends standing for 30 s
+    s["y"][-1] = round(s["y"][-1] + 1e-4, 4)
+    assert check_result(refresh_metrics(result)).ok
+    s["y"][-1] = round(s["y"][-1] + 4e-4, 4)  # half a millimetre: it moved
+    assert_only(result, "sampling")
