@@ -21,19 +21,7 @@ from lotsim.geometry import (
 
 def integrate(pose, distance, curvature, steps=20_000):
     """RK4 on x' = cos t, y' = sin t, t' = k, over arc length: an independent oracle."""
-    y = np.array(pose, dtype=float)
-    h = distance / steps
-
-    def f(state):
-        return np.array([math.cos(state[2]), math.sin(state[2]), curvature])
-
-    for _ in range(steps):
-        k1 = f(y)
-        k2 = f(y + h / 2 * k1)
-        k3 = f(y + h / 2 * k2)
-        k4 = f(y + h * k3)
-        y = y + h / 6 * (k1 + 2 * k2 + 2 * k3 + k4)
-    return y
+    return integrate_clothoid(pose, distance, curvature, 0.0, steps)
 
 
 @pytest.mark.parametrize("seed", range(6))
@@ -99,7 +87,8 @@ def test_ccw_orients_rings():
 
 # -- clothoids ---------------------------------------------------------------------------------
 def integrate_clothoid(pose, distance, curvature, sharpness, steps=4000):
-    """RK4 with the curvature a function of the path length driven: an independent oracle."""
+    """RK4 with the curvature a function of the path length driven (``curvature +
+    sharpness · u``), signed by the gear: an independent oracle."""
     y = np.array(pose, dtype=float)
     g = 1.0 if distance >= 0 else -1.0
     h = abs(distance) / steps
