@@ -76,6 +76,15 @@ _GL_X, _GL_W = np.polynomial.legendre.leggauss(8)
 _GL_PHASE = 0.5  # most heading change one quadrature cell integrates [rad]
 
 
+def _gl_nodes(phase: float) -> tuple[FloatArray, FloatArray]:
+    """Gauss–Legendre nodes as fractions of a path length, in enough cells that none turns
+    by more than :data:`_GL_PHASE` over a path turning by ``phase`` [rad], and their
+    weights per metre of that length."""
+    cells = max(1, math.ceil(phase / _GL_PHASE))
+    frac = (np.arange(cells)[:, None] + (_GL_X[None, :] + 1) / 2).ravel() / cells
+    return frac, np.tile(_GL_W, cells) / (2 * cells)
+
+
 def travel(poses: ArrayLike, distance: ArrayLike, curvature: ArrayLike,
            sharpness: ArrayLike = 0.0) -> FloatArray:
     """Poses after driving a signed distance along a clothoid, exactly.
@@ -119,13 +128,10 @@ def travel(poses: ArrayLike, distance: ArrayLike, curvature: ArrayLike,
     s, k, g = (np.broadcast_to(a, shape).ravel() for a in (s, k, g))
     u = np.abs(s)
     gear = np.where(s < 0, -1.0, 1.0)
-    phase = float(np.max(np.abs(k) * u + np.abs(g) * u * u / 2, initial=0.0))
-    cells = max(1, math.ceil(phase / _GL_PHASE))
-    # quadrature points w in [0, u], (N, cells * 8)
-    frac = (np.arange(cells)[:, None] + (_GL_X[None, :] + 1) / 2).ravel() / cells
-    w = u[:, None] * frac[None, :]
+    frac, unit = _gl_nodes(float(np.max(np.abs(k) * u + np.abs(g) * u * u / 2, initial=0.0)))
+    w = u[:, None] * frac[None, :]  # quadrature points in [0, u], (N, cells * 8)
     head = p[:, 2:3] + gear[:, None] * (k[:, None] * w + g[:, None] * w * w / 2)
-    weight = np.tile(_GL_W, cells)[None, :] * (u / (2 * cells))[:, None]
+    weight = unit[None, :] * u[:, None]
     out = np.empty((len(p), 3))
     out[:, 0] = p[:, 0] + gear * np.sum(weight * np.cos(head), axis=1)
     out[:, 1] = p[:, 1] + gear * np.sum(weight * np.sin(head), axis=1)
@@ -139,12 +145,10 @@ def _clothoid_end(start: Pose, distance: float, curvature: float, sharpness: flo
     x, y, t = start
     u = abs(distance)
     gear = -1.0 if distance < 0 else 1.0
-    phase = abs(curvature) * u + abs(sharpness) * u * u / 2
-    cells = max(1, math.ceil(phase / _GL_PHASE))
-    frac = (np.arange(cells)[:, None] + (_GL_X[None, :] + 1) / 2).ravel() / cells
+    frac, unit = _gl_nodes(abs(curvature) * u + abs(sharpness) * u * u / 2)
     w = u * frac
     head = t + gear * (curvature * w + sharpness * w * w / 2)
-    weight = np.tile(_GL_W, cells) * (u / (2 * cells))
+    weight = unit * u
     return (float(x + gear * np.dot(weight, np.cos(head))),
             float(y + gear * np.dot(weight, np.sin(head))),
             float(t + gear * (curvature * u + sharpness * u * u / 2)))

@@ -183,34 +183,18 @@ def scurve(length: float, v0: float, v1: float, vmax: float, accel: float, brake
         return (_shift_distance(v0, peak, accel, brake, jerk)
                 + _shift_distance(peak, v1, accel, brake, jerk))
 
-    low = max(v0, v1)
-    if need(low) > length + eps:
+    if need(max(v0, v1)) > length + eps:
         return None
-    if need(vmax) <= length:
-        peak = vmax
-    else:
-        hi = vmax
-        for _ in range(100):
-            mid = (low + hi) / 2
-            if need(mid) <= length:
-                low = mid
-            else:
-                hi = mid
-            if hi - low < 1e-12:
-                break
-        peak = low
+    peak = _largest(lambda p: need(p) <= length, max(v0, v1), vmax)
     if peak <= 0:
         return None
     cruise = max(0.0, length - need(peak))
     pieces: list[tuple[float, float]] = []  # (duration, jerk)
     for dv, limit, sign in ((peak - v0, accel, 1.0), (peak - v1, brake, -1.0)):
         ramp, hold = _shift(dv, limit, jerk)
-        part = [(ramp, sign * jerk), (hold, 0.0), (ramp, -sign * jerk)]
+        pieces += [(ramp, sign * jerk), (hold, 0.0), (ramp, -sign * jerk)]
         if sign > 0:
-            pieces += part
             pieces.append((cruise / peak, 0.0))
-        else:
-            pieces += part
     pieces = [(d, j) for d, j in pieces if d > 0]
     t, sv, v, a = [0.0], [0.0], [v0], [0.0]
     for d, j in pieces:
@@ -419,12 +403,17 @@ def piece_caps(run: Sequence[Piece], vehicle: VehicleType) -> list[float]:
 def _reach(length: float, v: float, cap: float, accel: float, jerk: float) -> float:
     """The highest speed ≤ ``cap`` [m/s] a change from ``v`` can reach (or, braking, come
     from) within ``length`` [m]."""
-    if _shift_distance(v, cap, accel, accel, jerk) <= length:
-        return cap
-    lo, hi = v, cap
+    return _largest(lambda w: _shift_distance(v, w, accel, accel, jerk) <= length, v, cap)
+
+
+def _largest(fits, lo: float, hi: float) -> float:  # noqa: ANN001 - float -> bool
+    """The largest speed in ``[lo, hi]`` that ``fits`` (monotone: true up to a point,
+    and true at ``lo``), by bisection to 1e-12 m/s."""
+    if fits(hi):
+        return hi
     for _ in range(100):
         mid = (lo + hi) / 2
-        if _shift_distance(v, mid, accel, accel, jerk) <= length:
+        if fits(mid):
             lo = mid
         else:
             hi = mid

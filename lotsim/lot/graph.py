@@ -456,8 +456,9 @@ def _turn_designs(design, lot_speed: float) -> list[tuple[float, float]]:  # noq
 def _fillet_between(a, sa0, pa, b, sb0, pb, aisle_a, aisle_b, reach, design,  # noqa: ANN001
                     collider: Collider, lot_speed: float) -> list[Turn] | str | None:
     """The turns from straight ``pa`` of lane ``a`` into straight ``pb`` of lane ``b``: the
-    fastest that is clear and, when it is another, the tightest (slowest) that is clear —
-    it starts later and ends sooner, so it can reach a node the wide one passes by.
+    fastest that is clear and, when it is another, the tightest that is clear (the shortest
+    tangent: it starts later and ends sooner, so it can reach a node the wide one passes
+    by).
 
     Returns the turns, a reason string when the aisles meet but no turn is clear,
     or None when the two straights do not meet.

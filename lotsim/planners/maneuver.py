@@ -646,8 +646,7 @@ class ManeuverPlanner:
             if (math.dist(end[:2], was[:2]) > self.settings.ease_drift
                     or abs(wrap_angle(end[2] - was[2])) > 1e-9):
                 continue
-            poses, _ = sample_segments(eased, self.settings.sweep)
-            if p.poses_blocked(poses).any():
+            if p.paths_blocked([eased])[0]:
                 continue
             body = Polygon(p.vehicle.footprints(p.frame.poses_to_world(end))[0])
             if p.slot.shape.buffer(1e-9).covers(body):
@@ -910,7 +909,7 @@ def _closing_segments(pose: Pose, close: tuple[int, float, float, float]) -> lis
 
 def _park_path(leave: Sequence[Segment]) -> tuple[tuple[Segment, ...], float]:
     """Leave-time pieces → parking pieces (time-reversed), and the start's local x."""
-    segs = tuple(Segment(s.end, -s.distance, s.curvature) for s in reversed(leave))
+    segs = tuple(s.backwards() for s in reversed(leave))
     return segs, (segs[0].start[0] if segs else 0.0)
 
 
