@@ -28,7 +28,9 @@ vehicle against slots, areas and the boundary before it is added.
 
 from __future__ import annotations
 
+import itertools
 import math
+import weakref
 from dataclasses import dataclass, field
 
 import networkx as nx
@@ -36,7 +38,7 @@ import numpy as np
 import shapely
 
 from lotsim.errors import ScenarioError
-from lotsim.geometry import Segment, cc_turn, sample_segments, wrap_angle
+from lotsim.geometry import Segment, cc_polyline, cc_turn, sample_segments, wrap_angle
 from lotsim.lot.build import SWEEP_STEP, lane_collider
 from lotsim.lot.clearance import Collider
 from lotsim.lot.model import Lane, Lot, Portal, Slot, unit
@@ -57,6 +59,7 @@ class Turn:
     lane_b: str
     station_b: float
     segments: tuple[Segment, ...]
+    wide: bool = False  # it uses the junction's area (:func:`_area_turns`)
 
 
 @dataclass(frozen=True, slots=True)
@@ -190,7 +193,7 @@ def build_graph(lot: Lot, *, node_spacing: float = 4.0, maneuvers=None,  # noqa:
     """
     lanes = {lane.id: lane for lane in lot.lanes}
     collider = lane_collider(lot)
-    turns, skipped = _junction_turns(lot, collider)
+    turns, skipped = _turns_of(lot, collider)
     joins = _joins(lot)
     attach = _attachments(lot) if maneuvers is None else _maneuver_attachments(lot, maneuvers)
 
@@ -415,6 +418,19 @@ def _straights(lane: Lane) -> list[tuple[float, Segment]]:
             if seg.curvature == 0.0 and seg.sharpness == 0.0]
 
 
+_TURNS: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
+
+
+def _turns_of(lot: Lot, collider: Collider) -> tuple[list[Turn], list[str]]:
+    """The lot's junction turns (:func:`_junction_turns`, :func:`_through_turns`) and the
+    reasons of those skipped, worked out once per lot."""
+    if lot not in _TURNS:
+        turns, skipped = _junction_turns(lot, collider)
+        _TURNS[lot] = (turns + _through_turns(lot, turns, collider), skipped)
+    turns, skipped = _TURNS[lot]
+    return list(turns), list(skipped)
+
+
 def _junction_turns(lot: Lot, collider: Collider) -> tuple[list[Turn], list[str]]:
     """Arcs between lanes of aisles that meet, each swept clear with the design vehicle."""
     turns: list[Turn] = []
@@ -435,6 +451,52 @@ def _junction_turns(lot: Lot, collider: Collider) -> tuple[list[Turn], list[str]
                     elif turn:
                         skipped.append(turn)
     return turns, skipped
+
+
+THROUGH_OVERLAP = 15.0
+"""Longest stretch of lane [m] by which a turn into it may overrun the start of a turn out of
+it for the two to be joined into one turn through the stretch."""
+
+
+def _through_turns(lot: Lot, turns: list[Turn], collider: Collider) -> list[Turn]:
+    """Turns through a short stretch of lane: where a turn into lane ``c`` ends past where
+    a turn out of it begins (two junctions close together, one turn swinging wide), one
+    path from the first lane into the last along the stretch (:func:`_area_turns` with
+    ``via``), if no turn joins the two lanes there already. None back onto the lane it
+    came from."""
+    lanes = {lane.id: lane for lane in lot.lanes}
+    into: dict[str, list[Turn]] = {}
+    for tn in turns:
+        into.setdefault(tn.lane_b, []).append(tn)
+    joined = {(tn.lane_a, tn.lane_b) for tn in turns}
+    done = set()
+    out: list[Turn] = []
+    for t2 in turns:
+        for t1 in into.get(t2.lane_a, ()):
+            chain = (t1.lane_a, t2.lane_a, t2.lane_b)
+            overlap = t1.station_b - t2.station_a
+            if (t1.lane_a == t2.lane_b or chain[::2] in joined or chain in done
+                    or not (t1.wide or t2.wide) or not _EPS < overlap < THROUGH_OVERLAP):
+                continue
+            done.add(chain)
+            a, c, b = lanes[t1.lane_a], lanes[t2.lane_a], lanes[t2.lane_b]
+            pieces = [_straight_at(lane, st) for lane, st in
+                      ((a, t1.station_a), (c, (t1.station_b + t2.station_a) / 2),
+                       (b, t2.station_b))]
+            if any(p is None for p in pieces):
+                continue
+            (sa0, pa), (_, pc), (sb0, pb) = pieces
+            out += _area_turns(a, sa0, pa, b, sb0, pb, lot.design, collider, lot.speed_limit,
+                               via=(pc,), shifts=AREA_SHIFTS)
+    return out
+
+
+def _straight_at(lane: Lane, station: float) -> tuple[float, Segment] | None:
+    """The straight of ``lane`` that holds ``station`` (its start station and itself)."""
+    for s0, seg in _straights(lane):
+        if s0 - _EPS <= station <= s0 + seg.length + _EPS:
+            return s0, seg
+    return None
 
 
 def _turn_designs(design, lot_speed: float) -> list[tuple[float, float]]:  # noqa: ANN001
@@ -509,5 +571,166 @@ def _fillet_between(a, sa0, pa, b, sb0, pb, aisle_a, aisle_b, reach, design,  # 
     found = [tn for tn in (fastest, tightest) if tn is not None]
     if found:
         return found if found[0] is not found[-1] else found[:1]
+    wide = _area_turns(a, sa0, pa, b, sb0, pb, design, collider, lot_speed)
+    if wide:
+        return wide
     return (f"turn {a.id} → {b.id} near ({x[0]:.1f}, {x[1]:.1f}) skipped: {reason}"
             if reason and "touches" in reason else None)
+
+
+AREA_SHIFTS = (0.0, 1.0, -1.0, 2.0, -2.0, 3.0, -3.0, 4.0)
+"""Sideways shifts [m] of the corner of a junction turn that uses the junction's area, from
+each lane's line (positive: to the lane's left, across the oncoming lane)."""
+AREA_LEADS = (1.5, 3.0, 4.5, 6.0)
+"""Lengths [m] of the drift from a lane to the shifted corner's line, and back."""
+AREA_RADII = (1.0, 1.5)
+"""Multiples of the design radius the corner of such a turn tries."""
+AREA_SPEEDS = (5.0 / 3.6, 3.0 / 3.6, 1.5 / 3.6)
+"""Design speeds [m/s] such a turn tries below the fastest its arc allows: a slower turn has
+shorter clothoids (the wheels turn at the same rate over less path), so it fits a tighter
+corner."""
+
+
+def _approx_tangent(deflection, radius: float, sharpness: float):  # noqa: ANN001, ANN201
+    """The tangent length of a continuous-curvature turn (:func:`cc_turn`) by the road
+    designers' formula, ``(R + p) tan(Δ/2) + L/2`` with the clothoids' shift ``p = L² / 24R``
+    (within 0.1 % of the exact one for the turns built here); ``deflection`` [rad] may be an
+    array."""
+    d = np.asarray(deflection, dtype=float)
+    peak = np.minimum(1 / radius, np.sqrt(d * sharpness))
+    ramp = peak / sharpness
+    with np.errstate(divide="ignore", invalid="ignore"):
+        out = (1 / peak + ramp * ramp * peak / 24) * np.tan(d / 2) + ramp / 2
+    return np.where(d > 1e-12, out, 0.0)
+
+
+def _area_designs(design, lot_speed: float) -> list[tuple[float, float]]:  # noqa: ANN001
+    """(radius multiple, design speed [m/s]) of the junction-area turns to try."""
+    out = []
+    for f in AREA_RADII:
+        top = min(lot_speed, math.sqrt(design.max_lateral_accel * f * design.min_radius))
+        out += [(f, v) for v in sorted({top, *(v for v in AREA_SPEEDS if v < top)},
+                                       reverse=True)]
+    return out
+
+
+def _area_turns(a, sa0, pa, b, sb0, pb, design, collider: Collider,  # noqa: ANN001
+                lot_speed: float, via: tuple[Segment, ...] = (),
+                shifts: tuple[float, ...] = ()) -> list[Turn]:
+    """Turns from ``pa`` into ``pb`` that use the junction's whole area, as a driver does
+    where the turn between the lanes themselves touches a corner slot: drift sideways from
+    the lane (wide of the corner, across the oncoming lane where need be), turn, drift back
+    onto the other lane. Each line is shifted sideways by :data:`AREA_SHIFTS` (positive:
+    to the lane's left), the drifts take :data:`AREA_LEADS`, the corners' arcs
+    :data:`AREA_RADII`; every corner is continuous-curvature, sized for the arc's speed.
+    With ``via`` (a lane's straight between two junctions close together) the path runs
+    along that straight, shifted by ``shifts``, from one turn into the next without
+    drifting back to its lane between them.
+
+    The quickest clear one (length over design speed) is built and, when it is another,
+    the most compact clear one (the least lane used before and after: it starts latest and
+    ends soonest, so it fits between two turns close together); none when none is clear.
+    """
+    lines = (pa, *via, pb)
+    dirs = np.array([unit(seg.start[2]) for seg in lines])  # (L, 2)
+    normals = np.column_stack([-dirs[:, 1], dirs[:, 0]])
+    origins = np.array([seg.start[:2] for seg in lines])
+    heads = np.array([seg.start[2] for seg in lines])
+    bends = np.abs(np.asarray(wrap_angle(np.diff(heads)), dtype=float))  # (L-1,)
+    grids = [AREA_SHIFTS, *([shifts or (0.0,)] * len(via)), AREA_SHIFTS]
+    offs = np.array(list(itertools.product(*grids)))  # (N, L)
+    if not via:
+        offs = offs[np.any(offs != 0.0, axis=1)]  # (0, 0) is the plain turn, already tried
+    # corner k: where line k shifted by offs[:, k] meets line k+1 shifted by offs[:, k+1]
+    corners, params = [], []
+    for k in range(len(lines) - 1):
+        inv = np.linalg.inv(np.column_stack([dirs[k], -dirs[k + 1]]))
+        rhs = (origins[k + 1] - origins[k] + offs[:, k + 1, None] * normals[k + 1]
+               - offs[:, k, None] * normals[k])  # (N, 2)
+        ts = rhs @ inv.T  # (N, 2): along line k, along line k+1
+        corners.append(origins[k] + offs[:, k, None] * normals[k] + ts[:, :1] * dirs[k])
+        params.append(ts)
+    ta, tb = params[0][:, 0], params[-1][:, 1]
+    # leads (la, lb) for every shift: index arrays over (N × leads²)
+    leads = np.array(list(itertools.product(AREA_LEADS, AREA_LEADS)))
+    n_off, n_lead = len(offs), len(leads)
+    oi = np.repeat(np.arange(n_off), n_lead)
+    la, lb = np.tile(leads[:, 0], n_off), np.tile(leads[:, 1], n_off)
+    u, w = offs[oi, 0], offs[oi, -1]
+    a1 = origins[0] + (ta[oi] - la)[:, None] * dirs[0]
+    b1 = origins[-1] + (tb[oi] + lb)[:, None] * dirs[-1]
+    c_first, c_last = corners[0][oi], corners[-1][oi]
+    h1 = np.arctan2(*(c_first - a1).T[::-1])
+    h2 = np.arctan2(*(b1 - c_last).T[::-1])
+    first_turn = np.abs(np.asarray(wrap_angle((heads[1] if via else h2) - h1), dtype=float))
+    last_turn = np.abs(np.asarray(wrap_angle(h2 - (heads[-2] if via else h1)), dtype=float))
+    legs = [np.hypot(la, u), np.hypot(lb, w)]
+    cands = []
+    for f, speed in _area_designs(design, lot_speed):
+        r = f * design.min_radius
+        sharp = design.sharpness(speed)
+        pre = np.where(u != 0.0, _approx_tangent(np.arctan2(np.abs(u), la), r, sharp) + 0.05,
+                       0.0)
+        post = np.where(w != 0.0, _approx_tangent(np.arctan2(np.abs(w), lb), r, sharp) + 0.05,
+                        0.0)
+        da, db = ta[oi] - la - pre, tb[oi] + lb + post
+        ok = ((da >= -_EPS) & (da <= pa.length + _EPS) & (db >= -_EPS)
+              & (db <= pb.length + _EPS)
+              # the corners' turns must leave room for the drifts' (road designers'
+              # estimate of the tangents; cc_polyline checks exactly)
+              & (_approx_tangent(first_turn, r, sharp) + pre <= legs[0] * 1.01)
+              & (_approx_tangent(last_turn, r, sharp) + post <= legs[1] * 1.01))
+        if via:  # the corners on the stretch in order, with room for both turns
+            gap = params[1][oi, 0] - params[0][oi, 1]
+            ok &= gap >= float(_approx_tangent(bends[0], r, sharp)
+                               + _approx_tangent(bends[1], r, sharp))
+        for n in np.flatnonzero(ok):
+            a0 = a1[n] - dirs[0] * pre[n]
+            b0 = b1[n] + dirs[-1] * post[n]
+            pts = [a0, a1[n], *(c[oi[n]] for c in corners), b1[n], b0]
+            pts = np.array([p for k, p in enumerate(pts)
+                            if k == 0 or math.dist(p, pts[k - 1]) > 1e-6])
+            rough = float(np.hypot(*np.diff(pts, axis=0).T).sum())  # the polyline's length
+            cands.append((rough / speed, float(db[n] - da[n]), float(da[n]), float(db[n]),
+                          pts, r, sharp))
+    clear: dict[int, bool] = {}
+    paths: dict[int, list[Segment]] = {}
+
+    def first(order: list[int], chunk: int = 24) -> int | None:
+        """The first clear candidate of ``order``: a rough pass over footprints 1 m apart
+        drops most blocked ones a chunk at a time, then the sweep, in order."""
+        for c0 in range(0, len(order), chunk):
+            part = [k for k in order[c0 : c0 + chunk] if k not in clear]
+            built = []
+            for k in part:
+                _, _, _, _, pts, r, sharp = cands[k]
+                try:
+                    built.append((k, cc_polyline(pts, r, sharp)))
+                except ValueError:  # no room for a corner's turn on a leg
+                    clear[k] = False
+            if built:
+                poses, of = sample_segments([sg for _, path in built for sg in path], 1.0)
+                owner = np.repeat(np.arange(len(built)), [len(path) for _, path in built])[of]
+                bad = collider.blocked(design.footprints(poses))
+                rough = np.bincount(owner[bad], minlength=len(built)) > 0
+                for (k, path), hit in zip(built, rough, strict=True):
+                    if hit:
+                        clear[k] = False
+                    else:
+                        paths[k] = path
+            for k in order[c0 : c0 + chunk]:
+                if k not in clear:
+                    clear[k] = collider.sweep_hit(
+                        design.footprints(sample_segments(paths[k], SWEEP_STEP)[0])) is None
+                if clear[k]:
+                    return k
+        return None
+
+    idx = range(len(cands))
+    quick = first(sorted(idx, key=lambda k: cands[k][:2]))
+    if quick is None:
+        return []
+    compact = first(sorted(idx, key=lambda k: cands[k][1::-1]))
+    return [Turn(a.id, sa0 + cands[k][2], b.id, sb0 + cands[k][3], tuple(paths[k]), True)
+            for k in dict.fromkeys((quick, compact))]
+
