@@ -29,6 +29,11 @@ def test_every_edge_starts_and_ends_at_its_nodes_poses(shipped_graphs):
                 ref = g.nodes[node]["pose"]
                 assert math.dist(pose[:2], ref[:2]) < 1e-6, (name, u, v)
                 assert abs(wrap_angle(pose[2] - ref[2])) < 1e-6, (name, u, v)
+            assert d["length"] == pytest.approx(sum(seg.length for seg in path))
+            if d["kind"] == "turnaround":  # strokes: the car stops (and steers) at each cusp
+                for a, b in zip(path[:-1], path[1:], strict=True):
+                    assert np.allclose(a.end[:2], b.start[:2], atol=1e-9)
+                continue
             # and the curvature is the nodes' at both ends, continuous in between
             assert path[0].curvature == pytest.approx(g.nodes[u]["curvature"], abs=1e-9)
             assert path[-1].end_curvature == pytest.approx(g.nodes[v]["curvature"], abs=1e-9)
@@ -58,7 +63,8 @@ def test_curvature_never_exceeds_the_largest_vehicles_limit(shipped_graphs):
         limit = 1 / lg.lot.design.min_radius
         for _, _, d in driven_edges(lg):
             assert all(seg.max_curvature <= limit + 1e-9 for seg in d["path"])
-            assert d["gear"] == 1  # lanes and turns are driven forward
+            if d["kind"] != "turnaround":
+                assert d["gear"] == 1  # lanes and turns are driven forward
 
 
 def test_shipped_lots_reach_every_free_slot_and_exit(shipped_graphs):
@@ -204,8 +210,14 @@ def test_junction_turns_join_aisles_with_feasible_arcs():
         # clothoid in, arc, clothoid out: the wheels turn while the car rolls
         assert path[0].sharpness != 0 and path[-1].sharpness != 0
         assert path[0].curvature == 0 and abs(path[-1].end_curvature) < 1e-12
-    # b is a dead end: cars reach its slots up its right lane but cannot turn round to
-    # leave (lotsim has no turnarounds, and never turns through a slot)
+    # b is a dead end: cars reach its slots up its right lane and turn round at its end (a
+    # multi-point turn onto its down lane) to leave; so does a's east end
+    g = lg.graph
+    backs = {(g.nodes[u]["lane"], g.nodes[v]["lane"]): d["path"]
+             for u, v, d in g.edges(data=True) if d["kind"] == "turnaround"}
+    assert set(backs) == {("b>", "b<"), ("a>", "a<")}
+    path = backs[("b>", "b<")]
+    assert {seg.gear for seg in path} == {1, -1}  # forward and back
+    assert abs(wrap_angle(path[-1].end[2] - path[0].start[2])) == pytest.approx(math.pi)
     reach = lg.reachability()
-    assert reach.unreachable["in"] == []
-    assert reach.stranded["out"] == ["B1", "B2", "B3", "B4"]
+    assert reach.unreachable["in"] == [] and reach.stranded["out"] == []

@@ -42,6 +42,7 @@ from lotsim.geometry import Segment, cc_polyline, cc_turn, sample_segments, wrap
 from lotsim.lot.build import SWEEP_STEP, lane_collider
 from lotsim.lot.clearance import Collider
 from lotsim.lot.model import Lane, Lot, Portal, Slot, unit
+from lotsim.lot.turnaround import Turnaround, plan_turnaround, turnaround_collider
 
 TURN_SPEEDS = tuple(k / 3.6 for k in (15.0, 12.5, 10.0, 7.5, 5.0, 3.0, 1.5))
 """Design speeds junction turns try, fastest first [m/s]: a turn for speed ``v`` has an arc
@@ -195,13 +196,19 @@ def build_graph(lot: Lot, *, node_spacing: float = 4.0, maneuvers=None,  # noqa:
     collider = lane_collider(lot)
     turns, skipped = _turns_of(lot, collider)
     joins = _joins(lot)
+    exits = {}
+    for p in lot.exits:
+        lid, st = _portal_station(lot, p)
+        exits[lid] = max(exits.get(lid, -math.inf), st)
+    backs, no_back = _turnarounds_of(lot, turns, joins, exits)
+    skipped += no_back
     attach = _attachments(lot) if maneuvers is None else _maneuver_attachments(lot, maneuvers)
 
     stations: dict[str, list[float]] = {lid: [0.0, lane.length] for lid, lane in lanes.items()}
     for lid, lane in lanes.items():
         stations[lid] += [float(s) for s in lane.starts]
         stations[lid] += _zone_crossings(lot, lane)
-    for t in turns:
+    for t in (*turns, *backs):
         stations[t.lane_a].append(t.station_a)
         stations[t.lane_b].append(t.station_b)
     portals = {p: _portal_station(lot, p) for p in (*lot.entrances, *lot.exits)}
@@ -233,6 +240,9 @@ def build_graph(lot: Lot, *, node_spacing: float = 4.0, maneuvers=None,  # noqa:
     for t in turns:
         _add_edge(g, lot, node_at(t.lane_a, t.station_a), node_at(t.lane_b, t.station_b),
                   t.segments, "turn")
+    for t in backs:
+        _add_edge(g, lot, node_at(t.lane_a, t.station_a), node_at(t.lane_b, t.station_b),
+                  t.segments, "turnaround")
     for a, b in joins:
         g.add_edge(node_at(a, lanes[a].length), node_at(b, 0.0), kind="join", length=0.0,
                    gear=1, path=None, speed_limit=lot.speed_limit, placeholder=False)
@@ -429,6 +439,42 @@ def _turns_of(lot: Lot, collider: Collider) -> tuple[list[Turn], list[str]]:
         _TURNS[lot] = (turns + _through_turns(lot, turns, collider), skipped)
     turns, skipped = _TURNS[lot]
     return list(turns), list(skipped)
+
+
+DEAD_END = 15.0
+"""A lane whose last turn off it begins more than this before its end [m], and which does
+not continue as another, ends in a dead end: a car turns round there (a turnaround)."""
+_BACKS: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
+
+
+def _turnarounds_of(lot: Lot, turns: list[Turn], joins: list[tuple[str, str]],
+                    exits: dict[str, float]) -> tuple[list[Turnaround], list[str]]:
+    """Turnarounds at the dead ends of two-way aisles (:data:`DEAD_END`; a lane that leads
+    to an exit past its last turn is no dead end), and a note for each dead end where none
+    fits; worked out once per lot. ``exits`` maps a lane to its last exit's station."""
+    if lot not in _BACKS:
+        last = {lane.id: exits.get(lane.id, -math.inf) + DEAD_END for lane in lot.lanes}
+        for t in turns:
+            last[t.lane_a] = max(last[t.lane_a], t.station_a)
+        joined = {a for a, _ in joins}
+        collider, body = turnaround_collider(lot)
+        found, notes = [], []
+        for aisle in lot.aisles.values():
+            if aisle.one_way or len(aisle.lanes) != 2:
+                continue
+            for lane, back in (aisle.lanes, aisle.lanes[::-1]):
+                if lane.id in joined or last[lane.id] >= lane.length - DEAD_END:
+                    continue
+                t = plan_turnaround(lane, back, collider, body, lot.design.min_radius)
+                if isinstance(t, str):
+                    x, y, _ = lane.pose_at(lane.length)
+                    notes.append(f"dead end of lane {lane.id} at ({x:.1f}, {y:.1f}): no "
+                                 f"turnaround: {t}")
+                else:
+                    found.append(t)
+        _BACKS[lot] = (found, notes)
+    found, notes = _BACKS[lot]
+    return list(found), list(notes)
 
 
 def _junction_turns(lot: Lot, collider: Collider) -> tuple[list[Turn], list[str]]:

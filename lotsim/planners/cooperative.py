@@ -15,6 +15,8 @@ speeds (multiples of 5 km/h up to its top speed). Moves are
   the slot) or **leave** (the same backwards), taking the maneuver's time,
   with the car standing to turn its wheels at cusps and wherever the maneuver's
   curvature still jumps (:func:`~lotsim.trajectory.timed_path`);
+* **turn round** (from rest, through a multi-point turn at a dead end, to rest on the
+  opposite lane), timed the same way;
 * **enter**: a vehicle not yet in the lot waits outside its entrance, taking
   no space, until the entrance is free.
 
@@ -53,6 +55,8 @@ from lotsim.planners.reservation import (
 from lotsim.trajectory import Motion, Piece, Stroke, scurve, speed_cap, timed_path
 from lotsim.vehicles.model import KMH, VehicleType
 
+AT_REST = ("park", "leave", "turnaround")
+"""Edges driven from rest to rest (multi-stroke: the car stops at every cusp)."""
 SPEED_STEP = 5 * KMH
 """Spacing of the speed levels a vehicle may pass a node at [m/s]."""
 WAIT = 1.0
@@ -173,7 +177,7 @@ class SearchGraph:
         self._bodies: dict[int, BaseGeometry] = {}
         self._cells: dict[int, tuple[tuple[int, int], ...]] = {}
         self._standing: dict[int, Swept] = {}
-        self._static_time = [self._lower_time(e) for e in self.edges]
+        self._static_time = [self._lower_time(i, e) for i, e in enumerate(self.edges)]
 
     # -- motions ------------------------------------------------------------------------------
     def motion(self, ei: int, a: int, b: int) -> EdgeMotion | None:
@@ -184,10 +188,11 @@ class SearchGraph:
             return self._motions[key]
         e = self.edges[ei]
         out = None
-        if e.kind in ("park", "leave"):
+        if e.kind in AT_REST:
             if a == 0 and b == 0:
-                m = e.data["maneuvers"][self.vehicle.name]
-                motion = timed_path([Piece(s, e.data["speed_limit"]) for s in m.segments],
+                segs = (e.data["path"] if e.kind == "turnaround"
+                        else e.data["maneuvers"][self.vehicle.name].segments)
+                motion = timed_path([Piece(s, e.data["speed_limit"]) for s in segs],
                                     self.vehicle, steer_from=self.steer[e.u],
                                     steer_to=self.steer[e.v])
                 out = self._timed(motion)
@@ -242,9 +247,12 @@ class SearchGraph:
             self._bodies[key] = standing_body(self.vehicle, self.parked_pose(ei))
         return self._bodies[key]
 
-    def _lower_time(self, e: _Edge) -> float:
+    def _lower_time(self, i: int, e: _Edge) -> float:
         if e.kind in ("park", "leave"):
             return float(e.data["duration"].get(self.vehicle.name, 0.0))
+        if e.kind == "turnaround":
+            em = self.motion(i, 0, 0)
+            return em.duration if em is not None else math.inf
         return e.length / e.cap if e.length > 0 else 0.0
 
     # -- static distances ---------------------------------------------------------------------
@@ -461,7 +469,7 @@ def search(sg: SearchGraph, table: ReservationTable, *, owner: str, start: int, 
                 if not out:
                     push(e.v, lvl, t, out, sid, None)
                 continue
-            ends = [0] if e.kind in ("park", "leave") else range(len(sg.levels))
+            ends = [0] if e.kind in AT_REST else range(len(sg.levels))
             variants = [(b, em) for b in ends if (em := sg.motion(ei, lvl, b)) is not None]
             if not variants:
                 continue

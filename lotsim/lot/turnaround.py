@@ -1,0 +1,229 @@
+"""Turnarounds: a multi-point turn from the end of a lane into the opposite lane of its aisle.
+
+Where a two-way aisle ends in a dead end (a cul-de-sac, the closed half of an aisle, a lot
+whose one gate is both the way in and the way out), a car turns back as a driver does in a
+narrow street: forward at full lock towards the far side until the next step would touch
+something, reverse at the other lock (which keeps turning it the same way), and so on, until
+one last forward move — a straight, one arc and a straight along the lane — lands it on the
+opposite lane heading back. The fewest direction changes win, then the shortest path.
+
+Everything is checked for the scenario's design vehicle (the envelope of its types, so every
+type can drive it: its arcs are no tighter than the largest minimum turning radius) grown by
+a safety margin, against every slot (all count as taken), wall, obstacle and no-go area,
+inside the lot boundary; sweeps are checked as hulls of consecutive footprints.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from lotsim.geometry import FloatArray, Pose, Segment, advance, sample_segments
+from lotsim.lot.build import obstacle_polygons
+from lotsim.lot.clearance import Collider
+from lotsim.lot.model import DesignVehicle, Lane, Lot
+
+MARGIN = 0.1
+"""Clearance kept to slots, walls and the boundary during a turnaround [m] (seed 004)."""
+MAX_CHANGES = 8
+"""Most direction changes a turnaround may have."""
+PROBE = 0.25
+"""Spacing of the places along each stroke where the last move onto the lane is tried [m]."""
+CLOSING_RADII = (1.0, 1.25, 1.5, 2.0)
+"""The last move's arc tries these multiples of the design radius."""
+STEP = 0.1
+"""Spacing of the footprints whose hulls cover a stroke when checking it [m]."""
+STARTS = (0.0, 2.0, 4.0, 6.0)
+"""How far before a lane's end a turnaround may begin [m]: a driver who knows the street
+ends starts turning before it does, where the first forward stroke has room."""
+MIN_STROKE = 0.3
+"""Shorter strokes are not worth a stop [m]."""
+GRID = 0.5
+"""Turnarounds end on lane stations that are multiples of this [m], at least ``GRID`` past
+where the last arc meets the lane."""
+
+
+@dataclass(frozen=True, slots=True)
+class Turnaround:
+    """A multi-point turn from ``lane_a`` at ``station_a`` onto ``lane_b`` at ``station_b``.
+
+    ``segments`` are driven in order, each in its own gear (the sign of its distance).
+    """
+
+    lane_a: str
+    station_a: float
+    lane_b: str
+    station_b: float
+    segments: tuple[Segment, ...]
+
+    @property
+    def changes(self) -> int:
+        """Direction changes (cusps)."""
+        gears = [s.gear for s in self.segments]
+        return sum(1 for a, b in zip(gears[:-1], gears[1:], strict=True) if a != b)
+
+
+def turnaround_collider(lot: Lot, margin: float = MARGIN) -> tuple[Collider, DesignVehicle]:
+    """A checker for turnarounds on ``lot``: every slot, area and the boundary (no gates
+    beyond aisle ends: a car turns back inside the lot), and the design vehicle grown by
+    ``margin``."""
+    d = lot.design
+    grown = dataclasses.replace(d, width=d.width + 2 * margin, front=d.front + margin,
+                                rear=d.rear + margin)
+    return Collider(obstacle_polygons(lot.areas, lot.slots), lot.boundary), grown
+
+
+def plan_turnaround(lane: Lane, back: Lane, collider: Collider, body: DesignVehicle,
+                    radius: float) -> Turnaround | str:
+    """A turnaround from the end of ``lane`` onto ``back`` (the opposite lane of the aisle,
+    straight where it begins), for a car whose outline is ``body`` and whose tightest arc
+    has ``radius`` [m]; or why there is none.
+
+    Examples
+    --------
+    >>> from lotsim.lot.model import DesignVehicle
+    >>> from shapely.geometry import box
+    >>> from lotsim.geometry import Segment
+    >>> from lotsim.lot.model import Lane
+    >>> street = box(0, 0, 40, 9)   # a 9 m wide dead-end street, closed at x = 40
+    >>> car = DesignVehicle(1.8, 3.7, 1.0, 4.97, 0.15, 2.0)
+    >>> east = Lane("e", "a", (Segment((0.0, 2.25, 0.0), 36.0, 0.0),), 2.25, True)
+    >>> west = Lane("w", "a", (Segment((36.0, 6.75, math.pi), 36.0, 0.0),), 2.25, False)
+    >>> t = plan_turnaround(east, west, Collider([], street), car, 4.97)
+    >>> t.changes, t.lane_b, t.station_a
+    (2, 'w', 30.0)
+    """
+    seg = back.segments[0]
+    if seg.curvature != 0.0 or seg.sharpness != 0.0:
+        return "the opposite lane bends where it begins"
+    frame = np.array(seg.start)  # local frame: the opposite lane runs along +x from 0
+    found = []
+    for back_off in STARTS:
+        station = lane.length - back_off
+        i, _ = lane.locate(max(station, 0.0))
+        if station < 0 or lane.segments[i].curvature or lane.segments[i].sharpness:
+            break  # the lane bends (or ends) there: start no further back
+        start = _to_local(frame, np.array(lane.pose_at(station)))
+        if start[1] <= 0.0:
+            return "the opposite lane is not on the left"
+        start[2] = math.pi  # heading the other way, up to rounding
+        best = _multipoint(frame, start, seg.length, collider, body, radius)
+        if best is not None:
+            found.append((best[0], best[1], station, best[2]))
+    if not found:
+        return (f"no multi-point turn with up to {MAX_CHANGES} direction changes keeping "
+                f"{MARGIN:g} m clear")
+    _, _, station, local = min(found, key=lambda c: c[:3])
+    segs = tuple(_segment_to_world(frame, x) for x in local)
+    return Turnaround(lane.id, station, back.id, float(local[-1].end[0]), segs)
+
+
+def _multipoint(frame: FloatArray, start: FloatArray, lane_length: float, collider: Collider,
+                body: DesignVehicle, radius: float) -> tuple[int, float, list[Segment]] | None:
+    """The fewest-changes, then shortest, turnaround from local ``start`` onto the line
+    y = 0 heading +x (local frame ``frame``), as ``(changes, length, segments)``."""
+    kmax = 1.0 / radius
+    pose, done = start, []  # strokes so far
+    best = None
+    for k in range(MAX_CHANGES + 1):
+        gear = 1 if k % 2 == 0 else -1
+        kappa = gear * kmax  # forward at left lock, reverse at right lock: turning left
+        left = 2 * math.pi - pose[2]  # heading still to turn
+        extent = _extent(frame, pose, gear, kappa, min(left, math.pi / 2) / kmax, collider, body)
+        probes = np.unique(np.append(np.arange(0.0, extent, PROBE), extent)) if gear > 0 \
+            else np.array([extent])
+        poses = advance(pose, gear * probes, kappa) if len(probes) else np.zeros((0, 3))
+        changes = k + (1 if gear < 0 else 0)
+        for q, s in sorted(zip(poses, probes, strict=True), key=lambda c: c[1]):
+            for path in _closings(q, lane_length, radius):
+                segs = done + ([Segment(tuple(map(float, pose)), gear * float(s), kappa)]
+                               if s > 1e-9 else []) + path
+                if _blocked(frame, path, collider, body):
+                    continue
+                length = sum(x.length for x in segs)
+                if best is None or (changes, length) < best[:2]:
+                    best = (changes, length, segs)
+                break  # the shortest closing from this pose is enough
+        if best is not None and best[0] <= changes:
+            break
+        if left <= 1e-6 or extent < MIN_STROKE and k > 0:
+            break
+        if extent < MIN_STROKE:
+            continue  # no room ahead at the lane's end: begin by reversing
+        stroke = Segment(tuple(map(float, pose)), gear * float(extent), kappa)
+        done.append(stroke)
+        pose = np.array(stroke.end)
+    return best
+
+
+def _closings(q: FloatArray, lane_length: float, radius: float) -> list[list[Segment]]:
+    """Last moves from local pose ``q`` onto the line y = 0 heading +x, driven forward: a
+    straight, a left arc, a straight along the lane to a grid station; shortest first."""
+    x, y, th = (float(v) for v in q)
+    out = []
+    if not math.pi < th < 2 * math.pi - 1e-9:
+        return out
+    sin, cos = math.sin(th), math.cos(th)
+    for f in CLOSING_RADII:
+        r = f * radius
+        d = (r * (1 - cos) - y) / sin  # straight before the arc (sin < 0)
+        if d < -1e-9:
+            continue
+        d = max(d, 0.0)
+        end_x = x + d * cos - r * sin
+        target = math.ceil((end_x + GRID) / GRID - 1e-9) * GRID
+        if end_x < -1e-9 or target > lane_length + 1e-9:
+            continue
+        segs = []
+        p = (x, y, th)
+        if d > 1e-9:
+            segs.append(Segment(p, d, 0.0))
+            p = segs[-1].end
+        segs.append(Segment(p, (2 * math.pi - th) * r, 1.0 / r))
+        p = segs[-1].end
+        segs.append(Segment((p[0], 0.0, 0.0), target - p[0], 0.0))
+        out.append((sum(s.length for s in segs), segs))
+    return [segs for _, segs in sorted(out, key=lambda c: c[0])]
+
+
+def _extent(frame: FloatArray, pose: FloatArray, gear: int, kappa: float, cap: float,
+            collider: Collider, body: DesignVehicle) -> float:
+    """How far a stroke from local ``pose`` runs clear, to :data:`STEP` [m]."""
+    n = max(1, math.ceil(cap / STEP))
+    s = np.linspace(0.0, cap, n + 1)
+    local = advance(pose, gear * s, kappa)
+    bad = collider.blocked(Collider.sweeps(body.footprints(_to_world(frame, local))))
+    first = int(bad.argmax()) if bad.any() else n
+    return float(s[first])
+
+
+def _blocked(frame: FloatArray, segs: list[Segment], collider: Collider,
+             body: DesignVehicle) -> bool:
+    poses, _ = sample_segments(segs, STEP)
+    return bool(collider.blocked(Collider.sweeps(body.footprints(_to_world(frame, poses))))
+                .any())
+
+
+def _to_local(frame: FloatArray, poses: FloatArray) -> FloatArray:
+    p = np.atleast_2d(poses).astype(float)
+    c, s = math.cos(frame[2]), math.sin(frame[2])
+    dx, dy = p[:, 0] - frame[0], p[:, 1] - frame[1]
+    out = np.column_stack([c * dx + s * dy, -s * dx + c * dy,
+                           np.mod(p[:, 2] - frame[2], 2 * math.pi)])
+    return out[0] if np.ndim(poses) == 1 else out
+
+
+def _to_world(frame: FloatArray, poses: FloatArray) -> FloatArray:
+    p = np.atleast_2d(poses)
+    c, s = math.cos(frame[2]), math.sin(frame[2])
+    return np.column_stack([frame[0] + c * p[:, 0] - s * p[:, 1],
+                            frame[1] + s * p[:, 0] + c * p[:, 1], p[:, 2] + frame[2]])
+
+
+def _segment_to_world(frame: FloatArray, seg: Segment) -> Segment:
+    x, y, t = _to_world(frame, np.array(seg.start))[0]
+    pose: Pose = (float(x), float(y), float(math.remainder(t, 2 * math.pi)))
+    return Segment(pose, seg.distance, seg.curvature, seg.sharpness)
