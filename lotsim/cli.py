@@ -192,13 +192,16 @@ def _cars() -> int:
 
 def _validate(paths: Sequence[str], *, strict: bool) -> int:
     from lotsim.io.scenario import load_scenario
-    from lotsim.sim import prepare
+    from lotsim.sim import check_traffic, prepare
+    from lotsim.traffic import arrivals
 
     worst = EXIT_OK
     for path in paths:
         try:
             scenario = load_scenario(path)
             lg = prepare(scenario)
+            # what `lotsim run` would refuse, validate refuses too
+            check_traffic(lg, arrivals(scenario.traffic, scenario.seed))
         except ScenarioError as exc:
             print(f"lotsim: {exc}", file=sys.stderr)
             worst = EXIT_BAD_INPUT
@@ -228,16 +231,25 @@ def _summary(path, scenario, lg, reach) -> str:  # noqa: ANN001
         f"  entrances: {', '.join(lg.entrances) or 'none'}; "
         f"exits: {', '.join(lg.exits) or 'none (vehicles cannot leave)'}",
     ]
-    bad = {k: v for k, v in reach.unreachable.items() if v}
-    stranded = {k: v for k, v in reach.stranded.items() if v}
-    if not bad and not stranded:
+    if reach.ok:
         lines.append("  unreachable: none")
-    for name, slots in bad.items():
-        lines.append(f"  warning: from entrance {name!r}, {len(slots)} free slots cannot be "
-                     f"reached: {_ids(slots)}")
-    for name, slots in stranded.items():
-        lines.append(f"  warning: exit {name!r} cannot be reached from {len(slots)} slots: "
-                     f"{_ids(slots)}")
+    if reach.no_way_in:
+        lines.append(f"  warning: {len(reach.no_way_in)} free slots cannot be reached from "
+                     f"any entrance: {_ids(reach.no_way_in)}")
+    if reach.no_way_out:
+        lines.append(f"  warning: from {len(reach.no_way_out)} free slots no exit can be "
+                     f"reached: {_ids(reach.no_way_out)}")
+    # with several gates, what each one serves (every slot may still be served by some)
+    if len(reach.unreachable) > 1:
+        for name, slots in reach.unreachable.items():
+            if slots and len(slots) > len(reach.no_way_in):
+                lines.append(f"  note: from entrance {name!r}, {len(slots)} free slots cannot "
+                             f"be reached: {_ids(slots)}")
+    if len(reach.stranded) > 1:
+        for name, slots in reach.stranded.items():
+            if slots:
+                lines.append(f"  note: exit {name!r} cannot be reached from {len(slots)} "
+                             f"slots: {_ids(slots)}")
     planner = lg.maneuver_planner
     if planner is not None:
         edges = sum(len(d["maneuvers"]) for _, _, d in lg.graph.edges(data=True)

@@ -327,8 +327,12 @@ class _Simulation:
             if v.done:
                 continue
             if t > self.end_time:
-                # a parked car that has not left yet is still parked (no reason: it is fine)
-                if v.status == "parked":
+                # a parked car that has not left yet is still parked (no reason: it is fine),
+                # unless it should have left and could not: it is waiting to get out
+                if v.status == "parked" and v.reason.startswith("could not leave"):
+                    self.finish(v, "waiting", f"{v.reason} when the run ended at "
+                                              f"{self.end_time:.0f} s")
+                elif v.status == "parked":
                     self.finish(v, "parked")
                 else:
                     self.finish(v, "waiting", f"the run ended at {self.end_time:.0f} s first")

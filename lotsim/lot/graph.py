@@ -42,7 +42,7 @@ from lotsim.geometry import Segment, cc_polyline, cc_turn, sample_segments, wrap
 from lotsim.lot.build import SWEEP_STEP, lane_collider
 from lotsim.lot.clearance import Collider
 from lotsim.lot.model import Lane, Lot, Portal, Slot, unit
-from lotsim.lot.turnaround import Turnaround, plan_turnaround, turnaround_collider
+from lotsim.lot.turnaround import Turnaround, plan_turnarounds, turnaround_collider
 
 TURN_SPEEDS = tuple(k / 3.6 for k in (15.0, 12.5, 10.0, 7.5, 5.0, 3.0, 1.5))
 """Design speeds junction turns try, fastest first [m/s]: a turn for speed ``v`` has an arc
@@ -69,15 +69,20 @@ class Reachability:
 
     ``unreachable[entrance]`` lists the free slots that cannot be reached from
     that entrance; ``stranded[exit]`` the free slots from which that exit cannot
-    be reached. Both are empty in a good lot.
+    be reached (a lot with several gates may serve each slot from some of them).
+    ``no_way_in`` lists the free slots no entrance reaches; ``no_way_out`` those
+    that can be parked in only from where no exit can be reached (empty when
+    the lot has no exits). The lot is good (``ok``) when both are empty.
     """
 
     unreachable: dict[str, list[str]]
     stranded: dict[str, list[str]]
+    no_way_in: list[str] = field(default_factory=list)
+    no_way_out: list[str] = field(default_factory=list)
 
     @property
     def ok(self) -> bool:
-        return not any(self.unreachable.values()) and not any(self.stranded.values())
+        return not self.no_way_in and not self.no_way_out
 
 
 @dataclass
@@ -156,9 +161,10 @@ class LotGraph:
         return out
 
     def reachability(self) -> Reachability:
-        """Free slots unreachable from each entrance, and free slots that cannot reach each
-        exit (driving lanes only, into the slot or out of it at the end). Cars parked at
-        start never move, so taken slots are not listed."""
+        """Free slots unreachable from each entrance, free slots that cannot reach each
+        exit, and free slots that no entrance reaches or that can be parked in only where no
+        exit can be reached (driving lanes, turns, joins and turnarounds, into the slot or out
+        of it at the end). Cars parked at start never move, so taken slots are not listed."""
         g = self.graph
         free = [s.id for s in self.lot.free_slots]
         lanes = self._lanes()
@@ -170,7 +176,11 @@ class LotGraph:
                        for name, node in self.entrances.items()}
         stranded = {name: missing(nx.ancestors(lanes, node) | {node}, g.successors)
                     for name, node in self.exits.items()}
-        return Reachability(unreachable, stranded)
+        come, go = self._lane_reach()
+        no_way_in = missing(come, g.predecessors)
+        # a car leaves by the way it came in (the leave edge ends where the park edge began)
+        no_way_out = [sid for sid in missing(come & go, g.predecessors) if sid not in no_way_in]
+        return Reachability(unreachable, stranded, no_way_in, no_way_out)
 
 
 def build_graph(lot: Lot, *, node_spacing: float = 4.0, maneuvers=None,  # noqa: ANN001
@@ -465,13 +475,13 @@ def _turnarounds_of(lot: Lot, turns: list[Turn], joins: list[tuple[str, str]],
             for lane, back in (aisle.lanes, aisle.lanes[::-1]):
                 if lane.id in joined or last[lane.id] >= lane.length - DEAD_END:
                     continue
-                t = plan_turnaround(lane, back, collider, body, lot.design.min_radius)
+                t = plan_turnarounds(lane, back, collider, body, lot.design.min_radius)
                 if isinstance(t, str):
                     x, y, _ = lane.pose_at(lane.length)
                     notes.append(f"dead end of lane {lane.id} at ({x:.1f}, {y:.1f}): no "
                                  f"turnaround: {t}")
                 else:
-                    found.append(t)
+                    found += t
         _BACKS[lot] = (found, notes)
     found, notes = _BACKS[lot]
     return list(found), list(notes)

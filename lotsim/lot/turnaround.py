@@ -77,10 +77,11 @@ def turnaround_collider(lot: Lot, margin: float = MARGIN) -> tuple[Collider, Des
 
 
 def plan_turnaround(lane: Lane, back: Lane, collider: Collider, body: DesignVehicle,
-                    radius: float) -> Turnaround | str:
+                    radius: float, *, starts: tuple[float, ...] = ()) -> Turnaround | str:
     """A turnaround from the end of ``lane`` onto ``back`` (the opposite lane of the aisle,
     straight where it begins), for a car whose outline is ``body`` and whose tightest arc
-    has ``radius`` [m]; or why there is none.
+    has ``radius`` [m], beginning :data:`STARTS` (or ``starts``) metres before the lane's
+    end; or why there is none.
 
     Examples
     --------
@@ -101,7 +102,7 @@ def plan_turnaround(lane: Lane, back: Lane, collider: Collider, body: DesignVehi
         return "the opposite lane bends where it begins"
     frame = np.array(seg.start)  # local frame: the opposite lane runs along +x from 0
     found = []
-    for back_off in STARTS:
+    for back_off in starts or STARTS:
         station = lane.length - back_off
         i, _ = lane.locate(max(station, 0.0))
         if station < 0 or lane.segments[i].curvature or lane.segments[i].sharpness:
@@ -119,6 +120,25 @@ def plan_turnaround(lane: Lane, back: Lane, collider: Collider, body: DesignVehi
     _, _, station, local = min(found, key=lambda c: c[:3])
     segs = tuple(_segment_to_world(frame, x) for x in local)
     return Turnaround(lane.id, station, back.id, float(local[-1].end[0]), segs)
+
+
+def plan_turnarounds(lane: Lane, back: Lane, collider: Collider, body: DesignVehicle,
+                     radius: float) -> list[Turnaround] | str:
+    """The best turnaround at the end of ``lane`` (:func:`plan_turnaround`) and, when that
+    begins before the lane's last stretch, the best one that begins last: a car that parks
+    or comes out of a slot past the first's start must still be able to turn."""
+    best = plan_turnaround(lane, back, collider, body, radius)
+    if isinstance(best, str):
+        return best
+    out = [best]
+    for k in range(len(STARTS)):
+        if lane.length - STARTS[k] <= best.station_a + 1e-9:
+            break
+        last = plan_turnaround(lane, back, collider, body, radius, starts=STARTS[k : k + 1])
+        if not isinstance(last, str):
+            out.append(last)
+            break
+    return out
 
 
 def _multipoint(frame: FloatArray, start: FloatArray, lane_length: float, collider: Collider,

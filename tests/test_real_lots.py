@@ -1,0 +1,126 @@
+"""Lots laid out the way real ones are: corner bays right at the junctions, dead ends, one
+gate for in and out. Every free slot is reachable and can be left, `validate --strict` and
+`run` agree, and every run passes the independent checker and the vehicle model."""
+
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+import shapely
+
+from lotsim.check import check_result
+from lotsim.cli import main
+from lotsim.io.result import result_dict
+from lotsim.io.scenario import load_scenario
+from lotsim.planners.cooperative import SearchGraph
+from lotsim.sim import prepare, run
+from single_track import assert_reproduced
+
+LOTS = Path(__file__).resolve().parents[1] / "scenarios" / "lots"
+FAST = ("culdesac", "ladder", "ring")
+
+
+@pytest.fixture(scope="module")
+def lots():
+    out = {}
+    for name in FAST:
+        sc = load_scenario(LOTS / f"{name}.yaml")
+        out[name] = (sc, prepare(sc))
+    return out
+
+
+def _run_checked(sc, lg):
+    rr = run(sc, lot_graph=lg)
+    doc = result_dict(rr)
+    report = check_result(doc)
+    assert report.ok, [v.message for v in report.violations[:5]]
+    assert_reproduced(doc)
+    return rr, doc
+
+
+def _turnaround_users(rr, lg):
+    graphs = {}
+    n = 0
+    for v in rr.vehicles:
+        sg = graphs.setdefault(v.vehicle.name, SearchGraph(lg, v.vehicle))
+        n += any(sg.edges[m.edge].kind == "turnaround" for m in v.moves if m.edge is not None)
+    return n
+
+
+@pytest.mark.parametrize("name", FAST)
+def test_every_free_slot_is_reachable_usable_and_left_again(lots, name):
+    sc, lg = lots[name]
+    reach = lg.reachability()
+    assert reach.ok and not reach.no_way_in and not reach.no_way_out, reach
+    assert not any(lg.infeasible.values()), lg.infeasible
+    rr, doc = _run_checked(sc, lg)
+    # every car came in, parked, and left again by the one gate or the exit
+    assert {v["status"] for v in doc["vehicles"]} == {"departed"}
+
+
+def test_a_cul_de_sac_is_left_by_a_multi_point_turn_at_its_closed_end(lots):
+    sc, lg = lots["culdesac"]
+    g = lg.graph
+    backs = [(u, v, d) for u, v, d in g.edges(data=True) if d["kind"] == "turnaround"]
+    assert backs
+    for u, v, d in backs:
+        assert g.nodes[u]["lane"] == "a>" and g.nodes[v]["lane"] == "a<"
+        path = d["path"]
+        # forward and back, full lock at most, turning the car round
+        assert {s.gear for s in path} == {1, -1}
+        assert max(s.max_curvature for s in path) <= 1 / lg.lot.design.min_radius + 1e-9
+        turned = math.remainder(path[-1].end[2] - path[0].start[2], math.tau)
+        assert abs(turned) == pytest.approx(math.pi)
+        # independently of the planner's checker: shapely, the margin, the lot boundary
+        poses = np.concatenate([s.sample(0.05) for s in path])
+        bodies = shapely.polygons(lg.lot.design.footprints(poses))
+        assert shapely.covers(lg.lot.boundary.buffer(-0.099), bodies).all()
+        slots = shapely.union_all([s.shape for s in lg.lot.slots])
+        assert shapely.distance(bodies, slots).min() >= 0.099
+    # the gate is at the open end, so every car that parks past the gate's lane turns round
+    rr = run(sc, lot_graph=lg)
+    assert _turnaround_users(rr, lg) > 0
+
+
+def test_a_right_turn_past_a_corner_bay_swings_wide_across_the_junction(lots):
+    _, lg = lots["ladder"]
+    g, lot = lg.graph, lg.lot
+    slots = shapely.union_all([s.shape for s in lot.slots])
+    wide = 0
+    for u, v, d in g.edges(data=True):
+        if d["kind"] != "turn":
+            continue
+        poses = np.concatenate([s.sample(0.05) for s in d["path"]])
+        bodies = shapely.polygons(lot.design.footprints(poses))
+        assert not shapely.intersects(bodies, slots).any()  # clear of every bay (shapely)
+        # a turn whose car leaves the lane's line sideways before turning swings wide
+        a, b = g.nodes[u], g.nodes[v]
+        left = math.remainder(b["pose"][2] - a["pose"][2], math.tau) > 0
+        lateral = (poses[:, :2] - a["pose"][:2]) @ np.array(
+            [-math.sin(a["pose"][2]), math.cos(a["pose"][2])])
+        ahead = (poses[:, :2] - a["pose"][:2]) @ np.array(
+            [math.cos(a["pose"][2]), math.sin(a["pose"][2])])
+        early = ahead < 3.0
+        if not left and lateral[early].max() > 0.5:
+            wide += 1
+    assert wide >= 4, wide  # the right turns at the corner bays of both cross aisles
+
+
+def test_validate_strict_and_run_agree_on_a_real_lot(tmp_path, capsys):
+    path = LOTS / "culdesac.yaml"
+    assert main(["validate", "--strict", str(path)]) == 0
+    assert "unreachable: none" in capsys.readouterr().out
+    assert main(["run", str(path), "-o", str(tmp_path), "--no-gif"]) == 0
+
+
+@pytest.mark.slow
+def test_a_gate_spur_lot_with_dead_end_halves_serves_every_slot():
+    sc = load_scenario(LOTS / "gate_spur.yaml")
+    lg = prepare(sc)
+    reach = lg.reachability()
+    assert reach.ok, reach
+    assert not any(lg.infeasible.values())
+    rr, doc = _run_checked(sc, lg)
+    assert {v["status"] for v in doc["vehicles"]} == {"departed"}
+    assert _turnaround_users(rr, lg) > 0
