@@ -201,7 +201,8 @@ def _validate(paths: Sequence[str], *, strict: bool) -> int:
             scenario = load_scenario(path)
             lg = prepare(scenario)
             # what `lotsim run` would refuse, validate refuses too
-            check_traffic(lg, arrivals(scenario.traffic, scenario.seed))
+            if scenario.traffic is not None:
+                check_traffic(lg, arrivals(scenario.traffic, scenario.seed))
         except ScenarioError as exc:
             print(f"lotsim: {exc}", file=sys.stderr)
             worst = EXIT_BAD_INPUT

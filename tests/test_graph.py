@@ -181,7 +181,9 @@ def test_unreachable_slots_are_reported_not_dropped(tmp_path, capsys):
     path.write_text(DISCONNECTED)
     assert main(["validate", str(path)]) == 0
     out = capsys.readouterr().out
-    assert "3 free slots cannot be reached: B1, B2, B3" in out
+    assert "3 free slots cannot be reached from any entrance: B1, B2, B3" in out
+    assert "from 3 free slots no exit can be reached: A1, A2, A3" in out
+    assert (reach.no_way_in, reach.no_way_out) == (["B1", "B2", "B3"], ["A1", "A2", "A3"])
     assert main(["validate", "--strict", str(path)]) == 1
 
 
