@@ -27,6 +27,7 @@ from lotsim.planners.cooperative import (
     SearchGraph,
     Status,
     reserve_moves,
+    same_pose,
     search,
 )
 from lotsim.planners.maneuver import MARGIN, ManeuverPlanner, plan_lot
@@ -423,20 +424,37 @@ class _Simulation:
         return sorted(usable, key=lambda s: (math.dist((x, y), slots[s].center), s))
 
     def slot_times(self, gate: str, vname: str, leaving: bool) -> dict[str, float]:
-        """Static time [s] from entrance ``gate`` into each slot a ``vname`` can use (and,
-        if ``leaving``, leave again for an exit)."""
+        """Static time [s] from entrance ``gate`` into each slot a ``vname`` can use and, if
+        ``leaving``, out of it again (by any way out from the pose it parks on) to the
+        nearest exit: a car that will leave counts the way out as well as the way in."""
         key = (gate, vname, leaving)
         if key not in self._slot_times:
             sg = self.graphs[vname]
             dist = sg.forward_times(self.lg.entrances[gate])
+            to_exit = (sg.reverse_search({n: 0.0 for n in self.lg.exits.values()})
+                       if leaving else None)
             out: dict[str, float] = {}
-            for e in sg.edges:
+            for i, e in enumerate(sg.edges):
                 if e.kind == "park" and e.u in dist and (not leaving or e.u in self.leave):
                     sid = self.lg.graph.nodes[e.v]["slot"]
                     tt = dist[e.u] + e.data["duration"][vname]
+                    if to_exit is not None:
+                        tt += self._way_out(sg, i, to_exit)
                     out[sid] = min(out.get(sid, math.inf), tt)
             self._slot_times[key] = out
         return self._slot_times[key]
+
+    @staticmethod
+    def _way_out(sg: SearchGraph, park: int, to_exit) -> float:  # noqa: ANN001
+        """Static time [s] from the pose park edge ``park`` leaves the car on, by a leave
+        edge that begins there, to the nearest exit."""
+        pose = sg.parked_pose(park)
+        best = math.inf
+        for j in sg.out[sg.edges[park].v]:
+            e = sg.edges[j]
+            if e.kind == "leave" and same_pose(sg.parked_pose(j), pose):
+                best = min(best, e.data["duration"][sg.vehicle.name] + to_exit(e.v))
+        return best
 
     # -- planning -----------------------------------------------------------------------------
     def plan(self, v: VehicleRun, sg: SearchGraph, *, key: tuple[str, str], **kw) -> Plan:  # noqa: ANN003

@@ -459,7 +459,7 @@ def search(sg: SearchGraph, table: ReservationTable, *, owner: str, start: int, 
                           steer=sg.steer[node]))
         for ei in sg.out[node]:
             e = sg.edges[ei]
-            if e.kind == "leave" and (node != start or out or not _same_pose(
+            if e.kind == "leave" and (node != start or out or not same_pose(
                     sg.parked_pose(ei), start_pose)):
                 continue
             if e.kind == "park" and (e.v != goal.slot or (
@@ -502,8 +502,9 @@ def _plan(status: Status, sid: int, parent: list[tuple[int, Move | None]],
     return Plan(status, moves, expansions)
 
 
-def _same_pose(a: tuple[float, float, float] | None, b: tuple[float, float, float] | None
-               ) -> bool:
+def same_pose(a: tuple[float, float, float] | None, b: tuple[float, float, float] | None
+              ) -> bool:
+    """Whether two poses are one (a micrometre, a microradian); two Nones are too."""
     if a is None or b is None:
         return a is b
     return math.dist(a[:2], b[:2]) < 1e-6 and abs(math.remainder(a[2] - b[2], math.tau)) < 1e-6

@@ -440,6 +440,7 @@ class ManeuverPlanner:
             else lot.boundary
         self._index = {s.id: k for k, s in enumerate(lot.slots)}
         self._cache: dict[bytes, tuple[tuple[Segment, ...], float] | str] = {}
+        self._raw: dict[bytes, tuple[tuple[Segment, ...], float] | str] = {}  # not eased
         self.stats = {"planned": 0, "reused": 0}
 
     @property
@@ -459,8 +460,13 @@ class ManeuverPlanner:
                 if lane_serves(lane, lane.project((float(mid[0]), float(mid[1])))[0], slot)]
 
     def solve(self, vehicle: VehicleType, slot: Slot, lane: Lane, *,
-              style: str = "any") -> ManeuverResult:
+              style: str = "any", eased: bool = True) -> ManeuverResult:
         """Search for the parking maneuver into ``slot`` starting on ``lane``.
+
+        With ``eased`` (the default) its curvature jumps inside strokes are smoothed where
+        that stays clear (the car steers as it rolls; the parked pose moves by at most
+        :attr:`ManeuverSettings.ease_drift`); without, the car stops to steer at every jump
+        and parks exactly centred.
 
         Returns
         -------
@@ -498,13 +504,15 @@ class ManeuverPlanner:
         key = self._key(problem, style)
         hit = self._cache.get(key)
         if hit is None:
-            hit = self._solve(problem, style)
-            if not isinstance(hit, str):
-                hit = (self._eased(problem, hit[0]), hit[1])
+            raw = self._solve(problem, style)
+            hit = raw if isinstance(raw, str) else (self._eased(problem, raw[0]), raw[1])
             self._cache[key] = hit
+            self._raw[key] = raw
             self.stats["planned"] += 1
         else:
             self.stats["reused"] += 1
+        if not eased:
+            hit = self._raw[key]
         if isinstance(hit, str):
             return ManeuverResult(ManeuverStatus.INFEASIBLE, reason=hit)
         local, x0 = hit
@@ -552,7 +560,10 @@ class ManeuverPlanner:
         """Maneuvers into ``slot`` from every lane that has one, and, when none has, why
         (each lane's reason, once; empty when some lane has one)."""
         out, reasons = {}, []
-        for lane in self.lanes_for(slot):
+        lanes = self.lanes_for(slot)
+        if style == "any" and len(lanes) > 1 and slot.kind != "parallel":
+            return self._solve_common(vehicle, slot, lanes)
+        for lane in lanes:
             result = self.solve(vehicle, slot, lane, style=style)
             if result.ok:
                 out[lane.id] = result.maneuver
@@ -561,6 +572,43 @@ class ManeuverPlanner:
         if out:
             return out, ""
         return out, "; ".join(dict.fromkeys(reasons)) or "no lane of its aisle leads to it"
+
+    def _solve_common(self, vehicle: VehicleType, slot: Slot, lanes: list[Lane]
+                      ) -> tuple[dict[str, Maneuver], str]:
+        """:meth:`solve_all` for a slot served by several lanes: nose-in from every lane, or
+        backed in from every lane, whichever costs fewer direction changes (then less path)
+        on the worst lane — so the car, parked on the same pose whichever lane it came by,
+        can leave towards any of them (eased only where all the eased paths still end on
+        one pose); each lane's own best when no way of parking serves them all."""
+        tried = {st: [self.solve(vehicle, slot, lane, style=st) for lane in lanes]
+                 for st in ("forward", "reverse")}
+
+        def cost(results: list[ManeuverResult]) -> tuple[int, float]:
+            ms = [r.maneuver for r in results]
+            return max(m.changes for m in ms), sum(m.length for m in ms)
+
+        common = [st for st, results in tried.items() if all(r.ok for r in results)]
+        if common:
+            st = min(common, key=lambda k: cost(tried[k]))
+            found = [r.maneuver for r in tried[st]]
+            if any(not _same_end(m, found[0]) for m in found):
+                # eased paths park a few millimetres apart: drive them as planned, stopping
+                # to steer, so that all end on the one parked pose — unless that has the car
+                # creep from stop to stop
+                plain = [self.solve(vehicle, slot, lane, style=st, eased=False).maneuver
+                         for lane in lanes]
+                if min(_shortest_run(m.segments) for m in plain) >= self.settings.min_stroke:
+                    found = plain
+            return {lane.id: m for lane, m in zip(lanes, found, strict=True)}, ""
+        out, reasons = {}, []
+        for k, lane in enumerate(lanes):
+            found = [tried[st][k].maneuver for st in tried if tried[st][k].ok]
+            if found:
+                out[lane.id] = min(found, key=lambda m: (m.changes, m.length))
+            reasons += [tried[st][k].reason for st in tried if not tried[st][k].ok]
+        if out:
+            return out, ""
+        return out, "; ".join(dict.fromkeys(reasons))
 
     # -- problem set-up -----------------------------------------------------------------------
     def _problem(self, vehicle: VehicleType, slot: Slot, lane: Lane) -> _Problem:
@@ -870,6 +918,25 @@ class ManeuverPlanner:
         bad = p.bodies_blocked(pairs).reshape(len(poses), n)
         first = np.where(bad.any(axis=1), bad.argmax(axis=1), n)
         return s[first]
+
+
+def _shortest_run(segments: Sequence[Segment]) -> float:
+    """The shortest stretch [m] a car drives between two stops on ``segments``: it stops at
+    every cusp and wherever the curvature jumps (to steer standing)."""
+    runs, run = [], 0.0
+    for k, seg in enumerate(segments):
+        if k and (seg.gear != segments[k - 1].gear
+                  or abs(seg.curvature - segments[k - 1].end_curvature) > 1e-9):
+            runs.append(run)
+            run = 0.0
+        run += seg.length
+    return min([*runs, run])
+
+
+def _same_end(a: Maneuver, b: Maneuver) -> bool:
+    """Whether two parking maneuvers leave the car on the same pose (to a micrometre)."""
+    return (math.dist(a.end[:2], b.end[:2]) < 1e-6
+            and abs(float(wrap_angle(a.end[2] - b.end[2]))) < 1e-6)
 
 
 def _straighten(vehicle: VehicleType, frame: SlotFrame, strokes: list[Segment]) -> list[Segment]:
