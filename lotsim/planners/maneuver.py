@@ -576,10 +576,10 @@ class ManeuverPlanner:
     def _solve_common(self, vehicle: VehicleType, slot: Slot, lanes: list[Lane]
                       ) -> tuple[dict[str, Maneuver], str]:
         """:meth:`solve_all` for a slot served by several lanes: nose-in from every lane, or
-        backed in from every lane, whichever costs fewer direction changes (then less path)
-        on the worst lane — so the car, parked on the same pose whichever lane it came by,
-        can leave towards any of them (eased only where all the eased paths still end on
-        one pose); each lane's own best when no way of parking serves them all."""
+        backed in from every lane — whichever costs fewer direction changes (then less path)
+        on the worst lane and parks the car on the one pose from every lane — so the car
+        can leave towards any of them; each lane's own best when no way of parking serves
+        them all."""
         tried = {st: [self.solve(vehicle, slot, lane, style=st) for lane in lanes]
                  for st in ("forward", "reverse")}
 
@@ -588,18 +588,20 @@ class ManeuverPlanner:
             return max(m.changes for m in ms), sum(m.length for m in ms)
 
         common = [st for st, results in tried.items() if all(r.ok for r in results)]
-        if common:
-            st = min(common, key=lambda k: cost(tried[k]))
-            found = [r.maneuver for r in tried[st]]
-            if any(not _same_end(m, found[0]) for m in found):
-                # eased paths park a few millimetres apart: drive them as planned, stopping
-                # to steer, so that all end on the one parked pose — unless that has the car
-                # creep from stop to stop
-                plain = [self.solve(vehicle, slot, lane, style=st, eased=False).maneuver
-                         for lane in lanes]
-                if min(_shortest_run(m.segments) for m in plain) >= self.settings.min_stroke:
-                    found = plain
-            return {lane.id: m for lane, m in zip(lanes, found, strict=True)}, ""
+        for st in sorted(common, key=lambda k: cost(tried[k])):
+            found = []
+            for lane, r in zip(lanes, tried[st], strict=True):
+                # an eased path may park a few millimetres off the planned pose (when no
+                # straights could take the drift up): drive that lane's path as planned,
+                # stopping to steer, unless that has the car creep from stop to stop
+                plain = self.solve(vehicle, slot, lane, style=st, eased=False).maneuver
+                if _same_end(r.maneuver, plain):
+                    found.append(r.maneuver)
+                elif _shortest_run(plain.segments) >= self.settings.min_stroke:
+                    found.append(plain)
+            if len(found) == len(lanes):
+                return {lane.id: m for lane, m in zip(lanes, found, strict=True)}, ""
+        # no one way of parking serves every lane: each lane's best (left the way it came in)
         out, reasons = {}, []
         for k, lane in enumerate(lanes):
             found = [tried[st][k].maneuver for st in tried if tried[st][k].ok]
@@ -694,11 +696,15 @@ class ManeuverPlanner:
             if (math.dist(end[:2], was[:2]) > self.settings.ease_drift
                     or abs(wrap_angle(end[2] - was[2])) > 1e-9):
                 continue
-            if p.paths_blocked([eased])[0]:
-                continue
-            body = Polygon(p.vehicle.footprints(p.frame.poses_to_world(end))[0])
-            if p.slot.shape.buffer(1e-9).covers(body):
-                return eased
+            # the first straight (along the lane) and the last (into the slot) take up the
+            # drift, so the car parks exactly where planned, whichever lane it came by
+            for path in (_anchored(eased, was), eased):
+                if path is None or p.paths_blocked([path])[0]:
+                    continue
+                body = Polygon(p.vehicle.footprints(p.frame.poses_to_world(
+                    np.array(path[-1].end)))[0])
+                if p.slot.shape.buffer(1e-9).covers(body):
+                    return path
         return local
 
     # -- solving ------------------------------------------------------------------------------
@@ -918,6 +924,35 @@ class ManeuverPlanner:
         bad = p.bodies_blocked(pairs).reshape(len(poses), n)
         first = np.where(bad.any(axis=1), bad.argmax(axis=1), n)
         return s[first]
+
+
+def _anchored(segments: Sequence[Segment], target: FloatArray) -> tuple[Segment, ...] | None:
+    """``segments`` with two of its straights lengthened or shortened (the pair most nearly
+    at right angles; what follows each moves with it) so that it ends exactly on ``target``
+    (same heading, a few centimetres off); None when there is no such pair, or a straight
+    would get shorter than 5 cm."""
+    straights = [k for k, x in enumerate(segments) if x.curvature == 0.0 and x.sharpness == 0.0]
+    pairs = [(abs(math.sin(segments[i].start[2] - segments[j].start[2])), i, j)
+             for i, j in itertools.combinations(straights, 2)]
+    if not pairs or max(pairs)[0] < 0.3:
+        return None
+    _, i, j = max(pairs)
+    miss = np.asarray(target[:2], dtype=float) - np.asarray(segments[-1].end[:2], dtype=float)
+    # miss = a * gi * u(θi) + b * gj * u(θj)
+    m = np.column_stack([segments[i].gear * unit(segments[i].start[2]),
+                         segments[j].gear * unit(segments[j].start[2])])
+    a, b = np.linalg.solve(m, miss)
+    lengths = [x.length for x in segments]
+    lengths[i] += float(a)
+    lengths[j] += float(b)
+    if min(lengths[i], lengths[j]) < 0.05:
+        return None
+    out, pose = [], segments[0].start
+    for x, length in zip(segments, lengths, strict=True):
+        seg = Segment(pose, x.gear * length, x.curvature, x.sharpness)
+        out.append(seg)
+        pose = seg.end
+    return tuple(out)
 
 
 def _shortest_run(segments: Sequence[Segment]) -> float:
