@@ -124,3 +124,47 @@ def test_a_gate_spur_lot_with_dead_end_halves_serves_every_slot():
     rr, doc = _run_checked(sc, lg)
     assert {v["status"] for v in doc["vehicles"]} == {"departed"}
     assert _turnaround_users(rr, lg) > 0
+
+
+STREET = """
+name: two-gates
+lot:
+  boundary: [[0, 0], [80, 0], [80, 17], [0, 17]]
+  aisles:
+    - {id: a, centerline: [[0, 8.5], [80, 8.5]], width: 7.0}
+  rows:
+    - {aisle: a, side: right, kind: perpendicular, count: 24, slot_width: 2.5,
+       slot_length: 5.0, start: 10, id_prefix: S}
+    - {aisle: a, side: left, kind: perpendicular, count: 24, slot_width: 2.5,
+       slot_length: 5.0, start: 10, id_prefix: N}
+  entrances:
+    - {id: w-in, x: 2.0, y: 6.75, heading_deg: 0}
+    - {id: e-in, x: 78.0, y: 10.25, heading_deg: 180}
+  exits:
+    - {id: w-out, x: 5.0, y: 10.25, heading_deg: 180}
+    - {id: e-out, x: 75.0, y: 6.75, heading_deg: 0}
+traffic:
+  stream: {count: 16, rate_per_hour: 240, dwell: [60, 240]}
+"""
+
+
+def test_a_car_parks_on_one_pose_from_either_lane_and_leaves_by_the_nearer_gate(tmp_path):
+    from conftest import scenario_from_text
+
+    sc = scenario_from_text(STREET)
+    lg = prepare(sc)
+    g = lg.graph
+    for slot in lg.lot.slots:
+        ends = {tuple(np.round(d["maneuvers"]["valet"].end, 6))
+                for _, _, d in g.in_edges(lg.slot_nodes[slot.id], data=True)}
+        assert len(ends) == 1, slot.id  # from both lanes: one parked pose
+        lanes = {g.nodes[v]["lane"] for v in g.successors(lg.slot_nodes[slot.id])}
+        assert lanes == {"a>", "a<"}, slot.id  # and out towards either
+    rr, doc = _run_checked(sc, lg)
+    gates = {name: g.nodes[n]["pose"][:2] for name, n in lg.exits.items()}
+    for v in rr.vehicles:
+        assert v.status == "departed"
+        used = g.nodes[v.moves[-1].node_to]["exit"]
+        centre = lg.lot.slot_by_id[v.slot].center
+        nearest = min(math.dist(p, centre) for p in gates.values())
+        assert math.dist(gates[used], centre) <= nearest + 10.0, (v.id, v.slot, used)
