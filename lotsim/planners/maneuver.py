@@ -83,6 +83,8 @@ EASE_RAMPS = (3.0, 2.2, 1.6, 1.1, 0.7, 0.4)
 """Lengths of path over which a maneuver's curvature jumps are smoothed, longest first [m]:
 a longer ramp is driven faster (the steering rate caps ``v`` at ``φ̇ / (σ b)``) but moves
 the path further from the planned one."""
+CREEP = 0.1
+"""Shortest straight a closing move may begin with [m] (none at all is fine)."""
 EASE_DRIFT = 0.03
 """Farthest an eased maneuver may end from the planned parked pose [m] (the clothoid
 ramps that let the car steer as it rolls shift the path by a few millimetres each)."""
@@ -538,30 +540,36 @@ class ManeuverPlanner:
 
     def best(self, vehicle: VehicleType, slot: Slot, *, style: str = "any") -> Maneuver:
         """The best maneuver into ``slot`` over its lanes: fewest changes, then shortest."""
-        return min(self.plan_all(vehicle, slot, style=style).values(),
+        return min(self.plan_all(vehicle, slot, style=style, shared=False).values(),
                    key=lambda m: (m.changes, m.length))
 
-    def plan_all(self, vehicle: VehicleType, slot: Slot, *,
-                 style: str = "any") -> dict[str, Maneuver]:
-        """Maneuvers into ``slot`` from every lane that has one (lane id → Maneuver).
+    def plan_all(self, vehicle: VehicleType, slot: Slot, *, style: str = "any",
+                 shared: bool = True) -> dict[str, Maneuver]:
+        """Maneuvers into ``slot`` from every lane that has one (lane id → Maneuver)
+        (:meth:`solve_all`).
 
         Raises
         ------
         InfeasibleManeuver
             When no lane has one; the message gives each lane's reason.
         """
-        out, why = self.solve_all(vehicle, slot, style=style)
+        out, why = self.solve_all(vehicle, slot, style=style, shared=shared)
         if not out:
             raise InfeasibleManeuver(f"{vehicle.name} cannot park in slot {slot.id!r}: {why}")
         return out
 
-    def solve_all(self, vehicle: VehicleType, slot: Slot, *,
-                  style: str = "any") -> tuple[dict[str, Maneuver], str]:
+    def solve_all(self, vehicle: VehicleType, slot: Slot, *, style: str = "any",
+                  shared: bool = True) -> tuple[dict[str, Maneuver], str]:
         """Maneuvers into ``slot`` from every lane that has one, and, when none has, why
-        (each lane's reason, once; empty when some lane has one)."""
+        (each lane's reason, once; empty when some lane has one).
+
+        With ``shared`` (and ``style`` "any"), a perpendicular or angled slot served by
+        several lanes is parked on one pose from all of them where it can be, so that the
+        car may leave towards any (:meth:`_solve_common`); without, each lane's best.
+        """
         out, reasons = {}, []
         lanes = self.lanes_for(slot)
-        if style == "any" and len(lanes) > 1 and slot.kind != "parallel":
+        if shared and style == "any" and len(lanes) > 1 and slot.kind != "parallel":
             return self._solve_common(vehicle, slot, lanes)
         for lane in lanes:
             result = self.solve(vehicle, slot, lane, style=style)
@@ -587,26 +595,26 @@ class ManeuverPlanner:
             ms = [r.maneuver for r in results]
             return max(m.changes for m in ms), sum(m.length for m in ms)
 
+        plain = {st: [self.solve(vehicle, slot, lane, style=st, eased=False) for lane in lanes]
+                 for st in tried}
         common = [st for st, results in tried.items() if all(r.ok for r in results)]
         for st in sorted(common, key=lambda k: cost(tried[k])):
-            found = []
-            for lane, r in zip(lanes, tried[st], strict=True):
-                # an eased path may park a few millimetres off the planned pose (when no
-                # straights could take the drift up): drive that lane's path as planned,
-                # stopping to steer, unless that has the car creep from stop to stop
-                plain = self.solve(vehicle, slot, lane, style=st, eased=False).maneuver
-                if _same_end(r.maneuver, plain):
-                    found.append(r.maneuver)
-                elif _shortest_run(plain.segments) >= self.settings.min_stroke:
-                    found.append(plain)
-            if len(found) == len(lanes):
+            # an eased path may park a few millimetres off the planned pose (when no two
+            # straights could take the drift up): drive that lane's path as planned, stopping
+            # to steer — and no path that has the car creep from stop to stop
+            found = [r.maneuver if _same_end(r.maneuver, q.maneuver) else q.maneuver
+                     for r, q in zip(tried[st], plain[st], strict=True)]
+            if min(_shortest_run(m.segments) for m in found) >= self.settings.min_stroke:
                 return {lane.id: m for lane, m in zip(lanes, found, strict=True)}, ""
-        # no one way of parking serves every lane: each lane's best (left the way it came in)
+        # no one way of parking serves every lane: each lane's best as planned (fewest
+        # changes, then shortest; nose-in on a tie), eased — left the way it came in
         out, reasons = {}, []
         for k, lane in enumerate(lanes):
-            found = [tried[st][k].maneuver for st in tried if tried[st][k].ok]
-            if found:
-                out[lane.id] = min(found, key=lambda m: (m.changes, m.length))
+            ok = [st for st in tried if tried[st][k].ok]
+            if ok:
+                st = min(ok, key=lambda x: (plain[x][k].maneuver.changes,
+                                            plain[x][k].maneuver.length))
+                out[lane.id] = tried[st][k].maneuver
             reasons += [tried[st][k].reason for st in tried if not tried[st][k].ok]
         if out:
             return out, ""
@@ -698,7 +706,8 @@ class ManeuverPlanner:
                 continue
             # the first straight (along the lane) and the last (into the slot) take up the
             # drift, so the car parks exactly where planned, whichever lane it came by
-            for path in (_anchored(eased, was), eased):
+            anchored = _anchored(eased, was) if p.slot.kind != "parallel" else None
+            for path in (anchored, eased):
                 if path is None or p.paths_blocked([path])[0]:
                     continue
                 body = Polygon(p.vehicle.footprints(p.frame.poses_to_world(
@@ -900,7 +909,10 @@ class ManeuverPlanner:
                 else:
                     extend = np.zeros(len(q))
                 last_x = end_x + g * extend
-                ok = (turning & (d >= -1e-9) & (end_x >= p.lane_x[0]) & (end_x <= p.lane_x[1])
+                # no straight of a few centimetres before the arc: where the curvature
+                # jumps cannot be eased the car stops at both its ends (it would creep)
+                ok = (turning & (d >= -1e-9) & ((d0 <= 1e-9) | (d0 >= CREEP))
+                      & (end_x >= p.lane_x[0]) & (end_x <= p.lane_x[1])
                       & (last_x >= p.lane_x[0] - 1e-9) & (last_x <= p.lane_x[1] + 1e-9))
                 n = int(ok.sum())
                 parts.append(np.column_stack([
