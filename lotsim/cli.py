@@ -240,6 +240,13 @@ def _summary(path, scenario, lg, reach) -> str:  # noqa: ANN001
     if reach.no_way_out:
         lines.append(f"  warning: from {len(reach.no_way_out)} free slots no exit can be "
                      f"reached: {_ids(reach.no_way_out)}")
+    for vname, (no_in, no_out) in reach.by_type.items():
+        if no_in:
+            lines.append(f"  warning: {vname} fits but cannot reach {len(no_in)} free slots "
+                         f"(no turns it can make lead there): {_ids(no_in)}")
+        if no_out:
+            lines.append(f"  warning: {vname} can park in but not leave {len(no_out)} free "
+                         f"slots for an exit: {_ids(no_out)}")
     # with several gates, what each one serves (every slot may still be served by some)
     if len(reach.unreachable) > 1:
         for name, slots in reach.unreachable.items():

@@ -53,7 +53,7 @@ def prepare(scenario: Scenario, *, node_spacing: float = 4.0, maneuvers: bool = 
     """
     lot = build_lot(scenario.lot, DesignVehicle.envelope(scenario.vehicle_types))
     if not maneuvers:
-        return build_graph(lot, node_spacing=node_spacing)
+        return build_graph(lot, node_spacing=node_spacing, vehicles=scenario.vehicle_types)
     planner = maneuver_planner(scenario, lot, margin=margin)
     planned, infeasible = plan_lot(planner, scenario.vehicle_types)
     lg = build_graph(lot, node_spacing=node_spacing, maneuvers=planned,
@@ -67,7 +67,8 @@ def maneuver_planner(scenario: Scenario, lot: Lot, *, margin: float = MARGIN) ->
     """The maneuver planner for ``lot``: clear of the scenario's parked cars, starting only
     where a car can arrive from an entrance (along lanes)."""
     return ManeuverPlanner(lot, margin=margin, parked_width=scenario.parked_vehicle.width,
-                           lane_ranges=build_graph(lot).reachable())
+                           lane_ranges=build_graph(
+                               lot, vehicles=scenario.vehicle_types).reachable())
 
 
 # -- running traffic -------------------------------------------------------------------------
@@ -209,7 +210,21 @@ def check_traffic(lg: LotGraph, traffic: list[Arrival]) -> None:
             why = f" ({reasons[0]})" if reasons else ""
             raise ScenarioError(who.where, f"vehicle type {name!r} fits no slot of this "
                                            f"lot{why}")
-    unreachable = lg.reachability().unreachable
+    reach = lg.reachability()
+    for name in sorted({a.vehicle for a in traffic}):
+        no_in, no_out = reach.by_type.get(name, ([], []))
+        fits = {sid for sid in (s.id for s in lg.lot.free_slots)
+                if sid not in lg.infeasible.get(name, {})}
+        mine = [a for a in traffic if a.vehicle == name]
+        if fits and fits <= set(no_in):
+            raise ScenarioError(mine[0].where, f"vehicle type {name!r} can reach none of the "
+                                               f"free slots it fits (no turns it can make "
+                                               f"lead there)")
+        leaving = [a for a in mine if a.dwell is not None]
+        if leaving and lg.exits and fits and fits <= set(no_in) | set(no_out):
+            raise ScenarioError(leaving[0].where, f"vehicle type {name!r} can leave none of "
+                                                  f"the free slots it reaches for an exit")
+    unreachable = reach.unreachable
     free = len(lg.lot.free_slots)
     for gate in sorted({a.entrance for a in traffic}):
         if len(unreachable[gate]) == free:
@@ -294,7 +309,7 @@ class _Simulation:
         self._trips_done = 0
         self._counted: dict[str, int] = {}
         self._slot_times: dict[tuple[str, str, bool], dict[str, float]] = {}
-        self.leave = lg.leave_nodes()
+        self.leave = {t.name: lg.leave_nodes(t.name) for t in scenario.vehicle_types}
         self._exits: dict[str, ReverseResumable] = {}
         parked = scenario.parked_vehicle
         for sid in sorted(lg.lot.occupied):
@@ -411,7 +426,8 @@ class _Simulation:
     def park_goal(self, v: VehicleRun, sid: str) -> Goal:
         """Slot ``sid``, entered from where ``v`` can later leave if it will."""
         return Goal(slot=self.lg.slot_nodes[sid],
-                    park_from=self.leave if v.arrival.dwell is not None else None)
+                    park_from=(self.leave[v.vehicle.name] if v.arrival.dwell is not None
+                               else None))
 
     def slot_choice(self, v: VehicleRun) -> list[str]:
         """Free slots this vehicle can park in, best first by the assignment policy."""
@@ -435,7 +451,8 @@ class _Simulation:
                        if leaving else None)
             out: dict[str, float] = {}
             for i, e in enumerate(sg.edges):
-                if e.kind == "park" and e.u in dist and (not leaving or e.u in self.leave):
+                if e.kind == "park" and e.u in dist and (not leaving
+                                                         or e.u in self.leave[vname]):
                     sid = self.lg.graph.nodes[e.v]["slot"]
                     tt = dist[e.u] + e.data["duration"][vname]
                     if to_exit is not None:

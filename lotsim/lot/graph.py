@@ -41,7 +41,7 @@ from lotsim.errors import ScenarioError
 from lotsim.geometry import Segment, cc_polyline, cc_turn, sample_segments, wrap_angle
 from lotsim.lot.build import SWEEP_STEP, lane_collider
 from lotsim.lot.clearance import Collider
-from lotsim.lot.model import Lane, Lot, Portal, Slot, unit
+from lotsim.lot.model import DesignVehicle, Lane, Lot, Portal, Slot, unit
 from lotsim.lot.turnaround import Turnaround, plan_turnarounds, turnaround_collider
 
 TURN_SPEEDS = tuple(k / 3.6 for k in (15.0, 12.5, 10.0, 7.5, 5.0, 3.0, 1.5))
@@ -79,10 +79,15 @@ class Reachability:
     stranded: dict[str, list[str]]
     no_way_in: list[str] = field(default_factory=list)
     no_way_out: list[str] = field(default_factory=list)
+    by_type: dict[str, tuple[list[str], list[str]]] = field(default_factory=dict)
+    """Vehicle type → (``no_way_in``, ``no_way_out``) for that type's own turns, among the
+    free slots it has a parking maneuver for (a type that fits a slot must reach and leave
+    it); empty when the graph has no maneuvers."""
 
     @property
     def ok(self) -> bool:
-        return not self.no_way_in and not self.no_way_out
+        return (not self.no_way_in and not self.no_way_out
+                and not any(a or b for a, b in self.by_type.values()))
 
 
 @dataclass
@@ -117,11 +122,12 @@ class LotGraph:
     infeasible: dict[str, dict[str, str]] = field(default_factory=dict)
     maneuver_planner: object = None
 
-    def _lane_reach(self) -> tuple[set[int], set[int]]:
+    def _lane_reach(self, vehicle: str | None = None) -> tuple[set[int], set[int]]:
         """Lane nodes reachable from an entrance, and lane nodes that reach an exit (any,
-        when the lot has no exits), driving lanes, turns and joins only — never through a
-        slot (a car does not turn round in someone's parking space)."""
-        lanes = self._lanes()
+        when the lot has no exits), driving lanes, turns, joins and turnarounds only — never
+        through a slot (a car does not turn round in someone's parking space); with
+        ``vehicle``, only by the turns that type can make."""
+        lanes = self._lanes(vehicle)
         come = set().union(*(nx.descendants(lanes, n) | {n} for n in self.entrances.values()))
         if self.exits:
             go = set().union(*(nx.ancestors(lanes, n) | {n} for n in self.exits.values()))
@@ -129,10 +135,15 @@ class LotGraph:
             go = set(lanes.nodes)
         return come, go
 
-    def _lanes(self) -> nx.DiGraph:
-        """The graph without its slot nodes: what a car drives between entering and parking."""
+    def _lanes(self, vehicle: str | None = None) -> nx.DiGraph:
+        """The graph without its slot nodes: what a car drives between entering and parking
+        (with ``vehicle``, without the turns that type cannot make)."""
         g = self.graph
-        return g.subgraph(n for n, d in g.nodes(data=True) if d["kind"] != "slot")
+        lanes = g.subgraph(n for n, d in g.nodes(data=True) if d["kind"] != "slot")
+        if vehicle is None:
+            return lanes
+        return nx.subgraph_view(lanes, filter_edge=lambda u, v: (
+            g.edges[u, v].get("types") is None or vehicle in g.edges[u, v]["types"]))
 
     def reachable(self) -> dict[str, tuple[float, float]]:
         """Per lane, the station range [m] of the nodes a car can reach from an entrance
@@ -146,10 +157,11 @@ class LotGraph:
         come, go = self._lane_reach()
         return self._ranges(come & go)
 
-    def leave_nodes(self) -> frozenset[int]:
-        """Lane nodes from which an exit can be reached (all, when the lot has no exits): a
-        car that will leave again parks only from these."""
-        return frozenset(self._lane_reach()[1])
+    def leave_nodes(self, vehicle: str | None = None) -> frozenset[int]:
+        """Lane nodes from which an exit can be reached (all, when the lot has no exits),
+        by a ``vehicle`` type's turns if given: a car that will leave again parks only from
+        these."""
+        return frozenset(self._lane_reach(vehicle)[1])
 
     def _ranges(self, nodes: set[int]) -> dict[str, tuple[float, float]]:
         g = self.graph
@@ -180,7 +192,24 @@ class LotGraph:
         no_way_in = missing(come, g.predecessors)
         # a car leaves by the way it came in (the leave edge ends where the park edge began)
         no_way_out = [sid for sid in missing(come & go, g.predecessors) if sid not in no_way_in]
-        return Reachability(unreachable, stranded, no_way_in, no_way_out)
+        by_type = {}
+        for name in sorted({v for _, _, d in g.edges(data=True) if d["kind"] == "park"
+                            for v in d["maneuvers"]}):
+            come, go = self._lane_reach(name)
+            fits = {sid for sid in free if any(
+                name in g.edges[u, self.slot_nodes[sid]]["maneuvers"]
+                for u in g.predecessors(self.slot_nodes[sid]))}
+
+            def parks_from(seen: set[int], sid: str, name: str = name) -> bool:
+                node = self.slot_nodes[sid]
+                return any(u in seen and name in g.edges[u, node]["maneuvers"]
+                           for u in g.predecessors(node))
+
+            no_in = [sid for sid in free if sid in fits and not parks_from(come, sid)]
+            no_out = [sid for sid in free if sid in fits and sid not in no_in
+                      and not parks_from(come & go, sid)]
+            by_type[name] = (no_in, no_out)
+        return Reachability(unreachable, stranded, no_way_in, no_way_out, by_type)
 
 
 def build_graph(lot: Lot, *, node_spacing: float = 4.0, maneuvers=None,  # noqa: ANN001
@@ -196,7 +225,9 @@ def build_graph(lot: Lot, *, node_spacing: float = 4.0, maneuvers=None,  # noqa:
         ``(vehicle name, slot id, lane id)`` → parking Maneuver, from
         :func:`lotsim.planners.maneuver.plan_lot`; ``None`` links slots by placeholders.
     vehicles : sequence of VehicleType, keyword-only
-        The types named in ``maneuvers``, for the maneuvers' durations.
+        The scenario's types: the maneuvers' durations; with two or more, junction turns
+        are built for each type's own outline and turning radius, and a turn only some
+        types can drive says which (edge attribute ``types``, None for all).
 
     Returns
     -------
@@ -204,7 +235,13 @@ def build_graph(lot: Lot, *, node_spacing: float = 4.0, maneuvers=None,  # noqa:
     """
     lanes = {lane.id: lane for lane in lot.lanes}
     collider = lane_collider(lot)
-    turns, skipped = _turns_of(lot, collider)
+    names = sorted({v.name for v in vehicles})
+    designs = ({v.name: DesignVehicle.envelope([v]) for v in vehicles} if len(names) > 1
+               else None)
+    tagged, skipped = _turns_of(lot, collider, designs)
+    # turns for more types first: two that join the same nodes keep the one more can drive
+    tagged.sort(key=lambda c: -len(designs or ()) if c[1] is None else -len(c[1]))
+    turns = [t for t, _ in tagged]
     joins = _joins(lot)
     exits = {}
     for p in lot.exits:
@@ -247,9 +284,11 @@ def build_graph(lot: Lot, *, node_spacing: float = 4.0, maneuvers=None,  # noqa:
         k = int(np.argmin(np.abs(st - s)))
         return first[lid] + k
 
-    for t in turns:
-        _add_edge(g, lot, node_at(t.lane_a, t.station_a), node_at(t.lane_b, t.station_b),
-                  t.segments, "turn")
+    for t, types in tagged:
+        u, v = node_at(t.lane_a, t.station_a), node_at(t.lane_b, t.station_b)
+        if not g.has_edge(u, v):
+            _add_edge(g, lot, u, v, t.segments, "turn")
+            g.edges[u, v]["types"] = types
     for t in backs:
         _add_edge(g, lot, node_at(t.lane_a, t.station_a), node_at(t.lane_b, t.station_b),
                   t.segments, "turnaround")
@@ -441,13 +480,48 @@ def _straights(lane: Lane) -> list[tuple[float, Segment]]:
 _TURNS: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
 
 
-def _turns_of(lot: Lot, collider: Collider) -> tuple[list[Turn], list[str]]:
-    """The lot's junction turns (:func:`_junction_turns`, :func:`_through_turns`) and the
-    reasons of those skipped, worked out once per lot."""
-    if lot not in _TURNS:
-        turns, skipped = _junction_turns(lot, collider)
-        _TURNS[lot] = (turns + _through_turns(lot, turns, collider), skipped)
-    turns, skipped = _TURNS[lot]
+def _turns_of(lot: Lot, collider: Collider, designs: dict[str, DesignVehicle] | None = None
+              ) -> tuple[list[tuple[Turn, frozenset | None]], list[str]]:
+    """The lot's junction turns (:func:`_junction_turns`, :func:`_through_turns`), each with
+    the vehicle types that can drive it (None: every type), and the reasons of those
+    skipped; worked out once per lot and set of types.
+
+    With ``designs`` (vehicle type → its own outline and limits, for two types or more)
+    turns are built for each type on its own — a small car turns where the envelope of all
+    the types could not — and a turn built for several types is kept once; without, for
+    the lot's design vehicle (the envelope), for every type.
+    """
+    key = tuple(sorted(designs.items())) if designs else None
+    cache = _TURNS.setdefault(lot, {})
+    if key not in cache:
+        if not designs:
+            turns, skipped = _junction_turns(lot, collider)
+            turns += _through_turns(lot, turns, collider)
+            cache[key] = ([(t, None) for t in turns], skipped)
+        else:
+            found: dict[Turn, None] = {}
+            why: dict[str, list[str]] = {}
+            for name, design in designs.items():
+                turns, skipped = _junction_turns(lot, collider, design)
+                turns += _through_turns(lot, turns, collider, design)
+                found.update(dict.fromkeys(turns))
+                for reason in skipped:
+                    why.setdefault(reason, []).append(name)
+            # every turn for every type it suits: no tighter than its radius, swept clear
+            tagged: dict[Turn, set[str]] = {}
+            for t in found:
+                poses = sample_segments(t.segments, SWEEP_STEP)[0]
+                bend = max(seg.max_curvature for seg in t.segments)
+                for name, design in designs.items():
+                    if bend <= 1 / design.min_radius + 1e-9 and collider.sweep_hit(
+                            design.footprints(poses)) is None:
+                        tagged.setdefault(t, set()).add(name)
+            every = len(designs)
+            notes = [reason if len(names) == every else f"{reason} (for {', '.join(names)})"
+                     for reason, names in why.items()]
+            cache[key] = ([(t, None if len(n) == every else frozenset(n))
+                           for t, n in tagged.items()], notes)
+    turns, skipped = cache[key]
     return list(turns), list(skipped)
 
 
@@ -487,8 +561,11 @@ def _turnarounds_of(lot: Lot, turns: list[Turn], joins: list[tuple[str, str]],
     return list(found), list(notes)
 
 
-def _junction_turns(lot: Lot, collider: Collider) -> tuple[list[Turn], list[str]]:
-    """Arcs between lanes of aisles that meet, each swept clear with the design vehicle."""
+def _junction_turns(lot: Lot, collider: Collider, design: DesignVehicle | None = None
+                    ) -> tuple[list[Turn], list[str]]:
+    """Arcs between lanes of aisles that meet, each swept clear with ``design`` (default
+    the lot's design vehicle)."""
+    design = design or lot.design
     turns: list[Turn] = []
     skipped: list[str] = []
     lanes = lot.lanes
@@ -501,7 +578,7 @@ def _junction_turns(lot: Lot, collider: Collider) -> tuple[list[Turn], list[str]
             for sa0, pa in _straights(a):
                 for sb0, pb in _straights(b):
                     turn = _fillet_between(a, sa0, pa, b, sb0, pb, aisle_a, aisle_b, reach,
-                                           lot.design, collider, lot.speed_limit)
+                                           design, collider, lot.speed_limit)
                     if isinstance(turn, list):
                         turns.extend(turn)
                     elif turn:
@@ -514,7 +591,8 @@ THROUGH_OVERLAP = 15.0
 it for the two to be joined into one turn through the stretch."""
 
 
-def _through_turns(lot: Lot, turns: list[Turn], collider: Collider) -> list[Turn]:
+def _through_turns(lot: Lot, turns: list[Turn], collider: Collider,
+                   design: DesignVehicle | None = None) -> list[Turn]:
     """Turns through a short stretch of lane: where a turn into lane ``c`` ends past where
     a turn out of it begins (two junctions close together, one turn swinging wide), one
     path from the first lane into the last along the stretch (:func:`_area_turns` with
@@ -542,8 +620,8 @@ def _through_turns(lot: Lot, turns: list[Turn], collider: Collider) -> list[Turn
             if any(p is None for p in pieces):
                 continue
             (sa0, pa), (_, pc), (sb0, pb) = pieces
-            out += _area_turns(a, sa0, pa, b, sb0, pb, lot.design, collider, lot.speed_limit,
-                               via=(pc,), shifts=AREA_SHIFTS)
+            out += _area_turns(a, sa0, pa, b, sb0, pb, design or lot.design, collider,
+                               lot.speed_limit, via=(pc,), shifts=AREA_SHIFTS)
     return out
 
 

@@ -162,6 +162,8 @@ class SearchGraph:
                     continue
             elif d.get("placeholder"):
                 continue
+            if d.get("types") is not None and vehicle.name not in d["types"]:
+                continue  # a turn this type cannot make (too wide, or too tight for it)
             i = len(self.edges)
             cap = min(float(d["speed_limit"]), top)
             for seg in d.get("path") or ():
