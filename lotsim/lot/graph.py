@@ -11,8 +11,12 @@ passing or standing at a node steers for it. Edges are pieces of path
 * ``turn`` — a continuous-curvature turn (clothoid, arc, clothoid: a car
   turning its wheels at a steady rate as it rolls) from one aisle's lane into
   another's where the aisles meet, sized for a design speed
-  (:data:`TURN_SPEEDS`);
+  (:data:`TURN_SPEEDS`); where that touches a corner slot, one that swings wide
+  through the junction's area (:func:`_area_turns`). ``types`` names the vehicle
+  types that can drive it (None: all; see :func:`build_graph`);
 * ``join`` — a lane that continues as another (zero length);
+* ``turnaround`` — a multi-point turn at a dead end onto the opposite lane
+  (:mod:`lotsim.lot.turnaround`), driven from rest to rest, stopping at each cusp;
 * ``park`` / ``leave`` — from a lane node into a slot node and back, through
   real parking maneuvers: ``maneuvers`` maps each vehicle type that can use
   the link to its :class:`~lotsim.planners.maneuver.Maneuver` (the leave edge
@@ -21,9 +25,10 @@ passing or standing at a node steers for it. Edges are pieces of path
   without maneuvers, the graph has ``placeholder=True`` links abeam of each
   slot instead, with no geometry (enough to draw and check reachability).
 
-Every edge's geometry is tangent- and curvature-continuous with its nodes'
-headings and curvatures, and every turn and lane is swept with the design
-vehicle against slots, areas and the boundary before it is added.
+Every edge's geometry but a turnaround's is tangent- and curvature-continuous with
+its nodes' headings and curvatures, and every turn, turnaround and lane is swept
+with the design vehicle (a turn: with each type it is for) against slots, areas
+and the boundary before it is added.
 """
 
 from __future__ import annotations
