@@ -240,6 +240,13 @@ class Segment:
         return Segment(self.end, -self.distance, self.end_curvature, -self.sharpness)
 
 
+def same_pose(a: Pose | None, b: Pose | None) -> bool:
+    """Whether two poses are one (a micrometre, a microradian); two Nones are too."""
+    if a is None or b is None:
+        return a is b
+    return math.dist(a[:2], b[:2]) < 1e-6 and abs(math.remainder(a[2] - b[2], math.tau)) < 1e-6
+
+
 def sample_segments(segments: Sequence[Segment], step: float) -> tuple[FloatArray, np.ndarray]:
     """Poses along many segments at once, each every ``step`` metres or closer, ends included.
 

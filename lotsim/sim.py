@@ -14,6 +14,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from lotsim.errors import ScenarioError
+from lotsim.geometry import same_pose
 from lotsim.lot.build import build_lot
 from lotsim.lot.graph import LotGraph, build_graph
 from lotsim.lot.model import DesignVehicle, Lot
@@ -27,7 +28,6 @@ from lotsim.planners.cooperative import (
     SearchGraph,
     Status,
     reserve_moves,
-    same_pose,
     search,
 )
 from lotsim.planners.maneuver import MARGIN, ManeuverPlanner, plan_lot

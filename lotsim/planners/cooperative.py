@@ -44,6 +44,7 @@ from enum import Enum
 import numpy as np
 from shapely.geometry.base import BaseGeometry
 
+from lotsim.geometry import same_pose
 from lotsim.lot.graph import LotGraph
 from lotsim.planners.reservation import (
     ReservationTable,
@@ -502,14 +503,6 @@ def _plan(status: Status, sid: int, parent: list[tuple[int, Move | None]],
         sid = par
     moves.reverse()
     return Plan(status, moves, expansions)
-
-
-def same_pose(a: tuple[float, float, float] | None, b: tuple[float, float, float] | None
-              ) -> bool:
-    """Whether two poses are one (a micrometre, a microradian); two Nones are too."""
-    if a is None or b is None:
-        return a is b
-    return math.dist(a[:2], b[:2]) < 1e-6 and abs(math.remainder(a[2] - b[2], math.tau)) < 1e-6
 
 
 def reserve_moves(table: ReservationTable, owner: str, sg: SearchGraph, moves: list[Move], *,

@@ -62,13 +62,14 @@ from lotsim.geometry import (
     Segment,
     advance,
     ease_joints,
+    same_pose,
     sample_segments,
     wrap_angle,
 )
 from lotsim.lot.graph import lane_serves
 from lotsim.lot.model import Lane, Lot, Slot, unit
 from lotsim.planners.minslot import SlotFrame, simulate, start_headings
-from lotsim.trajectory import Motion, Piece, timed_path
+from lotsim.trajectory import Motion, Piece, runs, timed_path
 from lotsim.vehicles.model import VehicleType
 
 MARGIN = 0.1
@@ -602,9 +603,9 @@ class ManeuverPlanner:
             # an eased path may park a few millimetres off the planned pose (when no two
             # straights could take the drift up): drive that lane's path as planned, stopping
             # to steer — and no path that has the car creep from stop to stop
-            found = [r.maneuver if _same_end(r.maneuver, q.maneuver) else q.maneuver
+            found = [r.maneuver if same_pose(r.maneuver.end, q.maneuver.end) else q.maneuver
                      for r, q in zip(tried[st], plain[st], strict=True)]
-            if min(_shortest_run(m.segments) for m in found) >= self.settings.min_stroke:
+            if min(_shortest_run(m) for m in found) >= self.settings.min_stroke:
                 return {lane.id: m for lane, m in zip(lanes, found, strict=True)}, ""
         # no one way of parking serves every lane: each lane's best as planned (fewest
         # changes, then shortest; nose-in on a tie), eased — left the way it came in
@@ -704,8 +705,8 @@ class ManeuverPlanner:
             if (math.dist(end[:2], was[:2]) > self.settings.ease_drift
                     or abs(wrap_angle(end[2] - was[2])) > 1e-9):
                 continue
-            # the first straight (along the lane) and the last (into the slot) take up the
-            # drift, so the car parks exactly where planned, whichever lane it came by
+            # two straights at right angles take up the drift, so the car parks exactly
+            # where planned, whichever lane it came by
             anchored = _anchored(eased, was) if p.slot.kind != "parallel" else None
             for path in (anchored, eased):
                 if path is None or p.paths_blocked([path])[0]:
@@ -967,23 +968,11 @@ def _anchored(segments: Sequence[Segment], target: FloatArray) -> tuple[Segment,
     return tuple(out)
 
 
-def _shortest_run(segments: Sequence[Segment]) -> float:
-    """The shortest stretch [m] a car drives between two stops on ``segments``: it stops at
-    every cusp and wherever the curvature jumps (to steer standing)."""
-    runs, run = [], 0.0
-    for k, seg in enumerate(segments):
-        if k and (seg.gear != segments[k - 1].gear
-                  or abs(seg.curvature - segments[k - 1].end_curvature) > 1e-9):
-            runs.append(run)
-            run = 0.0
-        run += seg.length
-    return min([*runs, run])
-
-
-def _same_end(a: Maneuver, b: Maneuver) -> bool:
-    """Whether two parking maneuvers leave the car on the same pose (to a micrometre)."""
-    return (math.dist(a.end[:2], b.end[:2]) < 1e-6
-            and abs(float(wrap_angle(a.end[2] - b.end[2]))) < 1e-6)
+def _shortest_run(m: Maneuver) -> float:
+    """The shortest stretch [m] a car drives between two stops on ``m``: the runs the timing
+    drives without stopping (:func:`~lotsim.trajectory.runs`)."""
+    return min(sum(p.segment.length for p in run)
+               for run in runs([Piece(s, math.inf) for s in m.segments]))
 
 
 def _straighten(vehicle: VehicleType, frame: SlotFrame, strokes: list[Segment]) -> list[Segment]:
