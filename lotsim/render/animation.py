@@ -497,8 +497,11 @@ def write_gif(
         for a in range(0, n, chunk):
             b = min(n, a + chunk)
             frames = renderer.frames(plan.times[a:b])
+            # one frame takes one duration, not a list (Pillow 13 writes a lone frame as a
+            # still image and refuses a list)
+            duration = plan.durations[a:b] if b - a > 1 else plan.durations[a]
             data = iio.imwrite("<bytes>", frames, extension=".gif", mode="P",
-                               palette=renderer.palette, loop=0, duration=plan.durations[a:b])
+                               palette=renderer.palette, loop=0, duration=duration)
             scr, pre, body = split_gif(data)
             if screen is None:
                 screen = scr
