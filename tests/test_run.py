@@ -269,3 +269,34 @@ def test_a_portal_where_a_car_would_stick_out_of_the_lot_is_refused():
         prepare(scenario_from_text(text))
     assert "sticks out of the lot boundary" in err.value.message
     assert (err.value.where.line, err.value.where.col) == position(text, "|{id: out")
+
+
+def test_a_car_speeds_up_across_closely_spaced_nodes():
+    # a straight 60 m lane cut into half-metre edges (nodes where maneuvers begin are often
+    # that close): from rest, the car must reach the far end about as fast as over one
+    # 60 m edge (the closed-form jerk-limited profile), not crawl at the speed it could
+    # reach within half a metre
+    import networkx as nx
+
+    from lotsim.geometry import Segment
+    from lotsim.lot.graph import LotGraph
+    from lotsim.trajectory import scurve
+    from lotsim.vehicles import CATALOGUE
+
+    car = CATALOGUE["valet"]
+    g = nx.DiGraph()
+    step, n = 0.5, 121
+    for k in range(n):
+        g.add_node(k, pose=(k * step, 0.0, 0.0), kind="lane")
+    for k in range(n - 1):
+        g.add_edge(k, k + 1, kind="lane", length=step, gear=1, speed_limit=20 / 3.6,
+                   path=(Segment((k * step, 0.0, 0.0), step, 0.0),), placeholder=False)
+    sg = cooperative.SearchGraph(LotGraph(None, g, {}, {}, {}), car)
+    plan = cooperative.search(sg, cooperative.ReservationTable(), owner="x", start=0, t0=0.0,
+                              goal=cooperative.Goal(exits=(n - 1,)))
+    assert plan.status is cooperative.Status.FOUND
+    lim = car.limits
+    best = min(p.duration for v in sg.levels
+               if (p := scurve(60.0, 0.0, float(v), min(20 / 3.6, lim.max_forward_speed),
+                               lim.max_accel, lim.max_brake, lim.max_jerk)) is not None)
+    assert best <= plan.end <= 1.1 * best

@@ -67,6 +67,9 @@ OMEGA = 10.0
 MIN_BUDGET = 20000
 """A search may always expand at least this many states before the fuse blows."""
 WEIGHT = 1.25
+EXPRESS = 6.0
+"""Lane nodes closer than this [m] are also joined by one edge through them (see
+:meth:`SearchGraph._express`)."""
 _TIME_KEY = 0.5  # states this close in time at one node and speed are one [s]
 
 PLANNERS = ("ca", "hca", "whca")
@@ -172,6 +175,7 @@ class SearchGraph:
             self.edges.append(_Edge(u, v, kind, float(d["length"]), cap, d))
             self.out[u].append(i)
             self.into[v].append(i)
+        self._express()
         self.pose = {n: tuple(map(float, g.nodes[n]["pose"])) for n in g.nodes}
         self.steer = {n: math.atan(g.nodes[n].get("curvature", 0.0) * vehicle.wheelbase)
                       for n in g.nodes}
@@ -181,6 +185,42 @@ class SearchGraph:
         self._cells: dict[int, tuple[tuple[int, int], ...]] = {}
         self._standing: dict[int, Swept] = {}
         self._static_time = [self._lower_time(i, e) for i, e in enumerate(self.edges)]
+
+    def _express(self) -> None:
+        """Add an edge from every lane node along its lane to the first node at least
+        :data:`EXPRESS` ahead (or the last before the speed limit changes).
+
+        Nodes sit wherever a maneuver or a turn begins, often half a metre apart, and a car
+        passes each node at one of the speed levels: over half a metre it cannot change
+        level, so on a stretch of close nodes it could never speed up (and the heuristic,
+        which assumes it can, would misjudge every state). An express edge lets the car
+        drive the stretch as one speed profile; the short edges stay, to stop on a node.
+        """
+        along: dict[int, list[int]] = {}
+        for i, e in enumerate(self.edges):
+            if e.kind == "lane":
+                along.setdefault(e.u, []).append(i)
+        for u, first in along.items():
+            if len(first) != 1 or self.edges[first[0]].length >= EXPRESS:
+                continue
+            head = self.edges[first[0]]
+            chain, length, node = [head], head.length, head.v
+            while length < EXPRESS and len(along.get(node, ())) == 1:
+                e = self.edges[along[node][0]]
+                if e.cap != head.cap or e.data["speed_limit"] != head.data["speed_limit"]:
+                    break
+                chain.append(e)
+                length += e.length
+                node = e.v
+            if len(chain) < 2:
+                continue
+            data = {"kind": "lane", "express": True, "length": length,
+                    "speed_limit": head.data["speed_limit"],
+                    "path": tuple(seg for e in chain for seg in e.data["path"])}
+            i = len(self.edges)
+            self.edges.append(_Edge(u, node, "lane", length, head.cap, data))
+            self.out[u].append(i)
+            self.into[node].append(i)
 
     # -- motions ------------------------------------------------------------------------------
     def motion(self, ei: int, a: int, b: int) -> EdgeMotion | None:
@@ -436,8 +476,8 @@ def search(sg: SearchGraph, table: ReservationTable, *, owner: str, start: int, 
             if seen is None:
                 rest_seen[node] = t
             elif (t > seen and (move is None or move.kind != "wait")
-                  and table.is_free([(seen, t, start_body if node == start else sg.body(node))],
-                                    ignore=owner)):
+                  and table.is_free((start_stand if node == start else sg.standing(node))
+                                    .held(seen, t), ignore=owner)):
                 continue
         closed.add(key)
         expansions += 1

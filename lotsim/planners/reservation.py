@@ -130,6 +130,10 @@ class Swept:
         bounds = shapely.bounds(geoms).reshape(-1, 4)
         return cls(t, geoms, bounds, tuple(cells_of(b) for b in bounds))
 
+    def held(self, t0: float, t1: float) -> Swept:
+        """The first body held from ``t0`` to ``t1`` [s] (a standing body's)."""
+        return Swept(np.array([[t0, t1]]), self.geoms[:1], self.bounds[:1], self.cells[:1])
+
     def __len__(self) -> int:
         return len(self.geoms)
 
