@@ -203,7 +203,7 @@ class ReservationTable:
             raise ValueError("bucket must be positive")
         self.bucket = bucket
         self._store = _Store()
-        self._grid: dict[tuple[int, int, int], list[int]] = {}
+        self._grid: dict[tuple[int, int], dict[int, list[int]]] = {}  # cell → bucket → ids
         self._long_cells: dict[tuple[int, int], list[int]] = {}
         self._ids: dict[str, int] = {}
         self._names: list[str] = []
@@ -273,10 +273,12 @@ class ReservationTable:
             k0, k1 = math.floor((a - _EPS) / b), math.floor((z + _EPS) / b)
             found: set[int] = set()
             for cell in sw.cells[j]:
-                for k in range(k0, k1 + 1):
-                    hit = grid.get((cell[0], cell[1], k))
-                    if hit:
-                        found.update(hit)
+                by_bucket = grid.get(cell)
+                if by_bucket is not None:
+                    for k in range(k0, k1 + 1):
+                        hit = by_bucket.get(k)
+                        if hit:
+                            found.update(hit)
                 hit = long_cells.get(cell)
                 if hit:
                     found.update(hit)
@@ -306,8 +308,8 @@ class ReservationTable:
         grid, long_cells, b = self._grid, self._long_cells, self.bucket
         k0, k1 = math.floor((t0 - _EPS) / b), math.floor((t1 + _EPS) / b)
         for cell in cells:
-            for hit in [grid.get((cell[0], cell[1], k)) for k in range(k0, k1 + 1)] + [
-                    long_cells.get(cell)]:
+            by_bucket = grid.get(cell, {})
+            for hit in [by_bucket.get(k) for k in range(k0, k1 + 1)] + [long_cells.get(cell)]:
                 if hit:
                     for i in hit:
                         if (st.alive[i] and st.owner[i] != skip and st.t[i, 0] <= t1 + _EPS
@@ -361,9 +363,10 @@ class ReservationTable:
             for cell in cells:
                 self._long_cells.setdefault(cell, []).append(i)
             return
-        for k in range(math.floor(t0 / self.bucket), math.floor(t1 / self.bucket) + 1):
-            for cx, cy in cells:
-                self._grid.setdefault((cx, cy, k), []).append(i)
+        for cell in cells:
+            by_bucket = self._grid.setdefault(cell, {})
+            for k in range(math.floor(t0 / self.bucket), math.floor(t1 / self.bucket) + 1):
+                by_bucket.setdefault(k, []).append(i)
 
 
 def standing_body(vehicle: VehicleType, pose: FloatArray) -> BaseGeometry:
