@@ -407,7 +407,7 @@ class _Simulation:
             if self.patience == 0:
                 self.on_timeout(i, v, t)
             return
-        for sid in options[:3]:  # the best few slots, in order
+        for sid in self.few(options):
             plan = self.plan(v, sg, start=self.lg.entrances[v.arrival.entrance], t0=t,
                              goal=self.park_goal(v, sid), outside=True, key=("slot", sid))
             if plan.status is Status.FOUND:
@@ -422,6 +422,19 @@ class _Simulation:
             self.on_timeout(i, v, t)
             return
         self.at(t + self.backoff(v), "retry", i)
+
+    def few(self, options: list[str], n: int = 3) -> list[str]:
+        """The best of ``options`` (a ranked slot list), then the best in each other aisle,
+        then the next best, ``n`` in all: when the best cannot be reached in time (its aisle
+        is busy with cars parking), its neighbours seldom can, and another aisle often can."""
+        slots = self.lg.lot.slot_by_id
+        out, seen = [], set()
+        for sid in options:
+            if slots[sid].aisle not in seen:
+                seen.add(slots[sid].aisle)
+                out.append(sid)
+        out = out[:n]
+        return out + [sid for sid in options if sid not in out][:n - len(out)]
 
     def park_goal(self, v: VehicleRun, sid: str) -> Goal:
         """Slot ``sid``, entered from where ``v`` can later leave if it will."""

@@ -313,3 +313,17 @@ def test_a_car_speeds_up_across_closely_spaced_nodes():
                if (p := scurve(60.0, 0.0, float(v), min(20 / 3.6, lim.max_forward_speed),
                                lim.max_accel, lim.max_brake, lim.max_jerk)) is not None)
     assert best <= plan.end <= 1.1 * best
+
+
+def test_a_car_that_misses_its_best_slot_tries_the_best_of_other_aisles_next():
+    from types import SimpleNamespace
+
+    from lotsim.sim import _Simulation
+
+    aisle = {"A1": "a", "A2": "a", "A3": "a", "B1": "b", "B2": "b", "C1": "c"}
+    slots = {k: SimpleNamespace(aisle=v) for k, v in aisle.items()}
+    sim = SimpleNamespace(lg=SimpleNamespace(lot=SimpleNamespace(slot_by_id=slots)))
+    ranked = ["A1", "A2", "B1", "A3", "B2", "C1"]
+    assert _Simulation.few(sim, ranked) == ["A1", "B1", "C1"]
+    assert _Simulation.few(sim, ranked, n=4) == ["A1", "B1", "C1", "A2"]  # then the next best
+    assert _Simulation.few(sim, ["A2", "A1"]) == ["A2", "A1"]  # one aisle: in rank order
