@@ -78,6 +78,11 @@ SAMPLE_DT = 0.05
 STATUSES = ("parked", "departed", "waiting", "rejected")
 BOOKING_HORIZON = 60.0
 """Default of :attr:`RunSettings.horizon` [s]."""
+FIRST_LOOK = 5000
+"""Expansions a car's search for each of its few best slots gets before the full searches:
+a slot it can reach without a long wait is found well within this (a few hundred to a few
+thousand), so a car does not queue behind cars parking in its best slot's aisle while a
+slot in another aisle is free to reach."""
 
 
 @dataclass(frozen=True, slots=True)
@@ -407,9 +412,13 @@ class _Simulation:
             if self.patience == 0:
                 self.on_timeout(i, v, t)
             return
-        for sid in self.few(options):
+        # a first look at each of the few best slots, then a full search where that ran out
+        tries = [(sid, FIRST_LOOK) for sid in self.few(options)]
+        while tries:
+            sid, budget = tries.pop(0)
             plan = self.plan(v, sg, start=self.lg.entrances[v.arrival.entrance], t0=t,
-                             goal=self.park_goal(v, sid), outside=True, key=("slot", sid))
+                             goal=self.park_goal(v, sid), outside=True, key=("slot", sid),
+                             budget=budget)
             if plan.status is Status.FOUND:
                 if i in self.queue:
                     self.queue.remove(i)
@@ -417,6 +426,8 @@ class _Simulation:
                 v.slot = sid
                 self.commit(i, v, sg, plan)
                 return
+            if plan.status is Status.FUSE and budget is not None:
+                tries.append((sid, None))
         v.reason = f"no conflict-free route found ({plan.status.value})"
         if self.patience == 0:
             self.on_timeout(i, v, t)

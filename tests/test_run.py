@@ -305,9 +305,13 @@ def test_a_car_speeds_up_across_closely_spaced_nodes():
         g.add_edge(k, k + 1, kind="lane", length=step, gear=1, speed_limit=20 / 3.6,
                    path=(Segment((k * step, 0.0, 0.0), step, 0.0),), placeholder=False)
     sg = cooperative.SearchGraph(LotGraph(None, g, {}, {}, {}), car)
-    plan = cooperative.search(sg, cooperative.ReservationTable(), owner="x", start=0, t0=0.0,
-                              goal=cooperative.Goal(exits=(n - 1,)))
+    table, goal = cooperative.ReservationTable(), cooperative.Goal(exits=(n - 1,))
+    plan = cooperative.search(sg, table, owner="x", start=0, t0=0.0, goal=goal)
     assert plan.status is cooperative.Status.FOUND
+    # a first look with a budget smaller than the search needs blows the fuse there
+    look = cooperative.search(sg, table, owner="x", start=0, t0=0.0, goal=goal,
+                              budget=plan.expansions - 2)
+    assert look.status is cooperative.Status.FUSE and look.expansions == plan.expansions - 1
     lim = car.limits
     best = min(p.duration for v in sg.levels
                if (p := scurve(60.0, 0.0, float(v), min(20 / 3.6, lim.max_forward_speed),

@@ -382,7 +382,7 @@ def search(sg: SearchGraph, table: ReservationTable, *, owner: str, start: int, 
            goal: Goal, level: int = 0, outside: bool = False,
            start_pose: tuple[float, float, float] | None = None, planner: str = "hca",
            heuristic: ReverseResumable | None = None,
-           omega: float = OMEGA, horizon: float = 3600.0) -> Plan:
+           omega: float = OMEGA, horizon: float = 3600.0, budget: int | None = None) -> Plan:
     """Plan one vehicle against the reservations of those planned before it.
 
     Parameters
@@ -410,6 +410,8 @@ def search(sg: SearchGraph, table: ReservationTable, *, owner: str, start: int, 
         The fuse factor.
     horizon : float
         Give up on states later than ``t0 + horizon`` [s].
+    budget : int, optional
+        Blow the fuse after this many expansions at the latest (a first look).
 
     Returns
     -------
@@ -463,6 +465,9 @@ def search(sg: SearchGraph, table: ReservationTable, *, owner: str, start: int, 
 
     push(start, level, t0, outside, -1, None)
     expansions = 0
+    fuse = max(MIN_BUDGET, omega * rra.closed)
+    if budget is not None:
+        fuse = min(fuse, budget)
     while heap:
         _, _, sid = heapq.heappop(heap)
         node, lvl, t, out = states[sid]
@@ -481,7 +486,7 @@ def search(sg: SearchGraph, table: ReservationTable, *, owner: str, start: int, 
                 continue
         closed.add(key)
         expansions += 1
-        if expansions > max(MIN_BUDGET, omega * rra.closed):
+        if expansions > fuse:
             return Plan(Status.FUSE, expansions=expansions)
         if t - t0 > horizon:
             continue
