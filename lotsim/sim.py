@@ -444,7 +444,8 @@ class _Simulation:
             if slots[sid].aisle not in seen:
                 seen.add(slots[sid].aisle)
                 out.append(sid)
-        out = out[:n]
+                if len(out) == n:
+                    return out
         return out + [sid for sid in options if sid not in out][:n - len(out)]
 
     def park_goal(self, v: VehicleRun, sid: str) -> Goal:

@@ -214,8 +214,7 @@ class SearchGraph:
                 node = e.v
             if len(chain) < 2:
                 continue
-            data = {"kind": "lane", "express": True, "length": length,
-                    "speed_limit": head.data["speed_limit"],
+            data = {"kind": "lane", "length": length, "speed_limit": head.data["speed_limit"],
                     "path": tuple(seg for e in chain for seg in e.data["path"])}
             i = len(self.edges)
             self.edges.append(_Edge(u, node, "lane", length, head.cap, data))

@@ -35,6 +35,7 @@ CELL = 6.0
 """Side of the spatial grid cells entries are filed under [m]."""
 _LONG = 16  # entries spanning more time buckets than this are filed by space only
 _EPS = 1e-9
+_EMPTY: dict[int, list[int]] = {}  # a cell with nothing filed (never written to)
 
 Interval = tuple[float, float, BaseGeometry]
 """A body held from ``t0`` to ``t1`` [s]."""
@@ -308,7 +309,7 @@ class ReservationTable:
         grid, long_cells, b = self._grid, self._long_cells, self.bucket
         k0, k1 = math.floor((t0 - _EPS) / b), math.floor((t1 + _EPS) / b)
         for cell in cells:
-            by_bucket = grid.get(cell, {})
+            by_bucket = grid.get(cell, _EMPTY)
             for hit in [by_bucket.get(k) for k in range(k0, k1 + 1)] + [long_cells.get(cell)]:
                 if hit:
                     for i in hit:
