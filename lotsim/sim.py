@@ -55,9 +55,9 @@ def prepare(scenario: Scenario, *, node_spacing: float = 4.0, maneuvers: bool = 
     if not maneuvers:
         return build_graph(lot, node_spacing=node_spacing, vehicles=scenario.vehicle_types)
     planner = maneuver_planner(scenario, lot, margin=margin)
-    planned, infeasible = plan_lot(planner, scenario.vehicle_types)
+    planned, infeasible, stays = plan_lot(planner, scenario.vehicle_types)
     lg = build_graph(lot, node_spacing=node_spacing, maneuvers=planned,
-                     vehicles=scenario.vehicle_types)
+                     vehicles=scenario.vehicle_types, stays=stays)
     lg.infeasible = infeasible
     lg.maneuver_planner = planner
     return lg
@@ -476,10 +476,10 @@ class _Simulation:
                        if leaving else None)
             out: dict[str, float] = {}
             for i, e in enumerate(sg.edges):
-                if e.kind == "park" and e.u in dist and (not leaving
-                                                         or e.u in self.leave[vname]):
+                if e.kind == "park" and e.u in dist and (
+                        not leaving or (e.u in self.leave[vname] and not e.stay)):
                     sid = self.lg.graph.nodes[e.v]["slot"]
-                    tt = dist[e.u] + e.data["duration"][vname]
+                    tt = dist[e.u] + e.duration
                     if to_exit is not None:
                         tt += self._way_out(sg, i, to_exit)
                     out[sid] = min(out.get(sid, math.inf), tt)
@@ -495,7 +495,7 @@ class _Simulation:
         for j in sg.out[sg.edges[park].v]:
             e = sg.edges[j]
             if e.kind == "leave" and same_pose(sg.parked_pose(j), pose):
-                best = min(best, e.data["duration"][sg.vehicle.name] + to_exit(e.v))
+                best = min(best, e.duration + to_exit(e.v))
         return best
 
     # -- planning -----------------------------------------------------------------------------

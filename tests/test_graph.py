@@ -82,15 +82,29 @@ def test_every_slot_is_linked_through_real_maneuvers_that_start_at_their_lane_no
             node = lg.slot_nodes[slot.id]
             parks = list(g.in_edges(node, data=True))
             assert parks, (name, slot.id)
+            ends = {}  # type → where the maneuvers a car can leave by park it
+            for _, _, d in parks:
+                for v, m in d["maneuvers"].items():
+                    ends.setdefault(v, []).append(m.end)
             for u, _, d in parks:
-                assert d["kind"] == "park" and not d["placeholder"] and d["maneuvers"]
+                assert d["kind"] == "park" and not d["placeholder"]
+                assert d["maneuvers"] or d["stays"]
                 pose = g.nodes[u]["pose"]
-                for m in d["maneuvers"].values():
+                ms = [*d["maneuvers"].values(), *d.get("stays", {}).values()]
+                for m in ms:
                     assert math.dist(m.start[:2], pose[:2]) < 1e-6, (name, slot.id)
                     assert abs(wrap_angle(m.start[2] - pose[2])) < 1e-6, (name, slot.id)
-                leave = g.edges[node, u]
-                assert leave["kind"] == "leave" and set(leave["maneuvers"]) == set(d["maneuvers"])
-                assert d["length"] == pytest.approx(min(m.length for m in d["maneuvers"].values()))
+                assert d["length"] == pytest.approx(min(m.length for m in ms))
+                if d["maneuvers"]:
+                    leave = g.edges[node, u]
+                    assert (leave["kind"] == "leave"
+                            and set(leave["maneuvers"]) == set(d["maneuvers"]))
+                else:  # a maneuver for cars that stay only is never left by
+                    assert not g.has_edge(node, u) or not g.edges[node, u]["maneuvers"]
+                for v, m in d.get("stays", {}).items():
+                    # the lane's own best parks the other way round than the shared pose
+                    assert all(abs(abs(wrap_angle(m.end[2] - e[2])) - math.pi) < 0.1
+                               for e in ends[v]), (name, slot.id, v)
 
 
 def test_without_maneuvers_slots_hang_off_marked_placeholders():

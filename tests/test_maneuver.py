@@ -380,7 +380,7 @@ def test_solve_answers_with_a_status_and_the_reason_plan_lot_keeps_as_it_is():
     refused = planner.solve(CATALOGUE["vclass"], slot, lane)
     assert refused.status is ManeuverStatus.INFEASIBLE and refused.maneuver is None
     assert refused.reason.startswith("the car is 5.37 m long")
-    _, infeasible = plan_lot(planner, [CATALOGUE["vclass"]])
+    _, infeasible, _ = plan_lot(planner, [CATALOGUE["vclass"]])
     assert infeasible["vclass"][slot.id] == refused.reason  # no message parsed back
 
 

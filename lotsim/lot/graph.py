@@ -21,8 +21,12 @@ passing or standing at a node steers for it. Edges are pieces of path
   real parking maneuvers: ``maneuvers`` maps each vehicle type that can use
   the link to its :class:`~lotsim.planners.maneuver.Maneuver` (the leave edge
   holds them reversed), ``duration`` maps it to seconds, ``length`` is the
-  shortest of them. A lane node sits exactly where each maneuver starts. Built
-  without maneuvers, the graph has ``placeholder=True`` links abeam of each
+  shortest of them. A lane node sits exactly where each maneuver starts. A park
+  edge's ``stays`` (with ``stay_duration`` and ``stay_limit``) holds, per type,
+  the lane's own best maneuver where the one in ``maneuvers`` parks the other
+  way round so that the car can leave towards every lane: a car that will not
+  leave may park with it (it has no leave edge). Built without maneuvers, the
+  graph has ``placeholder=True`` links abeam of each
   slot instead, with no geometry (enough to draw and check reachability).
 
 Every edge's geometry but a turnaround's is tangent- and curvature-continuous with
@@ -218,7 +222,7 @@ class LotGraph:
 
 
 def build_graph(lot: Lot, *, node_spacing: float = 4.0, maneuvers=None,  # noqa: ANN001
-                vehicles=()) -> LotGraph:  # noqa: ANN001
+                vehicles=(), stays=None) -> LotGraph:  # noqa: ANN001
     """Build the drivable graph of ``lot``.
 
     Parameters
@@ -254,7 +258,9 @@ def build_graph(lot: Lot, *, node_spacing: float = 4.0, maneuvers=None,  # noqa:
         exits[lid] = max(exits.get(lid, -math.inf), st)
     backs, no_back = _turnarounds_of(lot, turns, joins, exits)
     skipped += no_back
-    attach = _attachments(lot) if maneuvers is None else _maneuver_attachments(lot, maneuvers)
+    stays = {} if maneuvers is None else (stays or {})
+    attach = (_attachments(lot) if maneuvers is None
+              else _maneuver_attachments(lot, [*maneuvers.items(), *stays.items()]))
 
     stations: dict[str, list[float]] = {lid: [0.0, lane.length] for lid, lane in lanes.items()}
     for lid, lane in lanes.items():
@@ -329,19 +335,34 @@ def build_graph(lot: Lot, *, node_spacing: float = 4.0, maneuvers=None,  # noqa:
                 attachments[sid].append(a)
             limit = _zone_limit(lot, m.sample(0.25)[0][:, :2])
             for u, v, kind, path in ((a, node, "park", m), (node, a, "leave", m.reversed())):
-                if not g.has_edge(u, v):
-                    g.add_edge(u, v, kind=kind, maneuvers={}, duration={}, length=math.inf,
-                               gear=path.segments[0].gear, path=None, speed_limit=limit,
-                               placeholder=False)
-                e = g.edges[u, v]
+                e = _link(g, u, v, kind, path, limit)
                 e["maneuvers"][vname] = path
                 if vname in types:
                     e["duration"][vname] = path.duration(types[vname], limit)
                 e["length"] = min(e["length"], path.length)
+        for (vname, sid, lid), m in sorted(stays.items(), key=lambda kv: kv[0]):
+            a, node = node_at(lid, m.station), slot_nodes[sid]
+            limit = _zone_limit(lot, m.sample(0.25)[0][:, :2])
+            e = _link(g, a, node, "park", m, limit)
+            e.setdefault("stays", {})[vname] = m
+            e["stay_limit"] = min(e.get("stay_limit", math.inf), limit)
+            if vname in types:
+                e.setdefault("stay_duration", {})[vname] = m.duration(types[vname], limit)
+            e["length"] = min(e["length"], m.length)
     return LotGraph(lot, g, entrances, exits, slot_nodes, attachments, skipped)
 
 
 # -- helpers -----------------------------------------------------------------------------------
+def _link(g: nx.DiGraph, u: int, v: int, kind: str, path, limit: float) -> dict:  # noqa: ANN001
+    """The park or leave edge ``u`` → ``v``'s attributes, made (with no maneuver yet) if
+    new."""
+    if not g.has_edge(u, v):
+        g.add_edge(u, v, kind=kind, maneuvers={}, duration={}, length=math.inf,
+                   gear=path.segments[0].gear, path=None, speed_limit=limit,
+                   placeholder=False)
+    return g.edges[u, v]
+
+
 def _add_placeholder(g: nx.DiGraph, lot: Lot, a: int, node: int, slot: Slot) -> None:
     ax, ay, _ = g.nodes[a]["pose"]
     cx, cy = slot.center
@@ -354,9 +375,10 @@ def _add_placeholder(g: nx.DiGraph, lot: Lot, a: int, node: int, slot: Slot) -> 
 
 
 def _maneuver_attachments(lot: Lot, maneuvers) -> dict[str, list[tuple[str, float]]]:  # noqa: ANN001
-    """Lane and station where each planned maneuver starts."""
+    """Lane and station where each planned maneuver starts (``maneuvers``: pairs of
+    ``(vehicle name, slot id, lane id)`` and Maneuver)."""
     out: dict[str, list[tuple[str, float]]] = {s.id: [] for s in lot.slots}
-    for (_, sid, lid), m in maneuvers.items():
+    for (_, sid, lid), m in maneuvers:
         out[sid].append((lid, m.station))
     return out
 

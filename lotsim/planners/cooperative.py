@@ -46,6 +46,7 @@ from shapely.geometry.base import BaseGeometry
 
 from lotsim.geometry import same_pose
 from lotsim.lot.graph import LotGraph
+from lotsim.planners.maneuver import Maneuver
 from lotsim.planners.reservation import (
     ReservationTable,
     Swept,
@@ -138,6 +139,10 @@ class _Edge:
     length: float
     cap: float  # speed limit on the edge for this type [m/s]
     data: dict
+    maneuver: Maneuver | None = None  # a park or leave edge's, for this type
+    duration: float = 0.0  # the maneuver's [s]
+    limit: float = math.inf  # speed limit along the maneuver [m/s]
+    stay: bool = False  # a park edge only a car that will not leave may take
 
 
 class SearchGraph:
@@ -159,22 +164,29 @@ class SearchGraph:
         self.edges: list[_Edge] = []
         self.out: dict[int, list[int]] = {n: [] for n in g.nodes}
         self.into: dict[int, list[int]] = {n: [] for n in g.nodes}
+        name = vehicle.name
         for u, v, d in g.edges(data=True):
             kind = d["kind"]
             if kind in ("park", "leave"):
-                if vehicle.name not in d.get("maneuvers", {}):
-                    continue
-            elif d.get("placeholder"):
+                # the maneuver a car may leave by again, and (park edges) the lane's own
+                # best where that differs, for a car that will not leave
+                for m, dur, lim, stay in (
+                        (d["maneuvers"].get(name), d["duration"].get(name, 0.0),
+                         d["speed_limit"], False),
+                        (d.get("stays", {}).get(name), d.get("stay_duration", {}).get(name, 0.0),
+                         d.get("stay_limit", math.inf), True)):
+                    if m is not None:
+                        self._add(_Edge(u, v, kind, float(m.length), min(float(lim), top), d,
+                                        m, float(dur), float(lim), stay))
                 continue
-            if d.get("types") is not None and vehicle.name not in d["types"]:
+            if d.get("placeholder"):
+                continue
+            if d.get("types") is not None and name not in d["types"]:
                 continue  # a turn this type cannot make (too wide, or too tight for it)
-            i = len(self.edges)
             cap = min(float(d["speed_limit"]), top)
             for seg in d.get("path") or ():
                 cap = min(cap, speed_cap(seg, vehicle))
-            self.edges.append(_Edge(u, v, kind, float(d["length"]), cap, d))
-            self.out[u].append(i)
-            self.into[v].append(i)
+            self._add(_Edge(u, v, kind, float(d["length"]), cap, d))
         self._express()
         self.pose = {n: tuple(map(float, g.nodes[n]["pose"])) for n in g.nodes}
         self.steer = {n: math.atan(g.nodes[n].get("curvature", 0.0) * vehicle.wheelbase)
@@ -185,6 +197,11 @@ class SearchGraph:
         self._cells: dict[int, tuple[tuple[int, int], ...]] = {}
         self._standing: dict[int, Swept] = {}
         self._static_time = [self._lower_time(i, e) for i, e in enumerate(self.edges)]
+
+    def _add(self, e: _Edge) -> None:
+        self.out[e.u].append(len(self.edges))
+        self.into[e.v].append(len(self.edges))
+        self.edges.append(e)
 
     def _express(self) -> None:
         """Add an edge from every lane node along its lane to the first node at least
@@ -216,10 +233,7 @@ class SearchGraph:
                 continue
             data = {"kind": "lane", "length": length, "speed_limit": head.data["speed_limit"],
                     "path": tuple(seg for e in chain for seg in e.data["path"])}
-            i = len(self.edges)
-            self.edges.append(_Edge(u, node, "lane", length, head.cap, data))
-            self.out[u].append(i)
-            self.into[node].append(i)
+            self._add(_Edge(u, node, "lane", length, head.cap, data))
 
     # -- motions ------------------------------------------------------------------------------
     def motion(self, ei: int, a: int, b: int) -> EdgeMotion | None:
@@ -232,9 +246,9 @@ class SearchGraph:
         out = None
         if e.kind in AT_REST:
             if a == 0 and b == 0:
-                segs = (e.data["path"] if e.kind == "turnaround"
-                        else e.data["maneuvers"][self.vehicle.name].segments)
-                motion = timed_path([Piece(s, e.data["speed_limit"]) for s in segs],
+                segs, limit = ((e.data["path"], e.data["speed_limit"]) if e.maneuver is None
+                               else (e.maneuver.segments, e.limit))
+                motion = timed_path([Piece(s, limit) for s in segs],
                                     self.vehicle, steer_from=self.steer[e.u],
                                     steer_to=self.steer[e.v])
                 out = self._timed(motion)
@@ -279,7 +293,7 @@ class SearchGraph:
         """Where park edge ``ei``'s maneuver leaves the vehicle, or leave edge ``ei``'s
         begins."""
         e = self.edges[ei]
-        m = e.data["maneuvers"][self.vehicle.name]
+        m = e.maneuver
         return tuple(map(float, m.end if e.kind == "park" else m.start))
 
     def parked_body(self, ei: int) -> BaseGeometry:
@@ -291,7 +305,7 @@ class SearchGraph:
 
     def _lower_time(self, i: int, e: _Edge) -> float:
         if e.kind in ("park", "leave"):
-            return float(e.data["duration"].get(self.vehicle.name, 0.0))
+            return e.duration
         if e.kind == "turnaround":
             em = self.motion(i, 0, 0)
             return em.duration if em is not None else math.inf
@@ -369,8 +383,11 @@ class ReverseResumable:
 
 @dataclass(frozen=True, slots=True)
 class Goal:
-    """Where a search ends: in ``slot`` (a slot node, for ever; parking only from the lane
-    nodes in ``park_from``, if given) or at any of ``exits``."""
+    """Where a search ends: in ``slot`` (a slot node, for ever) or at any of ``exits``.
+
+    A car that will leave again (``park_from`` given) parks only from the lane nodes in
+    ``park_from`` and only on a pose it can leave by: never with a maneuver the lot graph
+    keeps for cars that stay (a park edge's ``stays``)."""
 
     slot: int | None = None
     exits: tuple[int, ...] = ()
@@ -510,7 +527,7 @@ def search(sg: SearchGraph, table: ReservationTable, *, owner: str, start: int, 
                     sg.parked_pose(ei), start_pose)):
                 continue
             if e.kind == "park" and (e.v != goal.slot or (
-                    goal.park_from is not None and node not in goal.park_from)):
+                    goal.park_from is not None and (e.stay or node not in goal.park_from))):
                 continue
             if e.kind == "join":
                 if not out:

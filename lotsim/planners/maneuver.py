@@ -568,10 +568,18 @@ class ManeuverPlanner:
         several lanes is parked on one pose from all of them where it can be, so that the
         car may leave towards any (:meth:`_solve_common`); without, each lane's best.
         """
-        out, reasons = {}, []
+        out, _, why = self.solve_lanes(vehicle, slot, style=style, shared=shared)
+        return out, why
+
+    def solve_lanes(self, vehicle: VehicleType, slot: Slot, *, style: str = "any",
+                    shared: bool = True) -> tuple[dict[str, Maneuver], dict[str, Maneuver], str]:
+        """:meth:`solve_all`, and each lane's own best maneuver where it parks the other way
+        round (nose-in or backed in) than the shared pose: a car that will not leave again
+        need not park so that it could leave towards every lane (lane id → Maneuver)."""
         lanes = self.lanes_for(slot)
         if shared and style == "any" and len(lanes) > 1 and slot.kind != "parallel":
             return self._solve_common(vehicle, slot, lanes)
+        out, reasons = {}, []
         for lane in lanes:
             result = self.solve(vehicle, slot, lane, style=style)
             if result.ok:
@@ -579,12 +587,12 @@ class ManeuverPlanner:
             else:
                 reasons.append(result.reason)
         if out:
-            return out, ""
-        return out, "; ".join(dict.fromkeys(reasons)) or "no lane of its aisle leads to it"
+            return out, {}, ""
+        return out, {}, "; ".join(dict.fromkeys(reasons)) or "no lane of its aisle leads to it"
 
     def _solve_common(self, vehicle: VehicleType, slot: Slot, lanes: list[Lane]
-                      ) -> tuple[dict[str, Maneuver], str]:
-        """:meth:`solve_all` for a slot served by several lanes: nose-in from every lane, or
+                      ) -> tuple[dict[str, Maneuver], dict[str, Maneuver], str]:
+        """:meth:`solve_lanes` for a slot served by several lanes: nose-in from every lane, or
         backed in from every lane — whichever costs fewer direction changes (then less path)
         on the worst lane and parks the car on the one pose from every lane — so the car
         can leave towards any of them; each lane's own best when no way of parking serves
@@ -598,6 +606,13 @@ class ManeuverPlanner:
 
         plain = {st: [self.solve(vehicle, slot, lane, style=st, eased=False) for lane in lanes]
                  for st in tried}
+        # each lane's best as planned (fewest changes, then shortest; nose-in on a tie)
+        own = {}
+        for k, lane in enumerate(lanes):
+            ok = [st for st in tried if tried[st][k].ok]
+            if ok:
+                own[lane.id] = min(ok, key=lambda x, k=k: (plain[x][k].maneuver.changes,
+                                                            plain[x][k].maneuver.length))
         common = [st for st, results in tried.items() if all(r.ok for r in results)]
         for st in sorted(common, key=lambda k: cost(tried[k])):
             # an eased path may park a few millimetres off the planned pose (when no two
@@ -606,20 +621,17 @@ class ManeuverPlanner:
             found = [r.maneuver if same_pose(r.maneuver.end, q.maneuver.end) else q.maneuver
                      for r, q in zip(tried[st], plain[st], strict=True)]
             if min(_shortest_run(m) for m in found) >= self.settings.min_stroke:
-                return {lane.id: m for lane, m in zip(lanes, found, strict=True)}, ""
-        # no one way of parking serves every lane: each lane's best as planned (fewest
-        # changes, then shortest; nose-in on a tie), eased — left the way it came in
-        out, reasons = {}, []
-        for k, lane in enumerate(lanes):
-            ok = [st for st in tried if tried[st][k].ok]
-            if ok:
-                st = min(ok, key=lambda x: (plain[x][k].maneuver.changes,
-                                            plain[x][k].maneuver.length))
-                out[lane.id] = tried[st][k].maneuver
-            reasons += [tried[st][k].reason for st in tried if not tried[st][k].ok]
+                stays = {lane.id: tried[own[lane.id]][k].maneuver
+                         for k, lane in enumerate(lanes) if own[lane.id] != st}
+                return {lane.id: m for lane, m in zip(lanes, found, strict=True)}, stays, ""
+        # no one way of parking serves every lane: each lane's best, eased — left the way it
+        # came in
+        out = {lane.id: tried[own[lane.id]][k].maneuver
+               for k, lane in enumerate(lanes) if lane.id in own}
         if out:
-            return out, ""
-        return out, "; ".join(dict.fromkeys(reasons))
+            return out, {}, ""
+        reasons = [tried[st][k].reason for k in range(len(lanes)) for st in tried]
+        return out, {}, "; ".join(dict.fromkeys(reasons))
 
     # -- problem set-up -----------------------------------------------------------------------
     def _problem(self, vehicle: VehicleType, slot: Slot, lane: Lane) -> _Problem:
@@ -1071,24 +1083,32 @@ def plan_maneuver(vehicle: VehicleType, slot: Slot, lot: Lot, *, style: str = "a
 
 def plan_lot(planner: ManeuverPlanner, vehicles: Iterable[VehicleType], *,
              style: str = "any") -> tuple[dict[tuple[str, str, str], Maneuver],
-                                          dict[str, dict[str, str]]]:
+                                          dict[str, dict[str, str]],
+                                          dict[tuple[str, str, str], Maneuver]]:
     """Maneuvers for every slot, vehicle type and lane of a lot.
 
     Returns
     -------
     maneuvers : dict
-        ``(vehicle name, slot id, lane id)`` → Maneuver.
+        ``(vehicle name, slot id, lane id)`` → Maneuver (:meth:`ManeuverPlanner.solve_all`).
     infeasible : dict
         vehicle name → {slot id: reason} for the slots it cannot use.
+    stays : dict
+        ``(vehicle name, slot id, lane id)`` → that lane's own best Maneuver, where it parks
+        the other way round than the one in ``maneuvers`` (for cars that will not leave;
+        :meth:`ManeuverPlanner.solve_lanes`).
     """
     maneuvers: dict[tuple[str, str, str], Maneuver] = {}
+    stays: dict[tuple[str, str, str], Maneuver] = {}
     infeasible: dict[str, dict[str, str]] = {}
     for v in vehicles:
         infeasible[v.name] = {}
         for slot in planner.lot.slots:
-            found, why = planner.solve_all(v, slot, style=style)
+            found, own, why = planner.solve_lanes(v, slot, style=style)
             for lane, m in found.items():
                 maneuvers[(v.name, slot.id, lane)] = m
+            for lane, m in own.items():
+                stays[(v.name, slot.id, lane)] = m
             if not found:
                 infeasible[v.name][slot.id] = why
-    return maneuvers, infeasible
+    return maneuvers, infeasible, stays
