@@ -66,21 +66,48 @@ def test_a_cul_de_sac_is_left_by_a_multi_point_turn_at_its_closed_end(lots):
     assert backs
     for u, v, d in backs:
         assert g.nodes[u]["lane"] == "a>" and g.nodes[v]["lane"] == "a<"
-        path = d["path"]
-        # forward and back, full lock at most, turning the car round
-        assert {s.gear for s in path} == {1, -1}
-        assert max(s.max_curvature for s in path) <= 1 / lg.lot.design.min_radius + 1e-9
-        turned = math.remainder(path[-1].end[2] - path[0].start[2], math.tau)
-        assert abs(turned) == pytest.approx(math.pi)
-        # independently of the planner's checker: shapely, the margin, the lot boundary
-        poses = np.concatenate([s.sample(0.05) for s in path])
-        bodies = shapely.polygons(lg.lot.design.footprints(poses))
-        assert shapely.covers(lg.lot.boundary.buffer(-0.099), bodies).all()
-        slots = shapely.union_all([s.shape for s in lg.lot.slots])
-        assert shapely.distance(bodies, slots).min() >= 0.099
+        _assert_turns_round_clear(d["path"], lg)
     # cars park from either lane and leave towards the gate: none needs to turn round
     rr = run(sc, lot_graph=lg)
     assert {v.status for v in rr.vehicles} == {"departed"}
+
+
+def _assert_turns_round_clear(path, lg):
+    """Forward and back, full lock at most, turning the car round, and (independently of
+    the planner's checker: shapely) the margin from every slot, inside the lot boundary."""
+    assert {s.gear for s in path} == {1, -1}
+    assert max(s.max_curvature for s in path) <= 1 / lg.lot.design.min_radius + 1e-9
+    turned = math.remainder(path[-1].end[2] - path[0].start[2], math.tau)
+    assert abs(turned) == pytest.approx(math.pi)
+    poses = np.concatenate([s.sample(0.05) for s in path])
+    bodies = shapely.polygons(lg.lot.design.footprints(poses))
+    assert shapely.covers(lg.lot.boundary.buffer(-0.099), bodies).all()
+    slots = shapely.union_all([s.shape for s in lg.lot.slots])
+    assert shapely.distance(bodies, slots).min() >= 0.099
+
+
+def test_a_narrow_cul_de_sac_lined_with_bays_is_turned_in_and_every_bay_left():
+    """A 6.2 m aisle with bays on both sides: full-lock strokes turn a vw round almost in
+    place, beside its lane, and the last move is an S across (before it, no turnaround was
+    found and no bay could be left)."""
+    from conftest import scenario_from_text
+
+    text = (LOTS / "culdesac.yaml").read_text()
+    text = text.replace("[50, 17], [0, 17]", "[50, 16.2], [0, 16.2]").replace(
+        "[[0, 8.5], [49, 8.5]], width: 7.0", "[[0, 8.1], [49, 8.1]], width: 6.2").replace(
+        "y: 6.75", "y: 6.55").replace("y: 10.25", "y: 9.65").replace(
+        "seed: 3", "seed: 3\nvehicle_types: [vw]").replace("count: 10,", "count: 6,")
+    sc = scenario_from_text(text)
+    lg = prepare(sc)
+    backs = [d["path"] for _, _, d in lg.graph.edges(data=True) if d["kind"] == "turnaround"]
+    assert backs
+    for path in backs:
+        _assert_turns_round_clear(path, lg)
+    assert any(s.gear > 0 and s.curvature < 0 for s in backs[0])  # the S's right arc
+    reach = lg.reachability()
+    assert reach.ok, reach
+    rr, doc = _run_checked(sc, lg)
+    assert {v["status"] for v in doc["vehicles"]} == {"departed"}
 
 
 ANGLED_DEAD_END = """

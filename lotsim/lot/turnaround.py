@@ -4,7 +4,8 @@ Where a two-way aisle ends in a dead end (a cul-de-sac, the closed half of an ai
 whose one gate is both the way in and the way out), a car turns back as a driver does in a
 narrow street: forward at full lock towards the far side until the next step would touch
 something, reverse at the other lock (which keeps turning it the same way), and so on, until
-one last forward move — a straight, one arc and a straight along the lane — lands it on the
+one last forward move — a straight, one arc and a straight along the lane, or, where the
+strokes have turned it round beside the lane, an S of two wide arcs — lands it on the
 opposite lane heading back. The fewest direction changes win, then the shortest path.
 
 Everything is checked for the scenario's design vehicle (the envelope of its types, so every
@@ -34,6 +35,11 @@ PROBE = 0.25
 """Spacing of the places along each stroke where the last move onto the lane is tried [m]."""
 CLOSING_RADII = (1.0, 1.25, 1.5, 2.0)
 """The last move's arc tries these multiples of the design radius."""
+S_RADII = (2.0, 3.0, 4.0, 6.0)
+"""A last move that is an S (a right arc, then a left arc onto the lane) tries these multiples
+of the design radius: it moves a car that has turned round but stands beside the lane (in a
+narrow aisle the full-lock strokes turn it round in place, off its lane) across, at a
+heading shallow enough to keep its nose out of the bays."""
 STEP = 0.1
 """Spacing of the footprints whose hulls cover a stroke when checking it [m]."""
 STARTS = (0.0, 2.0, 4.0, 6.0)
@@ -181,32 +187,57 @@ def _multipoint(frame: FloatArray, start: FloatArray, lane_length: float, collid
 
 def _closings(q: FloatArray, lane_length: float, radius: float) -> list[list[Segment]]:
     """Last moves from local pose ``q`` onto the line y = 0 heading +x, driven forward: a
-    straight, a left arc, a straight along the lane to a grid station; shortest first."""
+    straight, a left arc, a straight along the lane to a grid station, or (from above the
+    line, heading along it or down) an S of two arcs and a straight; shortest first."""
     x, y, th = (float(v) for v in q)
     out = []
-    if not math.pi < th < 2 * math.pi - 1e-9:
-        return out
-    sin, cos = math.sin(th), math.cos(th)
-    for f in CLOSING_RADII:
-        r = f * radius
-        d = (r * (1 - cos) - y) / sin  # straight before the arc (sin < 0)
-        if d < -1e-9:
-            continue
-        d = max(d, 0.0)
-        end_x = x + d * cos - r * sin
-        target = math.ceil((end_x + GRID) / GRID - 1e-9) * GRID
-        if end_x < -1e-9 or target > lane_length + 1e-9:
-            continue
-        segs = []
-        p = (x, y, th)
-        if d > 1e-9:
-            segs.append(Segment(p, d, 0.0))
-            p = segs[-1].end
-        segs.append(Segment(p, (2 * math.pi - th) * r, 1.0 / r))
-        p = segs[-1].end
-        segs.append(Segment((p[0], 0.0, 0.0), target - p[0], 0.0))
-        out.append((sum(s.length for s in segs), segs))
+    if math.pi < th < 2 * math.pi - 1e-9:
+        sin, cos = math.sin(th), math.cos(th)
+        for f in CLOSING_RADII:
+            r = f * radius
+            d = (r * (1 - cos) - y) / sin  # straight before the arc (sin < 0)
+            if d < -1e-9:
+                continue
+            p = (x, y, th)
+            segs = [Segment(p, max(d, 0.0), 0.0)] if d > 1e-9 else []
+            p = segs[-1].end if segs else p
+            segs.append(Segment(p, (2 * math.pi - th) * r, 1.0 / r))
+            out += _onto_lane(segs, lane_length)
+    if 1.5 * math.pi < th <= 2 * math.pi + 1e-9 and y > 1e-6:
+        for f in S_RADII:
+            out += _onto_lane(_s_curve(x, y, th, f * radius), lane_length)
     return [segs for _, segs in sorted(out, key=lambda c: c[0])]
+
+
+def _s_curve(x: float, y: float, th: float, r: float) -> list[Segment]:
+    """A right arc then a left arc, both of radius ``r``, from local ``(x, y, th)`` to the
+    line y = 0 heading +x (empty when the two circles cannot meet)."""
+    c1 = (x + r * math.sin(th), y - r * math.cos(th))  # centre of the right arc
+    gap = c1[1] - r  # the left arc's centre lies at height r
+    if abs(gap) > 2 * r:
+        return []
+    c2 = (c1[0] + math.sqrt(4 * r * r - gap * gap), r)
+    mx, my = (c1[0] + c2[0]) / 2, (c1[1] + c2[1]) / 2  # where the arcs meet
+    h = math.atan2(-(mx - c1[0]), my - c1[1])  # heading there
+    first = (th - h) % (2 * math.pi)
+    second = (-h) % (2 * math.pi)
+    if first > math.pi or second > math.pi:
+        return []  # not an S: it would loop
+    a = Segment((x, y, th), first * r, -1.0 / r)
+    return [a, Segment(a.end, second * r, 1.0 / r)]
+
+
+def _onto_lane(segs: list[Segment], lane_length: float) -> list[tuple[float, list[Segment]]]:
+    """``segs``, which end on the line y = 0 heading +x, and a straight along it to the next
+    grid station :data:`GRID` or more ahead (with their length), if that is on the lane."""
+    if not segs:
+        return []
+    end_x = segs[-1].end[0]
+    target = math.ceil((end_x + GRID) / GRID - 1e-9) * GRID
+    if end_x < -1e-9 or target > lane_length + 1e-9:
+        return []
+    segs = [*segs, Segment((segs[-1].end[0], 0.0, 0.0), target - end_x, 0.0)]
+    return [(sum(s.length for s in segs), segs)]
 
 
 def _extent(frame: FloatArray, pose: FloatArray, gear: int, kappa: float, cap: float,
