@@ -86,18 +86,52 @@ def _assert_turns_round_clear(path, lg):
     assert shapely.distance(bodies, slots).min() >= 0.099
 
 
-def test_a_narrow_cul_de_sac_lined_with_bays_is_turned_in_and_every_bay_left():
-    """A 6.2 m aisle with bays on both sides: full-lock strokes turn a vw round almost in
-    place, beside its lane, and the last move is an S across (before it, no turnaround was
-    found and no bay could be left)."""
+def _narrow_culdesac(types: str):
+    """The shipped cul-de-sac with a 6.2 m aisle, for vehicle ``types``."""
     from conftest import scenario_from_text
 
     text = (LOTS / "culdesac.yaml").read_text()
     text = text.replace("[50, 17], [0, 17]", "[50, 16.2], [0, 16.2]").replace(
         "[[0, 8.5], [49, 8.5]], width: 7.0", "[[0, 8.1], [49, 8.1]], width: 6.2").replace(
         "y: 6.75", "y: 6.55").replace("y: 10.25", "y: 9.65").replace(
-        "seed: 3", "seed: 3\nvehicle_types: [vw]").replace("count: 10,", "count: 6,")
-    sc = scenario_from_text(text)
+        "seed: 3", f"seed: 3\nvehicle_types: {types}").replace("count: 10,", "count: 6,")
+    return scenario_from_text(text)
+
+
+def test_turnarounds_are_planned_for_each_vehicle_type_and_used_only_by_it():
+    """A van that fits no bay of a narrow cul-de-sac has no room to turn round in it: the
+    small car's turnaround is planned for the small car (before, for the envelope of the two,
+    there was none, and no bay could be left)."""
+    from lotsim.lot.model import DesignVehicle
+
+    sc = _narrow_culdesac("[msv, vclass]")
+    lg = prepare(sc)
+    g, lot = lg.graph, lg.lot
+    types = {v.name: v for v in sc.vehicle_types}
+    backs = [(d["path"], d["types"]) for _, _, d in g.edges(data=True)
+             if d["kind"] == "turnaround"]
+    assert backs and all(names == frozenset({"msv"}) for _, names in backs)
+    slots = shapely.union_all([s.shape for s in lot.slots])
+    for path, names in backs:  # clear and within the curvature limit for each type named
+        poses = np.concatenate([s.sample(0.05) for s in path])
+        for name in names:
+            design = DesignVehicle.envelope([types[name]])
+            bodies = shapely.polygons(design.footprints(poses))
+            assert shapely.distance(bodies, slots).min() >= 0.099
+            assert max(s.max_curvature for s in path) <= 1 / design.min_radius + 1e-9
+    assert any("no turnaround (for vclass)" in note for note in lg.skipped_turns)
+    reach = lg.reachability()
+    assert reach.by_type["msv"] == ([], [])
+    for name, v in types.items():  # a type's search graph has only its own turnarounds
+        kinds = [e.data.get("types") for e in SearchGraph(lg, v).edges if e.kind == "turnaround"]
+        assert bool(kinds) == (name == "msv") and all(name in k for k in kinds)
+
+
+def test_a_narrow_cul_de_sac_lined_with_bays_is_turned_in_and_every_bay_left():
+    """A 6.2 m aisle with bays on both sides: full-lock strokes turn a vw round almost in
+    place, beside its lane, and the last move is an S across (before it, no turnaround was
+    found and no bay could be left)."""
+    sc = _narrow_culdesac("[vw]")
     lg = prepare(sc)
     backs = [d["path"] for _, _, d in lg.graph.edges(data=True) if d["kind"] == "turnaround"]
     assert backs

@@ -51,7 +51,12 @@ from lotsim.geometry import Segment, cc_polyline, cc_turn, sample_segments, wrap
 from lotsim.lot.build import SWEEP_STEP, lane_collider
 from lotsim.lot.clearance import Collider
 from lotsim.lot.model import DesignVehicle, Lane, Lot, Portal, Slot, unit
-from lotsim.lot.turnaround import Turnaround, plan_turnarounds, turnaround_collider
+from lotsim.lot.turnaround import (
+    Turnaround,
+    plan_turnarounds,
+    turnaround_clear,
+    turnaround_collider,
+)
 
 TURN_SPEEDS = tuple(k / 3.6 for k in (15.0, 12.5, 10.0, 7.5, 5.0, 3.0, 1.5))
 """Design speeds junction turns try, fastest first [m/s]: a turn for speed ``v`` has an arc
@@ -256,7 +261,10 @@ def build_graph(lot: Lot, *, node_spacing: float = 4.0, maneuvers=None,  # noqa:
     for p in lot.exits:
         lid, st = _portal_station(lot, p)
         exits[lid] = max(exits.get(lid, -math.inf), st)
-    backs, no_back = _turnarounds_of(lot, turns, joins, exits)
+    backs, no_back = _turnarounds_of(lot, turns, joins, exits, designs)
+    # turnarounds for more types first: two that join the same nodes keep the one more can
+    # drive
+    backs.sort(key=lambda c: -len(designs or ()) if c[1] is None else -len(c[1]))
     skipped += no_back
     stays = {} if maneuvers is None else (stays or {})
     attach = (_attachments(lot) if maneuvers is None
@@ -266,7 +274,7 @@ def build_graph(lot: Lot, *, node_spacing: float = 4.0, maneuvers=None,  # noqa:
     for lid, lane in lanes.items():
         stations[lid] += [float(s) for s in lane.starts]
         stations[lid] += _zone_crossings(lot, lane)
-    for t in (*turns, *backs):
+    for t in (*turns, *(t for t, _ in backs)):
         stations[t.lane_a].append(t.station_a)
         stations[t.lane_b].append(t.station_b)
     portals = {p: _portal_station(lot, p) for p in (*lot.entrances, *lot.exits)}
@@ -300,9 +308,11 @@ def build_graph(lot: Lot, *, node_spacing: float = 4.0, maneuvers=None,  # noqa:
         if not g.has_edge(u, v):
             _add_edge(g, lot, u, v, t.segments, "turn")
             g.edges[u, v]["types"] = types
-    for t in backs:
-        _add_edge(g, lot, node_at(t.lane_a, t.station_a), node_at(t.lane_b, t.station_b),
-                  t.segments, "turnaround")
+    for t, types in backs:
+        u, v = node_at(t.lane_a, t.station_a), node_at(t.lane_b, t.station_b)
+        if not g.has_edge(u, v):
+            _add_edge(g, lot, u, v, t.segments, "turnaround")
+            g.edges[u, v]["types"] = types
     for a, b in joins:
         g.add_edge(node_at(a, lanes[a].length), node_at(b, 0.0), kind="join", length=0.0,
                    gear=1, path=None, speed_limit=lot.speed_limit, placeholder=False)
@@ -559,32 +569,62 @@ _BACKS: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
 
 
 def _turnarounds_of(lot: Lot, turns: list[Turn], joins: list[tuple[str, str]],
-                    exits: dict[str, float]) -> tuple[list[Turnaround], list[str]]:
+                    exits: dict[str, float], designs: dict[str, DesignVehicle] | None = None
+                    ) -> tuple[list[tuple[Turnaround, frozenset | None]], list[str]]:
     """Turnarounds at the dead ends of two-way aisles (:data:`DEAD_END`; a lane that leads
-    to an exit past its last turn is no dead end), and a note for each dead end where none
-    fits; worked out once per lot. ``exits`` maps a lane to its last exit's station."""
-    if lot not in _BACKS:
+    to an exit past its last turn is no dead end), each with the vehicle types that can
+    drive it (None: every type), and a note for each dead end where none fits (naming the
+    types, when only some have none); worked out once per lot and set of types. ``exits``
+    maps a lane to its last exit's station.
+
+    With ``designs`` (vehicle type → its own outline and limits, for two types or more)
+    turnarounds are planned for each type on its own — a small car turns round where the
+    envelope of all the types, or a van that fits no bay, could not — and each is tagged
+    with every type it suits: no tighter than its radius, clear for its body and margin.
+    """
+    key = tuple(sorted(designs.items())) if designs else None
+    cache = _BACKS.setdefault(lot, {})
+    if key not in cache:
         last = {lane.id: exits.get(lane.id, -math.inf) + DEAD_END for lane in lot.lanes}
         for t in turns:
             last[t.lane_a] = max(last[t.lane_a], t.station_a)
         joined = {a for a, _ in joins}
-        collider, body = turnaround_collider(lot)
-        found, notes = [], []
-        for aisle in lot.aisles.values():
-            if aisle.one_way or len(aisle.lanes) != 2:
-                continue
-            for lane, back in (aisle.lanes, aisle.lanes[::-1]):
-                if lane.id in joined or last[lane.id] >= lane.length - DEAD_END:
-                    continue
-                t = plan_turnarounds(lane, back, collider, body, lot.design.min_radius)
+        ends = [(lane, back) for aisle in lot.aisles.values()
+                if not aisle.one_way and len(aisle.lanes) == 2
+                for lane, back in (aisle.lanes, aisle.lanes[::-1])
+                if lane.id not in joined and last[lane.id] < lane.length - DEAD_END]
+        per = designs or {"": lot.design}
+        bodies = {name: turnaround_collider(lot, design) for name, design in per.items()}
+        tagged: dict[Turnaround, set[str]] = {}  # each with the types it was planned for
+        why: dict[tuple[str, str], str] = {}  # (lane, type) → why it has none
+        for name, design in per.items():
+            collider, body = bodies[name]
+            for lane, back in ends:
+                t = plan_turnarounds(lane, back, collider, body, design.min_radius)
                 if isinstance(t, str):
-                    x, y, _ = lane.pose_at(lane.length)
-                    notes.append(f"dead end of lane {lane.id} at ({x:.1f}, {y:.1f}): no "
-                                 f"turnaround: {t}")
+                    why[lane.id, name] = t
                 else:
-                    found += t
-        _BACKS[lot] = (found, notes)
-    found, notes = _BACKS[lot]
+                    for x in t:
+                        tagged.setdefault(x, set()).add(name)
+        for t, names in tagged.items():  # and every other type it suits
+            bend = max(seg.max_curvature for seg in t.segments)
+            names.update(name for name, design in per.items() if name not in names
+                         and bend <= 1 / design.min_radius + 1e-9
+                         and turnaround_clear(t, *bodies[name]))
+        notes = []
+        for lane, _ in ends:
+            lacking = [name for name in per if not any(
+                t.lane_a == lane.id and name in names for t, names in tagged.items())]
+            if lacking:
+                x, y, _ = lane.pose_at(lane.length)
+                reason = next((why[lane.id, n] for n in lacking if (lane.id, n) in why),
+                              "none clear for it")
+                some = f" (for {', '.join(lacking)})" if len(lacking) < len(per) else ""
+                notes.append(f"dead end of lane {lane.id} at ({x:.1f}, {y:.1f}): no "
+                             f"turnaround{some}: {reason}")
+        cache[key] = ([(t, None if len(n) == len(per) else frozenset(n))
+                       for t, n in tagged.items()], notes)
+    found, notes = cache[key]
     return list(found), list(notes)
 
 

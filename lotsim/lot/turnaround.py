@@ -72,14 +72,22 @@ class Turnaround:
         return sum(1 for a, b in zip(gears[:-1], gears[1:], strict=True) if a != b)
 
 
-def turnaround_collider(lot: Lot, margin: float = MARGIN) -> tuple[Collider, DesignVehicle]:
+def turnaround_collider(lot: Lot, design: DesignVehicle | None = None, margin: float = MARGIN
+                        ) -> tuple[Collider, DesignVehicle]:
     """A checker for turnarounds on ``lot``: every slot, area and the boundary (no gates
-    beyond aisle ends: a car turns back inside the lot), and the design vehicle grown by
-    ``margin``."""
-    d = lot.design
+    beyond aisle ends: a car turns back inside the lot), and ``design`` (default the lot's
+    design vehicle) grown by ``margin``."""
+    d = design or lot.design
     grown = dataclasses.replace(d, width=d.width + 2 * margin, front=d.front + margin,
                                 rear=d.rear + margin)
     return Collider(obstacle_polygons(lot.areas, lot.slots), lot.boundary), grown
+
+
+def turnaround_clear(t: Turnaround, collider: Collider, body: DesignVehicle) -> bool:
+    """Whether ``body`` (see :func:`turnaround_collider`) drives turnaround ``t`` clear of
+    everything ``collider`` holds (hulls of footprints :data:`STEP` apart)."""
+    poses, _ = sample_segments(list(t.segments), STEP)
+    return not collider.blocked(Collider.sweeps(body.footprints(poses))).any()
 
 
 def plan_turnaround(lane: Lane, back: Lane, collider: Collider, body: DesignVehicle,
