@@ -86,6 +86,50 @@ def _assert_turns_round_clear(path, lg):
     assert shapely.distance(bodies, slots).min() >= 0.099
 
 
+TEE = """
+name: tee
+seed: 3
+vehicle_types: [msv]
+lot:
+  boundary: [[0, 0], [23.5, 0], [23.5, 18.7], [0, 18.7]]
+  aisles:
+    - {id: spur, centerline: [[12.0, 0], [12.0, 9.85]], width: 7.3}
+    - {id: a0, centerline: [[1.0, 9.85], [22.5, 9.85]], width: 7.3}
+  rows:
+    - {aisle: a0, side: right, kind: perpendicular, count: 2, slot_width: 2.65,
+       slot_length: 5.2, start: 0.0, id_prefix: W}
+    - {aisle: a0, side: right, kind: perpendicular, count: 2, slot_width: 2.65,
+       slot_length: 5.2, start: 15.1, id_prefix: E}
+    - {aisle: a0, side: left, kind: perpendicular, count: 2, slot_width: 2.65,
+       slot_length: 5.2, start: 0.0, id_prefix: N}
+  entrances:
+    - {id: gate-in, x: 13.8, y: 1.5, heading_deg: 90}
+  exits:
+    - {id: gate-out, x: 10.2, y: 4.5, heading_deg: -90}
+traffic:
+  stream: {count: 6, rate_per_hour: 600, dwell: [30, 60]}
+"""
+
+
+def test_short_arms_with_corner_bays_have_turnarounds_and_every_bay_is_left():
+    """A gate spur meeting a short aisle at a T, two bays at each corner: a car that parks
+    past the last turn off its lane (the arms are shorter than a dead end's 15 m) must turn
+    round there. Before, 5 of the 6 bays could not be left and the run was refused."""
+    from conftest import scenario_from_text
+
+    sc = scenario_from_text(TEE)
+    lg = prepare(sc)
+    reach = lg.reachability()
+    assert reach.by_type["msv"] == ([], []) and not reach.no_way_out, reach
+    assert len(lg.infeasible["msv"]) <= 1  # N1, in the closed west corner: no maneuver yet
+    backs = [d["path"] for _, _, d in lg.graph.edges(data=True) if d["kind"] == "turnaround"]
+    assert backs
+    for path in backs:
+        _assert_turns_round_clear(path, lg)
+    rr, doc = _run_checked(sc, lg)
+    assert {v["status"] for v in doc["vehicles"]} == {"departed"}
+
+
 def _narrow_culdesac(types: str):
     """The shipped cul-de-sac with a 6.2 m aisle, for vehicle ``types``."""
     from conftest import scenario_from_text

@@ -261,14 +261,18 @@ def build_graph(lot: Lot, *, node_spacing: float = 4.0, maneuvers=None,  # noqa:
     for p in lot.exits:
         lid, st = _portal_station(lot, p)
         exits[lid] = max(exits.get(lid, -math.inf), st)
-    backs, no_back = _turnarounds_of(lot, turns, joins, exits, designs)
+    stays = {} if maneuvers is None else (stays or {})
+    attach = (_attachments(lot) if maneuvers is None
+              else _maneuver_attachments(lot, [*maneuvers.items(), *stays.items()]))
+    stops: dict[str, float] = {}  # per lane, the last station a car parks or unparks at
+    for links in attach.values():
+        for lid, st in links:
+            stops[lid] = max(stops.get(lid, -math.inf), st)
+    backs, no_back = _turnarounds_of(lot, turns, joins, exits, designs, stops)
     # turnarounds for more types first: two that join the same nodes keep the one more can
     # drive
     backs.sort(key=lambda c: -len(designs or ()) if c[1] is None else -len(c[1]))
     skipped += no_back
-    stays = {} if maneuvers is None else (stays or {})
-    attach = (_attachments(lot) if maneuvers is None
-              else _maneuver_attachments(lot, [*maneuvers.items(), *stays.items()]))
 
     stations: dict[str, list[float]] = {lid: [0.0, lane.length] for lid, lane in lanes.items()}
     for lid, lane in lanes.items():
@@ -564,43 +568,58 @@ def _turns_of(lot: Lot, collider: Collider, designs: dict[str, DesignVehicle] | 
 
 DEAD_END = 15.0
 """A lane whose last turn off it begins more than this before its end [m], and which does
-not continue as another, ends in a dead end: a car turns round there (a turnaround)."""
+not continue as another, ends in a dead end: a car turns round there (a turnaround); so
+does one a car parks or unparks on past its last turn (:func:`_turnarounds_of`)."""
 _BACKS: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
 
 
 def _turnarounds_of(lot: Lot, turns: list[Turn], joins: list[tuple[str, str]],
-                    exits: dict[str, float], designs: dict[str, DesignVehicle] | None = None
+                    exits: dict[str, float], designs: dict[str, DesignVehicle] | None = None,
+                    stops: dict[str, float] | None = None
                     ) -> tuple[list[tuple[Turnaround, frozenset | None]], list[str]]:
-    """Turnarounds at the dead ends of two-way aisles (:data:`DEAD_END`; a lane that leads
-    to an exit past its last turn is no dead end), each with the vehicle types that can
+    """Turnarounds at the dead ends of two-way aisles, each with the vehicle types that can
     drive it (None: every type), and a note for each dead end where none fits (naming the
-    types, when only some have none); worked out once per lot and set of types. ``exits``
-    maps a lane to its last exit's station.
+    types, when only some have none); each planned once per lot, lane and type.
+
+    A lane that does not continue as another ends in a dead end when its last turn off it
+    begins more than :data:`DEAD_END` before its end and it leads to no exit past that turn,
+    or when a car parks or unparks on it past its last turn and exit (``stops``: lane → the
+    last such station; a corner bay): a car there could not get on otherwise. ``exits`` maps a
+    lane to its last exit's station.
 
     With ``designs`` (vehicle type → its own outline and limits, for two types or more)
     turnarounds are planned for each type on its own — a small car turns round where the
     envelope of all the types, or a van that fits no bay, could not — and each is tagged
     with every type it suits: no tighter than its radius, clear for its body and margin.
     """
-    key = tuple(sorted(designs.items())) if designs else None
+    stops = stops or {}
+    last = {lane.id: exits.get(lane.id, -math.inf) + DEAD_END for lane in lot.lanes}
+    turned = {lane.id: exits.get(lane.id, -math.inf) for lane in lot.lanes}  # way off
+    for t in turns:
+        last[t.lane_a] = max(last[t.lane_a], t.station_a)
+        turned[t.lane_a] = max(turned[t.lane_a], t.station_a)
+    joined = {a for a, _ in joins}
+    ends = [(lane, back) for aisle in lot.aisles.values()
+            if not aisle.one_way and len(aisle.lanes) == 2
+            for lane, back in (aisle.lanes, aisle.lanes[::-1])
+            if lane.id not in joined and (last[lane.id] < lane.length - DEAD_END
+                                          or stops.get(lane.id, -math.inf) > turned[lane.id])]
+    key = (tuple(sorted(designs.items())) if designs else None,
+           tuple(lane.id for lane, _ in ends))
     cache = _BACKS.setdefault(lot, {})
     if key not in cache:
-        last = {lane.id: exits.get(lane.id, -math.inf) + DEAD_END for lane in lot.lanes}
-        for t in turns:
-            last[t.lane_a] = max(last[t.lane_a], t.station_a)
-        joined = {a for a, _ in joins}
-        ends = [(lane, back) for aisle in lot.aisles.values()
-                if not aisle.one_way and len(aisle.lanes) == 2
-                for lane, back in (aisle.lanes, aisle.lanes[::-1])
-                if lane.id not in joined and last[lane.id] < lane.length - DEAD_END]
         per = designs or {"": lot.design}
         bodies = {name: turnaround_collider(lot, design) for name, design in per.items()}
         tagged: dict[Turnaround, set[str]] = {}  # each with the types it was planned for
         why: dict[tuple[str, str], str] = {}  # (lane, type) → why it has none
+        planned = cache.setdefault("planned", {})  # (lane, design) → plan_turnarounds
         for name, design in per.items():
             collider, body = bodies[name]
             for lane, back in ends:
-                t = plan_turnarounds(lane, back, collider, body, design.min_radius)
+                if (lane.id, design) not in planned:
+                    planned[lane.id, design] = plan_turnarounds(lane, back, collider, body,
+                                                                design.min_radius)
+                t = planned[lane.id, design]
                 if isinstance(t, str):
                     why[lane.id, name] = t
                 else:
