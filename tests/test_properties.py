@@ -343,7 +343,8 @@ def networks(draw, size: dict) -> Case:
     end (L corners, T junctions) or none (a dead end), maybe one in the middle (T junctions,
     crossroads); the east ends dead ends or joined by a cross aisle; one gate: a two-way
     spur from the south boundary meeting the first aisle at a T, the entrance on its way in
-    and the exit on its way out. Every car dwells and leaves by the gate."""
+    and the exit on its way out; two aisles or more are joined by at least one cross aisle.
+    Every car dwells and leaves by the gate."""
     names = draw(st.lists(st.sampled_from(sorted(CATALOGUE)), min_size=1,
                           max_size=size["types"], unique=True))
     w = round(draw(st.floats(6.0, 7.5)), 2)
@@ -351,7 +352,7 @@ def networks(draw, size: dict) -> Case:
     n = draw(st.integers(1, 3))
     west = n > 1 and draw(st.booleans())
     middle = n > 1 and draw(st.booleans())
-    east = n > 1 and draw(st.booleans())
+    east = n > 1 and (draw(st.booleans()) or not (west or middle))  # every aisle joined
     per_block = draw(st.integers(2, size["slots"] + 2))
     tags = ["network", f"{n} aisles"] + ["west cross"] * west + ["middle cross"] * middle \
         + (["east cross"] if east else ["dead ends"])

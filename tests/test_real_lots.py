@@ -130,6 +130,23 @@ def test_short_arms_with_corner_bays_have_turnarounds_and_every_bay_is_left():
     assert {v["status"] for v in doc["vehicles"]} == {"departed"}
 
 
+def test_a_bay_no_car_can_reach_says_so_instead_of_failing_its_maneuver():
+    """An aisle joined to nothing: its bays have no maneuver because no car gets beside
+    them, and that is what the reason says (before: "no way out with up to 8 direction
+    changes", as if the bay were too tight)."""
+    from conftest import scenario_from_text
+
+    text = TEE.replace("[23.5, 18.7], [0, 18.7]", "[23.5, 34.0], [0, 34.0]").replace(
+        "  rows:\n", "    - {id: a1, centerline: [[1.0, 25.0], [22.5, 25.0]], width: 7.3}\n"
+                      "  rows:\n    - {aisle: a1, side: left, kind: perpendicular, count: 3, "
+                      "slot_width: 2.65, slot_length: 5.2, start: 5.0, id_prefix: I}\n")
+    lg = prepare(scenario_from_text(text))
+    island = {f"I{k}" for k in (1, 2, 3)}
+    assert set(lg.reachability().no_way_in) >= island
+    for sid in island:
+        assert "no way along them from an entrance" in lg.infeasible["msv"][sid], sid
+
+
 def _narrow_culdesac(types: str):
     """The shipped cul-de-sac with a 6.2 m aisle, for vehicle ``types``."""
     from conftest import scenario_from_text

@@ -738,6 +738,8 @@ class ManeuverPlanner:
             return f"the car is {v.width:.2f} m wide, the slot {s.width:.2f} m"
         if v.length > s.length:
             return f"the car is {v.length:.2f} m long, the slot {s.length:.2f} m"
+        if p.lane_x[0] > p.lane_x[1]:
+            return "no car can reach the lanes beside it (no way along them from an entrance)"
         if s.kind == "parallel":
             return self._solve_parallel(p)
         heading_in = float(p.frame.poses_to_local(np.array([0.0, 0.0, s.heading]))[0, 2])
