@@ -44,6 +44,8 @@ def prepare(scenario: Scenario, *, node_spacing: float = 4.0, maneuvers: bool = 
     for every type, and build the lot's drivable graph through them.
 
     The slots a type cannot use are in ``LotGraph.infeasible`` (type → slot → reason).
+    Each lane's own best maneuver for cars that will not leave (a park edge's ``stays``) is
+    kept only when the scenario's traffic has such cars.
     With ``maneuvers=False`` slots hang off placeholder links (quick, for pictures).
 
     Raises
@@ -56,6 +58,9 @@ def prepare(scenario: Scenario, *, node_spacing: float = 4.0, maneuvers: bool = 
         return build_graph(lot, node_spacing=node_spacing, vehicles=scenario.vehicle_types)
     planner = maneuver_planner(scenario, lot, margin=margin)
     planned, infeasible, stays = plan_lot(planner, scenario.vehicle_types)
+    if scenario.traffic is None or all(a.dwell is not None
+                                       for a in arrivals(scenario.traffic, scenario.seed)):
+        stays = {}  # no car stays: where those maneuvers begin would only be nodes in the way
     lg = build_graph(lot, node_spacing=node_spacing, maneuvers=planned,
                      vehicles=scenario.vehicle_types, stays=stays)
     lg.infeasible = infeasible

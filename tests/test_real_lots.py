@@ -15,6 +15,7 @@ from lotsim.io.result import result_dict
 from lotsim.io.scenario import load_scenario
 from lotsim.planners.cooperative import SearchGraph
 from lotsim.sim import prepare, run
+from lotsim.traffic import arrivals
 from single_track import assert_reproduced
 
 LOTS = Path(__file__).resolve().parents[1] / "scenarios" / "lots"
@@ -355,6 +356,13 @@ def test_a_car_that_stays_parks_with_its_lanes_best_and_one_that_leaves_on_the_s
             assert tuple(np.round(park.end_pose, 6)) in shared, v.id
             assert v.status == "departed"
     assert differ >= 2  # cars that stayed where the two differ
+
+
+def test_maneuvers_for_cars_that_stay_are_kept_only_when_some_car_stays(lots):
+    # where they begin would only be lane nodes in the way of cars that all leave again
+    for name, (sc, lg) in lots.items():
+        assert all(a.dwell is not None for a in arrivals(sc.traffic, sc.seed)), name
+        assert not any(d.get("stays") for *_, d in lg.graph.edges(data=True)), name
 
 
 def test_junction_turns_are_built_for_each_vehicle_type_and_used_only_by_it():
