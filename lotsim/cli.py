@@ -9,6 +9,7 @@ to stdout.
 from __future__ import annotations
 
 import argparse
+import contextlib
 import difflib
 import math
 import sys
@@ -553,23 +554,63 @@ def _write_gif(doc: dict, path, settings) -> int:  # noqa: ANN001
     from lotsim.replay import ReplayError
 
     bar = _ProgressBar("rendering frames")
+    seen: list[bool] = []
+    hook = sys.unraisablehook
+    error, interrupted = None, False
     try:
-        info = write_gif(doc, path, settings, progress=bar)
-    except (ReplayError, LotFormatError) as exc:
-        return _bad(f"cannot draw this result: {exc}")
-    except ValueError as exc:  # the asked span is outside the run
-        field, _, message = str(exc).partition(": ")
-        return _bad(f"{_GIF_OPTIONS.get(field, field)}: {message}")
-    except OSError as exc:
-        return _bad(f"{path}: cannot write: {exc.strerror or exc}")
+        with _noting_sigint(seen):
+            info = write_gif(doc, path, settings, progress=bar)
+    except (KeyboardInterrupt, ReplayError, LotFormatError, ValueError, OSError) as exc:
+        interrupted = bool(seen) or isinstance(exc, KeyboardInterrupt)
+        if interrupted:
+            # Ctrl-C, which Pillow may turn into an error of its own; the half-made writer
+            # complains as it is collected (when this block lets go of it): not for the
+            # user's eyes
+            sys.unraisablehook = lambda _: None
+        else:
+            error = exc
     finally:
         bar.close()
+    if interrupted:
+        import gc
+
+        gc.collect()
+        sys.unraisablehook = hook
+        raise KeyboardInterrupt
+    if isinstance(error, (ReplayError, LotFormatError)):
+        return _bad(f"cannot draw this result: {error}")
+    if isinstance(error, ValueError):  # the asked span is outside the run
+        field, _, message = str(error).partition(": ")
+        return _bad(f"{_GIF_OPTIONS.get(field, field)}: {message}")
+    if isinstance(error, OSError):
+        return _bad(f"{path}: cannot write: {error.strerror or error}")
     faster = (f" (sped up from {settings.speed:g}× to fit {info.frames} frames)"
               if info.speed > settings.speed * (1 + 1e-9) else "")
     print(f"  wrote {info.path}: {info.frames} frames, {info.duration:.1f} s at "
           f"{info.speed:.3g}× run time{faster}, {info.start:.1f}–{info.end:.1f} s of the run, "
           f"{info.bytes / 1e6:.1f} MB")
     return EXIT_OK
+
+
+@contextlib.contextmanager
+def _noting_sigint(seen: list[bool]):  # noqa: ANN202
+    """Within: Ctrl-C raises KeyboardInterrupt as usual and is also noted in ``seen`` (a
+    library may catch the interrupt and raise an error of its own)."""
+    import signal
+
+    def on_sigint(signum, frame):  # noqa: ANN001, ANN202, ARG001
+        seen.append(True)
+        raise KeyboardInterrupt
+
+    try:
+        old = signal.signal(signal.SIGINT, on_sigint)
+    except ValueError:  # not the main thread: leave Ctrl-C alone
+        yield
+        return
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGINT, old)
 
 
 _GIF_OPTIONS = {"fps": "--fps", "speed": "--speed", "size": "--size", "start": "--from",

@@ -64,7 +64,7 @@ def test_ctrl_c_while_drawing_the_gif_keeps_result_json_and_no_gif(tmp_path):
     time.sleep(0.5)
     assert proc.poll() is None
     code, out, err = _ctrl_c(proc)
-    assert code == 130
+    assert code == 130, err
     assert f"interrupted; {os.path.join('out', 'result.json')} was written, the GIF was not" \
         in err, err
     assert "Traceback" not in err
