@@ -44,8 +44,13 @@ def prepare(scenario: Scenario, *, node_spacing: float = 4.0, maneuvers: bool = 
     for every type, and build the lot's drivable graph through them.
 
     The slots a type cannot use are in ``LotGraph.infeasible`` (type → slot → reason).
-    Each lane's own best maneuver for cars that will not leave (a park edge's ``stays``) is
-    kept only when the scenario's traffic has such cars.
+    A slot served by two lanes is parked on one pose from both, so that a car can leave
+    towards either (:meth:`~lotsim.planners.maneuver.ManeuverPlanner.solve_lanes`); where
+    a lane's own best maneuver parks the other way round, it is kept too (a park edge's
+    ``stays``) for cars that will not leave. Which are kept follows the scenario's traffic:
+    with no car that stays, only the shared pose; with no car that leaves, only each lane's
+    own best (where the others begin would only be lane nodes in the way); without
+    traffic, the shared pose.
     With ``maneuvers=False`` slots hang off placeholder links (quick, for pictures).
 
     Raises
@@ -58,9 +63,12 @@ def prepare(scenario: Scenario, *, node_spacing: float = 4.0, maneuvers: bool = 
         return build_graph(lot, node_spacing=node_spacing, vehicles=scenario.vehicle_types)
     planner = maneuver_planner(scenario, lot, margin=margin)
     planned, infeasible, stays = plan_lot(planner, scenario.vehicle_types)
-    if scenario.traffic is None or all(a.dwell is not None
-                                       for a in arrivals(scenario.traffic, scenario.seed)):
-        stays = {}  # no car stays: where those maneuvers begin would only be nodes in the way
+    leaves = ({a.dwell is not None for a in arrivals(scenario.traffic, scenario.seed)}
+              if scenario.traffic is not None else {True})
+    if leaves == {False}:  # no car leaves: each lane's own best only
+        planned, stays = {**planned, **stays}, {}
+    elif leaves == {True}:  # no car stays: where those begin would only be nodes in the way
+        stays = {}
     lg = build_graph(lot, node_spacing=node_spacing, maneuvers=planned,
                      vehicles=scenario.vehicle_types, stays=stays)
     lg.infeasible = infeasible

@@ -16,6 +16,7 @@ from lotsim.io.scenario import load_scenario
 from lotsim.planners.cooperative import SearchGraph
 from lotsim.sim import prepare, run
 from lotsim.traffic import arrivals
+from lotsim.vehicles import CATALOGUE
 from single_track import assert_reproduced
 
 LOTS = Path(__file__).resolve().parents[1] / "scenarios" / "lots"
@@ -358,11 +359,28 @@ def test_a_car_that_stays_parks_with_its_lanes_best_and_one_that_leaves_on_the_s
     assert differ >= 2  # cars that stayed where the two differ
 
 
-def test_maneuvers_for_cars_that_stay_are_kept_only_when_some_car_stays(lots):
-    # where they begin would only be lane nodes in the way of cars that all leave again
-    for name, (sc, lg) in lots.items():
+def test_which_maneuvers_are_kept_follows_whether_cars_stay_or_leave(lots):
+    """Where a kind of maneuver nobody uses begins would only be lane nodes in the way."""
+    from conftest import scenario_from_text
+    from lotsim.geometry import wrap_angle
+
+    for name, (sc, lg) in lots.items():  # every car leaves: the shared pose only
         assert all(a.dwell is not None for a in arrivals(sc.traffic, sc.seed)), name
         assert not any(d.get("stays") for *_, d in lg.graph.edges(data=True)), name
+    text = (LOTS / "culdesac.yaml").read_text().replace(", dwell: [300, 900]", "")
+    lg = prepare(scenario_from_text(text))  # every car stays: each lane's own best only
+    planner, lanes = lg.maneuver_planner, {lane.id: lane for lane in lg.lot.lanes}
+    g, flipped = lg.graph, 0
+    for u, v, d in g.edges(data=True):
+        if d["kind"] == "park":
+            assert not d.get("stays")
+            slot = lg.lot.slot_by_id[g.nodes[v]["slot"]]
+            m = d["maneuvers"]["valet"]
+            own = planner.solve(CATALOGUE["valet"], slot, lanes[g.nodes[u]["lane"]]).maneuver
+            assert abs(wrap_angle(m.end[2] - own.end[2])) < 0.1, slot.id
+            hs = [d2["maneuvers"]["valet"].end[2] for _, _, d2 in g.in_edges(v, data=True)]
+            flipped += any(abs(wrap_angle(h - hs[0])) > 3.0 for h in hs)
+    assert flipped  # some slots are parked one way from one lane, the other from the other
 
 
 def test_junction_turns_are_built_for_each_vehicle_type_and_used_only_by_it():
