@@ -594,7 +594,7 @@ def _turnarounds_of(lot: Lot, turns: list[Turn], joins: list[tuple[str, str]],
     """
     stops = stops or {}
     last = {lane.id: exits.get(lane.id, -math.inf) + DEAD_END for lane in lot.lanes}
-    turned = {lane.id: exits.get(lane.id, -math.inf) for lane in lot.lanes}  # way off
+    turned = {lane.id: exits.get(lane.id, -math.inf) for lane in lot.lanes}  # last way off
     for t in turns:
         last[t.lane_a] = max(last[t.lane_a], t.station_a)
         turned[t.lane_a] = max(turned[t.lane_a], t.station_a)
