@@ -570,7 +570,8 @@ DEAD_END = 15.0
 """A lane whose last turn off it begins more than this before its end [m], and which does
 not continue as another, ends in a dead end: a car turns round there (a turnaround); so
 does one a car parks or unparks on past its last turn (:func:`_turnarounds_of`)."""
-_BACKS: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
+_BACKS: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()  # lot → {(types, ends): result}
+_BACK_PLANS: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()  # lot → {(lane, design): plan}
 
 
 def _turnarounds_of(lot: Lot, turns: list[Turn], joins: list[tuple[str, str]],
@@ -612,7 +613,7 @@ def _turnarounds_of(lot: Lot, turns: list[Turn], joins: list[tuple[str, str]],
         bodies = {name: turnaround_collider(lot, design) for name, design in per.items()}
         tagged: dict[Turnaround, set[str]] = {}  # each with the types it was planned for
         why: dict[tuple[str, str], str] = {}  # (lane, type) → why it has none
-        planned = cache.setdefault("planned", {})  # (lane, design) → plan_turnarounds
+        planned = _BACK_PLANS.setdefault(lot, {})  # (lane, design) → plan_turnarounds
         for name, design in per.items():
             collider, body = bodies[name]
             for lane, back in ends:

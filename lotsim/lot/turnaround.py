@@ -86,8 +86,7 @@ def turnaround_collider(lot: Lot, design: DesignVehicle | None = None, margin: f
 def turnaround_clear(t: Turnaround, collider: Collider, body: DesignVehicle) -> bool:
     """Whether ``body`` (see :func:`turnaround_collider`) drives turnaround ``t`` clear of
     everything ``collider`` holds (hulls of footprints :data:`STEP` apart)."""
-    poses, _ = sample_segments(list(t.segments), STEP)
-    return not collider.blocked(Collider.sweeps(body.footprints(poses))).any()
+    return not _blocked(np.zeros(3), list(t.segments), collider, body)  # world = local
 
 
 def plan_turnaround(lane: Lane, back: Lane, collider: Collider, body: DesignVehicle,
