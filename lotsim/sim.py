@@ -252,11 +252,9 @@ def check_traffic(lg: LotGraph, traffic: list[Arrival]) -> None:
     if leaving and not lg.exits:
         raise ScenarioError(leaving[0].where, "vehicles have dwell times but the lot has no "
                                               "exit to leave by")
-    if leaving:
-        out = lg.leave_nodes()
-        if not any(d["kind"] == "park" and u in out for u, _, d in g.edges(data=True)):
-            raise ScenarioError(leaving[0].where, "vehicles have dwell times but no slot can "
-                                                  "be left for an exit along the lanes")
+    if leaving and not lg.leavable():
+        raise ScenarioError(leaving[0].where, "vehicles have dwell times but no slot can "
+                                              "be left for an exit along the lanes")
 
 
 def run(scenario: Scenario, settings: RunSettings | None = None, *, lot_graph=None,  # noqa: ANN001
@@ -327,7 +325,7 @@ class _Simulation:
         self._trips_done = 0
         self._counted: dict[str, int] = {}
         self._slot_times: dict[tuple[str, str, bool], dict[str, float]] = {}
-        self.leave = {t.name: lg.leave_nodes(t.name) for t in scenario.vehicle_types}
+        self.leave = {t.name: lg.leavable(t.name) for t in scenario.vehicle_types}
         self._exits: dict[str, ReverseResumable] = {}
         parked = scenario.parked_vehicle
         for sid in sorted(lg.lot.occupied):
@@ -464,8 +462,8 @@ class _Simulation:
     def park_goal(self, v: VehicleRun, sid: str) -> Goal:
         """Slot ``sid``, entered from where ``v`` can later leave if it will."""
         return Goal(slot=self.lg.slot_nodes[sid],
-                    park_from=(self.leave[v.vehicle.name] if v.arrival.dwell is not None
-                               else None))
+                    park_by=(self.leave[v.vehicle.name] if v.arrival.dwell is not None
+                             else None))
 
     def slot_choice(self, v: VehicleRun) -> list[str]:
         """Free slots this vehicle can park in, best first by the assignment policy."""
@@ -490,7 +488,7 @@ class _Simulation:
             out: dict[str, float] = {}
             for i, e in enumerate(sg.edges):
                 if e.kind == "park" and e.u in dist and (
-                        not leaving or (e.u in self.leave[vname] and not e.stay)):
+                        not leaving or ((e.u, e.v) in self.leave[vname] and not e.stay)):
                     sid = self.lg.graph.nodes[e.v]["slot"]
                     tt = dist[e.u] + e.duration
                     if to_exit is not None:

@@ -47,7 +47,14 @@ import numpy as np
 import shapely
 
 from lotsim.errors import ScenarioError
-from lotsim.geometry import Segment, cc_polyline, cc_turn, sample_segments, wrap_angle
+from lotsim.geometry import (
+    Segment,
+    cc_polyline,
+    cc_turn,
+    same_pose,
+    sample_segments,
+    wrap_angle,
+)
 from lotsim.lot.build import SWEEP_STEP, lane_collider
 from lotsim.lot.clearance import Collider
 from lotsim.lot.model import DesignVehicle, Lane, Lot, Portal, Slot, unit
@@ -177,6 +184,28 @@ class LotGraph:
         these."""
         return frozenset(self._lane_reach(vehicle)[1])
 
+    def leavable(self, vehicle: str | None = None) -> frozenset[tuple[int, int]]:
+        """Park edges ``(lane node, slot node)`` a car that will leave again may park by: its
+        maneuver (for ``vehicle``, or for any type) parks it on a pose a leave edge of the
+        same type leaves from towards a lane node from which an exit can be reached (any,
+        when the lot has no exits). The leave edge need not end where the park edge began: a
+        slot parked on one pose from two lanes is left towards either."""
+        g = self.graph
+        go = self._lane_reach(vehicle)[1]
+        out = set()
+        for node in self.slot_nodes.values():
+            leaves = [d for _, w, d in g.out_edges(node, data=True)
+                      if d["kind"] == "leave" and w in go]
+            away = [(name, m.start) for d in leaves for name, m in d["maneuvers"].items()
+                    if vehicle in (None, name)]
+            placeholder = any(d.get("placeholder") for d in leaves)  # no poses: any way out
+            for u, _, d in g.in_edges(node, data=True):
+                if d["kind"] == "park" and (placeholder and d.get("placeholder") or any(
+                        same_pose(m.end, pose) for name, m in d["maneuvers"].items()
+                        for who, pose in away if who == name)):
+                    out.add((u, node))
+        return frozenset(out)
+
     def _ranges(self, nodes: set[int]) -> dict[str, tuple[float, float]]:
         g = self.graph
         out: dict[str, tuple[float, float]] = {}
@@ -204,8 +233,11 @@ class LotGraph:
                     for name, node in self.exits.items()}
         come, go = self._lane_reach()
         no_way_in = missing(come, g.predecessors)
-        # a car leaves by the way it came in (the leave edge ends where the park edge began)
-        no_way_out = [sid for sid in missing(come & go, g.predecessors) if sid not in no_way_in]
+        # a car leaves from the pose it parked on, by any leave edge from there
+        out = self.leavable()
+        no_way_out = [sid for sid in free if sid not in no_way_in and not any(
+            u in come and (u, self.slot_nodes[sid]) in out
+            for u in g.predecessors(self.slot_nodes[sid]))]
         by_type = {}
         for name in sorted({v for _, _, d in g.edges(data=True) if d["kind"] == "park"
                             for v in d["maneuvers"]}):
@@ -220,8 +252,11 @@ class LotGraph:
                            for u in g.predecessors(node))
 
             no_in = [sid for sid in free if sid in fits and not parks_from(come, sid)]
-            no_out = [sid for sid in free if sid in fits and sid not in no_in
-                      and not parks_from(come & go, sid)]
+            out = self.leavable(name)
+            no_out = [sid for sid in free if sid in fits and sid not in no_in and not any(
+                u in come and (u, self.slot_nodes[sid]) in out and
+                name in g.edges[u, self.slot_nodes[sid]]["maneuvers"]
+                for u in g.predecessors(self.slot_nodes[sid]))]
             by_type[name] = (no_in, no_out)
         return Reachability(unreachable, stranded, no_way_in, no_way_out, by_type)
 
@@ -802,7 +837,7 @@ def _fillet_between(a, sa0, pa, b, sb0, pb, aisle_a, aisle_b, reach, design,  # 
 AREA_SHIFTS = (0.0, 1.0, -1.0, 2.0, -2.0, 3.0, -3.0, 4.0)
 """Sideways shifts [m] of the corner of a junction turn that uses the junction's area, from
 each lane's line (positive: to the lane's left, across the oncoming lane)."""
-AREA_LEADS = (1.5, 3.0, 4.5, 6.0)
+AREA_LEADS = (1.5, 3.0, 4.5, 6.0, 9.0, 12.0)
 """Lengths [m] of the drift from a lane to the shifted corner's line, and back."""
 AREA_RADII = (1.0, 1.5)
 """Multiples of the design radius the corner of such a turn tries."""
@@ -906,14 +941,28 @@ def _area_turns(a, sa0, pa, b, sb0, pb, design, collider: Collider,  # noqa: ANN
             ok &= gap >= float(_approx_tangent(bends[0], r, sharp)
                                + _approx_tangent(bends[1], r, sharp))
         for n in np.flatnonzero(ok):
-            a0 = a1[n] - dirs[0] * pre[n]
-            b0 = b1[n] + dirs[-1] * post[n]
-            pts = [a0, a1[n], *(c[oi[n]] for c in corners), b1[n], b0]
-            pts = np.array([p for k, p in enumerate(pts)
-                            if k == 0 or math.dist(p, pts[k - 1]) > 1e-6])
-            rough = float(np.hypot(*np.diff(pts, axis=0).T).sum())  # the polyline's length
-            cands.append((rough / speed, float(db[n] - da[n]), float(da[n]), float(db[n]),
-                          pts, r, sharp))
+            cands.append(_area_candidate(
+                [a1[n] - dirs[0] * pre[n], a1[n], *(c[oi[n]] for c in corners), b1[n],
+                 b1[n] + dirs[-1] * post[n]], speed, da[n], db[n], r, sharp))
+        if via:
+            continue
+        # or: drift onto the shifted line, run along it, turn the corner, run along the
+        # other shifted line, drift back (the drift ends before the corner's turn begins, so
+        # a wide shift does not sharpen the corner: a big car's way round a corner slot)
+        corner = _approx_tangent(bends[0], r, sharp)
+        g1 = np.where(u != 0.0, corner + pre + 0.05, 0.0)
+        g2 = np.where(w != 0.0, corner + post + 0.05, 0.0)
+        da, db = ta[oi] - g1 - la - pre, tb[oi] + g2 + lb + post
+        ok = (((u != 0.0) | (w != 0.0)) & (da >= -_EPS) & (da <= pa.length + _EPS)
+              & (db >= -_EPS) & (db <= pb.length + _EPS)
+              & (2 * pre <= legs[0] * 1.01) & (2 * post <= legs[1] * 1.01))
+        for n in np.flatnonzero(ok):
+            on_a = origins[0] + (ta[oi[n]] - g1[n] - la[n]) * dirs[0]
+            on_b = origins[-1] + (tb[oi[n]] + g2[n] + lb[n]) * dirs[-1]
+            cands.append(_area_candidate(
+                [on_a - dirs[0] * pre[n], on_a, c_first[n] - dirs[0] * g1[n], c_first[n],
+                 c_last[n] + dirs[-1] * g2[n], on_b, on_b + dirs[-1] * post[n]],
+                speed, da[n], db[n], r, sharp))
     clear: dict[int, bool] = {}
     paths: dict[int, list[Segment]] = {}
 
@@ -955,3 +1004,12 @@ def _area_turns(a, sa0, pa, b, sb0, pb, design, collider: Collider,  # noqa: ANN
     return [Turn(a.id, sa0 + cands[k][2], b.id, sb0 + cands[k][3], tuple(paths[k]), True)
             for k in dict.fromkeys((quick, compact))]
 
+
+def _area_candidate(points, speed: float, da: float, db: float, r: float,  # noqa: ANN001
+                    sharp: float) -> tuple:
+    """One candidate of :func:`_area_turns`: (rough time, lane used, start and end stations,
+    the polyline without repeated points, corner radius, sharpness)."""
+    pts = np.array([p for k, p in enumerate(points)
+                    if k == 0 or math.dist(p, points[k - 1]) > 1e-6])
+    rough = float(np.hypot(*np.diff(pts, axis=0).T).sum())  # the polyline's length
+    return rough / speed, float(db - da), float(da), float(db), pts, r, sharp

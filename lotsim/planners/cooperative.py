@@ -385,13 +385,14 @@ class ReverseResumable:
 class Goal:
     """Where a search ends: in ``slot`` (a slot node, for ever) or at any of ``exits``.
 
-    A car that will leave again (``park_from`` given) parks only from the lane nodes in
-    ``park_from`` and only on a pose it can leave by: never with a maneuver the lot graph
-    keeps for cars that stay (a park edge's ``stays``)."""
+    A car that will leave again (``park_by`` given) parks only by the park edges
+    ``(lane node, slot node)`` in ``park_by``, those that park it on a pose it can leave
+    by (:meth:`~lotsim.lot.graph.LotGraph.leavable`), and never with a maneuver the lot
+    graph keeps for cars that stay (a park edge's ``stays``)."""
 
     slot: int | None = None
     exits: tuple[int, ...] = ()
-    park_from: frozenset[int] | None = None
+    park_by: frozenset[tuple[int, int]] | None = None
 
 
 def search(sg: SearchGraph, table: ReservationTable, *, owner: str, start: int, t0: float,
@@ -527,7 +528,7 @@ def search(sg: SearchGraph, table: ReservationTable, *, owner: str, start: int, 
                     sg.parked_pose(ei), start_pose)):
                 continue
             if e.kind == "park" and (e.v != goal.slot or (
-                    goal.park_from is not None and (e.stay or node not in goal.park_from))):
+                    goal.park_by is not None and (e.stay or (node, e.v) not in goal.park_by))):
                 continue
             if e.kind == "join":
                 if not out:
