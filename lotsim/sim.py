@@ -78,10 +78,10 @@ def prepare(scenario: Scenario, *, node_spacing: float = 4.0, maneuvers: bool = 
 
 def maneuver_planner(scenario: Scenario, lot: Lot, *, margin: float = MARGIN) -> ManeuverPlanner:
     """The maneuver planner for ``lot``: clear of the scenario's parked cars, starting only
-    where a car can arrive from an entrance (along lanes)."""
+    where a car can arrive from an entrance or leave for an exit (along lanes)."""
     return ManeuverPlanner(lot, margin=margin, parked_width=scenario.parked_vehicle.width,
                            lane_ranges=build_graph(
-                               lot, vehicles=scenario.vehicle_types).reachable())
+                               lot, vehicles=scenario.vehicle_types).maneuver_ranges())
 
 
 # -- running traffic -------------------------------------------------------------------------

@@ -122,8 +122,10 @@ def test_short_arms_with_corner_bays_have_turnarounds_and_every_bay_is_left():
     sc = scenario_from_text(TEE)
     lg = prepare(sc)
     reach = lg.reachability()
-    assert reach.by_type["msv"] == ([], []) and not reach.no_way_out, reach
-    assert len(lg.infeasible["msv"]) <= 1  # N1, in the closed west corner: no maneuver yet
+    no_in, no_out = reach.by_type["msv"]
+    assert not no_out and not reach.no_way_out, reach
+    # all but N1, in the closed west corner: it has no maneuver from where a car can come yet
+    assert set(lg.infeasible["msv"]) | set(no_in) <= {"N1"}
     backs = [d["path"] for _, _, d in lg.graph.edges(data=True) if d["kind"] == "turnaround"]
     assert backs
     for path in backs:
@@ -261,6 +263,106 @@ def test_a_right_turn_past_a_corner_bay_swings_wide_across_the_junction(lots):
     assert wide >= 4, wide  # the right turns at the corner bays of both cross aisles
 
 
+VAN_CORNER = """
+name: van-corner
+seed: 1
+vehicle_types: [vclass]
+lot:
+  boundary: [[0, 0], [40, 0], [40, 40], [0, 40]]
+  aisles:
+    - {id: gate, centerline: [[20, 0], [20, 10]], width: 7.0}
+    - {id: a, centerline: [[3.5, 10], [39, 10]], width: 7.0}
+    - {id: b, centerline: [[3.5, 10], [3.5, 39]], width: 7.0}
+  rows:
+    - {aisle: a, side: left, kind: perpendicular, count: 11, slot_width: 2.7,
+       slot_length: 5.6, start: 3.5, id_prefix: N}
+    - {aisle: b, side: right, kind: perpendicular, count: 7, slot_width: 2.7,
+       slot_length: 5.6, start: 9.1, id_prefix: E}
+  entrances:
+    - {id: in, x: 21.75, y: 1.5, heading_deg: 90}
+  exits:
+    - {id: out, x: 18.25, y: 4.5, heading_deg: -90}
+"""
+
+
+def test_a_van_swings_wide_round_a_corner_bay_onto_the_far_lane_before_turning():
+    """A 5.37 m van (turning radius 6.19 m) turning right from one 7 m aisle into another
+    round a bay at the corner: the way a driver does it is to move across onto the far lane
+    first, run along it, then turn. Before, the drift ran straight into the corner, which
+    sharpened it past what the van can steer, and the turn was skipped."""
+    from conftest import scenario_from_text
+
+    sc = scenario_from_text(VAN_CORNER)
+    lg = prepare(sc, maneuvers=False)
+    g, lot = lg.graph, lg.lot
+    assert not lg.skipped_turns, lg.skipped_turns
+    van = CATALOGUE["vclass"]
+    turns = [d["path"] for u, v, d in g.edges(data=True) if d["kind"] == "turn"
+             and (g.nodes[u]["lane"], g.nodes[v]["lane"]) == ("a<", "b>")]
+    assert turns
+    slots = shapely.union_all([s.shape for s in lot.slots])
+    for path in turns:
+        assert max(s.max_curvature for s in path) <= 1 / van.min_turning_radius + 1e-9
+        poses = np.concatenate([s.sample(0.05) for s in path])
+        bodies = shapely.polygons(lot.design.footprints(poses))
+        assert not shapely.intersects(bodies, slots).any()  # shapely, not the planner
+        assert shapely.covers(lot.boundary, bodies).all()
+        # wide: at least a metre off a lane's line, across towards the far lane (a< runs west
+        # on y = 11.75, b> north on x = 5.25; their far lanes are at 8.25 and 1.75)
+        assert poses[:, 1].min() < 10.75 or poses[:, 0].min() < 4.25
+
+
+DEAD_ARM = """
+name: dead-arm
+seed: 1
+vehicle_types: [vclass]
+lot:
+  boundary: [[0, 0], [62, 0], [62, 25], [0, 25]]
+  aisles:
+    - {id: gate, centerline: [[8, 0], [8, 13.7]], width: 7.0}
+    - {id: a, centerline: [[4.5, 13.7], [60, 13.7]], width: 6.6}
+  rows:
+    - {aisle: a, side: right, kind: perpendicular, count: 18, slot_width: 2.6,
+       slot_length: 5.2, start: 7.5, id_prefix: S}
+    - {aisle: a, side: left, kind: perpendicular, count: 20, slot_width: 2.65,
+       slot_length: 5.4, start: 2.0, id_prefix: N}
+  entrances:
+    - {id: in, x: 9.75, y: 1.5, heading_deg: 90}
+  exits:
+    - {id: out, x: 6.25, y: 4.5, heading_deg: -90}
+traffic:
+  stream: {count: 6, rate_per_hour: 120, dwell: [60, 120]}
+"""
+
+
+def test_a_van_that_cannot_turn_round_in_a_dead_end_leaves_its_bay_towards_the_other_lane():
+    """A 6.6 m aisle with a dead end too tight for a van to turn round in: the van comes
+    along the lane into it, parks, and leaves the bay straight onto the lane back out (the
+    bay is parked on one pose from both lanes). Before, the lane back out was never planned
+    where no car could come along it, and the van was refused every bay."""
+    from conftest import scenario_from_text
+
+    sc = scenario_from_text(DEAD_ARM)
+    lg = prepare(sc)
+    g = lg.graph
+    assert any("dead end of lane a>" in note for note in lg.skipped_turns)
+    assert not any(d["kind"] == "turnaround" and g.nodes[u]["lane"] == "a>"
+                   for u, _, d in g.edges(data=True))
+    reach = lg.reachability()
+    no_in, no_out = reach.by_type["vclass"]
+    assert not no_out  # every bay it comes to, it can leave
+    usable = {s.id for s in lg.lot.free_slots} - set(lg.infeasible["vclass"]) - set(no_in)
+    assert {f"N{k}" for k in range(6, 21)} <= usable
+    rr, doc = _run_checked(sc, lg)
+    assert {v["status"] for v in doc["vehicles"]} == {"departed"}
+    sg = SearchGraph(lg, CATALOGUE["vclass"])
+    for v in rr.vehicles:  # in along a>, out along a<
+        edges = [sg.edges[m.edge] for m in v.moves if m.edge is not None]
+        park = next(e for e in edges if e.kind == "park")
+        leave = next(e for e in edges if e.kind == "leave")
+        assert g.nodes[park.u]["lane"] == "a>" and g.nodes[leave.v]["lane"] == "a<", v.id
+
+
 def test_validate_strict_and_run_agree_on_a_real_lot(tmp_path, capsys):
     path = LOTS / "culdesac.yaml"
     assert main(["validate", "--strict", str(path)]) == 0
@@ -278,6 +380,29 @@ def test_a_ring_and_a_gate_spur_lot_with_dead_end_halves_serve_every_slot(name):
     assert not any(lg.infeasible.values())
     rr, doc = _run_checked(sc, lg)
     assert {v["status"] for v in doc["vehicles"]} == {"departed"}
+
+
+@pytest.mark.slow
+def test_a_364_bay_surface_lot_with_four_types_serves_every_bay_each_type_fits():
+    """The drone-survey lot of issue 15, in our own numbers: four 7 m aisles with dead-end
+    halves, corner bays at every junction, one gate spur at a T, four types up to a 5.37 m
+    van. Every bay a type is short enough for is reached and left by it, but one: the van's
+    last bay at a dead end it cannot turn round in (no maneuver out towards the other lane
+    yet). Before, the van could leave none, and 13 of its junction turns were skipped."""
+    sc = load_scenario(LOTS / "surface364.yaml")
+    lg = prepare(sc)
+    assert not [s for s in lg.skipped_turns if "skipped" in s], lg.skipped_turns
+    reach = lg.reachability()
+    for name, (no_in, no_out) in reach.by_type.items():
+        assert not no_in, (name, no_in)
+        assert set(no_out) <= ({"A1NE-24"} if name == "vclass" else set()), (name, no_out)
+    lengths = {s.id: s.length for s in lg.lot.slots}
+    for name, why in lg.infeasible.items():  # refused only where the car is longer
+        car = CATALOGUE[name]
+        assert all(lengths[sid] < car.length for sid in why), (name, why)
+    rr, doc = _run_checked(sc, lg)
+    assert {v["status"] for v in doc["vehicles"]} == {"departed"}
+    assert {v.vehicle.name for v in rr.vehicles} == {"corsa", "zoe", "valet", "vclass"}
 
 
 STREET = """

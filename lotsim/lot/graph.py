@@ -172,6 +172,14 @@ class LotGraph:
         come, _ = self._lane_reach()
         return self._ranges(come)
 
+    def maneuver_ranges(self) -> dict[str, tuple[float, float]]:
+        """Per lane, the station range [m] of the nodes a car can reach from an entrance or
+        from which it can reach an exit (driving lanes only): where a parking maneuver may
+        begin, or a leaving one end — a car parked from one lane may leave towards another
+        that it could not have come along (a dead end it cannot turn round in)."""
+        come, go = self._lane_reach()
+        return self._ranges(come | go)
+
     def through(self) -> dict[str, tuple[float, float]]:
         """Per lane, the station range [m] whose nodes can be reached from an entrance and
         can reach an exit (any node, when the lot has no exits)."""

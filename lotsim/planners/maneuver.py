@@ -410,7 +410,7 @@ class ManeuverPlanner:
     lane_ranges : dict, keyword-only
         Lane id → (first, last) station [m] where a maneuver may start; a lane
         not listed gets none. Default (None): every lane, whole.
-        :meth:`LotGraph.reachable` gives the part a car can reach.
+        :meth:`LotGraph.maneuver_ranges` gives the part a car can reach or leave by.
 
     Notes
     -----
@@ -739,7 +739,8 @@ class ManeuverPlanner:
         if v.length > s.length:
             return f"the car is {v.length:.2f} m long, the slot {s.length:.2f} m"
         if p.lane_x[0] > p.lane_x[1]:
-            return "no car can reach the lanes beside it (no way along them from an entrance)"
+            return ("no car can reach the lanes beside it (no way along them from an entrance "
+                    "or to an exit)")
         if s.kind == "parallel":
             return self._solve_parallel(p)
         heading_in = float(p.frame.poses_to_local(np.array([0.0, 0.0, s.heading]))[0, 2])
