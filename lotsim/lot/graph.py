@@ -173,12 +173,13 @@ class LotGraph:
         return self._ranges(come)
 
     def maneuver_ranges(self) -> dict[str, tuple[float, float]]:
-        """Per lane, the station range [m] of the nodes a car can reach from an entrance or
-        from which it can reach an exit (driving lanes only): where a parking maneuver may
-        begin, or a leaving one end — a car parked from one lane may leave towards another
-        that it could not have come along (a dead end it cannot turn round in)."""
+        """Per lane, the station range [m] where a parking maneuver may begin (or a leaving
+        one end): that of the nodes a car can reach from an entrance (driving lanes only),
+        and on a lane no car can reach, that of the nodes from which an exit can be reached
+        — a car parked from one lane may leave towards another that it could not have come
+        along (out of a dead end it cannot turn round in)."""
         come, go = self._lane_reach()
-        return self._ranges(come | go)
+        return {**self._ranges(go), **self._ranges(come)}
 
     def through(self) -> dict[str, tuple[float, float]]:
         """Per lane, the station range [m] whose nodes can be reached from an entrance and
@@ -929,7 +930,17 @@ def _area_turns(a, sa0, pa, b, sb0, pb, design, collider: Collider,  # noqa: ANN
     first_turn = np.abs(np.asarray(wrap_angle((heads[1] if via else h2) - h1), dtype=float))
     last_turn = np.abs(np.asarray(wrap_angle(h2 - (heads[-2] if via else h1)), dtype=float))
     legs = [np.hypot(la, u), np.hypot(lb, w)]
-    cands = []
+    blocks = []  # per design and shape: (points (M, P, 2), time, lane used, da, db, r, sharp)
+
+    def add(ok, points, speed, da, db, r, sharp) -> None:  # noqa: ANN001
+        rows = np.flatnonzero(ok)
+        if len(rows):
+            pts = np.stack([p[rows] for p in points], axis=1)
+            rough = np.hypot(*np.diff(pts, axis=1).transpose(2, 0, 1)).sum(axis=1)
+            blocks.append((pts, rough / speed, db[rows] - da[rows], da[rows], db[rows], r,
+                           sharp))
+
+    corners_n = [c[oi] for c in corners]
     for f, speed in _area_designs(design, lot_speed):
         r = f * design.min_radius
         sharp = design.sharpness(speed)
@@ -948,10 +959,8 @@ def _area_turns(a, sa0, pa, b, sb0, pb, design, collider: Collider,  # noqa: ANN
             gap = params[1][oi, 0] - params[0][oi, 1]
             ok &= gap >= float(_approx_tangent(bends[0], r, sharp)
                                + _approx_tangent(bends[1], r, sharp))
-        for n in np.flatnonzero(ok):
-            cands.append(_area_candidate(
-                [a1[n] - dirs[0] * pre[n], a1[n], *(c[oi[n]] for c in corners), b1[n],
-                 b1[n] + dirs[-1] * post[n]], speed, da[n], db[n], r, sharp))
+        add(ok, [a1 - dirs[0] * pre[:, None], a1, *corners_n, b1, b1 + dirs[-1] * post[:, None]],
+            speed, da, db, r, sharp)
         if via:
             continue
         # or: drift onto the shifted line, run along it, turn the corner, run along the
@@ -964,13 +973,26 @@ def _area_turns(a, sa0, pa, b, sb0, pb, design, collider: Collider,  # noqa: ANN
         ok = (((u != 0.0) | (w != 0.0)) & (da >= -_EPS) & (da <= pa.length + _EPS)
               & (db >= -_EPS) & (db <= pb.length + _EPS)
               & (2 * pre <= legs[0] * 1.01) & (2 * post <= legs[1] * 1.01))
-        for n in np.flatnonzero(ok):
-            on_a = origins[0] + (ta[oi[n]] - g1[n] - la[n]) * dirs[0]
-            on_b = origins[-1] + (tb[oi[n]] + g2[n] + lb[n]) * dirs[-1]
-            cands.append(_area_candidate(
-                [on_a - dirs[0] * pre[n], on_a, c_first[n] - dirs[0] * g1[n], c_first[n],
-                 c_last[n] + dirs[-1] * g2[n], on_b, on_b + dirs[-1] * post[n]],
-                speed, da[n], db[n], r, sharp))
+        on_a = origins[0] + (ta[oi] - g1 - la)[:, None] * dirs[0]
+        on_b = origins[-1] + (tb[oi] + g2 + lb)[:, None] * dirs[-1]
+        add(ok, [on_a - dirs[0] * pre[:, None], on_a, c_first - dirs[0] * g1[:, None], c_first,
+                 c_last + dirs[-1] * g2[:, None], on_b, on_b + dirs[-1] * post[:, None]],
+            speed, da, db, r, sharp)
+    if not blocks:
+        return []
+    times, used, starts, ends = (np.concatenate([b[k] for b in blocks]) for k in range(1, 5))
+    offsets = np.cumsum([0] + [len(b[1]) for b in blocks])
+
+    def candidate(k: int) -> tuple[np.ndarray, float, float]:
+        """Candidate ``k``'s polyline without repeated points, corner radius, sharpness."""
+        j = int(np.searchsorted(offsets, k, side="right")) - 1
+        i = k - int(offsets[j])
+        pts, *_, r, sharp = blocks[j]
+        row = pts[i]
+        keep = np.ones(len(row), dtype=bool)
+        keep[1:] = np.hypot(*np.diff(row, axis=0).T) > 1e-6
+        return row[keep], r, sharp
+
     clear: dict[int, bool] = {}
     paths: dict[int, list[Segment]] = {}
 
@@ -981,7 +1003,7 @@ def _area_turns(a, sa0, pa, b, sb0, pb, design, collider: Collider,  # noqa: ANN
             part = [k for k in order[c0 : c0 + chunk] if k not in clear]
             built = []
             for k in part:
-                _, _, _, _, pts, r, sharp = cands[k]
+                pts, r, sharp = candidate(k)
                 try:
                     built.append((k, cc_polyline(pts, r, sharp)))
                 except ValueError:  # no room for a corner's turn on a leg
@@ -1004,20 +1026,10 @@ def _area_turns(a, sa0, pa, b, sb0, pb, design, collider: Collider,  # noqa: ANN
                     return k
         return None
 
-    idx = range(len(cands))
-    quick = first(sorted(idx, key=lambda k: cands[k][:2]))
+    quick = first(np.lexsort((used, times)).tolist())
     if quick is None:
         return []
-    compact = first(sorted(idx, key=lambda k: cands[k][1::-1]))
-    return [Turn(a.id, sa0 + cands[k][2], b.id, sb0 + cands[k][3], tuple(paths[k]), True)
-            for k in dict.fromkeys((quick, compact))]
+    compact = first(np.lexsort((times, used)).tolist())
+    return [Turn(a.id, sa0 + float(starts[k]), b.id, sb0 + float(ends[k]), tuple(paths[k]),
+                 True) for k in dict.fromkeys((quick, compact))]
 
-
-def _area_candidate(points, speed: float, da: float, db: float, r: float,  # noqa: ANN001
-                    sharp: float) -> tuple:
-    """One candidate of :func:`_area_turns`: (rough time, lane used, start and end stations,
-    the polyline without repeated points, corner radius, sharpness)."""
-    pts = np.array([p for k, p in enumerate(points)
-                    if k == 0 or math.dist(p, points[k - 1]) > 1e-6])
-    rough = float(np.hypot(*np.diff(pts, axis=0).T).sum())  # the polyline's length
-    return rough / speed, float(db - da), float(da), float(db), pts, r, sharp
