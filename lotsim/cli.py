@@ -243,11 +243,11 @@ def _summary(path, scenario, lg, reach) -> str:  # noqa: ANN001
                      f"reached: {_ids(reach.no_way_out)}")
     for vname, (no_in, no_out) in reach.by_type.items():
         if no_in:
-            lines.append(f"  warning: {vname} fits but cannot reach {len(no_in)} free slots "
+            lines.append(f"  warning: {vname} fits but cannot reach {_n(no_in, 'free slot')} "
                          f"(no turns it can make lead there): {_ids(no_in)}")
         if no_out:
-            lines.append(f"  warning: {vname} can park in but not leave {len(no_out)} free "
-                         f"slots for an exit: {_ids(no_out)}")
+            lines.append(f"  warning: {vname} can park in but not leave "
+                         f"{_n(no_out, 'free slot')} for an exit: {_ids(no_out)}")
     # with several gates, what each one serves (every slot may still be served by some)
     if len(reach.unreachable) > 1:
         for name, slots in reach.unreachable.items():
@@ -263,8 +263,10 @@ def _summary(path, scenario, lg, reach) -> str:  # noqa: ANN001
     if planner is not None:
         edges = sum(len(d["maneuvers"]) for _, _, d in lg.graph.edges(data=True)
                     if d["kind"] == "park")
-        lines.append(f"  maneuvers: {edges} planned from {planner.stats['planned']} distinct "
-                     f"geometries (margin {planner.margin:g} m)")
+        lines.append(f"  maneuvers: {edges} kept (per type, slot and lane); "
+                     f"{planner.stats['planned']} distinct problems searched "
+                     f"({planner.stats['reused']} repeats answered from them; "
+                     f"margin {planner.margin:g} m)")
         for vname, slots in lg.infeasible.items():
             if not slots:
                 continue
@@ -275,6 +277,11 @@ def _summary(path, scenario, lg, reach) -> str:  # noqa: ANN001
     for note in lg.skipped_turns:
         lines.append(f"  note: {note}")
     return "\n".join(lines)
+
+
+def _n(items, what: str) -> str:  # noqa: ANN001
+    """``"1 free slot"``, ``"3 free slots"``."""
+    return f"{len(items)} {what}{'' if len(items) == 1 else 's'}"
 
 
 def _ids(ids: list[str], most: int = 12) -> str:

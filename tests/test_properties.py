@@ -447,6 +447,13 @@ def plan_and_check(case: Case) -> None:
         for slots in lg.infeasible.values():
             SEEN["network: free slots x types"] += len(free)
             SEEN["network: ... usable by the type"] += len(set(free) - bad - set(slots))
+        for car in sc.vehicle_types:  # every bay a car is short and narrow enough for
+            fits = {sl.id for sl in lg.lot.free_slots
+                    if car.length <= sl.length and car.width <= sl.width}
+            no_in, no_out = reach.by_type.get(car.name, ([], []))
+            SEEN["network: free slots x types that fit them"] += len(fits)
+            SEEN["network: ... reached, parked in and left by that type"] += len(
+                fits - set(lg.infeasible.get(car.name, {})) - set(no_in) - set(no_out))
         SEEN["network: junction turns dropped"] += sum("skipped" in t for t in lg.skipped_turns)
         SEEN["network: dead ends with no turnaround"] += sum("no turnaround" in t
                                                             for t in lg.skipped_turns)
@@ -533,10 +540,13 @@ def test_random_lots_and_traffic_pass_the_independent_check():
     _run_profile("lotsim-fast", SMALL)
 
 
-# Real-style lots: lotsim may still refuse some ("no slot can be left for an exit": a corner
-# bay at every junction and a large turning radius can leave no turn a gate's traffic can
-# use) — how many is measured (the slow profile prints it), not yet asserted; every lot it
-# runs must pass the checks.
+# Real-style lots: lotsim may still refuse some (most: a type longer than every bay; some
+# tiny lots whose junctions leave no turn a gate's traffic can use) — how many is measured
+# (the slow profile prints it), not asserted; every lot it runs must pass the checks, and in
+# those (slow profile) nine in ten of the bays each type fits are reached, parked in and left
+# by it (measured on 40 drawn lots: 94 %; what is left is in tiny one-aisle lots and corner
+# bays against closed ends).
+USABLE = 0.9
 def test_random_real_style_lots_pass_the_independent_check():
     _run_profile("lotsim-fast", SMALL, networks, most_refused=1.0, max_examples=3)
     assert SEEN["drawn"] > SEEN["refused"]
@@ -546,6 +556,8 @@ def test_random_real_style_lots_pass_the_independent_check():
 def test_many_larger_real_style_lots_pass_the_independent_check():
     _run_profile("lotsim-slow", LARGE, networks, most_refused=1.0, max_examples=60)
     print("\n" + "\n".join(f"{n:6d}  {what}" for what, n in sorted(SEEN.items())))
+    fits = SEEN["network: free slots x types that fit them"]
+    assert SEEN["network: ... reached, parked in and left by that type"] >= USABLE * fits
 
 
 @pytest.mark.slow
