@@ -14,7 +14,7 @@ import numpy as np
 import pytest
 import shapely
 
-from conftest import SCENARIOS, graph_from_text, scenario_from_text
+from conftest import ROOT, SCENARIOS, graph_from_text, scenario_from_text
 from lotsim.cli import main
 from lotsim.errors import InfeasibleManeuver
 from lotsim.geometry import wrap_angle
@@ -428,3 +428,32 @@ def test_maneuvers_start_on_a_half_metre_grid_of_lane_stations(shipped_graphs):
                 assert abs(m.station / 0.5 - round(m.station / 0.5)) < 1e-6, (name, m.slot)
                 # straight wheels at the start: the car steers into the arc as it rolls
                 assert m.segments[0].curvature == 0, (name, m.slot)
+
+
+def test_a_lot_planned_on_two_processes_gets_exactly_the_maneuvers_of_one_search_at_a_time(
+        monkeypatch):
+    """plan_lot searches a lot's distinct problems ahead on worker processes; the answers,
+    and what validate reports about them, must be those of solving slot after slot in this
+    process (the second implementation here: solve_lanes alone, on a fresh planner)."""
+    from lotsim.planners import maneuver
+    from lotsim.sim import maneuver_planner
+
+    sc = load_scenario(ROOT / "scenarios" / "street.yaml")  # three types, both lanes
+    lot = build_lot(sc.lot, DesignVehicle.envelope(sc.vehicle_types))
+    alone = maneuver_planner(sc, lot)
+    want, why = {}, {}
+    for v in sc.vehicle_types:
+        for slot in lot.slots:
+            found, own, reason = alone.solve_lanes(v, slot)
+            want.update({(v.name, slot.id, k, "own"): m.segments for k, m in own.items()})
+            want.update({(v.name, slot.id, k): m.segments for k, m in found.items()})
+            if not found:
+                why[(v.name, slot.id)] = reason
+    monkeypatch.setattr(maneuver, "PARALLEL_FROM", 1)  # workers even for a small lot
+    ahead = maneuver_planner(sc, lot)
+    found, infeasible, stays = maneuver.plan_lot(ahead, sc.vehicle_types, workers=2)
+    got = {k: m.segments for k, m in found.items()}
+    got.update({(*k, "own"): m.segments for k, m in stays.items()})
+    assert got == want
+    assert {(n, sid): r for n, slots in infeasible.items() for sid, r in slots.items()} == why
+    assert ahead.stats == alone.stats and ahead.stats["reused"] > 0

@@ -46,6 +46,9 @@ import dataclasses
 import hashlib
 import itertools
 import math
+import multiprocessing
+import os
+import signal
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
 from enum import Enum
@@ -445,6 +448,8 @@ class ManeuverPlanner:
         self._cache: dict[bytes, tuple[tuple[Segment, ...], float] | str] = {}
         self._raw: dict[bytes, tuple[tuple[Segment, ...], float] | str] = {}  # not eased
         self.stats = {"planned": 0, "reused": 0}
+        self._posed: dict[tuple[str, str, str, str], tuple[bytes, _Frame, float]] = {}
+        self._fresh: set[bytes] = set()  # searched by prefetch, not yet asked for
 
     @property
     def margin(self) -> float:
@@ -503,14 +508,20 @@ class ManeuverPlanner:
         """
         if style not in STYLES:
             raise ValueError(f"style must be one of {', '.join(STYLES)}")
-        problem = self._problem(vehicle, slot, lane)
-        key = self._key(problem, style)
+        posed = self._posed.get((vehicle.name, slot.id, lane.id, style))
+        if posed is None:
+            problem = self._problem(vehicle, slot, lane)
+            key, frame, s0 = self._key(problem, style), problem.frame, problem.lane_s0
+        else:
+            key, frame, s0 = posed
         hit = self._cache.get(key)
         if hit is None:
-            raw = self._solve(problem, style)
-            hit = raw if isinstance(raw, str) else (self._eased(problem, raw[0]), raw[1])
+            hit, self._raw[key] = self._search(self._problem(vehicle, slot, lane) if posed
+                                               else problem, style)
             self._cache[key] = hit
-            self._raw[key] = raw
+            self.stats["planned"] += 1
+        elif key in self._fresh:  # searched ahead of time (:meth:`prefetch`): first use
+            self._fresh.discard(key)
             self.stats["planned"] += 1
         else:
             self.stats["reused"] += 1
@@ -519,10 +530,48 @@ class ManeuverPlanner:
         if isinstance(hit, str):
             return ManeuverResult(ManeuverStatus.INFEASIBLE, reason=hit)
         local, x0 = hit
-        segs = tuple(problem.frame.segment_to_world(s) for s in local)
+        segs = tuple(frame.segment_to_world(s) for s in local)
         return ManeuverResult(ManeuverStatus.FOUND,
-                              Maneuver(segs, vehicle.name, slot.id, lane.id,
-                                       problem.lane_s0 + x0))
+                              Maneuver(segs, vehicle.name, slot.id, lane.id, s0 + x0))
+
+    def _search(self, problem: _Problem, style: str) -> tuple[object, object]:
+        """(eased, as planned) local answer to ``problem``: segments and start x, or why not."""
+        raw = self._solve(problem, style)
+        return (raw if isinstance(raw, str) else (self._eased(problem, raw[0]), raw[1])), raw
+
+    def prefetch(self, vehicles: Iterable[VehicleType], *, style: str = "any",
+                 shared: bool = True, workers: int | None = None) -> None:
+        """Search every distinct problem :meth:`solve_lanes` will meet for ``vehicles`` in
+        every slot, on ``workers`` processes (default: as many as the machine has), so that
+        it then only looks them up.
+
+        The answers are exactly those of searching them one after another: each distinct
+        problem (by its rounded local geometry, as the cache keys it) is searched as posed
+        the first time :meth:`solve_lanes` meets it in slot order, as it would be without
+        this. Needs the ``fork`` start method (Linux); elsewhere, or for a few problems, it
+        searches in this process.
+        """
+        calls = []  # in the order solve_lanes makes them
+        for v in vehicles:
+            for slot in self.lot.slots:
+                lanes = self.lanes_for(slot)
+                if shared and style == "any" and len(lanes) > 1 and slot.kind != "parallel":
+                    calls += [(v, slot, lane, st) for st in ("forward", "reverse")
+                              for lane in lanes]
+                else:
+                    calls += [(v, slot, lane, style) for lane in lanes]
+        todo: dict[bytes, tuple] = {}
+        for v, slot, lane, st in calls:
+            problem = self._problem(v, slot, lane)
+            key = self._key(problem, st)
+            self._posed[(v.name, slot.id, lane.id, st)] = (key, problem.frame, problem.lane_s0)
+            if key not in self._cache and key not in todo:
+                todo[key] = (v, slot, lane, st)
+        jobs = list(todo.items())
+        answers = _search_all(self, jobs, workers)
+        for (key, _), (hit, raw) in zip(jobs, answers, strict=True):
+            self._cache[key], self._raw[key] = hit, raw
+            self._fresh.add(key)
 
     def plan(self, vehicle: VehicleType, slot: Slot, lane: Lane, *,
              style: str = "any") -> Maneuver:
@@ -1085,10 +1134,11 @@ def plan_maneuver(vehicle: VehicleType, slot: Slot, lot: Lot, *, style: str = "a
 
 
 def plan_lot(planner: ManeuverPlanner, vehicles: Iterable[VehicleType], *,
-             style: str = "any") -> tuple[dict[tuple[str, str, str], Maneuver],
-                                          dict[str, dict[str, str]],
-                                          dict[tuple[str, str, str], Maneuver]]:
-    """Maneuvers for every slot, vehicle type and lane of a lot.
+             style: str = "any", workers: int | None = None
+             ) -> tuple[dict[tuple[str, str, str], Maneuver], dict[str, dict[str, str]],
+                        dict[tuple[str, str, str], Maneuver]]:
+    """Maneuvers for every slot, vehicle type and lane of a lot, searched on ``workers``
+    processes (:meth:`ManeuverPlanner.prefetch`; the same answers on any number).
 
     Returns
     -------
@@ -1101,6 +1151,8 @@ def plan_lot(planner: ManeuverPlanner, vehicles: Iterable[VehicleType], *,
         the other way round than the one in ``maneuvers`` (for cars that will not leave;
         :meth:`ManeuverPlanner.solve_lanes`).
     """
+    vehicles = list(vehicles)
+    planner.prefetch(vehicles, style=style, workers=workers)
     maneuvers: dict[tuple[str, str, str], Maneuver] = {}
     stays: dict[tuple[str, str, str], Maneuver] = {}
     infeasible: dict[str, dict[str, str]] = {}
@@ -1115,3 +1167,39 @@ def plan_lot(planner: ManeuverPlanner, vehicles: Iterable[VehicleType], *,
             if not found:
                 infeasible[v.name][slot.id] = why
     return maneuvers, infeasible, stays
+
+
+_JOB: tuple = ()  # (planner, jobs) for the forked workers of _search_all
+PARALLEL_FROM = 64
+"""Fewest distinct problems worth starting worker processes for."""
+
+
+def _search_all(planner: ManeuverPlanner, jobs: list, workers: int | None) -> list:
+    """:meth:`ManeuverPlanner._search` of every job ``(key, (vehicle, slot, lane, style))``,
+    in order, on up to ``workers`` forked processes."""
+    global _JOB
+    workers = min(workers or os.cpu_count() or 1, max(1, len(jobs) // 16))
+    if (workers < 2 or len(jobs) < PARALLEL_FROM
+            or "fork" not in multiprocessing.get_all_start_methods()):
+        return [_search_one(planner, job) for _, job in jobs]
+    _JOB = (planner, [job for _, job in jobs])
+    try:  # leaving the pool (done, or Ctrl-C here) terminates its workers
+        with multiprocessing.get_context("fork").Pool(workers, initializer=_ignore_sigint) as pool:
+            return pool.map(_search_job, range(len(jobs)), chunksize=8)
+    finally:
+        _JOB = ()
+
+
+def _ignore_sigint() -> None:
+    """Workers leave Ctrl-C to the process that started them (which ends them)."""
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+
+
+def _search_job(k: int) -> tuple:
+    planner, jobs = _JOB
+    return _search_one(planner, jobs[k])
+
+
+def _search_one(planner: ManeuverPlanner, job: tuple) -> tuple:
+    v, slot, lane, style = job
+    return planner._search(planner._problem(v, slot, lane), style)
