@@ -209,7 +209,7 @@ class LotGraph:
                     if vehicle in (None, name)]
             placeholder = any(d.get("placeholder") for d in leaves)  # no poses: any way out
             for u, _, d in g.in_edges(node, data=True):
-                if d["kind"] == "park" and (placeholder and d.get("placeholder") or any(
+                if d["kind"] == "park" and ((placeholder and d.get("placeholder")) or any(
                         same_pose(m.end, pose) for name, m in d["maneuvers"].items()
                         for who, pose in away if who == name)):
                     out.add((u, node))
@@ -242,11 +242,16 @@ class LotGraph:
                     for name, node in self.exits.items()}
         come, go = self._lane_reach()
         no_way_in = missing(come, g.predecessors)
+        def parks_to_leave(out: frozenset[tuple[int, int]], seen: set[int], sid: str) -> bool:
+            """Whether a car coming to a node of ``seen`` parks in ``sid`` by a park edge
+            in ``out`` (:meth:`leavable`: it leaves from that pose towards an exit)."""
+            node = self.slot_nodes[sid]
+            return any(u in seen and (u, node) in out for u in g.predecessors(node))
+
         # a car leaves from the pose it parked on, by any leave edge from there
         out = self.leavable()
-        no_way_out = [sid for sid in free if sid not in no_way_in and not any(
-            u in come and (u, self.slot_nodes[sid]) in out
-            for u in g.predecessors(self.slot_nodes[sid]))]
+        no_way_out = [sid for sid in free
+                      if sid not in no_way_in and not parks_to_leave(out, come, sid)]
         by_type = {}
         for name in sorted({v for _, _, d in g.edges(data=True) if d["kind"] == "park"
                             for v in d["maneuvers"]}):
@@ -261,11 +266,9 @@ class LotGraph:
                            for u in g.predecessors(node))
 
             no_in = [sid for sid in free if sid in fits and not parks_from(come, sid)]
-            out = self.leavable(name)
-            no_out = [sid for sid in free if sid in fits and sid not in no_in and not any(
-                u in come and (u, self.slot_nodes[sid]) in out and
-                name in g.edges[u, self.slot_nodes[sid]]["maneuvers"]
-                for u in g.predecessors(self.slot_nodes[sid]))]
+            out = self.leavable(name)  # only park edges with a maneuver for this type
+            no_out = [sid for sid in free if sid in fits and sid not in no_in
+                      and not parks_to_leave(out, come, sid)]
             by_type[name] = (no_in, no_out)
         return Reachability(unreachable, stranded, no_way_in, no_way_out, by_type)
 

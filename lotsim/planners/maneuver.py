@@ -83,6 +83,8 @@ CLOSING_RADII = (1.0, 1.25, 1.5, 2.0, 3.0)
 """Closing arcs try these multiples of the car's minimum turning radius."""
 STYLES = ("any", "forward", "reverse")
 """``forward``: nose-in; ``reverse``: nose-out (backed in); ``any``: the better one."""
+COMMON_STYLES = ("forward", "reverse")
+"""The ways of parking tried for a pose shared by a slot's lanes, in the order tried."""
 EASE_RAMPS = (3.0, 2.2, 1.6, 1.1, 0.7, 0.4)
 """Lengths of path over which a maneuver's curvature jumps are smoothed, longest first [m]:
 a longer ramp is driven faster (the steering rate caps ``v`` at ``φ̇ / (σ b)``) but moves
@@ -508,16 +510,16 @@ class ManeuverPlanner:
         """
         if style not in STYLES:
             raise ValueError(f"style must be one of {', '.join(STYLES)}")
+        problem = None
         posed = self._posed.get((vehicle.name, slot.id, lane.id, style))
         if posed is None:
             problem = self._problem(vehicle, slot, lane)
-            key, frame, s0 = self._key(problem, style), problem.frame, problem.lane_s0
-        else:
-            key, frame, s0 = posed
+            posed = self._key(problem, style), problem.frame, problem.lane_s0
+        key, frame, s0 = posed
         hit = self._cache.get(key)
         if hit is None:
-            hit, self._raw[key] = self._search(self._problem(vehicle, slot, lane) if posed
-                                               else problem, style)
+            problem = problem or self._problem(vehicle, slot, lane)
+            hit, self._raw[key] = self._search(problem, style)
             self._cache[key] = hit
             self.stats["planned"] += 1
         elif key in self._fresh:  # searched ahead of time (:meth:`prefetch`): first use
@@ -551,16 +553,9 @@ class ManeuverPlanner:
         this. Needs the ``fork`` start method (Linux); elsewhere, or for a few problems, it
         searches in this process.
         """
-        calls = []  # in the order solve_lanes makes them
-        for v in vehicles:
-            for slot in self.lot.slots:
-                lanes = self.lanes_for(slot)
-                if shared and style == "any" and len(lanes) > 1 and slot.kind != "parallel":
-                    calls += [(v, slot, lane, st) for st in ("forward", "reverse")
-                              for lane in lanes]
-                else:
-                    calls += [(v, slot, lane, style) for lane in lanes]
         todo: dict[bytes, tuple] = {}
+        calls = [(v, slot, lane, st) for v in vehicles for slot in self.lot.slots
+                 for st, lane in self._searches(slot, style, shared)]  # solve_lanes' order
         for v, slot, lane, st in calls:
             problem = self._problem(v, slot, lane)
             key = self._key(problem, st)
@@ -626,7 +621,7 @@ class ManeuverPlanner:
         round (nose-in or backed in) than the shared pose: a car that will not leave again
         need not park so that it could leave towards every lane (lane id → Maneuver)."""
         lanes = self.lanes_for(slot)
-        if shared and style == "any" and len(lanes) > 1 and slot.kind != "parallel":
+        if self._shares(slot, lanes, style, shared):
             return self._solve_common(vehicle, slot, lanes)
         out, reasons = {}, []
         for lane in lanes:
@@ -639,6 +634,18 @@ class ManeuverPlanner:
             return out, {}, ""
         return out, {}, "; ".join(dict.fromkeys(reasons)) or "no lane of its aisle leads to it"
 
+    @staticmethod
+    def _shares(slot: Slot, lanes: list[Lane], style: str, shared: bool) -> bool:
+        """Whether :meth:`solve_lanes` parks ``slot`` on one pose from all its ``lanes``."""
+        return shared and style == "any" and len(lanes) > 1 and slot.kind != "parallel"
+
+    def _searches(self, slot: Slot, style: str, shared: bool) -> list[tuple[str, Lane]]:
+        """(style, lane) of every search :meth:`solve_lanes` makes for ``slot``, in order (the
+        same whatever the answers)."""
+        lanes = self.lanes_for(slot)
+        styles = COMMON_STYLES if self._shares(slot, lanes, style, shared) else (style,)
+        return [(st, lane) for st in styles for lane in lanes]
+
     def _solve_common(self, vehicle: VehicleType, slot: Slot, lanes: list[Lane]
                       ) -> tuple[dict[str, Maneuver], dict[str, Maneuver], str]:
         """:meth:`solve_lanes` for a slot served by several lanes: nose-in from every lane, or
@@ -647,7 +654,7 @@ class ManeuverPlanner:
         can leave towards any of them; each lane's own best when no way of parking serves
         them all."""
         tried = {st: [self.solve(vehicle, slot, lane, style=st) for lane in lanes]
-                 for st in ("forward", "reverse")}
+                 for st in COMMON_STYLES}
 
         def cost(results: list[ManeuverResult]) -> tuple[int, float]:
             ms = [r.maneuver for r in results]
