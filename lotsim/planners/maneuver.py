@@ -1176,7 +1176,7 @@ def plan_lot(planner: ManeuverPlanner, vehicles: Iterable[VehicleType], *,
     return maneuvers, infeasible, stays
 
 
-_JOB: tuple = ()  # (planner, jobs) for the forked workers of _search_all
+_JOB: tuple = ()  # (planner, jobs, parent pid) for the forked workers of _search_all
 PARALLEL_FROM = 64
 """Fewest distinct problems worth starting worker processes for."""
 
@@ -1185,11 +1185,14 @@ def _search_all(planner: ManeuverPlanner, jobs: list, workers: int | None) -> li
     """:meth:`ManeuverPlanner._search` of every job ``(key, (vehicle, slot, lane, style))``,
     in order, on up to ``workers`` forked processes."""
     global _JOB
-    workers = min(workers or os.cpu_count() or 1, max(1, len(jobs) // 16))
+    # a process that multiprocessing started (a worker of the bench's pool, of Dask, of the
+    # caller's) searches by itself: its parent already shares the cores out
+    workers = (workers or (1 if multiprocessing.parent_process() else os.cpu_count()) or 1)
+    workers = min(workers, max(1, len(jobs) // 16))
     if (workers < 2 or len(jobs) < PARALLEL_FROM
             or "fork" not in multiprocessing.get_all_start_methods()):
         return [_search_one(planner, job) for _, job in jobs]
-    _JOB = (planner, [job for _, job in jobs])
+    _JOB = (planner, [job for _, job in jobs], os.getpid())
     try:  # leaving the pool (done, or Ctrl-C here) terminates its workers
         with multiprocessing.get_context("fork").Pool(workers, initializer=_ignore_sigint) as pool:
             return pool.map(_search_job, range(len(jobs)), chunksize=8)
@@ -1198,12 +1201,22 @@ def _search_all(planner: ManeuverPlanner, jobs: list, workers: int | None) -> li
 
 
 def _ignore_sigint() -> None:
-    """Workers leave Ctrl-C to the process that started them (which ends them)."""
+    """Workers leave Ctrl-C to the process that started them (which ends them), and end
+    when it ends, however it ends (Linux: ``PR_SET_PDEATHSIG``), instead of searching on
+    with nobody to answer."""
     signal.signal(signal.SIGINT, signal.SIG_IGN)
+    try:
+        import ctypes
+
+        ctypes.CDLL(None, use_errno=True).prctl(1, signal.SIGTERM)  # PR_SET_PDEATHSIG
+    except (OSError, AttributeError):  # not Linux: ended by the pool only
+        pass
+    if os.getppid() != _JOB[2]:  # it ended before that was set
+        os._exit(0)
 
 
 def _search_job(k: int) -> tuple:
-    planner, jobs = _JOB
+    planner, jobs, _ = _JOB
     return _search_one(planner, jobs[k])
 
 
