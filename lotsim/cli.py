@@ -216,6 +216,8 @@ def _validate(paths: Sequence[str], *, strict: bool) -> int:
 
 
 def _summary(path, scenario, lg, reach) -> str:  # noqa: ANN001
+    from lotsim.cache import LOADED
+
     lot = lg.lot
     counts = lot.slot_counts()
     kinds = ", ".join(f"{k} {n}" for k, n in counts.items())
@@ -266,7 +268,8 @@ def _summary(path, scenario, lg, reach) -> str:  # noqa: ANN001
         lines.append(f"  maneuvers: {edges} kept (per type, slot and lane); "
                      f"{planner.stats['planned']} distinct problems searched "
                      f"({planner.stats['reused']} repeats answered from them; "
-                     f"margin {planner.margin:g} m)")
+                     f"margin {planner.margin:g} m)"
+                     + (LOADED if lg.from_cache else ""))
         for vname, slots in lg.infeasible.items():
             if not slots:
                 continue
@@ -442,8 +445,9 @@ def _run(args: argparse.Namespace) -> int:
                            window=args.window, omega=args.omega, horizon=args.horizon)
     traffic = scenario.traffic
     where = traffic.stream.where if traffic.stream is not None else traffic.where
+    seen: list[bool] = []  # Ctrl-C, even where a finaliser swallowed its KeyboardInterrupt
     if args.priority == "arrival":
-        with Watchdog(budget, where, then=progress) as dog:
+        with _noting_sigint(seen), Watchdog(budget, where, then=progress) as dog:
             rr = run(scenario, settings, progress=dog.progress)
     else:
         from lotsim.priority import run_with_priority
@@ -451,7 +455,7 @@ def _run(args: argparse.Namespace) -> int:
 
         bar = _ProgressBar("trying orders")
         try:
-            with Watchdog(budget, where):
+            with _noting_sigint(seen), Watchdog(budget, where):
                 rr, found = run_with_priority(scenario, settings, priority=args.priority,
                                               lot_graph=prepare(scenario), progress=bar)
         finally:
@@ -461,6 +465,8 @@ def _run(args: argparse.Namespace) -> int:
                  "tried)" if args.priority == "ga" else "")
         print(f"priority {args.priority}: total time to park {found['fitness']:.1f} s{extra}; "
               f"choosing the order took {found['order_time']:.1f} s")
+    if seen:
+        raise KeyboardInterrupt
     if tty:
         print("\r" + " " * 40 + "\r", end="", file=sys.stderr)
     doc = result_dict(rr)

@@ -13,6 +13,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+import lotsim.cache
 from lotsim.errors import ScenarioError
 from lotsim.geometry import same_pose
 from lotsim.lot.build import build_lot
@@ -39,7 +40,7 @@ from lotsim.vehicles.model import VehicleType
 
 
 def prepare(scenario: Scenario, *, node_spacing: float = 4.0, maneuvers: bool = True,
-            margin: float = MARGIN) -> LotGraph:
+            margin: float = MARGIN, cache: bool = True) -> LotGraph:
     """Build the scenario's lot for its vehicle types, plan every slot's parking maneuver
     for every type, and build the lot's drivable graph through them.
 
@@ -53,18 +54,32 @@ def prepare(scenario: Scenario, *, node_spacing: float = 4.0, maneuvers: bool = 
     traffic, the shared pose.
     With ``maneuvers=False`` slots hang off placeholder links (quick, for pictures).
 
+    With ``cache`` (the default), a lot prepared before — same lot, vehicle types and
+    settings, same lotsim — is loaded from the on-disk cache instead (:mod:`lotsim.cache`;
+    ``LOTSIM_CACHE_DIR=off`` turns it off), and a new one is stored there;
+    ``LotGraph.from_cache`` says which.
+
     Raises
     ------
     ScenarioError
         When the layout does not hold together (overlaps, narrow aisles, ...).
     """
-    lot = build_lot(scenario.lot, DesignVehicle.envelope(scenario.vehicle_types))
     if not maneuvers:
+        lot = build_lot(scenario.lot, DesignVehicle.envelope(scenario.vehicle_types))
         return build_graph(lot, node_spacing=node_spacing, vehicles=scenario.vehicle_types)
-    planner = maneuver_planner(scenario, lot, margin=margin)
-    planned, infeasible, stays = plan_lot(planner, scenario.vehicle_types)
     leaves = ({a.dwell is not None for a in arrivals(scenario.traffic, scenario.seed)}
               if scenario.traffic is not None else {True})
+    name = None
+    if cache:
+        name = lotsim.cache.key("prepared", scenario.lot, scenario.vehicle_types,
+                                scenario.parked_vehicle, sorted(leaves), node_spacing, margin)
+        lg = lotsim.cache.load(name)
+        if isinstance(lg, LotGraph):
+            lg.from_cache = True
+            return lg
+    lot = build_lot(scenario.lot, DesignVehicle.envelope(scenario.vehicle_types))
+    planner = maneuver_planner(scenario, lot, margin=margin)
+    planned, infeasible, stays = plan_lot(planner, scenario.vehicle_types)
     if leaves == {False}:  # no car leaves: each lane's own best only
         planned, stays = {**planned, **stays}, {}
     elif leaves == {True}:  # no car stays: where those begin would only be nodes in the way
@@ -73,6 +88,8 @@ def prepare(scenario: Scenario, *, node_spacing: float = 4.0, maneuvers: bool = 
                      vehicles=scenario.vehicle_types, stays=stays)
     lg.infeasible = infeasible
     lg.maneuver_planner = planner
+    if name is not None:
+        lotsim.cache.store(name, lg)
     return lg
 
 

@@ -2,7 +2,11 @@
 
 from __future__ import annotations
 
+import atexit
+import os
+import shutil
 import signal
+import tempfile
 import textwrap
 from contextlib import contextmanager
 from pathlib import Path
@@ -17,6 +21,13 @@ from lotsim.scenario import Scenario
 from lotsim.sim import prepare
 
 ROOT = Path(__file__).resolve().parents[1]
+
+# prepared lots are cached for this session only (and for the lotsim processes it starts):
+# each lot is planned in full the first time a test prepares it, never read from a
+# developer's own cache
+_CACHE = tempfile.mkdtemp(prefix="lotsim-test-cache-")
+os.environ["LOTSIM_CACHE_DIR"] = _CACHE
+atexit.register(shutil.rmtree, _CACHE, True)
 SCENARIOS = sorted((ROOT / "scenarios").glob("*.yaml"))
 
 ONE_AISLE = """\

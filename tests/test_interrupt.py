@@ -22,7 +22,7 @@ SCENARIOS = ROOT / "scenarios"
 
 
 def _start(*args: str, cwd) -> subprocess.Popen:
-    env = dict(os.environ, PYTHONUNBUFFERED="1")
+    env = dict(os.environ, PYTHONUNBUFFERED="1", LOTSIM_CACHE_DIR="off")  # plans in full
     return subprocess.Popen([sys.executable, "-m", "lotsim", *args], cwd=cwd, env=env,
                             stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
                             start_new_session=True)

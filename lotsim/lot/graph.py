@@ -131,6 +131,9 @@ class LotGraph:
         Vehicle type → {slot id: reason} for slots that type cannot park in.
     maneuver_planner : ManeuverPlanner or None
         The planner (and its cache) the maneuvers came from.
+    from_cache : bool
+        Whether :func:`~lotsim.sim.prepare` loaded it from the on-disk cache
+        (:mod:`lotsim.cache`) rather than planning it.
     """
 
     lot: Lot
@@ -142,29 +145,39 @@ class LotGraph:
     skipped_turns: list[str] = field(default_factory=list)
     infeasible: dict[str, dict[str, str]] = field(default_factory=dict)
     maneuver_planner: object = None
+    from_cache: bool = False
 
     def _lane_reach(self, vehicle: str | None = None) -> tuple[set[int], set[int]]:
         """Lane nodes reachable from an entrance, and lane nodes that reach an exit (any,
         when the lot has no exits), driving lanes, turns, joins and turnarounds only — never
         through a slot (a car does not turn round in someone's parking space); with
         ``vehicle``, only by the turns that type can make."""
-        lanes = self._lanes(vehicle)
-        come = set().union(*(nx.descendants(lanes, n) | {n} for n in self.entrances.values()))
-        if self.exits:
-            go = set().union(*(nx.ancestors(lanes, n) | {n} for n in self.exits.values()))
-        else:
-            go = set(lanes.nodes)
+        ahead, back = self._lanes(vehicle)
+        come = _spread(ahead, self.entrances.values())
+        go = _spread(back, self.exits.values()) if self.exits else set(ahead)
         return come, go
 
-    def _lanes(self, vehicle: str | None = None) -> nx.DiGraph:
-        """The graph without its slot nodes: what a car drives between entering and parking
-        (with ``vehicle``, without the turns that type cannot make)."""
-        g = self.graph
-        lanes = g.subgraph(n for n, d in g.nodes(data=True) if d["kind"] != "slot")
-        if vehicle is None:
-            return lanes
-        return nx.subgraph_view(lanes, filter_edge=lambda u, v: (
-            g.edges[u, v].get("types") is None or vehicle in g.edges[u, v]["types"]))
+    def _lanes(self, vehicle: str | None = None) -> tuple[dict[int, list[int]],
+                                                           dict[int, list[int]]]:
+        """Successors and predecessors of each node in the graph without its slot nodes:
+        what a car drives between entering and parking (with ``vehicle``, without the turns
+        that type cannot make)."""
+        nodes = self.graph.nodes
+        ahead: dict[int, list[int]] = {}
+        back: dict[int, list[int]] = {}
+        for u, nbrs in self.graph.adj.items():
+            if nodes[u]["kind"] == "slot":
+                continue
+            ahead.setdefault(u, [])
+            back.setdefault(u, [])
+            for v, d in nbrs.items():
+                if nodes[v]["kind"] == "slot" or (
+                        vehicle is not None and d.get("types") is not None
+                        and vehicle not in d["types"]):
+                    continue
+                ahead[u].append(v)
+                back.setdefault(v, []).append(u)
+        return ahead, back
 
     def reachable(self) -> dict[str, tuple[float, float]]:
         """Per lane, the station range [m] of the nodes a car can reach from an entrance
@@ -231,14 +244,14 @@ class LotGraph:
         of it at the end). Cars parked at start never move, so taken slots are not listed."""
         g = self.graph
         free = [s.id for s in self.lot.free_slots]
-        lanes = self._lanes()
+        ahead, back = self._lanes()
 
         def missing(seen: set[int], links) -> list[str]:  # noqa: ANN001
             return [sid for sid in free if not any(n in seen for n in links(self.slot_nodes[sid]))]
 
-        unreachable = {name: missing(nx.descendants(lanes, node) | {node}, g.predecessors)
+        unreachable = {name: missing(_spread(ahead, [node]), g.predecessors)
                        for name, node in self.entrances.items()}
-        stranded = {name: missing(nx.ancestors(lanes, node) | {node}, g.successors)
+        stranded = {name: missing(_spread(back, [node]), g.successors)
                     for name, node in self.exits.items()}
         come, go = self._lane_reach()
         no_way_in = missing(come, g.predecessors)
@@ -271,6 +284,18 @@ class LotGraph:
                       and not parks_to_leave(out, come, sid)]
             by_type[name] = (no_in, no_out)
         return Reachability(unreachable, stranded, no_way_in, no_way_out, by_type)
+
+
+def _spread(links: dict[int, list[int]], sources) -> set[int]:  # noqa: ANN001
+    """``sources`` and every node reached from them by ``links`` (node → next nodes)."""
+    seen = set(sources)
+    todo = list(seen)
+    while todo:
+        for n in links.get(todo.pop(), ()):
+            if n not in seen:
+                seen.add(n)
+                todo.append(n)
+    return seen
 
 
 def build_graph(lot: Lot, *, node_spacing: float = 4.0, maneuvers=None,  # noqa: ANN001

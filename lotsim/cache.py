@@ -1,0 +1,129 @@
+"""An on-disk cache of prepared lots: a second ``validate`` or ``run`` of a lot that has not
+changed since the last one loads it instead of planning it again.
+
+An entry is keyed by everything the prepared lot depends on — the lot as written (not
+where in which file it was written), the vehicle types, the preparation's settings — and
+by the code that prepared it (a hash of lotsim's own source files, so that a changed
+lotsim never reads an older lotsim's answers) and the versions of the libraries whose
+objects it holds. A loaded entry is the very object that was stored (pickle round-trips
+floats exactly), so a run from the cache is byte-identical to one without.
+
+Where: ``$LOTSIM_CACHE_DIR``, else ``$XDG_CACHE_HOME/lotsim``, else ``~/.cache/lotsim``.
+``LOTSIM_CACHE_DIR=off`` turns the cache off. The cache is only ever a shortcut: an entry
+that cannot be read or written is planned as if there were none, and the oldest entries
+are removed once there are more than :data:`MOST_ENTRIES` or :data:`MOST_BYTES`.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import functools
+import hashlib
+import os
+import pickle
+import sys
+import tempfile
+from pathlib import Path
+
+OFF = ("off", "0", "no", "false", "")
+LOADED = "; loaded from the cache: the lot, its types and lotsim are as when planned"
+"""What ``lotsim validate`` adds to its maneuver counts when the lot came from the cache."""
+MOST_ENTRIES = 64
+MOST_BYTES = 1 << 30
+"""The cache holds at most this many entries and bytes; the least recently used go first."""
+
+
+def cache_dir() -> Path | None:
+    """The cache's folder, or None when ``LOTSIM_CACHE_DIR`` turns it off."""
+    chosen = os.environ.get("LOTSIM_CACHE_DIR")
+    if chosen is not None:
+        return None if chosen.strip().lower() in OFF else Path(chosen).expanduser()
+    base = os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache"
+    return Path(base) / "lotsim"
+
+
+@functools.cache
+def code_version() -> str:
+    """A hash of lotsim's source files and of the versions of Python and of the libraries
+    whose objects a prepared lot holds."""
+    import networkx
+    import numpy
+    import shapely
+
+    h = hashlib.blake2b(digest_size=16)
+    h.update(repr((sys.version, numpy.__version__, shapely.__version__,
+                   networkx.__version__)).encode())
+    root = Path(__file__).resolve().parent
+    for path in sorted(root.rglob("*.py")):
+        h.update(path.relative_to(root).as_posix().encode())
+        h.update(path.read_bytes())
+    return h.hexdigest()
+
+
+def key(kind: str, *parts: object) -> str:
+    """The entry name for ``parts`` (their ``repr``: give only values whose repr is their
+    content, such as frozen dataclasses of numbers and strings) under ``kind``."""
+    h = hashlib.blake2b(digest_size=20)
+    h.update(code_version().encode())
+    h.update(repr(parts).encode())
+    return f"{kind}-{h.hexdigest()}.pickle"
+
+
+def load(name: str, folder: Path | None = None) -> object | None:
+    """The entry ``name`` (:func:`key`), or None when there is none that can be read."""
+    folder = folder if folder is not None else cache_dir()
+    if folder is None:
+        return None
+    path = folder / name
+    try:
+        with open(path, "rb") as f:
+            value = pickle.load(f)
+    except OSError:  # none, or none that can be read
+        return None
+    except Exception:  # noqa: BLE001 - a damaged entry (cut short, another format) is a miss
+        with contextlib.suppress(OSError):
+            path.unlink()
+        return None
+    with contextlib.suppress(OSError):  # recently used (a read-only cache is still read)
+        os.utime(path)
+    return value
+
+
+def store(name: str, value: object, folder: Path | None = None) -> bool:
+    """Write ``value`` as the entry ``name`` (whole or not at all); whether it was."""
+    folder = folder if folder is not None else cache_dir()
+    if folder is None:
+        return False
+    tmp = None
+    try:
+        folder.mkdir(parents=True, exist_ok=True)
+        fd, tmp = tempfile.mkstemp(dir=folder, prefix=".", suffix=".tmp")
+        with os.fdopen(fd, "wb") as f:
+            pickle.dump(value, f, protocol=pickle.HIGHEST_PROTOCOL)
+        os.replace(tmp, folder / name)
+        tmp = None
+        _prune(folder)
+    except (OSError, pickle.PicklingError, TypeError, AttributeError):
+        return False
+    finally:
+        if tmp is not None:
+            Path(tmp).unlink(missing_ok=True)
+    return True
+
+
+def _prune(folder: Path) -> None:
+    """Remove the least recently used entries beyond :data:`MOST_ENTRIES` and
+    :data:`MOST_BYTES`."""
+    entries = []
+    for path in folder.glob("*.pickle"):
+        try:
+            st = path.stat()
+        except FileNotFoundError:  # removed by another process meanwhile
+            continue
+        entries.append((st.st_mtime, st.st_size, path))
+    entries.sort(reverse=True)
+    total = 0
+    for k, (_, size, path) in enumerate(entries):
+        total += size
+        if k >= MOST_ENTRIES or total > MOST_BYTES:
+            path.unlink(missing_ok=True)

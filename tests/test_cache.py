@@ -1,0 +1,117 @@
+"""The on-disk cache of prepared lots (:mod:`lotsim.cache`): a lot prepared before is loaded,
+not planned again, and gives exactly what planning it gives; anything else is planned."""
+
+from __future__ import annotations
+
+import json
+import os
+import subprocess
+import sys
+
+import pytest
+
+import lotsim.cache
+from conftest import ONE_AISLE, ROOT, scenario_from_text
+from lotsim.io.result import result_dict
+from lotsim.sim import prepare, run
+
+TRAFFIC = """\
+traffic:
+  vehicles:
+    - {id: a, arrival: 0, dwell: 20}
+    - {id: b, arrival: 3}
+"""
+
+
+@pytest.fixture
+def folder(tmp_path, monkeypatch):
+    where = tmp_path / "cache"
+    monkeypatch.setenv("LOTSIM_CACHE_DIR", str(where))
+    return where
+
+
+def _doc(scenario, lg) -> str:
+    return json.dumps(result_dict(run(scenario, lot_graph=lg)), sort_keys=True)
+
+
+def test_a_lot_prepared_before_is_loaded_and_runs_exactly_as_planned(folder):
+    sc = scenario_from_text(ONE_AISLE + TRAFFIC)
+    cold = prepare(sc)
+    assert not cold.from_cache and len(list(folder.glob("*.pickle"))) == 1
+    warm = prepare(sc)
+    assert warm.from_cache
+    assert warm.infeasible == cold.infeasible
+    assert sorted(warm.graph.edges) == sorted(cold.graph.edges)
+    assert _doc(sc, warm) == _doc(sc, cold) == _doc(sc, prepare(sc, cache=False))
+
+
+def test_a_changed_lot_or_lotsim_is_planned_again(folder, monkeypatch):
+    prepare(scenario_from_text(ONE_AISLE + TRAFFIC))
+    wider = ONE_AISLE.replace("slot_width: 2.5,\n       slot_length: 5.0, start: 12, id_prefix: S",
+                              "slot_width: 2.6,\n       slot_length: 5.0, start: 12, id_prefix: S")
+    assert wider != ONE_AISLE
+    assert not prepare(scenario_from_text(wider + TRAFFIC)).from_cache
+    # the cars' stays decide which maneuvers are kept: other traffic, other entry
+    stay = TRAFFIC.replace(", dwell: 20", "")
+    assert not prepare(scenario_from_text(ONE_AISLE + stay)).from_cache
+    assert prepare(scenario_from_text(ONE_AISLE + stay)).from_cache
+    monkeypatch.setattr(lotsim.cache, "code_version", lambda: "another lotsim")
+    assert not prepare(scenario_from_text(ONE_AISLE + TRAFFIC)).from_cache
+
+
+def test_a_damaged_entry_is_planned_again_and_replaced(folder):
+    sc = scenario_from_text(ONE_AISLE + TRAFFIC)
+    cold = prepare(sc)
+    (entry,) = folder.glob("*.pickle")
+    entry.write_bytes(entry.read_bytes()[:1000])  # cut short, as a full disk leaves it
+    again = prepare(sc)
+    assert not again.from_cache
+    assert _doc(sc, again) == _doc(sc, cold)
+    assert prepare(sc).from_cache
+
+
+def test_no_cache_where_it_cannot_be_written_or_is_turned_off(tmp_path, monkeypatch):
+    sc = scenario_from_text(ONE_AISLE + TRAFFIC)
+    blocker = tmp_path / "a-file"
+    blocker.write_text("not a folder")
+    monkeypatch.setenv("LOTSIM_CACHE_DIR", str(blocker / "cache"))
+    assert not prepare(sc).from_cache and not prepare(sc).from_cache
+    monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path / "xdg"))
+    monkeypatch.setenv("LOTSIM_CACHE_DIR", "off")
+    assert not prepare(sc).from_cache and not prepare(sc).from_cache
+    assert not (tmp_path / "xdg").exists()
+    monkeypatch.delenv("LOTSIM_CACHE_DIR")
+    prepare(sc)
+    assert prepare(sc).from_cache
+    assert len(list((tmp_path / "xdg" / "lotsim").glob("*.pickle"))) == 1
+
+
+def test_the_least_recently_used_entries_go_first(folder, monkeypatch):
+    monkeypatch.setattr(lotsim.cache, "MOST_ENTRIES", 2)
+    for k in range(3):
+        assert lotsim.cache.store(f"e{k}.pickle", k)
+        os.utime(folder / f"e{k}.pickle", (1000 + k, 1000 + k))
+    assert lotsim.cache.load("e0.pickle") is None  # removed when e2 came
+    assert lotsim.cache.load("e1.pickle") == 1  # now the most recently used
+    assert lotsim.cache.store("e3.pickle", 3)
+    assert sorted(p.name for p in folder.glob("*.pickle")) == ["e1.pickle", "e3.pickle"]
+    assert not list(folder.glob(".*.tmp"))
+
+
+def test_validate_from_another_folder_and_process_finds_the_lot(tmp_path):
+    """The key is the lot as written, not where the file lies nor the process's hash seed."""
+    cache = tmp_path / "cache"
+    text = (ROOT / "scenarios" / "quickstart.yaml").read_text()
+    outs = []
+    for k, seed in enumerate((1, 2)):
+        (tmp_path / f"d{k}").mkdir()
+        path = tmp_path / f"d{k}" / "lot.yaml"
+        path.write_text(text)
+        env = {**os.environ, "LOTSIM_CACHE_DIR": str(cache), "PYTHONHASHSEED": str(seed)}
+        outs.append(subprocess.run([sys.executable, "-m", "lotsim", "validate", str(path)],
+                                   env=env, capture_output=True, text=True, timeout=300))
+    assert [o.returncode for o in outs] == [0, 0], outs
+    assert lotsim.cache.LOADED not in outs[0].stdout
+    assert lotsim.cache.LOADED in outs[1].stdout
+    said = [o.stdout.replace(str(tmp_path / f"d{k}"), "") for k, o in enumerate(outs)]
+    assert said[1].replace(lotsim.cache.LOADED, "") == said[0]
