@@ -201,14 +201,14 @@ def _validate(paths: Sequence[str], *, strict: bool) -> int:
         try:
             scenario = load_scenario(path)
             lg = prepare(scenario)
+            reach = lg.reachability()
             # what `lotsim run` would refuse, validate refuses too
             if scenario.traffic is not None:
-                check_traffic(lg, arrivals(scenario.traffic, scenario.seed))
+                check_traffic(lg, arrivals(scenario.traffic, scenario.seed), reach)
         except ScenarioError as exc:
             print(f"lotsim: {exc}", file=sys.stderr)
             worst = EXIT_BAD_INPUT
             continue
-        reach = lg.reachability()
         print(_summary(path, scenario, lg, reach))
         if strict and (not reach.ok or any(lg.infeasible.values())):
             worst = max(worst, EXIT_INCOMPLETE)

@@ -17,7 +17,7 @@ import lotsim.cache
 from lotsim.errors import ScenarioError
 from lotsim.geometry import same_pose
 from lotsim.lot.build import build_lot
-from lotsim.lot.graph import LotGraph, build_graph
+from lotsim.lot.graph import LotGraph, Reachability, build_graph
 from lotsim.lot.model import DesignVehicle, Lot
 from lotsim.planners.cooperative import (
     OMEGA,
@@ -227,9 +227,11 @@ def _queued(v: VehicleRun) -> float:
     return max(0.0, start - v.arrival.time)
 
 
-def check_traffic(lg: LotGraph, traffic: list[Arrival]) -> None:
+def check_traffic(lg: LotGraph, traffic: list[Arrival], reach: Reachability | None = None
+                  ) -> None:
     """Refuse traffic the lot cannot serve at all: a type that fits no slot, an
-    entrance with no route to a slot, dwell times in a lot with no exit.
+    entrance with no route to a slot, dwell times in a lot with no exit. ``reach`` is
+    ``lg.reachability()`` when the caller has it already.
 
     Raises
     ------
@@ -245,7 +247,7 @@ def check_traffic(lg: LotGraph, traffic: list[Arrival]) -> None:
             why = f" ({reasons[0]})" if reasons else ""
             raise ScenarioError(who.where, f"vehicle type {name!r} fits no slot of this "
                                            f"lot{why}")
-    reach = lg.reachability()
+    reach = reach or lg.reachability()
     for name in sorted({a.vehicle for a in traffic}):
         no_in, no_out = reach.by_type.get(name, ([], []))
         fits = {sid for sid in (s.id for s in lg.lot.free_slots)
