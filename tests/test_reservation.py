@@ -1,5 +1,7 @@
 """The reservation table never lets two bodies touch at any instant (checked densely)."""
 
+import math
+
 import numpy as np
 import pytest
 import shapely
@@ -120,3 +122,16 @@ def test_long_and_short_entries_are_both_found_across_many_buckets():
 def test_bad_bucket_is_refused():
     with pytest.raises(ValueError):
         ReservationTable(bucket=0)
+
+
+def test_releases_are_recorded_only_when_they_free_space():
+    table = ReservationTable()
+    table.reserve("a", [(0.0, 2.0, box(0, 0, 1, 1)), (2.0, 4.0, box(1, 0, 2, 1))])
+    table.release("a", after=5.0)  # nothing begins or runs past 5 s
+    table.release("nobody")
+    assert table.releases == []
+    table.release("a", after=3.0)  # cuts the second short
+    table.release("a", after=1.0)  # drops it, cuts the first
+    table.release("a")
+    assert table.releases == [(3.0, "a"), (1.0, "a"), (-math.inf, "a")]
+    assert len(table) == 0

@@ -331,3 +331,25 @@ def test_a_car_that_misses_its_best_slot_tries_the_best_of_other_aisles_next():
     assert _Simulation.few(sim, ranked) == ["A1", "B1", "C1"]
     assert _Simulation.few(sim, ranked, n=4) == ["A1", "B1", "C1", "A2"]  # then the next best
     assert _Simulation.few(sim, ["A2", "A1"]) == ["A2", "A1"]  # one aisle: in rank order
+
+
+def test_whca_replans_only_when_space_was_freed_and_that_changes_next_to_nothing(
+        shipped_graphs, monkeypatch):
+    """A replan with nothing freed since the car's last search could only find what its
+    optimal search missed by its time lattice: the street's cars end as with every replan,
+    park within 0.1 s of it, with fewer than half the searches."""
+    import lotsim.sim
+
+    sc = load_scenario(SCENARIOS[[p.stem for p in SCENARIOS].index("street")])
+    runs = {}
+    for skip in (True, False):
+        monkeypatch.setattr(lotsim.sim, "SKIP_FRUITLESS", skip)
+        runs[skip] = run(sc, RunSettings(planner="whca"), lot_graph=shipped_graphs["street"])
+    fast, full = runs[True], runs[False]
+    assert check_result(result_dict(fast)).ok
+    assert 2 * fast.metrics()["searches"] < full.metrics()["searches"]
+    for a, b in zip(fast.vehicles, full.vehicles, strict=True):
+        assert (a.status, a.slot) == (b.status, b.slot)
+        for ta, tb in ((a.parked_at, b.parked_at), (a.left_at, b.left_at)):
+            assert (ta is None) == (tb is None)
+            assert ta is None or abs(ta - tb) < 0.1, (a.id, ta, tb)

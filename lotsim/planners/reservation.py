@@ -209,6 +209,9 @@ class ReservationTable:
         self._ids: dict[str, int] = {}
         self._names: list[str] = []
         self._by_owner: dict[int, list[int]] = {}
+        self.releases: list[tuple[float, str]] = []
+        """Every :meth:`release` that dropped or cut something, in order: the time from
+        which it freed space [s] and whose it was (space is freed in no other way)."""
 
     def __len__(self) -> int:
         return int(self._store.alive[: self._store.n].sum())
@@ -240,17 +243,22 @@ class ReservationTable:
             return
         st = self._store
         keep = []
+        freed = False
         for i in self._by_owner.get(oid, []):
             if not st.alive[i]:
                 continue
             t0, t1 = st.t[i]
             if after is None or t0 >= after:
                 st.alive[i] = False
+                freed = True
             else:
                 if t1 > after:
                     st.t[i, 1] = after
+                    freed = True
                 keep.append(i)
         self._by_owner[oid] = keep
+        if freed:
+            self.releases.append((-math.inf if after is None else after, owner))
 
     # -- asking -------------------------------------------------------------------------------
     def first_conflict(self, intervals: Sequence[Interval] | Swept, *, offset: float = 0.0,
