@@ -329,11 +329,12 @@ class _Frame:
         flat = np.column_stack([pts.reshape(-1, 2), np.zeros(pts.size // 2)])
         return self.poses_to_local(flat)[:, :2].reshape(pts.shape)
 
-    def segment_to_world(self, seg: Segment) -> Segment:
-        x, y, t = self.poses_to_world(np.array(seg.start))[0]
+    def segments_to_world(self, segs: Sequence[Segment]) -> tuple[Segment, ...]:
+        """Each of ``segs`` in world coordinates (their starts moved in one batch)."""
+        starts = self.poses_to_world(np.array([seg.start for seg in segs])).tolist()
         sign = -1.0 if self.mirror else 1.0
-        return Segment((float(x), float(y), float(t)), seg.distance, sign * seg.curvature,
-                       sign * seg.sharpness)
+        return tuple(Segment(tuple(p), seg.distance, sign * seg.curvature, sign * seg.sharpness)
+                     for p, seg in zip(starts, segs, strict=True))
 
 
 # -- the planner -------------------------------------------------------------------------------
@@ -532,7 +533,7 @@ class ManeuverPlanner:
         if isinstance(hit, str):
             return ManeuverResult(ManeuverStatus.INFEASIBLE, reason=hit)
         local, x0 = hit
-        segs = tuple(frame.segment_to_world(s) for s in local)
+        segs = frame.segments_to_world(local)
         return ManeuverResult(ManeuverStatus.FOUND,
                               Maneuver(segs, vehicle.name, slot.id, lane.id, s0 + x0))
 
@@ -556,9 +557,13 @@ class ManeuverPlanner:
         todo: dict[bytes, tuple] = {}
         calls = [(v, slot, lane, st) for v in vehicles for slot in self.lot.slots
                  for st, lane in self._searches(slot, style, shared)]  # solve_lanes' order
+        posed: dict[tuple[str, str, str], tuple[_Problem, bytes]] = {}  # styles share it
         for v, slot, lane, st in calls:
-            problem = self._problem(v, slot, lane)
-            key = self._key(problem, st)
+            if (v.name, slot.id, lane.id) not in posed:
+                problem = self._problem(v, slot, lane)
+                posed[v.name, slot.id, lane.id] = problem, self._digest(problem)
+            problem, digest = posed[v.name, slot.id, lane.id]
+            key = self._key(problem, st, digest)
             self._posed[(v.name, slot.id, lane.id, st)] = (key, problem.frame, problem.lane_s0)
             if key not in self._cache and key not in todo:
                 todo[key] = (v, slot, lane, st)
@@ -740,15 +745,22 @@ class ManeuverPlanner:
         corners = np.array([[-h, -h, 0], [h, -h, 0], [h, top, 0], [-h, top, 0]], dtype=float)
         return Polygon(frame.poses_to_world(corners)[:, :2])
 
-    def _key(self, p: _Problem, style: str) -> bytes:
-        """Rounded local geometry within the window: equal keys plan equal maneuvers."""
+    def _key(self, p: _Problem, style: str, digest: bytes | None = None) -> bytes:
+        """The problem and the style: equal keys plan equal maneuvers. ``digest`` is
+        :meth:`_digest` of ``p`` when the caller has it."""
+        h = hashlib.blake2b(digest if digest is not None else self._digest(p), digest_size=20)
+        h.update(style.encode())
+        return h.digest()
+
+    def _digest(self, p: _Problem) -> bytes:
+        """The car, the slot and the rounded local geometry within the window."""
         win = self._window(p.slot, p.frame, p.half)
         clipped = np.concatenate([[p.allowed], shapely.intersection(p.obstacles, win)])
         local = sorted(_local_geometry(clipped, p.frame))
         v = p.vehicle
         s = p.slot
         slot_local = np.round(p.frame.points_to_local(s.polygon), 2)
-        head = (v.name, v.width, v.front, v.rear, v.wheelbase, v.max_steer, s.kind, style,
+        head = (v.name, v.width, v.front, v.rear, v.wheelbase, v.max_steer, s.kind,
                 round(p.lane_y, 3) if math.isfinite(p.lane_y) else None,
                 tuple(np.round(p.lane_x, 2)), round(p.half, 3))
         h = hashlib.blake2b(repr(head).encode(), digest_size=20)
