@@ -336,6 +336,7 @@ class _Simulation:
         self.graphs = {t.name: SearchGraph(lg, t) for t in scenario.vehicle_types}
         types = {t.name: t for t in scenario.vehicle_types}
         self.vehicles = [VehicleRun(a, types[a.vehicle]) for a in traffic]
+        self.by_id = {v.id: v for v in self.vehicles}
         self.free = {s.id for s in lg.lot.free_slots}
         self.queue: list[int] = []
         self.events: list[tuple[float, int, str, int]] = []
@@ -650,13 +651,17 @@ class _Simulation:
     def may_be_sooner(self, v: VehicleRun, t_end: float) -> bool:
         """Whether a replan of ``v``, whose plan ends at ``t_end``, is worth searching:
         only if someone else's reservations were dropped or cut short before ``t_end``
-        since it last searched. Otherwise the table only grew meanwhile and the replan
+        since it last searched — or, for reservations that stood in a slot (a parked car
+        that leaves), in its own slot (a car's search meets a body in a slot only there).
+        Otherwise the table only grew meanwhile and the replan
         starts on the car's own plan, which its last search chose over every other way
         from there; a sooner one could only be what that search passed over, its heuristic
         being weighted (1.25) and its waits 1 s steps — milliseconds in practice (27 ms for
         one car of the street's run; a test bounds it at 0.1 s there)."""
         return not SKIP_FRUITLESS or any(
-            who != v.id and after < t_end for after, who in self.table.releases[v.seen:])
+            who != v.id and after < t_end
+            and (not in_slot or getattr(self.by_id.get(who), "slot", None) == v.slot)
+            for after, who, in_slot in self.table.releases[v.seen:])
 
 
 SKIP_FRUITLESS = True

@@ -133,5 +133,8 @@ def test_releases_are_recorded_only_when_they_free_space():
     table.release("a", after=3.0)  # cuts the second short
     table.release("a", after=1.0)  # drops it, cuts the first
     table.release("a")
-    assert table.releases == [(3.0, "a"), (1.0, "a"), (-math.inf, "a")]
-    assert len(table) == 0
+    table.reserve_standing("b", box(5, 0, 7, 2), 0.0, in_slot=True)
+    table.release("b", after=9.0)
+    assert table.releases == [(3.0, "a", False), (1.0, "a", False), (-math.inf, "a", False),
+                              (9.0, "b", True)]
+    assert len(table) == 1

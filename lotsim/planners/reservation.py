@@ -159,12 +159,14 @@ class _Store:
         self.t = np.zeros((cap, 2))
         self.box = np.zeros((cap, 4))
         self.alive = np.zeros(cap, dtype=bool)
+        self.in_slot = np.zeros(cap, dtype=bool)
         self.geom = np.empty(cap, dtype=object)
 
-    def add(self, owner: int, t0: float, t1: float, geom: BaseGeometry) -> int:
+    def add(self, owner: int, t0: float, t1: float, geom: BaseGeometry,
+            in_slot: bool = False) -> int:
         if self.n == len(self.owner):
             cap = 2 * self.n
-            for name in ("owner", "t", "box", "alive", "geom"):
+            for name in ("owner", "t", "box", "alive", "in_slot", "geom"):
                 old = getattr(self, name)
                 new = (np.empty if name == "geom" else np.zeros)(
                     (cap,) + old.shape[1:], dtype=old.dtype)
@@ -175,6 +177,7 @@ class _Store:
         self.t[i] = (t0, t1)
         self.box[i] = geom.bounds
         self.alive[i] = True
+        self.in_slot[i] = in_slot
         self.geom[i] = geom
         self.n += 1
         return i
@@ -209,9 +212,10 @@ class ReservationTable:
         self._ids: dict[str, int] = {}
         self._names: list[str] = []
         self._by_owner: dict[int, list[int]] = {}
-        self.releases: list[tuple[float, str]] = []
+        self.releases: list[tuple[float, str, bool]] = []
         """Every :meth:`release` that dropped or cut something, in order: the time from
-        which it freed space [s] and whose it was (space is freed in no other way)."""
+        which it freed space [s], whose it was, and whether all it freed stood in a slot
+        (space is freed in no other way)."""
 
     def __len__(self) -> int:
         return int(self._store.alive[: self._store.n].sum())
@@ -243,22 +247,23 @@ class ReservationTable:
             return
         st = self._store
         keep = []
-        freed = False
+        freed = []
         for i in self._by_owner.get(oid, []):
             if not st.alive[i]:
                 continue
             t0, t1 = st.t[i]
             if after is None or t0 >= after:
                 st.alive[i] = False
-                freed = True
+                freed.append(i)
             else:
                 if t1 > after:
                     st.t[i, 1] = after
-                    freed = True
+                    freed.append(i)
                 keep.append(i)
         self._by_owner[oid] = keep
         if freed:
-            self.releases.append((-math.inf if after is None else after, owner))
+            self.releases.append((-math.inf if after is None else after, owner,
+                                  bool(st.in_slot[freed].all())))
 
     # -- asking -------------------------------------------------------------------------------
     def first_conflict(self, intervals: Sequence[Interval] | Swept, *, offset: float = 0.0,
@@ -362,7 +367,7 @@ class ReservationTable:
 
     def _add(self, oid: int, t0: float, t1: float, geom: BaseGeometry, *,
              in_slot: bool = False) -> None:
-        i = self._store.add(oid, t0, t1, geom)
+        i = self._store.add(oid, t0, t1, geom, in_slot)
         self._by_owner.setdefault(oid, []).append(i)
         if in_slot:
             return  # found by free_from's scan of the whole store only
