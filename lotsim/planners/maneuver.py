@@ -566,7 +566,7 @@ class ManeuverPlanner:
             key = self._key(problem, st, digest)
             self._posed[(v.name, slot.id, lane.id, st)] = (key, problem.frame, problem.lane_s0)
             if key not in self._cache and key not in todo:
-                todo[key] = (v, slot, lane, st)
+                todo[key] = (problem, st)
         jobs = list(todo.items())
         answers = _search_all(self, jobs, workers)
         for (key, _), (hit, raw) in zip(jobs, answers, strict=True):
@@ -1194,8 +1194,9 @@ PARALLEL_FROM = 64
 
 
 def _search_all(planner: ManeuverPlanner, jobs: list, workers: int | None) -> list:
-    """:meth:`ManeuverPlanner._search` of every job ``(key, (vehicle, slot, lane, style))``,
-    in order, on up to ``workers`` forked processes."""
+    """:meth:`ManeuverPlanner._search` of every job ``(key, (problem, style))``, in order, on
+    up to ``workers`` forked processes (which find the posed problems in their copy of
+    ``_JOB``: nothing is posed twice or pickled but the answers)."""
     global _JOB
     # a process that multiprocessing started (a worker of the bench's pool, of Dask, of the
     # caller's) searches by itself: its parent already shares the cores out
@@ -1233,5 +1234,5 @@ def _search_job(k: int) -> tuple:
 
 
 def _search_one(planner: ManeuverPlanner, job: tuple) -> tuple:
-    v, slot, lane, style = job
-    return planner._search(planner._problem(v, slot, lane), style)
+    problem, style = job
+    return planner._search(problem, style)
