@@ -10,6 +10,7 @@ Gauss–Legendre quadrature to machine precision.
 
 from __future__ import annotations
 
+import functools
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass
@@ -80,9 +81,16 @@ def _gl_nodes(phase: float) -> tuple[FloatArray, FloatArray]:
     """Gauss–Legendre nodes as fractions of a path length, in enough cells that none turns
     by more than :data:`_GL_PHASE` over a path turning by ``phase`` [rad], and their
     weights per metre of that length."""
-    cells = max(1, math.ceil(phase / _GL_PHASE))
+    return _gl_cells(max(1, math.ceil(phase / _GL_PHASE)))
+
+
+@functools.lru_cache(maxsize=64)
+def _gl_cells(cells: int) -> tuple[FloatArray, FloatArray]:
+    """:func:`_gl_nodes` for ``cells`` cells, kept (read-only arrays: shared by callers)."""
     frac = (np.arange(cells)[:, None] + (_GL_X[None, :] + 1) / 2).ravel() / cells
-    return frac, np.tile(_GL_W, cells) / (2 * cells)
+    weight = np.tile(_GL_W, cells) / (2 * cells)
+    frac.flags.writeable = weight.flags.writeable = False
+    return frac, weight
 
 
 def travel(poses: ArrayLike, distance: ArrayLike, curvature: ArrayLike,
@@ -362,6 +370,15 @@ def cc_turn(deflection: float, max_curvature: float, sharpness: float,
     return segments, xe - ye / math.tan(d)
 
 
+@functools.lru_cache(maxsize=1 << 14)
+def _cc_corner(deflection: float, max_curvature: float, sharpness: float
+               ) -> tuple[tuple[Segment, ...], float]:
+    """:func:`cc_turn` from the origin, kept: the corners of a search's candidate polylines
+    repeat a few shapes (segments are immutable, so they can be shared)."""
+    segments, tangent = cc_turn(deflection, max_curvature, sharpness)
+    return tuple(segments), tangent
+
+
 def cc_polyline(points: ArrayLike, radius: ArrayLike, sharpness: float) -> list[Segment]:
     """Forward segments along a polyline with every corner rounded by a continuous-curvature
     turn (:func:`cc_turn`): straights, clothoids and arcs, curvature-continuous.
@@ -404,7 +421,7 @@ def cc_polyline(points: ArrayLike, radius: ArrayLike, sharpness: float) -> list[
             corners.append(([Segment((0.0, 0.0, 0.0), float(r * abs(turn)),
                                      math.copysign(1 / float(r), turn))], t))
         else:
-            corners.append(cc_turn(float(turn), 1 / r, sharpness))
+            corners.append(_cc_corner(float(turn), float(1 / r), float(sharpness)))
     tangents = np.array([t for _, t in corners])
     cut_in = np.concatenate([[0.0], tangents])
     cut_out = np.concatenate([tangents, [0.0]])

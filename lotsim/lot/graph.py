@@ -415,25 +415,35 @@ def build_graph(lot: Lot, *, node_spacing: float = 4.0, maneuvers=None,  # noqa:
                 attachments[slot.id].append(node_at(lid, s))
     if maneuvers is not None:
         types = {v.name: v for v in vehicles}
+        timed: dict[tuple, float] = {}  # a lot's maneuvers repeat a few shapes: each timed once
+
+        def duration(path, vname: str, limit: float) -> float:
+            """The maneuver's time (it depends on its pieces' shapes, not where they lie)."""
+            key = (vname, limit, tuple((s.distance, s.curvature, s.sharpness)
+                                       for s in path.segments))
+            if key not in timed:
+                timed[key] = path.duration(types[vname], limit)
+            return timed[key]
+
         for (vname, sid, lid), m in sorted(maneuvers.items(), key=lambda kv: kv[0]):
             a, node = node_at(lid, m.station), slot_nodes[sid]
             if a not in attachments[sid]:
                 attachments[sid].append(a)
-            limit = _zone_limit(lot, m.sample(0.25)[0][:, :2])
+            limit = _path_limit(lot, m)
             for u, v, kind, path in ((a, node, "park", m), (node, a, "leave", m.reversed())):
                 e = _link(g, u, v, kind, path, limit)
                 e["maneuvers"][vname] = path
                 if vname in types:
-                    e["duration"][vname] = path.duration(types[vname], limit)
+                    e["duration"][vname] = duration(path, vname, limit)
                 e["length"] = min(e["length"], path.length)
         for (vname, sid, lid), m in sorted(stays.items(), key=lambda kv: kv[0]):
             a, node = node_at(lid, m.station), slot_nodes[sid]
-            limit = _zone_limit(lot, m.sample(0.25)[0][:, :2])
+            limit = _path_limit(lot, m)
             e = _link(g, a, node, "park", m, limit)
             e.setdefault("stays", {})[vname] = m
             e["stay_limit"] = min(e.get("stay_limit", math.inf), limit)
             if vname in types:
-                e.setdefault("stay_duration", {})[vname] = m.duration(types[vname], limit)
+                e.setdefault("stay_duration", {})[vname] = duration(m, vname, limit)
             e["length"] = min(e["length"], m.length)
     return LotGraph(lot, g, entrances, exits, slot_nodes, attachments, skipped)
 
@@ -488,6 +498,16 @@ def _lane_piece(lane: Lane, s0: float, s1: float) -> Segment:
     return seg.piece(d0, d1)
 
 
+def _path_limit(lot: Lot, path) -> float:
+    """Speed limit along ``path`` (segments, or a maneuver): the lowest zone it runs in
+    [m/s] (:func:`_zone_limit` of points 0.25 m apart; the lot's limit, unsampled, when the
+    lot has no zones)."""
+    if not lot.zones:
+        return lot.speed_limit
+    points = path.sample(0.25)[0] if hasattr(path, "sample") else sample_segments(path, 0.25)[0]
+    return _zone_limit(lot, points[:, :2])
+
+
 def _zone_limit(lot: Lot, points: np.ndarray) -> float:
     """Speed limit along a path through ``points`` (N, 2): the lowest zone it runs in [m/s]."""
     limit = lot.speed_limit
@@ -501,7 +521,7 @@ def _zone_limit(lot: Lot, points: np.ndarray) -> float:
 def _add_edge(g: nx.DiGraph, lot: Lot, u: int, v: int, path: tuple[Segment, ...],
               kind: str) -> None:
     g.add_edge(u, v, kind=kind, length=sum(s.length for s in path), gear=path[0].gear,
-               path=path, speed_limit=_zone_limit(lot, sample_segments(path, 0.25)[0][:, :2]),
+               path=path, speed_limit=_path_limit(lot, path),
                placeholder=False)
 
 
