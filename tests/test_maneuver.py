@@ -457,3 +457,32 @@ def test_a_lot_planned_on_two_processes_gets_exactly_the_maneuvers_of_one_search
     assert got == want
     assert {(n, sid): r for n, slots in infeasible.items() for sid, r in slots.items()} == why
     assert ahead.stats == alone.stats and ahead.stats["reused"] > 0
+
+
+@pytest.mark.parametrize("span", [1, 2])
+def test_the_coarse_to_fine_check_finds_the_first_blocked_body_of_every_run(span):
+    """``_Problem.first_blocked`` against checking every body on its own (brute force):
+    random poses in and around a slot, cut into runs of random lengths, some not asked."""
+    lot, _ = _lot(QUICK)
+    planner = ManeuverPlanner(lot)
+    slot = lot.slot_by_id["main-left-4"]
+    problem = planner._problem(CATALOGUE["valet"], slot, planner.lanes_for(slot)[0])
+    rng = np.random.default_rng(7)
+    for _ in range(30):
+        n = int(rng.integers(2, 60))
+        walk = np.cumsum(rng.normal(0.0, [0.4, 0.4, 0.15], size=(n, 3)), axis=0)
+        local = walk + [rng.uniform(-8, 8), rng.uniform(-5, 4), rng.uniform(-3, 3)]
+        prints = problem.vehicle.footprints(problem.frame.poses_to_world(local))
+        count = n - span + 1
+        cuts = np.append(np.sort(rng.choice(np.arange(1, count + 1), size=min(count, 4),
+                                            replace=False)), count)
+        run = np.repeat(np.arange(len(cuts)), np.diff(np.concatenate([[0], cuts])))
+        run = np.where(rng.random(count) < 0.15, -1, run)  # some bodies not asked
+        bodies = np.concatenate([prints[k : k + count] for k in range(span)], axis=1)
+        each = problem.bodies_blocked(bodies) & (run >= 0)
+        want = np.zeros(count, dtype=bool)
+        for r in np.unique(run[run >= 0]):
+            hits = np.flatnonzero(each & (run == r))
+            if hits.size:
+                want[hits[0]] = True
+        assert np.array_equal(problem.first_blocked(prints, run, span), want)
