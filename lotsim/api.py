@@ -232,8 +232,9 @@ class RunResult(_sim.RunResult):
         return result_dict(self)
 
     def write(self, path: str | os.PathLike) -> Path:
-        """Write the run to ``path`` as ``result.json`` (atomically: nothing half-written);
-        byte for byte what ``lotsim run`` writes for the same scenario and seed.
+        """Write the run to ``path`` as ``result.json`` (atomically: nothing half-written;
+        its folder is made if need be); byte for byte what ``lotsim run`` writes for the
+        same scenario and seed.
 
         >>> import tempfile
         >>> folder = tempfile.mkdtemp()
@@ -242,6 +243,7 @@ class RunResult(_sim.RunResult):
         """
         from lotsim.io.result import write_json
 
+        Path(path).parent.mkdir(parents=True, exist_ok=True)
         write_json(self.to_dict(), path)
         return Path(path)
 
@@ -365,7 +367,7 @@ def render_gif(result: RunResult | dict | str | os.PathLike, path: str | os.Path
     result : RunResult, dict or path
         A run, its document or a ``result.json``.
     path : str or path-like
-        The GIF to write (atomically).
+        The GIF to write (atomically; its folder is made if need be).
     settings : GifSettings or AnimationSpec, optional
         How to draw it; a scenario's animation section (:func:`load_animation`) works.
     progress : callable, optional, keyword-only
@@ -405,6 +407,7 @@ def render_gif(result: RunResult | dict | str | os.PathLike, path: str | os.Path
         raise ReplayError("no lot.drawing: written by an older lotsim? run the scenario again")
     from lotsim.render.animation import write_gif
 
+    Path(path).parent.mkdir(parents=True, exist_ok=True)
     return write_gif(doc, path, settings, progress=progress)
 
 
@@ -418,7 +421,7 @@ def render_lot(scenario: ScenarioLike | PreparedLot, path: str | os.PathLike | N
     scenario : PreparedLot, Scenario, path or YAML text
         A scenario is built without its maneuvers (quick) unless ``graph`` is asked for.
     path : str or path-like, optional
-        Also write the picture there as PNG (atomically).
+        Also write the picture there as PNG (atomically; its folder is made if need be).
     size : (width, height), keyword-only
         Pixels, 64 to 8000 each.
     graph : bool, keyword-only
@@ -447,6 +450,7 @@ def render_lot(scenario: ScenarioLike | PreparedLot, path: str | os.PathLike | N
     img = draw_lot(lg, size=size, show_graph=graph, parked_vehicle=sc.parked_vehicle,
                    title=sc.name)
     if path is not None:
+        Path(path).parent.mkdir(parents=True, exist_ok=True)
         save_png(img, path)
     return img
 
