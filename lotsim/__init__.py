@@ -4,6 +4,106 @@ The pipeline runs one way: a scenario YAML is loaded and validated into frozen
 specs (:mod:`lotsim.io`), the lot layout is built into slot polygons and lanes
 (:mod:`lotsim.lot`), and the lanes into a drivable :class:`networkx.DiGraph`
 (:mod:`lotsim.lot.graph`) that vehicles (:mod:`lotsim.vehicles`) travel.
+
+As a library (``docs/python.md``)::
+
+    import lotsim
+    prepared = lotsim.prepare("scenarios/quickstart.yaml")
+    result = lotsim.run(prepared, planner="whca", window=10)
+    lotsim.check(result).ok
+
+The names below are imported on first use (:mod:`lotsim.api`, :mod:`lotsim.settings`,
+:mod:`lotsim.errors`), so ``import lotsim`` and ``lotsim --help`` stay quick.
 """
 
+from __future__ import annotations
+
+import importlib
+import sys
+import types
+from typing import TYPE_CHECKING, Any
+
 __version__ = "0.1.0"
+
+_EXPORTS = {
+    "lotsim.api": ("EXAMPLE", "MinSlotTable", "RunResult", "car", "check", "load_animation",
+                   "load_scenario", "minslot", "plan_maneuver", "prepare", "render_gif",
+                   "render_lot", "run", "validate"),
+    "lotsim.sim": ("PreparedLot",),
+    "lotsim.validation": ("ValidationReport",),
+    "lotsim.check": ("CheckReport", "Violation"),
+    "lotsim.scenario": ("Scenario",),
+    "lotsim.settings": ("AnimationSpec", "GASettings", "GifSettings", "MinSlotSettings",
+                        "RunSettings"),
+    "lotsim.errors": ("InfeasibleManeuver", "LimitExceeded", "Location", "LotsimError",
+                      "ReplayError", "ResultFormatError", "ScenarioError", "SettingsError"),
+}
+_WHERE = {name: module for module, names in _EXPORTS.items() for name in names}
+__all__ = sorted(_WHERE)
+
+
+def __getattr__(name: str) -> Any:
+    module = _WHERE.get(name)
+    if module is None:
+        raise AttributeError(f"module 'lotsim' has no attribute {name!r}")
+    value = getattr(importlib.import_module(module), name)
+    globals()[name] = value  # found once; later lookups do not come here
+    return value
+
+
+def __dir__() -> list[str]:
+    return sorted(set(globals()) | set(__all__))
+
+
+class _Package(types.ModuleType):
+    """``lotsim.check`` stays the function :func:`lotsim.api.check` when the checker module
+    of the same name is imported (the import system would bind the module over it); the
+    module is ``sys.modules["lotsim.check"]``, which ``from lotsim.check import ...`` reads."""
+
+    def __setattr__(self, name: str, value: Any) -> None:
+        if name in _WHERE and isinstance(value, types.ModuleType):
+            return
+        super().__setattr__(name, value)
+
+
+sys.modules[__name__].__class__ = _Package
+
+
+if TYPE_CHECKING:  # for type checkers and editors: the same names, imported eagerly
+    from lotsim.api import (  # noqa: F401
+        EXAMPLE,
+        MinSlotTable,
+        RunResult,
+        car,
+        check,
+        load_animation,
+        load_scenario,
+        minslot,
+        plan_maneuver,
+        prepare,
+        render_gif,
+        render_lot,
+        run,
+        validate,
+    )
+    from lotsim.check import CheckReport, Violation  # noqa: F401
+    from lotsim.errors import (  # noqa: F401
+        InfeasibleManeuver,
+        LimitExceeded,
+        Location,
+        LotsimError,
+        ReplayError,
+        ResultFormatError,
+        ScenarioError,
+        SettingsError,
+    )
+    from lotsim.scenario import Scenario  # noqa: F401
+    from lotsim.settings import (  # noqa: F401
+        AnimationSpec,
+        GASettings,
+        GifSettings,
+        MinSlotSettings,
+        RunSettings,
+    )
+    from lotsim.sim import PreparedLot  # noqa: F401
+    from lotsim.validation import ValidationReport  # noqa: F401

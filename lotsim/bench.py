@@ -35,12 +35,20 @@ import numpy as np
 from lotsim import __version__
 from lotsim.atomic import atomic_write
 from lotsim.check import check_result
-from lotsim.errors import LotsimError, ScenarioError
+from lotsim.errors import LotsimError, ScenarioError, SettingsError
 from lotsim.io.result import result_dict
 from lotsim.io.scenario import MAX_ITEMS, load_scenario, name_from_file, parse_scenario
 from lotsim.io.yamlnodes import YNode, parse_text, read_yaml
-from lotsim.priority import PRIORITIES, GASettings, run_with_priority
-from lotsim.sim import ASSIGNMENTS, BOOKING_HORIZON, RunResult, RunSettings, prepare
+from lotsim.priority import plan_run
+from lotsim.settings import (
+    ASSIGNMENTS,
+    BOOKING_HORIZON,
+    PLANNERS,
+    PRIORITIES,
+    GASettings,
+    RunSettings,
+)
+from lotsim.sim import RunResult, prepare
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
@@ -48,8 +56,6 @@ if TYPE_CHECKING:
     from lotsim.lot.graph import LotGraph
     from lotsim.scenario import Scenario
 
-PLANNERS = ("ca", "hca", "whca")
-"""Priority orders (``lotsim.priority``): ``arrival`` is what ``lotsim run`` does."""
 GA_KEYS = ("population", "generations", "seed")
 MAX_RUNS = 100_000
 """Largest grid a suite may expand to."""
@@ -212,16 +218,16 @@ def parse_suite(root: YNode) -> Suite:
         if "ga" not in priorities:
             raise f["ga"].error("GA settings are given but 'priorities' has no 'ga'")
         g = f["ga"].fields(optional=GA_KEYS)
-        bounds = {"population": (2, 10_000), "generations": (0, 100_000),
-                  "seed": (0, 2**63 - 1)}
-        ga = tuple((k, n.integer(min=bounds[k][0], max=bounds[k][1])) for k, n in g.items())
-    seeds = tuple(_unique(f["seeds"], lambda n: n.integer(min=0, max=2**63 - 1), "seed"))
+        ga = tuple((k, _checked(n, GASettings, k, n.integer())) for k, n in g.items())
+        _checked(f["ga"], GASettings, "", None, **dict(ga))
+    seeds = tuple(_unique(f["seeds"], lambda n: _checked(n, RunSettings, "seed", n.integer()),
+                          "seed"))
     horizon = BOOKING_HORIZON
     if "horizon" in f:
         if not set(priorities) & {"shortest_first", "ga"}:
             raise f["horizon"].error("a booking horizon is given but 'priorities' has no "
                                      "booked order (shortest_first, ga)")
-        horizon = f["horizon"].number(positive=True, max=1e9)
+        horizon = _checked(f["horizon"], RunSettings, "horizon", f["horizon"].number())
     suite = Suite(
         name=name,
         description=f["description"].string(max_len=2000) if "description" in f else "",
@@ -239,6 +245,17 @@ def parse_suite(root: YNode) -> Suite:
     if suite.size > MAX_RUNS:
         raise root.error(f"the grid has {suite.size} runs; at most {MAX_RUNS}")
     return suite
+
+
+def _checked(node: YNode, cls: type, name: str, value: Any, **more: Any) -> Any:
+    """``value`` of setting ``name`` (with ``more``), checked as ``cls`` checks it on
+    construction (:mod:`lotsim.settings`): the same message as from Python or the CLI,
+    located at ``node``."""
+    try:
+        cls(**({name: value} if name else {}), **more)
+    except SettingsError as exc:
+        raise node.error(exc.message) from None
+    return value
 
 
 def _nonempty(node: YNode, what: str) -> list[YNode]:
@@ -285,9 +302,9 @@ def _planners(node: YNode) -> tuple[PlannerVariant, ...]:
         if n.is_mapping:
             w = n.fields(required=["whca"])["whca"]
             windows = _nonempty(w, "window") if w.is_sequence else [w]
-            variants = [(x, PlannerVariant("whca", x.number(min=1, max=600,
-                                                            what="a window in seconds")))
-                        for x in windows]
+            variants = [(x, PlannerVariant("whca", _checked(
+                x, RunSettings, "window", x.number(what="a window in seconds"))))
+                for x in windows]
         else:
             name = n.string(choices=PLANNERS)
             window = RunSettings().window if name == "whca" else None
@@ -333,17 +350,18 @@ def spec_scenario(spec: RunSpec, scenario: Scenario) -> Scenario:
 def spec_settings(spec: RunSpec) -> RunSettings:
     """The :class:`~lotsim.sim.RunSettings` of a spec."""
     kw: dict[str, Any] = {"planner": spec.planner.planner, "assignment": spec.assignment,
-                          "seed": spec.seed}
+                          "seed": spec.seed, "priority": spec.priority,
+                          "ga": GASettings(**dict(spec.ga))}
     if spec.planner.window is not None:
         kw["window"] = spec.planner.window
     return RunSettings(**kw, horizon=spec.horizon)
 
 
 def _plan(spec: RunSpec, scenario: Scenario, lg: LotGraph) -> tuple[RunResult, dict]:
-    """Plan with the spec's priority order (:func:`lotsim.priority.run_with_priority`)."""
-    ga = GASettings(**dict(spec.ga)) if spec.priority == "ga" else None
-    return run_with_priority(scenario, spec_settings(spec), priority=spec.priority,
-                             lot_graph=lg, ga=ga)
+    """Plan with the spec's priority order, as ``lotsim run`` does
+    (:func:`lotsim.priority.plan_run`)."""
+    rr = plan_run(scenario, spec_settings(spec), lot_graph=lg)
+    return rr, rr.ordering
 
 
 def peak_memory_mb() -> float:

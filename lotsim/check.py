@@ -1,11 +1,12 @@
 """An independent verifier of ``result.json``, the output of ``lotsim run``.
 
 The checker reads only the result (see ``docs/result.md``) and shares no code with the
-planners, the simulator or the geometry of lotsim: it imports nothing from the package,
-and re-derives every quantity it judges from the numbers in the file — footprint
-rectangles from the vehicle type's ``width``, ``front`` and ``rear`` and the rear-axle
-pose, headings, curvatures and speeds from consecutive samples. A bug in the planners can
-therefore not hide itself by being repeated here.
+planners, the simulator or the geometry of lotsim: it imports nothing from the package
+but an error type (:class:`lotsim.errors.ResultFormatError`), and re-derives every quantity
+it judges from the numbers in the file — footprint rectangles from the vehicle type's
+``width``, ``front`` and ``rear`` and the rear-axle pose, headings, curvatures and speeds
+from consecutive samples. A bug in the planners can therefore not hide itself by being
+repeated here.
 
 Rules and tolerances (module constants)
 ---------------------------------------
@@ -132,6 +133,8 @@ from typing import Any, TypeVar
 
 import numpy as np
 import shapely
+
+from lotsim.errors import ResultFormatError  # an error type only: no code is shared
 
 FORMAT = "lotsim-result"
 VERSION = 1
@@ -311,10 +314,6 @@ class CheckReport:
         return f"{total} violation{'s' if total != 1 else ''}{shown}: {what}"
 
 
-class ResultFormatError(Exception):
-    """The file is not JSON, or not a lotsim result at all."""
-
-
 def load_result(path: str | os.PathLike[str]) -> dict:
     """Read a ``result.json``.
 
@@ -340,7 +339,7 @@ def load_result(path: str | os.PathLike[str]) -> dict:
     >>> load_result("/no/result.json")
     Traceback (most recent call last):
     ...
-    lotsim.check.ResultFormatError: /no/result.json: cannot read it (No such file or directory)
+    lotsim.errors.ResultFormatError: /no/result.json: cannot read it (No such file or directory)
     """
     name = os.fspath(path)
     try:

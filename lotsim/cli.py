@@ -10,13 +10,22 @@ from __future__ import annotations
 
 import argparse
 import contextlib
-import difflib
 import math
 import sys
 from collections.abc import Sequence
 
 from lotsim import __version__
-from lotsim.errors import ScenarioError
+from lotsim.errors import ScenarioError, SettingsError
+from lotsim.settings import (
+    ASSIGNMENTS,
+    MARGIN,
+    PLANNERS,
+    PRIORITIES,
+    STYLES,
+    GifSettings,
+    MinSlotSettings,
+    RunSettings,
+)
 
 EXIT_OK, EXIT_INCOMPLETE, EXIT_BAD_INPUT = 0, 1, 2
 
@@ -49,11 +58,13 @@ def _parser() -> argparse.ArgumentParser:
     which.add_argument("--all-cars", action="store_true", help="every catalogue car")
     m.add_argument("--width", type=float, nargs="+", required=True, metavar="WIDTH",
                    help="slot width [m]; several give one table (and curve) per width")
-    m.add_argument("--max-changes", type=int, default=10, help="largest number of direction "
-                   "changes to report (default 10)")
-    m.add_argument("--resolution", type=float, default=0.01, help="length step [m] (0.01)")
-    m.add_argument("--step-deg", type=float, default=0.1,
-                   help="start-heading sweep step [deg] (0.1)")
+    ms = MinSlotSettings()
+    m.add_argument("--max-changes", type=int, default=ms.max_changes, help="largest number of "
+                   f"direction changes to report (default {ms.max_changes})")
+    m.add_argument("--resolution", type=float, default=ms.resolution,
+                   help=f"length step [m] ({ms.resolution:g})")
+    m.add_argument("--step-deg", type=float, default=ms.step_deg,
+                   help=f"start-heading sweep step [deg] ({ms.step_deg:g})")
     m.add_argument("--json", action="store_true", help="print JSON instead of a table")
     m.add_argument("--plot", metavar="PNG", help="plot length against changes (matplotlib)")
 
@@ -62,10 +73,11 @@ def _parser() -> argparse.ArgumentParser:
     mv.add_argument("--slot", required=True, help="slot id")
     mv.add_argument("--vehicle", help="vehicle type (default the scenario's first)")
     mv.add_argument("--lane", help="lane id to start from (default the best)")
-    mv.add_argument("--style", choices=["any", "forward", "reverse"], default="any",
+    mv.add_argument("--style", choices=STYLES, default=STYLES[0],
                     help="nose-in (forward), backed in (reverse) or the better (any)")
     mv.add_argument("--leave", action="store_true", help="the way out instead of the way in")
-    mv.add_argument("--margin", type=float, default=0.1, help="safety margin [m] (0.1)")
+    mv.add_argument("--margin", type=float, default=MARGIN,
+                    help=f"safety margin [m] ({MARGIN:g})")
     mv.add_argument("-o", "--output", help="PNG to write")
     mv.add_argument("--size", default="900x700", help="image size WxH in pixels")
 
@@ -73,22 +85,26 @@ def _parser() -> argparse.ArgumentParser:
     r.add_argument("scenario", metavar="SCENARIO")
     r.add_argument("-o", "--output", metavar="OUTDIR",
                    help="directory for result.json (default runs/<scenario name>)")
-    r.add_argument("--planner", choices=["ca", "hca", "whca"], default="hca",
-                   help="cooperative A* variant (default hca)")
-    r.add_argument("--assign", choices=["nearest", "shortest"], default="shortest",
-                   help="slot choice: straight-line distance or travel time (default)")
+    rs = RunSettings()  # defaults and choices: the library's, checked there too
+    r.add_argument("--planner", choices=PLANNERS, default=rs.planner,
+                   help=f"cooperative A* variant (default {rs.planner})")
+    r.add_argument("--assign", choices=ASSIGNMENTS, default=rs.assignment,
+                   help=f"slot choice: straight-line distance or travel time (default "
+                   f"{rs.assignment})")
     r.add_argument("--seed", type=int, help="seed of the traffic stream (default the "
                    "scenario's)")
-    r.add_argument("--window", type=float, default=10.0, help="WHCA* window [s] (10)")
-    r.add_argument("--omega", type=float, default=10.0,
-                   help="search fuse: expansions allowed per reverse-search node (10)")
-    r.add_argument("--priority", choices=["arrival", "shortest_first", "ga"],
-                   default="arrival", help="planning order: online in arrival order "
-                   "(default), or booked in advance: shortest static time first, or the "
-                   "best order a genetic algorithm finds (total time to park)")
-    r.add_argument("--horizon", type=float, default=60.0,
+    r.add_argument("--window", type=float, default=rs.window,
+                   help=f"WHCA* window [s] ({rs.window:g})")
+    r.add_argument("--omega", type=float, default=rs.omega,
+                   help=f"search fuse: expansions allowed per reverse-search node "
+                   f"({rs.omega:g})")
+    r.add_argument("--priority", choices=PRIORITIES,
+                   default=rs.priority, help=f"planning order (default {rs.priority}): "
+                   "online in arrival order, or booked in advance: shortest static time "
+                   "first, or the best order a genetic algorithm finds (total time to park)")
+    r.add_argument("--horizon", type=float, default=rs.horizon,
                    help="with --priority shortest_first/ga: how far ahead arrivals are "
-                   "booked [s] (60; inf: all)")
+                   f"booked [s] ({rs.horizon:g}; inf: all)")
     r.add_argument("--memory-limit", metavar="SIZE", help="stop, writing nothing, when the "
                    "run holds or is projected to need more memory than this, e.g. 4G "
                    "(default 80%% of the memory available)")
@@ -105,18 +121,22 @@ def _parser() -> argparse.ArgumentParser:
     rd.add_argument("result", metavar="RESULT_JSON")
     rd.add_argument("--gif", metavar="GIF", help="animated GIF to write")
     rd.add_argument("--timeline", metavar="PNG", help="timeline plot to write (matplotlib)")
-    rd.add_argument("--fps", type=float, default=20.0, help="GIF frames per second (20)")
-    rd.add_argument("--speed", type=float, default=4.0,
-                    help="run seconds per GIF second (4)")
-    rd.add_argument("--size", default="800x600", help="GIF size WxH in pixels (800x600)")
+    gs = GifSettings()
+    rd.add_argument("--fps", type=float, default=gs.fps,
+                    help=f"GIF frames per second ({gs.fps:g})")
+    rd.add_argument("--speed", type=float, default=gs.speed,
+                    help=f"run seconds per GIF second ({gs.speed:g})")
+    size = "x".join(map(str, gs.size))
+    rd.add_argument("--size", default=size, help=f"GIF size WxH in pixels ({size})")
     rd.add_argument("--from", dest="start", type=float, help="first run time shown [s] "
                     "(default the first arrival)")
     rd.add_argument("--to", dest="end", type=float, help="last run time shown [s] "
                     "(default the last event)")
-    rd.add_argument("--max-frames", type=int, default=3000, help="at most this many frames; "
-                    "a longer span plays faster (3000)")
-    rd.add_argument("--trail", type=float, default=8.0,
-                    help="seconds of path drawn behind a moving car (8)")
+    rd.add_argument("--max-frames", type=int, default=gs.max_frames,
+                    help=f"at most this many frames; a longer span plays faster "
+                    f"({gs.max_frames})")
+    rd.add_argument("--trail", type=float, default=gs.trail,
+                    help=f"seconds of path drawn behind a moving car ({gs.trail:g})")
 
     c = sub.add_parser("check", help="verify a result.json independently of the planner")
     c.add_argument("result", metavar="RESULT_JSON")
@@ -167,6 +187,8 @@ def main(argv: Sequence[str] | None = None) -> int:
     except ScenarioError as exc:
         print(f"lotsim: {exc}", file=sys.stderr)
         return EXIT_BAD_INPUT
+    except SettingsError as exc:  # the library's check of an option: name the option
+        return _bad(f"{_option(exc.name)}: {exc.message}")
     except KeyboardInterrupt:
         print("lotsim: interrupted; nothing was written", file=sys.stderr)
         return 130
@@ -176,6 +198,16 @@ def main(argv: Sequence[str] | None = None) -> int:
         os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
         return 141
     raise AssertionError(args.command)
+
+
+_OPTIONS = {"assignment": "--assign", "start": "--from", "end": "--to"}
+"""Setting (:mod:`lotsim.settings`, :mod:`lotsim.api` keyword) → the option that sets it,
+where the two are not named alike."""
+
+
+def _option(name: str) -> str:
+    """The option that sets the setting ``name``: ``window`` → ``--window``."""
+    return _OPTIONS.get(name, "--" + name.replace("_", "-"))
 
 
 def _cars() -> int:
@@ -192,104 +224,20 @@ def _cars() -> int:
 
 
 def _validate(paths: Sequence[str], *, strict: bool) -> int:
-    from lotsim.io.scenario import load_scenario
-    from lotsim.sim import check_traffic, prepare
-    from lotsim.traffic import arrivals
+    from lotsim.api import validate
 
     worst = EXIT_OK
     for path in paths:
         try:
-            scenario = load_scenario(path)
-            lg = prepare(scenario)
-            reach = lg.reachability()
-            # what `lotsim run` would refuse, validate refuses too
-            if scenario.traffic is not None:
-                check_traffic(lg, arrivals(scenario.traffic, scenario.seed), reach)
+            report = validate(path)
         except ScenarioError as exc:
             print(f"lotsim: {exc}", file=sys.stderr)
             worst = EXIT_BAD_INPUT
             continue
-        print(_summary(path, scenario, lg, reach))
-        if strict and (not reach.ok or any(lg.infeasible.values())):
+        print(report.summary())
+        if strict and not report.complete:
             worst = max(worst, EXIT_INCOMPLETE)
     return worst
-
-
-def _summary(path, scenario, lg, reach) -> str:  # noqa: ANN001
-    from lotsim.cache import LOADED
-
-    lot = lg.lot
-    counts = lot.slot_counts()
-    kinds = ", ".join(f"{k} {n}" for k, n in counts.items())
-    taken = len(lot.occupied)
-    lines = [
-        f"{path}: ok — {scenario.name}",
-        f"  slots: {len(lot.slots)} ({kinds}); free {len(lot.slots) - taken}, taken {taken}",
-        "  vehicle types: "
-        + "; ".join(
-            f"{v.name} (L {v.length:.2f} m, W {v.width:.2f} m, R {v.min_turning_radius:.2f} m)"
-            for v in scenario.vehicle_types
-        ),
-        f"  aisles: {len(lot.aisles)}, lanes: {len(lot.lanes)}, "
-        f"graph: {lg.graph.number_of_nodes()} nodes, {lg.graph.number_of_edges()} edges",
-        f"  entrances: {', '.join(lg.entrances) or 'none'}; "
-        f"exits: {', '.join(lg.exits) or 'none (vehicles cannot leave)'}",
-    ]
-    if reach.ok:
-        lines.append("  unreachable: none")
-    if reach.no_way_in:
-        lines.append(f"  warning: {len(reach.no_way_in)} free slots cannot be reached from "
-                     f"any entrance: {_ids(reach.no_way_in)}")
-    if reach.no_way_out:
-        lines.append(f"  warning: from {len(reach.no_way_out)} free slots no exit can be "
-                     f"reached: {_ids(reach.no_way_out)}")
-    for vname, (no_in, no_out) in reach.by_type.items():
-        if no_in:
-            lines.append(f"  warning: {vname} fits but cannot reach {_n(no_in, 'free slot')} "
-                         f"(no turns it can make lead there): {_ids(no_in)}")
-        if no_out:
-            lines.append(f"  warning: {vname} can park in but not leave "
-                         f"{_n(no_out, 'free slot')} for an exit: {_ids(no_out)}")
-    # with several gates, what each one serves (every slot may still be served by some)
-    if len(reach.unreachable) > 1:
-        for name, slots in reach.unreachable.items():
-            if slots and len(slots) > len(reach.no_way_in):
-                lines.append(f"  note: from entrance {name!r}, {len(slots)} free slots cannot "
-                             f"be reached: {_ids(slots)}")
-    if len(reach.stranded) > 1:
-        for name, slots in reach.stranded.items():
-            if slots:
-                lines.append(f"  note: exit {name!r} cannot be reached from {len(slots)} "
-                             f"slots: {_ids(slots)}")
-    planner = lg.maneuver_planner
-    if planner is not None:
-        edges = sum(len(d["maneuvers"]) for _, _, d in lg.graph.edges(data=True)
-                    if d["kind"] == "park")
-        lines.append(f"  maneuvers: {edges} kept (per type, slot and lane); "
-                     f"{planner.stats['planned']} distinct problems searched "
-                     f"({planner.stats['reused']} repeats answered from them; "
-                     f"margin {planner.margin:g} m)"
-                     + (LOADED if lg.from_cache else ""))
-        for vname, slots in lg.infeasible.items():
-            if not slots:
-                continue
-            lines.append(f"  warning: {vname} cannot park in {len(slots)} slots: "
-                         f"{_ids(sorted(slots))}")
-            for why in sorted(set(slots.values()))[:3]:
-                lines.append(f"    because {why}")
-    for note in lg.skipped_turns:
-        lines.append(f"  note: {note}")
-    return "\n".join(lines)
-
-
-def _n(items, what: str) -> str:  # noqa: ANN001
-    """``"1 free slot"``, ``"3 free slots"``."""
-    return f"{len(items)} {what}{'' if len(items) == 1 else 's'}"
-
-
-def _ids(ids: list[str], most: int = 12) -> str:
-    head = ", ".join(ids[:most])
-    return head + (f", … (+{len(ids) - most})" if len(ids) > most else "")
 
 
 def _size(text: str) -> tuple[int, int] | None:
@@ -301,44 +249,22 @@ def _size(text: str) -> tuple[int, int] | None:
 
 
 def _maneuver(args: argparse.Namespace) -> int:
+    from lotsim.api import maneuver_case
     from lotsim.errors import InfeasibleManeuver
-    from lotsim.io.scenario import load_scenario
-    from lotsim.lot.build import build_lot
-    from lotsim.lot.model import DesignVehicle
-    from lotsim.sim import maneuver_planner
 
     size = _size(args.size)
     if size is None:
         print(f"lotsim: --size: expected WxH between 64 and 8000 pixels, found {args.size!r}",
               file=sys.stderr)
         return EXIT_BAD_INPUT
-    if not (0.0 <= args.margin <= 1.0):
-        print(f"lotsim: --margin: expected 0 to 1 m, found {args.margin:g}", file=sys.stderr)
-        return EXIT_BAD_INPUT
-    scenario = load_scenario(args.scenario)
-    names = [v.name for v in scenario.vehicle_types]
-    vname = args.vehicle or names[0]
-    if vname not in names:
-        print(f"lotsim: --vehicle: expected one of {', '.join(names)}, found {vname!r}",
-              file=sys.stderr)
-        return EXIT_BAD_INPUT
-    vehicle = scenario.vehicle_type(vname)
-    lot = build_lot(scenario.lot, DesignVehicle.envelope(scenario.vehicle_types))
-    slot = lot.slot_by_id.get(args.slot)
-    if slot is None:
-        close = difflib.get_close_matches(args.slot, list(lot.slot_by_id), n=3)
-        hint = f"; did you mean {', '.join(close)}?" if close else ""
-        print(f"lotsim: --slot: no slot {args.slot!r} in {args.scenario}{hint}", file=sys.stderr)
-        return EXIT_BAD_INPUT
-    planner = maneuver_planner(scenario, lot, margin=args.margin)
-    lanes = {lane.id: lane for lane in planner.lanes_for(slot)}
-    if args.lane is not None and args.lane not in lanes:
-        print(f"lotsim: --lane: slot {slot.id!r} is parked into from {', '.join(lanes)}, "
-              f"not {args.lane!r}", file=sys.stderr)
-        return EXIT_BAD_INPUT
+    case = maneuver_case(args.scenario, args.slot, vehicle=args.vehicle, lane=args.lane,
+                         style=args.style, margin=args.margin)
+    scenario, lot, vehicle, slot, planner = (case.scenario, case.lot, case.vehicle, case.slot,
+                                             case.planner)
     try:
-        if args.lane is not None:
-            m = planner.plan(vehicle, slot, lanes[args.lane], style=args.style)
+        if case.lane is not None:
+            lanes = {lane.id: lane for lane in planner.lanes_for(slot)}
+            m = planner.plan(vehicle, slot, lanes[case.lane], style=args.style)
         else:
             m = planner.best(vehicle, slot, style=args.style)
     except InfeasibleManeuver as exc:
@@ -378,20 +304,15 @@ def _maneuver(args: argparse.Namespace) -> int:
 
 
 def _show(args: argparse.Namespace) -> int:
-    from lotsim.io.scenario import load_scenario
-    from lotsim.render import save_lot_png
-    from lotsim.sim import prepare
+    from lotsim.api import render_lot
 
     size = _size(args.size)
     if size is None:
         print(f"lotsim: --size: expected WxH between 64 and 8000 pixels, found {args.size!r}",
               file=sys.stderr)
         return EXIT_BAD_INPUT
-    scenario = load_scenario(args.scenario)
-    lg = prepare(scenario, maneuvers=args.graph)
     try:
-        save_lot_png(lg, args.output, size=size, show_graph=args.graph,
-                     parked_vehicle=scenario.parked_vehicle, title=scenario.name)
+        render_lot(args.scenario, args.output, size=size, graph=args.graph)
     except OSError as exc:
         print(f"lotsim: {args.output}: cannot write: {exc.strerror or exc}", file=sys.stderr)
         return EXIT_BAD_INPUT
@@ -402,23 +323,19 @@ def _show(args: argparse.Namespace) -> int:
 def _run(args: argparse.Namespace) -> int:
     from pathlib import Path
 
-    from lotsim.io.result import result_dict, write_json
-    from lotsim.io.scenario import load_scenario
+    from lotsim.api import prepare, run
+    from lotsim.io.result import write_json
+    from lotsim.io.scenario import read_scenario
     from lotsim.limits import Watchdog
-    from lotsim.sim import RunSettings, run
+    from lotsim.sim import require_traffic
 
-    if args.seed is not None and not 0 <= args.seed < 2**63:
-        return _bad(f"--seed: expected 0 to 2**63-1, found {args.seed}")
-    if not (math.isfinite(args.window) and 1.0 <= args.window <= 600.0):
-        return _bad(f"--window: expected 1 to 600 seconds, found {args.window:g}")
-    if not (math.isfinite(args.omega) and args.omega >= 1.0):
-        return _bad(f"--omega: expected a number of at least 1, found {args.omega:g}")
-    scenario = load_scenario(args.scenario)
-    if scenario.traffic is None:
-        return _bad(f"{args.scenario}:1:1: the scenario has no 'traffic' section to run "
-                    "(see docs/scenario.md)")
+    settings = RunSettings(planner=args.planner, assignment=args.assign, seed=args.seed,
+                           window=args.window, omega=args.omega, horizon=args.horizon,
+                           priority=args.priority)
+    scenario_file = read_scenario(args.scenario)
+    scenario, anim = scenario_file.scenario, scenario_file.animation
+    require_traffic(scenario)
     out = Path(args.output) if args.output else Path("runs") / scenario.name
-    anim = scenario.animation
     gif_path = None
     if args.gif:
         gif_path = Path(args.gif)
@@ -427,7 +344,9 @@ def _run(args: argparse.Namespace) -> int:
             return _bad(problem)
     elif anim is not None and not args.no_gif:
         gif_path = out / anim.gif
-    settings_gif = _gif_settings(anim) if gif_path is not None else None
+    settings_gif = None
+    if gif_path is not None:
+        settings_gif = anim.gif_settings() if anim is not None else GifSettings()
     if out.exists() and not out.is_dir():
         return _bad(f"-o: {out} exists and is not a directory")
     tty = sys.stderr.isatty()
@@ -436,30 +355,24 @@ def _run(args: argparse.Namespace) -> int:
         if tty:
             print(f"\rplanned {done}/{total} trips in and out", end="", file=sys.stderr, flush=True)
 
-    if not (args.horizon > 0):
-        return _bad(f"--horizon: expected a positive number of seconds, found {args.horizon:g}")
     budget = _budget(args)
     if isinstance(budget, int):
         return budget
-    settings = RunSettings(planner=args.planner, assignment=args.assign, seed=args.seed,
-                           window=args.window, omega=args.omega, horizon=args.horizon)
     traffic = scenario.traffic
     where = traffic.stream.where if traffic.stream is not None else traffic.where
     seen: list[bool] = []  # Ctrl-C, even where a finaliser swallowed its KeyboardInterrupt
-    if args.priority == "arrival":
+    if settings.priority == "arrival":
         with _noting_sigint(seen), Watchdog(budget, where, then=progress) as dog:
             rr = run(scenario, settings, progress=dog.progress)
-    else:
-        from lotsim.priority import run_with_priority
-        from lotsim.sim import prepare
-
+    else:  # the watchdog cannot project from trips: orders are tried
         bar = _ProgressBar("trying orders")
         try:
             with _noting_sigint(seen), Watchdog(budget, where):
-                rr, found = run_with_priority(scenario, settings, priority=args.priority,
-                                              lot_graph=prepare(scenario), progress=bar)
+                rr = run(prepare(scenario), settings,
+                         progress=bar if settings.priority == "ga" else None)
         finally:
             bar.close()
+        found = rr.ordering
         extra = (f", arrival order {found['fitness_arrival']:.1f} s, shortest first "
                  f"{found['fitness_shortest_first']:.1f} s ({found['evaluations']} orders "
                  "tried)" if args.priority == "ga" else "")
@@ -469,7 +382,7 @@ def _run(args: argparse.Namespace) -> int:
         raise KeyboardInterrupt
     if tty:
         print("\r" + " " * 40 + "\r", end="", file=sys.stderr)
-    doc = result_dict(rr)
+    doc = rr.to_dict()
     out.mkdir(parents=True, exist_ok=True)
     write_json(doc, out / "result.json")
     m = rr.metrics()
@@ -518,18 +431,6 @@ def _budget(args: argparse.Namespace):  # noqa: ANN202
     return Budget.default(memory=memory, seconds=None if t in (0, math.inf) else t)
 
 
-def _gif_settings(anim=None, args: argparse.Namespace | None = None):  # noqa: ANN001, ANN202
-    """GIF settings from a scenario's animation section or from ``render``'s options."""
-    from lotsim.render.animation import GifSettings
-
-    if args is not None:
-        return GifSettings(fps=args.fps, speed=args.speed, size=args.size, start=args.start,
-                           end=args.end, max_frames=args.max_frames, trail=args.trail)
-    if anim is None:
-        return GifSettings()
-    return GifSettings(**{k: getattr(anim, k) for k in ("fps", "speed", "size", "start", "end",
-                                                        "max_frames", "trail")
-                          if getattr(anim, k) is not None})
 
 
 class _ProgressBar:
@@ -562,9 +463,9 @@ class _ProgressBar:
 
 
 def _write_gif(doc: dict, path, settings) -> int:  # noqa: ANN001
+    from lotsim.api import render_gif
+    from lotsim.errors import ReplayError
     from lotsim.io.lot_json import LotFormatError
-    from lotsim.render.animation import write_gif
-    from lotsim.replay import ReplayError
 
     bar = _ProgressBar("rendering frames")
     seen: list[bool] = []
@@ -572,7 +473,7 @@ def _write_gif(doc: dict, path, settings) -> int:  # noqa: ANN001
     error, interrupted = None, False
     try:
         with _noting_sigint(seen):
-            info = write_gif(doc, path, settings, progress=bar)
+            info = render_gif(doc, path, settings, progress=bar)
     except (KeyboardInterrupt, ReplayError, LotFormatError, ValueError, OSError) as exc:
         interrupted = bool(seen) or isinstance(exc, KeyboardInterrupt)
         if interrupted:
@@ -592,9 +493,10 @@ def _write_gif(doc: dict, path, settings) -> int:  # noqa: ANN001
         raise KeyboardInterrupt
     if isinstance(error, (ReplayError, LotFormatError)):
         return _bad(f"cannot draw this result: {error}")
-    if isinstance(error, ValueError):  # the asked span is outside the run
-        field, _, message = str(error).partition(": ")
-        return _bad(f"{_GIF_OPTIONS.get(field, field)}: {message}")
+    if isinstance(error, SettingsError):  # the asked span is outside the run
+        return _bad(f"{_option(error.name)}: {error.message}")
+    if isinstance(error, ValueError):
+        return _bad(str(error))
     if isinstance(error, OSError):
         return _bad(f"{path}: cannot write: {error.strerror or error}")
     faster = (f" (sped up from {settings.speed:g}× to fit {info.frames} frames)"
@@ -626,11 +528,6 @@ def _noting_sigint(seen: list[bool]):  # noqa: ANN202
         signal.signal(signal.SIGINT, old)
 
 
-_GIF_OPTIONS = {"fps": "--fps", "speed": "--speed", "size": "--size", "start": "--from",
-                "end": "--to", "max_frames": "--max-frames", "trail": "--trail"}
-"""GifSettings field → the ``render`` option that sets it."""
-
-
 def _output_problem(opt: str, path: str, suffix: str) -> str | None:
     """What is wrong with an output file named by option ``opt`` (None if nothing)."""
     from pathlib import Path
@@ -652,12 +549,11 @@ def _render(args: argparse.Namespace) -> int:
         w, h = (int(v) for v in args.size.lower().split("x"))
     except ValueError:
         return _bad(f"--size: expected WxH in pixels, such as 800x600, found {args.size!r}")
-    args.size = (w, h)
-    settings = _gif_settings(args=args)
-    bad = settings.problems()
-    if bad:
-        field, message = bad[0]
-        return _bad(f"{_GIF_OPTIONS[field]}: {message}")
+    try:
+        settings = GifSettings(fps=args.fps, speed=args.speed, size=(w, h), start=args.start,
+                               end=args.end, max_frames=args.max_frames, trail=args.trail)
+    except SettingsError as exc:
+        return _bad(f"{_option(exc.name)}: {exc.message}")
     for opt, path, suffix in (("--gif", args.gif, ".gif"), ("--timeline", args.timeline, ".png")):
         problem = path and _output_problem(opt, path, suffix)
         if problem:
@@ -703,13 +599,13 @@ def _timeline(doc: dict, path: str) -> int:
 
 
 def _check(args: argparse.Namespace) -> int:
-    from lotsim.check import ResultFormatError, check_result, load_result
+    from lotsim.api import check
+    from lotsim.errors import ResultFormatError
 
     try:
-        data = load_result(args.result)
+        report = check(args.result, max_violations=args.max)
     except ResultFormatError as exc:
         return _bad(str(exc))
-    report = check_result(data, max_violations=max(1, args.max))
     st = report.stats
     if report.ok:
         print(f"{args.result}: ok ({', '.join(f'{k} {v}' for k, v in st.items())})")
@@ -727,31 +623,17 @@ def _bad(message: str) -> int:
 
 def _minslot(args: argparse.Namespace) -> int:
     import json
-    from pathlib import Path
 
-    from lotsim.io.scenario import load_vehicle
-    from lotsim.planners.minslot import min_slot_lengths
+    from lotsim.api import car, minslot
     from lotsim.vehicles.catalogue import CATALOGUE
 
     widths = list(dict.fromkeys(args.width))  # a width given twice is computed once
     for width in widths:
         if not (math.isfinite(width) and width > 0):
             return _bad(f"--width: expected a positive slot width in metres, found {width:g}")
-    if args.max_changes < 0 or args.max_changes > 50:
-        return _bad(f"--max-changes: expected 0 to 50, found {args.max_changes}")
-    if not (0.001 <= args.resolution <= 1.0):
-        return _bad(f"--resolution: expected 0.001 to 1 m, found {args.resolution:g}")
-    if not (0.01 <= args.step_deg <= 5.0):
-        return _bad(f"--step-deg: expected 0.01 to 5 degrees, found {args.step_deg:g}")
-    if args.all_cars:
-        cars = list(CATALOGUE.values())
-    elif args.car in CATALOGUE:
-        cars = [CATALOGUE[args.car]]
-    elif Path(args.car).suffix in (".yaml", ".yml") or Path(args.car).exists():
-        cars = [load_vehicle(args.car)]
-    else:
-        return _bad(f"--car: unknown car {args.car!r}; expected one of "
-                    f"{', '.join(CATALOGUE)} or a vehicle YAML file")
+    settings = MinSlotSettings(max_changes=args.max_changes, resolution=args.resolution,
+                               step_deg=args.step_deg)
+    cars = list(CATALOGUE.values()) if args.all_cars else [car(args.car)]
     for width in widths:
         narrow = [c for c in cars if c.width > width]
         if narrow and not args.all_cars:
@@ -764,19 +646,14 @@ def _minslot(args: argparse.Namespace) -> int:
             require_matplotlib()
         except MatplotlibMissing:
             return _bad("--plot needs matplotlib: pip install 'lotsim[plot]'")
-    jobs = [(car, width) for car in cars for width in widths]
+    jobs = [(vehicle, width) for vehicle in cars for width in widths]
     show_progress = sys.stderr.isatty() and len(jobs) > 1
     docs = []
-    for i, (car, width) in enumerate(jobs):
+    for i, (vehicle, width) in enumerate(jobs):
         if show_progress:
-            print(f"\r{i}/{len(jobs)} … {car.name:8} {width:g} m", end="", file=sys.stderr,
+            print(f"\r{i}/{len(jobs)} … {vehicle.name:8} {width:g} m", end="", file=sys.stderr,
                   flush=True)
-        rows = min_slot_lengths(car, width, max_changes=args.max_changes,
-                                resolution=args.resolution, step_deg=args.step_deg)
-        docs.append({"car": car.name, "car_length": round(car.length, 4), "width": width,
-                     "rows": [{"changes": r.changes, "length": r.length,
-                               "ratio": None if r.length is None
-                               else round(r.length / car.length, 4)} for r in rows]})
+        docs.append(minslot(vehicle, width, settings).to_dict())
     if show_progress:
         print("\r" + " " * 40 + "\r", end="", file=sys.stderr)
     if args.json:

@@ -1,7 +1,24 @@
-"""Typed errors of lotsim.
+"""Typed errors of lotsim: every error it raises on purpose is a :class:`LotsimError`.
 
-A user's mistake is a :class:`ScenarioError` (exit code 2, no traceback); the
-CLI prints ``str(error)``, which starts with ``path:line:col:``.
+A user's mistake is one of these, never a bare ``ValueError``, and the CLI prints
+``str(error)`` (no traceback) and exits 2:
+
+* :class:`ScenarioError` — a problem in an input file, ``path:line:col: key: message``;
+  :class:`LimitExceeded` (a run that outgrows its memory or time budget) is one, located at
+  the scenario's traffic;
+* :class:`SettingsError` — a setting or argument out of range or not one of its choices
+  (``window: expected 1 to 600 seconds, found 0``); the CLI names the option instead;
+* :class:`ResultFormatError` — a file that is not a lotsim result at all;
+* :class:`ReplayError` — a result document that cannot be replayed (drawn);
+* :class:`InfeasibleManeuver` — a vehicle type cannot enter or leave a slot (exit 1).
+
+Examples
+--------
+>>> from lotsim.errors import LotsimError, ScenarioError, SettingsError
+>>> issubclass(ScenarioError, LotsimError), issubclass(SettingsError, ValueError)
+(True, True)
+>>> str(SettingsError("window", "expected 1 to 600 seconds, found 0"))
+'window: expected 1 to 600 seconds, found 0'
 """
 
 from __future__ import annotations
@@ -47,6 +64,43 @@ class ScenarioError(LotsimError):
         self.where = where
         self.message = message
         super().__init__(f"{where}: {message}" if where is not None else message)
+
+    def __reduce__(self):  # noqa: ANN204 - two arguments survive pickling between processes
+        return (type(self), (self.where, self.message))
+
+
+class LimitExceeded(ScenarioError):
+    """A run stopped because it needs more memory or time than its budget
+    (:mod:`lotsim.limits`)."""
+
+
+class SettingsError(LotsimError, ValueError):
+    """A setting or argument out of range or not one of its choices.
+
+    Parameters
+    ----------
+    name : str
+        The setting, as its dataclass field or keyword is called (``window``); the CLI
+        prints its option (``--window``) instead.
+    message : str
+        What was expected and what was found.
+    """
+
+    def __init__(self, name: str, message: str):
+        self.name = name
+        self.message = message
+        super().__init__(f"{name}: {message}")
+
+    def __reduce__(self):  # noqa: ANN204
+        return (type(self), (self.name, self.message))
+
+
+class ResultFormatError(LotsimError):
+    """The file is not JSON, or not a lotsim result at all."""
+
+
+class ReplayError(LotsimError, ValueError):
+    """A result document that cannot be replayed (a message naming the key)."""
 
 
 class InfeasibleManeuver(LotsimError):

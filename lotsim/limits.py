@@ -25,7 +25,7 @@ import threading
 import time
 from dataclasses import dataclass
 
-from lotsim.errors import Location, ScenarioError
+from lotsim.errors import LimitExceeded, Location
 
 WARMUP = 10
 """Trips (a vehicle's way in, or out) planned before a projection is trusted."""
@@ -36,10 +36,6 @@ DOC_FACTOR = 3.0
 of the planner's own growth: measured 2.1 with 200 and 2.65 with 800 vehicles on the large
 lot (``benchmarks/bench_limits.py``)."""
 _UNITS = {"": 1, "k": 2**10, "m": 2**20, "g": 2**30, "t": 2**40}
-
-
-class LimitExceeded(ScenarioError):
-    """A run stopped because it needs more memory or time than its budget."""
 
 
 def available_memory() -> int | None:

@@ -13,49 +13,16 @@ from __future__ import annotations
 import dataclasses
 import math
 import time
-from dataclasses import dataclass
 
 import numpy as np
 
-from lotsim.sim import RunResult, RunSettings, run
+from lotsim.errors import SettingsError
+from lotsim.settings import PRIORITIES, GASettings, RunSettings  # noqa: F401 - re-exported
+from lotsim.sim import RunResult, require_traffic, run
 from lotsim.traffic import arrivals
 
-PRIORITIES = ("arrival", "shortest_first", "ga")
-"""``arrival``: online, each vehicle planned when it arrives (``lotsim run``);
-``shortest_first``: booked, the vehicle with the least static time to a slot first;
-``ga``: booked, the order found by :func:`genetic_order`."""
 UNPARKED_PENALTY = 600.0
 """Seconds added to the patience for a vehicle that never parks, in :func:`fitness`."""
-
-
-@dataclass(frozen=True, slots=True)
-class GASettings:
-    """The genetic algorithm over planning orders.
-
-    Attributes
-    ----------
-    population : int
-        Orders per generation; the first holds the arrival order, shortest first, and
-        random orders.
-    generations : int
-        Generations bred after the first.
-    seed : int
-        Seed of the GA's ``numpy.random.Generator`` (independent of the traffic's).
-    mutation : float
-        Chance that a child has two of its vehicles swapped (once more with the same
-        chance, and so on).
-    elite : int
-        Best orders carried over unchanged.
-    tournament : int
-        Orders drawn for each parent; the fittest is taken.
-    """
-
-    population: int = 12
-    generations: int = 10
-    seed: int = 0
-    mutation: float = 0.5
-    elite: int = 2
-    tournament: int = 3
 
 
 def fitness(rr: RunResult) -> float:
@@ -155,35 +122,55 @@ def genetic_order(scenario, settings: RunSettings, *, lot_graph, ga: GASettings,
     }
 
 
-def run_with_priority(scenario, settings: RunSettings, *, priority: str, lot_graph,  # noqa: ANN001
-                      ga: GASettings | None = None,
-                      progress=None) -> tuple[RunResult, dict]:  # noqa: ANN001
-    """Plan the scenario with a priority policy (:data:`PRIORITIES`).
+def plan_run(scenario, settings: RunSettings, *, lot_graph,  # noqa: ANN001
+             progress=None) -> RunResult:  # noqa: ANN001
+    """Plan the scenario's traffic in the order ``settings`` asks for: ``settings.order`` if
+    given, else chosen by ``settings.priority`` (:data:`PRIORITIES`; the GA with
+    ``settings.ga``), then planned by :func:`lotsim.sim.run`.
 
-    Returns the run and a record: ``order_time`` (seconds spent choosing the order,
-    the GA's evaluation runs included), ``evaluations`` (runs planned to choose it),
-    ``fitness`` (the run's total time to park, :func:`fitness`) and, for ``ga``, the
-    fitness of the arrival and shortest-first orders from the same search.
+    The run's ``settings`` hold the order chosen (None when online); its ``ordering`` is a
+    record: ``order_time`` (seconds spent choosing the order, the GA's evaluation runs
+    included), ``evaluations`` (runs planned to choose it), ``fitness`` (the run's total
+    time to park, :func:`fitness`) and, for ``ga``, the fitness of the arrival and
+    shortest-first orders from the same search and its ``history``.
+
     ``progress(done, most)`` is called after each order the GA plans (``most``: the
-    population times the generations plus one; repeated orders are not planned again).
+    population times the generations plus one; repeated orders are not planned again);
+    otherwise, as :func:`lotsim.sim.run` calls it, as trips are dealt with.
     """
-    if priority not in PRIORITIES:
-        raise ValueError(f"unknown priority {priority!r}; expected one of "
-                         f"{', '.join(PRIORITIES)}")
+    require_traffic(scenario)
     clock = time.perf_counter()
-    extra: dict = {"evaluations": 0}
-    if priority == "arrival":
-        order = None
-    elif priority == "shortest_first":
+    record: dict = {"evaluations": 0}
+    order, searching = settings.order, False
+    if order is None and settings.priority == "shortest_first":
         order = shortest_first(scenario, lot_graph, settings.seed)
-    else:
-        ga = ga or GASettings()
+    elif order is None and settings.priority == "ga":
+        ga, searching = settings.ga, True
         most = max(2, ga.population) * (ga.generations + 1)
         order, found = genetic_order(
             scenario, settings, lot_graph=lot_graph, ga=ga,
             progress=None if progress is None else (lambda k: progress(k, most)))
-        extra.update({k: v for k, v in found.items() if k != "fitness"})
-    extra["order_time"] = time.perf_counter() - clock
-    rr = run(scenario, dataclasses.replace(settings, order=order), lot_graph=lot_graph)
-    extra["fitness"] = fitness(rr)
-    return rr, extra
+        record.update({k: v for k, v in found.items() if k != "fitness"})
+    record["order_time"] = time.perf_counter() - clock
+    rr = run(scenario, dataclasses.replace(settings, order=order), lot_graph=lot_graph,
+             progress=None if searching else progress)
+    record["fitness"] = fitness(rr)
+    rr.ordering = record
+    return rr
+
+
+def run_with_priority(scenario, settings: RunSettings, *, priority: str, lot_graph,  # noqa: ANN001
+                      ga: GASettings | None = None,
+                      progress=None) -> tuple[RunResult, dict]:  # noqa: ANN001
+    """:func:`plan_run` with ``priority`` (and ``ga``) instead of the settings' own and no
+    order given; returns the run and its ``ordering`` record. Kept for callers from before
+    the priority was a setting.
+    """
+    if priority not in PRIORITIES:
+        raise SettingsError("priority", f"unknown priority {priority!r}; expected one of "
+                                        f"{', '.join(PRIORITIES)}")
+    settings = dataclasses.replace(settings, priority=priority, order=None,
+                                   ga=ga or settings.ga)
+    rr = plan_run(scenario, settings, lot_graph=lot_graph,
+                  progress=progress if priority == "ga" else None)
+    return rr, rr.ordering

@@ -24,14 +24,12 @@ from functools import cached_property
 
 import numpy as np
 
+from lotsim.errors import ReplayError
+
 PHASES = ("outside", "driving", "parked", "leaving")
 """Phases of a vehicle's life, in order."""
 COUNTERS = ("arrived", "waiting", "driving", "parked", "departed", "rejected")
 """What :meth:`Replay.counts` counts at a time."""
-
-
-class ReplayError(ValueError):
-    """A result document that cannot be replayed (a message naming the key)."""
 
 
 @dataclass(frozen=True, eq=False)

@@ -1,4 +1,4 @@
-"""The scenario: a lot layout, the vehicle types that use it, and a seed."""
+"""The scenario: a lot layout, the vehicle types that use it, the traffic and a seed."""
 
 from __future__ import annotations
 
@@ -7,28 +7,6 @@ from dataclasses import dataclass
 from lotsim.lot.spec import LotSpec
 from lotsim.traffic import TrafficSpec
 from lotsim.vehicles.model import VehicleType
-
-
-@dataclass(frozen=True, slots=True)
-class AnimationSpec:
-    """The scenario's ``animation`` section: ``lotsim run`` also writes a GIF.
-
-    Attributes
-    ----------
-    gif : str
-        File name of the GIF, written beside ``result.json``.
-    fps, speed, size, start, end, max_frames, trail
-        As :class:`lotsim.render.animation.GifSettings`; ``None`` for the default.
-    """
-
-    gif: str = "run.gif"
-    fps: float | None = None
-    speed: float | None = None
-    size: tuple[int, int] | None = None
-    start: float | None = None
-    end: float | None = None
-    max_frames: int | None = None
-    trail: float | None = None
 
 
 @dataclass(frozen=True, slots=True)
@@ -50,8 +28,9 @@ class Scenario:
     description : str
     traffic : TrafficSpec or None
         The vehicles that come to the lot; None when the scenario only describes a lot.
-    animation : AnimationSpec or None
-        Present when ``lotsim run`` should also write a GIF.
+
+    A scenario is the problem, not how to draw it: its file's ``animation`` section is read
+    apart (:func:`lotsim.io.scenario.read_scenario`, :class:`lotsim.settings.AnimationSpec`).
     """
 
     name: str
@@ -62,7 +41,6 @@ class Scenario:
     source: str = "<memory>"
     description: str = ""
     traffic: TrafficSpec | None = None
-    animation: AnimationSpec | None = None
 
     def vehicle_type(self, name: str) -> VehicleType:
         """The vehicle type called ``name``; KeyError if the scenario has none."""

@@ -14,14 +14,12 @@ from dataclasses import dataclass, field
 import numpy as np
 
 import lotsim.cache
-from lotsim.errors import ScenarioError
+from lotsim.errors import Location, ScenarioError, SettingsError
 from lotsim.geometry import same_pose
 from lotsim.lot.build import build_lot
 from lotsim.lot.graph import LotGraph, Reachability, build_graph
 from lotsim.lot.model import DesignVehicle, Lot
 from lotsim.planners.cooperative import (
-    OMEGA,
-    PLANNERS,
     Goal,
     Move,
     Plan,
@@ -34,6 +32,7 @@ from lotsim.planners.cooperative import (
 from lotsim.planners.maneuver import MARGIN, ManeuverPlanner, plan_lot
 from lotsim.planners.reservation import ReservationTable, standing_body
 from lotsim.scenario import Scenario
+from lotsim.settings import ASSIGNMENTS, BOOKING_HORIZON, RunSettings  # noqa: F401 - re-exported
 from lotsim.traffic import Arrival, arrivals
 from lotsim.trajectory import Trajectory
 from lotsim.vehicles.model import VehicleType
@@ -93,6 +92,39 @@ def prepare(scenario: Scenario, *, node_spacing: float = 4.0, maneuvers: bool = 
     return lg
 
 
+@dataclass(frozen=True, slots=True)
+class PreparedLot:
+    """A scenario with its lot built and every maneuver planned (:func:`lotsim.prepare`):
+    reusable across runs, which then skip the preparation (seconds to a minute on a large
+    lot).
+
+    Attributes
+    ----------
+    scenario : Scenario
+    lot_graph : LotGraph
+        The built lot (``.lot``), its drivable graph (``.graph``) and the slots each vehicle
+        type cannot use with the reason (``.infeasible``). Runs read it and do not change
+        what they read, so one prepared lot serves any number of runs.
+    """
+
+    scenario: Scenario
+    lot_graph: LotGraph
+
+    @property
+    def lot(self) -> Lot:
+        """The built lot: slots as polygons, aisles, lanes, obstacles, zones."""
+        return self.lot_graph.lot
+
+    @property
+    def infeasible(self) -> dict[str, dict[str, str]]:
+        """Vehicle type → slot id → why that type cannot park there."""
+        return self.lot_graph.infeasible
+
+    def reachability(self) -> Reachability:
+        """The free slots that cannot be reached or left (:class:`Reachability`)."""
+        return self.lot_graph.reachability()
+
+
 def maneuver_planner(scenario: Scenario, lot: Lot, *, margin: float = MARGIN) -> ManeuverPlanner:
     """The maneuver planner for ``lot``: clear of the scenario's parked cars, starting only
     where a car can arrive from an entrance or leave for an exit (along lanes)."""
@@ -102,61 +134,14 @@ def maneuver_planner(scenario: Scenario, lot: Lot, *, margin: float = MARGIN) ->
 
 
 # -- running traffic -------------------------------------------------------------------------
-ASSIGNMENTS = ("nearest", "shortest")
 SAMPLE_DT = 0.05
 """Interval of the samples of a moving vehicle in a run's result [s]."""
 STATUSES = ("parked", "departed", "waiting", "rejected")
-BOOKING_HORIZON = 60.0
-"""Default of :attr:`RunSettings.horizon` [s]."""
 FIRST_LOOK = 5000
 """Expansions a car's search for each of its few best slots gets before the full searches:
 a slot it can reach without a long wait is found well within this (a few hundred to a few
 thousand), so a car does not queue behind cars parking in its best slot's aisle while a
 slot in another aisle is free to reach."""
-
-
-@dataclass(frozen=True, slots=True)
-class RunSettings:
-    """How :func:`run` plans.
-
-    Attributes
-    ----------
-    planner : {"ca", "hca", "whca"}
-    assignment : {"nearest", "shortest"}
-        Slot choice: straight-line distance from the entrance, or travel time
-        along the graph plus the maneuver's time.
-    seed : int or None
-        Seed of the traffic stream (None: the scenario's).
-    window : float
-        WHCA*: the vehicle replans every ``window / 2`` seconds while it drives and keeps
-        the new plan when it arrives sooner [s].
-    omega : float
-        The search fuse factor.
-    retry : float
-        Wait before a vehicle whose search failed tries again [s]; it doubles with
-        each failure in a row, up to a minute.
-    order : tuple of str or None
-        None: each vehicle is planned when it arrives, earlier arrivals first (online).
-        Otherwise every vehicle id once: the traffic is booked ``horizon`` seconds ahead.
-        Arrivals are cut into batches ``horizon`` long from the first one; the vehicles of
-        a batch are planned at its start, in this order (their priority), each from its
-        own arrival time, against the reservations of those planned before it — later
-        arrivals of the batch included. Slots freed by departures go to queued vehicles
-        in this order.
-    horizon : float
-        How far ahead booked traffic is known [s] (``inf``: all of it, one batch). Slots
-        are assigned when a batch is planned, so slots freed by departures during a batch
-        go unseen by its vehicles: a long horizon can cost more than a better order gains.
-    """
-
-    planner: str = "hca"
-    assignment: str = "shortest"
-    seed: int | None = None
-    window: float = 10.0
-    omega: float = OMEGA
-    retry: float = 5.0
-    order: tuple[str, ...] | None = None
-    horizon: float = BOOKING_HORIZON
 
 
 @dataclass
@@ -196,6 +181,9 @@ class RunResult:
     seed: int
     vehicles: list[VehicleRun]
     planning_time: float
+    ordering: dict = field(default_factory=dict)
+    """How the planning order was chosen (:func:`lotsim.priority.plan_run`); empty when
+    :func:`run` was called directly."""
 
     def metrics(self) -> dict[str, float]:
         """Counts by status and the timing figures of ``docs/result.md``."""
@@ -277,6 +265,20 @@ def check_traffic(lg: LotGraph, traffic: list[Arrival], reach: Reachability | No
                                               "be left for an exit along the lanes")
 
 
+def require_traffic(scenario: Scenario) -> None:
+    """Refuse to run a scenario that only describes a lot.
+
+    Raises
+    ------
+    ScenarioError
+        At the top of its file, when the scenario has no ``traffic`` section.
+    """
+    if scenario.traffic is None:
+        raise ScenarioError(Location(scenario.source, 1, 1), "the scenario has no 'traffic' "
+                                                              "section to run (see "
+                                                              "docs/scenario.md)")
+
+
 def run(scenario: Scenario, settings: RunSettings | None = None, *, lot_graph=None,  # noqa: ANN001
         progress=None) -> RunResult:  # noqa: ANN001
     """Plan the scenario's traffic: assign slots, plan every vehicle in, and out again.
@@ -305,20 +307,18 @@ def run(scenario: Scenario, settings: RunSettings | None = None, *, lot_graph=No
     Raises
     ------
     ScenarioError
-        For traffic the lot cannot serve at all (see :func:`check_traffic`).
+        For a scenario without traffic, or traffic the lot cannot serve at all (see
+        :func:`check_traffic`).
+    SettingsError
+        For an ``order`` that does not hold every vehicle of the traffic once.
     """
     settings = settings or RunSettings()
-    if settings.planner not in PLANNERS:
-        raise ValueError(f"unknown planner {settings.planner!r}")
-    if settings.assignment not in ASSIGNMENTS:
-        raise ValueError(f"unknown assignment {settings.assignment!r}")
-    if scenario.traffic is None:
-        raise ScenarioError(None, f"{scenario.source}: the scenario has no traffic section")
+    require_traffic(scenario)
     lg = lot_graph or prepare(scenario)
     seed = scenario.seed if settings.seed is None else settings.seed
     traffic = arrivals(scenario.traffic, seed)
     if settings.order is not None and sorted(settings.order) != sorted(a.id for a in traffic):
-        raise ValueError("order: expected every vehicle id of the traffic exactly once")
+        raise SettingsError("order", "expected every vehicle id of the traffic exactly once")
     check_traffic(lg, traffic)
     sim = _Simulation(scenario, lg, settings, traffic, progress)
     clock = time.perf_counter()

@@ -84,7 +84,7 @@ ERRORS = [
     ("a window for hca", SUITE.replace("[hca, ca]", "[hca, {hca: [5]}]"), "hca: [5]",
      "planners[1].hca", "unknown key 'hca'"),
     ("a window of zero", SUITE.replace("[hca, ca]", "[{whca: [5, 0]}]"), "0]}",
-     "planners[0].whca[1]", "expected a window in seconds ≥ 1"),
+     "planners[0].whca[1]", "expected 1 to 600 seconds, found 0"),
     ("a planner twice", SUITE.replace("[hca, ca]", "[whca, {whca: [10]}]"), "10]",
      "planners[1].whca[0]", "planner whca-10 is given twice"),
     ("a rate for listed vehicles", SUITE.replace("[tiny.yaml]", "[tiny.yaml, quickstart.yaml]"),

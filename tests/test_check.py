@@ -20,6 +20,7 @@ Each test breaks the valid result in one way and expects exactly that rule.
 from __future__ import annotations
 
 import copy
+import importlib
 import json
 import math
 
@@ -27,8 +28,14 @@ import numpy as np
 import pytest
 import shapely
 
-from lotsim import check
-from lotsim.check import CheckReport, ResultFormatError, check_result, load_result
+from lotsim.check import (
+    CheckReport,
+    ResultFormatError,
+    _Items,
+    _rects_overlap,
+    check_result,
+    load_result,
+)
 
 DT = 0.05
 SPEED = 0.9
@@ -539,7 +546,8 @@ def test_a_failing_stage_is_reported_not_raised(result, monkeypatch):
     def broken(*args):
         raise ZeroDivisionError("boom")
 
-    monkeypatch.setattr(check, "_check_motion", broken)
+    # the module: lotsim.check, the attribute, is the function lotsim.api.check
+    monkeypatch.setattr(importlib.import_module("lotsim.check"), "_check_motion", broken)
     report = check_result(result)
     assert not report.ok
     assert rules(report) == {"internal"}
@@ -560,7 +568,7 @@ def test_separating_axes_agree_with_shapely():
     rng = np.random.default_rng(3)
     n = 4000
     th = rng.uniform(-math.pi, math.pi, n)
-    items = check._Items(
+    items = _Items(
         veh=np.arange(n), ka=np.zeros(n, dtype=int), kb=np.zeros(n, dtype=int),
         cx=rng.uniform(0, 8, n), cy=rng.uniform(0, 8, n), ux=np.cos(th), uy=np.sin(th),
         hx=rng.uniform(0.5, 3, n), hy=rng.uniform(0.3, 1.5, n))
@@ -568,7 +576,7 @@ def test_separating_axes_agree_with_shapely():
     polys = items.polygons(np.arange(n))
     expected = shapely.intersects(polys[a], polys[b])
     assert 0.2 < expected.mean() < 0.8  # both outcomes are exercised
-    assert np.array_equal(check._rects_overlap(items, a, b), expected)
+    assert np.array_equal(_rects_overlap(items, a, b), expected)
 
 
 def random_traffic(seed, n=12):

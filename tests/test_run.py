@@ -188,7 +188,7 @@ def test_a_blown_fuse_makes_the_vehicle_wait_then_leaves_it_rejected_with_the_re
         small, monkeypatch):
     sc, lg = small
     monkeypatch.setattr(cooperative, "MIN_BUDGET", 3)
-    rr = _run(sc, lg, [Arrival("x", "valet", "in", 0.0)], patience=20.0, omega=0.01)
+    rr = _run(sc, lg, [Arrival("x", "valet", "in", 0.0)], patience=20.0, omega=1.0)
     v = rr.vehicles[0]
     assert v.status == "rejected" and "fuse" in v.reason
     assert v.searches >= 3  # it tried again while it waited

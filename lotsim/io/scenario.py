@@ -10,11 +10,13 @@ from __future__ import annotations
 
 import itertools
 import math
+import os
 import re
+from dataclasses import dataclass
 from pathlib import Path
 
 from lotsim.errors import ScenarioError
-from lotsim.io.yamlnodes import YNode, read_yaml
+from lotsim.io.yamlnodes import YNode, parse_text, read_yaml
 from lotsim.lot.spec import (
     SIDES,
     SLOT_KINDS,
@@ -28,7 +30,8 @@ from lotsim.lot.spec import (
     SpeedBumpSpec,
     SpeedZoneSpec,
 )
-from lotsim.scenario import AnimationSpec, Scenario
+from lotsim.scenario import Scenario
+from lotsim.settings import AnimationSpec
 from lotsim.traffic import PATIENCE, Arrival, StreamSpec, TrafficSpec
 from lotsim.vehicles.catalogue import CATALOGUE, DEFAULT_VEHICLE
 from lotsim.vehicles.model import KMH, VehicleLimits, VehicleType
@@ -48,15 +51,48 @@ _LIMIT_KEYS = {
 }
 
 
-def load_scenario(path: str | Path) -> Scenario:
-    """Read and validate a scenario file.
+TEXT_FILE = "<scenario>"
+"""The file name errors give for a scenario read from text, not from a file."""
+
+
+@dataclass(frozen=True, slots=True)
+class ScenarioFile:
+    """What a scenario file holds: the problem (lot, vehicles, traffic) and, apart from it,
+    how ``lotsim run`` draws its run (the ``animation`` section, None without one)."""
+
+    scenario: Scenario
+    animation: AnimationSpec | None = None
+
+
+def read_scenario(source: str | os.PathLike) -> ScenarioFile:
+    """Read and validate a scenario file, or scenario text.
+
+    Parameters
+    ----------
+    source : str or path-like
+        A path; or, when a ``str`` holds a line break, the YAML text itself (errors then
+        name the file ``<scenario>``).
 
     Raises
     ------
     ScenarioError
         On the first problem, located as ``file:line:col: key.path: ...``.
     """
-    return parse_scenario(read_yaml(path))
+    if isinstance(source, str) and "\n" in source:
+        return parse_scenario_file(parse_text(source, TEXT_FILE))
+    return parse_scenario_file(read_yaml(source))
+
+
+def load_scenario(path: str | os.PathLike) -> Scenario:
+    """Read and validate a scenario file (or text, as :func:`read_scenario`): the problem
+    alone, without its ``animation`` section.
+
+    Raises
+    ------
+    ScenarioError
+        On the first problem, located as ``file:line:col: key.path: ...``.
+    """
+    return read_scenario(path).scenario
 
 
 def load_vehicle(path: str | Path) -> VehicleType:
@@ -65,7 +101,13 @@ def load_vehicle(path: str | Path) -> VehicleType:
 
 
 def parse_scenario(root: YNode) -> Scenario:
-    """Validate a composed scenario document."""
+    """Validate a composed scenario document (its ``animation`` section too, which is left
+    out: :func:`parse_scenario_file` keeps it)."""
+    return parse_scenario_file(root).scenario
+
+
+def parse_scenario_file(root: YNode) -> ScenarioFile:
+    """Validate a composed scenario document: the scenario and its output options."""
     f = root.fields(
         required=["lot"],
         optional=["name", "description", "seed", "vehicle_types", "parked_vehicle", "traffic",
@@ -96,17 +138,18 @@ def parse_scenario(root: YNode) -> Scenario:
     lot = parse_lot(f["lot"])
     traffic = (parse_traffic(f["traffic"], [t.name for t in types],
                              [p.id for p in lot.entrances]) if "traffic" in f else None)
-    return Scenario(
+    scenario = Scenario(
         name=name,
         lot=lot,
         traffic=traffic,
-        animation=parse_animation(f["animation"]) if "animation" in f else None,
         vehicle_types=types,
         parked_vehicle=parked,
         seed=seed,
         source=root.file,
         description=f["description"].string(max_len=2000) if "description" in f else "",
     )
+    return ScenarioFile(scenario,
+                        parse_animation(f["animation"]) if "animation" in f else None)
 
 
 def name_from_file(file: str) -> str:

@@ -54,6 +54,7 @@ from lotsim.planners.reservation import (
     standing_body,
     swept_motion,
 )
+from lotsim.settings import OMEGA, PLANNERS
 from lotsim.trajectory import Motion, Piece, Stroke, scurve, speed_cap, timed_path
 from lotsim.vehicles.model import KMH, VehicleType
 
@@ -63,8 +64,6 @@ SPEED_STEP = 5 * KMH
 """Spacing of the speed levels a vehicle may pass a node at [m/s]."""
 WAIT = 1.0
 """Length of one wait move [s]."""
-OMEGA = 10.0
-"""Fuse: a search stops after expanding ``OMEGA`` × its reverse search's closed nodes."""
 MIN_BUDGET = 20000
 """A search may always expand at least this many states before the fuse blows."""
 WEIGHT = 1.25
@@ -72,8 +71,6 @@ EXPRESS = 6.0
 """Lane nodes closer than this [m] are also joined by one edge through them (see
 :meth:`SearchGraph._express`)."""
 _TIME_KEY = 0.5  # states this close in time at one node and speed are one [s]
-
-PLANNERS = ("ca", "hca", "whca")
 
 
 class Status(Enum):

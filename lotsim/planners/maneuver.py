@@ -72,11 +72,10 @@ from lotsim.geometry import (
 from lotsim.lot.graph import lane_serves
 from lotsim.lot.model import Lane, Lot, Slot, unit
 from lotsim.planners.minslot import SlotFrame, simulate, start_headings
+from lotsim.settings import MARGIN, STYLES
 from lotsim.trajectory import Motion, Piece, runs, timed_path
 from lotsim.vehicles.model import VehicleType
 
-MARGIN = 0.1
-"""Default clearance to parked cars, walls and the aisle's far side [m] (seed 004)."""
 SWEEP = 0.2
 """Spacing of the footprints whose hulls cover a path when checking it [m]."""
 SWEEP_BLOCK = 4
@@ -85,8 +84,6 @@ footprints, before it looks at them one by one (:meth:`_Problem.first_blocked`):
 block clears them all."""
 CLOSING_RADII = (1.0, 1.25, 1.5, 2.0, 3.0)
 """Closing arcs try these multiples of the car's minimum turning radius."""
-STYLES = ("any", "forward", "reverse")
-"""``forward``: nose-in; ``reverse``: nose-out (backed in); ``any``: the better one."""
 COMMON_STYLES = ("forward", "reverse")
 """The ways of parking tried for a pose shared by a slot's lanes, in the order tried."""
 EASE_RAMPS = (3.0, 2.2, 1.6, 1.1, 0.7, 0.4)

@@ -27,6 +27,7 @@ import numpy as np
 from PIL import Image, ImageDraw
 
 from lotsim.atomic import atomic_write
+from lotsim.errors import SettingsError
 from lotsim.render.lot_image import (
     MARGIN,
     LotCanvas,
@@ -37,11 +38,10 @@ from lotsim.render.lot_image import (
     paint_scale_bar,
 )
 from lotsim.replay import COUNTERS, PHASES, Replay, assign_colours
+from lotsim.settings import MAX_FPS, GifSettings  # noqa: F401 - re-exported
 
 CHUNK = 48
 """Frames encoded at a time: bounds memory to about ``CHUNK`` × width × height × 3 bytes."""
-MAX_FPS = 50
-"""GIF delays are whole centiseconds and players slow down delays under 2 cs."""
 VEHICLE_COLOURS = 16
 """Distinct vehicle colours (each also in a pale version, for parked cars and trails).
 
@@ -89,60 +89,6 @@ def pale(c: tuple[int, int, int], amount: float = 0.55) -> tuple[int, int, int]:
     return tuple(int(round(v + (255 - v) * amount)) for v in c)  # type: ignore[return-value]
 
 
-@dataclass(frozen=True, slots=True)
-class GifSettings:
-    """How to turn run time into frames.
-
-    Attributes
-    ----------
-    fps : float
-        Frames per second of the GIF (1 to :data:`MAX_FPS`).
-    speed : float
-        Seconds of run time per second of GIF.
-    size : (width, height)
-        Pixels.
-    start, end : float or None
-        Run time shown [s]; default from the first arrival to the last event.
-    max_frames : int
-        At most this many frames: a longer span is played faster (``FramePlan.speed``).
-    trail : float
-        Seconds of path drawn behind a moving vehicle.
-    """
-
-    fps: float = 20.0
-    speed: float = 4.0
-    size: tuple[int, int] = (800, 600)
-    start: float | None = None
-    end: float | None = None
-    max_frames: int = 3000
-    trail: float = 8.0
-
-    def problems(self) -> list[tuple[str, str]]:
-        """``(field, what is wrong)`` for each unusable setting (empty when all are fine)."""
-        out = []
-        if not (math.isfinite(self.fps) and 1 <= self.fps <= MAX_FPS):
-            out.append(("fps", f"expected 1 to {MAX_FPS} frames per second, found {self.fps:g}"))
-        if not (math.isfinite(self.speed) and 0.01 <= self.speed <= 10_000):
-            out.append(("speed", f"expected 0.01 to 10000, found {self.speed:g}"))
-        w, h = self.size
-        if not (160 <= w <= 4000 and 120 <= h <= 4000):
-            out.append(("size", f"expected 160x120 to 4000x4000 pixels, found {w}x{h}"))
-        for name in ("start", "end"):
-            v = getattr(self, name)
-            if v is not None and not math.isfinite(v):
-                out.append((name, f"expected a time in seconds, found {v}"))
-        if (self.start is not None and self.end is not None
-                and math.isfinite(self.start) and math.isfinite(self.end)
-                and self.end <= self.start):
-            out.append(("end", f"expected a time after the start ({self.start:g} s), "
-                               f"found {self.end:g}"))
-        if not 1 <= self.max_frames <= 1_000_000:
-            out.append(("max_frames", f"expected 1 to 1000000, found {self.max_frames}"))
-        if not (math.isfinite(self.trail) and 0 <= self.trail <= 3600):
-            out.append(("trail", f"expected 0 to 3600 seconds, found {self.trail:g}"))
-        return out
-
-
 @dataclass(frozen=True)
 class FramePlan:
     """The run times drawn and how long each frame shows."""
@@ -164,8 +110,8 @@ def plan_frames(replay: Replay, settings: GifSettings) -> FramePlan:
     end = replay.end if settings.end is None else settings.end
     if end <= start:
         what = "start" if settings.start is not None else "end"
-        raise ValueError(f"{what}: nothing to show from {start:g} s to {end:g} s (the run "
-                         f"goes from {replay.start:g} s to {replay.end:g} s)")
+        raise SettingsError(what, f"nothing to show from {start:g} s to {end:g} s (the run "
+                                  f"goes from {replay.start:g} s to {replay.end:g} s)")
     speed = settings.speed
     n = max(1, math.ceil((end - start) * settings.fps / speed - 1e-9))
     if n > settings.max_frames:
@@ -483,11 +429,15 @@ def write_gif(
 
     The GIF loops for ever. Nothing is left at ``path`` or beside it if this fails
     or is interrupted. ``progress(done, total)`` is called after each chunk of frames.
+
+    Raises
+    ------
+    SettingsError
+        When ``settings`` asks for a span outside the run (``start``/``end``).
+    ReplayError, LotFormatError
+        When ``doc`` is not a result that can be drawn.
     """
     settings = settings or GifSettings()
-    bad = settings.problems()
-    if bad:
-        raise ValueError("; ".join(f"{k}: {m}" for k, m in bad))
     renderer = GifRenderer(doc, settings)
     plan = plan_frames(renderer.replay, settings)
     target = Path(path)

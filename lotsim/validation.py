@@ -1,0 +1,155 @@
+"""What ``lotsim validate`` finds about a scenario, as data (:class:`ValidationReport`)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from lotsim.cache import LOADED
+from lotsim.lot.graph import Reachability
+from lotsim.sim import PreparedLot, check_traffic
+from lotsim.traffic import arrivals
+
+
+@dataclass(frozen=True, slots=True)
+class ValidationReport:
+    """A valid scenario's lot: what it holds, what cannot be reached or used, and why.
+
+    A scenario that is not valid raises :class:`~lotsim.errors.ScenarioError` instead.
+
+    Attributes
+    ----------
+    source : str
+        The scenario's file as it was named (``<scenario>`` for text).
+    prepared : PreparedLot
+        The prepared lot, ready for :func:`lotsim.run`.
+    reachability : Reachability
+        The free slots that cannot be reached from an entrance or left for an exit, in
+        all and per vehicle type.
+    """
+
+    source: str
+    prepared: PreparedLot
+    reachability: Reachability
+
+    @property
+    def name(self) -> str:
+        return self.prepared.scenario.name
+
+    @property
+    def slot_counts(self) -> dict[str, int]:
+        """Slots by kind (perpendicular, parallel, angled)."""
+        return self.prepared.lot.slot_counts()
+
+    @property
+    def infeasible(self) -> dict[str, dict[str, str]]:
+        """Vehicle type → slot id → why that type cannot park there."""
+        return self.prepared.infeasible
+
+    @property
+    def complete(self) -> bool:
+        """Every free slot and exit can be reached and every type can park in every slot:
+        what ``lotsim validate --strict`` requires."""
+        return self.reachability.ok and not any(self.infeasible.values())
+
+    @property
+    def warnings(self) -> list[str]:
+        """The summary's warnings, without their ``warning:`` tag."""
+        return [line.strip()[len("warning: "):] for line in self.summary().splitlines()
+                if line.strip().startswith("warning: ")]
+
+    def summary(self) -> str:
+        """What ``lotsim validate`` prints for this scenario."""
+        lg, reach = self.prepared.lot_graph, self.reachability
+        scenario = self.prepared.scenario
+        lot = lg.lot
+        kinds = ", ".join(f"{k} {n}" for k, n in self.slot_counts.items())
+        taken = len(lot.occupied)
+        lines = [
+            f"{self.source}: ok — {scenario.name}",
+            f"  slots: {len(lot.slots)} ({kinds}); free {len(lot.slots) - taken}, taken {taken}",
+            "  vehicle types: "
+            + "; ".join(
+                f"{v.name} (L {v.length:.2f} m, W {v.width:.2f} m, "
+                f"R {v.min_turning_radius:.2f} m)"
+                for v in scenario.vehicle_types
+            ),
+            f"  aisles: {len(lot.aisles)}, lanes: {len(lot.lanes)}, "
+            f"graph: {lg.graph.number_of_nodes()} nodes, {lg.graph.number_of_edges()} edges",
+            f"  entrances: {', '.join(lg.entrances) or 'none'}; "
+            f"exits: {', '.join(lg.exits) or 'none (vehicles cannot leave)'}",
+        ]
+        if reach.ok:
+            lines.append("  unreachable: none")
+        if reach.no_way_in:
+            lines.append(f"  warning: {len(reach.no_way_in)} free slots cannot be reached from "
+                         f"any entrance: {_ids(reach.no_way_in)}")
+        if reach.no_way_out:
+            lines.append(f"  warning: from {len(reach.no_way_out)} free slots no exit can be "
+                         f"reached: {_ids(reach.no_way_out)}")
+        for vname, (no_in, no_out) in reach.by_type.items():
+            if no_in:
+                lines.append(f"  warning: {vname} fits but cannot reach "
+                             f"{_n(no_in, 'free slot')} (no turns it can make lead there): "
+                             f"{_ids(no_in)}")
+            if no_out:
+                lines.append(f"  warning: {vname} can park in but not leave "
+                             f"{_n(no_out, 'free slot')} for an exit: {_ids(no_out)}")
+        # with several gates, what each one serves (every slot may still be served by some)
+        if len(reach.unreachable) > 1:
+            for name, slots in reach.unreachable.items():
+                if slots and len(slots) > len(reach.no_way_in):
+                    lines.append(f"  note: from entrance {name!r}, {len(slots)} free slots "
+                                 f"cannot be reached: {_ids(slots)}")
+        if len(reach.stranded) > 1:
+            for name, slots in reach.stranded.items():
+                if slots:
+                    lines.append(f"  note: exit {name!r} cannot be reached from {len(slots)} "
+                                 f"slots: {_ids(slots)}")
+        planner = lg.maneuver_planner
+        if planner is not None:
+            edges = sum(len(d["maneuvers"]) for _, _, d in lg.graph.edges(data=True)
+                        if d["kind"] == "park")
+            lines.append(f"  maneuvers: {edges} kept (per type, slot and lane); "
+                         f"{planner.stats['planned']} distinct problems searched "
+                         f"({planner.stats['reused']} repeats answered from them; "
+                         f"margin {planner.margin:g} m)"
+                         + (LOADED if lg.from_cache else ""))
+            for vname, slots in lg.infeasible.items():
+                if not slots:
+                    continue
+                lines.append(f"  warning: {vname} cannot park in {len(slots)} slots: "
+                             f"{_ids(sorted(slots))}")
+                for why in sorted(set(slots.values()))[:3]:
+                    lines.append(f"    because {why}")
+        for note in lg.skipped_turns:
+            lines.append(f"  note: {note}")
+        return "\n".join(lines)
+
+    def __str__(self) -> str:
+        return self.summary()
+
+
+def validate_prepared(prepared: PreparedLot, source: str) -> ValidationReport:
+    """Check that the scenario's traffic can be served as ``lotsim run`` would (refusing
+    what it would refuse) and report on its lot.
+
+    Raises
+    ------
+    ScenarioError
+        For traffic the lot cannot serve at all (:func:`lotsim.sim.check_traffic`).
+    """
+    scenario, lg = prepared.scenario, prepared.lot_graph
+    reach = lg.reachability()
+    if scenario.traffic is not None:
+        check_traffic(lg, arrivals(scenario.traffic, scenario.seed), reach)
+    return ValidationReport(source, prepared, reach)
+
+
+def _n(items, what: str) -> str:  # noqa: ANN001
+    """``"1 free slot"``, ``"3 free slots"``."""
+    return f"{len(items)} {what}{'' if len(items) == 1 else 's'}"
+
+
+def _ids(ids: list[str], most: int = 12) -> str:
+    head = ", ".join(ids[:most])
+    return head + (f", … (+{len(ids) - most})" if len(ids) > most else "")
