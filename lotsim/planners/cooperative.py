@@ -190,6 +190,7 @@ class SearchGraph:
                       for n in g.nodes}
         self.slot_nodes = set(lg.slot_nodes.values())
         self._motions: dict[tuple[int, int, int], EdgeMotion | None] = {}
+        self._variants: dict[tuple[int, int], tuple[list[tuple[int, EdgeMotion]], float]] = {}
         self._bodies: dict[int, BaseGeometry] = {}
         self._cells: dict[int, tuple[tuple[int, int], ...]] = {}
         self._standing: dict[int, Swept] = {}
@@ -258,6 +259,18 @@ class SearchGraph:
                 if prof is not None:
                     out = self._timed(Motion((Stroke(tuple(e.data["path"]), prof),)))
         self._motions[key] = out
+        return out
+
+    def variants(self, ei: int, a: int) -> tuple[list[tuple[int, EdgeMotion]], float]:
+        """Edge ``ei`` driven from speed level ``a``: ``(b, motion)`` for every end level
+        ``b`` it can reach (only rest for a maneuver, a join or a turnaround), and the
+        longest of their durations [s] (kept: a search asks for them at every visit)."""
+        out = self._variants.get((ei, a))
+        if out is None:
+            ends = [0] if self.edges[ei].kind in AT_REST else range(len(self.levels))
+            found = [(b, em) for b in ends if (em := self.motion(ei, a, b)) is not None]
+            out = self._variants[ei, a] = (found, max((em.duration for _, em in found),
+                                                      default=0.0))
         return out
 
     def _timed(self, motion: Motion) -> EdgeMotion:
@@ -531,13 +544,12 @@ def search(sg: SearchGraph, table: ReservationTable, *, owner: str, start: int, 
                 if not out:
                     push(e.v, lvl, t, out, sid, None)
                 continue
-            ends = [0] if e.kind in AT_REST else range(len(sg.levels))
-            variants = [(b, em) for b in ends if (em := sg.motion(ei, lvl, b)) is not None]
+            variants, longest = sg.variants(ei, lvl)
             if not variants:
                 continue
             # nobody near the edge while any variant drives it: no exact test needed
-            quiet = table.quiet(sg.edge_cells(ei, variants[0][1]), t,
-                                t + max(em.duration for _, em in variants), ignore=owner)
+            quiet = table.quiet(sg.edge_cells(ei, variants[0][1]), t, t + longest,
+                                ignore=owner)
             for b, em in variants:
                 t1 = t + em.duration
                 # a parked vehicle must be able to stay for ever

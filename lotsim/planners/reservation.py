@@ -280,8 +280,8 @@ class ReservationTable:
         skip = self._ids.get(ignore, -1) if ignore is not None else -1
         st = self._store
         grid, long_cells, b = self._grid, self._long_cells, self.bucket
-        pairs_i: list[int] = []
-        pairs_j: list[int] = []
+        near: list[int] = []  # entries filed near chunk j, for each j in order
+        chunk: list[int] = []
         for j in range(len(sw.geoms)):
             a, z = float(sw.t[j, 0]) + offset, float(sw.t[j, 1]) + offset
             k0, k1 = math.floor((a - _EPS) / b), math.floor((z + _EPS) / b)
@@ -296,21 +296,25 @@ class ReservationTable:
                 hit = long_cells.get(cell)
                 if hit:
                     found.update(hit)
-            if not found:
-                continue
-            x0, y0, x1, y1 = sw.bounds[j]
-            for i in sorted(found):
-                if (st.alive[i] and st.owner[i] != skip and st.t[i, 0] <= z + _EPS
-                        and st.t[i, 1] >= a - _EPS and st.box[i, 0] <= x1 and st.box[i, 2] >= x0
-                        and st.box[i, 1] <= y1 and st.box[i, 3] >= y0):
-                    pairs_i.append(i)
-                    pairs_j.append(j)
-        if not pairs_i:
+            if found:
+                near += sorted(found)
+                chunk += [j] * len(found)
+        if not near:
             return None
+        # alive, someone else's, overlapping in time and by bounding box: tested exactly
+        ii, jj = np.array(near), np.array(chunk)
+        box, bounds, t = st.box[ii], sw.bounds[jj], sw.t[jj] + offset
+        keep = (st.alive[ii] & (st.owner[ii] != skip) & (st.t[ii, 0] <= t[:, 1] + _EPS)
+                & (st.t[ii, 1] >= t[:, 0] - _EPS) & (box[:, 0] <= bounds[:, 2])
+                & (box[:, 2] >= bounds[:, 0]) & (box[:, 1] <= bounds[:, 3])
+                & (box[:, 3] >= bounds[:, 1]))
+        if not keep.any():
+            return None
+        pairs_i, pairs_j = ii[keep], jj[keep]
         hit = shapely.intersects(sw.geoms[pairs_j], st.geom[pairs_i])
         if not hit.any():
             return None
-        i = pairs_i[int(np.argmax(hit))]  # pairs come in chunk order: the earliest first
+        i = int(pairs_i[int(np.argmax(hit))])  # pairs come in chunk order: the earliest first
         return Conflict(self._names[st.owner[i]], float(st.t[i, 0]), float(st.t[i, 1]))
 
     def quiet(self, cells: Sequence[tuple[int, int]], t0: float, t1: float, *,
