@@ -253,7 +253,8 @@ def check_traffic(lg: LotGraph, traffic: list[Arrival], reach: Reachability | No
     unreachable = reach.unreachable
     free = len(lg.lot.free_slots)
     for gate in sorted({a.entrance for a in traffic}):
-        if len(unreachable[gate]) == free:
+        # a full lot is no bad input: its cars are turned away ("the lot is full")
+        if free and len(unreachable[gate]) == free:
             who = next(a for a in traffic if a.entrance == gate)
             raise ScenarioError(who.where, f"no route from entrance {gate!r} to a free slot")
     leaving = [a for a in traffic if a.dwell is not None]

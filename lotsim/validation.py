@@ -7,7 +7,7 @@ from dataclasses import dataclass
 from lotsim.cache import LOADED
 from lotsim.lot.graph import Reachability
 from lotsim.sim import PreparedLot, check_traffic
-from lotsim.traffic import arrivals
+from lotsim.traffic import Arrival, StreamSpec, arrivals
 
 
 @dataclass(frozen=True, slots=True)
@@ -78,6 +78,9 @@ class ValidationReport:
             f"  entrances: {', '.join(lg.entrances) or 'none'}; "
             f"exits: {', '.join(lg.exits) or 'none (vehicles cannot leave)'}",
         ]
+        if taken == len(lot.slots) and scenario.traffic is not None:
+            lines.append("  warning: no slot is free: every car will be turned away (the lot "
+                         "is full)")
         if reach.ok:
             lines.append("  unreachable: none")
         if reach.no_way_in:
@@ -141,8 +144,20 @@ def validate_prepared(prepared: PreparedLot, source: str) -> ValidationReport:
     scenario, lg = prepared.scenario, prepared.lot_graph
     reach = lg.reachability()
     if scenario.traffic is not None:
-        check_traffic(lg, arrivals(scenario.traffic, scenario.seed), reach)
+        check_traffic(lg, arrivals(scenario.traffic, scenario.seed)
+                      + _any_draw(scenario.traffic.stream), reach)
     return ValidationReport(source, prepared, reach)
+
+
+def _any_draw(stream: StreamSpec | None) -> list[Arrival]:
+    """A vehicle of each type and at each entrance the stream may draw: ``run --seed``
+    draws other vehicles than the scenario's seed, and must not be refused for a type or
+    an entrance that ``validate`` let pass."""
+    if stream is None:
+        return []
+    dwell = None if stream.dwell is None else stream.dwell[0]
+    return [Arrival(f"{stream.prefix}?", name, gate, stream.start, dwell, stream.where)
+            for name, weight in stream.mix if weight > 0 for gate in stream.entrances]
 
 
 def _n(items, what: str) -> str:  # noqa: ANN001

@@ -16,7 +16,7 @@ from lotsim.io.result import result_dict
 from lotsim.io.scenario import load_scenario
 from lotsim.planners import cooperative
 from lotsim.sim import RunSettings, prepare, run
-from lotsim.traffic import Arrival, TrafficSpec
+from lotsim.traffic import Arrival, TrafficSpec, arrivals
 from single_track import assert_reproduced
 
 LOT = ONE_AISLE
@@ -119,6 +119,41 @@ def test_a_full_lot_queues_then_rejects_with_a_reason_and_loses_nobody(small):
             assert "full" in v.reason and "30" in v.reason
             assert v.moves == []
     _checked(rr)
+
+
+def test_a_lot_with_every_slot_taken_turns_its_cars_away_and_exits_0(tmp_path, capsys):
+    # not bad input: the cars are turned away as they are when the one free slot is taken
+    # (this exited 2 with "no route from entrance 'in' to a free slot")
+    path = tmp_path / "full.yaml"
+    path.write_text(LOT.replace("occupied: [N1, N2, N3, N4, N5, S1, S2, S3, S4]",
+                                "occupied: {fraction: 1.0, seed: 0, min_free: 0}")
+                    + "traffic:\n  patience: 20\n  vehicles: [{id: x, arrival: 0}, "
+                      "{id: y, arrival: 1, dwell: 5}]\n")
+    assert main(["validate", str(path)]) == 0
+    assert "every car will be turned away" in capsys.readouterr().out
+    assert main(["run", str(path), "-o", str(tmp_path / "o")]) == 0
+    doc = json.loads((tmp_path / "o" / "result.json").read_text())
+    assert [(v["status"], "full" in v["reason"]) for v in doc["vehicles"]] == [
+        ("rejected", True)] * 2
+    assert check_result(doc).ok
+
+
+def test_validate_refuses_what_run_refuses_for_any_seed_of_the_stream(tmp_path, capsys):
+    # the scenario's seed draws no limo, '--seed' may: validate judges every type the
+    # stream can draw, with run's message (it said ok, then run exited 2)
+    path = tmp_path / "mix.yaml"
+    path.write_text(LOT.replace("vehicle_types: [valet]", """vehicle_types:
+  - valet
+  - {name: limo, width: 2.0, front: 5.5, rear: 1.2, wheelbase: 4.2, max_steer_deg: 30}""")
+        + "traffic:\n  stream: {count: 2, rate_per_hour: 60, mix: {valet: 9, limo: 1}}\n")
+    sc = load_scenario(path)
+    assert {a.vehicle for a in arrivals(sc.traffic, sc.seed)} == {"valet"}
+    seed = next(s for s in range(100) if "limo" in {a.vehicle for a in arrivals(sc.traffic, s)})
+    assert main(["run", str(path), "--seed", str(seed), "-o", str(tmp_path / "o")]) == 2
+    refused = capsys.readouterr().err
+    assert "'limo' fits no slot" in refused
+    assert main(["validate", str(path)]) == 2
+    assert capsys.readouterr().err == refused
 
 
 def test_a_queued_vehicle_gets_the_next_freed_slot(small):
