@@ -313,11 +313,41 @@ def _document(result: RunResult | dict | str | os.PathLike) -> dict:
     if isinstance(result, dict):
         return result
     if isinstance(result, (str, os.PathLike)):
-        from lotsim.check import load_result
-
         return load_result(result)
     raise SettingsError("result", f"expected a RunResult, a result dict or a result.json "
                                   f"path, found {type(result).__name__}")
+
+
+def load_result(path: str | os.PathLike) -> dict:
+    """Read a ``result.json`` (:func:`lotsim.check.load_result`).
+
+    Raises
+    ------
+    ResultFormatError
+        When it cannot be read or is not a lotsim result; a scenario or a bench suite is
+        named as such.
+
+    Examples
+    --------
+    >>> import tempfile
+    >>> path = f"{tempfile.mkdtemp()}/example.yaml"
+    >>> _ = Path(path).write_text(EXAMPLE)
+    >>> load_result(path)  # doctest: +ELLIPSIS
+    Traceback (most recent call last):
+    ...
+    lotsim.errors.ResultFormatError: /.../example.yaml: this is a lotsim scenario, not a result: ...
+    """
+    from lotsim.check import load_result as load
+    from lotsim.errors import ResultFormatError
+    from lotsim.io.kinds import file_kind, wrong_kind
+
+    try:
+        return load(path)
+    except ResultFormatError:
+        found = file_kind(path)
+        if found is None or found == "result":
+            raise
+    raise ResultFormatError(f"{os.fspath(path)}: {wrong_kind(found, 'result')}")
 
 
 def check(result: RunResult | dict | str | os.PathLike, *, max_violations: int = 50

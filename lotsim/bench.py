@@ -36,6 +36,7 @@ from lotsim import __version__
 from lotsim.atomic import atomic_write
 from lotsim.check import check_result
 from lotsim.errors import LotsimError, ScenarioError, SettingsError
+from lotsim.io.kinds import refuse_other_kind, top_level
 from lotsim.io.result import result_dict
 from lotsim.io.scenario import MAX_ITEMS, load_scenario, name_from_file, parse_scenario
 from lotsim.io.yamlnodes import YNode, parse_text, read_yaml
@@ -179,11 +180,12 @@ def load_suite(path: str | os.PathLike) -> Suite:
         On the first problem, as ``file:line:col: key: message`` (problems inside a
         scenario file are located in that file).
     """
-    return parse_suite(read_yaml(path))
+    return parse_suite(read_yaml(path, expect="suite"))
 
 
 def parse_suite(root: YNode) -> Suite:
     """Validate a composed suite document (:func:`load_suite`)."""
+    refuse_other_kind(top_level(root), "suite", root.file)
     f = root.fields(required=["scenarios", "planners", "seeds"],
                     optional=["name", "description", "assignments", "priorities",
                               "rates_per_hour", "count", "ga", "horizon"])

@@ -541,7 +541,8 @@ def _output_problem(opt: str, path: str, suffix: str) -> str | None:
 
 
 def _render(args: argparse.Namespace) -> int:
-    from lotsim.check import ResultFormatError, load_result
+    from lotsim.api import load_result
+    from lotsim.errors import ResultFormatError
 
     if not args.gif and not args.timeline:
         return _bad("render: nothing to do: give --gif GIF and/or --timeline PNG")

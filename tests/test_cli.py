@@ -5,7 +5,7 @@ import math
 import pytest
 from test_vehicles import DESIGN_TABLE
 
-from conftest import SCENARIOS
+from conftest import ROOT, SCENARIOS
 from lotsim.cli import main
 
 
@@ -47,3 +47,27 @@ def test_validate_reports_each_bad_file_and_goes_on(tmp_path, capsys):
     cap = capsys.readouterr()
     assert f"{bad}:1:6: lot: expected a mapping, found integer '3'" in cap.err
     assert ": ok — quickstart" in cap.out
+
+
+def test_a_command_given_another_kind_of_lotsim_file_says_which_kind_it_is(tmp_path, capsys):
+    # not "format: unknown key 'format'", "not JSON" or "did you mean 'seeds'?"
+    files = {"scenario": next(p for p in SCENARIOS if p.stem == "quickstart"),
+             "result": tmp_path / "result.json",
+             "bench suite": ROOT / "scenarios" / "bench" / "priority.yaml"}
+    files["result"].write_text('{"format": "lotsim-result", "version": 1, "vehicles": []}')
+    gif = str(tmp_path / "x.gif")
+    commands = {"scenario": [["run", "{}", "-o", str(tmp_path / "o")], ["validate", "{}"],
+                             ["show", "{}", "-o", str(tmp_path / "s.png")],
+                             ["maneuver", "{}", "--slot", "N1"]],
+                "result": [["check", "{}"], ["render", "{}", "--gif", gif]],
+                "bench suite": [["bench", "{}", "-o", str(tmp_path / "b")]]}
+    for expected, argvs in commands.items():
+        for found, path in files.items():
+            if found == expected:
+                continue
+            for argv in argvs:
+                assert main([str(path) if a == "{}" else a for a in argv]) == 2, (argv, found)
+                err = capsys.readouterr().err
+                assert f"{path}" in err and "Traceback" not in err
+                assert f"this is a lotsim {found}, not a {expected}: " in err, err
+    assert not any((tmp_path / name).exists() for name in ("o", "s.png", "x.gif", "b"))
