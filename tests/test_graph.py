@@ -6,9 +6,11 @@ import numpy as np
 import pytest
 import shapely
 
-from conftest import SCENARIOS, graph_from_text
+from conftest import ONE_AISLE, SCENARIOS, graph_from_text, position, scenario_from_text
 from lotsim.cli import main
+from lotsim.errors import ScenarioError
 from lotsim.geometry import wrap_angle
+from lotsim.sim import prepare
 from lotsim.vehicles import KMH
 
 
@@ -237,3 +239,18 @@ def test_junction_turns_join_aisles_with_feasible_arcs():
     assert abs(wrap_angle(path[-1].end[2] - path[0].start[2])) == pytest.approx(math.pi)
     reach = lg.reachability()
     assert reach.unreachable["in"] == [] and reach.stranded["out"] == []
+
+
+def test_a_portal_heading_off_its_lane_is_refused_not_turned_without_a_word():
+    # 45° on a lane running at 0° was snapped to 0° silently; a few degrees are fine
+    for heading, ok in ((45, False), (-30, False), (10, True)):
+        text = ONE_AISLE.replace("{id: in, x: 3.0, y: 11.0, heading_deg: 0}",
+                                 f"{{id: in, x: 3.0, y: 11.0, heading_deg: {heading}}}")
+        sc = scenario_from_text(text)
+        if ok:
+            assert prepare(sc, maneuvers=False).entrances["in"] is not None
+            continue
+        with pytest.raises(ScenarioError) as err:
+            prepare(sc, maneuvers=False)
+        assert (err.value.where.line, err.value.where.col) == position(text, "|{id: in")
+        assert "lane 'a>' there heads 0°" in err.value.message
