@@ -297,6 +297,17 @@ def run(scenario_or_prepared: ScenarioLike | PreparedLot, settings: RunSettings 
     settings = _settings.replace(settings or RunSettings(), overrides)
     prepared = (scenario_or_prepared if isinstance(scenario_or_prepared, PreparedLot)
                 else prepare(scenario_or_prepared))
+    traffic = prepared.scenario.traffic
+    if settings.seed is not None and traffic is not None:
+        stream = traffic.stream
+        if stream is None:
+            raise SettingsError("seed", "seeds the traffic stream, and this scenario has "
+                                        "none (its vehicles are listed): it would change "
+                                        "nothing")
+        if stream.seed is not None:
+            raise SettingsError("seed", f"the scenario's stream has its own seed "
+                                        f"({stream.seed}, {stream.where}): it would change "
+                                        f"nothing")
     from lotsim.priority import plan_run
 
     rr = plan_run(prepared.scenario, settings, lot_graph=prepared.lot_graph,
@@ -384,7 +395,10 @@ def check(result: RunResult | dict | str | os.PathLike, *, max_violations: int =
     """
     from lotsim.check import check_result
 
-    return check_result(_document(result), max_violations=max(1, max_violations))
+    if not (_settings.is_real(max_violations) and max_violations >= 1):
+        raise SettingsError("max_violations", f"expected at least 1, found "
+                                              f"{_settings.shown(max_violations)}")
+    return check_result(_document(result), max_violations=int(max_violations))
 
 
 def render_gif(result: RunResult | dict | str | os.PathLike, path: str | os.PathLike,
@@ -432,6 +446,7 @@ def render_gif(result: RunResult | dict | str | os.PathLike, path: str | os.Path
         raise SettingsError("settings", f"expected GifSettings or AnimationSpec, found "
                                         f"{type(settings).__name__}")
     settings = _settings.replace(settings or GifSettings(), overrides)
+    _suffix(path, ".gif")
     doc = _document(result)
     if not isinstance(doc.get("lot"), dict) or "drawing" not in doc["lot"]:
         raise ReplayError("no lot.drawing: written by an older lotsim? run the scenario again")
@@ -470,6 +485,7 @@ def render_lot(scenario: ScenarioLike | PreparedLot, path: str | os.PathLike | N
             and all(isinstance(v, int) and 64 <= v <= 8000 for v in size)):
         raise SettingsError("size", f"expected (width, height) between 64 and 8000 pixels, "
                                     f"found {size!r}")
+    _suffix(path, ".png")
     if isinstance(scenario, PreparedLot):
         sc, lg = scenario.scenario, scenario.lot_graph
     else:
@@ -483,6 +499,13 @@ def render_lot(scenario: ScenarioLike | PreparedLot, path: str | os.PathLike | N
         Path(path).parent.mkdir(parents=True, exist_ok=True)
         save_png(img, path)
     return img
+
+
+def _suffix(path: str | os.PathLike | None, suffix: str) -> None:
+    """Refuse to write a picture under another file type's name (PNG bytes in ``.jpg``)."""
+    if path is not None and Path(path).suffix.lower() != suffix:
+        raise SettingsError("path", f"expected a file name ending in {suffix}, found "
+                                    f"{os.fspath(path)!r}")
 
 
 # -- one car, one slot ----------------------------------------------------------------------------

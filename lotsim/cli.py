@@ -93,8 +93,8 @@ def _parser() -> argparse.ArgumentParser:
                    f"{rs.assignment})")
     r.add_argument("--seed", type=int, help="seed of the traffic stream (default the "
                    "scenario's)")
-    r.add_argument("--window", type=float, default=rs.window,
-                   help=f"WHCA* window [s] ({rs.window:g})")
+    r.add_argument("--window", type=float,
+                   help=f"with --planner whca: the window [s] ({rs.window:g})")
     r.add_argument("--omega", type=float, default=rs.omega,
                    help=f"search fuse: expansions allowed per reverse-search node "
                    f"({rs.omega:g})")
@@ -102,7 +102,7 @@ def _parser() -> argparse.ArgumentParser:
                    default=rs.priority, help=f"planning order (default {rs.priority}): "
                    "online in arrival order, or booked in advance: shortest static time "
                    "first, or the best order a genetic algorithm finds (total time to park)")
-    r.add_argument("--horizon", type=float, default=rs.horizon,
+    r.add_argument("--horizon", type=float,
                    help="with --priority shortest_first/ga: how far ahead arrivals are "
                    f"booked [s] ({rs.horizon:g}; inf: all)")
     r.add_argument("--memory-limit", metavar="SIZE", help="stop, writing nothing, when the "
@@ -200,7 +200,8 @@ def main(argv: Sequence[str] | None = None) -> int:
     raise AssertionError(args.command)
 
 
-_OPTIONS = {"assignment": "--assign", "start": "--from", "end": "--to"}
+_OPTIONS = {"assignment": "--assign", "start": "--from", "end": "--to",
+            "max_violations": "--max", "path": "-o"}
 """Setting (:mod:`lotsim.settings`, :mod:`lotsim.api` keyword) → the option that sets it,
 where the two are not named alike."""
 
@@ -257,6 +258,9 @@ def _maneuver(args: argparse.Namespace) -> int:
         print(f"lotsim: --size: expected WxH between 64 and 8000 pixels, found {args.size!r}",
               file=sys.stderr)
         return EXIT_BAD_INPUT
+    problem = args.output and _output_problem("-o", args.output, ".png")
+    if problem:
+        return _bad(problem)
     case = maneuver_case(args.scenario, args.slot, vehicle=args.vehicle, lane=args.lane,
                          style=args.style, margin=args.margin)
     scenario, lot, vehicle, slot, planner = (case.scenario, case.lot, case.vehicle, case.slot,
@@ -329,9 +333,17 @@ def _run(args: argparse.Namespace) -> int:
     from lotsim.limits import Watchdog
     from lotsim.sim import require_traffic
 
+    # an option that would change nothing is refused, not ignored
+    if args.window is not None and args.planner != "whca":
+        return _bad(f"--window: only --planner whca plans in windows; with --planner "
+                    f"{args.planner} it would change nothing")
+    if args.horizon is not None and args.priority == "arrival":
+        return _bad("--horizon: only booked orders (--priority shortest_first or ga) look "
+                    "ahead; with --priority arrival it would change nothing")
+    given = {k: v for k, v in (("window", args.window), ("horizon", args.horizon))
+             if v is not None}
     settings = RunSettings(planner=args.planner, assignment=args.assign, seed=args.seed,
-                           window=args.window, omega=args.omega, horizon=args.horizon,
-                           priority=args.priority)
+                           omega=args.omega, priority=args.priority, **given)
     scenario_file = read_scenario(args.scenario)
     scenario, anim = scenario_file.scenario, scenario_file.animation
     require_traffic(scenario)

@@ -71,3 +71,46 @@ def test_a_command_given_another_kind_of_lotsim_file_says_which_kind_it_is(tmp_p
                 assert f"{path}" in err and "Traceback" not in err
                 assert f"this is a lotsim {found}, not a {expected}: " in err, err
     assert not any((tmp_path / name).exists() for name in ("o", "s.png", "x.gif", "b"))
+
+
+QUICK = ROOT / "scenarios" / "quickstart.yaml"  # vehicles listed one by one, no stream
+
+
+@pytest.mark.parametrize("argv,words", [
+    (["run", str(QUICK), "--horizon", "30"], "--horizon: only booked orders"),
+    (["run", str(QUICK), "--planner", "hca", "--window", "30"],
+     "--window: only --planner whca plans in windows"),
+    (["run", str(QUICK), "--window", "30"], "--window: only --planner whca"),
+    (["run", str(QUICK), "--seed", "5"], "--seed: seeds the traffic stream, and this "
+                                         "scenario has none"),
+    (["check", "{result}", "--max", "-3"], "--max: expected at least 1, found -3"),
+    (["check", "{result}", "--max", "0"], "--max: expected at least 1, found 0"),
+    (["show", str(QUICK), "-o", "{tmp}/s.jpg"], "-o: expected a file name ending in .png"),
+    (["maneuver", str(QUICK), "--slot", "N1", "-o", "{tmp}/m.jpg"],
+     "-o: expected a file name ending in .png"),
+])
+def test_an_option_that_would_change_nothing_or_be_changed_is_refused(argv, words, tmp_path,
+                                                                      capsys):
+    # each was taken without a word: ignored (--horizon, --window, --seed), changed
+    # (--max -3 listed one) or written as PNG bytes under a .jpg name
+    result = tmp_path / "result.json"
+    result.write_text('{"format": "lotsim-result"}')
+    out = tmp_path / "o"
+    argv = [a.format(result=result, tmp=tmp_path) for a in argv]
+    assert main([*argv, "-o", str(out)] if argv[0] == "run" else argv) == 2
+    err = capsys.readouterr().err
+    assert words in err and "Traceback" not in err
+    assert not out.exists() and not list(tmp_path.glob("*.jpg"))
+
+
+def test_a_seed_on_a_stream_with_its_own_seed_is_refused_by_the_library():
+    import lotsim
+
+    text = QUICK.read_text().split("traffic:")[0] + (
+        "traffic:\n  stream: {count: 2, rate_per_hour: 60, seed: 4}\n")
+    # no lot graph: the seed is refused before anything is planned
+    prepared = lotsim.PreparedLot(lotsim.load_scenario(text), None)
+    with pytest.raises(lotsim.SettingsError, match=r"seed: the scenario's stream has its own "
+                                                   r"seed \(4, <scenario>:\d+:\d+: "
+                                                   r"traffic.stream\)"):
+        lotsim.run(prepared, seed=5)
