@@ -400,17 +400,23 @@ def _run(args: argparse.Namespace) -> int:
     m = rr.metrics()
     print(f"{scenario.name}: {m['vehicles']} vehicles, planner {args.planner}, "
           f"assignment {args.assign}, seed {rr.seed}")
-    print(f"  parked {m['parked']}, departed {m['departed']}, waiting {m['waiting']}, "
-          f"rejected {m['rejected']}")
-    print(f"  time to park: mean {m['mean_time_to_park']:.1f} s, max "
-          f"{m['max_time_to_park']:.1f} s; total waiting {m['total_waiting']:.1f} s; "
-          f"makespan {m['makespan']:.1f} s")
-    print(f"  planning {m['planning_time']:.2f} s ({m['searches']} searches, "
-          f"{m['expansions']} expansions; per vehicle median "
+    print("  " + _counts(m))
+    away = (f", {m['rejected']} of them turned away after {scenario.traffic.patience:g} s"
+            if m["rejected"] and scenario.traffic.patience > 0 else "")
+    parked = m["parked"] + m["departed"]
+    park = (f"mean {m['mean_time_to_park']:.1f} s, max {m['max_time_to_park']:.1f} s"
+            if parked else "no car parked")
+    moved = any(v.moves for v in rr.vehicles)
+    end = f"the last move ends at {m['makespan']:.1f} s" if moved else "no car moved"
+    print(f"  time to park: {park}; total waiting {m['total_waiting']:.1f} s (queued outside "
+          f"or standing on the way{away}); {end}")
+    print(f"  planning {m['planning_time']:.2f} s ({_n(m['searches'], 'search', 'searches')}, "
+          f"{_n(m['expansions'], 'expansion')}; per vehicle median "
           f"{1000 * m['planning_time_median']:.0f} ms, p95 {1000 * m['planning_time_p95']:.0f} ms)")
     for v in doc["vehicles"]:
         if v["status"] in ("waiting", "rejected"):
-            print(f"  {v['id']}: {v['status']}: {v['reason']}")
+            status = "turned away" if v["status"] == "rejected" else "still waiting"
+            print(f"  {v['id']}: {status}: {v['reason']}")
     print(f"  wrote {out / 'result.json'}")
     if gif_path is not None:
         try:
@@ -422,6 +428,21 @@ def _run(args: argparse.Namespace) -> int:
         if code != EXIT_OK:
             return code
     return EXIT_INCOMPLETE if m["waiting"] else EXIT_OK
+
+
+def _n(count: int, one: str, many: str | None = None) -> str:
+    """``1 search``, ``3 searches``."""
+    return f"{count} {one if count == 1 else many or one + 's'}"
+
+
+def _counts(m: dict) -> str:
+    """What became of the run's vehicles: ``6 parked (2 of them left again), 0 still
+    waiting, 1 turned away`` (the result's ``parked`` counts those still in their slot,
+    ``departed`` those that parked and left)."""
+    parked = m["parked"] + m["departed"]
+    left = f" ({m['departed']} of them left again)" if m["departed"] else ""
+    return (f"{parked} parked{left}, {m['waiting']} still waiting, {m['rejected']} turned "
+            f"away")
 
 
 def _budget(args: argparse.Namespace):  # noqa: ANN202

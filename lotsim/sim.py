@@ -196,7 +196,9 @@ class RunResult:
         out["max_time_to_park"] = float(np.max(park)) if park else 0.0
         out["total_waiting"] = float(sum(m.t1 - m.t0 for v in self.vehicles for m in v.moves
                                          if m.kind in ("wait", "outside"))
-                                     + sum(_queued(v) for v in self.vehicles))
+                                     + sum(_queued(v) for v in self.vehicles)
+                                     + sum(self.scenario.traffic.patience  # turned away
+                                           for v in self.vehicles if v.status == "rejected"))
         ends = [v.moves[-1].t1 for v in self.vehicles if v.moves]
         out["makespan"] = float(max(ends)) if ends else 0.0
         out["planning_time"] = self.planning_time

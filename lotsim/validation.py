@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import re
 from dataclasses import dataclass
 
 from lotsim.cache import LOADED
@@ -165,6 +166,17 @@ def _n(items, what: str) -> str:  # noqa: ANN001
     return f"{len(items)} {what}{'' if len(items) == 1 else 's'}"
 
 
+def natural(slot_id: str) -> tuple:
+    """Sort key that puts ``N2`` before ``N10``: runs of digits compare as numbers.
+
+    >>> sorted(["N10", "N2", "S1", "N1"], key=natural)
+    ['N1', 'N2', 'N10', 'S1']
+    """
+    return tuple((0, int(part), "") if part.isdigit() else (1, 0, part)
+                 for part in re.split(r"(\d+)", slot_id) if part)
+
+
 def _ids(ids: list[str], most: int = 12) -> str:
+    ids = sorted(ids, key=natural)
     head = ", ".join(ids[:most])
     return head + (f", … (+{len(ids) - most})" if len(ids) > most else "")
