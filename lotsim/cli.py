@@ -396,6 +396,13 @@ def _run(args: argparse.Namespace) -> int:
         print("\r" + " " * 40 + "\r", end="", file=sys.stderr)
     doc = rr.to_dict()
     out.mkdir(parents=True, exist_ok=True)
+    # a run's outputs are one set: no GIF of an earlier run is left beside this result
+    # (one this run writes is removed first, in case it is interrupted before it is done)
+    earlier = out / (anim.gif if anim is not None else "run.gif")
+    removed = [p for p in dict.fromkeys(q for q in (earlier, gif_path) if q is not None)
+               if p.is_file()]
+    for p in removed:
+        p.unlink()
     write_json(doc, out / "result.json")
     m = rr.metrics()
     print(f"{scenario.name}: {m['vehicles']} vehicles, planner {args.planner}, "
@@ -418,6 +425,9 @@ def _run(args: argparse.Namespace) -> int:
             status = "turned away" if v["status"] == "rejected" else "still waiting"
             print(f"  {v['id']}: {status}: {v['reason']}")
     print(f"  wrote {out / 'result.json'}")
+    for p in removed:
+        if p != gif_path:
+            print(f"  removed {p}: it showed an earlier run")
     if gif_path is not None:
         try:
             code = _write_gif(doc, gif_path, settings_gif)
