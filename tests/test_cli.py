@@ -114,3 +114,16 @@ def test_a_seed_on_a_stream_with_its_own_seed_is_refused_by_the_library():
                                                    r"seed \(4, <scenario>:\d+:\d+: "
                                                    r"traffic.stream\)"):
         lotsim.run(prepared, seed=5)
+
+
+def test_the_scenario_page_example_is_a_shipped_scenario_that_validates_and_runs():
+    # the page's example did not run (angle_deg on a perpendicular row, a slot opening onto
+    # no aisle, one overlapping N9, an empty 'slots:', ...); it is now scenarios/example.yaml,
+    # which the tests over every shipped scenario validate (--strict), run and check
+    import re
+
+    page = (ROOT / "docs" / "scenario.md").read_text()
+    block = re.search(r"```yaml\n(.*?)```", page, re.S).group(1)
+    path = ROOT / "scenarios" / "example.yaml"
+    assert path in SCENARIOS
+    assert block == path.read_text()
