@@ -148,7 +148,7 @@ def _source(scenario: ScenarioLike | PreparedLot) -> str:
     return _scenario(scenario).source
 
 
-def prepare(scenario: ScenarioLike, *, cache: bool = True) -> PreparedLot:
+def prepare(scenario: ScenarioLike, *, cache: bool = True, progress=None) -> PreparedLot:
     """Build the scenario's lot for its vehicle types, plan every slot's maneuvers and the
     drivable graph through them, once, for any number of runs.
 
@@ -158,6 +158,9 @@ def prepare(scenario: ScenarioLike, *, cache: bool = True) -> PreparedLot:
     cache : bool, keyword-only
         Load a lot prepared before (same lot, vehicle types and lotsim) from the on-disk
         cache (``LOTSIM_CACHE_DIR``; ``off`` turns it off) and store a new one there.
+    progress : callable, optional, keyword-only
+        Called as ``progress(done, total)`` as the maneuvers' distinct problems are searched
+        (the longest part of preparing a large lot; not called for a lot from the cache).
 
     Returns
     -------
@@ -176,12 +179,13 @@ def prepare(scenario: ScenarioLike, *, cache: bool = True) -> PreparedLot:
     (6, {'valet': {}})
     """
     sc = _scenario(scenario)
-    return PreparedLot(sc, _sim.prepare(sc, cache=cache))
+    return PreparedLot(sc, _sim.prepare(sc, cache=cache, progress=progress))
 
 
-def validate(scenario: ScenarioLike | PreparedLot) -> ValidationReport:
+def validate(scenario: ScenarioLike | PreparedLot, *, progress=None) -> ValidationReport:
     """What ``lotsim validate`` checks and prints, as data: the scenario is read, its lot
-    prepared, its traffic checked as :func:`run` checks it.
+    prepared, its traffic checked as :func:`run` checks it. ``progress`` is passed to
+    :func:`prepare`.
 
     Returns
     -------
@@ -204,7 +208,8 @@ def validate(scenario: ScenarioLike | PreparedLot) -> ValidationReport:
     >>> print(report.summary().splitlines()[1])
       slots: 8 (perpendicular 8, parallel 0, angled 0); free 6, taken 2
     """
-    prepared = scenario if isinstance(scenario, PreparedLot) else prepare(scenario)
+    prepared = (scenario if isinstance(scenario, PreparedLot)
+                else prepare(scenario, progress=progress))
     return validate_prepared(prepared, _source(scenario))
 
 

@@ -230,7 +230,8 @@ def _validate(paths: Sequence[str], *, strict: bool) -> int:
     worst = EXIT_OK
     for path in paths:
         try:
-            report = validate(path)
+            with _Preparing() as bar:
+                report = validate(path, progress=bar)
         except ScenarioError as exc:
             print(f"lotsim: {exc}", file=sys.stderr)
             worst = EXIT_BAD_INPUT
@@ -375,12 +376,16 @@ def _run(args: argparse.Namespace) -> int:
     seen: list[bool] = []  # Ctrl-C, even where a finaliser swallowed its KeyboardInterrupt
     if settings.priority == "arrival":
         with _noting_sigint(seen), Watchdog(budget, where, then=progress) as dog:
-            rr = run(scenario, settings, progress=dog.progress)
+            with _Preparing() as bar:
+                prepared = prepare(scenario, progress=bar)
+            rr = run(prepared, settings, progress=dog.progress)
     else:  # the watchdog cannot project from trips: orders are tried
         bar = _ProgressBar("trying orders")
         try:
             with _noting_sigint(seen), Watchdog(budget, where):
-                rr = run(prepare(scenario), settings,
+                with _Preparing() as preparing:
+                    prepared = prepare(scenario, progress=preparing)
+                rr = run(prepared, settings,
                          progress=bar if settings.priority == "ga" else None)
         finally:
             bar.close()
@@ -503,6 +508,32 @@ class _ProgressBar:
     def close(self) -> None:
         if self.shown:
             print("\r" + " " * 79 + "\r", end="", file=sys.stderr, flush=True)
+
+
+class _Preparing(_ProgressBar):
+    """A lot being prepared, on one terminal line: ``preparing the lot …``, then
+    ``planning maneuvers [###---] 412/2080``, then ``building the lot graph …``; silent
+    when stderr is not a terminal (and when the lot comes from the cache, quick)."""
+
+    def __init__(self):
+        super().__init__("planning maneuvers")
+        self.note("preparing the lot …")
+
+    def note(self, text: str) -> None:
+        if self.on:
+            print(f"\r{text:<79}", end="", file=sys.stderr, flush=True)
+            self.shown = True
+
+    def __call__(self, done: int, total: int) -> None:
+        super().__call__(done, total)
+        if done >= total:
+            self.note("building the lot graph …")
+
+    def __enter__(self) -> _Preparing:
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.close()
 
 
 def _write_gif(doc: dict, path, settings) -> int:  # noqa: ANN001

@@ -127,3 +127,28 @@ def test_the_scenario_page_example_is_a_shipped_scenario_that_validates_and_runs
     path = ROOT / "scenarios" / "example.yaml"
     assert path in SCENARIOS
     assert block == path.read_text()
+
+
+def test_preparing_a_lot_shows_its_progress_on_a_terminal_only(tmp_path, capsys, monkeypatch):
+    # validate and run of a big lot said nothing for 20 s while its maneuvers were planned
+    import re
+
+    import lotsim
+
+    monkeypatch.setenv("LOTSIM_CACHE_DIR", "off")  # planned, not loaded
+    path = next(p for p in SCENARIOS if p.stem == "quickstart")
+    calls = []
+    report = lotsim.validate(path, progress=lambda done, total: calls.append((done, total)))
+    searched = report.prepared.lot_graph.maneuver_planner.stats["planned"]
+    assert calls == [(k, searched) for k in range(1, searched + 1)] and searched > 1
+    assert main(["validate", str(path)]) == 0
+    assert capsys.readouterr().err == ""  # a pipe: quiet
+    monkeypatch.setattr("sys.stderr.isatty", lambda: True)
+    assert main(["validate", str(path)]) == 0
+    cap = capsys.readouterr()
+    assert f"{searched} distinct problems searched" in cap.out
+    shown = re.findall(r"planning maneuvers \[[#-]+\] (\d+)/(\d+)", cap.err)
+    assert shown[-1] == (str(searched), str(searched)) and "\n" not in cap.err
+    assert cap.err.endswith("\r")  # the line is wiped when done
+    assert main(["run", str(path), "-o", str(tmp_path / "o"), "--no-gif"]) == 0
+    assert f"] {searched}/{searched}" in capsys.readouterr().err
