@@ -819,8 +819,14 @@ def _ident(value: Any) -> str:
     return f"{value:g}" if isinstance(value, float) else str(value)
 
 
-def summary_markdown(suite: Suite, rows: Sequence[dict], *, where: str = "") -> str:
-    """``summary.md``: the suite, the means over seeds, saturation, failed runs."""
+PLOTS = ("throughput.png", "time_to_park.png")
+"""The plots a suite's outputs hold (with matplotlib)."""
+
+
+def summary_markdown(suite: Suite, rows: Sequence[dict], *, where: str = "",
+                     plots: bool = True) -> str:
+    """``summary.md``: the suite, the means over seeds, saturation, failed runs, and the
+    plots when they are drawn (``plots``)."""
     groups = aggregate(rows)
     vary, fixed = _varying(groups)
     failed = [r for r in rows if not r["ok"]]
@@ -881,9 +887,10 @@ def summary_markdown(suite: Suite, rows: Sequence[dict], *, where: str = "") -> 
         lines.append(f"- run {r['run']} ({r['scenario']}, {planner_label(r)}, {r['assignment']}, "
                      f"{r['priority']}, rate {_ident(r['rate_per_h'])}, seed {r['seed']}): "
                      f"{r['problem'] or 'failed'}")
-    lines += ["", "## Plots", "", "![throughput](throughput.png)", "",
-              "![time to park](time_to_park.png)", "",
-              "Columns and definitions: `docs/bench.md` in lotsim.", ""]
+    lines += ["", "## Plots", ""]
+    lines += (["![throughput](throughput.png)", "", "![time to park](time_to_park.png)"]
+              if plots else ["None: they need matplotlib (`pip install 'lotsim[plot]'`)."])
+    lines += ["", "Columns and definitions: `docs/bench.md` in lotsim.", ""]
     return "\n".join(lines)
 
 
@@ -927,15 +934,18 @@ def write_outputs(suite: Suite, rows: Sequence[dict], outdir: str | os.PathLike,
         fh.write(csv_text(rows))
     written.append(out / "runs.csv")
     with atomic_write(out / "summary.md", "w", encoding="utf-8") as fh:
-        fh.write(summary_markdown(suite, rows, where=where))
+        fh.write(summary_markdown(suite, rows, where=where, plots=plots))
     written.append(out / "summary.md")
     if plots:
         from lotsim.render.plots import save_figure
 
-        for metric, name in (("throughput_per_h", "throughput.png"),
-                             ("mean_time_to_park_s", "time_to_park.png")):
+        for metric, name in zip(("throughput_per_h", "mean_time_to_park_s"), PLOTS,
+                                strict=True):
             save_figure(bench_figure(rows, metric), out / name)
             written.append(out / name)
+    else:  # the outputs are one set: no plot of an earlier suite run stays beside them
+        for name in PLOTS:
+            (out / name).unlink(missing_ok=True)
     return written
 
 
