@@ -152,3 +152,18 @@ def test_preparing_a_lot_shows_its_progress_on_a_terminal_only(tmp_path, capsys,
     assert cap.err.endswith("\r")  # the line is wiped when done
     assert main(["run", str(path), "-o", str(tmp_path / "o"), "--no-gif"]) == 0
     assert f"] {searched}/{searched}" in capsys.readouterr().err
+
+
+def test_what_a_shipped_scenario_says_of_its_aisles_is_true():
+    # quickstart.yaml said "one two-way aisle" of its one-way aisle
+    import yaml
+
+    for path in [*SCENARIOS, *sorted((ROOT / "scenarios" / "lots").glob("*.yaml"))]:
+        text = path.read_text()
+        doc = yaml.safe_load(text)
+        header = [line for line in text.splitlines() if line.startswith("#")]
+        said = " ".join([doc.get("description", ""), *header[:5]])
+        ways = {a.get("direction", "two-way") for a in doc["lot"]["aisles"]}
+        for way in ("one-way", "two-way"):
+            if way in said:
+                assert way in ways, (path.name, way, ways)
