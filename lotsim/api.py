@@ -473,7 +473,7 @@ def render_lot(scenario: ScenarioLike | PreparedLot, path: str | os.PathLike | N
     path : str or path-like, optional
         Also write the picture there as PNG (atomically; its folder is made if need be).
     size : (width, height), keyword-only
-        Pixels, 64 to 8000 each.
+        Pixels, 160x120 to 4000x4000 (as every picture lotsim draws).
     graph : bool, keyword-only
 
     Returns
@@ -486,10 +486,9 @@ def render_lot(scenario: ScenarioLike | PreparedLot, path: str | os.PathLike | N
     >>> render_lot(EXAMPLE, size=(400, 300)).size
     (400, 300)
     """
-    if not (isinstance(size, tuple) and len(size) == 2
-            and all(isinstance(v, int) and 64 <= v <= 8000 for v in size)):
-        raise SettingsError("size", f"expected (width, height) between 64 and 8000 pixels, "
-                                    f"found {size!r}")
+    problem = _settings.size_problem(size)
+    if problem:
+        raise SettingsError("size", problem)
     _suffix(path, ".png")
     if isinstance(scenario, PreparedLot):
         sc, lg = scenario.scenario, scenario.lot_graph

@@ -19,15 +19,19 @@ from lotsim.errors import ScenarioError, SettingsError
 from lotsim.settings import (
     ASSIGNMENTS,
     MARGIN,
+    MAX_SIZE,
+    MIN_SIZE,
     PLANNERS,
     PRIORITIES,
     STYLES,
     GifSettings,
     MinSlotSettings,
     RunSettings,
+    size_problem,
 )
 
 EXIT_OK, EXIT_INCOMPLETE, EXIT_BAD_INPUT = 0, 1, 2
+_SIZES = f"{MIN_SIZE[0]}x{MIN_SIZE[1]} to {MAX_SIZE[0]}x{MAX_SIZE[1]}"
 
 
 class _Parser(argparse.ArgumentParser):
@@ -79,7 +83,8 @@ def _parser() -> argparse.ArgumentParser:
     mv.add_argument("--margin", type=float, default=MARGIN,
                     help=f"safety margin [m] ({MARGIN:g})")
     mv.add_argument("-o", "--output", help="PNG to write")
-    mv.add_argument("--size", default="900x700", help="image size WxH in pixels")
+    mv.add_argument("--size", default="900x700", help=f"image size WxH in pixels, {_SIZES} "
+                    "(900x700)")
 
     r = sub.add_parser("run", help="plan a scenario's traffic and write OUTDIR/result.json")
     r.add_argument("scenario", metavar="SCENARIO")
@@ -127,7 +132,7 @@ def _parser() -> argparse.ArgumentParser:
     rd.add_argument("--speed", type=float, default=gs.speed,
                     help=f"run seconds per GIF second ({gs.speed:g})")
     size = "x".join(map(str, gs.size))
-    rd.add_argument("--size", default=size, help=f"GIF size WxH in pixels ({size})")
+    rd.add_argument("--size", default=size, help=f"GIF size WxH in pixels, {_SIZES} ({size})")
     rd.add_argument("--from", dest="start", type=float, help="first run time shown [s] "
                     "(default the first arrival)")
     rd.add_argument("--to", dest="end", type=float, help="last run time shown [s] "
@@ -146,7 +151,8 @@ def _parser() -> argparse.ArgumentParser:
     s.add_argument("scenario", metavar="SCENARIO")
     s.add_argument("-o", "--output", default="lot.png", help="PNG to write (default lot.png)")
     s.add_argument("--graph", action="store_true", help="draw the lot graph too")
-    s.add_argument("--size", default="1200x900", help="image size WxH in pixels")
+    s.add_argument("--size", default="1200x900", help=f"image size WxH in pixels, {_SIZES} "
+                   "(1200x900)")
 
     b = sub.add_parser("bench", help="run a benchmark suite: scenarios × planners × "
                        "assignments × priorities × arrival rates × seeds")
@@ -242,12 +248,15 @@ def _validate(paths: Sequence[str], *, strict: bool) -> int:
     return worst
 
 
-def _size(text: str) -> tuple[int, int] | None:
+def _size(text: str) -> tuple[int, int] | str:
+    """``--size WxH`` as ``(w, h)`` pixels, or what is wrong with it (the same limits for
+    every picture: :func:`lotsim.settings.size_problem`)."""
     try:
         w, h = (int(v) for v in text.lower().split("x"))
     except ValueError:
-        return None
-    return (w, h) if 64 <= w <= 8000 and 64 <= h <= 8000 else None
+        return f"--size: expected WxH in pixels, such as 800x600, found {text!r}"
+    problem = size_problem((w, h))
+    return f"--size: {problem}" if problem else (w, h)
 
 
 def _maneuver(args: argparse.Namespace) -> int:
@@ -255,10 +264,8 @@ def _maneuver(args: argparse.Namespace) -> int:
     from lotsim.errors import InfeasibleManeuver
 
     size = _size(args.size)
-    if size is None:
-        print(f"lotsim: --size: expected WxH between 64 and 8000 pixels, found {args.size!r}",
-              file=sys.stderr)
-        return EXIT_BAD_INPUT
+    if isinstance(size, str):
+        return _bad(size)
     problem = args.output and _output_problem("-o", args.output, ".png")
     if problem:
         return _bad(problem)
@@ -312,10 +319,8 @@ def _show(args: argparse.Namespace) -> int:
     from lotsim.api import render_lot
 
     size = _size(args.size)
-    if size is None:
-        print(f"lotsim: --size: expected WxH between 64 and 8000 pixels, found {args.size!r}",
-              file=sys.stderr)
-        return EXIT_BAD_INPUT
+    if isinstance(size, str):
+        return _bad(size)
     try:
         render_lot(args.scenario, args.output, size=size, graph=args.graph)
     except OSError as exc:
@@ -620,12 +625,11 @@ def _render(args: argparse.Namespace) -> int:
 
     if not args.gif and not args.timeline:
         return _bad("render: nothing to do: give --gif GIF and/or --timeline PNG")
+    size = _size(args.size)
+    if isinstance(size, str):
+        return _bad(size)
     try:
-        w, h = (int(v) for v in args.size.lower().split("x"))
-    except ValueError:
-        return _bad(f"--size: expected WxH in pixels, such as 800x600, found {args.size!r}")
-    try:
-        settings = GifSettings(fps=args.fps, speed=args.speed, size=(w, h), start=args.start,
+        settings = GifSettings(fps=args.fps, speed=args.speed, size=size, start=args.start,
                                end=args.end, max_frames=args.max_frames, trail=args.trail)
     except SettingsError as exc:
         return _bad(f"{_option(exc.name)}: {exc.message}")

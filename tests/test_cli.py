@@ -167,3 +167,27 @@ def test_what_a_shipped_scenario_says_of_its_aisles_is_true():
         for way in ("one-way", "two-way"):
             if way in said:
                 assert way in ways, (path.name, way, ways)
+
+
+def test_every_picture_takes_the_same_sizes(tmp_path, capsys):
+    # show took 64 to 8000 pixels, render 160x120 to 4000x4000
+    import lotsim
+
+    result = tmp_path / "result.json"
+    result.write_text('{"format": "lotsim-result"}')
+    commands = [["show", str(QUICK), "-o", str(tmp_path / "s.png")],
+                ["maneuver", str(QUICK), "--slot", "N1"],
+                ["render", str(result), "--gif", str(tmp_path / "r.gif")]]
+    for argv in commands:
+        for size, shown in (("100x100", "100x100"), ("8000x6000", "8000x6000"),
+                            ("160x119", "160x119")):
+            assert main([*argv, "--size", size]) == 2
+            assert (f"--size: expected 160x120 to 4000x4000 pixels, found {shown}"
+                    in capsys.readouterr().err), argv
+    for bad in ((100, 100), (8000, 6000)):
+        with pytest.raises(lotsim.SettingsError) as lot_err:
+            lotsim.render_lot(QUICK, size=bad)
+        with pytest.raises(lotsim.SettingsError) as gif_err:
+            lotsim.GifSettings(size=bad)
+        assert str(lot_err.value) == str(gif_err.value)
+    assert not list(tmp_path.glob("*.png")) + list(tmp_path.glob("*.gif"))
