@@ -42,15 +42,39 @@ class _Parser(argparse.ArgumentParser):
         self.exit(EXIT_BAD_INPUT, f"{self.prog}: error: {message}\n")
 
 
+_EXITS = {
+    "cars": "0 listed",
+    "validate": "0 every file is a valid scenario; 1 with --strict, a free slot or exit "
+                "cannot be reached, or a vehicle type cannot park in a slot; 2 a file is not "
+                "a valid scenario",
+    "minslot": "0 the table was computed; 2 bad input",
+    "maneuver": "0 planned; 1 the vehicle type cannot park there; 2 bad input",
+    "run": "0 every car parked, left or was turned away; 1 a car is still waiting when the "
+           "run ends; 2 bad input, or a memory or time limit stopped the run (nothing "
+           "written); 130 interrupted",
+    "render": "0 written; 2 bad input, or a result that cannot be drawn",
+    "check": "0 the result holds every rule; 1 violations (the first are listed); 2 the "
+             "file is not a lotsim result",
+    "show": "0 written; 2 bad input",
+    "bench": "0 every run passed its check; 1 some run failed; 2 bad input",
+}
+"""Each command's exit codes, for its --help."""
+
+
 def _parser() -> argparse.ArgumentParser:
-    p = _Parser(prog="lotsim", description="Plan many car-like vehicles in a parking lot.")
+    p = _Parser(prog="lotsim", description="Plan many car-like vehicles in a parking lot.",
+                epilog="exit codes: 0 ok, 1 incomplete (something could not be planned, "
+                "reached or checked), 2 bad input, 130 interrupted; 'lotsim COMMAND --help' "
+                "says what each command does and its own")
     p.add_argument("--version", action="version", version=f"lotsim {__version__}")
-    sub = p.add_subparsers(dest="command", required=True, parser_class=_Parser)
+    sub = p.add_subparsers(dest="command", required=True, parser_class=_Parser,
+                           metavar="COMMAND")
 
     sub.add_parser("cars", help="list the built-in vehicle types")
 
     v = sub.add_parser("validate", help="check scenario files and summarise each lot")
-    v.add_argument("scenarios", nargs="+", metavar="SCENARIO")
+    v.add_argument("scenarios", nargs="+", metavar="SCENARIO",
+                   help="scenario YAML files (docs/scenario.md)")
     v.add_argument("--strict", action="store_true",
                    help="exit 1 when a slot or exit cannot be reached, or a vehicle "
                    "type cannot park in a slot")
@@ -58,7 +82,8 @@ def _parser() -> argparse.ArgumentParser:
     m = sub.add_parser("minslot", help="shortest parallel slot for each number of direction "
                        "changes")
     which = m.add_mutually_exclusive_group(required=True)
-    which.add_argument("--car", help="a catalogue name (see `lotsim cars`) or a vehicle YAML file")
+    which.add_argument("--car", "--vehicle", dest="car", metavar="CAR",
+                       help="a catalogue name (see `lotsim cars`) or a vehicle YAML file")
     which.add_argument("--all-cars", action="store_true", help="every catalogue car")
     m.add_argument("--width", type=float, nargs="+", required=True, metavar="WIDTH",
                    help="slot width [m]; several give one table (and curve) per width")
@@ -73,9 +98,10 @@ def _parser() -> argparse.ArgumentParser:
     m.add_argument("--plot", metavar="PNG", help="plot length against changes (matplotlib)")
 
     mv = sub.add_parser("maneuver", help="plan one slot's parking maneuver and draw it")
-    mv.add_argument("scenario", metavar="SCENARIO")
+    mv.add_argument("scenario", metavar="SCENARIO", help="scenario YAML file")
     mv.add_argument("--slot", required=True, help="slot id")
-    mv.add_argument("--vehicle", help="vehicle type (default the scenario's first)")
+    mv.add_argument("--car", "--vehicle", dest="vehicle", metavar="TYPE",
+                    help="vehicle type of the scenario (default its first)")
     mv.add_argument("--lane", help="lane id to start from (default the best)")
     mv.add_argument("--style", choices=STYLES, default=STYLES[0],
                     help="nose-in (forward), backed in (reverse) or the better (any)")
@@ -87,7 +113,7 @@ def _parser() -> argparse.ArgumentParser:
                     "(900x700)")
 
     r = sub.add_parser("run", help="plan a scenario's traffic and write OUTDIR/result.json")
-    r.add_argument("scenario", metavar="SCENARIO")
+    r.add_argument("scenario", metavar="SCENARIO", help="scenario YAML file with traffic")
     r.add_argument("-o", "--output", metavar="OUTDIR",
                    help="directory for result.json (default runs/<scenario name>)")
     rs = RunSettings()  # defaults and choices: the library's, checked there too
@@ -123,7 +149,7 @@ def _parser() -> argparse.ArgumentParser:
                      "scenario asks")
 
     rd = sub.add_parser("render", help="draw a result.json: animated GIF, timeline plot")
-    rd.add_argument("result", metavar="RESULT_JSON")
+    rd.add_argument("result", metavar="RESULT_JSON", help="a result.json of lotsim run")
     rd.add_argument("--gif", metavar="GIF", help="animated GIF to write")
     rd.add_argument("--timeline", metavar="PNG", help="timeline plot to write (matplotlib)")
     gs = GifSettings()
@@ -144,11 +170,11 @@ def _parser() -> argparse.ArgumentParser:
                     help=f"seconds of path drawn behind a moving car ({gs.trail:g})")
 
     c = sub.add_parser("check", help="verify a result.json independently of the planner")
-    c.add_argument("result", metavar="RESULT_JSON")
+    c.add_argument("result", metavar="RESULT_JSON", help="a result.json of lotsim run")
     c.add_argument("--max", type=int, default=20, help="violations to list (20)")
 
     s = sub.add_parser("show", help="draw a scenario's lot to a PNG")
-    s.add_argument("scenario", metavar="SCENARIO")
+    s.add_argument("scenario", metavar="SCENARIO", help="scenario YAML file")
     s.add_argument("-o", "--output", default="lot.png", help="PNG to write (default lot.png)")
     s.add_argument("--graph", action="store_true", help="draw the lot graph too")
     s.add_argument("--size", default="1200x900", help=f"image size WxH in pixels, {_SIZES} "
@@ -165,12 +191,20 @@ def _parser() -> argparse.ArgumentParser:
                        "(default: the number of CPUs; 1 runs in this process)")
     where.add_argument("--scheduler", metavar="ADDRESS", help="run on the Dask distributed "
                        "cluster whose scheduler is at ADDRESS (pip install 'lotsim[dask]')")
+    for action in sub._choices_actions:  # each command's --help: what it does, its exit codes
+        command = sub.choices[action.dest]
+        command.description = command.description or action.help[0].upper() + action.help[1:]
+        command.epilog = f"exit codes: {_EXITS[action.dest]}"
+    p.commands = sub.choices  # for errors in the command's own words
     return p
 
 
 def main(argv: Sequence[str] | None = None) -> int:
     """Run the CLI; returns the exit code."""
-    args = _parser().parse_args(argv)
+    parser = _parser()
+    args, extra = parser.parse_known_args(argv)
+    if extra:  # the command's usage, not lotsim's
+        parser.commands[args.command].error(f"unrecognized arguments: {' '.join(extra)}")
     try:
         if args.command == "cars":
             return _cars()

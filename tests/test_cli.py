@@ -191,3 +191,38 @@ def test_every_picture_takes_the_same_sizes(tmp_path, capsys):
             lotsim.GifSettings(size=bad)
         assert str(lot_err.value) == str(gif_err.value)
     assert not list(tmp_path.glob("*.png")) + list(tmp_path.glob("*.gif"))
+
+
+def test_each_command_s_help_says_what_it_does_its_arguments_and_exit_codes(capsys):
+    # commands had no description, positionals no help, exit codes appeared nowhere
+    from lotsim.cli import _parser
+
+    parser = _parser()
+    commands = parser.commands
+    assert set(commands) == {"cars", "validate", "minslot", "maneuver", "run", "render",
+                             "check", "show", "bench"}
+    for name, command in commands.items():
+        with pytest.raises(SystemExit) as exc:
+            main([name, "--help"])
+        assert exc.value.code == 0
+        text = capsys.readouterr().out
+        assert command.description and command.description in " ".join(text.split())
+        assert "exit codes: 0 " in text, name
+        for action in command._actions:
+            assert action.help, (name, action.dest)
+    with pytest.raises(SystemExit):
+        main(["--help"])
+    assert "exit codes: 0 ok, 1 incomplete" in capsys.readouterr().out
+
+
+def test_an_extra_argument_gets_the_command_s_usage_and_one_name_serves_a_car(capsys):
+    with pytest.raises(SystemExit) as exc:
+        main(["cars", "extra"])
+    assert exc.value.code == 2
+    err = capsys.readouterr().err
+    assert err.startswith("usage: lotsim cars") and "unrecognized arguments: extra" in err
+    # --car names a vehicle type for maneuver as for minslot (--vehicle still works)
+    assert main(["maneuver", str(QUICK), "--slot", "N1", "--car", "valet"]) == 0
+    by_car = capsys.readouterr().out
+    assert main(["maneuver", str(QUICK), "--slot", "N1", "--vehicle", "valet"]) == 0
+    assert capsys.readouterr().out == by_car and by_car.startswith("valet into slot N1")
