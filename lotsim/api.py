@@ -620,9 +620,13 @@ def maneuver_case(scenario: ScenarioLike, slot: str, *, vehicle: str | None = No
     lot = build_lot(sc.lot, DesignVehicle.envelope(sc.vehicle_types))
     chosen = lot.slot_by_id.get(slot)
     if chosen is None:
+        from lotsim.validation import id_ranges
+
         close = difflib.get_close_matches(str(slot), list(lot.slot_by_id), n=3)
         hint = f"; did you mean {', '.join(close)}?" if close else ""
-        raise SettingsError("slot", f"no slot {slot!r} in {_source(scenario)}{hint}")
+        raise SettingsError("slot", f"no slot {slot!r} in {_source(scenario)}{hint} (its "
+                                    f"slots: {id_ranges(lot.slot_by_id)}; lotsim show draws "
+                                    f"them)")
     planner = _sim.maneuver_planner(sc, lot, margin=margin)
     lanes = [ln.id for ln in planner.lanes_for(chosen)]
     if lane is not None and lane not in lanes:
@@ -671,10 +675,10 @@ def plan_maneuver(scenario: ScenarioLike, slot: str, *, vehicle: str | None = No
     >>> m = plan_maneuver(EXAMPLE, "N3")
     >>> m.slot, m.changes >= 0
     ('N3', True)
-    >>> plan_maneuver(EXAMPLE, "N9")
+    >>> plan_maneuver(EXAMPLE, "N9")  # doctest: +ELLIPSIS
     Traceback (most recent call last):
     ...
-    lotsim.errors.SettingsError: slot: no slot 'N9' in <scenario>
+    lotsim.errors.SettingsError: slot: no slot 'N9' in <scenario> (its slots: N1–N4, S1–S4; ...
     """
     case = maneuver_case(scenario, slot, vehicle=vehicle, lane=lane, style=style,
                          margin=margin)

@@ -318,9 +318,10 @@ def _maneuver(args: argparse.Namespace) -> int:
         return EXIT_INCOMPLETE
     if args.leave:
         m = m.reversed()
-    way = "out of" if args.leave else "into"
+    way, lane_word = ("out of", "to") if args.leave else ("into", "from")
     strokes = ", ".join(f"{'F' if g > 0 else 'R'} {length:.2f} m" for g, length in m.strokes())
-    print(f"{vehicle.name} {way} slot {slot.id} from lane {m.lane} at station {m.station:.2f} m: "
+    print(f"{vehicle.name} {way} slot {slot.id} {lane_word} lane {m.lane} at station "
+          f"{m.station:.2f} m: "
           f"{m.changes} direction change{'s' * (m.changes != 1)}, {m.length:.2f} m, "
           f"{m.duration(vehicle):.1f} s")
     print(f"  strokes: {strokes}")
@@ -350,17 +351,39 @@ def _maneuver(args: argparse.Namespace) -> int:
 
 
 def _show(args: argparse.Namespace) -> int:
-    from lotsim.api import render_lot
+    from lotsim.api import load_scenario, render_lot
+    from lotsim.render.lot_image import slot_labels_drawn
+    from lotsim.sim import PreparedLot
+    from lotsim.sim import prepare as prepare_lot
+    from lotsim.validation import id_ranges, natural
 
     size = _size(args.size)
     if isinstance(size, str):
         return _bad(size)
+    scenario = load_scenario(args.scenario)
+    lot_graph = prepare_lot(scenario, maneuvers=args.graph)  # built once, drawn and listed
     try:
-        render_lot(args.scenario, args.output, size=size, graph=args.graph)
+        render_lot(PreparedLot(scenario, lot_graph), args.output, size=size, graph=args.graph)
     except OSError as exc:
         print(f"lotsim: {args.output}: cannot write: {exc.strerror or exc}", file=sys.stderr)
         return EXIT_BAD_INPUT
     print(f"wrote {args.output}")
+    lot = lot_graph.lot
+    print(f"  slots: {id_ranges([s.id for s in lot.slots], most=40)}")
+    print(f"  lanes: {', '.join(sorted((ln.id for ln in lot.lanes), key=natural))}")
+    drawn = slot_labels_drawn(lot_graph, size, show_graph=args.graph)
+    if drawn < len(lot.slots):  # say where they can all be read, if anywhere
+        bigger = (f"no --size up to {MAX_SIZE[0]}x{MAX_SIZE[1]} draws them all: they are "
+                  "listed above")
+        for k in range(1, 40):
+            w, h = (round(v * 1.2**k) for v in size)
+            if size_problem((w, h)) is not None:
+                break
+            if slot_labels_drawn(lot_graph, (w, h), show_graph=args.graph) == len(lot.slots):
+                bigger = f"--size {w}x{h} draws them all"
+                break
+        print(f"  slot ids drawn: {drawn} of {len(lot.slots)} at {size[0]}x{size[1]} "
+              f"({bigger})")
     return EXIT_OK
 
 

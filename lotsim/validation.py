@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import re
+from collections.abc import Iterable
 from dataclasses import dataclass
 
 from lotsim.cache import LOADED
@@ -180,3 +181,24 @@ def _ids(ids: list[str], most: int = 12) -> str:
     ids = sorted(ids, key=natural)
     head = ", ".join(ids[:most])
     return head + (f", … (+{len(ids) - most})" if len(ids) > most else "")
+
+
+def id_ranges(ids: Iterable[str], most: int = 12) -> str:
+    """Ids in natural order, runs of one prefix with consecutive numbers as ``N1–N10``; at
+    most ``most`` runs shown.
+
+    >>> id_ranges(["S2", "N10", "S1", "X1"] + [f"N{k}" for k in range(1, 10)])
+    'N1–N10, S1–S2, X1'
+    """
+    runs: list[list] = []  # [prefix, first, last, first id, last id]
+    for sid in sorted(ids, key=natural):
+        m = re.fullmatch(r"(.*?)(\d+)", sid)
+        prefix, number = (m.group(1), int(m.group(2))) if m else (sid, None)
+        last = runs[-1] if runs else None
+        if (last is not None and number is not None and last[0] == prefix
+                and last[2] is not None and number == last[2] + 1):
+            last[2], last[4] = number, sid
+        else:
+            runs.append([prefix, number, number, sid, sid])
+    shown = [r[3] if r[3] == r[4] else f"{r[3]}–{r[4]}" for r in runs]
+    return _ids(shown, most) if len(shown) > most else ", ".join(shown)

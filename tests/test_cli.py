@@ -226,3 +226,40 @@ def test_an_extra_argument_gets_the_command_s_usage_and_one_name_serves_a_car(ca
     by_car = capsys.readouterr().out
     assert main(["maneuver", str(QUICK), "--slot", "N1", "--vehicle", "valet"]) == 0
     assert capsys.readouterr().out == by_car and by_car.startswith("valet into slot N1")
+
+
+def test_slot_and_lane_ids_can_be_found(tmp_path, capsys):
+    # a big lot's picture had no labels and 'maneuver --slot X' said only "no slot 'X'"
+    import re
+
+    import numpy as np
+    from PIL import Image, ImageDraw
+
+    from lotsim.io.scenario import load_scenario
+    from lotsim.render.lot_image import draw_lot, lot_layout
+    from lotsim.sim import prepare
+
+    assert main(["maneuver", str(QUICK), "--slot", "Q7"]) == 2
+    assert "no slot 'Q7'" in capsys.readouterr().err
+    assert main(["maneuver", str(QUICK), "--slot", "Q7"]) == 2
+    assert "(its slots: N1–N10, S1–S10; " in capsys.readouterr().err
+    assert main(["maneuver", str(QUICK), "--slot", "N3", "--leave"]) == 0
+    assert re.match(r"valet out of slot N3 to lane main> ", capsys.readouterr().out)
+
+    out = tmp_path / "lot.png"
+    assert main(["show", str(QUICK), "-o", str(out), "--size", "200x150"]) == 0
+    text = capsys.readouterr().out
+    assert "  slots: N1–N10, S1–S10\n  lanes: main>\n" in text
+    size = tuple(map(int, re.search(r"drawn: 0 of 20 at 200x150 \(--size (\d+)x(\d+) draws "
+                                    r"them all\)", text).groups()))
+    # at that size each slot holds its id: pixels inside it differ with labels and without
+    lg = prepare(load_scenario(QUICK), maneuvers=False)
+    on, off = (np.asarray(draw_lot(lg, size=size, labels=flag)) for flag in (True, False))
+    canvas = lot_layout(lg, size=size).canvas
+    for slot in lg.lot.slots:
+        mask = Image.new("1", size)
+        ImageDraw.Draw(mask).polygon([tuple(p) for p in canvas.to_px(slot.polygon)], fill=1)
+        inside = np.asarray(mask)
+        assert (on[inside] != off[inside]).any(), slot.id
+    assert main(["show", str(QUICK), "-o", str(out)]) == 0
+    assert "slot ids drawn" not in capsys.readouterr().out
