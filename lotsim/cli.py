@@ -336,8 +336,8 @@ def _maneuver(args: argparse.Namespace) -> int:
         from lotsim.render.lot_image import save_png
         from lotsim.render.maneuver_image import draw_maneuver
 
-        title = (f"{scenario.name}: {vehicle.name} {way} {slot.id}, {m.changes} changes, "
-                 f"{m.length:.1f} m")
+        title = (f"{scenario.name}: {vehicle.name} {way} {slot.id}, "
+                 f"{_n(m.changes, 'change')} of direction, {m.length:.1f} m")
         img = draw_maneuver(lot, m, vehicle, parked_vehicle=scenario.parked_vehicle,
                             size=size, title=title)
         try:

@@ -1,6 +1,7 @@
 """The command line: cars, validate on every shipped scenario."""
 
 import math
+import re
 
 import pytest
 from test_vehicles import DESIGN_TABLE
@@ -120,8 +121,6 @@ def test_the_scenario_page_example_is_a_shipped_scenario_that_validates_and_runs
     # the page's example did not run (angle_deg on a perpendicular row, a slot opening onto
     # no aisle, one overlapping N9, an empty 'slots:', ...); it is now scenarios/example.yaml,
     # which the tests over every shipped scenario validate (--strict), run and check
-    import re
-
     page = (ROOT / "docs" / "scenario.md").read_text()
     block = re.search(r"```yaml\n(.*?)```", page, re.S).group(1)
     path = ROOT / "scenarios" / "example.yaml"
@@ -131,8 +130,6 @@ def test_the_scenario_page_example_is_a_shipped_scenario_that_validates_and_runs
 
 def test_preparing_a_lot_shows_its_progress_on_a_terminal_only(tmp_path, capsys, monkeypatch):
     # validate and run of a big lot said nothing for 20 s while its maneuvers were planned
-    import re
-
     import lotsim
 
     monkeypatch.setenv("LOTSIM_CACHE_DIR", "off")  # planned, not loaded
@@ -230,8 +227,6 @@ def test_an_extra_argument_gets_the_command_s_usage_and_one_name_serves_a_car(ca
 
 def test_slot_and_lane_ids_can_be_found(tmp_path, capsys):
     # a big lot's picture had no labels and 'maneuver --slot X' said only "no slot 'X'"
-    import re
-
     import numpy as np
     from PIL import Image, ImageDraw
 
@@ -263,3 +258,23 @@ def test_slot_and_lane_ids_can_be_found(tmp_path, capsys):
         assert (on[inside] != off[inside]).any(), slot.id
     assert main(["show", str(QUICK), "-o", str(out)]) == 0
     assert "slot ids drawn" not in capsys.readouterr().out
+
+
+def test_the_maneuver_picture_title_counts_its_changes_in_words(tmp_path, monkeypatch,
+                                                                  capsys):
+    # it read "1 changes"
+    from lotsim.render import maneuver_image
+
+    titles = []
+    draw = maneuver_image.draw_maneuver
+
+    def noting(*args, title, **kwargs):
+        titles.append(title)
+        return draw(*args, title=title, **kwargs)
+
+    monkeypatch.setattr(maneuver_image, "draw_maneuver", noting)
+    assert main(["maneuver", str(QUICK), "--slot", "N3", "-o", str(tmp_path / "m.png")]) == 0
+    changes = int(re.search(r": (\d+) direction change", capsys.readouterr().out).group(1))
+    word = "change" if changes == 1 else "changes"
+    assert titles == [f"quickstart: valet into N3, {changes} {word} of direction, "
+                      + titles[0].rsplit(", ", 1)[1]]
