@@ -148,7 +148,7 @@ def _source(scenario: ScenarioLike | PreparedLot) -> str:
     return _scenario(scenario).source
 
 
-def prepare(scenario: ScenarioLike, *, cache: bool = True) -> PreparedLot:
+def prepare(scenario: ScenarioLike, *, cache: bool = True, progress=None) -> PreparedLot:
     """Build the scenario's lot for its vehicle types, plan every slot's maneuvers and the
     drivable graph through them, once, for any number of runs.
 
@@ -158,6 +158,9 @@ def prepare(scenario: ScenarioLike, *, cache: bool = True) -> PreparedLot:
     cache : bool, keyword-only
         Load a lot prepared before (same lot, vehicle types and lotsim) from the on-disk
         cache (``LOTSIM_CACHE_DIR``; ``off`` turns it off) and store a new one there.
+    progress : callable, optional, keyword-only
+        Called as ``progress(done, total)`` as the maneuvers' distinct problems are searched
+        (the longest part of preparing a large lot; not called for a lot from the cache).
 
     Returns
     -------
@@ -176,12 +179,13 @@ def prepare(scenario: ScenarioLike, *, cache: bool = True) -> PreparedLot:
     (6, {'valet': {}})
     """
     sc = _scenario(scenario)
-    return PreparedLot(sc, _sim.prepare(sc, cache=cache))
+    return PreparedLot(sc, _sim.prepare(sc, cache=cache, progress=progress))
 
 
-def validate(scenario: ScenarioLike | PreparedLot) -> ValidationReport:
+def validate(scenario: ScenarioLike | PreparedLot, *, progress=None) -> ValidationReport:
     """What ``lotsim validate`` checks and prints, as data: the scenario is read, its lot
-    prepared, its traffic checked as :func:`run` checks it.
+    prepared, its traffic checked as :func:`run` checks it. ``progress`` is passed to
+    :func:`prepare`.
 
     Returns
     -------
@@ -204,7 +208,8 @@ def validate(scenario: ScenarioLike | PreparedLot) -> ValidationReport:
     >>> print(report.summary().splitlines()[1])
       slots: 8 (perpendicular 8, parallel 0, angled 0); free 6, taken 2
     """
-    prepared = scenario if isinstance(scenario, PreparedLot) else prepare(scenario)
+    prepared = (scenario if isinstance(scenario, PreparedLot)
+                else prepare(scenario, progress=progress))
     return validate_prepared(prepared, _source(scenario))
 
 
@@ -297,6 +302,17 @@ def run(scenario_or_prepared: ScenarioLike | PreparedLot, settings: RunSettings 
     settings = _settings.replace(settings or RunSettings(), overrides)
     prepared = (scenario_or_prepared if isinstance(scenario_or_prepared, PreparedLot)
                 else prepare(scenario_or_prepared))
+    traffic = prepared.scenario.traffic
+    if settings.seed is not None and traffic is not None:
+        stream = traffic.stream
+        if stream is None:
+            raise SettingsError("seed", "seeds the traffic stream, and this scenario has "
+                                        "none (its vehicles are listed): it would change "
+                                        "nothing")
+        if stream.seed is not None:
+            raise SettingsError("seed", f"the scenario's stream has its own seed "
+                                        f"({stream.seed}, {stream.where}): it would change "
+                                        f"nothing")
     from lotsim.priority import plan_run
 
     rr = plan_run(prepared.scenario, settings, lot_graph=prepared.lot_graph,
@@ -313,11 +329,41 @@ def _document(result: RunResult | dict | str | os.PathLike) -> dict:
     if isinstance(result, dict):
         return result
     if isinstance(result, (str, os.PathLike)):
-        from lotsim.check import load_result
-
         return load_result(result)
     raise SettingsError("result", f"expected a RunResult, a result dict or a result.json "
                                   f"path, found {type(result).__name__}")
+
+
+def load_result(path: str | os.PathLike) -> dict:
+    """Read a ``result.json`` (:func:`lotsim.check.load_result`).
+
+    Raises
+    ------
+    ResultFormatError
+        When it cannot be read or is not a lotsim result; a scenario or a bench suite is
+        named as such.
+
+    Examples
+    --------
+    >>> import tempfile
+    >>> path = f"{tempfile.mkdtemp()}/example.yaml"
+    >>> _ = Path(path).write_text(EXAMPLE)
+    >>> load_result(path)  # doctest: +ELLIPSIS
+    Traceback (most recent call last):
+    ...
+    lotsim.errors.ResultFormatError: /.../example.yaml: this is a lotsim scenario, not a result: ...
+    """
+    from lotsim.check import load_result as load
+    from lotsim.errors import ResultFormatError
+    from lotsim.io.kinds import file_kind, wrong_kind
+
+    try:
+        return load(path)
+    except ResultFormatError:
+        found = file_kind(path)
+        if found is None or found == "result":
+            raise
+    raise ResultFormatError(f"{os.fspath(path)}: {wrong_kind(found, 'result')}")
 
 
 def check(result: RunResult | dict | str | os.PathLike, *, max_violations: int = 50
@@ -354,7 +400,10 @@ def check(result: RunResult | dict | str | os.PathLike, *, max_violations: int =
     """
     from lotsim.check import check_result
 
-    return check_result(_document(result), max_violations=max(1, max_violations))
+    if not (_settings.is_real(max_violations) and max_violations >= 1):
+        raise SettingsError("max_violations", f"expected at least 1, found "
+                                              f"{_settings.shown(max_violations)}")
+    return check_result(_document(result), max_violations=int(max_violations))
 
 
 def render_gif(result: RunResult | dict | str | os.PathLike, path: str | os.PathLike,
@@ -402,6 +451,7 @@ def render_gif(result: RunResult | dict | str | os.PathLike, path: str | os.Path
         raise SettingsError("settings", f"expected GifSettings or AnimationSpec, found "
                                         f"{type(settings).__name__}")
     settings = _settings.replace(settings or GifSettings(), overrides)
+    _suffix(path, ".gif")
     doc = _document(result)
     if not isinstance(doc.get("lot"), dict) or "drawing" not in doc["lot"]:
         raise ReplayError("no lot.drawing: written by an older lotsim? run the scenario again")
@@ -423,7 +473,7 @@ def render_lot(scenario: ScenarioLike | PreparedLot, path: str | os.PathLike | N
     path : str or path-like, optional
         Also write the picture there as PNG (atomically; its folder is made if need be).
     size : (width, height), keyword-only
-        Pixels, 64 to 8000 each.
+        Pixels, 160x120 to 4000x4000 (as every picture lotsim draws).
     graph : bool, keyword-only
 
     Returns
@@ -436,10 +486,10 @@ def render_lot(scenario: ScenarioLike | PreparedLot, path: str | os.PathLike | N
     >>> render_lot(EXAMPLE, size=(400, 300)).size
     (400, 300)
     """
-    if not (isinstance(size, tuple) and len(size) == 2
-            and all(isinstance(v, int) and 64 <= v <= 8000 for v in size)):
-        raise SettingsError("size", f"expected (width, height) between 64 and 8000 pixels, "
-                                    f"found {size!r}")
+    problem = _settings.size_problem(size)
+    if problem:
+        raise SettingsError("size", problem)
+    _suffix(path, ".png")
     if isinstance(scenario, PreparedLot):
         sc, lg = scenario.scenario, scenario.lot_graph
     else:
@@ -453,6 +503,13 @@ def render_lot(scenario: ScenarioLike | PreparedLot, path: str | os.PathLike | N
         Path(path).parent.mkdir(parents=True, exist_ok=True)
         save_png(img, path)
     return img
+
+
+def _suffix(path: str | os.PathLike | None, suffix: str) -> None:
+    """Refuse to write a picture under another file type's name (PNG bytes in ``.jpg``)."""
+    if path is not None and Path(path).suffix.lower() != suffix:
+        raise SettingsError("path", f"expected a file name ending in {suffix}, found "
+                                    f"{os.fspath(path)!r}")
 
 
 # -- one car, one slot ----------------------------------------------------------------------------
@@ -563,9 +620,13 @@ def maneuver_case(scenario: ScenarioLike, slot: str, *, vehicle: str | None = No
     lot = build_lot(sc.lot, DesignVehicle.envelope(sc.vehicle_types))
     chosen = lot.slot_by_id.get(slot)
     if chosen is None:
+        from lotsim.validation import id_ranges
+
         close = difflib.get_close_matches(str(slot), list(lot.slot_by_id), n=3)
         hint = f"; did you mean {', '.join(close)}?" if close else ""
-        raise SettingsError("slot", f"no slot {slot!r} in {_source(scenario)}{hint}")
+        raise SettingsError("slot", f"no slot {slot!r} in {_source(scenario)}{hint} (its "
+                                    f"slots: {id_ranges(lot.slot_by_id)}; lotsim show draws "
+                                    f"them)")
     planner = _sim.maneuver_planner(sc, lot, margin=margin)
     lanes = [ln.id for ln in planner.lanes_for(chosen)]
     if lane is not None and lane not in lanes:
@@ -614,10 +675,10 @@ def plan_maneuver(scenario: ScenarioLike, slot: str, *, vehicle: str | None = No
     >>> m = plan_maneuver(EXAMPLE, "N3")
     >>> m.slot, m.changes >= 0
     ('N3', True)
-    >>> plan_maneuver(EXAMPLE, "N9")
+    >>> plan_maneuver(EXAMPLE, "N9")  # doctest: +ELLIPSIS
     Traceback (most recent call last):
     ...
-    lotsim.errors.SettingsError: slot: no slot 'N9' in <scenario>
+    lotsim.errors.SettingsError: slot: no slot 'N9' in <scenario> (its slots: N1–N4, S1–S4; ...
     """
     case = maneuver_case(scenario, slot, vehicle=vehicle, lane=lane, style=style,
                          margin=margin)

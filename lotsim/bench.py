@@ -36,6 +36,7 @@ from lotsim import __version__
 from lotsim.atomic import atomic_write
 from lotsim.check import check_result
 from lotsim.errors import LotsimError, ScenarioError, SettingsError
+from lotsim.io.kinds import refuse_other_kind, top_level
 from lotsim.io.result import result_dict
 from lotsim.io.scenario import MAX_ITEMS, load_scenario, name_from_file, parse_scenario
 from lotsim.io.yamlnodes import YNode, parse_text, read_yaml
@@ -179,11 +180,12 @@ def load_suite(path: str | os.PathLike) -> Suite:
         On the first problem, as ``file:line:col: key: message`` (problems inside a
         scenario file are located in that file).
     """
-    return parse_suite(read_yaml(path))
+    return parse_suite(read_yaml(path, expect="suite"))
 
 
 def parse_suite(root: YNode) -> Suite:
     """Validate a composed suite document (:func:`load_suite`)."""
+    refuse_other_kind(top_level(root), "suite", root.file)
     f = root.fields(required=["scenarios", "planners", "seeds"],
                     optional=["name", "description", "assignments", "priorities",
                               "rates_per_hour", "count", "ga", "horizon"])
@@ -817,8 +819,14 @@ def _ident(value: Any) -> str:
     return f"{value:g}" if isinstance(value, float) else str(value)
 
 
-def summary_markdown(suite: Suite, rows: Sequence[dict], *, where: str = "") -> str:
-    """``summary.md``: the suite, the means over seeds, saturation, failed runs."""
+PLOTS = ("throughput.png", "time_to_park.png")
+"""The plots a suite's outputs hold (with matplotlib)."""
+
+
+def summary_markdown(suite: Suite, rows: Sequence[dict], *, where: str = "",
+                     plots: bool = True) -> str:
+    """``summary.md``: the suite, the means over seeds, saturation, failed runs, and the
+    plots when they are drawn (``plots``)."""
     groups = aggregate(rows)
     vary, fixed = _varying(groups)
     failed = [r for r in rows if not r["ok"]]
@@ -879,9 +887,10 @@ def summary_markdown(suite: Suite, rows: Sequence[dict], *, where: str = "") -> 
         lines.append(f"- run {r['run']} ({r['scenario']}, {planner_label(r)}, {r['assignment']}, "
                      f"{r['priority']}, rate {_ident(r['rate_per_h'])}, seed {r['seed']}): "
                      f"{r['problem'] or 'failed'}")
-    lines += ["", "## Plots", "", "![throughput](throughput.png)", "",
-              "![time to park](time_to_park.png)", "",
-              "Columns and definitions: `docs/bench.md` in lotsim.", ""]
+    lines += ["", "## Plots", ""]
+    lines += (["![throughput](throughput.png)", "", "![time to park](time_to_park.png)"]
+              if plots else ["None: they need matplotlib (`pip install 'lotsim[plot]'`)."])
+    lines += ["", "Columns and definitions: `docs/bench.md` in lotsim.", ""]
     return "\n".join(lines)
 
 
@@ -925,15 +934,18 @@ def write_outputs(suite: Suite, rows: Sequence[dict], outdir: str | os.PathLike,
         fh.write(csv_text(rows))
     written.append(out / "runs.csv")
     with atomic_write(out / "summary.md", "w", encoding="utf-8") as fh:
-        fh.write(summary_markdown(suite, rows, where=where))
+        fh.write(summary_markdown(suite, rows, where=where, plots=plots))
     written.append(out / "summary.md")
     if plots:
         from lotsim.render.plots import save_figure
 
-        for metric, name in (("throughput_per_h", "throughput.png"),
-                             ("mean_time_to_park_s", "time_to_park.png")):
+        for metric, name in zip(("throughput_per_h", "mean_time_to_park_s"), PLOTS,
+                                strict=True):
             save_figure(bench_figure(rows, metric), out / name)
             written.append(out / name)
+    else:  # the outputs are one set: no plot of an earlier suite run stays beside them
+        for name in PLOTS:
+            (out / name).unlink(missing_ok=True)
     return written
 
 

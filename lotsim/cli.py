@@ -19,15 +19,19 @@ from lotsim.errors import ScenarioError, SettingsError
 from lotsim.settings import (
     ASSIGNMENTS,
     MARGIN,
+    MAX_SIZE,
+    MIN_SIZE,
     PLANNERS,
     PRIORITIES,
     STYLES,
     GifSettings,
     MinSlotSettings,
     RunSettings,
+    size_problem,
 )
 
 EXIT_OK, EXIT_INCOMPLETE, EXIT_BAD_INPUT = 0, 1, 2
+_SIZES = f"{MIN_SIZE[0]}x{MIN_SIZE[1]} to {MAX_SIZE[0]}x{MAX_SIZE[1]}"
 
 
 class _Parser(argparse.ArgumentParser):
@@ -38,15 +42,39 @@ class _Parser(argparse.ArgumentParser):
         self.exit(EXIT_BAD_INPUT, f"{self.prog}: error: {message}\n")
 
 
+_EXITS = {
+    "cars": "0 listed",
+    "validate": "0 every file is a valid scenario; 1 with --strict, a free slot or exit "
+                "cannot be reached, or a vehicle type cannot park in a slot; 2 a file is not "
+                "a valid scenario",
+    "minslot": "0 the table was computed; 2 bad input",
+    "maneuver": "0 planned; 1 the vehicle type cannot park there; 2 bad input",
+    "run": "0 every car parked, left or was turned away; 1 a car is still waiting when the "
+           "run ends; 2 bad input, or a memory or time limit stopped the run (nothing "
+           "written); 130 interrupted",
+    "render": "0 written; 2 bad input, or a result that cannot be drawn",
+    "check": "0 the result holds every rule; 1 violations (the first are listed); 2 the "
+             "file is not a lotsim result",
+    "show": "0 written; 2 bad input",
+    "bench": "0 every run passed its check; 1 some run failed; 2 bad input",
+}
+"""Each command's exit codes, for its --help."""
+
+
 def _parser() -> argparse.ArgumentParser:
-    p = _Parser(prog="lotsim", description="Plan many car-like vehicles in a parking lot.")
+    p = _Parser(prog="lotsim", description="Plan many car-like vehicles in a parking lot.",
+                epilog="exit codes: 0 ok, 1 incomplete (something could not be planned, "
+                "reached or checked), 2 bad input, 130 interrupted; 'lotsim COMMAND --help' "
+                "says what each command does and its own")
     p.add_argument("--version", action="version", version=f"lotsim {__version__}")
-    sub = p.add_subparsers(dest="command", required=True, parser_class=_Parser)
+    sub = p.add_subparsers(dest="command", required=True, parser_class=_Parser,
+                           metavar="COMMAND")
 
     sub.add_parser("cars", help="list the built-in vehicle types")
 
     v = sub.add_parser("validate", help="check scenario files and summarise each lot")
-    v.add_argument("scenarios", nargs="+", metavar="SCENARIO")
+    v.add_argument("scenarios", nargs="+", metavar="SCENARIO",
+                   help="scenario YAML files (docs/scenario.md)")
     v.add_argument("--strict", action="store_true",
                    help="exit 1 when a slot or exit cannot be reached, or a vehicle "
                    "type cannot park in a slot")
@@ -54,7 +82,8 @@ def _parser() -> argparse.ArgumentParser:
     m = sub.add_parser("minslot", help="shortest parallel slot for each number of direction "
                        "changes")
     which = m.add_mutually_exclusive_group(required=True)
-    which.add_argument("--car", help="a catalogue name (see `lotsim cars`) or a vehicle YAML file")
+    which.add_argument("--car", "--vehicle", dest="car", metavar="CAR",
+                       help="a catalogue name (see `lotsim cars`) or a vehicle YAML file")
     which.add_argument("--all-cars", action="store_true", help="every catalogue car")
     m.add_argument("--width", type=float, nargs="+", required=True, metavar="WIDTH",
                    help="slot width [m]; several give one table (and curve) per width")
@@ -69,9 +98,10 @@ def _parser() -> argparse.ArgumentParser:
     m.add_argument("--plot", metavar="PNG", help="plot length against changes (matplotlib)")
 
     mv = sub.add_parser("maneuver", help="plan one slot's parking maneuver and draw it")
-    mv.add_argument("scenario", metavar="SCENARIO")
+    mv.add_argument("scenario", metavar="SCENARIO", help="scenario YAML file")
     mv.add_argument("--slot", required=True, help="slot id")
-    mv.add_argument("--vehicle", help="vehicle type (default the scenario's first)")
+    mv.add_argument("--car", "--vehicle", dest="vehicle", metavar="TYPE",
+                    help="vehicle type of the scenario (default its first)")
     mv.add_argument("--lane", help="lane id to start from (default the best)")
     mv.add_argument("--style", choices=STYLES, default=STYLES[0],
                     help="nose-in (forward), backed in (reverse) or the better (any)")
@@ -79,10 +109,11 @@ def _parser() -> argparse.ArgumentParser:
     mv.add_argument("--margin", type=float, default=MARGIN,
                     help=f"safety margin [m] ({MARGIN:g})")
     mv.add_argument("-o", "--output", help="PNG to write")
-    mv.add_argument("--size", default="900x700", help="image size WxH in pixels")
+    mv.add_argument("--size", default="900x700", help=f"image size WxH in pixels, {_SIZES} "
+                    "(900x700)")
 
     r = sub.add_parser("run", help="plan a scenario's traffic and write OUTDIR/result.json")
-    r.add_argument("scenario", metavar="SCENARIO")
+    r.add_argument("scenario", metavar="SCENARIO", help="scenario YAML file with traffic")
     r.add_argument("-o", "--output", metavar="OUTDIR",
                    help="directory for result.json (default runs/<scenario name>)")
     rs = RunSettings()  # defaults and choices: the library's, checked there too
@@ -93,8 +124,8 @@ def _parser() -> argparse.ArgumentParser:
                    f"{rs.assignment})")
     r.add_argument("--seed", type=int, help="seed of the traffic stream (default the "
                    "scenario's)")
-    r.add_argument("--window", type=float, default=rs.window,
-                   help=f"WHCA* window [s] ({rs.window:g})")
+    r.add_argument("--window", type=float,
+                   help=f"with --planner whca: the window [s] ({rs.window:g})")
     r.add_argument("--omega", type=float, default=rs.omega,
                    help=f"search fuse: expansions allowed per reverse-search node "
                    f"({rs.omega:g})")
@@ -102,7 +133,7 @@ def _parser() -> argparse.ArgumentParser:
                    default=rs.priority, help=f"planning order (default {rs.priority}): "
                    "online in arrival order, or booked in advance: shortest static time "
                    "first, or the best order a genetic algorithm finds (total time to park)")
-    r.add_argument("--horizon", type=float, default=rs.horizon,
+    r.add_argument("--horizon", type=float,
                    help="with --priority shortest_first/ga: how far ahead arrivals are "
                    f"booked [s] ({rs.horizon:g}; inf: all)")
     r.add_argument("--memory-limit", metavar="SIZE", help="stop, writing nothing, when the "
@@ -118,7 +149,7 @@ def _parser() -> argparse.ArgumentParser:
                      "scenario asks")
 
     rd = sub.add_parser("render", help="draw a result.json: animated GIF, timeline plot")
-    rd.add_argument("result", metavar="RESULT_JSON")
+    rd.add_argument("result", metavar="RESULT_JSON", help="a result.json of lotsim run")
     rd.add_argument("--gif", metavar="GIF", help="animated GIF to write")
     rd.add_argument("--timeline", metavar="PNG", help="timeline plot to write (matplotlib)")
     gs = GifSettings()
@@ -127,7 +158,7 @@ def _parser() -> argparse.ArgumentParser:
     rd.add_argument("--speed", type=float, default=gs.speed,
                     help=f"run seconds per GIF second ({gs.speed:g})")
     size = "x".join(map(str, gs.size))
-    rd.add_argument("--size", default=size, help=f"GIF size WxH in pixels ({size})")
+    rd.add_argument("--size", default=size, help=f"GIF size WxH in pixels, {_SIZES} ({size})")
     rd.add_argument("--from", dest="start", type=float, help="first run time shown [s] "
                     "(default the first arrival)")
     rd.add_argument("--to", dest="end", type=float, help="last run time shown [s] "
@@ -139,14 +170,15 @@ def _parser() -> argparse.ArgumentParser:
                     help=f"seconds of path drawn behind a moving car ({gs.trail:g})")
 
     c = sub.add_parser("check", help="verify a result.json independently of the planner")
-    c.add_argument("result", metavar="RESULT_JSON")
+    c.add_argument("result", metavar="RESULT_JSON", help="a result.json of lotsim run")
     c.add_argument("--max", type=int, default=20, help="violations to list (20)")
 
     s = sub.add_parser("show", help="draw a scenario's lot to a PNG")
-    s.add_argument("scenario", metavar="SCENARIO")
+    s.add_argument("scenario", metavar="SCENARIO", help="scenario YAML file")
     s.add_argument("-o", "--output", default="lot.png", help="PNG to write (default lot.png)")
     s.add_argument("--graph", action="store_true", help="draw the lot graph too")
-    s.add_argument("--size", default="1200x900", help="image size WxH in pixels")
+    s.add_argument("--size", default="1200x900", help=f"image size WxH in pixels, {_SIZES} "
+                   "(1200x900)")
 
     b = sub.add_parser("bench", help="run a benchmark suite: scenarios × planners × "
                        "assignments × priorities × arrival rates × seeds")
@@ -159,12 +191,20 @@ def _parser() -> argparse.ArgumentParser:
                        "(default: the number of CPUs; 1 runs in this process)")
     where.add_argument("--scheduler", metavar="ADDRESS", help="run on the Dask distributed "
                        "cluster whose scheduler is at ADDRESS (pip install 'lotsim[dask]')")
+    for action in sub._choices_actions:  # each command's --help: what it does, its exit codes
+        command = sub.choices[action.dest]
+        command.description = command.description or action.help[0].upper() + action.help[1:]
+        command.epilog = f"exit codes: {_EXITS[action.dest]}"
+    p.commands = sub.choices  # for errors in the command's own words
     return p
 
 
 def main(argv: Sequence[str] | None = None) -> int:
     """Run the CLI; returns the exit code."""
-    args = _parser().parse_args(argv)
+    parser = _parser()
+    args, extra = parser.parse_known_args(argv)
+    if extra:  # the command's usage, not lotsim's
+        parser.commands[args.command].error(f"unrecognized arguments: {' '.join(extra)}")
     try:
         if args.command == "cars":
             return _cars()
@@ -200,7 +240,8 @@ def main(argv: Sequence[str] | None = None) -> int:
     raise AssertionError(args.command)
 
 
-_OPTIONS = {"assignment": "--assign", "start": "--from", "end": "--to"}
+_OPTIONS = {"assignment": "--assign", "start": "--from", "end": "--to",
+            "max_violations": "--max", "path": "-o"}
 """Setting (:mod:`lotsim.settings`, :mod:`lotsim.api` keyword) → the option that sets it,
 where the two are not named alike."""
 
@@ -229,7 +270,8 @@ def _validate(paths: Sequence[str], *, strict: bool) -> int:
     worst = EXIT_OK
     for path in paths:
         try:
-            report = validate(path)
+            with _Preparing() as bar:
+                report = validate(path, progress=bar)
         except ScenarioError as exc:
             print(f"lotsim: {exc}", file=sys.stderr)
             worst = EXIT_BAD_INPUT
@@ -240,12 +282,15 @@ def _validate(paths: Sequence[str], *, strict: bool) -> int:
     return worst
 
 
-def _size(text: str) -> tuple[int, int] | None:
+def _size(text: str) -> tuple[int, int] | str:
+    """``--size WxH`` as ``(w, h)`` pixels, or what is wrong with it (the same limits for
+    every picture: :func:`lotsim.settings.size_problem`)."""
     try:
         w, h = (int(v) for v in text.lower().split("x"))
     except ValueError:
-        return None
-    return (w, h) if 64 <= w <= 8000 and 64 <= h <= 8000 else None
+        return f"--size: expected WxH in pixels, such as 800x600, found {text!r}"
+    problem = size_problem((w, h))
+    return f"--size: {problem}" if problem else (w, h)
 
 
 def _maneuver(args: argparse.Namespace) -> int:
@@ -253,10 +298,11 @@ def _maneuver(args: argparse.Namespace) -> int:
     from lotsim.errors import InfeasibleManeuver
 
     size = _size(args.size)
-    if size is None:
-        print(f"lotsim: --size: expected WxH between 64 and 8000 pixels, found {args.size!r}",
-              file=sys.stderr)
-        return EXIT_BAD_INPUT
+    if isinstance(size, str):
+        return _bad(size)
+    problem = args.output and _output_problem("-o", args.output, ".png")
+    if problem:
+        return _bad(problem)
     case = maneuver_case(args.scenario, args.slot, vehicle=args.vehicle, lane=args.lane,
                          style=args.style, margin=args.margin)
     scenario, lot, vehicle, slot, planner = (case.scenario, case.lot, case.vehicle, case.slot,
@@ -272,9 +318,10 @@ def _maneuver(args: argparse.Namespace) -> int:
         return EXIT_INCOMPLETE
     if args.leave:
         m = m.reversed()
-    way = "out of" if args.leave else "into"
+    way, lane_word = ("out of", "to") if args.leave else ("into", "from")
     strokes = ", ".join(f"{'F' if g > 0 else 'R'} {length:.2f} m" for g, length in m.strokes())
-    print(f"{vehicle.name} {way} slot {slot.id} from lane {m.lane} at station {m.station:.2f} m: "
+    print(f"{vehicle.name} {way} slot {slot.id} {lane_word} lane {m.lane} at station "
+          f"{m.station:.2f} m: "
           f"{m.changes} direction change{'s' * (m.changes != 1)}, {m.length:.2f} m, "
           f"{m.duration(vehicle):.1f} s")
     print(f"  strokes: {strokes}")
@@ -289,8 +336,8 @@ def _maneuver(args: argparse.Namespace) -> int:
         from lotsim.render.lot_image import save_png
         from lotsim.render.maneuver_image import draw_maneuver
 
-        title = (f"{scenario.name}: {vehicle.name} {way} {slot.id}, {m.changes} changes, "
-                 f"{m.length:.1f} m")
+        title = (f"{scenario.name}: {vehicle.name} {way} {slot.id}, "
+                 f"{_n(m.changes, 'change')} of direction, {m.length:.1f} m")
         img = draw_maneuver(lot, m, vehicle, parked_vehicle=scenario.parked_vehicle,
                             size=size, title=title)
         try:
@@ -304,19 +351,39 @@ def _maneuver(args: argparse.Namespace) -> int:
 
 
 def _show(args: argparse.Namespace) -> int:
-    from lotsim.api import render_lot
+    from lotsim.api import load_scenario, render_lot
+    from lotsim.render.lot_image import slot_labels_drawn
+    from lotsim.sim import PreparedLot
+    from lotsim.sim import prepare as prepare_lot
+    from lotsim.validation import id_ranges, natural
 
     size = _size(args.size)
-    if size is None:
-        print(f"lotsim: --size: expected WxH between 64 and 8000 pixels, found {args.size!r}",
-              file=sys.stderr)
-        return EXIT_BAD_INPUT
+    if isinstance(size, str):
+        return _bad(size)
+    scenario = load_scenario(args.scenario)
+    lot_graph = prepare_lot(scenario, maneuvers=args.graph)  # built once, drawn and listed
     try:
-        render_lot(args.scenario, args.output, size=size, graph=args.graph)
+        render_lot(PreparedLot(scenario, lot_graph), args.output, size=size, graph=args.graph)
     except OSError as exc:
         print(f"lotsim: {args.output}: cannot write: {exc.strerror or exc}", file=sys.stderr)
         return EXIT_BAD_INPUT
     print(f"wrote {args.output}")
+    lot = lot_graph.lot
+    print(f"  slots: {id_ranges([s.id for s in lot.slots], most=40)}")
+    print(f"  lanes: {', '.join(sorted((ln.id for ln in lot.lanes), key=natural))}")
+    drawn = slot_labels_drawn(lot_graph, size, show_graph=args.graph)
+    if drawn < len(lot.slots):  # say where they can all be read, if anywhere
+        bigger = (f"no --size up to {MAX_SIZE[0]}x{MAX_SIZE[1]} draws them all: they are "
+                  "listed above")
+        for k in range(1, 40):
+            w, h = (round(v * 1.2**k) for v in size)
+            if size_problem((w, h)) is not None:
+                break
+            if slot_labels_drawn(lot_graph, (w, h), show_graph=args.graph) == len(lot.slots):
+                bigger = f"--size {w}x{h} draws them all"
+                break
+        print(f"  slot ids drawn: {drawn} of {len(lot.slots)} at {size[0]}x{size[1]} "
+              f"({bigger})")
     return EXIT_OK
 
 
@@ -329,9 +396,17 @@ def _run(args: argparse.Namespace) -> int:
     from lotsim.limits import Watchdog
     from lotsim.sim import require_traffic
 
+    # an option that would change nothing is refused, not ignored
+    if args.window is not None and args.planner != "whca":
+        return _bad(f"--window: only --planner whca plans in windows; with --planner "
+                    f"{args.planner} it would change nothing")
+    if args.horizon is not None and args.priority == "arrival":
+        return _bad("--horizon: only booked orders (--priority shortest_first or ga) look "
+                    "ahead; with --priority arrival it would change nothing")
+    given = {k: v for k, v in (("window", args.window), ("horizon", args.horizon))
+             if v is not None}
     settings = RunSettings(planner=args.planner, assignment=args.assign, seed=args.seed,
-                           window=args.window, omega=args.omega, horizon=args.horizon,
-                           priority=args.priority)
+                           omega=args.omega, priority=args.priority, **given)
     scenario_file = read_scenario(args.scenario)
     scenario, anim = scenario_file.scenario, scenario_file.animation
     require_traffic(scenario)
@@ -363,12 +438,16 @@ def _run(args: argparse.Namespace) -> int:
     seen: list[bool] = []  # Ctrl-C, even where a finaliser swallowed its KeyboardInterrupt
     if settings.priority == "arrival":
         with _noting_sigint(seen), Watchdog(budget, where, then=progress) as dog:
-            rr = run(scenario, settings, progress=dog.progress)
+            with _Preparing() as bar:
+                prepared = prepare(scenario, progress=bar)
+            rr = run(prepared, settings, progress=dog.progress)
     else:  # the watchdog cannot project from trips: orders are tried
         bar = _ProgressBar("trying orders")
         try:
             with _noting_sigint(seen), Watchdog(budget, where):
-                rr = run(prepare(scenario), settings,
+                with _Preparing() as preparing:
+                    prepared = prepare(scenario, progress=preparing)
+                rr = run(prepared, settings,
                          progress=bar if settings.priority == "ga" else None)
         finally:
             bar.close()
@@ -384,22 +463,38 @@ def _run(args: argparse.Namespace) -> int:
         print("\r" + " " * 40 + "\r", end="", file=sys.stderr)
     doc = rr.to_dict()
     out.mkdir(parents=True, exist_ok=True)
+    # a run's outputs are one set: no GIF of an earlier run is left beside this result
+    # (one this run writes is removed first, in case it is interrupted before it is done)
+    earlier = out / (anim.gif if anim is not None else "run.gif")
+    removed = [p for p in dict.fromkeys(q for q in (earlier, gif_path) if q is not None)
+               if p.is_file()]
+    for p in removed:
+        p.unlink()
     write_json(doc, out / "result.json")
     m = rr.metrics()
     print(f"{scenario.name}: {m['vehicles']} vehicles, planner {args.planner}, "
           f"assignment {args.assign}, seed {rr.seed}")
-    print(f"  parked {m['parked']}, departed {m['departed']}, waiting {m['waiting']}, "
-          f"rejected {m['rejected']}")
-    print(f"  time to park: mean {m['mean_time_to_park']:.1f} s, max "
-          f"{m['max_time_to_park']:.1f} s; total waiting {m['total_waiting']:.1f} s; "
-          f"makespan {m['makespan']:.1f} s")
-    print(f"  planning {m['planning_time']:.2f} s ({m['searches']} searches, "
-          f"{m['expansions']} expansions; per vehicle median "
+    print("  " + _counts(m))
+    away = (f", {m['rejected']} of them turned away after {scenario.traffic.patience:g} s"
+            if m["rejected"] and scenario.traffic.patience > 0 else "")
+    parked = m["parked"] + m["departed"]
+    park = (f"mean {m['mean_time_to_park']:.1f} s, max {m['max_time_to_park']:.1f} s"
+            if parked else "no car parked")
+    moved = any(v.moves for v in rr.vehicles)
+    end = f"the last move ends at {m['makespan']:.1f} s" if moved else "no car moved"
+    print(f"  time to park: {park}; total waiting {m['total_waiting']:.1f} s (queued outside "
+          f"or standing on the way{away}); {end}")
+    print(f"  planning {m['planning_time']:.2f} s ({_n(m['searches'], 'search', 'searches')}, "
+          f"{_n(m['expansions'], 'expansion')}; per vehicle median "
           f"{1000 * m['planning_time_median']:.0f} ms, p95 {1000 * m['planning_time_p95']:.0f} ms)")
     for v in doc["vehicles"]:
         if v["status"] in ("waiting", "rejected"):
-            print(f"  {v['id']}: {v['status']}: {v['reason']}")
+            status = "turned away" if v["status"] == "rejected" else "still waiting"
+            print(f"  {v['id']}: {status}: {v['reason']}")
     print(f"  wrote {out / 'result.json'}")
+    for p in removed:
+        if p != gif_path:
+            print(f"  removed {p}: it showed an earlier run")
     if gif_path is not None:
         try:
             code = _write_gif(doc, gif_path, settings_gif)
@@ -410,6 +505,21 @@ def _run(args: argparse.Namespace) -> int:
         if code != EXIT_OK:
             return code
     return EXIT_INCOMPLETE if m["waiting"] else EXIT_OK
+
+
+def _n(count: int, one: str, many: str | None = None) -> str:
+    """``1 search``, ``3 searches``."""
+    return f"{count} {one if count == 1 else many or one + 's'}"
+
+
+def _counts(m: dict) -> str:
+    """What became of the run's vehicles: ``6 parked (2 of them left again), 0 still
+    waiting, 1 turned away`` (the result's ``parked`` counts those still in their slot,
+    ``departed`` those that parked and left)."""
+    parked = m["parked"] + m["departed"]
+    left = f" ({m['departed']} of them left again)" if m["departed"] else ""
+    return (f"{parked} parked{left}, {m['waiting']} still waiting, {m['rejected']} turned "
+            f"away")
 
 
 def _budget(args: argparse.Namespace):  # noqa: ANN202
@@ -460,6 +570,32 @@ class _ProgressBar:
     def close(self) -> None:
         if self.shown:
             print("\r" + " " * 79 + "\r", end="", file=sys.stderr, flush=True)
+
+
+class _Preparing(_ProgressBar):
+    """A lot being prepared, on one terminal line: ``preparing the lot …``, then
+    ``planning maneuvers [###---] 412/2080``, then ``building the lot graph …``; silent
+    when stderr is not a terminal (and when the lot comes from the cache, quick)."""
+
+    def __init__(self):
+        super().__init__("planning maneuvers")
+        self.note("preparing the lot …")
+
+    def note(self, text: str) -> None:
+        if self.on:
+            print(f"\r{text:<79}", end="", file=sys.stderr, flush=True)
+            self.shown = True
+
+    def __call__(self, done: int, total: int) -> None:
+        super().__call__(done, total)
+        if done >= total:
+            self.note("building the lot graph …")
+
+    def __enter__(self) -> _Preparing:
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.close()
 
 
 def _write_gif(doc: dict, path, settings) -> int:  # noqa: ANN001
@@ -541,16 +677,16 @@ def _output_problem(opt: str, path: str, suffix: str) -> str | None:
 
 
 def _render(args: argparse.Namespace) -> int:
-    from lotsim.check import ResultFormatError, load_result
+    from lotsim.api import load_result
+    from lotsim.errors import ResultFormatError
 
     if not args.gif and not args.timeline:
         return _bad("render: nothing to do: give --gif GIF and/or --timeline PNG")
+    size = _size(args.size)
+    if isinstance(size, str):
+        return _bad(size)
     try:
-        w, h = (int(v) for v in args.size.lower().split("x"))
-    except ValueError:
-        return _bad(f"--size: expected WxH in pixels, such as 800x600, found {args.size!r}")
-    try:
-        settings = GifSettings(fps=args.fps, speed=args.speed, size=(w, h), start=args.start,
+        settings = GifSettings(fps=args.fps, speed=args.speed, size=size, start=args.start,
                                end=args.end, max_frames=args.max_frames, trail=args.trail)
     except SettingsError as exc:
         return _bad(f"{_option(exc.name)}: {exc.message}")

@@ -274,6 +274,27 @@ class RunSettings:
         return out
 
 
+# -- pictures -----------------------------------------------------------------------------------
+MIN_SIZE = (160, 120)
+MAX_SIZE = (4000, 4000)
+"""Smallest and largest picture [pixels], for every picture lotsim draws: a lot
+(``lotsim show``), a maneuver, a GIF."""
+
+
+def size_problem(size: Any) -> str | None:
+    """What is wrong with a picture size ``(width, height)`` in pixels, or None.
+
+    >>> size_problem((800, 600)) is None, size_problem((100, 100))
+    (True, 'expected 160x120 to 4000x4000 pixels, found 100x100')
+    """
+    if not (isinstance(size, tuple) and len(size) == 2 and all(map(_integral, size))):
+        return f"expected (width, height) in pixels, found {size!r}"
+    if not (MIN_SIZE[0] <= size[0] <= MAX_SIZE[0] and MIN_SIZE[1] <= size[1] <= MAX_SIZE[1]):
+        return (f"expected {MIN_SIZE[0]}x{MIN_SIZE[1]} to {MAX_SIZE[0]}x{MAX_SIZE[1]} pixels, "
+                f"found {size[0]}x{size[1]}")
+    return None
+
+
 # -- a GIF --------------------------------------------------------------------------------------
 @dataclass(frozen=True, slots=True)
 class GifSettings:
@@ -317,12 +338,9 @@ class GifSettings:
         problem = _range(self.speed, 0.01, 10_000)
         if problem:
             out.append(("speed", problem))
-        size = self.size
-        if not (isinstance(size, tuple) and len(size) == 2 and all(map(_integral, size))):
-            out.append(("size", f"expected (width, height) in pixels, found {size!r}"))
-        elif not (160 <= size[0] <= 4000 and 120 <= size[1] <= 4000):
-            out.append(("size", f"expected 160x120 to 4000x4000 pixels, found "
-                                f"{size[0]}x{size[1]}"))
+        problem = size_problem(self.size)
+        if problem:
+            out.append(("size", problem))
         for name in ("start", "end"):
             v = getattr(self, name)
             if v is not None and not (is_real(v) and math.isfinite(v)):

@@ -39,7 +39,7 @@ from lotsim.vehicles.model import VehicleType
 
 
 def prepare(scenario: Scenario, *, node_spacing: float = 4.0, maneuvers: bool = True,
-            margin: float = MARGIN, cache: bool = True) -> LotGraph:
+            margin: float = MARGIN, cache: bool = True, progress=None) -> LotGraph:
     """Build the scenario's lot for its vehicle types, plan every slot's parking maneuver
     for every type, and build the lot's drivable graph through them.
 
@@ -56,7 +56,8 @@ def prepare(scenario: Scenario, *, node_spacing: float = 4.0, maneuvers: bool = 
     With ``cache`` (the default), a lot prepared before — same lot, vehicle types and
     settings, same lotsim — is loaded from the on-disk cache instead (:mod:`lotsim.cache`;
     ``LOTSIM_CACHE_DIR=off`` turns it off), and a new one is stored there;
-    ``LotGraph.from_cache`` says which.
+    ``LotGraph.from_cache`` says which. ``progress(done, total)`` is called as the
+    maneuvers' distinct problems are searched (not when the lot comes from the cache).
 
     Raises
     ------
@@ -78,7 +79,7 @@ def prepare(scenario: Scenario, *, node_spacing: float = 4.0, maneuvers: bool = 
             return lg
     lot = build_lot(scenario.lot, DesignVehicle.envelope(scenario.vehicle_types))
     planner = maneuver_planner(scenario, lot, margin=margin)
-    planned, infeasible, stays = plan_lot(planner, scenario.vehicle_types)
+    planned, infeasible, stays = plan_lot(planner, scenario.vehicle_types, progress=progress)
     if leaves == {False}:  # no car leaves: each lane's own best only
         planned, stays = {**planned, **stays}, {}
     elif leaves == {True}:  # no car stays: where those begin would only be nodes in the way
@@ -196,7 +197,9 @@ class RunResult:
         out["max_time_to_park"] = float(np.max(park)) if park else 0.0
         out["total_waiting"] = float(sum(m.t1 - m.t0 for v in self.vehicles for m in v.moves
                                          if m.kind in ("wait", "outside"))
-                                     + sum(_queued(v) for v in self.vehicles))
+                                     + sum(_queued(v) for v in self.vehicles)
+                                     + sum(self.scenario.traffic.patience  # turned away
+                                           for v in self.vehicles if v.status == "rejected"))
         ends = [v.moves[-1].t1 for v in self.vehicles if v.moves]
         out["makespan"] = float(max(ends)) if ends else 0.0
         out["planning_time"] = self.planning_time
@@ -253,7 +256,8 @@ def check_traffic(lg: LotGraph, traffic: list[Arrival], reach: Reachability | No
     unreachable = reach.unreachable
     free = len(lg.lot.free_slots)
     for gate in sorted({a.entrance for a in traffic}):
-        if len(unreachable[gate]) == free:
+        # a full lot is no bad input: its cars are turned away ("the lot is full")
+        if free and len(unreachable[gate]) == free:
             who = next(a for a in traffic if a.entrance == gate)
             raise ScenarioError(who.where, f"no route from entrance {gate!r} to a free slot")
     leaving = [a for a in traffic if a.dwell is not None]

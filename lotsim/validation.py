@@ -2,12 +2,14 @@
 
 from __future__ import annotations
 
+import re
+from collections.abc import Iterable
 from dataclasses import dataclass
 
 from lotsim.cache import LOADED
 from lotsim.lot.graph import Reachability
 from lotsim.sim import PreparedLot, check_traffic
-from lotsim.traffic import arrivals
+from lotsim.traffic import Arrival, StreamSpec, arrivals
 
 
 @dataclass(frozen=True, slots=True)
@@ -78,6 +80,9 @@ class ValidationReport:
             f"  entrances: {', '.join(lg.entrances) or 'none'}; "
             f"exits: {', '.join(lg.exits) or 'none (vehicles cannot leave)'}",
         ]
+        if taken == len(lot.slots) and scenario.traffic is not None:
+            lines.append("  warning: no slot is free: every car will be turned away (the lot "
+                         "is full)")
         if reach.ok:
             lines.append("  unreachable: none")
         if reach.no_way_in:
@@ -141,8 +146,20 @@ def validate_prepared(prepared: PreparedLot, source: str) -> ValidationReport:
     scenario, lg = prepared.scenario, prepared.lot_graph
     reach = lg.reachability()
     if scenario.traffic is not None:
-        check_traffic(lg, arrivals(scenario.traffic, scenario.seed), reach)
+        check_traffic(lg, arrivals(scenario.traffic, scenario.seed)
+                      + _any_draw(scenario.traffic.stream), reach)
     return ValidationReport(source, prepared, reach)
+
+
+def _any_draw(stream: StreamSpec | None) -> list[Arrival]:
+    """A vehicle of each type and at each entrance the stream may draw: ``run --seed``
+    draws other vehicles than the scenario's seed, and must not be refused for a type or
+    an entrance that ``validate`` let pass."""
+    if stream is None:
+        return []
+    dwell = None if stream.dwell is None else stream.dwell[0]
+    return [Arrival(f"{stream.prefix}?", name, gate, stream.start, dwell, stream.where)
+            for name, weight in stream.mix if weight > 0 for gate in stream.entrances]
 
 
 def _n(items, what: str) -> str:  # noqa: ANN001
@@ -150,6 +167,38 @@ def _n(items, what: str) -> str:  # noqa: ANN001
     return f"{len(items)} {what}{'' if len(items) == 1 else 's'}"
 
 
+def natural(slot_id: str) -> tuple:
+    """Sort key that puts ``N2`` before ``N10``: runs of digits compare as numbers.
+
+    >>> sorted(["N10", "N2", "S1", "N1"], key=natural)
+    ['N1', 'N2', 'N10', 'S1']
+    """
+    return tuple((0, int(part), "") if part.isdigit() else (1, 0, part)
+                 for part in re.split(r"(\d+)", slot_id) if part)
+
+
 def _ids(ids: list[str], most: int = 12) -> str:
+    ids = sorted(ids, key=natural)
     head = ", ".join(ids[:most])
     return head + (f", … (+{len(ids) - most})" if len(ids) > most else "")
+
+
+def id_ranges(ids: Iterable[str], most: int = 12) -> str:
+    """Ids in natural order, runs of one prefix with consecutive numbers as ``N1–N10``; at
+    most ``most`` runs shown.
+
+    >>> id_ranges(["S2", "N10", "S1", "X1"] + [f"N{k}" for k in range(1, 10)])
+    'N1–N10, S1–S2, X1'
+    """
+    runs: list[list] = []  # [prefix, first, last, first id, last id]
+    for sid in sorted(ids, key=natural):
+        m = re.fullmatch(r"(.*?)(\d+)", sid)
+        prefix, number = (m.group(1), int(m.group(2))) if m else (sid, None)
+        last = runs[-1] if runs else None
+        if (last is not None and number is not None and last[0] == prefix
+                and last[2] is not None and number == last[2] + 1):
+            last[2], last[4] = number, sid
+        else:
+            runs.append([prefix, number, number, sid, sid])
+    shown = [r[3] if r[3] == r[4] else f"{r[3]}–{r[4]}" for r in runs]
+    return _ids(shown, most) if len(shown) > most else ", ".join(shown)

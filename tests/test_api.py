@@ -114,12 +114,12 @@ def test_run_takes_the_settings_fields_as_keywords(prepared):
 
 
 def test_a_scenario_and_its_prepared_lot_run_alike_and_as_the_cli_does(prepared, tmp_path):
-    by_path = lotsim.run(QUICKSTART, seed=7)
-    by_scenario = lotsim.run(lotsim.load_scenario(QUICKSTART), seed=7)
-    by_prepared = lotsim.run(prepared, seed=7)
+    by_path = lotsim.run(QUICKSTART, assignment="nearest")
+    by_scenario = lotsim.run(lotsim.load_scenario(QUICKSTART), assignment="nearest")
+    by_prepared = lotsim.run(prepared, assignment="nearest")
     assert by_path.to_dict() == by_scenario.to_dict() == by_prepared.to_dict()
     by_prepared.write(tmp_path / "lib" / "result.json")
-    assert main(["run", str(QUICKSTART), "-o", str(tmp_path / "cli"), "--seed", "7",
+    assert main(["run", str(QUICKSTART), "-o", str(tmp_path / "cli"), "--assign", "nearest",
                  "--no-gif"]) == 0
     assert ((tmp_path / "lib" / "result.json").read_bytes()
             == (tmp_path / "cli" / "result.json").read_bytes())

@@ -406,3 +406,29 @@ def test_the_booking_horizon_reaches_the_runs_and_needs_a_booked_priority(tmp_pa
     assert bench.spec_settings(suite.specs()[0]).horizon == 15.0
     with pytest.raises(ScenarioError, match="no booked order"):
         bench.load_suite(_write(tmp_path, base + "horizon: 15\n"))
+
+
+def test_without_plots_the_summary_links_no_missing_picture(local, tmp_path, capsys,
+                                                           monkeypatch):
+    # without matplotlib, summary.md linked throughput.png and time_to_park.png, not written
+    import re
+
+    from lotsim.render import plots
+
+    def missing():
+        raise plots.MatplotlibMissing("no matplotlib")
+
+    path = _write(tmp_path, SUITE.replace("[360, 1440]", "[360]").replace("[1, 2]", "[1]"))
+    out = tmp_path / "out"
+    out.mkdir()
+    (out / "throughput.png").write_bytes(b"an earlier suite run's plot")
+    monkeypatch.setattr(plots, "require_matplotlib", missing)
+    assert main(["bench", str(path), "--jobs", "1", "-o", str(out)]) == 0
+    assert "no plots: they need matplotlib" in capsys.readouterr().out
+    text = (out / "summary.md").read_text()
+    assert "need matplotlib" in text and not re.findall(r"!\[[^]]*\]\(([^)]+)\)", text)
+    assert sorted(p.name for p in out.iterdir()) == ["runs.csv", "summary.md"]
+    # with them, every picture linked is there
+    _, out, _ = local
+    links = re.findall(r"!\[[^]]*\]\(([^)]+)\)", (out / "summary.md").read_text())
+    assert links and all((out / name).is_file() for name in links)

@@ -1,11 +1,12 @@
 """The command line: cars, validate on every shipped scenario."""
 
 import math
+import re
 
 import pytest
 from test_vehicles import DESIGN_TABLE
 
-from conftest import SCENARIOS
+from conftest import ROOT, SCENARIOS
 from lotsim.cli import main
 
 
@@ -47,3 +48,233 @@ def test_validate_reports_each_bad_file_and_goes_on(tmp_path, capsys):
     cap = capsys.readouterr()
     assert f"{bad}:1:6: lot: expected a mapping, found integer '3'" in cap.err
     assert ": ok — quickstart" in cap.out
+
+
+def test_a_command_given_another_kind_of_lotsim_file_says_which_kind_it_is(tmp_path, capsys):
+    # not "format: unknown key 'format'", "not JSON" or "did you mean 'seeds'?"
+    files = {"scenario": next(p for p in SCENARIOS if p.stem == "quickstart"),
+             "result": tmp_path / "result.json",
+             "bench suite": ROOT / "scenarios" / "bench" / "priority.yaml"}
+    files["result"].write_text('{"format": "lotsim-result", "version": 1, "vehicles": []}')
+    gif = str(tmp_path / "x.gif")
+    commands = {"scenario": [["run", "{}", "-o", str(tmp_path / "o")], ["validate", "{}"],
+                             ["show", "{}", "-o", str(tmp_path / "s.png")],
+                             ["maneuver", "{}", "--slot", "N1"]],
+                "result": [["check", "{}"], ["render", "{}", "--gif", gif]],
+                "bench suite": [["bench", "{}", "-o", str(tmp_path / "b")]]}
+    for expected, argvs in commands.items():
+        for found, path in files.items():
+            if found == expected:
+                continue
+            for argv in argvs:
+                assert main([str(path) if a == "{}" else a for a in argv]) == 2, (argv, found)
+                err = capsys.readouterr().err
+                assert f"{path}" in err and "Traceback" not in err
+                assert f"this is a lotsim {found}, not a {expected}: " in err, err
+    assert not any((tmp_path / name).exists() for name in ("o", "s.png", "x.gif", "b"))
+
+
+QUICK = ROOT / "scenarios" / "quickstart.yaml"  # vehicles listed one by one, no stream
+
+
+@pytest.mark.parametrize("argv,words", [
+    (["run", str(QUICK), "--horizon", "30"], "--horizon: only booked orders"),
+    (["run", str(QUICK), "--planner", "hca", "--window", "30"],
+     "--window: only --planner whca plans in windows"),
+    (["run", str(QUICK), "--window", "30"], "--window: only --planner whca"),
+    (["run", str(QUICK), "--seed", "5"], "--seed: seeds the traffic stream, and this "
+                                         "scenario has none"),
+    (["check", "{result}", "--max", "-3"], "--max: expected at least 1, found -3"),
+    (["check", "{result}", "--max", "0"], "--max: expected at least 1, found 0"),
+    (["show", str(QUICK), "-o", "{tmp}/s.jpg"], "-o: expected a file name ending in .png"),
+    (["maneuver", str(QUICK), "--slot", "N1", "-o", "{tmp}/m.jpg"],
+     "-o: expected a file name ending in .png"),
+])
+def test_an_option_that_would_change_nothing_or_be_changed_is_refused(argv, words, tmp_path,
+                                                                      capsys):
+    # each was taken without a word: ignored (--horizon, --window, --seed), changed
+    # (--max -3 listed one) or written as PNG bytes under a .jpg name
+    result = tmp_path / "result.json"
+    result.write_text('{"format": "lotsim-result"}')
+    out = tmp_path / "o"
+    argv = [a.format(result=result, tmp=tmp_path) for a in argv]
+    assert main([*argv, "-o", str(out)] if argv[0] == "run" else argv) == 2
+    err = capsys.readouterr().err
+    assert words in err and "Traceback" not in err
+    assert not out.exists() and not list(tmp_path.glob("*.jpg"))
+
+
+def test_a_seed_on_a_stream_with_its_own_seed_is_refused_by_the_library():
+    import lotsim
+
+    text = QUICK.read_text().split("traffic:")[0] + (
+        "traffic:\n  stream: {count: 2, rate_per_hour: 60, seed: 4}\n")
+    # no lot graph: the seed is refused before anything is planned
+    prepared = lotsim.PreparedLot(lotsim.load_scenario(text), None)
+    with pytest.raises(lotsim.SettingsError, match=r"seed: the scenario's stream has its own "
+                                                   r"seed \(4, <scenario>:\d+:\d+: "
+                                                   r"traffic.stream\)"):
+        lotsim.run(prepared, seed=5)
+
+
+def test_the_scenario_page_example_is_a_shipped_scenario_that_validates_and_runs():
+    # the page's example did not run (angle_deg on a perpendicular row, a slot opening onto
+    # no aisle, one overlapping N9, an empty 'slots:', ...); it is now scenarios/example.yaml,
+    # which the tests over every shipped scenario validate (--strict), run and check
+    page = (ROOT / "docs" / "scenario.md").read_text()
+    block = re.search(r"```yaml\n(.*?)```", page, re.S).group(1)
+    path = ROOT / "scenarios" / "example.yaml"
+    assert path in SCENARIOS
+    assert block == path.read_text()
+
+
+def test_preparing_a_lot_shows_its_progress_on_a_terminal_only(tmp_path, capsys, monkeypatch):
+    # validate and run of a big lot said nothing for 20 s while its maneuvers were planned
+    import lotsim
+
+    monkeypatch.setenv("LOTSIM_CACHE_DIR", "off")  # planned, not loaded
+    path = next(p for p in SCENARIOS if p.stem == "quickstart")
+    calls = []
+    report = lotsim.validate(path, progress=lambda done, total: calls.append((done, total)))
+    searched = report.prepared.lot_graph.maneuver_planner.stats["planned"]
+    assert calls == [(k, searched) for k in range(1, searched + 1)] and searched > 1
+    assert main(["validate", str(path)]) == 0
+    assert capsys.readouterr().err == ""  # a pipe: quiet
+    monkeypatch.setattr("sys.stderr.isatty", lambda: True)
+    assert main(["validate", str(path)]) == 0
+    cap = capsys.readouterr()
+    assert f"{searched} distinct problems searched" in cap.out
+    shown = re.findall(r"planning maneuvers \[[#-]+\] (\d+)/(\d+)", cap.err)
+    assert shown[-1] == (str(searched), str(searched)) and "\n" not in cap.err
+    assert cap.err.endswith("\r")  # the line is wiped when done
+    assert main(["run", str(path), "-o", str(tmp_path / "o"), "--no-gif"]) == 0
+    assert f"] {searched}/{searched}" in capsys.readouterr().err
+
+
+def test_what_a_shipped_scenario_says_of_its_aisles_is_true():
+    # quickstart.yaml said "one two-way aisle" of its one-way aisle
+    import yaml
+
+    for path in [*SCENARIOS, *sorted((ROOT / "scenarios" / "lots").glob("*.yaml"))]:
+        text = path.read_text()
+        doc = yaml.safe_load(text)
+        header = [line for line in text.splitlines() if line.startswith("#")]
+        said = " ".join([doc.get("description", ""), *header[:5]])
+        ways = {a.get("direction", "two-way") for a in doc["lot"]["aisles"]}
+        for way in ("one-way", "two-way"):
+            if way in said:
+                assert way in ways, (path.name, way, ways)
+
+
+def test_every_picture_takes_the_same_sizes(tmp_path, capsys):
+    # show took 64 to 8000 pixels, render 160x120 to 4000x4000
+    import lotsim
+
+    result = tmp_path / "result.json"
+    result.write_text('{"format": "lotsim-result"}')
+    commands = [["show", str(QUICK), "-o", str(tmp_path / "s.png")],
+                ["maneuver", str(QUICK), "--slot", "N1"],
+                ["render", str(result), "--gif", str(tmp_path / "r.gif")]]
+    for argv in commands:
+        for size, shown in (("100x100", "100x100"), ("8000x6000", "8000x6000"),
+                            ("160x119", "160x119")):
+            assert main([*argv, "--size", size]) == 2
+            assert (f"--size: expected 160x120 to 4000x4000 pixels, found {shown}"
+                    in capsys.readouterr().err), argv
+    for bad in ((100, 100), (8000, 6000)):
+        with pytest.raises(lotsim.SettingsError) as lot_err:
+            lotsim.render_lot(QUICK, size=bad)
+        with pytest.raises(lotsim.SettingsError) as gif_err:
+            lotsim.GifSettings(size=bad)
+        assert str(lot_err.value) == str(gif_err.value)
+    assert not list(tmp_path.glob("*.png")) + list(tmp_path.glob("*.gif"))
+
+
+def test_each_command_s_help_says_what_it_does_its_arguments_and_exit_codes(capsys):
+    # commands had no description, positionals no help, exit codes appeared nowhere
+    from lotsim.cli import _parser
+
+    parser = _parser()
+    commands = parser.commands
+    assert set(commands) == {"cars", "validate", "minslot", "maneuver", "run", "render",
+                             "check", "show", "bench"}
+    for name, command in commands.items():
+        with pytest.raises(SystemExit) as exc:
+            main([name, "--help"])
+        assert exc.value.code == 0
+        text = capsys.readouterr().out
+        assert command.description and command.description in " ".join(text.split())
+        assert "exit codes: 0 " in text, name
+        for action in command._actions:
+            assert action.help, (name, action.dest)
+    with pytest.raises(SystemExit):
+        main(["--help"])
+    assert "exit codes: 0 ok, 1 incomplete" in capsys.readouterr().out
+
+
+def test_an_extra_argument_gets_the_command_s_usage_and_one_name_serves_a_car(capsys):
+    with pytest.raises(SystemExit) as exc:
+        main(["cars", "extra"])
+    assert exc.value.code == 2
+    err = capsys.readouterr().err
+    assert err.startswith("usage: lotsim cars") and "unrecognized arguments: extra" in err
+    # --car names a vehicle type for maneuver as for minslot (--vehicle still works)
+    assert main(["maneuver", str(QUICK), "--slot", "N1", "--car", "valet"]) == 0
+    by_car = capsys.readouterr().out
+    assert main(["maneuver", str(QUICK), "--slot", "N1", "--vehicle", "valet"]) == 0
+    assert capsys.readouterr().out == by_car and by_car.startswith("valet into slot N1")
+
+
+def test_slot_and_lane_ids_can_be_found(tmp_path, capsys):
+    # a big lot's picture had no labels and 'maneuver --slot X' said only "no slot 'X'"
+    import numpy as np
+    from PIL import Image, ImageDraw
+
+    from lotsim.io.scenario import load_scenario
+    from lotsim.render.lot_image import draw_lot, lot_layout
+    from lotsim.sim import prepare
+
+    assert main(["maneuver", str(QUICK), "--slot", "Q7"]) == 2
+    assert "no slot 'Q7'" in capsys.readouterr().err
+    assert main(["maneuver", str(QUICK), "--slot", "Q7"]) == 2
+    assert "(its slots: N1–N10, S1–S10; " in capsys.readouterr().err
+    assert main(["maneuver", str(QUICK), "--slot", "N3", "--leave"]) == 0
+    assert re.match(r"valet out of slot N3 to lane main> ", capsys.readouterr().out)
+
+    out = tmp_path / "lot.png"
+    assert main(["show", str(QUICK), "-o", str(out), "--size", "200x150"]) == 0
+    text = capsys.readouterr().out
+    assert "  slots: N1–N10, S1–S10\n  lanes: main>\n" in text
+    size = tuple(map(int, re.search(r"drawn: 0 of 20 at 200x150 \(--size (\d+)x(\d+) draws "
+                                    r"them all\)", text).groups()))
+    # at that size each slot holds its id: pixels inside it differ with labels and without
+    lg = prepare(load_scenario(QUICK), maneuvers=False)
+    on, off = (np.asarray(draw_lot(lg, size=size, labels=flag)) for flag in (True, False))
+    canvas = lot_layout(lg, size=size).canvas
+    for slot in lg.lot.slots:
+        mask = Image.new("1", size)
+        ImageDraw.Draw(mask).polygon([tuple(p) for p in canvas.to_px(slot.polygon)], fill=1)
+        inside = np.asarray(mask)
+        assert (on[inside] != off[inside]).any(), slot.id
+    assert main(["show", str(QUICK), "-o", str(out)]) == 0
+    assert "slot ids drawn" not in capsys.readouterr().out
+
+
+def test_the_maneuver_picture_title_counts_its_changes_in_words(tmp_path, monkeypatch,
+                                                                  capsys):
+    # it read "1 changes"
+    from lotsim.render import maneuver_image
+
+    titles = []
+    draw = maneuver_image.draw_maneuver
+
+    def noting(*args, title, **kwargs):
+        titles.append(title)
+        return draw(*args, title=title, **kwargs)
+
+    monkeypatch.setattr(maneuver_image, "draw_maneuver", noting)
+    assert main(["maneuver", str(QUICK), "--slot", "N3", "-o", str(tmp_path / "m.png")]) == 0
+    changes = int(re.search(r": (\d+) direction change", capsys.readouterr().out).group(1))
+    word = "change" if changes == 1 else "changes"
+    assert titles == [f"quickstart: valet into N3, {changes} {word} of direction, "
+                      + titles[0].rsplit(", ", 1)[1]]

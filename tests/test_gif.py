@@ -432,3 +432,26 @@ def test_front_wheels_turn_gradually_within_the_steering_rate(street):
     both = st["visible"][1:] & st["visible"][:-1]
     assert turn[both].max() > 0.02  # the wheels move
     assert np.all(turn[both] <= rates[None, :].repeat(len(turn), 0)[both] * 0.1 + 1e-5)
+
+
+def test_a_run_leaves_no_gif_of_an_earlier_run_beside_its_result(tmp_path, capsys,
+                                                                 monkeypatch):
+    # run --no-gif into a folder holding an earlier run's GIF left it beside the new
+    # result.json without a word; so did a run interrupted while its GIF was drawn
+    path = tmp_path / "s.yaml"
+    path.write_text(BARE + "\nanimation: {gif: cars.gif, size: [320, 240]}\n")
+    out = tmp_path / "a"
+    out.mkdir()
+    old = out / "cars.gif"
+    old.write_bytes(b"GIF89a, an earlier run")
+    assert main(["run", str(path), "-o", str(out), "--no-gif"]) == 0
+    assert sorted(p.name for p in out.iterdir()) == ["result.json"]
+    assert f"removed {old}: it showed an earlier run" in capsys.readouterr().out
+    old.write_bytes(b"GIF89a, an earlier run")
+
+    def interrupted(*args, **kwargs):
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr("lotsim.api.render_gif", interrupted)
+    assert main(["run", str(path), "-o", str(out)]) == 130
+    assert sorted(p.name for p in out.iterdir()) == ["result.json"]

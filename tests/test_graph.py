@@ -6,9 +6,11 @@ import numpy as np
 import pytest
 import shapely
 
-from conftest import SCENARIOS, graph_from_text
+from conftest import ONE_AISLE, SCENARIOS, graph_from_text, position, scenario_from_text
 from lotsim.cli import main
+from lotsim.errors import ScenarioError
 from lotsim.geometry import wrap_angle
+from lotsim.sim import prepare
 from lotsim.vehicles import KMH
 
 
@@ -58,10 +60,16 @@ def test_heading_is_continuous_through_every_lane_node(shipped_graphs):
                     assert abs(wrap_angle(a - b)) < 1e-6
 
 
-def test_curvature_never_exceeds_the_largest_vehicles_limit(shipped_graphs):
-    for lg in shipped_graphs.values():
-        limit = 1 / lg.lot.design.min_radius
+def test_curvature_never_exceeds_the_limit_of_the_vehicles_that_drive_it(shipped_graphs):
+    from lotsim.io.scenario import load_scenario
+
+    for path in SCENARIOS:
+        lg = shipped_graphs[path.stem]
+        radius = {v.name: v.min_turning_radius for v in load_scenario(path).vehicle_types}
         for _, _, d in driven_edges(lg):
+            # an edge built for some types only (a small car's turnaround) is theirs
+            limit = 1 / (min(radius[t] for t in d["types"]) if d.get("types")
+                         else lg.lot.design.min_radius)
             assert all(seg.max_curvature <= limit + 1e-9 for seg in d["path"])
             if d["kind"] != "turnaround":
                 assert d["gear"] == 1  # lanes and turns are driven forward
@@ -131,6 +139,8 @@ def test_lane_and_turn_sweeps_touch_no_slot_or_area(shipped_graphs):
         tree = shapely.STRtree(blockers)
         for vehicle in load_scenario(path).vehicle_types:
             for _, _, d in driven_edges(lg):
+                if d.get("types") and vehicle.name not in d["types"]:
+                    continue  # built for other types only: this one never drives it
                 polys = shapely.polygons(vehicle.footprints(path_poses(d["path"], 0.05)))
                 left, right = tree.query(polys, predicate="intersects")
                 if left.size:
@@ -237,3 +247,18 @@ def test_junction_turns_join_aisles_with_feasible_arcs():
     assert abs(wrap_angle(path[-1].end[2] - path[0].start[2])) == pytest.approx(math.pi)
     reach = lg.reachability()
     assert reach.unreachable["in"] == [] and reach.stranded["out"] == []
+
+
+def test_a_portal_heading_off_its_lane_is_refused_not_turned_without_a_word():
+    # 45° on a lane running at 0° was snapped to 0° silently; a few degrees are fine
+    for heading, ok in ((45, False), (-30, False), (10, True)):
+        text = ONE_AISLE.replace("{id: in, x: 3.0, y: 11.0, heading_deg: 0}",
+                                 f"{{id: in, x: 3.0, y: 11.0, heading_deg: {heading}}}")
+        sc = scenario_from_text(text)
+        if ok:
+            assert prepare(sc, maneuvers=False).entrances["in"] is not None
+            continue
+        with pytest.raises(ScenarioError) as err:
+            prepare(sc, maneuvers=False)
+        assert (err.value.where.line, err.value.where.col) == position(text, "|{id: in")
+        assert "lane 'a>' there heads 0°" in err.value.message

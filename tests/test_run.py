@@ -16,7 +16,7 @@ from lotsim.io.result import result_dict
 from lotsim.io.scenario import load_scenario
 from lotsim.planners import cooperative
 from lotsim.sim import RunSettings, prepare, run
-from lotsim.traffic import Arrival, TrafficSpec
+from lotsim.traffic import Arrival, TrafficSpec, arrivals
 from single_track import assert_reproduced
 
 LOT = ONE_AISLE
@@ -121,6 +121,41 @@ def test_a_full_lot_queues_then_rejects_with_a_reason_and_loses_nobody(small):
     _checked(rr)
 
 
+def test_a_lot_with_every_slot_taken_turns_its_cars_away_and_exits_0(tmp_path, capsys):
+    # not bad input: the cars are turned away as they are when the one free slot is taken
+    # (this exited 2 with "no route from entrance 'in' to a free slot")
+    path = tmp_path / "full.yaml"
+    path.write_text(LOT.replace("occupied: [N1, N2, N3, N4, N5, S1, S2, S3, S4]",
+                                "occupied: {fraction: 1.0, seed: 0, min_free: 0}")
+                    + "traffic:\n  patience: 20\n  vehicles: [{id: x, arrival: 0}, "
+                      "{id: y, arrival: 1, dwell: 5}]\n")
+    assert main(["validate", str(path)]) == 0
+    assert "every car will be turned away" in capsys.readouterr().out
+    assert main(["run", str(path), "-o", str(tmp_path / "o")]) == 0
+    doc = json.loads((tmp_path / "o" / "result.json").read_text())
+    assert [(v["status"], "full" in v["reason"]) for v in doc["vehicles"]] == [
+        ("rejected", True)] * 2
+    assert check_result(doc).ok
+
+
+def test_validate_refuses_what_run_refuses_for_any_seed_of_the_stream(tmp_path, capsys):
+    # the scenario's seed draws no limo, '--seed' may: validate judges every type the
+    # stream can draw, with run's message (it said ok, then run exited 2)
+    path = tmp_path / "mix.yaml"
+    path.write_text(LOT.replace("vehicle_types: [valet]", """vehicle_types:
+  - valet
+  - {name: limo, width: 2.0, front: 5.5, rear: 1.2, wheelbase: 4.2, max_steer_deg: 30}""")
+        + "traffic:\n  stream: {count: 2, rate_per_hour: 60, mix: {valet: 9, limo: 1}}\n")
+    sc = load_scenario(path)
+    assert {a.vehicle for a in arrivals(sc.traffic, sc.seed)} == {"valet"}
+    seed = next(s for s in range(100) if "limo" in {a.vehicle for a in arrivals(sc.traffic, s)})
+    assert main(["run", str(path), "--seed", str(seed), "-o", str(tmp_path / "o")]) == 2
+    refused = capsys.readouterr().err
+    assert "'limo' fits no slot" in refused
+    assert main(["validate", str(path)]) == 2
+    assert capsys.readouterr().err == refused
+
+
 def test_a_queued_vehicle_gets_the_next_freed_slot(small):
     sc, lg = small
     cars = [Arrival("a", "valet", "in", 0.0, dwell=20.0), Arrival("b", "valet", "in", 1.0),
@@ -201,7 +236,7 @@ def test_run_cli_writes_a_result_that_check_accepts_and_a_corrupted_one_it_refus
     out = tmp_path / "out"
     assert main(["run", str(path), "-o", str(out), "--no-gif"]) == 0
     text = capsys.readouterr().out
-    assert "parked" in text and "makespan" in text and "result.json" in text
+    assert "parked" in text and "the last move ends at" in text and "result.json" in text
     assert [p.name for p in out.iterdir()] == ["result.json"]  # nothing half-written
     assert main(["check", str(out / "result.json")]) == 0
     capsys.readouterr()
@@ -353,3 +388,55 @@ def test_whca_replans_only_when_space_was_freed_and_that_changes_next_to_nothing
         for ta, tb in ((a.parked_at, b.parked_at), (a.left_at, b.left_at)):
             assert (ta is None) == (tb is None)
             assert ta is None or abs(ta - tb) < 0.1, (a.id, ta, tb)
+
+
+def test_the_run_summary_counts_what_became_of_each_car_as_the_result_does(tmp_path, capsys):
+    # it read "parked 0, departed 30" (as if nothing parked), "total waiting 0.0 s;
+    # makespan 8.5 s" when every car was turned away after waiting, and "1 searches"
+    path = tmp_path / "s.yaml"
+    path.write_text(LOT + "traffic:\n  patience: 25\n  vehicles: [{id: a, arrival: 0, dwell: 5},"
+                    " {id: b, arrival: 1}, {id: c, arrival: 2}, {id: d, arrival: 3},"
+                    " {id: e, arrival: 4}]\n")
+    assert main(["run", str(path), "-o", str(tmp_path / "o"), "--no-gif"]) == 0
+    out = capsys.readouterr().out
+    doc = json.loads((tmp_path / "o" / "result.json").read_text())
+    status = [v["status"] for v in doc["vehicles"]]
+    away = status.count("rejected")
+    assert status.count("departed") == 1 and away >= 1  # three slots for five cars
+    assert (f"{len(status) - away} parked (1 of them left again), 0 still waiting, "
+            f"{away} turned away") in out
+    # a car turned away queued outside for the whole patience
+    assert doc["metrics"]["total_waiting"] >= 25 * away
+    assert out.count(": turned away: waited 25 s outside") == away
+    searches = doc["metrics"]["searches"]
+    assert f"({searches} searches, " in out and searches > 1
+
+    path.write_text(LOT.replace("occupied: [N1, N2, N3, N4, N5, S1, S2, S3, S4]",
+                                "occupied: [N1, N2, N3, N4, N5, N6, S1, S2, S3, S4, S5]")
+                    + "traffic:\n  patience: 25\n  vehicles: [{id: a, arrival: 0}]\n")
+    assert main(["run", str(path), "-o", str(tmp_path / "o"), "--no-gif"]) == 0
+    out = capsys.readouterr().out
+    assert "1 parked, 0 still waiting, 0 turned away" in out and "(1 search, " in out
+
+    path.write_text(LOT.replace("occupied: [N1, N2, N3, N4, N5, S1, S2, S3, S4]",
+                                "occupied: {fraction: 1, seed: 0, min_free: 0}")
+                    + "traffic:\n  patience: 25\n  vehicles: [{id: a, arrival: 0},"
+                    " {id: b, arrival: 3}]\n")
+    assert main(["run", str(path), "-o", str(tmp_path / "o"), "--no-gif"]) == 0
+    out = capsys.readouterr().out
+    doc = json.loads((tmp_path / "o" / "result.json").read_text())
+    assert doc["metrics"]["total_waiting"] == pytest.approx(50.0)
+    assert "time to park: no car parked; total waiting 50.0 s" in out and "no car moved" in out
+
+
+def test_validate_lists_slot_ids_in_natural_order(capsys):
+    from lotsim.api import validate
+
+    text = LOT.replace("count: 6", "count: 12").replace("vehicle_types: [valet]", """\
+vehicle_types:
+  - valet
+  - {name: limo, width: 2.0, front: 5.5, rear: 1.2, wheelbase: 4.2, max_steer_deg: 30}""")
+    warning = next(w for w in validate(text).warnings if w.startswith("limo cannot park"))
+    ids = warning.split(": ")[1].split(", ")
+    # N2 before N10 (it read N1, N10, N11, N12, N2)
+    assert ids[:12] == [f"N{k}" for k in range(1, 13)]

@@ -16,6 +16,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from lotsim.errors import ScenarioError
+from lotsim.io.kinds import refuse_other_kind, top_level
 from lotsim.io.yamlnodes import YNode, parse_text, read_yaml
 from lotsim.lot.spec import (
     SIDES,
@@ -80,7 +81,7 @@ def read_scenario(source: str | os.PathLike) -> ScenarioFile:
     """
     if isinstance(source, str) and "\n" in source:
         return parse_scenario_file(parse_text(source, TEXT_FILE))
-    return parse_scenario_file(read_yaml(source))
+    return parse_scenario_file(read_yaml(source, expect="scenario"))
 
 
 def load_scenario(path: str | os.PathLike) -> Scenario:
@@ -108,6 +109,7 @@ def parse_scenario(root: YNode) -> Scenario:
 
 def parse_scenario_file(root: YNode) -> ScenarioFile:
     """Validate a composed scenario document: the scenario and its output options."""
+    refuse_other_kind(top_level(root), "scenario", root.file)
     f = root.fields(
         required=["lot"],
         optional=["name", "description", "seed", "vehicle_types", "parked_vehicle", "traffic",

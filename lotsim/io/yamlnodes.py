@@ -350,13 +350,21 @@ def parse_text(text: str, file: str) -> YNode:
     return YNode(nodes[0], file)
 
 
-def read_yaml(path: str | Path) -> YNode:
-    """Read and compose a YAML file; a missing or unreadable file is a ScenarioError."""
+def read_yaml(path: str | Path, *, expect: str | None = None) -> YNode:
+    """Read and compose a YAML file; a missing or unreadable file is a ScenarioError, and
+    so is a JSON file of another kind than ``expect`` (:mod:`lotsim.io.kinds`: a result
+    given where a scenario belongs)."""
     file = str(path)
     try:
         raw = Path(path).read_bytes()
     except OSError as exc:
         raise ScenarioError(None, f"{file}: cannot read: {exc.strerror or exc}") from None
+    if expect is not None:
+        from lotsim.io.kinds import json_kind, wrong_kind
+
+        found = json_kind(raw)
+        if found is not None and found != expect:
+            raise ScenarioError(Location(file, 1, 1), wrong_kind(found, expect))
     if len(raw) > 20_000_000:
         raise ScenarioError(Location(file, 1, 1), "file is larger than 20 MB")
     try:

@@ -537,23 +537,35 @@ def _zone_crossings(lot: Lot, lane: Lane) -> list[float]:
     return out
 
 
+PORTAL_HEADING_TOLERANCE = math.radians(15)
+"""How far a portal's heading may differ from its lane's there [rad]: the car stands on
+the lane, heading its way; more is refused rather than turned without a word."""
+
+
 def _portal_station(lot: Lot, portal: Portal) -> tuple[str, float]:
     """The lane (and station on it) a portal pose stands on: nearest lane heading its way."""
     pose = portal.pose
     best = None
+    near = None  # the nearest lane the portal stands on, whichever way it heads
     for aisle in lot.aisles.values():
         for lane in aisle.lanes:
             s, dist = lane.project(pose[:2])
-            heading = lane.pose_at(s)[2]
-            if abs(wrap_angle(heading - pose[2])) > math.pi / 4:
+            if dist > aisle.width / 2 + 0.01:
                 continue
-            if dist <= aisle.width / 2 + 0.01 and (best is None or dist < best[0]):
+            heading = lane.pose_at(s)[2]
+            off = abs(wrap_angle(heading - pose[2]))
+            if near is None or (off, dist) < near[:2]:
+                near = (off, dist, lane.id, heading)
+            if off <= PORTAL_HEADING_TOLERANCE and (best is None or dist < best[0]):
                 best = (dist, lane.id, s)
     if best is None:
+        there = (f"; lane {near[2]!r} there heads {math.degrees(near[3]) % 360:.0f}° (give "
+                 f"heading_deg within {math.degrees(PORTAL_HEADING_TOLERANCE):.0f}° of it)"
+                 if near is not None else "")
         raise ScenarioError(
             portal.where,
             f"{portal.id!r} at ({pose[0]:g}, {pose[1]:g}) heading "
-            f"{math.degrees(pose[2]):.0f}° is on no lane driven that way",
+            f"{math.degrees(pose[2]):.0f}° is on no lane driven that way{there}",
         )
     lane = next(ln for ln in lot.lanes if ln.id == best[1])
     body = shapely.Polygon(lot.design.footprints(np.array([lane.pose_at(best[2])]))[0])

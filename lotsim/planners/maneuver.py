@@ -49,7 +49,7 @@ import math
 import multiprocessing
 import os
 import signal
-from collections.abc import Iterable, Sequence
+from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass
 from enum import Enum
 
@@ -596,7 +596,8 @@ class ManeuverPlanner:
         return (raw if isinstance(raw, str) else (self._eased(problem, raw[0]), raw[1])), raw
 
     def prefetch(self, vehicles: Iterable[VehicleType], *, style: str = "any",
-                 shared: bool = True, workers: int | None = None) -> None:
+                 shared: bool = True, workers: int | None = None,
+                 progress: Callable[[int, int], None] | None = None) -> None:
         """Search every distinct problem :meth:`solve_lanes` will meet for ``vehicles`` in
         every slot, on ``workers`` processes (default: as many as the machine has), so that
         it then only looks them up.
@@ -605,7 +606,8 @@ class ManeuverPlanner:
         problem (by its rounded local geometry, as the cache keys it) is searched as posed
         the first time :meth:`solve_lanes` meets it in slot order, as it would be without
         this. Needs the ``fork`` start method (Linux); elsewhere, or for a few problems, it
-        searches in this process.
+        searches in this process. ``progress(done, total)`` is called as problems are
+        searched.
         """
         todo: dict[bytes, tuple] = {}
         calls = [(v, slot, lane, st) for v in vehicles for slot in self.lot.slots
@@ -621,7 +623,7 @@ class ManeuverPlanner:
             if key not in self._cache and key not in todo:
                 todo[key] = (problem, st)
         jobs = list(todo.items())
-        answers = _search_all(self, jobs, workers)
+        answers = _search_all(self, jobs, workers, progress)
         for (key, _), (hit, raw) in zip(jobs, answers, strict=True):
             self._cache[key], self._raw[key] = hit, raw
             self._fresh.add(key)
@@ -1206,7 +1208,8 @@ def plan_maneuver(vehicle: VehicleType, slot: Slot, lot: Lot, *, style: str = "a
 
 
 def plan_lot(planner: ManeuverPlanner, vehicles: Iterable[VehicleType], *,
-             style: str = "any", workers: int | None = None
+             style: str = "any", workers: int | None = None,
+             progress: Callable[[int, int], None] | None = None
              ) -> tuple[dict[tuple[str, str, str], Maneuver], dict[str, dict[str, str]],
                         dict[tuple[str, str, str], Maneuver]]:
     """Maneuvers for every slot, vehicle type and lane of a lot, searched on ``workers``
@@ -1222,9 +1225,11 @@ def plan_lot(planner: ManeuverPlanner, vehicles: Iterable[VehicleType], *,
         ``(vehicle name, slot id, lane id)`` → that lane's own best Maneuver, where it parks
         the other way round than the one in ``maneuvers`` (for cars that will not leave;
         :meth:`ManeuverPlanner.solve_lanes`).
+
+    ``progress(done, total)`` is called as the distinct problems are searched.
     """
     vehicles = list(vehicles)
-    planner.prefetch(vehicles, style=style, workers=workers)
+    planner.prefetch(vehicles, style=style, workers=workers, progress=progress)
     maneuvers: dict[tuple[str, str, str], Maneuver] = {}
     stays: dict[tuple[str, str, str], Maneuver] = {}
     infeasible: dict[str, dict[str, str]] = {}
@@ -1241,12 +1246,24 @@ def plan_lot(planner: ManeuverPlanner, vehicles: Iterable[VehicleType], *,
     return maneuvers, infeasible, stays
 
 
+def _counted(answers: Iterable, total: int, progress: Callable[[int, int], None] | None
+             ) -> list:
+    """``list(answers)``, calling ``progress(done, total)`` as they come."""
+    out = []
+    for answer in answers:
+        out.append(answer)
+        if progress is not None:
+            progress(len(out), total)
+    return out
+
+
 _JOB: tuple = ()  # (planner, jobs, parent pid) for the forked workers of _search_all
 PARALLEL_FROM = 64
 """Fewest distinct problems worth starting worker processes for."""
 
 
-def _search_all(planner: ManeuverPlanner, jobs: list, workers: int | None) -> list:
+def _search_all(planner: ManeuverPlanner, jobs: list, workers: int | None,
+                progress: Callable[[int, int], None] | None = None) -> list:
     """:meth:`ManeuverPlanner._search` of every job ``(key, (problem, style))``, in order, on
     up to ``workers`` forked processes (which find the posed problems in their copy of
     ``_JOB``: nothing is posed twice or pickled but the answers)."""
@@ -1257,11 +1274,13 @@ def _search_all(planner: ManeuverPlanner, jobs: list, workers: int | None) -> li
     workers = min(workers, max(1, len(jobs) // 16))
     if (workers < 2 or len(jobs) < PARALLEL_FROM
             or "fork" not in multiprocessing.get_all_start_methods()):
-        return [_search_one(planner, job) for _, job in jobs]
+        answers = (_search_one(planner, job) for _, job in jobs)
+        return _counted(answers, len(jobs), progress)
     _JOB = (planner, [job for _, job in jobs], os.getpid())
     try:  # leaving the pool (done, or Ctrl-C here) terminates its workers
         with multiprocessing.get_context("fork").Pool(workers, initializer=_ignore_sigint) as pool:
-            return pool.map(_search_job, range(len(jobs)), chunksize=8)
+            return _counted(pool.imap(_search_job, range(len(jobs)), chunksize=8), len(jobs),
+                            progress)
     finally:
         _JOB = ()
 

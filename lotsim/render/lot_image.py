@@ -544,16 +544,20 @@ def paint_labels(
     _label_zones(img, canvas, lot)
 
 
-def _label_slots(img: Image.Image, canvas: LotCanvas, lot, shift: float) -> None:
+SLOT_LABEL_MIN = 14
+"""Slot ids are drawn when the slots' typical short side is at least this many pixels."""
+
+
+def _slot_label_spots(canvas: LotCanvas, lot, shift: float) -> list:
+    """``(slot id, centre px, font)`` of each slot id that fits inside its slot."""
     if not lot.slots:
-        return
+        return []
     short = canvas.px(float(np.median([min(s.width, s.length) for s in lot.slots])))
-    size = int(np.clip(short * 0.4, 8, 13))
-    if short < 14:
-        return
-    f = font(size)
-    draw = ImageDraw.Draw(img)
+    if short < SLOT_LABEL_MIN:
+        return []
+    f = font(int(np.clip(short * 0.4, 8, 13)))
     pad = np.array([[-1, -1], [1, -1], [1, 1], [-1, 1]])
+    out = []
     for slot in lot.slots:
         poly = canvas.to_px(np.asarray(slot.polygon, dtype=float))
         w, h = text_size(slot.id, f)
@@ -563,9 +567,24 @@ def _label_slots(img: Image.Image, canvas: LotCanvas, lot, shift: float) -> None
                 [math.cos(slot.heading), -math.sin(slot.heading)]
             )
         box = c + np.array([[-w, -h], [w, -h], [w, h], [-w, h]]) * 0.5 + pad
-        if not _inside_convex(box, poly):
-            continue
-        draw_text(draw, (c[0], c[1]), slot.id, f, SLOT_LABEL)
+        if _inside_convex(box, poly):
+            out.append((slot.id, c, f))
+    return out
+
+
+def slot_labels_drawn(lot_graph, size: tuple[int, int], *, show_graph: bool = False
+                      ) -> int:
+    """How many slot ids :func:`draw_lot` draws at ``size`` (an id is drawn where it fits
+    inside its slot)."""
+    lot = getattr(lot_graph, "lot", lot_graph)
+    canvas = lot_layout(lot_graph, size=size, show_graph=show_graph).canvas
+    return len(_slot_label_spots(canvas, lot, 0.3 if show_graph else 0.0))
+
+
+def _label_slots(img: Image.Image, canvas: LotCanvas, lot, shift: float) -> None:
+    draw = ImageDraw.Draw(img)
+    for text, c, f in _slot_label_spots(canvas, lot, shift):
+        draw_text(draw, (c[0], c[1]), text, f, SLOT_LABEL)
 
 
 def _inside_convex(points: np.ndarray, poly: np.ndarray) -> bool:
