@@ -132,7 +132,7 @@ def test_the_ga_never_does_worse_than_arrival_order_or_shortest_first(burst):
     sc, lg = burst
     cars = [Arrival(f"c{k}", "valet", "in", 1.0 * k) for k in range(5)]
     busy = _with(sc, cars)
-    ga = GASettings(population=6, generations=3, seed=1)
+    ga = GASettings(population=4, generations=2, seed=1)  # small: the claims hold at any size
     order, found = genetic_order(busy, RunSettings(), lot_graph=lg, ga=ga)
     assert sorted(order) == sorted(c.id for c in cars)
     assert found["fitness"] <= found["fitness_arrival"] + 1e-9

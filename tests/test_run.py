@@ -80,8 +80,10 @@ def _stroke_lengths(doc):
             yield float(np.sum(np.hypot(np.diff(x[a:b + 1]), np.diff(y[a:b + 1]))))
 
 
-@pytest.mark.parametrize("planner", ["ca", "hca", "whca"])
-@pytest.mark.parametrize("name", ["quickstart", "street", "seed003_two_rows"])
+@pytest.mark.parametrize(("name", "planner"), [
+    (name, planner) for name in ("quickstart", "street", "seed003_two_rows")
+    for planner in ("ca", "hca", "whca")
+    if (name, planner) != ("street", "ca")])  # CA* on the street: 15 s for no new case
 def test_every_planner_and_policy_gives_a_checked_result(planner, name, shipped_graphs):
     sc = load_scenario(next(p for p in SCENARIOS if p.stem == name))
     assign = "nearest" if planner == "ca" else "shortest"
