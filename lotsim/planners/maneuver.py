@@ -605,26 +605,27 @@ class ManeuverPlanner:
         The answers are exactly those of searching them one after another: each distinct
         problem (by its rounded local geometry, as the cache keys it) is searched as posed
         the first time :meth:`solve_lanes` meets it in slot order, as it would be without
-        this. Needs the ``fork`` start method (Linux); elsewhere, or for a few problems, it
-        searches in this process. ``progress(done, total)`` is called as problems are
-        searched.
+        this. Problems are posed (and keyed) on the workers too. Needs the ``fork`` start
+        method (Linux); elsewhere, or for a few problems, it works in this process.
+        ``progress(done, total)`` is called as the distinct problems are searched.
         """
-        todo: dict[bytes, tuple] = {}
         calls = [(v, slot, lane, st) for v in vehicles for slot in self.lot.slots
                  for st, lane in self._searches(slot, style, shared)]  # solve_lanes' order
-        posed: dict[tuple[str, str, str], tuple[_Problem, bytes]] = {}  # styles share it
-        for v, slot, lane, st in calls:
-            if (v.name, slot.id, lane.id) not in posed:
-                problem = self._problem(v, slot, lane)
-                posed[v.name, slot.id, lane.id] = problem, self._digest(problem)
-            problem, digest = posed[v.name, slot.id, lane.id]
-            key = self._key(problem, st, digest)
-            self._posed[(v.name, slot.id, lane.id, st)] = (key, problem.frame, problem.lane_s0)
-            if key not in self._cache and key not in todo:
-                todo[key] = (problem, st)
-        jobs = list(todo.items())
-        answers = _search_all(self, jobs, workers, progress)
-        for (key, _), (hit, raw) in zip(jobs, answers, strict=True):
+        where = {(v.name, slot.id, lane.id): (v, slot, lane) for v, slot, lane, _ in calls}
+        triples = list(where.values())  # each problem posed once: the styles share it
+        at = {name: k for k, name in enumerate(where)}
+        todo: dict[bytes, tuple[int, str]] = {}  # key → (triple, style), first met first
+        with _Workers(self, triples, workers) as pool:
+            posed = pool.map(_pose_job, range(len(triples)), chunk=16)
+            for v, slot, lane, st in calls:
+                k = at[v.name, slot.id, lane.id]
+                digest, frame, s0 = posed[k]
+                key = self._key(None, st, digest)
+                self._posed[(v.name, slot.id, lane.id, st)] = (key, frame, s0)
+                if key not in self._cache and key not in todo:
+                    todo[key] = (k, st)
+            answers = pool.map(_search_job, list(todo.values()), chunk=8, progress=progress)
+        for key, (hit, raw) in zip(todo, answers, strict=True):
             self._cache[key], self._raw[key] = hit, raw
             self._fresh.add(key)
 
@@ -1257,32 +1258,72 @@ def _counted(answers: Iterable, total: int, progress: Callable[[int, int], None]
     return out
 
 
-_JOB: tuple = ()  # (planner, jobs, parent pid) for the forked workers of _search_all
+_JOB: tuple = ()  # (planner, triples, parent pid) for the forked workers of _Workers
 PARALLEL_FROM = 64
-"""Fewest distinct problems worth starting worker processes for."""
+"""Fewest problems worth starting worker processes for."""
 
 
-def _search_all(planner: ManeuverPlanner, jobs: list, workers: int | None,
-                progress: Callable[[int, int], None] | None = None) -> list:
-    """:meth:`ManeuverPlanner._search` of every job ``(key, (problem, style))``, in order, on
-    up to ``workers`` forked processes (which find the posed problems in their copy of
-    ``_JOB``: nothing is posed twice or pickled but the answers)."""
-    global _JOB
-    # a process that multiprocessing started (a worker of the bench's pool, of Dask, of the
-    # caller's) searches by itself: its parent already shares the cores out
-    workers = (workers or (1 if multiprocessing.parent_process() else os.cpu_count()) or 1)
-    workers = min(workers, max(1, len(jobs) // 16))
-    if (workers < 2 or len(jobs) < PARALLEL_FROM
-            or "fork" not in multiprocessing.get_all_start_methods()):
-        answers = (_search_one(planner, job) for _, job in jobs)
-        return _counted(answers, len(jobs), progress)
-    _JOB = (planner, [job for _, job in jobs], os.getpid())
-    try:  # leaving the pool (done, or Ctrl-C here) terminates its workers
-        with multiprocessing.get_context("fork").Pool(workers, initializer=_ignore_sigint) as pool:
-            return _counted(pool.imap(_search_job, range(len(jobs)), chunksize=8), len(jobs),
-                            progress)
-    finally:
+class _Workers:
+    """Forked processes that pose and search ``planner``'s problems ``triples`` (vehicle,
+    slot, lane), found by index in their copy of ``_JOB``: nothing but indices and answers
+    is pickled. A process that multiprocessing started (a worker of the bench's pool, of
+    Dask, of the caller's) works by itself instead: its parent already shares the cores out;
+    so does one with few problems, or without ``fork``. In this process the problems posed
+    are kept for the searches."""
+
+    def __init__(self, planner: ManeuverPlanner, triples: list, workers: int | None):
+        workers = (workers or (1 if multiprocessing.parent_process() else os.cpu_count()) or 1)
+        workers = min(workers, max(1, len(triples) // 16))
+        self.count = workers if (workers >= 2 and len(triples) >= PARALLEL_FROM and "fork"
+                                 in multiprocessing.get_all_start_methods()) else 1
+        self.job = (planner, triples, os.getpid())
+        self.pool = None
+
+    def __enter__(self) -> _Workers:
+        global _JOB
+        _JOB = self.job
+        if self.count > 1:
+            self.pool = multiprocessing.get_context("fork").Pool(self.count,
+                                                                initializer=_ignore_sigint)
+        else:
+            _POSED.clear()
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        global _JOB
         _JOB = ()
+        _POSED.clear()
+        if self.pool is not None:  # done, or Ctrl-C here: its workers end
+            self.pool.terminate()
+            self.pool.join()
+
+    def map(self, fn: Callable, items: list, *, chunk: int,
+            progress: Callable[[int, int], None] | None = None) -> list:
+        """``[fn(item) for item in items]``, on the workers; ``progress(done, total)`` as
+        answers come."""
+        answers = (self.pool.imap(fn, items, chunksize=chunk) if self.pool is not None
+                   else map(fn, items))
+        return _counted(answers, len(items), progress)
+
+
+_POSED: dict[int, _Problem] = {}  # problems posed in this process by _pose_job, by triple
+
+
+def _pose_job(k: int) -> tuple[bytes, _Frame, float]:
+    """Triple ``k`` posed: its problem's digest, frame and lane station at x = 0."""
+    planner, triples, pid = _JOB
+    problem = planner._problem(*triples[k])
+    if os.getpid() == pid:  # kept for the search in this process; a worker's is not
+        _POSED[k] = problem
+    return planner._digest(problem), problem.frame, problem.lane_s0
+
+
+def _search_job(job: tuple[int, str]) -> tuple:
+    """Triple ``job[0]``'s problem searched in style ``job[1]`` (posed again on a worker)."""
+    planner, triples, _ = _JOB
+    k, style = job
+    problem = _POSED[k] if k in _POSED else planner._problem(*triples[k])
+    return planner._search(problem, style)
 
 
 def _ignore_sigint() -> None:
@@ -1300,11 +1341,3 @@ def _ignore_sigint() -> None:
         os._exit(0)
 
 
-def _search_job(k: int) -> tuple:
-    planner, jobs, _ = _JOB
-    return _search_one(planner, jobs[k])
-
-
-def _search_one(planner: ManeuverPlanner, job: tuple) -> tuple:
-    problem, style = job
-    return planner._search(problem, style)
