@@ -24,7 +24,7 @@ import numpy as np
 
 from lotsim.geometry import FloatArray, Pose, Segment, advance, sample_segments
 from lotsim.lot.build import obstacle_polygons
-from lotsim.lot.clearance import Collider
+from lotsim.lot.clearance import Collider, first_blocked
 from lotsim.lot.model import DesignVehicle, Lane, Lot
 
 MARGIN = 0.1
@@ -253,7 +253,8 @@ def _extent(frame: FloatArray, pose: FloatArray, gear: int, kappa: float, cap: f
     n = max(1, math.ceil(cap / STEP))
     s = np.linspace(0.0, cap, n + 1)
     local = advance(pose, gear * s, kappa)
-    bad = collider.blocked(Collider.sweeps(body.footprints(_to_world(frame, local))))
+    bad = first_blocked(collider.blocked, body.footprints(_to_world(frame, local)),
+                        np.zeros(n, dtype=int))
     first = int(bad.argmax()) if bad.any() else n
     return float(s[first])
 
@@ -261,8 +262,10 @@ def _extent(frame: FloatArray, pose: FloatArray, gear: int, kappa: float, cap: f
 def _blocked(frame: FloatArray, segs: list[Segment], collider: Collider,
              body: DesignVehicle) -> bool:
     poses, _ = sample_segments(segs, STEP)
-    return bool(collider.blocked(Collider.sweeps(body.footprints(_to_world(frame, poses))))
-                .any())
+    if len(poses) == 1:
+        return bool(collider.blocked(body.footprints(_to_world(frame, poses)))[0])
+    return bool(first_blocked(collider.blocked, body.footprints(_to_world(frame, poses)),
+                              np.zeros(len(poses) - 1, dtype=int)).any())
 
 
 def _to_local(frame: FloatArray, poses: FloatArray) -> FloatArray:

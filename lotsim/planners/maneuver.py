@@ -69,6 +69,7 @@ from lotsim.geometry import (
     sample_segments,
     wrap_angle,
 )
+from lotsim.lot.clearance import first_blocked
 from lotsim.lot.graph import lane_serves
 from lotsim.lot.model import Lane, Lot, Slot, unit
 from lotsim.planners.minslot import SlotFrame, simulate, start_headings
@@ -369,55 +370,9 @@ class _Problem:
 
     def first_blocked(self, prints: FloatArray, run: np.ndarray, span: int = 2
                       ) -> np.ndarray:
-        """Bodies made of ``span`` consecutive footprints (``prints`` (N, 4, 2)): body ``i``
-        the hull of footprints ``i .. i + span - 1`` (span 2: the sweep between two
-        footprints; span 1: a footprint) belongs to run ``run[i]`` (``run`` (N - span + 1,)
-        ints: a path, a stroke, its bodies in order; < 0: not asked). True at
-        the first body that is not free in each run, False everywhere else: what a path's
-        check (is any body blocked?) and a stroke's extent (where is the first?) need.
-
-        Coarse to fine, with the same answers as checking every body: a block of
-        :data:`SWEEP_BLOCK` asked bodies is checked first as the hull of all their
-        footprints, which holds each body, so a free block has every body free; the bodies
-        of a run's blocked blocks are then checked one by one, in order, until one is
-        blocked.
-        """
-        out = np.zeros(len(run), dtype=bool)
-        asked = np.flatnonzero(run >= 0)
-        if not asked.size:
-            return out
-        # blocks: each stretch of consecutive bodies of a run cut into pieces SWEEP_BLOCK long
-        at = np.arange(len(asked))
-        new_run = np.ones(len(asked), dtype=bool)
-        new_run[1:] = run[asked[1:]] != run[asked[:-1]]
-        new_piece = new_run.copy()
-        new_piece[1:] |= asked[1:] != asked[:-1] + 1
-        piece_start = np.maximum.accumulate(np.where(new_piece, at, 0))
-        first = np.flatnonzero(new_piece | ((at - piece_start) % SWEEP_BLOCK == 0))
-        last = np.append(first[1:], len(asked)) - 1  # in ``asked``
-        a, b = asked[first], asked[last] + 1  # bodies a..b-1 of each block
-        idx = np.minimum(a[:, None] + np.arange(SWEEP_BLOCK + span - 1)[None, :],
-                         b[:, None] + span - 2)  # their footprints
-        bad = np.flatnonzero(self.bodies_blocked(prints[idx].reshape(len(a), -1, 2)))
-        of = (np.cumsum(new_run) - 1)[first[bad]]  # the run of each blocked block, in order
-        rank = np.arange(len(bad)) - np.searchsorted(of, of)  # its place in its run
-        done = np.zeros(int(of.max(initial=-1)) + 1, dtype=bool)
-        for r in range(int(rank.max(initial=-1)) + 1):
-            blocks = bad[(rank == r) & ~done[of]]
-            if not blocks.size:
-                break
-            size = last[blocks] - first[blocks] + 1  # asked bodies in each
-            owner = np.repeat(np.arange(len(blocks)), size)
-            fine = asked[first[blocks][owner] + np.arange(len(owner))
-                         - np.repeat(np.cumsum(size) - size, size)]
-            hit = (self.bodies_blocked(np.concatenate([prints[fine + k] for k in range(span)],
-                                                      axis=1))
-                   if (size > 1).any() else np.ones(len(fine), dtype=bool))  # one: known
-            found = np.flatnonzero(hit)
-            found = found[np.flatnonzero(np.diff(owner[found], prepend=-1))]  # first per block
-            out[fine[found]] = True
-            done[of[np.searchsorted(bad, blocks[owner[found]])]] = True
-        return out
+        """:func:`~lotsim.lot.clearance.first_blocked` of this problem's bodies, coarse to
+        fine in blocks of :data:`SWEEP_BLOCK`."""
+        return first_blocked(self.bodies_blocked, prints, run, span, SWEEP_BLOCK)
 
     def poses_blocked(self, local_poses: FloatArray) -> np.ndarray:
         """(N-1,) whether each sweep between consecutive local poses (N, 3) is not free
