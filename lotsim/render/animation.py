@@ -481,8 +481,8 @@ def write_gif(
         screen = None
         for a in range(0, n, chunk):
             b = min(n, a + chunk)
-            frames = renderer.frames(plan.times[a:b], plan.skipped[a:b]
-                                     if plan.skipped is not None else None)
+            frames = (renderer.frames(plan.times[a:b]) if plan.skipped is None
+                      else renderer.frames(plan.times[a:b], plan.skipped[a:b]))
             # one frame takes one duration, not a list (Pillow 13 writes a lone frame as a
             # still image and refuses a list)
             duration = plan.durations[a:b] if b - a > 1 else plan.durations[a]

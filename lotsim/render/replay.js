@@ -490,8 +490,10 @@
     pixel: (px, py) => Array.from(ctx.getImageData(Math.floor(px * state.dpr),
       Math.floor(py * state.dpr), 1, 1).data),
     frames: () => state.frames,
+    readyAt: 0,
   };
   resize();
   draw();
+  window.lotsimReplay.readyAt = performance.now();  // since the page began to load [ms]
   requestAnimationFrame(tick);
 })();

@@ -96,8 +96,9 @@ def write_mp4(doc: dict, path: str | os.PathLike, settings: GifSettings | None =
         try:
             for a in range(0, n, CHUNK):
                 b = min(n, a + CHUNK)
-                skipped = plan.skipped[a:b] if plan.skipped is not None else None
-                for frame in renderer.frames(plan.times[a:b], skipped):
+                frames = (renderer.frames(plan.times[a:b]) if plan.skipped is None
+                          else renderer.frames(plan.times[a:b], plan.skipped[a:b]))
+                for frame in frames:
                     writer.send(np.ascontiguousarray(palette[frame]))
                 if progress is not None:
                     progress(b, n)
