@@ -429,7 +429,8 @@
     setTime(D.start + ((e.clientX - r.left) / Math.max(r.width, 1)) * (D.end - D.start));
   });
   document.addEventListener("keydown", (e) => {
-    if (e.target && e.target.tagName === "SELECT") return;
+    // a focused control takes its own keys (space on a button clicks it)
+    if (e.target && ["SELECT", "BUTTON", "INPUT"].includes(e.target.tagName)) return;
     if (e.key === " ") { setPlaying(!state.playing); e.preventDefault(); }
     else if (e.key === "n") nextEvent();
     else if (e.key === "f") fit();
