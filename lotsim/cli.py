@@ -14,6 +14,7 @@ import math
 import os
 import sys
 from collections.abc import Sequence
+from pathlib import Path
 
 from lotsim import __version__
 from lotsim.errors import ScenarioError, SettingsError
@@ -428,24 +429,24 @@ def _run(args: argparse.Namespace) -> int:
     gif_path = None
     if args.gif:
         gif_path = Path(args.gif)
-        problem = _output_problem("--gif", args.gif, ".gif")
+        problem = _output_problem("--gif", args.gif, ".gif", made=out)
         if problem:
             return _bad(problem)
     elif anim is not None and not args.no_gif:
         gif_path = out / anim.gif
-    extra: dict[str, Path | None] = {}  # the replay and the video, as the GIF
+    more: dict[str, Path | None] = {}  # the replay and the video, as the GIF
     for key in ("html", "mp4"):
         given = getattr(args, key)
-        extra[key] = None
+        more[key] = None
         if given:
-            problem = _output_problem(f"--{key}", given, f".{key}")
+            problem = _output_problem(f"--{key}", given, f".{key}", made=out)
             if problem:
                 return _bad(problem)
-            extra[key] = Path(given)
+            more[key] = Path(given)
         elif anim is not None and getattr(anim, key):
-            extra[key] = out / getattr(anim, key)
+            more[key] = out / getattr(anim, key)
     settings_gif = anim.gif_settings() if anim is not None else GifSettings()
-    if extra["mp4"] is not None:
+    if more["mp4"] is not None:
         from lotsim.render.video import VideoUnavailable, require_ffmpeg
 
         w, h = settings_gif.size
@@ -502,7 +503,7 @@ def _run(args: argparse.Namespace) -> int:
     earlier = [out / (anim.gif if anim is not None else "run.gif"),
                out / ((anim.html if anim is not None else None) or "replay.html"),
                out / ((anim.mp4 if anim is not None else None) or "run.mp4")]
-    written = [q for q in (gif_path, extra["html"], extra["mp4"]) if q is not None]
+    written = [q for q in (gif_path, more["html"], more["mp4"]) if q is not None]
     removed = [p for p in dict.fromkeys([*earlier, *written]) if p.is_file()]
     for p in removed:
         p.unlink()
@@ -534,8 +535,8 @@ def _run(args: argparse.Namespace) -> int:
     html_settings = anim.html_settings() if anim is not None else None
     for path, write, what in (
             (gif_path, lambda p: _write_gif(doc, p, settings_gif), "the GIF"),
-            (extra["html"], lambda p: _write_html(doc, p, html_settings), "the replay"),
-            (extra["mp4"], lambda p: _write_mp4(doc, p, settings_gif), "the video")):
+            (more["html"], lambda p: _write_html(doc, p, html_settings), "the replay"),
+            (more["mp4"], lambda p: _write_mp4(doc, p, settings_gif), "the video")):
         if path is None:
             continue
         try:
@@ -750,13 +751,15 @@ def _noting_sigint(seen: list[bool]):  # noqa: ANN202
         signal.signal(signal.SIGINT, old)
 
 
-def _output_problem(opt: str, path: str, suffix: str) -> str | None:
-    """What is wrong with an output file named by option ``opt`` (None if nothing)."""
-    from pathlib import Path
-
+def _output_problem(opt: str, path: str, suffix: str, made: Path | None = None
+                    ) -> str | None:
+    """What is wrong with an output file named by option ``opt`` (None if nothing); its
+    folder must exist, unless it is ``made`` (the run's output folder, made by the run)."""
     p = Path(path)
     if p.suffix.lower() != suffix:
         return f"{opt}: expected a file name ending in {suffix}, found {path!r}"
+    if made is not None and os.path.abspath(p.parent) == os.path.abspath(made):
+        return None
     if not p.parent.is_dir():
         return f"{opt}: folder {str(p.parent)!r} does not exist"
     return None

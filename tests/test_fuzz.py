@@ -152,11 +152,8 @@ def run_outcome(path, out, capsys, *, gif: bool) -> int:
     assert report.ok, [v.message for v in report.violations[:5]]
     assert (code == 1) == (doc["metrics"]["waiting"] > 0)
     gifs = [name for name in written if name.endswith(".gif")]
-    pages = [name for name in written if name.endswith(".html")]  # the animation's replay
-    assert written == sorted(["result.json", *gifs, *pages]), written  # no temporary file
-    assert len(gifs) <= (1 if gif else 0) and len(pages) <= 1
-    for name in pages:
-        assert (out / name).read_text(encoding="utf-8").endswith("</html>\n")
+    assert written == sorted(["result.json", *gifs]), written  # no temporary file
+    assert len(gifs) <= (1 if gif else 0)
     for name in gifs:
         with Image.open(out / name) as im:
             im.seek(im.n_frames - 1)  # every frame is there and decodes
