@@ -114,7 +114,12 @@ def test_a_car_is_drawn_where_result_json_puts_it(opened, doc):
     assert view["oy"] == pytest.approx(y0)
     checked = 0
     for t in (8.0, 14.5, 20.0, 70.0):
-        opened.evaluate(f"lotsimReplay.setTime({t})")
+        # the time slider, moved as a user moves it; drawn at the next animation frame
+        opened.evaluate(f"(() => {{ const s = document.getElementById('slider'); "
+                        f"s.value = {t}; s.dispatchEvent(new Event('input')); }})()")
+        opened.evaluate("new Promise(r => requestAnimationFrame(() => "
+                        "requestAnimationFrame(r)))")
+        assert opened.evaluate("lotsimReplay.time()") == t
         st = replay.states(np.array([t]))
         moving = [j for j in range(len(replay.tracks))
                   if st["visible"][0, j] and st["phase"][0, j] in (1, 3)]
