@@ -28,13 +28,13 @@ __version__ = "0.1.0"
 _EXPORTS = {
     "lotsim.api": ("EXAMPLE", "MinSlotTable", "RunResult", "car", "check", "load_animation",
                    "load_scenario", "minslot", "plan_maneuver", "prepare", "render_gif",
-                   "render_lot", "run", "validate"),
+                   "render_html", "render_lot", "render_mp4", "run", "validate"),
     "lotsim.sim": ("PreparedLot",),
     "lotsim.validation": ("ValidationReport",),
     "lotsim.check": ("CheckReport", "Violation"),
     "lotsim.scenario": ("Scenario",),
-    "lotsim.settings": ("AnimationSpec", "GASettings", "GifSettings", "MinSlotSettings",
-                        "RunSettings"),
+    "lotsim.settings": ("AnimationSpec", "GASettings", "GifSettings", "HtmlSettings",
+                        "MinSlotSettings", "RunSettings"),
     "lotsim.errors": ("InfeasibleManeuver", "LimitExceeded", "Location", "LotsimError",
                       "ReplayError", "ResultFormatError", "ScenarioError", "SettingsError"),
 }
@@ -82,7 +82,9 @@ if TYPE_CHECKING:  # for type checkers and editors: the same names, imported eag
         plan_maneuver,
         prepare,
         render_gif,
+        render_html,
         render_lot,
+        render_mp4,
         run,
         validate,
     )
@@ -102,6 +104,7 @@ if TYPE_CHECKING:  # for type checkers and editors: the same names, imported eag
         AnimationSpec,
         GASettings,
         GifSettings,
+        HtmlSettings,
         MinSlotSettings,
         RunSettings,
     )

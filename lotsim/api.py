@@ -33,6 +33,7 @@ from lotsim.settings import (
     STYLES,
     AnimationSpec,
     GifSettings,
+    HtmlSettings,
     MinSlotSettings,
     RunSettings,
 )
@@ -47,6 +48,8 @@ if TYPE_CHECKING:
     from lotsim.planners.maneuver import Maneuver, ManeuverPlanner
     from lotsim.planners.minslot import MinSlotRow
     from lotsim.render.animation import GifInfo
+    from lotsim.render.html import HtmlInfo
+    from lotsim.render.video import VideoInfo
     from lotsim.vehicles.model import VehicleType
 
 ScenarioLike = Scenario | str | os.PathLike
@@ -445,20 +448,105 @@ def render_gif(result: RunResult | dict | str | os.PathLike, path: str | os.Path
     >>> info.path.name, info.duration
     ('run.gif', 5.0)
     """
+    settings = _gif_settings(settings, overrides)
+    _suffix(path, ".gif")
+    doc = _drawable(result)
+    from lotsim.render.animation import write_gif
+
+    Path(path).parent.mkdir(parents=True, exist_ok=True)
+    return write_gif(doc, path, settings, progress=progress)
+
+
+def _drawable(result: RunResult | dict | str | os.PathLike) -> dict:
+    doc = _document(result)
+    if not isinstance(doc.get("lot"), dict) or "drawing" not in doc["lot"]:
+        raise ReplayError("no lot.drawing: written by an older lotsim? run the scenario again")
+    return doc
+
+
+def _gif_settings(settings: GifSettings | AnimationSpec | None, overrides: dict
+                  ) -> GifSettings:
     if isinstance(settings, AnimationSpec):
         settings = settings.gif_settings()
     if settings is not None and not isinstance(settings, GifSettings):
         raise SettingsError("settings", f"expected GifSettings or AnimationSpec, found "
                                         f"{type(settings).__name__}")
-    settings = _settings.replace(settings or GifSettings(), overrides)
-    _suffix(path, ".gif")
-    doc = _document(result)
-    if not isinstance(doc.get("lot"), dict) or "drawing" not in doc["lot"]:
-        raise ReplayError("no lot.drawing: written by an older lotsim? run the scenario again")
-    from lotsim.render.animation import write_gif
+    return _settings.replace(settings or GifSettings(), overrides)
+
+
+def render_html(result: RunResult | dict | str | os.PathLike, path: str | os.PathLike,
+                settings: HtmlSettings | AnimationSpec | None = None, **overrides: Any
+                ) -> HtmlInfo:
+    """Write a run as an interactive replay: one self-contained HTML file that opens from
+    disk in a browser (``lotsim render --html``; ``lotsim/render/html.py`` says what it
+    holds and how it is kept small).
+
+    Parameters
+    ----------
+    result : RunResult, dict or path
+        A run, its document or a ``result.json``.
+    path : str or path-like
+        The ``.html`` file to write (atomically; its folder is made if need be).
+    settings : HtmlSettings or AnimationSpec, optional
+    **overrides
+        Fields of :class:`HtmlSettings`: ``speed`` (1, 2, 4, 10, 30 or 60), ``skip_quiet``,
+        ``tolerance`` [m].
+
+    Returns
+    -------
+    HtmlInfo
+        ``.path``, ``.bytes``, ``.vehicles``, ``.samples`` (in the result), ``.kept`` (in
+        the file).
+
+    Examples
+    --------
+    >>> import tempfile
+    >>> info = render_html(run(EXAMPLE), f"{tempfile.mkdtemp()}/replay.html")
+    >>> info.path.name, info.vehicles, info.kept < info.samples
+    ('replay.html', 3, True)
+    """
+    if isinstance(settings, AnimationSpec):
+        settings = settings.html_settings()
+    if settings is not None and not isinstance(settings, HtmlSettings):
+        raise SettingsError("settings", f"expected HtmlSettings or AnimationSpec, found "
+                                        f"{type(settings).__name__}")
+    settings = _settings.replace(settings or HtmlSettings(), overrides)
+    _suffix(path, ".html")
+    doc = _drawable(result)
+    from lotsim.render.html import write_html
 
     Path(path).parent.mkdir(parents=True, exist_ok=True)
-    return write_gif(doc, path, settings, progress=progress)
+    return write_html(doc, path, settings)
+
+
+def render_mp4(result: RunResult | dict | str | os.PathLike, path: str | os.PathLike,
+               settings: GifSettings | AnimationSpec | None = None, *, progress=None,  # noqa: ANN001
+               **overrides: Any) -> VideoInfo:
+    """Draw a run as an H.264 MP4 video: the GIF's frames (``lotsim render --mp4``).
+
+    Needs the optional ``imageio-ffmpeg`` package (``pip install 'lotsim[video]'``).
+    Parameters as :func:`render_gif`; ``size`` must be even in both directions.
+
+    Returns
+    -------
+    VideoInfo
+        ``.path``, ``.frames``, ``.duration`` [s], ``.speed``, ``.start``, ``.end``,
+        ``.skipped`` [s], ``.bytes``.
+
+    Raises
+    ------
+    VideoUnavailable
+        (a :class:`LotsimError`) without ``imageio-ffmpeg``.
+    SettingsError, ReplayError, ResultFormatError
+        As :func:`render_gif`.
+    """
+    settings = _gif_settings(settings, overrides)
+    _suffix(path, ".mp4")
+    doc = _drawable(result)
+    from lotsim.render.video import write_mp4
+
+    Path(path).parent.mkdir(parents=True, exist_ok=True)
+    return write_mp4(doc, path, settings, progress=progress)
 
 
 def render_lot(scenario: ScenarioLike | PreparedLot, path: str | os.PathLike | None = None,

@@ -11,8 +11,10 @@ from __future__ import annotations
 import argparse
 import contextlib
 import math
+import os
 import sys
 from collections.abc import Sequence
+from pathlib import Path
 
 from lotsim import __version__
 from lotsim.errors import ScenarioError, SettingsError
@@ -147,10 +149,21 @@ def _parser() -> argparse.ArgumentParser:
                      "(default: OUTDIR/run.gif when the scenario has an 'animation' section)")
     gif.add_argument("--no-gif", action="store_true", help="write no GIF, whatever the "
                      "scenario asks")
+    r.add_argument("--html", metavar="HTML", help="also write the interactive replay of the "
+                   "run, one HTML file (default: OUTDIR/NAME when the scenario's 'animation' "
+                   "section names one)")
+    r.add_argument("--mp4", metavar="MP4", help="also write the GIF's frames as an H.264 "
+                   "video (needs pip install 'lotsim[video]'; default: OUTDIR/NAME when the "
+                   "scenario's 'animation' section names one)")
 
-    rd = sub.add_parser("render", help="draw a result.json: animated GIF, timeline plot")
+    rd = sub.add_parser("render", help="draw a result.json: animated GIF, interactive HTML "
+                        "replay, MP4 video, timeline plot")
     rd.add_argument("result", metavar="RESULT_JSON", help="a result.json of lotsim run")
     rd.add_argument("--gif", metavar="GIF", help="animated GIF to write")
+    rd.add_argument("--html", metavar="HTML", help="interactive replay to write: one "
+                    "self-contained HTML file that opens from disk in a browser")
+    rd.add_argument("--mp4", metavar="MP4", help="the GIF's frames as an H.264 video (needs "
+                    "pip install 'lotsim[video]'; even --size)")
     rd.add_argument("--timeline", metavar="PNG", help="timeline plot to write (matplotlib)")
     gs = GifSettings()
     rd.add_argument("--fps", type=float, default=gs.fps,
@@ -168,6 +181,8 @@ def _parser() -> argparse.ArgumentParser:
                     f"({gs.max_frames})")
     rd.add_argument("--trail", type=float, default=gs.trail,
                     help=f"seconds of path drawn behind a moving car ({gs.trail:g})")
+    rd.add_argument("--skip-quiet", action="store_true", help="GIF and MP4: leave out "
+                    "stretches in which no car moves (the frame says how long was skipped)")
 
     c = sub.add_parser("check", help="verify a result.json independently of the planner")
     c.add_argument("result", metavar="RESULT_JSON", help="a result.json of lotsim run")
@@ -414,14 +429,34 @@ def _run(args: argparse.Namespace) -> int:
     gif_path = None
     if args.gif:
         gif_path = Path(args.gif)
-        problem = _output_problem("--gif", args.gif, ".gif")
+        problem = _output_problem("--gif", args.gif, ".gif", made=out)
         if problem:
             return _bad(problem)
     elif anim is not None and not args.no_gif:
         gif_path = out / anim.gif
-    settings_gif = None
-    if gif_path is not None:
-        settings_gif = anim.gif_settings() if anim is not None else GifSettings()
+    more: dict[str, Path | None] = {}  # the replay and the video, as the GIF
+    for key in ("html", "mp4"):
+        given = getattr(args, key)
+        more[key] = None
+        if given:
+            problem = _output_problem(f"--{key}", given, f".{key}", made=out)
+            if problem:
+                return _bad(problem)
+            more[key] = Path(given)
+        elif anim is not None and getattr(anim, key):
+            more[key] = out / getattr(anim, key)
+    settings_gif = anim.gif_settings() if anim is not None else GifSettings()
+    if more["mp4"] is not None:
+        from lotsim.render.video import VideoUnavailable, require_ffmpeg
+
+        w, h = settings_gif.size
+        if w % 2 or h % 2:
+            return _bad(f"--mp4: an H.264 video needs an even width and height; the "
+                        f"animation's size is {w}x{h}")
+        try:
+            require_ffmpeg()
+        except VideoUnavailable as exc:
+            return _bad(f"--mp4: {exc}")
     if out.exists() and not out.is_dir():
         return _bad(f"-o: {out} exists and is not a directory")
     tty = sys.stderr.isatty()
@@ -465,9 +500,11 @@ def _run(args: argparse.Namespace) -> int:
     out.mkdir(parents=True, exist_ok=True)
     # a run's outputs are one set: no GIF of an earlier run is left beside this result
     # (one this run writes is removed first, in case it is interrupted before it is done)
-    earlier = out / (anim.gif if anim is not None else "run.gif")
-    removed = [p for p in dict.fromkeys(q for q in (earlier, gif_path) if q is not None)
-               if p.is_file()]
+    earlier = [out / (anim.gif if anim is not None else "run.gif"),
+               out / ((anim.html if anim is not None else None) or "replay.html"),
+               out / ((anim.mp4 if anim is not None else None) or "run.mp4")]
+    written = [q for q in (gif_path, more["html"], more["mp4"]) if q is not None]
+    removed = [p for p in dict.fromkeys([*earlier, *written]) if p.is_file()]
     for p in removed:
         p.unlink()
     write_json(doc, out / "result.json")
@@ -493,13 +530,19 @@ def _run(args: argparse.Namespace) -> int:
             print(f"  {v['id']}: {status}: {v['reason']}")
     print(f"  wrote {out / 'result.json'}")
     for p in removed:
-        if p != gif_path:
+        if p not in written:
             print(f"  removed {p}: it showed an earlier run")
-    if gif_path is not None:
+    html_settings = anim.html_settings() if anim is not None else None
+    for path, write, what in (
+            (gif_path, lambda p: _write_gif(doc, p, settings_gif), "the GIF"),
+            (more["html"], lambda p: _write_html(doc, p, html_settings), "the replay"),
+            (more["mp4"], lambda p: _write_mp4(doc, p, settings_gif), "the video")):
+        if path is None:
+            continue
         try:
-            code = _write_gif(doc, gif_path, settings_gif)
+            code = write(path)
         except KeyboardInterrupt:
-            print(f"lotsim: interrupted; {out / 'result.json'} was written, the GIF was not",
+            print(f"lotsim: interrupted; {out / 'result.json'} was written, {what} was not",
                   file=sys.stderr)
             return 130
         if code != EXIT_OK:
@@ -643,6 +686,50 @@ def _write_gif(doc: dict, path, settings) -> int:  # noqa: ANN001
     return EXIT_OK
 
 
+def _write_html(doc: dict, path, settings) -> int:  # noqa: ANN001
+    from lotsim.api import render_html
+    from lotsim.errors import ReplayError
+    from lotsim.io.lot_json import LotFormatError
+
+    try:
+        info = render_html(doc, path, settings)
+    except (ReplayError, LotFormatError) as exc:
+        return _bad(f"cannot draw this result: {exc}")
+    except OSError as exc:
+        return _bad(f"{path}: cannot write: {exc.strerror or exc}")
+    print(f"  wrote {info.path}: replay of {_n(info.vehicles, 'vehicle')}, "
+          f"{info.kept} of {info.samples} samples kept (within "
+          f"{(settings.tolerance if settings else 0.01) * 100:g} cm), "
+          f"{info.bytes / 1e6:.2f} MB")
+    return EXIT_OK
+
+
+def _write_mp4(doc: dict, path, settings) -> int:  # noqa: ANN001
+    from lotsim.api import render_mp4
+    from lotsim.errors import ReplayError
+    from lotsim.io.lot_json import LotFormatError
+    from lotsim.render.video import VideoUnavailable
+
+    bar = _ProgressBar("encoding video")
+    try:
+        info = render_mp4(doc, path, settings, progress=bar)
+    except (ReplayError, LotFormatError) as exc:
+        return _bad(f"cannot draw this result: {exc}")
+    except VideoUnavailable as exc:
+        return _bad(f"--mp4: {exc}")
+    except SettingsError as exc:
+        return _bad(f"{_option(exc.name)}: {exc.message}")
+    except OSError as exc:
+        return _bad(f"{path}: cannot write: {exc.strerror or exc}")
+    finally:
+        bar.close()
+    skipped = f", {info.skipped:.0f} s of quiet run time skipped" if info.skipped else ""
+    print(f"  wrote {info.path}: {info.frames} frames, {info.duration:.1f} s at "
+          f"{info.speed:.3g}× run time, {info.start:.1f}–{info.end:.1f} s of the run"
+          f"{skipped}, {info.bytes / 1e6:.1f} MB")
+    return EXIT_OK
+
+
 @contextlib.contextmanager
 def _noting_sigint(seen: list[bool]):  # noqa: ANN202
     """Within: Ctrl-C raises KeyboardInterrupt as usual and is also noted in ``seen`` (a
@@ -664,13 +751,15 @@ def _noting_sigint(seen: list[bool]):  # noqa: ANN202
         signal.signal(signal.SIGINT, old)
 
 
-def _output_problem(opt: str, path: str, suffix: str) -> str | None:
-    """What is wrong with an output file named by option ``opt`` (None if nothing)."""
-    from pathlib import Path
-
+def _output_problem(opt: str, path: str, suffix: str, made: Path | None = None
+                    ) -> str | None:
+    """What is wrong with an output file named by option ``opt`` (None if nothing); its
+    folder must exist, unless it is ``made`` (the run's output folder, made by the run)."""
     p = Path(path)
     if p.suffix.lower() != suffix:
         return f"{opt}: expected a file name ending in {suffix}, found {path!r}"
+    if made is not None and os.path.abspath(p.parent) == os.path.abspath(made):
+        return None
     if not p.parent.is_dir():
         return f"{opt}: folder {str(p.parent)!r} does not exist"
     return None
@@ -680,20 +769,37 @@ def _render(args: argparse.Namespace) -> int:
     from lotsim.api import load_result
     from lotsim.errors import ResultFormatError
 
-    if not args.gif and not args.timeline:
-        return _bad("render: nothing to do: give --gif GIF and/or --timeline PNG")
+    if not (args.gif or args.html or args.mp4 or args.timeline):
+        return _bad("render: nothing to do: give --gif GIF, --html HTML, --mp4 MP4 and/or "
+                    "--timeline PNG")
     size = _size(args.size)
     if isinstance(size, str):
         return _bad(size)
     try:
         settings = GifSettings(fps=args.fps, speed=args.speed, size=size, start=args.start,
-                               end=args.end, max_frames=args.max_frames, trail=args.trail)
+                               end=args.end, max_frames=args.max_frames, trail=args.trail,
+                               skip_quiet=args.skip_quiet)
     except SettingsError as exc:
         return _bad(f"{_option(exc.name)}: {exc.message}")
-    for opt, path, suffix in (("--gif", args.gif, ".gif"), ("--timeline", args.timeline, ".png")):
+    outputs = (("--gif", args.gif, ".gif"), ("--html", args.html, ".html"),
+               ("--mp4", args.mp4, ".mp4"), ("--timeline", args.timeline, ".png"))
+    for opt, path, suffix in outputs:
         problem = path and _output_problem(opt, path, suffix)
         if problem:
             return _bad(problem)
+    given = [path for _, path, _ in outputs if path]
+    if len({os.path.realpath(p) for p in given}) < len(given):
+        return _bad("render: two outputs name the same file")
+    if args.mp4 and (size[0] % 2 or size[1] % 2):
+        return _bad(f"--size: an H.264 video needs an even width and height, found "
+                    f"{size[0]}x{size[1]}")
+    if args.mp4:
+        from lotsim.render.video import VideoUnavailable, require_ffmpeg
+
+        try:
+            require_ffmpeg()
+        except VideoUnavailable as exc:
+            return _bad(f"--mp4: {exc}")
     try:
         doc = load_result(args.result)
     except ResultFormatError as exc:
@@ -701,16 +807,29 @@ def _render(args: argparse.Namespace) -> int:
     if not isinstance(doc.get("lot"), dict) or "drawing" not in doc["lot"]:
         return _bad(f"{args.result}: no lot.drawing: written by an older lotsim? run the "
                     "scenario again")
-    if args.gif:
-        code = _write_gif(doc, args.gif, settings)
+    done = []
+    for path, write in ((args.gif, lambda p: _write_gif(doc, p, settings)),
+                        (args.html, lambda p: _write_html(doc, p, None)),
+                        (args.mp4, lambda p: _write_mp4(doc, p, settings))):
+        if not path:
+            continue
+        try:
+            code = write(path)
+        except KeyboardInterrupt:
+            if done:
+                print(f"lotsim: interrupted; {', '.join(done)} written, {path} not",
+                      file=sys.stderr)
+                return 130
+            raise
         if code != EXIT_OK:
             return code
+        done.append(path)
     if args.timeline:
         try:
             return _timeline(doc, args.timeline)
         except KeyboardInterrupt:
-            if args.gif:
-                print(f"lotsim: interrupted; {args.gif} was written, the timeline was not",
+            if done:
+                print(f"lotsim: interrupted; {', '.join(done)} written, the timeline not",
                       file=sys.stderr)
                 return 130
             raise

@@ -30,6 +30,12 @@ PHASES = ("outside", "driving", "parked", "leaving")
 """Phases of a vehicle's life, in order."""
 COUNTERS = ("arrived", "waiting", "driving", "parked", "departed", "rejected")
 """What :meth:`Replay.counts` counts at a time."""
+QUIET_MIN = 4.0
+"""A stretch in which no vehicle moves is skipped ("skip quiet stretches") when it is at
+least this long [s], besides its margins."""
+QUIET_MARGIN = 1.0
+"""Run time kept at each end of a skipped stretch [s]: the last car stopping, the next
+one starting."""
 
 
 @dataclass(frozen=True, eq=False)
@@ -222,6 +228,83 @@ class Replay:
             dth = (tr.theta[i1] - tr.theta[i] + math.pi) % (2 * math.pi) - math.pi
             out["theta"][:, j] = tr.theta[i] + f * dth
         return out
+
+    def events(self) -> np.ndarray:
+        """Times at which something happens, sorted, each once [s]: arrivals, entering the
+        lot, standing in a slot, leaving it, vanishing at an exit, being turned away, and
+        every start of a move (a car that stood still moves again)."""
+        times = []
+        for tr in self.tracks:
+            times += [tr.arrival, tr.entered, tr.parked_from, tr.parked_until, tr.gone,
+                      tr.rejected_at]
+            times += tr.t[self._move_starts(tr)].tolist()
+        out = np.unique(np.asarray(times, dtype=float))
+        return out[np.isfinite(out)]
+
+    @staticmethod
+    def _moving(tr: Track) -> np.ndarray:
+        """Per gap between consecutive samples: whether the vehicle moves (its pose or its
+        wheels change) in it."""
+        return ((tr.x[1:] != tr.x[:-1]) | (tr.y[1:] != tr.y[:-1])
+                | (tr.theta[1:] != tr.theta[:-1]) | (tr.steer[1:] != tr.steer[:-1]))
+
+    @classmethod
+    def _move_starts(cls, tr: Track) -> np.ndarray:
+        """Indices of the samples at which a stretch of motion begins."""
+        if len(tr.t) < 2:
+            return np.zeros(0, dtype=int)
+        mv = cls._moving(tr)
+        before = np.concatenate([[False], mv[:-1]])
+        return np.flatnonzero(mv & ~before)
+
+    def busy(self) -> list[tuple[float, float]]:
+        """Time spans in which some vehicle moves (drives, or turns its wheels standing),
+        merged and sorted [s]."""
+        spans = []
+        for tr in self.tracks:
+            if len(tr.t) < 2:
+                continue
+            mv = self._moving(tr)
+            # runs of moving gaps: [start sample, end sample]
+            edge = np.diff(np.concatenate([[0], mv.astype(np.int8), [0]]))
+            for a, b in zip(np.flatnonzero(edge == 1), np.flatnonzero(edge == -1), strict=True):
+                spans.append((float(tr.t[a]), float(tr.t[b])))
+        spans.sort()
+        merged: list[tuple[float, float]] = []
+        for a, b in spans:
+            if merged and a <= merged[-1][1]:
+                merged[-1] = (merged[-1][0], max(merged[-1][1], b))
+            else:
+                merged.append((a, b))
+        return merged
+
+    def quiet(self, *, min_gap: float = QUIET_MIN, margin: float = QUIET_MARGIN
+              ) -> list[tuple[float, float]]:
+        """Stretches of the run, at least ``min_gap`` long, in which no vehicle moves,
+        less ``margin`` at each end (so a skip shows the last car stop and the next one
+        start) [s]. From the first arrival (or the first motion, if later) to the end."""
+        out = []
+        t = self.start
+        for a, b in [*self.busy(), (self.end, self.end)]:
+            if a - t >= min_gap + 2 * margin:
+                out.append((t + margin if out or t > self.start else t, a - margin))
+            t = max(t, b)
+        return out
+
+    def waits(self, tr: Track) -> list[tuple[float, float]]:
+        """Spans in which ``tr`` stands still on its way in or out (not parked): every
+        pose and the wheels unchanged for longer than the 0.05 s clock [s]."""
+        if len(tr.t) < 2:
+            return []
+        dt = np.diff(tr.t)
+        still = ~self._moving(tr) & (dt > 0.0501)
+        inside = np.ones(len(dt), dtype=bool)
+        if math.isfinite(tr.parked_from):
+            inside &= ~((tr.t[:-1] >= tr.parked_from) & (tr.t[1:] <= tr.parked_until))
+        if tr.status == "parked":
+            inside &= tr.t[1:] <= tr.parked_from
+        k = np.flatnonzero(still & inside)
+        return [(float(tr.t[i]), float(tr.t[i + 1])) for i in k]
 
     def counts(self, t: float) -> dict[str, int]:
         """How many vehicles, at time ``t``, have arrived, wait outside, drive (in or out),

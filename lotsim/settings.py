@@ -314,6 +314,10 @@ class GifSettings:
         At most this many frames: a longer span is played faster (``FramePlan.speed``).
     trail : float
         Seconds of path drawn behind a moving vehicle (0 to 3600).
+    skip_quiet : bool
+        Leave out the stretches in which no vehicle moves (those of
+        :meth:`lotsim.replay.Replay.quiet`, a second kept at each end); a frame after a
+        skip says how much run time was skipped.
     """
 
     fps: float = 20.0
@@ -323,6 +327,7 @@ class GifSettings:
     end: float | None = None
     max_frames: int = 3000
     trail: float = 8.0
+    skip_quiet: bool = False
 
     def __post_init__(self) -> None:
         if isinstance(self.size, list):
@@ -356,7 +361,46 @@ class GifSettings:
         problem = _range(self.trail, 0, 3600, " seconds")
         if problem:
             out.append(("trail", problem))
+        if not isinstance(self.skip_quiet, bool):
+            out.append(("skip_quiet", f"expected true or false, found {self.skip_quiet!r}"))
         return out
+
+
+# -- an HTML replay ------------------------------------------------------------------------------
+REPLAY_SPEEDS = (1, 2, 4, 10, 30, 60)
+"""Playback speeds the HTML replay offers (run seconds per second)."""
+
+
+@dataclass(frozen=True, slots=True)
+class HtmlSettings:
+    """How :func:`lotsim.render_html` writes a replay; checked on construction.
+
+    Attributes
+    ----------
+    speed : float
+        Playback speed the page opens with, one of :data:`REPLAY_SPEEDS`.
+    skip_quiet : bool
+        Whether "skip quiet stretches" is on when the page opens.
+    tolerance : float
+        Largest position error of a car's body corner that leaving out samples may cause,
+        0.001 to 0.1 [m] (:mod:`lotsim.render.html`).
+    """
+
+    speed: float = 4
+    skip_quiet: bool = True
+    tolerance: float = 0.01
+
+    def __post_init__(self) -> None:
+        out = []
+        if not (is_real(self.speed) and self.speed in REPLAY_SPEEDS):
+            out.append(("speed", f"expected one of {', '.join(map(str, REPLAY_SPEEDS))}, "
+                                 f"found {shown(self.speed)}"))
+        if not isinstance(self.skip_quiet, bool):
+            out.append(("skip_quiet", f"expected true or false, found {self.skip_quiet!r}"))
+        problem = _range(self.tolerance, 0.001, 0.1, " m")
+        if problem:
+            out.append(("tolerance", problem))
+        _raise_first(out)
 
 
 # -- the minimum-slot table ---------------------------------------------------------------------
@@ -389,7 +433,8 @@ class MinSlotSettings:
 # -- a scenario file's output options -----------------------------------------------------------
 @dataclass(frozen=True, slots=True)
 class AnimationSpec:
-    """A scenario file's ``animation`` section: ``lotsim run`` also writes a GIF. Read with
+    """A scenario file's ``animation`` section: ``lotsim run`` also writes a GIF (and an HTML
+    replay, an MP4 video, when it names them). Read with
     the scenario (:func:`lotsim.io.scenario.read_scenario`) but kept apart from it: how a run
     is drawn is not part of the problem.
 
@@ -397,11 +442,18 @@ class AnimationSpec:
     ----------
     gif : str
         File name of the GIF, written beside ``result.json``.
-    fps, speed, size, start, end, max_frames, trail
-        As :class:`GifSettings`; ``None`` for the default.
+    html : str or None
+        File name of the HTML replay written beside it (None: none).
+    mp4 : str or None
+        File name of the MP4 video of the GIF's frames written beside it (None: none).
+    fps, speed, size, start, end, max_frames, trail, skip_quiet
+        As :class:`GifSettings` (for the GIF and the video; ``skip_quiet`` also sets the
+        replay's toggle); ``None`` for the default.
     """
 
     gif: str = "run.gif"
+    html: str | None = None
+    mp4: str | None = None
     fps: float | None = None
     speed: float | None = None
     size: tuple[int, int] | None = None
@@ -409,6 +461,7 @@ class AnimationSpec:
     end: float | None = None
     max_frames: int | None = None
     trail: float | None = None
+    skip_quiet: bool | None = None
 
     def gif_settings(self) -> GifSettings:
         """The :class:`GifSettings` this section asks for (defaults where it says nothing).
@@ -418,3 +471,12 @@ class AnimationSpec:
         """
         return GifSettings(**{f.name: getattr(self, f.name) for f in fields(GifSettings)
                               if getattr(self, f.name) is not None})
+
+    def html_settings(self) -> HtmlSettings:
+        """The :class:`HtmlSettings` this section asks for.
+
+        >>> AnimationSpec(skip_quiet=False).html_settings().skip_quiet
+        False
+        """
+        return HtmlSettings() if self.skip_quiet is None else HtmlSettings(
+            skip_quiet=self.skip_quiet)

@@ -165,14 +165,19 @@ def name_from_file(file: str) -> str:
 
 
 def parse_animation(node: YNode) -> AnimationSpec:
-    """Validate the ``animation`` mapping (``lotsim run`` writes a GIF beside result.json)."""
+    """Validate the ``animation`` mapping (``lotsim run`` writes a GIF beside result.json,
+    and the HTML replay and MP4 video it names)."""
     if node.is_null:
         return AnimationSpec()
-    f = node.fields(optional=["gif", "fps", "speed", "size", "from", "to", "max_frames",
-                              "trail"])
-    gif = "run.gif"
-    if "gif" in f:
-        gif = f["gif"].file_name(purpose="it is written beside result.json", suffix=".gif")
+    f = node.fields(optional=["gif", "html", "mp4", "fps", "speed", "size", "from", "to",
+                              "max_frames", "trail", "skip_quiet"])
+    names = {}
+    for key, default in (("gif", "run.gif"), ("html", None), ("mp4", None)):
+        names[key] = (f[key].file_name(purpose="it is written beside result.json",
+                                       suffix=f".{key}") if key in f else default)
+    if len({n for n in names.values() if n is not None}) < sum(
+            n is not None for n in names.values()):
+        raise node.error("expected different file names for gif, html and mp4")
     size = None
     if "size" in f:
         w, h = (n.integer(min=m, max=4000) for n, m in
@@ -183,7 +188,10 @@ def parse_animation(node: YNode) -> AnimationSpec:
     if start is not None and end is not None and end <= start:
         raise f["to"].error(f"expected a time after 'from' ({start:g} s), found {end:g}")
     return AnimationSpec(
-        gif=gif,
+        gif=names["gif"],
+        html=names["html"],
+        mp4=names["mp4"],
+        skip_quiet=f["skip_quiet"].boolean() if "skip_quiet" in f else None,
         fps=f["fps"].number(min=1, max=50) if "fps" in f else None,
         speed=f["speed"].number(min=0.01, max=10_000) if "speed" in f else None,
         size=size,

@@ -18,7 +18,7 @@ from __future__ import annotations
 import colorsys
 import math
 import os
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -101,25 +101,54 @@ class FramePlan:
     """Run seconds per GIF second actually used (raised when ``max_frames`` bites)."""
     start: float
     end: float
+    skips: tuple[tuple[float, float], ...] = ()
+    """Run time left out (``skip_quiet``): ``(from, to)`` stretches [s]."""
+    skipped: tuple[float, ...] | None = None
+    """Per frame, the run time skipped just before it (shown for a second of the
+    animation after each skip; 0 elsewhere) [s]; None without skips."""
 
 
 def plan_frames(replay: Replay, settings: GifSettings) -> FramePlan:
     """Frame times from ``settings.start`` (default the first arrival) up to ``end``
-    (default the last event), ``speed / fps`` run seconds apart."""
+    (default the last event), ``speed / fps`` run seconds apart; with ``skip_quiet``, the
+    quiet stretches of the run (:meth:`Replay.quiet`) are left out."""
     start = replay.start if settings.start is None else settings.start
     end = replay.end if settings.end is None else settings.end
     if end <= start:
         what = "start" if settings.start is not None else "end"
         raise SettingsError(what, f"nothing to show from {start:g} s to {end:g} s (the run "
                                   f"goes from {replay.start:g} s to {replay.end:g} s)")
+    skips = []
+    if settings.skip_quiet:
+        skips = [(max(a, start), min(b, end)) for a, b in replay.quiet()
+                 if min(b, end) > max(a, start)]
+    # shown time u runs from 0 to span; run time is u plus the skips before it
+    span = (end - start) - sum(b - a for a, b in skips)
     speed = settings.speed
-    n = max(1, math.ceil((end - start) * settings.fps / speed - 1e-9))
+    n = max(1, math.ceil(span * settings.fps / speed - 1e-9))
     if n > settings.max_frames:
         n = settings.max_frames
-        speed = (end - start) * settings.fps / n
-    times = start + np.arange(n) * (speed / settings.fps)
+        speed = span * settings.fps / n
+    u = np.arange(n) * (speed / settings.fps)
+    times = start + u
+    skipped = None
+    if skips:
+        lost = np.zeros(n)
+        skipped = np.zeros(n)
+        shown = 0.0  # shown time at which each skip happens
+        prev = start
+        for a, b in skips:
+            shown += a - prev
+            prev = b
+            after = u >= shown - 1e-9
+            lost[after] += b - a
+            recent = after & (u < shown + speed)  # a second of the animation
+            skipped[recent] = np.maximum(skipped[recent], b - a)
+        times = start + u + lost
+        skipped = tuple(skipped.tolist())
     cs = np.round(np.arange(n + 1) * (100.0 / settings.fps)).astype(int)
-    return FramePlan(times, (10 * np.diff(cs)).tolist(), speed, start, end)
+    return FramePlan(times, (10 * np.diff(cs)).tolist(), speed, start, end, tuple(skips),
+                     skipped)
 
 
 def _clock(t: float) -> str:
@@ -254,8 +283,9 @@ class GifRenderer:
 
     # -- frames --------------------------------------------------------------------------------
     def frame(self, t: float, state: dict[str, np.ndarray] | None = None,
-              column: int = 0) -> Image.Image:
-        """The frame at run time ``t`` (``state``: :meth:`Replay.states` rows, if at hand)."""
+              column: int = 0, skipped: float = 0.0) -> Image.Image:
+        """The frame at run time ``t`` (``state``: :meth:`Replay.states` rows, if at hand;
+        ``skipped``: run time left out just before it, said in the header) [s]."""
         if state is None:
             state = self.replay.states(np.array([t]))
         img = self.background.copy()
@@ -287,7 +317,7 @@ class GifRenderer:
         order = np.concatenate([vis[still], moving])
         if len(order):
             self._paint_cars(d, state, column, order, n_still=int(still.sum()))
-        self._paint_header(img, t)
+        self._paint_header(img, t, skipped)
         return img
 
     def _paint_cars(self, d: ImageDraw.ImageDraw, state: dict, column: int,
@@ -318,10 +348,12 @@ class GifRenderer:
             if v[k] < -1e-3:  # reversing: a white band across the rear
                 d.polygon(tail[k].ravel().tolist(), fill=self.white)
 
-    def _paint_header(self, img: Image.Image, t: float) -> None:
+    def _paint_header(self, img: Image.Image, t: float, skipped: float = 0.0) -> None:
         counts = self.replay.counts(t)
         shown = [k for k in COUNTERS if k != "rejected" or counts[k]]
         text = "   ".join(f"{k} {counts[k]}" for k in shown)
+        if skipped > 0:
+            text += f"   >> skipped {_clock(skipped)}"
         x = MARGIN
         for ch in _clock(t):  # the clock changes every frame: stamped glyph by glyph
             x += self._stamp(img, (x, HEADER // 2), ch, self._clock_font)
@@ -350,13 +382,16 @@ class GifRenderer:
         img.paste(self.ink, (int(xy[0]) + dx, y), mask)
         return advance
 
-    def frames(self, times: np.ndarray) -> np.ndarray:
-        """Frames at ``times`` as palette indices, shaped (len(times), height, width)."""
+    def frames(self, times: np.ndarray, skipped: Sequence[float] | None = None
+               ) -> np.ndarray:
+        """Frames at ``times`` as palette indices, shaped (len(times), height, width)
+        (``skipped``: per frame, run time left out just before it [s])."""
         state = self.replay.states(times)
         w, h = self.settings.size
         out = np.empty((len(times), h, w), dtype=np.uint8)
         for k, t in enumerate(times):
-            out[k] = np.asarray(self.frame(float(t), state, k))
+            out[k] = np.asarray(self.frame(float(t), state, k,
+                                           skipped[k] if skipped is not None else 0.0))
         return out
 
 
@@ -446,7 +481,8 @@ def write_gif(
         screen = None
         for a in range(0, n, chunk):
             b = min(n, a + chunk)
-            frames = renderer.frames(plan.times[a:b])
+            frames = (renderer.frames(plan.times[a:b]) if plan.skipped is None
+                      else renderer.frames(plan.times[a:b], plan.skipped[a:b]))
             # one frame takes one duration, not a list (Pillow 13 writes a lone frame as a
             # still image and refuses a list)
             duration = plan.durations[a:b] if b - a > 1 else plan.durations[a]
