@@ -9,12 +9,12 @@ import pytest
 
 pytest.importorskip("matplotlib")
 
-from PIL import Image  # noqa: E402
+from PIL import Image
 
-from lotsim.cli import main  # noqa: E402
-from lotsim.render import plots  # noqa: E402
-from lotsim.render.animation import pale  # noqa: E402
-from lotsim.render.plots import (  # noqa: E402
+from lotsim.cli import main
+from lotsim.render import plots
+from lotsim.render.animation import pale
+from lotsim.render.plots import (
     OUTSIDE,
     MatplotlibMissing,
     minslot_figure,

@@ -81,7 +81,7 @@ def _spread(gs: Sequence[dict], metric: str) -> tuple[np.ndarray, np.ndarray]:
     return mean, np.clip(np.vstack([mean - lo, hi - mean]), 0.0, None)
 
 
-def _lines(ax, gs, metric, planners, ways, colours, styles, several) -> None:  # noqa: ANN001
+def _lines(ax, gs, metric, planners, ways, colours, styles, several) -> None:
     for p in planners:
         for w in ways:
             line = sorted((g for g in gs if g["planner_label"] == p
@@ -107,7 +107,7 @@ def _lines(ax, gs, metric, planners, ways, colours, styles, several) -> None:  #
     ax.set_xlabel("arrival rate [vehicles/h]")
 
 
-def _bars(ax, gs, metric, planners, ways, colours, several) -> None:  # noqa: ANN001
+def _bars(ax, gs, metric, planners, ways, colours, several) -> None:
     width = 0.8 / len(ways)
     for k, w in enumerate(ways):
         bars = [next((g for g in gs if g["planner_label"] == p

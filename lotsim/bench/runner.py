@@ -116,7 +116,7 @@ def run_spec(spec: RunSpec) -> dict:
         row.update(_result_columns(rr, report, extra))
     except ScenarioError as exc:
         return {"bad_input": str(exc)}
-    except Exception as exc:  # noqa: BLE001 - a crash is a failed run, recorded with its cause
+    except Exception as exc:  # a crash is a failed run, recorded with its cause
         row.update(_crash(exc))
     row["peak_memory_mb"] = peak_memory_mb()
     return _rounded(row)
@@ -247,7 +247,7 @@ def _run_pool(workers: int, specs: list[RunSpec], take: Callable[[int, dict], No
             spec = futures[fut]
             try:
                 row = fut.result()
-            except Exception as exc:  # noqa: BLE001 - BrokenProcessPool: a worker died
+            except Exception as exc:  # BrokenProcessPool: a worker died
                 row = _lost(spec, exc)
             take(spec.index, row)
     except BaseException:  # Ctrl-C, or an error: stop the runs in flight instead of waiting
@@ -291,7 +291,7 @@ def connect(address: str, *, timeout: float = CONNECT_TIMEOUT) -> Any:
         return distributed.Client(address, timeout=timeout, set_as_default=False)
     except OSError as exc:
         why = _first_line(exc)
-    except Exception as exc:  # noqa: BLE001 - whatever answers there is not a scheduler
+    except Exception as exc:  # whatever answers there is not a scheduler
         why = f"what answers is not a Dask scheduler: {type(exc).__name__}"
     raise SchedulerUnreachable(f"--scheduler: cannot reach a Dask scheduler at {address!r} "
                                f"within {timeout:g} s ({why})")
@@ -321,7 +321,7 @@ def _run_dask(client: Any, specs: list[RunSpec], take: Callable[[int, dict], Non
             spec = by_key[fut.key]
             try:
                 row = fut.result()
-            except Exception as exc:  # noqa: BLE001 - KilledWorker and the like
+            except Exception as exc:  # KilledWorker and the like
                 row = _lost(spec, exc)
             take(spec.index, row)
     finally:
