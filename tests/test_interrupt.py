@@ -80,18 +80,19 @@ def _temporary(folder: Path, name: str) -> list[Path]:
     return list(folder.glob(f".{name}.*.tmp"))
 
 
-def _workers(proc: subprocess.Popen) -> set[int]:
-    """The live processes of ``proc``'s group that are not its children: the pool's workers,
-    started by the forkserver (Linux's /proc)."""
-    found = set()
+def _workers(proc: subprocess.Popen) -> dict[int, float]:
+    """The live processes of ``proc``'s group that are not its children (the pool's workers,
+    started by the forkserver) and the processor time each has used [s] (Linux's /proc)."""
+    found = {}
     for stat in Path("/proc").glob("[0-9]*/stat"):
         try:
-            state, parent, group = stat.read_text().rsplit(")", 1)[1].split()[:3]
-        except (OSError, ValueError):
+            fields = stat.read_text().rsplit(")", 1)[1].split()
+        except OSError:
             continue  # ended while we looked
-        if int(group) == proc.pid and state != "Z" and int(parent) != proc.pid \
-                and int(stat.parent.name) != proc.pid:
-            found.add(int(stat.parent.name))
+        state, parent, group = fields[0], int(fields[1]), int(fields[2])
+        pid = int(stat.parent.name)
+        if group == proc.pid and state != "Z" and proc.pid not in (parent, pid):
+            found[pid] = (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK")
     return found
 
 
@@ -153,10 +154,12 @@ def test_ctrl_c_during_a_benchmark_on_two_processes_writes_nothing(tmp_path):
         pytest.skip("finds the workers in /proc")
     proc = _start("bench", str(SCENARIOS / "bench" / "seed004.yaml"), "-o", "out", "--jobs",
                   "2", cwd=tmp_path)
-    _wait_for(lambda: len(_workers(proc)) >= 2, proc)  # two runs in flight
-    workers = _workers(proc)
+    # two runs in flight: two workers past their start-up (imports take about 0.5 s of
+    # processor time; an interrupt then is reported by multiprocessing itself)
+    _wait_for(lambda: sum(cpu >= 1.5 for cpu in _workers(proc).values()) >= 2, proc)
+    workers = set(_workers(proc))
     code, out, err = _ctrl_c(proc)
-    assert not _workers(proc) & workers  # stopped with lotsim: none outlives it
+    assert not set(_workers(proc)) & workers  # stopped with lotsim: none outlives it
     assert code == 130
     assert err.strip() == "lotsim: interrupted; nothing was written", err
     assert not (tmp_path / "out").exists()
