@@ -70,7 +70,7 @@ def settings_for(doc: dict, frames: int, span: float | None = None) -> GifSettin
                        end=r.start + span, max_frames=frames)
 
 
-def lotsim_case(doc: dict, frames: int, span: float | None, out) -> None:  # noqa: ANN001
+def lotsim_case(doc: dict, frames: int, span: float | None, out) -> None:
     with tempfile.TemporaryDirectory() as tmp:
         t = time.perf_counter()
         info = write_gif(doc, Path(tmp) / "a.gif", settings_for(doc, frames, span))
@@ -79,7 +79,7 @@ def lotsim_case(doc: dict, frames: int, span: float | None, out) -> None:  # noq
                  "peak_mb": peak_mb()})
 
 
-def rgb_case(doc: dict, frames: int, span: float, out) -> None:  # noqa: ANN001
+def rgb_case(doc: dict, frames: int, span: float, out) -> None:
     settings = settings_for(doc, frames, span)
     renderer = GifRenderer(doc, settings)
     times = settings.start + np.arange(frames) * settings.speed / settings.fps
@@ -92,7 +92,7 @@ def rgb_case(doc: dict, frames: int, span: float, out) -> None:  # noqa: ANN001
              "peak_mb": peak_mb()})
 
 
-def in_child(fn, *args) -> dict:  # noqa: ANN001
+def in_child(fn, *args) -> dict:
     ctx = mp.get_context("fork")
     q = ctx.Queue()
     p = ctx.Process(target=fn, args=(*args, q))

@@ -257,7 +257,7 @@ class RunResult(_sim.RunResult):
 
 
 def run(scenario_or_prepared: ScenarioLike | PreparedLot, settings: RunSettings | None = None,
-        *, progress=None, **overrides: Any) -> RunResult:  # noqa: ANN001
+        *, progress=None, **overrides: Any) -> RunResult:
     """Plan the scenario's traffic: assign slots, plan every vehicle in, and out again.
 
     Parameters
@@ -410,7 +410,7 @@ def check(result: RunResult | dict | str | os.PathLike, *, max_violations: int =
 
 
 def render_gif(result: RunResult | dict | str | os.PathLike, path: str | os.PathLike,
-               settings: GifSettings | AnimationSpec | None = None, *, progress=None,  # noqa: ANN001
+               settings: GifSettings | AnimationSpec | None = None, *, progress=None,
                **overrides: Any) -> GifInfo:
     """Draw a run as an animated GIF (``lotsim render --gif``, ``lotsim run``'s GIF).
 

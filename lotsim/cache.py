@@ -80,7 +80,7 @@ def load(name: str, folder: Path | None = None) -> object | None:
             value = pickle.load(f)
     except OSError:  # none, or none that can be read
         return None
-    except Exception:  # noqa: BLE001 - a damaged entry (cut short, another format) is a miss
+    except Exception:  # a damaged entry (cut short, another format) is a miss
         with contextlib.suppress(OSError):
             path.unlink()
         return None

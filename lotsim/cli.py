@@ -565,7 +565,7 @@ def _counts(m: dict) -> str:
             f"away")
 
 
-def _budget(args: argparse.Namespace):  # noqa: ANN202
+def _budget(args: argparse.Namespace):
     """The run's :class:`~lotsim.limits.Budget` from ``--memory-limit``/``--time-limit``, or
     the exit code of a bad value."""
     from lotsim.limits import Budget, parse_size
@@ -641,7 +641,7 @@ class _Preparing(_ProgressBar):
         self.close()
 
 
-def _write_gif(doc: dict, path, settings) -> int:  # noqa: ANN001
+def _write_gif(doc: dict, path, settings) -> int:
     from lotsim.api import render_gif
     from lotsim.errors import ReplayError
     from lotsim.io.lot_json import LotFormatError
@@ -731,12 +731,12 @@ def _write_mp4(doc: dict, path, settings) -> int:  # noqa: ANN001
 
 
 @contextlib.contextmanager
-def _noting_sigint(seen: list[bool]):  # noqa: ANN202
+def _noting_sigint(seen: list[bool]):
     """Within: Ctrl-C raises KeyboardInterrupt as usual and is also noted in ``seen`` (a
     library may catch the interrupt and raise an error of its own)."""
     import signal
 
-    def on_sigint(signum, frame):  # noqa: ANN001, ANN202, ARG001
+    def on_sigint(signum, frame):
         seen.append(True)
         raise KeyboardInterrupt
 

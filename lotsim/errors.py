@@ -65,7 +65,7 @@ class ScenarioError(LotsimError):
         self.message = message
         super().__init__(f"{where}: {message}" if where is not None else message)
 
-    def __reduce__(self):  # noqa: ANN204 - two arguments survive pickling between processes
+    def __reduce__(self):  # two arguments survive pickling between processes
         return (type(self), (self.where, self.message))
 
 
@@ -91,7 +91,7 @@ class SettingsError(LotsimError, ValueError):
         self.message = message
         super().__init__(f"{name}: {message}")
 
-    def __reduce__(self):  # noqa: ANN204
+    def __reduce__(self):
         return (type(self), (self.name, self.message))
 
 

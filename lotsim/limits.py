@@ -134,7 +134,7 @@ class Watchdog:
     """
 
     def __init__(self, budget: Budget, where: Location | None, *,
-                 then=None) -> None:  # noqa: ANN001
+                 then=None) -> None:
         self.budget = budget
         self.where = where
         self.then = then
@@ -171,7 +171,7 @@ class Watchdog:
         if self.then is not None:
             self.then(done, total)
 
-    def _raise(self, signum, frame) -> None:  # noqa: ANN001, ARG002
+    def _raise(self, signum, frame) -> None:
         if self.message is not None:
             raise LimitExceeded(self.where, self.message)
 

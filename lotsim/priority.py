@@ -17,7 +17,7 @@ import time
 import numpy as np
 
 from lotsim.errors import SettingsError
-from lotsim.settings import PRIORITIES, GASettings, RunSettings  # noqa: F401 - re-exported
+from lotsim.settings import PRIORITIES, GASettings, RunSettings  # also re-exported
 from lotsim.sim import RunResult, require_traffic, run
 from lotsim.traffic import arrivals
 
@@ -33,7 +33,7 @@ def fitness(rr: RunResult) -> float:
                      else patience + UNPARKED_PENALTY for v in rr.vehicles))
 
 
-def shortest_first(scenario, lot_graph, seed: int | None = None) -> tuple[str, ...]:  # noqa: ANN001
+def shortest_first(scenario, lot_graph, seed: int | None = None) -> tuple[str, ...]:
     """Vehicle ids by their least static time from their entrance into a free slot they
     can use (travel along the graph plus the maneuver), ties by arrival."""
     from lotsim.sim import _Simulation
@@ -62,8 +62,8 @@ def _order_crossover(a: np.ndarray, b: np.ndarray, rng: np.random.Generator) -> 
     return child
 
 
-def genetic_order(scenario, settings: RunSettings, *, lot_graph, ga: GASettings,  # noqa: ANN001
-                  progress=None) -> tuple[tuple[str, ...], dict]:  # noqa: ANN001
+def genetic_order(scenario, settings: RunSettings, *, lot_graph, ga: GASettings,
+                  progress=None) -> tuple[tuple[str, ...], dict]:
     """Search planning orders with a genetic algorithm; fitness :func:`fitness` of the run
     planned in that order (booked traffic).
 
@@ -122,8 +122,8 @@ def genetic_order(scenario, settings: RunSettings, *, lot_graph, ga: GASettings,
     }
 
 
-def plan_run(scenario, settings: RunSettings, *, lot_graph,  # noqa: ANN001
-             progress=None) -> RunResult:  # noqa: ANN001
+def plan_run(scenario, settings: RunSettings, *, lot_graph,
+             progress=None) -> RunResult:
     """Plan the scenario's traffic in the order ``settings`` asks for: ``settings.order`` if
     given, else chosen by ``settings.priority`` (:data:`PRIORITIES`; the GA with
     ``settings.ga``), then planned by :func:`lotsim.sim.run`.
@@ -159,9 +159,9 @@ def plan_run(scenario, settings: RunSettings, *, lot_graph,  # noqa: ANN001
     return rr
 
 
-def run_with_priority(scenario, settings: RunSettings, *, priority: str, lot_graph,  # noqa: ANN001
+def run_with_priority(scenario, settings: RunSettings, *, priority: str, lot_graph,
                       ga: GASettings | None = None,
-                      progress=None) -> tuple[RunResult, dict]:  # noqa: ANN001
+                      progress=None) -> tuple[RunResult, dict]:
     """:func:`plan_run` with ``priority`` (and ``ga``) instead of the settings' own and no
     order given; returns the run and its ``ordering`` record. Kept for callers from before
     the priority was a setting.

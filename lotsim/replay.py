@@ -143,7 +143,7 @@ class Replay:
         self.doc = doc
 
     @staticmethod
-    def _track(v: dict, slots: dict, patience) -> Track:  # noqa: ANN001
+    def _track(v: dict, slots: dict, patience) -> Track:
         s = v["samples"]
         cols = {k: np.asarray(s[k], dtype=float) for k in ("t", "x", "y", "theta", "v", "steer")}
         gear = np.asarray(s["gear"], dtype=np.int8)

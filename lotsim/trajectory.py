@@ -406,7 +406,7 @@ def _reach(length: float, v: float, cap: float, accel: float, jerk: float) -> fl
     return _largest(lambda w: _shift_distance(v, w, accel, accel, jerk) <= length, v, cap)
 
 
-def _largest(fits, lo: float, hi: float) -> float:  # noqa: ANN001 - float -> bool
+def _largest(fits, lo: float, hi: float) -> float:  # float -> bool
     """The largest speed in ``[lo, hi]`` that ``fits`` (monotone: true up to a point,
     and true at ``lo``), by bisection to 1e-12 m/s."""
     if fits(hi):

@@ -162,7 +162,7 @@ def _any_draw(stream: StreamSpec | None) -> list[Arrival]:
             for name, weight in stream.mix if weight > 0 for gate in stream.entrances]
 
 
-def _n(items, what: str) -> str:  # noqa: ANN001
+def _n(items, what: str) -> str:
     """``"1 free slot"``, ``"3 free slots"``."""
     return f"{len(items)} {what}{'' if len(items) == 1 else 's'}"
 

@@ -54,7 +54,7 @@ lot:
 @contextmanager
 def time_limit(seconds: float):
     """Raise TimeoutError in the block after ``seconds``: a hang becomes a test failure."""
-    def stop(signum, frame):  # noqa: ARG001
+    def stop(signum, frame):
         raise TimeoutError(f"took more than {seconds:g} s")
 
     old = signal.signal(signal.SIGALRM, stop)

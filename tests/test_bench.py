@@ -12,6 +12,7 @@ import pytest
 
 from conftest import ROOT, position
 from lotsim import bench
+from lotsim.bench import runner
 from lotsim.check import CheckReport, Violation
 from lotsim.cli import main
 from lotsim.errors import Location, ScenarioError
@@ -227,7 +228,7 @@ def test_a_dask_cluster_gives_the_same_table(local, tmp_path, monkeypatch):
         assert _without_timings(tmp_path / "dask" / "runs.csv") == _without_timings(
             out / "runs.csv")
         # a task that raises on the cluster (a lost worker) is a failed row, not a traceback
-        monkeypatch.setattr(bench, "run_spec", _dies)
+        monkeypatch.setattr(runner, "run_spec", _dies)
         one = _write(tmp_path, SUITE.replace("[360, 1440]", "[360]").replace("[1, 2]", "[1]"))
         code = main(["bench", str(one), "--scheduler", cluster.scheduler_address,
                      "-o", str(tmp_path / "lost")])
@@ -272,7 +273,7 @@ def test_a_run_that_fails_its_check_counts_as_failed(tmp_path, capsys, monkeypat
                                {"violations": 4})
         return CheckReport([], {"violations": 0})
 
-    monkeypatch.setattr(bench, "check_result", failing)
+    monkeypatch.setattr(runner, "check_result", failing)
     assert main(["bench", str(path), "--jobs", "1", "-o", str(tmp_path / "out")]) == 1
     out = capsys.readouterr().out
     assert "run 1 failed (seed 1): check: overlap: s1 and s2 overlap" in out
@@ -292,8 +293,8 @@ def test_a_run_that_crashes_is_a_failed_row(tmp_path, capsys, monkeypatch):
             raise RuntimeError("the planner fell over")
         return real(spec, scenario, lg)
 
-    real = bench._plan
-    monkeypatch.setattr(bench, "_plan", crash)
+    real = runner._plan
+    monkeypatch.setattr(runner, "_plan", crash)
     assert main(["bench", str(path), "--jobs", "1", "-o", str(tmp_path / "out")]) == 1
     rows = _rows(tmp_path / "out" / "runs.csv")
     assert rows[0]["ok"] == "true"
@@ -308,8 +309,8 @@ def test_a_lot_that_does_not_build_is_bad_input(tmp_path, capsys, monkeypatch):
     def broken(scenario):
         raise ScenarioError(Location("tiny.yaml", 3, 5, "lot.aisles[0]"), "aisle too narrow")
 
-    monkeypatch.setattr(bench, "prepare", broken)
-    monkeypatch.setattr(bench, "_PREPARED", {})
+    monkeypatch.setattr(runner, "prepare", broken)
+    monkeypatch.setattr(runner, "_PREPARED", {})
     assert main(["bench", str(path), "--jobs", "1", "-o", str(tmp_path / "out")]) == 2
     assert capsys.readouterr().err == "lotsim: tiny.yaml:3:5: lot.aisles[0]: aisle too narrow\n"
     assert not (tmp_path / "out").exists()

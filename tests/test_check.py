@@ -19,23 +19,19 @@ Each test breaks the valid result in one way and expects exactly that rule.
 
 from __future__ import annotations
 
+import ast
 import copy
 import importlib
 import json
 import math
+from pathlib import Path
 
 import numpy as np
 import pytest
 import shapely
 
-from lotsim.check import (
-    CheckReport,
-    ResultFormatError,
-    _Items,
-    _rects_overlap,
-    check_result,
-    load_result,
-)
+from lotsim.check import CheckReport, ResultFormatError, check_result, load_result
+from lotsim.check.footprints import _Items, _rects_overlap
 
 DT = 0.05
 SPEED = 0.9
@@ -546,8 +542,8 @@ def test_a_failing_stage_is_reported_not_raised(result, monkeypatch):
     def broken(*args):
         raise ZeroDivisionError("boom")
 
-    # the module: lotsim.check, the attribute, is the function lotsim.api.check
-    monkeypatch.setattr(importlib.import_module("lotsim.check"), "_check_motion", broken)
+    # the module that runs the stages (lotsim.check, the attribute, is lotsim.api.check)
+    monkeypatch.setattr(importlib.import_module("lotsim.check.checker"), "_check_motion", broken)
     report = check_result(result)
     assert not report.ok
     assert rules(report) == {"internal"}
@@ -657,3 +653,18 @@ def test_a_standing_pose_written_one_rounding_unit_apart_still_stands(result):
     assert check_result(refresh_metrics(result)).ok
     s["y"][-1] = round(s["y"][-1] + 4e-4, 4)  # half a millimetre: it moved
     assert_only(result, "sampling")
+
+
+def test_the_checker_imports_nothing_from_lotsim_but_an_error_type():
+    # the checker shares no code with what it checks (docs/result.md)
+    package = Path(importlib.import_module("lotsim.check").__file__).parent
+    found = set()
+    for path in package.glob("*.py"):
+        for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+            if isinstance(node, ast.ImportFrom) and node.module:
+                found.add(node.module)
+            elif isinstance(node, ast.Import):
+                found.update(alias.name for alias in node.names)
+    outside = {m for m in found if m.split(".")[0] == "lotsim"
+               and not m.startswith("lotsim.check.")}
+    assert outside == {"lotsim.errors"}

@@ -30,7 +30,7 @@ SIZE = (800, 600)
 NAMES = [p.stem for p in SCENARIOS]
 
 
-def _built(scenario) -> Lot:  # noqa: ANN001
+def _built(scenario) -> Lot:
     # what `lotsim show` draws: prepare(..., maneuvers=False) builds this lot, then a graph
     # that draw_lot does not look at without --graph
     return build_lot(scenario.lot, DesignVehicle.envelope(scenario.vehicle_types))
@@ -52,13 +52,13 @@ def shipped() -> dict[str, tuple]:
     return out
 
 
-def _close(a, b, what: str) -> None:  # noqa: ANN001
+def _close(a, b, what: str) -> None:
     a, b = np.asarray(a, dtype=float), np.asarray(b, dtype=float)
     assert a.shape == b.shape, what
     assert np.abs(a - b).max(initial=0.0) <= TOL, what
 
 
-def _same_geometry(a, b, what: str) -> None:  # noqa: ANN001
+def _same_geometry(a, b, what: str) -> None:
     assert a.geom_type == b.geom_type, what
     assert a.equals_exact(b, tolerance=TOL), what
 
@@ -188,7 +188,7 @@ def test_a_run_result_holds_the_drawing_and_still_passes_the_check():
     assert drawing == lot_to_json(rr.lot_graph.lot)
     assert_same_lot(rr.lot_graph.lot, lot_from_json(drawing, root="lot.drawing"))
 # -- malformed input ---------------------------------------------------------------------------
-def _set(path: str, value):  # noqa: ANN001, ANN202
+def _set(path: str, value):
     """A corruption that sets the item at a key path like ``slots[3].polygon``."""
     keys = [int(k) if k.isdigit() else k for k in re.findall(r"[^.\[\]]+", path)]
 
@@ -199,7 +199,7 @@ def _set(path: str, value):  # noqa: ANN001, ANN202
     return damage
 
 
-def _delete(path: str):  # noqa: ANN202
+def _delete(path: str):
     keys = [int(k) if k.isdigit() else k for k in re.findall(r"[^.\[\]]+", path)]
 
     def damage(d: dict) -> None:
@@ -282,7 +282,7 @@ def test_a_lot_format_error_is_a_value_error():
         lot_from_json(None, root="lot.drawing")
 
 
-def _paths(node, prefix=()):  # noqa: ANN001, ANN202
+def _paths(node, prefix=()):
     yield prefix
     if isinstance(node, dict):
         for k, v in node.items():

@@ -522,7 +522,7 @@ def start_at_their_entrance(doc: dict) -> None:
 
 
 # -- the two profiles --------------------------------------------------------------------------
-def _run_profile(profile: str, size: dict, strategy=None, *,  # noqa: ANN001
+def _run_profile(profile: str, size: dict, strategy=None, *,
                  most_refused: float = MOST_REFUSED, **more) -> None:
     SEEN.clear()
 

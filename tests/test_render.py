@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import math
 import os
-import time
 
 import numpy as np
 import pytest
@@ -57,7 +56,7 @@ def scene():
     return build()
 
 
-def rgb(img: Image.Image, xy) -> tuple[int, int, int]:  # noqa: ANN001
+def rgb(img: Image.Image, xy) -> tuple[int, int, int]:
     x, y = np.rint(np.asarray(xy, dtype=float)).astype(int)
     return img.getpixel((int(x), int(y)))
 
@@ -80,7 +79,7 @@ def test_canvas_flips_y_keeps_aspect_and_centres() -> None:
 
 
 # -- what the picture shows --------------------------------------------------------------------
-def test_image_has_the_requested_size(scene) -> None:  # noqa: ANN001
+def test_image_has_the_requested_size(scene) -> None:
     _, g = scene
     for size in [(800, 600), (333, 777), (200, 150)]:
         img = draw_lot(g, size=size, title="t")
@@ -88,7 +87,7 @@ def test_image_has_the_requested_size(scene) -> None:  # noqa: ANN001
         assert img.mode == "RGB"
 
 
-def test_parked_cars_fill_taken_slots_only(scene) -> None:  # noqa: ANN001
+def test_parked_cars_fill_taken_slots_only(scene) -> None:
     sc, g = scene
     img = draw_lot(g, size=SIZE, parked_vehicle=sc.parked_vehicle, labels=False)
     canvas = lot_layout(g, size=SIZE).canvas
@@ -100,7 +99,7 @@ def test_parked_cars_fill_taken_slots_only(scene) -> None:  # noqa: ANN001
         assert rgb(img, canvas.to_px(slots[sid].center)) == li.SLOT_PAVING
 
 
-def test_parked_car_windscreen_is_on_the_heading_side(scene) -> None:  # noqa: ANN001
+def test_parked_car_windscreen_is_on_the_heading_side(scene) -> None:
     sc, g = scene
     img = draw_lot(g, size=SIZE, parked_vehicle=sc.parked_vehicle, labels=False)
     canvas = lot_layout(g, size=SIZE).canvas
@@ -116,7 +115,7 @@ def test_parked_car_windscreen_is_on_the_heading_side(scene) -> None:  # noqa: A
     assert canvas.to_px(n2.center)[1] < canvas.to_px(s5.center)[1]
 
 
-def test_centered_footprints_sit_in_the_slot_facing_its_heading(scene) -> None:  # noqa: ANN001
+def test_centered_footprints_sit_in_the_slot_facing_its_heading(scene) -> None:
     sc, g = scene
     slot = g.lot.slot_by_id["N2"]
     v = sc.parked_vehicle
@@ -131,7 +130,7 @@ def test_centered_footprints_sit_in_the_slot_facing_its_heading(scene) -> None: 
     assert np.hypot(*(box[3] - box[0])) == pytest.approx(1.8)
 
 
-def test_no_go_zone_is_hatched(scene) -> None:  # noqa: ANN001
+def test_no_go_zone_is_hatched(scene) -> None:
     _, g = scene
     img = pixels(draw_lot(g, size=SIZE))
     canvas = lot_layout(g, size=SIZE).canvas
@@ -145,7 +144,7 @@ def test_no_go_zone_is_hatched(scene) -> None:  # noqa: ANN001
     assert not np.any(np.all(outside == li.NO_GO_HATCH, axis=1))
 
 
-def test_speed_bump_is_striped_yellow_and_black(scene) -> None:  # noqa: ANN001
+def test_speed_bump_is_striped_yellow_and_black(scene) -> None:
     _, g = scene
     img = draw_lot(g, size=SIZE, labels=False)
     canvas = lot_layout(g, size=SIZE).canvas
@@ -155,7 +154,7 @@ def test_speed_bump_is_striped_yellow_and_black(scene) -> None:  # noqa: ANN001
     assert li.BUMP_BLACK in colors
 
 
-def test_entrance_green_exit_red(scene) -> None:  # noqa: ANN001
+def test_entrance_green_exit_red(scene) -> None:
     _, g = scene
     img = draw_lot(g, size=SIZE)
     canvas = lot_layout(g, size=SIZE).canvas
@@ -163,7 +162,7 @@ def test_entrance_green_exit_red(scene) -> None:  # noqa: ANN001
     assert rgb(img, canvas.to_px([5.0, 11.75])) == li.EXIT
 
 
-def test_show_graph_draws_along_the_lanes(scene) -> None:  # noqa: ANN001
+def test_show_graph_draws_along_the_lanes(scene) -> None:
     _, g = scene
     plain = pixels(draw_lot(g, size=SIZE, labels=False, legend=False))
     graph = pixels(draw_lot(g, size=SIZE, labels=False, legend=False, show_graph=True))
@@ -182,7 +181,7 @@ def test_show_graph_draws_along_the_lanes(scene) -> None:  # noqa: ANN001
     assert np.any(np.all(graph[px[:, 1], px[:, 0]] == li.GRAPH_EDGE["lane"], axis=1))
 
 
-def test_labels_can_be_turned_off_and_a_bare_lot_draws(scene) -> None:  # noqa: ANN001
+def test_labels_can_be_turned_off_and_a_bare_lot_draws(scene) -> None:
     _, g = scene
     with_labels = pixels(draw_lot(g, size=SIZE))
     without = pixels(draw_lot(g, size=SIZE, labels=False))
@@ -193,7 +192,7 @@ def test_labels_can_be_turned_off_and_a_bare_lot_draws(scene) -> None:  # noqa: 
         draw_lot(g.lot, show_graph=True)
 
 
-def test_title_and_legend_sit_outside_the_lot(scene) -> None:  # noqa: ANN001
+def test_title_and_legend_sit_outside_the_lot(scene) -> None:
     _, g = scene
     layout = lot_layout(g, size=SIZE, title="render-test")
     left, top, right, bottom = layout.canvas.drawing_box
@@ -206,7 +205,7 @@ def test_title_and_legend_sit_outside_the_lot(scene) -> None:  # noqa: ANN001
     assert left >= 0 and right <= SIZE[0] and top >= 0 and bottom <= SIZE[1]
 
 
-def test_slot_labels_are_skipped_when_slots_are_tiny(scene) -> None:  # noqa: ANN001
+def test_slot_labels_are_skipped_when_slots_are_tiny(scene) -> None:
     _, g = scene
     big = lot_layout(g, size=(2000, 1500), legend=False)
     tiny = lot_layout(g, size=(200, 150), legend=False)
@@ -221,7 +220,7 @@ def test_slot_labels_are_skipped_when_slots_are_tiny(scene) -> None:  # noqa: AN
 
 
 # -- the PNG file ------------------------------------------------------------------------------
-def test_save_lot_png_writes_a_png_and_no_temp_file(scene, tmp_path) -> None:  # noqa: ANN001
+def test_save_lot_png_writes_a_png_and_no_temp_file(scene, tmp_path) -> None:
     sc, g = scene
     out = tmp_path / "lot.png"
     save_lot_png(g, out, size=(640, 480), show_graph=True, parked_vehicle=sc.parked_vehicle,
@@ -239,10 +238,10 @@ def test_save_lot_png_writes_a_png_and_no_temp_file(scene, tmp_path) -> None:  #
     assert sorted(os.listdir(tmp_path)) == ["lot.png"]
 
 
-def test_save_lot_png_cleans_up_when_the_move_fails(scene, tmp_path, monkeypatch) -> None:  # noqa: ANN001
+def test_save_lot_png_cleans_up_when_the_move_fails(scene, tmp_path, monkeypatch) -> None:
     _, g = scene
 
-    def broken(src, dst):  # noqa: ANN001, ANN202
+    def broken(src, dst):
         raise OSError("disk on fire")
 
     monkeypatch.setattr(li.os, "replace", broken)
@@ -251,8 +250,8 @@ def test_save_lot_png_cleans_up_when_the_move_fails(scene, tmp_path, monkeypatch
     assert os.listdir(tmp_path) == []
 
 
-# -- speed -------------------------------------------------------------------------------------
-def test_a_thousand_slot_lot_draws_quickly() -> None:
+# -- a large lot ------------------------------------------------------------------------------
+def test_a_thousand_slot_lot_draws_every_slot() -> None:
     rows = "\n".join(
         f"    - {{aisle: a{k}, side: {side}, kind: perpendicular, count: 125, slot_width: 2.5,"
         f" slot_length: 5.0, start: 2.0, id_prefix: {side[0].upper()}{k}-}}"
@@ -278,9 +277,13 @@ lot:
     - {{id: out, x: 5.0, y: 10.25, heading_deg: 180}}
   occupied: {{fraction: 0.3, seed: 1}}
 """
-    _, g = build(text)
+    sc, g = build(text)
     assert len(g.lot.slots) == 1000
-    t = time.perf_counter()
-    img = draw_lot(g, show_graph=True, title="big")
-    assert time.perf_counter() - t < 2.0
+    # how long it takes is benchmarks/bench_pictures.py's to measure
+    img = draw_lot(g, parked_vehicle=sc.parked_vehicle, labels=False)
     assert img.size == (1200, 900)
+    canvas = lot_layout(g, size=img.size).canvas
+    seen = {s.id: rgb(img, canvas.to_px(s.center)) for s in g.lot.slots}
+    taken = {sid for sid, colour in seen.items() if colour == li.PARKED_CAR}
+    assert taken == set(g.lot.occupied) and 250 < len(taken) < 350
+    assert all(colour == li.SLOT_PAVING for sid, colour in seen.items() if sid not in taken)

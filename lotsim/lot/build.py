@@ -90,7 +90,7 @@ def build_lot(spec: LotSpec, design: DesignVehicle) -> Lot:
 
 
 # -- primitives --------------------------------------------------------------------------------
-def _polygon(points, where, what: str) -> Polygon:  # noqa: ANN001
+def _polygon(points, where, what: str) -> Polygon:
     poly = Polygon(points)
     if not poly.is_valid or poly.area <= AREA_TOL:
         reason = shapely.is_valid_reason(poly) if not poly.is_valid else "it has no area"
@@ -212,7 +212,7 @@ def _build_aisle(spec: AisleSpec, design: DesignVehicle, boundary: Polygon,
 
 # -- slots -------------------------------------------------------------------------------------
 def _slot_frame(
-    aisle: Aisle, side: str, s0: float, s1: float, where, what: str  # noqa: ANN001
+    aisle: Aisle, side: str, s0: float, s1: float, where, what: str
 ) -> tuple[FloatArray, FloatArray, FloatArray, float]:
     """Origin of station 0 on the aisle edge, along-aisle unit u, outward unit n, leg heading.
 
@@ -243,7 +243,7 @@ def _slot_frame(
 
 def _slot_on_aisle(
     sid: str, kind: str, angle: float, width: float, length: float,
-    aisle: Aisle, side: str, station: float, where, what: str,  # noqa: ANN001
+    aisle: Aisle, side: str, station: float, where, what: str,
 ) -> Slot:
     """One slot whose entry begins at aisle ``station`` (its lowest station) [m]."""
     along = length if kind == "parallel" else width * math.sin(angle)
@@ -285,7 +285,7 @@ def _row_slots(row: RowSpec, index: int, aisles: dict[str, Aisle]) -> list[Slot]
     return out
 
 
-def _aisle_ref(aisles: dict[str, Aisle], name: str, where) -> Aisle:  # noqa: ANN001
+def _aisle_ref(aisles: dict[str, Aisle], name: str, where) -> Aisle:
     if name not in aisles:
         raise ScenarioError(
             where, f"expected the id of an aisle ({', '.join(aisles)}), found {name!r}"
@@ -423,7 +423,7 @@ def _occupancy(spec: OccupancySpec, slots: tuple[Slot, ...]) -> frozenset[str]:
 
 
 # -- portals and lanes -------------------------------------------------------------------------
-def _portal(spec, aisles: dict[str, Aisle], what: str) -> Portal:  # noqa: ANN001
+def _portal(spec, aisles: dict[str, Aisle], what: str) -> Portal:
     p = Point(spec.pose[:2])
     if not any(a.polygon.buffer(0.01).covers(p) for a in aisles.values()):
         near = min(aisles.values(), key=lambda a: a.polygon.distance(p))

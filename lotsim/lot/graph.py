@@ -194,12 +194,6 @@ class LotGraph:
         come, go = self._lane_reach()
         return {**self._ranges(go), **self._ranges(come)}
 
-    def through(self) -> dict[str, tuple[float, float]]:
-        """Per lane, the station range [m] whose nodes can be reached from an entrance and
-        can reach an exit (any node, when the lot has no exits)."""
-        come, go = self._lane_reach()
-        return self._ranges(come & go)
-
     def leave_nodes(self, vehicle: str | None = None) -> frozenset[int]:
         """Lane nodes from which an exit can be reached (all, when the lot has no exits),
         by a ``vehicle`` type's turns if given: a car that will leave again parks only from

@@ -44,7 +44,7 @@ class DesignVehicle:
     max_lateral_accel: float
 
     @classmethod
-    def envelope(cls, vehicle_types) -> DesignVehicle:  # noqa: ANN001 - any VehicleType-like
+    def envelope(cls, vehicle_types) -> DesignVehicle:  # any VehicleType-like
         """The smallest envelope that holds every one of ``vehicle_types``."""
         types = list(vehicle_types)
         return cls(

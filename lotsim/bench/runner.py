@@ -1,0 +1,328 @@
+"""Running a suite: :func:`run_spec` plans and checks one grid point, :func:`run_suite` runs
+them all in this process, in a pool of processes or on a Dask cluster (:func:`connect`)."""
+
+from __future__ import annotations
+
+import dataclasses
+import hashlib
+import os
+import resource
+import sys
+import threading
+import time
+from collections.abc import Callable, Sequence
+from typing import TYPE_CHECKING, Any
+
+from lotsim.bench.suite import RunSpec, Suite, SuiteScenario
+from lotsim.bench.table import _rounded
+from lotsim.check import check_result
+from lotsim.errors import LotsimError, ScenarioError
+from lotsim.io.result import result_dict
+from lotsim.io.scenario import parse_scenario
+from lotsim.io.yamlnodes import parse_text
+from lotsim.priority import plan_run
+from lotsim.settings import GASettings, RunSettings
+from lotsim.sim import RunResult, prepare
+
+if TYPE_CHECKING:
+
+    from lotsim.lot.graph import LotGraph
+    from lotsim.scenario import Scenario
+
+
+CONNECT_TIMEOUT = 5.0
+"""How long to try reaching a Dask scheduler before giving up [s]."""
+
+
+class DaskMissing(LotsimError):
+    """``--scheduler`` was asked for but ``distributed`` is not installed."""
+
+
+class SchedulerUnreachable(LotsimError):
+    """The Dask scheduler at the given address did not answer."""
+
+
+_PREPARED: dict[str, tuple[Scenario, LotGraph]] = {}
+_PREPARING = threading.Lock()
+
+
+def prepared(sc: SuiteScenario) -> tuple[Scenario, LotGraph]:
+    """The scenario and its prepared lot, made once per process and scenario text: preparing
+    a large lot takes seconds, and every worker keeps what it prepared."""
+    key = hashlib.sha256(f"{sc.file}\0{sc.text}".encode()).hexdigest()
+    with _PREPARING:  # Dask threads of one worker share this cache: prepare each lot once
+        if key not in _PREPARED:
+            scenario = parse_scenario(parse_text(sc.text, sc.file))
+            _PREPARED[key] = (scenario, prepare(scenario))
+        return _PREPARED[key]
+
+
+def spec_scenario(spec: RunSpec, scenario: Scenario) -> Scenario:
+    """``scenario`` with the spec's stream rate and count."""
+    stream = scenario.traffic.stream
+    if stream is None or (spec.rate_per_hour is None and spec.count is None):
+        return scenario
+    new = {}
+    if spec.rate_per_hour is not None:
+        new["rate"] = spec.rate_per_hour / 3600.0
+    if spec.count is not None:
+        new["count"] = spec.count
+    traffic = dataclasses.replace(scenario.traffic,
+                                  stream=dataclasses.replace(stream, **new))
+    return dataclasses.replace(scenario, traffic=traffic)
+
+
+def spec_settings(spec: RunSpec) -> RunSettings:
+    """The :class:`~lotsim.sim.RunSettings` of a spec."""
+    kw: dict[str, Any] = {"planner": spec.planner.planner, "assignment": spec.assignment,
+                          "seed": spec.seed, "priority": spec.priority,
+                          "ga": GASettings(**dict(spec.ga))}
+    if spec.planner.window is not None:
+        kw["window"] = spec.planner.window
+    return RunSettings(**kw, horizon=spec.horizon)
+
+
+def _plan(spec: RunSpec, scenario: Scenario, lg: LotGraph) -> tuple[RunResult, dict]:
+    """Plan with the spec's priority order, as ``lotsim run`` does
+    (:func:`lotsim.priority.plan_run`)."""
+    rr = plan_run(scenario, spec_settings(spec), lot_graph=lg)
+    return rr, rr.ordering
+
+
+def peak_memory_mb() -> float:
+    """Peak resident memory of this process so far [MB] (``ru_maxrss``: kB on Linux, bytes
+    on macOS)."""
+    peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
+    return peak / 2**20 if sys.platform == "darwin" else peak / 1024
+
+
+def run_spec(spec: RunSpec) -> dict:
+    """Plan one grid point, check the result, and return its row (keys :data:`COLUMNS`).
+
+    A run that raises is a failed row (``ok`` false, the exception in ``problem``) so that
+    one broken run does not lose a sweep; a :class:`ScenarioError` (the lot does not build,
+    the traffic cannot be served) is bad input, returned as ``{"bad_input": message}``
+    (exceptions with extra arguments do not survive pickling between processes).
+    """
+    row = _identity(spec)
+    try:
+        scenario, lg = prepared(spec.scenario)
+        scenario = spec_scenario(spec, scenario)
+        row.update(_traffic_columns(scenario))
+        clock = time.perf_counter()
+        rr, extra = _plan(spec, scenario, lg)
+        report = check_result(result_dict(rr))
+        row["wall_time_s"] = time.perf_counter() - clock
+        row.update(_result_columns(rr, report, extra))
+    except ScenarioError as exc:
+        return {"bad_input": str(exc)}
+    except Exception as exc:  # a crash is a failed run, recorded with its cause
+        row.update(_crash(exc))
+    row["peak_memory_mb"] = peak_memory_mb()
+    return _rounded(row)
+
+
+def _crash(exc: BaseException) -> dict:
+    return {"ok": False, "solved": False, "problem": f"crash: {type(exc).__name__}: {exc}"}
+
+
+def _lost(spec: RunSpec, exc: BaseException) -> dict:
+    """The row of a run whose worker died (killed, out of memory, lost by the cluster)."""
+    return _rounded({**_identity(spec), **_crash(exc)})
+
+
+def _identity(spec: RunSpec) -> dict:
+    return {"run": spec.index, "scenario": spec.scenario.name, "planner": spec.planner.planner,
+            "window_s": spec.planner.window, "assignment": spec.assignment,
+            "priority": spec.priority, "seed": spec.seed}
+
+
+def _traffic_columns(scenario: Scenario) -> dict:
+    stream = scenario.traffic.stream
+    return {"rate_per_h": None if stream is None else stream.rate * 3600.0,
+            "count": None if stream is None else stream.count}
+
+
+def _rate(times: Sequence[float]) -> float | None:
+    """Events per hour between the first and the last of ``times``: (n − 1) / span."""
+    if len(times) < 2 or max(times) <= min(times):
+        return None
+    return (len(times) - 1) / (max(times) - min(times)) * 3600.0
+
+
+def _result_columns(rr: RunResult, report: Any, extra: dict) -> dict:
+    m = rr.metrics()
+    parked_at = [v.parked_at for v in rr.vehicles if v.parked_at is not None]
+    violations = report.stats.get("violations", len(report.violations))
+    problem = ""
+    if not report.ok:
+        first = report.violations[0] if report.violations else None
+        problem = f"check: {first.rule}: {first.message}" if first else "check failed"
+    return {
+        "ok": report.ok,
+        "solved": report.ok and m["waiting"] == 0,
+        "violations": violations,
+        "problem": problem,
+        "vehicles": m["vehicles"],
+        "parked": m["parked"],
+        "departed": m["departed"],
+        "waiting": m["waiting"],
+        "rejected": m["rejected"],
+        "makespan_s": m["makespan"],
+        "mean_time_to_park_s": m["mean_time_to_park"],
+        "max_time_to_park_s": m["max_time_to_park"],
+        "total_waiting_s": m["total_waiting"],
+        "arrival_rate_per_h": _rate([v.arrival.time for v in rr.vehicles]),
+        "throughput_per_h": _rate(parked_at),
+        "searches": m["searches"],
+        "expansions": m["expansions"],
+        "evaluations": extra.get("evaluations"),
+        "fitness_s": extra.get("fitness"),
+        # the GA's own starting points, planned with the same booking in the same run
+        "ga_arrival_fitness_s": extra.get("fitness_arrival"),
+        "ga_shortest_first_fitness_s": extra.get("fitness_shortest_first"),
+        "planning_time_s": m["planning_time"],
+        "planning_median_ms": 1000 * m["planning_time_median"],
+        "planning_p95_ms": 1000 * m["planning_time_p95"],
+        "order_time_s": extra.get("order_time"),
+    }
+
+
+def run_suite(suite: Suite, *, jobs: int | None = None, client: Any = None,
+              progress: Callable[[int, int], None] | None = None) -> list[dict]:
+    """Run every grid point and return the rows in grid order.
+
+    Parameters
+    ----------
+    suite : Suite
+    jobs : int, optional
+        Local worker processes (default ``os.cpu_count()``); 1 runs in this process.
+    client : distributed.Client, optional
+        Run on this Dask cluster instead (:func:`connect`).
+    progress : callable, optional
+        Called as ``progress(done, total)`` as runs finish.
+
+    Raises
+    ------
+    ScenarioError
+        A scenario whose lot does not build or whose traffic it cannot serve.
+    """
+    specs = suite.specs()
+    total = len(specs)
+    rows: dict[int, dict] = {}
+
+    def take(index: int, row: dict) -> None:
+        if "bad_input" in row:
+            raise ScenarioError(None, row["bad_input"])
+        rows[index] = row
+        if progress is not None:
+            progress(len(rows), total)
+
+    if progress is not None:
+        progress(0, total)
+    if client is not None:
+        _run_dask(client, specs, take)
+    else:
+        workers = min(jobs or os.cpu_count() or 1, total)
+        if workers <= 1:
+            for spec in specs:
+                take(spec.index, run_spec(spec))
+        else:
+            _run_pool(workers, specs, take)
+    return [rows[i] for i in range(total)]
+
+
+def _run_pool(workers: int, specs: list[RunSpec], take: Callable[[int, dict], None]) -> None:
+    import multiprocessing
+    from concurrent.futures import ProcessPoolExecutor, as_completed
+
+    # forkserver, not fork: a forked copy of a process that holds threads (a Dask client,
+    # a notebook's) can deadlock; workers keep their prepared lots between runs
+    methods = multiprocessing.get_all_start_methods()
+    ctx = multiprocessing.get_context("forkserver" if "forkserver" in methods else None)
+    pool = ProcessPoolExecutor(max_workers=workers, mp_context=ctx)
+    try:
+        futures = {pool.submit(run_spec, s): s for s in specs}
+        for fut in as_completed(futures):
+            spec = futures[fut]
+            try:
+                row = fut.result()
+            except Exception as exc:  # BrokenProcessPool: a worker died
+                row = _lost(spec, exc)
+            take(spec.index, row)
+    except BaseException:  # Ctrl-C, or an error: stop the runs in flight instead of waiting
+        for proc in list((getattr(pool, "_processes", None) or {}).values()):
+            proc.terminate()
+        pool.shutdown(wait=True, cancel_futures=True)
+        raise
+    pool.shutdown(wait=True)
+
+
+def connect(address: str, *, timeout: float = CONNECT_TIMEOUT) -> Any:
+    """A :class:`distributed.Client` of the scheduler at ``address``.
+
+    Raises
+    ------
+    DaskMissing
+        ``distributed`` is not installed.
+    SchedulerUnreachable
+        ``address`` is malformed, or no Dask scheduler answered there within ``timeout``
+        seconds.
+    """
+    try:
+        import distributed
+        from distributed.comm import resolve_address
+    except ImportError as exc:
+        raise DaskMissing("--scheduler needs dask.distributed: pip install 'lotsim[dask]'") \
+            from exc
+    try:
+        resolved = resolve_address(address)
+    except (ValueError, OSError) as exc:
+        raise SchedulerUnreachable(f"--scheduler: {address!r} is not the address of a Dask "
+                                   f"scheduler ({_first_line(exc)})") from None
+    # probe first: a Client that fails to start leaves an object whose clean-up waits twice
+    # the timeout when it is collected. In-process (inproc://) schedulers answer only on
+    # their own event loop; the Client reaches them.
+    try:
+        if not resolved.startswith("inproc://"):
+            import asyncio
+
+            asyncio.run(_probe(resolved, timeout))
+        return distributed.Client(address, timeout=timeout, set_as_default=False)
+    except OSError as exc:
+        why = _first_line(exc)
+    except Exception as exc:  # whatever answers there is not a scheduler
+        why = f"what answers is not a Dask scheduler: {type(exc).__name__}"
+    raise SchedulerUnreachable(f"--scheduler: cannot reach a Dask scheduler at {address!r} "
+                               f"within {timeout:g} s ({why})")
+
+
+async def _probe(address: str, timeout: float) -> None:
+    """Connect to ``address`` and shake hands as Dask does; raises when nobody answers."""
+    from distributed.comm import connect
+
+    comm = await connect(address, timeout=timeout)
+    await comm.close()
+
+
+def _first_line(exc: BaseException) -> str:
+    text = str(exc).strip()
+    return text.splitlines()[0] if text else type(exc).__name__
+
+
+def _run_dask(client: Any, specs: list[RunSpec], take: Callable[[int, dict], None]) -> None:
+    import distributed
+
+    # pure=False: two runs of the same spec are still two runs (timings differ)
+    futures = client.map(run_spec, specs, pure=False)
+    by_key = {f.key: s for f, s in zip(futures, specs, strict=True)}
+    try:
+        for fut in distributed.as_completed(futures, loop=client.loop):
+            spec = by_key[fut.key]
+            try:
+                row = fut.result()
+            except Exception as exc:  # KilledWorker and the like
+                row = _lost(spec, exc)
+            take(spec.index, row)
+    finally:
+        client.cancel(futures)

@@ -1,0 +1,110 @@
+"""The rules on how each vehicle ends (slot, exit, reason, status) and on the metrics."""
+
+from __future__ import annotations
+
+import math
+from collections import Counter
+
+import numpy as np
+import shapely
+
+from lotsim.check.motion import _wrap
+from lotsim.check.reading import _is_number, _Lot, _Vehicle
+from lotsim.check.report import Violation, _add
+from lotsim.check.tolerances import (
+    EXIT_DISTANCE,
+    EXIT_HEADING,
+    MAKESPAN_TOL,
+    REST_SPEED,
+    SHRINK,
+    STATUSES,
+)
+
+
+def _check_final(vehicles: list[_Vehicle], lot: _Lot, out: list[Violation]) -> None:
+    """Rule 7 per vehicle: slot, exit, reason, status."""
+    for veh in vehicles:
+        name, status = veh.id, veh.status
+        if status in ("waiting", "rejected") and not veh.reason.strip():
+            _add(out, "reason", name, None, f"{name} is {status} but gives no reason")
+        if status in ("parked", "departed") and veh.reason.strip():
+            _add(out, "reason", name, None,
+                 f"{name} is {status} but gives a reason ({veh.reason!r}); it must be empty")
+        if status == "rejected" and veh.n:
+            _add(out, "status", name, veh.t[0],
+                 f"{name} is rejected (never entered) but has {veh.n} samples")
+        if status in ("parked", "departed") and not veh.n:
+            _add(out, "status", name, None, f"{name} is {status} but has no samples")
+        if veh.slot is not None and veh.slot not in lot.slots:
+            _add(out, "slot", name, None, f"{name}: slot {veh.slot!r} is not a slot of the lot")
+        if status == "parked" and veh.n:
+            _check_parked(veh, lot, out)
+        if status == "departed" and veh.n:
+            _check_exit(veh, lot, out)
+
+
+def _check_parked(veh: _Vehicle, lot: _Lot, out: list[Violation]) -> None:
+    name, t_end = veh.id, veh.t[-1]
+    if veh.slot is None:
+        _add(out, "slot", name, t_end, f"{name} is parked but has no slot")
+        return
+    slot = lot.slots.get(veh.slot)
+    if slot is None:
+        return  # reported by _check_final
+    if slot.occupied:
+        _add(out, "slot", name, t_end,
+             f"{name} is parked in slot {slot.id}, which was occupied at start")
+    x, y, th = veh.x[-1], veh.y[-1], veh.theta[-1]
+    u, w = np.array([math.cos(th), math.sin(th)]), np.array([-math.sin(th), math.cos(th)])
+    a0, a1 = -veh.rear + SHRINK, veh.front - SHRINK
+    b = veh.width / 2 - SHRINK
+    corners = [np.array([x, y]) + u * a + w * c for a, c in ((a0, -b), (a1, -b), (a1, b),
+                                                               (a0, b))]
+    foot = shapely.Polygon(corners)
+    if not shapely.covers(slot.polygon, foot):
+        outside = shapely.area(shapely.difference(foot, slot.polygon))
+        _add(out, "slot", name, t_end,
+             f"{name} ends at ({x:.2f}, {y:.2f}, {th:.3f}) with its footprint not within "
+             f"slot {slot.id} ({outside:.2f} m² outside)")
+    if abs(veh.v[-1]) > REST_SPEED:
+        _add(out, "slot", name, t_end,
+             f"{name} is parked but still moves at its last sample (v={veh.v[-1]:.3f} m/s)")
+
+
+def _check_exit(veh: _Vehicle, lot: _Lot, out: list[Violation]) -> None:
+    name = veh.id
+    x, y, th = veh.x[-1], veh.y[-1], veh.theta[-1]
+    best: tuple[float, str, float] | None = None
+    for eid, (ex, ey, eth) in lot.exits.items():
+        dist = math.hypot(x - ex, y - ey)
+        turn = abs(float(_wrap(np.array(th - eth))))
+        if dist <= EXIT_DISTANCE and turn <= EXIT_HEADING:
+            return
+        if best is None or dist < best[0]:
+            best = (dist, eid, turn)
+    where = (f"{best[0]:.2f} m and {best[2]:.3f} rad from exit {best[1]}" if best
+             else "the lot has no exit")
+    _add(out, "exit", name, veh.t[-1],
+         f"{name} departed at ({x:.2f}, {y:.2f}, {th:.3f}), {where} "
+         f"(at most {EXIT_DISTANCE} m and {EXIT_HEADING} rad)")
+
+
+def _check_metrics(metrics: dict, vehicles: list[_Vehicle], out: list[Violation]) -> None:
+    counts = Counter(v.status for v in vehicles)
+    expected = {s: counts[s] for s in STATUSES} | {"vehicles": len(vehicles)}
+    for key, n in expected.items():
+        got = metrics.get(key)
+        if not (isinstance(got, int) and not isinstance(got, bool)):
+            _add(out, "metrics", None, None, f"metrics.{key}: expected a count, found {got!r}")
+        elif got != n:
+            what = "vehicles" if key == "vehicles" else f"vehicles with status {key!r}"
+            _add(out, "metrics", None, None, f"metrics.{key} is {got} but there are {n} {what}")
+    makespan = metrics.get("makespan")
+    ends = [v.t[-1] for v in vehicles if v.n]
+    if "makespan" in metrics and not _is_number(makespan):
+        _add(out, "metrics", None, None,
+             f"metrics.makespan: expected a number of seconds, found {makespan!r}")
+    elif _is_number(makespan) and ends and abs(makespan - max(ends)) > MAKESPAN_TOL:
+        _add(out, "metrics", None, None,
+             f"metrics.makespan is {makespan:.3f} s but the last sample is at "
+             f"{max(ends):.3f} s")

@@ -1,0 +1,390 @@
+"""The rules on footprints over the common instants: overlap, parked, obstacle, boundary,
+and no two vehicles holding one slot at once."""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Iterator
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+import shapely
+
+from lotsim.check.reading import _Lot, _Vehicle
+from lotsim.check.report import Violation, _add
+from lotsim.check.tolerances import GRID_DT, MAX_INSTANTS, SHRINK, FloatArray
+
+_PAIR_BUDGET = 2_000_000  # candidate pairs tested per numpy batch (bounds memory)
+_SAME = 1e-9  # interpolated poses closer than this are one standing footprint [m, rad]
+
+
+@dataclass(slots=True)
+class _Items:
+    """Footprints over the instant grid: one per moving vehicle-instant, one per standing
+    stretch ``[ka, kb]`` (instant indices, ``ka == kb`` for a moving one)."""
+
+    veh: np.ndarray  # index into the vehicle list
+    ka: np.ndarray
+    kb: np.ndarray
+    cx: FloatArray  # rectangle centre [m]
+    cy: FloatArray
+    ux: FloatArray  # heading unit vector
+    uy: FloatArray
+    hx: FloatArray  # true half length and half width [m]
+    hy: FloatArray
+
+    def __len__(self) -> int:
+        return len(self.veh)
+
+    @property
+    def reach(self) -> FloatArray:
+        """Circumradius of the shrunk rectangle [m]."""
+        return np.hypot(self.hx - SHRINK, self.hy - SHRINK)
+
+    def corners(self, idx: np.ndarray, inset: float = SHRINK) -> np.ndarray:
+        """(N, 4, 2) corners of footprints ``idx``, each side moved in by ``inset`` [m]."""
+        cx, cy, ux, uy = self.cx[idx], self.cy[idx], self.ux[idx], self.uy[idx]
+        ax, ay = ux * (self.hx[idx] - inset), uy * (self.hx[idx] - inset)
+        bx, by = -uy * (self.hy[idx] - inset), ux * (self.hy[idx] - inset)
+        xs = np.stack([cx - ax - bx, cx + ax - bx, cx + ax + bx, cx - ax + bx], axis=1)
+        ys = np.stack([cy - ay - by, cy + ay - by, cy + ay + by, cy - ay + by], axis=1)
+        return np.stack([xs, ys], axis=-1)
+
+    def polygons(self, idx: np.ndarray, inset: float = SHRINK) -> np.ndarray:
+        return shapely.polygons(self.corners(idx, inset))
+
+
+def _instant_range(t0: float, t1: float) -> tuple[int, int]:
+    """First and last grid instant index within [t0, t1] [s] (empty when first > last)."""
+    return math.ceil(t0 / GRID_DT - 1e-9), math.floor(t1 / GRID_DT + 1e-9)
+
+
+def _build_items(vehicles: list[_Vehicle], kmax: int) -> _Items:
+    cols: dict[str, list[np.ndarray]] = {k: [] for k in ("veh", "ka", "kb", "x", "y", "th")}
+    for j, veh in enumerate(vehicles):
+        k0, k1 = _instant_range(veh.t[0], veh.t[-1])
+        kend = k1 if veh.status == "departed" else kmax
+        theta = np.unwrap(veh.theta)
+        last = (veh.x[-1], veh.y[-1], theta[-1])
+        if k1 >= k0:
+            ks = np.arange(k0, k1 + 1)
+            tk = ks * GRID_DT
+            px, py = np.interp(tk, veh.t, veh.x), np.interp(tk, veh.t, veh.y)
+            pth = np.interp(tk, veh.t, theta)
+            change = ((np.abs(np.diff(px)) > _SAME) | (np.abs(np.diff(py)) > _SAME)
+                      | (np.abs(np.diff(pth)) > _SAME))
+            starts = np.concatenate([[0], np.flatnonzero(change) + 1])
+            ends = np.concatenate([starts[1:] - 1, [len(ks) - 1]])
+            ka, kb = ks[starts], ks[ends].copy()
+            x, y, th = px[starts], py[starts], pth[starts]
+            if kend > k1:
+                if max(abs(px[-1] - last[0]), abs(py[-1] - last[1]),
+                       abs(pth[-1] - last[2])) <= _SAME:
+                    kb[-1] = kend
+                else:
+                    ka, kb = np.append(ka, k1 + 1), np.append(kb, kend)
+                    x, y, th = np.append(x, last[0]), np.append(y, last[1]), np.append(th,
+                                                                                       last[2])
+        elif kend >= k0:  # no instant while sampled, but it stays at its last pose
+            ka, kb = np.array([k0]), np.array([kend])
+            x, y, th = np.array([last[0]]), np.array([last[1]]), np.array([last[2]])
+        else:
+            continue
+        cols["veh"].append(np.full(len(ka), j))
+        for key, arr in (("ka", ka), ("kb", kb), ("x", x), ("y", y), ("th", th)):
+            cols[key].append(arr)
+    if not cols["veh"]:
+        empty = np.zeros(0)
+        return _Items(*(empty.astype(int),) * 3, *(empty,) * 6)
+    veh_idx = np.concatenate(cols["veh"])
+    ka, kb = np.concatenate(cols["ka"]), np.concatenate(cols["kb"])
+    x, y, th = (np.concatenate(cols[k]) for k in ("x", "y", "th"))
+    front = np.array([v.front for v in vehicles])[veh_idx]
+    rear = np.array([v.rear for v in vehicles])[veh_idx]
+    width = np.array([v.width for v in vehicles])[veh_idx]
+    ux, uy = np.cos(th), np.sin(th)
+    off = (front - rear) / 2
+    return _Items(veh_idx, ka, kb, x + ux * off, y + uy * off, ux, uy, (front + rear) / 2,
+                  width / 2)
+
+
+def _expand(lo: np.ndarray, hi: np.ndarray) -> Iterator[tuple[np.ndarray, np.ndarray]]:
+    """Batches of (row, position) for every position in ``[lo[row], hi[row])``."""
+    counts = np.maximum(hi - lo, 0)
+    cum = np.cumsum(counts)
+    start = 0
+    while start < len(lo):
+        base = cum[start - 1] if start else 0
+        stop = max(int(np.searchsorted(cum, base + _PAIR_BUDGET, side="right")), start + 1)
+        n = counts[start:stop]
+        if n.sum():
+            row = np.repeat(np.arange(start, stop), n)
+            pos = (np.arange(int(n.sum())) - np.repeat(np.cumsum(n) - n, n)
+                   + np.repeat(lo[start:stop], n))
+            yield row, pos
+        start = stop
+
+
+def _rects_overlap(items: _Items, a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """Whether shrunk footprints ``a[i]`` and ``b[i]`` intersect (separating axes)."""
+    tx, ty = items.cx[b] - items.cx[a], items.cy[b] - items.cy[a]
+    uax, uay, ubx, uby = items.ux[a], items.uy[a], items.ux[b], items.uy[b]
+    hax, hay = items.hx[a] - SHRINK, items.hy[a] - SHRINK
+    hbx, hby = items.hx[b] - SHRINK, items.hy[b] - SHRINK
+    cos = np.abs(uax * ubx + uay * uby)  # |ua·ub| = |va·vb|
+    sin = np.abs(uax * uby - uay * ubx)  # |ua·vb| = |va·ub|
+    apart = np.abs(tx * uax + ty * uay) > hax + hbx * cos + hby * sin
+    apart |= np.abs(-tx * uay + ty * uax) > hay + hbx * sin + hby * cos
+    apart |= np.abs(tx * ubx + ty * uby) > hbx + hax * cos + hay * sin
+    apart |= np.abs(-tx * uby + ty * ubx) > hby + hax * sin + hay * cos
+    return ~apart
+
+
+class _FirstOverlaps:
+    """The first instant found so far at which each pair of vehicles overlaps.
+
+    Pairs are keyed ``low · n + high`` by vehicle index; a candidate at an instant no
+    earlier than the one known for its pair is dropped before the exact test, so a result
+    whose vehicles overlap for minutes costs little more than a clean one.
+    """
+
+    def __init__(self, n_vehicles: int):
+        self.n = n_vehicles
+        self.key = np.zeros(0, dtype=np.int64)  # sorted
+        self.k = np.zeros(0, dtype=np.int64)
+        self.a = np.zeros(0, dtype=np.int64)  # the two footprints (item indices)
+        self.b = np.zeros(0, dtype=np.int64)
+
+    def pair_key(self, va: np.ndarray, vb: np.ndarray) -> np.ndarray:
+        return np.minimum(va, vb).astype(np.int64) * self.n + np.maximum(va, vb)
+
+    def news(self, key: np.ndarray, k: np.ndarray) -> np.ndarray:
+        """Which candidates could still be the first overlap of their pair."""
+        if not len(self.key):
+            return np.ones(len(key), dtype=bool)
+        pos = np.minimum(np.searchsorted(self.key, key), len(self.key) - 1)
+        return ~((self.key[pos] == key) & (self.k[pos] <= k))
+
+    def add(self, key: np.ndarray, k: np.ndarray, a: np.ndarray, b: np.ndarray) -> None:
+        key, k = np.concatenate([self.key, key]), np.concatenate([self.k, k])
+        a, b = np.concatenate([self.a, a]), np.concatenate([self.b, b])
+        keep = _first_per_key(key[:, None], k)
+        keep = keep[np.argsort(key[keep], kind="stable")]
+        self.key, self.k, self.a, self.b = key[keep], k[keep], a[keep], b[keep]
+
+
+def _test_pairs(items: _Items, a: np.ndarray, b: np.ndarray, k: np.ndarray,
+                found: _FirstOverlaps, stats: dict[str, Any]) -> None:
+    """Record the candidate pairs ``(a, b)`` at instants ``k`` that overlap in ``found``."""
+    va, vb = items.veh[a], items.veh[b]
+    reach = items.reach
+    keep = (va != vb) & (np.hypot(items.cx[a] - items.cx[b], items.cy[a] - items.cy[b])
+                         <= reach[a] + reach[b])
+    a, b, k = a[keep], b[keep], k[keep]
+    key = found.pair_key(items.veh[a], items.veh[b])
+    keep = found.news(key, k)
+    a, b, k, key = a[keep], b[keep], k[keep], key[keep]
+    stats["footprint_tests"] += len(a)
+    hit = _rects_overlap(items, a, b)
+    if hit.any():
+        found.add(key[hit], k[hit], a[hit], b[hit])
+
+
+def _vehicle_overlaps(items: _Items, n_vehicles: int, stats: dict[str, Any]) -> _FirstOverlaps:
+    """The first instant, and the footprints, of every pair of vehicles that overlap."""
+    found = _FirstOverlaps(n_vehicles)
+    if len(items) < 2:
+        return found
+    reach = 2 * float(items.reach.max())
+    moving = np.flatnonzero(items.ka == items.kb)
+    standing = np.flatnonzero(items.ka < items.kb)
+    kmin = int(items.ka.min())
+
+    # moving with moving: sort and sweep along x within bands `reach` high, each band and
+    # instant shifted far apart along x; a footprint meets its own band and the next one
+    if len(moving) > 1:
+        cx = items.cx[moving]
+        width = float(cx.max() - cx.min()) + 2 * reach + 1.0
+        band = np.floor((items.cy[moving] - items.cy[moving].min()) / reach)
+        bands = float(band.max()) + 2
+        key = ((items.ka[moving] - kmin) * bands + band) * width + cx
+        order = np.argsort(key, kind="stable")
+        sorted_key, ids = key[order], moving[order]
+        own = (np.arange(len(ids)) + 1,
+               np.searchsorted(sorted_key, sorted_key + reach, side="right"))
+        above = (np.searchsorted(sorted_key, sorted_key + width - reach, side="left"),
+                 np.searchsorted(sorted_key, sorted_key + width + reach, side="right"))
+        for lo, hi in (own, above):
+            for row, pos in _expand(lo, hi):
+                a = ids[row]
+                _test_pairs(items, a, ids[pos], items.ka[a], found, stats)
+
+    # standing with moving: moving footprints binned in cells of size `reach`, sorted by
+    # (cell, instant), so each standing stretch meets a contiguous run per neighbour cell
+    if len(standing) and len(moving):
+        x0, y0 = float(items.cx.min()), float(items.cy.min())
+        ix = np.floor((items.cx - x0) / reach).astype(np.int64)
+        iy = np.floor((items.cy - y0) / reach).astype(np.int64)
+        rows = int(iy.max()) + 3
+        span = int(items.kb.max()) - kmin + 1
+        cell = (ix + 1) * rows + (iy + 1)
+        key = cell[moving] * span + (items.ka[moving] - kmin)
+        order = np.argsort(key, kind="stable")
+        sorted_key, ids = key[order], moving[order]
+        shifts = np.array([dx * rows + dy for dx in (-1, 0, 1) for dy in (-1, 0, 1)])
+        near_cells = (cell[standing][:, None] + shifts[None, :]).ravel()
+        owner = np.repeat(standing, len(shifts))
+        lo = np.searchsorted(sorted_key, near_cells * span + (items.ka[owner] - kmin), "left")
+        hi = np.searchsorted(sorted_key, near_cells * span + (items.kb[owner] - kmin), "right")
+        for row, pos in _expand(lo, hi):
+            b = ids[pos]
+            _test_pairs(items, owner[row], b, items.ka[b], found, stats)
+
+    # standing with standing: sweep along x, then the stretches must share an instant
+    if len(standing) > 1:
+        cx = items.cx[standing]
+        order = np.argsort(cx, kind="stable")
+        sorted_cx, ids = cx[order], standing[order]
+        hi = np.searchsorted(sorted_cx, sorted_cx + reach, side="right")
+        lo = np.arange(len(ids)) + 1
+        for row, pos in _expand(lo, hi):
+            a, b = ids[row], ids[pos]
+            start = np.maximum(items.ka[a], items.ka[b])
+            together = start <= np.minimum(items.kb[a], items.kb[b])
+            _test_pairs(items, a[together], b[together], start[together], found, stats)
+    return found
+
+
+def _first_per_key(keys: np.ndarray, k: np.ndarray) -> np.ndarray:
+    """Indices of the smallest ``k`` for each distinct row of ``keys`` (N, m)."""
+    if len(k) == 0:
+        return np.zeros(0, dtype=int)
+    order = np.lexsort((k, *keys.T[::-1]))
+    sk = keys[order]
+    first = np.ones(len(order), dtype=bool)
+    first[1:] = np.any(sk[1:] != sk[:-1], axis=1)
+    return order[first]
+
+
+def _check_footprints(vehicles: list[_Vehicle], lot: _Lot, out: list[Violation],
+                      stats: dict[str, Any]) -> None:
+    """Rule 6 (overlap, parked, obstacle, boundary) and slot sharing (rule 7)."""
+    if not vehicles:
+        return
+    kmin, kmax = _instant_range(min(v.t[0] for v in vehicles), max(v.t[-1] for v in vehicles))
+    spans = sum(max(k1 - k0 + 1, 0)
+                for k0, k1 in (_instant_range(v.t[0], v.t[-1]) for v in vehicles))
+    if spans > MAX_INSTANTS:
+        _add(out, "internal", None, None, f"the vehicles are sampled over {spans} "
+             f"vehicle-instants, more than the {MAX_INSTANTS} the footprint rules handle")
+        return
+    items = _build_items(vehicles, kmax)
+    stats["instants"] = max(kmax - kmin + 1, 0)
+    stats["footprints"] = len(items)
+    stats["vehicle_instants"] = int((items.kb - items.ka + 1).sum())
+    if not len(items):
+        return
+    ids = [v.id for v in vehicles]
+
+    # vehicle with vehicle
+    found = _vehicle_overlaps(items, len(vehicles), stats)
+    for i in np.argsort(found.k, kind="stable"):
+        k = int(found.k[i])
+        first, second = sorted((int(found.a[i]), int(found.b[i])),
+                               key=lambda it: ids[items.veh[it]])
+        area = shapely.area(shapely.intersection(
+            *items.polygons(np.array([first, second]), inset=0.0)))
+        _add(out, "overlap", ids[items.veh[first]], k * GRID_DT,
+             f"{ids[items.veh[first]]} and {ids[items.veh[second]]} overlap at "
+             f"t={k * GRID_DT:.2f} s ({area:.2f} m²)")
+
+    reach = float(items.reach.max())
+    margin = reach * 1.05 + 0.05  # covers the polygonal approximation of buffer arcs
+    # with the cars parked at start and the obstacles
+    env = [("parked", i, p) for i, p in enumerate(lot.parked)]
+    env += [("obstacle", i, p) for i, p in enumerate(lot.obstacles)]
+    if env:
+        region = shapely.union_all([p for _, _, p in env]).buffer(margin)
+        shapely.prepare(region)
+        near = np.flatnonzero(shapely.intersects_xy(region, items.cx, items.cy))
+        tree = shapely.STRtree([p for _, _, p in env])
+        q_item, q_env = tree.query(items.polygons(near), predicate="intersects")
+        stats["footprint_tests"] += len(near)
+        item = near[q_item]
+        keys = np.stack([items.veh[item], q_env], axis=1)
+        for i in _first_per_key(keys, items.ka[item]):
+            it, (kind, j, poly) = int(item[i]), env[int(q_env[i])]
+            k = int(items.ka[it])
+            foot = items.polygons(np.array([it]), inset=0.0)[0]
+            area = shapely.area(shapely.intersection(foot, poly))
+            what = (f"the car parked at start lot.parked[{j}]" if kind == "parked"
+                    else f"obstacle lot.obstacles[{j}]")
+            name = ids[items.veh[it]]
+            _add(out, kind, name, k * GRID_DT,
+                 f"{name} overlaps {what} at t={k * GRID_DT:.2f} s ({area:.2f} m²)")
+
+    # inside the boundary
+    if lot.boundary is not None:
+        inner = lot.boundary.buffer(-margin)
+        sure = np.zeros(len(items), dtype=bool)
+        if not inner.is_empty:
+            shapely.prepare(inner)
+            sure = shapely.contains_xy(inner, items.cx, items.cy)
+        unsure = np.flatnonzero(~sure)
+        shapely.prepare(lot.boundary)
+        polys = items.polygons(unsure)
+        stats["footprint_tests"] += len(unsure)
+        outside = unsure[~shapely.covers(lot.boundary, polys)]
+        for i in _first_per_key(items.veh[outside][:, None], items.ka[outside]):
+            it = int(outside[i])
+            k = int(items.ka[it])
+            foot = items.polygons(np.array([it]), inset=0.0)[0]
+            area = shapely.area(shapely.difference(foot, lot.boundary))
+            name = ids[items.veh[it]]
+            _add(out, "boundary", name, k * GRID_DT,
+                 f"{name} leaves the lot boundary at t={k * GRID_DT:.2f} s "
+                 f"({area:.2f} m² outside)")
+
+    _check_slot_sharing(vehicles, items, lot, kmax, out, stats)
+
+
+def _check_slot_sharing(vehicles: list[_Vehicle], items: _Items, lot: _Lot, kmax: int,
+                        out: list[Violation], stats: dict[str, Any]) -> None:
+    """No two vehicles hold one slot at the same instant."""
+    holders: dict[str, list[int]] = {}
+    for j, veh in enumerate(vehicles):
+        if veh.slot in lot.slots:
+            holders.setdefault(veh.slot, []).append(j)
+    for sid, members in holders.items():
+        if len(members) < 2:
+            continue
+        poly = lot.slots[sid].polygon
+        shapely.prepare(poly)
+        cand = np.flatnonzero(np.isin(items.veh, members)
+                              & shapely.intersects_xy(poly, items.cx, items.cy))
+        stats["footprint_tests"] += len(cand)
+        inside = cand[shapely.covers(poly, items.polygons(cand))]
+        held: dict[int, tuple[np.ndarray, np.ndarray]] = {}
+        for j in members:
+            mine = inside[items.veh[inside] == j]
+            ka, kb = items.ka[mine], items.kb[mine]
+            veh = vehicles[j]
+            if veh.status == "parked":
+                k_end = min(_instant_range(veh.t[-1], veh.t[-1])[0], kmax)
+                ka, kb = np.append(ka, k_end), np.append(kb, kmax)
+            held[j] = (ka, kb)
+        clashes = []
+        for n, j in enumerate(members):
+            for m in members[n + 1:]:
+                (a0, a1), (b0, b1) = held[j], held[m]
+                if not len(a0) or not len(b0):
+                    continue
+                lo = np.maximum(a0[:, None], b0[None, :])
+                common = lo[lo <= np.minimum(a1[:, None], b1[None, :])]
+                if common.size:
+                    clashes.append((int(common.min()), j, m))
+        for k, j, m in sorted(clashes):
+            a, b = vehicles[j].id, vehicles[m].id
+            _add(out, "slot", a, k * GRID_DT,
+                 f"slot {sid} is held by {a} and {b} at once from t={k * GRID_DT:.2f} s")
