@@ -356,13 +356,16 @@ def _check_slot_sharing(vehicles: list[_Vehicle], items: _Items, lot: _Lot, kmax
     for j, veh in enumerate(vehicles):
         if veh.slot in lot.slots:
             holders.setdefault(veh.slot, []).append(j)
+    by_vehicle = np.argsort(items.veh, kind="stable")  # each vehicle's footprints, in order
+    bounds = np.searchsorted(items.veh[by_vehicle], np.arange(len(vehicles) + 1))
     for sid, members in holders.items():
         if len(members) < 2:
             continue
         poly = lot.slots[sid].polygon
         shapely.prepare(poly)
-        cand = np.flatnonzero(np.isin(items.veh, members)
-                              & shapely.intersects_xy(poly, items.cx, items.cy))
+        # the holders' footprints (not every footprint of the run) whose centre is in it
+        theirs = np.sort(np.concatenate([by_vehicle[bounds[j]:bounds[j + 1]] for j in members]))
+        cand = theirs[shapely.intersects_xy(poly, items.cx[theirs], items.cy[theirs])]
         stats["footprint_tests"] += len(cand)
         inside = cand[shapely.covers(poly, items.polygons(cand))]
         held: dict[int, tuple[np.ndarray, np.ndarray]] = {}
