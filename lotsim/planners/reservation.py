@@ -122,7 +122,6 @@ class Swept:
     geoms: np.ndarray
     bounds: np.ndarray
     cells: tuple[tuple[tuple[int, int], ...], ...] = ()
-    area: tuple[tuple[int, int], ...] = ()  # every cell of ``cells``, once
 
     @classmethod
     def of(cls, intervals: Sequence[Interval]) -> Swept:
@@ -130,13 +129,11 @@ class Swept:
         geoms[:] = [g for _, _, g in intervals]
         t = np.array([(a, b) for a, b, _ in intervals], dtype=float).reshape(-1, 2)
         bounds = shapely.bounds(geoms).reshape(-1, 4)
-        cells = tuple(cells_of(b) for b in bounds)
-        return cls(t, geoms, bounds, cells, tuple(dict.fromkeys(c for cs in cells for c in cs)))
+        return cls(t, geoms, bounds, tuple(cells_of(b) for b in bounds))
 
     def held(self, t0: float, t1: float) -> Swept:
         """The first body held from ``t0`` to ``t1`` [s] (a standing body's)."""
-        return Swept(np.array([[t0, t1]]), self.geoms[:1], self.bounds[:1], self.cells[:1],
-                     self.cells[0] if self.cells else ())
+        return Swept(np.array([[t0, t1]]), self.geoms[:1], self.bounds[:1], self.cells[:1])
 
     def __len__(self) -> int:
         return len(self.geoms)
@@ -277,48 +274,43 @@ class ReservationTable:
 
         Entries are filed in a space-time grid (cells of :data:`CELL` metres and
         ``bucket`` seconds), so a query in free space costs a few dictionary
-        lookups: those filed in the cells the intervals cover, over their whole time, are
-        the candidates. Those alive, someone else's and overlapping an interval in time
-        and by bounding box (which puts them in a cell and a bucket of that interval) are
-        tested exactly with shapely in one batch.
+        lookups; the few candidates are tested exactly with shapely in one batch.
         """
         sw = intervals if isinstance(intervals, Swept) else Swept.of(intervals)
-        if not len(sw.t):
-            return None
         skip = self._ids.get(ignore, -1) if ignore is not None else -1
         st = self._store
         grid, long_cells, b = self._grid, self._long_cells, self.bucket
-        t = sw.t + offset
-        k0 = math.floor((float(t[:, 0].min()) - _EPS) / b)
-        k1 = math.floor((float(t[:, 1].max()) + _EPS) / b)
-        found: set[int] = set()
-        for cell in sw.area:
-            by_bucket = grid.get(cell)
-            if by_bucket is not None:
-                for k in range(k0, k1 + 1):
-                    hit = by_bucket.get(k)
-                    if hit:
-                        found.update(hit)
-            hit = long_cells.get(cell)
-            if hit:
-                found.update(hit)
-        if not found:
+        pairs_i: list[int] = []
+        pairs_j: list[int] = []
+        for j in range(len(sw.geoms)):
+            a, z = float(sw.t[j, 0]) + offset, float(sw.t[j, 1]) + offset
+            k0, k1 = math.floor((a - _EPS) / b), math.floor((z + _EPS) / b)
+            found: set[int] = set()
+            for cell in sw.cells[j]:
+                by_bucket = grid.get(cell)
+                if by_bucket is not None:
+                    for k in range(k0, k1 + 1):
+                        hit = by_bucket.get(k)
+                        if hit:
+                            found.update(hit)
+                hit = long_cells.get(cell)
+                if hit:
+                    found.update(hit)
+            if not found:
+                continue
+            x0, y0, x1, y1 = sw.bounds[j]
+            for i in sorted(found):
+                if (st.alive[i] and st.owner[i] != skip and st.t[i, 0] <= z + _EPS
+                        and st.t[i, 1] >= a - _EPS and st.box[i, 0] <= x1 and st.box[i, 2] >= x0
+                        and st.box[i, 1] <= y1 and st.box[i, 3] >= y0):
+                    pairs_i.append(i)
+                    pairs_j.append(j)
+        if not pairs_i:
             return None
-        ii = np.array(sorted(found))
-        box = st.box[ii]  # (C, 4) against the intervals' (J, 4): (J, C)
-        bounds = sw.bounds
-        keep = (st.alive[ii] & (st.owner[ii] != skip)
-                & (st.t[ii, 0] <= t[:, 1:] + _EPS) & (st.t[ii, 1] >= t[:, :1] - _EPS)
-                & (box[:, 0] <= bounds[:, 2:3]) & (box[:, 2] >= bounds[:, 0:1])
-                & (box[:, 1] <= bounds[:, 3:4]) & (box[:, 3] >= bounds[:, 1:2]))
-        pairs_j, pairs_c = np.nonzero(keep)  # interval order, then entry order
-        if not pairs_j.size:
-            return None
-        pairs_i = ii[pairs_c]
         hit = shapely.intersects(sw.geoms[pairs_j], st.geom[pairs_i])
         if not hit.any():
             return None
-        i = int(pairs_i[int(np.argmax(hit))])  # the earliest interval's first
+        i = pairs_i[int(np.argmax(hit))]  # pairs come in chunk order: the earliest first
         return Conflict(self._names[st.owner[i]], float(st.t[i, 0]), float(st.t[i, 1]))
 
     def quiet(self, cells: Sequence[tuple[int, int]], t0: float, t1: float, *,
