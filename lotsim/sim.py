@@ -89,6 +89,7 @@ def prepare(scenario: Scenario, *, node_spacing: float = 4.0, maneuvers: bool = 
     lg.infeasible = infeasible
     lg.maneuver_planner = planner
     if name is not None:
+        lg.reachability()  # every run and validate asks: kept with the lot
         lotsim.cache.store(name, lg)
     return lg
 

@@ -146,6 +146,7 @@ class LotGraph:
     infeasible: dict[str, dict[str, str]] = field(default_factory=dict)
     maneuver_planner: object = None
     from_cache: bool = False
+    _reach: Reachability | None = field(default=None, repr=False, compare=False)
 
     def _lane_reach(self, vehicle: str | None = None) -> tuple[set[int], set[int]]:
         """Lane nodes reachable from an entrance, and lane nodes that reach an exit (any,
@@ -235,7 +236,14 @@ class LotGraph:
         """Free slots unreachable from each entrance, free slots that cannot reach each
         exit, and free slots that no entrance reaches or that can be parked in only where no
         exit can be reached (driving lanes, turns, joins and turnarounds, into the slot or out
-        of it at the end). Cars parked at start never move, so taken slots are not listed."""
+        of it at the end). Cars parked at start never move, so taken slots are not listed.
+
+        Worked out once (the graph does not change) and kept, in the on-disk cache too."""
+        if self._reach is None:
+            self._reach = self._reachability()
+        return self._reach
+
+    def _reachability(self) -> Reachability:
         g = self.graph
         free = [s.id for s in self.lot.free_slots]
         ahead, back = self._lanes()
