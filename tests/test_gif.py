@@ -194,6 +194,46 @@ def test_a_vehicle_s_colour_is_under_its_footprint_centre(doc, tmp_path):
         assert tuple(last[row, col]) == renderer.vehicle_rgb(i, parked=True)
 
 
+def test_a_car_standing_on_a_gate_s_name_leaves_the_name_readable(doc):
+    from lotsim.render.lot_image import paint_portals
+
+    renderer = GifRenderer(doc, SMALL)
+    canvas = renderer.canvas
+    # the ids' pixels (text and halo), found on a black ground independently of the renderer
+    plain = canvas.new_image((0, 0, 0))
+    paint_portals(plain, canvas, renderer.lot, labels=False)
+    named = plain.copy()
+    paint_portals(named, canvas, renderer.lot, labels=True)
+    ids = np.any(np.asarray(plain) != np.asarray(named), axis=2)
+    # the entrance's id: the label pixels nearest to it
+    ys, xs = np.nonzero(ids)
+    gate = canvas.to_px(renderer.lot.entrances[0].pose[:2])
+    near = np.hypot(xs - gate[0], ys - gate[1]) < 40
+    label = np.zeros_like(ids)
+    label[ys[near], xs[near]] = True
+    assert label.sum() > 20
+    centre = canvas.to_world(np.array([xs[near].mean(), ys[near].mean()]))
+    # the first car to arrive, stood on that id along the gate's heading (as a car
+    # queueing at the gate stands)
+    t = 1.0
+    state = renderer.replay.states(np.array([t]))
+    j = int(np.flatnonzero(state["visible"][0])[0])
+    tr = renderer.replay.tracks[j]
+    heading = renderer.lot.entrances[0].pose[2]
+    mid = (tr.front - tr.rear) / 2
+    state["x"][0, j] = centre[0] - mid * math.cos(heading)
+    state["y"][0, j] = centre[1] - mid * math.sin(heading)
+    state["theta"][0, j] = heading
+    state["v"][0, j] = 0.0
+    img = np.asarray(renderer.frame(t, state).convert("RGB"))
+    bg = np.asarray(renderer.background.convert("RGB"))
+    changed = np.any(img != bg, axis=2)
+    box = np.zeros_like(ids)
+    box[ys[near].min() - 2:ys[near].max() + 3, xs[near].min() - 2:xs[near].max() + 3] = True
+    assert (changed & box & ~label).sum() > 20  # the car is there, around the id
+    assert not (changed & label).any()  # and every pixel of the id shows as without it
+
+
 def test_a_reversing_car_shows_a_white_bar_across_its_rear(street):
     renderer = GifRenderer(street, GifSettings(size=(1200, 900)))
     found = {True: 0, False: 0}

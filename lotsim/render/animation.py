@@ -24,7 +24,7 @@ from pathlib import Path
 
 import imageio.v3 as iio
 import numpy as np
-from PIL import Image, ImageDraw
+from PIL import Image, ImageChops, ImageDraw
 
 from lotsim.atomic import atomic_write
 from lotsim.errors import SettingsError
@@ -275,6 +275,26 @@ class GifRenderer:
         self.palette = bytes(np.asarray(self.rgb, dtype=np.uint8).ravel())
         bg.putpalette(self.palette)
         self.background = bg
+        self._labels = self._portal_labels(bg)
+
+    def _portal_labels(self, bg: Image.Image) -> list[tuple[tuple[int, int], Image.Image,
+                                                          Image.Image]]:
+        """The entrance and exit ids (text and halo) as pieces of ``bg`` to paste back over
+        the cars of each frame, so a car standing at a gate does not hide its name:
+        ``(corner, pixels, mask)`` of the box holding them (empty without ids)."""
+        mask = Image.new("1", self.settings.size, 0)
+        for base in ((0, 0, 0), (255, 255, 255)):  # what the ids change on either ground
+            plain = self.canvas.new_image(base)
+            paint_portals(plain, self.canvas, self.lot, labels=False)
+            named = plain.copy()
+            paint_portals(named, self.canvas, self.lot, labels=True)
+            diff = ImageChops.difference(plain, named).convert("L").point(
+                lambda v: 255 if v else 0).convert("1")
+            mask = ImageChops.logical_or(mask, diff)
+        box = mask.getbbox()
+        if box is None:
+            return []
+        return [(box[:2], bg.crop(box), mask.crop(box))]
 
     def vehicle_rgb(self, j: int, *, parked: bool = False) -> tuple[int, int, int]:
         """The colour vehicle ``j`` is drawn in while it moves (or pale, standing parked)."""
@@ -317,6 +337,8 @@ class GifRenderer:
         order = np.concatenate([vis[still], moving])
         if len(order):
             self._paint_cars(d, state, column, order, n_still=int(still.sum()))
+            for corner, pixels, mask in self._labels:  # gate names over the cars
+                img.paste(pixels, corner, mask)
         self._paint_header(img, t, skipped)
         return img
 
