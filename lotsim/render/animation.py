@@ -30,6 +30,7 @@ from lotsim.atomic import atomic_write
 from lotsim.errors import SettingsError
 from lotsim.render.lot_image import (
     MARGIN,
+    PARKED_CAR,
     LotCanvas,
     font,
     lot_bounds,
@@ -222,6 +223,9 @@ class GifRenderer:
         bounds = lot_bounds(self.lot)
         self.canvas = LotCanvas(bounds, (w, h),
                                 frame=(MARGIN, HEADER + MARGIN // 2, w - MARGIN, h - FOOTER))
+        self._font = font(13)
+        self._clock_font = font(15)
+        self._stamps: dict = {}
         self._build_palette(doc)
         tracks = self.replay.tracks
         self.colour = assign_colours(tracks, VEHICLE_COLOURS, self.replay.end)
@@ -241,9 +245,6 @@ class GifRenderer:
                                 [tr.front, tr.width / 2], [-tr.rear, tr.width / 2]]
                                for tr in tracks]).reshape(-1, 4, 2)
         self._wheelbase = np.array([tr.wheelbase for tr in tracks], dtype=float)
-        self._font = font(13)
-        self._clock_font = font(15)
-        self._stamps: dict = {}
 
     # -- the fixed picture ---------------------------------------------------------------------
     def _build_palette(self, doc: dict) -> None:
@@ -257,6 +258,7 @@ class GifRenderer:
         d.rectangle((0, 0, w, HEADER - 1), fill=HEADER_BG)
         d.line((0, HEADER - 1, w, HEADER - 1), fill=(200, 200, 200))
         paint_scale_bar(img, canvas, MARGIN, h - 6, min(260, w // 3))
+        body = np.all(np.asarray(img) == np.array(PARKED_CAR), axis=2)
         bg = img.quantize(colors=BACKGROUND_COLOURS, method=Image.Quantize.MEDIANCUT,
                           dither=Image.Dither.NONE)
         # the quantised image uses indices below BACKGROUND_COLOURS; Pillow versions differ
@@ -275,7 +277,48 @@ class GifRenderer:
         self.palette = bytes(np.asarray(self.rgb, dtype=np.uint8).ravel())
         bg.putpalette(self.palette)
         self.background = bg
+        self.legend_boxes: dict[str, tuple[int, int, int, int]] = {}
+        if self.settings.legend:
+            # cars parked at start: the palette entry most of their bodies' pixels took
+            at_start = (int(np.bincount(np.asarray(bg)[body]).argmax()) if body.any()
+                        else None)
+            self._paint_legend(bg, at_start)
         self._labels = self._portal_labels(bg)
+
+    def _paint_legend(self, bg: Image.Image, at_start: int | None) -> None:
+        """A key of the cars' colours in the footer, right-aligned, right of the scale bar:
+        a car in its own colour (driving or waiting), in the pale version (parked), a car
+        parked at the start (when there are some), reversing (white rear band) and the
+        slot a car is heading for (outlined in its colour). Entries that do not fit are
+        left out from the last. Swatch boxes go to :attr:`legend_boxes`."""
+        w, h = self.settings.size
+        car, pale_car = int(self.car_index[0]), int(self.pale_index[0])
+        entries: list[tuple[str, str, int]] = [("driving", "car", car),
+                                               ("parked", "car", pale_car)]
+        if at_start is not None:
+            entries.append(("parked at start", "car", at_start))
+        entries += [("reversing", "reversing", car), ("its slot", "slot", car)]
+        sw, gap = 18, 12
+        widths = [sw + 4 + int(round(self._font.getlength(label))) for label, _, _ in entries]
+        room = w - MARGIN - (MARGIN + min(260, w // 3) + 40)  # right of the scale bar
+        while entries and sum(widths) + gap * (len(widths) - 1) > room:
+            entries.pop()
+            widths.pop()
+        d = ImageDraw.Draw(bg)
+        mid = h - FOOTER // 2 - 1
+        x = w - MARGIN - (sum(widths) + gap * (len(widths) - 1))
+        for (label, kind, colour), width in zip(entries, widths, strict=True):
+            if kind == "slot":
+                box = (x + 4, mid - 7, x + sw - 4, mid + 7)
+                d.rectangle(box, outline=colour, width=2)
+            else:
+                box = (x, mid - 5, x + sw, mid + 5)
+                d.rectangle(box, fill=colour, outline=self.ink)
+                if kind == "reversing":
+                    d.rectangle((x + 1, mid - 4, x + 4, mid + 4), fill=self.white)
+            self.legend_boxes[label] = box
+            self._stamp(bg, (x + sw + 4, mid), label, self._font)
+            x += width + gap
 
     def _portal_labels(self, bg: Image.Image) -> list[tuple[tuple[int, int], Image.Image,
                                                           Image.Image]]:
