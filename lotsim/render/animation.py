@@ -29,7 +29,7 @@ from PIL import Image, ImageChops, ImageDraw
 from lotsim.atomic import atomic_write
 from lotsim.errors import SettingsError
 from lotsim.render.lot_image import (
-    MARGIN,
+    PAD_PX,
     PARKED_CAR,
     LotCanvas,
     font,
@@ -222,7 +222,7 @@ class GifRenderer:
         w, h = settings.size
         bounds = lot_bounds(self.lot)
         self.canvas = LotCanvas(bounds, (w, h),
-                                frame=(MARGIN, HEADER + MARGIN // 2, w - MARGIN, h - FOOTER))
+                                frame=(PAD_PX, HEADER + PAD_PX // 2, w - PAD_PX, h - FOOTER))
         self._font = font(13)
         self._clock_font = font(15)
         self._stamps: dict = {}
@@ -257,7 +257,7 @@ class GifRenderer:
         d = ImageDraw.Draw(img)
         d.rectangle((0, 0, w, HEADER - 1), fill=HEADER_BG)
         d.line((0, HEADER - 1, w, HEADER - 1), fill=(200, 200, 200))
-        paint_scale_bar(img, canvas, MARGIN, h - 6, min(260, w // 3))
+        paint_scale_bar(img, canvas, PAD_PX, h - 6, min(260, w // 3))
         body = np.all(np.asarray(img) == np.array(PARKED_CAR), axis=2)
         bg = img.quantize(colors=BACKGROUND_COLOURS, method=Image.Quantize.MEDIANCUT,
                           dither=Image.Dither.NONE)
@@ -300,13 +300,13 @@ class GifRenderer:
         entries += [("reversing", "reversing", car), ("its slot", "slot", car)]
         sw, gap = 18, 12
         widths = [sw + 4 + int(round(self._font.getlength(label))) for label, _, _ in entries]
-        room = w - MARGIN - (MARGIN + min(260, w // 3) + 40)  # right of the scale bar
+        room = w - PAD_PX - (PAD_PX + min(260, w // 3) + 40)  # right of the scale bar
         while entries and sum(widths) + gap * (len(widths) - 1) > room:
             entries.pop()
             widths.pop()
         d = ImageDraw.Draw(bg)
         mid = h - FOOTER // 2 - 1
-        x = w - MARGIN - (sum(widths) + gap * (len(widths) - 1))
+        x = w - PAD_PX - (sum(widths) + gap * (len(widths) - 1))
         for (label, kind, colour), width in zip(entries, widths, strict=True):
             if kind == "slot":
                 box = (x + 4, mid - 7, x + sw - 4, mid + 7)
@@ -419,10 +419,10 @@ class GifRenderer:
         text = "   ".join(f"{k} {counts[k]}" for k in shown)
         if skipped > 0:
             text += f"   >> skipped {_clock(skipped)}"
-        x = MARGIN
+        x = PAD_PX
         for ch in _clock(t):  # the clock changes every frame: stamped glyph by glyph
             x += self._stamp(img, (x, HEADER // 2), ch, self._clock_font)
-        self._stamp(img, (MARGIN + 90, HEADER // 2), text, self._font)
+        self._stamp(img, (PAD_PX + 90, HEADER // 2), text, self._font)
 
     def _stamp(self, img: Image.Image, xy: tuple[int, int], text: str, f) -> int:  # noqa: ANN001
         """Paste ``text`` in ink, vertically centred on ``xy``; returns its advance [px].

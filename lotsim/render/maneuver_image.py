@@ -6,7 +6,7 @@ import numpy as np
 from PIL import Image, ImageDraw
 
 from lotsim.render.lot_image import (
-    MARGIN,
+    PAD_PX,
     TEXT,
     LotCanvas,
     _flat,
@@ -94,7 +94,7 @@ def draw_maneuver(
                      width=max(2, w // 2 + 1))
     d = ImageDraw.Draw(img)
     f = font(14)
-    frame = (MARGIN, top + MARGIN, w_img - MARGIN, bottom - MARGIN)
+    frame = (PAD_PX, top + PAD_PX, w_img - PAD_PX, bottom - PAD_PX)
     placed: list[tuple[float, float, float, float]] = []
     for k, (label, color) in zip((0, len(bodies) - 1), ends, strict=True):
         placed.append(_label_car(d, canvas.to_px(bodies[k]), label, color, f, frame, placed))
@@ -102,13 +102,13 @@ def draw_maneuver(
     if title:
         d.rectangle((0, 0, w_img - 1, top - 1), fill=BAND)
         d.line((0, top - 1, w_img - 1, top - 1), fill=BAND_EDGE)
-        draw_text(d, (MARGIN, top / 2), title, font(18), anchor="lm")
+        draw_text(d, (PAD_PX, top / 2), title, font(18), anchor="lm")
     d.rectangle((0, bottom, w_img - 1, h_img - 1), fill=BAND)
     d.line((0, bottom, w_img - 1, bottom), fill=BAND_EDGE)
     key = [("forward", FORWARD, "line"), ("reverse", REVERSE, "line"), ("cusp", CUSP, "dot"),
            ("stops to steer", STEER, "ring")]
     key += [(label, color, "car") for label, color in ends]
-    x = MARGIN
+    x = PAD_PX
     mid = bottom + KEY_BAND // 2
     fk = font(13)
     for label, color, kind in key:
@@ -139,7 +139,7 @@ def maneuver_canvas(
     hi = bodies.reshape(-1, 2).max(axis=0) + 3.0
     top = TITLE_BAND if title else 0
     return LotCanvas((lo[0], lo[1], hi[0], hi[1]), size,
-                     frame=(MARGIN, top + MARGIN, size[0] - MARGIN, size[1] - KEY_BAND - MARGIN))
+                     frame=(PAD_PX, top + PAD_PX, size[0] - PAD_PX, size[1] - KEY_BAND - PAD_PX))
 
 
 def end_marks(maneuver) -> list[tuple[str, tuple[int, int, int]]]:  # noqa: ANN001
