@@ -183,6 +183,8 @@ def _parser() -> argparse.ArgumentParser:
                     help=f"seconds of path drawn behind a moving car ({gs.trail:g})")
     rd.add_argument("--skip-quiet", action="store_true", help="GIF and MP4: leave out "
                     "stretches in which no car moves (the frame says how long was skipped)")
+    rd.add_argument("--no-legend", dest="legend", action="store_false", help="GIF and MP4: "
+                    "no key of the cars' colours in the footer")
 
     c = sub.add_parser("check", help="verify a result.json independently of the planner")
     c.add_argument("result", metavar="RESULT_JSON", help="a result.json of lotsim run")
@@ -778,7 +780,7 @@ def _render(args: argparse.Namespace) -> int:
     try:
         settings = GifSettings(fps=args.fps, speed=args.speed, size=size, start=args.start,
                                end=args.end, max_frames=args.max_frames, trail=args.trail,
-                               skip_quiet=args.skip_quiet)
+                               skip_quiet=args.skip_quiet, legend=args.legend)
     except SettingsError as exc:
         return _bad(f"{_option(exc.name)}: {exc.message}")
     outputs = (("--gif", args.gif, ".gif"), ("--html", args.html, ".html"),

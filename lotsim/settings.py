@@ -318,6 +318,8 @@ class GifSettings:
         Leave out the stretches in which no vehicle moves (those of
         :meth:`lotsim.replay.Replay.quiet`, a second kept at each end); a frame after a
         skip says how much run time was skipped.
+    legend : bool
+        Draw a key of what the cars' colours mean in the footer, right of the scale bar.
     """
 
     fps: float = 20.0
@@ -328,6 +330,7 @@ class GifSettings:
     max_frames: int = 3000
     trail: float = 8.0
     skip_quiet: bool = False
+    legend: bool = True
 
     def __post_init__(self) -> None:
         if isinstance(self.size, list):
@@ -363,6 +366,8 @@ class GifSettings:
             out.append(("trail", problem))
         if not isinstance(self.skip_quiet, bool):
             out.append(("skip_quiet", f"expected true or false, found {self.skip_quiet!r}"))
+        if not isinstance(self.legend, bool):
+            out.append(("legend", f"expected true or false, found {self.legend!r}"))
         return out
 
 
@@ -446,7 +451,7 @@ class AnimationSpec:
         File name of the HTML replay written beside it (None: none).
     mp4 : str or None
         File name of the MP4 video of the GIF's frames written beside it (None: none).
-    fps, speed, size, start, end, max_frames, trail, skip_quiet
+    fps, speed, size, start, end, max_frames, trail, skip_quiet, legend
         As :class:`GifSettings` (for the GIF and the video; ``skip_quiet`` also sets the
         replay's toggle); ``None`` for the default.
     """
@@ -462,6 +467,7 @@ class AnimationSpec:
     max_frames: int | None = None
     trail: float | None = None
     skip_quiet: bool | None = None
+    legend: bool | None = None
 
     def gif_settings(self) -> GifSettings:
         """The :class:`GifSettings` this section asks for (defaults where it says nothing).

@@ -194,6 +194,91 @@ def test_a_vehicle_s_colour_is_under_its_footprint_centre(doc, tmp_path):
         assert tuple(last[row, col]) == renderer.vehicle_rgb(i, parked=True)
 
 
+def test_a_car_standing_on_a_gate_s_name_leaves_the_name_readable(doc):
+    from lotsim.render.lot_image import paint_portals
+
+    renderer = GifRenderer(doc, SMALL)
+    canvas = renderer.canvas
+    # the ids' pixels (text and halo), found on a black ground independently of the renderer
+    plain = canvas.new_image((0, 0, 0))
+    paint_portals(plain, canvas, renderer.lot, labels=False)
+    named = plain.copy()
+    paint_portals(named, canvas, renderer.lot, labels=True)
+    ids = np.any(np.asarray(plain) != np.asarray(named), axis=2)
+    # the entrance's id: the label pixels nearest to it
+    ys, xs = np.nonzero(ids)
+    gate = canvas.to_px(renderer.lot.entrances[0].pose[:2])
+    near = np.hypot(xs - gate[0], ys - gate[1]) < 40
+    label = np.zeros_like(ids)
+    label[ys[near], xs[near]] = True
+    assert label.sum() > 20
+    centre = canvas.to_world(np.array([xs[near].mean(), ys[near].mean()]))
+    # the first car to arrive, stood on that id along the gate's heading (as a car
+    # queueing at the gate stands)
+    t = 1.0
+    state = renderer.replay.states(np.array([t]))
+    j = int(np.flatnonzero(state["visible"][0])[0])
+    tr = renderer.replay.tracks[j]
+    heading = renderer.lot.entrances[0].pose[2]
+    mid = (tr.front - tr.rear) / 2
+    state["x"][0, j] = centre[0] - mid * math.cos(heading)
+    state["y"][0, j] = centre[1] - mid * math.sin(heading)
+    state["theta"][0, j] = heading
+    state["v"][0, j] = 0.0
+    img = np.asarray(renderer.frame(t, state).convert("RGB"))
+    bg = np.asarray(renderer.background.convert("RGB"))
+    changed = np.any(img != bg, axis=2)
+    box = np.zeros_like(ids)
+    box[ys[near].min() - 2:ys[near].max() + 3, xs[near].min() - 2:xs[near].max() + 3] = True
+    assert (changed & box & ~label).sum() > 20  # the car is there, around the id
+    assert not (changed & label).any()  # and every pixel of the id shows as without it
+
+
+def test_the_legend_shows_the_colours_the_cars_are_drawn_in_and_can_be_left_out(doc):
+    from lotsim.errors import SettingsError
+    from lotsim.render.lot_image import PARKED_CAR
+
+    on = GifRenderer(doc, GifSettings(size=(800, 600)))
+    off = GifRenderer(doc, GifSettings(size=(800, 600), legend=False))
+    img = np.asarray(on.frame(30.0).convert("RGB"))
+    bare = np.asarray(off.frame(30.0).convert("RGB"))
+    assert set(on.legend_boxes) == {"driving", "parked", "parked at start", "reversing",
+                                    "its slot"}
+    assert off.legend_boxes == {}
+
+    def inside(name):
+        x0, y0, x1, y1 = on.legend_boxes[name]
+        return img[y0 + 2:y1 - 1, x0 + 5:x1 - 1].reshape(-1, 3)
+
+    j = on.colour.index(0)  # a car drawn in the legend's colour
+    assert np.all(inside("driving") == on.vehicle_rgb(j))
+    assert np.all(inside("parked") == on.vehicle_rgb(j, parked=True))
+    assert np.all(inside("reversing") == on.vehicle_rgb(j))
+    x0, y0, x1, y1 = on.legend_boxes["reversing"]
+    assert tuple(img[(y0 + y1) // 2, x0 + 2]) == (255, 255, 255)  # its white rear band
+    x0, y0, x1, y1 = on.legend_boxes["its slot"]
+    assert tuple(img[(y0 + y1) // 2, x0]) == on.vehicle_rgb(j)
+    # a car parked at the start: the colour of such a car's body in the frame
+    body = np.asarray(doc["lot"]["parked"][0], dtype=float).reshape(4, 2)
+    rear = on.canvas.to_px(body[[0, 3]].mean(axis=0) * 0.8 + body[[1, 2]].mean(axis=0) * 0.2)
+    x, y = np.rint(rear).astype(int)
+    colours, counts = np.unique(img[y - 1:y + 2, x - 1:x + 2].reshape(-1, 3), axis=0,
+                                return_counts=True)
+    start = inside("parked at start")
+    assert np.all(start == start[0])
+    assert np.abs(start[0].astype(int) - np.array(PARKED_CAR)).max() < 12
+    assert any(np.all(c == start[0]) for c in colours)
+    # without it, the footer right of the scale bar is bare, and the lot is the same
+    assert len(np.unique(bare[600 - 20:, 400:].reshape(-1, 3), axis=0)) == 1
+    assert np.array_equal(img[:560], bare[:560])
+    with pytest.raises(SettingsError, match="legend"):
+        GifSettings(legend="yes")
+    from lotsim.api import load_animation
+
+    assert load_animation(BARE + "animation: {legend: false}\n").gif_settings().legend is False
+    assert load_animation(BARE + "animation: {speed: 2}\n").gif_settings().legend is True
+
+
 def test_a_reversing_car_shows_a_white_bar_across_its_rear(street):
     renderer = GifRenderer(street, GifSettings(size=(1200, 900)))
     found = {True: 0, False: 0}

@@ -330,8 +330,7 @@ def test_cli_maneuver_draws_one_and_reports_bad_input(tmp_path, capsys):
 
 
 def test_the_maneuver_picture_rings_every_place_the_car_stops_to_steer():
-    from lotsim.render.lot_image import MARGIN, LotCanvas
-    from lotsim.render.maneuver_image import STEER, draw_maneuver
+    from lotsim.render.maneuver_image import KEY_BAND, STEER, draw_maneuver, maneuver_canvas
 
     lot, _ = _lot(QUICK.replace("width: 7.0", "width: 4.6"))  # narrow: it shuffles
     car = CATALOGUE["valet"]
@@ -343,17 +342,68 @@ def test_the_maneuver_picture_rings_every_place_the_car_stops_to_steer():
     assert ring.any()
     # the rings' pixels lie around the stops and nowhere else
     ys, xs = np.nonzero(ring)
-    poses, _ = m.sample(0.05)
-    bodies = car.footprints(poses)
-    lo = bodies.reshape(-1, 2).min(axis=0) - 3.0
-    hi = bodies.reshape(-1, 2).max(axis=0) + 3.0
-    canvas = LotCanvas((lo[0], lo[1], hi[0], hi[1]), (900, 700),
-                       frame=(MARGIN, MARGIN, 900 - MARGIN, 700 - MARGIN))
+    canvas = maneuver_canvas(m, car)
     centres = np.array([canvas.to_px(np.array(p[:2])) for p, _ in stops])
-    legend = ys > 700 - 40
+    legend = ys >= 700 - KEY_BAND
     dist = np.hypot(xs[:, None] - centres[None, :, 0], ys[:, None] - centres[None, :, 1])
     assert np.all((dist.min(axis=1) < 20) | legend)  # nowhere else
     assert np.all(dist[~legend].min(axis=0) < 20)  # and around every stop
+
+
+def _edge_share(img: np.ndarray, corners: np.ndarray, colour) -> float:
+    """Share of 48 points along the pixel polygon ``corners`` that have ``colour`` within
+    a pixel of them."""
+    near = np.all(np.abs(img - np.array(colour)) <= 3, axis=2)
+    ring = np.vstack([corners, corners[:1]])
+    hits = 0
+    for a, b in zip(ring[:-1], ring[1:], strict=True):
+        for f in np.linspace(0.1, 0.9, 12):
+            x, y = np.rint(a + f * (b - a)).astype(int)
+            hits += bool(near[y - 1:y + 2, x - 1:x + 2].any())
+    return hits / 48
+
+
+@pytest.mark.parametrize("leave", [False, True], ids=["in", "out"])
+def test_the_maneuver_picture_keeps_title_and_key_off_the_lot_and_marks_both_ends(leave):
+    from lotsim.api import maneuver_case
+    from lotsim.render.lot_image import NO_GO_HATCH
+    from lotsim.render.maneuver_image import (
+        BAND,
+        KEY_BAND,
+        PARKED_EDGE,
+        START_EDGE,
+        TITLE_BAND,
+        draw_maneuver,
+        maneuver_canvas,
+    )
+
+    # example.yaml: N1 is next to the hatched island, which the old key was drawn over
+    case = maneuver_case(ROOT / "scenarios" / "example.yaml", "N1")
+    m = case.planner.best(case.vehicle, case.slot)
+    m = m.reversed() if leave else m
+    img = np.asarray(draw_maneuver(case.lot, m, case.vehicle, title="a title").convert("RGB"))
+    img = img.astype(int)
+    h, w = img.shape[:2]
+    for band in (img[: TITLE_BAND - 1], img[h - KEY_BAND + 1:]):
+        hatch = np.all(np.abs(band - np.array(NO_GO_HATCH)) <= 5, axis=2)
+        assert not hatch.any()  # no hatching (nor any of the lot) shows behind the text
+        colours, counts = np.unique(band.reshape(-1, 3), axis=0, return_counts=True)
+        assert tuple(colours[counts.argmax()]) == BAND
+        assert np.all(band[:, w - 60:] == np.array(BAND))  # right of the text: only band
+    # the car is outlined at the first pose and at the last, each in its own colour
+    canvas = maneuver_canvas(m, case.vehicle, title=True)
+    poses, _ = m.sample(0.05)
+    bodies = case.vehicle.footprints(poses)
+    first, last = canvas.to_px(bodies[0]), canvas.to_px(bodies[-1])
+    lane_edge, slot_edge = (START_EDGE, PARKED_EDGE)
+    at_first, at_last = (slot_edge, lane_edge) if leave else (lane_edge, slot_edge)
+    assert _edge_share(img, first, at_first) > 0.8
+    assert _edge_share(img, last, at_last) > 0.8
+    assert _edge_share(img, first, at_last) < 0.3  # not the other way round
+    # each is named in the key, in its colour
+    key = img[h - KEY_BAND + 1:]
+    for colour in (START_EDGE, PARKED_EDGE):
+        assert np.all(np.abs(key - np.array(colour)) <= 3, axis=2).sum() > 20
 
 
 # -- the planner's seams: settings, results with a status, a frozen problem ------------------

@@ -287,3 +287,14 @@ lot:
     taken = {sid for sid, colour in seen.items() if colour == li.PARKED_CAR}
     assert taken == set(g.lot.occupied) and 250 < len(taken) < 350
     assert all(colour == li.SLOT_PAVING for sid, colour in seen.items() if sid not in taken)
+
+
+def test_the_pixel_padding_is_not_named_like_the_safety_margin_in_metres() -> None:
+    # lot_image.MARGIN (14 px) read like lotsim.settings.MARGIN (0.1 m)
+    import lotsim.render.animation as anim
+    import lotsim.render.maneuver_image as mi
+    from lotsim import settings
+
+    for module in (li, anim, mi):
+        assert not hasattr(module, "MARGIN")
+    assert li.PAD_PX == 14 and settings.MARGIN == 0.1

@@ -170,7 +170,7 @@ def parse_animation(node: YNode) -> AnimationSpec:
     if node.is_null:
         return AnimationSpec()
     f = node.fields(optional=["gif", "html", "mp4", "fps", "speed", "size", "from", "to",
-                              "max_frames", "trail", "skip_quiet"])
+                              "max_frames", "trail", "skip_quiet", "legend"])
     names = {}
     for key, default in (("gif", "run.gif"), ("html", None), ("mp4", None)):
         names[key] = (f[key].file_name(purpose="it is written beside result.json",
@@ -192,6 +192,7 @@ def parse_animation(node: YNode) -> AnimationSpec:
         html=names["html"],
         mp4=names["mp4"],
         skip_quiet=f["skip_quiet"].boolean() if "skip_quiet" in f else None,
+        legend=f["legend"].boolean() if "legend" in f else None,
         fps=f["fps"].number(min=1, max=50) if "fps" in f else None,
         speed=f["speed"].number(min=0.01, max=10_000) if "speed" in f else None,
         size=size,

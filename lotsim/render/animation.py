@@ -24,12 +24,13 @@ from pathlib import Path
 
 import imageio.v3 as iio
 import numpy as np
-from PIL import Image, ImageDraw
+from PIL import Image, ImageChops, ImageDraw
 
 from lotsim.atomic import atomic_write
 from lotsim.errors import SettingsError
 from lotsim.render.lot_image import (
-    MARGIN,
+    PAD_PX,
+    PARKED_CAR,
     LotCanvas,
     font,
     lot_bounds,
@@ -221,7 +222,10 @@ class GifRenderer:
         w, h = settings.size
         bounds = lot_bounds(self.lot)
         self.canvas = LotCanvas(bounds, (w, h),
-                                frame=(MARGIN, HEADER + MARGIN // 2, w - MARGIN, h - FOOTER))
+                                frame=(PAD_PX, HEADER + PAD_PX // 2, w - PAD_PX, h - FOOTER))
+        self._font = font(13)
+        self._clock_font = font(15)
+        self._stamps: dict = {}
         self._build_palette(doc)
         tracks = self.replay.tracks
         self.colour = assign_colours(tracks, VEHICLE_COLOURS, self.replay.end)
@@ -241,9 +245,6 @@ class GifRenderer:
                                 [tr.front, tr.width / 2], [-tr.rear, tr.width / 2]]
                                for tr in tracks]).reshape(-1, 4, 2)
         self._wheelbase = np.array([tr.wheelbase for tr in tracks], dtype=float)
-        self._font = font(13)
-        self._clock_font = font(15)
-        self._stamps: dict = {}
 
     # -- the fixed picture ---------------------------------------------------------------------
     def _build_palette(self, doc: dict) -> None:
@@ -256,7 +257,8 @@ class GifRenderer:
         d = ImageDraw.Draw(img)
         d.rectangle((0, 0, w, HEADER - 1), fill=HEADER_BG)
         d.line((0, HEADER - 1, w, HEADER - 1), fill=(200, 200, 200))
-        paint_scale_bar(img, canvas, MARGIN, h - 6, min(260, w // 3))
+        paint_scale_bar(img, canvas, PAD_PX, h - 6, min(260, w // 3))
+        body = np.all(np.asarray(img) == np.array(PARKED_CAR), axis=2)
         bg = img.quantize(colors=BACKGROUND_COLOURS, method=Image.Quantize.MEDIANCUT,
                           dither=Image.Dither.NONE)
         # the quantised image uses indices below BACKGROUND_COLOURS; Pillow versions differ
@@ -275,6 +277,67 @@ class GifRenderer:
         self.palette = bytes(np.asarray(self.rgb, dtype=np.uint8).ravel())
         bg.putpalette(self.palette)
         self.background = bg
+        self.legend_boxes: dict[str, tuple[int, int, int, int]] = {}
+        if self.settings.legend:
+            # cars parked at start: the palette entry most of their bodies' pixels took
+            at_start = (int(np.bincount(np.asarray(bg)[body]).argmax()) if body.any()
+                        else None)
+            self._paint_legend(bg, at_start)
+        self._labels = self._portal_labels(bg)
+
+    def _paint_legend(self, bg: Image.Image, at_start: int | None) -> None:
+        """A key of the cars' colours in the footer, right-aligned, right of the scale bar:
+        a car in its own colour (driving or waiting), in the pale version (parked), a car
+        parked at the start (when there are some), reversing (white rear band) and the
+        slot a car is heading for (outlined in its colour). Entries that do not fit are
+        left out from the last. Swatch boxes go to :attr:`legend_boxes`."""
+        w, h = self.settings.size
+        car, pale_car = int(self.car_index[0]), int(self.pale_index[0])
+        entries: list[tuple[str, str, int]] = [("driving", "car", car),
+                                               ("parked", "car", pale_car)]
+        if at_start is not None:
+            entries.append(("parked at start", "car", at_start))
+        entries += [("reversing", "reversing", car), ("its slot", "slot", car)]
+        sw, gap = 18, 12
+        widths = [sw + 4 + int(round(self._font.getlength(label))) for label, _, _ in entries]
+        room = w - PAD_PX - (PAD_PX + min(260, w // 3) + 40)  # right of the scale bar
+        while entries and sum(widths) + gap * (len(widths) - 1) > room:
+            entries.pop()
+            widths.pop()
+        d = ImageDraw.Draw(bg)
+        mid = h - FOOTER // 2 - 1
+        x = w - PAD_PX - (sum(widths) + gap * (len(widths) - 1))
+        for (label, kind, colour), width in zip(entries, widths, strict=True):
+            if kind == "slot":
+                box = (x + 4, mid - 7, x + sw - 4, mid + 7)
+                d.rectangle(box, outline=colour, width=2)
+            else:
+                box = (x, mid - 5, x + sw, mid + 5)
+                d.rectangle(box, fill=colour, outline=self.ink)
+                if kind == "reversing":
+                    d.rectangle((x + 1, mid - 4, x + 4, mid + 4), fill=self.white)
+            self.legend_boxes[label] = box
+            self._stamp(bg, (x + sw + 4, mid), label, self._font)
+            x += width + gap
+
+    def _portal_labels(self, bg: Image.Image) -> list[tuple[tuple[int, int], Image.Image,
+                                                          Image.Image]]:
+        """The entrance and exit ids (text and halo) as pieces of ``bg`` to paste back over
+        the cars of each frame, so a car standing at a gate does not hide its name:
+        ``(corner, pixels, mask)`` of the box holding them (empty without ids)."""
+        mask = Image.new("1", self.settings.size, 0)
+        for base in ((0, 0, 0), (255, 255, 255)):  # what the ids change on either ground
+            plain = self.canvas.new_image(base)
+            paint_portals(plain, self.canvas, self.lot, labels=False)
+            named = plain.copy()
+            paint_portals(named, self.canvas, self.lot, labels=True)
+            diff = ImageChops.difference(plain, named).convert("L").point(
+                lambda v: 255 if v else 0).convert("1")
+            mask = ImageChops.logical_or(mask, diff)
+        box = mask.getbbox()
+        if box is None:
+            return []
+        return [(box[:2], bg.crop(box), mask.crop(box))]
 
     def vehicle_rgb(self, j: int, *, parked: bool = False) -> tuple[int, int, int]:
         """The colour vehicle ``j`` is drawn in while it moves (or pale, standing parked)."""
@@ -317,6 +380,8 @@ class GifRenderer:
         order = np.concatenate([vis[still], moving])
         if len(order):
             self._paint_cars(d, state, column, order, n_still=int(still.sum()))
+            for corner, pixels, mask in self._labels:  # gate names over the cars
+                img.paste(pixels, corner, mask)
         self._paint_header(img, t, skipped)
         return img
 
@@ -354,10 +419,10 @@ class GifRenderer:
         text = "   ".join(f"{k} {counts[k]}" for k in shown)
         if skipped > 0:
             text += f"   >> skipped {_clock(skipped)}"
-        x = MARGIN
+        x = PAD_PX
         for ch in _clock(t):  # the clock changes every frame: stamped glyph by glyph
             x += self._stamp(img, (x, HEADER // 2), ch, self._clock_font)
-        self._stamp(img, (MARGIN + 90, HEADER // 2), text, self._font)
+        self._stamp(img, (PAD_PX + 90, HEADER // 2), text, self._font)
 
     def _stamp(self, img: Image.Image, xy: tuple[int, int], text: str, f) -> int:  # noqa: ANN001
         """Paste ``text`` in ink, vertically centred on ``xy``; returns its advance [px].

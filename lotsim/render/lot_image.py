@@ -78,8 +78,9 @@ HALO: Color = (255, 255, 255)
 
 DEFAULT_PARKED = (4.5, 1.8)
 """Length and width [m] of the car drawn in taken slots when no vehicle type is given."""
-MARGIN = 14
-"""Free pixels around the drawing and between panels."""
+PAD_PX = 14
+"""Free pixels around the drawing and between panels [px] (not :data:`lotsim.settings.MARGIN`,
+the planner's safety margin in metres)."""
 
 
 # -- fonts and text ----------------------------------------------------------------------------
@@ -142,7 +143,7 @@ class LotCanvas:
         Image size [px].
     frame : (left, top, right, bottom), optional
         Pixel rectangle the world is fitted into; default the whole image
-        less :data:`MARGIN` on each side.
+        less :data:`PAD_PX` on each side.
     """
 
     def __init__(
@@ -153,7 +154,7 @@ class LotCanvas:
     ):
         self.size = (int(size[0]), int(size[1]))
         if frame is None:
-            frame = (MARGIN, MARGIN, self.size[0] - MARGIN, self.size[1] - MARGIN)
+            frame = (PAD_PX, PAD_PX, self.size[0] - PAD_PX, self.size[1] - PAD_PX)
         minx, miny, maxx, maxy = (float(v) for v in bounds)
         bw, bh = max(maxx - minx, 1e-9), max(maxy - miny, 1e-9)
         fw, fh = max(frame[2] - frame[0], 1.0), max(frame[3] - frame[1], 1.0)
@@ -962,7 +963,7 @@ def plan_layout(
     *,
     title: str | None = None,
     legend: _Legend | None = None,
-    margin: int = MARGIN,
+    margin: int = PAD_PX,
 ) -> Layout:
     """Put the legend right of or under the lot, whichever draws the lot larger.
 
