@@ -520,7 +520,7 @@ def render_html(result: RunResult | dict | str | os.PathLike, path: str | os.Pat
 
 
 def render_mp4(result: RunResult | dict | str | os.PathLike, path: str | os.PathLike,
-               settings: GifSettings | AnimationSpec | None = None, *, progress=None,  # noqa: ANN001
+               settings: GifSettings | AnimationSpec | None = None, *, progress=None,
                **overrides: Any) -> VideoInfo:
     """Draw a run as an H.264 MP4 video: the GIF's frames (``lotsim render --mp4``).
 

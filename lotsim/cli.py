@@ -688,7 +688,7 @@ def _write_gif(doc: dict, path, settings) -> int:
     return EXIT_OK
 
 
-def _write_html(doc: dict, path, settings) -> int:  # noqa: ANN001
+def _write_html(doc: dict, path, settings) -> int:
     from lotsim.api import render_html
     from lotsim.errors import ReplayError
     from lotsim.io.lot_json import LotFormatError
@@ -706,7 +706,7 @@ def _write_html(doc: dict, path, settings) -> int:  # noqa: ANN001
     return EXIT_OK
 
 
-def _write_mp4(doc: dict, path, settings) -> int:  # noqa: ANN001
+def _write_mp4(doc: dict, path, settings) -> int:
     from lotsim.api import render_mp4
     from lotsim.errors import ReplayError
     from lotsim.io.lot_json import LotFormatError

@@ -284,8 +284,8 @@ def require_traffic(scenario: Scenario) -> None:
                                                               "docs/scenario.md)")
 
 
-def run(scenario: Scenario, settings: RunSettings | None = None, *, lot_graph=None,  # noqa: ANN001
-        progress=None) -> RunResult:  # noqa: ANN001
+def run(scenario: Scenario, settings: RunSettings | None = None, *, lot_graph=None,
+        progress=None) -> RunResult:
     """Plan the scenario's traffic: assign slots, plan every vehicle in, and out again.
 
     Vehicles are planned one after another in arrival order (their priority),
@@ -333,7 +333,7 @@ def run(scenario: Scenario, settings: RunSettings | None = None, *, lot_graph=No
 
 class _Simulation:
     def __init__(self, scenario: Scenario, lg: LotGraph, settings: RunSettings,
-                 traffic: list[Arrival], progress) -> None:  # noqa: ANN001
+                 traffic: list[Arrival], progress) -> None:
         self.lg = lg
         self.s = settings
         self.patience = scenario.traffic.patience
@@ -524,7 +524,7 @@ class _Simulation:
         return self._slot_times[key]
 
     @staticmethod
-    def _way_out(sg: SearchGraph, park: int, to_exit) -> float:  # noqa: ANN001
+    def _way_out(sg: SearchGraph, park: int, to_exit) -> float:
         """Static time [s] from the pose park edge ``park`` leaves the car on, by a leave
         edge that begins there, to the nearest exit."""
         pose = sg.parked_pose(park)
@@ -536,7 +536,7 @@ class _Simulation:
         return best
 
     # -- planning -----------------------------------------------------------------------------
-    def plan(self, v: VehicleRun, sg: SearchGraph, *, key: tuple[str, str], **kw) -> Plan:  # noqa: ANN003
+    def plan(self, v: VehicleRun, sg: SearchGraph, *, key: tuple[str, str], **kw) -> Plan:
         rra = None
         if self.s.planner != "ca":
             rra = self._exits.get(key[1]) if key[0] == "exit" else None

@@ -208,7 +208,7 @@ class Chromium:
         """A DevTools command to the page; its result."""
         return self._call(method, params, self.session)
 
-    def evaluate(self, expression: str):  # noqa: ANN201 - whatever the page returns
+    def evaluate(self, expression: str):  # whatever the page returns
         """The value of a JavaScript expression in the page (promises awaited)."""
         r = self.send("Runtime.evaluate", {"expression": expression, "returnByValue": True,
                                            "awaitPromise": True})

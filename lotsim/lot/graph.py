@@ -248,7 +248,7 @@ class LotGraph:
         free = [s.id for s in self.lot.free_slots]
         ahead, back = self._lanes()
 
-        def missing(seen: set[int], links) -> list[str]:  # noqa: ANN001
+        def missing(seen: set[int], links) -> list[str]:
             return [sid for sid in free if not any(n in seen for n in links(self.slot_nodes[sid]))]
 
         unreachable = {name: missing(_spread(ahead, [node]), g.predecessors)
@@ -288,7 +288,7 @@ class LotGraph:
         return Reachability(unreachable, stranded, no_way_in, no_way_out, by_type)
 
 
-def _spread(links: dict[int, list[int]], sources) -> set[int]:  # noqa: ANN001
+def _spread(links: dict[int, list[int]], sources) -> set[int]:
     """``sources`` and every node reached from them by ``links`` (node → next nodes)."""
     seen = set(sources)
     todo = list(seen)
@@ -300,8 +300,8 @@ def _spread(links: dict[int, list[int]], sources) -> set[int]:  # noqa: ANN001
     return seen
 
 
-def build_graph(lot: Lot, *, node_spacing: float = 4.0, maneuvers=None,  # noqa: ANN001
-                vehicles=(), stays=None) -> LotGraph:  # noqa: ANN001
+def build_graph(lot: Lot, *, node_spacing: float = 4.0, maneuvers=None,
+                vehicles=(), stays=None) -> LotGraph:
     """Build the drivable graph of ``lot``.
 
     Parameters
@@ -451,7 +451,7 @@ def build_graph(lot: Lot, *, node_spacing: float = 4.0, maneuvers=None,  # noqa:
 
 
 # -- helpers -----------------------------------------------------------------------------------
-def _link(g: nx.DiGraph, u: int, v: int, kind: str, path, limit: float) -> dict:  # noqa: ANN001
+def _link(g: nx.DiGraph, u: int, v: int, kind: str, path, limit: float) -> dict:
     """The park or leave edge ``u`` → ``v``'s attributes, made (with no maneuver yet) if
     new."""
     if not g.has_edge(u, v):
@@ -472,7 +472,7 @@ def _add_placeholder(g: nx.DiGraph, lot: Lot, a: int, node: int, slot: Slot) -> 
                    maneuvers={}, duration={})
 
 
-def _maneuver_attachments(lot: Lot, maneuvers) -> dict[str, list[tuple[str, float]]]:  # noqa: ANN001
+def _maneuver_attachments(lot: Lot, maneuvers) -> dict[str, list[tuple[str, float]]]:
     """Lane and station where each planned maneuver starts (``maneuvers``: pairs of
     ``(vehicle name, slot id, lane id)`` and Maneuver)."""
     out: dict[str, list[tuple[str, float]]] = {s.id: [] for s in lot.slots}
@@ -826,7 +826,7 @@ def _straight_at(lane: Lane, station: float) -> tuple[float, Segment] | None:
     return None
 
 
-def _turn_designs(design, lot_speed: float) -> list[tuple[float, float]]:  # noqa: ANN001
+def _turn_designs(design, lot_speed: float) -> list[tuple[float, float]]:
     """(design speed [m/s], arc radius [m]) of the junction turns to try, fastest first,
     tightest first at each speed: the tightest arc the speed allows, and twice and three
     times the design radius (a wide arc clears a corner that a tight one's body sweeps
@@ -842,7 +842,7 @@ def _turn_designs(design, lot_speed: float) -> list[tuple[float, float]]:  # noq
     return out
 
 
-def _fillet_between(a, sa0, pa, b, sb0, pb, aisle_a, aisle_b, reach, design,  # noqa: ANN001
+def _fillet_between(a, sa0, pa, b, sb0, pb, aisle_a, aisle_b, reach, design,
                     collider: Collider, lot_speed: float) -> list[Turn] | str | None:
     """The turns from straight ``pa`` of lane ``a`` into straight ``pb`` of lane ``b``: the
     fastest that is clear and, when it is another, the tightest that is clear (the shortest
@@ -918,7 +918,7 @@ shorter clothoids (the wheels turn at the same rate over less path), so it fits 
 corner."""
 
 
-def _approx_tangent(deflection, radius: float, sharpness: float):  # noqa: ANN001, ANN201
+def _approx_tangent(deflection, radius: float, sharpness: float):
     """The tangent length of a continuous-curvature turn (:func:`cc_turn`) by the road
     designers' formula, ``(R + p) tan(Δ/2) + L/2`` with the clothoids' shift ``p = L² / 24R``
     (within 0.1 % of the exact one for the turns built here); ``deflection`` [rad] may be an
@@ -931,7 +931,7 @@ def _approx_tangent(deflection, radius: float, sharpness: float):  # noqa: ANN00
     return np.where(d > 1e-12, out, 0.0)
 
 
-def _area_designs(design, lot_speed: float) -> list[tuple[float, float]]:  # noqa: ANN001
+def _area_designs(design, lot_speed: float) -> list[tuple[float, float]]:
     """(radius multiple, design speed [m/s]) of the junction-area turns to try."""
     out = []
     for f in AREA_RADII:
@@ -941,7 +941,7 @@ def _area_designs(design, lot_speed: float) -> list[tuple[float, float]]:  # noq
     return out
 
 
-def _area_turns(a, sa0, pa, b, sb0, pb, design, collider: Collider,  # noqa: ANN001
+def _area_turns(a, sa0, pa, b, sb0, pb, design, collider: Collider,
                 lot_speed: float, via: tuple[Segment, ...] = (),
                 shifts: tuple[float, ...] = ()) -> list[Turn]:
     """Turns from ``pa`` into ``pb`` that use the junction's whole area, as a driver does
@@ -994,7 +994,7 @@ def _area_turns(a, sa0, pa, b, sb0, pb, design, collider: Collider,  # noqa: ANN
     legs = [np.hypot(la, u), np.hypot(lb, w)]
     blocks = []  # per design and shape: (points (M, P, 2), time, lane used, da, db, r, sharp)
 
-    def add(ok, points, speed, da, db, r, sharp) -> None:  # noqa: ANN001
+    def add(ok, points, speed, da, db, r, sharp) -> None:
         rows = np.flatnonzero(ok)
         if len(rows):
             pts = np.stack([p[rows] for p in points], axis=1)

@@ -912,7 +912,7 @@ class ManeuverPlanner:
                 return None
         return None
 
-    def _first_clear(self, p: _Problem, rows: Sequence, build=None, chunk: int = 8):  # noqa: ANN001, ANN202
+    def _first_clear(self, p: _Problem, rows: Sequence, build=None, chunk: int = 8):
         """The first clear path of ``rows`` (in order), made by ``build(row)`` as
         ``(changes, length, segments)`` (default: rows are already such triples).
 

@@ -138,7 +138,7 @@ class Swept:
     def __len__(self) -> int:
         return len(self.geoms)
 
-    def __iter__(self):  # noqa: ANN204
+    def __iter__(self):
         for (a, b), g in zip(self.t, self.geoms, strict=True):
             yield float(a), float(b), g
 

@@ -424,7 +424,7 @@ class GifRenderer:
             x += self._stamp(img, (x, HEADER // 2), ch, self._clock_font)
         self._stamp(img, (PAD_PX + 90, HEADER // 2), text, self._font)
 
-    def _stamp(self, img: Image.Image, xy: tuple[int, int], text: str, f) -> int:  # noqa: ANN001
+    def _stamp(self, img: Image.Image, xy: tuple[int, int], text: str, f) -> int:
         """Paste ``text`` in ink, vertically centred on ``xy``; returns its advance [px].
 
         Rendered once per string into a two-level mask (palette frames take no

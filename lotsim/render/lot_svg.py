@@ -146,7 +146,7 @@ def lot_svg(lot, parked: FloatArray, bounds: tuple[float, float, float, float]) 
     return "".join(out)
 
 
-def _lanes(lot, add) -> None:  # noqa: ANN001
+def _lanes(lot, add) -> None:
     portals = np.array([p.pose[:2] for p in (*lot.entrances, *lot.exits)],
                        dtype=float).reshape(-1, 2)
     lines, arrows = [], []
@@ -171,7 +171,7 @@ def _lanes(lot, add) -> None:  # noqa: ANN001
               stroke_width="1", vector_effect="non-scaling-stroke"))
 
 
-def _slot_lines(lot, add) -> None:  # noqa: ANN001
+def _slot_lines(lot, add) -> None:
     if not lot.slots:
         return
     for kind, color in li.SLOT_LINE.items():
@@ -191,7 +191,7 @@ def _slot_lines(lot, add) -> None:  # noqa: ANN001
                   stroke_dasharray="2 3", **_LINE))
 
 
-def _parked(bodies: FloatArray, add) -> None:  # noqa: ANN001
+def _parked(bodies: FloatArray, add) -> None:
     if not len(bodies):
         return
     rr, fr, fl, rl = bodies[:, 0], bodies[:, 1], bodies[:, 2], bodies[:, 3]
@@ -215,7 +215,7 @@ def _text(x: float, y: float, text: str, size: float, fill: str, halo: bool = Fa
             f'fill="{fill}"{extra}>{escape(text)}</text>')
 
 
-def _labels(lot, add) -> None:  # noqa: ANN001
+def _labels(lot, add) -> None:
     """Slot ids in their slots, speed limits in their zones."""
     parts = ['<g class="labels" text-anchor="middle" dominant-baseline="central" '
              'font-family="sans-serif">']
@@ -242,7 +242,7 @@ def _labels(lot, add) -> None:  # noqa: ANN001
     add("".join(parts))
 
 
-def _portals(lot, add, bounds) -> None:  # noqa: ANN001
+def _portals(lot, add, bounds) -> None:
     """Entrances as green, exits as red triangles pointing the way traffic goes; each id
     behind its triangle, or beside or ahead of it where that stays in the picture."""
     parts = ['<g class="portals" text-anchor="middle" dominant-baseline="central" '

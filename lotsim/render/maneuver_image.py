@@ -40,11 +40,11 @@ KEY_BAND = 30
 
 
 def draw_maneuver(
-    lot,  # noqa: ANN001 - a Lot
-    maneuver,  # noqa: ANN001 - a Maneuver
-    vehicle,  # noqa: ANN001 - the VehicleType it was planned for
+    lot,  # a Lot
+    maneuver,  # a Maneuver
+    vehicle,  # the VehicleType it was planned for
     *,
-    parked_vehicle=None,  # noqa: ANN001
+    parked_vehicle=None,
     size: tuple[int, int] = (900, 700),
     every: float = 1.0,
     title: str | None = None,
@@ -126,8 +126,8 @@ def draw_maneuver(
 
 
 def maneuver_canvas(
-    maneuver,  # noqa: ANN001 - a Maneuver
-    vehicle,  # noqa: ANN001
+    maneuver,  # a Maneuver
+    vehicle,
     *,
     size: tuple[int, int] = (900, 700),
     title: bool = False,
@@ -142,14 +142,14 @@ def maneuver_canvas(
                      frame=(PAD_PX, top + PAD_PX, size[0] - PAD_PX, size[1] - KEY_BAND - PAD_PX))
 
 
-def end_marks(maneuver) -> list[tuple[str, tuple[int, int, int]]]:  # noqa: ANN001
+def end_marks(maneuver) -> list[tuple[str, tuple[int, int, int]]]:
     """Label and outline colour of the car at the maneuver's first and last pose."""
     if getattr(maneuver, "leaving", False):
         return [("parked", PARKED_EDGE), ("end", START_EDGE)]
     return [("start", START_EDGE), ("parked", PARKED_EDGE)]
 
 
-def _text_on_line(d: ImageDraw.ImageDraw, x: float, mid: float, text: str, f,  # noqa: ANN001
+def _text_on_line(d: ImageDraw.ImageDraw, x: float, mid: float, text: str, f,
                   fill: tuple[int, int, int] = TEXT) -> tuple[float, float]:
     """Draw ``text`` from ``x`` with its x-height centred on ``mid``, so that labels with
     and without ascenders or descenders share one baseline; returns (left, right) [px]."""
@@ -161,7 +161,7 @@ def _text_on_line(d: ImageDraw.ImageDraw, x: float, mid: float, text: str, f,  #
 
 
 def _label_car(d: ImageDraw.ImageDraw, corners: np.ndarray, label: str,
-               color: tuple[int, int, int], f, frame: tuple[float, float, float, float],  # noqa: ANN001
+               color: tuple[int, int, int], f, frame: tuple[float, float, float, float],
                placed: list[tuple[float, float, float, float]]
                ) -> tuple[float, float, float, float]:
     """Write ``label`` just above (else below) the car outline ``corners`` (pixels), on a

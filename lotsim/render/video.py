@@ -32,7 +32,7 @@ class VideoUnavailable(LotsimError):
     """ffmpeg is not installed (the ``video`` extra: ``imageio-ffmpeg``)."""
 
 
-def require_ffmpeg():  # noqa: ANN201 - the imageio_ffmpeg module
+def require_ffmpeg():  # the imageio_ffmpeg module
     """The :mod:`imageio_ffmpeg` module, or :class:`VideoUnavailable` naming the extra."""
     try:
         import imageio_ffmpeg
