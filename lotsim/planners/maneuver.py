@@ -358,6 +358,7 @@ class _Problem:
     obstacles: np.ndarray  # world obstacles near the slot
     tree: shapely.STRtree  # of ``obstacles``
     sweep: float  # footprint spacing when checking a motion [m]
+    window: Polygon  # the square the search may use (:meth:`ManeuverPlanner._window`)
 
     # -- validity: OMPL's state validity checker and motion validator ---------------------
     def bodies_blocked(self, bodies: FloatArray) -> np.ndarray:
@@ -743,7 +744,7 @@ class ManeuverPlanner:
         obstacles = (shapely.difference(self._polys[near], slot.shape) if near
                      else np.zeros(0, dtype=object))
         return _Problem(vehicle, slot, lane, frame, lane_y, lane_x, s0, half, index, allowed,
-                        obstacles, shapely.STRtree(obstacles), self.settings.sweep)
+                        obstacles, shapely.STRtree(obstacles), self.settings.sweep, win)
 
     def _window(self, slot: Slot, frame: _Frame, half: float) -> Polygon:
         """The square the search may use, cut at the far side of the aisle less the margin."""
@@ -765,8 +766,7 @@ class ManeuverPlanner:
 
     def _digest(self, p: _Problem) -> bytes:
         """The car, the slot and the rounded local geometry within the window."""
-        win = self._window(p.slot, p.frame, p.half)
-        clipped = np.concatenate([[p.allowed], shapely.intersection(p.obstacles, win)])
+        clipped = np.concatenate([[p.allowed], shapely.intersection(p.obstacles, p.window)])
         local = sorted(_local_geometry(clipped, p.frame))
         v = p.vehicle
         s = p.slot
