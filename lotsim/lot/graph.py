@@ -15,8 +15,10 @@ passing or standing at a node steers for it. Edges are pieces of path
   through the junction's area (:func:`_area_turns`). ``types`` names the vehicle
   types that can drive it (None: all; see :func:`build_graph`);
 * ``join`` — a lane that continues as another (zero length);
-* ``turnaround`` — a multi-point turn at a dead end onto the opposite lane
-  (:mod:`lotsim.lot.turnaround`), driven from rest to rest, stopping at each cusp;
+* ``turnaround`` — a multi-point turn, driven from rest to rest, stopping at each cusp:
+  at a dead end onto the opposite lane (:mod:`lotsim.lot.turnaround`), or where aisles
+  meet in a junction too small for one turn, onto the other aisle's lane
+  (:func:`_junction_multipoints`, :mod:`lotsim.lot.multipoint`);
 * ``park`` / ``leave`` — from a lane node into a slot node and back, through
   real parking maneuvers: ``maneuvers`` maps each vehicle type that can use
   the link to its :class:`~lotsim.planners.maneuver.Maneuver` (the leave edge
@@ -58,6 +60,7 @@ from lotsim.geometry import (
 from lotsim.lot.build import SWEEP_STEP, lane_collider
 from lotsim.lot.clearance import Collider
 from lotsim.lot.model import DesignVehicle, Lane, Lot, Portal, Slot, unit
+from lotsim.lot.multipoint import plan_onto
 from lotsim.lot.turnaround import (
     Turnaround,
     plan_turnarounds,
@@ -186,14 +189,27 @@ class LotGraph:
         come, _ = self._lane_reach()
         return self._ranges(come)
 
-    def maneuver_ranges(self) -> dict[str, tuple[float, float]]:
-        """Per lane, the station range [m] where a parking maneuver may begin (or a leaving
+    def maneuver_ranges(self) -> dict[str, tuple[tuple[float, float], ...]]:
+        """Per lane, the station ranges [m] where a parking maneuver may begin (or a leaving
         one end): that of the nodes a car can reach from an entrance (driving lanes only),
-        and on a lane no car can reach, that of the nodes from which an exit can be reached
-        — a car parked from one lane may leave towards another that it could not have come
-        along (out of a dead end it cannot turn round in)."""
+        and, where it does not overlap that one, that of the nodes from which an exit can be
+        reached — a car parked from one lane may leave towards another that it could not
+        have come along (out of a dead end it cannot turn round in), or along a stretch it
+        could not have come to (the lane's start, on a short arm that a car enters only
+        near its end). Each slot's maneuver is planned in the range nearest it
+        (:class:`~lotsim.planners.maneuver.ManeuverPlanner`); the two are not joined into
+        one, which would reach into the stretch between them where no car comes or leaves
+        by."""
         come, go = self._lane_reach()
-        return {**self._ranges(go), **self._ranges(come)}
+        reach, leave = self._ranges(come), self._ranges(go)
+        out: dict[str, tuple[tuple[float, float], ...]] = {}
+        for lid in {**leave, **reach}:
+            spans = [reach[lid]] if lid in reach else []
+            lo, hi = leave.get(lid, (math.inf, -math.inf))
+            if lo <= hi and not any(lo <= b and a <= hi for a, b in spans):
+                spans.append((lo, hi))
+            out[lid] = tuple(spans)
+        return out
 
     def leave_nodes(self, vehicle: str | None = None) -> frozenset[int]:
         """Lane nodes from which an exit can be reached (all, when the lot has no exits),
@@ -330,6 +346,7 @@ def build_graph(lot: Lot, *, node_spacing: float = 4.0, maneuvers=None,
     # turns for more types first: two that join the same nodes keep the one more can drive
     tagged.sort(key=lambda c: -len(designs or ()) if c[1] is None else -len(c[1]))
     turns = [t for t, _ in tagged]
+    multis = _junction_multipoints(lot, tagged, designs)
     joins = _joins(lot)
     exits = {}
     for p in lot.exits:
@@ -343,6 +360,7 @@ def build_graph(lot: Lot, *, node_spacing: float = 4.0, maneuvers=None,
         for lid, st in links:
             stops[lid] = max(stops.get(lid, -math.inf), st)
     backs, no_back = _turnarounds_of(lot, turns, joins, exits, designs, stops)
+    backs += multis
     # turnarounds for more types first: two that join the same nodes keep the one more can
     # drive
     backs.sort(key=lambda c: -len(designs or ()) if c[1] is None else -len(c[1]))
@@ -779,6 +797,87 @@ def _junction_turns(lot: Lot, collider: Collider, design: DesignVehicle | None =
     return turns, skipped
 
 
+MULTI_STARTS = (0.0, 3.0, 6.0)
+"""How far before the crossing of two lanes [m] a multi-point junction turn may begin
+(:func:`_junction_multipoints`); and it may begin where the lane's straight ends."""
+MULTI_ROOM = 3.0
+"""Lane a multi-point junction turn needs before the crossing on the lane it leaves, and
+after it on the lane it joins [m]: where a lane begins or ends at the crossing, a car
+comes from or goes on to another turn instead."""
+_MULTIS: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()  # lot → {types: multis}
+
+
+def _junction_multipoints(lot: Lot, tagged: list[tuple[Turn, frozenset | None]],
+                          designs: dict[str, DesignVehicle] | None = None
+                          ) -> list[tuple[Turnaround, frozenset | None]]:
+    """Multi-point turns between lanes of aisles that meet, where no turn joins them for
+    some vehicle type (``tagged``: the junction turns, each with the types that can drive
+    it, None for all): a junction too small to turn in at one go — a short arm, a spur
+    meeting a narrow aisle — is turned in as a driver does, in a few strokes
+    (:func:`~lotsim.lot.multipoint.plan_onto`), beginning at or a little before the
+    crossing and landing on the other lane past it, driven from rest to rest like a
+    turnaround. Each is tagged with the types it suits (None: all); worked out once per
+    lot and set of types."""
+    key = tuple(sorted(designs.items())) if designs else None
+    cache = _MULTIS.setdefault(lot, {})
+    if key in cache:
+        return list(cache[key])
+    per = designs or {"": lot.design}
+    every = frozenset(per)
+    joined: dict[tuple[str, str], set[str]] = {}
+    for t, types in tagged:
+        joined.setdefault((t.lane_a, t.lane_b), set()).update(every if types is None
+                                                              else types)
+    bodies = {name: turnaround_collider(lot, design) for name, design in per.items()}
+    found: dict[Turnaround, set[str]] = {}
+    for a in lot.lanes:
+        for b in lot.lanes:
+            lacking = [n for n in per if n not in joined.get((a.id, b.id), ())]
+            if a.aisle == b.aisle or not lacking:
+                continue
+            aisle_a, aisle_b = lot.aisles[a.aisle], lot.aisles[b.aisle]
+            reach = max(aisle_a.width, aisle_b.width) / 2 + 1.0
+            for sa0, pa in _straights(a):
+                for sb0, pb in _straights(b):
+                    corner = _corner(pa, pb, aisle_a, aisle_b, reach)
+                    if corner is None:
+                        continue
+                    _, ta, tb, _ = corner
+                    if sa0 + ta < MULTI_ROOM or pb.length - tb < MULTI_ROOM:
+                        continue  # a lane that begins, or one that ends, at the crossing
+                    end = min(ta, pa.length)
+                    starts = sorted({max(end - k, 0.0) for k in MULTI_STARTS} | {pa.length},
+                                    reverse=True)
+                    for name in lacking:
+                        if any(name in n for t, n in found.items()
+                               if (t.lane_a, t.lane_b) == (a.id, b.id)):
+                            continue
+                        design = per[name]
+                        best = None
+                        for st in starts:
+                            segs = plan_onto(pa.poses_at(st)[0], pb.start, max(tb - 1.0, 0.0),
+                                             pb.length, *bodies[name], design.min_radius)
+                            if segs is None:
+                                continue
+                            x_end = float(np.dot(np.subtract(segs[-1].end[:2], pb.start[:2]),
+                                                 unit(pb.start[2])))
+                            t = Turnaround(a.id, sa0 + st, b.id, sb0 + x_end, segs)
+                            cost = (t.changes, sum(x.length for x in segs))
+                            if best is None or cost < best[0]:
+                                best = (cost, t)
+                            if t.changes <= 1:
+                                break  # one reverse stroke: no start does much better
+                        if best is not None:
+                            found.setdefault(best[1], set()).add(name)
+    for t, names in found.items():  # and every other type it suits
+        bend = max(seg.max_curvature for seg in t.segments)
+        names.update(n for n, design in per.items() if n not in names
+                     and bend <= 1 / design.min_radius + 1e-9 and turnaround_clear(t, *bodies[n]))
+    out = [(t, None if len(n) == len(per) else frozenset(n)) for t, n in found.items()]
+    cache[key] = out
+    return list(out)
+
+
 THROUGH_OVERLAP = 15.0
 """Longest stretch of lane [m] by which a turn into it may overrun the start of a turn out of
 it for the two to be joined into one turn through the stretch."""
@@ -842,6 +941,26 @@ def _turn_designs(design, lot_speed: float) -> list[tuple[float, float]]:
     return out
 
 
+def _corner(pa: Segment, pb: Segment, aisle_a, aisle_b, reach: float
+            ) -> tuple[float, float, float, np.ndarray] | None:
+    """Where straights ``pa`` and ``pb`` (of lanes of two aisles) meet, if they cross at
+    10° to 170° within ``reach`` of both aisles' centre lines: the turn's deflection [rad],
+    the distances along each to the crossing [m], and the crossing point."""
+    ta, tb = pa.start[2], pb.start[2]
+    delta = float(wrap_angle(tb - ta))
+    if abs(math.sin(delta)) < math.sin(math.radians(10)) or abs(delta) > math.radians(170):
+        return None
+    ua, ub = unit(ta), unit(tb)
+    pa_xy, pb_xy = np.array(pa.start[:2]), np.array(pb.start[:2])
+    # pa_xy + t ua = pb_xy + s ub
+    t, s = np.linalg.solve(np.column_stack([ua, -ub]), pb_xy - pa_xy)
+    x = pa_xy + t * ua
+    pt = shapely.Point(x)
+    if aisle_a.line.distance(pt) > reach or aisle_b.line.distance(pt) > reach:
+        return None
+    return delta, float(t), float(s), x
+
+
 def _fillet_between(a, sa0, pa, b, sb0, pb, aisle_a, aisle_b, reach, design,
                     collider: Collider, lot_speed: float) -> list[Turn] | str | None:
     """The turns from straight ``pa`` of lane ``a`` into straight ``pb`` of lane ``b``: the
@@ -852,19 +971,10 @@ def _fillet_between(a, sa0, pa, b, sb0, pb, aisle_a, aisle_b, reach, design,
     Returns the turns, a reason string when the aisles meet but no turn is clear,
     or None when the two straights do not meet.
     """
-    ta, tb = pa.start[2], pb.start[2]
-    delta = float(wrap_angle(tb - ta))
-    if abs(math.sin(delta)) < math.sin(math.radians(10)) or abs(delta) > math.radians(170):
+    corner = _corner(pa, pb, aisle_a, aisle_b, reach)
+    if corner is None:
         return None
-    ua, ub = unit(ta), unit(tb)
-    pa_xy, pb_xy = np.array(pa.start[:2]), np.array(pb.start[:2])
-    # pa_xy + t ua = pb_xy + s ub
-    m = np.column_stack([ua, -ub])
-    t, s = np.linalg.solve(m, pb_xy - pa_xy)
-    x = pa_xy + t * ua
-    pt = shapely.Point(x)
-    if aisle_a.line.distance(pt) > reach or aisle_b.line.distance(pt) > reach:
-        return None
+    delta, t, s, x = corner
     reason = None
     fits = []  # (speed, radius, tangent) of the turns with room on both lanes
     for speed, r in _turn_designs(design, lot_speed):

@@ -22,10 +22,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from lotsim.geometry import FloatArray, Pose, Segment, advance, sample_segments
+from lotsim.geometry import FloatArray, Segment, advance, sample_segments
 from lotsim.lot.build import obstacle_polygons
 from lotsim.lot.clearance import Collider, first_blocked
 from lotsim.lot.model import DesignVehicle, Lane, Lot
+from lotsim.lot.multipoint import closings, segment_to_world, to_local, to_world
 
 MARGIN = 0.1
 """Clearance kept to slots, walls and the boundary during a turnaround [m] (seed 004)."""
@@ -33,13 +34,6 @@ MAX_CHANGES = 8
 """Most direction changes a turnaround may have."""
 PROBE = 0.25
 """Spacing of the places along each stroke where the last move onto the lane is tried [m]."""
-CLOSING_RADII = (1.0, 1.25, 1.5, 2.0)
-"""The last move's arc tries these multiples of the design radius."""
-S_RADII = (2.0, 3.0, 4.0, 6.0)
-"""A last move that is an S (a right arc, then a left arc onto the lane) tries these multiples
-of the design radius: it moves a car that has turned round but stands beside the lane (in a
-narrow aisle the full-lock strokes turn it round in place, off its lane) across, at a
-heading shallow enough to keep its nose out of the bays."""
 STEP = 0.1
 """Spacing of the footprints whose hulls cover a stroke when checking it [m]."""
 STARTS = (0.0, 2.0, 4.0, 6.0)
@@ -47,9 +41,6 @@ STARTS = (0.0, 2.0, 4.0, 6.0)
 ends starts turning before it does, where the first forward stroke has room."""
 MIN_STROKE = 0.3
 """Shorter strokes are not worth a stop [m]."""
-GRID = 0.5
-"""Turnarounds end on lane stations that are multiples of this [m], at least ``GRID`` past
-where the last arc meets the lane."""
 
 
 @dataclass(frozen=True, slots=True)
@@ -120,7 +111,7 @@ def plan_turnaround(lane: Lane, back: Lane, collider: Collider, body: DesignVehi
         i, _ = lane.locate(max(station, 0.0))
         if station < 0 or lane.segments[i].curvature or lane.segments[i].sharpness:
             break  # the lane bends (or ends) there: start no further back
-        start = _to_local(frame, np.array(lane.pose_at(station)))
+        start = to_local(frame, np.array(lane.pose_at(station)))
         if start[1] <= 0.0:
             return "the opposite lane is not on the left"
         start[2] = math.pi  # heading the other way, up to rounding
@@ -131,7 +122,7 @@ def plan_turnaround(lane: Lane, back: Lane, collider: Collider, body: DesignVehi
         return (f"no multi-point turn with up to {MAX_CHANGES} direction changes keeping "
                 f"{MARGIN:g} m clear")
     _, _, station, local = min(found, key=lambda c: c[:3])
-    segs = tuple(_segment_to_world(frame, x) for x in local)
+    segs = tuple(segment_to_world(frame, x) for x in local)
     return Turnaround(lane.id, station, back.id, float(local[-1].end[0]), segs)
 
 
@@ -171,7 +162,7 @@ def _multipoint(frame: FloatArray, start: FloatArray, lane_length: float, collid
         poses = advance(pose, gear * probes, kappa) if len(probes) else np.zeros((0, 3))
         changes = k + (1 if gear < 0 else 0)
         for q, s in sorted(zip(poses, probes, strict=True), key=lambda c: c[1]):
-            for path in _closings(q, lane_length, radius):
+            for path in closings(q, lane_length, radius):
                 segs = done + ([Segment(tuple(map(float, pose)), gear * float(s), kappa)]
                                if s > 1e-9 else []) + path
                 if _blocked(frame, path, collider, body):
@@ -192,68 +183,13 @@ def _multipoint(frame: FloatArray, start: FloatArray, lane_length: float, collid
     return best
 
 
-def _closings(q: FloatArray, lane_length: float, radius: float) -> list[list[Segment]]:
-    """Last moves from local pose ``q`` onto the line y = 0 heading +x, driven forward: a
-    straight, a left arc, a straight along the lane to a grid station, or (from above the
-    line, heading along it or down) an S of two arcs and a straight; shortest first."""
-    x, y, th = (float(v) for v in q)
-    out = []
-    if math.pi < th < 2 * math.pi - 1e-9:
-        sin, cos = math.sin(th), math.cos(th)
-        for f in CLOSING_RADII:
-            r = f * radius
-            d = (r * (1 - cos) - y) / sin  # straight before the arc (sin < 0)
-            if d < -1e-9:
-                continue
-            p = (x, y, th)
-            segs = [Segment(p, max(d, 0.0), 0.0)] if d > 1e-9 else []
-            p = segs[-1].end if segs else p
-            segs.append(Segment(p, (2 * math.pi - th) * r, 1.0 / r))
-            out += _onto_lane(segs, lane_length)
-    if 1.5 * math.pi < th <= 2 * math.pi + 1e-9 and y > 1e-6:
-        for f in S_RADII:
-            out += _onto_lane(_s_curve(x, y, th, f * radius), lane_length)
-    return [segs for _, segs in sorted(out, key=lambda c: c[0])]
-
-
-def _s_curve(x: float, y: float, th: float, r: float) -> list[Segment]:
-    """A right arc then a left arc, both of radius ``r``, from local ``(x, y, th)`` to the
-    line y = 0 heading +x (empty when the two circles cannot meet)."""
-    c1 = (x + r * math.sin(th), y - r * math.cos(th))  # centre of the right arc
-    gap = c1[1] - r  # the left arc's centre lies at height r
-    if abs(gap) > 2 * r:
-        return []
-    c2 = (c1[0] + math.sqrt(4 * r * r - gap * gap), r)
-    mx, my = (c1[0] + c2[0]) / 2, (c1[1] + c2[1]) / 2  # where the arcs meet
-    h = math.atan2(-(mx - c1[0]), my - c1[1])  # heading there
-    first = (th - h) % (2 * math.pi)
-    second = (-h) % (2 * math.pi)
-    if first > math.pi or second > math.pi:
-        return []  # not an S: it would loop
-    a = Segment((x, y, th), first * r, -1.0 / r)
-    return [a, Segment(a.end, second * r, 1.0 / r)]
-
-
-def _onto_lane(segs: list[Segment], lane_length: float) -> list[tuple[float, list[Segment]]]:
-    """``segs``, which end on the line y = 0 heading +x, and a straight along it to the next
-    grid station :data:`GRID` or more ahead (with their length), if that is on the lane."""
-    if not segs:
-        return []
-    end_x = segs[-1].end[0]
-    target = math.ceil((end_x + GRID) / GRID - 1e-9) * GRID
-    if end_x < -1e-9 or target > lane_length + 1e-9:
-        return []
-    segs = [*segs, Segment((segs[-1].end[0], 0.0, 0.0), target - end_x, 0.0)]
-    return [(sum(s.length for s in segs), segs)]
-
-
 def _extent(frame: FloatArray, pose: FloatArray, gear: int, kappa: float, cap: float,
             collider: Collider, body: DesignVehicle) -> float:
     """How far a stroke from local ``pose`` runs clear, to :data:`STEP` [m]."""
     n = max(1, math.ceil(cap / STEP))
     s = np.linspace(0.0, cap, n + 1)
     local = advance(pose, gear * s, kappa)
-    bad = first_blocked(collider.blocked, body.footprints(_to_world(frame, local)),
+    bad = first_blocked(collider.blocked, body.footprints(to_world(frame, local)),
                         np.zeros(n, dtype=int))
     first = int(bad.argmax()) if bad.any() else n
     return float(s[first])
@@ -263,28 +199,8 @@ def _blocked(frame: FloatArray, segs: list[Segment], collider: Collider,
              body: DesignVehicle) -> bool:
     poses, _ = sample_segments(segs, STEP)
     if len(poses) == 1:
-        return bool(collider.blocked(body.footprints(_to_world(frame, poses)))[0])
-    return bool(first_blocked(collider.blocked, body.footprints(_to_world(frame, poses)),
+        return bool(collider.blocked(body.footprints(to_world(frame, poses)))[0])
+    return bool(first_blocked(collider.blocked, body.footprints(to_world(frame, poses)),
                               np.zeros(len(poses) - 1, dtype=int)).any())
 
 
-def _to_local(frame: FloatArray, poses: FloatArray) -> FloatArray:
-    p = np.atleast_2d(poses).astype(float)
-    c, s = math.cos(frame[2]), math.sin(frame[2])
-    dx, dy = p[:, 0] - frame[0], p[:, 1] - frame[1]
-    out = np.column_stack([c * dx + s * dy, -s * dx + c * dy,
-                           np.mod(p[:, 2] - frame[2], 2 * math.pi)])
-    return out[0] if np.ndim(poses) == 1 else out
-
-
-def _to_world(frame: FloatArray, poses: FloatArray) -> FloatArray:
-    p = np.atleast_2d(poses)
-    c, s = math.cos(frame[2]), math.sin(frame[2])
-    return np.column_stack([frame[0] + c * p[:, 0] - s * p[:, 1],
-                            frame[1] + s * p[:, 0] + c * p[:, 1], p[:, 2] + frame[2]])
-
-
-def _segment_to_world(frame: FloatArray, seg: Segment) -> Segment:
-    x, y, t = _to_world(frame, np.array(seg.start))[0]
-    pose: Pose = (float(x), float(y), float(math.remainder(t, 2 * math.pi)))
-    return Segment(pose, seg.distance, seg.curvature, seg.sharpness)

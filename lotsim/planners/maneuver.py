@@ -423,9 +423,10 @@ class ManeuverPlanner:
     max_changes : int, keyword-only
         Most direction changes a maneuver may have (:attr:`ManeuverSettings.max_changes`).
     lane_ranges : dict, keyword-only
-        Lane id → (first, last) station [m] where a maneuver may start; a lane
-        not listed gets none. Default (None): every lane, whole.
-        :meth:`LotGraph.maneuver_ranges` gives the part a car can reach or leave by.
+        Lane id → (first, last) station [m] where a maneuver may start, or several such
+        ranges (a slot's maneuver is planned in the one nearest it); a lane not listed gets
+        none. Default (None): every lane, whole. :meth:`LotGraph.maneuver_ranges` gives
+        the parts a car can reach or leave by.
 
     Notes
     -----
@@ -438,7 +439,7 @@ class ManeuverPlanner:
     def __init__(self, lot: Lot, *, settings: ManeuverSettings | None = None,
                  margin: float | None = None, parked_width: float | None = None,
                  max_changes: int | None = None,
-                 lane_ranges: dict[str, tuple[float, float]] | None = None):
+                 lane_ranges: dict[str, tuple] | None = None):
         settings = settings or ManeuverSettings()
         changes = {k: v for k, v in (("margin", margin), ("max_changes", max_changes))
                    if v is not None}
@@ -731,8 +732,12 @@ class ManeuverPlanner:
             half += 2.0 * abs(lane_y)
         if math.isfinite(lane_y):
             whole = (0.0, lane.length)
-            first, last = (whole if self.lane_ranges is None
-                           else self.lane_ranges.get(lane.id, (math.inf, -math.inf)))
+            spans = ((whole,) if self.lane_ranges is None
+                     else self.lane_ranges.get(lane.id, ((math.inf, -math.inf),)))
+            if spans and not isinstance(spans[0], tuple):
+                spans = (spans,)  # one (first, last)
+            # the range nearest the slot (the first of those it lies in)
+            first, last = min(spans, key=lambda r: max(r[0] - s_mid, s_mid - r[1], 0.0))
             lane_x = (max(lo, -half, first - s0), min(lo + seg.length, half, last - s0))
         index = self._index[slot.id]
         win = self._window(slot, frame, half)

@@ -1,0 +1,301 @@
+"""Multi-point turns anywhere the drivable area allows: from a pose onto a lane's line.
+
+Where no single turn takes a car onto a lane — a junction too small to turn in at one go,
+the end of a short arm, a dead end whose turnaround must land before the lane's next turn
+— a driver makes a few strokes at or near full lock, forward and back, and then one last
+move onto the lane. :func:`plan_onto` finds such a path with a Hybrid A* (Dolgov, Thrun,
+Montemerlo and Diebel, 2008):
+
+* states are continuous poses, one kept per cell of an (x, y, heading) grid;
+* a move is a short arc at full left lock, a straight or an arc at full right lock,
+  forward or in reverse, and is kept only if the body's sweep over it touches nothing
+  (hulls of footprints :data:`STEP` apart, as everywhere in lotsim);
+* from every state the search tries to finish at once with the turnaround planner's last
+  move (:func:`closings`: a straight, one arc and a straight along
+  the lane, or an S of two wide arcs), left-handed or mirrored;
+* the cost is path length, plus a price on every change of direction and of steering
+  (each is a stop to turn the wheels: :func:`lotsim.trajectory.timed_path`), so the
+  fewest strokes win; the heuristic is the straight-line distance to the stretch of lane
+  it may land on, which never overestimates.
+
+Everything is checked for ``body`` (a design vehicle grown by the safety margin, as
+:func:`lotsim.lot.turnaround.turnaround_collider` makes it) against ``collider``.
+"""
+
+from __future__ import annotations
+
+import heapq
+import math
+
+import numpy as np
+
+from lotsim.geometry import FloatArray, Pose, Segment, advance, sample_segments
+from lotsim.lot.clearance import Collider, first_blocked
+from lotsim.lot.model import DesignVehicle
+
+MOVE = 1.0
+"""Length of one search move [m]."""
+STEP = 0.1
+"""Spacing of the footprints whose hulls cover a move when checking it [m]."""
+CELL = 0.5
+"""Side of the grid cells [m] in which the search keeps one state."""
+HEADINGS = 48
+"""Heading bins of the grid (7.5° each)."""
+CUSP = 4.0
+"""Price of a change of direction, in metres of path: a stop, the wheels turned at rest."""
+STEER = 1.5
+"""Price of a change of steering between moves in one direction [m]: a stop to steer."""
+REVERSE = 1.2
+"""Cost of a metre driven in reverse, per metre driven forward."""
+MAX_CHANGES = 8
+"""Most direction changes a path may have."""
+BUDGET = 4000
+"""Most states a search expands."""
+IMPROVE = 300
+"""Once a path is found, how many more states the search expands looking for a cheaper
+one."""
+CLOSING_RADII = (1.0, 1.25, 1.5, 2.0)
+"""The last move's arc tries these multiples of the design radius."""
+
+S_RADII = (2.0, 3.0, 4.0, 6.0)
+"""A last move that is an S (a right arc, then a left arc onto the lane) tries these multiples
+of the design radius: it moves a car that has turned round but stands beside the lane (in a
+narrow aisle the full-lock strokes turn it round in place, off its lane) across, at a
+heading shallow enough to keep its nose out of the bays."""
+
+GRID = 0.5
+"""Turnarounds end on lane stations that are multiples of this [m], at least ``GRID`` past
+where the last arc meets the lane."""
+
+
+def plan_onto(start: Pose, frame: Pose, lo: float, hi: float, collider: Collider,
+              body: DesignVehicle, radius: float, *, max_changes: int = MAX_CHANGES,
+              budget: int = BUDGET) -> tuple[Segment, ...] | None:
+    """The cheapest multi-point path found from ``start`` onto the line through ``frame``
+    (heading along it), landing between ``lo`` and ``hi`` metres along it and ending
+    there heading along it, driven forward at the end; None when none is found within
+    ``budget`` states and ``max_changes`` direction changes.
+
+    ``body`` is checked against ``collider`` all the way; no arc is tighter than
+    ``radius`` [m]. All poses are in the world frame.
+
+    Examples
+    --------
+    A car heading north up a 6 m spur into a 6 m cross street that is too short on its
+    right for one right turn (a car 4.3 m long, radius 5 m): it lands on the east-bound
+    lane after a few strokes, all clear of the lot's edges.
+
+    >>> from shapely.geometry import box
+    >>> from lotsim.lot.clearance import Collider
+    >>> lot = box(4, -12, 10, 0).union(box(0, 0, 16, 6))
+    >>> car = DesignVehicle(1.9, 3.6, 0.9, 5.0, 0.15, 2.0)
+    >>> path = plan_onto((8.5, -8.0, math.pi / 2), (0.0, 1.5, 0.0), 9.0, 11.5,
+    ...                  Collider([], lot), car, 5.0)
+    >>> end = path[-1].end
+    >>> round(end[1], 6), round(end[2], 6), 9.0 <= end[0] <= 11.5
+    (1.5, 0.0, True)
+    """
+    origin = np.array(frame, dtype=float)
+    origin[:2] += lo * np.array([math.cos(frame[2]), math.sin(frame[2])])
+    span = hi - lo
+    if span < 0:
+        return None
+    kmax = 1.0 / radius
+    moves = [(gear, kappa) for gear in (1, -1) for kappa in (kmax, 0.0, -kmax)]
+    n = round(MOVE / STEP)
+    s = np.linspace(0.0, MOVE, n + 1)
+    run = np.where(np.arange(len(moves) * (n + 1) - 1) % (n + 1) == n, -1,
+                   np.arange(len(moves) * (n + 1) - 1) // (n + 1))
+
+    def world(local: FloatArray) -> FloatArray:
+        return to_world(origin, local)
+
+    def blocked_paths(paths: list[list[Segment]]) -> np.ndarray:
+        """Which local ``paths`` touch something (one batch)."""
+        poses, owner = [], []
+        for k, segs in enumerate(paths):
+            p, _ = sample_segments(segs, STEP)
+            poses.append(p)
+            owner.append(np.full(len(p), k))
+        p, o = np.concatenate(poses), np.concatenate(owner)
+        runs = np.where(o[1:] == o[:-1], o[1:], -1)
+        bad = first_blocked(collider.blocked, body.footprints(world(p)), runs)
+        out = np.zeros(len(paths), dtype=bool)
+        out[runs[bad]] = True
+        return out
+
+    def finish(q: FloatArray) -> tuple[float, list[Segment]] | None:
+        """The shortest clear last move from local ``q`` onto the lane, and its length."""
+        found = [(sum(x.length for x in segs), segs) for segs in closings(q, span, radius)]
+        found += [(sum(x.length for x in segs), _mirror(segs))
+                  for segs in closings(_mirror_pose(q), span, radius)]
+        if not found:
+            return None
+        found.sort(key=lambda c: c[0])
+        bad = blocked_paths([segs for _, segs in found])
+        return next((found[k] for k in range(len(found)) if not bad[k]), None)
+
+    def h(q: FloatArray) -> float:
+        return math.hypot(max(-q[0], 0.0, q[0] - span), q[1])
+
+    local0 = to_local(origin, np.array(start, dtype=float))
+    # state: (local pose, gear of the last move, curvature, changes, parent, segment)
+    states: list[tuple[FloatArray, int, float, int, int, Segment | None]] = [
+        (local0, 0, math.nan, 0, -1, None)]
+    cost = [0.0]
+    heap = [(h(local0), 0)]
+    closed: set[tuple[int, int, int]] = set()
+    best: tuple[float, int, list[Segment]] | None = None
+    expanded = found_at = 0
+    while heap and expanded < budget:
+        f, sid = heapq.heappop(heap)
+        if best is not None and (f >= best[0] or expanded >= found_at + IMPROVE):
+            break
+        q, gear, kappa, changes, _, _ = states[sid]
+        key = (round(q[0] / CELL), round(q[1] / CELL),
+               round(q[2] / (2 * math.pi / HEADINGS)) % HEADINGS)
+        if key in closed:
+            continue
+        closed.add(key)
+        expanded += 1
+        last = finish(q)
+        if last is not None:
+            extra = (CUSP if gear < 0 else 0.0) + last[0]
+            if changes + (gear < 0) <= max_changes and (
+                    best is None or cost[sid] + extra < best[0]):
+                if best is None:
+                    found_at = expanded
+                best = (cost[sid] + extra, sid, last[1])
+        ends = advance(np.repeat(q[None, :], len(moves), axis=0),
+                       np.array([g * MOVE for g, _ in moves]), np.array([k for _, k in moves]))
+        poses = advance(q, np.concatenate([g * s for g, _ in moves]),
+                        np.repeat([k for _, k in moves], n + 1))
+        bad = first_blocked(collider.blocked, body.footprints(world(poses)), run)
+        hit = set(run[bad].tolist())
+        for m, (g, k) in enumerate(moves):
+            if m in hit:
+                continue
+            turn = gear != 0 and g != gear
+            if changes + turn > max_changes:
+                continue
+            c = cost[sid] + MOVE * (1.0 if g > 0 else REVERSE) + (CUSP if turn else 0.0) + (
+                STEER if not turn and gear != 0 and k != kappa else 0.0)
+            end = ends[m]
+            end[2] %= 2 * math.pi
+            states.append((end, g, k, changes + turn, sid,
+                           Segment(tuple(map(float, q)), g * MOVE, k)))
+            cost.append(c)
+            heapq.heappush(heap, (c + h(end), len(states) - 1))
+    if best is None:
+        return None
+    _, sid, tail = best
+    segs: list[Segment] = []
+    while sid >= 0:
+        seg = states[sid][5]
+        if seg is not None:
+            segs.append(seg)
+        sid = states[sid][4]
+    segs.reverse()
+    return tuple(segment_to_world(origin, x) for x in _merged([*segs, *tail]))
+
+
+def _merged(segs: list[Segment]) -> list[Segment]:
+    """Consecutive moves of one gear and curvature as one segment."""
+    out: list[Segment] = []
+    for x in segs:
+        if x.length < 1e-9:
+            continue
+        if out and out[-1].sharpness == 0.0 == x.sharpness and out[-1].gear == x.gear \
+                and out[-1].curvature == x.curvature:
+            out[-1] = Segment(out[-1].start, out[-1].distance + x.distance, x.curvature)
+        else:
+            out.append(x)
+    return out
+
+
+def _mirror_pose(q: FloatArray) -> FloatArray:
+    """``q`` reflected in the lane's line (y → -y, heading → -heading)."""
+    return np.array([q[0], -q[1], (-q[2]) % (2 * math.pi)])
+
+
+def _mirror(segs: list[Segment]) -> list[Segment]:
+    return [Segment((x.start[0], -x.start[1], -x.start[2]), x.distance, -x.curvature,
+                    -x.sharpness) for x in segs]
+
+
+def closings(q: FloatArray, lane_length: float, radius: float) -> list[list[Segment]]:
+    """Last moves from local pose ``q`` onto the line y = 0 heading +x, driven forward: a
+    straight, a left arc, a straight along the lane to a grid station, or (from above the
+    line, heading along it or down) an S of two arcs and a straight; shortest first."""
+    x, y, th = (float(v) for v in q)
+    out = []
+    if math.pi < th < 2 * math.pi - 1e-9:
+        sin, cos = math.sin(th), math.cos(th)
+        for f in CLOSING_RADII:
+            r = f * radius
+            d = (r * (1 - cos) - y) / sin  # straight before the arc (sin < 0)
+            if d < -1e-9:
+                continue
+            p = (x, y, th)
+            segs = [Segment(p, max(d, 0.0), 0.0)] if d > 1e-9 else []
+            p = segs[-1].end if segs else p
+            segs.append(Segment(p, (2 * math.pi - th) * r, 1.0 / r))
+            out += _onto_lane(segs, lane_length)
+    if 1.5 * math.pi < th <= 2 * math.pi + 1e-9 and y > 1e-6:
+        for f in S_RADII:
+            out += _onto_lane(_s_curve(x, y, th, f * radius), lane_length)
+    return [segs for _, segs in sorted(out, key=lambda c: c[0])]
+
+
+def _s_curve(x: float, y: float, th: float, r: float) -> list[Segment]:
+    """A right arc then a left arc, both of radius ``r``, from local ``(x, y, th)`` to the
+    line y = 0 heading +x (empty when the two circles cannot meet)."""
+    c1 = (x + r * math.sin(th), y - r * math.cos(th))  # centre of the right arc
+    gap = c1[1] - r  # the left arc's centre lies at height r
+    if abs(gap) > 2 * r:
+        return []
+    c2 = (c1[0] + math.sqrt(4 * r * r - gap * gap), r)
+    mx, my = (c1[0] + c2[0]) / 2, (c1[1] + c2[1]) / 2  # where the arcs meet
+    h = math.atan2(-(mx - c1[0]), my - c1[1])  # heading there
+    first = (th - h) % (2 * math.pi)
+    second = (-h) % (2 * math.pi)
+    if first > math.pi or second > math.pi:
+        return []  # not an S: it would loop
+    a = Segment((x, y, th), first * r, -1.0 / r)
+    return [a, Segment(a.end, second * r, 1.0 / r)]
+
+
+def _onto_lane(segs: list[Segment], lane_length: float) -> list[tuple[float, list[Segment]]]:
+    """``segs``, which end on the line y = 0 heading +x, and a straight along it to the next
+    grid station :data:`GRID` or more ahead (with their length), if that is on the lane."""
+    if not segs:
+        return []
+    end_x = segs[-1].end[0]
+    target = math.ceil((end_x + GRID) / GRID - 1e-9) * GRID
+    if end_x < -1e-9 or target > lane_length + 1e-9:
+        return []
+    segs = [*segs, Segment((segs[-1].end[0], 0.0, 0.0), target - end_x, 0.0)]
+    return [(sum(s.length for s in segs), segs)]
+
+
+
+def to_local(frame: FloatArray, poses: FloatArray) -> FloatArray:
+    p = np.atleast_2d(poses).astype(float)
+    c, s = math.cos(frame[2]), math.sin(frame[2])
+    dx, dy = p[:, 0] - frame[0], p[:, 1] - frame[1]
+    out = np.column_stack([c * dx + s * dy, -s * dx + c * dy,
+                           np.mod(p[:, 2] - frame[2], 2 * math.pi)])
+    return out[0] if np.ndim(poses) == 1 else out
+
+
+def to_world(frame: FloatArray, poses: FloatArray) -> FloatArray:
+    p = np.atleast_2d(poses)
+    c, s = math.cos(frame[2]), math.sin(frame[2])
+    return np.column_stack([frame[0] + c * p[:, 0] - s * p[:, 1],
+                            frame[1] + s * p[:, 0] + c * p[:, 1], p[:, 2] + frame[2]])
+
+
+def segment_to_world(frame: FloatArray, seg: Segment) -> Segment:
+    x, y, t = to_world(frame, np.array(seg.start))[0]
+    pose: Pose = (float(x), float(y), float(math.remainder(t, 2 * math.pi)))
+    return Segment(pose, seg.distance, seg.curvature, seg.sharpness)
