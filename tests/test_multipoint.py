@@ -12,10 +12,13 @@ from shapely.geometry import box
 from lotsim.check import check_result
 from lotsim.geometry import Segment
 from lotsim.io.result import result_dict
+from lotsim.lot.build import build_lot
 from lotsim.lot.clearance import Collider
 from lotsim.lot.model import DesignVehicle
 from lotsim.lot.multipoint import plan_onto
+from lotsim.planners.maneuver import ManeuverPlanner
 from lotsim.sim import prepare, run
+from lotsim.vehicles import CATALOGUE
 
 CAR = DesignVehicle(width=1.9, front=3.6, rear=0.9, min_radius=5.0, max_curvature_rate=0.15,
                     max_lateral_accel=2.0)
@@ -60,8 +63,9 @@ def test_a_multi_point_path_lands_on_the_lane_within_its_stretch_clear_of_everyt
     ends on the lane's line heading along it inside [lo, hi], driven forward at the end,
     and every footprint along it lies inside the lot (shapely, 1 cm apart)."""
     lot = box(4, -12, 10, 0).union(box(0, 0, 16, 6))
-    path = plan_onto(start, frame, lo, hi, Collider([], lot), CAR, 5.0)
-    assert path is not None
+    found = plan_onto([start], frame, lo, hi, Collider([], lot), CAR, 5.0)
+    assert found is not None
+    path = found[1]
     pose = np.array(start)
     poses = []
     for seg in path:
@@ -84,7 +88,7 @@ def test_a_multi_point_path_lands_on_the_lane_within_its_stretch_clear_of_everyt
 def test_a_multi_point_path_is_none_when_the_lane_cannot_be_reached():
     """A car facing a wall it cannot turn in front of, with the lane behind the wall."""
     lot = box(0, 0, 6, 6)
-    assert plan_onto((3.0, 1.0, math.pi / 2), (0.0, 20.0, 0.0), 0.0, 10.0,
+    assert plan_onto([(3.0, 1.0, math.pi / 2)], (0.0, 20.0, 0.0), 0.0, 10.0,
                      Collider([], lot), CAR, 5.0, budget=500) is None
 
 
@@ -143,3 +147,106 @@ def test_a_spur_meeting_a_short_arm_is_turned_into_in_a_few_strokes_and_every_ba
     report = check_result(doc)
     assert report.ok, [v.message for v in report.violations[:5]]
     assert {v["status"] for v in doc["vehicles"]} == {"departed"}
+
+
+SMALL_TEE = """
+name: small-tee
+seed: 0
+vehicle_types: [altis]
+lot:
+  boundary: [[0, 0], [21.2, 0], [21.2, 15.6], [0, 15.6]]
+  aisles:
+    - {id: spur, centerline: [[10.8, 0], [10.8, 7.8]], width: 6.0}
+    - {id: a0, centerline: [[1.0, 7.8], [20.2, 7.8]], width: 6.0}
+  rows:
+    - {aisle: a0, side: right, kind: perpendicular, count: 2, slot_width: 2.4,
+       slot_length: 4.8, start: 0.0, id_prefix: W}
+    - {aisle: a0, side: right, kind: perpendicular, count: 2, slot_width: 2.4,
+       slot_length: 4.8, start: 13.3, id_prefix: E}
+    - {aisle: a0, side: left, kind: perpendicular, count: 2, slot_width: 2.4,
+       slot_length: 4.8, start: 0.0, id_prefix: N}
+  entrances:
+    - {id: gate-in, x: 12.3, y: 1.5, heading_deg: 90}
+  exits:
+    - {id: gate-out, x: 9.3, y: 4.5, heading_deg: -90}
+traffic:
+  patience: 600
+  stream: {count: 4, rate_per_hour: 60, dwell: [30, 30]}
+"""
+
+
+def test_a_6_m_tee_whose_exit_is_close_to_the_junction_is_left_by_a_multi_point_turn():
+    """Everything tight: 6 m aisles, arms of 9 m, the exit 3.3 m down the spur. Every
+    turn onto the outbound lane lands past the exit, and every turnaround at the end of
+    an arm lands past the turn it needs. Before, every bay was stranded ("can leave none
+    of the free slots it reaches" and the run refused); now a multi-point turn lands
+    before the exit, a turnaround from where a car arrives in the east arm lands before
+    its turn out, and every car departs, checked."""
+    from conftest import scenario_from_text
+
+    sc = scenario_from_text(SMALL_TEE)
+    lg = prepare(sc, cache=False)
+    g = lg.graph
+    exit_station = g.nodes[lg.exits["gate-out"]]["station"]
+    into_exit = [g.nodes[v]["station"] for u, v, d in g.edges(data=True)
+                 if g.nodes[v].get("lane") == "spur<" and d["kind"] in ("turn", "turnaround")]
+    assert min(into_exit) < exit_station
+    reach = lg.reachability()
+    assert reach.ok and reach.by_type["altis"] == ([], []), reach
+    assert not lg.infeasible.get("altis"), lg.infeasible
+    doc = result_dict(run(sc, lot_graph=lg))
+    report = check_result(doc)
+    assert report.ok, [v.message for v in report.violations[:5]]
+    assert {v["status"] for v in doc["vehicles"]} == {"departed"}
+
+
+CLOSED_CORNER = """
+name: closed-corner
+vehicle_types: [msv]
+lot:
+  boundary: [[0, 0], [27.3, 0], [27.3, 33.66], [0, 33.66]]
+  aisles:
+    - {id: spur, centerline: [[11.415, 0], [11.415, 8.415]], width: 6.47}
+    - {id: a0, centerline: [[1.0, 8.415], [24.065, 8.415]], width: 6.47}
+  rows:
+    - {aisle: a0, side: right, kind: perpendicular, count: 2, slot_width: 2.59,
+       slot_length: 5.18, start: 0.0, id_prefix: S}
+    - {aisle: a0, side: left, kind: perpendicular, count: 2, slot_width: 2.59,
+       slot_length: 5.18, start: 0.0, id_prefix: N}
+  entrances:
+    - {id: gate-in, x: 13.032, y: 1.5, heading_deg: 90}
+  occupied: [S1, S2]
+"""
+
+
+def test_a_corner_bay_at_a_closed_end_is_left_towards_the_end_in_a_few_strokes():
+    """N1 sits in the closed west corner of a 6.5 m aisle. Leaving it towards the west-bound
+    lane, the full-lock shuffle finds no way (it was infeasible); strokes that are not all
+    at full lock do. The maneuver ends on the lane heading along it, is no tighter than
+    the car's radius, and keeps the margin to the boundary and to a car of the lot's
+    design width parked centred in every other bay (shapely, footprints 5 cm apart)."""
+    from conftest import scenario_from_text
+
+    sc = scenario_from_text(CLOSED_CORNER)
+    lot = build_lot(sc.lot, DesignVehicle.envelope(sc.vehicle_types))
+    planner = ManeuverPlanner(lot)
+    slot, lane = lot.slot_by_id["N1"], next(x for x in lot.lanes if x.id == "a0<")
+    msv = CATALOGUE["msv"]
+    result = planner.solve(msv, slot, lane)
+    assert result.ok, result.reason
+    m = result.maneuver
+    assert max(s.max_curvature for s in m.segments) <= 1 / msv.min_turning_radius + 1e-9
+    start = lane.pose_at(m.station)
+    assert np.allclose(m.start[:2], start[:2], atol=1e-6)
+    assert math.remainder(m.start[2] - start[2], math.tau) == pytest.approx(0.0, abs=1e-6)
+    poses = np.concatenate([s.sample(0.05) for s in m.segments])
+    bodies = shapely.polygons(msv.footprints(poses))
+    assert shapely.covers(lot.boundary.buffer(-0.099), bodies).all()
+    parked = []
+    for s in lot.slots:
+        if s.id != "N1":
+            u = np.array([math.cos(s.heading), math.sin(s.heading)])
+            n = np.array([-u[1], u[0]]) * lot.design.width / 2
+            c, h = np.asarray(s.center), u * s.length / 2
+            parked.append(shapely.Polygon([c - h - n, c + h - n, c + h + n, c - h + n]))
+    assert shapely.distance(bodies, shapely.union_all(parked)).min() >= 0.099

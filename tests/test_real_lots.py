@@ -116,7 +116,8 @@ traffic:
 def test_short_arms_with_corner_bays_have_turnarounds_and_every_bay_is_left():
     """A gate spur meeting a short aisle at a T, two bays at each corner: a car that parks
     past the last turn off its lane (the arms are shorter than a dead end's 15 m) must turn
-    round there. Before, 5 of the 6 bays could not be left and the run was refused."""
+    round there. Before, 5 of the 6 bays could not be left and the run was refused; then
+    N1, in the closed corner, had no maneuver."""
     from conftest import scenario_from_text
 
     sc = scenario_from_text(TEE)
@@ -124,8 +125,9 @@ def test_short_arms_with_corner_bays_have_turnarounds_and_every_bay_is_left():
     reach = lg.reachability()
     no_in, no_out = reach.by_type["msv"]
     assert not no_out and not reach.no_way_out, reach
-    # all but N1, in the closed west corner: it has no maneuver from where a car can come yet
-    assert set(lg.infeasible["msv"]) | set(no_in) <= {"N1"}
+    # N1 too, in the closed west corner, where the full-lock shuffle finds no way out: the
+    # multi-point search (arcs and straights in either gear) does
+    assert not lg.infeasible.get("msv") and not no_in, (lg.infeasible, no_in)
     backs = [d["path"] for _, _, d in lg.graph.edges(data=True) if d["kind"] == "turnaround"]
     assert backs
     for path in backs:

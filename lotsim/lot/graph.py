@@ -61,6 +61,7 @@ from lotsim.lot.build import SWEEP_STEP, lane_collider
 from lotsim.lot.clearance import Collider
 from lotsim.lot.model import DesignVehicle, Lane, Lot, Portal, Slot, unit
 from lotsim.lot.multipoint import plan_onto
+from lotsim.lot.turnaround import STARTS as TURNAROUND_STARTS
 from lotsim.lot.turnaround import (
     Turnaround,
     plan_turnarounds,
@@ -346,12 +347,12 @@ def build_graph(lot: Lot, *, node_spacing: float = 4.0, maneuvers=None,
     # turns for more types first: two that join the same nodes keep the one more can drive
     tagged.sort(key=lambda c: -len(designs or ()) if c[1] is None else -len(c[1]))
     turns = [t for t, _ in tagged]
-    multis = _junction_multipoints(lot, tagged, designs)
     joins = _joins(lot)
     exits = {}
     for p in lot.exits:
         lid, st = _portal_station(lot, p)
         exits[lid] = max(exits.get(lid, -math.inf), st)
+    multis = _junction_multipoints(lot, tagged, designs, exits)
     stays = {} if maneuvers is None else (stays or {})
     attach = (_attachments(lot) if maneuvers is None
               else _maneuver_attachments(lot, [*maneuvers.items(), *stays.items()]))
@@ -359,7 +360,8 @@ def build_graph(lot: Lot, *, node_spacing: float = 4.0, maneuvers=None,
     for links in attach.values():
         for lid, st in links:
             stops[lid] = max(stops.get(lid, -math.inf), st)
-    backs, no_back = _turnarounds_of(lot, turns, joins, exits, designs, stops)
+    backs, no_back = _turnarounds_of(lot, turns, joins, exits, designs, stops,
+                                     [t for t, _ in multis])
     backs += multis
     # turnarounds for more types first: two that join the same nodes keep the one more can
     # drive
@@ -700,7 +702,7 @@ _BACK_PLANS: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()  # lot → 
 
 def _turnarounds_of(lot: Lot, turns: list[Turn], joins: list[tuple[str, str]],
                     exits: dict[str, float], designs: dict[str, DesignVehicle] | None = None,
-                    stops: dict[str, float] | None = None
+                    stops: dict[str, float] | None = None, multis: list[Turnaround] = ()
                     ) -> tuple[list[tuple[Turnaround, frozenset | None]], list[str]]:
     """Turnarounds at the dead ends of two-way aisles, each with the vehicle types that can
     drive it (None: every type), and a note for each dead end where none fits (naming the
@@ -716,6 +718,11 @@ def _turnarounds_of(lot: Lot, turns: list[Turn], joins: list[tuple[str, str]],
     turnarounds are planned for each type on its own — a small car turns round where the
     envelope of all the types, or a van that fits no bay, could not — and each is tagged
     with every type it suits: no tighter than its radius, clear for its body and margin.
+
+    Where every turnaround found lands past the last place the opposite lane can be left
+    (a turn off it, an exit, its continuation), or begins before where a car arrives on the
+    lane (a turn or a multi-point junction turn, ``multis``, landing near its end), one is
+    also looked for by multi-point search (:func:`_reaching_turnarounds`).
     """
     stops = stops or {}
     last = {lane.id: exits.get(lane.id, -math.inf) + DEAD_END for lane in lot.lanes}
@@ -731,6 +738,13 @@ def _turnarounds_of(lot: Lot, turns: list[Turn], joins: list[tuple[str, str]],
                                           or stops.get(lane.id, -math.inf) > turned[lane.id])]
     key = (tuple(sorted(designs.items())) if designs else None,
            tuple(lane.id for lane, _ in ends))
+    # where a car arrives on each lane, and the last place it can leave each lane from
+    arrive: dict[str, set[float]] = {}
+    go_on = {lane.id: (lane.length if lane.id in joined else turned[lane.id])
+             for lane in lot.lanes}
+    for x in [*turns, *multis]:
+        arrive.setdefault(x.lane_b, set()).add(x.station_b)
+        go_on[x.lane_a] = max(go_on[x.lane_a], x.station_a)
     cache = _BACKS.setdefault(lot, {})
     if key not in cache:
         per = designs or {"": lot.design}
@@ -745,11 +759,18 @@ def _turnarounds_of(lot: Lot, turns: list[Turn], joins: list[tuple[str, str]],
                     planned[lane.id, design] = plan_turnarounds(lane, back, collider, body,
                                                                 design.min_radius)
                 t = planned[lane.id, design]
-                if isinstance(t, str):
+                reach_key = (lane.id, design, tuple(sorted(arrive.get(lane.id, ()))),
+                             go_on[back.id], "reach")
+                if reach_key not in planned:
+                    planned[reach_key] = (_reaching_turnarounds(
+                        lane, back, [] if isinstance(t, str) else t, collider, body,
+                        design.min_radius, arrive.get(lane.id, ()), go_on[back.id])
+                        if _fits_a_slot(lot, design) else [])
+                more = planned[reach_key]
+                if isinstance(t, str) and not more:
                     why[lane.id, name] = t
-                else:
-                    for x in t:
-                        tagged.setdefault(x, set()).add(name)
+                for x in ([] if isinstance(t, str) else t) + more:
+                    tagged.setdefault(x, set()).add(name)
         for t, names in tagged.items():  # and every other type it suits
             bend = max(seg.max_curvature for seg in t.segments)
             names.update(name for name, design in per.items() if name not in names
@@ -770,6 +791,57 @@ def _turnarounds_of(lot: Lot, turns: list[Turn], joins: list[tuple[str, str]],
                        for t, n in tagged.items()], notes)
     found, notes = cache[key]
     return list(found), list(notes)
+
+
+def _fits_a_slot(lot: Lot, design: DesignVehicle) -> bool:
+    """Whether a car of outline ``design`` fits some slot of ``lot`` (length and width)."""
+    return any(design.front + design.rear <= s.length + _EPS and design.width <= s.width + _EPS
+               for s in lot.slots)
+
+
+def _reaching_turnarounds(lane: Lane, back: Lane, found: list[Turnaround],
+                          collider: Collider, body: DesignVehicle, radius: float,
+                          arrive, go_on: float) -> list[Turnaround]:
+    """Turnarounds from ``lane`` onto ``back`` by multi-point search
+    (:func:`~lotsim.lot.multipoint.plan_onto`) that land at or before ``go_on`` (the last
+    station ``back`` can be left from), where those ``found`` leave a car stranded: one from
+    as near the lane's end as there is room when every one found lands past ``go_on`` (or
+    none was found),
+    and one from the last station in ``arrive`` (where turns land on ``lane``) when that is
+    past where every one found begins (a car arriving earlier drives on to it)."""
+    seg = back.segments[0]
+    if seg.curvature != 0.0 or seg.sharpness != 0.0 or go_on < 0:
+        return []
+    hi = min(go_on, seg.length)
+    out: list[Turnaround] = []
+
+    def plan(starts) -> None:
+        starts = [st for st in starts if st >= 0 and _on_straight(lane, st)]
+        got = (plan_onto([lane.pose_at(st) for st in starts], seg.start, 0.0, hi, collider,
+                         body, radius) if starts else None)
+        if got is not None:
+            k, segs = got
+            out.append(Turnaround(lane.id, starts[k], back.id, _along(seg, segs[-1].end),
+                                  segs))
+
+    if all(t.station_b > go_on + _EPS for t in found):
+        plan([lane.length - k for k in TURNAROUND_STARTS])
+    # a car arriving past every start drives on to the last arrival and turns there
+    latest = max((t.station_a for t in [*found, *out]), default=-math.inf)
+    last = max(arrive, default=-math.inf)
+    if last > latest + _EPS:
+        plan([last])
+    return out
+
+
+def _on_straight(lane: Lane, station: float) -> bool:
+    seg = lane.segments[lane.locate(station)[0]]
+    return seg.curvature == 0.0 and seg.sharpness == 0.0
+
+
+def _along(seg: Segment, pose) -> float:
+    """How far along straight ``seg``'s line ``pose`` lies from its start [m]."""
+    return float(np.dot(np.subtract(pose[:2], seg.start[:2]), unit(seg.start[2])))
 
 
 def _junction_turns(lot: Lot, collider: Collider, design: DesignVehicle | None = None
@@ -808,7 +880,8 @@ _MULTIS: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()  # lot → {typ
 
 
 def _junction_multipoints(lot: Lot, tagged: list[tuple[Turn, frozenset | None]],
-                          designs: dict[str, DesignVehicle] | None = None
+                          designs: dict[str, DesignVehicle] | None = None,
+                          exits: dict[str, float] | None = None
                           ) -> list[tuple[Turnaround, frozenset | None]]:
     """Multi-point turns between lanes of aisles that meet, where no turn joins them for
     some vehicle type (``tagged``: the junction turns, each with the types that can drive
@@ -816,24 +889,33 @@ def _junction_multipoints(lot: Lot, tagged: list[tuple[Turn, frozenset | None]],
     meeting a narrow aisle — is turned in as a driver does, in a few strokes
     (:func:`~lotsim.lot.multipoint.plan_onto`), beginning at or a little before the
     crossing and landing on the other lane past it, driven from rest to rest like a
-    turnaround. Each is tagged with the types it suits (None: all); worked out once per
-    lot and set of types."""
+    turnaround. So too where every turn lands past an exit on the other lane (``exits``:
+    lane → its last exit's station) that the crossing is before: an exit close to the
+    junction, which the multi-point turn lands before. Each is tagged with the types it
+    suits (None: all); worked out once per lot and set of types."""
+    exits = exits or {}
     key = tuple(sorted(designs.items())) if designs else None
     cache = _MULTIS.setdefault(lot, {})
     if key in cache:
         return list(cache[key])
     per = designs or {"": lot.design}
     every = frozenset(per)
-    joined: dict[tuple[str, str], set[str]] = {}
+    lands: dict[tuple[str, str], dict[str, float]] = {}  # (a, b) → type → first landing
     for t, types in tagged:
-        joined.setdefault((t.lane_a, t.lane_b), set()).update(every if types is None
-                                                              else types)
+        pair = lands.setdefault((t.lane_a, t.lane_b), {})
+        for name in every if types is None else types:
+            pair[name] = min(pair.get(name, math.inf), t.station_b)
     bodies = {name: turnaround_collider(lot, design) for name, design in per.items()}
     found: dict[Turnaround, set[str]] = {}
+    parks = [n for n, design in per.items() if _fits_a_slot(lot, design)]  # others never park
     for a in lot.lanes:
         for b in lot.lanes:
-            lacking = [n for n in per if n not in joined.get((a.id, b.id), ())]
-            if a.aisle == b.aisle or not lacking:
+            if a.aisle == b.aisle:
+                continue
+            landed = lands.get((a.id, b.id), {})
+            out_at = exits.get(b.id, math.inf)
+            lacking = [n for n in parks if n not in landed or landed[n] > out_at + _EPS]
+            if not lacking:
                 continue
             aisle_a, aisle_b = lot.aisles[a.aisle], lot.aisles[b.aisle]
             reach = max(aisle_a.width, aisle_b.width) / 2 + 1.0
@@ -843,7 +925,8 @@ def _junction_multipoints(lot: Lot, tagged: list[tuple[Turn, frozenset | None]],
                     if corner is None:
                         continue
                     _, ta, tb, _ = corner
-                    if sa0 + ta < MULTI_ROOM or pb.length - tb < MULTI_ROOM:
+                    hi = min(pb.length, out_at - sb0)  # land before the exit, if any
+                    if sa0 + ta < MULTI_ROOM or hi - tb < MULTI_ROOM:
                         continue  # a lane that begins, or one that ends, at the crossing
                     end = min(ta, pa.length)
                     starts = sorted({max(end - k, 0.0) for k in MULTI_STARTS} | {pa.length},
@@ -852,23 +935,13 @@ def _junction_multipoints(lot: Lot, tagged: list[tuple[Turn, frozenset | None]],
                         if any(name in n for t, n in found.items()
                                if (t.lane_a, t.lane_b) == (a.id, b.id)):
                             continue
-                        design = per[name]
-                        best = None
-                        for st in starts:
-                            segs = plan_onto(pa.poses_at(st)[0], pb.start, max(tb - 1.0, 0.0),
-                                             pb.length, *bodies[name], design.min_radius)
-                            if segs is None:
-                                continue
-                            x_end = float(np.dot(np.subtract(segs[-1].end[:2], pb.start[:2]),
-                                                 unit(pb.start[2])))
-                            t = Turnaround(a.id, sa0 + st, b.id, sb0 + x_end, segs)
-                            cost = (t.changes, sum(x.length for x in segs))
-                            if best is None or cost < best[0]:
-                                best = (cost, t)
-                            if t.changes <= 1:
-                                break  # one reverse stroke: no start does much better
-                        if best is not None:
-                            found.setdefault(best[1], set()).add(name)
+                        got = plan_onto(list(pa.poses_at(starts)), pb.start, max(tb - 1.0, 0.0),
+                                        hi, *bodies[name], per[name].min_radius)
+                        if got is not None:
+                            k, segs = got
+                            t = Turnaround(a.id, sa0 + starts[k], b.id,
+                                           sb0 + _along(pb, segs[-1].end), segs)
+                            found.setdefault(t, set()).add(name)
     for t, names in found.items():  # and every other type it suits
         bend = max(seg.max_curvature for seg in t.segments)
         names.update(n for n, design in per.items() if n not in names

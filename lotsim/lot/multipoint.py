@@ -15,8 +15,10 @@ Montemerlo and Diebel, 2008):
   the lane, or an S of two wide arcs), left-handed or mirrored;
 * the cost is path length, plus a price on every change of direction and of steering
   (each is a stop to turn the wheels: :func:`lotsim.trajectory.timed_path`), so the
-  fewest strokes win; the heuristic is the straight-line distance to the stretch of lane
-  it may land on, which never overestimates.
+  fewest strokes win; the heuristic is the larger of the straight-line distance to the
+  stretch of lane it may land on and the full-lock arc that turns the car to the lane's
+  heading, neither of which overestimates, weighted by :data:`WEIGHT` (a path found costs
+  at most that much more than the cheapest, and is found far sooner).
 
 Everything is checked for ``body`` (a design vehicle grown by the safety margin, as
 :func:`lotsim.lot.turnaround.turnaround_collider` makes it) against ``collider``.
@@ -26,6 +28,7 @@ from __future__ import annotations
 
 import heapq
 import math
+from collections.abc import Sequence
 
 import numpy as np
 
@@ -49,8 +52,10 @@ REVERSE = 1.2
 """Cost of a metre driven in reverse, per metre driven forward."""
 MAX_CHANGES = 8
 """Most direction changes a path may have."""
-BUDGET = 4000
+BUDGET = 3000
 """Most states a search expands."""
+WEIGHT = 1.5
+"""The heuristic's weight: a path found is at most this much dearer than the cheapest."""
 IMPROVE = 300
 """Once a path is found, how many more states the search expands looking for a cheaper
 one."""
@@ -68,13 +73,15 @@ GRID = 0.5
 where the last arc meets the lane."""
 
 
-def plan_onto(start: Pose, frame: Pose, lo: float, hi: float, collider: Collider,
-              body: DesignVehicle, radius: float, *, max_changes: int = MAX_CHANGES,
-              budget: int = BUDGET) -> tuple[Segment, ...] | None:
-    """The cheapest multi-point path found from ``start`` onto the line through ``frame``
-    (heading along it), landing between ``lo`` and ``hi`` metres along it and ending
-    there heading along it, driven forward at the end; None when none is found within
-    ``budget`` states and ``max_changes`` direction changes.
+def plan_onto(starts: Sequence[Pose], frame: Pose, lo: float, hi: float,
+              collider: Collider, body: DesignVehicle, radius: float, *,
+              max_changes: int = MAX_CHANGES, budget: int = BUDGET
+              ) -> tuple[int, tuple[Segment, ...]] | None:
+    """The cheapest multi-point path found from any of ``starts`` onto the line through
+    ``frame`` (heading along it), landing between ``lo`` and ``hi`` metres along it and
+    ending there heading along it, driven forward at the end, as ``(index of its start,
+    segments)``; None when none is found within ``budget`` states and ``max_changes``
+    direction changes. One search serves every start (a tie goes to the earlier).
 
     ``body`` is checked against ``collider`` all the way; no arc is tighter than
     ``radius`` [m]. All poses are in the world frame.
@@ -89,8 +96,8 @@ def plan_onto(start: Pose, frame: Pose, lo: float, hi: float, collider: Collider
     >>> from lotsim.lot.clearance import Collider
     >>> lot = box(4, -12, 10, 0).union(box(0, 0, 16, 6))
     >>> car = DesignVehicle(1.9, 3.6, 0.9, 5.0, 0.15, 2.0)
-    >>> path = plan_onto((8.5, -8.0, math.pi / 2), (0.0, 1.5, 0.0), 9.0, 11.5,
-    ...                  Collider([], lot), car, 5.0)
+    >>> _, path = plan_onto([(8.5, -8.0, math.pi / 2)], (0.0, 1.5, 0.0), 9.0, 11.5,
+    ...                     Collider([], lot), car, 5.0)
     >>> end = path[-1].end
     >>> round(end[1], 6), round(end[2], 6), 9.0 <= end[0] <= 11.5
     (1.5, 0.0, True)
@@ -136,14 +143,19 @@ def plan_onto(start: Pose, frame: Pose, lo: float, hi: float, collider: Collider
         return next((found[k] for k in range(len(found)) if not bad[k]), None)
 
     def h(q: FloatArray) -> float:
-        return math.hypot(max(-q[0], 0.0, q[0] - span), q[1])
+        """Never more than the path still to drive: the distance to the landing stretch,
+        and the arc that turns the car to the lane's heading at full lock."""
+        return max(math.hypot(max(-q[0], 0.0, q[0] - span), q[1]),
+                   radius * abs(math.remainder(q[2], 2 * math.pi)))
 
-    local0 = to_local(origin, np.array(start, dtype=float))
-    # state: (local pose, gear of the last move, curvature, changes, parent, segment)
+    # state: (local pose, gear of the last move, curvature, changes, parent, segment);
+    # the first len(starts) are the starts
     states: list[tuple[FloatArray, int, float, int, int, Segment | None]] = [
-        (local0, 0, math.nan, 0, -1, None)]
-    cost = [0.0]
-    heap = [(h(local0), 0)]
+        (to_local(origin, np.array(p, dtype=float)), 0, math.nan, 0, -1, None)
+        for p in starts]
+    cost = [0.0] * len(states)
+    heap = [(WEIGHT * h(x[0]), k) for k, x in enumerate(states)]
+    heapq.heapify(heap)
     closed: set[tuple[int, int, int]] = set()
     best: tuple[float, int, list[Segment]] | None = None
     expanded = found_at = 0
@@ -185,18 +197,16 @@ def plan_onto(start: Pose, frame: Pose, lo: float, hi: float, collider: Collider
             states.append((end, g, k, changes + turn, sid,
                            Segment(tuple(map(float, q)), g * MOVE, k)))
             cost.append(c)
-            heapq.heappush(heap, (c + h(end), len(states) - 1))
+            heapq.heappush(heap, (c + WEIGHT * h(end), len(states) - 1))
     if best is None:
         return None
     _, sid, tail = best
     segs: list[Segment] = []
-    while sid >= 0:
-        seg = states[sid][5]
-        if seg is not None:
-            segs.append(seg)
+    while states[sid][4] >= 0:
+        segs.append(states[sid][5])
         sid = states[sid][4]
     segs.reverse()
-    return tuple(segment_to_world(origin, x) for x in _merged([*segs, *tail]))
+    return sid, tuple(segment_to_world(origin, x) for x in _merged([*segs, *tail]))
 
 
 def _merged(segs: list[Segment]) -> list[Segment]:

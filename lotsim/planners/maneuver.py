@@ -72,6 +72,7 @@ from lotsim.geometry import (
 from lotsim.lot.clearance import first_blocked
 from lotsim.lot.graph import lane_serves
 from lotsim.lot.model import Lane, Lot, Slot, unit
+from lotsim.lot.multipoint import plan_onto
 from lotsim.planners.minslot import SlotFrame, simulate, start_headings
 from lotsim.settings import MARGIN, STYLES
 from lotsim.trajectory import Motion, Piece, runs, timed_path
@@ -843,9 +844,41 @@ class ManeuverPlanner:
             if found is not None and (best is None or found[:2] < best[:2]):
                 best = found
         if best is None:
+            best = self._any_way_out(p, style, heading_in, axle_of=lambda h: (
+                centre - unit(h) * (v.front - v.rear) / 2))
+        if best is None:
             return (f"no way out with up to {self.max_changes} direction changes "
                     f"keeping {self.margin:g} m from the neighbours and the aisle's far side")
         return _park_path(best[2])
+
+    def _any_way_out(self, p: _Problem, style: str, heading_in: float, axle_of
+                     ) -> tuple[int, float, list[Segment]] | None:
+        """The way out of a perpendicular or angled slot when the full-lock shuffle finds
+        none (a corner bay against a closed end, where the strokes must not all be at full
+        lock): a multi-point search over arcs and straights in either gear
+        (:func:`~lotsim.lot.multipoint.plan_onto`) from the parked pose, nose-in or
+        nose-out as ``style`` allows, onto the lane within its reachable stretch, inside the
+        same window and clear of the same obstacles; in leave-time, local frame."""
+        roots = []
+        for nose_in in (True, False):
+            if style == ("reverse" if nose_in else "forward"):
+                continue
+            h = heading_in if nose_in else heading_in + math.pi
+            axle = axle_of(h)
+            root = (float(axle[0]), float(axle[1]), float(wrap_angle(h)))
+            if not p.poses_blocked(np.array([root]))[0]:
+                roots.append(root)
+        if not roots:
+            return None
+        found = plan_onto(roots, (0.0, p.lane_y, 0.0), p.lane_x[0], p.lane_x[1],
+                          _LocalChecks(p), _LocalChecks(p), p.vehicle.min_turning_radius,
+                          max_changes=self.max_changes, budget=WAY_OUT_BUDGET)
+        if found is None:
+            return None
+        segs = list(found[1])
+        gears = [s.gear for s in segs]
+        changes = sum(1 for a, b in zip(gears[:-1], gears[1:], strict=True) if a != b)
+        return changes, sum(s.length for s in segs), segs
 
     def _shuffle(self, p: _Problem, root: Pose, gear0: int, bound: tuple[int, float] | None
                  ) -> tuple[int, float, list[Segment]] | None:
@@ -1107,6 +1140,24 @@ def _closing_segments(pose: Pose, close: tuple[int, float, float, float]) -> lis
     if extend > 1e-9:
         segs.append(Segment(segs[-1].end, g * extend, 0.0))
     return segs
+
+
+WAY_OUT_BUDGET = 1500
+"""Most states the multi-point search for a way out of a slot expands (when the shuffle
+found none): ways out of the drawn real-style lots were found within 1000, and a slot with
+none costs the whole budget."""
+
+
+class _LocalChecks:
+    """A problem's validity checks for :func:`~lotsim.lot.multipoint.plan_onto` run in the
+    problem's local frame: footprints of local poses, and whether bodies are free."""
+
+    def __init__(self, p: _Problem):
+        self._p = p
+        self.blocked = p.bodies_blocked
+
+    def footprints(self, local_poses: FloatArray) -> FloatArray:
+        return self._p.vehicle.footprints(self._p.frame.poses_to_world(local_poses))
 
 
 def _park_path(leave: Sequence[Segment]) -> tuple[tuple[Segment, ...], float]:
