@@ -540,13 +540,12 @@ def test_random_lots_and_traffic_pass_the_independent_check():
     _run_profile("lotsim-fast", SMALL)
 
 
-# Real-style lots: lotsim may still refuse some (most: a type longer than every bay; some
-# tiny lots whose junctions leave no turn a gate's traffic can use) — how many is measured
-# (the slow profile prints it), not asserted; every lot it runs must pass the checks, and in
-# those (slow profile) nine in ten of the bays each type fits are reached, parked in and left
-# by it (measured on 40 drawn lots: 94 %; what is left is in tiny one-aisle lots and corner
-# bays against closed ends).
-USABLE = 0.9
+# Real-style lots: lotsim may still refuse some (most: a type longer than every bay) — how
+# many is measured (the slow profile prints it), not asserted; every lot it runs must pass
+# the checks, and in those (slow profile) 97 in 100 of the bays each type fits are reached,
+# parked in and left by it (measured on 40 drawn lots: 99.6 %, 1095 of 1099, since tiny
+# lots are turned in by multi-point turns; what is left is four corner bays for a 5 m van).
+USABLE = 0.97
 def test_random_real_style_lots_pass_the_independent_check():
     _run_profile("lotsim-fast", SMALL, networks, most_refused=1.0, max_examples=3)
     assert SEEN["drawn"] > SEEN["refused"]
