@@ -349,11 +349,11 @@ def test_mp4_has_the_asked_size_and_duration_and_the_gifs_frames(doc, tmp_path):
                                  "'lotsim[video]' (imageio-ffmpeg)")
     from PIL import Image, ImageSequence
 
-    result = tmp_path / "result.json"
-    result.write_text(json.dumps(doc))
-    opts = ["--size", "320x240", "--fps", "10", "--speed", "4", "--from", "0", "--to", "16"]
-    assert main(["render", str(result), "--mp4", str(tmp_path / "v.mp4"), "--gif",
-                 str(tmp_path / "v.gif"), *opts]) == 0
+    import lotsim
+
+    settings = lotsim.GifSettings(size=(320, 240), fps=10, speed=4, start=0, end=16)
+    lotsim.render_mp4(doc, tmp_path / "v.mp4", settings)
+    lotsim.render_gif(doc, tmp_path / "v.gif", settings)
     reader = ffmpeg.read_frames(str(tmp_path / "v.mp4"))
     meta = next(reader)
     video = [np.frombuffer(f, np.uint8).reshape(240, 320, 3) for f in reader]
