@@ -92,9 +92,9 @@ def test_every_planner_and_policy_gives_a_checked_result(planner, name, shipped_
     _checked(rr)
 
 
-def test_samples_respect_speed_and_acceleration_limits(shipped_graphs):
+def test_samples_respect_speed_and_acceleration_limits(mixed_lot_doc):
     sc = load_scenario(next(p for p in SCENARIOS if p.stem == "mixed_lot"))
-    doc = result_dict(run(sc, lot_graph=shipped_graphs["mixed_lot"]))
+    doc = mixed_lot_doc
     lim = sc.vehicle_types[0].limits
     for v in doc["vehicles"]:
         s = {k: np.array(a) for k, a in v["samples"].items()}
