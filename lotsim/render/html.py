@@ -6,8 +6,9 @@ it loads nothing else, so it opens from disk, offline, in any current browser. T
 draws every car on a canvas over the lot as the GIF does (:mod:`lotsim.render.animation`:
 its footprint, wheels turned by the steer, windscreen, the white band while reversing, a
 trail, its target slot; the GIF's colours, handed over from the same constants), and offers
-the GIF's colour key, play and pause, ×1 to ×60, a time slider with a timeline of the counters under it, skip to
-the next event, skip quiet stretches, zoom and pan, and a car's details on a click.
+the GIF's colour key, play and pause, ×1 to ×60, a time slider with a timeline of the
+counters under it, skip to the next event, skip quiet stretches, zoom and pan, and a car's
+details on a click.
 
 **Keeping the file small.** A result samples a moving car every 0.05 s. Here a sample is
 left out wherever linear interpolation in time between the samples kept on either side
