@@ -429,3 +429,20 @@ def test_without_plots_the_summary_links_no_missing_picture(local, tmp_path, cap
     _, out, _ = local
     links = re.findall(r"!\[[^]]*\]\(([^)]+)\)", (out / "summary.md").read_text())
     assert links and all((out / name).is_file() for name in links)
+
+
+def test_the_bench_plots_live_beside_the_other_plots_and_load_only_when_drawn():
+    # lotsim/bench/plots.py drew matplotlib figures apart from lotsim/render/plots.py
+    import importlib.util
+    import subprocess
+
+    from lotsim.render import bench_plots
+
+    assert bench.bench_figure is bench_plots.bench_figure
+    assert importlib.util.find_spec("lotsim.bench.plots") is None
+    # reading a suite and running it loads no picture code (matplotlib is optional)
+    code = ("import sys, lotsim.bench; print(sorted(m for m in sys.modules if "
+            "m.startswith(('lotsim.render', 'matplotlib', 'PIL'))))")
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                          check=True, cwd=ROOT)
+    assert done.stdout.strip() == "[]"
