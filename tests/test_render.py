@@ -316,10 +316,10 @@ def test_slot_ids_of_a_big_lot_are_drawn_along_the_slots_where_they_fit_only_so(
     from lotsim.io.scenario import load_scenario
     from lotsim.render.lot_image.layers import _slot_label_spots
     from lotsim.render.lot_image.theme import text_size
-    from lotsim.sim import prepare
 
-    root = os.path.join(os.path.dirname(__file__), "..", "scenarios")
-    g = prepare(load_scenario(os.path.join(root, "large_lot.yaml")), maneuvers=False)
+    sc = load_scenario(os.path.join(os.path.dirname(__file__), "..", "scenarios",
+                                    "large_lot.yaml"))
+    g = build_graph(build_lot(sc.lot, DesignVehicle.envelope(sc.vehicle_types)))
     size = (4000, 3000)
     canvas = lot_layout(g, size=size).canvas
     spots = _slot_label_spots(canvas, g.lot, 0.0)
