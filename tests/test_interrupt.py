@@ -35,9 +35,12 @@ def _start(*args: str, cwd, terminal: bool = False) -> subprocess.Popen:
         master, stderr = pty.openpty()
     else:
         stderr = subprocess.PIPE
+    # Ctrl-C as at a terminal even when the suite itself ignores it (run in the background,
+    # a shell gives its jobs SIGINT ignored, and lotsim would inherit that)
     proc = subprocess.Popen([sys.executable, "-m", "lotsim", *args], cwd=cwd, env=env,
                             stdout=subprocess.PIPE, stderr=stderr, text=True,
-                            start_new_session=True)
+                            start_new_session=True,
+                            preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
     proc.shown = []
     if master is not None:
         os.close(stderr)
