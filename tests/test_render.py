@@ -319,14 +319,14 @@ def test_slot_ids_of_a_big_lot_are_drawn_along_the_slots_where_they_fit_only_so(
 
     sc = load_scenario(os.path.join(os.path.dirname(__file__), "..", "scenarios",
                                     "large_lot.yaml"))
-    g = build_graph(build_lot(sc.lot, DesignVehicle.envelope(sc.vehicle_types)))
+    lot = build_lot(sc.lot, DesignVehicle.envelope(sc.vehicle_types))  # no graph: not drawn
     size = (4000, 3000)
-    canvas = lot_layout(g, size=size).canvas
-    spots = _slot_label_spots(canvas, g.lot, 0.0)
-    assert len(spots) == len(g.lot.slots) == 1040
+    canvas = lot_layout(lot, size=size).canvas
+    spots = _slot_label_spots(canvas, lot, 0.0)
+    assert len(spots) == len(lot.slots) == 1040
     turned = 0
     for sid, c, f, angle in spots:
-        slot = g.lot.slot_by_id[sid]
+        slot = lot.slot_by_id[sid]
         poly = shapely.Polygon(canvas.to_px(np.asarray(slot.polygon, dtype=float)))
         w, h = text_size(sid, f)
         assert poly.contains(shapely.Polygon(_text_box(c, w, h, angle))), sid
@@ -341,10 +341,10 @@ def test_slot_ids_of_a_big_lot_are_drawn_along_the_slots_where_they_fit_only_so(
     from lotsim.render.lot_image.layers import _label_slots
 
     page = Image.new("RGB", size, (255, 255, 255))
-    _label_slots(page, canvas, g.lot, 0.0)
+    _label_slots(page, canvas, lot, 0.0)
     ink = np.argwhere(np.any(pixels(page) != 255, axis=2))
     polys = [shapely.Polygon(canvas.to_px(np.asarray(s.polygon, dtype=float)))
-             for s in g.lot.slots]
+             for s in lot.slots]
     x, y = ink[:, 1] + 0.5, ink[:, 0] + 0.5
     assert shapely.contains_xy(shapely.union_all(polys).buffer(1.0), x, y).all()
     for poly in polys[::97]:
