@@ -104,12 +104,11 @@ def outcome(path, *, maneuvers: bool = False) -> str:
 
 
 def _fuzz(tmp_path, count: int, seed: int, *, maneuvers_every: int = 0) -> dict:
-    rng = np.random.default_rng(seed)
     texts = {name: (ROOT / "scenarios" / name).read_text() for name in FILES}
     seen = {"ok": 0, "error": 0}
     for k in range(count):
         name = FILES[k % len(FILES)]
-        text = mutate(texts[name], rng)
+        text = mutate(texts[name], np.random.default_rng([seed, k]))  # as in _fuzz_run
         path = tmp_path / f"m{k}.yaml"
         path.write_text(text, encoding="utf-8", errors="surrogatepass")
         try:
@@ -184,12 +183,14 @@ def _capped_gifs(monkeypatch) -> None:
 
 
 def _fuzz_run(tmp_path, capsys, count: int, seed: int) -> dict:
-    rng = np.random.default_rng(seed)
     texts = {name: (ROOT / "scenarios" / name).read_text() for name in FILES}
     seen = {0: 0, 1: 0, 2: 0}
     for k in range(count):
         name = FILES[k % len(FILES)]
         path = tmp_path / f"m{k}.yaml"
+        # each mutant drawn from its own stream: an edit of one shipped file changes its
+        # mutants, not every later file's
+        rng = np.random.default_rng([seed, k])
         path.write_text(mutate(texts[name], rng), encoding="utf-8", errors="surrogatepass")
         try:
             seen[run_outcome(path, tmp_path / f"out{k}", capsys, gif=name in GIF_FILES)] += 1
