@@ -640,8 +640,33 @@ def car(name_or_path: str | os.PathLike) -> VehicleType:
                                f"{', '.join(CATALOGUE)} or a vehicle YAML file")
 
 
+def check_slot_width(vehicle: VehicleType, width: float, *, narrow_ok: bool = False) -> None:
+    """Refuse a slot width :func:`minslot` cannot use for ``vehicle``: not a positive number
+    of metres, or (unless ``narrow_ok``) narrower than the car, where no length works.
+
+    Raises
+    ------
+    SettingsError
+        Named ``width``.
+
+    Examples
+    --------
+    >>> check_slot_width(car("altis"), 1.5)
+    Traceback (most recent call last):
+    ...
+    lotsim.errors.SettingsError: width: a 1.5 m slot is narrower than altis (1.78 m wide)
+    """
+    if not (_settings.is_real(width) and 0 < width < math.inf):
+        raise SettingsError("width", f"expected a positive slot width in metres, found "
+                                     f"{_settings.shown(width)}")
+    if width < vehicle.width and not narrow_ok:
+        raise SettingsError("width", f"a {width:g} m slot is narrower than {vehicle.name} "
+                                     f"({vehicle.width:g} m wide)")
+
+
 def minslot(vehicle: VehicleType | str | os.PathLike, width: float,
-            settings: MinSlotSettings | None = None, **overrides: Any) -> MinSlotTable:
+            settings: MinSlotSettings | None = None, *, narrow_ok: bool = False,
+            **overrides: Any) -> MinSlotTable:
     """The shortest parallel slot for each number of direction changes (``lotsim minslot``):
     seed 000's strategy, swept over start headings, lengths bisected.
 
@@ -650,8 +675,11 @@ def minslot(vehicle: VehicleType | str | os.PathLike, width: float,
     vehicle : VehicleType, str or path-like
         A vehicle type, a catalogue name or a vehicle YAML file (:func:`car`).
     width : float
-        Slot width [m], positive; a slot narrower than the car has no length that works.
+        Slot width [m], positive, at least the car's width (:func:`check_slot_width`).
     settings : MinSlotSettings, optional
+    narrow_ok : bool, keyword-only
+        Give a slot narrower than the car a table with no length (None) for every number of
+        changes, as ``lotsim minslot --all-cars`` lists such cars, instead of the error.
     **overrides
         Fields of :class:`MinSlotSettings`: ``max_changes``, ``resolution`` [m],
         ``step_deg`` [deg].
@@ -659,7 +687,7 @@ def minslot(vehicle: VehicleType | str | os.PathLike, width: float,
     Raises
     ------
     SettingsError
-        For a setting out of range or an unknown car.
+        For a setting out of range, an unknown car or a width it cannot use.
 
     Examples
     --------
@@ -671,9 +699,7 @@ def minslot(vehicle: VehicleType | str | os.PathLike, width: float,
 
     s = _settings.replace(settings or MinSlotSettings(), overrides)
     v = vehicle if not isinstance(vehicle, (str, os.PathLike)) else car(vehicle)
-    if not (_settings.is_real(width) and 0 < width < math.inf):
-        raise SettingsError("width", f"expected a positive slot width in metres, found "
-                                     f"{_settings.shown(width)}")
+    check_slot_width(v, width, narrow_ok=narrow_ok)
     rows = min_slot_lengths(v, width, max_changes=s.max_changes, resolution=s.resolution,
                             step_deg=s.step_deg)
     return MinSlotTable(v, width, tuple(rows))

@@ -881,21 +881,16 @@ def _bad(message: str) -> int:
 def _minslot(args: argparse.Namespace) -> int:
     import json
 
-    from lotsim.api import car, minslot
+    from lotsim.api import car, check_slot_width, minslot
     from lotsim.vehicles.catalogue import CATALOGUE
 
     widths = list(dict.fromkeys(args.width))  # a width given twice is computed once
-    for width in widths:
-        if not (math.isfinite(width) and width > 0):
-            return _bad(f"--width: expected a positive slot width in metres, found {width:g}")
     settings = MinSlotSettings(max_changes=args.max_changes, resolution=args.resolution,
                                step_deg=args.step_deg)
     cars = list(CATALOGUE.values()) if args.all_cars else [car(args.car)]
-    for width in widths:
-        narrow = [c for c in cars if c.width > width]
-        if narrow and not args.all_cars:
-            return _bad(f"--width: a {width:g} m slot is narrower than {narrow[0].name} "
-                        f"({narrow[0].width:g} m wide)")
+    for width in widths:  # every width checked before the sweep, which takes a while
+        for vehicle in cars:
+            check_slot_width(vehicle, width, narrow_ok=args.all_cars)
     if args.plot:
         from lotsim.render.plots import MatplotlibMissing, require_matplotlib
 
@@ -910,7 +905,7 @@ def _minslot(args: argparse.Namespace) -> int:
         if show_progress:
             print(f"\r{i}/{len(jobs)} … {vehicle.name:8} {width:g} m", end="", file=sys.stderr,
                   flush=True)
-        docs.append(minslot(vehicle, width, settings).to_dict())
+        docs.append(minslot(vehicle, width, settings, narrow_ok=args.all_cars).to_dict())
     if show_progress:
         print("\r" + " " * 40 + "\r", end="", file=sys.stderr)
     if args.json:

@@ -99,6 +99,18 @@ def shipped_graphs() -> dict[str, LotGraph]:
     return {p.stem: prepare(load_scenario(p)) for p in SCENARIOS}
 
 
+@pytest.fixture(scope="session")
+def mixed_lot_doc(shipped_graphs) -> dict:
+    """The README's main run (scenarios/mixed_lot.yaml, default settings) as its result
+    document, planned once for the session."""
+    from lotsim.io.result import result_dict
+    from lotsim.io.scenario import load_scenario
+    from lotsim.sim import run
+
+    sc = load_scenario(ROOT / "scenarios" / "mixed_lot.yaml")
+    return result_dict(run(sc, lot_graph=shipped_graphs["mixed_lot"]))
+
+
 def static_times(lg, vehicle, source):
     """Travel time lower bounds along lanes (networkx Dijkstra on length / limit)."""
     g = nx.DiGraph()

@@ -53,8 +53,9 @@ def _rows(path):
 
 
 def _without_timings(path):
-    """The CSV text less the timing and memory columns (the last ones)."""
-    rows = list(csv.reader(io.StringIO(path.read_text())))
+    """The CSV text (or a CSV file's) less the timing and memory columns (the last ones)."""
+    text = path if isinstance(path, str) else path.read_text()
+    rows = list(csv.reader(io.StringIO(text)))
     keep = len(bench.COLUMNS) - len(bench.TIMING_COLUMNS)
     assert rows[0][keep:] == list(bench.TIMING_COLUMNS)
     return [r[:keep] for r in rows]
@@ -113,15 +114,13 @@ ERRORS = [
 
 @pytest.mark.parametrize("text, needle, key, words", [e[1:] for e in ERRORS],
                          ids=[e[0] for e in ERRORS])
-def test_suite_errors_are_located(tmp_path, capsys, text, needle, key, words):
+def test_suite_errors_are_located(tmp_path, text, needle, key, words):
     path = _write(tmp_path, text)
-    assert main(["bench", str(path), "-o", str(tmp_path / "out")]) == 2
-    err = capsys.readouterr().err
+    with pytest.raises(ScenarioError) as err:
+        bench.load_suite(path)
     line, col = position(text, needle)
     head = f"{path}:{line}:{col}: {key}: " if key else f"{path}:{line}:{col}: "
-    assert head in err and words in err, err
-    assert "Traceback" not in err
-    assert not (tmp_path / "out").exists()
+    assert str(err.value).startswith(head) and words in str(err.value), err.value
 
 
 def test_a_bad_scenario_is_located_in_its_own_file(tmp_path, capsys):
@@ -201,11 +200,11 @@ def test_rows_agree_with_a_direct_run(local):
             2 / (parked[-1] - parked[0]) * 3600, abs=0.01)
 
 
-def test_a_process_pool_gives_the_same_table(local, tmp_path):
+def test_a_process_pool_gives_the_same_table(local):
     path, out, _ = local
-    assert main(["bench", str(path), "--jobs", "2", "-o", str(tmp_path / "pool")]) == 0
-    assert _without_timings(tmp_path / "pool" / "runs.csv") == _without_timings(
-        out / "runs.csv")
+    rows = bench.run_suite(bench.load_suite(path), jobs=2)
+    assert _without_timings(bench.csv_text(rows)) == _without_timings((out / "runs.csv")
+                                                                      .read_text())
 
 
 def _dies(spec):
@@ -285,7 +284,7 @@ def test_a_run_that_fails_its_check_counts_as_failed(tmp_path, capsys, monkeypat
     assert "- run 1 (tiny, ca, shortest, arrival, rate 360, seed 1): check: overlap" in summary
 
 
-def test_a_run_that_crashes_is_a_failed_row(tmp_path, capsys, monkeypatch):
+def test_a_run_that_crashes_is_a_failed_row(tmp_path, monkeypatch):
     path = _write(tmp_path, SUITE.replace("[360, 1440]", "[360]").replace("[1, 2]", "[1]"))
 
     def crash(spec, scenario, lg):
@@ -295,12 +294,9 @@ def test_a_run_that_crashes_is_a_failed_row(tmp_path, capsys, monkeypatch):
 
     real = runner._plan
     monkeypatch.setattr(runner, "_plan", crash)
-    assert main(["bench", str(path), "--jobs", "1", "-o", str(tmp_path / "out")]) == 1
-    rows = _rows(tmp_path / "out" / "runs.csv")
-    assert rows[0]["ok"] == "true"
-    assert rows[1]["ok"] == "false"
+    rows = bench.run_suite(bench.load_suite(path), jobs=1)
+    assert [r["ok"] for r in rows] == [True, False]
     assert rows[1]["problem"] == "crash: RuntimeError: the planner fell over"
-    assert "Traceback" not in capsys.readouterr().err
 
 
 def test_a_lot_that_does_not_build_is_bad_input(tmp_path, capsys, monkeypatch):
@@ -433,3 +429,20 @@ def test_without_plots_the_summary_links_no_missing_picture(local, tmp_path, cap
     _, out, _ = local
     links = re.findall(r"!\[[^]]*\]\(([^)]+)\)", (out / "summary.md").read_text())
     assert links and all((out / name).is_file() for name in links)
+
+
+def test_the_bench_plots_live_beside_the_other_plots_and_load_only_when_drawn():
+    # lotsim/bench/plots.py drew matplotlib figures apart from lotsim/render/plots.py
+    import importlib.util
+    import subprocess
+
+    from lotsim.render import bench_plots
+
+    assert bench.bench_figure is bench_plots.bench_figure
+    assert importlib.util.find_spec("lotsim.bench.plots") is None
+    # reading a suite and running it loads no picture code (matplotlib is optional)
+    code = ("import sys, lotsim.bench; print(sorted(m for m in sys.modules if "
+            "m.startswith(('lotsim.render', 'matplotlib', 'PIL'))))")
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                          check=True, cwd=ROOT)
+    assert done.stdout.strip() == "[]"

@@ -71,3 +71,24 @@ def test_plot_writes_a_png(tmp_path, capsys):
     with Image.open(out) as img:
         assert img.format == "PNG" and img.size[0] > 300
     assert [p.name for p in tmp_path.iterdir()] == ["curve.png"]
+
+
+@pytest.mark.parametrize("width", [1.5, -2.0, float("nan")])
+def test_a_width_is_refused_alike_by_python_and_the_command_line(capsys, width):
+    # the CLI had a narrow-slot check of its own, where lotsim.minslot returned no lengths
+    import lotsim
+
+    with pytest.raises(lotsim.SettingsError) as err:
+        lotsim.minslot("altis", width)
+    assert err.value.name == "width"
+    assert main(["minslot", "--car", "altis", "--width", str(width)]) == 2
+    assert capsys.readouterr().err == f"lotsim: --width: {err.value.message}\n"
+
+
+def test_a_sweep_over_cars_lists_those_a_slot_is_too_narrow_for_with_no_length():
+    import lotsim
+
+    assert "narrower than altis (1.78 m wide)" in str(
+        pytest.raises(lotsim.SettingsError, lotsim.minslot, "altis", 1.5).value)
+    table = lotsim.minslot("altis", 1.5, narrow_ok=True, max_changes=1)
+    assert [(r.changes, r.length) for r in table.rows] == [(0, None), (1, None)]

@@ -14,6 +14,7 @@ Two fuzzers share the mutations:
 
 from __future__ import annotations
 
+import dataclasses
 import json
 import re
 
@@ -26,6 +27,7 @@ from lotsim.check import check_result
 from lotsim.cli import main
 from lotsim.errors import ScenarioError
 from lotsim.io.scenario import load_scenario
+from lotsim.settings import GifSettings
 from lotsim.sim import check_traffic, prepare
 from lotsim.traffic import arrivals
 
@@ -102,12 +104,11 @@ def outcome(path, *, maneuvers: bool = False) -> str:
 
 
 def _fuzz(tmp_path, count: int, seed: int, *, maneuvers_every: int = 0) -> dict:
-    rng = np.random.default_rng(seed)
     texts = {name: (ROOT / "scenarios" / name).read_text() for name in FILES}
     seen = {"ok": 0, "error": 0}
     for k in range(count):
         name = FILES[k % len(FILES)]
-        text = mutate(texts[name], rng)
+        text = mutate(texts[name], np.random.default_rng([seed, k]))  # as in _fuzz_run
         path = tmp_path / f"m{k}.yaml"
         path.write_text(text, encoding="utf-8", errors="surrogatepass")
         try:
@@ -157,17 +158,39 @@ def run_outcome(path, out, capsys, *, gif: bool) -> int:
     for name in gifs:
         with Image.open(out / name) as im:
             im.seek(im.n_frames - 1)  # every frame is there and decodes
-            assert im.n_frames >= 1
+            assert 1 <= im.n_frames <= GIF_CAP["max_frames"] and im.size == GIF_CAP["size"]
     return code
 
 
+GIF_CAP = {"size": (160, 120), "max_frames": 40}
+"""The most a mutant's GIF is drawn at: whichever animation section the mutant has (and
+whichever keys the shipped file has), a GIF costs a fraction of a second. That every frame
+is written and decodes is what is checked, not how it looks."""
+
+
+def _capped_gifs(monkeypatch) -> None:
+    import lotsim.api
+
+    real = lotsim.api.render_gif
+
+    def capped(doc, path, settings=None, **kw):
+        settings = settings or GifSettings()
+        settings = dataclasses.replace(settings, size=GIF_CAP["size"], max_frames=min(
+            settings.max_frames, GIF_CAP["max_frames"]))
+        return real(doc, path, settings, **kw)
+
+    monkeypatch.setattr(lotsim.api, "render_gif", capped)
+
+
 def _fuzz_run(tmp_path, capsys, count: int, seed: int) -> dict:
-    rng = np.random.default_rng(seed)
     texts = {name: (ROOT / "scenarios" / name).read_text() for name in FILES}
     seen = {0: 0, 1: 0, 2: 0}
     for k in range(count):
         name = FILES[k % len(FILES)]
         path = tmp_path / f"m{k}.yaml"
+        # each mutant drawn from its own stream: an edit of one shipped file changes its
+        # mutants, not every later file's
+        rng = np.random.default_rng([seed, k])
         path.write_text(mutate(texts[name], rng), encoding="utf-8", errors="surrogatepass")
         try:
             seen[run_outcome(path, tmp_path / f"out{k}", capsys, gif=name in GIF_FILES)] += 1
@@ -177,13 +200,15 @@ def _fuzz_run(tmp_path, capsys, count: int, seed: int) -> dict:
     return seen
 
 
-def test_mutated_scenarios_run_or_fail_cleanly(tmp_path, capsys):
+def test_mutated_scenarios_run_or_fail_cleanly(tmp_path, capsys, monkeypatch):
+    _capped_gifs(monkeypatch)
     seen = _fuzz_run(tmp_path, capsys, QUICK_RUN, seed=11)
     assert seen[2] > QUICK_RUN // 4 and seen[0] + seen[1] >= 2
 
 
 @pytest.mark.slow
-def test_many_mutated_scenarios_run_or_fail_cleanly(tmp_path, capsys):
+def test_many_mutated_scenarios_run_or_fail_cleanly(tmp_path, capsys, monkeypatch):
+    _capped_gifs(monkeypatch)
     seen = _fuzz_run(tmp_path, capsys, SLOW_RUN, seed=12)
     with capsys.disabled():
         print(f"\nlotsim run on {SLOW_RUN} mutations: {seen[0]} exit 0, {seen[1]} exit 1 "

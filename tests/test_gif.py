@@ -390,6 +390,26 @@ def test_vehicles_that_move_at_the_same_time_get_different_colours(street):
 
 
 # -- the command line ---------------------------------------------------------------------------
+def test_the_readme_s_main_gif_shows_cars_moving_not_an_empty_lot(mixed_lot_doc):
+    # runs/mixed-lot/run.gif was 1800 frames of which about 125 showed a car moving
+    from lotsim.api import load_animation
+
+    settings = load_animation(ROOT / "scenarios" / "mixed_lot.yaml").gif_settings()
+    plan = plan_frames(Replay(mixed_lot_doc), settings)
+
+    def moving(t: float) -> bool:  # some car rolls at t, by the samples of result.json
+        for v in mixed_lot_doc["vehicles"]:
+            s = v["samples"]
+            if s["t"] and s["t"][0] <= t <= s["t"][-1]:
+                k = int(np.searchsorted(s["t"], t))
+                if abs(s["v"][max(k - 1, 0)]) > 0 or abs(s["v"][min(k, len(s["t"]) - 1)]) > 0:
+                    return True
+        return False
+
+    shown = [moving(float(t)) for t in plan.times]
+    assert sum(shown) > 0.5 * len(shown), (sum(shown), len(shown))
+
+
 def test_render_writes_what_run_gif_wrote(tmp_path, capsys):
     out = tmp_path / "run"
     assert main(["run", str(QUICKSTART), "-o", str(out), "--gif", str(tmp_path / "a.gif")]) == 0

@@ -35,9 +35,12 @@ def _start(*args: str, cwd, terminal: bool = False) -> subprocess.Popen:
         master, stderr = pty.openpty()
     else:
         stderr = subprocess.PIPE
+    # Ctrl-C as at a terminal even when the suite itself ignores it (run in the background,
+    # a shell gives its jobs SIGINT ignored, and lotsim would inherit that)
     proc = subprocess.Popen([sys.executable, "-m", "lotsim", *args], cwd=cwd, env=env,
                             stdout=subprocess.PIPE, stderr=stderr, text=True,
-                            start_new_session=True)
+                            start_new_session=True,
+                            preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
     proc.shown = []
     if master is not None:
         os.close(stderr)
@@ -110,10 +113,14 @@ def test_ctrl_c_while_planning_writes_nothing(tmp_path):
 
 
 def test_ctrl_c_while_drawing_the_gif_keeps_result_json_and_no_gif(tmp_path):
-    """The mixed lot's GIF takes ~13 s after result.json is written: interrupted while its
-    frames go into the temporary file."""
+    """The mixed lot's GIF of its whole first quarter hour (quiet stretches kept) takes
+    ~13 s after result.json is written: interrupted while its frames go into the temporary
+    file."""
     out_dir = tmp_path / "out"
-    proc = _start("run", str(SCENARIOS / "mixed_lot.yaml"), "-o", "out", cwd=tmp_path)
+    text = (SCENARIOS / "mixed_lot.yaml").read_text()
+    assert "skip_quiet: true" in text
+    (tmp_path / "mixed.yaml").write_text(text.replace("skip_quiet: true", "skip_quiet: false"))
+    proc = _start("run", "mixed.yaml", "-o", "out", cwd=tmp_path)
     _wait_for(lambda: (out_dir / "result.json").exists()
               and any(f.stat().st_size for f in _temporary(out_dir, "run.gif")), proc)
     code, out, err = _ctrl_c(proc)
@@ -163,3 +170,38 @@ def test_ctrl_c_during_a_benchmark_on_two_processes_writes_nothing(tmp_path):
     assert code == 130
     assert err.strip() == "lotsim: interrupted; nothing was written", err
     assert not (tmp_path / "out").exists()
+
+
+@pytest.mark.parametrize("moment", ["starting", "importing"])
+def test_ctrl_c_while_benchmark_workers_start_is_one_line_and_exit_130(tmp_path, moment):
+    """An interrupt while the pool's workers are still starting (the forkserver's children
+    importing lotsim) or before there are any: no worker or forkserver prints a traceback."""
+    if not Path("/proc/self/stat").exists():
+        pytest.skip("finds the workers in /proc")
+    proc = _start("bench", str(SCENARIOS / "bench" / "seed004.yaml"), "-o", "out", "--jobs",
+                  "2", cwd=tmp_path)
+    if moment == "importing":  # a worker has appeared and has not yet done its imports
+        _wait_for(lambda: any(cpu < 0.3 for cpu in _workers(proc).values()), proc)
+    else:  # the forkserver or the resource tracker (children of lotsim's) has appeared
+        _wait_for(lambda: any(_children(proc)), proc)
+    code, out, err = _ctrl_c(proc)
+    assert code == 130, err
+    assert err.strip() == "lotsim: interrupted; nothing was written", err
+    assert not (tmp_path / "out").exists()
+    end = time.monotonic() + 30  # the forkserver and its workers go soon after lotsim
+    while _workers(proc):
+        assert time.monotonic() < end, _workers(proc)
+        time.sleep(0.05)
+
+
+def _children(proc: subprocess.Popen) -> list[int]:
+    """The live processes whose parent is ``proc``."""
+    found = []
+    for stat in Path("/proc").glob("[0-9]*/stat"):
+        try:
+            fields = stat.read_text().rsplit(")", 1)[1].split()
+        except OSError:
+            continue
+        if int(fields[1]) == proc.pid and fields[0] != "Z":
+            found.append(int(stat.parent.name))
+    return found

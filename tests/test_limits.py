@@ -9,6 +9,7 @@ import textwrap
 
 import pytest
 
+import lotsim
 from conftest import ONE_AISLE, ROOT, position, time_limit
 from lotsim.cli import main
 from lotsim.errors import Location
@@ -31,6 +32,17 @@ def _located(capsys, path, text: str, needle: str) -> str:
     assert err.startswith(f"lotsim: {path}:{line}:{col}: "), err
     assert "\n" not in err and "Traceback" not in err
     return err
+
+
+def _refused(path, text: str, needle: str, call=lotsim.validate) -> str:
+    """The error ``call(path)`` raises, checked to start with ``path:line:col:`` of ``needle``
+    and to be one line."""
+    with pytest.raises(lotsim.ScenarioError) as err:
+        call(path)
+    line, col = position(text, needle)
+    assert str(err.value).startswith(f"{path}:{line}:{col}: "), err.value
+    assert "\n" not in str(err.value)
+    return str(err.value)
 
 
 def _nothing_in(folder) -> bool:
@@ -59,19 +71,16 @@ def _stretched(length: float) -> str:
                        "slot_length: 5.0, start: 12, id_prefix: S"),
      "- |{aisle: a, side: right", f"{MAX_SLOTS + 6:,} slots up to this row"),
 ])
-def test_a_lot_too_big_to_plan_is_refused_where_it_crosses_the_limit(tmp_path, capsys, text,
-                                                                      needle, words):
+def test_a_lot_too_big_to_plan_is_refused_where_it_crosses_the_limit(tmp_path, text, needle,
+                                                                      words):
     path = _write(tmp_path, text)
-    assert main(["validate", str(path)]) == 2
-    assert words in _located(capsys, path, text, needle)
+    assert words in _refused(path, text, needle)
 
 
-def test_a_million_vehicles_is_refused_when_read(tmp_path, capsys):
+def test_a_million_vehicles_is_refused_when_read(tmp_path):
     text = ONE_AISLE + STREAM.replace("COUNT", "1000000")
     path = _write(tmp_path, text)
-    assert main(["run", str(path), "-o", str(tmp_path / "out")]) == 2
-    assert "100000" in _located(capsys, path, text, "count: |1000000")
-    assert _nothing_in(tmp_path / "out")
+    assert "100000" in _refused(path, text, "count: |1000000", call=lotsim.load_scenario)
 
 
 # -- runs too big are stopped while they plan ------------------------------------------------
@@ -218,17 +227,15 @@ def test_a_run_writes_only_inside_its_output_folder(tmp_path, monkeypatch):
 @pytest.mark.parametrize("tag", ["!!python/object/apply:os.system ['touch PWNED']",
                                  "!!python/name:os.system", "!!python/object:object {}",
                                  "!!binary aGVsbG8="])
-def test_yaml_tags_that_would_run_code_are_refused(tmp_path, capsys, monkeypatch, tag):
+def test_yaml_tags_that_would_run_code_are_refused(tmp_path, monkeypatch, tag):
     monkeypatch.chdir(tmp_path)
     text = ONE_AISLE.replace("name: small", f"name: {tag}")
     path = _write(tmp_path, text)
-    assert main(["validate", str(path)]) == 2
-    err = capsys.readouterr().err
-    assert re.match(rf"lotsim: {re.escape(str(path))}:1:7: ", err), err
+    _refused(path, text, "name: |!!", call=lotsim.load_scenario)  # 1:7
     assert not os.path.exists(tmp_path / "PWNED")
 
 
-def test_aliases_are_not_expanded(tmp_path, capsys):
+def test_aliases_are_not_expanded(tmp_path):
     """A billion-laughs document (aliases nested ten deep: 10¹⁰ leaves if expanded) is walked
     in linear time, up to the first error."""
     lines = ["a0: &a0 [1, 2, 3, 4, 5, 6, 7, 8, 9, 10]"]
@@ -237,16 +244,14 @@ def test_aliases_are_not_expanded(tmp_path, capsys):
                                                        "*a9")
     path = _write(tmp_path, text)
     with time_limit(20.0):
-        assert main(["validate", str(path)]) == 2
-    err = capsys.readouterr().err
-    assert err.startswith(f"lotsim: {path}:1:1: a0: unknown key 'a0'"), err
+        err = _refused(path, text, "a0", call=lotsim.load_scenario)
+    assert err.startswith(f"{path}:1:1: a0: unknown key 'a0'"), err
 
 
-def test_aliases_of_valid_values_are_used(tmp_path, capsys):
+def test_aliases_of_valid_values_are_used(tmp_path):
     """An anchored boundary reused as walls: read as the same polygon each time."""
     text = ONE_AISLE.replace("boundary: [[0, 0]", "boundary: &b [[0, 0]").replace(
         "  occupied: [N1, N2, N3, N4, N5, S1, S2, S3, S4]",
         "  walls:\n    - {id: w0, polygon: *b}")
-    path = _write(tmp_path, text)
-    assert main(["validate", str(path)]) == 2
-    assert "slot 'N1' overlaps wall 'w0' by 12.50 m²" in capsys.readouterr().err
+    with pytest.raises(lotsim.ScenarioError, match="slot 'N1' overlaps wall 'w0' by 12.50 m²"):
+        lotsim.validate(text)

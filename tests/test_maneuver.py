@@ -300,14 +300,15 @@ def test_a_car_longer_than_the_slot_is_an_explicit_infeasible_maneuver():
         plan_maneuver(long_car, lot.slot_by_id["main-left-3"], lot)
 
 
-def test_validate_lists_slots_a_vehicle_type_cannot_use_and_strict_fails(tmp_path, capsys):
-    path = tmp_path / "two.yaml"
-    path.write_text(QUICK.replace("vehicle_types: [valet]", "vehicle_types: [valet, vclass]"))
-    assert main(["validate", str(path)]) == 0
-    out = capsys.readouterr().out
-    assert "warning: vclass cannot park in 12 slots" in out
-    assert "valet cannot park" not in out
-    assert main(["validate", "--strict", str(path)]) == 1
+def test_validate_lists_slots_a_vehicle_type_cannot_use_and_strict_fails():
+    import lotsim
+
+    report = lotsim.validate(QUICK.replace("vehicle_types: [valet]",
+                                           "vehicle_types: [valet, vclass]"))
+    assert any(w.startswith("vclass cannot park in 12 slots") for w in report.warnings)
+    assert not any(w.startswith("valet cannot park") for w in report.warnings)
+    assert "warning: vclass cannot park in 12 slots" in report.summary()
+    assert not report.complete  # what --strict refuses
 
 
 def test_cli_maneuver_draws_one_and_reports_bad_input(tmp_path, capsys):

@@ -162,20 +162,25 @@ def test_run_with_priority_records_the_search(burst):
         run_with_priority(busy, RunSettings(), priority="random", lot_graph=lg)
 
 
-def test_run_cli_plans_booked_traffic_in_the_order_asked(tmp_path, capsys):
-    import json
-
+def test_run_plans_booked_traffic_in_the_order_asked(tmp_path, capsys):
+    import lotsim
     from lotsim.cli import main
 
     path = ROOT / "scenarios" / "street.yaml"
-    out = tmp_path / "o"
-    assert main(["run", str(path), "-o", str(out), "--no-gif", "--priority",
-                 "shortest_first", "--horizon", "120"]) == 0
-    assert "priority shortest_first: total time to park" in capsys.readouterr().out
-    doc = json.loads((out / "result.json").read_text())
     sc = load_scenario(path)
-    assert tuple(doc["settings"]["order"]) == shortest_first(sc, prepare(sc))
+    prepared = lotsim.PreparedLot(sc, prepare(sc))
+    rr = lotsim.run(prepared, priority="shortest_first", horizon=120)
+    assert rr.settings.order == shortest_first(sc, prepared.lot_graph)
+    doc = rr.to_dict()
+    assert tuple(doc["settings"]["order"]) == rr.settings.order
     assert doc["settings"]["horizon"] == 120
     assert check_result(doc).ok
+    # the command line takes the same settings, and refuses a horizon the library refuses
+    with pytest.raises(lotsim.SettingsError, match="horizon: expected a positive"):
+        lotsim.run(prepared, priority="ga", horizon=0)
     assert main(["run", str(path), "--priority", "ga", "--horizon", "0"]) == 2
     assert "--horizon: expected a positive" in capsys.readouterr().err
+    # and says what the order it chose is worth
+    assert main(["run", str(ROOT / "scenarios" / "quickstart.yaml"), "-o", str(tmp_path),
+                 "--no-gif", "--priority", "shortest_first"]) == 0
+    assert "priority shortest_first: total time to park" in capsys.readouterr().out

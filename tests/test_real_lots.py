@@ -10,7 +10,6 @@ import pytest
 import shapely
 
 from lotsim.check import check_result
-from lotsim.cli import main
 from lotsim.io.result import result_dict
 from lotsim.io.scenario import load_scenario
 from lotsim.planners.cooperative import SearchGraph
@@ -365,11 +364,12 @@ def test_a_van_that_cannot_turn_round_in_a_dead_end_leaves_its_bay_towards_the_o
         assert g.nodes[park.u]["lane"] == "a>" and g.nodes[leave.v]["lane"] == "a<", v.id
 
 
-def test_validate_strict_and_run_agree_on_a_real_lot(tmp_path, capsys):
-    path = LOTS / "culdesac.yaml"
-    assert main(["validate", "--strict", str(path)]) == 0
-    assert "unreachable: none" in capsys.readouterr().out
-    assert main(["run", str(path), "-o", str(tmp_path), "--no-gif"]) == 0
+def test_validate_strict_and_run_agree_on_a_real_lot():
+    import lotsim
+
+    report = lotsim.validate(LOTS / "culdesac.yaml")
+    assert report.complete and "unreachable: none" in report.summary()
+    assert lotsim.check(lotsim.run(report.prepared)).ok
 
 
 @pytest.mark.slow

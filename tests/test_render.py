@@ -298,3 +298,54 @@ def test_the_pixel_padding_is_not_named_like_the_safety_margin_in_metres() -> No
     for module in (li, anim, mi):
         assert not hasattr(module, "MARGIN")
     assert li.PAD_PX == 14 and settings.MARGIN == 0.1
+
+
+def _text_box(c, w: float, h: float, angle: float) -> np.ndarray:
+    """Corners [px] of a ``w`` x ``h`` text box centred at ``c`` and turned ``angle`` degrees
+    counter-clockwise as seen (the image's y axis points down)."""
+    a = math.radians(angle)
+    along, down = np.array([math.cos(a), -math.sin(a)]), np.array([math.sin(a), math.cos(a)])
+    return np.array([np.asarray(c) + sx * w / 2 * along + sy * h / 2 * down
+                     for sx, sy in ((-1, -1), (1, -1), (1, 1), (-1, 1))])
+
+
+def test_slot_ids_of_a_big_lot_are_drawn_along_the_slots_where_they_fit_only_so() -> None:
+    # show of the large lot drew no id at its largest size (4000 px): they fit only turned
+    import shapely
+
+    from lotsim.io.scenario import load_scenario
+    from lotsim.render.lot_image.layers import _slot_label_spots
+    from lotsim.render.lot_image.theme import text_size
+
+    sc = load_scenario(os.path.join(os.path.dirname(__file__), "..", "scenarios",
+                                    "large_lot.yaml"))
+    lot = build_lot(sc.lot, DesignVehicle.envelope(sc.vehicle_types))  # no graph: not drawn
+    size = (4000, 3000)
+    canvas = lot_layout(lot, size=size).canvas
+    spots = _slot_label_spots(canvas, lot, 0.0)
+    assert len(spots) == len(lot.slots) == 1040
+    turned = 0
+    for sid, c, f, angle in spots:
+        slot = lot.slot_by_id[sid]
+        poly = shapely.Polygon(canvas.to_px(np.asarray(slot.polygon, dtype=float)))
+        w, h = text_size(sid, f)
+        assert poly.contains(shapely.Polygon(_text_box(c, w, h, angle))), sid
+        if angle:
+            turned += 1
+            # along the slot's long side, read from the left or from below
+            long_side = canvas.px(max(slot.width, slot.length))
+            assert w > canvas.px(min(slot.width, slot.length)) - 2 and w < long_side
+            assert -90 < angle <= 90
+    assert turned > 1000
+    # drawn alone on a white page, every pixel of the ids lies in a slot, and each slot has ink
+    from lotsim.render.lot_image.layers import _label_slots
+
+    page = Image.new("RGB", size, (255, 255, 255))
+    _label_slots(page, canvas, lot, 0.0)
+    ink = np.argwhere(np.any(pixels(page) != 255, axis=2))
+    polys = [shapely.Polygon(canvas.to_px(np.asarray(s.polygon, dtype=float)))
+             for s in lot.slots]
+    x, y = ink[:, 1] + 0.5, ink[:, 0] + 0.5
+    assert shapely.contains_xy(shapely.union_all(polys).buffer(1.0), x, y).all()
+    for poly in polys[::97]:
+        assert shapely.contains_xy(poly, x, y).sum() > 10

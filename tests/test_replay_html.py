@@ -273,6 +273,80 @@ def test_same_result_same_file_and_the_colours_of_the_gif(doc, tmp_path):
         replay.tracks, VEHICLE_COLOURS, replay.end)
 
 
+# -- the colour key -------------------------------------------------------------------------------
+def page_key(text: str) -> list[tuple[str, list[tuple[str, str]]]]:
+    """The page's colour key as written: (label, [(swatch part, colour)...]) per entry."""
+    from html.parser import HTMLParser
+
+    entries: list[tuple[str, list[tuple[str, str]]]] = []
+
+    class Reader(HTMLParser):
+        depth = 0
+
+        def handle_starttag(self, tag, attrs):
+            a = dict(attrs)
+            if a.get("id") == "legend":
+                self.depth = 1
+            elif self.depth and a.get("class") == "key":
+                entries.append((a["data-key"], []))
+            elif self.depth and entries and a.get("data-part"):
+                fill = a.get("fill", "none")
+                entries[-1][1].append((a["data-part"], a["stroke"] if fill == "none" else fill))
+
+        def handle_endtag(self, tag):
+            if self.depth and tag == "div":
+                self.depth = 0
+
+    Reader().feed(text)
+    return entries
+
+
+def test_the_page_has_the_gif_s_colour_key(doc, page):
+    # the GIF has a key of its colours (GifSettings.legend); the replay page had none
+    from lotsim.render.animation import GifRenderer
+
+    gif = GifRenderer(doc, GifSettings(size=(800, 600)))
+    img = np.asarray(gif.background.convert("RGB"))
+    key = dict(page_key(page.read_text()))
+    assert list(key) == list(gif.legend_boxes) == ["driving", "parked", "parked at start",
+                                                  "reversing", "its slot"]
+    for label, (x0, y0, x1, y1) in gif.legend_boxes.items():
+        parts = dict(key[label])
+        # the swatch's main colour is the one the GIF paints in the middle of its swatch
+        # (the slot's outline on its left edge)
+        y = (y0 + y1) // 2
+        want = img[y, x0] if label == "its slot" else img[y, (x0 + x1) // 2]
+        main = hex_rgb(parts["outline" if label == "its slot" else "body"])
+        if label == "parked at start":  # the page draws the lot's own colour for them, the
+            # GIF the nearest of its palette
+            assert np.abs(np.array(main) - want).max() <= 12
+        else:
+            assert main == list(want), label
+    assert hex_rgb(dict(key["reversing"])["band"]) == [255, 255, 255]
+    # no car parked at the start, no such entry (as in the GIF)
+    bare = json.loads(json.dumps(doc))
+    bare["lot"]["parked"] = []
+    path = page.with_name("bare.html")
+    write_html(bare, path)
+    assert [k for k, _ in page_key(path.read_text())] == ["driving", "parked", "reversing",
+                                                           "its slot"]
+
+
+def test_the_colour_key_is_shown_beside_the_controls(opened, page):
+    shown = opened.evaluate("""Array.from(document.querySelectorAll('#legend .key')).map(e => {
+        const r = e.getBoundingClientRect(), v = document.getElementById('view')
+            .getBoundingClientRect(), body = e.querySelector('[data-part]');
+        return [e.dataset.key, e.textContent.trim(), r.left, r.top, r.right, r.bottom, v.bottom,
+                getComputedStyle(body).fill === 'none' ? getComputedStyle(body).stroke
+                                                       : getComputedStyle(body).fill]; })""")
+    key = page_key(page.read_text())
+    assert len(shown) == 5 and [(k, text) for k, text, *_ in shown] == [(k, k) for k, _ in key]
+    for (label, _, left, top, right, bottom, view_bottom, colour), (_, parts) in zip(
+            shown, key, strict=True):
+        assert 0 <= left < right <= WINDOW[0] and view_bottom <= top < bottom <= WINDOW[1], label
+        assert colour == "rgb({}, {}, {})".format(*hex_rgb(parts[0][1])), label
+
+
 def test_render_html_from_the_command_line(doc, tmp_path, capsys):
     result = tmp_path / "result.json"
     result.write_text(json.dumps(doc))
@@ -349,11 +423,11 @@ def test_mp4_has_the_asked_size_and_duration_and_the_gifs_frames(doc, tmp_path):
                                  "'lotsim[video]' (imageio-ffmpeg)")
     from PIL import Image, ImageSequence
 
-    result = tmp_path / "result.json"
-    result.write_text(json.dumps(doc))
-    opts = ["--size", "320x240", "--fps", "10", "--speed", "4", "--from", "0", "--to", "16"]
-    assert main(["render", str(result), "--mp4", str(tmp_path / "v.mp4"), "--gif",
-                 str(tmp_path / "v.gif"), *opts]) == 0
+    import lotsim
+
+    settings = lotsim.GifSettings(size=(320, 240), fps=10, speed=4, start=0, end=16)
+    lotsim.render_mp4(doc, tmp_path / "v.mp4", settings)
+    lotsim.render_gif(doc, tmp_path / "v.gif", settings)
     reader = ffmpeg.read_frames(str(tmp_path / "v.mp4"))
     meta = next(reader)
     video = [np.frombuffer(f, np.uint8).reshape(240, 320, 3) for f in reader]

@@ -92,9 +92,9 @@ def test_every_planner_and_policy_gives_a_checked_result(planner, name, shipped_
     _checked(rr)
 
 
-def test_samples_respect_speed_and_acceleration_limits(shipped_graphs):
+def test_samples_respect_speed_and_acceleration_limits(mixed_lot_doc):
     sc = load_scenario(next(p for p in SCENARIOS if p.stem == "mixed_lot"))
-    doc = result_dict(run(sc, lot_graph=shipped_graphs["mixed_lot"]))
+    doc = mixed_lot_doc
     lim = sc.vehicle_types[0].limits
     for v in doc["vehicles"]:
         s = {k: np.array(a) for k, a in v["samples"].items()}
@@ -123,26 +123,27 @@ def test_a_full_lot_queues_then_rejects_with_a_reason_and_loses_nobody(small):
     _checked(rr)
 
 
-def test_a_lot_with_every_slot_taken_turns_its_cars_away_and_exits_0(tmp_path, capsys):
+def test_a_lot_with_every_slot_taken_turns_its_cars_away_and_validate_says_so():
     # not bad input: the cars are turned away as they are when the one free slot is taken
-    # (this exited 2 with "no route from entrance 'in' to a free slot")
-    path = tmp_path / "full.yaml"
-    path.write_text(LOT.replace("occupied: [N1, N2, N3, N4, N5, S1, S2, S3, S4]",
-                                "occupied: {fraction: 1.0, seed: 0, min_free: 0}")
-                    + "traffic:\n  patience: 20\n  vehicles: [{id: x, arrival: 0}, "
-                      "{id: y, arrival: 1, dwell: 5}]\n")
-    assert main(["validate", str(path)]) == 0
-    assert "every car will be turned away" in capsys.readouterr().out
-    assert main(["run", str(path), "-o", str(tmp_path / "o")]) == 0
-    doc = json.loads((tmp_path / "o" / "result.json").read_text())
-    assert [(v["status"], "full" in v["reason"]) for v in doc["vehicles"]] == [
-        ("rejected", True)] * 2
-    assert check_result(doc).ok
+    # (run refused it with "no route from entrance 'in' to a free slot", exit 2)
+    import lotsim
+
+    text = (LOT.replace("occupied: [N1, N2, N3, N4, N5, S1, S2, S3, S4]",
+                        "occupied: {fraction: 1.0, seed: 0, min_free: 0}")
+            + "traffic:\n  patience: 20\n  vehicles: [{id: x, arrival: 0}, "
+              "{id: y, arrival: 1, dwell: 5}]\n")
+    report = lotsim.validate(text)
+    assert any("every car will be turned away" in w for w in report.warnings)
+    rr = lotsim.run(report.prepared)
+    assert [(v.status, "full" in v.reason) for v in rr.vehicles] == [("rejected", True)] * 2
+    assert lotsim.check(rr).ok
 
 
-def test_validate_refuses_what_run_refuses_for_any_seed_of_the_stream(tmp_path, capsys):
-    # the scenario's seed draws no limo, '--seed' may: validate judges every type the
-    # stream can draw, with run's message (it said ok, then run exited 2)
+def test_validate_refuses_what_run_refuses_for_any_seed_of_the_stream(tmp_path):
+    # the scenario's seed draws no limo, a seed of run's may: validate judges every type the
+    # stream can draw, with run's message (it said ok, then run refused it)
+    import lotsim
+
     path = tmp_path / "mix.yaml"
     path.write_text(LOT.replace("vehicle_types: [valet]", """vehicle_types:
   - valet
@@ -151,11 +152,12 @@ def test_validate_refuses_what_run_refuses_for_any_seed_of_the_stream(tmp_path, 
     sc = load_scenario(path)
     assert {a.vehicle for a in arrivals(sc.traffic, sc.seed)} == {"valet"}
     seed = next(s for s in range(100) if "limo" in {a.vehicle for a in arrivals(sc.traffic, s)})
-    assert main(["run", str(path), "--seed", str(seed), "-o", str(tmp_path / "o")]) == 2
-    refused = capsys.readouterr().err
-    assert "'limo' fits no slot" in refused
-    assert main(["validate", str(path)]) == 2
-    assert capsys.readouterr().err == refused
+    prepared = lotsim.prepare(path)
+    with pytest.raises(ScenarioError, match="'limo' fits no slot") as by_run:
+        lotsim.run(prepared, seed=seed)
+    with pytest.raises(ScenarioError) as by_validate:
+        lotsim.validate(path)
+    assert str(by_validate.value) == str(by_run.value)
 
 
 def test_a_queued_vehicle_gets_the_next_freed_slot(small):
@@ -208,16 +210,16 @@ def test_the_first_vehicle_gets_the_best_slot_by_each_policy(policy, shipped_gra
     assert score[got] == pytest.approx(best, abs=1e-6)
 
 
-def test_same_scenario_and_seed_give_the_same_file_byte_for_byte(tmp_path):
+def test_same_scenario_and_seed_give_the_same_file_byte_for_byte(tmp_path, shipped_graphs):
+    import lotsim
+
     path = next(p for p in SCENARIOS if p.stem == "street")
-    outs = []
-    for k in range(2):
-        assert main(["run", str(path), "-o", str(tmp_path / f"r{k}"), "--no-gif"]) == 0
-        outs.append((tmp_path / f"r{k}" / "result.json").read_bytes())
+    prepared = lotsim.PreparedLot(load_scenario(path), shipped_graphs["street"])
+    outs = [lotsim.run(prepared).write(tmp_path / f"r{k}.json").read_bytes() for k in range(2)]
     assert outs[0] == outs[1]
-    assert main(["run", str(path), "-o", str(tmp_path / "r2"), "--seed", "99", "--no-gif"]) == 0
-    other = json.loads((tmp_path / "r2" / "result.json").read_text())
-    assert [v["arrival"] for v in other["vehicles"]] != [
+    # another seed draws other arrivals (that a run takes its seed's: tests/test_sim.py)
+    sc = prepared.scenario
+    assert [a.time for a in arrivals(sc.traffic, 99)] != [
         v["arrival"] for v in json.loads(outs[0])["vehicles"]]
 
 

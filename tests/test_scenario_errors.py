@@ -1,9 +1,11 @@
-"""Every bad input is a ScenarioError at the right line and column, exit code 2, no traceback."""
+"""Every bad input is a ScenarioError at the right line and column (as ``lotsim.validate``
+raises it; the command line prints it as one line and exits 2: tests/test_cli.py)."""
 
 import textwrap
 
 import pytest
 
+import lotsim
 from conftest import position
 from lotsim.cli import main
 
@@ -42,17 +44,17 @@ lot:
 """
 
 
-def run_validate(tmp_path, capsys, text):
+def refused(tmp_path, text) -> tuple[str, str]:
+    """The error ``lotsim.validate`` raises for ``text`` written to a file, and the file."""
     path = tmp_path / "bad.yaml"
     path.write_text(text)
-    code = main(["validate", str(path)])
-    err = capsys.readouterr().err
-    return code, err, str(path)
+    with pytest.raises(lotsim.ScenarioError) as err:
+        lotsim.validate(path)
+    return str(err.value), str(path)
 
 
-def test_the_good_file_validates(tmp_path, capsys):
-    code, err, _ = run_validate(tmp_path, capsys, GOOD)
-    assert code == 0, err
+def test_the_good_file_validates():
+    assert lotsim.validate(GOOD).warnings == []
 
 
 # (name, old text, new text, needle marking the reported position, key path, words expected)
@@ -94,15 +96,13 @@ CASES = [
 
 @pytest.mark.parametrize(("name", "old", "new", "needle", "key", "words"), CASES,
                          ids=[c[0] for c in CASES])
-def test_schema_errors_are_located(tmp_path, capsys, name, old, new, needle, key, words):
+def test_schema_errors_are_located(tmp_path, name, old, new, needle, key, words):
     assert old in GOOD, name
     text = GOOD.replace(old, new, 1)
-    code, err, path = run_validate(tmp_path, capsys, text)
+    err, path = refused(tmp_path, text)
     line, col = position(text, needle)
-    assert code == 2
-    assert err.startswith(f"lotsim: {path}:{line}:{col}: {key}: "), err
-    assert words in err
-    assert "Traceback" not in err and err.count("\n") == 1
+    assert err.startswith(f"{path}:{line}:{col}: {key}: "), err
+    assert words in err and "\n" not in err
 
 
 def geometry_case(old, new):
@@ -138,13 +138,11 @@ GEOMETRY = [
 
 @pytest.mark.parametrize(("name", "text", "needle", "words"), GEOMETRY,
                          ids=[g[0] for g in GEOMETRY])
-def test_geometry_errors_are_located(tmp_path, capsys, name, text, needle, words):
-    code, err, path = run_validate(tmp_path, capsys, text)
+def test_geometry_errors_are_located(tmp_path, name, text, needle, words):
+    err, path = refused(tmp_path, text)
     line, col = position(text, needle)
-    assert code == 2, err
-    assert err.startswith(f"lotsim: {path}:{line}:{col}: "), err
+    assert err.startswith(f"{path}:{line}:{col}: "), err
     assert words in err, err
-    assert "Traceback" not in err
 
 
 CURVY = """\
@@ -160,30 +158,32 @@ lot:
 """
 
 
-def test_curve_too_tight(tmp_path, capsys):
-    code, err, path = run_validate(tmp_path, capsys, CURVY)
+def test_curve_too_tight(tmp_path):
+    err, path = refused(tmp_path, CURVY)
     line, col = position(CURVY, "id: bend")
-    assert code == 2
-    assert err.startswith(f"lotsim: {path}:{line}:{col}: lot.aisles[0]: ")
+    assert err.startswith(f"{path}:{line}:{col}: lot.aisles[0]: ")
     assert "curves too tight" in err
 
 
-def test_yaml_syntax_error_is_located(tmp_path, capsys):
+def test_yaml_syntax_error_is_located(tmp_path):
     text = "lot:\n  boundary: [[0, 0], [1, 0]\n  aisles: []\n"
-    code, err, path = run_validate(tmp_path, capsys, text)
-    assert code == 2 and err.startswith(f"lotsim: {path}:3:")
+    err, path = refused(tmp_path, text)
+    assert err.startswith(f"{path}:3:")
     assert "invalid YAML" in err
 
 
 def test_missing_file(tmp_path, capsys):
-    code = main(["validate", str(tmp_path / "nope.yaml")])
+    with pytest.raises(lotsim.ScenarioError, match="nope.yaml: cannot read"):
+        lotsim.validate(tmp_path / "nope.yaml")
+    # and the command line says so in one line, no traceback
+    assert main(["validate", str(tmp_path / "nope.yaml")]) == 2
     err = capsys.readouterr().err
-    assert code == 2 and "cannot read" in err and "Traceback" not in err
+    assert err.startswith("lotsim: ") and "cannot read" in err and err.count("\n") == 1
 
 
-def test_empty_file(tmp_path, capsys):
-    code, err, path = run_validate(tmp_path, capsys, "")
-    assert code == 2 and err.startswith(f"lotsim: {path}:1:1: ")
+def test_empty_file(tmp_path):
+    err, path = refused(tmp_path, "")
+    assert err.startswith(f"{path}:1:1: ")
 
 
 def test_unknown_command_and_option_exit_2(capsys):

@@ -16,13 +16,13 @@ on the suite, not on the machine, the number of workers or the order runs finish
 The package: :mod:`~lotsim.bench.suite` (the suite and its grid),
 :mod:`~lotsim.bench.runner` (one run, the grid in processes or on Dask),
 :mod:`~lotsim.bench.table` (the columns of ``runs.csv``, the means over seeds),
-:mod:`~lotsim.bench.report` (``summary.md``, the terminal table, the outputs) and
-:mod:`~lotsim.bench.plots` (the plots).
+:mod:`~lotsim.bench.report` (``summary.md``, the terminal table, the outputs); the plots
+are drawn beside the other plots, by :mod:`lotsim.render.bench_plots` (:func:`bench_figure`,
+loaded when first asked for: matplotlib is optional).
 """
 
 from __future__ import annotations
 
-from lotsim.bench.plots import bench_figure
 from lotsim.bench.report import PLOTS, summary_markdown, table_text, write_outputs
 from lotsim.bench.runner import (
     CONNECT_TIMEOUT,
@@ -98,3 +98,12 @@ __all__ = [
     "table_text",
     "write_outputs",
 ]
+
+
+def __getattr__(name: str):
+    # the plots are loaded when asked for: reading and running a suite needs no picture code
+    if name == "bench_figure":
+        from lotsim.render.bench_plots import bench_figure
+
+        return bench_figure
+    raise AttributeError(f"module 'lotsim.bench' has no attribute {name!r}")

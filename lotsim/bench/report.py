@@ -10,7 +10,6 @@ from typing import Any
 
 from lotsim import __version__
 from lotsim.atomic import atomic_write
-from lotsim.bench.plots import bench_figure
 from lotsim.bench.suite import Suite
 from lotsim.bench.table import (
     SATURATED,
@@ -173,6 +172,7 @@ def write_outputs(suite: Suite, rows: Sequence[dict], outdir: str | os.PathLike,
         fh.write(summary_markdown(suite, rows, where=where, plots=plots))
     written.append(out / "summary.md")
     if plots:
+        from lotsim.render.bench_plots import bench_figure
         from lotsim.render.plots import save_figure
 
         for metric, name in zip(("throughput_per_h", "mean_time_to_park_s"), PLOTS,

@@ -7,10 +7,12 @@ import dataclasses
 import hashlib
 import os
 import resource
+import signal
 import sys
 import threading
 import time
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Iterator, Sequence
+from contextlib import contextmanager
 from typing import TYPE_CHECKING, Any
 
 from lotsim.bench.suite import RunSpec, Suite, SuiteScenario
@@ -240,9 +242,16 @@ def _run_pool(workers: int, specs: list[RunSpec], take: Callable[[int, dict], No
     # a notebook's) can deadlock; workers keep their prepared lots between runs
     methods = multiprocessing.get_all_start_methods()
     ctx = multiprocessing.get_context("forkserver" if "forkserver" in methods else None)
-    pool = ProcessPoolExecutor(max_workers=workers, mp_context=ctx)
+    if ctx.get_start_method() == "forkserver":
+        # started before Ctrl-C is held: starting it lets Ctrl-C through again
+        from multiprocessing import resource_tracker
+
+        resource_tracker.ensure_running()
+    pool = ProcessPoolExecutor(max_workers=workers, mp_context=ctx,
+                               initializer=_deaf_to_ctrl_c)
     try:
-        futures = {pool.submit(run_spec, s): s for s in specs}
+        with _ctrl_c_held():  # the pool's processes start here, in submit
+            futures = {pool.submit(run_spec, s): s for s in specs}
         for fut in as_completed(futures):
             spec = futures[fut]
             try:
@@ -256,6 +265,42 @@ def _run_pool(workers: int, specs: list[RunSpec], take: Callable[[int, dict], No
         pool.shutdown(wait=True, cancel_futures=True)
         raise
     pool.shutdown(wait=True)
+
+
+@contextmanager
+def _ctrl_c_held() -> Iterator[None]:
+    """Hold Ctrl-C (SIGINT) back in the block and raise KeyboardInterrupt when it ends, if
+    one came. The processes started in it (the forkserver, the pool's workers) inherit
+    SIGINT blocked, so a Ctrl-C to the terminal's process group reaches only lotsim, which
+    stops them and says so in one line. Interrupted while they started up (importing
+    lotsim), they printed Python's own tracebacks; lotsim interrupted while it started one,
+    which it then did not know of, left it running, or failing on what lotsim had already
+    removed. (A Ctrl-C that came just before the block is noted too: Python runs the
+    handler of the moment it looks, not of the moment the signal came.)"""
+    if not hasattr(signal, "pthread_sigmask") or (
+            threading.current_thread() is not threading.main_thread()):
+        yield
+        return
+    came: list[int] = []
+    handler = signal.signal(signal.SIGINT, lambda signum, frame: came.append(signum))
+    mask = signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGINT})
+    try:
+        yield
+    finally:
+        signal.pthread_sigmask(signal.SIG_SETMASK, mask)  # one held back is noted now
+        signal.signal(signal.SIGINT, handler)
+    if came:
+        raise KeyboardInterrupt
+
+
+def _deaf_to_ctrl_c() -> None:
+    """A worker's first act: Ctrl-C is for lotsim, which stops the workers (also where the
+    forkserver was started before, not holding it back, as by an earlier suite run in the
+    same process)."""
+    if hasattr(signal, "pthread_sigmask"):
+        signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGINT})
+    else:
+        signal.signal(signal.SIGINT, signal.SIG_IGN)
 
 
 def connect(address: str, *, timeout: float = CONNECT_TIMEOUT) -> Any:

@@ -65,6 +65,16 @@ INK = (25, 25, 25)
 GLASS = (40, 48, 60)
 WHITE = (255, 255, 255)
 TYRE = (15, 15, 15)
+LEGEND = (("driving", "car"), ("parked", "pale"), ("parked at start", "start"),
+          ("reversing", "reversing"), ("its slot", "slot"))
+"""The colour key of a run's pictures, in order (the GIF's footer, the HTML replay's bar):
+each label with what its swatch shows: a car in its own colour, in the pale version, a car
+parked at the start, a car with the white rear band, a slot outlined in a car's colour."""
+
+
+def legend_entries(parked_at_start: bool) -> list[tuple[str, str]]:
+    """:data:`LEGEND` for a run: "parked at start" only when some car is."""
+    return [(label, kind) for label, kind in LEGEND if kind != "start" or parked_at_start]
 
 
 def vehicle_palette(n: int = VEHICLE_COLOURS) -> list[tuple[int, int, int]]:
@@ -293,11 +303,11 @@ class GifRenderer:
         left out from the last. Swatch boxes go to :attr:`legend_boxes`."""
         w, h = self.settings.size
         car, pale_car = int(self.car_index[0]), int(self.pale_index[0])
-        entries: list[tuple[str, str, int]] = [("driving", "car", car),
-                                               ("parked", "car", pale_car)]
-        if at_start is not None:
-            entries.append(("parked at start", "car", at_start))
-        entries += [("reversing", "reversing", car), ("its slot", "slot", car)]
+        colour = {"car": car, "pale": pale_car, "start": at_start, "reversing": car,
+                  "slot": car}
+        entries: list[tuple[str, str, int]] = [
+            (label, kind if kind in ("reversing", "slot") else "car", colour[kind])
+            for label, kind in legend_entries(at_start is not None)]
         sw, gap = 18, 12
         widths = [sw + 4 + int(round(self._font.getlength(label))) for label, _, _ in entries]
         room = w - PAD_PX - (PAD_PX + min(260, w // 3) + 40)  # right of the scale bar

@@ -6,8 +6,9 @@ it loads nothing else, so it opens from disk, offline, in any current browser. T
 draws every car on a canvas over the lot as the GIF does (:mod:`lotsim.render.animation`:
 its footprint, wheels turned by the steer, windscreen, the white band while reversing, a
 trail, its target slot; the GIF's colours, handed over from the same constants), and offers
-play and pause, ×1 to ×60, a time slider with a timeline of the counters under it, skip to
-the next event, skip quiet stretches, zoom and pan, and a car's details on a click.
+the GIF's colour key, play and pause, ×1 to ×60, a time slider with a timeline of the
+counters under it, skip to the next event, skip quiet stretches, zoom and pan, and a car's
+details on a click.
 
 **Keeping the file small.** A result samples a moving car every 0.05 s. Here a sample is
 left out wherever linear interpolation in time between the samples kept on either side
@@ -44,6 +45,7 @@ from lotsim.render.animation import (
     VEHICLE_COLOURS,
     WHEEL,
     WHITE,
+    legend_entries,
     pale,
     vehicle_palette,
 )
@@ -268,8 +270,33 @@ def html_page(doc: dict, settings: HtmlSettings) -> tuple[str, int, int]:
                        script=VIEWER.read_text(encoding="utf-8").strip(),
                        ink=rgb(INK), page=rgb(li.BACKGROUND),
                        header=rgb((250, 250, 248)),
+                       legend=legend_html(len(parked) > 0),
                        help=HELP.format(tol=settings.tolerance * 100))
     return page, total, kept
+
+
+def legend_html(parked_at_start: bool) -> str:
+    """The colour key of the page's bar: the GIF's entries (:data:`~lotsim.render.animation.
+    LEGEND`) as small SVG swatches in the colours the page draws with, each marked
+    ``class="key" data-key=LABEL``, its parts ``data-part`` (body, band, outline)."""
+    car, ink = rgb(vehicle_palette()[0]), rgb(INK)
+
+    def body(fill: str, stroke: str = ink) -> str:
+        return (f'<rect data-part="body" x="0.5" y="1.5" width="17" height="9" '
+                f'fill="{fill}" stroke="{stroke}"/>')
+
+    swatch = {
+        "car": body(car),
+        "pale": body(rgb(pale(vehicle_palette()[0]))),
+        "start": body(rgb(li.PARKED_CAR), rgb(li.PARKED_CAR_EDGE)),
+        "reversing": body(car) + (f'<rect data-part="band" x="1" y="2" width="3" height="8" '
+                                  f'fill="{rgb(WHITE)}"/>'),
+        "slot": (f'<rect data-part="outline" x="5" y="1" width="8" height="10" fill="none" '
+                 f'stroke="{car}" stroke-width="2"/>'),
+    }
+    return "".join(f'<span class="key" data-key="{label}"><svg width="18" height="12" '
+                   f'viewBox="0 0 18 12">{swatch[kind]}</svg>{label}</span>'
+                   for label, kind in legend_entries(parked_at_start))
 
 
 def _escape(text: str) -> str:

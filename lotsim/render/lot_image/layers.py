@@ -198,14 +198,16 @@ SLOT_LABEL_MIN = 14
 
 
 def _slot_label_spots(canvas: LotCanvas, lot, shift: float) -> list:
-    """``(slot id, centre px, font)`` of each slot id that fits inside its slot."""
+    """``(slot id, centre px, font, angle)`` of each slot id that fits inside its slot:
+    upright (angle 0) where it fits so, else turned along the slot's long side (``angle``
+    degrees counter-clockwise as seen, in (-90, 90]: read from the left or from below), as
+    on a big lot whose slots are narrower than their ids are long."""
     if not lot.slots:
         return []
     short = canvas.px(float(np.median([min(s.width, s.length) for s in lot.slots])))
     if short < SLOT_LABEL_MIN:
         return []
     f = font(int(np.clip(short * 0.4, 8, 13)))
-    pad = np.array([[-1, -1], [1, -1], [1, 1], [-1, 1]])
     out = []
     for slot in lot.slots:
         poly = canvas.to_px(np.asarray(slot.polygon, dtype=float))
@@ -215,16 +217,43 @@ def _slot_label_spots(canvas: LotCanvas, lot, shift: float) -> list:
             c = c + shift * canvas.px(slot.length) * np.array(
                 [math.cos(slot.heading), -math.sin(slot.heading)]
             )
-        box = c + np.array([[-w, -h], [w, -h], [w, h], [-w, h]]) * 0.5 + pad
-        if _inside_convex(box, poly):
-            out.append((slot.id, c, f))
+        for angle in (0.0, _long_side_angle(poly)):
+            if _inside_convex(text_box(c, w + 2, h + 2, angle), poly):
+                out.append((slot.id, c, f, angle))
+                break
     return out
+
+
+def _long_side_angle(poly: np.ndarray) -> float:
+    """The direction of a quadrilateral's longest side as seen [deg], in (-90, 90]."""
+    e = np.roll(poly, -1, axis=0) - poly
+    dx, dy = e[int(np.argmax(np.hypot(e[:, 0], e[:, 1])))]
+    angle = math.degrees(math.atan2(-dy, dx))  # the image's y axis points down
+    return float(angle - 180.0 if angle > 90.0 else angle + 180.0 if angle <= -90.0 else angle)
+
+
+def text_box(c: np.ndarray, w: float, h: float, angle: float) -> np.ndarray:
+    """Corners [px] of a ``w`` x ``h`` box centred at ``c``, turned ``angle`` degrees
+    counter-clockwise as seen."""
+    a = math.radians(angle)
+    along = np.array([math.cos(a), -math.sin(a)]) * (w / 2)
+    down = np.array([math.sin(a), math.cos(a)]) * (h / 2)
+    return np.asarray(c) + np.array([-along - down, along - down, along + down, -along + down])
 
 
 def _label_slots(img: Image.Image, canvas: LotCanvas, lot, shift: float) -> None:
     draw = ImageDraw.Draw(img)
-    for text, c, f in _slot_label_spots(canvas, lot, shift):
-        draw_text(draw, (c[0], c[1]), text, f, SLOT_LABEL)
+    for text, c, f, angle in _slot_label_spots(canvas, lot, shift):
+        if not angle:
+            draw_text(draw, (c[0], c[1]), text, f, SLOT_LABEL)
+            continue
+        # turned: drawn on a mask of its own, turned about its centre, pasted centred at c
+        w, h = text_size(text, f)
+        mask = Image.new("L", (w + 4, h + 4), 0)
+        draw_text(ImageDraw.Draw(mask), ((w + 4) / 2, (h + 4) / 2), text, f, 255)
+        mask = mask.rotate(angle, resample=Image.BICUBIC, expand=True)
+        corner = (int(round(c[0] - mask.width / 2)), int(round(c[1] - mask.height / 2)))
+        img.paste(Image.new(img.mode, mask.size, SLOT_LABEL), corner, mask)
 
 
 def _inside_convex(points: np.ndarray, poly: np.ndarray) -> bool:

@@ -1,5 +1,7 @@
-"""The bench plots (matplotlib): a metric per scenario against the arrival rate or per
-planner (:func:`bench_figure`)."""
+"""The bench plots (matplotlib), beside the run's plots (:mod:`lotsim.render.plots`): a
+metric per scenario against the arrival rate or per planner (:func:`bench_figure`, also
+``lotsim.bench.bench_figure``). matplotlib and the bench's table are imported only when a
+figure is made."""
 
 from __future__ import annotations
 
@@ -7,8 +9,6 @@ from collections.abc import Sequence
 from typing import TYPE_CHECKING
 
 import numpy as np
-
-from lotsim.bench.table import aggregate
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
@@ -33,6 +33,7 @@ def bench_figure(rows: Sequence[dict], metric: str) -> Figure:
     ------
     lotsim.render.plots.MatplotlibMissing
     """
+    from lotsim.bench.table import aggregate
     from lotsim.render.plots import require_matplotlib
 
     require_matplotlib()
