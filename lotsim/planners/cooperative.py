@@ -124,15 +124,25 @@ class Plan:
         return self.moves[-1].t1 if self.moves else math.nan
 
 
-@dataclass(frozen=True, slots=True)
 class EdgeMotion:
     """An edge driven between two speed levels: the motion, its duration [s], end pose,
-    and the hulls it sweeps (in its own time)."""
+    and the hulls it sweeps (in its own time; worked out when first asked for: a search
+    needs them only where someone else comes near the edge)."""
 
-    motion: Motion
-    duration: float
-    end: tuple[float, float, float]
-    swept: Swept
+    __slots__ = ("motion", "duration", "end", "_vehicle", "_swept")
+
+    def __init__(self, motion: Motion, vehicle: VehicleType):
+        self.motion = motion
+        self.duration = motion.duration
+        self.end = motion.end
+        self._vehicle = vehicle
+        self._swept: Swept | None = None
+
+    @property
+    def swept(self) -> Swept:
+        if self._swept is None:
+            self._swept = Swept.of(swept_motion(self.motion, self._vehicle))
+        return self._swept
 
 
 @dataclass(frozen=True, slots=True)
@@ -281,8 +291,7 @@ class SearchGraph:
         return out
 
     def _timed(self, motion: Motion) -> EdgeMotion:
-        return EdgeMotion(motion, motion.duration, motion.end,
-                          Swept.of(swept_motion(motion, self.vehicle)))
+        return EdgeMotion(motion, self.vehicle)
 
     def edge_cells(self, ei: int, em: EdgeMotion) -> tuple[tuple[int, int], ...]:
         """Grid cells of everything edge ``ei`` sweeps (the same at any speed)."""
