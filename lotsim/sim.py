@@ -661,8 +661,10 @@ class _Simulation:
         Otherwise the table only grew meanwhile and the replan
         starts on the car's own plan, which its last search chose over every other way
         from there; a sooner one could only be what that search passed over, its heuristic
-        being weighted (1.25) and its waits 1 s steps — milliseconds in practice (27 ms for
-        one car of the street's run; a test bounds it at 0.1 s there)."""
+        being weighted (1.25) and states passing a node at speed within
+        :data:`~lotsim.planners.cooperative.PASSING` of one another taken as one —
+        milliseconds in practice (a test bounds it at 0.1 s a car on the street's
+        run)."""
         return not SKIP_FRUITLESS or any(
             who != v.id and after < t_end
             and (not in_slot or getattr(self.by_id.get(who), "slot", None) == v.slot)
