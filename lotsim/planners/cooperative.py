@@ -212,6 +212,7 @@ class SearchGraph:
         self._cells: dict[int, tuple[tuple[int, int], ...]] = {}
         self._standing: dict[int, Swept] = {}
         self._static_time = [self._lower_time(i, e) for i, e in enumerate(self.edges)]
+        self._back: dict[int, list[tuple[int, float]]] = {}
 
     def _add(self, e: _Edge) -> None:
         self.out[e.u].append(len(self.edges))
@@ -338,6 +339,14 @@ class SearchGraph:
         return e.length / e.cap if e.length > 0 else 0.0
 
     # -- static distances ---------------------------------------------------------------------
+    def back(self, v: int) -> list[tuple[int, float]]:
+        """``(u, static time [s])`` of every edge into node ``v`` (kept)."""
+        out = self._back.get(v)
+        if out is None:
+            out = self._back[v] = [(self.edges[ei].u, self._static_time[ei])
+                                   for ei in self.into[v]]
+        return out
+
     def reverse_search(self, goals: dict[int, float]) -> ReverseResumable:
         """An RRA* from ``goals`` (node → extra time at it) over this graph's edges."""
         return ReverseResumable(self, goals)
@@ -389,18 +398,18 @@ class ReverseResumable:
             return self.dist[node]
         sg = self.sg
         slots = sg.slot_nodes
-        while self.heap:
-            d, v = heapq.heappop(self.heap)
-            if v in self.dist:
+        heap, best, dist = self.heap, self.best, self.dist
+        while heap:
+            d, v = heapq.heappop(heap)
+            if v in dist:
                 continue
             self.dist[v] = d
             if v not in slots or v in self.goals:
-                for ei in sg.into[v]:
-                    u = sg.edges[ei].u
-                    nd = d + sg._static_time[ei]
-                    if nd < self.best.get(u, math.inf) and u not in self.dist:
-                        self.best[u] = nd
-                        heapq.heappush(self.heap, (nd, u))
+                for u, w in sg.back(v):
+                    nd = d + w
+                    if nd < best.get(u, math.inf) and u not in dist:
+                        best[u] = nd
+                        heapq.heappush(heap, (nd, u))
             if v == node:
                 return d
         self.dist.setdefault(node, math.inf)
