@@ -6,6 +6,7 @@ drivable graph; :func:`run` plans the scenario's traffic through it.
 
 from __future__ import annotations
 
+import dataclasses
 import heapq
 import math
 import time
@@ -633,6 +634,10 @@ class _Simulation:
         sg = self.graphs[v.vehicle.name]
         k = next((k for k, m in enumerate(v.moves) if m.t1 > t), len(v.moves) - 1)
         kept, last = v.moves[: k + 1], v.moves[k]
+        if last.kind in ("wait", "outside") and last.t0 < t < last.t1:
+            # waiting (for as long as its search found it must): from now, it may go sooner
+            last = dataclasses.replace(last, t1=t)
+            kept = [*v.moves[:k], last]
         t_end = v.moves[-1].t1
         if k < len(v.moves) - 1 and self.may_be_sooner(v, t_end):
             goal = (Goal(exits=tuple(self.lg.exits.values())) if v.leaving
