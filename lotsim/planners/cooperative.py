@@ -51,7 +51,6 @@ from lotsim.geometry import same_pose
 from lotsim.lot.graph import LotGraph
 from lotsim.planners.maneuver import Maneuver
 from lotsim.planners.reservation import (
-    _EPS,
     ReservationTable,
     Swept,
     cells_of,
@@ -588,7 +587,7 @@ def search(sg: SearchGraph, table: ReservationTable, *, owner: str, start: int, 
                     if taken is None:
                         taken = parked_until[ei] = table.taken_until(sg.parked_body(ei),
                                                                      ignore=owner)
-                    after = taken + _EPS - em.duration
+                    after = taken - em.duration
                 if lvl > 0 or latest <= t:
                     if t <= after or not (quiet or table.is_free(em.swept, offset=t,
                                                                  ignore=owner)):

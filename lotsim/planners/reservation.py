@@ -396,9 +396,9 @@ class ReservationTable:
         return _merged(lo[keep], hi[keep])
 
     def taken_until(self, body: BaseGeometry, *, ignore: str | None = None) -> float:
-        """The latest time [s] anyone else's body meeting ``body`` is held until (``inf``:
-        for ever; ``-inf``: nobody's ever meets it): ``body`` is free from a time on
-        (:meth:`free_from` is None) if and only if that time is past this."""
+        """Till when [s] someone else's body meets ``body`` (``inf``: for ever; ``-inf``:
+        nobody's ever does): ``body`` is free from a time on (:meth:`free_from` is None)
+        if and only if that time is past this."""
         st = self._store
         n = st.n
         skip = self._ids.get(ignore, -1) if ignore is not None else -1
@@ -410,7 +410,7 @@ class ReservationTable:
         if cand.size == 0:
             return -math.inf
         hit = shapely.intersects(st.geom[cand], body)
-        return float(st.t[cand[hit], 1].max()) if hit.any() else -math.inf
+        return float(st.t[cand[hit], 1].max()) + _EPS if hit.any() else -math.inf
 
     def is_free(self, intervals: Sequence[Interval] | Swept, *, offset: float = 0.0,
                 ignore: str | None = None) -> bool:
