@@ -6,6 +6,7 @@ drivable graph; :func:`run` plans the scenario's traffic through it.
 
 from __future__ import annotations
 
+import dataclasses
 import heapq
 import math
 import time
@@ -633,6 +634,10 @@ class _Simulation:
         sg = self.graphs[v.vehicle.name]
         k = next((k for k, m in enumerate(v.moves) if m.t1 > t), len(v.moves) - 1)
         kept, last = v.moves[: k + 1], v.moves[k]
+        if last.kind in ("wait", "outside") and last.t0 < t < last.t1:
+            # waiting (for as long as its search found it must): from now, it may go sooner
+            last = dataclasses.replace(last, t1=t)
+            kept = [*v.moves[:k], last]
         t_end = v.moves[-1].t1
         if k < len(v.moves) - 1 and self.may_be_sooner(v, t_end):
             goal = (Goal(exits=tuple(self.lg.exits.values())) if v.leaving
@@ -661,8 +666,10 @@ class _Simulation:
         Otherwise the table only grew meanwhile and the replan
         starts on the car's own plan, which its last search chose over every other way
         from there; a sooner one could only be what that search passed over, its heuristic
-        being weighted (1.25) and its waits 1 s steps — milliseconds in practice (27 ms for
-        one car of the street's run; a test bounds it at 0.1 s there)."""
+        being weighted (1.25) and states passing a node at speed within
+        :data:`~lotsim.planners.cooperative.PASSING` of one another taken as one —
+        milliseconds in practice (a test bounds it at 0.1 s a car on the street's
+        run)."""
         return not SKIP_FRUITLESS or any(
             who != v.id and after < t_end
             and (not in_slot or getattr(self.by_id.get(who), "slot", None) == v.slot)

@@ -138,3 +138,32 @@ def test_releases_are_recorded_only_when_they_free_space():
     assert table.releases == [(3.0, "a", False), (1.0, "a", False), (-math.inf, "a", False),
                               (9.0, "b", True)]
     assert len(table) == 1
+
+
+def test_blocked_departures_are_exactly_the_offsets_is_free_refuses():
+    # random motions against random bodies held over random times (some for ever): a
+    # departure the table calls free lies outside every blocked interval, and one it does
+    # not lies inside one, at random offsets and at each interval's very ends
+    from lotsim.planners.reservation import Swept
+
+    rng = np.random.default_rng(5)
+    for _ in range(25):
+        table = ReservationTable()
+        for k in range(12):
+            x, y = rng.uniform(-12, 12, size=2)
+            t0 = float(rng.uniform(0, 30))
+            body = box(x, y, x + rng.uniform(0.3, 3), y + rng.uniform(0.3, 3))
+            if k == 0:
+                table.reserve_standing("wall", body, t0)
+            else:
+                table.reserve(f"o{k}", [(t0, t0 + float(rng.uniform(0.2, 8)), body)])
+        motion = timed_path(_random_pieces(rng), CAR)
+        sw = Swept.of(swept_motion(motion, CAR))
+        hit = table.blocked(sw, 0.0, 40.0)
+        assert all(a[1] < b[0] for a, b in zip(hit, hit[1:], strict=False))  # disjoint
+        probes = list(rng.uniform(0, 40, size=40))
+        probes += [t for lo, hi in hit for t in (lo + 1e-7, hi - 1e-7, lo - 1e-6, hi + 1e-6)
+                   if 0 <= t <= 40]
+        for d in probes:
+            inside = any(lo <= d <= hi for lo, hi in hit)
+            assert table.is_free(sw, offset=float(d)) is not inside, (d, hit)

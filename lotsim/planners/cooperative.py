@@ -10,7 +10,10 @@ speeds (multiples of 5 km/h up to its top speed). Moves are
   allow for lateral acceleration and steering rate — and the vehicle's
   acceleration, braking and jerk, with zero acceleration at both nodes; so plans
   are the trajectories, with no re-timing afterwards;
-* **wait** at a node, at rest, for a fixed step;
+* **wait** at a node, at rest, for as long as it needs: from rest a vehicle departs on
+  each edge at the earliest time of each stretch of time in which the edge's motion
+  meets nobody (safe-interval path planning, SIPP: Phillips & Likhachev 2011), as long
+  as its body stands in nobody's way meanwhile;
 * **park** (from rest, through the slot's planned maneuver, ending at rest in
   the slot) or **leave** (the same backwards), taking the maneuver's time,
   with the car standing to turn its wheels at cusps and wherever the maneuver's
@@ -18,7 +21,7 @@ speeds (multiples of 5 km/h up to its top speed). Moves are
 * **turn round** (from rest, through a multi-point turn at a dead end, to rest on the
   opposite lane), timed the same way;
 * **enter**: a vehicle not yet in the lot waits outside its entrance, taking
-  no space, until the entrance is free.
+  no space, until its first move is free.
 
 Every move is checked against the :class:`~lotsim.planners.reservation.ReservationTable`
 with the hulls of what the vehicle sweeps, chunk by chunk — a cover of its real
@@ -62,15 +65,18 @@ AT_REST = ("park", "leave", "turnaround")
 """Edges driven from rest to rest (multi-stroke: the car stops at every cusp)."""
 SPEED_STEP = 5 * KMH
 """Spacing of the speed levels a vehicle may pass a node at [m/s]."""
-WAIT = 1.0
-"""Length of one wait move [s]."""
+DEPART_AFTER = 1e-6
+"""A vehicle that waits for a body to clear its way departs this long [s] after the last
+instant the two would meet."""
 MIN_BUDGET = 20000
 """A search may always expand at least this many states before the fuse blows."""
 WEIGHT = 1.25
 EXPRESS = 6.0
 """Lane nodes closer than this [m] are also joined by one edge through them (see
 :meth:`SearchGraph._express`)."""
-_TIME_KEY = 0.5  # states this close in time at one node and speed are one [s]
+PASSING = 2.0
+"""A vehicle passing a node at a speed level within this long [s] after an earlier state of
+the search passed it at that level is taken for that state (see :func:`search`)."""
 
 
 class Status(Enum):
@@ -117,15 +123,25 @@ class Plan:
         return self.moves[-1].t1 if self.moves else math.nan
 
 
-@dataclass(frozen=True, slots=True)
 class EdgeMotion:
     """An edge driven between two speed levels: the motion, its duration [s], end pose,
-    and the hulls it sweeps (in its own time)."""
+    and the hulls it sweeps (in its own time; worked out when first asked for: a search
+    needs them only where someone else comes near the edge)."""
 
-    motion: Motion
-    duration: float
-    end: tuple[float, float, float]
-    swept: Swept
+    __slots__ = ("motion", "duration", "end", "_vehicle", "_swept")
+
+    def __init__(self, motion: Motion, vehicle: VehicleType):
+        self.motion = motion
+        self.duration = motion.duration
+        self.end = motion.end
+        self._vehicle = vehicle
+        self._swept: Swept | None = None
+
+    @property
+    def swept(self) -> Swept:
+        if self._swept is None:
+            self._swept = Swept.of(swept_motion(self.motion, self._vehicle))
+        return self._swept
 
 
 @dataclass(frozen=True, slots=True)
@@ -195,6 +211,7 @@ class SearchGraph:
         self._cells: dict[int, tuple[tuple[int, int], ...]] = {}
         self._standing: dict[int, Swept] = {}
         self._static_time = [self._lower_time(i, e) for i, e in enumerate(self.edges)]
+        self._back: dict[int, list[tuple[int, float]]] = {}
 
     def _add(self, e: _Edge) -> None:
         self.out[e.u].append(len(self.edges))
@@ -274,8 +291,7 @@ class SearchGraph:
         return out
 
     def _timed(self, motion: Motion) -> EdgeMotion:
-        return EdgeMotion(motion, motion.duration, motion.end,
-                          Swept.of(swept_motion(motion, self.vehicle)))
+        return EdgeMotion(motion, self.vehicle)
 
     def edge_cells(self, ei: int, em: EdgeMotion) -> tuple[tuple[int, int], ...]:
         """Grid cells of everything edge ``ei`` sweeps (the same at any speed)."""
@@ -287,10 +303,10 @@ class SearchGraph:
         return cells
 
     def standing(self, node: int) -> Swept:
-        """The footprint at lane node ``node`` held for one wait, from time 0."""
+        """The footprint at lane node ``node`` at an instant, time 0."""
         sw = self._standing.get(node)
         if sw is None:
-            sw = self._standing[node] = Swept.of([(0.0, WAIT, self.body(node))])
+            sw = self._standing[node] = Swept.of([(0.0, 0.0, self.body(node))])
         return sw
 
     def body(self, node: int) -> BaseGeometry:
@@ -322,6 +338,14 @@ class SearchGraph:
         return e.length / e.cap if e.length > 0 else 0.0
 
     # -- static distances ---------------------------------------------------------------------
+    def back(self, v: int) -> list[tuple[int, float]]:
+        """``(u, static time [s])`` of every edge into node ``v`` (kept)."""
+        out = self._back.get(v)
+        if out is None:
+            out = self._back[v] = [(self.edges[ei].u, self._static_time[ei])
+                                   for ei in self.into[v]]
+        return out
+
     def reverse_search(self, goals: dict[int, float]) -> ReverseResumable:
         """An RRA* from ``goals`` (node → extra time at it) over this graph's edges."""
         return ReverseResumable(self, goals)
@@ -373,18 +397,18 @@ class ReverseResumable:
             return self.dist[node]
         sg = self.sg
         slots = sg.slot_nodes
-        while self.heap:
-            d, v = heapq.heappop(self.heap)
-            if v in self.dist:
+        heap, best, dist = self.heap, self.best, self.dist
+        while heap:
+            d, v = heapq.heappop(heap)
+            if v in dist:
                 continue
             self.dist[v] = d
             if v not in slots or v in self.goals:
-                for ei in sg.into[v]:
-                    u = sg.edges[ei].u
-                    nd = d + sg._static_time[ei]
-                    if nd < self.best.get(u, math.inf) and u not in self.dist:
-                        self.best[u] = nd
-                        heapq.heappush(self.heap, (nd, u))
+                for u, w in sg.back(v):
+                    nd = d + w
+                    if nd < best.get(u, math.inf) and u not in dist:
+                        best[u] = nd
+                        heapq.heappush(heap, (nd, u))
             if v == node:
                 return d
         self.dist.setdefault(node, math.inf)
@@ -464,33 +488,36 @@ def search(sg: SearchGraph, table: ReservationTable, *, owner: str, start: int, 
     if rra(start) == math.inf:
         return Plan(Status.NO_PATH)
 
-    start_body = (standing_body(sg.vehicle, start_pose) if start_pose is not None
-                  else sg.body(start))
-    start_stand = Swept.of([(0.0, WAIT, start_body)])
+    start_stand = (Swept.of([(0.0, 0.0, standing_body(sg.vehicle, start_pose))])
+                   if start_pose is not None else sg.standing(start))
+    end = t0 + horizon
 
-    # state: (node, level, time, outside); parents keyed by an integer id
+    # state: (node, level, time, outside); parents keyed by an integer id, each with the
+    # moves that led there (a wait and the drive after it, from rest)
     heap: list[tuple[float, float, int]] = []
     states: list[tuple[int, int, float, bool]] = []
-    parent: list[tuple[int, Move | None]] = []
-    closed: set[tuple[int, int, int, bool]] = set()
+    parent: list[tuple[int, tuple[Move, ...]]] = []
+    closed: set[tuple[int, bool, float]] = set()  # at rest: node, outside, free till
+    passed: dict[tuple[int, int], float] = {}  # moving: (node, level) → last time expanded
 
     lim = sg.vehicle.limits
     # time lost reaching top speed from each level, and braking to rest before parking:
     # exact on long runs, an overestimate on the last few metres (plans are near-optimal)
     stop = top / (2 * lim.max_brake) if goal.slot is not None else 0.0
     loss = [(top - v) ** 2 / (2 * lim.max_accel * top) + stop for v in sg.levels]
-    rest_seen: dict[int, float] = {}  # node → earliest time expanded standing there
+    parked_until: dict[int, float] = {}  # park edge → till when its pose is taken [s]
 
-    def push(node: int, lvl: int, t: float, out: bool, par: int, move: Move | None) -> None:
+    def push(node: int, lvl: int, t: float, out: bool, par: int, moves: tuple[Move, ...]
+             ) -> None:
         hv = h(node)
         if hv == math.inf or (h is not rra and rra(node) == math.inf):
             return
         hv = WEIGHT * hv + loss[lvl]
         states.append((node, lvl, t, out))
-        parent.append((par, move))
+        parent.append((par, moves))
         heapq.heappush(heap, (t + hv, -t, len(states) - 1))  # ties: deepest first
 
-    push(start, level, t0, outside, -1, None)
+    push(start, level, t0, outside, -1, ())
     expansions = 0
     fuse = max(MIN_BUDGET, omega * rra.closed)
     if budget is not None:
@@ -498,40 +525,42 @@ def search(sg: SearchGraph, table: ReservationTable, *, owner: str, start: int, 
     while heap:
         _, _, sid = heapq.heappop(heap)
         node, lvl, t, out = states[sid]
-        key = (node, lvl, round(t / _TIME_KEY), out)
-        if key in closed:
-            continue
-        if lvl == 0 and not out:
-            # standing here later than an earlier visit that could have waited till now
-            move = parent[sid][1]
-            seen = rest_seen.get(node)
-            if seen is None:
-                rest_seen[node] = t
-            elif (t > seen and (move is None or move.kind != "wait")
-                  and table.is_free((start_stand if node == start else sg.standing(node))
-                                    .held(seen, t), ignore=owner)):
+        if lvl == 0:
+            # at rest: it may stand here until its body is first in someone's way (outside,
+            # for ever); an earlier arrival within that same free stretch could have waited
+            # till now, so the state is the node and the stretch's end (SIPP)
+            if out:
+                free_till = math.inf
+            else:
+                stand = start_stand if node == start else sg.standing(node)
+                hit = table.blocked(stand, t, end, ignore=owner)
+                free_till = next((lo for lo, hi in hit if hi >= t), math.inf)
+            # (standing where it is already in someone's way, it may only drive on)
+            key = (node, out, free_till) if free_till > t else (node, out, t)
+            if key in closed:
                 continue
-        closed.add(key)
+            closed.add(key)
+        else:
+            # passing at speed it cannot wait, so a later state is no worse in every way;
+            # but one soon after an earlier is taken for it, or every way of stopping
+            # before a queue and going on again would be searched (a plan that needs the
+            # later one waits on the way instead, at rest)
+            last = passed.get((node, lvl))
+            if last is not None and t - last < PASSING:
+                continue
+            passed[node, lvl] = t
         expansions += 1
         if expansions > fuse:
             return Plan(Status.FUSE, expansions=expansions)
-        if t - t0 > horizon:
+        if t > end:
             continue
         if not out:
             if node in exits:
                 return _plan(Status.FOUND, sid, parent, expansions)
             if node == goal.slot:
                 return _plan(Status.FOUND, sid, parent, expansions)
-        # wait: outside for free, or standing where it is
-        if lvl == 0:
-            if out:
-                push(node, 0, t + WAIT, True, sid, Move("outside", t, t + WAIT, node, node, 0, 0))
-            here = start_pose if node == start and start_pose is not None else sg.pose[node]
-            stand = start_stand if node == start else sg.standing(node)
-            if table.is_free(stand, offset=t, ignore=owner):
-                push(node, 0, t + WAIT, False, sid,
-                     Move("wait", t, t + WAIT, node, node, 0, 0, end_pose=here,
-                          steer=sg.steer[node]))
+        # from rest it departs when the way is free, waiting for it where it stands
+        latest = min(free_till, end) if lvl == 0 else t
         for ei in sg.out[node]:
             e = sg.edges[ei]
             if e.kind == "leave" and (node != start or out or not same_pose(
@@ -542,35 +571,86 @@ def search(sg: SearchGraph, table: ReservationTable, *, owner: str, start: int, 
                 continue
             if e.kind == "join":
                 if not out:
-                    push(e.v, lvl, t, out, sid, None)
+                    push(e.v, lvl, t, out, sid, ())
                 continue
             variants, longest = sg.variants(ei, lvl)
             if not variants:
                 continue
+            cells = sg.edge_cells(ei, variants[0][1])
             # nobody near the edge while any variant drives it: no exact test needed
-            quiet = table.quiet(sg.edge_cells(ei, variants[0][1]), t, t + longest,
-                                ignore=owner)
+            quiet = table.quiet(cells, t, latest + longest, ignore=owner)
+            kind = e.kind if e.kind in ("park", "leave") else "drive"
             for b, em in variants:
-                t1 = t + em.duration
-                # a parked vehicle must be able to stay for ever
-                if (e.kind == "park"
-                        and table.free_from(sg.parked_body(ei), t1, ignore=owner) is not None):
-                    continue
-                if not quiet and not table.is_free(em.swept, offset=t, ignore=owner):
-                    continue
-                kind = e.kind if e.kind in ("park", "leave") else "drive"
-                push(e.v, b, t1, False, sid,
-                     Move(kind, t, t1, node, e.v, lvl, b, ei, em.motion, em.end))
+                after = -math.inf  # a parked vehicle must be able to stay for ever
+                if e.kind == "park":
+                    taken = parked_until.get(ei)
+                    if taken is None:
+                        taken = parked_until[ei] = table.taken_until(sg.parked_body(ei),
+                                                                     ignore=owner)
+                    after = taken - em.duration
+                if lvl > 0 or latest <= t:
+                    if t <= after or not (quiet or table.is_free(em.swept, offset=t,
+                                                                 ignore=owner)):
+                        continue
+                    departures = [t]
+                else:
+                    hit = [] if quiet else table.blocked(em.swept, t, latest, cells=cells,
+                                                         ignore=owner)
+                    if after >= t:
+                        hit = _merged_with(hit, (-math.inf, after))
+                    departures = _departures(hit, t, latest)
+                for d in departures:
+                    drive = Move(kind, d, d + em.duration, node, e.v, lvl, b, ei, em.motion,
+                                 em.end)
+                    if d > t:
+                        here = (start_pose if node == start and start_pose is not None
+                                else sg.pose[node])
+                        wait = (Move("outside", t, d, node, node, 0, 0) if out else
+                                Move("wait", t, d, node, node, 0, 0, end_pose=here,
+                                     steer=sg.steer[node]))
+                        push(e.v, b, d + em.duration, False, sid, (wait, drive))
+                    else:
+                        push(e.v, b, d + em.duration, False, sid, (drive,))
     return Plan(Status.NO_PATH, expansions=expansions)
 
 
-def _plan(status: Status, sid: int, parent: list[tuple[int, Move | None]],
+def _departures(hit: list[tuple[float, float]], t: float, latest: float) -> list[float]:
+    """The earliest time [s] of each stretch of ``[t, latest]`` (``latest`` itself
+    excluded when it is after ``t``: the first instant the waiting body is in the way)
+    outside the sorted, disjoint closed intervals ``hit``."""
+    out = []
+    d = t
+    for lo, hi in hit:
+        if hi < d:
+            continue
+        if lo > d:
+            out.append(d)
+        d = hi + DEPART_AFTER
+        if d >= latest:
+            return out
+    if d < latest or d == t:
+        out.append(d)
+    return out
+
+
+def _merged_with(hit: list[tuple[float, float]], extra: tuple[float, float]
+                 ) -> list[tuple[float, float]]:
+    """``hit`` (sorted, disjoint closed intervals) with ``extra`` added."""
+    out: list[tuple[float, float]] = []
+    for lo, hi in sorted([*hit, extra]):
+        if out and lo <= out[-1][1]:
+            out[-1] = (out[-1][0], max(hi, out[-1][1]))
+        else:
+            out.append((lo, hi))
+    return out
+
+
+def _plan(status: Status, sid: int, parent: list[tuple[int, tuple[Move, ...]]],
           expansions: int) -> Plan:
     moves: list[Move] = []
     while sid >= 0:
-        par, move = parent[sid]
-        if move is not None:
-            moves.append(move)
+        par, step = parent[sid]
+        moves.extend(reversed(step))
         sid = par
     moves.reverse()
     return Plan(status, moves, expansions)
