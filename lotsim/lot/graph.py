@@ -806,9 +806,9 @@ def _reaching_turnarounds(lane: Lane, back: Lane, found: list[Turnaround],
     (:func:`~lotsim.lot.multipoint.plan_onto`) that land at or before ``go_on`` (the last
     station ``back`` can be left from), where those ``found`` leave a car stranded: one from
     as near the lane's end as there is room when every one found lands past ``go_on`` (or
-    none was found),
-    and one from the last station in ``arrive`` (where turns land on ``lane``) when that is
-    past where every one found begins (a car arriving earlier drives on to it)."""
+    none was found), and one from the last station in ``arrive`` (where turns land on
+    ``lane``) when that is past where every one found begins (a car arriving earlier drives
+    on to it)."""
     seg = back.segments[0]
     if seg.curvature != 0.0 or seg.sharpness != 0.0 or go_on < 0:
         return []
