@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import os
 
@@ -179,6 +180,36 @@ def test_show_graph_draws_along_the_lanes(scene) -> None:
     lane = g.lot.lanes[0]
     px = np.rint(canvas.to_px(lane.sample(0.5)[:, :2])).astype(int)
     assert np.any(np.all(graph[px[:, 1], px[:, 0]] == li.GRAPH_EDGE["lane"], axis=1))
+
+
+def test_multi_point_turns_have_their_own_colour_and_key() -> None:
+    """The cul-de-sac's turnarounds are drawn in their own colour, and the key names them;
+    a graph without any has no such entry."""
+    from pathlib import Path
+
+    from lotsim.io.scenario import load_scenario
+    from lotsim.render.lot_image.legend import _legend_entries
+
+    lots = Path(__file__).resolve().parents[1] / "scenarios" / "lots"
+    sc = load_scenario(lots / "culdesac.yaml")
+    lot = build_lot(sc.lot, DesignVehicle.envelope(sc.vehicle_types))
+    g = build_graph(lot, vehicles=sc.vehicle_types)
+    backs = [d["path"] for *_, d in g.graph.edges(data=True) if d["kind"] == "turnaround"]
+    assert backs
+    colour = li.GRAPH_EDGE["turnaround"]
+    assert colour not in [c for k, c in li.GRAPH_EDGE.items() if k != "turnaround"]
+    img = pixels(draw_lot(g, size=SIZE, labels=False, legend=False, show_graph=True))
+    canvas = lot_layout(g, size=SIZE, show_graph=True, legend=False).canvas
+    for path in backs:
+        pts = np.concatenate([s.sample(0.25) for s in path])[:, :2]
+        px = np.rint(canvas.to_px(pts)).astype(int)
+        assert np.all(img[px[:, 1], px[:, 0]] == colour, axis=1).mean() > 0.3
+    assert "multi-point turn" in [e.label for e in _legend_entries(g, lot, True)]
+    bare = g.graph.copy()
+    bare.remove_edges_from([(u, v) for u, v, d in g.graph.edges(data=True)
+                            if d["kind"] == "turnaround"])
+    plain = dataclasses.replace(g, graph=bare)
+    assert "multi-point turn" not in [e.label for e in _legend_entries(plain, lot, True)]
 
 
 def test_labels_can_be_turned_off_and_a_bare_lot_draws(scene) -> None:

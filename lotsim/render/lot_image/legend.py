@@ -145,6 +145,14 @@ def _swatch_link(img: Image.Image, box: tuple[int, int, int, int]) -> None:
     d.line([(x0 + 3, y - 5), (x1 - 3, y + 5)], fill=GRAPH_EDGE["turn"], width=1)
 
 
+def _swatch_multipoint(img: Image.Image, box: tuple[int, int, int, int]) -> None:
+    d = ImageDraw.Draw(img)
+    x0, y0, x1, y1 = box
+    d.rectangle(box, fill=ASPHALT)
+    d.line([(x0 + 3, y1 - 4), ((x0 + x1) / 2, y0 + 4), (x1 - 3, y1 - 4)],
+           fill=GRAPH_EDGE["turnaround"], width=1)
+
+
 def _legend_entries(lot_graph, lot, show_graph: bool) -> list[_Entry]:
     out = [_Entry("aisle, lane direction", _swatch_arrow)]
     kinds = {s.kind for s in lot.slots}
@@ -172,6 +180,8 @@ def _legend_entries(lot_graph, lot, show_graph: bool) -> list[_Entry]:
     if show_graph and lot_graph is not None:
         out.append(_Entry("graph node, lane edge", _swatch_graph))
         out.append(_Entry("turn, park link", _swatch_link))
+        if any(d["kind"] == "turnaround" for *_, d in lot_graph.graph.edges(data=True)):
+            out.append(_Entry("multi-point turn", _swatch_multipoint))
     return out
 
 

@@ -50,6 +50,7 @@ GRAPH_EDGE: dict[str, Color] = {
     "join": (255, 255, 255),
     "park": (255, 150, 0),
     "leave": (255, 150, 0),
+    "turnaround": (150, 255, 60),  # multi-point turns: dead ends and small junctions
 }
 GRAPH_NODE: Color = (0, 240, 255)
 SLOT_NODE: Color = (255, 150, 0)
