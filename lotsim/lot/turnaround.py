@@ -57,11 +57,6 @@ class Turnaround:
     segments: tuple[Segment, ...]
 
     @property
-    def length(self) -> float:
-        """Path length [m]."""
-        return sum(s.length for s in self.segments)
-
-    @property
     def changes(self) -> int:
         """Direction changes (cusps)."""
         gears = [s.gear for s in self.segments]

@@ -843,16 +843,15 @@ class ManeuverPlanner:
             found = self._shuffle(p, root, -1 if nose_in else 1, best[:2] if best else None)
             if found is not None and (best is None or found[:2] < best[:2]):
                 best = found
-        if best is None:
-            best = self._any_way_out(p, style, heading_in, axle_of=lambda h: (
-                centre - unit(h) * (v.front - v.rear) / 2))
-        if best is None:
+        way_out = best[2] if best is not None else self._any_way_out(
+            p, style, heading_in, axle_of=lambda h: centre - unit(h) * (v.front - v.rear) / 2)
+        if way_out is None:
             return (f"no way out with up to {self.max_changes} direction changes "
                     f"keeping {self.margin:g} m from the neighbours and the aisle's far side")
-        return _park_path(best[2])
+        return _park_path(way_out)
 
     def _any_way_out(self, p: _Problem, style: str, heading_in: float, axle_of
-                     ) -> tuple[int, float, list[Segment]] | None:
+                     ) -> list[Segment] | None:
         """The way out of a perpendicular or angled slot when the full-lock shuffle finds
         none (a corner bay against a closed end, where the strokes must not all be at full
         lock): a multi-point search over arcs and straights in either gear
@@ -870,15 +869,11 @@ class ManeuverPlanner:
                 roots.append(root)
         if not roots:
             return None
-        found = plan_onto(roots, (0.0, p.lane_y, 0.0), p.lane_x[0], p.lane_x[1],
-                          _LocalChecks(p), _LocalChecks(p), p.vehicle.min_turning_radius,
-                          max_changes=self.max_changes, budget=WAY_OUT_BUDGET)
-        if found is None:
-            return None
-        segs = list(found[1])
-        gears = [s.gear for s in segs]
-        changes = sum(1 for a, b in zip(gears[:-1], gears[1:], strict=True) if a != b)
-        return changes, sum(s.length for s in segs), segs
+        local = _LocalChecks(p)
+        found = plan_onto(roots, (0.0, p.lane_y, 0.0), p.lane_x[0], p.lane_x[1], local, local,
+                          p.vehicle.min_turning_radius, max_changes=self.max_changes,
+                          budget=WAY_OUT_BUDGET)
+        return None if found is None else list(found[1])
 
     def _shuffle(self, p: _Problem, root: Pose, gear0: int, bound: tuple[int, float] | None
                  ) -> tuple[int, float, list[Segment]] | None:

@@ -281,23 +281,13 @@ class ReservationTable:
         sw = intervals if isinstance(intervals, Swept) else Swept.of(intervals)
         skip = self._ids.get(ignore, -1) if ignore is not None else -1
         st = self._store
-        grid, long_cells, b = self._grid, self._long_cells, self.bucket
+        b = self.bucket
         pairs_i: list[int] = []
         pairs_j: list[int] = []
         for j in range(len(sw.geoms)):
             a, z = float(sw.t[j, 0]) + offset, float(sw.t[j, 1]) + offset
-            k0, k1 = math.floor((a - _EPS) / b), math.floor((z + _EPS) / b)
-            found: set[int] = set()
-            for cell in sw.cells[j]:
-                by_bucket = grid.get(cell)
-                if by_bucket is not None:
-                    for k in range(k0, k1 + 1):
-                        hit = by_bucket.get(k)
-                        if hit:
-                            found.update(hit)
-                hit = long_cells.get(cell)
-                if hit:
-                    found.update(hit)
+            found = self._filed(sw.cells[j], math.floor((a - _EPS) / b),
+                                math.floor((z + _EPS) / b))
             if not found:
                 continue
             x0, y0, x1, y1 = sw.bounds[j]
@@ -359,22 +349,11 @@ class ReservationTable:
             return []
         skip = self._ids.get(ignore, -1) if ignore is not None else -1
         st = self._store
-        grid, long_cells, b = self._grid, self._long_cells, self.bucket
+        b = self.bucket
         first, last = since + float(sw.t[:, 0].min()), until + float(sw.t[:, 1].max())
         if cells is None:
             cells = sorted({c for cs in sw.cells for c in cs})
-        k0, k1 = math.floor((first - _EPS) / b), self._last_bucket(last)
-        found: set[int] = set()
-        for cell in cells:
-            by_bucket = grid.get(cell)
-            if by_bucket is not None:
-                for k in range(k0, k1 + 1):
-                    hit = by_bucket.get(k)
-                    if hit:
-                        found.update(hit)
-            hit = long_cells.get(cell)
-            if hit:
-                found.update(hit)
+        found = self._filed(cells, math.floor((first - _EPS) / b), self._last_bucket(last))
         if not found:
             return []
         if len(found) * len(sw) <= _FEW_PAIRS:
@@ -485,6 +464,23 @@ class ReservationTable:
             self._ids[owner] = len(self._names)
             self._names.append(owner)
         return self._ids[owner]
+
+    def _filed(self, cells, k0: int, k1: int) -> set[int]:
+        """Ids of the entries filed in grid ``cells`` in time buckets ``k0 .. k1``, and of
+        the long entries filed there by space only: the candidates a query tests."""
+        grid, long_cells = self._grid, self._long_cells
+        found: set[int] = set()
+        for cell in cells:
+            by_bucket = grid.get(cell)
+            if by_bucket is not None:
+                for k in range(k0, k1 + 1):
+                    hit = by_bucket.get(k)
+                    if hit:
+                        found.update(hit)
+            hit = long_cells.get(cell)
+            if hit:
+                found.update(hit)
+        return found
 
     def _last_bucket(self, t: float) -> int:
         """The last time bucket a query reaching ``t`` [s] need look in: none after the
