@@ -13,9 +13,12 @@ import dataclasses
 import pytest
 import shapely
 
+import lotsim.sim
 from conftest import scenario_from_text
+from lotsim.cli import main
 from lotsim.errors import ScenarioError, SettingsError
 from lotsim.io.result import result_dict
+from lotsim.planners.cooperative import Plan, Status
 from lotsim.sim import (
     SAMPLE_DT,
     STATUSES,
@@ -188,6 +191,36 @@ def test_a_queued_car_gets_the_freed_slot_only_if_it_waits_long_enough(tiny):
     patience = 0.8 * (way_in - late.arrival.time)
     late = run(_with(sc, cars, patience=patience), lot_graph=lg).vehicles[-1]
     assert late.status == "rejected" and f"waited {patience:g} s" in late.reason
+
+
+def test_a_car_that_can_never_leave_ends_waiting_with_its_reason_and_run_exits_1(
+        tiny, tmp_path, monkeypatch):
+    # every search for a way out fails (as when the aisle stays blocked): the car tries
+    # again and again, backing off, and is not reported parked when the run ends
+    real = lotsim.sim.search
+
+    def no_way_out(sg, table, *, goal, **kw):
+        if goal.slot is None:  # towards the exits
+            return Plan(Status.NO_PATH, expansions=1)
+        return real(sg, table, goal=goal, **kw)
+
+    monkeypatch.setattr(lotsim.sim, "search", no_way_out)
+    sc, lg = tiny
+    rr = run(_with(sc, [Arrival("stuck", "valet", "in", 0.0, 20.0), *_cars(1)]), lot_graph=lg)
+    stuck, other = rr.vehicles
+    assert other.status == "parked" and other.reason == ""
+    assert stuck.status == "waiting" and stuck.slot is not None
+    assert stuck.reason.startswith("could not leave yet (no path)")
+    assert "when the run ended" in stuck.reason
+    assert stuck.searches > 3  # parked once, then tried to leave again and again
+    assert rr.metrics()["waiting"] == 1
+    assert result_dict(rr)["vehicles"][0]["status"] == "waiting"
+    path = tmp_path / "tiny.yaml"
+    path.write_text(TINY + "traffic:\n  vehicles:\n"
+                    "    - {id: stuck, type: valet, entrance: in, arrival: 0, dwell: 20}\n")
+    assert main(["run", str(path), "-o", str(tmp_path / "o"), "--no-gif"]) == 1
+    monkeypatch.setattr(lotsim.sim, "search", real)
+    assert main(["run", str(path), "-o", str(tmp_path / "p"), "--no-gif"]) == 0
 
 
 # -- determinism and errors ----------------------------------------------------------------------
