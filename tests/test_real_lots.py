@@ -67,6 +67,7 @@ def test_a_cul_de_sac_is_left_by_a_multi_point_turn_at_its_closed_end(lots):
     assert backs
     for u, v, d in backs:
         assert g.nodes[u]["lane"] == "a>" and g.nodes[v]["lane"] == "a<"
+        assert {s.gear for s in d["path"]} == {1, -1}  # multi-point: forward and back
         _assert_turns_round_clear(d["path"], lg)
     # cars park from either lane and leave towards the gate: none needs to turn round
     rr = run(sc, lot_graph=lg)
@@ -74,9 +75,10 @@ def test_a_cul_de_sac_is_left_by_a_multi_point_turn_at_its_closed_end(lots):
 
 
 def _assert_turns_round_clear(path, lg):
-    """Forward and back, full lock at most, turning the car round, and (independently of
-    the planner's checker: shapely) the margin from every slot, inside the lot boundary."""
-    assert {s.gear for s in path} == {1, -1}
+    """Forward and back (or forward only: a U-turn where there is room), ending forward,
+    full lock at most, turning the car round, and (independently of the planner's checker:
+    shapely) the margin from every slot, inside the lot boundary."""
+    assert {s.gear for s in path} <= {1, -1} and path[-1].gear == 1
     assert max(s.max_curvature for s in path) <= 1 / lg.lot.design.min_radius + 1e-9
     turned = math.remainder(path[-1].end[2] - path[0].start[2], math.tau)
     assert abs(turned) == pytest.approx(math.pi)
@@ -554,3 +556,51 @@ def test_a_lot_of_several_types_serves_each_by_its_own_turns():
     assert not any(no_in for no_in, _ in lg.reachability().by_type.values())
     rr, doc = _run_checked(sc, lg)
     assert {v["status"] for v in doc["vehicles"]} == {"departed"}
+
+
+def test_a_car_whose_way_on_is_blocked_turns_back_at_a_junction(lots):
+    # Walls held for ever (in the reservation table) across the ladder's west aisle north of
+    # aisle a1, and across a1 east of the junction: a car come in at the south-west gate,
+    # heading north, can reach the southbound lane beside the gate only by turning back.
+    # It does so at a1's junction, in a few strokes that use a1's mouth; without U-turns
+    # at junctions there is no way at all.
+    import dataclasses
+
+    from shapely.geometry import box
+
+    from lotsim.planners.cooperative import Goal, Status, search
+    from lotsim.planners.reservation import ReservationTable
+
+    _, lg = lots["ladder"]
+    g = lg.graph
+    uturns = [(u, v, d) for u, v, d in g.edges(data=True) if d["kind"] == "turnaround"
+              and g.nodes[u]["lane"] == "west>" and g.nodes[v]["lane"] == "west<"
+              and g.nodes[u]["pose"][1] < 8.5]
+    assert uturns  # at a1's junction (y = 8.5 m)
+    for _, _, d in uturns:
+        _assert_turns_round_clear(d["path"], lg)
+    poses = np.concatenate([s.sample(0.1) for _, _, d in uturns for s in d["path"]])
+    swept = shapely.polygons(lg.lot.design.footprints(poses))
+    _, _, x1, y1 = shapely.total_bounds(swept)
+    assert y1 + 0.5 < 20.0 and x1 + 0.5 < 40.0  # the walls leave the U-turns clear
+    walls = [box(0.0, y1 + 0.5, 7.0, y1 + 1.0), box(x1 + 0.5, 5.0, x1 + 1.0, 12.0)]
+    goal = max((n for n, a in g.nodes(data=True) if a.get("lane") == "west<"),
+               key=lambda n: g.nodes[n]["station"])  # its last node, beside the gate
+    car = CATALOGUE["valet"]
+
+    def plan(lot_graph):
+        table = ReservationTable()
+        for k, w in enumerate(walls):
+            table.reserve_standing(f"wall{k}", w, 0.0)
+        sg = SearchGraph(lot_graph, car)
+        return sg, search(sg, table, owner="me", start=lg.entrances["in"], t0=0.0,
+                          goal=Goal(exits=(goal,)))
+
+    sg, found = plan(lg)
+    assert found.status is Status.FOUND
+    kinds = [sg.edges[m.edge].kind for m in found.moves if m.edge is not None]
+    assert "turnaround" in kinds
+    without = g.copy()
+    without.remove_edges_from([(u, v) for u, v, _ in uturns])
+    _, none = plan(dataclasses.replace(lg, graph=without))
+    assert none.status is not Status.FOUND

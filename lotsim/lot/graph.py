@@ -18,7 +18,9 @@ passing or standing at a node steers for it. Edges are pieces of path
 * ``turnaround`` — a multi-point turn, driven from rest to rest, stopping at each cusp:
   at a dead end onto the opposite lane (:mod:`lotsim.lot.turnaround`), or where aisles
   meet in a junction too small for one turn, onto the other aisle's lane
-  (:func:`_junction_multipoints`, :mod:`lotsim.lot.multipoint`);
+  (:func:`_junction_multipoints`, :mod:`lotsim.lot.multipoint`), or a U-turn at a
+  junction, turning in the crossing aisle's mouth back onto the opposite lane
+  (:func:`_junction_uturns`);
 * ``park`` / ``leave`` — from a lane node into a slot node and back, through
   real parking maneuvers: ``maneuvers`` maps each vehicle type that can use
   the link to its :class:`~lotsim.planners.maneuver.Maneuver` (the leave edge
@@ -60,7 +62,7 @@ from lotsim.geometry import (
 from lotsim.lot.build import SWEEP_STEP, lane_collider
 from lotsim.lot.clearance import Collider
 from lotsim.lot.model import DesignVehicle, Lane, Lot, Portal, Slot, unit
-from lotsim.lot.multipoint import plan_onto
+from lotsim.lot.multipoint import plan_onto, segment_to_world, to_local
 from lotsim.lot.turnaround import STARTS as TURNAROUND_STARTS
 from lotsim.lot.turnaround import (
     Turnaround,
@@ -353,6 +355,7 @@ def build_graph(lot: Lot, *, node_spacing: float = 4.0, maneuvers=None,
         lid, st = _portal_station(lot, p)
         exits[lid] = max(exits.get(lid, -math.inf), st)
     multis = _junction_multipoints(lot, tagged, designs, exits)
+    uturns = _junction_uturns(lot, designs)
     stays = {} if maneuvers is None else (stays or {})
     attach = (_attachments(lot) if maneuvers is None
               else _maneuver_attachments(lot, [*maneuvers.items(), *stays.items()]))
@@ -362,7 +365,7 @@ def build_graph(lot: Lot, *, node_spacing: float = 4.0, maneuvers=None,
             stops[lid] = max(stops.get(lid, -math.inf), st)
     backs, no_back = _turnarounds_of(lot, turns, joins, exits, designs, stops,
                                      [t for t, _ in multis])
-    backs += multis
+    backs += multis + uturns
     # turnarounds for more types first: two that join the same nodes keep the one more can
     # drive
     backs.sort(key=lambda c: -len(designs or ()) if c[1] is None else -len(c[1]))
@@ -950,6 +953,142 @@ def _junction_multipoints(lot: Lot, tagged: list[tuple[Turn, frozenset | None]],
     cache[key] = out
     return list(out)
 
+
+
+UTURN_LAND = (2.0, 8.0)
+"""Where a U-turn at a junction (:func:`_junction_uturns`) may land on the opposite lane:
+from this much before the crossing to this much past it [m]."""
+_UTURNS: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()  # lot → {types: uturns}
+
+
+def _junction_uturns(lot: Lot, designs: dict[str, DesignVehicle] | None = None
+                     ) -> list[tuple[Turnaround, frozenset | None]]:
+    """U-turns at junctions: from a lane of a two-way aisle, where another aisle crosses
+    or meets it, back onto its opposite lane, in a few strokes that use the other aisle's
+    mouth (:func:`~lotsim.lot.multipoint.plan_onto`) — how a driver turns back whose way
+    is blocked, or who leaves the way they came. Each begins at or up to 6 m
+    (:data:`MULTI_STARTS`) before the crossing and lands within :data:`UTURN_LAND` of it;
+    it needs :data:`MULTI_ROOM` of lane before the crossing on the lane it leaves and past
+    it on the one it joins. Each is tagged with the vehicle types it suits (None: all);
+    only types that fit a slot are planned for, largest first.
+
+    Junctions of one shape share a plan: one found at a junction is moved onto the next
+    (the same place relative to the crossing) and kept when it lands on that junction's
+    opposite lane and is clear there, so a lot of many alike junctions plans a few.
+    Worked out once per lot and set of types."""
+    key = tuple(sorted(designs.items())) if designs else None
+    cache = _UTURNS.setdefault(lot, {})
+    if key in cache:
+        return list(cache[key])
+    per = designs or {"": lot.design}
+    bodies = {name: turnaround_collider(lot, design) for name, design in per.items()}
+    parks = sorted((n for n, d in per.items() if _fits_a_slot(lot, d)),
+                   key=lambda n: (-per[n].min_radius, -(per[n].front + per[n].rear), n))
+    known: list[tuple[str, tuple[Segment, ...]]] = []  # (type, path relative to a crossing)
+    found: dict[Turnaround, set[str]] = {}
+    for aisle in lot.aisles.values():
+        if aisle.one_way or len(aisle.lanes) != 2:
+            continue
+        for a, back in (aisle.lanes, aisle.lanes[::-1]):
+            for sa0, pa, x in _crossings(lot, a):
+                ta = float(np.dot(x - np.asarray(pa.start[:2]), unit(pa.start[2])))
+                sb, _ = back.project((float(x[0]), float(x[1])))
+                got = _straight_at(back, sb)
+                if got is None or sa0 + ta < MULTI_ROOM:
+                    continue
+                sb0, pb = got
+                tb = sb - sb0
+                lo, hi = max(tb - UTURN_LAND[0], 0.0), min(tb + UTURN_LAND[1], pb.length)
+                if hi - tb < MULTI_ROOM:
+                    continue
+                frame = np.array(pa.start, dtype=float)
+                frame[:2] = x
+                end = min(ta, pa.length)
+                mine: list[Turnaround] = []
+                for name in parks:
+                    fitting = [t for t in mine if _suits(t, per[name], bodies[name])]
+                    if fitting:  # one planned for a larger type here serves this one
+                        found[fitting[0]].add(name)
+                        continue
+                    t = _moved_uturn(known, name, frame, a, sa0, pa, end, back, sb0, pb,
+                                     lo, hi, bodies[name])
+                    if t is None:
+                        starts = sorted({max(end - k, 0.0) for k in MULTI_STARTS},
+                                        reverse=True)
+                        plan = plan_onto(list(pa.poses_at(starts)), pb.start, lo, hi,
+                                         *bodies[name], per[name].min_radius)
+                        if plan is None:
+                            continue
+                        k, segs = plan
+                        t = Turnaround(a.id, sa0 + starts[k], back.id,
+                                       sb0 + _along(pb, segs[-1].end), segs)
+                        known.append((name, tuple(_segment_to_local(frame, g) for g in segs)))
+                    found.setdefault(t, set()).add(name)
+                    mine.append(t)
+    for t, names in found.items():  # and every other type it suits
+        names.update(n for n in per if n not in names and _suits(t, per[n], bodies[n]))
+    out = [(t, None if len(n) == len(per) else frozenset(n)) for t, n in found.items()]
+    cache[key] = out
+    return list(out)
+
+
+def _suits(t: Turnaround, design: DesignVehicle, checks: tuple[Collider, DesignVehicle]
+           ) -> bool:
+    """Whether a car of ``design`` can drive ``t``: no tighter than its radius, and clear
+    (``checks``: collider and grown body, :func:`turnaround_collider`)."""
+    bend = max(seg.max_curvature for seg in t.segments)
+    return bend <= 1 / design.min_radius + 1e-9 and turnaround_clear(t, *checks)
+
+
+def _crossings(lot: Lot, lane: Lane) -> list[tuple[float, Segment, np.ndarray]]:
+    """Where other aisles cross or meet ``lane``'s straights: (the straight's start
+    station, the straight, the crossing point with the nearest of the other aisle's lanes'
+    lines), once per other aisle and straight."""
+    out = []
+    aisle = lot.aisles[lane.aisle]
+    for sa0, pa in _straights(lane):
+        for other in lot.aisles.values():
+            if other.id == aisle.id:
+                continue
+            reach = max(aisle.width, other.width) / 2 + 1.0
+            hits = [corner[3] for c in other.lanes for _, pc in _straights(c)
+                    if (corner := _corner(pa, pc, aisle, other, reach)) is not None]
+            if hits:
+                along = [float(np.dot(h - np.asarray(pa.start[:2]), unit(pa.start[2])))
+                         for h in hits]
+                out.append((sa0, pa, hits[int(np.argmin(along))]))
+    return out
+
+
+def _moved_uturn(known, name: str, frame: np.ndarray, a: Lane, sa0: float, pa: Segment,
+                 end: float, back: Lane, sb0: float, pb: Segment, lo: float, hi: float,
+                 checks: tuple[Collider, DesignVehicle]) -> Turnaround | None:
+    """The first U-turn found earlier for type ``name`` (``known``: paths relative to
+    their crossing) that, moved to the crossing ``frame``, begins on straight ``pa`` at
+    most at ``end``, lands on ``pb``'s line heading along it between ``lo`` and ``hi``,
+    and is clear (``checks``: collider and body); None when none is."""
+    for owner, local in known:
+        if owner != name:
+            continue
+        segs = tuple(segment_to_world(frame, g) for g in local)
+        start = _along(pa, segs[0].start)
+        if not 0.0 <= start <= end + _EPS:
+            continue
+        ex, ey, eh = segs[-1].end
+        off = to_local(np.array(pb.start, dtype=float), np.array([ex, ey, eh]))
+        at = float(off[0])
+        if (abs(off[1]) > 1e-6 or abs(wrap_angle(off[2])) > 1e-6
+                or not lo - _EPS <= at <= hi + _EPS):
+            continue
+        t = Turnaround(a.id, sa0 + start, back.id, sb0 + at, segs)
+        if turnaround_clear(t, *checks):
+            return t
+    return None
+
+
+def _segment_to_local(frame: np.ndarray, seg: Segment) -> Segment:
+    x, y, t = to_local(frame, np.array(seg.start, dtype=float))
+    return Segment((float(x), float(y), float(t)), seg.distance, seg.curvature, seg.sharpness)
 
 THROUGH_OVERLAP = 15.0
 """Longest stretch of lane [m] by which a turn into it may overrun the start of a turn out of
