@@ -5,6 +5,7 @@ gate for in and out. Every free slot is reachable and can be left, `validate --s
 import math
 from pathlib import Path
 
+import networkx as nx
 import numpy as np
 import pytest
 import shapely
@@ -604,3 +605,53 @@ def test_a_car_whose_way_on_is_blocked_turns_back_at_a_junction(lots):
     without.remove_edges_from([(u, v) for u, v, _ in uturns])
     _, none = plan(dataclasses.replace(lg, graph=without))
     assert none.status is not Status.FOUND
+
+
+CORNER = """\
+name: corner
+seed: 3
+vehicle_types: [msv]
+lot:
+  boundary: [[0, 0], [29.26, 0], [29.26, 19.7], [0, 19.7]]
+  aisles:
+  - {id: spur, centerline: [[11.965, 0], [11.965, 9.855]], width: 7.33}
+  - {id: a0, centerline: [[1.0, 9.855], [25.595, 9.855]], width: 7.33}
+  rows:
+  - {aisle: a0, side: right, kind: perpendicular, count: 2, slot_width: 2.65, slot_length: 5.17,
+     start: 0.0, id_prefix: S}
+  - {aisle: a0, side: right, kind: perpendicular, count: 2, slot_width: 2.65, slot_length: 5.17,
+     start: 15.13, id_prefix: E}
+  - {aisle: a0, side: left, kind: perpendicular, count: 2, slot_width: 2.65, slot_length: 5.17,
+     start: 0.0, id_prefix: N}
+  entrances:
+  - {id: gate-in, x: 13.797, y: 1.5, heading_deg: 90}
+  exits:
+  - {id: gate-out, x: 10.133, y: 4.5, heading_deg: -90}
+  occupied: [N2]
+traffic:
+  stream: {count: 4, rate_per_hour: 600, dwell: [30, 60]}
+"""
+
+
+def test_every_way_out_of_a_bay_leads_to_an_exit_even_from_a_closed_corner():
+    # N1, in the closed west corner, is left westwards onto the lane's last 0.2 m, past
+    # where every dead-end turnaround begins: a turnaround is planned from there (before,
+    # a car that unparked that way was stranded; in a lot of the drawn sample where that
+    # was its only way out, the bay was unusable)
+    from conftest import scenario_from_text
+
+    lg = prepare(scenario_from_text(CORNER))
+    g = lg.graph
+    exits = set(lg.exits.values())
+    driven = g.edge_subgraph([(u, v) for u, v, d in g.edges(data=True)
+                              if d["kind"] not in ("park", "leave")])
+    out = set(exits)
+    for n in exits:
+        out |= nx.ancestors(driven, n)
+    leaves = [(g.nodes[u]["slot"], v) for u, v, d in g.edges(data=True) if d["kind"] == "leave"]
+    assert {sid for sid, _ in leaves} == {s.id for s in lg.lot.slots}
+    assert [(sid, g.nodes[v]["lane"], round(g.nodes[v]["station"], 1))
+            for sid, v in leaves if v not in out] == []
+    backs = [d["path"] for _, _, d in g.edges(data=True) if d["kind"] == "turnaround"]
+    for path in backs:
+        _assert_turns_round_clear(path, lg)

@@ -724,8 +724,9 @@ def _turnarounds_of(lot: Lot, turns: list[Turn], joins: list[tuple[str, str]],
 
     Where every turnaround found lands past the last place the opposite lane can be left
     (a turn off it, an exit, its continuation), or begins before where a car arrives on the
-    lane (a turn or a multi-point junction turn, ``multis``, landing near its end), one is
-    also looked for by multi-point search (:func:`_reaching_turnarounds`).
+    lane (a turn or a multi-point junction turn, ``multis``, landing near its end, or a
+    car unparking onto it: ``stops``), one is also looked for by multi-point search
+    (:func:`_reaching_turnarounds`).
     """
     stops = stops or {}
     last = {lane.id: exits.get(lane.id, -math.inf) + DEAD_END for lane in lot.lanes}
@@ -739,8 +740,6 @@ def _turnarounds_of(lot: Lot, turns: list[Turn], joins: list[tuple[str, str]],
             for lane, back in (aisle.lanes, aisle.lanes[::-1])
             if lane.id not in joined and (last[lane.id] < lane.length - DEAD_END
                                           or stops.get(lane.id, -math.inf) > turned[lane.id])]
-    key = (tuple(sorted(designs.items())) if designs else None,
-           tuple(lane.id for lane, _ in ends))
     # where a car arrives on each lane, and the last place it can leave each lane from
     arrive: dict[str, set[float]] = {}
     go_on = {lane.id: (lane.length if lane.id in joined else turned[lane.id])
@@ -748,6 +747,11 @@ def _turnarounds_of(lot: Lot, turns: list[Turn], joins: list[tuple[str, str]],
     for x in [*turns, *multis]:
         arrive.setdefault(x.lane_b, set()).add(x.station_b)
         go_on[x.lane_a] = max(go_on[x.lane_a], x.station_a)
+    for lid, st in stops.items():  # a car unparks onto the lane there
+        arrive.setdefault(lid, set()).add(st)
+    key = (tuple(sorted(designs.items())) if designs else None,
+           tuple((lane.id, tuple(sorted(arrive.get(lane.id, ()))), go_on[back.id])
+                 for lane, back in ends))
     cache = _BACKS.setdefault(lot, {})
     if key not in cache:
         per = designs or {"": lot.design}
@@ -810,8 +814,8 @@ def _reaching_turnarounds(lane: Lane, back: Lane, found: list[Turnaround],
     station ``back`` can be left from), where those ``found`` leave a car stranded: one from
     as near the lane's end as there is room when every one found lands past ``go_on`` (or
     none was found), and one from the last station in ``arrive`` (where turns land on
-    ``lane``) when that is past where every one found begins (a car arriving earlier drives
-    on to it)."""
+    ``lane`` and cars unpark onto it) when that is past where every one found begins (a car
+    arriving earlier drives on to it)."""
     seg = back.segments[0]
     if seg.curvature != 0.0 or seg.sharpness != 0.0 or go_on < 0:
         return []
