@@ -958,7 +958,6 @@ def _junction_multipoints(lot: Lot, tagged: list[tuple[Turn, frozenset | None]],
     return list(out)
 
 
-
 UTURN_LAND = (2.0, 8.0)
 """Where a U-turn at a junction (:func:`_junction_uturns`) may land on the opposite lane:
 from this much before the crossing to this much past it [m]."""
@@ -1093,6 +1092,7 @@ def _moved_uturn(known, name: str, frame: np.ndarray, a: Lane, sa0: float, pa: S
 def _segment_to_local(frame: np.ndarray, seg: Segment) -> Segment:
     x, y, t = to_local(frame, np.array(seg.start, dtype=float))
     return Segment((float(x), float(y), float(t)), seg.distance, seg.curvature, seg.sharpness)
+
 
 THROUGH_OVERLAP = 15.0
 """Longest stretch of lane [m] by which a turn into it may overrun the start of a turn out of
