@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import re
+from collections import Counter
 from collections.abc import Iterable
 from dataclasses import dataclass
 
@@ -65,6 +66,7 @@ class ValidationReport:
         scenario = self.prepared.scenario
         lot = lg.lot
         kinds = ", ".join(f"{k} {n}" for k, n in self.slot_counts.items())
+        kinds_of = Counter(d["kind"] for _, _, d in lg.graph.edges(data=True))
         taken = len(lot.occupied)
         lines = [
             f"{self.source}: ok — {scenario.name}",
@@ -76,7 +78,9 @@ class ValidationReport:
                 for v in scenario.vehicle_types
             ),
             f"  aisles: {len(lot.aisles)}, lanes: {len(lot.lanes)}, "
-            f"graph: {lg.graph.number_of_nodes()} nodes, {lg.graph.number_of_edges()} edges",
+            f"graph: {lg.graph.number_of_nodes()} nodes, {lg.graph.number_of_edges()} edges "
+            f"({_n(kinds_of['turn'], 'junction turn')}, "
+            f"{_n(kinds_of['turnaround'], 'turnaround')})",
             f"  entrances: {', '.join(lg.entrances) or 'none'}; "
             f"exits: {', '.join(lg.exits) or 'none (vehicles cannot leave)'}",
         ]
@@ -163,8 +167,9 @@ def _any_draw(stream: StreamSpec | None) -> list[Arrival]:
 
 
 def _n(items, what: str) -> str:
-    """``"1 free slot"``, ``"3 free slots"``."""
-    return f"{len(items)} {what}{'' if len(items) == 1 else 's'}"
+    """``"1 free slot"``, ``"3 free slots"`` (``items``: the things, or how many)."""
+    n = items if isinstance(items, int) else len(items)
+    return f"{n} {what}{'' if n == 1 else 's'}"
 
 
 def natural(slot_id: str) -> tuple:
