@@ -17,6 +17,7 @@ from lotsim.check.tolerances import GRID_DT, MAX_INSTANTS, SHRINK, FloatArray
 
 _PAIR_BUDGET = 2_000_000  # candidate pairs tested per numpy batch (bounds memory)
 _SAME = 1e-9  # interpolated poses closer than this are one standing footprint [m, rad]
+_SURE = 1e-6  # margin [m] by which a quick test must clear a footprint before trusting it
 
 
 @dataclass(slots=True)
@@ -256,6 +257,88 @@ def _vehicle_overlaps(items: _Items, n_vehicles: int, stats: dict[str, Any]) -> 
     return found
 
 
+def _extents(items: _Items, idx: np.ndarray) -> tuple[FloatArray, FloatArray]:
+    """Half the width and height [m] of the axis-aligned box around each shrunk footprint
+    ``idx``, widened by ``_SURE`` so that rounding cannot make it smaller than the box of
+    the corners :meth:`_Items.corners` computes."""
+    a, b = items.hx[idx] - SHRINK, items.hy[idx] - SHRINK
+    ux, uy = np.abs(items.ux[idx]), np.abs(items.uy[idx])
+    return ux * a + uy * b + _SURE, uy * a + ux * b + _SURE
+
+
+def _near_polygons(items: _Items, polys: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The (footprint, polygon) pairs that may intersect: every other pair is apart.
+
+    Broad phase: footprint centres binned in a grid of cells as large as the largest
+    footprint box, so a polygon's box, widened by that, meets a run of cells per column;
+    then the pairs whose boxes meet; then the pairs that no side of the footprint separates
+    from the polygon's vertices (a separating line proves two shapes apart, so no pair
+    that intersects is ever left out; the rest are tested exactly by the caller).
+    """
+    none = np.zeros(0, dtype=np.int64)
+    every = np.arange(len(items))
+    ex, ey = _extents(items, every)
+    bounds = shapely.bounds(polys)  # (P, 4)
+    size = max(float(ex.max()), float(ey.max()))
+    x0, y0 = float(items.cx.min()), float(items.cy.min())
+    ix = np.floor((items.cx - x0) / size).astype(np.int64)
+    iy = np.floor((items.cy - y0) / size).astype(np.int64)
+    rows = int(iy.max()) + 1
+    order = np.argsort(ix * rows + iy, kind="stable")
+    sorted_key = (ix * rows + iy)[order]
+    # each polygon's box, widened by the largest footprint box, in cells (clipped)
+    lo_x = np.floor((bounds[:, 0] - size - x0) / size).astype(np.int64)
+    hi_x = np.floor((bounds[:, 2] + size - x0) / size).astype(np.int64)
+    lo_y = np.clip(np.floor((bounds[:, 1] - size - y0) / size).astype(np.int64), 0, rows - 1)
+    hi_y = np.clip(np.floor((bounds[:, 3] + size - y0) / size).astype(np.int64), 0, rows - 1)
+    width = np.maximum(hi_x - lo_x + 1, 0)
+    poly = np.repeat(np.arange(len(polys)), width)
+    column = lo_x[poly] + np.arange(int(width.sum())) - np.repeat(np.cumsum(width) - width,
+                                                                   width)
+    start = np.searchsorted(sorted_key, column * rows + lo_y[poly], side="left")
+    stop = np.searchsorted(sorted_key, column * rows + hi_y[poly], side="right")
+    found_item, found_poly = [none], [none]
+    for row, pos in _expand(start, stop):
+        it, p = order[pos], poly[row]
+        apart = ((items.cx[it] + ex[it] < bounds[p, 0]) | (items.cx[it] - ex[it] > bounds[p, 2])
+                 | (items.cy[it] + ey[it] < bounds[p, 1])
+                 | (items.cy[it] - ey[it] > bounds[p, 3]))
+        found_item.append(it[~apart])
+        found_poly.append(p[~apart])
+    item, p = np.concatenate(found_item), np.concatenate(found_poly)
+    if not len(item):
+        return item, p
+    # the footprint's own axes: the polygon's vertices all beyond one of its sides
+    coords, which = shapely.get_coordinates(polys, return_index=True)
+    count = np.bincount(which, minlength=len(polys))
+    first = np.cumsum(count) - count
+    most = int(count.max())
+    pad = np.minimum(first[:, None] + np.arange(most)[None, :], (first + count - 1)[:, None])
+    vx, vy = coords[pad, 0][p], coords[pad, 1][p]  # (pairs, most): repeats pad the short
+    dx, dy = vx - items.cx[item][:, None], vy - items.cy[item][:, None]
+    ux, uy = items.ux[item][:, None], items.uy[item][:, None]
+    along, across = dx * ux + dy * uy, dy * ux - dx * uy
+    a = (items.hx[item] - SHRINK + _SURE)[:, None]
+    b = (items.hy[item] - SHRINK + _SURE)[:, None]
+    apart = ((along > a).all(axis=1) | (along < -a).all(axis=1)
+             | (across > b).all(axis=1) | (across < -b).all(axis=1))
+    return item[~apart], p[~apart]
+
+
+def _surely_covered(items: _Items, idx: np.ndarray, boundary: shapely.Polygon) -> np.ndarray:
+    """Which footprints ``idx`` certainly lie within ``boundary``: their box (widened by
+    ``_SURE``) lies within the boundary's box and meets the box of no piece of that box
+    outside the boundary. False says nothing: those are tested exactly."""
+    ex, ey = _extents(items, idx)
+    cx, cy = items.cx[idx], items.cy[idx]
+    bx0, by0, bx1, by1 = boundary.bounds
+    sure = (cx - ex >= bx0) & (cx + ex <= bx1) & (cy - ey >= by0) & (cy + ey <= by1)
+    pieces = shapely.get_parts(shapely.difference(shapely.box(bx0, by0, bx1, by1), boundary))
+    for x0, y0, x1, y1 in shapely.bounds(pieces[~shapely.is_empty(pieces)]):
+        sure &= (cx + ex < x0) | (cx - ex > x1) | (cy + ey < y0) | (cy - ey > y1)
+    return sure
+
+
 def _first_per_key(keys: np.ndarray, k: np.ndarray) -> np.ndarray:
     """Indices of the smallest ``k`` for each distinct row of ``keys`` (N, m)."""
     if len(k) == 0:
@@ -305,13 +388,11 @@ def _check_footprints(vehicles: list[_Vehicle], lot: _Lot, out: list[Violation],
     env = [("parked", i, p) for i, p in enumerate(lot.parked)]
     env += [("obstacle", i, p) for i, p in enumerate(lot.obstacles)]
     if env:
-        region = shapely.union_all([p for _, _, p in env]).buffer(margin)
-        shapely.prepare(region)
-        near = np.flatnonzero(shapely.intersects_xy(region, items.cx, items.cy))
-        tree = shapely.STRtree([p for _, _, p in env])
-        q_item, q_env = tree.query(items.polygons(near), predicate="intersects")
-        stats["footprint_tests"] += len(near)
-        item = near[q_item]
+        polys = np.array([p for _, _, p in env], dtype=object)
+        item, q_env = _near_polygons(items, polys)
+        stats["footprint_tests"] += len(item)
+        hit = shapely.intersects(items.polygons(item), polys[q_env])
+        item, q_env = item[hit], q_env[hit]
         keys = np.stack([items.veh[item], q_env], axis=1)
         for i in _first_per_key(keys, items.ka[item]):
             it, (kind, j, poly) = int(item[i]), env[int(q_env[i])]
@@ -332,6 +413,7 @@ def _check_footprints(vehicles: list[_Vehicle], lot: _Lot, out: list[Violation],
             shapely.prepare(inner)
             sure = shapely.contains_xy(inner, items.cx, items.cy)
         unsure = np.flatnonzero(~sure)
+        unsure = unsure[~_surely_covered(items, unsure, lot.boundary)]
         shapely.prepare(lot.boundary)
         polys = items.polygons(unsure)
         stats["footprint_tests"] += len(unsure)
