@@ -176,10 +176,10 @@ class _FirstOverlaps:
 
 
 def _test_pairs(items: _Items, a: np.ndarray, b: np.ndarray, k: np.ndarray,
-                found: _FirstOverlaps, stats: dict[str, Any]) -> None:
-    """Record the candidate pairs ``(a, b)`` at instants ``k`` that overlap in ``found``."""
+                found: _FirstOverlaps, stats: dict[str, Any], reach: FloatArray) -> None:
+    """Record the candidate pairs ``(a, b)`` at instants ``k`` that overlap in ``found``
+    (``reach``: :attr:`_Items.reach`, computed once)."""
     va, vb = items.veh[a], items.veh[b]
-    reach = items.reach
     keep = (va != vb) & (np.hypot(items.cx[a] - items.cx[b], items.cy[a] - items.cy[b])
                          <= reach[a] + reach[b])
     a, b, k = a[keep], b[keep], k[keep]
@@ -197,7 +197,8 @@ def _vehicle_overlaps(items: _Items, n_vehicles: int, stats: dict[str, Any]) -> 
     found = _FirstOverlaps(n_vehicles)
     if len(items) < 2:
         return found
-    reach = 2 * float(items.reach.max())
+    radius = items.reach
+    reach = 2 * float(radius.max())
     moving = np.flatnonzero(items.ka == items.kb)
     standing = np.flatnonzero(items.ka < items.kb)
     kmin = int(items.ka.min())
@@ -219,7 +220,7 @@ def _vehicle_overlaps(items: _Items, n_vehicles: int, stats: dict[str, Any]) -> 
         for lo, hi in (own, above):
             for row, pos in _expand(lo, hi):
                 a = ids[row]
-                _test_pairs(items, a, ids[pos], items.ka[a], found, stats)
+                _test_pairs(items, a, ids[pos], items.ka[a], found, stats, radius)
 
     # standing with moving: moving footprints binned in cells of size `reach`, sorted by
     # (cell, instant), so each standing stretch meets a contiguous run per neighbour cell
@@ -240,7 +241,7 @@ def _vehicle_overlaps(items: _Items, n_vehicles: int, stats: dict[str, Any]) -> 
         hi = np.searchsorted(sorted_key, near_cells * span + (items.kb[owner] - kmin), "right")
         for row, pos in _expand(lo, hi):
             b = ids[pos]
-            _test_pairs(items, owner[row], b, items.ka[b], found, stats)
+            _test_pairs(items, owner[row], b, items.ka[b], found, stats, radius)
 
     # standing with standing: sweep along x, then the stretches must share an instant
     if len(standing) > 1:
@@ -253,7 +254,8 @@ def _vehicle_overlaps(items: _Items, n_vehicles: int, stats: dict[str, Any]) -> 
             a, b = ids[row], ids[pos]
             start = np.maximum(items.ka[a], items.ka[b])
             together = start <= np.minimum(items.kb[a], items.kb[b])
-            _test_pairs(items, a[together], b[together], start[together], found, stats)
+            _test_pairs(items, a[together], b[together], start[together], found, stats,
+                        radius)
     return found
 
 
