@@ -102,13 +102,22 @@ def main() -> None:
         cells = " ".join(f"{v:5.2f}" if v is not None else "    -" for v in lengths)
         print(f"{name:7} {f:4.1f} {cells}")
 
+    exact_time, stepped_time, queries = stepped_queries(table, args.sample)
+    print(f"per query: exact {1e3 * exact_time / queries:.1f} ms, 1 mm stepped "
+          f"{1e3 * stepped_time / queries:.0f} ms, ratio {stepped_time / exact_time:.0f}x")
+
+
+def stepped_queries(table: list[tuple[str, float, list]], sample: int
+                    ) -> tuple[float, float, int]:
+    """Re-answer the altis 1.4 × width row's thresholds for 1..``sample`` changes, exact
+    and 1 mm stepped, printing a line each; the summed times [s] and the query count."""
     car = CATALOGUE["altis"]
     width = 1.4 * car.width
     lengths = dict(zip(range(11), next(t[2] for t in table if t[:2] == ("altis", 1.4)),
                        strict=True))
     exact_time = stepped_time = 0.0
     queries = 0
-    for g in range(1, 1 + args.sample):
+    for g in range(1, 1 + sample):
         for length, must_park in ((lengths[g] + 0.01, True), (lengths[g] - 0.01, False)):
             t1 = time.perf_counter()
             exact, _ = fewest_changes(car, length, width, max_changes=10, step_deg=STEP_DEG)
@@ -122,8 +131,7 @@ def main() -> None:
             verdict = "agrees" if parks == must_park else "DISAGREES"
             print(f"  altis W={width:.3f} L={length:.2f}: exact {exact} changes, "
                   f"stepped {stepped}; min length for {g} {verdict} to 1 cm")
-    print(f"per query: exact {1e3 * exact_time / queries:.1f} ms, 1 mm stepped "
-          f"{1e3 * stepped_time / queries:.0f} ms, ratio {stepped_time / exact_time:.0f}x")
+    return exact_time, stepped_time, queries
 
 
 if __name__ == "__main__":
