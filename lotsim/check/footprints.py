@@ -15,7 +15,7 @@ from lotsim.check.reading import _Lot, _Vehicle
 from lotsim.check.report import Violation, _add
 from lotsim.check.tolerances import GRID_DT, MAX_INSTANTS, SHRINK, FloatArray
 
-_PAIR_BUDGET = 2_000_000  # candidate pairs tested per numpy batch (bounds memory)
+_PAIR_BUDGET = 500_000  # candidate pairs tested per numpy batch (bounds memory)
 _SAME = 1e-9  # interpolated poses closer than this are one standing footprint [m, rad]
 _SURE = 1e-6  # margin [m] by which a quick test must clear a footprint before trusting it
 
@@ -61,6 +61,37 @@ def _instant_range(t0: float, t1: float) -> tuple[int, int]:
     return math.ceil(t0 / GRID_DT - 1e-9), math.floor(t1 / GRID_DT + 1e-9)
 
 
+def _first_instant_from(t: FloatArray) -> np.ndarray:
+    """The first instant ``k`` with ``k · GRID_DT >= t`` (computed as the caller computes
+    ``k · GRID_DT``), for each time ``t`` [s]."""
+    k = np.ceil(t / GRID_DT).astype(np.int64)
+    k -= (k - 1) * GRID_DT >= t
+    k += k * GRID_DT < t
+    return k
+
+
+def _kept_instants(t: FloatArray, x: FloatArray, y: FloatArray, th: FloatArray, k0: int,
+                   k1: int) -> np.ndarray:
+    """The instants ``k0..k1`` a vehicle's footprints are interpolated at: all but those
+    strictly inside a run of instants that fall between two samples of the same pose.
+
+    Between two samples with equal ``x``, ``y`` and ``th`` linear interpolation gives that
+    pose exactly at every instant, so the instants left out would only repeat it: the
+    stretches found from the kept instants are the ones every instant gives. (A car
+    parked for half an hour is sampled a few times but spans 36 000 instants.)
+    """
+    flat = np.flatnonzero((x[1:] == x[:-1]) & (y[1:] == y[:-1]) & (th[1:] == th[:-1]))
+    lo = np.maximum(_first_instant_from(t[flat]), k0) + 1
+    hi = np.minimum(_first_instant_from(t[flat + 1]) - 1, k1) - 1
+    inside = hi >= lo
+    lo, hi = lo[inside], hi[inside]  # the instants left out, [lo, hi]: disjoint, in order
+    if not len(lo):
+        return np.arange(k0, k1 + 1)
+    start = np.concatenate([[k0], hi + 1])
+    count = np.concatenate([lo, [k1 + 1]]) - start
+    return np.repeat(start - np.cumsum(count) + count, count) + np.arange(int(count.sum()))
+
+
 def _build_items(vehicles: list[_Vehicle], kmax: int) -> _Items:
     cols: dict[str, list[np.ndarray]] = {k: [] for k in ("veh", "ka", "kb", "x", "y", "th")}
     for j, veh in enumerate(vehicles):
@@ -69,7 +100,7 @@ def _build_items(vehicles: list[_Vehicle], kmax: int) -> _Items:
         theta = np.unwrap(veh.theta)
         last = (veh.x[-1], veh.y[-1], theta[-1])
         if k1 >= k0:
-            ks = np.arange(k0, k1 + 1)
+            ks = _kept_instants(veh.t, veh.x, veh.y, theta, k0, k1)
             tk = ks * GRID_DT
             px, py = np.interp(tk, veh.t, veh.x), np.interp(tk, veh.t, veh.y)
             pth = np.interp(tk, veh.t, theta)
@@ -98,16 +129,18 @@ def _build_items(vehicles: list[_Vehicle], kmax: int) -> _Items:
     if not cols["veh"]:
         empty = np.zeros(0)
         return _Items(*(empty.astype(int),) * 3, *(empty,) * 6)
-    veh_idx = np.concatenate(cols["veh"])
-    ka, kb = np.concatenate(cols["ka"]), np.concatenate(cols["kb"])
-    x, y, th = (np.concatenate(cols[k]) for k in ("x", "y", "th"))
-    front = np.array([v.front for v in vehicles])[veh_idx]
-    rear = np.array([v.rear for v in vehicles])[veh_idx]
-    width = np.array([v.width for v in vehicles])[veh_idx]
+    # each column joined and its pieces let go at once: a run's footprints fill arrays of
+    # millions, and the pieces of all six at once would double the peak
+    veh_idx, ka, kb, x, y, th = (np.concatenate(cols.pop(key))
+                                 for key in ("veh", "ka", "kb", "x", "y", "th"))
+    front = np.array([v.front for v in vehicles])
+    rear = np.array([v.rear for v in vehicles])
+    width = np.array([v.width for v in vehicles])
     ux, uy = np.cos(th), np.sin(th)
-    off = (front - rear) / 2
-    return _Items(veh_idx, ka, kb, x + ux * off, y + uy * off, ux, uy, (front + rear) / 2,
-                  width / 2)
+    del th
+    off = ((front - rear) / 2)[veh_idx]
+    return _Items(veh_idx, ka, kb, x + ux * off, y + uy * off, ux, uy,
+                  ((front + rear) / 2)[veh_idx], (width / 2)[veh_idx])
 
 
 def _expand(lo: np.ndarray, hi: np.ndarray) -> Iterator[tuple[np.ndarray, np.ndarray]]:
