@@ -16,7 +16,7 @@ import numpy as np
 import pytest
 from test_check import random_traffic, refresh_metrics, valid_result
 
-from lotsim.check import check_result
+from lotsim.check import check_result, footprints
 from lotsim.check.reference import reference_footprints, report_findings
 
 NOTCH = [[0, 0], [40, 0], [40, 20], [29, 20], [29, 13], [28, 13], [28, 20], [0, 20]]
@@ -117,3 +117,15 @@ def test_a_jerk_spike_is_found_where_it_was_put(mixed_lot_doc):
     report = check_result(doc)
     assert {v.rule for v in report.violations} == {"jerk"}
     assert [(v.vehicle, v.t) for v in report.violations] == [(veh["id"], s["t"][i])]
+
+
+def test_the_memory_bound_counts_the_instants_interpolated_not_the_span(monkeypatch):
+    """A car standing between two samples is interpolated at the stretch's two ends only, so
+    a long stay does not count against the bound (a 3000-car run spans 78 M car-instants)."""
+    result = valid_result()  # 2021 car-instants from first to last sample; v2 stands 30 s
+    monkeypatch.setattr(footprints, "MAX_INSTANTS", 1500)
+    assert check_result(result).ok
+    monkeypatch.setattr(footprints, "MAX_INSTANTS", 1000)
+    report = check_result(result)
+    assert [v.rule for v in report.violations] == ["internal"]
+    assert "more than the footprint rules handle" in report.violations[0].message

@@ -92,8 +92,11 @@ def _kept_instants(t: FloatArray, x: FloatArray, y: FloatArray, th: FloatArray, 
     return np.repeat(start - np.cumsum(count) + count, count) + np.arange(int(count.sum()))
 
 
-def _build_items(vehicles: list[_Vehicle], kmax: int) -> _Items:
+def _build_items(vehicles: list[_Vehicle], kmax: int) -> _Items | None:
+    """The footprints of ``vehicles`` over the instants up to ``kmax``; None when they are
+    interpolated at more than ``MAX_INSTANTS`` vehicle-instants (memory)."""
     cols: dict[str, list[np.ndarray]] = {k: [] for k in ("veh", "ka", "kb", "x", "y", "th")}
+    interpolated = 0
     for j, veh in enumerate(vehicles):
         k0, k1 = _instant_range(veh.t[0], veh.t[-1])
         kend = k1 if veh.status == "departed" else kmax
@@ -101,6 +104,9 @@ def _build_items(vehicles: list[_Vehicle], kmax: int) -> _Items:
         last = (veh.x[-1], veh.y[-1], theta[-1])
         if k1 >= k0:
             ks = _kept_instants(veh.t, veh.x, veh.y, theta, k0, k1)
+            interpolated += len(ks)
+            if interpolated > MAX_INSTANTS:
+                return None
             tk = ks * GRID_DT
             px, py = np.interp(tk, veh.t, veh.x), np.interp(tk, veh.t, veh.y)
             pth = np.interp(tk, veh.t, theta)
@@ -391,13 +397,11 @@ def _check_footprints(vehicles: list[_Vehicle], lot: _Lot, out: list[Violation],
     if not vehicles:
         return
     kmin, kmax = _instant_range(min(v.t[0] for v in vehicles), max(v.t[-1] for v in vehicles))
-    spans = sum(max(k1 - k0 + 1, 0)
-                for k0, k1 in (_instant_range(v.t[0], v.t[-1]) for v in vehicles))
-    if spans > MAX_INSTANTS:
-        _add(out, "internal", None, None, f"the vehicles are sampled over {spans} "
-             f"vehicle-instants, more than the {MAX_INSTANTS} the footprint rules handle")
-        return
     items = _build_items(vehicles, kmax)
+    if items is None:
+        _add(out, "internal", None, None, f"the vehicles' poses differ at more than "
+             f"{MAX_INSTANTS} vehicle-instants, more than the footprint rules handle")
+        return
     stats["instants"] = max(kmax - kmin + 1, 0)
     stats["footprints"] = len(items)
     stats["vehicle_instants"] = int((items.kb - items.ka + 1).sum())
