@@ -31,7 +31,7 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
 from lotsim.check import check_result  # noqa: E402
-from lotsim.io.result import result_dict  # noqa: E402
+from lotsim.io.result import result_dict, write_json  # noqa: E402
 from lotsim.io.scenario import load_scenario  # noqa: E402
 from lotsim.sim import RunSettings, prepare, run  # noqa: E402
 from lotsim.traffic import StreamSpec, TrafficSpec  # noqa: E402
@@ -42,7 +42,10 @@ def peak_mb() -> float:
     return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
 
 
-def case(sc, lg, count: int, rate: float, dwell, planner: str, *, check: bool = True) -> dict:
+def case(sc, lg, count: int, rate: float, dwell, planner: str, *, check: bool = True,
+         keep: Path | None = None) -> dict:
+    """Plan ``count`` cars; the metrics, wall time, peak memory (and the check). ``keep``:
+    write the result document there."""
     stream = StreamSpec(count=count, rate=rate / 3600, mix=((sc.vehicle_types[0].name, 1.0),),
                         entrances=tuple(lg.entrances), dwell=dwell, seed=11)
     sc = dataclasses.replace(sc, traffic=TrafficSpec(stream=stream, patience=900.0))
@@ -51,6 +54,8 @@ def case(sc, lg, count: int, rate: float, dwell, planner: str, *, check: bool = 
     wall = time.perf_counter() - t
     m = rr.metrics()
     out = {"wall": wall, **m, "peak_mb": peak_mb()}
+    if keep is not None:
+        write_json(result_dict(rr), keep)
     if check:
         t = time.perf_counter()
         report = check_result(result_dict(rr))

@@ -15,6 +15,8 @@ format and the constants below), :mod:`~lotsim.check.reading` (:func:`load_resul
 :mod:`~lotsim.check.final` (how each vehicle ends, the metrics),
 :mod:`~lotsim.check.report` (:class:`Violation`, :class:`CheckReport`) and
 :mod:`~lotsim.check.checker` (:func:`check_result`, the stages in order).
+:mod:`~lotsim.check.reference` checks the footprint rules the straightforward way, one
+instant at a time, for the tests and the benchmark to hold the fast path against.
 
 Rules and tolerances (module constants)
 ---------------------------------------
@@ -117,7 +119,10 @@ status, reason, arrival, metrics
 A problem the checker itself runs into is reported as the rule ``internal``, never
 raised. Vehicle-vehicle tests are exact separating-axis tests on the rectangles after a
 sort-and-sweep (same instant) and a grid (standing vehicles) broad phase; tests against
-the lot use shapely 2 on the footprints a vectorised point test cannot clear.
+the lot use shapely 2 on the footprints that vectorised tests cannot clear (a grid of
+footprint centres, boxes, a footprint side with every vertex of a parked car or obstacle
+beyond it, a footprint box inside the boundary's box and away from what of it lies
+outside the boundary): a quick test only ever clears, with a 1 µm margin.
 
 Examples
 --------

@@ -15,8 +15,9 @@ from lotsim.check.reading import _Lot, _Vehicle
 from lotsim.check.report import Violation, _add
 from lotsim.check.tolerances import GRID_DT, MAX_INSTANTS, SHRINK, FloatArray
 
-_PAIR_BUDGET = 2_000_000  # candidate pairs tested per numpy batch (bounds memory)
+_PAIR_BUDGET = 500_000  # candidate pairs tested per numpy batch (bounds memory)
 _SAME = 1e-9  # interpolated poses closer than this are one standing footprint [m, rad]
+_SURE = 1e-6  # margin [m] by which a quick test must clear a footprint before trusting it
 
 
 @dataclass(slots=True)
@@ -60,15 +61,52 @@ def _instant_range(t0: float, t1: float) -> tuple[int, int]:
     return math.ceil(t0 / GRID_DT - 1e-9), math.floor(t1 / GRID_DT + 1e-9)
 
 
-def _build_items(vehicles: list[_Vehicle], kmax: int) -> _Items:
+def _first_instant_from(t: FloatArray) -> np.ndarray:
+    """The first instant ``k`` with ``k · GRID_DT >= t`` (computed as the caller computes
+    ``k · GRID_DT``), for each time ``t`` [s]."""
+    k = np.ceil(t / GRID_DT).astype(np.int64)
+    k -= (k - 1) * GRID_DT >= t
+    k += k * GRID_DT < t
+    return k
+
+
+def _kept_instants(t: FloatArray, x: FloatArray, y: FloatArray, th: FloatArray, k0: int,
+                   k1: int) -> np.ndarray:
+    """The instants ``k0..k1`` a vehicle's footprints are interpolated at: all but those
+    strictly inside a run of instants that fall between two samples of the same pose.
+
+    Between two samples with equal ``x``, ``y`` and ``th`` linear interpolation gives that
+    pose exactly at every instant, so the instants left out would only repeat it: the
+    stretches found from the kept instants are the ones every instant gives. (A car
+    parked for half an hour is sampled a few times but spans 36 000 instants.)
+    """
+    flat = np.flatnonzero((x[1:] == x[:-1]) & (y[1:] == y[:-1]) & (th[1:] == th[:-1]))
+    lo = np.maximum(_first_instant_from(t[flat]), k0) + 1
+    hi = np.minimum(_first_instant_from(t[flat + 1]) - 1, k1) - 1
+    inside = hi >= lo
+    lo, hi = lo[inside], hi[inside]  # the instants left out, [lo, hi]: disjoint, in order
+    if not len(lo):
+        return np.arange(k0, k1 + 1)
+    start = np.concatenate([[k0], hi + 1])
+    count = np.concatenate([lo, [k1 + 1]]) - start
+    return np.repeat(start - np.cumsum(count) + count, count) + np.arange(int(count.sum()))
+
+
+def _build_items(vehicles: list[_Vehicle], kmax: int) -> _Items | None:
+    """The footprints of ``vehicles`` over the instants up to ``kmax``; None when they are
+    interpolated at more than ``MAX_INSTANTS`` vehicle-instants (memory)."""
     cols: dict[str, list[np.ndarray]] = {k: [] for k in ("veh", "ka", "kb", "x", "y", "th")}
+    interpolated = 0
     for j, veh in enumerate(vehicles):
         k0, k1 = _instant_range(veh.t[0], veh.t[-1])
         kend = k1 if veh.status == "departed" else kmax
         theta = np.unwrap(veh.theta)
         last = (veh.x[-1], veh.y[-1], theta[-1])
         if k1 >= k0:
-            ks = np.arange(k0, k1 + 1)
+            ks = _kept_instants(veh.t, veh.x, veh.y, theta, k0, k1)
+            interpolated += len(ks)
+            if interpolated > MAX_INSTANTS:
+                return None
             tk = ks * GRID_DT
             px, py = np.interp(tk, veh.t, veh.x), np.interp(tk, veh.t, veh.y)
             pth = np.interp(tk, veh.t, theta)
@@ -97,16 +135,18 @@ def _build_items(vehicles: list[_Vehicle], kmax: int) -> _Items:
     if not cols["veh"]:
         empty = np.zeros(0)
         return _Items(*(empty.astype(int),) * 3, *(empty,) * 6)
-    veh_idx = np.concatenate(cols["veh"])
-    ka, kb = np.concatenate(cols["ka"]), np.concatenate(cols["kb"])
-    x, y, th = (np.concatenate(cols[k]) for k in ("x", "y", "th"))
-    front = np.array([v.front for v in vehicles])[veh_idx]
-    rear = np.array([v.rear for v in vehicles])[veh_idx]
-    width = np.array([v.width for v in vehicles])[veh_idx]
+    # each column joined and its pieces let go at once: a run's footprints fill arrays of
+    # millions, and the pieces of all six at once would double the peak
+    veh_idx, ka, kb, x, y, th = (np.concatenate(cols.pop(key))
+                                 for key in ("veh", "ka", "kb", "x", "y", "th"))
+    front = np.array([v.front for v in vehicles])
+    rear = np.array([v.rear for v in vehicles])
+    width = np.array([v.width for v in vehicles])
     ux, uy = np.cos(th), np.sin(th)
-    off = (front - rear) / 2
-    return _Items(veh_idx, ka, kb, x + ux * off, y + uy * off, ux, uy, (front + rear) / 2,
-                  width / 2)
+    del th
+    off = ((front - rear) / 2)[veh_idx]
+    return _Items(veh_idx, ka, kb, x + ux * off, y + uy * off, ux, uy,
+                  ((front + rear) / 2)[veh_idx], (width / 2)[veh_idx])
 
 
 def _expand(lo: np.ndarray, hi: np.ndarray) -> Iterator[tuple[np.ndarray, np.ndarray]]:
@@ -175,10 +215,10 @@ class _FirstOverlaps:
 
 
 def _test_pairs(items: _Items, a: np.ndarray, b: np.ndarray, k: np.ndarray,
-                found: _FirstOverlaps, stats: dict[str, Any]) -> None:
-    """Record the candidate pairs ``(a, b)`` at instants ``k`` that overlap in ``found``."""
+                found: _FirstOverlaps, stats: dict[str, Any], reach: FloatArray) -> None:
+    """Record the candidate pairs ``(a, b)`` at instants ``k`` that overlap in ``found``
+    (``reach``: :attr:`_Items.reach`, computed once)."""
     va, vb = items.veh[a], items.veh[b]
-    reach = items.reach
     keep = (va != vb) & (np.hypot(items.cx[a] - items.cx[b], items.cy[a] - items.cy[b])
                          <= reach[a] + reach[b])
     a, b, k = a[keep], b[keep], k[keep]
@@ -196,7 +236,8 @@ def _vehicle_overlaps(items: _Items, n_vehicles: int, stats: dict[str, Any]) -> 
     found = _FirstOverlaps(n_vehicles)
     if len(items) < 2:
         return found
-    reach = 2 * float(items.reach.max())
+    radius = items.reach
+    reach = 2 * float(radius.max())
     moving = np.flatnonzero(items.ka == items.kb)
     standing = np.flatnonzero(items.ka < items.kb)
     kmin = int(items.ka.min())
@@ -218,7 +259,7 @@ def _vehicle_overlaps(items: _Items, n_vehicles: int, stats: dict[str, Any]) -> 
         for lo, hi in (own, above):
             for row, pos in _expand(lo, hi):
                 a = ids[row]
-                _test_pairs(items, a, ids[pos], items.ka[a], found, stats)
+                _test_pairs(items, a, ids[pos], items.ka[a], found, stats, radius)
 
     # standing with moving: moving footprints binned in cells of size `reach`, sorted by
     # (cell, instant), so each standing stretch meets a contiguous run per neighbour cell
@@ -239,7 +280,7 @@ def _vehicle_overlaps(items: _Items, n_vehicles: int, stats: dict[str, Any]) -> 
         hi = np.searchsorted(sorted_key, near_cells * span + (items.kb[owner] - kmin), "right")
         for row, pos in _expand(lo, hi):
             b = ids[pos]
-            _test_pairs(items, owner[row], b, items.ka[b], found, stats)
+            _test_pairs(items, owner[row], b, items.ka[b], found, stats, radius)
 
     # standing with standing: sweep along x, then the stretches must share an instant
     if len(standing) > 1:
@@ -252,8 +293,91 @@ def _vehicle_overlaps(items: _Items, n_vehicles: int, stats: dict[str, Any]) -> 
             a, b = ids[row], ids[pos]
             start = np.maximum(items.ka[a], items.ka[b])
             together = start <= np.minimum(items.kb[a], items.kb[b])
-            _test_pairs(items, a[together], b[together], start[together], found, stats)
+            _test_pairs(items, a[together], b[together], start[together], found, stats,
+                        radius)
     return found
+
+
+def _extents(items: _Items, idx: np.ndarray) -> tuple[FloatArray, FloatArray]:
+    """Half the width and height [m] of the axis-aligned box around each shrunk footprint
+    ``idx``, widened by ``_SURE`` so that rounding cannot make it smaller than the box of
+    the corners :meth:`_Items.corners` computes."""
+    a, b = items.hx[idx] - SHRINK, items.hy[idx] - SHRINK
+    ux, uy = np.abs(items.ux[idx]), np.abs(items.uy[idx])
+    return ux * a + uy * b + _SURE, uy * a + ux * b + _SURE
+
+
+def _near_polygons(items: _Items, polys: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The (footprint, polygon) pairs that may intersect: every other pair is apart.
+
+    Broad phase: footprint centres binned in a grid of cells as large as the largest
+    footprint box, so a polygon's box, widened by that, meets a run of cells per column;
+    then the pairs whose boxes meet; then the pairs that no side of the footprint separates
+    from the polygon's vertices (a separating line proves two shapes apart, so no pair
+    that intersects is ever left out; the rest are tested exactly by the caller).
+    """
+    none = np.zeros(0, dtype=np.int64)
+    every = np.arange(len(items))
+    ex, ey = _extents(items, every)
+    bounds = shapely.bounds(polys)  # (P, 4)
+    size = max(float(ex.max()), float(ey.max()))
+    x0, y0 = float(items.cx.min()), float(items.cy.min())
+    ix = np.floor((items.cx - x0) / size).astype(np.int64)
+    iy = np.floor((items.cy - y0) / size).astype(np.int64)
+    rows = int(iy.max()) + 1
+    order = np.argsort(ix * rows + iy, kind="stable")
+    sorted_key = (ix * rows + iy)[order]
+    # each polygon's box, widened by the largest footprint box, in cells (clipped)
+    lo_x = np.floor((bounds[:, 0] - size - x0) / size).astype(np.int64)
+    hi_x = np.floor((bounds[:, 2] + size - x0) / size).astype(np.int64)
+    lo_y = np.clip(np.floor((bounds[:, 1] - size - y0) / size).astype(np.int64), 0, rows - 1)
+    hi_y = np.clip(np.floor((bounds[:, 3] + size - y0) / size).astype(np.int64), 0, rows - 1)
+    width = np.maximum(hi_x - lo_x + 1, 0)
+    poly = np.repeat(np.arange(len(polys)), width)
+    column = lo_x[poly] + np.arange(int(width.sum())) - np.repeat(np.cumsum(width) - width,
+                                                                   width)
+    start = np.searchsorted(sorted_key, column * rows + lo_y[poly], side="left")
+    stop = np.searchsorted(sorted_key, column * rows + hi_y[poly], side="right")
+    found_item, found_poly = [none], [none]
+    for row, pos in _expand(start, stop):
+        it, p = order[pos], poly[row]
+        apart = ((items.cx[it] + ex[it] < bounds[p, 0]) | (items.cx[it] - ex[it] > bounds[p, 2])
+                 | (items.cy[it] + ey[it] < bounds[p, 1])
+                 | (items.cy[it] - ey[it] > bounds[p, 3]))
+        found_item.append(it[~apart])
+        found_poly.append(p[~apart])
+    item, p = np.concatenate(found_item), np.concatenate(found_poly)
+    if not len(item):
+        return item, p
+    # the footprint's own axes: the polygon's vertices all beyond one of its sides
+    coords, which = shapely.get_coordinates(polys, return_index=True)
+    count = np.bincount(which, minlength=len(polys))
+    first = np.cumsum(count) - count
+    most = int(count.max())
+    pad = np.minimum(first[:, None] + np.arange(most)[None, :], (first + count - 1)[:, None])
+    vx, vy = coords[pad, 0][p], coords[pad, 1][p]  # (pairs, most): repeats pad the short
+    dx, dy = vx - items.cx[item][:, None], vy - items.cy[item][:, None]
+    ux, uy = items.ux[item][:, None], items.uy[item][:, None]
+    along, across = dx * ux + dy * uy, dy * ux - dx * uy
+    a = (items.hx[item] - SHRINK + _SURE)[:, None]
+    b = (items.hy[item] - SHRINK + _SURE)[:, None]
+    apart = ((along > a).all(axis=1) | (along < -a).all(axis=1)
+             | (across > b).all(axis=1) | (across < -b).all(axis=1))
+    return item[~apart], p[~apart]
+
+
+def _surely_covered(items: _Items, idx: np.ndarray, boundary: shapely.Polygon) -> np.ndarray:
+    """Which footprints ``idx`` certainly lie within ``boundary``: their box (widened by
+    ``_SURE``) lies within the boundary's box and meets the box of no piece of that box
+    outside the boundary. False says nothing: those are tested exactly."""
+    ex, ey = _extents(items, idx)
+    cx, cy = items.cx[idx], items.cy[idx]
+    bx0, by0, bx1, by1 = boundary.bounds
+    sure = (cx - ex >= bx0) & (cx + ex <= bx1) & (cy - ey >= by0) & (cy + ey <= by1)
+    pieces = shapely.get_parts(shapely.difference(shapely.box(bx0, by0, bx1, by1), boundary))
+    for x0, y0, x1, y1 in shapely.bounds(pieces[~shapely.is_empty(pieces)]):
+        sure &= (cx + ex < x0) | (cx - ex > x1) | (cy + ey < y0) | (cy - ey > y1)
+    return sure
 
 
 def _first_per_key(keys: np.ndarray, k: np.ndarray) -> np.ndarray:
@@ -273,13 +397,11 @@ def _check_footprints(vehicles: list[_Vehicle], lot: _Lot, out: list[Violation],
     if not vehicles:
         return
     kmin, kmax = _instant_range(min(v.t[0] for v in vehicles), max(v.t[-1] for v in vehicles))
-    spans = sum(max(k1 - k0 + 1, 0)
-                for k0, k1 in (_instant_range(v.t[0], v.t[-1]) for v in vehicles))
-    if spans > MAX_INSTANTS:
-        _add(out, "internal", None, None, f"the vehicles are sampled over {spans} "
-             f"vehicle-instants, more than the {MAX_INSTANTS} the footprint rules handle")
-        return
     items = _build_items(vehicles, kmax)
+    if items is None:
+        _add(out, "internal", None, None, f"the vehicles' poses differ at more than "
+             f"{MAX_INSTANTS} vehicle-instants, more than the footprint rules handle")
+        return
     stats["instants"] = max(kmax - kmin + 1, 0)
     stats["footprints"] = len(items)
     stats["vehicle_instants"] = int((items.kb - items.ka + 1).sum())
@@ -305,13 +427,11 @@ def _check_footprints(vehicles: list[_Vehicle], lot: _Lot, out: list[Violation],
     env = [("parked", i, p) for i, p in enumerate(lot.parked)]
     env += [("obstacle", i, p) for i, p in enumerate(lot.obstacles)]
     if env:
-        region = shapely.union_all([p for _, _, p in env]).buffer(margin)
-        shapely.prepare(region)
-        near = np.flatnonzero(shapely.intersects_xy(region, items.cx, items.cy))
-        tree = shapely.STRtree([p for _, _, p in env])
-        q_item, q_env = tree.query(items.polygons(near), predicate="intersects")
-        stats["footprint_tests"] += len(near)
-        item = near[q_item]
+        polys = np.array([p for _, _, p in env], dtype=object)
+        item, q_env = _near_polygons(items, polys)
+        stats["footprint_tests"] += len(item)
+        hit = shapely.intersects(items.polygons(item), polys[q_env])
+        item, q_env = item[hit], q_env[hit]
         keys = np.stack([items.veh[item], q_env], axis=1)
         for i in _first_per_key(keys, items.ka[item]):
             it, (kind, j, poly) = int(item[i]), env[int(q_env[i])]
@@ -332,6 +452,7 @@ def _check_footprints(vehicles: list[_Vehicle], lot: _Lot, out: list[Violation],
             shapely.prepare(inner)
             sure = shapely.contains_xy(inner, items.cx, items.cy)
         unsure = np.flatnonzero(~sure)
+        unsure = unsure[~_surely_covered(items, unsure, lot.boundary)]
         shapely.prepare(lot.boundary)
         polys = items.polygons(unsure)
         stats["footprint_tests"] += len(unsure)

@@ -107,7 +107,9 @@ MAKESPAN_TOL = 1e-3
 MAX_MAGNITUDE = 1e9
 """Numbers beyond this in size overflow the geometry and are a structure violation."""
 MAX_INSTANTS = 50_000_000
-"""Vehicle-instants beyond which the footprint rules give up (memory) [-]."""
+"""Vehicle-instants beyond which the footprint rules give up (memory) [-]: those the
+footprints are interpolated at (a vehicle standing between two samples counts the two
+ends of the stretch, not every instant of it)."""
 
 RULES = ("internal", "structure", "status", "arrival", "sampling", "sideways", "curvature",
          "heading", "steer", "steer_rate", "gear", "speed", "lateral", "accel", "jerk",

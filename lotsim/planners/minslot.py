@@ -64,7 +64,11 @@ def _circle_axis_angles(
     ``segments`` (S, 4) rows are ``(axis, value, lo, hi)``: the segment
     ``coord[axis] == value`` with the other coordinate in ``[lo, hi]``.
     ``center`` is (T, 1, 2), ``point`` (T, N, 2). Returns (T, N, S, 2) angles in
-    (0, 2π], ``inf`` where the circle misses the segment.
+    (0, 2π], ``inf`` where the circle misses the segment; the last axis is the crossing
+    at the lower other coordinate (``-h``), then at the higher (``+h``).
+
+    Only the few circle-segment pairs that meet get an angle computed (a fifth, typically):
+    the arithmetic on each of them is the same as on the whole array, so are the angles.
     """
     axis = segments[:, 0].astype(int)
     value, lo, hi = segments[:, 1], segments[:, 2], segments[:, 3]
@@ -74,19 +78,25 @@ def _circle_axis_angles(
     c_other = np.take(center, 1 - axis, axis=-1)
     off = value - c_axis  # (T, 1, S)
     h2 = rho2 - off * off  # (T, N, S)
-    ok = h2 >= 0
-    h = np.sqrt(np.where(ok, h2, 0.0))[..., None] * np.array([-1.0, 1.0])  # (T, N, S, 2)
-    along = c_other[..., None] + h
-    ok = ok[..., None] & (along >= lo[:, None] - 1e-12) & (along <= hi[:, None] + 1e-12)
-    off4 = off[..., None]
-    on_x = (axis == 0)[:, None]
-    qx = np.where(on_x, off4, h)
-    qy = np.where(on_x, h, off4)
-    px, py = rel[..., 0][..., None, None], rel[..., 1][..., None, None]
-    ang = np.arctan2(px * qy - py * qx, px * qx + py * qy)
-    ang = np.mod(direction * ang, 2 * math.pi)
-    ang = np.where(ang <= _EPS_ANGLE, ang + 2 * math.pi, ang)
-    return np.where(ok, ang, np.inf)
+    out = np.full((*h2.shape, 2), np.inf)
+    t, n, s = np.nonzero(h2 >= 0)
+    if not len(t):
+        return out
+    root = np.sqrt(h2[t, n, s])
+    other = np.broadcast_to(c_other, h2.shape)[t, n, s]
+    off = np.broadcast_to(off, h2.shape)[t, n, s]
+    on_x = axis[s] == 0
+    px, py = rel[t, n, 0], rel[t, n, 1]
+    for r, sign in enumerate((-1.0, 1.0)):
+        h = root * sign
+        along = other + h
+        ok = np.flatnonzero((along >= lo[s] - 1e-12) & (along <= hi[s] + 1e-12))
+        qx = np.where(on_x[ok], off[ok], h[ok])
+        qy = np.where(on_x[ok], h[ok], off[ok])
+        ang = np.arctan2(px[ok] * qy - py[ok] * qx, px[ok] * qx + py[ok] * qy)
+        ang = np.mod(direction * ang, 2 * math.pi)
+        out[t[ok], n[ok], s[ok], r] = np.where(ang <= _EPS_ANGLE, ang + 2 * math.pi, ang)
+    return out
 
 
 def _rotate(points: FloatArray, center: FloatArray, angle: FloatArray) -> FloatArray:
@@ -106,18 +116,6 @@ def _inside(corners: FloatArray, frame: SlotFrame, tol: float = 1e-9) -> np.ndar
     return ok.all(axis=-1)
 
 
-def _entry_events(center: FloatArray, corners: FloatArray, frame: SlotFrame) -> FloatArray:
-    """Clockwise angles (T, 4) at which each corner comes down through the entry line y = W.
-
-    The car can only become inside when its last corner comes down through the
-    entry line: a corner below the entry line but beyond an end of the slot could
-    only come back in through a wall, which is a contact, not a motion. Turning
-    clockwise, a point moves down where it is right of the centre: the ``+h`` root.
-    """
-    entry = np.array([[1.0, frame.width, -np.inf, np.inf]])
-    return _circle_axis_angles(center[:, None, :], corners, entry, -1.0)[..., 0, 1]
-
-
 def _stroke(vehicle: VehicleType, frame: SlotFrame, poses: FloatArray, k: int):
     """One full-lock stroke from ``poses`` (T, 3): reverse-left when k is even, else forward-right.
 
@@ -131,9 +129,16 @@ def _stroke(vehicle: VehicleType, frame: SlotFrame, poses: FloatArray, k: int):
     corners = vehicle.footprints(poses)  # (T, 4, 2)
     c1 = center[:, None, :]
     L, W = frame.length, frame.width
-    # corners reaching walls (rear end, kerb, front end): corners turn clockwise
-    walls = np.array([[0, 0.0, 0.0, W], [1, 0.0, 0.0, L], [0, L, 0.0, W]])
-    hit_a = _circle_axis_angles(c1, corners, walls, -1.0)
+    # corners reaching walls (rear end, kerb, front end): corners turn clockwise; and
+    # corners coming down through the entry line y = W. The car can only become inside
+    # when its last corner comes down through the entry line: a corner below it but
+    # beyond an end of the slot could only come back in through a wall, which is a
+    # contact, not a motion. Turning clockwise, a point moves down where it is right of
+    # the centre: the +h root.
+    lines = np.array([[0, 0.0, 0.0, W], [1, 0.0, 0.0, L], [0, L, 0.0, W],
+                      [1, W, -np.inf, np.inf]])
+    angles = _circle_axis_angles(c1, corners, lines, -1.0)  # (T, 4, 4, 2)
+    hit_a = angles[:, :, :3]
     # wall ends reaching car sides: in the car's own frame the sides are axis-aligned and
     # the wall ends turn counter-clockwise about the centre (0, 1/kappa)
     rel = frame.wall_points[None, :, :] - poses[:, None, :2]
@@ -147,14 +152,17 @@ def _stroke(vehicle: VehicleType, frame: SlotFrame, poses: FloatArray, k: int):
     contact = np.minimum(hit_a.reshape(len(poses), -1).min(axis=1),
                          hit_b.reshape(len(poses), -1).min(axis=1))
     # first angle (≤ contact) at which all corners are inside the slot
-    events = _entry_events(center, corners, frame)
-    events = np.concatenate([np.zeros((len(poses), 1)), events, contact[:, None]], axis=1)
+    events = np.concatenate([np.zeros((len(poses), 1)), angles[:, :, 3, 1], contact[:, None]],
+                            axis=1)
     events = np.where(events <= contact[:, None], events, np.inf)
-    finite = np.where(np.isfinite(events), events, 0.0)
-    moved = _rotate(corners[:, None, :, :], center, -finite[:, :, None])  # (T, K, 4, 2)
-    inside = _inside(moved, frame) & np.isfinite(events)
-    first = np.where(inside, events, np.inf).min(axis=1)
-    return contact, first, kappa
+    # the car turned by each finite event angle (most are inf: a corner that never comes
+    # down through the entry line before the contact)
+    row, col = np.nonzero(np.isfinite(events))
+    moved = _rotate(corners[row], center[row], -events[row, col][:, None])  # (E, 4, 2)
+    fits = np.full(events.shape, np.inf)
+    inside = _inside(moved, frame)
+    fits[row[inside], col[inside]] = events[row[inside], col[inside]]
+    return contact, fits.min(axis=1), kappa
 
 
 def simulate(
@@ -176,7 +184,7 @@ def simulate(
     poses = start_poses(vehicle, frame, theta0)
     changes = np.full(len(theta0), NO_SOLUTION, dtype=int)
     active = _start_free(vehicle, frame, poses)
-    strokes: list[list[Segment]] = [[] for _ in theta0]
+    strokes: list[list[Segment]] = [[] for _ in theta0] if record else []
     floor = -_fitting_heading(vehicle, frame)
     for k in range(max_changes + 1):
         idx = np.flatnonzero(active)
