@@ -91,9 +91,13 @@ def test_a_car_moved_into_another_is_found_where_it_was_put(mixed_lot_doc):
 
 
 def cruising_sample(samples: dict) -> int:
-    """A sample in the middle of a stretch where the car drives at a steady speed."""
+    """A sample in the middle of a stretch where the car drives at a steady speed, its
+    neighbours on the result's regular grid (a move's end falls between grid instants)."""
     v = np.abs(np.array(samples["v"]))
-    steady = (v[2:-2] > 0.5) & (np.abs(v[4:] - v[:-4]) < 0.01)
+    dt = np.diff(np.array(samples["t"]))
+    even = np.abs(dt - np.median(dt)) < 1e-9
+    steady = ((v[2:-2] > 0.5) & (np.abs(v[4:] - v[:-4]) < 0.01)
+              & even[:-3] & even[1:-2] & even[2:-1] & even[3:])
     return int(np.flatnonzero(steady)[0]) + 2
 
 
