@@ -706,13 +706,19 @@ def samples(v: VehicleRun, *, dt: float = SAMPLE_DT) -> Trajectory | None:
     cols = [np.concatenate([p[k] for p in parts]) for k in range(7)]
     # one sample per instant: where moves meet the later move's first sample stays; two
     # samples microseconds apart (written to 1 µs) are one, at the earlier time
+    # (a sample that stands for one at rest is at rest: a drive that sets off 2 µs before
+    # a grid instant has rolled 1e-12 m/s by then, and the car stood until it set off)
     t = cols[0]
     near = np.append(np.diff(t) <= 2e-6, False)
     later = np.flatnonzero(near) + 1
     t[later] = t[later - 1]
     keep = ~near
+    group = np.concatenate([[0], np.cumsum(keep[:-1])])  # the kept sample each one is
+    rest = np.zeros(int(keep.sum()), dtype=bool)
+    np.logical_or.at(rest, group, np.abs(cols[4]) < 1e-12)
     cols = [c[keep] for c in cols]
     # a sample at rest (a start, a stop, a cusp) is standing: gear 0
-    cols[6] = np.where(np.abs(cols[4]) < 1e-12, 0, cols[6])
+    cols[4] = np.where(rest, 0.0, cols[4])
+    cols[6] = np.where(rest, 0, cols[6])
     return Trajectory(*cols)
 

@@ -9,7 +9,9 @@ how patient they are), not from an earlier run's numbers.
 from __future__ import annotations
 
 import dataclasses
+import math
 
+import numpy as np
 import pytest
 import shapely
 
@@ -150,6 +152,31 @@ def test_metrics_count_every_status_and_add_up(tiny):
     assert m["makespan"] == pytest.approx(max(ends))
     assert m["searches"] == sum(v.searches for v in rr.vehicles) >= 4  # in and out, each
 
+
+
+def test_a_car_setting_off_microseconds_before_a_sample_instant_stands_until_then(tiny):
+    # the 1000-car run had a car whose wait ended 2 µs before an instant of the sample grid:
+    # its drive's first grid sample (rolling for 2 µs, 4e-12 m/s) was merged onto the
+    # wait's end, so the wait ended in gear 1 and `lotsim check` found an 8 s gap in its
+    # sampling. Each move of a car that parks and leaves is shifted so that one drive
+    # after standing starts 1.5 µs before a grid instant, which the samples must show as
+    # standing to the end
+    sc, lg = tiny
+    rr = run(_with(sc, [Arrival("goes", "valet", "in", 0.0, 20.0)]), lot_graph=lg)
+    v = rr.vehicles[0]
+    k = next(k for k, m in enumerate(v.moves) if k and m.motion is not None
+             and v.moves[k - 1].motion is None)  # a drive after standing
+    t0 = v.moves[k].t0
+    shift = math.ceil(t0 / SAMPLE_DT) * SAMPLE_DT - 1.5e-6 - t0
+    v.moves = [dataclasses.replace(m, t0=m.t0 + shift, t1=m.t1 + shift) for m in v.moves]
+    tr = samples(v)
+    start = t0 + shift
+    at = int(np.argmin(np.abs(tr.t - start)))
+    assert abs(tr.t[at] - start) < 1e-9
+    assert tr.gear[at] == 0 and tr.v[at] == 0.0  # it stands until it sets off
+    assert tr.t[at + 1] - tr.t[at] <= SAMPLE_DT + 2e-6 and tr.gear[at + 1] != 0
+    rest = np.abs(tr.v) < 1e-9
+    assert (tr.gear[rest] == 0).all() and (tr.v[rest] == 0).all()
 
 # -- a full lot, and patience -------------------------------------------------------------------
 def test_cars_beyond_the_free_slots_are_turned_away_after_their_patience(tiny):
