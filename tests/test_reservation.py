@@ -167,3 +167,93 @@ def test_blocked_departures_are_exactly_the_offsets_is_free_refuses():
         for d in probes:
             inside = any(lo <= d <= hi for lo, hi in hit)
             assert table.is_free(sw, offset=float(d)) is not inside, (d, hit)
+
+
+def _random_table(rng, n=40):
+    """Bodies held by a few owners over random times: short ones, ones spanning many time
+    buckets, some for ever, some standing in a slot. Times on a 0.5 s grid and corners on
+    a 1 m one, so that bodies and times often just touch."""
+    table = ReservationTable()
+    for k in range(n):
+        x, y = rng.integers(-15, 15, size=2)
+        body = box(x, y, x + rng.integers(1, 5), y + rng.integers(1, 5))
+        t0 = float(rng.integers(0, 120)) / 2
+        kind = rng.integers(6)
+        if kind == 0:
+            table.reserve_standing(f"o{k % 5}", body, t0, in_slot=bool(rng.integers(2)))
+        elif kind == 1:
+            table.reserve_standing(f"o{k % 5}", body, t0, t0 + float(rng.integers(40, 180)) / 2)
+        else:
+            table.reserve(f"o{k % 5}", [(t0, t0 + float(rng.integers(1, 6)) / 2, body)])
+    if rng.integers(2):
+        table.release("o1", after=float(rng.integers(0, 120)) / 2)
+    return table
+
+
+def _random_swept(rng):
+    from lotsim.planners.reservation import Swept
+
+    x, y = rng.integers(-15, 15, size=2)
+    out, t = [], 0.0
+    for _ in range(rng.integers(1, 8)):
+        dt = float(rng.integers(0, 2)) / 2
+        out.append((t, t + dt, box(x, y, x + rng.integers(1, 3), y + rng.integers(1, 3))))
+        t += dt
+        x, y = x + rng.integers(-3, 4), y + rng.integers(-3, 4)
+    return Swept.of(out)
+
+
+def _brute_first_conflict(table, sw, offset, ignore):
+    """The earliest interval's clash, entry by entry in the order they were reserved (an
+    independent reading of the store: alive, not ``ignore``'s, not in a slot)."""
+    st = table._store
+    skip = table._ids.get(ignore, -1)
+    for (a, z), g in zip(sw.t, sw.geoms, strict=True):
+        a, z = a + offset, z + offset
+        for i in range(st.n):
+            if (st.alive[i] and not st.in_slot[i] and st.owner[i] != skip
+                    and st.t[i, 0] <= z + 1e-9 and st.t[i, 1] >= a - 1e-9
+                    and shapely.intersects(g, st.geom[i])):
+                return table._names[st.owner[i]], float(st.t[i, 0]), float(st.t[i, 1])
+    return None
+
+
+def test_queries_among_the_nearby_entries_answer_as_the_table_and_a_brute_force_do():
+    # candidates gathered once over the cells and times of several queries (as a search
+    # does per edge) are every entry that may meet them (read off the store directly), and
+    # give the same first conflicts (also found by brute force) and the same blocked
+    # departures as the queries gathering their own; long windows (more time buckets
+    # than a cell holds) included
+    from lotsim.planners.reservation import cells_of
+
+    rng = np.random.default_rng(16)
+    clashes = blocked = 0
+    for _ in range(80):
+        table = _random_table(rng, n=int(rng.choice([40, 300])))  # few pairs, and many
+        st = table._store
+        sws = [_random_swept(rng) for _ in range(3)]
+        ignore = "o2" if rng.integers(2) else None
+        since = float(rng.integers(0, 120)) / 2
+        until = since + float(rng.choice([0, rng.integers(0, 10), rng.integers(100, 7200)])) / 2
+        longest = max(float(sw.t[:, 1].max()) for sw in sws)
+        b = np.vstack([sw.bounds for sw in sws])
+        cells = cells_of((b[:, 0].min(), b[:, 1].min(), b[:, 2].max(), b[:, 3].max()))
+        near = table.nearby(cells, since, until + longest, ignore=ignore)
+        want = [i for i in range(st.n)
+                if st.alive[i] and not st.in_slot[i] and st.owner[i] != table._ids.get(ignore)
+                and st.t[i, 0] <= until + longest + 1e-9 and st.t[i, 1] >= since - 1e-9
+                and set(cells_of(st.box[i])) & set(cells)]
+        assert near.ids == want
+        assert near.rows == [(*st.t[i], *st.box[i]) for i in want]
+        assert bool(near) != table.quiet(cells, since, until + longest, ignore=ignore)
+        for sw in sws:
+            for d in (since, float(rng.integers(2 * since, 2 * until + 1)) / 2):
+                got = table.first_conflict(sw, offset=d, ignore=ignore, among=near)
+                assert table.first_conflict(sw, offset=d, ignore=ignore) == got
+                assert ((None if got is None else (got.owner, got.t0, got.t1))
+                        == _brute_first_conflict(table, sw, d, ignore))
+                clashes += got is not None
+            hit = table.blocked(sw, since, until, ignore=ignore, among=near)
+            assert hit == table.blocked(sw, since, until, ignore=ignore)
+            blocked += bool(hit)
+    assert clashes >= 40 and blocked >= 40  # the sample exercises real clashes

@@ -577,8 +577,8 @@ def search(sg: SearchGraph, table: ReservationTable, *, owner: str, start: int, 
             if not variants:
                 continue
             cells = sg.edge_cells(ei, variants[0][1])
-            # nobody near the edge while any variant drives it: no exact test needed
-            quiet = table.quiet(cells, t, latest + longest, ignore=owner)
+            # who is near the edge while any variant drives it (nobody: no exact test needed)
+            near = table.nearby(cells, t, latest + longest, ignore=owner)
             kind = e.kind if e.kind in ("park", "leave") else "drive"
             for b, em in variants:
                 after = -math.inf  # a parked vehicle must be able to stay for ever
@@ -589,13 +589,12 @@ def search(sg: SearchGraph, table: ReservationTable, *, owner: str, start: int, 
                                                                      ignore=owner)
                     after = taken - em.duration
                 if lvl > 0 or latest <= t:
-                    if t <= after or not (quiet or table.is_free(em.swept, offset=t,
-                                                                 ignore=owner)):
+                    if t <= after or (near and not table.is_free(em.swept, offset=t,
+                                                                 among=near)):
                         continue
                     departures = [t]
                 else:
-                    hit = [] if quiet else table.blocked(em.swept, t, latest, cells=cells,
-                                                         ignore=owner)
+                    hit = table.blocked(em.swept, t, latest, among=near) if near else []
                     if after >= t:
                         hit = _merged_with(hit, (-math.inf, after))
                     departures = _departures(hit, t, latest)
