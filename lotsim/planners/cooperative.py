@@ -509,6 +509,12 @@ def search(sg: SearchGraph, table: ReservationTable, *, owner: str, start: int, 
 
     def push(node: int, lvl: int, t: float, out: bool, par: int, moves: tuple[Move, ...]
              ) -> None:
+        if lvl:
+            # a state passing a node soon after one already expanded there would be
+            # dropped when popped (the times expanded at a node and level only grow)
+            last = passed.get((node, lvl))
+            if last is not None and t - last < PASSING:
+                return
         hv = h(node)
         if hv == math.inf or (h is not rra and rra(node) == math.inf):
             return
