@@ -257,3 +257,41 @@ def test_queries_among_the_nearby_entries_answer_as_the_table_and_a_brute_force_
             assert hit == table.blocked(sw, since, until, ignore=ignore)
             blocked += bool(hit)
     assert clashes >= 40 and blocked >= 40  # the sample exercises real clashes
+
+
+def test_motions_swept_together_are_swept_as_each_alone():
+    # one straight path (one or several collinear segments) driven between random speeds,
+    # swept together: the very same hulls, times, boxes and cells as one by one; curved
+    # paths and mixed groups fall back to one by one
+    from lotsim.planners.reservation import Swept, swept_motions
+    from lotsim.trajectory import Motion, Stroke, scurve
+
+    rng = np.random.default_rng(3)
+    lim = CAR.limits
+    top = lim.max_forward_speed
+    for trial in range(40):
+        x, y, th = rng.uniform(-50, 50), rng.uniform(-50, 50), rng.uniform(-np.pi, np.pi)
+        kappa = 0.0 if trial % 4 else float(rng.uniform(-0.1, 0.1))
+        path, pose = [], (float(x), float(y), float(th))
+        for _ in range(rng.integers(1, 4)):
+            seg = Segment(pose, float(rng.uniform(0.3, 9)), kappa)
+            path.append(seg)
+            pose = seg.end
+        length = sum(g.length for g in path)
+        motions = []
+        for _ in range(rng.integers(1, 6)):
+            v0, v1 = rng.uniform(0, top, size=2)
+            prof = scurve(length, float(v0), float(v1), top, lim.max_accel, lim.max_brake,
+                          lim.max_jerk)
+            if prof is not None:
+                motions.append(Motion((Stroke(tuple(path), prof),)))
+        if not motions:
+            continue
+        together = swept_motions(motions, CAR)
+        for m, sw in zip(motions, together, strict=True):
+            alone = Swept.of(swept_motion(m, CAR))
+            assert np.array_equal(sw.t, alone.t) and np.array_equal(sw.bounds, alone.bounds)
+            assert sw.cells == alone.cells and sw.rows == alone.rows
+            assert all(shapely.equals_exact(a, b, tolerance=0.0)
+                       for a, b in zip(sw.geoms, alone.geoms, strict=True))
+

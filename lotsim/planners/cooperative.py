@@ -55,7 +55,7 @@ from lotsim.planners.reservation import (
     Swept,
     cells_of,
     standing_body,
-    swept_motion,
+    swept_motions,
 )
 from lotsim.settings import OMEGA, PLANNERS
 from lotsim.trajectory import Motion, Piece, Stroke, scurve, speed_cap, timed_path
@@ -126,9 +126,11 @@ class Plan:
 class EdgeMotion:
     """An edge driven between two speed levels: the motion, its duration [s], end pose,
     and the hulls it sweeps (in its own time; worked out when first asked for: a search
-    needs them only where someone else comes near the edge)."""
+    needs them only where someone else comes near the edge — and then for every speed
+    the edge is driven to from the same start speed, so those are worked out together,
+    see :meth:`SearchGraph.variants`)."""
 
-    __slots__ = ("motion", "duration", "end", "_vehicle", "_swept")
+    __slots__ = ("motion", "duration", "end", "_vehicle", "_swept", "group")
 
     def __init__(self, motion: Motion, vehicle: VehicleType):
         self.motion = motion
@@ -136,11 +138,15 @@ class EdgeMotion:
         self.end = motion.end
         self._vehicle = vehicle
         self._swept: Swept | None = None
+        self.group: list[EdgeMotion] = [self]
 
     @property
     def swept(self) -> Swept:
         if self._swept is None:
-            self._swept = Swept.of(swept_motion(self.motion, self._vehicle))
+            todo = [em for em in self.group if em._swept is None]
+            for em, sw in zip(todo, swept_motions([em.motion for em in todo], self._vehicle),
+                              strict=True):
+                em._swept = sw
         return self._swept
 
 
@@ -286,6 +292,9 @@ class SearchGraph:
         if out is None:
             ends = [0] if self.edges[ei].kind in AT_REST else range(len(self.levels))
             found = [(b, em) for b in ends if (em := self.motion(ei, a, b)) is not None]
+            group = [em for _, em in found]
+            for em in group:
+                em.group = group
             out = self._variants[ei, a] = (found, max((em.duration for _, em in found),
                                                       default=0.0))
         return out
