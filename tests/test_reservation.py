@@ -295,3 +295,31 @@ def test_motions_swept_together_are_swept_as_each_alone():
             assert all(shapely.equals_exact(a, b, tolerance=0.0)
                        for a, b in zip(sw.geoms, alone.geoms, strict=True))
 
+
+def test_when_a_standing_body_is_first_in_the_way_can_be_read_from_one_query():
+    # a search asks once per node, from its start t0, when a body standing there is in
+    # somebody's way, and reads from that when it is first in the way after any later t:
+    # the same time as a query from t on, or (both) before t: in the way already
+    from lotsim.planners.cooperative import _free_till
+    from lotsim.planners.reservation import Swept
+
+    rng = np.random.default_rng(7)
+    later = before = 0
+    for _ in range(30):
+        table = _random_table(rng, n=60)
+        x, y = rng.integers(-15, 15, size=2)
+        stand = Swept.of([(0.0, 0.0, box(x, y, x + 2, y + 4))])
+        t0, end = float(rng.integers(0, 40)) / 2, 100.0
+        once = table.blocked(stand, t0, end, ignore="o3")
+        for t in [t0 + float(k) / 2 for k in range(0, 80)]:
+            mine = _free_till(once, t)
+            # from t on: the first stretch of departures from t that are in the way
+            own = min((lo for lo, hi in table.blocked(stand, t, end, ignore="o3")
+                       if hi >= t), default=math.inf)
+            if own > t:
+                assert mine == own
+                later += own < math.inf
+            else:
+                assert mine <= t
+                before += 1
+    assert later >= 100 and before >= 100

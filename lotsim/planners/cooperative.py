@@ -515,6 +515,7 @@ def search(sg: SearchGraph, table: ReservationTable, *, owner: str, start: int, 
     stop = top / (2 * lim.max_brake) if goal.slot is not None else 0.0
     loss = [(top - v) ** 2 / (2 * lim.max_accel * top) + stop for v in sg.levels]
     parked_until: dict[int, float] = {}  # park edge → till when its pose is taken [s]
+    in_way: dict[int, list[tuple[float, float]]] = {}  # node → when standing there is not
 
     def push(node: int, lvl: int, t: float, out: bool, par: int, moves: tuple[Move, ...]
              ) -> None:
@@ -547,9 +548,11 @@ def search(sg: SearchGraph, table: ReservationTable, *, owner: str, start: int, 
             if out:
                 free_till = math.inf
             else:
-                stand = start_stand if node == start else sg.standing(node)
-                hit = table.blocked(stand, t, end, ignore=owner)
-                free_till = next((lo for lo, hi in hit if hi >= t), math.inf)
+                hit = in_way.get(node)
+                if hit is None:  # once per node: the table does not change meanwhile
+                    stand = start_stand if node == start else sg.standing(node)
+                    hit = in_way[node] = table.blocked(stand, t0, end, ignore=owner)
+                free_till = _free_till(hit, t)
             # (standing where it is already in someone's way, it may only drive on)
             key = (node, out, free_till) if free_till > t else (node, out, t)
             if key in closed:
@@ -626,6 +629,15 @@ def search(sg: SearchGraph, table: ReservationTable, *, owner: str, start: int, 
                     else:
                         push(e.v, b, d + em.duration, False, sid, (drive,))
     return Plan(Status.NO_PATH, expansions=expansions)
+
+
+def _free_till(in_way: list[tuple[float, float]], t: float) -> float:
+    """Till when [s] a body standing from ``t`` [s] is free, given when it is in somebody's
+    way (:meth:`~lotsim.planners.reservation.ReservationTable.blocked` from any time up to
+    ``t``): the start of the first stretch reaching past ``t`` — as from a query from
+    ``t`` on, or, where the body is in the way at ``t`` already, a time before ``t`` both
+    ways (a stretch that began before ``t`` may only have merged with earlier ones)."""
+    return next((lo for lo, hi in in_way if hi >= t), math.inf)
 
 
 def _departures(hit: list[tuple[float, float]], t: float, latest: float) -> list[float]:
