@@ -502,10 +502,10 @@ def search(sg: SearchGraph, table: ReservationTable, *, owner: str, start: int, 
     end = t0 + horizon
 
     # state: (node, level, time, outside); parents keyed by an integer id, each with the
-    # moves that led there (a wait and the drive after it, from rest)
+    # step that led there (see moves_of), made into moves only for the plan found
     heap: list[tuple[float, float, int]] = []
     states: list[tuple[int, int, float, bool]] = []
-    parent: list[tuple[int, tuple[Move, ...]]] = []
+    parent: list[tuple[int, tuple | None]] = []
     closed: set[tuple[int, bool, float]] = set()  # at rest: node, outside, free till
     passed: dict[tuple[int, int], float] = {}  # moving: (node, level) → last time expanded
 
@@ -516,42 +516,73 @@ def search(sg: SearchGraph, table: ReservationTable, *, owner: str, start: int, 
     loss = [(top - v) ** 2 / (2 * lim.max_accel * top) + stop for v in sg.levels]
     parked_until: dict[int, float] = {}  # park edge → till when its pose is taken [s]
     in_way: dict[int, list[tuple[float, float]]] = {}  # node → when standing there is not
+    h_of: dict[int, float] = {}  # node → its heuristic, inf where the goal is out of reach
+    inf = math.inf
+    heappush, heappop = heapq.heappush, heapq.heappop
 
-    def push(node: int, lvl: int, t: float, out: bool, par: int, moves: tuple[Move, ...]
-             ) -> None:
+    def push(node: int, lvl: int, t: float, out: bool, par: int, step: tuple | None) -> None:
         if lvl:
             # a state passing a node soon after one already expanded there would be
             # dropped when popped (the times expanded at a node and level only grow)
             last = passed.get((node, lvl))
             if last is not None and t - last < PASSING:
                 return
-        hv = h(node)
-        if hv == math.inf or (h is not rra and rra(node) == math.inf):
+        hv = h_of.get(node)
+        if hv is None:
+            hv = h(node)
+            if h is not rra and hv != inf and rra(node) == inf:
+                hv = inf
+            h_of[node] = hv
+        if hv == inf:
             return
-        hv = WEIGHT * hv + loss[lvl]
         states.append((node, lvl, t, out))
-        parent.append((par, moves))
-        heapq.heappush(heap, (t + hv, -t, len(states) - 1))  # ties: deepest first
+        parent.append((par, step))
+        heappush(heap, (t + (WEIGHT * hv + loss[lvl]), -t, len(states) - 1))  # ties: deepest
 
-    push(start, level, t0, outside, -1, ())
+    def moves_of(step: tuple | None) -> tuple[Move, ...]:
+        """The moves of a step: from ``node`` (at ``lvl``, at ``t``) along edge ``ei`` from
+        time ``d`` (waiting there before, from rest, when ``d`` is later), to level ``b``."""
+        if step is None:
+            return ()
+        kind, t, d, em, node, lvl, b, ei, out = step
+        drive = Move(kind, d, d + em.duration, node, sg.edges[ei].v, lvl, b, ei, em.motion,
+                     em.end)
+        if d <= t:
+            return (drive,)
+        here = start_pose if node == start and start_pose is not None else sg.pose[node]
+        wait = (Move("outside", t, d, node, node, 0, 0) if out else
+                Move("wait", t, d, node, node, 0, 0, end_pose=here, steer=sg.steer[node]))
+        return (wait, drive)
+
+    def found(sid: int) -> Plan:
+        moves: list[Move] = []
+        while sid >= 0:
+            sid, step = parent[sid]
+            moves.extend(reversed(moves_of(step)))
+        moves.reverse()
+        return Plan(Status.FOUND, moves, expansions)
+
+    push(start, level, t0, outside, -1, None)
     expansions = 0
     fuse = max(MIN_BUDGET, omega * rra.closed)
     if budget is not None:
         fuse = min(fuse, budget)
+    out_edges, edges, variants_kept = sg.out, sg.edges, sg._variants
+    nearby, blocked, is_free = table.nearby, table.blocked, table.is_free
     while heap:
-        _, _, sid = heapq.heappop(heap)
+        _, _, sid = heappop(heap)
         node, lvl, t, out = states[sid]
         if lvl == 0:
             # at rest: it may stand here until its body is first in someone's way (outside,
             # for ever); an earlier arrival within that same free stretch could have waited
             # till now, so the state is the node and the stretch's end (SIPP)
             if out:
-                free_till = math.inf
+                free_till = inf
             else:
                 hit = in_way.get(node)
                 if hit is None:  # once per node: the table does not change meanwhile
                     stand = start_stand if node == start else sg.standing(node)
-                    hit = in_way[node] = table.blocked(stand, t0, end, ignore=owner)
+                    hit = in_way[node] = blocked(stand, t0, end, ignore=owner)
                 free_till = _free_till(hit, t)
             # (standing where it is already in someone's way, it may only drive on)
             key = (node, out, free_till) if free_till > t else (node, out, t)
@@ -572,62 +603,50 @@ def search(sg: SearchGraph, table: ReservationTable, *, owner: str, start: int, 
             return Plan(Status.FUSE, expansions=expansions)
         if t > end:
             continue
-        if not out:
-            if node in exits:
-                return _plan(Status.FOUND, sid, parent, expansions)
-            if node == goal.slot:
-                return _plan(Status.FOUND, sid, parent, expansions)
+        if not out and (node in exits or node == goal.slot):
+            return found(sid)
         # from rest it departs when the way is free, waiting for it where it stands
         latest = min(free_till, end) if lvl == 0 else t
-        for ei in sg.out[node]:
-            e = sg.edges[ei]
-            if e.kind == "leave" and (node != start or out or not same_pose(
+        for ei in out_edges[node]:
+            e = edges[ei]
+            ek = e.kind
+            if ek == "leave" and (node != start or out or not same_pose(
                     sg.parked_pose(ei), start_pose)):
                 continue
-            if e.kind == "park" and (e.v != goal.slot or (
+            if ek == "park" and (e.v != goal.slot or (
                     goal.park_by is not None and (e.stay or (node, e.v) not in goal.park_by))):
                 continue
-            if e.kind == "join":
+            if ek == "join":
                 if not out:
-                    push(e.v, lvl, t, out, sid, ())
+                    push(e.v, lvl, t, out, sid, None)
                 continue
-            variants, longest = sg.variants(ei, lvl)
+            variants, longest = variants_kept.get((ei, lvl)) or sg.variants(ei, lvl)
             if not variants:
                 continue
             cells = sg.edge_cells(ei, variants[0][1])
             # who is near the edge while any variant drives it (nobody: no exact test needed)
-            near = table.nearby(cells, t, latest + longest, ignore=owner)
-            kind = e.kind if e.kind in ("park", "leave") else "drive"
+            near = nearby(cells, t, latest + longest, ignore=owner)
+            kind = ek if ek in ("park", "leave") else "drive"
             for b, em in variants:
-                after = -math.inf  # a parked vehicle must be able to stay for ever
-                if e.kind == "park":
+                after = -inf  # a parked vehicle must be able to stay for ever
+                if ek == "park":
                     taken = parked_until.get(ei)
                     if taken is None:
                         taken = parked_until[ei] = table.taken_until(sg.parked_body(ei),
                                                                      ignore=owner)
                     after = taken - em.duration
                 if lvl > 0 or latest <= t:
-                    if t <= after or (near and not table.is_free(em.swept, offset=t,
-                                                                 among=near)):
+                    if t <= after or (near and not is_free(em.swept, offset=t, among=near)):
                         continue
-                    departures = [t]
-                else:
-                    hit = table.blocked(em.swept, t, latest, among=near) if near else []
-                    if after >= t:
-                        hit = _merged_with(hit, (-math.inf, after))
-                    departures = _departures(hit, t, latest)
-                for d in departures:
-                    drive = Move(kind, d, d + em.duration, node, e.v, lvl, b, ei, em.motion,
-                                 em.end)
-                    if d > t:
-                        here = (start_pose if node == start and start_pose is not None
-                                else sg.pose[node])
-                        wait = (Move("outside", t, d, node, node, 0, 0) if out else
-                                Move("wait", t, d, node, node, 0, 0, end_pose=here,
-                                     steer=sg.steer[node]))
-                        push(e.v, b, d + em.duration, False, sid, (wait, drive))
-                    else:
-                        push(e.v, b, d + em.duration, False, sid, (drive,))
+                    push(e.v, b, t + em.duration, False, sid, (kind, t, t, em, node, lvl, b,
+                                                               ei, out))
+                    continue
+                hit = blocked(em.swept, t, latest, among=near) if near else []
+                if after >= t:
+                    hit = _merged_with(hit, (-inf, after))
+                for d in _departures(hit, t, latest):
+                    push(e.v, b, d + em.duration, False, sid, (kind, t, d, em, node, lvl, b,
+                                                               ei, out))
     return Plan(Status.NO_PATH, expansions=expansions)
 
 
@@ -669,17 +688,6 @@ def _merged_with(hit: list[tuple[float, float]], extra: tuple[float, float]
         else:
             out.append((lo, hi))
     return out
-
-
-def _plan(status: Status, sid: int, parent: list[tuple[int, tuple[Move, ...]]],
-          expansions: int) -> Plan:
-    moves: list[Move] = []
-    while sid >= 0:
-        par, step = parent[sid]
-        moves.extend(reversed(step))
-        sid = par
-    moves.reverse()
-    return Plan(status, moves, expansions)
 
 
 def reserve_moves(table: ReservationTable, owner: str, sg: SearchGraph, moves: list[Move], *,
