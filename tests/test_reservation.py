@@ -218,18 +218,24 @@ def _brute_first_conflict(table, sw, offset, ignore):
     return None
 
 
-def test_queries_among_the_nearby_entries_answer_as_the_table_and_a_brute_force_do():
+@pytest.mark.parametrize("few", [True, False])
+def test_queries_among_the_nearby_entries_answer_as_the_table_and_a_brute_force_do(
+        few, monkeypatch):
     # candidates gathered once over the cells and times of several queries (as a search
     # does per edge) are every entry that may meet them (read off the store directly), and
     # give the same first conflicts (also found by brute force) and the same blocked
     # departures as the queries gathering their own; long windows (more time buckets
     # than a cell holds) included
+    from lotsim.planners import reservation
     from lotsim.planners.reservation import cells_of
 
+    if not few:  # numpy's way for any number of entries and pairs, not Python's
+        monkeypatch.setattr(reservation, "_FEW_ENTRIES", 0)
+        monkeypatch.setattr(reservation, "_FEW_PAIRS", 0)
     rng = np.random.default_rng(16)
     clashes = blocked = 0
     for _ in range(80):
-        table = _random_table(rng, n=int(rng.choice([40, 300])))  # few pairs, and many
+        table = _random_table(rng, n=int(rng.choice([40, 300])))
         st = table._store
         sws = [_random_swept(rng) for _ in range(3)]
         ignore = "o2" if rng.integers(2) else None

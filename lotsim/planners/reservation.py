@@ -36,6 +36,7 @@ CELL = 6.0
 _LONG = 16  # entries spanning more time buckets than this are filed by space only
 _EPS = 1e-9
 _FEW_PAIRS = 256  # candidate pairs up to which ReservationTable.blocked filters in Python
+_FEW_ENTRIES = 512  # candidate entries up to which ReservationTable.nearby filters in Python
 _EMPTY: dict[int, list[int]] = {}  # a cell with nothing filed (never written to)
 
 Interval = tuple[float, float, BaseGeometry]
@@ -222,6 +223,11 @@ class _Store:
         self.alive = np.zeros(cap, dtype=bool)
         self.in_slot = np.zeros(cap, dtype=bool)
         self.geom = np.empty(cap, dtype=object)
+        # the same as Python values, for queries that meet a few entries (numpy's fixed
+        # cost per call is more than their work): each entry's owner, and its
+        # (t0, t1, x0, y0, x1, y1) while alive (None once dropped)
+        self.who: list[int] = []
+        self.rows: list[tuple[float, ...] | None] = []
 
     def add(self, owner: int, t0: float, t1: float, geom: BaseGeometry,
             in_slot: bool = False) -> int:
@@ -240,6 +246,8 @@ class _Store:
         self.alive[i] = True
         self.in_slot[i] = in_slot
         self.geom[i] = geom
+        self.who.append(owner)
+        self.rows.append((*self.t[i].tolist(), *self.box[i].tolist()))
         self.n += 1
         return i
 
@@ -316,10 +324,12 @@ class ReservationTable:
             t0, t1 = st.t[i]
             if after is None or t0 >= after:
                 st.alive[i] = False
+                st.rows[i] = None
                 freed.append(i)
             else:
                 if t1 > after:
                     st.t[i, 1] = after
+                    st.rows[i] = (*st.t[i].tolist(), *st.rows[i][2:])
                     freed.append(i)
                 keep.append(i)
         self._by_owner[oid] = keep
@@ -383,6 +393,17 @@ class ReservationTable:
             return Near([], [])
         skip = self._ids.get(ignore, -1) if ignore is not None else -1
         st = self._store
+        if len(found) <= _FEW_ENTRIES:
+            ids: list[int] = []
+            rows: list[tuple[float, ...]] = []
+            who, live = st.who, st.rows
+            lo, hi = t0 - _EPS, t1 + _EPS
+            for i in sorted(found):
+                r = live[i]
+                if r is not None and who[i] != skip and r[0] <= hi and r[1] >= lo:
+                    ids.append(i)
+                    rows.append(r)
+            return Near(ids, rows)
         ids = np.fromiter(sorted(found), dtype=np.int64, count=len(found))
         ids = ids[st.alive[ids] & (st.owner[ids] != skip) & (st.t[ids, 0] <= t1 + _EPS)
                   & (st.t[ids, 1] >= t0 - _EPS)]
