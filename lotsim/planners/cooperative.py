@@ -218,6 +218,8 @@ class SearchGraph:
         self._standing: dict[int, Swept] = {}
         self._static_time = [self._lower_time(i, e) for i, e in enumerate(self.edges)]
         self._back: dict[int, list[tuple[int, float]]] = {}
+        self.passable = {n: self.back(n) for n in g.nodes if n not in self.slot_nodes}
+        """:meth:`back` of every node a path may pass through (all but the slots)."""
 
     def _add(self, e: _Edge) -> None:
         self.out[e.u].append(len(self.edges))
@@ -402,26 +404,30 @@ class ReverseResumable:
         return len(self.dist)
 
     def __call__(self, node: int) -> float:
-        if node in self.dist:
-            return self.dist[node]
-        sg = self.sg
-        slots = sg.slot_nodes
-        heap, best, dist = self.heap, self.best, self.dist
+        dist = self.dist
+        d = dist.get(node)
+        if d is not None:
+            return d
+        heap, best, goals, passable = self.heap, self.best, self.goals, self.sg.passable
+        pop, push, inf = heapq.heappop, heapq.heappush, math.inf
         while heap:
-            d, v = heapq.heappop(heap)
+            d, v = pop(heap)
             if v in dist:
                 continue
-            self.dist[v] = d
-            if v not in slots or v in self.goals:
-                for u, w in sg.back(v):
+            dist[v] = d
+            into = passable.get(v)
+            if into is None and v in goals:
+                into = self.sg.back(v)
+            if into:
+                for u, w in into:
                     nd = d + w
-                    if nd < best.get(u, math.inf) and u not in dist:
+                    if nd < best.get(u, inf) and u not in dist:
                         best[u] = nd
-                        heapq.heappush(heap, (nd, u))
+                        push(heap, (nd, u))
             if v == node:
                 return d
-        self.dist.setdefault(node, math.inf)
-        return self.dist[node]
+        dist.setdefault(node, inf)
+        return dist[node]
 
 
 @dataclass(frozen=True, slots=True)
