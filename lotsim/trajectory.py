@@ -218,9 +218,12 @@ def scurve(length: float, v0: float, v1: float, vmax: float, accel: float, brake
     return Profile(*arr)
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class Profile:
     """Speed along one stroke in time: constant jerk between breakpoints.
+
+    Compared and hashed by identity: :func:`scurve` keeps and shares them, and what is
+    worked out from one can be kept by it.
 
     Attributes
     ----------

@@ -16,6 +16,7 @@ space only.
 
 from __future__ import annotations
 
+import functools
 import math
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
@@ -25,7 +26,7 @@ import shapely
 from shapely.geometry.base import BaseGeometry
 
 from lotsim.geometry import FloatArray
-from lotsim.trajectory import Motion, Stroke, Trajectory
+from lotsim.trajectory import Motion, Profile, Stroke, Trajectory
 from lotsim.vehicles.model import VehicleType
 
 CHUNK = 0.5
@@ -126,18 +127,18 @@ def swept_motions(motions: Sequence[Motion], vehicle: VehicleType, *, chunk: flo
     # as swept_motion and swept do for each: samples at the chunk edges only (along
     # straights the hull of the ends is the exact sweep), each chunk the hull of the
     # footprints at its two ends
-    edges = [chunk_edges(0.0, m.duration, chunk) for m in motions]
-    s = np.concatenate([m.phases[0].profile.at(e)[0] for m, e in zip(motions, edges,
-                                                                     strict=True)])
+    edges, s = zip(*(_chunk_samples(m.phases[0].profile, chunk) for m in motions),
+                   strict=True)
+    s = np.concatenate(s)
     pts = vehicle.footprints(first[0].poses(s)[0])
     n = np.array([len(e) for e in edges])
     start = np.concatenate([[0], np.cumsum(n)[:-1]])
     # chunk i of a motion takes its samples i and i + 1
     first_sample = np.concatenate([b + np.arange(k - 1) for b, k in zip(start, n, strict=True)])
     idx = np.column_stack([first_sample, first_sample + 1]).ravel()
-    owner = np.repeat(np.arange(len(first_sample)), 2)
-    hulls = shapely.convex_hull(shapely.linestrings(pts[idx].reshape(-1, 2),
-                                                    indices=np.repeat(owner, 4)))
+    # one linestring of 8 corners a chunk: as an (N, 8, 2) array, not by indices (the
+    # same points, several times quicker to build)
+    hulls = shapely.convex_hull(shapely.linestrings(pts[idx].reshape(-1, 8, 2)))
     bounds = shapely.bounds(hulls)
     out = []
     c = 0
@@ -149,6 +150,16 @@ def swept_motions(motions: Sequence[Motion], vehicle: VehicleType, *, chunk: flo
                          tuple(map(tuple, np.hstack([t, b]).tolist()))))
         c += k
     return out
+
+
+@functools.lru_cache(maxsize=1 << 14)
+def _chunk_samples(profile: Profile, chunk: float) -> tuple[FloatArray, FloatArray]:
+    """A profile's chunk edges [s] and path lengths there [m] (kept: profiles are shared
+    by every edge of a length driven between the same speeds)."""
+    edges = chunk_edges(0.0, profile.duration, chunk)
+    s = profile.at(edges)[0]
+    edges.flags.writeable = s.flags.writeable = False
+    return edges, s
 
 
 def swept_trajectory(trajectory: Trajectory, vehicle: VehicleType, *,
