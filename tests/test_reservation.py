@@ -329,3 +329,15 @@ def test_when_a_standing_body_is_first_in_the_way_can_be_read_from_one_query():
                 assert mine <= t
                 before += 1
     assert later >= 100 and before >= 100
+
+
+def test_cells_of_many_boxes_at_once_are_each_ones():
+    from lotsim.planners.reservation import CELL, _cells_of_all, cells_of
+
+    rng = np.random.default_rng(2)
+    lo = np.concatenate([rng.uniform(-40, 40, size=(200, 2)),
+                         rng.integers(-6, 6, size=(50, 2)) * CELL])  # on cell borders too
+    size = np.concatenate([rng.uniform(0, 15, size=(200, 2)),
+                           rng.integers(0, 3, size=(50, 2)) * CELL])
+    bounds = np.hstack([lo, lo + size])
+    assert _cells_of_all(bounds) == tuple(cells_of(b) for b in bounds)

@@ -140,13 +140,14 @@ def swept_motions(motions: Sequence[Motion], vehicle: VehicleType, *, chunk: flo
     # same points, several times quicker to build)
     hulls = shapely.convex_hull(shapely.linestrings(pts[idx].reshape(-1, 8, 2)))
     bounds = shapely.bounds(hulls)
+    cells = _cells_of_all(bounds)
     out = []
     c = 0
     for e in edges:
         k = len(e) - 1
         t = np.column_stack([e[:-1], e[1:]])
         b = bounds[c: c + k]
-        out.append(Swept(t, hulls[c: c + k], b, tuple(cells_of(r) for r in b),
+        out.append(Swept(t, hulls[c: c + k], b, cells[c: c + k],
                          tuple(map(tuple, np.hstack([t, b]).tolist()))))
         c += k
     return out
@@ -187,7 +188,7 @@ class Swept:
         geoms[:] = [g for _, _, g in intervals]
         t = np.array([(a, b) for a, b, _ in intervals], dtype=float).reshape(-1, 2)
         bounds = shapely.bounds(geoms).reshape(-1, 4)
-        return cls(t, geoms, bounds, tuple(cells_of(b) for b in bounds),
+        return cls(t, geoms, bounds, _cells_of_all(bounds),
                    tuple(map(tuple, np.hstack([t, bounds]).tolist())))
 
     def held(self, t0: float, t1: float) -> Swept:
@@ -208,6 +209,12 @@ def cells_of(bounds: Sequence[float]) -> tuple[tuple[int, int], ...]:
     """The grid cells a bounding box ``(x0, y0, x1, y1)`` meets."""
     x0, y0, x1, y1 = (math.floor(float(c) / CELL) for c in bounds)
     return tuple((i, j) for i in range(x0, x1 + 1) for j in range(y0, y1 + 1))
+
+
+def _cells_of_all(bounds: np.ndarray) -> tuple[tuple[tuple[int, int], ...], ...]:
+    """:func:`cells_of` of each row of ``bounds`` (N, 4), the divisions in one call."""
+    return tuple(tuple((i, j) for i in range(x0, x1 + 1) for j in range(y0, y1 + 1))
+                 for x0, y0, x1, y1 in np.floor(bounds / CELL).astype(np.int64).tolist())
 
 
 @dataclass(frozen=True, slots=True)
