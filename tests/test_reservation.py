@@ -341,3 +341,14 @@ def test_cells_of_many_boxes_at_once_are_each_ones():
                            rng.integers(0, 3, size=(50, 2)) * CELL])
     bounds = np.hstack([lo, lo + size])
     assert _cells_of_all(bounds) == tuple(cells_of(b) for b in bounds)
+
+
+def test_boxes_in_the_same_cells_share_one_tuple_of_cells():
+    # hundreds of thousands of hulls and entries meet the same few blocks of cells: they
+    # hold one tuple each, not a copy apiece
+    from lotsim.planners.reservation import _cells_of_all, cells_of
+
+    a = cells_of((0.5, 0.5, 7.0, 7.0))
+    assert a == ((0, 0), (0, 1), (1, 0), (1, 1))
+    assert cells_of((1.0, 1.0, 8.0, 8.0)) is a
+    assert _cells_of_all(np.array([[2.0, 3.0, 9.0, 10.0]]))[0] is a

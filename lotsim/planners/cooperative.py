@@ -212,6 +212,7 @@ class SearchGraph:
                       for n in g.nodes}
         self.slot_nodes = set(lg.slot_nodes.values())
         self._motions: dict[tuple[int, int, int], EdgeMotion | None] = {}
+        self._paths: dict[int, tuple] = {}
         self._variants: dict[tuple[int, int], tuple[list[tuple[int, EdgeMotion]], float]] = {}
         self._bodies: dict[int, BaseGeometry] = {}
         self._cells: dict[int, tuple[tuple[int, int], ...]] = {}
@@ -282,9 +283,16 @@ class SearchGraph:
                 prof = scurve(e.length, va, vb, e.cap, lim.max_accel, lim.max_brake,
                               lim.max_jerk)
                 if prof is not None:
-                    out = self._timed(Motion((Stroke(tuple(e.data["path"]), prof),)))
+                    out = self._timed(Motion((Stroke(self._path(ei), prof),)))
         self._motions[key] = out
         return out
+
+    def _path(self, ei: int) -> tuple:
+        """Edge ``ei``'s path as a tuple, one for all the motions along it (kept)."""
+        path = self._paths.get(ei)
+        if path is None:
+            path = self._paths[ei] = tuple(self.edges[ei].data["path"])
+        return path
 
     def variants(self, ei: int, a: int) -> tuple[list[tuple[int, EdgeMotion]], float]:
         """Edge ``ei`` driven from speed level ``a``: ``(b, motion)`` for every end level

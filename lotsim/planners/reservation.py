@@ -127,8 +127,8 @@ def swept_motions(motions: Sequence[Motion], vehicle: VehicleType, *, chunk: flo
     # as swept_motion and swept do for each: samples at the chunk edges only (along
     # straights the hull of the ends is the exact sweep), each chunk the hull of the
     # footprints at its two ends
-    edges, s = zip(*(_chunk_samples(m.phases[0].profile, chunk) for m in motions),
-                   strict=True)
+    edges, s, spans = zip(*(_chunk_samples(m.phases[0].profile, chunk) for m in motions),
+                          strict=True)
     s = np.concatenate(s)
     pts = vehicle.footprints(first[0].poses(s)[0])
     n = np.array([len(e) for e in edges])
@@ -143,24 +143,28 @@ def swept_motions(motions: Sequence[Motion], vehicle: VehicleType, *, chunk: flo
     cells = _cells_of_all(bounds)
     out = []
     c = 0
-    for e in edges:
+    for e, span in zip(edges, spans, strict=True):
         k = len(e) - 1
-        t = np.column_stack([e[:-1], e[1:]])
         b = bounds[c: c + k]
-        out.append(Swept(t, hulls[c: c + k], b, cells[c: c + k],
-                         tuple(map(tuple, np.hstack([t, b]).tolist()))))
+        # rows share their times' float objects with every hull of the profile
+        out.append(Swept(np.column_stack([e[:-1], e[1:]]), hulls[c: c + k], b,
+                         cells[c: c + k],
+                         tuple((*ab, *xy) for ab, xy in zip(span, b.tolist(), strict=True))))
         c += k
     return out
 
 
 @functools.lru_cache(maxsize=1 << 14)
-def _chunk_samples(profile: Profile, chunk: float) -> tuple[FloatArray, FloatArray]:
-    """A profile's chunk edges [s] and path lengths there [m] (kept: profiles are shared
-    by every edge of a length driven between the same speeds)."""
+def _chunk_samples(profile: Profile, chunk: float
+                   ) -> tuple[FloatArray, FloatArray, tuple[tuple[float, float], ...]]:
+    """A profile's chunk edges [s], path lengths there [m] and each chunk's ``(t0, t1)``
+    (kept: profiles are shared by every edge of a length driven between the same
+    speeds)."""
     edges = chunk_edges(0.0, profile.duration, chunk)
     s = profile.at(edges)[0]
     edges.flags.writeable = s.flags.writeable = False
-    return edges, s
+    e = edges.tolist()
+    return edges, s, tuple(zip(e[:-1], e[1:], strict=True))
 
 
 def swept_trajectory(trajectory: Trajectory, vehicle: VehicleType, *,
@@ -207,14 +211,19 @@ class Swept:
 
 def cells_of(bounds: Sequence[float]) -> tuple[tuple[int, int], ...]:
     """The grid cells a bounding box ``(x0, y0, x1, y1)`` meets."""
-    x0, y0, x1, y1 = (math.floor(float(c) / CELL) for c in bounds)
-    return tuple((i, j) for i in range(x0, x1 + 1) for j in range(y0, y1 + 1))
+    return _block(*(math.floor(float(c) / CELL) for c in bounds))
 
 
 def _cells_of_all(bounds: np.ndarray) -> tuple[tuple[tuple[int, int], ...], ...]:
     """:func:`cells_of` of each row of ``bounds`` (N, 4), the divisions in one call."""
-    return tuple(tuple((i, j) for i in range(x0, x1 + 1) for j in range(y0, y1 + 1))
-                 for x0, y0, x1, y1 in np.floor(bounds / CELL).astype(np.int64).tolist())
+    return tuple(_block(*r) for r in np.floor(bounds / CELL).astype(np.int64).tolist())
+
+
+@functools.lru_cache(maxsize=1 << 16)
+def _block(x0: int, y0: int, x1: int, y1: int) -> tuple[tuple[int, int], ...]:
+    """The cells from ``(x0, y0)`` to ``(x1, y1)``, kept: the same few blocks are asked for
+    by hundreds of thousands of hulls and entries, which then share one tuple."""
+    return tuple((i, j) for i in range(x0, x1 + 1) for j in range(y0, y1 + 1))
 
 
 @dataclass(frozen=True, slots=True)
