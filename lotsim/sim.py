@@ -140,11 +140,14 @@ def maneuver_planner(scenario: Scenario, lot: Lot, *, margin: float = MARGIN) ->
 SAMPLE_DT = 0.05
 """Interval of the samples of a moving vehicle in a run's result [s]."""
 STATUSES = ("parked", "departed", "waiting", "rejected")
-FIRST_LOOK = 5000
+FIRST_LOOK = 1000
 """Expansions a car's search for each of its few best slots gets before the full searches:
-a slot it can reach without a long wait is found well within this (a few hundred to a few
-thousand), so a car does not queue behind cars parking in its best slot's aisle while a
-slot in another aisle is free to reach."""
+a slot it can reach without a long wait is found well within this (a few hundred), so a
+car does not queue behind cars parking in its best slot's aisle while a slot in another
+aisle is free to reach. (It was 5000: with departures into the large lot, 300 cars then
+spent 195 039 expansions on 39 first looks that ran out, 41 % of all, and parked after
+65.6 s on average; with 1000, 232 922 expansions in all and 62.1 s; 1000 cars: 967 451
+expansions, 65.9 s, against 540 725 and 63.9 s; all departed both ways.)"""
 
 
 @dataclass

@@ -155,6 +155,7 @@ def _shift_distance(v0: float, v1: float, accel: float, brake: float, jerk: floa
     return (2 * ramp + hold) * (v0 + v1) / 2
 
 
+@functools.lru_cache(maxsize=1 << 16)
 def scurve(length: float, v0: float, v1: float, vmax: float, accel: float, brake: float,
            jerk: float) -> Profile | None:
     """The fastest jerk-limited speed profile over ``length`` [m] from speed ``v0`` to ``v1``
@@ -173,6 +174,9 @@ def scurve(length: float, v0: float, v1: float, vmax: float, accel: float, brake
     (5.214, 20.0, 3.0)
     >>> scurve(0.5, 5.0, 0.0, 5.0, 3.0, 6.0, 20.0) is None   # 5 m/s cannot stop in 0.5 m
     True
+
+    Profiles are kept (a lot's edges repeat a few lengths, each searched between every
+    pair of speed levels) and shared: their arrays are read-only.
     """
     eps = 1e-9
     if length < 0 or v0 < 0 or v1 < 0 or v0 > vmax + eps or v1 > vmax + eps:
@@ -209,12 +213,17 @@ def scurve(length: float, v0: float, v1: float, vmax: float, accel: float, brake
     if len(arr[0]) == 1:  # nothing to drive
         arr = [np.array([0.0, 0.0]), np.array([0.0, 0.0]), np.array([v0, v1]),
                np.zeros(2)]
+    for col in arr:  # kept and shared: read-only
+        col.flags.writeable = False
     return Profile(*arr)
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class Profile:
     """Speed along one stroke in time: constant jerk between breakpoints.
+
+    Compared and hashed by identity: :func:`scurve` keeps and shares them, and what is
+    worked out from one can be kept by it.
 
     Attributes
     ----------

@@ -167,3 +167,188 @@ def test_blocked_departures_are_exactly_the_offsets_is_free_refuses():
         for d in probes:
             inside = any(lo <= d <= hi for lo, hi in hit)
             assert table.is_free(sw, offset=float(d)) is not inside, (d, hit)
+
+
+def _random_table(rng, n=40):
+    """Bodies held by a few owners over random times: short ones, ones spanning many time
+    buckets, some for ever, some standing in a slot. Times on a 0.5 s grid and corners on
+    a 1 m one, so that bodies and times often just touch."""
+    table = ReservationTable()
+    for k in range(n):
+        x, y = rng.integers(-15, 15, size=2)
+        body = box(x, y, x + rng.integers(1, 5), y + rng.integers(1, 5))
+        t0 = float(rng.integers(0, 120)) / 2
+        kind = rng.integers(6)
+        if kind == 0:
+            table.reserve_standing(f"o{k % 5}", body, t0, in_slot=bool(rng.integers(2)))
+        elif kind == 1:
+            table.reserve_standing(f"o{k % 5}", body, t0, t0 + float(rng.integers(40, 180)) / 2)
+        else:
+            table.reserve(f"o{k % 5}", [(t0, t0 + float(rng.integers(1, 6)) / 2, body)])
+    if rng.integers(2):
+        table.release("o1", after=float(rng.integers(0, 120)) / 2)
+    return table
+
+
+def _random_swept(rng):
+    from lotsim.planners.reservation import Swept
+
+    x, y = rng.integers(-15, 15, size=2)
+    out, t = [], 0.0
+    for _ in range(rng.integers(1, 8)):
+        dt = float(rng.integers(0, 2)) / 2
+        out.append((t, t + dt, box(x, y, x + rng.integers(1, 3), y + rng.integers(1, 3))))
+        t += dt
+        x, y = x + rng.integers(-3, 4), y + rng.integers(-3, 4)
+    return Swept.of(out)
+
+
+def _brute_first_conflict(table, sw, offset, ignore):
+    """The earliest interval's clash, entry by entry in the order they were reserved (an
+    independent reading of the store: alive, not ``ignore``'s, not in a slot)."""
+    st = table._store
+    skip = table._ids.get(ignore, -1)
+    for (a, z), g in zip(sw.t, sw.geoms, strict=True):
+        a, z = a + offset, z + offset
+        for i in range(st.n):
+            if (st.alive[i] and not st.in_slot[i] and st.owner[i] != skip
+                    and st.t[i, 0] <= z + 1e-9 and st.t[i, 1] >= a - 1e-9
+                    and shapely.intersects(g, st.geom[i])):
+                return table._names[st.owner[i]], float(st.t[i, 0]), float(st.t[i, 1])
+    return None
+
+
+@pytest.mark.parametrize("few", [True, False])
+def test_queries_among_the_nearby_entries_answer_as_the_table_and_a_brute_force_do(
+        few, monkeypatch):
+    # candidates gathered once over the cells and times of several queries (as a search
+    # does per edge) are every entry that may meet them (read off the store directly), and
+    # give the same first conflicts (also found by brute force) and the same blocked
+    # departures as the queries gathering their own; long windows (more time buckets
+    # than a cell holds) included
+    from lotsim.planners import reservation
+    from lotsim.planners.reservation import cells_of
+
+    if not few:  # numpy's way for any number of entries and pairs, not Python's
+        monkeypatch.setattr(reservation, "_FEW_ENTRIES", 0)
+        monkeypatch.setattr(reservation, "_FEW_PAIRS", 0)
+    rng = np.random.default_rng(16)
+    clashes = blocked = 0
+    for _ in range(80):
+        table = _random_table(rng, n=int(rng.choice([40, 300])))
+        st = table._store
+        sws = [_random_swept(rng) for _ in range(3)]
+        ignore = "o2" if rng.integers(2) else None
+        since = float(rng.integers(0, 120)) / 2
+        until = since + float(rng.choice([0, rng.integers(0, 10), rng.integers(100, 7200)])) / 2
+        longest = max(float(sw.t[:, 1].max()) for sw in sws)
+        b = np.vstack([sw.bounds for sw in sws])
+        cells = cells_of((b[:, 0].min(), b[:, 1].min(), b[:, 2].max(), b[:, 3].max()))
+        near = table.nearby(cells, since, until + longest, ignore=ignore)
+        want = [i for i in range(st.n)
+                if st.alive[i] and not st.in_slot[i] and st.owner[i] != table._ids.get(ignore)
+                and st.t[i, 0] <= until + longest + 1e-9 and st.t[i, 1] >= since - 1e-9
+                and set(cells_of(st.box[i])) & set(cells)]
+        assert near.ids == want
+        assert near.rows == [(*st.t[i], *st.box[i]) for i in want]
+        assert bool(near) != table.quiet(cells, since, until + longest, ignore=ignore)
+        for sw in sws:
+            for d in (since, float(rng.integers(2 * since, 2 * until + 1)) / 2):
+                got = table.first_conflict(sw, offset=d, ignore=ignore, among=near)
+                assert table.first_conflict(sw, offset=d, ignore=ignore) == got
+                assert ((None if got is None else (got.owner, got.t0, got.t1))
+                        == _brute_first_conflict(table, sw, d, ignore))
+                clashes += got is not None
+            hit = table.blocked(sw, since, until, ignore=ignore, among=near)
+            assert hit == table.blocked(sw, since, until, ignore=ignore)
+            blocked += bool(hit)
+    assert clashes >= 40 and blocked >= 40  # the sample exercises real clashes
+
+
+def test_motions_swept_together_are_swept_as_each_alone():
+    # one straight path (one or several collinear segments) driven between random speeds,
+    # swept together: the very same hulls, times, boxes and cells as one by one; curved
+    # paths and mixed groups fall back to one by one
+    from lotsim.planners.reservation import Swept, swept_motions
+    from lotsim.trajectory import Motion, Stroke, scurve
+
+    rng = np.random.default_rng(3)
+    lim = CAR.limits
+    top = lim.max_forward_speed
+    for trial in range(40):
+        x, y, th = rng.uniform(-50, 50), rng.uniform(-50, 50), rng.uniform(-np.pi, np.pi)
+        kappa = 0.0 if trial % 4 else float(rng.uniform(-0.1, 0.1))
+        path, pose = [], (float(x), float(y), float(th))
+        for _ in range(rng.integers(1, 4)):
+            seg = Segment(pose, float(rng.uniform(0.3, 9)), kappa)
+            path.append(seg)
+            pose = seg.end
+        length = sum(g.length for g in path)
+        motions = []
+        for _ in range(rng.integers(1, 6)):
+            v0, v1 = rng.uniform(0, top, size=2)
+            prof = scurve(length, float(v0), float(v1), top, lim.max_accel, lim.max_brake,
+                          lim.max_jerk)
+            if prof is not None:
+                motions.append(Motion((Stroke(tuple(path), prof),)))
+        if not motions:
+            continue
+        together = swept_motions(motions, CAR)
+        for m, sw in zip(motions, together, strict=True):
+            alone = Swept.of(swept_motion(m, CAR))
+            assert np.array_equal(sw.t, alone.t) and np.array_equal(sw.bounds, alone.bounds)
+            assert sw.cells == alone.cells and sw.rows == alone.rows
+            assert all(shapely.equals_exact(a, b, tolerance=0.0)
+                       for a, b in zip(sw.geoms, alone.geoms, strict=True))
+
+
+def test_when_a_standing_body_is_first_in_the_way_can_be_read_from_one_query():
+    # a search asks once per node, from its start t0, when a body standing there is in
+    # somebody's way, and reads from that when it is first in the way after any later t:
+    # the same time as a query from t on, or (both) before t: in the way already
+    from lotsim.planners.cooperative import _free_till
+    from lotsim.planners.reservation import Swept
+
+    rng = np.random.default_rng(7)
+    later = before = 0
+    for _ in range(30):
+        table = _random_table(rng, n=60)
+        x, y = rng.integers(-15, 15, size=2)
+        stand = Swept.of([(0.0, 0.0, box(x, y, x + 2, y + 4))])
+        t0, end = float(rng.integers(0, 40)) / 2, 100.0
+        once = table.blocked(stand, t0, end, ignore="o3")
+        for t in [t0 + float(k) / 2 for k in range(0, 80)]:
+            mine = _free_till(once, t)
+            # from t on: the first stretch of departures from t that are in the way
+            own = min((lo for lo, hi in table.blocked(stand, t, end, ignore="o3")
+                       if hi >= t), default=math.inf)
+            if own > t:
+                assert mine == own
+                later += own < math.inf
+            else:
+                assert mine <= t
+                before += 1
+    assert later >= 100 and before >= 100
+
+
+def test_cells_of_many_boxes_at_once_are_each_ones():
+    from lotsim.planners.reservation import CELL, _cells_of_all, cells_of
+
+    rng = np.random.default_rng(2)
+    lo = np.concatenate([rng.uniform(-40, 40, size=(200, 2)),
+                         rng.integers(-6, 6, size=(50, 2)) * CELL])  # on cell borders too
+    size = np.concatenate([rng.uniform(0, 15, size=(200, 2)),
+                           rng.integers(0, 3, size=(50, 2)) * CELL])
+    bounds = np.hstack([lo, lo + size])
+    assert _cells_of_all(bounds) == tuple(cells_of(b) for b in bounds)
+
+
+def test_boxes_in_the_same_cells_share_one_tuple_of_cells():
+    # hundreds of thousands of hulls and entries meet the same few blocks of cells: they
+    # hold one tuple each, not a copy apiece
+    from lotsim.planners.reservation import _cells_of_all, cells_of
+
+    a = cells_of((0.5, 0.5, 7.0, 7.0))
+    assert a == ((0, 0), (0, 1), (1, 0), (1, 1))
+    assert cells_of((1.0, 1.0, 8.0, 8.0)) is a
+    assert _cells_of_all(np.array([[2.0, 3.0, 9.0, 10.0]]))[0] is a

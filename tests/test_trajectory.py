@@ -183,3 +183,16 @@ def test_a_stroke_of_a_few_centimetres_is_driven_too(length):
     last = timed_path([Piece(back), Piece(tiny)], CAR).strokes[-1]
     assert last.segments == (tiny,)
     assert last.duration == pytest.approx(double_s_time(length, speed_cap(tiny, CAR)), abs=1e-9)
+
+
+def test_speed_profiles_are_kept_read_only_and_as_computed():
+    from lotsim.trajectory import scurve
+
+    args = (7.5, 5 * KMH, 10 * KMH, 20 * KMH, A, B, J)
+    kept = scurve(*args)
+    fresh = scurve.__wrapped__(*args)  # computed anew, not the kept one
+    assert scurve(*args) is kept
+    for col in "tsva":
+        assert np.array_equal(getattr(kept, col), getattr(fresh, col))
+        with pytest.raises(ValueError):
+            getattr(kept, col)[0] = 1.0  # shared by every edge of that length: not writable

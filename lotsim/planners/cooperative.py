@@ -55,7 +55,7 @@ from lotsim.planners.reservation import (
     Swept,
     cells_of,
     standing_body,
-    swept_motion,
+    swept_motions,
 )
 from lotsim.settings import OMEGA, PLANNERS
 from lotsim.trajectory import Motion, Piece, Stroke, scurve, speed_cap, timed_path
@@ -126,9 +126,11 @@ class Plan:
 class EdgeMotion:
     """An edge driven between two speed levels: the motion, its duration [s], end pose,
     and the hulls it sweeps (in its own time; worked out when first asked for: a search
-    needs them only where someone else comes near the edge)."""
+    needs them only where someone else comes near the edge — and then for every speed
+    the edge is driven to from the same start speed, so those are worked out together,
+    see :meth:`SearchGraph.variants`)."""
 
-    __slots__ = ("motion", "duration", "end", "_vehicle", "_swept")
+    __slots__ = ("motion", "duration", "end", "_vehicle", "_swept", "group")
 
     def __init__(self, motion: Motion, vehicle: VehicleType):
         self.motion = motion
@@ -136,11 +138,15 @@ class EdgeMotion:
         self.end = motion.end
         self._vehicle = vehicle
         self._swept: Swept | None = None
+        self.group: list[EdgeMotion] = [self]
 
     @property
     def swept(self) -> Swept:
         if self._swept is None:
-            self._swept = Swept.of(swept_motion(self.motion, self._vehicle))
+            todo = [em for em in self.group if em._swept is None]
+            for em, sw in zip(todo, swept_motions([em.motion for em in todo], self._vehicle),
+                              strict=True):
+                em._swept = sw
         return self._swept
 
 
@@ -206,12 +212,15 @@ class SearchGraph:
                       for n in g.nodes}
         self.slot_nodes = set(lg.slot_nodes.values())
         self._motions: dict[tuple[int, int, int], EdgeMotion | None] = {}
+        self._paths: dict[int, tuple] = {}
         self._variants: dict[tuple[int, int], tuple[list[tuple[int, EdgeMotion]], float]] = {}
         self._bodies: dict[int, BaseGeometry] = {}
         self._cells: dict[int, tuple[tuple[int, int], ...]] = {}
         self._standing: dict[int, Swept] = {}
         self._static_time = [self._lower_time(i, e) for i, e in enumerate(self.edges)]
         self._back: dict[int, list[tuple[int, float]]] = {}
+        self.passable = {n: self.back(n) for n in g.nodes if n not in self.slot_nodes}
+        """:meth:`back` of every node a path may pass through (all but the slots)."""
 
     def _add(self, e: _Edge) -> None:
         self.out[e.u].append(len(self.edges))
@@ -274,9 +283,16 @@ class SearchGraph:
                 prof = scurve(e.length, va, vb, e.cap, lim.max_accel, lim.max_brake,
                               lim.max_jerk)
                 if prof is not None:
-                    out = self._timed(Motion((Stroke(tuple(e.data["path"]), prof),)))
+                    out = self._timed(Motion((Stroke(self._path(ei), prof),)))
         self._motions[key] = out
         return out
+
+    def _path(self, ei: int) -> tuple:
+        """Edge ``ei``'s path as a tuple, one for all the motions along it (kept)."""
+        path = self._paths.get(ei)
+        if path is None:
+            path = self._paths[ei] = tuple(self.edges[ei].data["path"])
+        return path
 
     def variants(self, ei: int, a: int) -> tuple[list[tuple[int, EdgeMotion]], float]:
         """Edge ``ei`` driven from speed level ``a``: ``(b, motion)`` for every end level
@@ -286,6 +302,9 @@ class SearchGraph:
         if out is None:
             ends = [0] if self.edges[ei].kind in AT_REST else range(len(self.levels))
             found = [(b, em) for b in ends if (em := self.motion(ei, a, b)) is not None]
+            group = [em for _, em in found]
+            for em in group:
+                em.group = group
             out = self._variants[ei, a] = (found, max((em.duration for _, em in found),
                                                       default=0.0))
         return out
@@ -393,26 +412,30 @@ class ReverseResumable:
         return len(self.dist)
 
     def __call__(self, node: int) -> float:
-        if node in self.dist:
-            return self.dist[node]
-        sg = self.sg
-        slots = sg.slot_nodes
-        heap, best, dist = self.heap, self.best, self.dist
+        dist = self.dist
+        d = dist.get(node)
+        if d is not None:
+            return d
+        heap, best, goals, passable = self.heap, self.best, self.goals, self.sg.passable
+        pop, push, inf = heapq.heappop, heapq.heappush, math.inf
         while heap:
-            d, v = heapq.heappop(heap)
+            d, v = pop(heap)
             if v in dist:
                 continue
-            self.dist[v] = d
-            if v not in slots or v in self.goals:
-                for u, w in sg.back(v):
+            dist[v] = d
+            into = passable.get(v)
+            if into is None and v in goals:
+                into = self.sg.back(v)
+            if into:
+                for u, w in into:
                     nd = d + w
-                    if nd < best.get(u, math.inf) and u not in dist:
+                    if nd < best.get(u, inf) and u not in dist:
                         best[u] = nd
-                        heapq.heappush(heap, (nd, u))
+                        push(heap, (nd, u))
             if v == node:
                 return d
-        self.dist.setdefault(node, math.inf)
-        return self.dist[node]
+        dist.setdefault(node, inf)
+        return dist[node]
 
 
 @dataclass(frozen=True, slots=True)
@@ -493,10 +516,10 @@ def search(sg: SearchGraph, table: ReservationTable, *, owner: str, start: int, 
     end = t0 + horizon
 
     # state: (node, level, time, outside); parents keyed by an integer id, each with the
-    # moves that led there (a wait and the drive after it, from rest)
+    # step that led there (see moves_of), made into moves only for the plan found
     heap: list[tuple[float, float, int]] = []
     states: list[tuple[int, int, float, bool]] = []
-    parent: list[tuple[int, tuple[Move, ...]]] = []
+    parent: list[tuple[int, tuple | None]] = []
     closed: set[tuple[int, bool, float]] = set()  # at rest: node, outside, free till
     passed: dict[tuple[int, int], float] = {}  # moving: (node, level) → last time expanded
 
@@ -506,35 +529,75 @@ def search(sg: SearchGraph, table: ReservationTable, *, owner: str, start: int, 
     stop = top / (2 * lim.max_brake) if goal.slot is not None else 0.0
     loss = [(top - v) ** 2 / (2 * lim.max_accel * top) + stop for v in sg.levels]
     parked_until: dict[int, float] = {}  # park edge → till when its pose is taken [s]
+    in_way: dict[int, list[tuple[float, float]]] = {}  # node → when standing there is not
+    h_of: dict[int, float] = {}  # node → its heuristic, inf where the goal is out of reach
+    inf = math.inf
+    heappush, heappop = heapq.heappush, heapq.heappop
 
-    def push(node: int, lvl: int, t: float, out: bool, par: int, moves: tuple[Move, ...]
-             ) -> None:
-        hv = h(node)
-        if hv == math.inf or (h is not rra and rra(node) == math.inf):
+    def push(node: int, lvl: int, t: float, out: bool, par: int, step: tuple | None) -> None:
+        if lvl:
+            # a state passing a node soon after one already expanded there would be
+            # dropped when popped (the times expanded at a node and level only grow)
+            last = passed.get((node, lvl))
+            if last is not None and t - last < PASSING:
+                return
+        hv = h_of.get(node)
+        if hv is None:
+            hv = h(node)
+            if h is not rra and hv != inf and rra(node) == inf:
+                hv = inf
+            h_of[node] = hv
+        if hv == inf:
             return
-        hv = WEIGHT * hv + loss[lvl]
         states.append((node, lvl, t, out))
-        parent.append((par, moves))
-        heapq.heappush(heap, (t + hv, -t, len(states) - 1))  # ties: deepest first
+        parent.append((par, step))
+        heappush(heap, (t + (WEIGHT * hv + loss[lvl]), -t, len(states) - 1))  # ties: deepest
 
-    push(start, level, t0, outside, -1, ())
+    def moves_of(step: tuple | None) -> tuple[Move, ...]:
+        """The moves of a step: from ``node`` (at ``lvl``, at ``t``) along edge ``ei`` from
+        time ``d`` (waiting there before, from rest, when ``d`` is later), to level ``b``."""
+        if step is None:
+            return ()
+        kind, t, d, em, node, lvl, b, ei, out = step
+        drive = Move(kind, d, d + em.duration, node, sg.edges[ei].v, lvl, b, ei, em.motion,
+                     em.end)
+        if d <= t:
+            return (drive,)
+        here = start_pose if node == start and start_pose is not None else sg.pose[node]
+        wait = (Move("outside", t, d, node, node, 0, 0) if out else
+                Move("wait", t, d, node, node, 0, 0, end_pose=here, steer=sg.steer[node]))
+        return (wait, drive)
+
+    def found(sid: int) -> Plan:
+        moves: list[Move] = []
+        while sid >= 0:
+            sid, step = parent[sid]
+            moves.extend(reversed(moves_of(step)))
+        moves.reverse()
+        return Plan(Status.FOUND, moves, expansions)
+
+    push(start, level, t0, outside, -1, None)
     expansions = 0
     fuse = max(MIN_BUDGET, omega * rra.closed)
     if budget is not None:
         fuse = min(fuse, budget)
+    out_edges, edges, variants_kept = sg.out, sg.edges, sg._variants
+    nearby, blocked, is_free = table.nearby, table.blocked, table.is_free
     while heap:
-        _, _, sid = heapq.heappop(heap)
+        _, _, sid = heappop(heap)
         node, lvl, t, out = states[sid]
         if lvl == 0:
             # at rest: it may stand here until its body is first in someone's way (outside,
             # for ever); an earlier arrival within that same free stretch could have waited
             # till now, so the state is the node and the stretch's end (SIPP)
             if out:
-                free_till = math.inf
+                free_till = inf
             else:
-                stand = start_stand if node == start else sg.standing(node)
-                hit = table.blocked(stand, t, end, ignore=owner)
-                free_till = next((lo for lo, hi in hit if hi >= t), math.inf)
+                hit = in_way.get(node)
+                if hit is None:  # once per node: the table does not change meanwhile
+                    stand = start_stand if node == start else sg.standing(node)
+                    hit = in_way[node] = blocked(stand, t0, end, ignore=owner)
+                free_till = _free_till(hit, t)
             # (standing where it is already in someone's way, it may only drive on)
             key = (node, out, free_till) if free_till > t else (node, out, t)
             if key in closed:
@@ -554,64 +617,60 @@ def search(sg: SearchGraph, table: ReservationTable, *, owner: str, start: int, 
             return Plan(Status.FUSE, expansions=expansions)
         if t > end:
             continue
-        if not out:
-            if node in exits:
-                return _plan(Status.FOUND, sid, parent, expansions)
-            if node == goal.slot:
-                return _plan(Status.FOUND, sid, parent, expansions)
+        if not out and (node in exits or node == goal.slot):
+            return found(sid)
         # from rest it departs when the way is free, waiting for it where it stands
         latest = min(free_till, end) if lvl == 0 else t
-        for ei in sg.out[node]:
-            e = sg.edges[ei]
-            if e.kind == "leave" and (node != start or out or not same_pose(
+        for ei in out_edges[node]:
+            e = edges[ei]
+            ek = e.kind
+            if ek == "leave" and (node != start or out or not same_pose(
                     sg.parked_pose(ei), start_pose)):
                 continue
-            if e.kind == "park" and (e.v != goal.slot or (
+            if ek == "park" and (e.v != goal.slot or (
                     goal.park_by is not None and (e.stay or (node, e.v) not in goal.park_by))):
                 continue
-            if e.kind == "join":
+            if ek == "join":
                 if not out:
-                    push(e.v, lvl, t, out, sid, ())
+                    push(e.v, lvl, t, out, sid, None)
                 continue
-            variants, longest = sg.variants(ei, lvl)
+            variants, longest = variants_kept.get((ei, lvl)) or sg.variants(ei, lvl)
             if not variants:
                 continue
             cells = sg.edge_cells(ei, variants[0][1])
-            # nobody near the edge while any variant drives it: no exact test needed
-            quiet = table.quiet(cells, t, latest + longest, ignore=owner)
-            kind = e.kind if e.kind in ("park", "leave") else "drive"
+            # who is near the edge while any variant drives it (nobody: no exact test needed)
+            near = nearby(cells, t, latest + longest, ignore=owner)
+            kind = ek if ek in ("park", "leave") else "drive"
             for b, em in variants:
-                after = -math.inf  # a parked vehicle must be able to stay for ever
-                if e.kind == "park":
+                after = -inf  # a parked vehicle must be able to stay for ever
+                if ek == "park":
                     taken = parked_until.get(ei)
                     if taken is None:
                         taken = parked_until[ei] = table.taken_until(sg.parked_body(ei),
                                                                      ignore=owner)
                     after = taken - em.duration
                 if lvl > 0 or latest <= t:
-                    if t <= after or not (quiet or table.is_free(em.swept, offset=t,
-                                                                 ignore=owner)):
+                    if t <= after or (near and not is_free(em.swept, offset=t, among=near)):
                         continue
-                    departures = [t]
-                else:
-                    hit = [] if quiet else table.blocked(em.swept, t, latest, cells=cells,
-                                                         ignore=owner)
-                    if after >= t:
-                        hit = _merged_with(hit, (-math.inf, after))
-                    departures = _departures(hit, t, latest)
-                for d in departures:
-                    drive = Move(kind, d, d + em.duration, node, e.v, lvl, b, ei, em.motion,
-                                 em.end)
-                    if d > t:
-                        here = (start_pose if node == start and start_pose is not None
-                                else sg.pose[node])
-                        wait = (Move("outside", t, d, node, node, 0, 0) if out else
-                                Move("wait", t, d, node, node, 0, 0, end_pose=here,
-                                     steer=sg.steer[node]))
-                        push(e.v, b, d + em.duration, False, sid, (wait, drive))
-                    else:
-                        push(e.v, b, d + em.duration, False, sid, (drive,))
+                    push(e.v, b, t + em.duration, False, sid, (kind, t, t, em, node, lvl, b,
+                                                               ei, out))
+                    continue
+                hit = blocked(em.swept, t, latest, among=near) if near else []
+                if after >= t:
+                    hit = _merged_with(hit, (-inf, after))
+                for d in _departures(hit, t, latest):
+                    push(e.v, b, d + em.duration, False, sid, (kind, t, d, em, node, lvl, b,
+                                                               ei, out))
     return Plan(Status.NO_PATH, expansions=expansions)
+
+
+def _free_till(in_way: list[tuple[float, float]], t: float) -> float:
+    """Till when [s] a body standing from ``t`` [s] is free, given when it is in somebody's
+    way (:meth:`~lotsim.planners.reservation.ReservationTable.blocked` from any time up to
+    ``t``): the start of the first stretch reaching past ``t`` — as from a query from
+    ``t`` on, or, where the body is in the way at ``t`` already, a time before ``t`` both
+    ways (a stretch that began before ``t`` may only have merged with earlier ones)."""
+    return next((lo for lo, hi in in_way if hi >= t), math.inf)
 
 
 def _departures(hit: list[tuple[float, float]], t: float, latest: float) -> list[float]:
@@ -643,17 +702,6 @@ def _merged_with(hit: list[tuple[float, float]], extra: tuple[float, float]
         else:
             out.append((lo, hi))
     return out
-
-
-def _plan(status: Status, sid: int, parent: list[tuple[int, tuple[Move, ...]]],
-          expansions: int) -> Plan:
-    moves: list[Move] = []
-    while sid >= 0:
-        par, step = parent[sid]
-        moves.extend(reversed(step))
-        sid = par
-    moves.reverse()
-    return Plan(status, moves, expansions)
 
 
 def reserve_moves(table: ReservationTable, owner: str, sg: SearchGraph, moves: list[Move], *,

@@ -16,6 +16,7 @@ space only.
 
 from __future__ import annotations
 
+import functools
 import math
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
@@ -25,7 +26,7 @@ import shapely
 from shapely.geometry.base import BaseGeometry
 
 from lotsim.geometry import FloatArray
-from lotsim.trajectory import Motion, Trajectory
+from lotsim.trajectory import Motion, Profile, Stroke, Trajectory
 from lotsim.vehicles.model import VehicleType
 
 CHUNK = 0.5
@@ -36,6 +37,7 @@ CELL = 6.0
 _LONG = 16  # entries spanning more time buckets than this are filed by space only
 _EPS = 1e-9
 _FEW_PAIRS = 256  # candidate pairs up to which ReservationTable.blocked filters in Python
+_FEW_ENTRIES = 512  # candidate entries up to which ReservationTable.nearby filters in Python
 _EMPTY: dict[int, list[int]] = {}  # a cell with nothing filed (never written to)
 
 Interval = tuple[float, float, BaseGeometry]
@@ -108,6 +110,63 @@ def swept_motion(motion: Motion, vehicle: VehicleType, *, chunk: float = CHUNK
     return swept(poses, tau, vehicle, chunk=chunk)
 
 
+def swept_motions(motions: Sequence[Motion], vehicle: VehicleType, *, chunk: float = CHUNK
+                  ) -> list[Swept]:
+    """:func:`swept_motion` of each of ``motions``, as :class:`Swept`.
+
+    Motions that drive the same straight path in one stroke (one lane edge between
+    different speeds) are done together, each step one numpy call for all of them: the
+    same numbers, element by element, at a fraction of the cost per motion.
+    """
+    first = motions[0].phases if motions else ()
+    if not (first and all(len(m.phases) == 1 and isinstance(m.phases[0], Stroke)
+                          and m.phases[0].segments == first[0].segments and m.duration > 0
+                          for m in motions)
+            and all(g.curvature == 0 and g.sharpness == 0 for g in first[0].segments)):
+        return [Swept.of(swept_motion(m, vehicle, chunk=chunk)) for m in motions]
+    # as swept_motion and swept do for each: samples at the chunk edges only (along
+    # straights the hull of the ends is the exact sweep), each chunk the hull of the
+    # footprints at its two ends
+    edges, s, spans = zip(*(_chunk_samples(m.phases[0].profile, chunk) for m in motions),
+                          strict=True)
+    s = np.concatenate(s)
+    pts = vehicle.footprints(first[0].poses(s)[0])
+    n = np.array([len(e) for e in edges])
+    start = np.concatenate([[0], np.cumsum(n)[:-1]])
+    # chunk i of a motion takes its samples i and i + 1
+    first_sample = np.concatenate([b + np.arange(k - 1) for b, k in zip(start, n, strict=True)])
+    idx = np.column_stack([first_sample, first_sample + 1]).ravel()
+    # one linestring of 8 corners a chunk: as an (N, 8, 2) array, not by indices (the
+    # same points, several times quicker to build)
+    hulls = shapely.convex_hull(shapely.linestrings(pts[idx].reshape(-1, 8, 2)))
+    bounds = shapely.bounds(hulls)
+    cells = _cells_of_all(bounds)
+    out = []
+    c = 0
+    for e, span in zip(edges, spans, strict=True):
+        k = len(e) - 1
+        b = bounds[c: c + k]
+        # rows share their times' float objects with every hull of the profile
+        out.append(Swept(np.column_stack([e[:-1], e[1:]]), hulls[c: c + k], b,
+                         cells[c: c + k],
+                         tuple((*ab, *xy) for ab, xy in zip(span, b.tolist(), strict=True))))
+        c += k
+    return out
+
+
+@functools.lru_cache(maxsize=1 << 14)
+def _chunk_samples(profile: Profile, chunk: float
+                   ) -> tuple[FloatArray, FloatArray, tuple[tuple[float, float], ...]]:
+    """A profile's chunk edges [s], path lengths there [m] and each chunk's ``(t0, t1)``
+    (kept: profiles are shared by every edge of a length driven between the same
+    speeds)."""
+    edges = chunk_edges(0.0, profile.duration, chunk)
+    s = profile.at(edges)[0]
+    edges.flags.writeable = s.flags.writeable = False
+    e = edges.tolist()
+    return edges, s, tuple(zip(e[:-1], e[1:], strict=True))
+
+
 def swept_trajectory(trajectory: Trajectory, vehicle: VehicleType, *,
                      chunk: float = CHUNK) -> list[Interval]:
     """:func:`swept` for a sampled trajectory (in its own absolute times)."""
@@ -123,6 +182,9 @@ class Swept:
     geoms: np.ndarray
     bounds: np.ndarray
     cells: tuple[tuple[tuple[int, int], ...], ...] = ()
+    rows: tuple[tuple[float, ...], ...] = ()
+    """Each interval's ``(t0, t1, x0, y0, x1, y1)`` as Python floats (for loops over a few
+    pairs, where numpy's fixed cost per call is more than the work)."""
 
     @classmethod
     def of(cls, intervals: Sequence[Interval]) -> Swept:
@@ -130,11 +192,14 @@ class Swept:
         geoms[:] = [g for _, _, g in intervals]
         t = np.array([(a, b) for a, b, _ in intervals], dtype=float).reshape(-1, 2)
         bounds = shapely.bounds(geoms).reshape(-1, 4)
-        return cls(t, geoms, bounds, tuple(cells_of(b) for b in bounds))
+        return cls(t, geoms, bounds, _cells_of_all(bounds),
+                   tuple(map(tuple, np.hstack([t, bounds]).tolist())))
 
     def held(self, t0: float, t1: float) -> Swept:
         """The first body held from ``t0`` to ``t1`` [s] (a standing body's)."""
-        return Swept(np.array([[t0, t1]]), self.geoms[:1], self.bounds[:1], self.cells[:1])
+        t = np.array([[t0, t1]], dtype=float)
+        return Swept(t, self.geoms[:1], self.bounds[:1], self.cells[:1],
+                     ((float(t[0, 0]), float(t[0, 1]), *self.rows[0][2:]),))
 
     def __len__(self) -> int:
         return len(self.geoms)
@@ -146,8 +211,31 @@ class Swept:
 
 def cells_of(bounds: Sequence[float]) -> tuple[tuple[int, int], ...]:
     """The grid cells a bounding box ``(x0, y0, x1, y1)`` meets."""
-    x0, y0, x1, y1 = (math.floor(float(c) / CELL) for c in bounds)
+    return _block(*(math.floor(float(c) / CELL) for c in bounds))
+
+
+def _cells_of_all(bounds: np.ndarray) -> tuple[tuple[tuple[int, int], ...], ...]:
+    """:func:`cells_of` of each row of ``bounds`` (N, 4), the divisions in one call."""
+    return tuple(_block(*r) for r in np.floor(bounds / CELL).astype(np.int64).tolist())
+
+
+@functools.lru_cache(maxsize=1 << 16)
+def _block(x0: int, y0: int, x1: int, y1: int) -> tuple[tuple[int, int], ...]:
+    """The cells from ``(x0, y0)`` to ``(x1, y1)``, kept: the same few blocks are asked for
+    by hundreds of thousands of hulls and entries, which then share one tuple."""
     return tuple((i, j) for i in range(x0, x1 + 1) for j in range(y0, y1 + 1))
+
+
+@dataclass(frozen=True, slots=True)
+class Near:
+    """Entries filed near a query (:meth:`ReservationTable.nearby`): their ids, ascending,
+    and each one's ``(t0, t1, x0, y0, x1, y1)``; false when there are none."""
+
+    ids: list[int]
+    rows: list[tuple[float, ...]]
+
+    def __bool__(self) -> bool:
+        return bool(self.ids)
 
 
 class _Store:
@@ -162,6 +250,11 @@ class _Store:
         self.alive = np.zeros(cap, dtype=bool)
         self.in_slot = np.zeros(cap, dtype=bool)
         self.geom = np.empty(cap, dtype=object)
+        # the same as Python values, for queries that meet a few entries (numpy's fixed
+        # cost per call is more than their work): each entry's owner, and its
+        # (t0, t1, x0, y0, x1, y1) while alive (None once dropped)
+        self.who: list[int] = []
+        self.rows: list[tuple[float, ...] | None] = []
 
     def add(self, owner: int, t0: float, t1: float, geom: BaseGeometry,
             in_slot: bool = False) -> int:
@@ -180,6 +273,8 @@ class _Store:
         self.alive[i] = True
         self.in_slot[i] = in_slot
         self.geom[i] = geom
+        self.who.append(owner)
+        self.rows.append((*self.t[i].tolist(), *self.box[i].tolist()))
         self.n += 1
         return i
 
@@ -256,10 +351,12 @@ class ReservationTable:
             t0, t1 = st.t[i]
             if after is None or t0 >= after:
                 st.alive[i] = False
+                st.rows[i] = None
                 freed.append(i)
             else:
                 if t1 > after:
                     st.t[i, 1] = after
+                    st.rows[i] = (*st.t[i].tolist(), *st.rows[i][2:])
                     freed.append(i)
                 keep.append(i)
         self._by_owner[oid] = keep
@@ -269,7 +366,8 @@ class ReservationTable:
 
     # -- asking -------------------------------------------------------------------------------
     def first_conflict(self, intervals: Sequence[Interval] | Swept, *, offset: float = 0.0,
-                       ignore: str | None = None) -> Conflict | None:
+                       ignore: str | None = None, among: Near | None = None
+                       ) -> Conflict | None:
         """The earliest of ``intervals`` (shifted by ``offset``) that meets someone else's
         body over overlapping time, as that body's owner and interval; None when all are
         free.
@@ -277,26 +375,32 @@ class ReservationTable:
         Entries are filed in a space-time grid (cells of :data:`CELL` metres and
         ``bucket`` seconds), so a query in free space costs a few dictionary
         lookups; the few candidates are tested exactly with shapely in one batch.
+        ``among`` (from :meth:`nearby`, over grid cells and a time window that hold
+        the shifted intervals, for the same ``ignore``) saves gathering them again.
         """
         sw = intervals if isinstance(intervals, Swept) else Swept.of(intervals)
-        skip = self._ids.get(ignore, -1) if ignore is not None else -1
         st = self._store
-        b = self.bucket
-        pairs_i: list[int] = []
-        pairs_j: list[int] = []
-        for j in range(len(sw.geoms)):
-            a, z = float(sw.t[j, 0]) + offset, float(sw.t[j, 1]) + offset
-            found = self._filed(sw.cells[j], math.floor((a - _EPS) / b),
-                                math.floor((z + _EPS) / b))
-            if not found:
-                continue
-            x0, y0, x1, y1 = sw.bounds[j]
-            for i in sorted(found):
-                if (st.alive[i] and st.owner[i] != skip and st.t[i, 0] <= z + _EPS
-                        and st.t[i, 1] >= a - _EPS and st.box[i, 0] <= x1 and st.box[i, 2] >= x0
-                        and st.box[i, 1] <= y1 and st.box[i, 3] >= y0):
-                    pairs_i.append(i)
-                    pairs_j.append(j)
+        if among is not None:
+            pairs_j, pairs_i = _pairs(sw, among, offset)
+        else:
+            skip = self._ids.get(ignore, -1) if ignore is not None else -1
+            b = self.bucket
+            pairs_i: list[int] = []
+            pairs_j: list[int] = []
+            for j in range(len(sw.geoms)):
+                a, z = float(sw.t[j, 0]) + offset, float(sw.t[j, 1]) + offset
+                found = self._filed(sw.cells[j], math.floor((a - _EPS) / b),
+                                    math.floor((z + _EPS) / b))
+                if not found:
+                    continue
+                x0, y0, x1, y1 = sw.bounds[j]
+                for i in sorted(found):
+                    if (st.alive[i] and st.owner[i] != skip and st.t[i, 0] <= z + _EPS
+                            and st.t[i, 1] >= a - _EPS and st.box[i, 0] <= x1
+                            and st.box[i, 2] >= x0 and st.box[i, 1] <= y1
+                            and st.box[i, 3] >= y0):
+                        pairs_i.append(i)
+                        pairs_j.append(j)
         if not pairs_i:
             return None
         hit = shapely.intersects(sw.geoms[pairs_j], st.geom[pairs_i])
@@ -305,27 +409,43 @@ class ReservationTable:
         i = pairs_i[int(np.argmax(hit))]  # pairs come in chunk order: the earliest first
         return Conflict(self._names[st.owner[i]], float(st.t[i, 0]), float(st.t[i, 1]))
 
+    def nearby(self, cells: Sequence[tuple[int, int]], t0: float, t1: float, *,
+               ignore: str | None = None) -> Near:
+        """The entries of anybody but ``ignore`` filed in grid ``cells`` whose time overlaps
+        ``[t0, t1]`` [s]: what any query within those cells and times may meet (none: the
+        queries are all free, with no exact test). Pass it to :meth:`first_conflict` and
+        :meth:`blocked` as ``among``, to gather it once for several queries."""
+        found = self._filed(cells, math.floor((t0 - _EPS) / self.bucket), self._last_bucket(t1))
+        if not found:
+            return Near([], [])
+        skip = self._ids.get(ignore, -1) if ignore is not None else -1
+        st = self._store
+        if len(found) <= _FEW_ENTRIES:
+            ids: list[int] = []
+            rows: list[tuple[float, ...]] = []
+            who, live = st.who, st.rows
+            lo, hi = t0 - _EPS, t1 + _EPS
+            for i in sorted(found):
+                r = live[i]
+                if r is not None and who[i] != skip and r[0] <= hi and r[1] >= lo:
+                    ids.append(i)
+                    rows.append(r)
+            return Near(ids, rows)
+        ids = np.fromiter(sorted(found), dtype=np.int64, count=len(found))
+        ids = ids[st.alive[ids] & (st.owner[ids] != skip) & (st.t[ids, 0] <= t1 + _EPS)
+                  & (st.t[ids, 1] >= t0 - _EPS)]
+        return Near(ids.tolist(), list(map(tuple, np.hstack([st.t[ids], st.box[ids]]).tolist())))
+
     def quiet(self, cells: Sequence[tuple[int, int]], t0: float, t1: float, *,
               ignore: str | None = None) -> bool:
         """Whether nobody but ``ignore`` has an entry filed in grid ``cells`` that overlaps
         ``[t0, t1]`` [s] — a cheap test that makes exact ones unnecessary."""
-        skip = self._ids.get(ignore, -1) if ignore is not None else -1
-        st = self._store
-        grid, long_cells, b = self._grid, self._long_cells, self.bucket
-        k0, k1 = math.floor((t0 - _EPS) / b), self._last_bucket(t1)
-        for cell in cells:
-            by_bucket = grid.get(cell, _EMPTY)
-            for hit in [by_bucket.get(k) for k in range(k0, k1 + 1)] + [long_cells.get(cell)]:
-                if hit:
-                    for i in hit:
-                        if (st.alive[i] and st.owner[i] != skip and st.t[i, 0] <= t1 + _EPS
-                                and st.t[i, 1] >= t0 - _EPS):
-                            return False
-        return True
+        return not self.nearby(cells, t0, t1, ignore=ignore)
 
     def blocked(self, sw: Swept, since: float, until: float, *,
                 cells: Sequence[tuple[int, int]] | None = None,
-                ignore: str | None = None) -> list[tuple[float, float]]:
+                ignore: str | None = None, among: Near | None = None
+                ) -> list[tuple[float, float]]:
         """The departure times ``d`` in ``[since, until]`` [s] at which ``sw`` shifted by
         ``d`` meets someone else's body over overlapping time: sorted, disjoint closed
         intervals ``[(lo, hi), ...]`` (the first may begin before ``since``, the last end
@@ -334,7 +454,10 @@ class ReservationTable:
         Chunk ``[a, z]`` of ``sw`` (hull ``H``) and an entry held over ``[t0, t1]`` whose
         body meets ``H`` forbid ``d`` in ``[t0 - z, t1 - a]``: the geometric test is
         time-free, so each pair is tested once, whatever the window. ``cells`` (all the
-        grid cells ``sw`` meets, if known) saves working them out.
+        grid cells ``sw`` meets, if known) saves working them out; ``among`` (from
+        :meth:`nearby`, over cells that hold ``sw`` and a window that holds it shifted by
+        any ``d`` in ``[since, until]``, for the same ``ignore``) saves gathering what it
+        may meet.
 
         Examples
         --------
@@ -347,6 +470,8 @@ class ReservationTable:
         """
         if not len(sw):
             return []
+        if among is not None:
+            return self._blocked_among(sw, among, since, until)
         skip = self._ids.get(ignore, -1) if ignore is not None else -1
         st = self._store
         b = self.bucket
@@ -414,6 +539,33 @@ class ReservationTable:
                     hi.append(t1 - a + _EPS)
         return _merged(lo, hi)
 
+    def _blocked_among(self, sw: Swept, among: Near, since: float, until: float
+                       ) -> list[tuple[float, float]]:
+        """:meth:`blocked` against candidates gathered by :meth:`nearby`: the same pairs,
+        found by the same tests, give the same intervals."""
+        first, last = since + float(sw.t[:, 0].min()), until + float(sw.t[:, 1].max())
+        rows = among.rows
+        keep = [k for k, r in enumerate(rows) if r[0] <= last + _EPS and r[1] >= first - _EPS]
+        if not keep:
+            return []
+        near = Near([among.ids[k] for k in keep], [rows[k] for k in keep])
+        pj, pi = _pairs(sw, near, None)
+        if not pj:
+            return []
+        st = self._store
+        hit = shapely.intersects(sw.geoms[pj], st.geom[pi])
+        lo: list[float] = []
+        hi: list[float] = []
+        times = sw.rows
+        for met, j, i in zip(hit.tolist(), pj, pi, strict=True):
+            if met:
+                a, z = times[j][0], times[j][1]
+                t0, t1 = st.t[i].tolist()
+                if t1 - a + _EPS >= since and t0 - z - _EPS <= until:
+                    lo.append(t0 - z - _EPS)
+                    hi.append(t1 - a + _EPS)
+        return _merged(lo, hi)
+
     def taken_until(self, body: BaseGeometry, *, ignore: str | None = None) -> float:
         """Till when [s] someone else's body meets ``body`` (``inf``: for ever; ``-inf``:
         nobody's ever does): ``body`` is free from a time on (:meth:`free_from` is None)
@@ -432,8 +584,9 @@ class ReservationTable:
         return float(st.t[cand[hit], 1].max()) + _EPS if hit.any() else -math.inf
 
     def is_free(self, intervals: Sequence[Interval] | Swept, *, offset: float = 0.0,
-                ignore: str | None = None) -> bool:
-        return self.first_conflict(intervals, offset=offset, ignore=ignore) is None
+                ignore: str | None = None, among: Near | None = None) -> bool:
+        return self.first_conflict(intervals, offset=offset, ignore=ignore,
+                                   among=among) is None
 
     def free_from(self, body: BaseGeometry, since: float, *, ignore: str | None = None
                   ) -> Conflict | None:
@@ -473,10 +626,15 @@ class ReservationTable:
         for cell in cells:
             by_bucket = grid.get(cell)
             if by_bucket is not None:
-                for k in range(k0, k1 + 1):
-                    hit = by_bucket.get(k)
-                    if hit:
-                        found.update(hit)
+                if k1 - k0 >= len(by_bucket):  # a long window: what the cell holds is less
+                    for k, hit in by_bucket.items():
+                        if k0 <= k <= k1:
+                            found.update(hit)
+                else:
+                    for k in range(k0, k1 + 1):
+                        hit = by_bucket.get(k)
+                        if hit:
+                            found.update(hit)
             hit = long_cells.get(cell)
             if hit:
                 found.update(hit)
@@ -510,6 +668,35 @@ class ReservationTable:
 def standing_body(vehicle: VehicleType, pose: FloatArray) -> BaseGeometry:
     """The footprint polygon of ``vehicle`` standing at ``pose``."""
     return shapely.Polygon(vehicle.footprints(np.asarray(pose, dtype=float)[None, :])[0])
+
+
+def _pairs(sw: Swept, near: Near, offset: float | None) -> tuple[list[int], list[int]]:
+    """The pairs ``(j, i)`` of ``sw``'s interval ``j`` and entry ``near.ids[k] = i`` whose
+    bounding boxes meet and, unless ``offset`` is None, whose times overlap with ``sw``
+    shifted by ``offset``: interval by interval, entries ascending (the order the earliest
+    conflict is read from)."""
+    pj: list[int] = []
+    pi: list[int] = []
+    ids, rows = near.ids, near.rows
+    if len(sw.rows) * len(ids) <= _FEW_PAIRS:
+        for j, (a, z, x0, y0, x1, y1) in enumerate(sw.rows):
+            if offset is not None:
+                a, z = a + offset, z + offset
+            for i, (t0, t1, b0, c0, b1, c1) in zip(ids, rows, strict=True):
+                if ((offset is None or (t0 <= z + _EPS and t1 >= a - _EPS))
+                        and b0 <= x1 and b1 >= x0 and c0 <= y1 and c1 >= y0):
+                    pj.append(j)
+                    pi.append(i)
+        return pj, pi
+    r = np.array(rows)
+    bd = sw.bounds
+    ok = ((r[None, :, 2] <= bd[:, None, 2]) & (r[None, :, 4] >= bd[:, None, 0])
+          & (r[None, :, 3] <= bd[:, None, 3]) & (r[None, :, 5] >= bd[:, None, 1]))
+    if offset is not None:
+        a, z = sw.t[:, 0] + offset, sw.t[:, 1] + offset
+        ok &= (r[None, :, 0] <= (z + _EPS)[:, None]) & (r[None, :, 1] >= (a - _EPS)[:, None])
+    jj, kk = np.nonzero(ok)
+    return jj.tolist(), np.asarray(ids, dtype=np.int64)[kk].tolist()
 
 
 def _merged(lo: list[float], hi: list[float]) -> list[tuple[float, float]]:
