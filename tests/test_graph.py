@@ -272,3 +272,23 @@ def test_a_portal_heading_off_its_lane_is_refused_not_turned_without_a_word():
             prepare(sc, maneuvers=False)
         assert (err.value.where.line, err.value.where.col) == position(text, "|{id: in")
         assert "lane 'a>' there heads 0°" in err.value.message
+
+
+def test_turns_found_on_two_workers_are_those_each_type_finds_on_its_own():
+    # the mixed lot's three types: junction turns per type and lane, on forked workers,
+    # against each type's junction turns and turns through short stretches found in one go
+    from lotsim.io.scenario import load_scenario
+    from lotsim.lot.build import build_lot, lane_collider
+    from lotsim.lot.graph import _junction_turns, _through_turns, _turns_per_design
+    from lotsim.lot.model import DesignVehicle
+
+    sc = load_scenario(SCENARIOS[[p.stem for p in SCENARIOS].index("mixed_lot")])
+    lot = build_lot(sc.lot, DesignVehicle.envelope(sc.vehicle_types))
+    collider = lane_collider(lot)
+    designs = [DesignVehicle.envelope([v]) for v in sc.vehicle_types]
+    expected = []
+    for design in designs:
+        turns, skipped = _junction_turns(lot, collider, design)
+        expected.append((turns + _through_turns(lot, turns, collider, design), skipped))
+    assert sum(len(turns) for turns, _ in expected) > 10
+    assert _turns_per_design(lot, collider, designs) == expected

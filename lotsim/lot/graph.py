@@ -51,6 +51,7 @@ import numpy as np
 import shapely
 
 from lotsim.errors import ScenarioError
+from lotsim.forkmap import fork_map
 from lotsim.geometry import (
     Segment,
     cc_polyline,
@@ -664,16 +665,14 @@ def _turns_of(lot: Lot, collider: Collider, designs: dict[str, DesignVehicle] | 
     key = tuple(sorted(designs.items())) if designs else None
     cache = _TURNS.setdefault(lot, {})
     if key not in cache:
+        per = _turns_per_design(lot, collider, list(designs.values()) if designs else [None])
         if not designs:
-            turns, skipped = _junction_turns(lot, collider)
-            turns += _through_turns(lot, turns, collider)
+            turns, skipped = per[0]
             cache[key] = ([(t, None) for t in turns], skipped)
         else:
             found: dict[Turn, None] = {}
             why: dict[str, list[str]] = {}
-            for name, design in designs.items():
-                turns, skipped = _junction_turns(lot, collider, design)
-                turns += _through_turns(lot, turns, collider, design)
+            for name, (turns, skipped) in zip(designs, per, strict=True):
                 found.update(dict.fromkeys(turns))
                 for reason in skipped:
                     why.setdefault(reason, []).append(name)
@@ -693,6 +692,24 @@ def _turns_of(lot: Lot, collider: Collider, designs: dict[str, DesignVehicle] | 
                            for t, n in tagged.items()], notes)
     turns, skipped = cache[key]
     return list(turns), list(skipped)
+
+
+def _turns_per_design(lot: Lot, collider: Collider, designs: list
+                      ) -> list[tuple[list[Turn], list[str]]]:
+    """:func:`_junction_turns` and :func:`_through_turns` for each of ``designs`` (None: the
+    lot's design vehicle), as each would find them on its own: the junction turns out of
+    each lane, then each design's turns through short stretches, on both cores
+    (:func:`~lotsim.forkmap.fork_map`; the same answers in the same order)."""
+    jobs = [(design, a) for design in designs for a in lot.lanes]
+    found = fork_map(lambda job: _junction_turns(lot, collider, job[0], lanes_a=(job[1],)),
+                     jobs)
+    per = []
+    for k in range(len(designs)):
+        mine = found[k * len(lot.lanes):(k + 1) * len(lot.lanes)]
+        per.append(([t for turns, _ in mine for t in turns], [r for _, why in mine for r in why]))
+    through = fork_map(lambda k: _through_turns(lot, per[k][0], collider, designs[k]),
+                       range(len(designs)))
+    return [(turns + extra, why) for (turns, why), extra in zip(per, through, strict=True)]
 
 
 DEAD_END = 15.0
@@ -851,15 +868,15 @@ def _along(seg: Segment, pose) -> float:
     return float(np.dot(np.subtract(pose[:2], seg.start[:2]), unit(seg.start[2])))
 
 
-def _junction_turns(lot: Lot, collider: Collider, design: DesignVehicle | None = None
-                    ) -> tuple[list[Turn], list[str]]:
+def _junction_turns(lot: Lot, collider: Collider, design: DesignVehicle | None = None, *,
+                    lanes_a=None) -> tuple[list[Turn], list[str]]:
     """Arcs between lanes of aisles that meet, each swept clear with ``design`` (default
-    the lot's design vehicle)."""
+    the lot's design vehicle): out of ``lanes_a`` (default every lane)."""
     design = design or lot.design
     turns: list[Turn] = []
     skipped: list[str] = []
     lanes = lot.lanes
-    for a in lanes:
+    for a in lanes if lanes_a is None else lanes_a:
         for b in lanes:
             if a.aisle == b.aisle:
                 continue

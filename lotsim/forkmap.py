@@ -1,0 +1,62 @@
+"""``[fn(item) for item in items]`` on forked worker processes, the same answers in the same
+order as in this process.
+
+The workers are forked from this process as it is when the map starts, so ``fn`` and the
+items reach them by reference (nothing but an index goes down a pipe, the answers come back
+pickled): ``fn`` may close over a lot, its trees and caches. Needs the ``fork`` start method
+(Linux); elsewhere, in a process that :mod:`multiprocessing` started (a worker of the bench,
+of Dask, of the caller: its parent already shares the cores out), for fewer than two items
+or with ``workers=1``, it works in this process.
+"""
+
+from __future__ import annotations
+
+import multiprocessing
+import os
+import signal
+from collections.abc import Callable, Sequence
+
+_TASK: tuple = ()  # (fn, items, parent pid) for the forked workers
+
+
+def fork_map(fn: Callable, items: Sequence, *, workers: int | None = None) -> list:
+    """``[fn(item) for item in items]``, on up to ``workers`` forked processes (default: as
+    many as the machine has), each item a task of its own, handed out as workers come free.
+
+    Examples
+    --------
+    >>> fork_map(lambda x: x * x, [1, 2, 3], workers=2)
+    [1, 4, 9]
+    """
+    global _TASK
+    count = workers or (1 if multiprocessing.parent_process() else os.cpu_count()) or 1
+    count = min(count, len(items))
+    if count < 2 or "fork" not in multiprocessing.get_all_start_methods():
+        return [fn(item) for item in items]
+    _TASK = (fn, items, os.getpid())
+    pool = multiprocessing.get_context("fork").Pool(count, initializer=_ignore_sigint)
+    try:
+        return pool.map(_run, range(len(items)), chunksize=1)
+    finally:  # done, or Ctrl-C here: its workers end
+        _TASK = ()
+        pool.terminate()
+        pool.join()
+
+
+def _run(k: int) -> object:
+    fn, items, _ = _TASK
+    return fn(items[k])
+
+
+def _ignore_sigint() -> None:
+    """Workers leave Ctrl-C to the process that started them (which ends them), and end
+    when it ends (Linux: ``PR_SET_PDEATHSIG``)."""
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    try:
+        import ctypes
+
+        ctypes.CDLL(None, use_errno=True).prctl(1, signal.SIGTERM)  # PR_SET_PDEATHSIG
+    except (OSError, AttributeError):  # not Linux: ended by the pool only
+        pass
+    if os.getppid() != _TASK[2]:  # it ended before that was set
+        os._exit(0)
