@@ -441,15 +441,28 @@ def build_graph(lot: Lot, *, node_spacing: float = 4.0, maneuvers=None,
                 attachments[slot.id].append(node_at(lid, s))
     if maneuvers is not None:
         types = {v.name: v for v in vehicles}
-        timed: dict[tuple, float] = {}  # a lot's maneuvers repeat a few shapes: each timed once
+
+        def shape(path, vname: str, limit: float) -> tuple:
+            """What the maneuver's time depends on: its pieces' shapes, not where they lie."""
+            return vname, limit, tuple((s.distance, s.curvature, s.sharpness)
+                                       for s in path.segments)
+
+        # a lot's maneuvers repeat a few shapes: each timed once, on both cores
+        todo: dict[tuple, tuple] = {}
+        for kept, both in ((maneuvers, True), (stays, False)):
+            for (vname, _, _), m in kept.items():
+                if vname in types:
+                    limit = _path_limit(lot, m)
+                    for path in (m, m.reversed()) if both else (m,):
+                        todo.setdefault(shape(path, vname, limit), (path, vname, limit))
+        jobs = list(todo.values())
+        parts = [jobs[k::8] for k in range(8)] if len(jobs) >= 64 else [jobs]
+        times = fork_map(lambda part: [p.duration(types[v], lim) for p, v, lim in part], parts)
+        timed = {shape(*job): t for part, ts in zip(parts, times, strict=True)
+                 for job, t in zip(part, ts, strict=True)}
 
         def duration(path, vname: str, limit: float) -> float:
-            """The maneuver's time (it depends on its pieces' shapes, not where they lie)."""
-            key = (vname, limit, tuple((s.distance, s.curvature, s.sharpness)
-                                       for s in path.segments))
-            if key not in timed:
-                timed[key] = path.duration(types[vname], limit)
-            return timed[key]
+            return timed[shape(path, vname, limit)]
 
         for (vname, sid, lid), m in sorted(maneuvers.items(), key=lambda kv: kv[0]):
             a, node = node_at(lid, m.station), slot_nodes[sid]
