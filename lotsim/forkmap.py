@@ -34,7 +34,8 @@ def fork_map(fn: Callable, items: Sequence, *, workers: int | None = None) -> li
     if count < 2 or "fork" not in multiprocessing.get_all_start_methods():
         return [fn(item) for item in items]
     _TASK = (fn, items, os.getpid())
-    pool = multiprocessing.get_context("fork").Pool(count, initializer=_ignore_sigint)
+    pool = multiprocessing.get_context("fork").Pool(count, initializer=quiet_worker,
+                                                    initargs=(os.getpid(),))
     try:
         return pool.map(_run, range(len(items)), chunksize=1)
     finally:  # done, or Ctrl-C here: its workers end
@@ -48,9 +49,10 @@ def _run(k: int) -> object:
     return fn(items[k])
 
 
-def _ignore_sigint() -> None:
-    """Workers leave Ctrl-C to the process that started them (which ends them), and end
-    when it ends (Linux: ``PR_SET_PDEATHSIG``)."""
+def quiet_worker(parent: int) -> None:
+    """A forked pool worker's initializer: it leaves Ctrl-C to the process that started it
+    (``parent``, which ends it), and ends when that ends, however it ends (Linux:
+    ``PR_SET_PDEATHSIG``), instead of working on with nobody to answer."""
     signal.signal(signal.SIGINT, signal.SIG_IGN)
     try:
         import ctypes
@@ -58,5 +60,5 @@ def _ignore_sigint() -> None:
         ctypes.CDLL(None, use_errno=True).prctl(1, signal.SIGTERM)  # PR_SET_PDEATHSIG
     except (OSError, AttributeError):  # not Linux: ended by the pool only
         pass
-    if os.getppid() != _TASK[2]:  # it ended before that was set
+    if os.getppid() != parent:  # it ended before that was set
         os._exit(0)

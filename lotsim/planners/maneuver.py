@@ -48,7 +48,6 @@ import itertools
 import math
 import multiprocessing
 import os
-import signal
 from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass
 from enum import Enum
@@ -59,6 +58,7 @@ from shapely.geometry import Polygon
 from shapely.geometry.base import BaseGeometry
 
 from lotsim.errors import InfeasibleManeuver
+from lotsim.forkmap import quiet_worker
 from lotsim.geometry import (
     FloatArray,
     Pose,
@@ -1289,8 +1289,8 @@ class _Workers:
         global _JOB
         _JOB = self.job
         if self.count > 1:
-            self.pool = multiprocessing.get_context("fork").Pool(self.count,
-                                                                initializer=_ignore_sigint)
+            self.pool = multiprocessing.get_context("fork").Pool(
+                self.count, initializer=quiet_worker, initargs=(self.job[2],))
         else:
             _POSED.clear()
         return self
@@ -1330,20 +1330,3 @@ def _search_job(job: tuple[int, str]) -> tuple:
     k, style = job
     problem = _POSED[k] if k in _POSED else planner._problem(*triples[k])
     return planner._search(problem, style)
-
-
-def _ignore_sigint() -> None:
-    """Workers leave Ctrl-C to the process that started them (which ends them), and end
-    when it ends, however it ends (Linux: ``PR_SET_PDEATHSIG``), instead of searching on
-    with nobody to answer."""
-    signal.signal(signal.SIGINT, signal.SIG_IGN)
-    try:
-        import ctypes
-
-        ctypes.CDLL(None, use_errno=True).prctl(1, signal.SIGTERM)  # PR_SET_PDEATHSIG
-    except (OSError, AttributeError):  # not Linux: ended by the pool only
-        pass
-    if os.getppid() != _JOB[2]:  # it ended before that was set
-        os._exit(0)
-
-
