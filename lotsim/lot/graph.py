@@ -809,10 +809,7 @@ def _turnarounds_of(lot: Lot, turns: list[Turn], joins: list[tuple[str, str]],
                 for x in ([] if isinstance(t, str) else t) + more:
                     tagged.setdefault(x, set()).add(name)
         for t, names in tagged.items():  # and every other type it suits
-            bend = max(seg.max_curvature for seg in t.segments)
-            names.update(name for name, design in per.items() if name not in names
-                         and bend <= 1 / design.min_radius + 1e-9
-                         and turnaround_clear(t, *bodies[name]))
+            names.update(n for n in per if n not in names and _suits(t, per[n], bodies[n]))
         notes = []
         for lane, _ in ends:
             lacking = [name for name in per if not any(
@@ -980,9 +977,7 @@ def _junction_multipoints(lot: Lot, tagged: list[tuple[Turn, frozenset | None]],
                                            sb0 + _along(pb, segs[-1].end), segs)
                             found.setdefault(t, set()).add(name)
     for t, names in found.items():  # and every other type it suits
-        bend = max(seg.max_curvature for seg in t.segments)
-        names.update(n for n, design in per.items() if n not in names
-                     and bend <= 1 / design.min_radius + 1e-9 and turnaround_clear(t, *bodies[n]))
+        names.update(n for n in per if n not in names and _suits(t, per[n], bodies[n]))
     out = [(t, None if len(n) == len(per) else frozenset(n)) for t, n in found.items()]
     cache[key] = out
     return list(out)
@@ -1024,7 +1019,7 @@ def _junction_uturns(lot: Lot, designs: dict[str, DesignVehicle] | None = None
             continue
         for a, back in (aisle.lanes, aisle.lanes[::-1]):
             for sa0, pa, x in _crossings(lot, a):
-                ta = float(np.dot(x - np.asarray(pa.start[:2]), unit(pa.start[2])))
+                ta = _along(pa, x)
                 sb, _ = back.project((float(x[0]), float(x[1])))
                 got = _straight_at(back, sb)
                 if got is None or sa0 + ta < MULTI_ROOM:
@@ -1087,9 +1082,7 @@ def _crossings(lot: Lot, lane: Lane) -> list[tuple[float, Segment, np.ndarray]]:
             hits = [corner[3] for c in other.lanes for _, pc in _straights(c)
                     if (corner := _corner(pa, pc, aisle, other, reach)) is not None]
             if hits:
-                along = [float(np.dot(h - np.asarray(pa.start[:2]), unit(pa.start[2])))
-                         for h in hits]
-                out.append((sa0, pa, hits[int(np.argmin(along))]))
+                out.append((sa0, pa, min(hits, key=lambda h: _along(pa, h))))
     return out
 
 
