@@ -18,6 +18,7 @@ from __future__ import annotations
 
 import contextlib
 import functools
+import gc
 import hashlib
 import os
 import pickle
@@ -75,6 +76,11 @@ def load(name: str, folder: Path | None = None) -> object | None:
     if folder is None:
         return None
     path = folder / name
+    collecting = gc.isenabled()
+    # A prepared lot is some 10^5 small objects (a large lot's maneuvers alone are 30 000
+    # path pieces) and no garbage: the cycle collector's passes over them while they are
+    # made were half of loading one
+    gc.disable()
     try:
         with open(path, "rb") as f:
             value = pickle.load(f)
@@ -84,6 +90,9 @@ def load(name: str, folder: Path | None = None) -> object | None:
         with contextlib.suppress(OSError):
             path.unlink()
         return None
+    finally:
+        if collecting:
+            gc.enable()
     with contextlib.suppress(OSError):  # recently used (a read-only cache is still read)
         os.utime(path)
     return value

@@ -115,3 +115,23 @@ def test_validate_from_another_folder_and_process_finds_the_lot(tmp_path):
     assert lotsim.cache.LOADED in outs[1].stdout
     said = [o.stdout.replace(str(tmp_path / f"d{k}"), "") for k, o in enumerate(outs)]
     assert said[1].replace(lotsim.cache.LOADED, "") == said[0]
+
+
+@pytest.mark.parametrize("entry", [b"not a pickle", None])
+def test_loading_leaves_the_cycle_collector_as_it_was(tmp_path, entry):
+    # the collector is off while an entry is read (a prepared lot is many objects and no
+    # garbage), and must be back as it was whether the entry was read, damaged or missing
+    import gc
+
+    if entry is not None:
+        (tmp_path / "x.pickle").write_bytes(entry)
+    else:
+        lotsim.cache.store("x.pickle", {"a": [1.0, 2.0]}, tmp_path)
+    try:
+        for before in (True, False):
+            (gc.enable if before else gc.disable)()
+            lotsim.cache.load("x.pickle", tmp_path)
+            lotsim.cache.load("missing.pickle", tmp_path)
+            assert gc.isenabled() is before
+    finally:
+        gc.enable()
