@@ -25,7 +25,9 @@ Rows (the other benchmark scripts do the work; this one calls them and lines the
   cars; the two must find the same.
 * WHCA* (10 s window) against HCA* on the jammed lot (``bench_validate.whca_row``), on every
   shipped scenario with traffic, and on every shipped suite (each scenario and load of the
-  suite, its first seed, arrival order): the ratio of planning times is the figure.
+  suite, its first seed, arrival order): the ratio of planning times is the figure, each
+  planner's best of three runs taken in turn (most cases plan in well under a second), with
+  the expansions of both.
 * The minimum-slot table on 2 processes (``bench_minslot.full_table``); baseline: the same
   queries simulated in 1 mm steps (``bench_minslot.stepped_queries``), per query.
 * With ``--tests``: the default test suite, ``python -m pytest -q`` (no baseline).
@@ -62,6 +64,7 @@ LARGE = ROOT / "scenarios" / "large_lot.yaml"
 SURFACE = ROOT / "scenarios" / "lots" / "surface364.yaml"
 BIG = (1000, 1200.0, (600.0, 1800.0))  # cars, per hour, stay [s]
 WINDOW = 10.0  # WHCA*'s window [s], as `lotsim run`
+REPEATS = 3  # runs of each planner on each shipped case (its best is the figure)
 
 ROWS: list[tuple[str, str, str, str]] = []
 
@@ -162,11 +165,16 @@ def whca_rows(quick: bool) -> None:
         f"HCA* {jam['HCA*']['planning_time']:.1f} s")
     worst: list[tuple[float, str]] = []
     for name, specs in whca_cases(quick):
-        hca, whca = (run_spec(s) for s in specs)
+        # most cases plan in a fraction of a second, where one hiccup of the machine is a
+        # factor: each planner's best of REPEATS runs, taken in turn
+        runs = [[run_spec(s) for s in specs] for _ in range(REPEATS)]
+        hca, whca = (min((r[k] for r in runs), key=lambda m: m["planning_time_s"])
+                     for k in (0, 1))
         r = whca["planning_time_s"] / hca["planning_time_s"]
-        ok = "ok" if hca["ok"] and whca["ok"] else "CHECK FAILS"
+        ok = "ok" if all(m["ok"] for pair in runs for m in pair) else "CHECK FAILS"
         print(f"  {name}: HCA* {hca['planning_time_s']:.2f} s, WHCA* "
-              f"{whca['planning_time_s']:.2f} s: {r:.2f}x ({ok})", flush=True)
+              f"{whca['planning_time_s']:.2f} s: {r:.2f}x; expansions {hca['expansions']} "
+              f"and {whca['expansions']} ({ok})", flush=True)
         worst.append((r, name))
     r, name = max(worst)
     row(f"WHCA* on {len(worst)} shipped scenario and suite cases", "≤ 2x HCA* on each",
