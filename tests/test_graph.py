@@ -336,3 +336,30 @@ def test_turnarounds_searched_in_rounds_on_two_workers_are_those_searched_one_by
     monkeypatch.setattr(graph, "_reaching_all", lambda todo, memo: {
         key: graph._reaching_turnarounds(*job) for key, job in todo.items()})
     assert turnarounds(prepare(sc, cache=False)) == found
+
+
+def test_junction_multipoints_and_uturns_found_at_once_are_those_found_one_after_another():
+    # the ladder's junctions: multi-point turns (none there) and U-turns, worked out
+    # together on two forked workers for one lot, against each worked out in this process
+    # for another
+    from lotsim.io.scenario import load_scenario
+    from lotsim.lot import graph
+    from lotsim.lot.build import build_lot, lane_collider
+    from lotsim.lot.model import DesignVehicle
+
+    sc = load_scenario(SCENARIOS[0].parent / "lots" / "ladder.yaml")
+    designs = ({v.name: DesignVehicle.envelope([v]) for v in sc.vehicle_types}
+               if len(sc.vehicle_types) > 1 else None)
+    found = []
+    for at_once in (True, False):
+        lot = build_lot(sc.lot, DesignVehicle.envelope(sc.vehicle_types))
+        tagged, _ = graph._turns_of(lot, lane_collider(lot), designs)
+        exits = {graph._portal_station(lot, p)[0]: graph._portal_station(lot, p)[1]
+                 for p in lot.exits}
+        found.append(graph._junction_backs(lot, tagged, designs, exits) if at_once else (
+            graph._junction_multipoints(lot, tagged, designs, exits),
+            graph._junction_uturns(lot, designs)))
+        # and again, from what was kept
+        assert graph._junction_backs(lot, tagged, designs, exits) == found[-1]
+    multis, uturns = found[0]
+    assert len(uturns) > 10 and found[0] == found[1]

@@ -356,8 +356,7 @@ def build_graph(lot: Lot, *, node_spacing: float = 4.0, maneuvers=None,
     for p in lot.exits:
         lid, st = _portal_station(lot, p)
         exits[lid] = max(exits.get(lid, -math.inf), st)
-    multis = _junction_multipoints(lot, tagged, designs, exits)
-    uturns = _junction_uturns(lot, designs)
+    multis, uturns = _junction_backs(lot, tagged, designs, exits)
     stays = {} if maneuvers is None else (stays or {})
     attach = (_attachments(lot) if maneuvers is None
               else _maneuver_attachments(lot, [*maneuvers.items(), *stays.items()]))
@@ -1036,6 +1035,24 @@ def _junction_multipoints(lot: Lot, tagged: list[tuple[Turn, frozenset | None]],
     out = [(t, None if len(n) == len(per) else frozenset(n)) for t, n in found.items()]
     cache[key] = out
     return list(out)
+
+
+def _junction_backs(lot: Lot, tagged: list[tuple[Turn, frozenset | None]],
+                    designs: dict[str, DesignVehicle] | None, exits: dict[str, float]
+                    ) -> tuple[list[tuple[Turnaround, frozenset | None]],
+                               list[tuple[Turnaround, frozenset | None]]]:
+    """:func:`_junction_multipoints` and :func:`_junction_uturns`; the two at once, on both
+    cores, when neither was worked out before for this lot and set of types (each is a
+    function of its arguments: the same answers, kept as each keeps its own)."""
+    key = tuple(sorted(designs.items())) if designs else None
+    if key in _MULTIS.get(lot, {}) or key in _UTURNS.get(lot, {}):
+        return _junction_multipoints(lot, tagged, designs, exits), _junction_uturns(lot, designs)
+    multis, uturns = fork_map(lambda job: job(), [
+        lambda: _junction_multipoints(lot, tagged, designs, exits),
+        lambda: _junction_uturns(lot, designs)])
+    _MULTIS.setdefault(lot, {})[key] = multis
+    _UTURNS.setdefault(lot, {})[key] = uturns
+    return list(multis), list(uturns)
 
 
 UTURN_LAND = (2.0, 8.0)
