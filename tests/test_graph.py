@@ -292,3 +292,74 @@ def test_turns_found_on_two_workers_are_those_each_type_finds_on_its_own():
         expected.append((turns + _through_turns(lot, turns, collider, design), skipped))
     assert sum(len(turns) for turns, _ in expected) > 10
     assert _turns_per_design(lot, collider, designs) == expected
+
+
+def test_turnarounds_searched_in_rounds_on_two_workers_are_those_searched_one_by_one(
+        monkeypatch):
+    # the ladder's dead ends need multi-point turnarounds, some of them searched after
+    # another (a car arriving past the first): searched in rounds on forked workers, each
+    # once, against each searched where it is met
+    from lotsim.io.scenario import load_scenario
+    from lotsim.lot import graph
+
+    sc = load_scenario(SCENARIOS[0].parent / "lots" / "ladder.yaml")
+    searched, jobs = [], {}
+    real_fork_map, real_reaching_all = graph.fork_map, graph._reaching_all
+
+    def recording(fn, items, **kw):
+        searched.extend((lane.id, back.id, body, tuple(starts), hi)
+                        for lane, back, starts, hi, _, body, _ in
+                        (x for x in items if isinstance(x, tuple) and len(x) == 7))
+        return real_fork_map(fn, items, **kw)
+
+    def turnarounds(lg):
+        return sorted((u, v, d["path"]) for u, v, d in lg.graph.edges(data=True)
+                      if d["kind"] == "turnaround")
+
+    monkeypatch.setattr(graph, "fork_map", recording)
+    monkeypatch.setattr(graph, "_reaching_all", lambda todo, memo: (
+        jobs.update(todo), real_reaching_all(todo, memo))[1])
+    found = turnarounds(prepare(sc, cache=False))
+    assert len(searched) >= 8 and len(set(searched)) == len(searched)
+    # a second build whose cars arrive elsewhere on a lane searches only from there
+    ends = [job for job in jobs.values() if any(
+        (job[0].id, len(starts)) == (lane, len(graph.TURNAROUND_STARTS))
+        for lane, _, _, starts, _ in searched)]
+    assert ends
+    for job in ends:
+        memo, arrive = {}, max(job[6])
+        real_reaching_all({0: job}, memo)
+        searched.clear()
+        real_reaching_all({0: (*job[:6], {arrive - 0.5}, job[7])}, memo)
+        assert all(len(starts) == 1 for *_, starts, _ in searched)
+    monkeypatch.setattr(graph, "fork_map", real_fork_map)
+    monkeypatch.setattr(graph, "_reaching_all", lambda todo, memo: {
+        key: graph._reaching_turnarounds(*job) for key, job in todo.items()})
+    assert turnarounds(prepare(sc, cache=False)) == found
+
+
+def test_junction_multipoints_and_uturns_found_at_once_are_those_found_one_after_another():
+    # the ladder's junctions: multi-point turns (none there) and U-turns, worked out
+    # together on two forked workers for one lot, against each worked out in this process
+    # for another
+    from lotsim.io.scenario import load_scenario
+    from lotsim.lot import graph
+    from lotsim.lot.build import build_lot, lane_collider
+    from lotsim.lot.model import DesignVehicle
+
+    sc = load_scenario(SCENARIOS[0].parent / "lots" / "ladder.yaml")
+    designs = ({v.name: DesignVehicle.envelope([v]) for v in sc.vehicle_types}
+               if len(sc.vehicle_types) > 1 else None)
+    found = []
+    for at_once in (True, False):
+        lot = build_lot(sc.lot, DesignVehicle.envelope(sc.vehicle_types))
+        tagged, _ = graph._turns_of(lot, lane_collider(lot), designs)
+        exits = {graph._portal_station(lot, p)[0]: graph._portal_station(lot, p)[1]
+                 for p in lot.exits}
+        found.append(graph._junction_backs(lot, tagged, designs, exits) if at_once else (
+            graph._junction_multipoints(lot, tagged, designs, exits),
+            graph._junction_uturns(lot, designs)))
+        # and again, from what was kept
+        assert graph._junction_backs(lot, tagged, designs, exits) == found[-1]
+    multis, uturns = found[0]
+    assert len(uturns) > 10 and found[0] == found[1]

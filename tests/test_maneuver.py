@@ -537,3 +537,34 @@ def test_the_coarse_to_fine_check_finds_the_first_blocked_body_of_every_run(span
             if hits.size:
                 want[hits[0]] = True
         assert np.array_equal(problem.first_blocked(prints, run, span), want)
+
+
+@pytest.mark.parametrize("before", [0, 3, 9, 70, 130])
+def test_the_first_clear_path_is_the_first_row_that_passes_both_checks(before):
+    """``_first_clear`` against checking each row on its own, in order: a clear path after
+    ``before`` rows of blocked ones (found in the first batch, a later one, or none)."""
+    from lotsim.geometry import Segment
+
+    lot, _ = _lot(QUICK)
+    planner = ManeuverPlanner(lot)
+    slot = lot.slot_by_id["main-left-4"]
+    p = planner._problem(CATALOGUE["valet"], slot, planner.lanes_for(slot)[0])
+    rng = np.random.default_rng(before)
+    rows = []
+    while len(rows) < 2 * before + 40:  # random arcs and straights near the slot
+        start = (float(rng.uniform(-8, 8)), float(rng.uniform(-4, 4)),
+                 float(rng.uniform(-math.pi, math.pi)))
+        path = [Segment(start, float(rng.uniform(-6, 6)),
+                        float(rng.choice([0.0, 0.15, -0.15])))]
+        rows.append((0, path[0].length, path))
+
+    def clear(row):
+        return not (p.paths_blocked([row[2]], step=1.0, sweep=False)[0]
+                    or p.paths_blocked([row[2]])[0])
+
+    blocked = [r for r in rows if not clear(r)]
+    free = [r for r in rows if clear(r)]
+    assert len(blocked) >= before and len(free) >= 3
+    order = blocked[:before] + free[:3] + blocked[before:]
+    assert planner._first_clear(p, order) is free[0]
+    assert planner._first_clear(p, blocked[:before]) is None

@@ -41,6 +41,7 @@ and the boundary before it is added.
 
 from __future__ import annotations
 
+import contextlib
 import itertools
 import math
 import weakref
@@ -355,8 +356,7 @@ def build_graph(lot: Lot, *, node_spacing: float = 4.0, maneuvers=None,
     for p in lot.exits:
         lid, st = _portal_station(lot, p)
         exits[lid] = max(exits.get(lid, -math.inf), st)
-    multis = _junction_multipoints(lot, tagged, designs, exits)
-    uturns = _junction_uturns(lot, designs)
+    multis, uturns = _junction_backs(lot, tagged, designs, exits)
     stays = {} if maneuvers is None else (stays or {})
     attach = (_attachments(lot) if maneuvers is None
               else _maneuver_attachments(lot, [*maneuvers.items(), *stays.items()]))
@@ -789,21 +789,31 @@ def _turnarounds_of(lot: Lot, turns: list[Turn], joins: list[tuple[str, str]],
         tagged: dict[Turnaround, set[str]] = {}  # each with the types it was planned for
         why: dict[tuple[str, str], str] = {}  # (lane, type) → why it has none
         planned = _BACK_PLANS.setdefault(lot, {})  # (lane, design) → plan_turnarounds
+        # the searches not planned before (by an earlier build of this lot's graph), on
+        # both cores: each is a function of its arguments alone, so the same answers
+        todo = {(lane.id, per[name]): (lane, back, *bodies[name], per[name].min_radius)
+                for name in per for lane, back in ends if (lane.id, per[name]) not in planned}
+        planned.update(zip(todo, fork_map(lambda job: plan_turnarounds(*job),
+                                          list(todo.values())), strict=True))
+        reach = {}  # reach key → (lane, back, found, collider, body, radius, arrive, go on)
+
+        def reach_key(lane: Lane, back: Lane, design: DesignVehicle) -> tuple:
+            # what _reaching_turnarounds depends on: of the arrivals, only the last
+            return (lane.id, design, max(arrive.get(lane.id, ()), default=-math.inf),
+                    go_on[back.id], "reach")
+
         for name, design in per.items():
-            collider, body = bodies[name]
             for lane, back in ends:
-                if (lane.id, design) not in planned:
-                    planned[lane.id, design] = plan_turnarounds(lane, back, collider, body,
-                                                                design.min_radius)
                 t = planned[lane.id, design]
-                reach_key = (lane.id, design, tuple(sorted(arrive.get(lane.id, ()))),
-                             go_on[back.id], "reach")
-                if reach_key not in planned:
-                    planned[reach_key] = (_reaching_turnarounds(
-                        lane, back, [] if isinstance(t, str) else t, collider, body,
+                if reach_key(lane, back, design) not in planned and _fits_a_slot(lot, design):
+                    reach[reach_key(lane, back, design)] = (
+                        lane, back, [] if isinstance(t, str) else t, *bodies[name],
                         design.min_radius, arrive.get(lane.id, ()), go_on[back.id])
-                        if _fits_a_slot(lot, design) else [])
-                more = planned[reach_key]
+        planned.update(_reaching_all(reach, planned))
+        for name, design in per.items():
+            for lane, back in ends:
+                t = planned[lane.id, design]
+                more = planned.get(reach_key(lane, back, design), [])
                 if isinstance(t, str) and not more:
                     why[lane.id, name] = t
                 for x in ([] if isinstance(t, str) else t) + more:
@@ -833,16 +843,63 @@ def _fits_a_slot(lot: Lot, design: DesignVehicle) -> bool:
                for s in lot.slots)
 
 
+def _reaching_all(jobs: dict, memo: dict) -> dict:
+    """:func:`_reaching_turnarounds` of each of ``jobs`` (key → its arguments), by key; its
+    multi-point searches on both cores, each once: ``memo`` holds (and is given) those
+    done before, by lane, design and arguments (an earlier build of the lot's graph made
+    some). A job's second search waits for its first (whether it is made depends on what
+    the first found), so the searches go in rounds, each round's on both cores."""
+    wanted: dict[tuple, tuple] = {}  # the searches the jobs need that are not done
+
+    def onto(lane, back, starts, hi, collider, body, radius):
+        key = (lane.id, back.id, body, radius, tuple(starts), hi, "onto")
+        if key not in memo:
+            wanted[key] = (lane, back, starts, hi, collider, body, radius)
+            raise _Pending
+        return memo[key]
+
+    while True:
+        wanted.clear()
+        out = {}
+        for key, job in jobs.items():
+            with contextlib.suppress(_Pending):
+                out[key] = _reaching_turnarounds(*job, onto=onto)
+        if not wanted:
+            return out
+        memo.update(zip(wanted, fork_map(lambda job: _reaching_onto(*job),
+                                         list(wanted.values())), strict=True))
+
+
+class _Pending(Exception):
+    """A search :func:`_reaching_all` has not made yet."""
+
+
+def _reaching_onto(lane: Lane, back: Lane, starts: list[float], hi: float,
+                   collider: Collider, body: DesignVehicle, radius: float
+                   ) -> Turnaround | None:
+    """A turnaround from ``lane`` (from the first of ``starts`` that has one, [m]) onto the
+    straight beginning ``back``, landing at or before ``hi`` along it
+    (:func:`~lotsim.lot.multipoint.plan_onto`), or None."""
+    seg = back.segments[0]
+    got = plan_onto([lane.pose_at(st) for st in starts], seg.start, 0.0, hi, collider, body,
+                    radius)
+    if got is None:
+        return None
+    k, segs = got
+    return Turnaround(lane.id, starts[k], back.id, _along(seg, segs[-1].end), segs)
+
+
 def _reaching_turnarounds(lane: Lane, back: Lane, found: list[Turnaround],
                           collider: Collider, body: DesignVehicle, radius: float,
-                          arrive, go_on: float) -> list[Turnaround]:
+                          arrive, go_on: float, *, onto=_reaching_onto) -> list[Turnaround]:
     """Turnarounds from ``lane`` onto ``back`` by multi-point search
     (:func:`~lotsim.lot.multipoint.plan_onto`) that land at or before ``go_on`` (the last
     station ``back`` can be left from), where those ``found`` leave a car stranded: one from
     as near the lane's end as there is room when every one found lands past ``go_on`` (or
     none was found), and one from the last station in ``arrive`` (where turns land on
     ``lane`` and cars unpark onto it) when that is past where every one found begins (a car
-    arriving earlier drives on to it)."""
+    arriving earlier drives on to it). ``onto`` makes each search
+    (:func:`_reaching_onto`'s arguments and answer)."""
     seg = back.segments[0]
     if seg.curvature != 0.0 or seg.sharpness != 0.0 or go_on < 0:
         return []
@@ -851,12 +908,9 @@ def _reaching_turnarounds(lane: Lane, back: Lane, found: list[Turnaround],
 
     def plan(starts) -> None:
         starts = [st for st in starts if st >= 0 and _on_straight(lane, st)]
-        got = (plan_onto([lane.pose_at(st) for st in starts], seg.start, 0.0, hi, collider,
-                         body, radius) if starts else None)
+        got = onto(lane, back, starts, hi, collider, body, radius) if starts else None
         if got is not None:
-            k, segs = got
-            out.append(Turnaround(lane.id, starts[k], back.id, _along(seg, segs[-1].end),
-                                  segs))
+            out.append(got)
 
     if all(t.station_b > go_on + _EPS for t in found):
         plan([lane.length - k for k in TURNAROUND_STARTS])
@@ -981,6 +1035,24 @@ def _junction_multipoints(lot: Lot, tagged: list[tuple[Turn, frozenset | None]],
     out = [(t, None if len(n) == len(per) else frozenset(n)) for t, n in found.items()]
     cache[key] = out
     return list(out)
+
+
+def _junction_backs(lot: Lot, tagged: list[tuple[Turn, frozenset | None]],
+                    designs: dict[str, DesignVehicle] | None, exits: dict[str, float]
+                    ) -> tuple[list[tuple[Turnaround, frozenset | None]],
+                               list[tuple[Turnaround, frozenset | None]]]:
+    """:func:`_junction_multipoints` and :func:`_junction_uturns`; the two at once, on both
+    cores, when neither was worked out before for this lot and set of types (each is a
+    function of its arguments: the same answers, kept as each keeps its own)."""
+    key = tuple(sorted(designs.items())) if designs else None
+    if key in _MULTIS.get(lot, {}) or key in _UTURNS.get(lot, {}):
+        return _junction_multipoints(lot, tagged, designs, exits), _junction_uturns(lot, designs)
+    multis, uturns = fork_map(lambda job: job(), [
+        lambda: _junction_multipoints(lot, tagged, designs, exits),
+        lambda: _junction_uturns(lot, designs)])
+    _MULTIS.setdefault(lot, {})[key] = multis
+    _UTURNS.setdefault(lot, {})[key] = uturns
+    return list(multis), list(uturns)
 
 
 UTURN_LAND = (2.0, 8.0)

@@ -949,11 +949,18 @@ class ManeuverPlanner:
         """The first clear path of ``rows`` (in order), made by ``build(row)`` as
         ``(changes, length, segments)`` (default: rows are already such triples).
 
-        A cheap pass over footprints 1 m apart drops most blocked paths first.
+        A cheap pass over footprints 1 m apart drops most blocked paths first. It looks at
+        ``chunk`` rows first, then ``8 * chunk`` at a time: the first clear one is often
+        among the first few (then the rest need not be made and checked), and when it is
+        not, the larger batches cost less a row. The first clear row is the same whatever
+        the batches.
         """
         build = build or (lambda r: r)
-        for i in range(0, len(rows), 8 * chunk):
-            batch = [build(r) for r in rows[i : i + 8 * chunk]]
+        i = 0
+        while i < len(rows):
+            size = chunk if i == 0 else 8 * chunk
+            batch = [build(r) for r in rows[i : i + size]]
+            i += size
             rough = p.paths_blocked([c[2] for c in batch], step=1.0, sweep=False)
             batch = [c for c, bad in zip(batch, rough, strict=True) if not bad]
             for j in range(0, len(batch), chunk):
