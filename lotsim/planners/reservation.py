@@ -201,6 +201,14 @@ class Swept:
         return Swept(t, self.geoms[:1], self.bounds[:1], self.cells[:1],
                      ((float(t[0, 0]), float(t[0, 1]), *self.rows[0][2:]),))
 
+    @functools.cached_property
+    def extent(self) -> tuple[float, float, float, float, float, float]:
+        """``(t0, t1, x0, y0, x1, y1)`` of all the intervals together: the earliest start
+        and latest end [s], and the box holding every hull [m]."""
+        rows = self.rows
+        return (min(r[0] for r in rows), max(r[1] for r in rows), min(r[2] for r in rows),
+                min(r[3] for r in rows), max(r[4] for r in rows), max(r[5] for r in rows))
+
     def __len__(self) -> int:
         return len(self.geoms)
 
@@ -678,6 +686,21 @@ def _pairs(sw: Swept, near: Near, offset: float | None) -> tuple[list[int], list
     pj: list[int] = []
     pi: list[int] = []
     ids, rows = near.ids, near.rows
+    if not sw.rows:
+        return [], []
+    # first the entries that meet the box and time span of the whole of ``sw``: only they
+    # can pass a pair's tests (the same sums, each at least as large), and most entries
+    # gathered for an edge's cells and a window of departures meet no chunk of one motion
+    a, z, x0, y0, x1, y1 = sw.extent
+    if offset is not None:
+        a, z = a + offset - _EPS, z + offset + _EPS
+    kept = [k for k, (t0, t1, b0, c0, b1, c1) in enumerate(rows)
+            if b0 <= x1 and b1 >= x0 and c0 <= y1 and c1 >= y0
+            and (offset is None or (t0 <= z and t1 >= a))]
+    if len(kept) < len(ids):
+        if not kept:
+            return [], []
+        ids, rows = [ids[k] for k in kept], [rows[k] for k in kept]
     if len(sw.rows) * len(ids) <= _FEW_PAIRS:
         for j, (a, z, x0, y0, x1, y1) in enumerate(sw.rows):
             if offset is not None:
