@@ -385,6 +385,9 @@ class _Simulation:
     def go(self) -> None:
         while self.events:
             t, _, kind, i = heapq.heappop(self.events)
+            # events come in time order and every search and release starts at its event's
+            # time or later: what ended before is no use to any of them
+            self.table.forget_before(t)
             v = self.vehicles[i]
             if v.done:
                 continue

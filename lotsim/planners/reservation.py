@@ -17,6 +17,7 @@ space only.
 from __future__ import annotations
 
 import functools
+import heapq
 import math
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
@@ -317,6 +318,9 @@ class ReservationTable:
         self._names: list[str] = []
         self._by_owner: dict[int, list[int]] = {}
         self._last = -math.inf  # the latest finite time any grid-filed entry reaches [s]
+        self._bucket_cells: dict[int, list[tuple[int, int]]] = {}  # bucket → cells filed in it
+        self._long_ends: list[tuple[float, int]] = []  # heap of (t1, id) of finite long entries
+        self._forgot = -(2 ** 62)  # buckets before this one are forgotten
         self.releases: list[tuple[float, str, bool]] = []
         """Every :meth:`release` that dropped or cut something, in order: the time from
         which it freed space [s], whose it was, and whether all it freed stood in a slot
@@ -371,6 +375,50 @@ class ReservationTable:
         if freed:
             self.releases.append((-math.inf if after is None else after, owner,
                                   bool(st.in_slot[freed].all())))
+
+    def forget_before(self, t: float) -> None:
+        """Drop what no query about time ``t`` [s] or later can meet: the grid's time buckets
+        before ``t``'s, and the entries that end before ``t``.
+
+        The caller promises that every later query asks about times from ``t`` on (a
+        simulation whose clock has reached ``t``: every later search starts then or later).
+        Its answers are then those of a table that kept everything: a query from ``t0 >= t``
+        looks only in buckets from ``floor((t0 - eps) / bucket)`` on and keeps only entries
+        with ``t1 >= t0 - eps``; and :meth:`taken_until`, which may now say ``-inf`` for a
+        time before ``t``, is compared only with times after it. What it saves: memory (each
+        entry's row and, for standing bodies, polygon) and the scans of long entries that
+        are over.
+        """
+        k = math.floor((t - _EPS) / self.bucket)
+        if k <= self._forgot:
+            return
+        self._forgot = k
+        st, grid = self._store, self._grid
+        rows, times = st.rows, st.t
+        for kk in [b for b in self._bucket_cells if b < k]:
+            for cell in self._bucket_cells.pop(kk):
+                by_bucket = grid[cell]
+                for i in by_bucket.pop(kk):
+                    if rows[i] is not None and times[i, 1] + _EPS < t:
+                        self._forget(i)
+                if not by_bucket:
+                    del grid[cell]
+        ends = self._long_ends
+        while ends and ends[0][0] + _EPS < t:
+            _, i = heapq.heappop(ends)
+            if rows[i] is not None and times[i, 1] + _EPS < t:
+                self._forget(i)
+                for cell in cells_of(st.box[i]):
+                    self._long_cells[cell].remove(i)
+
+    def _forget(self, i: int) -> None:
+        """Entry ``i`` is over for every query to come: as if dropped. (:attr:`releases` is
+        as before as long as every later :meth:`release` is from a time ``after`` at or
+        past the forgetting's: such a release would have kept the entry whole.)"""
+        st = self._store
+        st.alive[i] = False
+        st.rows[i] = None
+        st.geom[i] = None
 
     # -- asking -------------------------------------------------------------------------------
     def first_conflict(self, intervals: Sequence[Interval] | Swept, *, offset: float = 0.0,
@@ -665,12 +713,19 @@ class ReservationTable:
                 t0 / self.bucket) > _LONG:
             for cell in cells:
                 self._long_cells.setdefault(cell, []).append(i)
+            if not math.isinf(t1):
+                heapq.heappush(self._long_ends, (t1, i))
             return
         self._last = max(self._last, t1)
+        bucket_cells = self._bucket_cells
         for cell in cells:
             by_bucket = self._grid.setdefault(cell, {})
             for k in range(math.floor(t0 / self.bucket), math.floor(t1 / self.bucket) + 1):
-                by_bucket.setdefault(k, []).append(i)
+                filed = by_bucket.get(k)
+                if filed is None:
+                    filed = by_bucket[k] = []
+                    bucket_cells.setdefault(k, []).append(cell)
+                filed.append(i)
 
 
 def standing_body(vehicle: VehicleType, pose: FloatArray) -> BaseGeometry:
