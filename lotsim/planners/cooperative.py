@@ -411,6 +411,16 @@ class ReverseResumable:
     def closed(self) -> int:
         return len(self.dist)
 
+    def closed_at(self, node: int) -> int:
+        """How many nodes a new RRA* towards the same goals closes to answer ``node`` (one
+        that has answered it; its answers do not depend on what it was asked before, only
+        how far it has got): ``node``'s place in the order nodes were closed, from 1."""
+        d = self.dist.get(node)
+        if d is None or d == math.inf:
+            return self.closed
+        # nodes are closed in the order of dist's keys (unreachable ones asked for come last)
+        return next(k for k, n in enumerate(self.dist, 1) if n == node)
+
     def __call__(self, node: int) -> float:
         dist = self.dist
         d = dist.get(node)
@@ -455,7 +465,7 @@ class Goal:
 def search(sg: SearchGraph, table: ReservationTable, *, owner: str, start: int, t0: float,
            goal: Goal, level: int = 0, outside: bool = False,
            start_pose: tuple[float, float, float] | None = None, planner: str = "hca",
-           heuristic: ReverseResumable | None = None,
+           heuristic: ReverseResumable | None = None, shared: bool = False,
            omega: float = OMEGA, horizon: float = 3600.0, budget: int | None = None) -> Plan:
     """Plan one vehicle against the reservations of those planned before it.
 
@@ -480,6 +490,10 @@ def search(sg: SearchGraph, table: ReservationTable, *, owner: str, start: int, 
     planner : {"ca", "hca", "whca"}
     heuristic : ReverseResumable, optional
         The RRA* towards ``goal`` (made here if not given); also sizes the fuse.
+    shared : bool, keyword-only
+        ``heuristic`` serves other searches too: the fuse is sized by what a new one would
+        have closed to answer ``start`` (:meth:`ReverseResumable.closed_at`), not by all it
+        has closed for them, so a search blows its fuse where it would with its own.
     omega : float
         The fuse factor.
     horizon : float
@@ -578,7 +592,10 @@ def search(sg: SearchGraph, table: ReservationTable, *, owner: str, start: int, 
 
     push(start, level, t0, outside, -1, None)
     expansions = 0
-    fuse = max(MIN_BUDGET, omega * rra.closed)
+    sized_by = rra.closed
+    if shared and omega * sized_by > MIN_BUDGET:  # (otherwise the fuse is the same either way)
+        sized_by = rra.closed_at(start)
+    fuse = max(MIN_BUDGET, omega * sized_by)
     if budget is not None:
         fuse = min(fuse, budget)
     out_edges, edges, variants_kept = sg.out, sg.edges, sg._variants
