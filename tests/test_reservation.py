@@ -252,15 +252,21 @@ def test_queries_among_the_nearby_entries_answer_as_the_table_and_a_brute_force_
         assert near.ids == want
         assert near.rows == [(*st.t[i], *st.box[i]) for i in want]
         assert bool(near) != table.quiet(cells, since, until + longest, ignore=ignore)
+        # only those whose box meets the box of all the queries' hulls: the same answers
+        inside = table.nearby(cells, since, until + longest, ignore=ignore,
+                              box=(*b[:, :2].min(axis=0), *b[:, 2:].max(axis=0)))
+        assert set(inside.ids) <= set(near.ids)
         for sw in sws:
             for d in (since, float(rng.integers(2 * since, 2 * until + 1)) / 2):
                 got = table.first_conflict(sw, offset=d, ignore=ignore, among=near)
                 assert table.first_conflict(sw, offset=d, ignore=ignore) == got
+                assert table.first_conflict(sw, offset=d, ignore=ignore, among=inside) == got
                 assert ((None if got is None else (got.owner, got.t0, got.t1))
                         == _brute_first_conflict(table, sw, d, ignore))
                 clashes += got is not None
             hit = table.blocked(sw, since, until, ignore=ignore, among=near)
             assert hit == table.blocked(sw, since, until, ignore=ignore)
+            assert hit == table.blocked(sw, since, until, ignore=ignore, among=inside)
             blocked += bool(hit)
     assert clashes >= 40 and blocked >= 40  # the sample exercises real clashes
 
