@@ -619,7 +619,9 @@ class ReservationTable:
                        ) -> list[tuple[float, float]]:
         """:meth:`blocked` against candidates gathered by :meth:`nearby`: the same pairs,
         found by the same tests, give the same intervals."""
-        first, last = since + float(sw.t[:, 0].min()), until + float(sw.t[:, 1].max())
+        # (the earliest start and latest end: the same floats as sw.t's, without numpy's
+        # fixed cost per call)
+        first, last = since + sw.extent[0], until + sw.extent[1]
         rows = among.rows
         keep = [k for k, r in enumerate(rows) if r[0] <= last + _EPS and r[1] >= first - _EPS]
         if not keep:
