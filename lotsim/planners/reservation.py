@@ -21,7 +21,7 @@ import functools
 import heapq
 import math
 from collections.abc import Iterable, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 import shapely
@@ -175,10 +175,13 @@ def swept_trajectory(trajectory: Trajectory, vehicle: VehicleType, *,
     return swept(trajectory.poses, trajectory.t, vehicle, chunk=chunk)
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, slots=True)
 class Swept:
     """Intervals as arrays, for batched queries: times (N, 2) [s], hulls (N,), their
-    bounds (N, 4)."""
+    bounds (N, 4).
+
+    (Slots: a run keeps one for every edge motion it has checked, some 80 000 for 1000
+    cars on the large lot.)"""
 
     t: np.ndarray
     geoms: np.ndarray
@@ -203,20 +206,21 @@ class Swept:
         return Swept(t, self.geoms[:1], self.bounds[:1], self.cells[:1],
                      ((float(t[0, 0]), float(t[0, 1]), *self.rows[0][2:]),))
 
-    @functools.cached_property
-    def extent(self) -> tuple[float, float, float, float, float, float]:
-        """``(t0, t1, x0, y0, x1, y1)`` of all the intervals together: the earliest start
-        and latest end [s], and the box holding every hull [m]."""
-        rows = self.rows
-        return (min(r[0] for r in rows), max(r[1] for r in rows), min(r[2] for r in rows),
-                min(r[3] for r in rows), max(r[4] for r in rows), max(r[5] for r in rows))
+    extent: tuple[float, ...] = field(init=False, repr=False, compare=False)
+    """``(t0, t1, x0, y0, x1, y1)`` of all the intervals together: the earliest start and
+    latest end [s], and the box holding every hull [m] (empty with no intervals)."""
+    in_order: bool = field(init=False, repr=False, compare=False)
+    """Whether the intervals' starts and their ends each never decrease (a motion's chunks
+    do)."""
 
-    @functools.cached_property
-    def in_order(self) -> bool:
-        """Whether the intervals' starts and their ends each never decrease (a motion's
-        chunks do)."""
+    def __post_init__(self) -> None:
         rows = self.rows
-        return all(p[0] <= q[0] and p[1] <= q[1] for p, q in zip(rows, rows[1:], strict=False))
+        extent = ((min(r[0] for r in rows), max(r[1] for r in rows), min(r[2] for r in rows),
+                   min(r[3] for r in rows), max(r[4] for r in rows), max(r[5] for r in rows))
+                  if rows else ())
+        object.__setattr__(self, "extent", extent)
+        object.__setattr__(self, "in_order", all(
+            p[0] <= q[0] and p[1] <= q[1] for p, q in zip(rows, rows[1:], strict=False)))
 
     def __len__(self) -> int:
         return len(self.geoms)
