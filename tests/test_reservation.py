@@ -256,6 +256,7 @@ def test_queries_among_the_nearby_entries_answer_as_the_table_and_a_brute_force_
         inside = table.nearby(cells, since, until + longest, ignore=ignore,
                               box=(*b[:, :2].min(axis=0), *b[:, 2:].max(axis=0)))
         assert set(inside.ids) <= set(near.ids)
+        assert near.within((*b[:, :2].min(axis=0), *b[:, 2:].max(axis=0))) == inside
         for sw in sws:
             for d in (since, float(rng.integers(2 * since, 2 * until + 1)) / 2):
                 got = table.first_conflict(sw, offset=d, ignore=ignore, among=near)

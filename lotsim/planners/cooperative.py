@@ -668,8 +668,9 @@ def search(sg: SearchGraph, table: ReservationTable, *, owner: str, start: int, 
                 continue
             cells = sg.edge_cells(ei, variants[0][1])
             # who is near the edge while any variant drives it (nobody: no exact test needed)
-            near = nearby(cells, t, latest + longest, ignore=owner,
-                          box=boxes.get((ei, lvl)) or sg.sweep_box(ei, lvl))
+            near = nearby(cells, t, latest + longest, ignore=owner)
+            if near.ids:  # only those near what it sweeps (worked out only now: when needed)
+                near = near.within(boxes.get((ei, lvl)) or sg.sweep_box(ei, lvl))
             kind = ek if ek in ("park", "leave") else "drive"
             for b, em in variants:
                 after = -inf  # a parked vehicle must be able to stay for ever

@@ -258,6 +258,16 @@ class Near:
     def __bool__(self) -> bool:
         return bool(self.ids)
 
+    def within(self, box: tuple[float, float, float, float]) -> Near:
+        """Those whose box meets ``box`` ``(x0, y0, x1, y1)`` [m]: as :meth:`ReservationTable.
+        nearby` with that ``box``."""
+        x0, y0, x1, y1 = box
+        kept = [k for k, r in enumerate(self.rows)
+                if r[2] <= x1 and r[4] >= x0 and r[3] <= y1 and r[5] >= y0]
+        if len(kept) == len(self.ids):
+            return self
+        return Near([self.ids[k] for k in kept], [self.rows[k] for k in kept])
+
 
 class _Store:
     """Growable columns of entries."""
