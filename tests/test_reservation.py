@@ -252,17 +252,69 @@ def test_queries_among_the_nearby_entries_answer_as_the_table_and_a_brute_force_
         assert near.ids == want
         assert near.rows == [(*st.t[i], *st.box[i]) for i in want]
         assert bool(near) != table.quiet(cells, since, until + longest, ignore=ignore)
+        # only those whose box meets the box of all the queries' hulls: the same answers
+        inside = table.nearby(cells, since, until + longest, ignore=ignore,
+                              box=(*b[:, :2].min(axis=0), *b[:, 2:].max(axis=0)))
+        assert set(inside.ids) <= set(near.ids)
+        assert near.within((*b[:, :2].min(axis=0), *b[:, 2:].max(axis=0))) == inside
         for sw in sws:
             for d in (since, float(rng.integers(2 * since, 2 * until + 1)) / 2):
                 got = table.first_conflict(sw, offset=d, ignore=ignore, among=near)
                 assert table.first_conflict(sw, offset=d, ignore=ignore) == got
+                assert table.first_conflict(sw, offset=d, ignore=ignore, among=inside) == got
                 assert ((None if got is None else (got.owner, got.t0, got.t1))
                         == _brute_first_conflict(table, sw, d, ignore))
                 clashes += got is not None
             hit = table.blocked(sw, since, until, ignore=ignore, among=near)
             assert hit == table.blocked(sw, since, until, ignore=ignore)
+            assert hit == table.blocked(sw, since, until, ignore=ignore, among=inside)
             blocked += bool(hit)
     assert clashes >= 40 and blocked >= 40  # the sample exercises real clashes
+
+
+def test_a_table_that_forgets_the_past_answers_every_later_query_as_one_that_keeps_it():
+    # the same random table twice, one told the clock has reached ``now`` (in one step or
+    # two): queries from ``now`` on (as a search starting then makes) get the same answers,
+    # releases from then on are recorded alike; and the past is really gone
+    rng = np.random.default_rng(28)
+    forgot = 0
+    for _ in range(60):
+        seed = int(rng.integers(1 << 30))
+        kept, table = (_random_table(np.random.default_rng(seed), n=120) for _ in range(2))
+        now = float(rng.integers(0, 120)) / 2
+        if rng.integers(2):
+            table.forget_before(now - float(rng.integers(1, 20)) / 2)
+        table.forget_before(now)
+        st = table._store
+        forgot += sum(r is None for r in st.rows) - sum(r is None for r in kept._store.rows)
+        assert all(k >= math.floor((now - 1e-9) / table.bucket) for c in table._grid.values()
+                   for k in c)
+        for _ in range(6):
+            sw = _random_swept(rng)
+            ignore = "o2" if rng.integers(2) else None
+            since = now + float(rng.choice([0, rng.integers(0, 20)])) / 2  # often now
+            until = since + float(rng.choice([0, rng.integers(0, 10), rng.integers(100, 400)]))
+            cells = sorted({c for cs in sw.cells for c in cs})
+            longest = float(sw.t[:, 1].max())
+            near = table.nearby(cells, since, until + longest, ignore=ignore)
+            assert near == kept.nearby(cells, since, until + longest, ignore=ignore)
+            assert (table.blocked(sw, since, until, ignore=ignore)
+                    == kept.blocked(sw, since, until, ignore=ignore)
+                    == table.blocked(sw, since, until, ignore=ignore, among=near))
+            for d in (since, min(until, since + float(rng.integers(0, 10)) / 2)):
+                got = table.first_conflict(sw, offset=d, ignore=ignore)
+                assert got == kept.first_conflict(sw, offset=d, ignore=ignore)
+                assert got == table.first_conflict(sw, offset=d, ignore=ignore, among=near)
+            body = sw.geoms[0]
+            a, b = (x.taken_until(body, ignore=ignore) for x in (table, kept))
+            assert a == b or (a < now and b < now)  # compared only with times from now on
+            assert (table.free_from(body, since, ignore=ignore)
+                    == kept.free_from(body, since, ignore=ignore))
+        after = now + float(rng.integers(0, 10)) / 2
+        for x in (table, kept):
+            x.release("o3", after=after)
+        assert table.releases == kept.releases
+    assert forgot > 1000  # the past is dropped, not only never read
 
 
 def test_motions_swept_together_are_swept_as_each_alone():

@@ -28,6 +28,55 @@ def small():
     return sc, prepare(sc)
 
 
+def test_a_reverse_search_asked_many_things_answers_each_as_a_new_one_would(small):
+    # the static times, and how many nodes a new one closes to answer (what sizes a
+    # search's fuse), whatever the kept one was asked before
+    sc, lg = small
+    sg = cooperative.SearchGraph(lg, sc.vehicle_types[0])
+    nodes = sorted(sg.pose)
+    rng = np.random.default_rng(5)
+    reachable = 0
+    for goal in sorted(lg.slot_nodes.values()):
+        kept = sg.reverse_search({goal: 0.0})
+        for start in rng.choice(nodes, size=12).tolist():
+            new = sg.reverse_search({goal: 0.0})
+            assert kept(start) == new(start)
+            if new(start) < math.inf:
+                reachable += 1
+                assert kept.closed_at(start) == new.closed
+    assert reachable >= 20
+
+
+def test_a_run_leaves_what_the_process_held_before_out_of_its_collections_and_no_more(
+        small, monkeypatch):
+    # frozen while it plans (the prepared lot is not scanned by its collections), back to
+    # normal after it, also when planning raises
+    import gc
+
+    from lotsim import sim
+
+    sc, lg = small
+    frozen = []
+    go = sim._Simulation.go
+
+    def spy(self):
+        frozen.append(gc.get_freeze_count())
+        go(self)
+
+    monkeypatch.setattr(sim._Simulation, "go", spy)
+    before = gc.get_freeze_count()
+    _run(sc, lg, [Arrival("a", "valet", "in", 0.0)])
+    assert frozen[0] > before and gc.get_freeze_count() == before
+
+    def boom(self):
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(sim._Simulation, "go", boom)
+    with pytest.raises(KeyboardInterrupt):
+        _run(sc, lg, [Arrival("a", "valet", "in", 0.0)])
+    assert gc.get_freeze_count() == before
+
+
 def _run(sc, lg, vehicles, patience=60.0, **settings):
     sc = dataclasses.replace(sc, traffic=TrafficSpec(vehicles=tuple(vehicles),
                                                      patience=patience))

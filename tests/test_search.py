@@ -1,6 +1,8 @@
 """lotsim.planners.cooperative.search on a hand-built straight lane: when a car waits, for
 how long, and that what it plans meets nobody (checked with shapely, not the table)."""
 
+import math
+
 import networkx as nx
 import numpy as np
 import pytest
@@ -90,6 +92,24 @@ def test_the_fuse_blows_after_omega_times_the_reverse_search_and_a_long_wait_fit
     assert search(sg, table, omega=0.5, **kw).status is Status.FUSE
     look = search(sg, table, budget=1, **kw)
     assert look.status is Status.FUSE and look.expansions == 2
+
+
+def test_a_reverse_search_kept_from_other_searches_sizes_the_fuse_as_a_new_one(monkeypatch):
+    # the RRA* from the exit has closed all 4 nodes for an earlier search from node 0; a
+    # search from node 1 with it, shared, blows its fuse (omega 0.5) where one with a new
+    # RRA* (3 nodes closed to reach node 1) does, not a step later
+    monkeypatch.setattr(cooperative, "MIN_BUDGET", 0)
+    sg = _lane([0.0, 10.0, 20.0, 30.0])
+    table = ReservationTable()
+    table.reserve("other", [(0.0, 100.0, box(25.0, -3.0, 25.5, 3.0))])
+    kw = dict(owner="me", start=1, t0=0.0, goal=Goal(exits=(3,)), omega=0.5)
+    used = sg.reverse_search({3: 0.0})
+    assert used(0) < math.inf and used.closed == 4
+    new = search(sg, table, heuristic=sg.reverse_search({3: 0.0}), **kw)
+    kept = search(sg, table, heuristic=used, shared=True, **kw)
+    assert new.status is kept.status is Status.FUSE
+    assert kept.expansions == new.expansions == 2
+    assert search(sg, table, heuristic=used, **kw).expansions == 3  # sized by all it closed
 
 
 def _footprint(pose):

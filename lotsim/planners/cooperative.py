@@ -216,6 +216,7 @@ class SearchGraph:
         self._variants: dict[tuple[int, int], tuple[list[tuple[int, EdgeMotion]], float]] = {}
         self._bodies: dict[int, BaseGeometry] = {}
         self._cells: dict[int, tuple[tuple[int, int], ...]] = {}
+        self._boxes: dict[tuple[int, int], tuple[float, float, float, float]] = {}
         self._standing: dict[int, Swept] = {}
         self._static_time = [self._lower_time(i, e) for i, e in enumerate(self.edges)]
         self._back: dict[int, list[tuple[int, float]]] = {}
@@ -308,6 +309,17 @@ class SearchGraph:
             out = self._variants[ei, a] = (found, max((em.duration for _, em in found),
                                                       default=0.0))
         return out
+
+    def sweep_box(self, ei: int, a: int) -> tuple[float, float, float, float]:
+        """The box ``(x0, y0, x1, y1)`` [m] holding every hull edge ``ei`` sweeps driven from
+        speed level ``a`` to any end level (:meth:`variants`), the lowest and highest of
+        their own boxes' sides (kept)."""
+        box = self._boxes.get((ei, a))
+        if box is None:
+            b = np.vstack([em.swept.bounds for _, em in self.variants(ei, a)[0]])
+            box = self._boxes[ei, a] = (float(b[:, 0].min()), float(b[:, 1].min()),
+                                        float(b[:, 2].max()), float(b[:, 3].max()))
+        return box
 
     def _timed(self, motion: Motion) -> EdgeMotion:
         return EdgeMotion(motion, self.vehicle)
@@ -411,6 +423,16 @@ class ReverseResumable:
     def closed(self) -> int:
         return len(self.dist)
 
+    def closed_at(self, node: int) -> int:
+        """How many nodes a new RRA* towards the same goals closes to answer ``node`` (one
+        that has answered it; its answers do not depend on what it was asked before, only
+        how far it has got): ``node``'s place in the order nodes were closed, from 1."""
+        d = self.dist.get(node)
+        if d is None or d == math.inf:
+            return self.closed
+        # nodes are closed in the order of dist's keys (unreachable ones asked for come last)
+        return next(k for k, n in enumerate(self.dist, 1) if n == node)
+
     def __call__(self, node: int) -> float:
         dist = self.dist
         d = dist.get(node)
@@ -455,7 +477,7 @@ class Goal:
 def search(sg: SearchGraph, table: ReservationTable, *, owner: str, start: int, t0: float,
            goal: Goal, level: int = 0, outside: bool = False,
            start_pose: tuple[float, float, float] | None = None, planner: str = "hca",
-           heuristic: ReverseResumable | None = None,
+           heuristic: ReverseResumable | None = None, shared: bool = False,
            omega: float = OMEGA, horizon: float = 3600.0, budget: int | None = None) -> Plan:
     """Plan one vehicle against the reservations of those planned before it.
 
@@ -480,6 +502,10 @@ def search(sg: SearchGraph, table: ReservationTable, *, owner: str, start: int, 
     planner : {"ca", "hca", "whca"}
     heuristic : ReverseResumable, optional
         The RRA* towards ``goal`` (made here if not given); also sizes the fuse.
+    shared : bool, keyword-only
+        ``heuristic`` serves other searches too: the fuse is sized by what a new one would
+        have closed to answer ``start`` (:meth:`ReverseResumable.closed_at`), not by all it
+        has closed for them, so a search blows its fuse where it would with its own.
     omega : float
         The fuse factor.
     horizon : float
@@ -578,10 +604,13 @@ def search(sg: SearchGraph, table: ReservationTable, *, owner: str, start: int, 
 
     push(start, level, t0, outside, -1, None)
     expansions = 0
-    fuse = max(MIN_BUDGET, omega * rra.closed)
+    sized_by = rra.closed
+    if shared and omega * sized_by > MIN_BUDGET:  # (otherwise the fuse is the same either way)
+        sized_by = rra.closed_at(start)
+    fuse = max(MIN_BUDGET, omega * sized_by)
     if budget is not None:
         fuse = min(fuse, budget)
-    out_edges, edges, variants_kept = sg.out, sg.edges, sg._variants
+    out_edges, edges, variants_kept, boxes = sg.out, sg.edges, sg._variants, sg._boxes
     nearby, blocked, is_free = table.nearby, table.blocked, table.is_free
     while heap:
         _, _, sid = heappop(heap)
@@ -640,6 +669,8 @@ def search(sg: SearchGraph, table: ReservationTable, *, owner: str, start: int, 
             cells = sg.edge_cells(ei, variants[0][1])
             # who is near the edge while any variant drives it (nobody: no exact test needed)
             near = nearby(cells, t, latest + longest, ignore=owner)
+            if near.ids:  # only those near what it sweeps (worked out only now: when needed)
+                near = near.within(boxes.get((ei, lvl)) or sg.sweep_box(ei, lvl))
             kind = ek if ek in ("park", "leave") else "drive"
             for b, em in variants:
                 after = -inf  # a parked vehicle must be able to stay for ever
@@ -650,12 +681,12 @@ def search(sg: SearchGraph, table: ReservationTable, *, owner: str, start: int, 
                                                                      ignore=owner)
                     after = taken - em.duration
                 if lvl > 0 or latest <= t:
-                    if t <= after or (near and not is_free(em.swept, offset=t, among=near)):
+                    if t <= after or (near.ids and not is_free(em.swept, offset=t, among=near)):
                         continue
                     push(e.v, b, t + em.duration, False, sid, (kind, t, t, em, node, lvl, b,
                                                                ei, out))
                     continue
-                hit = blocked(em.swept, t, latest, among=near) if near else []
+                hit = blocked(em.swept, t, latest, among=near) if near.ids else []
                 if after >= t:
                     hit = _merged_with(hit, (-inf, after))
                 for d in _departures(hit, t, latest):

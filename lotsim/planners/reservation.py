@@ -16,10 +16,12 @@ space only.
 
 from __future__ import annotations
 
+import bisect
 import functools
+import heapq
 import math
 from collections.abc import Iterable, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 import shapely
@@ -173,10 +175,13 @@ def swept_trajectory(trajectory: Trajectory, vehicle: VehicleType, *,
     return swept(trajectory.poses, trajectory.t, vehicle, chunk=chunk)
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, slots=True)
 class Swept:
     """Intervals as arrays, for batched queries: times (N, 2) [s], hulls (N,), their
-    bounds (N, 4)."""
+    bounds (N, 4).
+
+    (Slots: a run keeps one for every edge motion it has checked, some 80 000 for 1000
+    cars on the large lot.)"""
 
     t: np.ndarray
     geoms: np.ndarray
@@ -200,6 +205,22 @@ class Swept:
         t = np.array([[t0, t1]], dtype=float)
         return Swept(t, self.geoms[:1], self.bounds[:1], self.cells[:1],
                      ((float(t[0, 0]), float(t[0, 1]), *self.rows[0][2:]),))
+
+    extent: tuple[float, ...] = field(init=False, repr=False, compare=False)
+    """``(t0, t1, x0, y0, x1, y1)`` of all the intervals together: the earliest start and
+    latest end [s], and the box holding every hull [m] (empty with no intervals)."""
+    in_order: bool = field(init=False, repr=False, compare=False)
+    """Whether the intervals' starts and their ends each never decrease (a motion's chunks
+    do)."""
+
+    def __post_init__(self) -> None:
+        rows = self.rows
+        extent = ((min(r[0] for r in rows), max(r[1] for r in rows), min(r[2] for r in rows),
+                   min(r[3] for r in rows), max(r[4] for r in rows), max(r[5] for r in rows))
+                  if rows else ())
+        object.__setattr__(self, "extent", extent)
+        object.__setattr__(self, "in_order", all(
+            p[0] <= q[0] and p[1] <= q[1] for p, q in zip(rows, rows[1:], strict=False)))
 
     def __len__(self) -> int:
         return len(self.geoms)
@@ -236,6 +257,16 @@ class Near:
 
     def __bool__(self) -> bool:
         return bool(self.ids)
+
+    def within(self, box: tuple[float, float, float, float]) -> Near:
+        """Those whose box meets ``box`` ``(x0, y0, x1, y1)`` [m]: as :meth:`ReservationTable.
+        nearby` with that ``box``."""
+        x0, y0, x1, y1 = box
+        kept = [k for k, r in enumerate(self.rows)
+                if r[2] <= x1 and r[4] >= x0 and r[3] <= y1 and r[5] >= y0]
+        if len(kept) == len(self.ids):
+            return self
+        return Near([self.ids[k] for k in kept], [self.rows[k] for k in kept])
 
 
 class _Store:
@@ -309,6 +340,9 @@ class ReservationTable:
         self._names: list[str] = []
         self._by_owner: dict[int, list[int]] = {}
         self._last = -math.inf  # the latest finite time any grid-filed entry reaches [s]
+        self._bucket_cells: dict[int, list[tuple[int, int]]] = {}  # bucket → cells filed in it
+        self._long_ends: list[tuple[float, int]] = []  # heap of (t1, id) of finite long entries
+        self._forgot = -(2 ** 62)  # buckets before this one are forgotten
         self.releases: list[tuple[float, str, bool]] = []
         """Every :meth:`release` that dropped or cut something, in order: the time from
         which it freed space [s], whose it was, and whether all it freed stood in a slot
@@ -364,6 +398,50 @@ class ReservationTable:
             self.releases.append((-math.inf if after is None else after, owner,
                                   bool(st.in_slot[freed].all())))
 
+    def forget_before(self, t: float) -> None:
+        """Drop what no query about time ``t`` [s] or later can meet: the grid's time buckets
+        before ``t``'s, and the entries that end before ``t``.
+
+        The caller promises that every later query asks about times from ``t`` on (a
+        simulation whose clock has reached ``t``: every later search starts then or later).
+        Its answers are then those of a table that kept everything: a query from ``t0 >= t``
+        looks only in buckets from ``floor((t0 - eps) / bucket)`` on and keeps only entries
+        with ``t1 >= t0 - eps``; and :meth:`taken_until`, which may now say ``-inf`` for a
+        time before ``t``, is compared only with times after it. What it saves: memory (each
+        entry's row and, for standing bodies, polygon) and the scans of long entries that
+        are over.
+        """
+        k = math.floor((t - _EPS) / self.bucket)
+        if k <= self._forgot:
+            return
+        self._forgot = k
+        st, grid = self._store, self._grid
+        rows, times = st.rows, st.t
+        for kk in [b for b in self._bucket_cells if b < k]:
+            for cell in self._bucket_cells.pop(kk):
+                by_bucket = grid[cell]
+                for i in by_bucket.pop(kk):
+                    if rows[i] is not None and times[i, 1] + _EPS < t:
+                        self._forget(i)
+                if not by_bucket:
+                    del grid[cell]
+        ends = self._long_ends
+        while ends and ends[0][0] + _EPS < t:
+            _, i = heapq.heappop(ends)
+            if rows[i] is not None and times[i, 1] + _EPS < t:
+                self._forget(i)
+                for cell in cells_of(st.box[i]):
+                    self._long_cells[cell].remove(i)
+
+    def _forget(self, i: int) -> None:
+        """Entry ``i`` is over for every query to come: as if dropped. (:attr:`releases` is
+        as before as long as every later :meth:`release` is from a time ``after`` at or
+        past the forgetting's: such a release would have kept the entry whole.)"""
+        st = self._store
+        st.alive[i] = False
+        st.rows[i] = None
+        st.geom[i] = None
+
     # -- asking -------------------------------------------------------------------------------
     def first_conflict(self, intervals: Sequence[Interval] | Swept, *, offset: float = 0.0,
                        ignore: str | None = None, among: Near | None = None
@@ -410,16 +488,22 @@ class ReservationTable:
         return Conflict(self._names[st.owner[i]], float(st.t[i, 0]), float(st.t[i, 1]))
 
     def nearby(self, cells: Sequence[tuple[int, int]], t0: float, t1: float, *,
-               ignore: str | None = None) -> Near:
+               ignore: str | None = None,
+               box: tuple[float, float, float, float] | None = None) -> Near:
         """The entries of anybody but ``ignore`` filed in grid ``cells`` whose time overlaps
         ``[t0, t1]`` [s]: what any query within those cells and times may meet (none: the
         queries are all free, with no exact test). Pass it to :meth:`first_conflict` and
-        :meth:`blocked` as ``among``, to gather it once for several queries."""
+        :meth:`blocked` as ``among``, to gather it once for several queries.
+
+        With ``box`` ``(x0, y0, x1, y1)`` [m], only the entries whose box meets it: enough
+        for queries whose every hull's box lies within it (a pair is tested only where the
+        boxes meet), and fewer for each of them to go through."""
         found = self._filed(cells, math.floor((t0 - _EPS) / self.bucket), self._last_bucket(t1))
         if not found:
             return Near([], [])
         skip = self._ids.get(ignore, -1) if ignore is not None else -1
         st = self._store
+        x0, y0, x1, y1 = box if box is not None else (math.inf, math.inf, -math.inf, -math.inf)
         if len(found) <= _FEW_ENTRIES:
             ids: list[int] = []
             rows: list[tuple[float, ...]] = []
@@ -427,13 +511,18 @@ class ReservationTable:
             lo, hi = t0 - _EPS, t1 + _EPS
             for i in sorted(found):
                 r = live[i]
-                if r is not None and who[i] != skip and r[0] <= hi and r[1] >= lo:
+                if r is not None and who[i] != skip and r[0] <= hi and r[1] >= lo and (
+                        box is None or (r[2] <= x1 and r[4] >= x0 and r[3] <= y1
+                                        and r[5] >= y0)):
                     ids.append(i)
                     rows.append(r)
             return Near(ids, rows)
         ids = np.fromiter(sorted(found), dtype=np.int64, count=len(found))
         ids = ids[st.alive[ids] & (st.owner[ids] != skip) & (st.t[ids, 0] <= t1 + _EPS)
                   & (st.t[ids, 1] >= t0 - _EPS)]
+        if box is not None:
+            b = st.box[ids]
+            ids = ids[(b[:, 0] <= x1) & (b[:, 2] >= x0) & (b[:, 1] <= y1) & (b[:, 3] >= y0)]
         return Near(ids.tolist(), list(map(tuple, np.hstack([st.t[ids], st.box[ids]]).tolist())))
 
     def quiet(self, cells: Sequence[tuple[int, int]], t0: float, t1: float, *,
@@ -509,19 +598,20 @@ class ReservationTable:
         cars into the large lot took 0.67 times as long, the same answers; the jammed
         lot of ``benchmarks/bench_validate.py``, whose queries meet more, is unchanged)."""
         st = self._store
-        alive, owner, times, boxes = st.alive, st.owner, st.t, st.box
-        chunks = sw.t.tolist()
-        bounds = sw.bounds.tolist()
+        # the entries' and chunks' rows: the same floats as their arrays hold, without
+        # numpy's cost per element read (a dropped entry's row is None)
+        rows, who, chunks = st.rows, st.who, sw.rows
+        lo_t, hi_t = first - _EPS, last + _EPS
         pj: list[int] = []
         pi: list[int] = []
         for i in found:
-            if not alive[i] or owner[i] == skip:
+            r = rows[i]
+            if r is None or who[i] == skip:
                 continue
-            t0, t1 = times[i].tolist()
-            if t0 > last + _EPS or t1 < first - _EPS:
+            t0, t1, x0, y0, x1, y1 = r
+            if t0 > hi_t or t1 < lo_t:
                 continue
-            x0, y0, x1, y1 = boxes[i].tolist()
-            for j, (a0, b0, a1, b1) in enumerate(bounds):
+            for j, (_, _, a0, b0, a1, b1) in enumerate(chunks):
                 if x0 <= a1 and x1 >= a0 and y0 <= b1 and y1 >= b0:
                     pj.append(j)
                     pi.append(i)
@@ -532,8 +622,8 @@ class ReservationTable:
         for met, j, i in zip(shapely.intersects(sw.geoms[pj], st.geom[pi]).tolist(), pj, pi,
                              strict=True):
             if met:
-                a, z = chunks[j]
-                t0, t1 = times[i].tolist()
+                a, z = chunks[j][:2]
+                t0, t1 = rows[i][:2]
                 if t1 - a + _EPS >= since and t0 - z - _EPS <= until:
                     lo.append(t0 - z - _EPS)
                     hi.append(t1 - a + _EPS)
@@ -543,7 +633,9 @@ class ReservationTable:
                        ) -> list[tuple[float, float]]:
         """:meth:`blocked` against candidates gathered by :meth:`nearby`: the same pairs,
         found by the same tests, give the same intervals."""
-        first, last = since + float(sw.t[:, 0].min()), until + float(sw.t[:, 1].max())
+        # (the earliest start and latest end: the same floats as sw.t's, without numpy's
+        # fixed cost per call)
+        first, last = since + sw.extent[0], until + sw.extent[1]
         rows = among.rows
         keep = [k for k, r in enumerate(rows) if r[0] <= last + _EPS and r[1] >= first - _EPS]
         if not keep:
@@ -556,11 +648,11 @@ class ReservationTable:
         hit = shapely.intersects(sw.geoms[pj], st.geom[pi])
         lo: list[float] = []
         hi: list[float] = []
-        times = sw.rows
+        times, rows = sw.rows, st.rows
         for met, j, i in zip(hit.tolist(), pj, pi, strict=True):
             if met:
                 a, z = times[j][0], times[j][1]
-                t0, t1 = st.t[i].tolist()
+                t0, t1 = rows[i][:2]
                 if t1 - a + _EPS >= since and t0 - z - _EPS <= until:
                     lo.append(t0 - z - _EPS)
                     hi.append(t1 - a + _EPS)
@@ -657,12 +749,19 @@ class ReservationTable:
                 t0 / self.bucket) > _LONG:
             for cell in cells:
                 self._long_cells.setdefault(cell, []).append(i)
+            if not math.isinf(t1):
+                heapq.heappush(self._long_ends, (t1, i))
             return
         self._last = max(self._last, t1)
+        bucket_cells = self._bucket_cells
         for cell in cells:
             by_bucket = self._grid.setdefault(cell, {})
             for k in range(math.floor(t0 / self.bucket), math.floor(t1 / self.bucket) + 1):
-                by_bucket.setdefault(k, []).append(i)
+                filed = by_bucket.get(k)
+                if filed is None:
+                    filed = by_bucket[k] = []
+                    bucket_cells.setdefault(k, []).append(cell)
+                filed.append(i)
 
 
 def standing_body(vehicle: VehicleType, pose: FloatArray) -> BaseGeometry:
@@ -678,7 +777,24 @@ def _pairs(sw: Swept, near: Near, offset: float | None) -> tuple[list[int], list
     pj: list[int] = []
     pi: list[int] = []
     ids, rows = near.ids, near.rows
+    if not sw.rows:
+        return [], []
+    # first the entries that meet the box and time span of the whole of ``sw``: only they
+    # can pass a pair's tests (the same sums, each at least as large), and most entries
+    # gathered for an edge's cells and a window of departures meet no chunk of one motion
+    a, z, x0, y0, x1, y1 = sw.extent
+    if offset is not None:
+        a, z = a + offset - _EPS, z + offset + _EPS
+    kept = [k for k, (t0, t1, b0, c0, b1, c1) in enumerate(rows)
+            if b0 <= x1 and b1 >= x0 and c0 <= y1 and c1 >= y0
+            and (offset is None or (t0 <= z and t1 >= a))]
+    if len(kept) < len(ids):
+        if not kept:
+            return [], []
+        ids, rows = [ids[k] for k in kept], [rows[k] for k in kept]
     if len(sw.rows) * len(ids) <= _FEW_PAIRS:
+        if offset is not None and len(sw.rows) > 2 and sw.in_order:
+            return _pairs_in_order(sw, ids, rows, offset)
         for j, (a, z, x0, y0, x1, y1) in enumerate(sw.rows):
             if offset is not None:
                 a, z = a + offset, z + offset
@@ -697,6 +813,33 @@ def _pairs(sw: Swept, near: Near, offset: float | None) -> tuple[list[int], list
         ok &= (r[None, :, 0] <= (z + _EPS)[:, None]) & (r[None, :, 1] >= (a - _EPS)[:, None])
     jj, kk = np.nonzero(ok)
     return jj.tolist(), np.asarray(ids, dtype=np.int64)[kk].tolist()
+
+
+def _pairs_in_order(sw: Swept, ids: list[int], rows: list[tuple[float, ...]], offset: float
+                    ) -> tuple[list[int], list[int]]:
+    """:func:`_pairs` with an offset for intervals whose starts and ends both never decrease
+    (a motion's chunks): the intervals an entry overlaps in time are a run, found by two
+    bisections, and only those are tested by box — the same tests, with the same sums, on
+    the same pairs, given in the same order."""
+    boxes = sw.rows
+    # interval j overlaps an entry from t0 to t1 if t1 >= a_j + offset - eps (from the first
+    # j on) and t0 <= z_j + offset + eps (up to the last j): the sums worked out only for
+    # the few intervals each bisection looks at
+    def lo(r: tuple[float, ...]) -> float:
+        return r[0] + offset - _EPS
+
+    def hi(r: tuple[float, ...]) -> float:
+        return r[1] + offset + _EPS
+
+    left, right = bisect.bisect_left, bisect.bisect_right
+    found: list[tuple[int, int, int]] = []
+    for k, (i, (t0, t1, b0, c0, b1, c1)) in enumerate(zip(ids, rows, strict=True)):
+        for j in range(left(boxes, t0, key=hi), right(boxes, t1, key=lo)):
+            _, _, x0, y0, x1, y1 = boxes[j]
+            if b0 <= x1 and b1 >= x0 and c0 <= y1 and c1 >= y0:
+                found.append((j, k, i))
+    found.sort()
+    return [j for j, _, _ in found], [i for _, _, i in found]
 
 
 def _merged(lo: list[float], hi: list[float]) -> list[tuple[float, float]]:
