@@ -61,12 +61,15 @@ def test_a_run_leaves_what_the_process_held_before_out_of_its_collections_and_no
 
     def spy(self):
         frozen.append(gc.get_freeze_count())
+        thresholds.append(gc.get_threshold())
         go(self)
 
     monkeypatch.setattr(sim._Simulation, "go", spy)
-    before = gc.get_freeze_count()
+    before, was, thresholds = gc.get_freeze_count(), gc.get_threshold(), []
     _run(sc, lg, [Arrival("a", "valet", "in", 0.0)])
     assert frozen[0] > before and gc.get_freeze_count() == before
+    # ... and collected in larger batches while it plans, as before after
+    assert thresholds == [sim.RUN_GC_THRESHOLDS] != [was] and gc.get_threshold() == was
 
     def boom(self):
         raise KeyboardInterrupt
@@ -74,7 +77,7 @@ def test_a_run_leaves_what_the_process_held_before_out_of_its_collections_and_no
     monkeypatch.setattr(sim._Simulation, "go", boom)
     with pytest.raises(KeyboardInterrupt):
         _run(sc, lg, [Arrival("a", "valet", "in", 0.0)])
-    assert gc.get_freeze_count() == before
+    assert gc.get_freeze_count() == before and gc.get_threshold() == was
 
 
 def _run(sc, lg, vehicles, patience=60.0, **settings):
