@@ -347,8 +347,15 @@ def test_motions_swept_together_are_swept_as_each_alone():
             continue
         together = swept_motions(motions, CAR)
         for m, sw in zip(motions, together, strict=True):
-            alone = Swept.of(swept_motion(m, CAR))
+            intervals = swept_motion(m, CAR)
+            alone = Swept.of(intervals)
             assert np.array_equal(sw.t, alone.t) and np.array_equal(sw.bounds, alone.bounds)
+            # the arrays made from the rows: the intervals' times and shapely's bounds
+            assert np.array_equal(sw.t, [(a, z) for a, z, _ in intervals])
+            assert np.array_equal(sw.bounds, shapely.bounds(sw.geoms))
+            held = sw.held(3.0, 7.5)
+            assert np.array_equal(held.t, [[3.0, 7.5]])
+            assert np.array_equal(held.bounds, shapely.bounds(sw.geoms[:1]))
             assert sw.cells == alone.cells and sw.rows == alone.rows
             assert all(shapely.equals_exact(a, b, tolerance=0.0)
                        for a, b in zip(sw.geoms, alone.geoms, strict=True))

@@ -149,8 +149,7 @@ def swept_motions(motions: Sequence[Motion], vehicle: VehicleType, *, chunk: flo
         k = len(e) - 1
         b = bounds[c: c + k]
         # rows share their times' float objects with every hull of the profile
-        out.append(Swept(np.column_stack([e[:-1], e[1:]]), hulls[c: c + k], b,
-                         cells[c: c + k],
+        out.append(Swept(hulls[c: c + k], cells[c: c + k],
                          tuple((*ab, *xy) for ab, xy in zip(span, b.tolist(), strict=True))))
         c += k
     return out
@@ -177,15 +176,15 @@ def swept_trajectory(trajectory: Trajectory, vehicle: VehicleType, *,
 
 @dataclass(frozen=True, slots=True)
 class Swept:
-    """Intervals as arrays, for batched queries: times (N, 2) [s], hulls (N,), their
-    bounds (N, 4).
+    """Intervals for batched queries: hulls (N,), each one's grid cells, and each one's
+    times and bounds as rows of Python floats; :attr:`t` (N, 2) [s] and :attr:`bounds`
+    (N, 4) [m] as arrays, made from the rows when asked.
 
-    (Slots: a run keeps one for every edge motion it has checked, some 80 000 for 1000
-    cars on the large lot.)"""
+    (Slots, and no arrays of times and bounds kept: a run keeps one for every edge motion
+    it has checked, some 60 000 for 1000 cars on the large lot, and the searches read the
+    rows.)"""
 
-    t: np.ndarray
     geoms: np.ndarray
-    bounds: np.ndarray
     cells: tuple[tuple[tuple[int, int], ...], ...] = ()
     rows: tuple[tuple[float, ...], ...] = ()
     """Each interval's ``(t0, t1, x0, y0, x1, y1)`` as Python floats (for loops over a few
@@ -197,14 +196,23 @@ class Swept:
         geoms[:] = [g for _, _, g in intervals]
         t = np.array([(a, b) for a, b, _ in intervals], dtype=float).reshape(-1, 2)
         bounds = shapely.bounds(geoms).reshape(-1, 4)
-        return cls(t, geoms, bounds, _cells_of_all(bounds),
+        return cls(geoms, _cells_of_all(bounds),
                    tuple(map(tuple, np.hstack([t, bounds]).tolist())))
+
+    @property
+    def t(self) -> np.ndarray:
+        """(N, 2) each interval's start and end [s] (the rows' floats)."""
+        return np.array([r[:2] for r in self.rows], dtype=float).reshape(-1, 2)
+
+    @property
+    def bounds(self) -> np.ndarray:
+        """(N, 4) each hull's ``(x0, y0, x1, y1)`` [m] (the rows' floats)."""
+        return np.array([r[2:] for r in self.rows], dtype=float).reshape(-1, 4)
 
     def held(self, t0: float, t1: float) -> Swept:
         """The first body held from ``t0`` to ``t1`` [s] (a standing body's)."""
-        t = np.array([[t0, t1]], dtype=float)
-        return Swept(t, self.geoms[:1], self.bounds[:1], self.cells[:1],
-                     ((float(t[0, 0]), float(t[0, 1]), *self.rows[0][2:]),))
+        return Swept(self.geoms[:1], self.cells[:1], ((float(t0), float(t1),
+                                                       *self.rows[0][2:]),))
 
     extent: tuple[float, ...] = field(init=False, repr=False, compare=False)
     """``(t0, t1, x0, y0, x1, y1)`` of all the intervals together: the earliest start and
@@ -226,8 +234,8 @@ class Swept:
         return len(self.geoms)
 
     def __iter__(self):
-        for (a, b), g in zip(self.t, self.geoms, strict=True):
-            yield float(a), float(b), g
+        for r, g in zip(self.rows, self.geoms, strict=True):
+            yield r[0], r[1], g
 
 
 def cells_of(bounds: Sequence[float]) -> tuple[tuple[int, int], ...]:
@@ -465,13 +473,12 @@ class ReservationTable:
             b = self.bucket
             pairs_i: list[int] = []
             pairs_j: list[int] = []
-            for j in range(len(sw.geoms)):
-                a, z = float(sw.t[j, 0]) + offset, float(sw.t[j, 1]) + offset
+            for j, (a, z, x0, y0, x1, y1) in enumerate(sw.rows):
+                a, z = a + offset, z + offset
                 found = self._filed(sw.cells[j], math.floor((a - _EPS) / b),
                                     math.floor((z + _EPS) / b))
                 if not found:
                     continue
-                x0, y0, x1, y1 = sw.bounds[j]
                 for i in sorted(found):
                     if (st.alive[i] and st.owner[i] != skip and st.t[i, 0] <= z + _EPS
                             and st.t[i, 1] >= a - _EPS and st.box[i, 0] <= x1
@@ -564,7 +571,7 @@ class ReservationTable:
         skip = self._ids.get(ignore, -1) if ignore is not None else -1
         st = self._store
         b = self.bucket
-        first, last = since + float(sw.t[:, 0].min()), until + float(sw.t[:, 1].max())
+        first, last = since + sw.extent[0], until + sw.extent[1]
         if cells is None:
             cells = sorted({c for cs in sw.cells for c in cs})
         found = self._filed(cells, math.floor((first - _EPS) / b), self._last_bucket(last))
@@ -577,7 +584,7 @@ class ReservationTable:
                   & (st.t[ids, 1] >= first - _EPS)]
         if not ids.size:
             return []
-        box, bd = st.box[ids], sw.bounds
+        box, swt, bd = st.box[ids], sw.t, sw.bounds
         near = ((box[None, :, 0] <= bd[:, None, 2]) & (box[None, :, 2] >= bd[:, None, 0])
                 & (box[None, :, 1] <= bd[:, None, 3]) & (box[None, :, 3] >= bd[:, None, 1]))
         jj, kk = np.nonzero(near)
@@ -586,8 +593,8 @@ class ReservationTable:
         ii = ids[kk]
         hit = shapely.intersects(sw.geoms[jj], st.geom[ii])
         jj, ii = jj[hit], ii[hit]
-        lo = st.t[ii, 0] - sw.t[jj, 1] - _EPS
-        hi = st.t[ii, 1] - sw.t[jj, 0] + _EPS
+        lo = st.t[ii, 0] - swt[jj, 1] - _EPS
+        hi = st.t[ii, 1] - swt[jj, 0] + _EPS
         keep = (hi >= since) & (lo <= until)
         return _merged(lo[keep].tolist(), hi[keep].tolist())
 
@@ -805,11 +812,12 @@ def _pairs(sw: Swept, near: Near, offset: float | None) -> tuple[list[int], list
                     pi.append(i)
         return pj, pi
     r = np.array(rows)
-    bd = sw.bounds
+    own = np.array(sw.rows)
+    bd = own[:, 2:]
     ok = ((r[None, :, 2] <= bd[:, None, 2]) & (r[None, :, 4] >= bd[:, None, 0])
           & (r[None, :, 3] <= bd[:, None, 3]) & (r[None, :, 5] >= bd[:, None, 1]))
     if offset is not None:
-        a, z = sw.t[:, 0] + offset, sw.t[:, 1] + offset
+        a, z = own[:, 0] + offset, own[:, 1] + offset
         ok &= (r[None, :, 0] <= (z + _EPS)[:, None]) & (r[None, :, 1] >= (a - _EPS)[:, None])
     jj, kk = np.nonzero(ok)
     return jj.tolist(), np.asarray(ids, dtype=np.int64)[kk].tolist()
