@@ -316,9 +316,9 @@ class SearchGraph:
         their own boxes' sides (kept)."""
         box = self._boxes.get((ei, a))
         if box is None:
-            b = np.vstack([em.swept.bounds for _, em in self.variants(ei, a)[0]])
-            box = self._boxes[ei, a] = (float(b[:, 0].min()), float(b[:, 1].min()),
-                                        float(b[:, 2].max()), float(b[:, 3].max()))
+            ext = [em.swept.extent for _, em in self.variants(ei, a)[0]]
+            box = self._boxes[ei, a] = (min(e[2] for e in ext), min(e[3] for e in ext),
+                                        max(e[4] for e in ext), max(e[5] for e in ext))
         return box
 
     def _timed(self, motion: Motion) -> EdgeMotion:
@@ -328,9 +328,7 @@ class SearchGraph:
         """Grid cells of everything edge ``ei`` sweeps (the same at any speed)."""
         cells = self._cells.get(ei)
         if cells is None:
-            b = em.swept.bounds
-            cells = self._cells[ei] = cells_of((b[:, 0].min(), b[:, 1].min(), b[:, 2].max(),
-                                                b[:, 3].max()))
+            cells = self._cells[ei] = cells_of(em.swept.extent[2:])
         return cells
 
     def standing(self, node: int) -> Swept:

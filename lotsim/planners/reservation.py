@@ -584,7 +584,8 @@ class ReservationTable:
                   & (st.t[ids, 1] >= first - _EPS)]
         if not ids.size:
             return []
-        box, swt, bd = st.box[ids], sw.t, sw.bounds
+        box, own = st.box[ids], np.array(sw.rows)
+        bd = own[:, 2:]
         near = ((box[None, :, 0] <= bd[:, None, 2]) & (box[None, :, 2] >= bd[:, None, 0])
                 & (box[None, :, 1] <= bd[:, None, 3]) & (box[None, :, 3] >= bd[:, None, 1]))
         jj, kk = np.nonzero(near)
@@ -593,8 +594,8 @@ class ReservationTable:
         ii = ids[kk]
         hit = shapely.intersects(sw.geoms[jj], st.geom[ii])
         jj, ii = jj[hit], ii[hit]
-        lo = st.t[ii, 0] - swt[jj, 1] - _EPS
-        hi = st.t[ii, 1] - swt[jj, 0] + _EPS
+        lo = st.t[ii, 0] - own[jj, 1] - _EPS
+        hi = st.t[ii, 1] - own[jj, 0] + _EPS
         keep = (hi >= since) & (lo <= until)
         return _merged(lo[keep].tolist(), hi[keep].tolist())
 
