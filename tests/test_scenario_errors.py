@@ -2,6 +2,7 @@
 raises it; the command line prints it as one line and exits 2: tests/test_cli.py)."""
 
 import textwrap
+from pathlib import Path
 
 import pytest
 
@@ -197,3 +198,88 @@ def test_unknown_command_and_option_exit_2(capsys):
 
 def test_position_helper_is_one_based():
     assert position(textwrap.dedent("a: 1\nbb: 22\n"), "22") == (2, 5)
+
+
+def _tree(node) -> list:
+    """A composed YAML node as nested lists: kind, tag, value, where it starts (what errors
+    name; end marks are not read, and libyaml ends a last line without a newline elsewhere),
+    quoted or not."""
+    import yaml
+
+    head = [type(node).__name__, node.tag, node.start_mark.line, node.start_mark.column]
+    if isinstance(node, yaml.ScalarNode):
+        return [*head, node.value, bool(node.style)]
+    if isinstance(node, yaml.SequenceNode):
+        return [*head, [_tree(c) for c in node.value]]
+    return [*head, [[_tree(k), _tree(v)] for k, v in node.value]]
+
+
+TRICKY = """\
+# a comment
+name: 'héllo wörld'   # non-ASCII before later columns
+a: &anchor [1, 2.5, "3", {x: ü, y: -4e3}]
+b: *anchor
+c: |
+  two
+  lines
+d: {e: null, f: ~, g: yes, h: 012, i: .5}
+"""
+
+
+@pytest.mark.parametrize("text", [TRICKY, "a: 1", "[1, [2, [3]]]"], ids=["tricky", "one", "nested"])
+def test_fast_composer_builds_the_python_composers_tree(text):
+    """libyaml's composer, used when PyYAML has it, gives the pure-Python composer's tree:
+    the same tags, values, marks and quoting (what the typed reader and its errors read)."""
+    import yaml
+
+    from lotsim.io import yamlnodes
+
+    if yamlnodes._FastLoader is None:
+        pytest.skip("PyYAML was built without libyaml")
+    slow = _tree(yaml.compose(text, Loader=yamlnodes._ComposeLoader))
+    assert _tree(yaml.compose(text, Loader=yamlnodes._FastLoader)) == slow
+    assert _tree(yamlnodes.parse_text(text, "x.yaml").node) == slow
+
+
+def test_shipped_files_compose_the_same_both_ways():
+    import yaml
+
+    from lotsim.io import yamlnodes
+
+    if yamlnodes._FastLoader is None:
+        pytest.skip("PyYAML was built without libyaml")
+    root = Path(lotsim.__file__).resolve().parents[1]
+    files = sorted(root.glob("scenarios/**/*.yaml"))
+    assert len(files) >= 10
+    for f in files:
+        text = f.read_text()
+        assert (_tree(yaml.compose(text, Loader=yamlnodes._FastLoader))
+                == _tree(yaml.compose(text, Loader=yamlnodes._ComposeLoader))), f
+
+
+@pytest.mark.parametrize("text", [
+    "lot:\n  boundary: [[0, 0], [1, 0]\n  aisles: []\n",  # unclosed flow sequence
+    "a: 1\n b: 2\n",  # bad indentation
+    "a: 'open\n",  # unterminated quote
+    "a: \x07\n",  # a character YAML does not allow
+    "a: *nowhere\n",  # unknown alias
+])
+def test_unreadable_yaml_is_reported_as_the_python_composer_reports_it(text):
+    """What libyaml cannot read is read again by the pure-Python composer, whose error
+    (message and place) is the one reported, whichever composer PyYAML has."""
+    import yaml
+
+    from lotsim.io import yamlnodes
+
+    with pytest.raises(lotsim.ScenarioError) as got:
+        yamlnodes.parse_text(text, "x.yaml")
+    with pytest.raises(lotsim.ScenarioError) as want:
+        fast, yamlnodes._FastLoader = yamlnodes._FastLoader, None
+        try:
+            yamlnodes.parse_text(text, "x.yaml")
+        finally:
+            yamlnodes._FastLoader = fast
+    assert str(got.value) == str(want.value)
+    assert "x.yaml:" in str(got.value)
+    with pytest.raises(yaml.YAMLError):
+        yaml.compose(text, Loader=yamlnodes._ComposeLoader)
