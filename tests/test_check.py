@@ -384,6 +384,26 @@ def test_waiting_vehicle_stays_at_its_last_pose(result):
     assert report.violations[0].t == pytest.approx(60.0)
 
 
+def test_last_pose_after_the_last_instant_is_checked(result):
+    """A vehicle whose last sample comes after the run's last grid instant still holds its
+    last pose from the next instant on (here it ends 4 cm on, 5 cm into the standing v5):
+    that pose is checked, not only the one interpolated at the last instant before it."""
+    end = max(v["samples"]["t"][-1] for v in result["vehicles"] if v["samples"]["t"])
+    t0 = math.ceil((end + 1.0) / DT) * DT
+    # heading -x towards v5's front (x = 9.9): 20 whole samples, then 4 cm more
+    length = 20 * SPEED * DT + 0.04
+    pieces = [(length, 0.0)]
+    there = stroke((13.75 + length, 12.0, math.pi), pieces, t0=t0)
+    assert round(there["t"][-1] / DT % 1.0, 6) not in (0.0, 1.0)  # off the instant grid
+    result["vehicles"].append(vehicle("v6", t0, "waiting", there, reason="blocked"))
+    report = assert_only(result, "overlap")
+    assert "v5 and v6" in report.violations[0].message
+    assert report.violations[0].t == pytest.approx(math.ceil(there["t"][-1] / DT) * DT)
+    there["x"] = [x + 0.04 for x in there["x"]]  # ends touching v5: fine
+    refresh_metrics(result)
+    assert check_result(result).ok
+
+
 def test_drive_into_the_obstacle(result):
     result["lot"]["obstacles"] = [box(30, 4.5, 31, 5.5)]
     report = assert_only(result, "obstacle")

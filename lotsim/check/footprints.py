@@ -396,7 +396,11 @@ def _check_footprints(vehicles: list[_Vehicle], lot: _Lot, out: list[Violation],
     """Rule 6 (overlap, parked, obstacle, boundary) and slot sharing (rule 7)."""
     if not vehicles:
         return
-    kmin, kmax = _instant_range(min(v.t[0] for v in vehicles), max(v.t[-1] for v in vehicles))
+    first, last = min(v.t[0] for v in vehicles), max(v.t[-1] for v in vehicles)
+    kmin = _instant_range(first, first)[0]
+    # up to the first instant at or after the last sample: a vehicle that stays holds its
+    # last pose from then on, also when that sample comes after the last instant before it
+    kmax = _instant_range(last, last)[0]
     items = _build_items(vehicles, kmax)
     if items is None:
         _add(out, "internal", None, None, f"the vehicles' poses differ at more than "
@@ -495,7 +499,7 @@ def _check_slot_sharing(vehicles: list[_Vehicle], items: _Items, lot: _Lot, kmax
             ka, kb = items.ka[mine], items.kb[mine]
             veh = vehicles[j]
             if veh.status == "parked":
-                k_end = min(_instant_range(veh.t[-1], veh.t[-1])[0], kmax)
+                k_end = _instant_range(veh.t[-1], veh.t[-1])[0]  # <= kmax
                 ka, kb = np.append(ka, k_end), np.append(kb, kmax)
             held[j] = (ka, kb)
         clashes = []

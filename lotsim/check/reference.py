@@ -57,7 +57,9 @@ def reference_footprints(data: Any) -> set[Finding]:
     if not vehicles:
         return set()
     k_first = min(_first_instant(v.t[0]) for v in vehicles)
-    k_end = max(_last_instant(v.t[-1]) for v in vehicles)
+    # to the first instant at or after the last sample: a vehicle that stays is checked at
+    # its last pose also when that sample comes after every instant before it
+    k_end = max(_first_instant(v.t[-1]) for v in vehicles)
     env = [("parked", j, p) for j, p in enumerate(lot.parked)]
     env += [("obstacle", j, p) for j, p in enumerate(lot.obstacles)]
     env_tree = shapely.STRtree([p for _, _, p in env])
@@ -89,23 +91,22 @@ def reference_footprints(data: Any) -> set[Finding]:
         for (v, _), poly in zip(present, polys, strict=True):
             if lot.boundary is not None and not lot.boundary.covers(poly):
                 note(("boundary", v.id), k)
-        _slot_holders(lot, present, polys, k, k_end, note)
+        _slot_holders(lot, present, polys, k, note)
     return {(*key, k) for key, k in found.items()}
 
 
-def _slot_holders(lot: _Lot, present: list, polys: list, k: int, k_end: int, note) -> None:
+def _slot_holders(lot: _Lot, present: list, polys: list, k: int, note) -> None:
     """Note every two vehicles that hold one slot at instant ``k``.
 
-    A ``parked`` vehicle holds its slot from the first instant at or after its last sample,
-    or from the run's last instant ``k_end`` when its last sample comes after that (as
-    :mod:`lotsim.check.footprints` has it: the rule is judged on the instants there are).
+    A ``parked`` vehicle holds its slot from the first instant at or after its last sample
+    (the run's instants reach the first one at or after its last sample).
     """
     holders: dict[str, list[str]] = {}
     for (v, _), poly in zip(present, polys, strict=True):
         slot = lot.slots.get(v.slot) if v.slot is not None else None
         if slot is None:
             continue
-        parked_now = v.status == "parked" and k >= min(_first_instant(v.t[-1]), k_end)
+        parked_now = v.status == "parked" and k >= _first_instant(v.t[-1])
         if parked_now or slot.polygon.covers(poly):
             holders.setdefault(slot.id, []).append(v.id)
     for sid, ids in holders.items():
