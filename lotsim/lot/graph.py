@@ -664,6 +664,12 @@ def _straights(lane: Lane) -> list[tuple[float, Segment]]:
 _TURNS: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
 
 
+def _types_key(designs: dict[str, DesignVehicle] | None) -> tuple | None:
+    """What the per-lot caches of this module key a set of vehicle types by (None: the
+    lot's design vehicle for every type)."""
+    return tuple(sorted(designs.items())) if designs else None
+
+
 def _turns_of(lot: Lot, collider: Collider, designs: dict[str, DesignVehicle] | None = None
               ) -> tuple[list[tuple[Turn, frozenset | None]], list[str]]:
     """The lot's junction turns (:func:`_junction_turns`, :func:`_through_turns`), each with
@@ -675,7 +681,7 @@ def _turns_of(lot: Lot, collider: Collider, designs: dict[str, DesignVehicle] | 
     the types could not — and a turn built for several types is kept once; without, for
     the lot's design vehicle (the envelope), for every type.
     """
-    key = tuple(sorted(designs.items())) if designs else None
+    key = _types_key(designs)
     cache = _TURNS.setdefault(lot, {})
     if key not in cache:
         per = _turns_per_design(lot, collider, list(designs.values()) if designs else [None])
@@ -779,7 +785,7 @@ def _turnarounds_of(lot: Lot, turns: list[Turn], joins: list[tuple[str, str]],
         go_on[x.lane_a] = max(go_on[x.lane_a], x.station_a)
     for lid, st in stops.items():  # a car unparks onto the lane there
         arrive.setdefault(lid, set()).add(st)
-    key = (tuple(sorted(designs.items())) if designs else None,
+    key = (_types_key(designs),
            tuple((lane.id, tuple(sorted(arrive.get(lane.id, ()))), go_on[back.id])
                  for lane, back in ends))
     cache = _BACKS.setdefault(lot, {})
@@ -982,7 +988,7 @@ def _junction_multipoints(lot: Lot, tagged: list[tuple[Turn, frozenset | None]],
     junction, which the multi-point turn lands before. Each is tagged with the types it
     suits (None: all); worked out once per lot and set of types."""
     exits = exits or {}
-    key = tuple(sorted(designs.items())) if designs else None
+    key = _types_key(designs)
     cache = _MULTIS.setdefault(lot, {})
     if key in cache:
         return list(cache[key])
@@ -1044,15 +1050,13 @@ def _junction_backs(lot: Lot, tagged: list[tuple[Turn, frozenset | None]],
     """:func:`_junction_multipoints` and :func:`_junction_uturns`; the two at once, on both
     cores, when neither was worked out before for this lot and set of types (each is a
     function of its arguments: the same answers, kept as each keeps its own)."""
-    key = tuple(sorted(designs.items())) if designs else None
-    if key in _MULTIS.get(lot, {}) or key in _UTURNS.get(lot, {}):
-        return _junction_multipoints(lot, tagged, designs, exits), _junction_uturns(lot, designs)
-    multis, uturns = fork_map(lambda job: job(), [
-        lambda: _junction_multipoints(lot, tagged, designs, exits),
-        lambda: _junction_uturns(lot, designs)])
-    _MULTIS.setdefault(lot, {})[key] = multis
-    _UTURNS.setdefault(lot, {})[key] = uturns
-    return list(multis), list(uturns)
+    key = _types_key(designs)
+    if key not in _MULTIS.get(lot, {}) and key not in _UTURNS.get(lot, {}):
+        # each kept as it keeps its own: what the workers kept went with them
+        _MULTIS.setdefault(lot, {})[key], _UTURNS.setdefault(lot, {})[key] = fork_map(
+            lambda job: job(), [lambda: _junction_multipoints(lot, tagged, designs, exits),
+                                lambda: _junction_uturns(lot, designs)])
+    return _junction_multipoints(lot, tagged, designs, exits), _junction_uturns(lot, designs)
 
 
 UTURN_LAND = (2.0, 8.0)
@@ -1076,7 +1080,7 @@ def _junction_uturns(lot: Lot, designs: dict[str, DesignVehicle] | None = None
     (the same place relative to the crossing) and kept when it lands on that junction's
     opposite lane and is clear there, so a lot of many alike junctions plans a few.
     Worked out once per lot and set of types."""
-    key = tuple(sorted(designs.items())) if designs else None
+    key = _types_key(designs)
     cache = _UTURNS.setdefault(lot, {})
     if key in cache:
         return list(cache[key])
