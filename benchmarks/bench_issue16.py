@@ -221,6 +221,19 @@ def tests_row() -> None:
     row("default test suite", "≤ 4 min", f"{wall / 60:.1f} min ({tail})", "")
 
 
+def machine_speed() -> float:
+    """CPU seconds [s] of a fixed pure-Python loop (10^7 multiply-adds): how fast this
+    machine runs the interpreter now, for comparing runs on other days and machines: the
+    targets are absolute, and this machine's speed varies by 2x within an hour (on
+    2026-11-24 the loop took 1.09 s when the 1000-car run took 84 s, which had taken 43-49
+    s the day before with the same code, and 0.53 s half an hour later)."""
+    t = time.process_time()
+    s = 0
+    for i in range(10**7):
+        s += i * i
+    return time.process_time() - t
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--quick", action="store_true",
@@ -237,6 +250,8 @@ def main() -> None:
         plan_big(*args.plan)
         return
     started = time.perf_counter()
+    speed = machine_speed()
+    print(f"machine: a 10^7 pure-Python loop takes {speed:.2f} s of CPU", flush=True)
     validate_rows()
     result = planning_rows(args)
     if result is not None:
@@ -246,7 +261,7 @@ def main() -> None:
     if args.tests:
         tests_row()
     print(f"\nissue 16, measured in one run ({(time.perf_counter() - started) / 60:.0f} min, "
-          f"{os.cpu_count()} cores)")
+          f"{os.cpu_count()} cores; the 10^7 loop took {speed:.2f} s)")
     width = max(len(r[0]) for r in ROWS)
     for what, target, measured, against in ROWS:
         print(f"{what:<{width}}  {target:<20} {measured}")
