@@ -59,8 +59,13 @@ def prepare(scenario: Scenario, *, node_spacing: float = 4.0, maneuvers: bool = 
     With ``cache`` (the default), a lot prepared before — same lot, vehicle types and
     settings, same lotsim — is loaded from the on-disk cache instead (:mod:`lotsim.cache`;
     ``LOTSIM_CACHE_DIR=off`` turns it off), and a new one is stored there;
-    ``LotGraph.from_cache`` says which. ``progress(done, total)`` is called as the
-    maneuvers' distinct problems are searched (not when the lot comes from the cache).
+    ``LotGraph.from_cache`` says which. A new one also reads and adds to the answers to
+    the maneuver problems searched before in lots of the scenario's name, keyed by each
+    problem's exact geometry (:meth:`~lotsim.planners.maneuver.ManeuverPlanner.prefetch`;
+    lots of :data:`REMEMBER_FROM` slot-types or more): an edited lot searches only the
+    problems its edit changed, and the answers are the same.
+    ``progress(done, total)`` is called as the maneuvers' distinct problems are searched
+    (not when the lot comes from the cache).
 
     Raises
     ------
@@ -82,7 +87,18 @@ def prepare(scenario: Scenario, *, node_spacing: float = 4.0, maneuvers: bool = 
             return lg
     lot = build_lot(scenario.lot, DesignVehicle.envelope(scenario.vehicle_types))
     planner = maneuver_planner(scenario, lot, margin=margin)
-    planned, infeasible, stays = plan_lot(planner, scenario.vehicle_types, progress=progress)
+    known = known_name = None
+    if (name is not None and lotsim.cache.cache_dir() is not None
+            and len(lot.slots) * len(scenario.vehicle_types) >= REMEMBER_FROM):
+        # the maneuvers of this lot as prepared before (by its name), whatever has changed
+        # since: an edited lot searches again only the problems its edit changed
+        known_name = lotsim.cache.key("maneuvers", scenario.name, planner.settings)
+        known = lotsim.cache.load(known_name)
+        known = known if isinstance(known, dict) else {}
+    planned, infeasible, stays = plan_lot(planner, scenario.vehicle_types, progress=progress,
+                                          known=known)
+    if known_name is not None and planner.stats["planned"] > planner.stats["remembered"]:
+        lotsim.cache.store(known_name, known)  # it learnt something
     if leaves == {False}:  # no car leaves: each lane's own best only
         planned, stays = {**planned, **stays}, {}
     elif leaves == {True}:  # no car stays: where those begin would only be nodes in the way
@@ -150,6 +166,11 @@ aisle is free to reach. (It was 5000: with departures into the large lot, 300 ca
 spent 195 039 expansions on 39 first looks that ran out, 41 % of all, and parked after
 65.6 s on average; with 1000, 232 922 expansions in all and 62.1 s; 1000 cars: 967 451
 expansions, 65.9 s, against 540 725 and 63.9 s; all departed both ways.)"""
+
+REMEMBER_FROM = 64
+"""Fewest slots times vehicle types for which :func:`prepare` keeps a lot's maneuver answers
+for its later edits (a smaller lot is planned in a second or two, about what reading and
+writing them would take)."""
 
 RUN_GC_THRESHOLDS = (20_000, 20, 1000)
 """The cycle collector's thresholds while a run plans (Python's are 700, 10, 10): it still

@@ -116,11 +116,15 @@ class ValidationReport:
                                  f"slots: {_ids(slots)}")
         planner = lg.maneuver_planner
         if planner is not None:
+            remembered = planner.stats.get("remembered", 0)
             edges = sum(len(d["maneuvers"]) for _, _, d in lg.graph.edges(data=True)
                         if d["kind"] == "park")
             lines.append(f"  maneuvers: {edges} kept (per type, slot and lane); "
-                         f"{planner.stats['planned']} distinct problems searched "
-                         f"({planner.stats['reused']} repeats answered from them; "
+                         f"{planner.stats['planned'] - remembered} distinct problems "
+                         "searched "
+                         + (f"and {remembered} answered as in a lot prepared before "
+                            if remembered else "")
+                         + f"({planner.stats['reused']} repeats answered from them; "
                          f"margin {planner.margin:g} m)"
                          + (LOADED if lg.from_cache else ""))
             for vname, slots in lg.infeasible.items():

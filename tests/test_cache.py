@@ -11,6 +11,7 @@ import sys
 import pytest
 
 import lotsim.cache
+import lotsim.sim
 from conftest import ONE_AISLE, ROOT, scenario_from_text
 from lotsim.io.result import result_dict
 from lotsim.sim import prepare, run
@@ -37,7 +38,7 @@ def _doc(scenario, lg) -> str:
 def test_a_lot_prepared_before_is_loaded_and_runs_exactly_as_planned(folder):
     sc = scenario_from_text(ONE_AISLE + TRAFFIC)
     cold = prepare(sc)
-    assert not cold.from_cache and len(list(folder.glob("*.pickle"))) == 1
+    assert not cold.from_cache and len(list(folder.glob("prepared-*.pickle"))) == 1
     warm = prepare(sc)
     assert warm.from_cache
     assert warm.infeasible == cold.infeasible
@@ -62,7 +63,7 @@ def test_a_changed_lot_or_lotsim_is_planned_again(folder, monkeypatch):
 def test_a_damaged_entry_is_planned_again_and_replaced(folder):
     sc = scenario_from_text(ONE_AISLE + TRAFFIC)
     cold = prepare(sc)
-    (entry,) = folder.glob("*.pickle")
+    (entry,) = folder.glob("prepared-*.pickle")
     entry.write_bytes(entry.read_bytes()[:1000])  # cut short, as a full disk leaves it
     again = prepare(sc)
     assert not again.from_cache
@@ -83,7 +84,7 @@ def test_no_cache_where_it_cannot_be_written_or_is_turned_off(tmp_path, monkeypa
     monkeypatch.delenv("LOTSIM_CACHE_DIR")
     prepare(sc)
     assert prepare(sc).from_cache
-    assert len(list((tmp_path / "xdg" / "lotsim").glob("*.pickle"))) == 1
+    assert len(list((tmp_path / "xdg" / "lotsim").glob("prepared-*.pickle"))) == 1
 
 
 def test_the_least_recently_used_entries_go_first(folder, monkeypatch):
@@ -135,3 +136,113 @@ def test_loading_leaves_the_cycle_collector_as_it_was(tmp_path, entry):
             assert gc.isenabled() is before
     finally:
         gc.enable()
+
+
+def _graph(lg) -> tuple:
+    return (sorted(lg.graph.nodes(data=True), key=lambda n: n[0]),
+            sorted(lg.graph.edges(data=True), key=lambda e: e[:2]), lg.infeasible)
+
+
+LONG_AISLE = """\
+name: long
+vehicle_types: [valet]
+lot:
+  boundary: [[0, 0], [72, 0], [72, 22], [0, 22]]
+  aisles:
+    - {id: a, centerline: [[0, 11], [72, 11]], width: 7.0, direction: one-way}
+  rows:
+    - {aisle: a, side: left, kind: perpendicular, count: 14, slot_width: 2.5,
+       slot_length: 5.0, start: 12, id_prefix: N}
+    - {aisle: a, side: right, kind: perpendicular, count: 14, slot_width: 2.5,
+       slot_length: 5.0, start: 12, id_prefix: S}
+  entrances:
+    - {id: in, x: 3.0, y: 11.0, heading_deg: 0}
+  exits:
+    - {id: out, x: 66.0, y: 11.0, heading_deg: 0}
+"""
+"""A one-way aisle between two rows of fourteen slots, 35 m long: a maneuver's problem (its
+window some 30 m across) near one end does not reach the other."""
+
+
+def test_an_edited_lot_searches_only_what_the_edit_changed(folder, monkeypatch):
+    """The maneuver problems of a lot prepared before are kept by their exact geometry: the
+    lot with one slot fewer at one end searches again only the problems near that end, and
+    is prepared exactly as without the cache. A lot of another name does not read them, nor
+    does a small lot keep them."""
+    assert not prepare(scenario_from_text(LONG_AISLE + TRAFFIC)).from_cache
+    assert not list(folder.glob("maneuvers-*.pickle"))  # 28 slots, one type: too small
+    folder.joinpath(next(folder.glob("prepared-*.pickle"))).unlink()
+    monkeypatch.setattr(lotsim.sim, "REMEMBER_FROM", 1)
+    before = prepare(scenario_from_text(LONG_AISLE + TRAFFIC))
+    assert before.maneuver_planner.stats["remembered"] == 0
+    assert len(list(folder.glob("maneuvers-*.pickle"))) == 1
+    shorter = LONG_AISLE.replace("count: 14, slot_width: 2.5,\n       slot_length: 5.0, "
+                                 "start: 12, id_prefix: S", "count: 13, slot_width: 2.5,\n"
+                                 "       slot_length: 5.0, start: 12, id_prefix: S")
+    assert shorter != LONG_AISLE
+    sc = scenario_from_text(shorter + TRAFFIC)
+    edited = prepare(sc)
+    stats = edited.maneuver_planner.stats
+    assert not edited.from_cache
+    assert 0 < stats["remembered"] < stats["planned"]  # some answers kept, some searched
+    cold = prepare(sc, cache=False)
+    assert cold.maneuver_planner.stats["remembered"] == 0
+    assert _graph(edited) == _graph(cold)
+    assert _doc(sc, edited) == _doc(sc, cold)
+    again = shorter.replace("count: 13, slot_width: 2.5,\n       slot_length: 5.0, start: 12, "
+                            "id_prefix: S", "count: 12, slot_width: 2.5,\n       slot_length: "
+                            "5.0, start: 12, id_prefix: S")
+    assert again != shorter
+    other = prepare(scenario_from_text(again.replace("name: long", "name: other") + TRAFFIC))
+    assert not other.from_cache and other.maneuver_planner.stats["remembered"] == 0
+    same = prepare(scenario_from_text(again.replace("count: 12, slot_width", "count: 11, "
+                                                    "slot_width") + TRAFFIC))
+    assert not same.from_cache and same.maneuver_planner.stats["remembered"] > 0
+
+
+def test_a_maneuver_problem_is_kept_by_everything_its_search_reads():
+    """The exact key changes with anything a search reads (here moved by a nanometre), and
+    not with the order of the obstacles, which a search only asks about as a set."""
+    import dataclasses
+
+    import numpy as np
+    import shapely
+
+    from lotsim.lot.build import build_lot
+    from lotsim.lot.model import DesignVehicle
+    from lotsim.planners.maneuver import ManeuverPlanner, _exact_key
+
+    sc = scenario_from_text(ONE_AISLE + TRAFFIC)
+    lot = build_lot(sc.lot, DesignVehicle.envelope(sc.vehicle_types))
+    planner = ManeuverPlanner(lot)
+    slot = lot.slot_by_id["S3"]
+    p = planner._problem(sc.vehicle_types[0], slot, planner.lanes_for(slot)[0])
+    key = _exact_key(p, "any")
+    assert len(p.obstacles) >= 3
+    assert _exact_key(dataclasses.replace(p, obstacles=p.obstacles[::-1]), "any") == key
+    nudge = 1e-9
+
+    def moved(g):
+        return shapely.affinity.translate(g, xoff=nudge)
+
+    changed = {
+        "style": (p, "forward"),
+        "an obstacle": (dataclasses.replace(p, obstacles=np.array(
+            [moved(p.obstacles[0]), *p.obstacles[1:]], dtype=object)), "any"),
+        "the allowed region": (dataclasses.replace(p, allowed=moved(p.allowed)), "any"),
+        "the window": (dataclasses.replace(p, window=moved(p.window)), "any"),
+        "the lane": (dataclasses.replace(p, lane_y=p.lane_y + nudge), "any"),
+        "the lane's ends": (dataclasses.replace(p, lane_x=(p.lane_x[0] + nudge, p.lane_x[1])),
+                            "any"),
+        "the lane's station": (dataclasses.replace(p, lane_s0=p.lane_s0 + nudge), "any"),
+        "the frame": (dataclasses.replace(p, frame=dataclasses.replace(
+            p.frame, heading=p.frame.heading + nudge)), "any"),
+        "the window's size": (dataclasses.replace(p, half=p.half + nudge), "any"),
+        "the sweep step": (dataclasses.replace(p, sweep=p.sweep + nudge), "any"),
+        "the car": (dataclasses.replace(p, vehicle=dataclasses.replace(
+            p.vehicle, wheelbase=p.vehicle.wheelbase + nudge)), "any"),
+        "the slot": (dataclasses.replace(p, slot=dataclasses.replace(
+            slot, polygon=slot.polygon + nudge)), "any"),
+    }
+    for what, (q, style) in changed.items():
+        assert _exact_key(q, style) != key, what

@@ -283,7 +283,7 @@ def test_same_geometry_is_planned_once_and_moved_rigidly():
     a, b = lot.slot_by_id["main-left-10"], lot.slot_by_id["main-left-12"]
     lane = planner.lanes_for(a)[0]
     ma, mb = planner.plan(car, a, lane), planner.plan(car, b, lane)
-    assert planner.stats == {"planned": 1, "reused": 1}
+    assert planner.stats == {"planned": 1, "reused": 1, "remembered": 0}
     shift = np.subtract(b.center, a.center)
     pa, _ = ma.sample(0.1)
     pb, _ = mb.sample(0.1)

@@ -461,9 +461,10 @@ class ManeuverPlanner:
         self._index = {s.id: k for k, s in enumerate(lot.slots)}
         self._cache: dict[bytes, tuple[tuple[Segment, ...], float] | str] = {}
         self._raw: dict[bytes, tuple[tuple[Segment, ...], float] | str] = {}  # not eased
-        self.stats = {"planned": 0, "reused": 0}
+        self.stats = {"planned": 0, "reused": 0, "remembered": 0}
         self._posed: dict[tuple[str, str, str, str], tuple[bytes, _Frame, float]] = {}
         self._fresh: set[bytes] = set()  # searched by prefetch, not yet asked for
+        self._known: dict[bytes, tuple] | None = None  # prefetch's ``known``, while it runs
 
     @property
     def margin(self) -> float:
@@ -555,7 +556,8 @@ class ManeuverPlanner:
 
     def prefetch(self, vehicles: Iterable[VehicleType], *, style: str = "any",
                  shared: bool = True, workers: int | None = None,
-                 progress: Callable[[int, int], None] | None = None) -> None:
+                 progress: Callable[[int, int], None] | None = None,
+                 known: dict[bytes, tuple] | None = None) -> None:
         """Search every distinct problem :meth:`solve_lanes` will meet for ``vehicles`` in
         every slot, on ``workers`` processes (default: as many as the machine has), so that
         it then only looks them up.
@@ -566,7 +568,22 @@ class ManeuverPlanner:
         this. Problems are posed (and keyed) on the workers too. Needs the ``fork`` start
         method (Linux); elsewhere, or for a few problems, it works in this process.
         ``progress(done, total)`` is called as the distinct problems are searched.
+
+        ``known`` (exact problem key → answer, :func:`_exact_key`) holds answers found
+        before, for this planner's settings and this lotsim, in any lot (the on-disk cache
+        keeps one per lot name: :func:`lotsim.sim.prepare`): a problem it holds is not
+        searched again, and those searched now are added to it, most recently used last, at
+        most :data:`KNOWN_MOST`. A search reads nothing but its problem (to the last bit of
+        every float) and the settings, so the answers are the same with it as without.
         """
+        self._known = known
+        try:
+            self._prefetch(vehicles, style, shared, workers, progress)
+        finally:
+            self._known = None
+
+    def _prefetch(self, vehicles, style, shared, workers, progress) -> None:
+        known = self._known
         calls = [(v, slot, lane, st) for v in vehicles for slot in self.lot.slots
                  for st, lane in self._searches(slot, style, shared)]  # solve_lanes' order
         where = {(v.name, slot.id, lane.id): (v, slot, lane) for v, slot, lane, _ in calls}
@@ -583,9 +600,16 @@ class ManeuverPlanner:
                 if key not in self._cache and key not in todo:
                     todo[key] = (k, st)
             answers = pool.map(_search_job, list(todo.values()), chunk=8, progress=progress)
-        for key, (hit, raw) in zip(todo, answers, strict=True):
+        for key, (hit, raw, exact, remembered) in zip(todo, answers, strict=True):
             self._cache[key], self._raw[key] = hit, raw
             self._fresh.add(key)
+            if known is not None:
+                known.pop(exact, None)
+                known[exact] = hit, raw  # most recently used last
+                self.stats["remembered"] += remembered
+        if known is not None:
+            for old in list(itertools.islice(known, max(0, len(known) - KNOWN_MOST))):
+                del known[old]
 
     def plan(self, vehicle: VehicleType, slot: Slot, lane: Lane, *,
              style: str = "any") -> Maneuver:
@@ -1223,7 +1247,8 @@ def plan_maneuver(vehicle: VehicleType, slot: Slot, lot: Lot, *, style: str = "a
 
 def plan_lot(planner: ManeuverPlanner, vehicles: Iterable[VehicleType], *,
              style: str = "any", workers: int | None = None,
-             progress: Callable[[int, int], None] | None = None
+             progress: Callable[[int, int], None] | None = None,
+             known: dict[bytes, tuple] | None = None
              ) -> tuple[dict[tuple[str, str, str], Maneuver], dict[str, dict[str, str]],
                         dict[tuple[str, str, str], Maneuver]]:
     """Maneuvers for every slot, vehicle type and lane of a lot, searched on ``workers``
@@ -1240,10 +1265,11 @@ def plan_lot(planner: ManeuverPlanner, vehicles: Iterable[VehicleType], *,
         the other way round than the one in ``maneuvers`` (for cars that will not leave;
         :meth:`ManeuverPlanner.solve_lanes`).
 
-    ``progress(done, total)`` is called as the distinct problems are searched.
+    ``progress(done, total)`` is called as the distinct problems are searched; ``known``:
+    answers found before, and kept (:meth:`ManeuverPlanner.prefetch`).
     """
     vehicles = list(vehicles)
-    planner.prefetch(vehicles, style=style, workers=workers, progress=progress)
+    planner.prefetch(vehicles, style=style, workers=workers, progress=progress, known=known)
     maneuvers: dict[tuple[str, str, str], Maneuver] = {}
     stays: dict[tuple[str, str, str], Maneuver] = {}
     infeasible: dict[str, dict[str, str]] = {}
@@ -1332,8 +1358,40 @@ def _pose_job(k: int) -> tuple[bytes, _Frame, float]:
 
 
 def _search_job(job: tuple[int, str]) -> tuple:
-    """Triple ``job[0]``'s problem searched in style ``job[1]`` (posed again on a worker)."""
+    """Triple ``job[0]``'s problem searched in style ``job[1]`` (posed again on a worker):
+    (eased, as planned, its exact key, whether the planner's ``known`` answers held it).
+    No exact key (None) when there is no ``known``."""
     planner, triples, _ = _JOB
     k, style = job
     problem = _POSED[k] if k in _POSED else planner._problem(*triples[k])
-    return planner._search(problem, style)
+    if planner._known is None:
+        return *planner._search(problem, style), None, False
+    exact = _exact_key(problem, style)
+    found = planner._known.get(exact)
+    if found is not None:
+        return *found, exact, True
+    return *planner._search(problem, style), exact, False
+
+
+KNOWN_MOST = 20_000
+"""Most answers :meth:`ManeuverPlanner.prefetch` keeps in ``known`` (under 1 kB each; the
+364-bay lot with four types has 5040 distinct problems)."""
+
+
+def _exact_key(p: _Problem, style: str) -> bytes:
+    """Everything a search of ``p`` in ``style`` reads, floats to the last bit: the car, the
+    slot, the frame, the lane, the window, the allowed region and the set of obstacles. Problems
+    with equal keys, from any lot, are searched alike and have the same answer (for the
+    same settings and lotsim). :meth:`ManeuverPlanner._key` rounds to 1 cm instead: it
+    finds the problems of one lot that may share an answer."""
+    h = hashlib.blake2b(digest_size=20)
+    h.update(repr((p.vehicle, p.slot.kind, p.slot.length, p.slot.width, p.frame, p.lane_y,
+                   p.lane_x, p.lane_s0, p.half, p.sweep, style)).encode())
+    h.update(np.asarray(p.slot.polygon, dtype=float).tobytes())
+    for wkb in shapely.to_wkb([p.slot.shape, p.allowed, p.window]):
+        h.update(wkb)
+    # the obstacles as a set: a search only asks whether a body meets any (their order is
+    # the lot's tree's, which an edit elsewhere in the lot changes)
+    for wkb in sorted(shapely.to_wkb(p.obstacles)):
+        h.update(wkb)
+    return h.digest()
