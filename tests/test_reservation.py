@@ -257,11 +257,21 @@ def test_queries_among_the_nearby_entries_answer_as_the_table_and_a_brute_force_
                               box=(*b[:, :2].min(axis=0), *b[:, 2:].max(axis=0)))
         assert set(inside.ids) <= set(near.ids)
         assert near.within((*b[:, :2].min(axis=0), *b[:, 2:].max(axis=0))) == inside
+        # kept in a memo (as a search keeps it): the same answers, asked first or again, and
+        # for other windows over the same time buckets (the exact times compared each time)
+        memo: dict = {}
+        for late in (0.0, 0.0, 0.25, 0.5, 0.75):
+            t0, t1 = since + late, until + longest - late
+            for bx in (None, (*b[:, :2].min(axis=0), *b[:, 2:].max(axis=0))):
+                assert (table.nearby(tuple(cells), t0, t1, ignore=ignore, box=bx, memo=memo)
+                        == table.nearby(cells, t0, t1, ignore=ignore, box=bx))
         for sw in sws:
             for d in (since, float(rng.integers(2 * since, 2 * until + 1)) / 2):
                 got = table.first_conflict(sw, offset=d, ignore=ignore, among=near)
                 assert table.first_conflict(sw, offset=d, ignore=ignore) == got
                 assert table.first_conflict(sw, offset=d, ignore=ignore, among=inside) == got
+                assert table.is_free(sw, offset=d, ignore=ignore, among=near) == (got is None)
+                assert table.is_free(sw, offset=d, ignore=ignore, among=inside) == (got is None)
                 assert ((None if got is None else (got.owner, got.t0, got.t1))
                         == _brute_first_conflict(table, sw, d, ignore))
                 clashes += got is not None

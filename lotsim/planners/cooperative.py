@@ -610,6 +610,7 @@ def search(sg: SearchGraph, table: ReservationTable, *, owner: str, start: int, 
         fuse = min(fuse, budget)
     out_edges, edges, variants_kept, boxes = sg.out, sg.edges, sg._variants, sg._boxes
     nearby, blocked, is_free = table.nearby, table.blocked, table.is_free
+    gathered: dict = {}  # what the table holds near each edge, by time buckets (see nearby)
     while heap:
         _, _, sid = heappop(heap)
         node, lvl, t, out = states[sid]
@@ -666,7 +667,7 @@ def search(sg: SearchGraph, table: ReservationTable, *, owner: str, start: int, 
                 continue
             cells = sg.edge_cells(ei, variants[0][1])
             # who is near the edge while any variant drives it (nobody: no exact test needed)
-            near = nearby(cells, t, latest + longest, ignore=owner)
+            near = nearby(cells, t, latest + longest, ignore=owner, memo=gathered)
             if near.ids:  # only those near what it sweeps (worked out only now: when needed)
                 near = near.within(boxes.get((ei, lvl)) or sg.sweep_box(ei, lvl))
             kind = ek if ek in ("park", "leave") else "drive"
