@@ -10,6 +10,7 @@ from shapely.geometry import box
 from lotsim.geometry import Segment
 from lotsim.planners.reservation import (
     ReservationTable,
+    Swept,
     standing_body,
     swept_motion,
     swept_trajectory,
@@ -421,3 +422,30 @@ def test_boxes_in_the_same_cells_share_one_tuple_of_cells():
     assert a == ((0, 0), (0, 1), (1, 0), (1, 1))
     assert cells_of((1.0, 1.0, 8.0, 8.0)) is a
     assert _cells_of_all(np.array([[2.0, 3.0, 9.0, 10.0]]))[0] is a
+
+
+def test_a_swept_knows_its_extent_and_whether_its_intervals_come_in_order():
+    # extent against numpy's reductions of the rows' arrays; in_order against each pair of
+    # neighbours: motions' chunks (in order), shuffled ones, ties, one interval, none
+    rng = np.random.default_rng(29)
+    orders = 0
+    for n in [0, 1, 1, 2, 3, 5, 8] * 20:
+        t = np.cumsum(rng.choice([0.0, 0.5, rng.random()], size=n))
+        ends = t + rng.choice([0.0, 0.5], size=n)
+        if rng.integers(3) == 0:
+            perm = rng.permutation(n)
+            t, ends = t[perm], ends[perm]
+        out = [(float(a), float(z), box(x, y, x + 1 + rng.random(), y + 1 + rng.random()))
+               for a, z, x, y in zip(t, ends, rng.normal(0, 20, n), rng.normal(0, 20, n),
+                                     strict=True)]
+        sw = Swept.of(out)
+        if n == 0:
+            assert sw.extent == () and sw.in_order
+            continue
+        b = sw.bounds
+        assert sw.extent == (sw.t[:, 0].min(), sw.t[:, 1].max(), *b[:, :2].min(axis=0),
+                             *b[:, 2:].max(axis=0))
+        want = all(p[0] <= q[0] and p[1] <= q[1] for p, q in zip(out, out[1:], strict=False))
+        assert sw.in_order == want
+        orders += not want
+    assert orders > 5  # some out of order

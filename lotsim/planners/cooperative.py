@@ -554,7 +554,7 @@ def search(sg: SearchGraph, table: ReservationTable, *, owner: str, start: int, 
     loss = [(top - v) ** 2 / (2 * lim.max_accel * top) + stop for v in sg.levels]
     parked_until: dict[int, float] = {}  # park edge → till when its pose is taken [s]
     in_way: dict[int, list[tuple[float, float]]] = {}  # node → when standing there is not
-    h_of: dict[int, float] = {}  # node → its heuristic, inf where the goal is out of reach
+    h_of: dict[int, float] = {}  # node → WEIGHT × its heuristic, inf: the goal out of reach
     inf = math.inf
     heappush, heappop = heapq.heappush, heapq.heappop
 
@@ -565,17 +565,17 @@ def search(sg: SearchGraph, table: ReservationTable, *, owner: str, start: int, 
             last = passed.get((node, lvl))
             if last is not None and t - last < PASSING:
                 return
-        hv = h_of.get(node)
-        if hv is None:
+        wh = h_of.get(node)
+        if wh is None:
             hv = h(node)
             if h is not rra and hv != inf and rra(node) == inf:
                 hv = inf
-            h_of[node] = hv
-        if hv == inf:
+            wh = h_of[node] = WEIGHT * hv
+        if wh == inf:
             return
         states.append((node, lvl, t, out))
         parent.append((par, step))
-        heappush(heap, (t + (WEIGHT * hv + loss[lvl]), -t, len(states) - 1))  # ties: deepest
+        heappush(heap, (t + (wh + loss[lvl]), -t, len(states) - 1))  # ties: deepest
 
     def moves_of(step: tuple | None) -> tuple[Move, ...]:
         """The moves of a step: from ``node`` (at ``lvl``, at ``t``) along edge ``ei`` from
@@ -609,6 +609,7 @@ def search(sg: SearchGraph, table: ReservationTable, *, owner: str, start: int, 
     if budget is not None:
         fuse = min(fuse, budget)
     out_edges, edges, variants_kept, boxes = sg.out, sg.edges, sg._variants, sg._boxes
+    cells_kept = sg._cells
     nearby, blocked, is_free = table.nearby, table.blocked, table.is_free
     gathered: dict = {}  # what the table holds near each edge, by time buckets (see nearby)
     while heap:
@@ -665,7 +666,7 @@ def search(sg: SearchGraph, table: ReservationTable, *, owner: str, start: int, 
             variants, longest = variants_kept.get((ei, lvl)) or sg.variants(ei, lvl)
             if not variants:
                 continue
-            cells = sg.edge_cells(ei, variants[0][1])
+            cells = cells_kept.get(ei) or sg.edge_cells(ei, variants[0][1])
             # who is near the edge while any variant drives it (nobody: no exact test needed)
             near = nearby(cells, t, latest + longest, ignore=owner, memo=gathered)
             if near.ids:  # only those near what it sweeps (worked out only now: when needed)
