@@ -449,3 +449,25 @@ def test_a_swept_knows_its_extent_and_whether_its_intervals_come_in_order():
         assert sw.in_order == want
         orders += not want
     assert orders > 5  # some out of order
+
+
+def test_reserving_a_swept_files_it_as_its_intervals_one_by_one():
+    # a Swept's known bounds and cells (motions' chunks and a held body, long and short,
+    # shifted) against the table working them out from each hull: the same rows, boxes,
+    # grid and long cells
+    rng = np.random.default_rng(30)
+    for _ in range(30):
+        sws = [_random_swept(rng) for _ in range(3)]
+        sws.append(sws[0].held(float(rng.integers(0, 50)), float(rng.integers(60, 200))))
+        a, b = ReservationTable(), ReservationTable()
+        for k, sw in enumerate(sws):
+            d = float(rng.integers(-10, 100)) / 4
+            a.reserve(f"o{k}", sw, offset=d)
+            b.reserve(f"o{k}", list(sw), offset=d)
+        assert a._store.rows == b._store.rows
+        n = a._store.n
+        assert np.array_equal(a._store.box[:n], b._store.box[:n])
+        assert np.array_equal(a._store.t[:n], b._store.t[:n])
+        assert a._grid == b._grid and a._long_cells == b._long_cells
+        assert a._store.rows == [(*a._store.t[i], *shapely.bounds(a._store.geom[i]))
+                                 for i in range(n)]

@@ -318,7 +318,12 @@ class _Store:
         self.rows: list[tuple[float, ...] | None] = []
 
     def add(self, owner: int, t0: float, t1: float, geom: BaseGeometry,
-            in_slot: bool = False) -> int:
+            in_slot: bool = False, bounds: Sequence[float] | None = None) -> int:
+        """Entry ``i`` (returned): ``geom`` held by ``owner`` from ``t0`` to ``t1`` [s];
+        ``bounds``, if given, ``geom.bounds`` worked out before (as a :class:`Swept`'s rows
+        hold them: the same floats)."""
+        if bounds is None:
+            bounds = geom.bounds
         if self.n == len(self.owner):
             cap = 2 * self.n
             for name in ("owner", "t", "box", "alive", "in_slot", "geom"):
@@ -330,12 +335,12 @@ class _Store:
         i = self.n
         self.owner[i] = owner
         self.t[i] = (t0, t1)
-        self.box[i] = geom.bounds
+        self.box[i] = bounds
         self.alive[i] = True
         self.in_slot[i] = in_slot
         self.geom[i] = geom
         self.who.append(owner)
-        self.rows.append((*self.t[i].tolist(), *self.box[i].tolist()))
+        self.rows.append((float(t0), float(t1), *map(float, bounds)))  # (the arrays' floats)
         self.n += 1
         return i
 
@@ -385,6 +390,11 @@ class ReservationTable:
     def reserve(self, owner: str, intervals: Iterable[Interval], *, offset: float = 0.0) -> None:
         """Hold each ``(t0, t1, body)`` for ``owner``, shifted by ``offset`` [s]."""
         oid = self._owner_id(owner)
+        if isinstance(intervals, Swept):  # its bounds and cells are known
+            for (t0, t1, *bounds), geom, cells in zip(intervals.rows, intervals.geoms,
+                                                      intervals.cells, strict=True):
+                self._add(oid, t0 + offset, t1 + offset, geom, bounds=bounds, cells=cells)
+            return
         for t0, t1, geom in intervals:
             self._add(oid, t0 + offset, t1 + offset, geom)
 
@@ -780,22 +790,21 @@ class ReservationTable:
         """Ids of the entries filed in grid ``cells`` in time buckets ``k0 .. k1``, and of
         the long entries filed there by space only: the candidates a query tests."""
         grid, long_cells = self._grid, self._long_cells
-        found: set[int] = set()
+        # the lists filed, gathered by comprehensions and put in the set by one call
+        parts: list[list[int]] = []
         for cell in cells:
             by_bucket = grid.get(cell)
             if by_bucket is not None:
                 if k1 - k0 >= len(by_bucket):  # a long window: what the cell holds is less
-                    for k, hit in by_bucket.items():
-                        if k0 <= k <= k1:
-                            found.update(hit)
+                    parts += [ids for k, ids in by_bucket.items() if k0 <= k <= k1]
                 else:
-                    for k in range(k0, k1 + 1):
-                        hit = by_bucket.get(k)
-                        if hit:
-                            found.update(hit)
-            hit = long_cells.get(cell)
-            if hit:
-                found.update(hit)
+                    get = by_bucket.get
+                    parts += [ids for k in range(k0, k1 + 1) if (ids := get(k))]
+            ids = long_cells.get(cell)
+            if ids:
+                parts.append(ids)
+        found: set[int] = set()
+        found.update(*parts)
         return found
 
     def _last_bucket(self, t: float) -> int:
@@ -805,12 +814,18 @@ class ReservationTable:
         return math.floor((last + _EPS) / self.bucket) if last > -math.inf else -(2 ** 62)
 
     def _add(self, oid: int, t0: float, t1: float, geom: BaseGeometry, *,
-             in_slot: bool = False) -> None:
-        i = self._store.add(oid, t0, t1, geom, in_slot)
+             in_slot: bool = False, bounds: Sequence[float] | None = None,
+             cells: tuple[tuple[int, int], ...] | None = None) -> None:
+        """File ``geom`` held from ``t0`` to ``t1`` [s]; ``bounds`` and ``cells``, if given,
+        its bounds and :func:`cells_of` them, worked out before."""
+        if bounds is None:
+            bounds = geom.bounds
+        i = self._store.add(oid, t0, t1, geom, in_slot, bounds)
         self._by_owner.setdefault(oid, []).append(i)
         if in_slot:
             return  # found by free_from's scan of the whole store only
-        cells = cells_of(geom.bounds)
+        if cells is None:
+            cells = cells_of(bounds)
         if math.isinf(t0) or math.isinf(t1) or math.floor(t1 / self.bucket) - math.floor(
                 t0 / self.bucket) > _LONG:
             for cell in cells:
@@ -913,6 +928,8 @@ def _pairs_in_order(sw: Swept, ids: list[int], rows: list[tuple[float, ...]], of
 
 def _merged(lo: list[float], hi: list[float]) -> list[tuple[float, float]]:
     """The union of closed intervals ``[lo[k], hi[k]]`` as sorted disjoint ones."""
+    if len(lo) < 2:  # (nothing to sort or join)
+        return list(zip(lo, hi, strict=True))
     out: list[tuple[float, float]] = []
     for a, z in sorted(zip(lo, hi, strict=True)):
         if out and a <= out[-1][1]:
