@@ -471,3 +471,39 @@ def test_reserving_a_swept_files_it_as_its_intervals_one_by_one():
         assert a._grid == b._grid and a._long_cells == b._long_cells
         assert a._store.rows == [(*a._store.t[i], *shapely.bounds(a._store.geom[i]))
                                  for i in range(n)]
+
+
+@pytest.mark.parametrize("few", [True, False])
+def test_blocked_departures_of_bodies_and_motions_are_those_a_brute_force_finds(
+        few, monkeypatch):
+    # blocked (gathering its own candidates) against every entry and hull tested with
+    # shapely and the definition's interval [t0 - z, t1 - a] (widened by eps) merged: a
+    # standing body (one hull) and motions, Python's way and numpy's
+    from lotsim.planners import reservation
+
+    if not few:
+        monkeypatch.setattr(reservation, "_FEW_PAIRS", 0)
+    rng = np.random.default_rng(31)
+    found = 0
+    for _ in range(60):
+        table = _random_table(rng, n=int(rng.choice([40, 200])))
+        st = table._store
+        ignore = "o2" if rng.integers(2) else None
+        skip = table._ids.get(ignore, -1)
+        moving = _random_swept(rng)
+        for sw in (moving, moving.held(0.0, 0.0)):
+            since = float(rng.integers(0, 120)) / 2
+            until = since + float(rng.choice([0, rng.integers(0, 10), rng.integers(100, 7200)]))
+            lo, hi = [], []
+            for (a, z), g in zip(sw.t, sw.geoms, strict=True):
+                for i in range(st.n):
+                    if (st.alive[i] and not st.in_slot[i] and st.owner[i] != skip
+                            and shapely.intersects(g, st.geom[i])):
+                        low, high = st.t[i, 0] - z - 1e-9, st.t[i, 1] - a + 1e-9
+                        if high >= since and low <= until:
+                            lo.append(float(low))
+                            hi.append(float(high))
+            want = reservation._merged(lo, hi)
+            assert table.blocked(sw, since, until, ignore=ignore) == want
+            found += bool(want)
+    assert found >= 30

@@ -256,10 +256,13 @@ def _block(x0: int, y0: int, x1: int, y1: int) -> tuple[tuple[int, int], ...]:
     return tuple((i, j) for i in range(x0, x1 + 1) for j in range(y0, y1 + 1))
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(slots=True)
 class Near:
     """Entries filed near a query (:meth:`ReservationTable.nearby`): their ids, ascending,
-    and each one's ``(t0, t1, x0, y0, x1, y1)``; false when there are none."""
+    and each one's ``(t0, t1, x0, y0, x1, y1)``; false when there are none.
+
+    (Never changed once made, but not frozen: a search makes one or two for every edge it
+    looks along, and a frozen dataclass takes over twice as long to make.)"""
 
     ids: list[int]
     rows: list[tuple[float, ...]]
@@ -632,13 +635,14 @@ class ReservationTable:
         st = self._store
         b = self.bucket
         first, last = since + sw.extent[0], until + sw.extent[1]
-        if cells is None:
-            cells = sorted({c for cs in sw.cells for c in cs})
+        if cells is None:  # (one hull's cells are distinct already)
+            cells = sw.cells[0] if len(sw.cells) == 1 else {c for cs in sw.cells for c in cs}
         found = self._filed(cells, math.floor((first - _EPS) / b), self._last_bucket(last))
         if not found:
             return []
         if len(found) * len(sw) <= _FEW_PAIRS:
-            return self._blocked_few(sw, sorted(found), since, until, first, last, skip)
+            # (in any order: the intervals are sorted when merged)
+            return self._blocked_few(sw, found, since, until, first, last, skip)
         ids = np.fromiter(sorted(found), dtype=np.int64, count=len(found))
         ids = ids[st.alive[ids] & (st.owner[ids] != skip) & (st.t[ids, 0] <= last + _EPS)
                   & (st.t[ids, 1] >= first - _EPS)]
@@ -659,7 +663,7 @@ class ReservationTable:
         keep = (hi >= since) & (lo <= until)
         return _merged(lo[keep].tolist(), hi[keep].tolist())
 
-    def _blocked_few(self, sw: Swept, found: list[int], since: float, until: float,
+    def _blocked_few(self, sw: Swept, found: Iterable[int], since: float, until: float,
                      first: float, last: float, skip: int) -> list[tuple[float, float]]:
         """:meth:`blocked` for a few candidate pairs, filtered one by one: there numpy's
         fixed cost per call is more than the work (with this, the 16682 queries of 100
@@ -672,17 +676,26 @@ class ReservationTable:
         lo_t, hi_t = first - _EPS, last + _EPS
         pj: list[int] = []
         pi: list[int] = []
-        for i in found:
-            r = rows[i]
-            if r is None or who[i] == skip:
-                continue
-            t0, t1, x0, y0, x1, y1 = r
-            if t0 > hi_t or t1 < lo_t:
-                continue
-            for j, (_, _, a0, b0, a1, b1) in enumerate(chunks):
-                if x0 <= a1 and x1 >= a0 and y0 <= b1 and y1 >= b0:
-                    pj.append(j)
+        if len(chunks) == 1:  # a standing body (the search asks for each node it stops at)
+            _, _, a0, b0, a1, b1 = chunks[0]
+            for i in found:
+                r = rows[i]
+                if r is not None and who[i] != skip and r[0] <= hi_t and r[1] >= lo_t and (
+                        r[2] <= a1 and r[4] >= a0 and r[3] <= b1 and r[5] >= b0):
                     pi.append(i)
+            pj = [0] * len(pi)
+        else:
+            for i in found:
+                r = rows[i]
+                if r is None or who[i] == skip:
+                    continue
+                t0, t1, x0, y0, x1, y1 = r
+                if t0 > hi_t or t1 < lo_t:
+                    continue
+                for j, (_, _, a0, b0, a1, b1) in enumerate(chunks):
+                    if x0 <= a1 and x1 >= a0 and y0 <= b1 and y1 >= b0:
+                        pj.append(j)
+                        pi.append(i)
         if not pj:
             return []
         lo: list[float] = []
