@@ -134,11 +134,14 @@ def swept_motions(motions: Sequence[Motion], vehicle: VehicleType, *, chunk: flo
                           strict=True)
     s = np.concatenate(s)
     pts = vehicle.footprints(first[0].poses(s)[0])
-    n = np.array([len(e) for e in edges])
-    start = np.concatenate([[0], np.cumsum(n)[:-1]])
-    # chunk i of a motion takes its samples i and i + 1
-    first_sample = np.concatenate([b + np.arange(k - 1) for b, k in zip(start, n, strict=True)])
-    idx = np.column_stack([first_sample, first_sample + 1]).ravel()
+    # chunk i of a motion takes its samples i and i + 1 (a motion's samples start after the
+    # previous motion's): the indices as a Python list, a few motions' worth
+    idx: list[int] = []
+    start = 0
+    for e in edges:
+        for i in range(start, start + len(e) - 1):
+            idx += (i, i + 1)
+        start += len(e)
     # one linestring of 8 corners a chunk: as an (N, 8, 2) array, not by indices (the
     # same points, several times quicker to build)
     hulls = shapely.convex_hull(shapely.linestrings(pts[idx].reshape(-1, 8, 2)))
