@@ -5,6 +5,7 @@ import math
 import numpy as np
 import pytest
 import shapely
+import shapely.affinity
 from shapely.geometry import box
 
 from lotsim.geometry import Segment
@@ -272,6 +273,10 @@ def test_queries_among_the_nearby_entries_answer_as_the_table_and_a_brute_force_
                 assert table.first_conflict(sw, offset=d, ignore=ignore) == got
                 assert table.first_conflict(sw, offset=d, ignore=ignore, among=inside) == got
                 assert table.is_free(sw, offset=d, ignore=ignore, among=near) == (got is None)
+                pairs = reservation._pairs(sw, near, d)
+                anyhow = reservation._pairs(sw, near, d, ordered=False)
+                assert sorted(zip(*pairs, strict=True)) == list(zip(*pairs, strict=True))
+                assert sorted(zip(*anyhow, strict=True)) == list(zip(*pairs, strict=True))
                 assert table.is_free(sw, offset=d, ignore=ignore, among=inside) == (got is None)
                 assert ((None if got is None else (got.owner, got.t0, got.t1))
                         == _brute_first_conflict(table, sw, d, ignore))
@@ -491,6 +496,8 @@ def test_blocked_departures_of_bodies_and_motions_are_those_a_brute_force_finds(
         ignore = "o2" if rng.integers(2) else None
         skip = table._ids.get(ignore, -1)
         moving = _random_swept(rng)
+        if rng.integers(2):  # diamonds: boxes that meet, bodies that may not
+            moving = Swept.of([(a, z, shapely.affinity.rotate(g, 45)) for a, z, g in moving])
         for sw in (moving, moving.held(0.0, 0.0)):
             since = float(rng.integers(0, 120)) / 2
             until = since + float(rng.choice([0, rng.integers(0, 10), rng.integers(100, 7200)]))
@@ -505,5 +512,9 @@ def test_blocked_departures_of_bodies_and_motions_are_those_a_brute_force_finds(
                             hi.append(float(high))
             want = reservation._merged(lo, hi)
             assert table.blocked(sw, since, until, ignore=ignore) == want
+            # and among the entries gathered near it (as a search asks, from rest)
+            cells = sorted({c for cs in sw.cells for c in cs})
+            near = table.nearby(cells, since, until + sw.extent[1], ignore=ignore)
+            assert table.blocked(sw, since, until, ignore=ignore, among=near) == want
             found += bool(want)
     assert found >= 30

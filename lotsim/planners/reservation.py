@@ -731,18 +731,29 @@ class ReservationTable:
         if not pj:
             return []
         st = self._store
-        hit = shapely.intersects(sw.geoms[pj], st.geom[pi])
+        # each pair's interval first, and only the pairs whose interval reaches into
+        # [since, until] tested by shapely (about 30 % of them do not, 100 cars into the
+        # large lot): the same intervals kept, with the same sums
         lo: list[float] = []
         hi: list[float] = []
+        qj: list[int] = []
+        qi: list[int] = []
         times, rows = sw.rows, st.rows
-        for met, j, i in zip(hit.tolist(), pj, pi, strict=True):
-            if met:
-                a, z = times[j][0], times[j][1]
-                t0, t1 = rows[i][:2]
-                if t1 - a + _EPS >= since and t0 - z - _EPS <= until:
-                    lo.append(t0 - z - _EPS)
-                    hi.append(t1 - a + _EPS)
-        return _merged(lo, hi)
+        for j, i in zip(pj, pi, strict=True):
+            a, z = times[j][0], times[j][1]
+            t0, t1 = rows[i][:2]
+            if t1 - a + _EPS >= since and t0 - z - _EPS <= until:
+                lo.append(t0 - z - _EPS)
+                hi.append(t1 - a + _EPS)
+                qj.append(j)
+                qi.append(i)
+        if not qj:
+            return []
+        hit = shapely.intersects(sw.geoms[qj], st.geom[qi]).tolist()
+        if False not in hit:
+            return _merged(lo, hi)
+        return _merged([x for x, met in zip(lo, hit, strict=True) if met],
+                       [x for x, met in zip(hi, hit, strict=True) if met])
 
     def taken_until(self, body: BaseGeometry, *, ignore: str | None = None) -> float:
         """Till when [s] someone else's body meets ``body`` (``inf``: for ever; ``-inf``:
@@ -768,7 +779,7 @@ class ReservationTable:
         if among is None or not isinstance(intervals, Swept):
             return self.first_conflict(intervals, offset=offset, ignore=ignore,
                                        among=among) is None
-        pairs_j, pairs_i = _pairs(intervals, among, offset)
+        pairs_j, pairs_i = _pairs(intervals, among, offset, ordered=False)
         return not pairs_i or True not in shapely.intersects(
             intervals.geoms[pairs_j], self._store.geom[pairs_i]).tolist()
 
@@ -866,11 +877,13 @@ def standing_body(vehicle: VehicleType, pose: FloatArray) -> BaseGeometry:
     return shapely.Polygon(vehicle.footprints(np.asarray(pose, dtype=float)[None, :])[0])
 
 
-def _pairs(sw: Swept, near: Near, offset: float | None) -> tuple[list[int], list[int]]:
+def _pairs(sw: Swept, near: Near, offset: float | None, ordered: bool = True
+           ) -> tuple[list[int], list[int]]:
     """The pairs ``(j, i)`` of ``sw``'s interval ``j`` and entry ``near.ids[k] = i`` whose
     bounding boxes meet and, unless ``offset`` is None, whose times overlap with ``sw``
     shifted by ``offset``: interval by interval, entries ascending (the order the earliest
-    conflict is read from)."""
+    conflict is read from), or, not ``ordered``, the same pairs in any order (for a
+    question of whether any meets)."""
     pj: list[int] = []
     pi: list[int] = []
     ids, rows = near.ids, near.rows
@@ -898,7 +911,7 @@ def _pairs(sw: Swept, near: Near, offset: float | None) -> tuple[list[int], list
                         pi.append(i)
             return pj, pi
         if len(sw.rows) > 2 and sw.in_order:
-            return _pairs_in_order(sw, ids, rows, offset)
+            return _pairs_in_order(sw, ids, rows, offset, ordered)
         for j, (a, z, x0, y0, x1, y1) in enumerate(sw.rows):
             a, z = a + offset, z + offset
             for i, (t0, t1, b0, c0, b1, c1) in zip(ids, rows, strict=True):
@@ -919,12 +932,12 @@ def _pairs(sw: Swept, near: Near, offset: float | None) -> tuple[list[int], list
     return jj.tolist(), np.asarray(ids, dtype=np.int64)[kk].tolist()
 
 
-def _pairs_in_order(sw: Swept, ids: list[int], rows: list[tuple[float, ...]], offset: float
-                    ) -> tuple[list[int], list[int]]:
+def _pairs_in_order(sw: Swept, ids: list[int], rows: list[tuple[float, ...]], offset: float,
+                    ordered: bool = True) -> tuple[list[int], list[int]]:
     """:func:`_pairs` with an offset for intervals whose starts and ends both never decrease
     (a motion's chunks): the intervals an entry overlaps in time are a run, found by two
     bisections, and only those are tested by box — the same tests, with the same sums, on
-    the same pairs, given in the same order."""
+    the same pairs, given in the same order (entry by entry, unless ``ordered``)."""
     boxes = sw.rows
     # interval j overlaps an entry from t0 to t1 if t1 >= a_j + offset - eps (from the first
     # j on) and t0 <= z_j + offset + eps (up to the last j): the sums, in the same order of
@@ -932,6 +945,16 @@ def _pairs_in_order(sw: Swept, ids: list[int], rows: list[tuple[float, ...]], of
     lo = [r[0] + offset - _EPS for r in boxes]
     hi = [r[1] + offset + _EPS for r in boxes]
     left, right = bisect.bisect_left, bisect.bisect_right
+    if not ordered:
+        pj: list[int] = []
+        pi: list[int] = []
+        for i, (t0, t1, b0, c0, b1, c1) in zip(ids, rows, strict=True):
+            for j in range(left(hi, t0), right(lo, t1)):
+                _, _, x0, y0, x1, y1 = boxes[j]
+                if b0 <= x1 and b1 >= x0 and c0 <= y1 and c1 >= y0:
+                    pj.append(j)
+                    pi.append(i)
+        return pj, pi
     found: list[tuple[int, int, int]] = []
     for k, (i, (t0, t1, b0, c0, b1, c1)) in enumerate(zip(ids, rows, strict=True)):
         for j in range(left(hi, t0), right(lo, t1)):
