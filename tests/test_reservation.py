@@ -5,11 +5,13 @@ import math
 import numpy as np
 import pytest
 import shapely
+import shapely.affinity
 from shapely.geometry import box
 
 from lotsim.geometry import Segment
 from lotsim.planners.reservation import (
     ReservationTable,
+    Swept,
     standing_body,
     swept_motion,
     swept_trajectory,
@@ -257,11 +259,25 @@ def test_queries_among_the_nearby_entries_answer_as_the_table_and_a_brute_force_
                               box=(*b[:, :2].min(axis=0), *b[:, 2:].max(axis=0)))
         assert set(inside.ids) <= set(near.ids)
         assert near.within((*b[:, :2].min(axis=0), *b[:, 2:].max(axis=0))) == inside
+        # kept in a memo (as a search keeps it): the same answers, asked first or again, and
+        # for other windows over the same time buckets (the exact times compared each time)
+        memo: dict = {}
+        for late in (0.0, 0.0, 0.25, 0.5, 0.75):
+            t0, t1 = since + late, until + longest - late
+            for bx in (None, (*b[:, :2].min(axis=0), *b[:, 2:].max(axis=0))):
+                assert (table.nearby(tuple(cells), t0, t1, ignore=ignore, box=bx, memo=memo)
+                        == table.nearby(cells, t0, t1, ignore=ignore, box=bx))
         for sw in sws:
             for d in (since, float(rng.integers(2 * since, 2 * until + 1)) / 2):
                 got = table.first_conflict(sw, offset=d, ignore=ignore, among=near)
                 assert table.first_conflict(sw, offset=d, ignore=ignore) == got
                 assert table.first_conflict(sw, offset=d, ignore=ignore, among=inside) == got
+                assert table.is_free(sw, offset=d, ignore=ignore, among=near) == (got is None)
+                pairs = reservation._pairs(sw, near, d)
+                anyhow = reservation._pairs(sw, near, d, ordered=False)
+                assert sorted(zip(*pairs, strict=True)) == list(zip(*pairs, strict=True))
+                assert sorted(zip(*anyhow, strict=True)) == list(zip(*pairs, strict=True))
+                assert table.is_free(sw, offset=d, ignore=ignore, among=inside) == (got is None)
                 assert ((None if got is None else (got.owner, got.t0, got.t1))
                         == _brute_first_conflict(table, sw, d, ignore))
                 clashes += got is not None
@@ -411,3 +427,94 @@ def test_boxes_in_the_same_cells_share_one_tuple_of_cells():
     assert a == ((0, 0), (0, 1), (1, 0), (1, 1))
     assert cells_of((1.0, 1.0, 8.0, 8.0)) is a
     assert _cells_of_all(np.array([[2.0, 3.0, 9.0, 10.0]]))[0] is a
+
+
+def test_a_swept_knows_its_extent_and_whether_its_intervals_come_in_order():
+    # extent against numpy's reductions of the rows' arrays; in_order against each pair of
+    # neighbours: motions' chunks (in order), shuffled ones, ties, one interval, none
+    rng = np.random.default_rng(29)
+    orders = 0
+    for n in [0, 1, 1, 2, 3, 5, 8] * 20:
+        t = np.cumsum(rng.choice([0.0, 0.5, rng.random()], size=n))
+        ends = t + rng.choice([0.0, 0.5], size=n)
+        if rng.integers(3) == 0:
+            perm = rng.permutation(n)
+            t, ends = t[perm], ends[perm]
+        out = [(float(a), float(z), box(x, y, x + 1 + rng.random(), y + 1 + rng.random()))
+               for a, z, x, y in zip(t, ends, rng.normal(0, 20, n), rng.normal(0, 20, n),
+                                     strict=True)]
+        sw = Swept.of(out)
+        if n == 0:
+            assert sw.extent == () and sw.in_order
+            continue
+        b = sw.bounds
+        assert sw.extent == (sw.t[:, 0].min(), sw.t[:, 1].max(), *b[:, :2].min(axis=0),
+                             *b[:, 2:].max(axis=0))
+        want = all(p[0] <= q[0] and p[1] <= q[1] for p, q in zip(out, out[1:], strict=False))
+        assert sw.in_order == want
+        orders += not want
+    assert orders > 5  # some out of order
+
+
+def test_reserving_a_swept_files_it_as_its_intervals_one_by_one():
+    # a Swept's known bounds and cells (motions' chunks and a held body, long and short,
+    # shifted) against the table working them out from each hull: the same rows, boxes,
+    # grid and long cells
+    rng = np.random.default_rng(30)
+    for _ in range(30):
+        sws = [_random_swept(rng) for _ in range(3)]
+        sws.append(sws[0].held(float(rng.integers(0, 50)), float(rng.integers(60, 200))))
+        a, b = ReservationTable(), ReservationTable()
+        for k, sw in enumerate(sws):
+            d = float(rng.integers(-10, 100)) / 4
+            a.reserve(f"o{k}", sw, offset=d)
+            b.reserve(f"o{k}", list(sw), offset=d)
+        assert a._store.rows == b._store.rows
+        n = a._store.n
+        assert np.array_equal(a._store.box[:n], b._store.box[:n])
+        assert np.array_equal(a._store.t[:n], b._store.t[:n])
+        assert a._grid == b._grid and a._long_cells == b._long_cells
+        assert a._store.rows == [(*a._store.t[i], *shapely.bounds(a._store.geom[i]))
+                                 for i in range(n)]
+
+
+@pytest.mark.parametrize("few", [True, False])
+def test_blocked_departures_of_bodies_and_motions_are_those_a_brute_force_finds(
+        few, monkeypatch):
+    # blocked (gathering its own candidates) against every entry and hull tested with
+    # shapely and the definition's interval [t0 - z, t1 - a] (widened by eps) merged: a
+    # standing body (one hull) and motions, Python's way and numpy's
+    from lotsim.planners import reservation
+
+    if not few:
+        monkeypatch.setattr(reservation, "_FEW_PAIRS", 0)
+    rng = np.random.default_rng(31)
+    found = 0
+    for _ in range(60):
+        table = _random_table(rng, n=int(rng.choice([40, 200])))
+        st = table._store
+        ignore = "o2" if rng.integers(2) else None
+        skip = table._ids.get(ignore, -1)
+        moving = _random_swept(rng)
+        if rng.integers(2):  # diamonds: boxes that meet, bodies that may not
+            moving = Swept.of([(a, z, shapely.affinity.rotate(g, 45)) for a, z, g in moving])
+        for sw in (moving, moving.held(0.0, 0.0)):
+            since = float(rng.integers(0, 120)) / 2
+            until = since + float(rng.choice([0, rng.integers(0, 10), rng.integers(100, 7200)]))
+            lo, hi = [], []
+            for (a, z), g in zip(sw.t, sw.geoms, strict=True):
+                for i in range(st.n):
+                    if (st.alive[i] and not st.in_slot[i] and st.owner[i] != skip
+                            and shapely.intersects(g, st.geom[i])):
+                        low, high = st.t[i, 0] - z - 1e-9, st.t[i, 1] - a + 1e-9
+                        if high >= since and low <= until:
+                            lo.append(float(low))
+                            hi.append(float(high))
+            want = reservation._merged(lo, hi)
+            assert table.blocked(sw, since, until, ignore=ignore) == want
+            # and among the entries gathered near it (as a search asks, from rest)
+            cells = sorted({c for cs in sw.cells for c in cs})
+            near = table.nearby(cells, since, until + sw.extent[1], ignore=ignore)
+            assert table.blocked(sw, since, until, ignore=ignore, among=near) == want
+            found += bool(want)
+    assert found >= 30
