@@ -41,7 +41,6 @@ _LONG = 16  # entries spanning more time buckets than this are filed by space on
 _EPS = 1e-9
 _FEW_PAIRS = 256  # candidate pairs up to which ReservationTable.blocked filters in Python
 _FEW_ENTRIES = 512  # candidate entries up to which ReservationTable.nearby filters in Python
-_EMPTY: dict[int, list[int]] = {}  # a cell with nothing filed (never written to)
 
 Interval = tuple[float, float, BaseGeometry]
 """A body held from ``t0`` to ``t1`` [s]."""
