@@ -564,15 +564,7 @@ class ReservationTable:
         skip = self._ids.get(ignore, -1) if ignore is not None else -1
         st = self._store
         if len(found) <= _FEW_ENTRIES:
-            ids: list[int] = []
-            rows: list[tuple[float, ...]] = []
-            who, live = st.who, st.rows
-            for i in sorted(found):
-                r = live[i]
-                if r is not None and who[i] != skip:
-                    ids.append(i)
-                    rows.append(r)
-            return _within_window(ids, rows, t0, t1, box)
+            return _within_window(*self._live(found, skip), t0, t1, box)
         x0, y0, x1, y1 = box if box is not None else (math.inf, math.inf, -math.inf, -math.inf)
         ids = np.fromiter(sorted(found), dtype=np.int64, count=len(found))
         ids = ids[st.alive[ids] & (st.owner[ids] != skip) & (st.t[ids, 0] <= t1 + _EPS)
@@ -591,9 +583,13 @@ class ReservationTable:
         found = self._filed(cells, k0, k1)
         if not found:
             return [], []
-        skip = self._ids.get(ignore, -1) if ignore is not None else -1
-        st = self._store
-        who, live = st.who, st.rows
+        return self._live(found, self._ids.get(ignore, -1) if ignore is not None else -1)
+
+    def _live(self, found: Iterable[int], skip: int
+              ) -> tuple[list[int], list[tuple[float, ...]]]:
+        """The ids, ascending, and rows of those of entries ``found`` that are live and not
+        owned by ``skip``."""
+        who, live = self._store.who, self._store.rows
         ids = [i for i in sorted(found) if live[i] is not None and who[i] != skip]
         return ids, [live[i] for i in ids]
 
@@ -944,24 +940,15 @@ def _pairs_in_order(sw: Swept, ids: list[int], rows: list[tuple[float, ...]], of
     lo = [r[0] + offset - _EPS for r in boxes]
     hi = [r[1] + offset + _EPS for r in boxes]
     left, right = bisect.bisect_left, bisect.bisect_right
-    if not ordered:
-        pj: list[int] = []
-        pi: list[int] = []
-        for i, (t0, t1, b0, c0, b1, c1) in zip(ids, rows, strict=True):
-            for j in range(left(hi, t0), right(lo, t1)):
-                _, _, x0, y0, x1, y1 = boxes[j]
-                if b0 <= x1 and b1 >= x0 and c0 <= y1 and c1 >= y0:
-                    pj.append(j)
-                    pi.append(i)
-        return pj, pi
-    found: list[tuple[int, int, int]] = []
-    for k, (i, (t0, t1, b0, c0, b1, c1)) in enumerate(zip(ids, rows, strict=True)):
+    found: list[tuple[int, int]] = []  # (j, i), entry by entry
+    for i, (t0, t1, b0, c0, b1, c1) in zip(ids, rows, strict=True):
         for j in range(left(hi, t0), right(lo, t1)):
             _, _, x0, y0, x1, y1 = boxes[j]
             if b0 <= x1 and b1 >= x0 and c0 <= y1 and c1 >= y0:
-                found.append((j, k, i))
-    found.sort()
-    return [j for j, _, _ in found], [i for _, _, i in found]
+                found.append((j, i))
+    if ordered:  # interval by interval, entries ascending (ids are)
+        found.sort()
+    return [j for j, _ in found], [i for _, i in found]
 
 
 def _merged(lo: list[float], hi: list[float]) -> list[tuple[float, float]]:
