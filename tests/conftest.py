@@ -24,10 +24,13 @@ ROOT = Path(__file__).resolve().parents[1]
 
 # prepared lots are cached for this session only (and for the lotsim processes it starts):
 # each lot is planned in full the first time a test prepares it, never read from a
-# developer's own cache
-_CACHE = tempfile.mkdtemp(prefix="lotsim-test-cache-")
-os.environ["LOTSIM_CACHE_DIR"] = _CACHE
-atexit.register(shutil.rmtree, _CACHE, True)
+# developer's own cache. pytest-xdist's workers inherit the folder from the process that
+# started them, so they share it; that process removes it at the end.
+_SESSION_CACHE = "LOTSIM_TEST_SESSION_CACHE"
+if _SESSION_CACHE not in os.environ:
+    os.environ[_SESSION_CACHE] = tempfile.mkdtemp(prefix="lotsim-test-cache-")
+    atexit.register(shutil.rmtree, os.environ[_SESSION_CACHE], True)
+os.environ["LOTSIM_CACHE_DIR"] = os.environ[_SESSION_CACHE]
 SCENARIOS = sorted((ROOT / "scenarios").glob("*.yaml"))
 
 ONE_AISLE = """\
