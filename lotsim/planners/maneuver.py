@@ -766,13 +766,20 @@ class ManeuverPlanner:
             lane_x = (max(lo, -half, first - s0), min(lo + seg.length, half, last - s0))
         index = self._index[slot.id]
         win = self._window(slot, frame, half)
+        shapely.prepare(win)
         # the slot itself is the car's to fill: no margin to its own lines
         allowed = self._region.union(slot.shape).intersection(win)
         shapely.prepare(allowed)
         near = [int(k) for k in self._tree.query(win) if k != index]
-        # the margin around neighbours stops at this slot's lines: the car may fill its slot
-        obstacles = (shapely.difference(self._polys[near], slot.shape) if near
-                     else np.zeros(0, dtype=object))
+        # the margin around neighbours stops at this slot's lines: the car may fill its slot.
+        # Inside the window, those clear of the slot are kept as they are (the same shapes as
+        # their difference, in another vertex order); those across its edge are made as
+        # before, as :meth:`_digest` cuts them at the edge (a cut's rounded corners follow
+        # the order of the vertices cut).
+        obstacles = self._polys[near]
+        cut = ~shapely.contains_properly(win, obstacles) | shapely.intersects(obstacles,
+                                                                              slot.shape)
+        obstacles[cut] = shapely.difference(obstacles[cut], slot.shape)
         return _Problem(vehicle, slot, lane, frame, lane_y, lane_x, s0, half, index, allowed,
                         obstacles, shapely.STRtree(obstacles), self.settings.sweep, win)
 
@@ -796,7 +803,12 @@ class ManeuverPlanner:
 
     def _digest(self, p: _Problem) -> bytes:
         """The car, the slot and the rounded local geometry within the window."""
-        clipped = np.concatenate([[p.allowed], shapely.intersection(p.obstacles, p.window)])
+        # only what reaches the window's edge is cut (the rest would come out as the same
+        # shape, and the key is of normalised shapes)
+        clipped = p.obstacles.copy()
+        cross = ~shapely.contains_properly(p.window, clipped)
+        clipped[cross] = shapely.intersection(clipped[cross], p.window)
+        clipped = np.concatenate([[p.allowed], clipped])
         local = sorted(_local_geometry(clipped, p.frame))
         v = p.vehicle
         s = p.slot
