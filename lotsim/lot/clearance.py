@@ -110,6 +110,8 @@ def first_blocked(blocked: Callable[[FloatArray], np.ndarray], prints: FloatArra
     idx = np.minimum(a[:, None] + np.arange(block + span - 1)[None, :],
                      b[:, None] + span - 2)  # their footprints
     bad = np.flatnonzero(blocked(prints[idx].reshape(len(a), -1, 2)))
+    if not bad.size:
+        return out
     of = (np.cumsum(new_run) - 1)[first[bad]]  # the run of each blocked block, in order
     rank = np.arange(len(bad)) - np.searchsorted(of, of)  # its place in its run
     done = np.zeros(int(of.max(initial=-1)) + 1, dtype=bool)
