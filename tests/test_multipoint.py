@@ -85,6 +85,35 @@ def test_a_multi_point_path_lands_on_the_lane_within_its_stretch_clear_of_everyt
     assert shapely.covers(lot, _bodies(np.concatenate(poses), CAR)).all()
 
 
+def test_checking_states_ahead_in_one_batch_finds_what_checking_one_at_a_time_does(
+        monkeypatch):
+    """The search checks the state it expands and the next few on its heap in one batch
+    (:data:`lotsim.lot.multipoint.AHEAD`); the paths found, to the last bit, are those of
+    checking each state as it is expanded, on the spur and street above, bare and with posts
+    and a kerb in it (many moves blocked, many last moves refused)."""
+    import lotsim.lot.multipoint as mp
+
+    lot = box(4, -12, 10, 0).union(box(0, 0, 16, 6))
+    def posts(*at):
+        return [("post", shapely.Point(x, y).buffer(0.3)) for x, y in at]
+
+    kerb = [("kerb", box(4.0, -12.0, 4.4, -6.0))]
+    problems = [((8.5, -8.0, math.pi / 2), (0.0, 1.5, 0.0), 9.0, 11.5),
+                ((8.5, -2.0, math.pi / 2), (16.0, 4.5, math.pi), 9.0, 12.0),
+                ((13.0, 4.5, math.pi), (0.0, 1.5, 0.0), 5.0, 9.0)]
+    found = {}
+    ahead = 6
+    for n in (1, ahead):
+        monkeypatch.setattr(mp, "AHEAD", n)
+        found[n] = [plan_onto([start], frame, lo, hi, Collider(obstacles, lot), CAR, 5.0,
+                              budget=600)
+                    for obstacles in ([], posts((1.0, 5.0), (15.0, 5.5)),
+                                      posts((0.5, 0.5), (15.5, 5.5), (12.5, 0.4)) + kerb)
+                    for start, frame, lo, hi in problems]
+    assert sum(x is not None for x in found[1]) == 7  # the posts leave two unreachable
+    assert found[ahead] == found[1]
+
+
 def test_a_multi_point_path_is_none_when_the_lane_cannot_be_reached():
     """A car facing a wall it cannot turn in front of, with the lane behind the wall."""
     lot = box(0, 0, 6, 6)

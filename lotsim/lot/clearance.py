@@ -42,8 +42,8 @@ class Collider:
         """Boolean mask of the ``bodies`` (N, K, 2 point sets, taken as hulls) that are not free."""
         polys = shapely.convex_hull(shapely.linestrings(bodies))
         bad = ~shapely.covers(self.allowed, polys)
-        hit = self.tree.query(polys, predicate="intersects")[0]
-        bad[hit] = True
+        free = np.flatnonzero(~bad)  # the others are blocked already
+        bad[free[self.tree.query(polys[free], predicate="intersects")[0]]] = True
         return bad
 
     @staticmethod

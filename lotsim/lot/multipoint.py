@@ -59,6 +59,10 @@ WEIGHT = 1.5
 IMPROVE = 300
 """Once a path is found, how many more states the search expands looking for a cheaper
 one."""
+AHEAD = 8
+"""States whose moves are checked at once: the one expanded and those nearest the top of the
+search's heap (most are expanded soon after; checking several in one batch costs less a
+state, and what the search finds is the same)."""
 CLOSING_RADII = (1.0, 1.25, 1.5, 2.0)
 """The last move's arc tries these multiples of the design radius."""
 
@@ -117,36 +121,15 @@ def plan_onto(starts: Sequence[Pose], frame: Pose, lo: float, hi: float,
     def world(local: FloatArray) -> FloatArray:
         return to_world(origin, local)
 
-    def blocked_paths(paths: list[list[Segment]]) -> np.ndarray:
-        """Which local ``paths`` touch something (one batch)."""
-        poses, owner = [], []
-        for k, segs in enumerate(paths):
-            p, _ = sample_segments(segs, STEP)
-            poses.append(p)
-            owner.append(np.full(len(p), k))
-        p, o = np.concatenate(poses), np.concatenate(owner)
-        runs = np.where(o[1:] == o[:-1], o[1:], -1)
-        bad = first_blocked(collider.blocked, body.footprints(world(p)), runs)
-        out = np.zeros(len(paths), dtype=bool)
-        out[runs[bad]] = True
-        return out
-
-    def finish(q: FloatArray) -> tuple[float, list[Segment]] | None:
-        """The shortest clear last move from local ``q`` onto the lane, and its length."""
-        found = [(sum(x.length for x in segs), segs) for segs in closings(q, span, radius)]
-        found += [(sum(x.length for x in segs), _mirror(segs))
-                  for segs in closings(_mirror_pose(q), span, radius)]
-        if not found:
-            return None
-        found.sort(key=lambda c: c[0])
-        bad = blocked_paths([segs for _, segs in found])
-        return next((found[k] for k in range(len(found)) if not bad[k]), None)
-
     def h(q: FloatArray) -> float:
         """Never more than the path still to drive: the distance to the landing stretch,
         and the arc that turns the car to the lane's heading at full lock."""
         return max(math.hypot(max(-q[0], 0.0, q[0] - span), q[1]),
                    radius * abs(math.remainder(q[2], 2 * math.pi)))
+
+    def cell(q: FloatArray) -> tuple[int, int, int]:
+        return (round(q[0] / CELL), round(q[1] / CELL),
+                round(q[2] / (2 * math.pi / HEADINGS)) % HEADINGS)
 
     # state: (local pose, gear of the last move, curvature, changes, parent, segment);
     # the first len(starts) are the starts
@@ -157,6 +140,42 @@ def plan_onto(starts: Sequence[Pose], frame: Pose, lo: float, hi: float,
     heap = [(WEIGHT * h(x[0]), k) for k, x in enumerate(states)]
     heapq.heapify(heap)
     closed: set[tuple[int, int, int]] = set()
+    # what expanding a state checks (its shortest clear last move, its blocked moves), for
+    # it and the states likely next (:data:`AHEAD`), in one batch
+    checked: dict[int, tuple[tuple[float, list[Segment]] | None, set[int]]] = {}
+
+    def check(sids: list[int]) -> None:
+        prints, runs, lasts = [], [], []
+        at = 0  # runs so far
+        for sid in sids:
+            q = states[sid][0]
+            found = [(sum(x.length for x in segs), segs) for segs in closings(q, span, radius)]
+            found += [(sum(x.length for x in segs), _mirror(segs))
+                      for segs in closings(_mirror_pose(q), span, radius)]
+            found.sort(key=lambda c: c[0])
+            lasts.append((found, at))
+            if found:  # the last moves, shortest first: one run each
+                sampled = [sample_segments(segs, STEP)[0] for _, segs in found]
+                owner = np.repeat(np.arange(len(sampled)), [len(x) for x in sampled])
+                prints.append(body.footprints(world(np.concatenate(sampled))))
+                runs.append(np.where(owner[1:] == owner[:-1], owner[1:] + at, -1))
+                runs.append([-1])
+                at += len(found)
+            poses = advance(q, np.concatenate([g * s for g, _ in moves]),
+                            np.repeat([k for _, k in moves], n + 1))
+            prints.append(body.footprints(world(poses)))
+            runs.append(np.where(run >= 0, run + at, -1))
+            runs.append([-1])
+            at += len(moves)
+        bad = first_blocked(collider.blocked, np.concatenate(prints),
+                            np.concatenate(runs[:-1]).astype(int))
+        hit = np.zeros(at, dtype=bool)
+        hit[np.concatenate(runs[:-1]).astype(int)[bad]] = True
+        for sid, (found, first) in zip(sids, lasts, strict=True):
+            last = next((found[k] for k in range(len(found)) if not hit[first + k]), None)
+            base = first + len(found)
+            checked[sid] = (last, {m for m in range(len(moves)) if hit[base + m]})
+
     best: tuple[float, int, list[Segment]] | None = None
     expanded = found_at = 0
     while heap and expanded < budget:
@@ -164,13 +183,16 @@ def plan_onto(starts: Sequence[Pose], frame: Pose, lo: float, hi: float,
         if best is not None and (f >= best[0] or expanded >= found_at + IMPROVE):
             break
         q, gear, kappa, changes, _, _ = states[sid]
-        key = (round(q[0] / CELL), round(q[1] / CELL),
-               round(q[2] / (2 * math.pi / HEADINGS)) % HEADINGS)
+        key = cell(q)
         if key in closed:
             continue
         closed.add(key)
         expanded += 1
-        last = finish(q)
+        if sid not in checked:
+            ahead = [k for _, k in sorted(heap[:2 * AHEAD])
+                     if k not in checked and cell(states[k][0]) not in closed][:AHEAD - 1]
+            check([sid, *ahead])
+        last, hit = checked.pop(sid)
         if last is not None:
             extra = (CUSP if gear < 0 else 0.0) + last[0]
             if changes + (gear < 0) <= max_changes and (
@@ -180,10 +202,6 @@ def plan_onto(starts: Sequence[Pose], frame: Pose, lo: float, hi: float,
                 best = (cost[sid] + extra, sid, last[1])
         ends = advance(np.repeat(q[None, :], len(moves), axis=0),
                        np.array([g * MOVE for g, _ in moves]), np.array([k for _, k in moves]))
-        poses = advance(q, np.concatenate([g * s for g, _ in moves]),
-                        np.repeat([k for _, k in moves], n + 1))
-        bad = first_blocked(collider.blocked, body.footprints(world(poses)), run)
-        hit = set(run[bad].tolist())
         for m, (g, k) in enumerate(moves):
             if m in hit:
                 continue

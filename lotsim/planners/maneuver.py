@@ -367,7 +367,8 @@ class _Problem:
         hulls = shapely.convex_hull(shapely.linestrings(bodies)) if bodies.shape[1] > 4 \
             else shapely.polygons(bodies)
         bad = ~shapely.covers(self.allowed, hulls)
-        bad[self.tree.query(hulls, predicate="intersects")[0]] = True
+        free = np.flatnonzero(~bad)  # the others are blocked already
+        bad[free[self.tree.query(hulls[free], predicate="intersects")[0]]] = True
         return bad
 
     def first_blocked(self, prints: FloatArray, run: np.ndarray, span: int = 2
