@@ -12,6 +12,11 @@ Where: ``$LOTSIM_CACHE_DIR``, else ``$XDG_CACHE_HOME/lotsim``, else ``~/.cache/l
 ``LOTSIM_CACHE_DIR=off`` turns the cache off. The cache is only ever a shortcut: an entry
 that cannot be read or written is planned as if there were none, and the oldest entries
 are removed once there are more than :data:`MOST_ENTRIES` or :data:`MOST_BYTES`.
+
+Processes that ask for the same missing entry at once (a test suite on every core, jobs
+started together on one machine) make it once: the first holds a lock on it
+(:func:`making`, a hidden ``.lock`` file beside the entries) while it plans, the others
+wait, then load what it stored.
 """
 
 from __future__ import annotations
@@ -24,7 +29,13 @@ import os
 import pickle
 import sys
 import tempfile
+from collections.abc import Iterator
 from pathlib import Path
+
+try:
+    import fcntl
+except ImportError:  # not on POSIX: no locks, two processes may plan one lot at once
+    fcntl = None
 
 OFF = ("off", "0", "no", "false", "")
 LOADED = "; loaded from the cache: the lot, its types and lotsim are as when planned"
@@ -98,6 +109,28 @@ def load(name: str, folder: Path | None = None) -> object | None:
     return value
 
 
+@contextlib.contextmanager
+def making(name: str, folder: Path | None = None) -> Iterator[None]:
+    """Held while this process makes the entry ``name``: another process that asks for it
+    meanwhile waits here, and should then :func:`load` it before making it itself. Nothing
+    is held where there is no cache or the folder cannot be locked (another system, a file
+    system without locks): then the two make it both, as without the lock."""
+    folder = folder if folder is not None else cache_dir()
+    lock = None
+    if folder is not None and fcntl is not None:
+        try:
+            folder.mkdir(parents=True, exist_ok=True)
+            lock = open(folder / f".{name}.lock", "wb")  # noqa: SIM115 - closed below
+            fcntl.flock(lock, fcntl.LOCK_EX)
+        except OSError:
+            pass
+    try:
+        yield
+    finally:
+        if lock is not None:
+            lock.close()  # and the lock with it
+
+
 def store(name: str, value: object, folder: Path | None = None) -> bool:
     """Write ``value`` as the entry ``name`` (whole or not at all); whether it was."""
     folder = folder if folder is not None else cache_dir()
@@ -136,3 +169,11 @@ def _prune(folder: Path) -> None:
         total += size
         if k >= MOST_ENTRIES or total > MOST_BYTES:
             path.unlink(missing_ok=True)
+    # the locks of entries gone, unless held (one removed just as a process opens it only
+    # lets a second one make that entry at the same time)
+    for lock in folder.glob(".*.pickle.lock"):
+        if (folder / lock.name[1:-5]).exists() or fcntl is None:
+            continue
+        with contextlib.suppress(OSError), open(lock, "rb") as f:
+            fcntl.flock(f, fcntl.LOCK_EX | fcntl.LOCK_NB)
+            lock.unlink()

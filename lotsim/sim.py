@@ -59,11 +59,13 @@ def prepare(scenario: Scenario, *, node_spacing: float = 4.0, maneuvers: bool = 
     With ``cache`` (the default), a lot prepared before — same lot, vehicle types and
     settings, same lotsim — is loaded from the on-disk cache instead (:mod:`lotsim.cache`;
     ``LOTSIM_CACHE_DIR=off`` turns it off), and a new one is stored there;
-    ``LotGraph.from_cache`` says which. A new one also reads and adds to the answers to
-    the maneuver problems searched before in lots of the scenario's name, keyed by each
-    problem's exact geometry (:meth:`~lotsim.planners.maneuver.ManeuverPlanner.prefetch`;
-    lots of :data:`REMEMBER_FROM` slot-types or more): an edited lot searches only the
-    problems its edit changed, and the answers are the same.
+    ``LotGraph.from_cache`` says which; a process that asks for a lot another is preparing
+    waits for it and loads it (:func:`lotsim.cache.making`). A new one also reads and adds
+    to the answers to the maneuver problems searched before in lots of the scenario's name,
+    keyed by each problem's exact geometry
+    (:meth:`~lotsim.planners.maneuver.ManeuverPlanner.prefetch`; lots of
+    :data:`REMEMBER_FROM` slot-types or more): an edited lot searches only the problems its
+    edit changed, and the answers are the same.
     ``progress(done, total)`` is called as the maneuvers' distinct problems are searched
     (not when the lot comes from the cache).
 
@@ -77,14 +79,32 @@ def prepare(scenario: Scenario, *, node_spacing: float = 4.0, maneuvers: bool = 
         return build_graph(lot, node_spacing=node_spacing, vehicles=scenario.vehicle_types)
     leaves = ({a.dwell is not None for a in arrivals(scenario.traffic, scenario.seed)}
               if scenario.traffic is not None else {True})
-    name = None
-    if cache:
-        name = lotsim.cache.key("prepared", scenario.lot, scenario.vehicle_types,
-                                scenario.parked_vehicle, sorted(leaves), node_spacing, margin)
-        lg = lotsim.cache.load(name)
-        if isinstance(lg, LotGraph):
-            lg.from_cache = True
-            return lg
+    if not cache:
+        return _prepared(scenario, leaves, None, node_spacing, margin, progress)
+    name = lotsim.cache.key("prepared", scenario.lot, scenario.vehicle_types,
+                            scenario.parked_vehicle, sorted(leaves), node_spacing, margin)
+    lg = _cached(name)
+    if lg is None:
+        with lotsim.cache.making(name):
+            # another process may have made it while this one waited for the lock
+            lg = _cached(name)
+            if lg is None:
+                lg = _prepared(scenario, leaves, name, node_spacing, margin, progress)
+    return lg
+
+
+def _cached(name: str) -> LotGraph | None:
+    lg = lotsim.cache.load(name)
+    if not isinstance(lg, LotGraph):
+        return None
+    lg.from_cache = True
+    return lg
+
+
+def _prepared(scenario: Scenario, leaves: set[bool], name: str | None, node_spacing: float,
+              margin: float, progress) -> LotGraph:
+    """:func:`prepare` a lot not in the cache, and store it there as ``name`` (when not
+    None)."""
     lot = build_lot(scenario.lot, DesignVehicle.envelope(scenario.vehicle_types))
     planner = maneuver_planner(scenario, lot, margin=margin)
     known = known_name = None

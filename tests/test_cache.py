@@ -99,6 +99,46 @@ def test_the_least_recently_used_entries_go_first(folder, monkeypatch):
     assert not list(folder.glob(".*.tmp"))
 
 
+def _prepare_after(barrier, text: str, out) -> None:
+    sc = scenario_from_text(text)
+    barrier.wait()
+    lg = prepare(sc)
+    out.put((lg.from_cache, _doc(sc, lg)))
+
+
+def test_two_processes_asking_for_one_lot_at_once_plan_it_once(folder):
+    """Both miss the cache at first; the one that gets the lock plans and stores the lot, the
+    other waits, then loads it: one plans, and both run alike. Without the lock both plan."""
+    import multiprocessing
+
+    ctx = multiprocessing.get_context("fork")
+    barrier, out = ctx.Barrier(2), ctx.Queue()
+    procs = [ctx.Process(target=_prepare_after, args=(barrier, ONE_AISLE + TRAFFIC, out))
+             for _ in range(2)]
+    for proc in procs:
+        proc.start()
+    got = sorted(out.get(timeout=120) for _ in procs)
+    for proc in procs:
+        proc.join(timeout=60)
+    assert [from_cache for from_cache, _ in got] == [False, True]
+    assert got[0][1] == got[1][1]
+
+
+def test_the_lock_of_an_entry_goes_with_it_unless_it_is_held(folder, monkeypatch):
+    monkeypatch.setattr(lotsim.cache, "MOST_ENTRIES", 1)
+    with lotsim.cache.making("e0.pickle"):
+        assert lotsim.cache.store("e0.pickle", 0)
+    with lotsim.cache.making("e1.pickle"):
+        # e0 and its lock go; e1's lock is held while e1 is made and stays with it
+        assert lotsim.cache.store("e1.pickle", 1)
+        with lotsim.cache.making("e2.pickle"):
+            assert lotsim.cache.store("e9.pickle", 9)  # e2 not made yet: its lock stays
+    assert sorted(p.name for p in folder.iterdir()) == [".e1.pickle.lock", ".e2.pickle.lock",
+                                                        "e9.pickle"]
+    assert lotsim.cache.store("e8.pickle", 8)  # nothing holds e1 and e2 now
+    assert sorted(p.name for p in folder.iterdir()) == ["e8.pickle"]
+
+
 def test_validate_from_another_folder_and_process_finds_the_lot(tmp_path):
     """The key is the lot as written, not where the file lies nor the process's hash seed."""
     cache = tmp_path / "cache"
