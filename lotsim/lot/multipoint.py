@@ -167,10 +167,9 @@ def plan_onto(starts: Sequence[Pose], frame: Pose, lo: float, hi: float,
             runs.append(np.where(run >= 0, run + at, -1))
             runs.append([-1])
             at += len(moves)
-        bad = first_blocked(collider.blocked, np.concatenate(prints),
-                            np.concatenate(runs[:-1]).astype(int))
+        of = np.concatenate(runs[:-1]).astype(int)
         hit = np.zeros(at, dtype=bool)
-        hit[np.concatenate(runs[:-1]).astype(int)[bad]] = True
+        hit[of[first_blocked(collider.blocked, np.concatenate(prints), of)]] = True
         for sid, (found, first) in zip(sids, lasts, strict=True):
             last = next((found[k] for k in range(len(found)) if not hit[first + k]), None)
             base = first + len(found)
