@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 import shapely
 
-from conftest import graph_from_text, scenario_from_text
+from conftest import scenario_from_text
 from lotsim.lot.build import build_lot
 from lotsim.lot.model import DesignVehicle
 
@@ -26,9 +26,14 @@ lot:
 """
 
 
+def lot_from_text(text: str):
+    """The built lot alone: slots, occupancy (no maneuvers, no graph)."""
+    sc = scenario_from_text(text)
+    return build_lot(sc.lot, DesignVehicle.envelope(sc.vehicle_types))
+
+
 def slots_of(row: str):
-    sc = scenario_from_text(LOT.format(row=row))
-    return build_lot(sc.lot, DesignVehicle.envelope(sc.vehicle_types)).slots
+    return lot_from_text(LOT.format(row=row)).slots
 
 
 def same_corners(poly, expected):
@@ -95,7 +100,7 @@ def test_every_slot_polygon_is_counter_clockwise_with_its_size(shipped_graphs):
 
 
 def test_free_standing_slot_finds_its_aisle():
-    lg = graph_from_text("""
+    lot = lot_from_text("""
         lot:
           boundary: [[0, -10], [40, -10], [40, 10], [0, 10]]
           aisles:
@@ -106,7 +111,7 @@ def test_free_standing_slot_finds_its_aisle():
           entrances:
             - {id: in, x: 1.0, y: -1.5, heading_deg: 0}
         """)
-    slot = lg.lot.slot_by_id["X"]
+    slot = lot.slot_by_id["X"]
     assert slot.aisle == "a" and slot.side == "right"
     assert same_corners(slot.entry, [(18.75, -3), (21.25, -3)])
     assert slot.station == pytest.approx(20.0)
@@ -128,19 +133,19 @@ lot:
 
 
 def test_random_occupancy_is_the_seeded_draw():
-    lg = graph_from_text(OCC.format(occ="{fraction: 0.5, seed: 42, min_free: 1}"))
+    lot = lot_from_text(OCC.format(occ="{fraction: 0.5, seed: 42, min_free: 1}"))
     draw = np.random.default_rng(42).random(20) < 0.5
-    assert lg.lot.occupied == {f"P{i + 1}" for i in np.flatnonzero(draw)}
+    assert lot.occupied == {f"P{i + 1}" for i in np.flatnonzero(draw)}
 
 
 def test_random_occupancy_keeps_min_free():
-    lg = graph_from_text(OCC.format(occ="{fraction: 1.0, seed: 3, min_free: 4}"))
-    assert len(lg.lot.occupied) == 16
-    again = graph_from_text(OCC.format(occ="{fraction: 1.0, seed: 3, min_free: 4}"))
-    assert again.lot.occupied == lg.lot.occupied
+    lot = lot_from_text(OCC.format(occ="{fraction: 1.0, seed: 3, min_free: 4}"))
+    assert len(lot.occupied) == 16
+    again = lot_from_text(OCC.format(occ="{fraction: 1.0, seed: 3, min_free: 4}"))
+    assert again.occupied == lot.occupied
 
 
 def test_listed_occupancy():
-    lg = graph_from_text(OCC.format(occ="[P1, P7]"))
-    assert lg.lot.occupied == {"P1", "P7"}
-    assert len(lg.lot.free_slots) == 18
+    lot = lot_from_text(OCC.format(occ="[P1, P7]"))
+    assert lot.occupied == {"P1", "P7"}
+    assert len(lot.free_slots) == 18
