@@ -333,6 +333,50 @@ def test_a_table_that_forgets_the_past_answers_every_later_query_as_one_that_kee
     assert forgot > 1000  # the past is dropped, not only never read
 
 
+def test_standing_bodies_kept_between_queries_are_blocked_as_the_table_says():
+    # bodies asked about again and again while the table grows, drops, cuts short and
+    # forgets entries (as lane nodes are by one search after another): each query gives
+    # the intervals blocked gives, and one made anew (nothing kept) gives them too
+    from lotsim.planners.reservation import Swept
+
+    rng = np.random.default_rng(30)
+    met = 0
+    for _ in range(40):
+        table = _random_table(rng, n=int(rng.choice([20, 120])))
+        bodies = []
+        for _ in range(4):
+            x, y = rng.integers(-15, 15, size=2)
+            body = box(x, y, x + rng.integers(1, 4), y + rng.integers(1, 4))
+            bodies.append(Swept.of([(0.0, 0.0, body)]))
+        now = 0.0
+        for step in range(12):
+            kind = rng.integers(4)
+            if kind == 0:  # more reserved (some long, some in a slot)
+                more = _random_table(rng, n=10)._store
+                for i in range(more.n):
+                    t0, t1 = more.t[i]
+                    if more.in_slot[i] or math.isinf(t1):
+                        table.reserve_standing(f"o{i % 5}", more.geom[i], now + t0,
+                                               in_slot=bool(more.in_slot[i]))
+                    else:
+                        table.reserve(f"o{i % 5}", [(now + t0, now + t1, more.geom[i])])
+            elif kind == 1:
+                table.release(f"o{rng.integers(5)}", after=now + float(rng.integers(0, 60)) / 2)
+            elif kind == 2:
+                now += float(rng.integers(0, 20)) / 2
+                table.forget_before(now)
+            ignore = f"o{rng.integers(5)}" if rng.integers(2) else None
+            since = now + float(rng.integers(0, 10)) / 2
+            until = since + float(rng.choice([0, rng.integers(0, 20), rng.integers(100, 3600)]))
+            for sw in bodies:
+                want = table.blocked(sw, since, until, ignore=ignore)
+                assert table.blocked_standing(sw, since, until, ignore=ignore) == want, step
+                fresh = Swept(sw.geoms, sw.cells, sw.rows)  # another object: nothing kept
+                assert table.blocked_standing(fresh, since, until, ignore=ignore) == want
+                met += bool(want)
+    assert met > 300  # the sample meets bodies often
+
+
 def test_motions_swept_together_are_swept_as_each_alone():
     # one straight path (one or several collinear segments) driven between random speeds,
     # swept together: the very same hulls, times, boxes and cells as one by one; curved

@@ -616,6 +616,7 @@ def search(sg: SearchGraph, table: ReservationTable, *, owner: str, start: int, 
     out_edges, edges, variants_kept, boxes = sg.out, sg.edges, sg._variants, sg._boxes
     cells_kept = sg._cells
     nearby, blocked, is_free = table.nearby, table.blocked, table.is_free
+    blocked_standing = table.blocked_standing
     gathered: dict = {}  # what the table holds near each edge, by time buckets (see nearby)
     while heap:
         _, _, sid = heappop(heap)
@@ -629,8 +630,11 @@ def search(sg: SearchGraph, table: ReservationTable, *, owner: str, start: int, 
             else:
                 hit = in_way.get(node)
                 if hit is None:  # once per node: the table does not change meanwhile
-                    stand = start_stand if node == start else sg.standing(node)
-                    hit = in_way[node] = blocked(stand, t0, end, ignore=owner)
+                    if node == start and start_pose is not None:
+                        hit = blocked(start_stand, t0, end, ignore=owner)
+                    else:  # (what the body meets kept with it, for the next searches)
+                        hit = blocked_standing(sg.standing(node), t0, end, ignore=owner)
+                    in_way[node] = hit
                 free_till = _free_till(hit, t)
             # (standing where it is already in someone's way, it may only drive on)
             key = (node, out, free_till) if free_till > t else (node, out, t)
