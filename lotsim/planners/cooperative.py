@@ -535,8 +535,9 @@ def search(sg: SearchGraph, table: ReservationTable, *, owner: str, start: int, 
     if rra(start) == math.inf:
         return Plan(Status.NO_PATH)
 
+    # a car leaving its slot stands there first (other nodes' bodies are the graph's)
     start_stand = (Swept.of([(0.0, 0.0, standing_body(sg.vehicle, start_pose))])
-                   if start_pose is not None else sg.standing(start))
+                   if start_pose is not None else None)
     end = t0 + horizon
 
     # state: (node, level, time, outside); parents keyed by an integer id, each with the
@@ -630,7 +631,7 @@ def search(sg: SearchGraph, table: ReservationTable, *, owner: str, start: int, 
             else:
                 hit = in_way.get(node)
                 if hit is None:  # once per node: the table does not change meanwhile
-                    if node == start and start_pose is not None:
+                    if node == start and start_stand is not None:
                         hit = blocked(start_stand, t0, end, ignore=owner)
                     else:  # (what the body meets kept with it, for the next searches)
                         hit = blocked_standing(sg.standing(node), t0, end, ignore=owner)

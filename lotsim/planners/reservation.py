@@ -691,7 +691,7 @@ class ReservationTable:
         if len(sw) != 1:
             raise ValueError("blocked_standing takes one hull")
         kept = self._standing.get(id(sw))
-        if kept is None or kept[0] is not sw:
+        if kept is None:  # (kept[0] holds the body, so its id is not another's meanwhile)
             kept = self._standing[id(sw)] = [sw, 0, []]
         a, z, x0, y0, x1, y1 = sw.rows[0]
         seen = kept[1]
