@@ -31,6 +31,7 @@ from lotsim.planners.cooperative import (
     Status,
     reserve_moves,
     search,
+    search_graph,
 )
 from lotsim.planners.maneuver import MARGIN, ManeuverPlanner, plan_lot
 from lotsim.planners.reservation import ReservationTable, standing_body
@@ -411,7 +412,7 @@ class _Simulation:
         self.s = settings
         self.patience = scenario.traffic.patience
         self.table = ReservationTable()
-        self.graphs = {t.name: SearchGraph(lg, t) for t in scenario.vehicle_types}
+        self.graphs = {t.name: search_graph(lg, t) for t in scenario.vehicle_types}
         types = {t.name: t for t in scenario.vehicle_types}
         self.vehicles = [VehicleRun(a, types[a.vehicle]) for a in traffic]
         self.by_id = {v.id: v for v in self.vehicles}

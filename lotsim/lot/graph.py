@@ -142,6 +142,10 @@ class LotGraph:
     from_cache : bool
         Whether :func:`~lotsim.sim.prepare` loaded it from the on-disk cache
         (:mod:`lotsim.cache`) rather than planning it.
+    kept : dict
+        What planners work out from the lot alone and keep with it for the next runs in
+        this process (the search graph of each vehicle type, with its edge motions:
+        :func:`~lotsim.planners.cooperative.search_graph`). Not pickled.
     """
 
     lot: Lot
@@ -155,6 +159,14 @@ class LotGraph:
     maneuver_planner: object = None
     from_cache: bool = False
     _reach: Reachability | None = field(default=None, repr=False, compare=False)
+    kept: dict = field(default_factory=dict, repr=False, compare=False)
+
+    def __getstate__(self) -> dict:
+        return {k: v for k, v in self.__dict__.items() if k != "kept"}
+
+    def __setstate__(self, state: dict) -> None:
+        self.__dict__.update(state)
+        self.kept = {}
 
     def _lane_reach(self, vehicle: str | None = None) -> tuple[set[int], set[int]]:
         """Lane nodes reachable from an entrance, and lane nodes that reach an exit (any,

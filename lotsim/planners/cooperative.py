@@ -402,6 +402,21 @@ class SearchGraph:
         return dist
 
 
+def search_graph(lg: LotGraph, vehicle: VehicleType) -> SearchGraph:
+    """``lg`` as seen by ``vehicle``: one :class:`SearchGraph` a type, kept with the lot
+    (``lg.kept``) for every run on it in this process.
+
+    Its edge motions and their swept hulls depend on the lot and the type alone, so runs
+    after the first on a prepared lot (a suite's planners and seeds, a notebook's runs)
+    drive the edges the first has worked out without working them out again, and plan the
+    same."""
+    graphs = lg.kept.setdefault("search_graphs", {})
+    sg = graphs.get(vehicle)
+    if sg is None:
+        sg = graphs[vehicle] = SearchGraph(lg, vehicle)
+    return sg
+
+
 class ReverseResumable:
     """Reverse Resumable A*: true static time [s] from any node to the goals, computed
     backwards from the goals and resumed only as far as each query needs.
