@@ -25,6 +25,7 @@ import contextlib
 import functools
 import gc
 import hashlib
+import importlib.util
 import os
 import pickle
 import sys
@@ -58,13 +59,16 @@ def cache_dir() -> Path | None:
 def code_version() -> str:
     """A hash of lotsim's source files and of the versions of Python and of the libraries
     whose objects a prepared lot holds."""
-    import networkx
     import numpy
     import shapely
 
     h = hashlib.blake2b(digest_size=16)
-    h.update(repr((sys.version, numpy.__version__, shapely.__version__,
-                   networkx.__version__)).encode())
+    h.update(repr((sys.version, numpy.__version__, shapely.__version__)).encode())
+    # networkx's version as its package's first file states it (importing networkx would
+    # cost more than a warm validate spends on anything else: a lot loaded from the cache
+    # imports it only when its graph is asked for)
+    spec = importlib.util.find_spec("networkx")
+    h.update(Path(spec.origin).read_bytes() if spec is not None and spec.origin else b"")
     root = Path(__file__).resolve().parent
     for path in sorted(root.rglob("*.py")):
         h.update(path.relative_to(root).as_posix().encode())

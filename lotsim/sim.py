@@ -130,6 +130,7 @@ def _prepared(scenario: Scenario, leaves: set[bool], name: str | None, node_spac
     lg.maneuver_planner = planner
     if name is not None:
         lg.reachability()  # every run and validate asks: kept with the lot
+        lg.facts()
         lotsim.cache.store(name, lg)
     return lg
 
@@ -292,11 +293,10 @@ def check_traffic(lg: LotGraph, traffic: list[Arrival], reach: Reachability | No
     ScenarioError
         Located at the vehicle or stream that asks for it.
     """
-    g = lg.graph
+    facts = lg.facts()
     for name in sorted({a.vehicle for a in traffic}):
         who = next(a for a in traffic if a.vehicle == name)
-        if not any(name in d.get("maneuvers", {}) for _, _, d in g.edges(data=True)
-                   if d["kind"] == "park"):
+        if name not in facts.parks:
             reasons = sorted(set(lg.infeasible.get(name, {}).values()))
             why = f" ({reasons[0]})" if reasons else ""
             raise ScenarioError(who.where, f"vehicle type {name!r} fits no slot of this "
@@ -326,7 +326,7 @@ def check_traffic(lg: LotGraph, traffic: list[Arrival], reach: Reachability | No
     if leaving and not lg.exits:
         raise ScenarioError(leaving[0].where, "vehicles have dwell times but the lot has no "
                                               "exit to leave by")
-    if leaving and not lg.leavable():
+    if leaving and not facts.leavable:
         raise ScenarioError(leaving[0].where, "vehicles have dwell times but no slot can "
                                               "be left for an exit along the lanes")
 

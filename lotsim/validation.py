@@ -66,7 +66,8 @@ class ValidationReport:
         scenario = self.prepared.scenario
         lot = lg.lot
         kinds = ", ".join(f"{k} {n}" for k, n in self.slot_counts.items())
-        kinds_of = Counter(d["kind"] for _, _, d in lg.graph.edges(data=True))
+        facts = lg.facts()
+        kinds_of = Counter(facts.kinds)
         taken = len(lot.occupied)
         lines = [
             f"{self.source}: ok — {scenario.name}",
@@ -78,7 +79,7 @@ class ValidationReport:
                 for v in scenario.vehicle_types
             ),
             f"  aisles: {len(lot.aisles)}, lanes: {len(lot.lanes)}, "
-            f"graph: {lg.graph.number_of_nodes()} nodes, {lg.graph.number_of_edges()} edges "
+            f"graph: {facts.nodes} nodes, {facts.edges} edges "
             f"({_n(kinds_of['turn'], 'junction turn')}, "
             f"{_n(kinds_of['turnaround'], 'turnaround')})",
             f"  entrances: {', '.join(lg.entrances) or 'none'}; "
@@ -117,9 +118,7 @@ class ValidationReport:
         planner = lg.maneuver_planner
         if planner is not None:
             remembered = planner.stats.get("remembered", 0)
-            edges = sum(len(d["maneuvers"]) for _, _, d in lg.graph.edges(data=True)
-                        if d["kind"] == "park")
-            lines.append(f"  maneuvers: {edges} kept (per type, slot and lane); "
+            lines.append(f"  maneuvers: {facts.park_maneuvers} kept (per type, slot and lane); "
                          f"{planner.stats['planned'] - remembered} distinct problems "
                          "searched "
                          + (f"and {remembered} answered as in a lot prepared before "

@@ -42,7 +42,15 @@ def test_a_lot_prepared_before_is_loaded_and_runs_exactly_as_planned(folder):
     warm = prepare(sc)
     assert warm.from_cache
     assert warm.infeasible == cold.infeasible
-    assert sorted(warm.graph.edges) == sorted(cold.graph.edges)
+    assert warm.facts() == cold.facts()
+    # the graph, made from its dicts when first asked for: nodes, edges and each node's
+    # predecessors in the same order, one data dict for an edge both ways
+    assert "graph" not in vars(warm)
+    g, h = cold.graph, warm.graph
+    assert list(h.nodes(data=True)) == list(g.nodes(data=True))
+    assert list(h.edges) == list(g.edges) and [list(h.pred[n]) for n in h] == [
+        list(g.pred[n]) for n in g]
+    assert all(h.succ[u][v] is h.pred[v][u] for u, v in h.edges)
     assert _doc(sc, warm) == _doc(sc, cold) == _doc(sc, prepare(sc, cache=False))
 
 
@@ -156,6 +164,20 @@ def test_validate_from_another_folder_and_process_finds_the_lot(tmp_path):
     assert lotsim.cache.LOADED in outs[1].stdout
     said = [o.stdout.replace(str(tmp_path / f"d{k}"), "") for k, o in enumerate(outs)]
     assert said[1].replace(lotsim.cache.LOADED, "") == said[0]
+
+
+def test_a_warm_validate_does_not_load_the_graph_library(tmp_path):
+    """Importing networkx took a fifth of a warm ``validate``: a lot from the cache makes
+    its graph only when asked for it, and validate reads the counts kept with the lot."""
+    code = ("import sys\nfrom lotsim.cli import main\ntry:\n    main(['validate', sys.argv[1]])\n"
+            "except SystemExit as e:\n    assert not e.code\nprint('networkx' in sys.modules)")
+    env = {**os.environ, "LOTSIM_CACHE_DIR": str(tmp_path)}
+    said = [subprocess.run([sys.executable, "-c", code, str(ROOT / "scenarios" / "street.yaml")],
+                           env=env, capture_output=True, text=True, timeout=300).stdout
+            for _ in range(2)]
+    assert said[0].endswith("True\n") and lotsim.cache.LOADED not in said[0]
+    assert said[1].endswith("False\n") and lotsim.cache.LOADED in said[1]
+    assert said[1].replace(lotsim.cache.LOADED, "")[:-6] == said[0][:-5]
 
 
 @pytest.mark.parametrize("entry", [b"not a pickle", None])

@@ -45,9 +45,10 @@ import contextlib
 import itertools
 import math
 import weakref
+from collections import Counter
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
 
-import networkx as nx
 import numpy as np
 import shapely
 
@@ -72,6 +73,9 @@ from lotsim.lot.turnaround import (
     turnaround_clear,
     turnaround_collider,
 )
+
+if TYPE_CHECKING:
+    import networkx as nx
 
 TURN_SPEEDS = tuple(k / 3.6 for k in (15.0, 12.5, 10.0, 7.5, 5.0, 3.0, 1.5))
 """Design speeds junction turns try, fastest first [m/s]: a turn for speed ``v`` has an arc
@@ -119,6 +123,24 @@ class Reachability:
                 and not any(a or b for a, b in self.by_type.values()))
 
 
+@dataclass(frozen=True, slots=True)
+class GraphFacts:
+    """What ``lotsim validate`` says of a lot graph and checks traffic against, counted
+    once and kept with the lot (in the on-disk cache too: a warm ``validate`` does not
+    load the graph's library to read them)."""
+
+    nodes: int
+    edges: int
+    kinds: dict[str, int]
+    """Edges by kind (lane, turn, turnaround, join, park, leave)."""
+    park_maneuvers: int
+    """Parking maneuvers kept on park edges, one a type."""
+    parks: frozenset[str]
+    """The vehicle types with a parking maneuver into some slot."""
+    leavable: bool
+    """Some slot can be left for an exit along the lanes (:meth:`LotGraph.leavable`)."""
+
+
 @dataclass
 class LotGraph:
     """A lot with its drivable graph.
@@ -159,14 +181,51 @@ class LotGraph:
     maneuver_planner: object = None
     from_cache: bool = False
     _reach: Reachability | None = field(default=None, repr=False, compare=False)
+    _facts: GraphFacts | None = field(default=None, repr=False, compare=False)
     kept: dict = field(default_factory=dict, repr=False, compare=False)
 
     def __getstate__(self) -> dict:
-        return {k: v for k, v in self.__dict__.items() if k != "kept"}
+        # the graph as its plain dicts (nodes, successors, predecessors, each edge's data
+        # dict shared by the two, in their order), not as a networkx object: loading a lot
+        # imports networkx only when the graph itself is asked for (:meth:`__getattr__`)
+        state = {k: v for k, v in self.__dict__.items() if k not in ("kept", "graph")}
+        g = self.__dict__.get("graph")
+        if g is not None:
+            state["_graph_dicts"] = (g.graph, g._node, g._succ, g._pred)
+        return state
 
     def __setstate__(self, state: dict) -> None:
         self.__dict__.update(state)
         self.kept = {}
+
+    def __getattr__(self, name: str):
+        # only for attributes not set: the graph of a lot loaded by pickle, made on first use
+        dicts = self.__dict__.get("_graph_dicts")
+        if name != "graph" or dicts is None:
+            raise AttributeError(f"{type(self).__name__!r} object has no attribute {name!r}")
+        import networkx as nx
+
+        g = nx.DiGraph()
+        g.graph.update(dicts[0])
+        g._node, g._succ, g._pred = dicts[1:]
+        g._adj = g._succ
+        self.graph = g
+        del self._graph_dicts
+        return g
+
+    def facts(self) -> GraphFacts:
+        """The graph's counts and what traffic is checked against (worked out once and
+        kept, in the on-disk cache too)."""
+        if self._facts is None:
+            edges = [d for _, _, d in self.graph.edges(data=True)]
+            parks = [d for d in edges if d["kind"] == "park"]
+            self._facts = GraphFacts(
+                self.graph.number_of_nodes(), len(edges),
+                dict(Counter(d["kind"] for d in edges)),
+                sum(len(d["maneuvers"]) for d in parks),
+                frozenset(name for d in parks for name in d.get("maneuvers", {})),
+                bool(self.leavable()))
+        return self._facts
 
     def _lane_reach(self, vehicle: str | None = None) -> tuple[set[int], set[int]]:
         """Lane nodes reachable from an entrance, and lane nodes that reach an exit (any,
@@ -397,6 +456,8 @@ def build_graph(lot: Lot, *, node_spacing: float = 4.0, maneuvers=None,
     for links in attach.values():
         for lid, s in links:
             stations[lid].append(s)
+
+    import networkx as nx  # (here: a lot loaded from the cache may never need it)
 
     g = nx.DiGraph()
     index: dict[str, np.ndarray] = {}
