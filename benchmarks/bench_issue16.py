@@ -117,7 +117,9 @@ def planning_rows(args: argparse.Namespace) -> Path | None:
         return None
     if args.result:
         return Path(args.result)
-    keep = Path(args.keep or tempfile.mkdtemp(prefix="bench16-")) / "result1000.json"
+    folder = Path(args.keep or tempfile.mkdtemp(prefix="bench16-"))
+    folder.mkdir(parents=True, exist_ok=True)
+    keep = folder / "result1000.json"
     for planner in ("hca", "ca") if args.ca_1000 else ("hca",):
         _, _, code, out = child(sys.executable, __file__, "--plan", planner, str(keep))
         if code:
