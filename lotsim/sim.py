@@ -139,7 +139,8 @@ def _prepared(scenario: Scenario, leaves: set[bool], name: str | None, node_spac
 class PreparedLot:
     """A scenario with its lot built and every maneuver planned (:func:`lotsim.prepare`):
     reusable across runs, which then skip the preparation (seconds to a minute on a large
-    lot).
+    lot) and drive the edge motions earlier runs on it worked out
+    (:func:`~lotsim.planners.cooperative.search_graph`).
 
     Attributes
     ----------
