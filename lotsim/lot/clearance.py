@@ -21,6 +21,16 @@ class Hit:
     point: tuple[float, float]  # a point of the offending body [m]
 
 
+def hulls_blocked(hulls: np.ndarray, allowed: BaseGeometry, tree: shapely.STRtree
+                  ) -> np.ndarray:
+    """Boolean mask of the ``hulls`` not inside ``allowed`` (prepared) or meeting something
+    in ``tree`` (queried only for those inside)."""
+    bad = ~shapely.covers(allowed, hulls)
+    free = np.flatnonzero(~bad)
+    bad[free[tree.query(hulls[free], predicate="intersects")[0]]] = True
+    return bad
+
+
 class Collider:
     """Checks bodies against fixed obstacles (an :class:`shapely.STRtree`) and an allowed region.
 
@@ -40,11 +50,8 @@ class Collider:
 
     def blocked(self, bodies: FloatArray) -> np.ndarray:
         """Boolean mask of the ``bodies`` (N, K, 2 point sets, taken as hulls) that are not free."""
-        polys = shapely.convex_hull(shapely.linestrings(bodies))
-        bad = ~shapely.covers(self.allowed, polys)
-        free = np.flatnonzero(~bad)  # the others are blocked already
-        bad[free[self.tree.query(polys[free], predicate="intersects")[0]]] = True
-        return bad
+        return hulls_blocked(shapely.convex_hull(shapely.linestrings(bodies)), self.allowed,
+                             self.tree)
 
     @staticmethod
     def sweeps(footprints: FloatArray) -> FloatArray:

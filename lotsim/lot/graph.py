@@ -224,7 +224,7 @@ class LotGraph:
                 dict(Counter(d["kind"] for d in edges)),
                 sum(len(d["maneuvers"]) for d in parks),
                 frozenset(name for d in parks for name in d.get("maneuvers", {})),
-                bool(self.leavable()))
+                next(self._leavable(None), None) is not None)
         return self._facts
 
     def _lane_reach(self, vehicle: str | None = None) -> tuple[set[int], set[int]]:
@@ -299,9 +299,12 @@ class LotGraph:
         same type leaves from towards a lane node from which an exit can be reached (any,
         when the lot has no exits). The leave edge need not end where the park edge began: a
         slot parked on one pose from two lanes is left towards either."""
+        return frozenset(self._leavable(vehicle))
+
+    def _leavable(self, vehicle: str | None):
+        """:meth:`leavable`'s park edges as found, slot by slot (some more than once)."""
         g = self.graph
         go = self._lane_reach(vehicle)[1]
-        out = set()
         for node in self.slot_nodes.values():
             leaves = [d for _, w, d in g.out_edges(node, data=True)
                       if d["kind"] == "leave" and w in go]
@@ -312,8 +315,7 @@ class LotGraph:
                 if d["kind"] == "park" and ((placeholder and d.get("placeholder")) or any(
                         same_pose(m.end, pose) for name, m in d["maneuvers"].items()
                         for who, pose in away if who == name)):
-                    out.add((u, node))
-        return frozenset(out)
+                    yield u, node
 
     def _ranges(self, nodes: set[int]) -> dict[str, tuple[float, float]]:
         g = self.graph

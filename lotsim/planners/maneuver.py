@@ -69,7 +69,7 @@ from lotsim.geometry import (
     sample_segments,
     wrap_angle,
 )
-from lotsim.lot.clearance import first_blocked
+from lotsim.lot.clearance import first_blocked, hulls_blocked
 from lotsim.lot.graph import lane_serves
 from lotsim.lot.model import Lane, Lot, Slot, unit
 from lotsim.lot.multipoint import plan_onto
@@ -366,10 +366,7 @@ class _Problem:
         """(N,) whether each body (N, K, 2 points, taken as their hull) is not free."""
         hulls = shapely.convex_hull(shapely.linestrings(bodies)) if bodies.shape[1] > 4 \
             else shapely.polygons(bodies)
-        bad = ~shapely.covers(self.allowed, hulls)
-        free = np.flatnonzero(~bad)  # the others are blocked already
-        bad[free[self.tree.query(hulls[free], predicate="intersects")[0]]] = True
-        return bad
+        return hulls_blocked(hulls, self.allowed, self.tree)
 
     def first_blocked(self, prints: FloatArray, run: np.ndarray, span: int = 2
                       ) -> np.ndarray:
