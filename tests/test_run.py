@@ -9,7 +9,7 @@ import pickle
 import numpy as np
 import pytest
 
-from conftest import ONE_AISLE, SCENARIOS, position, scenario_from_text, static_times
+from conftest import ONE_AISLE, ROOT, SCENARIOS, position, scenario_from_text, static_times
 from lotsim.check import check_result
 from lotsim.cli import main
 from lotsim.errors import ScenarioError
@@ -434,6 +434,27 @@ def test_a_car_that_misses_its_best_slot_tries_the_best_of_other_aisles_next():
     assert _Simulation.few(sim, ranked) == ["A1", "B1", "C1"]
     assert _Simulation.few(sim, ranked, n=4) == ["A1", "B1", "C1", "A2"]  # then the next best
     assert _Simulation.few(sim, ["A2", "A1"]) == ["A2", "A1"]  # one aisle: in rank order
+
+
+def test_a_first_look_gets_eight_expansions_a_second_of_the_slots_way_and_at_least_400(
+        shipped_graphs):
+    from lotsim import sim as simmod
+
+    lg = shipped_graphs["large_lot"]
+    sc = load_scenario(ROOT / "scenarios" / "large_lot.yaml")
+    sim = simmod._Simulation(sc, lg, RunSettings(), [], None)
+    car = sc.vehicle_types[0].name
+    gate = next(iter(lg.entrances))
+    # static times by a forward search from the gate (the budget reads the slot's RRA*)
+    times = sim.slot_times(gate, car, False)
+    near, far = min(times, key=times.get), max(times, key=times.get)
+    assert 8 * times[near] < 400 < 8 * times[far]
+
+    def budget(sid):
+        return sim.first_look(sim.graphs[car], lg.entrances[gate], lg.slot_nodes[sid])
+
+    assert budget(near) == simmod.FIRST_LOOK == 400
+    assert abs(budget(far) - 8 * times[far]) <= 0.5 + 1e-9
 
 
 def test_whca_replans_only_when_space_was_freed_and_that_changes_next_to_nothing(
