@@ -811,9 +811,13 @@ class ManeuverPlanner:
         v = p.vehicle
         s = p.slot
         slot_local = np.round(p.frame.points_to_local(s.polygon), 2)
+        # where the lane's start grid falls: a closing move runs on along the lane to a
+        # grid station, so slots alike but for it do not start on the same offsets
+        grid = self.settings.start_grid
+        phase = round(p.lane_s0 % grid, 6) % grid if grid > 0 else 0.0
         head = (v.name, v.width, v.front, v.rear, v.wheelbase, v.max_steer, s.kind,
                 round(p.lane_y, 3) if math.isfinite(p.lane_y) else None,
-                tuple(np.round(p.lane_x, 2)), round(p.half, 3))
+                tuple(np.round(p.lane_x, 2)), round(p.half, 3), phase)
         h = hashlib.blake2b(repr(head).encode(), digest_size=20)
         h.update(np.sort(slot_local.reshape(-1, 2), axis=0).tobytes())
         for g in local:
