@@ -1389,7 +1389,7 @@ def _search_job(job: tuple[int, str]) -> tuple:
 
 KNOWN_MOST = 20_000
 """Most answers :meth:`ManeuverPlanner.prefetch` keeps in ``known`` (under 1 kB each; the
-364-bay lot with four types has 5040 distinct problems)."""
+364-bay lot with four types has 5072 distinct problems)."""
 
 
 def _exact_key(p: _Problem, style: str) -> bytes:
