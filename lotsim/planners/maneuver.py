@@ -35,9 +35,10 @@ Sweeps are checked as hulls of consecutive footprints 0.2 m apart.
 
 Same geometry, same maneuver: the planner works in a frame attached to the slot
 and its lane (mirrored so the slot is always on the right), and caches results
-by the vehicle type and the rounded geometry inside a window around the slot —
-the search cannot see past the window, so a cache hit is the maneuver it would
-have planned.
+by the vehicle type, the rounded geometry inside a window around the slot — the
+search cannot see past the window — and where the lane's start grid falls beside
+the slot (the closing move runs on to a grid station), so a cache hit is the
+maneuver it would have planned.
 """
 
 from __future__ import annotations
@@ -800,7 +801,8 @@ class ManeuverPlanner:
         return h.digest()
 
     def _digest(self, p: _Problem) -> bytes:
-        """The car, the slot and the rounded local geometry within the window."""
+        """The car, the slot, the rounded local geometry within the window and where the
+        lane's start grid falls."""
         # only what reaches the window's edge is cut (the rest would come out as the same
         # shape, and the key is of normalised shapes)
         clipped = p.obstacles.copy()
