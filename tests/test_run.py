@@ -436,6 +436,47 @@ def test_a_car_that_misses_its_best_slot_tries_the_best_of_other_aisles_next():
     assert _Simulation.few(sim, ["A2", "A1"]) == ["A2", "A1"]  # one aisle: in rank order
 
 
+def test_after_a_first_look_runs_out_the_next_cars_look_at_other_aisles_first_for_a_while(
+        shipped_graphs, monkeypatch):
+    """Every first look runs out (a stand-in search): the next car, within JAMMED_FOR,
+    looks first at the best slot outside the aisles those looks were in, and at its own
+    best again once the span is over."""
+    from lotsim import sim as simmod
+    from lotsim.planners.cooperative import Plan, Status
+    from lotsim.traffic import Arrival
+
+    lg = shipped_graphs["large_lot"]
+    sc = load_scenario(ROOT / "scenarios" / "large_lot.yaml")
+    car, gate = sc.vehicle_types[0].name, next(iter(lg.entrances))
+    cars = [Arrival(f"c{k}", car, gate, 0.0) for k in range(3)]
+    sim = simmod._Simulation(sc, lg, RunSettings(), cars, None)
+    looks: list[tuple[str, str, float]] = []  # (car, slot, start time) of each first look
+    slot_of = {node: sid for sid, node in lg.slot_nodes.items()}
+
+    def runs_out(sg, table, *, owner, t0, goal, budget=None, **kw):
+        if budget is not None:
+            looks.append((owner, slot_of[goal.slot], t0))
+            return Plan(Status.FUSE, expansions=budget + 1)
+        return Plan(Status.NO_PATH)
+
+    monkeypatch.setattr(simmod, "search", runs_out)
+    aisle = {s.id: s.aisle for s in lg.lot.slots}
+    ranked = sim.slot_choice(sim.vehicles[0])
+    sim.on_retry(0, sim.vehicles[0], 0.0)
+    first = [sid for who, sid, _ in looks if who == "c0"]
+    assert first == sim.few(ranked) and len({aisle[s] for s in first}) == 3
+    jammed = {aisle[s] for s in first}
+    sim.on_retry(1, sim.vehicles[1], simmod.JAMMED_FOR - 0.5)
+    second = [sid for who, sid, _ in looks if who == "c1"]
+    assert second[0] == next(s for s in ranked if aisle[s] not in jammed)
+    assert not jammed & {aisle[s] for s in second}
+    # JAMMED_FOR after c0's looks their aisles are free again; c1's are still jammed
+    sim.on_retry(2, sim.vehicles[2], simmod.JAMMED_FOR)
+    third = [sid for who, sid, _ in looks if who == "c2"]
+    assert third == sim.few([s for s in ranked if aisle[s] not in {aisle[x] for x in second}])
+    assert third[0] == ranked[0]
+
+
 def test_a_first_look_gets_eight_expansions_a_second_of_the_slots_way_and_at_least_400(
         shipped_graphs):
     from lotsim import sim as simmod
