@@ -448,6 +448,25 @@ def test_the_problem_is_frozen_and_its_key_has_no_side_effects():
     assert len(keys) == 1 and planner._key(problem, "forward") not in keys
 
 
+@pytest.mark.parametrize("name", ["mixed_lot", "example"])
+def test_problems_keyed_together_are_keyed_as_one_at_a_time(shipped_graphs, name):
+    """prefetch keys its problems in batches (one shapely call a step over all of them):
+    each digest, frame and lane station is the one posing and keying that problem alone
+    gives (perpendicular, angled and parallel bays, bends, neighbours cut at the window's
+    edge and at the slot's lines), so the same problems share answers."""
+    lg = shipped_graphs[name]
+    planner = lg.maneuver_planner
+    sc = load_scenario(ROOT / "scenarios" / f"{name}.yaml")
+    triples = [(v, slot, lane) for v in sc.vehicle_types for slot in lg.lot.slots
+               for lane in planner.lanes_for(slot)]
+    assert {slot.kind for _, slot, _ in triples} >= {"perpendicular", "parallel"}
+    together = planner._digests(triples)
+    alone = [(planner._digest(p), p.frame, p.lane_s0)
+             for p in (planner._problem(*t) for t in triples)]
+    assert together == alone
+    assert len({d for d, _, _ in alone}) > 5  # (not all one problem)
+
+
 def test_the_settings_are_used():
     from lotsim.planners.maneuver import ManeuverSettings
 

@@ -590,7 +590,10 @@ class ManeuverPlanner:
         at = {name: k for k, name in enumerate(where)}
         todo: dict[bytes, tuple[int, str]] = {}  # key → (triple, style), first met first
         with _Workers(self, triples, workers) as pool:
-            posed = pool.map(_pose_job, range(len(triples)), chunk=16)
+            # keyed in batches, a few per worker (each batch one shapely call a step)
+            size = max(16, -(-len(triples) // (4 * pool.count)))
+            parts = [(k, min(k + size, len(triples))) for k in range(0, len(triples), size)]
+            posed = [x for part in pool.map(_digest_job, parts, chunk=1) for x in part]
             for v, slot, lane, st in calls:
                 k = at[v.name, slot.id, lane.id]
                 digest, frame, s0 = posed[k]
@@ -733,6 +736,31 @@ class ManeuverPlanner:
 
     # -- problem set-up -----------------------------------------------------------------------
     def _problem(self, vehicle: VehicleType, slot: Slot, lane: Lane) -> _Problem:
+        frame, lane_y, lane_x, s0, half = self._head(vehicle, slot, lane)
+        index = self._index[slot.id]
+        win = self._window(slot, frame, half)
+        shapely.prepare(win)
+        # the slot itself is the car's to fill: no margin to its own lines
+        allowed = self._region.union(slot.shape).intersection(win)
+        shapely.prepare(allowed)
+        near = [int(k) for k in self._tree.query(win) if k != index]
+        # the margin around neighbours stops at this slot's lines: the car may fill its slot.
+        # Inside the window, those clear of the slot are kept as they are (the same shapes as
+        # their difference, in another vertex order); those across its edge are made as
+        # before, as :meth:`_digest` cuts them at the edge (a cut's rounded corners follow
+        # the order of the vertices cut).
+        obstacles = self._polys[near]
+        cut = ~shapely.contains_properly(win, obstacles) | shapely.intersects(obstacles,
+                                                                              slot.shape)
+        obstacles[cut] = shapely.difference(obstacles[cut], slot.shape)
+        return _Problem(vehicle, slot, lane, frame, lane_y, lane_x, s0, half, index, allowed,
+                        obstacles, shapely.STRtree(obstacles), self.settings.sweep, win)
+
+    def _head(self, vehicle: VehicleType, slot: Slot, lane: Lane
+              ) -> tuple[_Frame, float, tuple[float, float], float, float]:
+        """A problem's frame, lane line (``lane_y``, NaN on a bend), the stretch of it a
+        maneuver may begin on (``lane_x``), the lane station at x = 0 and the window's
+        half size."""
         mid = slot.entry.mean(axis=0)
         s_mid, _ = lane.project((float(mid[0]), float(mid[1])))
         i, _ = lane.locate(s_mid)
@@ -763,24 +791,7 @@ class ManeuverPlanner:
             # the range nearest the slot (the first of those it lies in)
             first, last = min(spans, key=lambda r: max(r[0] - s_mid, s_mid - r[1], 0.0))
             lane_x = (max(lo, -half, first - s0), min(lo + seg.length, half, last - s0))
-        index = self._index[slot.id]
-        win = self._window(slot, frame, half)
-        shapely.prepare(win)
-        # the slot itself is the car's to fill: no margin to its own lines
-        allowed = self._region.union(slot.shape).intersection(win)
-        shapely.prepare(allowed)
-        near = [int(k) for k in self._tree.query(win) if k != index]
-        # the margin around neighbours stops at this slot's lines: the car may fill its slot.
-        # Inside the window, those clear of the slot are kept as they are (the same shapes as
-        # their difference, in another vertex order); those across its edge are made as
-        # before, as :meth:`_digest` cuts them at the edge (a cut's rounded corners follow
-        # the order of the vertices cut).
-        obstacles = self._polys[near]
-        cut = ~shapely.contains_properly(win, obstacles) | shapely.intersects(obstacles,
-                                                                              slot.shape)
-        obstacles[cut] = shapely.difference(obstacles[cut], slot.shape)
-        return _Problem(vehicle, slot, lane, frame, lane_y, lane_x, s0, half, index, allowed,
-                        obstacles, shapely.STRtree(obstacles), self.settings.sweep, win)
+        return frame, lane_y, lane_x, s0, half
 
     def _window(self, slot: Slot, frame: _Frame, half: float) -> Polygon:
         """The square the search may use, cut at the far side of the aisle less the margin."""
@@ -809,20 +820,59 @@ class ManeuverPlanner:
         cross = ~shapely.contains_properly(p.window, clipped)
         clipped[cross] = shapely.intersection(clipped[cross], p.window)
         clipped = np.concatenate([[p.allowed], clipped])
-        local = sorted(_local_geometry(clipped, p.frame))
-        v = p.vehicle
-        s = p.slot
-        slot_local = np.round(p.frame.points_to_local(s.polygon), 2)
+        local = _local_geometry(clipped, [p.frame], np.zeros(len(clipped), dtype=np.int64))
+        return self._hashed(p.vehicle, p.slot, p.frame, p.lane_y, p.lane_x, p.lane_s0,
+                            p.half, local)
+
+    def _digests(self, triples: Sequence[tuple[VehicleType, Slot, Lane]]
+                 ) -> list[tuple[bytes, _Frame, float]]:
+        """:meth:`_digest` of each triple's problem, with its frame and lane station at
+        x = 0: posed and keyed together, each step one shapely or numpy call over all of
+        them (the same operations on the same shapes as :meth:`_problem` and
+        :meth:`_digest` make one problem at a time, so the same digests), without the
+        rest of a problem (its obstacle tree), which only a search needs."""
+        heads = [self._head(*t) for t in triples]
+        n = len(triples)
+        wins = np.array([self._window(slot, h[0], h[4]) for (_, slot, _), h
+                         in zip(triples, heads, strict=True)], dtype=object)
+        shapely.prepare(wins)
+        shapes = np.array([slot.shape for _, slot, _ in triples], dtype=object)
+        allowed = shapely.intersection(shapely.union(self._region, shapes), wins)
+        # each problem's neighbours (all but its own slot) as (problem, polygon) pairs
+        k, j = self._tree.query(wins)
+        mine = np.array([self._index[slot.id] for _, slot, _ in triples], dtype=np.int64)
+        k, j = k[j != mine[k]], j[j != mine[k]]
+        obstacles = self._polys[j]
+        cut = ~shapely.contains_properly(wins[k], obstacles) | shapely.intersects(obstacles,
+                                                                                  shapes[k])
+        obstacles[cut] = shapely.difference(obstacles[cut], shapes[k[cut]])
+        cross = ~shapely.contains_properly(wins[k], obstacles)
+        obstacles[cross] = shapely.intersection(obstacles[cross], wins[k[cross]])
+        owner = np.concatenate([np.arange(n), k])
+        local = _local_geometry(np.concatenate([allowed, obstacles]), [h[0] for h in heads],
+                                owner)
+        per: list[list[bytes]] = [[] for _ in range(n)]
+        for g, o in zip(local, owner.tolist(), strict=True):
+            per[o].append(g)
+        return [(self._hashed(v, slot, *h, mine_local), h[0], h[3])
+                for (v, slot, _), h, mine_local in zip(triples, heads, per, strict=True)]
+
+    def _hashed(self, v: VehicleType, slot: Slot, frame: _Frame, lane_y: float,
+                lane_x: tuple[float, float], s0: float, half: float, local: list[bytes]
+                ) -> bytes:
+        """The digest of a problem from its head and its local geometry (:func:`_local_geometry`,
+        in any order)."""
+        slot_local = np.round(frame.points_to_local(slot.polygon), 2)
         # where the lane's start grid falls: a closing move runs on along the lane to a
         # grid station, so slots alike but for it do not start on the same offsets
         grid = self.settings.start_grid
-        phase = round(p.lane_s0 % grid, 6) % grid if grid > 0 else 0.0
-        head = (v.name, v.width, v.front, v.rear, v.wheelbase, v.max_steer, s.kind,
-                round(p.lane_y, 3) if math.isfinite(p.lane_y) else None,
-                tuple(np.round(p.lane_x, 2)), round(p.half, 3), phase)
+        phase = round(s0 % grid, 6) % grid if grid > 0 else 0.0
+        head = (v.name, v.width, v.front, v.rear, v.wheelbase, v.max_steer, slot.kind,
+                round(lane_y, 3) if math.isfinite(lane_y) else None,
+                tuple(np.round(lane_x, 2)), round(half, 3), phase)
         h = hashlib.blake2b(repr(head).encode(), digest_size=20)
         h.update(np.sort(slot_local.reshape(-1, 2), axis=0).tobytes())
-        for g in local:
+        for g in sorted(local):
             h.update(g)
         return h.digest()
 
@@ -1234,10 +1284,19 @@ def _taken_zone(slot: Slot, width: float, margin: float) -> Polygon:
     return strip.buffer(margin, join_style="mitre") if margin else strip
 
 
-def _local_geometry(geoms: np.ndarray, frame: _Frame) -> list[bytes]:
-    """Rounded (1 cm), normalised WKB of each of ``geoms`` in ``frame``."""
-    local = shapely.set_coordinates(geoms.copy(),
-                                    frame.points_to_local(shapely.get_coordinates(geoms)))
+def _local_geometry(geoms: np.ndarray, frames: Sequence[_Frame], owner: np.ndarray
+                    ) -> list[bytes]:
+    """Rounded (1 cm), normalised WKB of each of ``geoms`` in its frame, ``frames[owner[i]]``
+    for ``geoms[i]`` (the sums of :meth:`_Frame.points_to_local`, so the same floats)."""
+    xy, at = shapely.get_coordinates(geoms, return_index=True)
+    of = owner[at]
+    ox, oy = np.array([f.x for f in frames])[of], np.array([f.y for f in frames])[of]
+    c = np.array([math.cos(f.heading) for f in frames])[of]
+    s = np.array([math.sin(f.heading) for f in frames])[of]
+    sy = np.array([-1.0 if f.mirror else 1.0 for f in frames])[of]
+    dx, dy = xy[:, 0] - ox, xy[:, 1] - oy
+    local = shapely.set_coordinates(geoms.copy(), np.stack(
+        [c * dx + s * dy, sy * (-s * dx + c * dy)], axis=-1))
     # pointwise: a cache key needs rounded coordinates, not a valid polygon (a neighbour's
     # thin margin strip, moved into the local frame, may self-touch, and GEOS's default
     # mode then throws a TopologyException)
@@ -1323,8 +1382,7 @@ class _Workers:
     slot, lane), found by index in their copy of ``_JOB``: nothing but indices and answers
     is pickled. A process that multiprocessing started (a worker of the bench's pool, of
     Dask, of the caller's) works by itself instead: its parent already shares the cores out;
-    so does one with few problems, or without ``fork``. In this process the problems posed
-    are kept for the searches."""
+    so does one with few problems, or without ``fork``."""
 
     def __init__(self, planner: ManeuverPlanner, triples: list, workers: int | None):
         workers = (workers or (1 if multiprocessing.parent_process() else os.cpu_count()) or 1)
@@ -1340,14 +1398,11 @@ class _Workers:
         if self.count > 1:
             self.pool = multiprocessing.get_context("fork").Pool(
                 self.count, initializer=quiet_worker, initargs=(self.job[2],))
-        else:
-            _POSED.clear()
         return self
 
     def __exit__(self, *exc: object) -> None:
         global _JOB
         _JOB = ()
-        _POSED.clear()
         if self.pool is not None:  # done, or Ctrl-C here: its workers end
             self.pool.terminate()
             self.pool.join()
@@ -1361,25 +1416,20 @@ class _Workers:
         return _counted(answers, len(items), progress)
 
 
-_POSED: dict[int, _Problem] = {}  # problems posed in this process by _pose_job, by triple
-
-
-def _pose_job(k: int) -> tuple[bytes, _Frame, float]:
-    """Triple ``k`` posed: its problem's digest, frame and lane station at x = 0."""
-    planner, triples, pid = _JOB
-    problem = planner._problem(*triples[k])
-    if os.getpid() == pid:  # kept for the search in this process; a worker's is not
-        _POSED[k] = problem
-    return planner._digest(problem), problem.frame, problem.lane_s0
+def _digest_job(part: tuple[int, int]) -> list[tuple[bytes, _Frame, float]]:
+    """:meth:`ManeuverPlanner._digests` of triples ``part[0]`` to ``part[1]`` (excluded):
+    each one's problem digest, frame and lane station at x = 0."""
+    planner, triples, _ = _JOB
+    return planner._digests(triples[part[0]:part[1]])
 
 
 def _search_job(job: tuple[int, str]) -> tuple:
-    """Triple ``job[0]``'s problem searched in style ``job[1]`` (posed again on a worker):
-    (eased, as planned, its exact key, whether the planner's ``known`` answers held it).
-    No exact key (None) when there is no ``known``."""
+    """Triple ``job[0]``'s problem searched in style ``job[1]`` (posed here: it was keyed
+    without being posed whole): (eased, as planned, its exact key, whether the planner's
+    ``known`` answers held it). No exact key (None) when there is no ``known``."""
     planner, triples, _ = _JOB
     k, style = job
-    problem = _POSED[k] if k in _POSED else planner._problem(*triples[k])
+    problem = planner._problem(*triples[k])
     if planner._known is None:
         return *planner._search(problem, style), None, False
     exact = _exact_key(problem, style)
