@@ -655,3 +655,29 @@ def test_every_way_out_of_a_bay_leads_to_an_exit_even_from_a_closed_corner():
     backs = [d["path"] for _, _, d in g.edges(data=True) if d["kind"] == "turnaround"]
     for path in backs:
         _assert_turns_round_clear(path, lg)
+
+
+def test_closings_checked_in_batches_find_what_checking_each_finds(lots):
+    """A turnaround's last moves, from every probe along a stroke, are checked together,
+    the k-th of each at once (turnaround._first_clear): each probe gets the first closing
+    that checking them one by one finds clear (turnaround._blocked), or none."""
+    from lotsim.lot.multipoint import closings
+    from lotsim.lot.turnaround import _blocked, _first_clear, turnaround_collider
+
+    lot = lots["culdesac"][1].lot
+    collider, body = turnaround_collider(lot)
+    rng = np.random.default_rng(7)
+    aisle = next(a for a in lot.aisles.values() if not a.one_way and len(a.lanes) == 2)
+    lane, back = aisle.lanes
+    frame = np.array(back.segments[0].start)
+    length = back.segments[0].length
+    # poses across the lane's end, turned part of the way round: some closings clear, some
+    # through a slot or the boundary, some poses with none clear
+    x = rng.uniform(length - 25.0, length, 300)
+    y = rng.uniform(0.0, 9.0, 300)
+    th = rng.uniform(math.pi, 2 * math.pi, 300)
+    options = [closings(np.array(q), length, lot.design.min_radius) for q in zip(x, y, th)]
+    each = [next((k for k, path in enumerate(paths) if not _blocked(frame, path, collider, body)),
+                 None) for paths in options]
+    assert _first_clear(frame, options, collider, body) == each
+    assert {0, None} <= set(each) and any(k not in (0, None) for k in each)

@@ -161,16 +161,19 @@ def _multipoint(frame: FloatArray, start: FloatArray, lane_length: float, collid
             else np.array([extent])
         poses = advance(pose, gear * probes, kappa) if len(probes) else np.zeros((0, 3))
         changes = k + (1 if gear < 0 else 0)
-        for q, s in sorted(zip(poses, probes, strict=True), key=lambda c: c[1]):
-            for path in closings(q, lane_length, radius):
-                segs = done + ([Segment(tuple(map(float, pose)), gear * float(s), kappa)]
-                               if s > 1e-9 else []) + path
-                if _blocked(frame, path, collider, body):
-                    continue
-                length = sum(x.length for x in segs)
-                if best is None or (changes, length) < best[:2]:
-                    best = (changes, length, segs)
-                break  # the shortest closing from this pose is enough
+        order = sorted(zip(poses, probes, strict=True), key=lambda c: c[1])
+        options = [closings(q, lane_length, radius) for q, _ in order]
+        # the shortest clear closing from each pose is enough
+        for (_, s), paths, clear in zip(order, options,
+                                        _first_clear(frame, options, collider, body),
+                                        strict=True):
+            if clear is None:
+                continue
+            segs = done + ([Segment(tuple(map(float, pose)), gear * float(s), kappa)]
+                           if s > 1e-9 else []) + paths[clear]
+            length = sum(x.length for x in segs)
+            if best is None or (changes, length) < best[:2]:
+                best = (changes, length, segs)
         if best is not None and best[0] <= changes:
             break
         if left <= 1e-6 or extent < MIN_STROKE and k > 0:
@@ -193,6 +196,39 @@ def _extent(frame: FloatArray, pose: FloatArray, gear: int, kappa: float, cap: f
                         np.zeros(n, dtype=int))
     first = int(bad.argmax()) if bad.any() else n
     return float(s[first])
+
+
+def _first_clear(frame: FloatArray, options: list[list[list[Segment]]], collider: Collider,
+                 body: DesignVehicle) -> list[int | None]:
+    """For each list of paths (local, in ``frame``) in ``options``, the index of the first
+    not :func:`_blocked`, or None: the first paths of all checked in one batch, then the
+    second paths of those whose first was blocked, and so on."""
+    out: list[int | None] = [None] * len(options)
+    todo = [i for i, paths in enumerate(options) if paths]
+    k = 0
+    while todo:
+        hit = _blocked_each(frame, [options[i][k] for i in todo], collider, body)
+        for i, blocked in zip(todo, hit, strict=True):
+            if not blocked:
+                out[i] = k
+        k += 1
+        todo = [i for i, blocked in zip(todo, hit, strict=True) if blocked and k < len(options[i])]
+    return out
+
+
+def _blocked_each(frame: FloatArray, paths: list[list[Segment]], collider: Collider,
+                  body: DesignVehicle) -> list[bool]:
+    """:func:`_blocked` of each of ``paths``, their sweeps checked together (each path a run
+    of its own in :func:`~lotsim.lot.clearance.first_blocked`: the same bodies tested)."""
+    sampled = [sample_segments(segs, STEP)[0] for segs in paths]
+    if any(len(x) < 2 for x in sampled):  # a point: its footprint is checked, not a sweep
+        return [_blocked(frame, segs, collider, body) for segs in paths]
+    owner = np.repeat(np.arange(len(paths)), [len(x) for x in sampled])
+    run = np.where(owner[1:] == owner[:-1], owner[1:], -1)
+    prints = body.footprints(to_world(frame, np.concatenate(sampled)))
+    hit = np.zeros(len(paths), dtype=bool)
+    hit[run[first_blocked(collider.blocked, prints, run)]] = True
+    return hit.tolist()
 
 
 def _blocked(frame: FloatArray, segs: list[Segment], collider: Collider,
