@@ -20,7 +20,7 @@ import lotsim.cache
 from lotsim.errors import Location, ScenarioError, SettingsError
 from lotsim.geometry import same_pose
 from lotsim.lot.build import build_lot
-from lotsim.lot.graph import LotGraph, Reachability, build_graph
+from lotsim.lot.graph import LotGraph, Reachability, build_graph, plan_turnarounds_ahead
 from lotsim.lot.model import DesignVehicle, Lot
 from lotsim.planners.cooperative import (
     Goal,
@@ -107,6 +107,14 @@ def _prepared(scenario: Scenario, leaves: set[bool], name: str | None, node_spac
     """:func:`prepare` a lot not in the cache, and store it there as ``name`` (when not
     None)."""
     lot = build_lot(scenario.lot, DesignVehicle.envelope(scenario.vehicle_types))
+    # the dead ends' turnarounds, planned in time no other step wants (the graphs need them)
+    with plan_turnarounds_ahead(lot, scenario.vehicle_types):
+        return _prepared_lot(scenario, lot, leaves, name, node_spacing, margin, progress)
+
+
+def _prepared_lot(scenario: Scenario, lot: Lot, leaves: set[bool], name: str | None,
+                  node_spacing: float, margin: float, progress) -> LotGraph:
+    """:func:`_prepared` once the lot is built."""
     planner = maneuver_planner(scenario, lot, margin=margin)
     known = known_name = None
     if (name is not None and lotsim.cache.cache_dir() is not None

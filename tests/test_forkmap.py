@@ -29,3 +29,42 @@ def test_one_worker_or_one_item_works_here():
 def test_closures_reach_the_workers_unpickled():
     lookup = {"a": object()}  # not picklable by value into a lambda's closure
     assert fork_map(lambda k: k in lookup, ["a", "b"], workers=2) == [True, False]
+
+
+def _taken(bg, n: int, seconds: float = 20.0) -> dict:
+    """``bg.take()`` once it holds ``n`` answers (or after ``seconds``)."""
+    end = time.monotonic() + seconds
+    while len(bg.take()) < n and time.monotonic() < end:
+        time.sleep(0.01)
+    return bg.take()
+
+
+def test_a_background_works_on_another_process_at_the_lowest_priority():
+    from lotsim.forkmap import Background
+
+    with Background(lambda x: (x * x, os.getpid(), os.nice(0)), [3, 1, 2]) as bg:
+        got = _taken(bg, 3)
+    assert {k: a for k, (a, _, _) in got.items()} == {0: 9, 1: 1, 2: 4}
+    assert {pid for _, pid, _ in got.values()} - {os.getpid()}  # not this process
+    assert {nice for _, _, nice in got.values()} == {19}
+
+
+def test_a_background_stops_quietly_at_an_item_that_fails(capfd):
+    from lotsim.forkmap import Background
+
+    with Background(lambda x: 1 / x, [1, 0, 2]) as bg:
+        bg._proc.join(20)
+        got = bg.take()
+    assert got == {0: 1.0}  # the item that failed and those after it: no answer
+    assert "Traceback" not in capfd.readouterr().err
+
+
+def test_a_background_started_by_a_worker_starts_nothing():
+    from lotsim.forkmap import Background
+
+    def inside(_):
+        with Background(lambda x: x, [1, 2]) as bg:
+            time.sleep(0.3)
+            return bg.take(), bg._proc is None
+
+    assert fork_map(inside, [0, 1], workers=2) == [({}, True), ({}, True)]

@@ -676,8 +676,39 @@ def test_closings_checked_in_batches_find_what_checking_each_finds(lots):
     x = rng.uniform(length - 25.0, length, 300)
     y = rng.uniform(0.0, 9.0, 300)
     th = rng.uniform(math.pi, 2 * math.pi, 300)
-    options = [closings(np.array(q), length, lot.design.min_radius) for q in zip(x, y, th)]
+    options = [closings(q, length, lot.design.min_radius) for q in np.column_stack([x, y, th])]
     each = [next((k for k, path in enumerate(paths) if not _blocked(frame, path, collider, body)),
                  None) for paths in options]
     assert _first_clear(frame, options, collider, body) == each
     assert {0, None} <= set(each) and any(k not in (0, None) for k in each)
+
+
+def test_turnarounds_planned_ahead_make_the_same_graph_and_are_used(monkeypatch):
+    """prepare plans every two-way lane's turnaround ahead, in CPU time nothing else wants
+    (graph.plan_turnarounds_ahead): a graph built with those plans is the one built
+    without, and the build plans none itself when they are all in."""
+    import lotsim.lot.graph as graph
+    from lotsim.lot.build import build_lot
+    from lotsim.lot.model import DesignVehicle
+
+    sc = load_scenario(LOTS / "culdesac.yaml")
+
+    def built(ahead: bool):
+        lot = build_lot(sc.lot, DesignVehicle.envelope(sc.vehicle_types))
+        if not ahead:
+            return graph.build_graph(lot, vehicles=sc.vehicle_types)
+        with graph.plan_turnarounds_ahead(lot, sc.vehicle_types) as bg:
+            keys, _ = graph._AHEAD[lot]
+            bg._proc.join(60)
+            assert len(bg.take()) == len(keys) > 0
+            with monkeypatch.context() as m:  # (the background process has its own copy)
+                m.setattr(graph, "plan_turnarounds", lambda *a: 1 / 0)
+                return graph.build_graph(lot, vehicles=sc.vehicle_types)
+
+    def edges(lg):
+        return sorted((u, v, d["kind"], d.get("types"), d["path"])
+                      for u, v, d in lg.graph.edges(data=True) if d["kind"] == "turnaround")
+
+    plain, ahead = built(False), built(True)
+    assert edges(plain) and edges(ahead) == edges(plain)
+    assert ahead.skipped_turns == plain.skipped_turns

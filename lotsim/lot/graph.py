@@ -53,7 +53,7 @@ import numpy as np
 import shapely
 
 from lotsim.errors import ScenarioError
-from lotsim.forkmap import fork_map
+from lotsim.forkmap import Background, fork_map
 from lotsim.geometry import (
     Segment,
     cc_polyline,
@@ -417,9 +417,7 @@ def build_graph(lot: Lot, *, node_spacing: float = 4.0, maneuvers=None,
     """
     lanes = {lane.id: lane for lane in lot.lanes}
     collider = lane_collider(lot)
-    names = sorted({v.name for v in vehicles})
-    designs = ({v.name: DesignVehicle.envelope([v]) for v in vehicles} if len(names) > 1
-               else None)
+    designs = _designs_of(vehicles)
     tagged, skipped = _turns_of(lot, collider, designs)
     # turns for more types first: two that join the same nodes keep the one more can drive
     tagged.sort(key=lambda c: -len(designs or ()) if c[1] is None else -len(c[1]))
@@ -870,10 +868,15 @@ def _turnarounds_of(lot: Lot, turns: list[Turn], joins: list[tuple[str, str]],
         tagged: dict[Turnaround, set[str]] = {}  # each with the types it was planned for
         why: dict[tuple[str, str], str] = {}  # (lane, type) → why it has none
         planned = _BACK_PLANS.setdefault(lot, {})  # (lane, design) → plan_turnarounds
-        # the searches not planned before (by an earlier build of this lot's graph), on
-        # both cores: each is a function of its arguments alone, so the same answers
-        todo = {(lane.id, per[name]): (lane, back, *bodies[name], per[name].min_radius)
-                for name in per for lane, back in ends if (lane.id, per[name]) not in planned}
+        if lot in _AHEAD:  # those planned ahead so far (plan_turnarounds_ahead)
+            keys, ahead = _AHEAD[lot]
+            for k, plan in ahead.take().items():
+                planned.setdefault(keys[k], plan)
+        # the searches not planned before (by an earlier build of this lot's graph, or
+        # ahead), on both cores: each is a function of its arguments alone, so the same
+        # answers
+        todo = {key: job for key, job in _turnaround_plans(per, bodies, ends).items()
+                if key not in planned}
         planned.update(zip(todo, fork_map(lambda job: plan_turnarounds(*job),
                                           list(todo.values())), strict=True))
         reach = {}  # reach key → (lane, back, found, collider, body, radius, arrive, go on)
@@ -916,6 +919,48 @@ def _turnarounds_of(lot: Lot, turns: list[Turn], joins: list[tuple[str, str]],
                        for t, n in tagged.items()], notes)
     found, notes = cache[key]
     return list(found), list(notes)
+
+
+def _designs_of(vehicles) -> dict[str, DesignVehicle] | None:
+    """Vehicle type → its own outline and limits, for two types or more (None: the lot's
+    design vehicle serves every type): what :func:`build_graph` plans turns and
+    turnarounds for."""
+    names = sorted({v.name for v in vehicles})
+    return ({v.name: DesignVehicle.envelope([v]) for v in vehicles} if len(names) > 1
+            else None)
+
+
+def _turnaround_plans(per: dict[str, DesignVehicle], bodies: dict[str, tuple],
+                      ends: list[tuple[Lane, Lane]]) -> dict[tuple[str, DesignVehicle], tuple]:
+    """(lane id, design) → the arguments of :func:`plan_turnarounds` for each of ``ends``
+    (lane, opposite lane) and each type's design in ``per`` (``bodies``: its
+    :func:`turnaround_collider`)."""
+    return {(lane.id, per[name]): (lane, back, *bodies[name], per[name].min_radius)
+            for name in per for lane, back in ends}
+
+
+_AHEAD: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()  # lot → (keys, Background)
+
+
+def plan_turnarounds_ahead(lot: Lot, vehicles=()) -> Background:
+    """Begin planning the turnaround at the end of every lane of a two-way aisle of ``lot``
+    (for ``vehicles``' designs, as :func:`build_graph` will want them), on a background
+    process that takes only CPU time nothing else wants (:class:`~lotsim.forkmap.Background`):
+    the lanes that turn out to be dead ends are then planned already when a graph of the
+    lot is built. Each plan is a function of its arguments alone, so the graph is the same
+    with it as without; one it has not finished is planned when needed, as without. Close
+    it (or use it as a context manager) when the lot is built."""
+    ends = [(lane, back) for aisle in lot.aisles.values()
+            if not aisle.one_way and len(aisle.lanes) == 2
+            for lane, back in (aisle.lanes, aisle.lanes[::-1])]
+    per = _designs_of(vehicles) or {"": lot.design}
+    bodies = {name: turnaround_collider(lot, design) for name, design in per.items()}
+    jobs = _turnaround_plans(per, bodies, ends)
+    done = _BACK_PLANS.get(lot, {})
+    keys = [key for key in jobs if key not in done]
+    ahead = Background(lambda key: plan_turnarounds(*jobs[key]), keys)
+    _AHEAD[lot] = (keys, ahead)
+    return ahead
 
 
 def _fits_a_slot(lot: Lot, design: DesignVehicle) -> bool:
