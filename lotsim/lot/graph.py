@@ -520,14 +520,15 @@ def build_graph(lot: Lot, *, node_spacing: float = 4.0, maneuvers=None,
             return vname, limit, tuple((s.distance, s.curvature, s.sharpness)
                                        for s in path.segments)
 
+        leaving = {key: m.reversed() for key, m in maneuvers.items()}  # each way out
         # a lot's maneuvers repeat a few shapes: each timed once, on both cores
         todo: dict[tuple, tuple] = {}
         for kept, both in ((maneuvers, True), (stays, False)):
-            for (vname, _, _), m in kept.items():
-                if vname in types:
+            for key, m in kept.items():
+                if key[0] in types:
                     limit = _path_limit(lot, m)
-                    for path in (m, m.reversed()) if both else (m,):
-                        todo.setdefault(shape(path, vname, limit), (path, vname, limit))
+                    for path in (m, leaving[key]) if both else (m,):
+                        todo.setdefault(shape(path, key[0], limit), (path, key[0], limit))
         jobs = list(todo.values())
         parts = [jobs[k::8] for k in range(8)] if len(jobs) >= 64 else [jobs]
         times = fork_map(lambda part: [p.duration(types[v], lim) for p, v, lim in part], parts)
@@ -542,7 +543,8 @@ def build_graph(lot: Lot, *, node_spacing: float = 4.0, maneuvers=None,
             if a not in attachments[sid]:
                 attachments[sid].append(a)
             limit = _path_limit(lot, m)
-            for u, v, kind, path in ((a, node, "park", m), (node, a, "leave", m.reversed())):
+            back = leaving[vname, sid, lid]
+            for u, v, kind, path in ((a, node, "park", m), (node, a, "leave", back)):
                 e = _link(g, u, v, kind, path, limit)
                 e["maneuvers"][vname] = path
                 if vname in types:
