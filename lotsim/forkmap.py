@@ -93,9 +93,14 @@ class Background:
             return
         ctx = multiprocessing.get_context("fork")
         self._conn, send = ctx.Pipe(duplex=False)
-        self._proc = ctx.Process(target=_background, args=(fn, items, send, os.getpid()),
-                                 daemon=True)
-        self._proc.start()
+        proc = ctx.Process(target=_background, args=(fn, items, send, os.getpid()),
+                           daemon=True)
+        try:
+            proc.start()
+            self._proc = proc
+        except OSError:  # no process to be had (a limit): the caller works them all out
+            self._conn.close()
+            self._conn = None
         send.close()
 
     def take(self) -> dict[int, object]:
