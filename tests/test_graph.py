@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 import shapely
 
-from conftest import ONE_AISLE, SCENARIOS, graph_from_text, position, scenario_from_text
+from conftest import ONE_AISLE, ROOT, SCENARIOS, graph_from_text, position, scenario_from_text
 from lotsim.errors import ScenarioError
 from lotsim.geometry import wrap_angle
 from lotsim.sim import prepare
@@ -291,6 +291,32 @@ def test_turns_found_on_two_workers_are_those_each_type_finds_on_its_own():
         turns, skipped = _junction_turns(lot, collider, design)
         expected.append((turns + _through_turns(lot, turns, collider, design), skipped))
     assert sum(len(turns) for turns, _ in expected) > 10
+    assert _turns_per_design(lot, collider, designs) == expected
+
+
+def test_turns_through_stretches_on_two_workers_are_those_each_type_finds_on_its_own():
+    # the gate spur's junctions close together, for two types: each stretch's turn a task
+    # on forked workers, against each type's junction and through turns found in one go
+    from lotsim.io.scenario import load_scenario
+    from lotsim.lot.build import build_lot, lane_collider
+    from lotsim.lot.graph import (
+        _junction_turns,
+        _through_chains,
+        _through_turns,
+        _turns_per_design,
+    )
+    from lotsim.lot.model import DesignVehicle
+    from lotsim.vehicles import CATALOGUE
+
+    sc = load_scenario(ROOT / "scenarios" / "lots" / "gate_spur.yaml")
+    lot = build_lot(sc.lot, DesignVehicle.envelope(sc.vehicle_types))
+    collider = lane_collider(lot)
+    designs = [DesignVehicle.envelope([CATALOGUE[n]]) for n in ("valet", "zoe")]
+    expected = []
+    for design in designs:
+        turns, skipped = _junction_turns(lot, collider, design)
+        assert len(_through_chains(lot, turns)) >= 5
+        expected.append((turns + _through_turns(lot, turns, collider, design), skipped))
     assert _turns_per_design(lot, collider, designs) == expected
 
 

@@ -801,8 +801,13 @@ def _turns_per_design(lot: Lot, collider: Collider, designs: list
     for k in range(len(designs)):
         mine = found[k * len(lot.lanes):(k + 1) * len(lot.lanes)]
         per.append(([t for turns, _ in mine for t in turns], [r for _, why in mine for r in why]))
-    through = fork_map(lambda k: _through_turns(lot, per[k][0], collider, designs[k]),
-                       range(len(designs)))
+    # then each design's turns through short stretches, a stretch a task (a large type's
+    # take longest)
+    chains = [(k, chain) for k in range(len(designs)) for chain in _through_chains(lot, per[k][0])]
+    got = fork_map(lambda job: _through_turn(lot, collider, designs[job[0]], job[1]), chains)
+    through: list[list[Turn]] = [[] for _ in designs]
+    for (k, _), turns in zip(chains, got, strict=True):
+        through[k] += turns
     return [(turns + extra, why) for (turns, why), extra in zip(per, through, strict=True)]
 
 
@@ -1327,13 +1332,21 @@ def _through_turns(lot: Lot, turns: list[Turn], collider: Collider,
     path from the first lane into the last along the stretch (:func:`_area_turns` with
     ``via``), if no turn joins the two lanes there already. None back onto the lane it
     came from."""
+    return [t for chain in _through_chains(lot, turns)
+            for t in _through_turn(lot, collider, design, chain)]
+
+
+def _through_chains(lot: Lot, turns: list[Turn]) -> list[tuple]:
+    """The stretches :func:`_through_turns` turns through, in its order: for each, the
+    first lane, the start station and straight of it the turn leaves from, the last lane
+    and its straight likewise, and the stretch's straight."""
     lanes = {lane.id: lane for lane in lot.lanes}
     into: dict[str, list[Turn]] = {}
     for tn in turns:
         into.setdefault(tn.lane_b, []).append(tn)
     joined = {(tn.lane_a, tn.lane_b) for tn in turns}
     done = set()
-    out: list[Turn] = []
+    out = []
     for t2 in turns:
         for t1 in into.get(t2.lane_a, ()):
             chain = (t1.lane_a, t2.lane_a, t2.lane_b)
@@ -1349,9 +1362,16 @@ def _through_turns(lot: Lot, turns: list[Turn], collider: Collider,
             if any(p is None for p in pieces):
                 continue
             (sa0, pa), (_, pc), (sb0, pb) = pieces
-            out += _area_turns(a, sa0, pa, b, sb0, pb, design or lot.design, collider,
-                               lot.speed_limit, via=(pc,), shifts=AREA_SHIFTS)
+            out.append((a, sa0, pa, b, sb0, pb, pc))
     return out
+
+
+def _through_turn(lot: Lot, collider: Collider, design: DesignVehicle | None,
+                  chain: tuple) -> list[Turn]:
+    """:func:`_through_turns` through one of :func:`_through_chains`."""
+    a, sa0, pa, b, sb0, pb, pc = chain
+    return _area_turns(a, sa0, pa, b, sb0, pb, design or lot.design, collider,
+                       lot.speed_limit, via=(pc,), shifts=AREA_SHIFTS)
 
 
 def _straight_at(lane: Lane, station: float) -> tuple[float, Segment] | None:
