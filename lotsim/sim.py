@@ -217,7 +217,8 @@ other seeds and rates (300 cars at 1200/h, three seeds; 300 at 2400/h; 1000 at 1
 another seed) they parked 1.9-4.1 % sooner on every run, with 0.45-0.69 of the
 expansions; the ``large_lot_load`` suite (150 cars that stay, 300 to 2400/h, two seeds)
 took 0.69 of the expansions and 0.75 of the planning time in all, its runs parking 0.8 %
-sooner to 1.4 % later (later only at 1200/h and over, where cars queue at the gate).
+sooner to 1.4 % later (later by over 0.1 % only at 1200/h and over, where cars queue
+at the gate).
 Longer spans saved no more and parked the cars that stay later: up to 3.2 % with 10 s,
 7 % with 20 s."""
 
