@@ -109,38 +109,32 @@ def _prepared(scenario: Scenario, leaves: set[bool], name: str | None, node_spac
     lot = build_lot(scenario.lot, DesignVehicle.envelope(scenario.vehicle_types))
     # the dead ends' turnarounds, planned in time no other step wants (the graphs need them)
     with plan_turnarounds_ahead(lot, scenario.vehicle_types):
-        return _prepared_lot(scenario, lot, leaves, name, node_spacing, margin, progress)
-
-
-def _prepared_lot(scenario: Scenario, lot: Lot, leaves: set[bool], name: str | None,
-                  node_spacing: float, margin: float, progress) -> LotGraph:
-    """:func:`_prepared` once the lot is built."""
-    planner = maneuver_planner(scenario, lot, margin=margin)
-    known = known_name = None
-    if (name is not None and lotsim.cache.cache_dir() is not None
-            and len(lot.slots) * len(scenario.vehicle_types) >= REMEMBER_FROM):
-        # the maneuvers of this lot as prepared before (by its name), whatever has changed
-        # since: an edited lot searches again only the problems its edit changed
-        known_name = lotsim.cache.key("maneuvers", scenario.name, planner.settings)
-        known = lotsim.cache.load(known_name)
-        known = known if isinstance(known, dict) else {}
-    planned, infeasible, stays = plan_lot(planner, scenario.vehicle_types, progress=progress,
-                                          known=known)
-    if known_name is not None and planner.stats["planned"] > planner.stats["remembered"]:
-        lotsim.cache.store(known_name, known)  # it learnt something
-    if leaves == {False}:  # no car leaves: each lane's own best only
-        planned, stays = {**planned, **stays}, {}
-    elif leaves == {True}:  # no car stays: where those begin would only be nodes in the way
-        stays = {}
-    lg = build_graph(lot, node_spacing=node_spacing, maneuvers=planned,
-                     vehicles=scenario.vehicle_types, stays=stays)
-    lg.infeasible = infeasible
-    lg.maneuver_planner = planner
-    if name is not None:
-        lg.reachability()  # every run and validate asks: kept with the lot
-        lg.facts()
-        lotsim.cache.store(name, lg)
-    return lg
+        planner = maneuver_planner(scenario, lot, margin=margin)
+        known = known_name = None
+        if (name is not None and lotsim.cache.cache_dir() is not None
+                and len(lot.slots) * len(scenario.vehicle_types) >= REMEMBER_FROM):
+            # the maneuvers of this lot as prepared before (by its name), whatever has changed
+            # since: an edited lot searches again only the problems its edit changed
+            known_name = lotsim.cache.key("maneuvers", scenario.name, planner.settings)
+            known = lotsim.cache.load(known_name)
+            known = known if isinstance(known, dict) else {}
+        planned, infeasible, stays = plan_lot(planner, scenario.vehicle_types, progress=progress,
+                                              known=known)
+        if known_name is not None and planner.stats["planned"] > planner.stats["remembered"]:
+            lotsim.cache.store(known_name, known)  # it learnt something
+        if leaves == {False}:  # no car leaves: each lane's own best only
+            planned, stays = {**planned, **stays}, {}
+        elif leaves == {True}:  # no car stays: where those begin would only be nodes in the way
+            stays = {}
+        lg = build_graph(lot, node_spacing=node_spacing, maneuvers=planned,
+                         vehicles=scenario.vehicle_types, stays=stays)
+        lg.infeasible = infeasible
+        lg.maneuver_planner = planner
+        if name is not None:
+            lg.reachability()  # every run and validate asks: kept with the lot
+            lg.facts()
+            lotsim.cache.store(name, lg)
+        return lg
 
 
 @dataclass(frozen=True, slots=True)

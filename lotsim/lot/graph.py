@@ -851,9 +851,7 @@ def _turnarounds_of(lot: Lot, turns: list[Turn], joins: list[tuple[str, str]],
         last[t.lane_a] = max(last[t.lane_a], t.station_a)
         turned[t.lane_a] = max(turned[t.lane_a], t.station_a)
     joined = {a for a, _ in joins}
-    ends = [(lane, back) for aisle in lot.aisles.values()
-            if not aisle.one_way and len(aisle.lanes) == 2
-            for lane, back in (aisle.lanes, aisle.lanes[::-1])
+    ends = [(lane, back) for lane, back in _two_way_lanes(lot)
             if lane.id not in joined and (last[lane.id] < lane.length - DEAD_END
                                           or stops.get(lane.id, -math.inf) > turned[lane.id])]
     # where a car arrives on each lane, and the last place it can leave each lane from
@@ -928,6 +926,14 @@ def _turnarounds_of(lot: Lot, turns: list[Turn], joins: list[tuple[str, str]],
     return list(found), list(notes)
 
 
+def _two_way_lanes(lot: Lot) -> list[tuple[Lane, Lane]]:
+    """Each lane of a two-way aisle with the aisle's other lane, the one a car turning back
+    lands on."""
+    return [(lane, back) for aisle in lot.aisles.values()
+            if not aisle.one_way and len(aisle.lanes) == 2
+            for lane, back in (aisle.lanes, aisle.lanes[::-1])]
+
+
 def _designs_of(vehicles) -> dict[str, DesignVehicle] | None:
     """Vehicle type → its own outline and limits, for two types or more (None: the lot's
     design vehicle serves every type): what :func:`build_graph` plans turns and
@@ -957,12 +963,9 @@ def plan_turnarounds_ahead(lot: Lot, vehicles=()) -> Background:
     lot is built. Each plan is a function of its arguments alone, so the graph is the same
     with it as without; one it has not finished is planned when needed, as without. Close
     it (or use it as a context manager) when the lot is built."""
-    ends = [(lane, back) for aisle in lot.aisles.values()
-            if not aisle.one_way and len(aisle.lanes) == 2
-            for lane, back in (aisle.lanes, aisle.lanes[::-1])]
     per = _designs_of(vehicles) or {"": lot.design}
     bodies = {name: turnaround_collider(lot, design) for name, design in per.items()}
-    jobs = _turnaround_plans(per, bodies, ends)
+    jobs = _turnaround_plans(per, bodies, _two_way_lanes(lot))
     done = _BACK_PLANS.get(lot, {})
     keys = [key for key in jobs if key not in done]
     ahead = Background(lambda key: plan_turnarounds(*jobs[key]), keys)

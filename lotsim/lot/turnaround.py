@@ -218,25 +218,25 @@ def _first_clear(frame: FloatArray, options: list[list[list[Segment]]], collider
 
 def _blocked_each(frame: FloatArray, paths: list[list[Segment]], collider: Collider,
                   body: DesignVehicle) -> list[bool]:
-    """:func:`_blocked` of each of ``paths``, their sweeps checked together (each path a run
-    of its own in :func:`~lotsim.lot.clearance.first_blocked`: the same bodies tested)."""
+    """Whether each of ``paths`` (local, in ``frame``) touches anything: the hulls of its
+    consecutive footprints :data:`STEP` apart, a path a run of its own in
+    :func:`~lotsim.lot.clearance.first_blocked` (so checking them together tests the same
+    bodies as one by one); a path that is a point, its footprint."""
     sampled = [sample_segments(segs, STEP)[0] for segs in paths]
-    if any(len(x) < 2 for x in sampled):  # a point: its footprint is checked, not a sweep
-        return [_blocked(frame, segs, collider, body) for segs in paths]
-    owner = np.repeat(np.arange(len(paths)), [len(x) for x in sampled])
+    sizes = [len(x) for x in sampled]
+    owner = np.repeat(np.arange(len(paths)), sizes)
     run = np.where(owner[1:] == owner[:-1], owner[1:], -1)
     prints = body.footprints(to_world(frame, np.concatenate(sampled)))
     hit = np.zeros(len(paths), dtype=bool)
     hit[run[first_blocked(collider.blocked, prints, run)]] = True
+    point = [k for k, n in enumerate(sizes) if n == 1]
+    if point:
+        hit[point] = collider.blocked(prints[np.cumsum(sizes)[point] - 1])
     return hit.tolist()
 
 
 def _blocked(frame: FloatArray, segs: list[Segment], collider: Collider,
              body: DesignVehicle) -> bool:
-    poses, _ = sample_segments(segs, STEP)
-    if len(poses) == 1:
-        return bool(collider.blocked(body.footprints(to_world(frame, poses)))[0])
-    return bool(first_blocked(collider.blocked, body.footprints(to_world(frame, poses)),
-                              np.zeros(len(poses) - 1, dtype=int)).any())
+    return _blocked_each(frame, [segs], collider, body)[0]
 
 
