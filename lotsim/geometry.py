@@ -268,17 +268,26 @@ def sample_segments(segments: Sequence[Segment], step: float) -> tuple[FloatArra
     """
     if not segments:
         return np.zeros((0, 3)), np.zeros(0, dtype=int)
-    length = np.array([s.length for s in segments])
-    gear = np.array([s.gear for s in segments], dtype=float)
+    return sample_pieces(np.array([s.start for s in segments], dtype=float),
+                         np.array([s.distance for s in segments], dtype=float),
+                         np.array([s.curvature for s in segments], dtype=float), step,
+                         np.array([s.sharpness for s in segments], dtype=float))
+
+
+def sample_pieces(starts: FloatArray, distance: FloatArray, curvature: FloatArray,
+                  step: float, sharpness: FloatArray | float = 0.0
+                  ) -> tuple[FloatArray, np.ndarray]:
+    """:func:`sample_segments` of segments given as arrays: start poses (N, 3), signed
+    distances, curvatures and sharpnesses (N,)."""
+    length = np.abs(distance)
+    gear = np.where(distance >= 0, 1.0, -1.0)
     n = np.maximum(1, np.ceil(length / step - 1e-9).astype(int)) + 1
-    owner = np.repeat(np.arange(len(segments)), n)
+    owner = np.repeat(np.arange(len(length)), n)
     first = np.concatenate([[0], np.cumsum(n)[:-1]])
     k = np.arange(owner.size) - first[owner]
     dist = length[owner] * k / (n[owner] - 1) * gear[owner]
-    starts = np.array([s.start for s in segments], dtype=float)
-    curv = np.array([s.curvature for s in segments], dtype=float)
-    sharp = np.array([s.sharpness for s in segments], dtype=float)
-    return travel(starts[owner], dist, curv[owner], sharp[owner]), owner
+    sharp = np.broadcast_to(np.asarray(sharpness, dtype=float), length.shape)
+    return travel(starts[owner], dist, curvature[owner], sharp[owner]), owner
 
 
 def fillet_polyline(points: ArrayLike, radius: float) -> list[Segment]:

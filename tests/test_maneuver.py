@@ -589,6 +589,99 @@ def test_the_first_clear_path_is_the_first_row_that_passes_both_checks(before):
     assert planner._first_clear(p, blocked[:before]) is None
 
 
+def test_the_rough_pass_over_a_searchs_candidates_finds_what_checking_each_path_finds():
+    """``_rough`` (the ways to the stops checked once, the closing moves as arrays) against
+    making each candidate's path and checking its footprints on its own
+    (``paths_blocked(sweep=False)``): the rows of real searches in a narrow aisle (every
+    level of direction changes), and those rows again with no straight before the arc, no
+    run along the lane, or no closing move at all."""
+    from lotsim.planners.maneuver import ROUGH
+
+    lot, _ = _lot(QUICK.replace("width: 7.0", "width: 5.0"))
+    planner = ManeuverPlanner(lot)
+    asked = []
+    first_clear = planner._first_clear
+
+    def spy(p, rows, build=None, rough=None, chunk=8):
+        if rough is not None:
+            asked.append((p, rows.copy(), build, rough))
+        return first_clear(p, rows, build, rough, chunk)
+
+    planner._first_clear = spy
+    for sid in ("main-left-1", "main-left-4"):
+        slot = lot.slot_by_id[sid]
+        for style in ("forward", "reverse"):
+            assert planner.solve(CATALOGUE["valet"], slot, planner.lanes_for(slot)[0],
+                                 style=style).ok
+    levels, blocked, clear = set(), 0, 0
+    for p, rows, build, rough in asked:
+        variants = [rows]
+        for column, every in ((5, 3), (7, 4), (6, 5)):  # straight, run along, curvature
+            v = rows.copy()
+            v[::every, column] = 0.0
+            variants.append(v)
+        for v in variants:
+            want = np.array([p.paths_blocked([build(r)[2]], step=ROUGH, sweep=False)[0]
+                             for r in v], dtype=bool)
+            assert np.array_equal(rough(v), want)
+            blocked, clear = blocked + int(want.sum()), clear + int((~want).sum())
+        levels |= set(rows[:, 2].astype(int).tolist())
+    assert levels >= {0, 1, 2, 3} and blocked > 100 and clear > 100
+
+
+def test_the_rough_pass_finds_blocked_ways_to_the_stops_and_runs_along_the_lane():
+    """``_rough`` on made-up levels of a search (random strokes near the slot, some through
+    its neighbours; stops along them; closing moves with and without a straight, a run
+    along the lane of up to 25 m (past the window) or none, or none at all) against making
+    each row's path as the search does and checking its footprints on its own."""
+    from lotsim.geometry import Segment, advance
+    from lotsim.planners.maneuver import ROUGH, _closing_segments
+
+    lot, _ = _lot(QUICK)
+    planner = ManeuverPlanner(lot)
+    slot = lot.slot_by_id["main-left-4"]
+    p = planner._problem(CATALOGUE["valet"], slot, planner.lanes_for(slot)[0])
+    kmax = CATALOGUE["valet"].max_curvature
+    rng = np.random.default_rng(3)
+    registry, rows = [], []
+    for level in range(3):
+        heads = []
+        for k in range(4):  # half of them along the lane
+            pose = ((float(rng.uniform(-6, 6)), float(rng.uniform(-5, 2)),
+                     float(rng.uniform(-math.pi, math.pi))) if k % 2 else
+                    (float(rng.uniform(-6, 6)), p.lane_y, float(rng.normal(0.0, 0.1))))
+            segs = [Segment(pose, float(rng.uniform(-3, 3)), float(rng.choice([0, kmax])))]
+            heads.append((segs, segs[-1].end, segs[-1].length))
+        g, kappa = int(rng.choice([-1, 1])), float(rng.choice([0.0, -kmax, kmax]))
+        owner = rng.integers(0, len(heads), 12)
+        flat = np.where(rng.random(12) < 0.2, 0.0, rng.uniform(0.0, 4.0, 12))
+        q = advance(np.array([heads[o][1] for o in owner]), g * flat, kappa)
+        registry.append((heads, flat, q, owner, g, kappa))
+        for m in range(12):
+            for _ in range(4):
+                rows.append([level, 0.0, level, m, int(rng.choice([-1, 1])),
+                             float(rng.choice([0.0, rng.uniform(0.1, 3.0)])),
+                             float(rng.choice([0.0, 1.0, -1.0, 0.5]) * kmax),
+                             float(rng.choice([0.0, rng.uniform(0.0, 25.0)]))])
+    rows = np.array(rows)
+
+    def path(row):  # as the search's ``build`` makes it
+        heads, flat, q, owner, g, kappa = registry[int(row[2])]
+        m = int(row[3])
+        segs, pose, _ = heads[owner[m]]
+        head = segs + ([Segment(pose, g * float(flat[m]), kappa)] if flat[m] > 1e-9 else [])
+        close = (int(row[4]), float(row[5]), float(row[6]), float(row[7]))
+        return head + _closing_segments(tuple(map(float, q[m])), close)
+
+    want = np.array([p.paths_blocked([path(r)], step=ROUGH, sweep=False)[0] for r in rows])
+    reached = {}
+    got = np.concatenate([planner._rough(p, registry, rows[k : k + 50], reached)
+                          for k in range(0, len(rows), 50)])
+    assert np.array_equal(got, want)
+    heads_blocked = sum(reached.values())
+    assert 0 < heads_blocked < len(reached) and 0.2 < want.mean() < 0.9
+
+
 ROW_OFF_GRID = """
 vehicle_types: [valet]
 lot:

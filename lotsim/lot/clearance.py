@@ -21,6 +21,15 @@ class Hit:
     point: tuple[float, float]  # a point of the offending body [m]
 
 
+def hulls(bodies: FloatArray) -> np.ndarray:
+    """The hull of each body (N, K, 2 points): as it is when a footprint (K = 4, a
+    rectangle's corners in order), else made (:func:`shapely.convex_hull`, three times
+    dearer)."""
+    if bodies.shape[1] == 4:
+        return shapely.polygons(bodies)
+    return shapely.convex_hull(shapely.linestrings(bodies))
+
+
 def hulls_blocked(hulls: np.ndarray, allowed: BaseGeometry, tree: shapely.STRtree
                   ) -> np.ndarray:
     """Boolean mask of the ``hulls`` not inside ``allowed`` (prepared) or meeting something
@@ -50,8 +59,7 @@ class Collider:
 
     def blocked(self, bodies: FloatArray) -> np.ndarray:
         """Boolean mask of the ``bodies`` (N, K, 2 point sets, taken as hulls) that are not free."""
-        return hulls_blocked(shapely.convex_hull(shapely.linestrings(bodies)), self.allowed,
-                             self.tree)
+        return hulls_blocked(hulls(bodies), self.allowed, self.tree)
 
     @staticmethod
     def sweeps(footprints: FloatArray) -> FloatArray:

@@ -67,10 +67,11 @@ from lotsim.geometry import (
     advance,
     ease_joints,
     same_pose,
+    sample_pieces,
     sample_segments,
     wrap_angle,
 )
-from lotsim.lot.clearance import first_blocked, hulls_blocked
+from lotsim.lot.clearance import first_blocked, hulls, hulls_blocked
 from lotsim.lot.graph import lane_serves
 from lotsim.lot.model import Lane, Lot, Slot, unit
 from lotsim.lot.multipoint import plan_onto
@@ -81,6 +82,9 @@ from lotsim.vehicles.model import VehicleType
 
 SWEEP = 0.2
 """Spacing of the footprints whose hulls cover a path when checking it [m]."""
+ROUGH = 1.0
+"""Spacing of the footprints of the cheap first pass that drops most blocked candidate paths
+before their sweeps are checked [m]."""
 SWEEP_BLOCK = 4
 """Consecutive bodies (sweeps, footprints) a path's check takes at once, as the hull of their
 footprints, before it looks at them one by one (:meth:`_Problem.first_blocked`): a free
@@ -361,13 +365,13 @@ class _Problem:
     tree: shapely.STRtree  # of ``obstacles``
     sweep: float  # footprint spacing when checking a motion [m]
     window: Polygon  # the square the search may use (:meth:`ManeuverPlanner._window`)
+    # (segment, step) → whether a footprint along it is blocked (:meth:`footprints_blocked`)
+    seen: dict = dataclasses.field(default_factory=dict, repr=False)
 
     # -- validity: OMPL's state validity checker and motion validator ---------------------
     def bodies_blocked(self, bodies: FloatArray) -> np.ndarray:
         """(N,) whether each body (N, K, 2 points, taken as their hull) is not free."""
-        hulls = shapely.convex_hull(shapely.linestrings(bodies)) if bodies.shape[1] > 4 \
-            else shapely.polygons(bodies)
-        return hulls_blocked(hulls, self.allowed, self.tree)
+        return hulls_blocked(hulls(bodies), self.allowed, self.tree)
 
     def first_blocked(self, prints: FloatArray, run: np.ndarray, span: int = 2
                       ) -> np.ndarray:
@@ -382,6 +386,30 @@ class _Problem:
         if len(bodies) > 1:
             bodies = np.concatenate([bodies[:-1], bodies[1:]], axis=1)
         return self.bodies_blocked(bodies)
+
+    def pieces_blocked(self, starts: FloatArray, distance: FloatArray, curvature: FloatArray,
+                       step: float, sharpness: FloatArray | float = 0.0) -> np.ndarray:
+        """(N,) whether a footprint ``step`` apart along each segment, given as arrays
+        (:func:`~lotsim.geometry.sample_pieces`, local frame), touches anything."""
+        poses, of = sample_pieces(starts, distance, curvature, step, sharpness)
+        bodies = self.vehicle.footprints(self.frame.poses_to_world(poses))
+        return np.bincount(of[self.bodies_blocked(bodies)], minlength=len(starts)) > 0
+
+    def footprints_blocked(self, paths: Sequence[Sequence[Segment]], step: float
+                           ) -> np.ndarray:
+        """(P,) whether a footprint ``step`` apart along each path touches anything
+        (:meth:`paths_blocked` without ``sweep``), each segment checked once in this problem
+        (a search's paths share their first strokes): a footprint lies on one segment, so
+        a path is blocked when one of its segments is."""
+        seen = self.seen
+        new = list({seg: None for path in paths for seg in path if (seg, step) not in seen})
+        if new:
+            bad = self.pieces_blocked(np.array([seg.start for seg in new], dtype=float),
+                                      np.array([seg.distance for seg in new], dtype=float),
+                                      np.array([seg.curvature for seg in new], dtype=float),
+                                      step, np.array([seg.sharpness for seg in new]))
+            seen.update(zip(((seg, step) for seg in new), bad.tolist(), strict=True))
+        return np.array([any(seen[seg, step] for seg in path) for path in paths], dtype=bool)
 
     def paths_blocked(self, paths: Sequence[Sequence[Segment]], *, step: float | None = None,
                       sweep: bool = True) -> np.ndarray:
@@ -402,7 +430,7 @@ class _Problem:
             own = own[:-1]
             bad = self.first_blocked(bodies, np.where(own == path_of[seg_of][1:], own, -1))
         else:
-            bad = self.first_blocked(bodies, own, span=1)
+            bad = self.bodies_blocked(bodies)  # one by one: cheaper than in blocks
         return np.bincount(own[bad], minlength=len(paths)) > 0
 
 
@@ -986,6 +1014,7 @@ class ManeuverPlanner:
             segs = [Segment(root, gear0 * float(d0), 0.0)] if d0 > 0 else []
             heads.append((segs, segs[-1].end if segs else root, float(d0)))
         registry: list[tuple] = []  # per level: (heads, stops, poses, head of each pose)
+        reached: dict[tuple[int, int], bool] = {}  # (level, stop) → the way there blocked
         pending = np.zeros((0, 8))  # rows: changes, length, level, m, gear, straight, κ, extend
         for k in range(self.max_changes + 1):
             g = gear0 if k % 2 == 0 else -gear0
@@ -1021,7 +1050,8 @@ class ManeuverPlanner:
                 return int(row[0]), float(row[1]), head + _closing_segments(
                     tuple(map(float, q_[m])), close)
 
-            found = self._first_clear(p, level[:self.settings.candidates], build)
+            found = self._first_clear(p, level[:self.settings.candidates], build,
+                                      lambda rows: self._rough(p, registry, rows, reached))
             if found is not None:
                 return found
             if bound is not None and k >= bound[0]:
@@ -1035,30 +1065,81 @@ class ManeuverPlanner:
                 return None
         return None
 
-    def _first_clear(self, p: _Problem, rows: Sequence, build=None, chunk: int = 8):
+    def _first_clear(self, p: _Problem, rows: Sequence, build=None, rough=None,
+                     chunk: int = 8):
         """The first clear path of ``rows`` (in order), made by ``build(row)`` as
         ``(changes, length, segments)`` (default: rows are already such triples).
 
-        A cheap pass over footprints 1 m apart drops most blocked paths first. It looks at
-        ``chunk`` rows first, then ``8 * chunk`` at a time: the first clear one is often
-        among the first few (then the rest need not be made and checked), and when it is
-        not, the larger batches cost less a row. The first clear row is the same whatever
-        the batches.
+        A cheap pass over footprints :data:`ROUGH` apart drops most blocked paths first:
+        ``rough(rows)`` (a mask of the rows whose paths it finds blocked) when given,
+        without making them. It looks at ``chunk`` rows first, then ``8 * chunk`` at a
+        time: the first clear one is often among the first few (then the rest need not be
+        made and checked), and when it is not, the larger batches cost less a row. The
+        first clear row is the same whatever the batches.
         """
         build = build or (lambda r: r)
         i = 0
         while i < len(rows):
             size = chunk if i == 0 else 8 * chunk
-            batch = [build(r) for r in rows[i : i + size]]
+            part = rows[i : i + size]
             i += size
-            rough = p.paths_blocked([c[2] for c in batch], step=1.0, sweep=False)
-            batch = [c for c, bad in zip(batch, rough, strict=True) if not bad]
+            if rough is None:
+                batch = [build(r) for r in part]
+                bad = p.paths_blocked([c[2] for c in batch], step=ROUGH, sweep=False)
+                batch = [c for c, b in zip(batch, bad, strict=True) if not b]
+            else:
+                batch = [build(r) for r, b in zip(part, rough(part), strict=True) if not b]
             for j in range(0, len(batch), chunk):
                 part = batch[j : j + chunk]
                 ok = np.flatnonzero(~p.paths_blocked([c[2] for c in part]))
                 if ok.size:
                     return part[int(ok[0])]
         return None
+
+    def _rough(self, p: _Problem, registry: list[tuple], rows: FloatArray,
+               reached: dict[tuple[int, int], bool]) -> np.ndarray:
+        """(R,) whether a footprint :data:`ROUGH` apart along the path of each of
+        :meth:`_shuffle`'s ``rows`` touches anything — what
+        ``p.paths_blocked(paths, step=ROUGH, sweep=False)`` finds of the paths its
+        ``build`` makes, without making them. A footprint lies on one piece of a path, so
+        a path is blocked when a piece is: the way to each stop (the strokes before it and
+        the part of its own up to it) is checked once a search (``reached``: (level, stop)
+        → blocked), and the closing moves from the stops, in one batch."""
+        level, m = rows[:, 2].astype(int), rows[:, 3].astype(int)
+        stops = list(zip(level.tolist(), m.tolist(), strict=True))
+        new = [k for k in dict.fromkeys(stops) if k not in reached]
+        if new:
+            ways = []
+            for a, b in new:
+                heads, flat, _, owner, g, kappa = registry[a]
+                segs, pose, _ = heads[owner[b]]
+                ways.append(segs + ([Segment(pose, g * float(flat[b]), kappa)]
+                                    if flat[b] > 1e-9 else []))
+            reached.update(zip(new, p.footprints_blocked(ways, ROUGH).tolist(), strict=True))
+        bad = np.array([reached[k] for k in stops], dtype=bool)
+        # the closing moves (:func:`_closing_segments`, as arrays): a straight, an arc onto
+        # the lane and a straight along it
+        c = np.flatnonzero(rows[:, 6] != 0.0)
+        if not c.size:
+            return bad
+        q = np.empty((len(c), 3))
+        for a in np.unique(level[c]).tolist():
+            at = level[c] == a
+            q[at] = registry[a][2][m[c][at]]
+        g, d, kappa, extend = rows[c, 4], rows[c, 5], rows[c, 6], rows[c, 7]
+        straight = d > 1e-9
+        mid = np.where(straight[:, None], advance(q, g * d, 0.0), q)
+        arc = -np.asarray(wrap_angle(mid[:, 2])) / kappa
+        end = advance(mid, arc, kappa)
+        on = extend > 1e-9
+        piece_of = np.concatenate([c[straight], c, c[on]])
+        hit = p.pieces_blocked(
+            np.concatenate([q[straight], mid, end[on]]),
+            np.concatenate([(g * d)[straight], arc, (g * extend)[on]]),
+            np.concatenate([np.zeros(int(straight.sum())), kappa, np.zeros(int(on.sum()))]),
+            ROUGH)
+        bad[piece_of[hit]] = True
+        return bad
 
     def _solve_parallel(self, p: _Problem) -> tuple[tuple[Segment, ...], float] | str:
         v, s = p.vehicle, p.slot
