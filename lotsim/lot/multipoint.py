@@ -115,8 +115,13 @@ def plan_onto(starts: Sequence[Pose], frame: Pose, lo: float, hi: float,
     moves = [(gear, kappa) for gear in (1, -1) for kappa in (kmax, 0.0, -kmax)]
     n = round(MOVE / STEP)
     s = np.linspace(0.0, MOVE, n + 1)
-    run = np.where(np.arange(len(moves) * (n + 1) - 1) % (n + 1) == n, -1,
-                   np.arange(len(moves) * (n + 1) - 1) // (n + 1))
+    # the footprints of a state's moves: (n + 1) along each, in the order of ``moves``
+    along = np.concatenate([g * s for g, _ in moves])
+    bend = np.repeat([k for _, k in moves], n + 1)
+    # the sweeps between them: move m's run is m; none from one move into the next
+    # and, with a state's moves after another's, none from one state's into the next
+    run = np.where(np.arange(len(moves) * (n + 1)) % (n + 1) == n, -1,
+                   np.arange(len(moves) * (n + 1)) // (n + 1))
 
     def world(local: FloatArray) -> FloatArray:
         return to_world(origin, local)
@@ -146,7 +151,7 @@ def plan_onto(starts: Sequence[Pose], frame: Pose, lo: float, hi: float,
 
     def check(sids: list[int]) -> None:
         prints, runs, lasts = [], [], []
-        at = 0  # runs so far
+        at = len(sids) * len(moves)  # runs so far: the moves' first (below), then closings
         for sid in sids:
             q = states[sid][0]
             found = [(sum(x.length for x in segs), segs) for segs in closings(q, span, radius)]
@@ -161,19 +166,19 @@ def plan_onto(starts: Sequence[Pose], frame: Pose, lo: float, hi: float,
                 runs.append(np.where(owner[1:] == owner[:-1], owner[1:] + at, -1))
                 runs.append([-1])
                 at += len(found)
-            poses = advance(q, np.concatenate([g * s for g, _ in moves]),
-                            np.repeat([k for _, k in moves], n + 1))
-            prints.append(body.footprints(world(poses)))
-            runs.append(np.where(run >= 0, run + at, -1))
-            runs.append([-1])
-            at += len(moves)
-        of = np.concatenate(runs[:-1]).astype(int)
+        # every state's moves in one batch
+        qs = np.array([states[sid][0] for sid in sids])
+        poses = advance(qs[:, None, :], along[None, :], bend[None, :]).reshape(-1, 3)
+        prints.insert(0, body.footprints(world(poses)))
+        runs.insert(0, np.where(run >= 0, run + len(moves) * np.arange(len(sids))[:, None],
+                                -1).ravel())
+        of = np.concatenate(runs)[:-1].astype(int)
         hit = np.zeros(at, dtype=bool)
         hit[of[first_blocked(collider.blocked, np.concatenate(prints), of)]] = True
-        for sid, (found, first) in zip(sids, lasts, strict=True):
+        for i, (sid, (found, first)) in enumerate(zip(sids, lasts, strict=True)):
             last = next((found[k] for k in range(len(found)) if not hit[first + k]), None)
-            base = first + len(found)
-            checked[sid] = (last, {m for m in range(len(moves)) if hit[base + m]})
+            checked[sid] = (last, set(np.flatnonzero(hit[i * len(moves):(i + 1) * len(moves)])
+                                      .tolist()))
 
     best: tuple[float, int, list[Segment]] | None = None
     expanded = found_at = 0
