@@ -803,7 +803,7 @@ def _render(args: argparse.Namespace) -> int:
         except VideoUnavailable as exc:
             return _bad(f"--mp4: {exc}")
     try:
-        doc = load_result(args.result)
+        doc = load_result(args.result, packed=True)
     except ResultFormatError as exc:
         return _bad(str(exc))
     if not isinstance(doc.get("lot"), dict) or "drawing" not in doc["lot"]:

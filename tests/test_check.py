@@ -225,6 +225,62 @@ def test_json_round_trip(result, tmp_path):
     assert check_result(load_result(path)).ok
 
 
+@pytest.mark.parametrize("damage", ["none", "nan", "unequal", "not-increasing",
+                                    "missing-key", "gear-value", "string-number", "boolean",
+                                    "nested", "empty", "object", "integers"])
+def test_a_result_read_packed_checks_as_one_read_as_lists(result, tmp_path, damage):
+    """``load_result(packed=True)`` makes each sample column a float array as it reads the
+    file (what the checker and a replay read them as): the same values as the lists, the
+    same report, whatever is wrong with a column (what is not a list of numbers stays as
+    read)."""
+    v1 = by_id(result, "v1")["samples"]
+    if damage == "nan":
+        v1["x"][10] = float("nan")
+    elif damage == "unequal":
+        v1["v"].pop()
+    elif damage == "not-increasing":
+        v1["t"][20] = v1["t"][19]
+    elif damage == "missing-key":
+        del v1["steer"]
+    elif damage == "gear-value":
+        v1["gear"][5] = 2
+    elif damage == "string-number":
+        v1["y"][3] = "5.0"
+    elif damage == "boolean":
+        v1["theta"][4] = True
+    elif damage == "nested":
+        v1["y"][3] = [1.0, 2.0]
+    elif damage == "empty":
+        for key in v1:
+            v1[key] = []
+    elif damage == "object":
+        v1["v"] = {"0": 1.0}
+    elif damage == "integers":
+        v1["gear"] = [int(g) for g in v1["gear"]]
+    path = tmp_path / "result.json"
+    path.write_text(json.dumps(result))
+    plain, packed = load_result(path), load_result(path, packed=True)
+    arrays = 0
+    for a, b in zip(plain["vehicles"], packed["vehicles"], strict=True):
+        for key, col in a["samples"].items():
+            got = b["samples"][key]
+            if isinstance(got, np.ndarray):
+                assert got.dtype == float and np.array_equal(got, np.asarray(col, dtype=float),
+                                                             equal_nan=True)
+                arrays += 1
+            else:
+                assert got == col or (damage == "nan" and key == "x")
+    filled = sum(1 for v in plain["vehicles"] for col in v["samples"].values()
+                 if isinstance(col, list) and col)
+    # left as read: what is not a list of numbers, and the columns of an object lacking one
+    kept = {"string-number": 1, "nested": 1, "missing-key": 6}.get(damage, 0)
+    assert arrays == filled - kept and arrays >= 14
+    want, got = check_result(plain), check_result(packed)
+    assert got.violations == want.violations
+    assert {**got.stats, "seconds": 0} == {**want.stats, "seconds": 0}
+    assert want.ok == (damage in ("none", "integers"))
+
+
 # ---------------------------------------------------------------------------- motion
 
 

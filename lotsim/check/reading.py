@@ -32,13 +32,19 @@ from lotsim.check.tolerances import (
 from lotsim.errors import ResultFormatError
 
 
-def load_result(path: str | os.PathLike[str]) -> dict:
+def load_result(path: str | os.PathLike[str], *, packed: bool = False) -> dict:
     """Read a ``result.json``.
 
     Parameters
     ----------
     path : str or path-like
         The file.
+    packed : bool, keyword-only
+        Each vehicle's sample columns (``samples.t``, ``.x``, …) as numpy float arrays,
+        made as the file is read, instead of lists: a list of floats takes four times the
+        memory, and a thousand cars' result holds some twelve million of them. What
+        :func:`check_result` and a replay read them as; a column that is not a list of
+        numbers stays as read.
 
     Returns
     -------
@@ -65,7 +71,7 @@ def load_result(path: str | os.PathLike[str]) -> dict:
     except OSError as exc:
         raise ResultFormatError(f"{name}: cannot read it ({exc.strerror or exc})") from None
     try:
-        data = json.loads(raw)
+        data = json.loads(raw, object_hook=_packed if packed else None)
     except json.JSONDecodeError as exc:
         raise ResultFormatError(
             f"{name}: not JSON (line {exc.lineno}, column {exc.colno}: {exc.msg})") from None
@@ -75,6 +81,30 @@ def load_result(path: str | os.PathLike[str]) -> dict:
     if problem is not None:
         raise ResultFormatError(f"{name}: {problem}")
     return data
+
+
+def _packed(obj: dict) -> dict:
+    """A JSON object as read, with its sample columns as float arrays when it has all of
+    :data:`SAMPLE_KEYS` (the lists of numbers among them, as :func:`_samples` makes them):
+    each object is handed over as soon as it is read, so a vehicle's lists are let go
+    before the next vehicle is read."""
+    if all(key in obj for key in SAMPLE_KEYS):
+        for key in SAMPLE_KEYS:
+            col = obj[key]
+            if isinstance(col, list) and col:
+                arr = _numbers(col)
+                if arr is not None:
+                    obj[key] = arr
+    return obj
+
+
+def _numbers(col: list) -> np.ndarray | None:
+    """A non-empty list of numbers as a float array; None when it is not one."""
+    try:
+        arr = np.asarray(col)
+    except (ValueError, TypeError):
+        return None
+    return arr.astype(float) if arr.ndim == 1 and arr.dtype.kind in "iuf" else None
 
 
 @dataclass(frozen=True, slots=True)
@@ -298,17 +328,16 @@ def _samples(raw: Any, problems: list[str]) -> dict[str, np.ndarray] | None:
     cols: dict[str, np.ndarray] = {}
     for key in SAMPLE_KEYS:
         col = raw.get(key)
-        if not isinstance(col, list):
+        if isinstance(col, np.ndarray) and col.ndim == 1 and col.dtype == float:
+            arr = col  # read packed (:func:`load_result`)
+        elif not isinstance(col, list):
             problems.append(f"samples.{key}: expected a list of numbers, found {_kind(col)}")
             continue
-        try:
-            arr = np.asarray(col) if col else np.zeros(0)
-        except (ValueError, TypeError):
-            arr = np.zeros((0, 0))
-        if arr.ndim != 1 or arr.dtype.kind not in "iuf":
-            problems.append(f"samples.{key}: expected a list of numbers")
-            continue
-        arr = arr.astype(float)
+        else:
+            arr = _numbers(col) if col else np.zeros(0)
+            if arr is None:
+                problems.append(f"samples.{key}: expected a list of numbers")
+                continue
         bad = np.flatnonzero(~(np.abs(arr) <= MAX_MAGNITUDE))
         if bad.size:
             problems.append(f"samples.{key}[{bad[0]}] is {arr[bad[0]]}, not a finite number"
