@@ -1198,32 +1198,33 @@ class ManeuverPlanner:
         zeros = np.zeros(int(on_lane.sum()))
         parts = [np.column_stack([zeros + changes, base[on_lane], index[on_lane], zeros + 1,
                                   zeros, zeros, zeros])]
-        for g in (1, -1):
+        radii = np.array(self.settings.closing_radii, dtype=float)[:, None]  # every radius
+        for g in (1, -1):  # at once: rows (radius, pose), in that order
             c = changes + (1 if gear and g != gear else 0)
-            for f in self.settings.closing_radii:
-                kappa = np.where(-th * g >= 0, kmax / f, -kmax / f)
-                with np.errstate(divide="ignore", invalid="ignore"):
-                    d = (p.lane_y - y + (1 - cos) / kappa) / (g * sin)
-                d0 = np.maximum(d, 0.0)
-                end_x = x + g * d0 * cos - sin / kappa
-                station = p.lane_s0 + end_x
-                if grid > 0:  # on along the lane, in the same gear, to a grid station
-                    with np.errstate(invalid="ignore"):
-                        target = (np.ceil((station + lead) / grid - 1e-9) if g > 0
-                                  else np.floor((station - lead) / grid + 1e-9)) * grid
-                    extend = np.abs(target - station)
-                else:
-                    extend = np.zeros(len(q))
-                last_x = end_x + g * extend
-                # no straight of a few centimetres before the arc: where the curvature
-                # jumps cannot be eased the car stops at both its ends (it would creep)
-                ok = (turning & (d >= -1e-9) & ((d0 <= 1e-9) | (d0 >= CREEP))
-                      & (end_x >= p.lane_x[0]) & (end_x <= p.lane_x[1])
-                      & (last_x >= p.lane_x[0] - 1e-9) & (last_x <= p.lane_x[1] + 1e-9))
-                n = int(ok.sum())
-                parts.append(np.column_stack([
-                    np.full(n, c), (base + d0 + np.abs(th / kappa) + extend)[ok], index[ok],
-                    np.full(n, g), d0[ok], kappa[ok], extend[ok]]))
+            kappa = np.where(-th * g >= 0, kmax / radii, -kmax / radii)
+            with np.errstate(divide="ignore", invalid="ignore"):
+                d = (p.lane_y - y + (1 - cos) / kappa) / (g * sin)
+            d0 = np.maximum(d, 0.0)
+            end_x = x + g * d0 * cos - sin / kappa
+            station = p.lane_s0 + end_x
+            if grid > 0:  # on along the lane, in the same gear, to a grid station
+                with np.errstate(invalid="ignore"):
+                    target = (np.ceil((station + lead) / grid - 1e-9) if g > 0
+                              else np.floor((station - lead) / grid + 1e-9)) * grid
+                extend = np.abs(target - station)
+            else:
+                extend = np.zeros(kappa.shape)
+            last_x = end_x + g * extend
+            # no straight of a few centimetres before the arc: where the curvature
+            # jumps cannot be eased the car stops at both its ends (it would creep)
+            ok = (turning & (d >= -1e-9) & ((d0 <= 1e-9) | (d0 >= CREEP))
+                  & (end_x >= p.lane_x[0]) & (end_x <= p.lane_x[1])
+                  & (last_x >= p.lane_x[0] - 1e-9) & (last_x <= p.lane_x[1] + 1e-9))
+            n = int(ok.sum())
+            parts.append(np.column_stack([
+                np.full(n, c), (base + d0 + np.abs(th / kappa) + extend)[ok],
+                np.broadcast_to(index, ok.shape)[ok], np.full(n, g), d0[ok], kappa[ok],
+                extend[ok]]))
         out = np.concatenate(parts)
         return out[np.lexsort((out[:, 1], out[:, 0]))]
 
