@@ -86,9 +86,9 @@ ROUGH = 1.0
 """Spacing of the footprints of the cheap first pass that drops most blocked candidate paths
 before their sweeps are checked [m]."""
 SWEEP_BLOCK = 4
-"""Consecutive bodies (sweeps, footprints) a path's check takes at once, as the hull of their
-footprints, before it looks at them one by one (:meth:`_Problem.first_blocked`): a free
-block clears them all."""
+"""Consecutive sweeps a path's check takes at once, as the hull of their footprints, before
+it looks at them one by one (:meth:`_Problem.first_blocked`): a free block clears them all.
+(Footprints alone, as the cheap first pass checks them, are cheaper one by one.)"""
 CLOSING_RADII = (1.0, 1.25, 1.5, 2.0, 3.0)
 """Closing arcs try these multiples of the car's minimum turning radius."""
 COMMON_STYLES = ("forward", "reverse")
