@@ -1015,6 +1015,13 @@ class ManeuverPlanner:
             heads.append((segs, segs[-1].end if segs else root, float(d0)))
         registry: list[tuple] = []  # per level: (heads, stops, poses, head of each pose)
         reached: dict[tuple[int, int], bool] = {}  # (level, stop) → the way there blocked
+
+        def build(row: FloatArray) -> tuple[int, float, list[Segment]]:
+            level, m = int(row[2]), int(row[3])
+            close = (int(row[4]), float(row[5]), float(row[6]), float(row[7]))
+            return int(row[0]), float(row[1]), _way(registry, level, m) + _closing_segments(
+                tuple(map(float, registry[level][2][m])), close)
+
         pending = np.zeros((0, 8))  # rows: changes, length, level, m, gear, straight, κ, extend
         for k in range(self.max_changes + 1):
             g = gear0 if k % 2 == 0 else -gear0
@@ -1039,16 +1046,6 @@ class ManeuverPlanner:
                                                    & (table[:, 1] < bound[1]))
             level = table[now][np.argsort(table[now][:, 1], kind="stable")]
             pending = table[table[:, 0] > k]
-
-            def build(row: FloatArray) -> tuple[int, float, list[Segment]]:
-                heads_, flat_, q_, owner_, g_, kappa_ = registry[int(row[2])]
-                m = int(row[3])
-                segs, pose, _ = heads_[owner_[m]]
-                head = segs + ([Segment(pose, g_ * float(flat_[m]), kappa_)]
-                               if flat_[m] > 1e-9 else [])
-                close = (int(row[4]), float(row[5]), float(row[6]), float(row[7]))
-                return int(row[0]), float(row[1]), head + _closing_segments(
-                    tuple(map(float, q_[m])), close)
 
             found = self._first_clear(p, level[:self.settings.candidates], build,
                                       lambda rows: self._rough(p, registry, rows, reached))
@@ -1081,14 +1078,14 @@ class ManeuverPlanner:
         i = 0
         while i < len(rows):
             size = chunk if i == 0 else 8 * chunk
-            part = rows[i : i + size]
+            some = rows[i : i + size]
             i += size
             if rough is None:
-                batch = [build(r) for r in part]
+                batch = [build(r) for r in some]
                 bad = p.paths_blocked([c[2] for c in batch], step=ROUGH, sweep=False)
                 batch = [c for c, b in zip(batch, bad, strict=True) if not b]
             else:
-                batch = [build(r) for r, b in zip(part, rough(part), strict=True) if not b]
+                batch = [build(r) for r, b in zip(some, rough(some), strict=True) if not b]
             for j in range(0, len(batch), chunk):
                 part = batch[j : j + chunk]
                 ok = np.flatnonzero(~p.paths_blocked([c[2] for c in part]))
@@ -1109,12 +1106,7 @@ class ManeuverPlanner:
         stops = list(zip(level.tolist(), m.tolist(), strict=True))
         new = [k for k in dict.fromkeys(stops) if k not in reached]
         if new:
-            ways = []
-            for a, b in new:
-                heads, flat, _, owner, g, kappa = registry[a]
-                segs, pose, _ = heads[owner[b]]
-                ways.append(segs + ([Segment(pose, g * float(flat[b]), kappa)]
-                                    if flat[b] > 1e-9 else []))
+            ways = [_way(registry, a, b) for a, b in new]
             reached.update(zip(new, p.footprints_blocked(ways, ROUGH).tolist(), strict=True))
         bad = np.array([reached[k] for k in stops], dtype=bool)
         # the closing moves (:func:`_closing_segments`, as arrays): a straight, an arc onto
@@ -1298,6 +1290,14 @@ def _straighten(vehicle: VehicleType, frame: SlotFrame, strokes: list[Segment]) 
                 and y.max() <= frame.width):
             return [arc]
     return []
+
+
+def _way(registry: list[tuple], level: int, m: int) -> list[Segment]:
+    """The way to stop ``m`` of ``level`` of :meth:`ManeuverPlanner._shuffle`'s
+    ``registry``: the strokes before it, and the part of its own stroke up to it."""
+    heads, flat, _, owner, g, kappa = registry[level]
+    segs, pose, _ = heads[owner[m]]
+    return segs + ([Segment(pose, g * float(flat[m]), kappa)] if flat[m] > 1e-9 else [])
 
 
 def _closing_segments(pose: Pose, close: tuple[int, float, float, float]) -> list[Segment]:
