@@ -40,10 +40,10 @@ import imageio.v3 as iio  # noqa: E402
 import numpy as np  # noqa: E402
 
 from lotsim.io.result import result_dict  # noqa: E402
-from lotsim.io.scenario import load_scenario  # noqa: E402
+from lotsim.io.scenario_yaml import load_scenario  # noqa: E402
 from lotsim.render.animation import GifRenderer, GifSettings, write_gif  # noqa: E402
-from lotsim.replay import Replay  # noqa: E402
-from lotsim.sim import RunSettings, run  # noqa: E402
+from lotsim.render.replay import Replay  # noqa: E402
+from lotsim.sim.simulation import RunSettings, run  # noqa: E402
 
 
 def peak_mb() -> float:

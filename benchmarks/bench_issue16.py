@@ -20,7 +20,7 @@ Rows (the other benchmark scripts do the work; this one calls them and lines the
   memory is its own); baseline CA* per car on the 100-car traffic (CA* on the 1000 cars
   takes too long to run every time: ``--ca-1000`` runs it).
 * ``lotsim check`` of that result, as a process; baseline: the footprint rules checked one
-  instant at a time (:mod:`lotsim.check.reference`, a shapely polygon per vehicle per
+  instant at a time (:mod:`oracles.reference_footprints`, a shapely polygon per vehicle per
   instant) on the result's first ``--ref-cars`` cars, against the whole check of the same
   cars; the two must find the same.
 * WHCA* (10 s window) against HCA* on the jammed lot (``bench_validate.whca_row``), on every
@@ -52,13 +52,13 @@ sys.path[:0] = [str(ROOT), str(ROOT / "benchmarks")]
 import bench_minslot  # noqa: E402
 import bench_run  # noqa: E402
 import bench_validate  # noqa: E402
+from oracles.reference_footprints import reference_footprints, report_findings  # noqa: E402
 
 from lotsim.bench.runner import run_spec  # noqa: E402
 from lotsim.bench.suite import PlannerVariant, RunSpec, SuiteScenario, load_suite  # noqa: E402
-from lotsim.check import check_result, load_result  # noqa: E402
-from lotsim.check.reference import reference_footprints, report_findings  # noqa: E402
-from lotsim.io.scenario import load_scenario  # noqa: E402
-from lotsim.sim import prepare  # noqa: E402
+from lotsim.io.scenario_yaml import load_scenario  # noqa: E402
+from lotsim.sim.simulation import prepare  # noqa: E402
+from lotsim.verify import check_result, load_result  # noqa: E402
 
 LARGE = ROOT / "scenarios" / "large_lot.yaml"
 SURFACE = ROOT / "scenarios" / "lots" / "surface364.yaml"

@@ -9,7 +9,7 @@ The cars are ``scenarios/large_lot.yaml``'s stream, ``--count`` of them at 600 a
 each staying 5 to 20 minutes (so the lot fills and empties). Each case runs in its own
 process, so that its peak memory is its own:
 
-* ``watched``: planned under a :class:`lotsim.limits.Watchdog` with no budget that records
+* ``watched``: planned under a :class:`lotsim.sim.limits.Watchdog` with no budget that records
   its projection of the run's total time and peak memory after 10 %, 25 % and 50 % of the
   trips planned (a car's way in or out), then writes result.json; the projections are
   printed as ratios to what the run really took (1.00 is exact; above 1 the watchdog stops
@@ -42,9 +42,9 @@ def _scenario(count: int) -> str:
 
 def _case(count: int, watched: bool, queue: mp.Queue) -> None:
     from lotsim.io.result import result_dict, write_json
-    from lotsim.io.scenario import load_scenario
-    from lotsim.limits import Budget, Watchdog, resident_memory
-    from lotsim.sim import run
+    from lotsim.io.scenario_yaml import load_scenario
+    from lotsim.sim.limits import Budget, Watchdog, resident_memory
+    from lotsim.sim.simulation import run
 
     with tempfile.TemporaryDirectory() as tmp:
         path = Path(tmp) / "load.yaml"

@@ -16,10 +16,10 @@ import time
 import numpy as np
 import shapely
 
-from lotsim.io.scenario import load_scenario
+from lotsim.io.scenario_yaml import load_scenario
 from lotsim.lot.build import SWEEP_STEP, lane_collider
 from lotsim.lot.clearance import Collider
-from lotsim.sim import prepare
+from lotsim.sim.simulation import prepare
 
 
 def per_pose(collider: Collider, bodies: np.ndarray, obstacles: list) -> np.ndarray:

@@ -18,11 +18,11 @@ import time
 import numpy as np
 
 from lotsim.errors import InfeasibleManeuver
-from lotsim.io.scenario import load_scenario
+from lotsim.io.scenario_yaml import load_scenario
 from lotsim.lot.build import build_lot
-from lotsim.lot.graph import build_graph
 from lotsim.lot.model import DesignVehicle
-from lotsim.planners.maneuver import ManeuverPlanner
+from lotsim.maneuvers.planner import ManeuverPlanner
+from lotsim.roadmap.graph import build_graph
 
 
 def main() -> None:

@@ -22,8 +22,8 @@ from multiprocessing import Pool
 
 import numpy as np
 
-from lotsim.geometry import advance
-from lotsim.planners.minslot import (
+from lotsim.core.geometry import advance
+from lotsim.maneuvers.minslot import (
     NO_SOLUTION,
     SlotFrame,
     _inside,

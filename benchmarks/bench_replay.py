@@ -49,12 +49,12 @@ sys.path.insert(0, str(ROOT / "tests"))  # the DevTools client the browser tests
 
 from chromium import Chromium  # noqa: E402
 from lotsim.io.result import result_dict, write_json  # noqa: E402
-from lotsim.io.scenario import load_scenario  # noqa: E402
+from lotsim.io.scenario_yaml import load_scenario  # noqa: E402
 from lotsim.render import html as html_mod  # noqa: E402
-from lotsim.replay import Replay  # noqa: E402
+from lotsim.render.replay import Replay  # noqa: E402
 from lotsim.settings import HtmlSettings  # noqa: E402
-from lotsim.sim import RunSettings, prepare, run  # noqa: E402
-from lotsim.traffic import StreamSpec, TrafficSpec  # noqa: E402
+from lotsim.sim.simulation import RunSettings, prepare, run  # noqa: E402
+from lotsim.traffic.demand import StreamSpec, TrafficSpec  # noqa: E402
 
 
 def make_result(cars: int) -> Path:

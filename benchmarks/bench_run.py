@@ -36,11 +36,11 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
-from lotsim.check import check_result  # noqa: E402
 from lotsim.io.result import result_dict, write_json  # noqa: E402
-from lotsim.io.scenario import load_scenario  # noqa: E402
-from lotsim.sim import RunSettings, prepare, run  # noqa: E402
-from lotsim.traffic import StreamSpec, TrafficSpec  # noqa: E402
+from lotsim.io.scenario_yaml import load_scenario  # noqa: E402
+from lotsim.sim.simulation import RunSettings, prepare, run  # noqa: E402
+from lotsim.traffic.demand import StreamSpec, TrafficSpec  # noqa: E402
+from lotsim.verify import check_result  # noqa: E402
 
 
 def peak_mb() -> float:

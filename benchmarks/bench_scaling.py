@@ -20,7 +20,7 @@ not overloaded. (At 1200 an hour the 200-slot lot is overloaded: cars queue at t
 search again every few seconds until they are let in or give up.)
 
 Each case runs in its own process (so its peak memory is its own), on a lot prepared once
-and kept in the on-disk cache (:mod:`lotsim.cache`; preparing is timed apart and printed
+and kept in the on-disk cache (:mod:`lotsim.core.diskcache`; preparing is timed apart and printed
 with the lot). For each case it prints planning time, planning time per car (mean,
 median, p95), expansions per car, peak memory, how the cars ended, and the time and
 verdict of ``lotsim check`` (the independent checker) on the result.
@@ -89,12 +89,12 @@ def grid_lot(aisles: int, per_row: int) -> str:
 
 def one_case(slots: int, cars: int) -> dict:
     """Plan and check one case in this process; the figures as a dict."""
-    from lotsim.check import check_result
     from lotsim.io.result import result_dict
-    from lotsim.io.scenario import parse_scenario
+    from lotsim.io.scenario_yaml import parse_scenario
     from lotsim.io.yamlnodes import parse_text
-    from lotsim.sim import RunSettings, prepare, run
-    from lotsim.traffic import StreamSpec, TrafficSpec
+    from lotsim.sim.simulation import RunSettings, prepare, run
+    from lotsim.traffic.demand import StreamSpec, TrafficSpec
+    from lotsim.verify import check_result
 
     sc = parse_scenario(parse_text(grid_lot(*LOTS[slots]), f"grid-{slots}.yaml"))
     t = time.perf_counter()

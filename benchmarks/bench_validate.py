@@ -9,7 +9,7 @@ Rows (each ``lotsim validate`` is a whole process, as a user runs it):
 
 * ``validate`` of the large lot (1040 slots) and of the 364-bay surface lot (four types),
   with an empty cache (cold: the lot is planned) and again (warm: it is loaded from the
-  on-disk cache, :mod:`lotsim.cache`); the ratio cold / warm is what the cache buys;
+  on-disk cache, :mod:`lotsim.core.diskcache`); the ratio cold / warm is what the cache buys;
 * a jammed lot (18 cars into 15 free bays of a one-aisle T lot, each staying 30–35 s):
   WHCA* planning time against HCA*'s for the same traffic, measured in the same run (the
   target is at most 2×), with WHCA* searching every replan as the baseline of what
@@ -33,8 +33,8 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
-import lotsim.sim  # noqa: E402
-from lotsim.io.scenario import parse_scenario  # noqa: E402
+import lotsim.sim.simulation  # noqa: E402
+from lotsim.io.scenario_yaml import parse_scenario  # noqa: E402
 from lotsim.io.yamlnodes import parse_text  # noqa: E402
 
 JAMMED = """\
@@ -98,17 +98,17 @@ def whca_row() -> dict[str, dict]:
     """Plan the jammed lot with HCA*, WHCA* and WHCA* searching every replan; print a line
     each and the ratios; the metrics by name."""
     sc = parse_scenario(parse_text(JAMMED, "jammed.yaml"))
-    lg = lotsim.sim.prepare(sc, cache=False)
+    lg = lotsim.sim.simulation.prepare(sc, cache=False)
     rows = {}
     for name, planner, skip in (("HCA*", "hca", True), ("WHCA* 10 s", "whca", True),
                                 ("WHCA*, every replan", "whca", False)):
-        lotsim.sim.SKIP_FRUITLESS = skip
+        lotsim.sim.simulation.SKIP_FRUITLESS = skip
         try:
             # each on a copy of the lot: none drives the edge motions another worked out
-            m = lotsim.sim.run(sc, lotsim.sim.RunSettings(planner=planner),
+            m = lotsim.sim.simulation.run(sc, lotsim.sim.simulation.RunSettings(planner=planner),
                                lot_graph=copy.deepcopy(lg)).metrics()
         finally:
-            lotsim.sim.SKIP_FRUITLESS = True
+            lotsim.sim.simulation.SKIP_FRUITLESS = True
         rows[name] = m
         print(f"jammed lot, {name:<20} planning {m['planning_time']:6.1f} s, "
               f"{m['searches']:4d} searches, {m['expansions']:7d} expansions; mean time to "

@@ -3,7 +3,7 @@
 The pipeline runs one way: a scenario YAML is loaded and validated into frozen
 specs (:mod:`lotsim.io`), the lot layout is built into slot polygons and lanes
 (:mod:`lotsim.lot`), and the lanes into a drivable :class:`networkx.DiGraph`
-(:mod:`lotsim.lot.graph`) that vehicles (:mod:`lotsim.vehicles`) travel.
+(:mod:`lotsim.roadmap.graph`) that vehicles (:mod:`lotsim.vehicles`) travel.
 
 As a library (``docs/python.md``)::
 
@@ -19,8 +19,6 @@ The names below are imported on first use (:mod:`lotsim.api`, :mod:`lotsim.setti
 from __future__ import annotations
 
 import importlib
-import sys
-import types
 from typing import TYPE_CHECKING, Any
 
 __version__ = "0.1.0"
@@ -29,9 +27,9 @@ _EXPORTS = {
     "lotsim.api": ("EXAMPLE", "MinSlotTable", "RunResult", "car", "check", "load_animation",
                    "load_scenario", "minslot", "plan_maneuver", "prepare", "render_gif",
                    "render_html", "render_lot", "render_mp4", "run", "validate"),
-    "lotsim.sim": ("PreparedLot",),
-    "lotsim.validation": ("ValidationReport",),
-    "lotsim.check": ("CheckReport", "Violation"),
+    "lotsim.sim.simulation": ("PreparedLot",),
+    "lotsim.sim.validation": ("ValidationReport",),
+    "lotsim.verify": ("CheckReport", "Violation"),
     "lotsim.scenario": ("Scenario",),
     "lotsim.settings": ("AnimationSpec", "GASettings", "GifSettings", "HtmlSettings",
                         "MinSlotSettings", "RunSettings"),
@@ -55,18 +53,6 @@ def __dir__() -> list[str]:
     return sorted(set(globals()) | set(__all__))
 
 
-class _Package(types.ModuleType):
-    """``lotsim.check`` stays the function :func:`lotsim.api.check` when the checker module
-    of the same name is imported (the import system would bind the module over it); the
-    module is ``sys.modules["lotsim.check"]``, which ``from lotsim.check import ...`` reads."""
-
-    def __setattr__(self, name: str, value: Any) -> None:
-        if name in _WHERE and isinstance(value, types.ModuleType):
-            return
-        super().__setattr__(name, value)
-
-
-sys.modules[__name__].__class__ = _Package
 
 
 if TYPE_CHECKING:  # for type checkers and editors: the same names, imported eagerly
@@ -88,7 +74,6 @@ if TYPE_CHECKING:  # for type checkers and editors: the same names, imported eag
         run,
         validate,
     )
-    from lotsim.check import CheckReport, Violation  # noqa: F401
     from lotsim.errors import (  # noqa: F401
         InfeasibleManeuver,
         LimitExceeded,
@@ -108,5 +93,6 @@ if TYPE_CHECKING:  # for type checkers and editors: the same names, imported eag
         MinSlotSettings,
         RunSettings,
     )
-    from lotsim.sim import PreparedLot  # noqa: F401
-    from lotsim.validation import ValidationReport  # noqa: F401
+    from lotsim.sim.simulation import PreparedLot  # noqa: F401
+    from lotsim.sim.validation import ValidationReport  # noqa: F401
+    from lotsim.verify import CheckReport, Violation  # noqa: F401

@@ -24,9 +24,8 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any, NamedTuple
 
 from lotsim import settings as _settings
-from lotsim import sim as _sim
 from lotsim.errors import ReplayError, SettingsError
-from lotsim.io.scenario import read_scenario
+from lotsim.io.scenario_yaml import read_scenario
 from lotsim.scenario import Scenario
 from lotsim.settings import (
     MARGIN,
@@ -37,20 +36,21 @@ from lotsim.settings import (
     MinSlotSettings,
     RunSettings,
 )
-from lotsim.sim import PreparedLot
-from lotsim.validation import ValidationReport, validate_prepared
+from lotsim.sim import simulation as _sim
+from lotsim.sim.simulation import PreparedLot
+from lotsim.sim.validation import ValidationReport, validate_prepared
 
 if TYPE_CHECKING:
     from PIL import Image
 
-    from lotsim.check import CheckReport
     from lotsim.lot.model import Lot, Slot
-    from lotsim.planners.maneuver import Maneuver, ManeuverPlanner
-    from lotsim.planners.minslot import MinSlotRow
+    from lotsim.maneuvers.minslot import MinSlotRow
+    from lotsim.maneuvers.planner import Maneuver, ManeuverPlanner
     from lotsim.render.animation import GifInfo
     from lotsim.render.html import HtmlInfo
     from lotsim.render.video import VideoInfo
     from lotsim.vehicles.model import VehicleType
+    from lotsim.verify import CheckReport
 
 ScenarioLike = Scenario | str | os.PathLike
 """A :class:`~lotsim.scenario.Scenario`, a path to its file, or its YAML text."""
@@ -316,7 +316,7 @@ def run(scenario_or_prepared: ScenarioLike | PreparedLot, settings: RunSettings 
             raise SettingsError("seed", f"the scenario's stream has its own seed "
                                         f"({stream.seed}, {stream.where}): it would change "
                                         f"nothing")
-    from lotsim.priority import plan_run
+    from lotsim.sim.orders import plan_run
 
     rr = plan_run(prepared.scenario, settings, lot_graph=prepared.lot_graph,
                   progress=progress)
@@ -340,7 +340,7 @@ def _document(result: RunResult | dict | str | os.PathLike) -> dict:
 
 
 def load_result(path: str | os.PathLike, *, packed: bool = False) -> dict:
-    """Read a ``result.json`` (:func:`lotsim.check.load_result`).
+    """Read a ``result.json`` (:func:`lotsim.verify.load_result`).
 
     With ``packed``, each vehicle's sample columns are numpy float arrays, made as the file
     is read (a quarter of the memory of lists of floats), not lists.
@@ -361,9 +361,9 @@ def load_result(path: str | os.PathLike, *, packed: bool = False) -> dict:
     ...
     lotsim.errors.ResultFormatError: /.../example.yaml: this is a lotsim scenario, not a result: ...
     """
-    from lotsim.check import load_result as load
     from lotsim.errors import ResultFormatError
     from lotsim.io.kinds import file_kind, wrong_kind
+    from lotsim.verify import load_result as load
 
     try:
         return load(path, packed=packed)
@@ -406,7 +406,7 @@ def check(result: RunResult | dict | str | os.PathLike, *, max_violations: int =
     >>> check({"format": "lotsim-result"}).violations[0].rule
     'structure'
     """
-    from lotsim.check import check_result
+    from lotsim.verify import check_result
 
     if not (_settings.is_real(max_violations) and max_violations >= 1):
         raise SettingsError("max_violations", f"expected at least 1, found "
@@ -638,7 +638,7 @@ def car(name_or_path: str | os.PathLike) -> VehicleType:
         return CATALOGUE[name_or_path]
     p = Path(name_or_path)
     if p.suffix in (".yaml", ".yml") or p.exists():
-        from lotsim.io.scenario import load_vehicle
+        from lotsim.io.scenario_yaml import load_vehicle
 
         return load_vehicle(p)
     raise SettingsError("car", f"unknown car {os.fspath(name_or_path)!r}; expected one of "
@@ -700,7 +700,7 @@ def minslot(vehicle: VehicleType | str | os.PathLike, width: float,
     >>> [(r.changes, round(r.length, 2)) for r in table.rows]
     [(0, 6.06), (1, 5.59)]
     """
-    from lotsim.planners.minslot import min_slot_lengths
+    from lotsim.maneuvers.minslot import min_slot_lengths
 
     s = _settings.replace(settings or MinSlotSettings(), overrides)
     v = vehicle if not isinstance(vehicle, (str, os.PathLike)) else car(vehicle)
@@ -739,7 +739,7 @@ def maneuver_case(scenario: ScenarioLike, slot: str, *, vehicle: str | None = No
     lot = build_lot(sc.lot, DesignVehicle.envelope(sc.vehicle_types))
     chosen = lot.slot_by_id.get(slot)
     if chosen is None:
-        from lotsim.validation import id_ranges
+        from lotsim.sim.validation import id_ranges
 
         close = difflib.get_close_matches(str(slot), list(lot.slot_by_id), n=3)
         hint = f"; did you mean {', '.join(close)}?" if close else ""

@@ -370,9 +370,9 @@ def _maneuver(args: argparse.Namespace) -> int:
 def _show(args: argparse.Namespace) -> int:
     from lotsim.api import load_scenario, render_lot
     from lotsim.render.lot_image import slot_labels_drawn
-    from lotsim.sim import PreparedLot
-    from lotsim.sim import prepare as prepare_lot
-    from lotsim.validation import id_ranges, natural
+    from lotsim.sim.simulation import PreparedLot
+    from lotsim.sim.simulation import prepare as prepare_lot
+    from lotsim.sim.validation import id_ranges, natural
 
     size = _size(args.size)
     if isinstance(size, str):
@@ -409,9 +409,9 @@ def _run(args: argparse.Namespace) -> int:
 
     from lotsim.api import prepare, run
     from lotsim.io.result import write_json
-    from lotsim.io.scenario import read_scenario
-    from lotsim.limits import Watchdog
-    from lotsim.sim import require_traffic
+    from lotsim.io.scenario_yaml import read_scenario
+    from lotsim.sim.limits import Watchdog
+    from lotsim.sim.simulation import require_traffic
 
     # an option that would change nothing is refused, not ignored
     if args.window is not None and args.planner != "whca":
@@ -568,9 +568,9 @@ def _counts(m: dict) -> str:
 
 
 def _budget(args: argparse.Namespace):
-    """The run's :class:`~lotsim.limits.Budget` from ``--memory-limit``/``--time-limit``, or
+    """The run's :class:`~lotsim.sim.limits.Budget` from ``--memory-limit``/``--time-limit``, or
     the exit code of a bad value."""
-    from lotsim.limits import Budget, parse_size
+    from lotsim.sim.limits import Budget, parse_size
 
     memory = None
     if args.memory_limit is not None:
@@ -839,7 +839,7 @@ def _render(args: argparse.Namespace) -> int:
 
 
 def _timeline(doc: dict, path: str) -> int:
-    from lotsim.replay import ReplayError
+    from lotsim.render.replay import ReplayError
 
     try:
         from lotsim.render.plots import plot_timeline

@@ -71,7 +71,7 @@ class ScenarioError(LotsimError):
 
 class LimitExceeded(ScenarioError):
     """A run stopped because it needs more memory or time than its budget
-    (:mod:`lotsim.limits`)."""
+    (:mod:`lotsim.sim.limits`)."""
 
 
 class SettingsError(LotsimError, ValueError):

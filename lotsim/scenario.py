@@ -5,7 +5,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from lotsim.lot.spec import LotSpec
-from lotsim.traffic import TrafficSpec
+from lotsim.traffic.demand import TrafficSpec
 from lotsim.vehicles.model import VehicleType
 
 
@@ -30,7 +30,7 @@ class Scenario:
         The vehicles that come to the lot; None when the scenario only describes a lot.
 
     A scenario is the problem, not how to draw it: its file's ``animation`` section is read
-    apart (:func:`lotsim.io.scenario.read_scenario`, :class:`lotsim.settings.AnimationSpec`).
+    apart (:func:`lotsim.io.scenario_yaml.read_scenario`, :class:`lotsim.settings.AnimationSpec`).
     """
 
     name: str

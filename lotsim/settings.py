@@ -31,13 +31,13 @@ from typing import Any
 from lotsim.errors import SettingsError
 
 PLANNERS = ("ca", "hca", "whca")
-"""Cooperative A* variants (:func:`lotsim.planners.cooperative.search`)."""
+"""Cooperative A* variants (:func:`lotsim.traffic.search.search`)."""
 ASSIGNMENTS = ("nearest", "shortest")
 """Slot choice: straight-line distance from the entrance, or travel time."""
 PRIORITIES = ("arrival", "shortest_first", "ga")
 """``arrival``: online, each vehicle planned when it arrives; ``shortest_first``: booked,
 the vehicle with the least static time to a slot first; ``ga``: booked, the order a
-genetic algorithm finds (:mod:`lotsim.priority`)."""
+genetic algorithm finds (:mod:`lotsim.sim.orders`)."""
 OMEGA = 10.0
 """Fuse: a search stops after expanding ``OMEGA`` × its reverse search's closed nodes."""
 BOOKING_HORIZON = 60.0
@@ -134,7 +134,7 @@ def replace(settings: Any, overrides: dict[str, Any]) -> Any:
 # -- the genetic algorithm over planning orders -----------------------------------------------
 @dataclass(frozen=True, slots=True)
 class GASettings:
-    """The genetic algorithm over planning orders (:func:`lotsim.priority.genetic_order`).
+    """The genetic algorithm over planning orders (:func:`lotsim.sim.orders.genetic_order`).
 
     Attributes
     ----------
@@ -316,7 +316,7 @@ class GifSettings:
         Seconds of path drawn behind a moving vehicle (0 to 3600).
     skip_quiet : bool
         Leave out the stretches in which no vehicle moves (those of
-        :meth:`lotsim.replay.Replay.quiet`, a second kept at each end); a frame after a
+        :meth:`lotsim.render.replay.Replay.quiet`, a second kept at each end); a frame after a
         skip says how much run time was skipped.
     legend : bool
         Draw a key of what the cars' colours mean in the footer, right of the scale bar.
@@ -440,7 +440,7 @@ class MinSlotSettings:
 class AnimationSpec:
     """A scenario file's ``animation`` section: ``lotsim run`` also writes a GIF (and an HTML
     replay, an MP4 video, when it names them). Read with
-    the scenario (:func:`lotsim.io.scenario.read_scenario`) but kept apart from it: how a run
+    the scenario (:func:`lotsim.io.scenario_yaml.read_scenario`) but kept apart from it: how a run
     is drawn is not part of the problem.
 
     Attributes

@@ -14,11 +14,11 @@ from pathlib import Path
 import networkx as nx
 import pytest
 
-from lotsim.io.scenario import parse_scenario
+from lotsim.io.scenario_yaml import parse_scenario
 from lotsim.io.yamlnodes import parse_text
-from lotsim.lot.graph import LotGraph
+from lotsim.roadmap.graph import LotGraph
 from lotsim.scenario import Scenario
-from lotsim.sim import prepare
+from lotsim.sim.simulation import prepare
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -97,7 +97,7 @@ def position(text: str, needle: str, nth: int = 0) -> tuple[int, int]:
 
 @pytest.fixture(scope="session")
 def shipped_graphs() -> dict[str, LotGraph]:
-    from lotsim.io.scenario import load_scenario
+    from lotsim.io.scenario_yaml import load_scenario
 
     return {p.stem: prepare(load_scenario(p)) for p in SCENARIOS}
 
@@ -107,8 +107,8 @@ def mixed_lot_doc(shipped_graphs) -> dict:
     """The README's main run (scenarios/mixed_lot.yaml, default settings) as its result
     document, planned once for the session."""
     from lotsim.io.result import result_dict
-    from lotsim.io.scenario import load_scenario
-    from lotsim.sim import run
+    from lotsim.io.scenario_yaml import load_scenario
+    from lotsim.sim.simulation import run
 
     sc = load_scenario(ROOT / "scenarios" / "mixed_lot.yaml")
     return result_dict(run(sc, lot_graph=shipped_graphs["mixed_lot"]))

@@ -24,7 +24,7 @@ from lotsim.errors import (
     SettingsError,
 )
 from lotsim.io.lot_json import LotFormatError
-from lotsim.priority import run_with_priority
+from lotsim.sim.orders import run_with_priority
 
 QUICKSTART = ROOT / "scenarios" / "quickstart.yaml"
 
@@ -155,9 +155,9 @@ def test_one_error_hierarchy_under_lotsim_error():
     assert lotsim.LotsimError is LotsimError and lotsim.ScenarioError is ScenarioError
     assert issubclass(LimitExceeded, ScenarioError)
     # the classes stay where callers imported them from
-    assert importlib.import_module("lotsim.check").ResultFormatError is ResultFormatError
-    assert importlib.import_module("lotsim.replay").ReplayError is ReplayError
-    assert importlib.import_module("lotsim.limits").LimitExceeded is LimitExceeded
+    assert importlib.import_module("lotsim.verify").ResultFormatError is ResultFormatError
+    assert importlib.import_module("lotsim.render.replay").ReplayError is ReplayError
+    assert importlib.import_module("lotsim.sim.limits").LimitExceeded is LimitExceeded
 
 
 def test_bad_scenario_text_raises_a_lotsim_error_at_its_line_and_column():
@@ -217,7 +217,8 @@ def test_validate_is_what_the_cli_prints(capsys):
 
 
 def test_import_lotsim_loads_nothing_heavy_until_asked():
-    code = ("import sys, lotsim; heavy = [m for m in ('numpy', 'lotsim.sim', 'lotsim.api') "
+    code = ("import sys, lotsim; heavy = [m for m in ('numpy', 'lotsim.sim.simulation', "
+            "'lotsim.api') "
             "if m in sys.modules]; lotsim.RunSettings; print(heavy, 'lotsim.api' in "
             "sys.modules, sorted(set(lotsim.__all__) - set(dir(lotsim))))")
     done = subprocess.run([sys.executable, "-c", code], cwd=ROOT, capture_output=True,
@@ -226,8 +227,8 @@ def test_import_lotsim_loads_nothing_heavy_until_asked():
 
 
 def test_lotsim_check_stays_the_function_when_the_checker_module_is_imported():
-    importlib.import_module("lotsim.check")
-    from lotsim.check import check_result  # noqa: F401
+    importlib.import_module("lotsim.verify")
+    from lotsim.verify import check_result  # noqa: F401
 
     assert lotsim.check is lotsim.api.check and callable(lotsim.check)
 

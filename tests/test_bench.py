@@ -13,11 +13,11 @@ import pytest
 from conftest import ROOT, position
 from lotsim import bench
 from lotsim.bench import runner
-from lotsim.check import CheckReport, Violation
 from lotsim.cli import main
 from lotsim.errors import Location, ScenarioError
-from lotsim.io.scenario import load_scenario
-from lotsim.sim import RunSettings, prepare, run
+from lotsim.io.scenario_yaml import load_scenario
+from lotsim.sim.simulation import RunSettings, prepare, run
+from lotsim.verify import CheckReport, Violation
 
 # the quickstart's lot with a stream of three cars (a tiny lot: prepared in about a second)
 TINY = (ROOT / "scenarios" / "quickstart.yaml").read_text().split("traffic:")[0].replace(
@@ -431,18 +431,15 @@ def test_without_plots_the_summary_links_no_missing_picture(local, tmp_path, cap
     assert links and all((out / name).is_file() for name in links)
 
 
-def test_the_bench_plots_live_beside_the_other_plots_and_load_only_when_drawn():
-    # lotsim/bench/plots.py drew matplotlib figures apart from lotsim/render/plots.py
-    import importlib.util
+def test_the_bench_plots_load_only_when_drawn():
     import subprocess
 
-    from lotsim.render import bench_plots
+    from lotsim.bench import plots as bench_plots
 
     assert bench.bench_figure is bench_plots.bench_figure
-    assert importlib.util.find_spec("lotsim.bench.plots") is None
     # reading a suite and running it loads no picture code (matplotlib is optional)
     code = ("import sys, lotsim.bench; print(sorted(m for m in sys.modules if "
-            "m.startswith(('lotsim.render', 'matplotlib', 'PIL'))))")
+            "m.startswith(('lotsim.render', 'lotsim.bench.plots', 'matplotlib', 'PIL'))))")
     done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
                           check=True, cwd=ROOT)
     assert done.stdout.strip() == "[]"

@@ -1,5 +1,5 @@
-"""The on-disk cache of prepared lots (:mod:`lotsim.cache`): a lot prepared before is loaded,
-not planned again, and gives exactly what planning it gives; anything else is planned."""
+"""The on-disk cache of prepared lots (:mod:`lotsim.core.diskcache`): a lot prepared before is
+loaded, not planned again, and gives exactly what planning it gives; anything else is planned."""
 
 from __future__ import annotations
 
@@ -10,11 +10,11 @@ import sys
 
 import pytest
 
-import lotsim.cache
-import lotsim.sim
+import lotsim.core.diskcache
+import lotsim.sim.simulation
 from conftest import ONE_AISLE, ROOT, scenario_from_text
 from lotsim.io.result import result_dict
-from lotsim.sim import prepare, run
+from lotsim.sim.simulation import prepare, run
 
 TRAFFIC = """\
 traffic:
@@ -64,7 +64,7 @@ def test_a_changed_lot_or_lotsim_is_planned_again(folder, monkeypatch):
     stay = TRAFFIC.replace(", dwell: 20", "")
     assert not prepare(scenario_from_text(ONE_AISLE + stay)).from_cache
     assert prepare(scenario_from_text(ONE_AISLE + stay)).from_cache
-    monkeypatch.setattr(lotsim.cache, "code_version", lambda: "another lotsim")
+    monkeypatch.setattr(lotsim.core.diskcache, "code_version", lambda: "another lotsim")
     assert not prepare(scenario_from_text(ONE_AISLE + TRAFFIC)).from_cache
 
 
@@ -96,13 +96,13 @@ def test_no_cache_where_it_cannot_be_written_or_is_turned_off(tmp_path, monkeypa
 
 
 def test_the_least_recently_used_entries_go_first(folder, monkeypatch):
-    monkeypatch.setattr(lotsim.cache, "MOST_ENTRIES", 2)
+    monkeypatch.setattr(lotsim.core.diskcache, "MOST_ENTRIES", 2)
     for k in range(3):
-        assert lotsim.cache.store(f"e{k}.pickle", k)
+        assert lotsim.core.diskcache.store(f"e{k}.pickle", k)
         os.utime(folder / f"e{k}.pickle", (1000 + k, 1000 + k))
-    assert lotsim.cache.load("e0.pickle") is None  # removed when e2 came
-    assert lotsim.cache.load("e1.pickle") == 1  # now the most recently used
-    assert lotsim.cache.store("e3.pickle", 3)
+    assert lotsim.core.diskcache.load("e0.pickle") is None  # removed when e2 came
+    assert lotsim.core.diskcache.load("e1.pickle") == 1  # now the most recently used
+    assert lotsim.core.diskcache.store("e3.pickle", 3)
     assert sorted(p.name for p in folder.glob("*.pickle")) == ["e1.pickle", "e3.pickle"]
     assert not list(folder.glob(".*.tmp"))
 
@@ -133,17 +133,17 @@ def test_two_processes_asking_for_one_lot_at_once_plan_it_once(folder):
 
 
 def test_the_lock_of_an_entry_goes_with_it_unless_it_is_held(folder, monkeypatch):
-    monkeypatch.setattr(lotsim.cache, "MOST_ENTRIES", 1)
-    with lotsim.cache.making("e0.pickle"):
-        assert lotsim.cache.store("e0.pickle", 0)
-    with lotsim.cache.making("e1.pickle"):
+    monkeypatch.setattr(lotsim.core.diskcache, "MOST_ENTRIES", 1)
+    with lotsim.core.diskcache.making("e0.pickle"):
+        assert lotsim.core.diskcache.store("e0.pickle", 0)
+    with lotsim.core.diskcache.making("e1.pickle"):
         # e0 and its lock go; e1's lock is held while e1 is made and stays with it
-        assert lotsim.cache.store("e1.pickle", 1)
-        with lotsim.cache.making("e2.pickle"):
-            assert lotsim.cache.store("e9.pickle", 9)  # e2 not made yet: its lock stays
+        assert lotsim.core.diskcache.store("e1.pickle", 1)
+        with lotsim.core.diskcache.making("e2.pickle"):
+            assert lotsim.core.diskcache.store("e9.pickle", 9)  # e2 not made yet: its lock stays
     assert sorted(p.name for p in folder.iterdir()) == [".e1.pickle.lock", ".e2.pickle.lock",
                                                         "e9.pickle"]
-    assert lotsim.cache.store("e8.pickle", 8)  # nothing holds e1 and e2 now
+    assert lotsim.core.diskcache.store("e8.pickle", 8)  # nothing holds e1 and e2 now
     assert sorted(p.name for p in folder.iterdir()) == ["e8.pickle"]
 
 
@@ -160,10 +160,10 @@ def test_validate_from_another_folder_and_process_finds_the_lot(tmp_path):
         outs.append(subprocess.run([sys.executable, "-m", "lotsim", "validate", str(path)],
                                    env=env, capture_output=True, text=True, timeout=300))
     assert [o.returncode for o in outs] == [0, 0], outs
-    assert lotsim.cache.LOADED not in outs[0].stdout
-    assert lotsim.cache.LOADED in outs[1].stdout
+    assert lotsim.core.diskcache.LOADED not in outs[0].stdout
+    assert lotsim.core.diskcache.LOADED in outs[1].stdout
     said = [o.stdout.replace(str(tmp_path / f"d{k}"), "") for k, o in enumerate(outs)]
-    assert said[1].replace(lotsim.cache.LOADED, "") == said[0]
+    assert said[1].replace(lotsim.core.diskcache.LOADED, "") == said[0]
 
 
 def test_a_warm_validate_does_not_load_the_graph_library(tmp_path):
@@ -175,9 +175,9 @@ def test_a_warm_validate_does_not_load_the_graph_library(tmp_path):
     said = [subprocess.run([sys.executable, "-c", code, str(ROOT / "scenarios" / "street.yaml")],
                            env=env, capture_output=True, text=True, timeout=300).stdout
             for _ in range(2)]
-    assert said[0].endswith("True\n") and lotsim.cache.LOADED not in said[0]
-    assert said[1].endswith("False\n") and lotsim.cache.LOADED in said[1]
-    assert said[1].replace(lotsim.cache.LOADED, "")[:-6] == said[0][:-5]
+    assert said[0].endswith("True\n") and lotsim.core.diskcache.LOADED not in said[0]
+    assert said[1].endswith("False\n") and lotsim.core.diskcache.LOADED in said[1]
+    assert said[1].replace(lotsim.core.diskcache.LOADED, "")[:-6] == said[0][:-5]
 
 
 @pytest.mark.parametrize("entry", [b"not a pickle", None])
@@ -189,12 +189,12 @@ def test_loading_leaves_the_cycle_collector_as_it_was(tmp_path, entry):
     if entry is not None:
         (tmp_path / "x.pickle").write_bytes(entry)
     else:
-        lotsim.cache.store("x.pickle", {"a": [1.0, 2.0]}, tmp_path)
+        lotsim.core.diskcache.store("x.pickle", {"a": [1.0, 2.0]}, tmp_path)
     try:
         for before in (True, False):
             (gc.enable if before else gc.disable)()
-            lotsim.cache.load("x.pickle", tmp_path)
-            lotsim.cache.load("missing.pickle", tmp_path)
+            lotsim.core.diskcache.load("x.pickle", tmp_path)
+            lotsim.core.diskcache.load("missing.pickle", tmp_path)
             assert gc.isenabled() is before
     finally:
         gc.enable()
@@ -228,7 +228,7 @@ def test_an_edited_lot_searches_only_what_the_edit_changed(folder, monkeypatch):
     assert not prepare(scenario_from_text(LONG_AISLE + TRAFFIC)).from_cache
     assert not list(folder.glob("maneuvers-*.pickle"))  # 28 slots, one type: too small
     folder.joinpath(next(folder.glob("prepared-*.pickle"))).unlink()
-    monkeypatch.setattr(lotsim.sim, "REMEMBER_FROM", 1)
+    monkeypatch.setattr(lotsim.sim.simulation, "REMEMBER_FROM", 1)
     before = prepare(scenario_from_text(LONG_AISLE + TRAFFIC))
     assert before.maneuver_planner.stats["remembered"] == 0
     assert len(list(folder.glob("maneuvers-*.pickle"))) == 1
@@ -266,7 +266,7 @@ def test_a_maneuver_problem_is_kept_by_everything_its_search_reads():
 
     from lotsim.lot.build import build_lot
     from lotsim.lot.model import DesignVehicle
-    from lotsim.planners.maneuver import ManeuverPlanner, _exact_key
+    from lotsim.maneuvers.planner import ManeuverPlanner, _exact_key
 
     sc = scenario_from_text(ONE_AISLE + TRAFFIC)
     lot = build_lot(sc.lot, DesignVehicle.envelope(sc.vehicle_types))

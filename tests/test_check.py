@@ -30,8 +30,8 @@ import numpy as np
 import pytest
 import shapely
 
-from lotsim.check import CheckReport, ResultFormatError, check_result, load_result
-from lotsim.check.footprints import _Items, _rects_overlap
+from lotsim.verify import CheckReport, ResultFormatError, check_result, load_result
+from lotsim.verify.footprints import _Items, _rects_overlap
 
 DT = 0.05
 SPEED = 0.9
@@ -619,7 +619,7 @@ def test_a_failing_stage_is_reported_not_raised(result, monkeypatch):
         raise ZeroDivisionError("boom")
 
     # the module that runs the stages (lotsim.check, the attribute, is lotsim.api.check)
-    monkeypatch.setattr(importlib.import_module("lotsim.check.checker"), "_check_motion", broken)
+    monkeypatch.setattr(importlib.import_module("lotsim.verify.checker"), "_check_motion", broken)
     report = check_result(result)
     assert not report.ok
     assert rules(report) == {"internal"}
@@ -733,7 +733,7 @@ def test_a_standing_pose_written_one_rounding_unit_apart_still_stands(result):
 
 def test_the_checker_imports_nothing_from_lotsim_but_an_error_type():
     # the checker shares no code with what it checks (docs/result.md)
-    package = Path(importlib.import_module("lotsim.check").__file__).parent
+    package = Path(importlib.import_module("lotsim.verify").__file__).parent
     found = set()
     for path in package.glob("*.py"):
         for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
@@ -742,5 +742,5 @@ def test_the_checker_imports_nothing_from_lotsim_but_an_error_type():
             elif isinstance(node, ast.Import):
                 found.update(alias.name for alias in node.names)
     outside = {m for m in found if m.split(".")[0] == "lotsim"
-               and not m.startswith("lotsim.check.")}
+               and not m.startswith("lotsim.verify.")}
     assert outside == {"lotsim.errors"}

@@ -29,7 +29,7 @@ import numpy as np
 import pytest
 
 import single_track
-from lotsim.check import check_result
+from lotsim.verify import check_result
 
 DT = 0.05
 TYPE = {"name": "test-car", "width": 1.8, "front": 3.9, "rear": 1.0, "wheelbase": 2.8,

@@ -1,5 +1,5 @@
 """The checker's batched footprint rules against the straightforward reference
-(:mod:`lotsim.check.reference`: a shapely polygon per vehicle per instant), and faults
+(:mod:`oracles.reference_footprints`: a shapely polygon per vehicle per instant), and faults
 planted in a result the planner made, which the checker must catch where they are.
 
 The random results reuse the hand-built lot of ``tests/test_check.py`` (40 × 20 m, three
@@ -14,10 +14,10 @@ import math
 
 import numpy as np
 import pytest
+from oracles.reference_footprints import reference_footprints, report_findings
 from test_check import random_traffic, refresh_metrics, valid_result
 
-from lotsim.check import check_result, footprints
-from lotsim.check.reference import reference_footprints, report_findings
+from lotsim.verify import check_result, footprints
 
 NOTCH = [[0, 0], [40, 0], [40, 20], [29, 20], [29, 13], [28, 13], [28, 20], [0, 20]]
 """The test lot's boundary with a notch cut down from its top edge, between P3 and the

@@ -25,7 +25,7 @@ def test_cars_lists_the_catalogue_with_length_width_and_radius(capsys):
 
 def test_validate_passes_on_every_shipped_scenario(shipped_graphs):
     import lotsim
-    from lotsim.io.scenario import load_scenario
+    from lotsim.io.scenario_yaml import load_scenario
 
     assert len(SCENARIOS) >= 5
     for path in SCENARIOS:
@@ -234,9 +234,9 @@ def test_slot_and_lane_ids_can_be_found(tmp_path, capsys):
     import numpy as np
     from PIL import Image, ImageDraw
 
-    from lotsim.io.scenario import load_scenario
+    from lotsim.io.scenario_yaml import load_scenario
     from lotsim.render.lot_image import draw_lot, lot_layout
-    from lotsim.sim import prepare
+    from lotsim.sim.simulation import prepare
 
     assert main(["maneuver", str(QUICK), "--slot", "Q7"]) == 2
     assert "no slot 'Q7'" in capsys.readouterr().err

@@ -3,9 +3,9 @@
 import json
 
 import pytest
+from oracles.closed_form import one_change_excess
 
 from lotsim.cli import main
-from lotsim.planners.closed_form import one_change_excess
 from lotsim.vehicles import CATALOGUE
 
 

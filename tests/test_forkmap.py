@@ -3,7 +3,7 @@
 import os
 import time
 
-from lotsim.forkmap import fork_map
+from lotsim.core.workers import fork_map
 
 
 def test_answers_in_order_whatever_finishes_first():
@@ -40,7 +40,7 @@ def _taken(bg, n: int, seconds: float = 20.0) -> dict:
 
 
 def test_a_background_works_on_another_process_at_the_lowest_priority():
-    from lotsim.forkmap import Background
+    from lotsim.core.workers import Background
 
     with Background(lambda x: (x * x, os.getpid(), os.nice(0)), [3, 1, 2]) as bg:
         got = _taken(bg, 3)
@@ -50,7 +50,7 @@ def test_a_background_works_on_another_process_at_the_lowest_priority():
 
 
 def test_a_background_stops_quietly_at_an_item_that_fails(capfd):
-    from lotsim.forkmap import Background
+    from lotsim.core.workers import Background
 
     with Background(lambda x: 1 / x, [1, 0, 2]) as bg:
         bg._proc.join(20)
@@ -60,7 +60,7 @@ def test_a_background_stops_quietly_at_an_item_that_fails(capfd):
 
 
 def test_a_background_started_by_a_worker_starts_nothing():
-    from lotsim.forkmap import Background
+    from lotsim.core.workers import Background
 
     def inside(_):
         with Background(lambda x: x, [1, 2]) as bg:

@@ -23,13 +23,13 @@ import pytest
 from PIL import Image
 
 from conftest import ROOT, time_limit
-from lotsim.check import check_result
 from lotsim.cli import main
 from lotsim.errors import ScenarioError
-from lotsim.io.scenario import load_scenario
+from lotsim.io.scenario_yaml import load_scenario
 from lotsim.settings import GifSettings
-from lotsim.sim import check_traffic, prepare
-from lotsim.traffic import arrivals
+from lotsim.sim.simulation import check_traffic, prepare
+from lotsim.traffic.demand import arrivals
+from lotsim.verify import check_result
 
 FILES = ("quickstart.yaml", "street.yaml", "seed003_two_rows.yaml", "mixed_lot.yaml")
 QUICK = 240

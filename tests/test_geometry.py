@@ -5,7 +5,7 @@ import math
 import numpy as np
 import pytest
 
-from lotsim.geometry import (
+from lotsim.core.geometry import (
     Segment,
     advance,
     cc_polyline,

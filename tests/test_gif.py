@@ -15,7 +15,7 @@ from conftest import ROOT, position, scenario_from_text
 from lotsim.cli import main
 from lotsim.errors import ScenarioError
 from lotsim.io.result import result_dict
-from lotsim.io.scenario import load_scenario
+from lotsim.io.scenario_yaml import load_scenario
 from lotsim.render.animation import (
     WHEEL,
     GifRenderer,
@@ -25,8 +25,8 @@ from lotsim.render.animation import (
     split_gif,
     write_gif,
 )
-from lotsim.replay import PHASES, Replay, assign_colours
-from lotsim.sim import RunSettings, run
+from lotsim.render.replay import PHASES, Replay, assign_colours
+from lotsim.sim.simulation import RunSettings, run
 
 QUICKSTART = ROOT / "scenarios" / "quickstart.yaml"
 BARE = "".join(line for line in QUICKSTART.read_text().splitlines(keepends=True)

@@ -7,9 +7,9 @@ import pytest
 import shapely
 
 from conftest import ONE_AISLE, ROOT, SCENARIOS, graph_from_text, position, scenario_from_text
+from lotsim.core.geometry import wrap_angle
 from lotsim.errors import ScenarioError
-from lotsim.geometry import wrap_angle
-from lotsim.sim import prepare
+from lotsim.sim.simulation import prepare
 from lotsim.vehicles import KMH
 
 
@@ -60,7 +60,7 @@ def test_heading_is_continuous_through_every_lane_node(shipped_graphs):
 
 
 def test_curvature_never_exceeds_the_limit_of_the_vehicles_that_drive_it(shipped_graphs):
-    from lotsim.io.scenario import load_scenario
+    from lotsim.io.scenario_yaml import load_scenario
 
     for path in SCENARIOS:
         lg = shipped_graphs[path.stem]
@@ -115,8 +115,8 @@ def test_every_slot_is_linked_through_real_maneuvers_that_start_at_their_lane_no
 
 
 def test_without_maneuvers_slots_hang_off_marked_placeholders():
-    from lotsim.io.scenario import load_scenario
-    from lotsim.sim import prepare
+    from lotsim.io.scenario_yaml import load_scenario
+    from lotsim.sim.simulation import prepare
 
     path = next(p for p in SCENARIOS if p.stem == "quickstart")
     lg = prepare(load_scenario(path), maneuvers=False)
@@ -127,7 +127,7 @@ def test_without_maneuvers_slots_hang_off_marked_placeholders():
 
 def test_lane_and_turn_sweeps_touch_no_slot_or_area(shipped_graphs):
     """Independent of the builder's checker: real vehicle footprints every 5 cm, via shapely."""
-    from lotsim.io.scenario import load_scenario
+    from lotsim.io.scenario_yaml import load_scenario
 
     for path in SCENARIOS:
         lg = shipped_graphs[path.stem]
@@ -277,10 +277,10 @@ def test_a_portal_heading_off_its_lane_is_refused_not_turned_without_a_word():
 def test_turns_found_on_two_workers_are_those_each_type_finds_on_its_own():
     # the mixed lot's three types: junction turns per type and lane, on forked workers,
     # against each type's junction turns and turns through short stretches found in one go
-    from lotsim.io.scenario import load_scenario
+    from lotsim.io.scenario_yaml import load_scenario
     from lotsim.lot.build import build_lot, lane_collider
-    from lotsim.lot.graph import _junction_turns, _through_turns, _turns_per_design
     from lotsim.lot.model import DesignVehicle
+    from lotsim.roadmap.graph import _junction_turns, _through_turns, _turns_per_design
 
     sc = load_scenario(SCENARIOS[[p.stem for p in SCENARIOS].index("mixed_lot")])
     lot = build_lot(sc.lot, DesignVehicle.envelope(sc.vehicle_types))
@@ -297,15 +297,15 @@ def test_turns_found_on_two_workers_are_those_each_type_finds_on_its_own():
 def test_turns_through_stretches_on_two_workers_are_those_each_type_finds_on_its_own():
     # the gate spur's junctions close together, for two types: each stretch's turn a task
     # on forked workers, against each type's junction and through turns found in one go
-    from lotsim.io.scenario import load_scenario
+    from lotsim.io.scenario_yaml import load_scenario
     from lotsim.lot.build import build_lot, lane_collider
-    from lotsim.lot.graph import (
+    from lotsim.lot.model import DesignVehicle
+    from lotsim.roadmap.graph import (
         _junction_turns,
         _through_chains,
         _through_turns,
         _turns_per_design,
     )
-    from lotsim.lot.model import DesignVehicle
     from lotsim.vehicles import CATALOGUE
 
     sc = load_scenario(ROOT / "scenarios" / "lots" / "gate_spur.yaml")
@@ -325,9 +325,8 @@ def test_turnarounds_searched_in_rounds_on_two_workers_are_those_searched_one_by
     # the ladder's dead ends need multi-point turnarounds, some of them searched after
     # another (a car arriving past the first): searched in rounds on forked workers, each
     # once, against each searched where it is met
-    from lotsim.io.scenario import load_scenario
-    from lotsim.lot import graph
-
+    from lotsim.io.scenario_yaml import load_scenario
+    from lotsim.roadmap import graph
     sc = load_scenario(SCENARIOS[0].parent / "lots" / "ladder.yaml")
     searched, jobs = [], {}
     real_fork_map, real_reaching_all = graph.fork_map, graph._reaching_all
@@ -368,10 +367,10 @@ def test_junction_multipoints_and_uturns_found_at_once_are_those_found_one_after
     # the ladder's junctions: multi-point turns (none there) and U-turns, worked out
     # together on two forked workers for one lot, against each worked out in this process
     # for another
-    from lotsim.io.scenario import load_scenario
-    from lotsim.lot import graph
+    from lotsim.io.scenario_yaml import load_scenario
     from lotsim.lot.build import build_lot, lane_collider
     from lotsim.lot.model import DesignVehicle
+    from lotsim.roadmap import graph
 
     sc = load_scenario(SCENARIOS[0].parent / "lots" / "ladder.yaml")
     designs = ({v.name: DesignVehicle.envelope([v]) for v in sc.vehicle_types}

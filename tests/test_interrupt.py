@@ -21,7 +21,7 @@ from pathlib import Path
 import pytest
 
 from conftest import ROOT
-from lotsim.check import check_result
+from lotsim.verify import check_result
 
 SCENARIOS = ROOT / "scenarios"
 
@@ -79,7 +79,7 @@ def _wait_for(condition, proc: subprocess.Popen, timeout: float = 120.0) -> None
 
 
 def _temporary(folder: Path, name: str) -> list[Path]:
-    """The temporary files :func:`lotsim.atomic.atomic_write` is writing ``name`` into."""
+    """The temporary files :func:`lotsim.core.atomic.atomic_write` is writing ``name`` into."""
     return list(folder.glob(f".{name}.*.tmp"))
 
 

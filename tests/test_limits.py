@@ -13,8 +13,8 @@ import lotsim
 from conftest import ONE_AISLE, ROOT, position, time_limit
 from lotsim.cli import main
 from lotsim.errors import Location
-from lotsim.io.scenario import MAX_AISLE_LENGTH, MAX_LOT_SIZE, MAX_SLOTS
-from lotsim.limits import WARMUP, Budget, LimitExceeded, Watchdog, parse_size
+from lotsim.io.scenario_yaml import MAX_AISLE_LENGTH, MAX_LOT_SIZE, MAX_SLOTS
+from lotsim.sim.limits import WARMUP, Budget, LimitExceeded, Watchdog, parse_size
 
 STREAM = "traffic: {stream: {count: COUNT, rate_per_hour: 3600, dwell: [20, 40]}}\n"
 
@@ -146,7 +146,7 @@ def _dog(memory=None, seconds=None):
 def test_projections_wait_for_the_warm_up_and_extrapolate_linearly(monkeypatch):
     """The decision rule on synthetic numbers: measured limits at once, projections only after
     WARMUP vehicles and two seconds once the lot is built, never once everything is done."""
-    import lotsim.limits as limits
+    import lotsim.sim.limits as limits
 
     mb = 2**20
     dog = _dog(memory=1000 * mb, seconds=100.0)

@@ -15,15 +15,15 @@ import pytest
 from shapely.geometry import MultiPolygon, Polygon, box
 
 from conftest import SCENARIOS, scenario_from_text
-from lotsim.check import check_result
-from lotsim.geometry import wrap_angle
+from lotsim.core.geometry import wrap_angle
 from lotsim.io.lot_json import LotFormatError, lot_from_json, lot_to_json
 from lotsim.io.result import result_dict
-from lotsim.io.scenario import load_scenario
+from lotsim.io.scenario_yaml import load_scenario
 from lotsim.lot.build import build_lot
 from lotsim.lot.model import Area, DesignVehicle, Lot, SpeedZone
 from lotsim.render import draw_lot
-from lotsim.sim import prepare, run
+from lotsim.sim.simulation import prepare, run
+from lotsim.verify import check_result
 
 TOL = 1e-5
 SIZE = (800, 600)

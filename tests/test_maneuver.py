@@ -16,13 +16,13 @@ import shapely
 
 from conftest import ROOT, SCENARIOS, graph_from_text, scenario_from_text
 from lotsim.cli import main
+from lotsim.core.geometry import wrap_angle
 from lotsim.errors import InfeasibleManeuver
-from lotsim.geometry import wrap_angle
-from lotsim.io.scenario import load_scenario
+from lotsim.io.scenario_yaml import load_scenario
 from lotsim.lot.build import build_lot
 from lotsim.lot.model import DesignVehicle
-from lotsim.planners.maneuver import ManeuverPlanner, plan_maneuver
-from lotsim.planners.minslot import fewest_changes
+from lotsim.maneuvers.minslot import fewest_changes
+from lotsim.maneuvers.planner import ManeuverPlanner, plan_maneuver
 from lotsim.vehicles import CATALOGUE
 
 STEP = 0.05
@@ -409,7 +409,7 @@ def test_the_maneuver_picture_keeps_title_and_key_off_the_lot_and_marks_both_end
 
 # -- the planner's seams: settings, results with a status, a frozen problem ------------------
 def test_settings_check_themselves():
-    from lotsim.planners.maneuver import ManeuverSettings
+    from lotsim.maneuvers.planner import ManeuverSettings
 
     for bad in ({"margin": -0.1}, {"margin": 2.0}, {"max_changes": -1}, {"probe": 0.0},
                 {"candidates": 0}, {"closing_radii": (0.5,)}, {"ease_ramps": (1.0, -1.0)}):
@@ -420,7 +420,7 @@ def test_settings_check_themselves():
 
 
 def test_solve_answers_with_a_status_and_the_reason_plan_lot_keeps_as_it_is():
-    from lotsim.planners.maneuver import ManeuverStatus, plan_lot
+    from lotsim.maneuvers.planner import ManeuverStatus, plan_lot
 
     lot, _ = _lot(QUICK)
     planner = ManeuverPlanner(lot)
@@ -468,7 +468,7 @@ def test_problems_keyed_together_are_keyed_as_one_at_a_time(shipped_graphs, name
 
 
 def test_the_settings_are_used():
-    from lotsim.planners.maneuver import ManeuverSettings
+    from lotsim.maneuvers.planner import ManeuverSettings
 
     narrow = QUICK.replace("width: 7.0", "width: 4.6")
     lot, _ = _lot(narrow)
@@ -505,8 +505,8 @@ def test_a_lot_planned_on_two_processes_gets_exactly_the_maneuvers_of_one_search
     """plan_lot searches a lot's distinct problems ahead on worker processes; the answers,
     and what validate reports about them, must be those of solving slot after slot in this
     process (the second implementation here: solve_lanes alone, on a fresh planner)."""
-    from lotsim.planners import maneuver
-    from lotsim.sim import maneuver_planner
+    from lotsim.maneuvers import planner as maneuver
+    from lotsim.sim.simulation import maneuver_planner
 
     sc = load_scenario(ROOT / "scenarios" / "street.yaml")  # three types, both lanes
     lot = build_lot(sc.lot, DesignVehicle.envelope(sc.vehicle_types))
@@ -562,7 +562,7 @@ def test_the_coarse_to_fine_check_finds_the_first_blocked_body_of_every_run(span
 def test_the_first_clear_path_is_the_first_row_that_passes_both_checks(before):
     """``_first_clear`` against checking each row on its own, in order: a clear path after
     ``before`` rows of blocked ones (found in the first batch, a later one, or none)."""
-    from lotsim.geometry import Segment
+    from lotsim.core.geometry import Segment
 
     lot, _ = _lot(QUICK)
     planner = ManeuverPlanner(lot)
@@ -595,7 +595,7 @@ def test_the_rough_pass_over_a_searchs_candidates_finds_what_checking_each_path_
     (``paths_blocked(sweep=False)``): the rows of real searches in a narrow aisle (every
     level of direction changes), and those rows again with no straight before the arc, no
     run along the lane, or no closing move at all."""
-    from lotsim.planners.maneuver import ROUGH
+    from lotsim.maneuvers.planner import ROUGH
 
     lot, _ = _lot(QUICK.replace("width: 7.0", "width: 5.0"))
     planner = ManeuverPlanner(lot)
@@ -634,8 +634,8 @@ def test_the_rough_pass_finds_blocked_ways_to_the_stops_and_runs_along_the_lane(
     its neighbours; stops along them; closing moves with and without a straight, a run
     along the lane of up to 25 m (past the window) or none, or none at all) against making
     each row's path as the search does and checking its footprints on its own."""
-    from lotsim.geometry import Segment, advance
-    from lotsim.planners.maneuver import ROUGH, _closing_segments
+    from lotsim.core.geometry import Segment, advance
+    from lotsim.maneuvers.planner import ROUGH, _closing_segments
 
     lot, _ = _lot(QUICK)
     planner = ManeuverPlanner(lot)
@@ -701,8 +701,8 @@ def test_every_maneuver_starts_on_the_lanes_start_grid_when_bays_are_off_its_pit
     (and each lane's own best) must still start on a multiple of the grid, as
     ``ManeuverSettings.start_grid`` promises; answers shared between bays whose grid falls
     differently started 0.25 m off it."""
-    from lotsim.planners.maneuver import plan_lot
-    from lotsim.sim import maneuver_planner
+    from lotsim.maneuvers.planner import plan_lot
+    from lotsim.sim.simulation import maneuver_planner
 
     lot, sc = _lot(ROW_OFF_GRID)
     planner = maneuver_planner(sc, lot)

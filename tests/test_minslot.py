@@ -6,10 +6,10 @@ import math
 import numpy as np
 import pytest
 import shapely
+from oracles.closed_form import one_change_excess, sideways_gain, white_radius
 
-from lotsim.geometry import advance
-from lotsim.planners.closed_form import one_change_excess, sideways_gain, white_radius
-from lotsim.planners.minslot import (
+from lotsim.core.geometry import advance
+from lotsim.maneuvers.minslot import (
     NO_SOLUTION,
     SlotFrame,
     fewest_changes,

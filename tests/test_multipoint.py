@@ -1,4 +1,4 @@
-"""Multi-point turns onto a lane (lotsim.lot.multipoint): checked against an independent
+"""Multi-point turns onto a lane (lotsim.roadmap.multipoint): checked against an independent
 integration of the path and against shapely, and used where a junction is too small for one
 turn."""
 
@@ -9,16 +9,16 @@ import pytest
 import shapely
 from shapely.geometry import box
 
-from lotsim.check import check_result
-from lotsim.geometry import Segment
+from lotsim.core.geometry import Segment
 from lotsim.io.result import result_dict
 from lotsim.lot.build import build_lot
 from lotsim.lot.clearance import Collider
 from lotsim.lot.model import DesignVehicle
-from lotsim.lot.multipoint import plan_onto
-from lotsim.planners.maneuver import ManeuverPlanner
-from lotsim.sim import prepare, run
+from lotsim.maneuvers.planner import ManeuverPlanner
+from lotsim.roadmap.multipoint import plan_onto
+from lotsim.sim.simulation import prepare, run
 from lotsim.vehicles import CATALOGUE
+from lotsim.verify import check_result
 
 CAR = DesignVehicle(width=1.9, front=3.6, rear=0.9, min_radius=5.0, max_curvature_rate=0.15,
                     max_lateral_accel=2.0)
@@ -88,10 +88,10 @@ def test_a_multi_point_path_lands_on_the_lane_within_its_stretch_clear_of_everyt
 def test_checking_states_ahead_in_one_batch_finds_what_checking_one_at_a_time_does(
         monkeypatch):
     """The search checks the state it expands and the next few on its heap in one batch
-    (:data:`lotsim.lot.multipoint.AHEAD`); the paths found, to the last bit, are those of
+    (:data:`lotsim.roadmap.multipoint.AHEAD`); the paths found, to the last bit, are those of
     checking each state as it is expanded, on the spur and street above, bare and with posts
     and a kerb in it (many moves blocked, many last moves refused)."""
-    import lotsim.lot.multipoint as mp
+    import lotsim.roadmap.multipoint as mp
 
     lot = box(4, -12, 10, 0).union(box(0, 0, 16, 6))
     def posts(*at):

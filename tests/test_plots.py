@@ -132,8 +132,8 @@ def test_timeline_needs_one_colour_per_vehicle():
 def quickstart_doc():
     from conftest import ROOT
     from lotsim.io.result import result_dict
-    from lotsim.io.scenario import load_scenario
-    from lotsim.sim import RunSettings, run
+    from lotsim.io.scenario_yaml import load_scenario
+    from lotsim.sim.simulation import RunSettings, run
 
     rr = run(load_scenario(ROOT / "scenarios" / "quickstart.yaml"), RunSettings())
     return json.loads(json.dumps(result_dict(rr)))  # as read back from result.json
@@ -141,7 +141,7 @@ def quickstart_doc():
 
 def test_timeline_of_a_run_uses_the_gif_colours(quickstart_doc, tmp_path):
     from lotsim.render.animation import GifRenderer, GifSettings
-    from lotsim.replay import Replay
+    from lotsim.render.replay import Replay
 
     path = tmp_path / "run.png"
     fig = plot_timeline(quickstart_doc, path)
@@ -261,7 +261,7 @@ def test_without_matplotlib_the_cli_says_how_to_get_it(tmp_path, capsys, monkeyp
     def sweep(*args, **kwargs):
         raise AssertionError("the sweep ran before matplotlib was looked for")
 
-    monkeypatch.setattr("lotsim.planners.minslot.min_slot_lengths", sweep)
+    monkeypatch.setattr("lotsim.maneuvers.minslot.min_slot_lengths", sweep)
     assert main([*MINSLOT, "--plot", str(tmp_path / "out.png")]) == 2
     err = capsys.readouterr().err
     assert err == "lotsim: --plot needs matplotlib: pip install 'lotsim[plot]'\n"

@@ -7,10 +7,9 @@ import numpy as np
 import pytest
 
 from conftest import ONE_AISLE, ROOT, scenario_from_text, static_times
-from lotsim.check import check_result
 from lotsim.io.result import result_dict
-from lotsim.io.scenario import load_scenario
-from lotsim.priority import (
+from lotsim.io.scenario_yaml import load_scenario
+from lotsim.sim.orders import (
     GASettings,
     _order_crossover,
     fitness,
@@ -18,8 +17,9 @@ from lotsim.priority import (
     run_with_priority,
     shortest_first,
 )
-from lotsim.sim import RunSettings, prepare, run
-from lotsim.traffic import Arrival, TrafficSpec, arrivals
+from lotsim.sim.simulation import RunSettings, prepare, run
+from lotsim.traffic.demand import Arrival, TrafficSpec, arrivals
+from lotsim.verify import check_result
 
 BURST = ONE_AISLE.replace("occupied: [N1, N2, N3, N4, N5, S1, S2, S3, S4]",
                           "occupied: [N1, N3, N5, S2, S4, S6]") + \

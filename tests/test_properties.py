@@ -46,14 +46,14 @@ from hypothesis import HealthCheck, assume, given, note, settings
 from hypothesis import strategies as st
 
 from conftest import time_limit
-from lotsim.check import check_result
 from lotsim.errors import ScenarioError
 from lotsim.io.result import result_dict
-from lotsim.io.scenario import parse_scenario
+from lotsim.io.scenario_yaml import parse_scenario
 from lotsim.io.yamlnodes import parse_text
-from lotsim.sim import RunSettings, prepare, run
-from lotsim.traffic import arrivals
+from lotsim.sim.simulation import RunSettings, prepare, run
+from lotsim.traffic.demand import arrivals
 from lotsim.vehicles.catalogue import CATALOGUE
+from lotsim.verify import check_result
 from single_track import assert_reproduced
 
 _COMMON = dict(deadline=None, database=None, print_blob=True,

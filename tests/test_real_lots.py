@@ -10,13 +10,13 @@ import numpy as np
 import pytest
 import shapely
 
-from lotsim.check import check_result
 from lotsim.io.result import result_dict
-from lotsim.io.scenario import load_scenario
-from lotsim.planners.cooperative import SearchGraph
-from lotsim.sim import prepare, run
-from lotsim.traffic import arrivals
+from lotsim.io.scenario_yaml import load_scenario
+from lotsim.sim.simulation import prepare, run
+from lotsim.traffic.demand import arrivals
+from lotsim.traffic.search import SearchGraph
 from lotsim.vehicles import CATALOGUE
+from lotsim.verify import check_result
 from single_track import assert_reproduced
 
 LOTS = Path(__file__).resolve().parents[1] / "scenarios" / "lots"
@@ -460,7 +460,7 @@ def test_a_car_that_stays_parks_with_its_lanes_best_and_one_that_leaves_on_the_s
     they park as their lane's own best maneuver does (measured on the large lot: 1.72x
     quicker); cars that leave park on the pose both lanes share."""
     from conftest import scenario_from_text
-    from lotsim.geometry import wrap_angle
+    from lotsim.core.geometry import wrap_angle
 
     text = (LOTS / "culdesac.yaml").read_text()
     cars = "\n".join(f"    - {{id: c{k}, arrival: {12 * k}"
@@ -492,7 +492,7 @@ def test_a_car_that_stays_parks_with_its_lanes_best_and_one_that_leaves_on_the_s
 def test_which_maneuvers_are_kept_follows_whether_cars_stay_or_leave(lots):
     """Where a kind of maneuver nobody uses begins would only be lane nodes in the way."""
     from conftest import scenario_from_text
-    from lotsim.geometry import wrap_angle
+    from lotsim.core.geometry import wrap_angle
 
     for name, (sc, lg) in lots.items():  # every car leaves: the shared pose only
         assert all(a.dwell is not None for a in arrivals(sc.traffic, sc.seed)), name
@@ -569,8 +569,8 @@ def test_a_car_whose_way_on_is_blocked_turns_back_at_a_junction(lots):
 
     from shapely.geometry import box
 
-    from lotsim.planners.cooperative import Goal, Status, search
-    from lotsim.planners.reservation import ReservationTable
+    from lotsim.traffic.reservation import ReservationTable
+    from lotsim.traffic.search import Goal, Status, search
 
     _, lg = lots["ladder"]
     g = lg.graph
@@ -661,8 +661,8 @@ def test_closings_checked_in_batches_find_what_checking_each_finds(lots):
     """A turnaround's last moves, from every probe along a stroke, are checked together,
     the k-th of each at once (turnaround._first_clear): each probe gets the first closing
     that checking them one by one finds clear (turnaround._blocked), or none."""
-    from lotsim.lot.multipoint import closings
-    from lotsim.lot.turnaround import _blocked, _first_clear, turnaround_collider
+    from lotsim.roadmap.multipoint import closings
+    from lotsim.roadmap.turnaround import _blocked, _first_clear, turnaround_collider
 
     lot = lots["culdesac"][1].lot
     collider, body = turnaround_collider(lot)
@@ -687,7 +687,7 @@ def test_turnarounds_planned_ahead_make_the_same_graph_and_are_used(monkeypatch)
     """prepare plans every two-way lane's turnaround ahead, in CPU time nothing else wants
     (graph.plan_turnarounds_ahead): a graph built with those plans is the one built
     without, and the build plans none itself when they are all in."""
-    import lotsim.lot.graph as graph
+    import lotsim.roadmap.graph as graph
     from lotsim.lot.build import build_lot
     from lotsim.lot.model import DesignVehicle
 

@@ -10,13 +10,13 @@ import numpy as np
 import pytest
 from PIL import Image
 
-from lotsim.io.scenario import parse_scenario
+from lotsim.io.scenario_yaml import parse_scenario
 from lotsim.io.yamlnodes import parse_text
 from lotsim.lot.build import build_lot
-from lotsim.lot.graph import build_graph
 from lotsim.lot.model import DesignVehicle
 from lotsim.render import LotCanvas, centered_footprints, draw_lot, lot_layout, save_lot_png
 from lotsim.render import lot_image as li
+from lotsim.roadmap.graph import build_graph
 
 LOT_YAML = """
 name: render-test
@@ -187,7 +187,7 @@ def test_multi_point_turns_have_their_own_colour_and_key() -> None:
     a graph without any has no such entry."""
     from pathlib import Path
 
-    from lotsim.io.scenario import load_scenario
+    from lotsim.io.scenario_yaml import load_scenario
     from lotsim.render.lot_image.legend import _legend_entries
 
     lots = Path(__file__).resolve().parents[1] / "scenarios" / "lots"
@@ -344,7 +344,7 @@ def test_slot_ids_of_a_big_lot_are_drawn_along_the_slots_where_they_fit_only_so(
     # show of the large lot drew no id at its largest size (4000 px): they fit only turned
     import shapely
 
-    from lotsim.io.scenario import load_scenario
+    from lotsim.io.scenario_yaml import load_scenario
     from lotsim.render.lot_image.layers import _slot_label_spots
     from lotsim.render.lot_image.theme import text_size
 

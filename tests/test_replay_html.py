@@ -23,13 +23,13 @@ from lotsim.cli import main
 from lotsim.errors import LotsimError, SettingsError
 from lotsim.io.lot_json import lot_from_json
 from lotsim.io.result import result_dict
-from lotsim.io.scenario import load_scenario
+from lotsim.io.scenario_yaml import load_scenario
 from lotsim.render.animation import VEHICLE_COLOURS, GifSettings, plan_frames, vehicle_palette
 from lotsim.render.html import UNITS, replay_data, thin, write_html
 from lotsim.render.lot_image import lot_bounds
-from lotsim.replay import Replay, assign_colours
+from lotsim.render.replay import Replay, assign_colours
 from lotsim.settings import AnimationSpec, HtmlSettings
-from lotsim.sim import RunSettings, run
+from lotsim.sim.simulation import RunSettings, run
 
 QUICKSTART = ROOT / "scenarios" / "quickstart.yaml"
 WINDOW = (1000, 760)

@@ -8,16 +8,16 @@ import shapely
 import shapely.affinity
 from shapely.geometry import box
 
-from lotsim.geometry import Segment
-from lotsim.planners.reservation import (
+from lotsim.core.geometry import Segment
+from lotsim.traffic.reservation import (
     ReservationTable,
     Swept,
     standing_body,
     swept_motion,
     swept_trajectory,
 )
-from lotsim.trajectory import Piece, drive, timed_path
 from lotsim.vehicles import CATALOGUE
+from lotsim.vehicles.motion import Piece, drive, timed_path
 
 CAR = CATALOGUE["valet"]
 
@@ -146,7 +146,7 @@ def test_blocked_departures_are_exactly_the_offsets_is_free_refuses():
     # random motions against random bodies held over random times (some for ever): a
     # departure the table calls free lies outside every blocked interval, and one it does
     # not lies inside one, at random offsets and at each interval's very ends
-    from lotsim.planners.reservation import Swept
+    from lotsim.traffic.reservation import Swept
 
     rng = np.random.default_rng(5)
     for _ in range(25):
@@ -193,7 +193,7 @@ def _random_table(rng, n=40):
 
 
 def _random_swept(rng):
-    from lotsim.planners.reservation import Swept
+    from lotsim.traffic.reservation import Swept
 
     x, y = rng.integers(-15, 15, size=2)
     out, t = [], 0.0
@@ -228,8 +228,8 @@ def test_queries_among_the_nearby_entries_answer_as_the_table_and_a_brute_force_
     # give the same first conflicts (also found by brute force) and the same blocked
     # departures as the queries gathering their own; long windows (more time buckets
     # than a cell holds) included
-    from lotsim.planners import reservation
-    from lotsim.planners.reservation import cells_of
+    from lotsim.traffic import reservation
+    from lotsim.traffic.reservation import cells_of
 
     if not few:  # numpy's way for any number of entries and pairs, not Python's
         monkeypatch.setattr(reservation, "_FEW_ENTRIES", 0)
@@ -337,7 +337,7 @@ def test_standing_bodies_kept_between_queries_are_blocked_as_the_table_says():
     # bodies asked about again and again while the table grows, drops, cuts short and
     # forgets entries (as lane nodes are by one search after another): each query gives
     # the intervals blocked gives, and one made anew (nothing kept) gives them too
-    from lotsim.planners.reservation import Swept
+    from lotsim.traffic.reservation import Swept
 
     rng = np.random.default_rng(30)
     met = 0
@@ -381,8 +381,8 @@ def test_motions_swept_together_are_swept_as_each_alone():
     # one straight path (one or several collinear segments) driven between random speeds,
     # swept together: the very same hulls, times, boxes and cells as one by one; curved
     # paths and mixed groups fall back to one by one
-    from lotsim.planners.reservation import Swept, swept_motions
-    from lotsim.trajectory import Motion, Stroke, scurve
+    from lotsim.traffic.reservation import Swept, swept_motions
+    from lotsim.vehicles.motion import Motion, Stroke, scurve
 
     rng = np.random.default_rng(3)
     lim = CAR.limits
@@ -425,8 +425,8 @@ def test_when_a_standing_body_is_first_in_the_way_can_be_read_from_one_query():
     # a search asks once per node, from its start t0, when a body standing there is in
     # somebody's way, and reads from that when it is first in the way after any later t:
     # the same time as a query from t on, or (both) before t: in the way already
-    from lotsim.planners.cooperative import _free_till
-    from lotsim.planners.reservation import Swept
+    from lotsim.traffic.reservation import Swept
+    from lotsim.traffic.search import _free_till
 
     rng = np.random.default_rng(7)
     later = before = 0
@@ -451,7 +451,7 @@ def test_when_a_standing_body_is_first_in_the_way_can_be_read_from_one_query():
 
 
 def test_cells_of_many_boxes_at_once_are_each_ones():
-    from lotsim.planners.reservation import CELL, _cells_of_all, cells_of
+    from lotsim.traffic.reservation import CELL, _cells_of_all, cells_of
 
     rng = np.random.default_rng(2)
     lo = np.concatenate([rng.uniform(-40, 40, size=(200, 2)),
@@ -465,7 +465,7 @@ def test_cells_of_many_boxes_at_once_are_each_ones():
 def test_boxes_in_the_same_cells_share_one_tuple_of_cells():
     # hundreds of thousands of hulls and entries meet the same few blocks of cells: they
     # hold one tuple each, not a copy apiece
-    from lotsim.planners.reservation import _cells_of_all, cells_of
+    from lotsim.traffic.reservation import _cells_of_all, cells_of
 
     a = cells_of((0.5, 0.5, 7.0, 7.0))
     assert a == ((0, 0), (0, 1), (1, 0), (1, 1))
@@ -528,8 +528,7 @@ def test_blocked_departures_of_bodies_and_motions_are_those_a_brute_force_finds(
     # blocked (gathering its own candidates) against every entry and hull tested with
     # shapely and the definition's interval [t0 - z, t1 - a] (widened by eps) merged: a
     # standing body (one hull) and motions, Python's way and numpy's
-    from lotsim.planners import reservation
-
+    from lotsim.traffic import reservation
     if not few:
         monkeypatch.setattr(reservation, "_FEW_PAIRS", 0)
     rng = np.random.default_rng(31)

@@ -10,14 +10,14 @@ import numpy as np
 import pytest
 
 from conftest import ONE_AISLE, ROOT, SCENARIOS, position, scenario_from_text, static_times
-from lotsim.check import check_result
 from lotsim.cli import main
 from lotsim.errors import ScenarioError
 from lotsim.io.result import result_dict
-from lotsim.io.scenario import load_scenario
-from lotsim.planners import cooperative
-from lotsim.sim import RunSettings, prepare, run
-from lotsim.traffic import Arrival, TrafficSpec, arrivals
+from lotsim.io.scenario_yaml import load_scenario
+from lotsim.sim.simulation import RunSettings, prepare, run
+from lotsim.traffic import search as cooperative
+from lotsim.traffic.demand import Arrival, TrafficSpec, arrivals
+from lotsim.verify import check_result
 from single_track import assert_reproduced
 
 LOT = ONE_AISLE
@@ -54,8 +54,7 @@ def test_a_run_leaves_what_the_process_held_before_out_of_its_collections_and_no
     # normal after it, also when planning raises
     import gc
 
-    from lotsim import sim
-
+    from lotsim.sim import simulation as sim
     sc, lg = small
     frozen = []
     go = sim._Simulation.go
@@ -394,10 +393,10 @@ def test_a_car_speeds_up_across_closely_spaced_nodes():
     # reach within half a metre
     import networkx as nx
 
-    from lotsim.geometry import Segment
-    from lotsim.lot.graph import LotGraph
-    from lotsim.trajectory import scurve
+    from lotsim.core.geometry import Segment
+    from lotsim.roadmap.graph import LotGraph
     from lotsim.vehicles import CATALOGUE
+    from lotsim.vehicles.motion import scurve
 
     car = CATALOGUE["valet"]
     g = nx.DiGraph()
@@ -425,7 +424,7 @@ def test_a_car_speeds_up_across_closely_spaced_nodes():
 def test_a_car_that_misses_its_best_slot_tries_the_best_of_other_aisles_next():
     from types import SimpleNamespace
 
-    from lotsim.sim import _Simulation
+    from lotsim.sim.simulation import _Simulation
 
     aisle = {"A1": "a", "A2": "a", "A3": "a", "B1": "b", "B2": "b", "C1": "c"}
     slots = {k: SimpleNamespace(aisle=v) for k, v in aisle.items()}
@@ -441,9 +440,9 @@ def test_after_a_first_look_runs_out_the_next_cars_look_at_other_aisles_first_fo
     """Every first look runs out (a stand-in search): the next car, within JAMMED_FOR,
     looks first at the best slot outside the aisles those looks were in, and at its own
     best again once the span is over."""
-    from lotsim import sim as simmod
-    from lotsim.planners.cooperative import Plan, Status
-    from lotsim.traffic import Arrival
+    from lotsim.sim import simulation as simmod
+    from lotsim.traffic.demand import Arrival
+    from lotsim.traffic.search import Plan, Status
 
     lg = shipped_graphs["large_lot"]
     sc = load_scenario(ROOT / "scenarios" / "large_lot.yaml")
@@ -479,8 +478,7 @@ def test_after_a_first_look_runs_out_the_next_cars_look_at_other_aisles_first_fo
 
 def test_a_first_look_gets_eight_expansions_a_second_of_the_slots_way_and_at_least_400(
         shipped_graphs):
-    from lotsim import sim as simmod
-
+    from lotsim.sim import simulation as simmod
     lg = shipped_graphs["large_lot"]
     sc = load_scenario(ROOT / "scenarios" / "large_lot.yaml")
     sim = simmod._Simulation(sc, lg, RunSettings(), [], None)
@@ -503,12 +501,12 @@ def test_whca_replans_only_when_space_was_freed_and_that_changes_next_to_nothing
     """A replan with nothing freed since the car's last search could only find what its
     optimal search missed by its time lattice: the street's cars end as with every replan,
     park within 0.1 s of it, with fewer than half the searches."""
-    import lotsim.sim
+    import lotsim.sim.simulation
 
     sc = load_scenario(SCENARIOS[[p.stem for p in SCENARIOS].index("street")])
     runs = {}
     for skip in (True, False):
-        monkeypatch.setattr(lotsim.sim, "SKIP_FRUITLESS", skip)
+        monkeypatch.setattr(lotsim.sim.simulation, "SKIP_FRUITLESS", skip)
         runs[skip] = run(sc, RunSettings(planner="whca"), lot_graph=shipped_graphs["street"])
     fast, full = runs[True], runs[False]
     assert check_result(result_dict(fast)).ok

@@ -1,4 +1,4 @@
-"""lotsim.planners.cooperative.search on a hand-built straight lane: when a car waits, for
+"""lotsim.traffic.search.search on a hand-built straight lane: when a car waits, for
 how long, and that what it plans meets nobody (checked with shapely, not the table)."""
 
 import math
@@ -9,11 +9,11 @@ import pytest
 import shapely
 from shapely.geometry import box
 
-from lotsim.geometry import Segment
-from lotsim.lot.graph import LotGraph
-from lotsim.planners import cooperative
-from lotsim.planners.cooperative import Goal, SearchGraph, Status, search
-from lotsim.planners.reservation import ReservationTable
+from lotsim.core.geometry import Segment
+from lotsim.roadmap.graph import LotGraph
+from lotsim.traffic import search as cooperative
+from lotsim.traffic.reservation import ReservationTable
+from lotsim.traffic.search import Goal, SearchGraph, Status, search
 from lotsim.vehicles import CATALOGUE
 
 CAR = CATALOGUE["valet"]  # 1.0 m behind the rear axle, 3.9 m in front, 1.8 m wide

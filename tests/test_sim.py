@@ -1,4 +1,4 @@
-"""lotsim.sim: prepare a lot, run traffic through it, and what a run's result holds.
+"""lotsim.sim.simulation: prepare a lot, run traffic through it, and what a run's result holds.
 
 A lot small enough to check by eye: one one-way aisle along y = 11 m, three perpendicular
 slots P1–P3 on its left (x 12–19.5 m), an entrance at its west end and an exit at its east
@@ -15,13 +15,12 @@ import numpy as np
 import pytest
 import shapely
 
-import lotsim.sim
+import lotsim.sim.simulation
 from conftest import scenario_from_text
 from lotsim.cli import main
 from lotsim.errors import ScenarioError, SettingsError
 from lotsim.io.result import result_dict
-from lotsim.planners.cooperative import Plan, Status
-from lotsim.sim import (
+from lotsim.sim.simulation import (
     SAMPLE_DT,
     STATUSES,
     PreparedLot,
@@ -31,7 +30,8 @@ from lotsim.sim import (
     run,
     samples,
 )
-from lotsim.traffic import Arrival, StreamSpec, TrafficSpec, arrivals
+from lotsim.traffic.demand import Arrival, StreamSpec, TrafficSpec, arrivals
+from lotsim.traffic.search import Plan, Status
 
 TINY = """\
 name: tiny
@@ -224,14 +224,14 @@ def test_a_car_that_can_never_leave_ends_waiting_with_its_reason_and_run_exits_1
         tiny, tmp_path, monkeypatch):
     # every search for a way out fails (as when the aisle stays blocked): the car tries
     # again and again, backing off, and is not reported parked when the run ends
-    real = lotsim.sim.search
+    real = lotsim.sim.simulation.search
 
     def no_way_out(sg, table, *, goal, **kw):
         if goal.slot is None:  # towards the exits
             return Plan(Status.NO_PATH, expansions=1)
         return real(sg, table, goal=goal, **kw)
 
-    monkeypatch.setattr(lotsim.sim, "search", no_way_out)
+    monkeypatch.setattr(lotsim.sim.simulation, "search", no_way_out)
     sc, lg = tiny
     rr = run(_with(sc, [Arrival("stuck", "valet", "in", 0.0, 20.0), *_cars(1)]), lot_graph=lg)
     stuck, other = rr.vehicles
@@ -246,7 +246,7 @@ def test_a_car_that_can_never_leave_ends_waiting_with_its_reason_and_run_exits_1
     path.write_text(TINY + "traffic:\n  vehicles:\n"
                     "    - {id: stuck, type: valet, entrance: in, arrival: 0, dwell: 20}\n")
     assert main(["run", str(path), "-o", str(tmp_path / "o"), "--no-gif"]) == 1
-    monkeypatch.setattr(lotsim.sim, "search", real)
+    monkeypatch.setattr(lotsim.sim.simulation, "search", real)
     assert main(["run", str(path), "-o", str(tmp_path / "p"), "--no-gif"]) == 0
 
 

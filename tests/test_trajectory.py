@@ -6,9 +6,9 @@ import numpy as np
 import pytest
 
 from conftest import graph_from_text
-from lotsim.geometry import Segment, wrap_angle
-from lotsim.trajectory import Piece, drive, speed_cap, standing, timed_path
+from lotsim.core.geometry import Segment, wrap_angle
 from lotsim.vehicles import CATALOGUE, KMH
+from lotsim.vehicles.motion import Piece, drive, speed_cap, standing, timed_path
 
 CAR = CATALOGUE["valet"]
 LIM = CAR.limits
@@ -186,7 +186,7 @@ def test_a_stroke_of_a_few_centimetres_is_driven_too(length):
 
 
 def test_speed_profiles_are_kept_read_only_and_as_computed():
-    from lotsim.trajectory import scurve
+    from lotsim.vehicles.motion import scurve
 
     args = (7.5, 5 * KMH, 10 * KMH, 20 * KMH, A, B, J)
     kept = scurve(*args)

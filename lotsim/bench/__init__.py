@@ -4,7 +4,7 @@ A *suite* (``docs/bench.md``) names scenarios and the settings to sweep: planner
 HCA*, WHCA* with windows), slot-assignment policies, priority orders, arrival rates and
 traffic seeds. :func:`load_suite` reads and validates it; :meth:`Suite.specs` expands the
 grid into :class:`RunSpec` in a fixed order; :func:`run_spec` plans one grid point and
-verifies the result with :func:`lotsim.check.check_result`, as ``lotsim check`` does;
+verifies the result with :func:`lotsim.verify.check_result`, as ``lotsim check`` does;
 :func:`run_suite` runs them all, in this process, in a pool of processes or on a Dask
 cluster, and returns one row (a dict keyed by :data:`COLUMNS`) per run, in grid order
 whatever order they finished in; :func:`write_outputs` writes ``runs.csv``, ``summary.md``
@@ -17,7 +17,7 @@ The package: :mod:`~lotsim.bench.suite` (the suite and its grid),
 :mod:`~lotsim.bench.runner` (one run, the grid in processes or on Dask),
 :mod:`~lotsim.bench.table` (the columns of ``runs.csv``, the means over seeds),
 :mod:`~lotsim.bench.report` (``summary.md``, the terminal table, the outputs); the plots
-are drawn beside the other plots, by :mod:`lotsim.render.bench_plots` (:func:`bench_figure`,
+are drawn beside the other plots, by :mod:`lotsim.bench.plots` (:func:`bench_figure`,
 loaded when first asked for: matplotlib is optional).
 """
 
@@ -103,7 +103,7 @@ __all__ = [
 def __getattr__(name: str):
     # the plots are loaded when asked for: reading and running a suite needs no picture code
     if name == "bench_figure":
-        from lotsim.render.bench_plots import bench_figure
+        from lotsim.bench.plots import bench_figure
 
         return bench_figure
     raise AttributeError(f"module 'lotsim.bench' has no attribute {name!r}")

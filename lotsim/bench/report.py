@@ -9,7 +9,6 @@ from pathlib import Path
 from typing import Any
 
 from lotsim import __version__
-from lotsim.atomic import atomic_write
 from lotsim.bench.suite import Suite
 from lotsim.bench.table import (
     SATURATED,
@@ -20,6 +19,7 @@ from lotsim.bench.table import (
     planner_label,
     saturation,
 )
+from lotsim.core.atomic import atomic_write
 
 _TABLE = (  # (summary key, heading, digits)
     ("parked", "parked", 1), ("departed", "departed", 1), ("rejected", "rejected", 1),
@@ -172,7 +172,7 @@ def write_outputs(suite: Suite, rows: Sequence[dict], outdir: str | os.PathLike,
         fh.write(summary_markdown(suite, rows, where=where, plots=plots))
     written.append(out / "summary.md")
     if plots:
-        from lotsim.render.bench_plots import bench_figure
+        from lotsim.bench.plots import bench_figure
         from lotsim.render.plots import save_figure
 
         for metric, name in zip(("throughput_per_h", "mean_time_to_park_s"), PLOTS,

@@ -17,18 +17,18 @@ from typing import TYPE_CHECKING, Any
 
 from lotsim.bench.suite import RunSpec, Suite, SuiteScenario
 from lotsim.bench.table import _rounded
-from lotsim.check import check_result
 from lotsim.errors import LotsimError, ScenarioError
 from lotsim.io.result import result_dict
-from lotsim.io.scenario import parse_scenario
+from lotsim.io.scenario_yaml import parse_scenario
 from lotsim.io.yamlnodes import parse_text
-from lotsim.priority import plan_run
 from lotsim.settings import GASettings, RunSettings
-from lotsim.sim import RunResult, prepare
+from lotsim.sim.orders import plan_run
+from lotsim.sim.simulation import RunResult, prepare
+from lotsim.verify import check_result
 
 if TYPE_CHECKING:
 
-    from lotsim.lot.graph import LotGraph
+    from lotsim.roadmap.graph import LotGraph
     from lotsim.scenario import Scenario
 
 
@@ -75,7 +75,7 @@ def spec_scenario(spec: RunSpec, scenario: Scenario) -> Scenario:
 
 
 def spec_settings(spec: RunSpec) -> RunSettings:
-    """The :class:`~lotsim.sim.RunSettings` of a spec."""
+    """The :class:`~lotsim.sim.simulation.RunSettings` of a spec."""
     kw: dict[str, Any] = {"planner": spec.planner.planner, "assignment": spec.assignment,
                           "seed": spec.seed, "priority": spec.priority,
                           "ga": GASettings(**dict(spec.ga))}
@@ -86,7 +86,7 @@ def spec_settings(spec: RunSpec) -> RunSettings:
 
 def _plan(spec: RunSpec, scenario: Scenario, lg: LotGraph) -> tuple[RunResult, dict]:
     """Plan with the spec's priority order, as ``lotsim run`` does
-    (:func:`lotsim.priority.plan_run`)."""
+    (:func:`lotsim.sim.orders.plan_run`)."""
     rr = plan_run(scenario, spec_settings(spec), lot_graph=lg)
     return rr, rr.ordering
 

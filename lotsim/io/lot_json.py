@@ -35,8 +35,8 @@ import numpy as np
 import shapely
 from shapely.geometry import LineString, MultiPolygon, Polygon
 
+from lotsim.core.geometry import FloatArray, Segment
 from lotsim.errors import LotsimError
-from lotsim.geometry import FloatArray, Segment
 from lotsim.lot.model import Aisle, Area, DesignVehicle, Lane, Lot, Portal, Slot, SpeedZone
 from lotsim.lot.spec import SIDES, SLOT_KINDS
 

@@ -10,9 +10,9 @@ import numpy as np
 import shapely
 
 from lotsim import __version__
-from lotsim.atomic import atomic_write
+from lotsim.core.atomic import atomic_write
 from lotsim.io.lot_json import lot_to_json
-from lotsim.sim import RunResult, samples
+from lotsim.sim.simulation import RunResult, samples
 
 FORMAT = "lotsim-result"
 VERSION = 1

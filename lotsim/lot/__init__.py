@@ -1,7 +1,9 @@
-"""Lot layouts: specs read from YAML, the built lot (slots, aisles, lanes), its graph."""
+"""The static world: lot specs read from YAML (:mod:`~lotsim.lot.spec`), the built lot with
+its slots, aisles, lanes, obstacles and zones (:mod:`~lotsim.lot.build`,
+:mod:`~lotsim.lot.model`) and the clearance checks against it
+(:mod:`~lotsim.lot.clearance`)."""
 
 from lotsim.lot.build import build_lot
-from lotsim.lot.graph import LotGraph, Reachability, build_graph
 from lotsim.lot.model import Aisle, Area, DesignVehicle, Lane, Lot, Portal, Slot, SpeedZone
 
 __all__ = [
@@ -10,11 +12,8 @@ __all__ = [
     "DesignVehicle",
     "Lane",
     "Lot",
-    "LotGraph",
     "Portal",
-    "Reachability",
     "Slot",
     "SpeedZone",
-    "build_graph",
     "build_lot",
 ]

@@ -15,8 +15,8 @@ import shapely
 from shapely.geometry import LineString, Point, Polygon
 from shapely.ops import unary_union
 
+from lotsim.core.geometry import FloatArray, cc_polyline, ccw, wrap_angle
 from lotsim.errors import ScenarioError
-from lotsim.geometry import FloatArray, cc_polyline, ccw, wrap_angle
 from lotsim.lot.clearance import Collider
 from lotsim.lot.model import (
     Aisle,

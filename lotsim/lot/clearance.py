@@ -9,7 +9,7 @@ import numpy as np
 import shapely
 from shapely.geometry.base import BaseGeometry
 
-from lotsim.geometry import FloatArray
+from lotsim.core.geometry import FloatArray
 
 
 @dataclass(frozen=True, slots=True)

@@ -14,8 +14,15 @@ import numpy as np
 import shapely
 from shapely.geometry import LineString, Polygon
 
+from lotsim.core.geometry import (
+    FloatArray,
+    Pose,
+    Segment,
+    cc_turn,
+    rectangle_footprints,
+    wrap_angle,
+)
 from lotsim.errors import Location
-from lotsim.geometry import FloatArray, Pose, Segment, cc_turn, rectangle_footprints, wrap_angle
 
 
 @dataclass(frozen=True, slots=True)

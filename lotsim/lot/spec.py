@@ -3,7 +3,7 @@
 Specs hold what the user wrote, in SI units and radians, with the
 :class:`~lotsim.errors.Location` of each item so that problems found later
 (when the lot is built) still point at the right line. They are built once,
-at the YAML boundary (:mod:`lotsim.io.scenario`); :func:`lotsim.lot.build.build_lot`
+at the YAML boundary (:mod:`lotsim.io.scenario_yaml`); :func:`lotsim.lot.build.build_lot`
 turns them into geometry.
 """
 
@@ -11,8 +11,8 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
+from lotsim.core.geometry import Pose
 from lotsim.errors import Location
-from lotsim.geometry import Pose
 
 Point = tuple[float, float]
 Points = tuple[Point, ...]

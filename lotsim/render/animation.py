@@ -26,7 +26,7 @@ import imageio.v3 as iio
 import numpy as np
 from PIL import Image, ImageChops, ImageDraw
 
-from lotsim.atomic import atomic_write
+from lotsim.core.atomic import atomic_write
 from lotsim.errors import SettingsError
 from lotsim.render.lot_image import (
     PAD_PX,
@@ -38,7 +38,7 @@ from lotsim.render.lot_image import (
     paint_portals,
     paint_scale_bar,
 )
-from lotsim.replay import COUNTERS, PHASES, Replay, assign_colours
+from lotsim.render.replay import COUNTERS, PHASES, Replay, assign_colours
 from lotsim.settings import MAX_FPS, GifSettings  # noqa: F401 - re-exported
 
 CHUNK = 48

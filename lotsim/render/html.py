@@ -35,7 +35,7 @@ from pathlib import Path
 
 import numpy as np
 
-from lotsim.atomic import atomic_write
+from lotsim.core.atomic import atomic_write
 from lotsim.render import lot_image as li
 from lotsim.render.animation import (
     GLASS,
@@ -50,7 +50,7 @@ from lotsim.render.animation import (
     vehicle_palette,
 )
 from lotsim.render.lot_svg import lot_svg, rgb
-from lotsim.replay import COUNTERS, PHASES, Replay, assign_colours
+from lotsim.render.replay import COUNTERS, PHASES, Replay, assign_colours
 from lotsim.settings import REPLAY_SPEEDS, HtmlSettings
 
 STEER_TOLERANCE = 0.02

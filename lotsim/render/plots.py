@@ -21,9 +21,9 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from lotsim.atomic import atomic_write
+from lotsim.core.atomic import atomic_write
 from lotsim.errors import LotsimError
-from lotsim.replay import Replay, assign_colours
+from lotsim.render.replay import Replay, assign_colours
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
@@ -169,7 +169,7 @@ def plot_minslot(docs: Sequence[dict], path: str | os.PathLike) -> Figure:
 def timeline_figure(doc: dict, *, colours: Sequence[RGB] | None = None) -> Figure:
     """A Gantt chart of a run: one row per vehicle, in arrival order, first at the top.
 
-    Bars show each phase of :data:`lotsim.replay.PHASES`: waiting outside in light grey,
+    Bars show each phase of :data:`lotsim.render.replay.PHASES`: waiting outside in light grey,
     driving and leaving in the vehicle's colour, standing parked in a pale version of it
     (:func:`lotsim.render.animation.pale`). A small tick marks each arrival and a red ×
     each vehicle turned away. Time runs in seconds, or in minutes for runs longer than
@@ -181,7 +181,7 @@ def timeline_figure(doc: dict, *, colours: Sequence[RGB] | None = None) -> Figur
         A result document (``result.json`` read with :func:`json.load`).
     colours : sequence of (r, g, b), optional
         One colour (0–255) per vehicle of ``doc["vehicles"]``; by default the colours the
-        GIF draws them in (:func:`lotsim.replay.assign_colours` over
+        GIF draws them in (:func:`lotsim.render.replay.assign_colours` over
         :func:`lotsim.render.animation.vehicle_palette`).
 
     Returns
@@ -192,7 +192,7 @@ def timeline_figure(doc: dict, *, colours: Sequence[RGB] | None = None) -> Figur
 
     Raises
     ------
-    lotsim.replay.ReplayError
+    lotsim.render.replay.ReplayError
         ``doc`` is not a result document.
     ValueError
         ``colours`` does not hold one colour per vehicle.

@@ -30,7 +30,7 @@
     };
   });
 
-  // -- where is everybody (as lotsim.replay.Replay) ------------------------------------------
+  // -- where is everybody (as lotsim.render.replay.Replay) ------------------------------------------
   function phaseAt(c, t) {
     const leaveFrom = isFinite(c.parkedFrom) ? c.parkedUntil : c.gone;
     if (t >= c.arrival && t < Math.min(c.entered, c.rejectedAt)) return "outside";

@@ -8,7 +8,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from numpy.typing import ArrayLike
 
-from lotsim.geometry import FloatArray, advance, rectangle_footprints
+from lotsim.core.geometry import FloatArray, advance, rectangle_footprints
 
 KMH = 1 / 3.6
 """One km/h in m/s."""

@@ -21,7 +21,7 @@ from dataclasses import dataclass
 
 from PIL import Image, ImageDraw
 
-from lotsim.atomic import atomic_write
+from lotsim.core.atomic import atomic_write
 from lotsim.render.lot_image.canvas import LotCanvas, lot_bounds
 from lotsim.render.lot_image.canvas import _flat as _flat
 from lotsim.render.lot_image.canvas import _rings as _rings

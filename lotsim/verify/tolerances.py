@@ -1,5 +1,5 @@
 """The result format the checker reads and the tolerance of every rule (documented in
-:mod:`lotsim.check`)."""
+:mod:`lotsim.verify`)."""
 
 from __future__ import annotations
 

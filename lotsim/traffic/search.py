@@ -5,7 +5,7 @@ graph node at a time [s], at rest (level 0) or passing through at one of a few
 speeds (multiples of 5 km/h up to its top speed). Moves are
 
 * **drive an edge** from speed level ``a`` to ``b``: the fastest jerk-limited
-  profile (:func:`~lotsim.trajectory.scurve`) within the edge's speed limit —
+  profile (:func:`~lotsim.vehicles.motion.scurve`) within the edge's speed limit —
   the lowest of the lot's, the vehicle's top speed, and what the edge's curves
   allow for lateral acceleration and steering rate — and the vehicle's
   acceleration, braking and jerk, with zero acceleration at both nodes; so plans
@@ -17,13 +17,13 @@ speeds (multiples of 5 km/h up to its top speed). Moves are
 * **park** (from rest, through the slot's planned maneuver, ending at rest in
   the slot) or **leave** (the same backwards), taking the maneuver's time,
   with the car standing to turn its wheels at cusps and wherever the maneuver's
-  curvature still jumps (:func:`~lotsim.trajectory.timed_path`);
+  curvature still jumps (:func:`~lotsim.vehicles.motion.timed_path`);
 * **turn round** (from rest, through a multi-point turn at a dead end, to rest on the
   opposite lane), timed the same way;
 * **enter**: a vehicle not yet in the lot waits outside its entrance, taking
   no space, until its first move is free.
 
-Every move is checked against the :class:`~lotsim.planners.reservation.ReservationTable`
+Every move is checked against the :class:`~lotsim.traffic.reservation.ReservationTable`
 with the hulls of what the vehicle sweeps, chunk by chunk — a cover of its real
 footprint at every instant, including the whole of a parking maneuver that
 sweeps across the aisle. A goal in a slot is accepted only if the slot stays
@@ -31,7 +31,7 @@ free for ever after (the vehicle will stand there).
 
 Heuristics: CA* uses the straight-line distance at top speed; HCA* the true
 static time to the goal, from a Reverse Resumable A* (RRA*, Silver 2005) run
-backwards from the goal and resumed on demand. WHCA* (in :func:`lotsim.sim.run`)
+backwards from the goal and resumed on demand. WHCA* (in :func:`lotsim.sim.simulation.run`)
 searches like HCA* and replans every half window as it drives, keeping the new
 plan when it arrives sooner. The fuse of seed 004 stops a search that
 expands more than ``omega`` times the nodes its reverse search closed.
@@ -47,19 +47,19 @@ from enum import Enum
 import numpy as np
 from shapely.geometry.base import BaseGeometry
 
-from lotsim.geometry import same_pose
-from lotsim.lot.graph import LotGraph
-from lotsim.planners.maneuver import Maneuver
-from lotsim.planners.reservation import (
+from lotsim.core.geometry import same_pose
+from lotsim.maneuvers.planner import Maneuver
+from lotsim.roadmap.graph import LotGraph
+from lotsim.settings import OMEGA, PLANNERS
+from lotsim.traffic.reservation import (
     ReservationTable,
     Swept,
     cells_of,
     standing_body,
     swept_motions,
 )
-from lotsim.settings import OMEGA, PLANNERS
-from lotsim.trajectory import Motion, Piece, Stroke, scurve, speed_cap, timed_path
 from lotsim.vehicles.model import KMH, VehicleType
+from lotsim.vehicles.motion import Motion, Piece, Stroke, scurve, speed_cap, timed_path
 
 AT_REST = ("park", "leave", "turnaround")
 """Edges driven from rest to rest (multi-stroke: the car stops at every cusp)."""
@@ -479,7 +479,7 @@ class Goal:
 
     A car that will leave again (``park_by`` given) parks only by the park edges
     ``(lane node, slot node)`` in ``park_by``, those that park it on a pose it can leave
-    by (:meth:`~lotsim.lot.graph.LotGraph.leavable`), and never with a maneuver the lot
+    by (:meth:`~lotsim.roadmap.graph.LotGraph.leavable`), and never with a maneuver the lot
     graph keeps for cars that stay (a park edge's ``stays``)."""
 
     slot: int | None = None
@@ -736,7 +736,7 @@ def search(sg: SearchGraph, table: ReservationTable, *, owner: str, start: int, 
 
 def _free_till(in_way: list[tuple[float, float]], t: float) -> float:
     """Till when [s] a body standing from ``t`` [s] is free, given when it is in somebody's
-    way (:meth:`~lotsim.planners.reservation.ReservationTable.blocked` from any time up to
+    way (:meth:`~lotsim.traffic.reservation.ReservationTable.blocked` from any time up to
     ``t``): the start of the first stretch reaching past ``t`` — as from a query from
     ``t`` on, or, where the body is in the way at ``t`` already, a time before ``t`` both
     ways (a stretch that began before ``t`` may only have merged with earlier ones)."""

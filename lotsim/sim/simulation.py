@@ -16,13 +16,18 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-import lotsim.cache
+import lotsim.core.diskcache
+from lotsim.core.geometry import same_pose
 from lotsim.errors import Location, ScenarioError, SettingsError
-from lotsim.geometry import same_pose
 from lotsim.lot.build import build_lot
-from lotsim.lot.graph import LotGraph, Reachability, build_graph, plan_turnarounds_ahead
 from lotsim.lot.model import DesignVehicle, Lot
-from lotsim.planners.cooperative import (
+from lotsim.maneuvers.planner import MARGIN, ManeuverPlanner, plan_lot
+from lotsim.roadmap.graph import LotGraph, Reachability, build_graph, plan_turnarounds_ahead
+from lotsim.scenario import Scenario
+from lotsim.settings import ASSIGNMENTS, BOOKING_HORIZON, RunSettings  # noqa: F401 - re-exported
+from lotsim.traffic.demand import Arrival, arrivals
+from lotsim.traffic.reservation import ReservationTable, standing_body
+from lotsim.traffic.search import (
     Goal,
     Move,
     Plan,
@@ -33,13 +38,8 @@ from lotsim.planners.cooperative import (
     search,
     search_graph,
 )
-from lotsim.planners.maneuver import MARGIN, ManeuverPlanner, plan_lot
-from lotsim.planners.reservation import ReservationTable, standing_body
-from lotsim.scenario import Scenario
-from lotsim.settings import ASSIGNMENTS, BOOKING_HORIZON, RunSettings  # noqa: F401 - re-exported
-from lotsim.traffic import Arrival, arrivals
-from lotsim.trajectory import Trajectory
 from lotsim.vehicles.model import VehicleType
+from lotsim.vehicles.motion import Trajectory
 
 
 def prepare(scenario: Scenario, *, node_spacing: float = 4.0, maneuvers: bool = True,
@@ -49,7 +49,7 @@ def prepare(scenario: Scenario, *, node_spacing: float = 4.0, maneuvers: bool = 
 
     The slots a type cannot use are in ``LotGraph.infeasible`` (type → slot → reason).
     A slot served by two lanes is parked on one pose from both, so that a car can leave
-    towards either (:meth:`~lotsim.planners.maneuver.ManeuverPlanner.solve_lanes`); where
+    towards either (:meth:`~lotsim.maneuvers.planner.ManeuverPlanner.solve_lanes`); where
     a lane's own best maneuver parks the other way round, it is kept too (a park edge's
     ``stays``) for cars that will not leave. Which are kept follows the scenario's traffic:
     with no car that stays, only the shared pose; with no car that leaves, only each lane's
@@ -58,13 +58,13 @@ def prepare(scenario: Scenario, *, node_spacing: float = 4.0, maneuvers: bool = 
     With ``maneuvers=False`` slots hang off placeholder links (quick, for pictures).
 
     With ``cache`` (the default), a lot prepared before — same lot, vehicle types and
-    settings, same lotsim — is loaded from the on-disk cache instead (:mod:`lotsim.cache`;
+    settings, same lotsim — is loaded from the on-disk cache instead (:mod:`lotsim.core.diskcache`;
     ``LOTSIM_CACHE_DIR=off`` turns it off), and a new one is stored there;
     ``LotGraph.from_cache`` says which; a process that asks for a lot another is preparing
-    waits for it and loads it (:func:`lotsim.cache.making`). A new one also reads and adds
+    waits for it and loads it (:func:`lotsim.core.diskcache.making`). A new one also reads and adds
     to the answers to the maneuver problems searched before in lots of the scenario's name,
     keyed by each problem's exact geometry
-    (:meth:`~lotsim.planners.maneuver.ManeuverPlanner.prefetch`; lots of
+    (:meth:`~lotsim.maneuvers.planner.ManeuverPlanner.prefetch`; lots of
     :data:`REMEMBER_FROM` slot-types or more): an edited lot searches only the problems its
     edit changed, and the answers are the same.
     ``progress(done, total)`` is called as the maneuvers' distinct problems are searched
@@ -82,11 +82,11 @@ def prepare(scenario: Scenario, *, node_spacing: float = 4.0, maneuvers: bool = 
               if scenario.traffic is not None else {True})
     if not cache:
         return _prepared(scenario, leaves, None, node_spacing, margin, progress)
-    name = lotsim.cache.key("prepared", scenario.lot, scenario.vehicle_types,
+    name = lotsim.core.diskcache.key("prepared", scenario.lot, scenario.vehicle_types,
                             scenario.parked_vehicle, sorted(leaves), node_spacing, margin)
     lg = _cached(name)
     if lg is None:
-        with lotsim.cache.making(name):
+        with lotsim.core.diskcache.making(name):
             # another process may have made it while this one waited for the lock
             lg = _cached(name)
             if lg is None:
@@ -95,7 +95,7 @@ def prepare(scenario: Scenario, *, node_spacing: float = 4.0, maneuvers: bool = 
 
 
 def _cached(name: str) -> LotGraph | None:
-    lg = lotsim.cache.load(name)
+    lg = lotsim.core.diskcache.load(name)
     if not isinstance(lg, LotGraph):
         return None
     lg.from_cache = True
@@ -111,17 +111,17 @@ def _prepared(scenario: Scenario, leaves: set[bool], name: str | None, node_spac
     with plan_turnarounds_ahead(lot, scenario.vehicle_types):
         planner = maneuver_planner(scenario, lot, margin=margin)
         known = known_name = None
-        if (name is not None and lotsim.cache.cache_dir() is not None
+        if (name is not None and lotsim.core.diskcache.cache_dir() is not None
                 and len(lot.slots) * len(scenario.vehicle_types) >= REMEMBER_FROM):
             # the maneuvers of this lot as prepared before (by its name), whatever has changed
             # since: an edited lot searches again only the problems its edit changed
-            known_name = lotsim.cache.key("maneuvers", scenario.name, planner.settings)
-            known = lotsim.cache.load(known_name)
+            known_name = lotsim.core.diskcache.key("maneuvers", scenario.name, planner.settings)
+            known = lotsim.core.diskcache.load(known_name)
             known = known if isinstance(known, dict) else {}
         planned, infeasible, stays = plan_lot(planner, scenario.vehicle_types, progress=progress,
                                               known=known)
         if known_name is not None and planner.stats["planned"] > planner.stats["remembered"]:
-            lotsim.cache.store(known_name, known)  # it learnt something
+            lotsim.core.diskcache.store(known_name, known)  # it learnt something
         if leaves == {False}:  # no car leaves: each lane's own best only
             planned, stays = {**planned, **stays}, {}
         elif leaves == {True}:  # no car stays: where those begin would only be nodes in the way
@@ -133,7 +133,7 @@ def _prepared(scenario: Scenario, leaves: set[bool], name: str | None, node_spac
         if name is not None:
             lg.reachability()  # every run and validate asks: kept with the lot
             lg.facts()
-            lotsim.cache.store(name, lg)
+            lotsim.core.diskcache.store(name, lg)
         return lg
 
 
@@ -142,7 +142,7 @@ class PreparedLot:
     """A scenario with its lot built and every maneuver planned (:func:`lotsim.prepare`):
     reusable across runs, which then skip the preparation (seconds to a minute on a large
     lot) and drive the edge motions earlier runs on it worked out
-    (:func:`~lotsim.planners.cooperative.search_graph`).
+    (:func:`~lotsim.traffic.search.search_graph`).
 
     Attributes
     ----------
@@ -273,7 +273,7 @@ class RunResult:
     vehicles: list[VehicleRun]
     planning_time: float
     ordering: dict = field(default_factory=dict)
-    """How the planning order was chosen (:func:`lotsim.priority.plan_run`); empty when
+    """How the planning order was chosen (:func:`lotsim.sim.orders.plan_run`); empty when
     :func:`run` was called directly."""
 
     def metrics(self) -> dict[str, float]:
@@ -395,7 +395,7 @@ def run(scenario: Scenario, settings: RunSettings | None = None, *, lot_graph=No
         Called as ``progress(done, total)`` as trips are dealt with: a vehicle's way in when
         it is planned, its way out (if it has a dwell) when that is, or both when it is
         turned away or the run ends. It may raise (e.g.
-        :class:`lotsim.limits.LimitExceeded`) to stop the run.
+        :class:`lotsim.sim.limits.LimitExceeded`) to stop the run.
 
     Raises
     ------
@@ -809,7 +809,7 @@ class _Simulation:
         starts on the car's own plan, which its last search chose over every other way
         from there; a sooner one could only be what that search passed over, its heuristic
         being weighted (1.25) and states passing a node at speed within
-        :data:`~lotsim.planners.cooperative.PASSING` of one another taken as one —
+        :data:`~lotsim.traffic.search.PASSING` of one another taken as one —
         milliseconds in practice (a test bounds it at 0.1 s a car on the street's
         run)."""
         return not SKIP_FRUITLESS or any(

@@ -7,10 +7,10 @@ from collections import Counter
 from collections.abc import Iterable
 from dataclasses import dataclass
 
-from lotsim.cache import LOADED
-from lotsim.lot.graph import Reachability
-from lotsim.sim import PreparedLot, check_traffic
-from lotsim.traffic import Arrival, StreamSpec, arrivals
+from lotsim.core.diskcache import LOADED
+from lotsim.roadmap.graph import Reachability
+from lotsim.sim.simulation import PreparedLot, check_traffic
+from lotsim.traffic.demand import Arrival, StreamSpec, arrivals
 
 
 @dataclass(frozen=True, slots=True)
@@ -148,7 +148,7 @@ def validate_prepared(prepared: PreparedLot, source: str) -> ValidationReport:
     Raises
     ------
     ScenarioError
-        For traffic the lot cannot serve at all (:func:`lotsim.sim.check_traffic`).
+        For traffic the lot cannot serve at all (:func:`lotsim.sim.simulation.check_traffic`).
     """
     scenario, lg = prepared.scenario, prepared.lot_graph
     reach = lg.reachability()

@@ -11,9 +11,9 @@ from typing import Any
 import numpy as np
 import shapely
 
-from lotsim.check.reading import _Lot, _Vehicle
-from lotsim.check.report import Violation, _add
-from lotsim.check.tolerances import GRID_DT, MAX_INSTANTS, SHRINK, FloatArray
+from lotsim.verify.reading import _Lot, _Vehicle
+from lotsim.verify.report import Violation, _add
+from lotsim.verify.tolerances import GRID_DT, MAX_INSTANTS, SHRINK, FloatArray
 
 _PAIR_BUDGET = 500_000  # candidate pairs tested per numpy batch (bounds memory)
 _SAME = 1e-9  # interpolated poses closer than this are one standing footprint [m, rad]

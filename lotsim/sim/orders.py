@@ -2,7 +2,7 @@
 algorithm over orders (seed 004's G-JHCA*).
 
 A vehicle planned earlier never yields to one planned later, so the order matters when
-vehicles meet. With the traffic booked in advance (:attr:`lotsim.sim.RunSettings.order`)
+vehicles meet. With the traffic booked in advance (:attr:`lotsim.sim.simulation.RunSettings.order`)
 any order can be planned; the fitness of an order is the run's total time to park (a
 vehicle that never parks counts as :data:`UNPARKED_PENALTY` seconds plus the traffic's
 patience). The GA evaluates an order by planning the whole run with it.
@@ -18,8 +18,8 @@ import numpy as np
 
 from lotsim.errors import SettingsError
 from lotsim.settings import PRIORITIES, GASettings, RunSettings  # also re-exported
-from lotsim.sim import RunResult, require_traffic, run
-from lotsim.traffic import arrivals
+from lotsim.sim.simulation import RunResult, require_traffic, run
+from lotsim.traffic.demand import arrivals
 
 UNPARKED_PENALTY = 600.0
 """Seconds added to the patience for a vehicle that never parks, in :func:`fitness`."""
@@ -36,7 +36,7 @@ def fitness(rr: RunResult) -> float:
 def shortest_first(scenario, lot_graph, seed: int | None = None) -> tuple[str, ...]:
     """Vehicle ids by their least static time from their entrance into a free slot they
     can use (travel along the graph plus the maneuver), ties by arrival."""
-    from lotsim.sim import _Simulation
+    from lotsim.sim.simulation import _Simulation
 
     seed = scenario.seed if seed is None else seed
     traffic = arrivals(scenario.traffic, seed)
@@ -126,7 +126,7 @@ def plan_run(scenario, settings: RunSettings, *, lot_graph,
              progress=None) -> RunResult:
     """Plan the scenario's traffic in the order ``settings`` asks for: ``settings.order`` if
     given, else chosen by ``settings.priority`` (:data:`PRIORITIES`; the GA with
-    ``settings.ga``), then planned by :func:`lotsim.sim.run`.
+    ``settings.ga``), then planned by :func:`lotsim.sim.simulation.run`.
 
     The run's ``settings`` hold the order chosen (None when online); its ``ordering`` is a
     record: ``order_time`` (seconds spent choosing the order, the GA's evaluation runs
@@ -136,7 +136,7 @@ def plan_run(scenario, settings: RunSettings, *, lot_graph,
 
     ``progress(done, most)`` is called after each order the GA plans (``most``: the
     population times the generations plus one; repeated orders are not planned again);
-    otherwise, as :func:`lotsim.sim.run` calls it, as trips are dealt with.
+    otherwise, as :func:`lotsim.sim.simulation.run` calls it, as trips are dealt with.
     """
     require_traffic(scenario)
     clock = time.perf_counter()

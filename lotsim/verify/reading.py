@@ -13,8 +13,9 @@ from typing import Any
 import numpy as np
 import shapely
 
-from lotsim.check.report import Violation, _add
-from lotsim.check.tolerances import (
+from lotsim.errors import ResultFormatError
+from lotsim.verify.report import Violation, _add
+from lotsim.verify.tolerances import (
     FORMAT,
     LOT_KEYS,
     MAX_MAGNITUDE,
@@ -29,7 +30,6 @@ from lotsim.check.tolerances import (
     FloatArray,
     Pose,
 )
-from lotsim.errors import ResultFormatError
 
 
 def load_result(path: str | os.PathLike[str], *, packed: bool = False) -> dict:

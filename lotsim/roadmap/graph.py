@@ -4,7 +4,7 @@ Nodes are poses ``(x, y, theta)`` along the aisle lanes (integers, with
 attributes ``pose``, ``kind``, ``lane``, ``station``), plus one node per slot.
 Lane nodes carry the lane's ``curvature`` there [1/m] (0 on straights): a car
 passing or standing at a node steers for it. Edges are pieces of path
-(``path``, a tuple of :class:`~lotsim.geometry.Segment`) with ``length`` [m],
+(``path``, a tuple of :class:`~lotsim.core.geometry.Segment`) with ``length`` [m],
 ``gear`` (+1 forward, -1 reverse), ``speed_limit`` [m/s] and ``kind``:
 
 * ``lane`` — along a lane: one straight, clothoid or arc of it;
@@ -16,14 +16,14 @@ passing or standing at a node steers for it. Edges are pieces of path
   types that can drive it (None: all; see :func:`build_graph`);
 * ``join`` — a lane that continues as another (zero length);
 * ``turnaround`` — a multi-point turn, driven from rest to rest, stopping at each cusp:
-  at a dead end onto the opposite lane (:mod:`lotsim.lot.turnaround`), or where aisles
+  at a dead end onto the opposite lane (:mod:`lotsim.roadmap.turnaround`), or where aisles
   meet in a junction too small for one turn, onto the other aisle's lane
-  (:func:`_junction_multipoints`, :mod:`lotsim.lot.multipoint`), or a U-turn at a
+  (:func:`_junction_multipoints`, :mod:`lotsim.roadmap.multipoint`), or a U-turn at a
   junction, turning in the crossing aisle's mouth back onto the opposite lane
   (:func:`_junction_uturns`);
 * ``park`` / ``leave`` — from a lane node into a slot node and back, through
   real parking maneuvers: ``maneuvers`` maps each vehicle type that can use
-  the link to its :class:`~lotsim.planners.maneuver.Maneuver` (the leave edge
+  the link to its :class:`~lotsim.maneuvers.planner.Maneuver` (the leave edge
   holds them reversed), ``duration`` maps it to seconds, ``length`` is the
   shortest of them. A lane node sits exactly where each maneuver starts. A park
   edge's ``stays`` (with ``stay_duration`` and ``stay_limit``) holds, per type,
@@ -52,9 +52,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 import shapely
 
-from lotsim.errors import ScenarioError
-from lotsim.forkmap import Background, fork_map
-from lotsim.geometry import (
+from lotsim.core.geometry import (
     Segment,
     cc_polyline,
     cc_turn,
@@ -62,12 +60,14 @@ from lotsim.geometry import (
     sample_segments,
     wrap_angle,
 )
+from lotsim.core.workers import Background, fork_map
+from lotsim.errors import ScenarioError
 from lotsim.lot.build import SWEEP_STEP, lane_collider
 from lotsim.lot.clearance import Collider
 from lotsim.lot.model import DesignVehicle, Lane, Lot, Portal, Slot, unit
-from lotsim.lot.multipoint import plan_onto, segment_to_world, to_local
-from lotsim.lot.turnaround import STARTS as TURNAROUND_STARTS
-from lotsim.lot.turnaround import (
+from lotsim.roadmap.multipoint import plan_onto, segment_to_world, to_local
+from lotsim.roadmap.turnaround import STARTS as TURNAROUND_STARTS
+from lotsim.roadmap.turnaround import (
     Turnaround,
     plan_turnarounds,
     turnaround_clear,
@@ -162,12 +162,12 @@ class LotGraph:
     maneuver_planner : ManeuverPlanner or None
         The planner (and its cache) the maneuvers came from.
     from_cache : bool
-        Whether :func:`~lotsim.sim.prepare` loaded it from the on-disk cache
-        (:mod:`lotsim.cache`) rather than planning it.
+        Whether :func:`~lotsim.sim.simulation.prepare` loaded it from the on-disk cache
+        (:mod:`lotsim.core.diskcache`) rather than planning it.
     kept : dict
         What planners work out from the lot alone and keep with it for the next runs in
         this process (the search graph of each vehicle type, with its edge motions:
-        :func:`~lotsim.planners.cooperative.search_graph`). Not pickled.
+        :func:`~lotsim.traffic.search.search_graph`). Not pickled.
     """
 
     lot: Lot
@@ -273,7 +273,7 @@ class LotGraph:
         have come along (out of a dead end it cannot turn round in), or along a stretch it
         could not have come to (the lane's start, on a short arm that a car enters only
         near its end). Each slot's maneuver is planned in the range nearest it
-        (:class:`~lotsim.planners.maneuver.ManeuverPlanner`); the two are not joined into
+        (:class:`~lotsim.maneuvers.planner.ManeuverPlanner`); the two are not joined into
         one, which would reach into the stretch between them where no car comes or leaves
         by."""
         come, go = self._lane_reach()
@@ -405,7 +405,7 @@ def build_graph(lot: Lot, *, node_spacing: float = 4.0, maneuvers=None,
         Largest distance between consecutive nodes along a lane [m].
     maneuvers : dict or None, keyword-only
         ``(vehicle name, slot id, lane id)`` → parking Maneuver, from
-        :func:`lotsim.planners.maneuver.plan_lot`; ``None`` links slots by placeholders.
+        :func:`lotsim.maneuvers.planner.plan_lot`; ``None`` links slots by placeholders.
     vehicles : sequence of VehicleType, keyword-only
         The scenario's types: the maneuvers' durations; with two or more, junction turns
         are built for each type's own outline and turning radius, and a turn only some
@@ -793,7 +793,7 @@ def _turns_per_design(lot: Lot, collider: Collider, designs: list
     """:func:`_junction_turns` and :func:`_through_turns` for each of ``designs`` (None: the
     lot's design vehicle), as each would find them on its own: the junction turns out of
     each lane, then each design's turns through short stretches, on both cores
-    (:func:`~lotsim.forkmap.fork_map`; the same answers in the same order)."""
+    (:func:`~lotsim.core.workers.fork_map`; the same answers in the same order)."""
     jobs = [(design, a) for design in designs for a in lot.lanes]
     found = fork_map(lambda job: _junction_turns(lot, collider, job[0], lanes_a=(job[1],)),
                      jobs)
@@ -958,7 +958,7 @@ _AHEAD: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()  # lot → (keys
 def plan_turnarounds_ahead(lot: Lot, vehicles=()) -> Background:
     """Begin planning the turnaround at the end of every lane of a two-way aisle of ``lot``
     (for ``vehicles``' designs, as :func:`build_graph` will want them), on a background
-    process that takes only CPU time nothing else wants (:class:`~lotsim.forkmap.Background`):
+    process that takes only CPU time nothing else wants (:class:`~lotsim.core.workers.Background`):
     the lanes that turn out to be dead ends are then planned already when a graph of the
     lot is built. Each plan is a function of its arguments alone, so the graph is the same
     with it as without; one it has not finished is planned when needed, as without. Close
@@ -1015,7 +1015,7 @@ def _reaching_onto(lane: Lane, back: Lane, starts: list[float], hi: float,
                    ) -> Turnaround | None:
     """A turnaround from ``lane`` (from the first of ``starts`` that has one, [m]) onto the
     straight beginning ``back``, landing at or before ``hi`` along it
-    (:func:`~lotsim.lot.multipoint.plan_onto`), or None."""
+    (:func:`~lotsim.roadmap.multipoint.plan_onto`), or None."""
     seg = back.segments[0]
     got = plan_onto([lane.pose_at(st) for st in starts], seg.start, 0.0, hi, collider, body,
                     radius)
@@ -1029,7 +1029,7 @@ def _reaching_turnarounds(lane: Lane, back: Lane, found: list[Turnaround],
                           collider: Collider, body: DesignVehicle, radius: float,
                           arrive, go_on: float, *, onto=_reaching_onto) -> list[Turnaround]:
     """Turnarounds from ``lane`` onto ``back`` by multi-point search
-    (:func:`~lotsim.lot.multipoint.plan_onto`) that land at or before ``go_on`` (the last
+    (:func:`~lotsim.roadmap.multipoint.plan_onto`) that land at or before ``go_on`` (the last
     station ``back`` can be left from), where those ``found`` leave a car stranded: one from
     as near the lane's end as there is room when every one found lands past ``go_on`` (or
     none was found), and one from the last station in ``arrive`` (where turns land on
@@ -1111,7 +1111,7 @@ def _junction_multipoints(lot: Lot, tagged: list[tuple[Turn, frozenset | None]],
     some vehicle type (``tagged``: the junction turns, each with the types that can drive
     it, None for all): a junction too small to turn in at one go — a short arm, a spur
     meeting a narrow aisle — is turned in as a driver does, in a few strokes
-    (:func:`~lotsim.lot.multipoint.plan_onto`), beginning at or a little before the
+    (:func:`~lotsim.roadmap.multipoint.plan_onto`), beginning at or a little before the
     crossing and landing on the other lane past it, driven from rest to rest like a
     turnaround. So too where every turn lands past an exit on the other lane (``exits``:
     lane → its last exit's station) that the crossing is before: an exit close to the
@@ -1199,7 +1199,7 @@ def _junction_uturns(lot: Lot, designs: dict[str, DesignVehicle] | None = None
                      ) -> list[tuple[Turnaround, frozenset | None]]:
     """U-turns at junctions: from a lane of a two-way aisle, where another aisle crosses
     or meets it, back onto its opposite lane, in a few strokes that use the other aisle's
-    mouth (:func:`~lotsim.lot.multipoint.plan_onto`) — how a driver turns back whose way
+    mouth (:func:`~lotsim.roadmap.multipoint.plan_onto`) — how a driver turns back whose way
     is blocked, or who leaves the way they came. Each begins at or up to 6 m
     (:data:`MULTI_STARTS`) before the crossing and lands within :data:`UTURN_LAND` of it;
     it needs :data:`MULTI_ROOM` of lane before the crossing on the lane it leaves and past

@@ -8,10 +8,10 @@ from collections import Counter
 import numpy as np
 import shapely
 
-from lotsim.check.motion import _wrap
-from lotsim.check.reading import _is_number, _Lot, _Vehicle
-from lotsim.check.report import Violation, _add
-from lotsim.check.tolerances import (
+from lotsim.verify.motion import _wrap
+from lotsim.verify.reading import _is_number, _Lot, _Vehicle
+from lotsim.verify.report import Violation, _add
+from lotsim.verify.tolerances import (
     EXIT_DISTANCE,
     EXIT_HEADING,
     MAKESPAN_TOL,

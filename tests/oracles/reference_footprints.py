@@ -1,9 +1,9 @@
 """The footprint rules checked the straightforward way, one instant at a time.
 
-:mod:`lotsim.check.footprints` batches the footprints of a whole run into arrays, sorts and
+:mod:`lotsim.verify.footprints` batches the footprints of a whole run into arrays, sorts and
 sweeps them, and clears most pairs with numpy before shapely sees them. This module checks
 the same rules (overlap, parked, obstacle, boundary, slot sharing) as they are written in
-:mod:`lotsim.check`: at each common instant it places every present vehicle's shrunk
+:mod:`lotsim.verify`: at each common instant it places every present vehicle's shrunk
 footprint as a shapely polygon and tests it against the others, the cars parked at start,
 the obstacles, the boundary and the slot it names. It shares nothing with the fast path but
 the reading of the result and the constants; it is slow (a polygon per vehicle per instant)
@@ -25,9 +25,9 @@ from typing import Any
 import numpy as np
 import shapely
 
-from lotsim.check.reading import _format_problem, _Lot, _parse_lot, _parse_vehicle, _Vehicle
-from lotsim.check.report import CheckReport, Violation
-from lotsim.check.tolerances import GRID_DT, SHRINK
+from lotsim.verify.reading import _format_problem, _Lot, _parse_lot, _parse_vehicle, _Vehicle
+from lotsim.verify.report import CheckReport, Violation
+from lotsim.verify.tolerances import GRID_DT, SHRINK
 
 Finding = tuple
 """``("overlap", a, b, k)`` (ids sorted), ``("parked" | "obstacle", id, j, k)`` (``j`` the
@@ -42,7 +42,7 @@ def reference_footprints(data: Any) -> set[Finding]:
     ----------
     data : dict
         A parsed ``result.json``; vehicles whose structure is broken are left out (as
-        :func:`~lotsim.check.check_result` leaves them out of these rules).
+        :func:`~lotsim.verify.check_result` leaves them out of these rules).
 
     Returns
     -------
@@ -161,7 +161,7 @@ _PATTERNS = {
 
 
 def report_findings(report: CheckReport) -> set[Finding]:
-    """The footprint findings of a report of :func:`~lotsim.check.check_result`, in the
+    """The footprint findings of a report of :func:`~lotsim.verify.check_result`, in the
     form of :func:`reference_footprints` (give the report every violation:
     ``max_violations`` large enough)."""
     out: set[Finding] = set()

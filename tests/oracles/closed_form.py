@@ -8,7 +8,7 @@ rear-axle line at ``R = b / tan(max_steer)`` from the rear-axle centre, so
 
 Pt. 1 gives the least extra length ``d`` beyond the car's length for one reverse arc
 and one forward arc; it is exactly the minimum-slot strategy of
-:mod:`lotsim.planners.minslot` with one direction change when the car in front
+:mod:`lotsim.maneuvers.minslot` with one direction change when the car in front
 protrudes the slot's width (``w1 = W``) and the car ends with its outer side on the
 entry line (``d_c = W - w``). Pt. 2 gives the sideways gain of one forward–reverse
 cycle of four equal arcs in a slot ``d`` longer than the car.

@@ -1,6 +1,6 @@
 """Parking maneuvers: from a pose on an aisle lane into a slot, and back out.
 
-A maneuver is a chain of :class:`~lotsim.geometry.Segment` pieces — straights and
+A maneuver is a chain of :class:`~lotsim.core.geometry.Segment` pieces — straights and
 arcs no tighter than the car's minimum turning radius, each driven forward or in
 reverse — from a pose on a lane (on its centreline, heading its way) to the
 parked pose inside the slot. Leaving is the same path driven backwards in time
@@ -58,9 +58,7 @@ import shapely
 from shapely.geometry import Polygon
 from shapely.geometry.base import BaseGeometry
 
-from lotsim.errors import InfeasibleManeuver
-from lotsim.forkmap import quiet_worker
-from lotsim.geometry import (
+from lotsim.core.geometry import (
     FloatArray,
     Pose,
     Segment,
@@ -71,14 +69,16 @@ from lotsim.geometry import (
     sample_segments,
     wrap_angle,
 )
+from lotsim.core.workers import quiet_worker
+from lotsim.errors import InfeasibleManeuver
 from lotsim.lot.clearance import first_blocked, hulls, hulls_blocked
-from lotsim.lot.graph import lane_serves
 from lotsim.lot.model import Lane, Lot, Slot, unit
-from lotsim.lot.multipoint import plan_onto
-from lotsim.planners.minslot import SlotFrame, simulate, start_headings
+from lotsim.maneuvers.minslot import SlotFrame, simulate, start_headings
+from lotsim.roadmap.graph import lane_serves
+from lotsim.roadmap.multipoint import plan_onto
 from lotsim.settings import MARGIN, STYLES
-from lotsim.trajectory import Motion, Piece, runs, timed_path
 from lotsim.vehicles.model import VehicleType
+from lotsim.vehicles.motion import Motion, Piece, runs, timed_path
 
 SWEEP = 0.2
 """Spacing of the footprints whose hulls cover a path when checking it [m]."""
@@ -296,7 +296,7 @@ class Maneuver:
 
     def motion(self, vehicle: VehicleType, speed_limit: float = math.inf) -> Motion:
         """The maneuver timed from rest, wheels straight, to rest, wheels straight
-        (:func:`~lotsim.trajectory.timed_path`): the car stops at every cusp and wherever
+        (:func:`~lotsim.vehicles.motion.timed_path`): the car stops at every cusp and wherever
         the curvature changes, and turns its wheels there standing."""
         return timed_path([Piece(s, speed_limit) for s in self.segments], vehicle)
 
@@ -390,7 +390,7 @@ class _Problem:
     def pieces_blocked(self, starts: FloatArray, distance: FloatArray, curvature: FloatArray,
                        step: float, sharpness: FloatArray | float = 0.0) -> np.ndarray:
         """(N,) whether a footprint ``step`` apart along each segment, given as arrays
-        (:func:`~lotsim.geometry.sample_pieces`, local frame), touches anything."""
+        (:func:`~lotsim.core.geometry.sample_pieces`, local frame), touches anything."""
         poses, of = sample_pieces(starts, distance, curvature, step, sharpness)
         bodies = self.vehicle.footprints(self.frame.poses_to_world(poses))
         return np.bincount(of[self.bodies_blocked(bodies)], minlength=len(starts)) > 0
@@ -525,7 +525,7 @@ class ManeuverPlanner:
 
         Examples
         --------
-        >>> from lotsim.io.scenario import parse_scenario
+        >>> from lotsim.io.scenario_yaml import parse_scenario
         >>> from lotsim.io.yamlnodes import parse_text
         >>> from lotsim.lot.build import build_lot
         >>> from lotsim.lot.model import DesignVehicle
@@ -598,7 +598,7 @@ class ManeuverPlanner:
 
         ``known`` (exact problem key → answer, :func:`_exact_key`) holds answers found
         before, for this planner's settings and this lotsim, in any lot (the on-disk cache
-        keeps one per lot name: :func:`lotsim.sim.prepare`): a problem it holds is not
+        keeps one per lot name: :func:`lotsim.sim.simulation.prepare`): a problem it holds is not
         searched again, and those searched now are added to it, most recently used last, at
         most :data:`KNOWN_MOST`. A search reads nothing but its problem (to the last bit of
         every float) and the settings, so the answers are the same with it as without.
@@ -907,7 +907,7 @@ class ManeuverPlanner:
     # -- solving ------------------------------------------------------------------------------
     def _eased(self, p: _Problem, local: tuple[Segment, ...]) -> tuple[Segment, ...]:
         """``local`` with its curvature jumps inside strokes eased by clothoids
-        (:func:`~lotsim.geometry.ease_joints`: the car steers as it rolls instead of
+        (:func:`~lotsim.core.geometry.ease_joints`: the car steers as it rolls instead of
         stopping to steer), with the longest ramp of ``settings.ease_ramps`` whose path is as
         clear as the original, ends inside the slot and within ``settings.ease_drift`` of the
         original end; else ``local``."""
@@ -973,7 +973,7 @@ class ManeuverPlanner:
         """The way out of a perpendicular or angled slot when the full-lock shuffle finds
         none (a corner bay against a closed end, where the strokes must not all be at full
         lock): a multi-point search over arcs and straights in either gear
-        (:func:`~lotsim.lot.multipoint.plan_onto`) from the parked pose, nose-in or
+        (:func:`~lotsim.roadmap.multipoint.plan_onto`) from the parked pose, nose-in or
         nose-out as ``style`` allows, onto the lane within its reachable stretch, inside the
         same window and clear of the same obstacles; in leave-time, local frame."""
         roots = []
@@ -1268,7 +1268,7 @@ def _anchored(segments: Sequence[Segment], target: FloatArray) -> tuple[Segment,
 
 def _shortest_run(m: Maneuver) -> float:
     """The shortest stretch [m] a car drives between two stops on ``m``: the runs the timing
-    drives without stopping (:func:`~lotsim.trajectory.runs`)."""
+    drives without stopping (:func:`~lotsim.vehicles.motion.runs`)."""
     return min(sum(p.segment.length for p in run)
                for run in runs([Piece(s, math.inf) for s in m.segments]))
 
@@ -1323,7 +1323,7 @@ none costs the whole budget."""
 
 
 class _LocalChecks:
-    """A problem's validity checks for :func:`~lotsim.lot.multipoint.plan_onto` run in the
+    """A problem's validity checks for :func:`~lotsim.roadmap.multipoint.plan_onto` run in the
     problem's local frame: footprints of local poses, and whether bodies are free."""
 
     def __init__(self, p: _Problem):

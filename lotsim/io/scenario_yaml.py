@@ -33,7 +33,7 @@ from lotsim.lot.spec import (
 )
 from lotsim.scenario import Scenario
 from lotsim.settings import AnimationSpec
-from lotsim.traffic import PATIENCE, Arrival, StreamSpec, TrafficSpec
+from lotsim.traffic.demand import PATIENCE, Arrival, StreamSpec, TrafficSpec
 from lotsim.vehicles.catalogue import CATALOGUE, DEFAULT_VEHICLE
 from lotsim.vehicles.model import KMH, VehicleLimits, VehicleType
 

@@ -18,7 +18,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from lotsim.geometry import FloatArray, Segment, advance
+from lotsim.core.geometry import FloatArray, Segment, advance
 from lotsim.vehicles.model import VehicleType
 
 NO_SOLUTION = -1

@@ -8,14 +8,14 @@ it judges from the numbers in the file — footprint rectangles from the vehicle
 from consecutive samples. A bug in the planners can therefore not hide itself by being
 repeated here.
 
-The package holds the checker in the order it works: :mod:`~lotsim.check.tolerances` (the
-format and the constants below), :mod:`~lotsim.check.reading` (:func:`load_result` and the
-``structure`` rule), :mod:`~lotsim.check.motion` (the rules on one vehicle's samples),
-:mod:`~lotsim.check.footprints` (the rules on footprints over the common instants),
-:mod:`~lotsim.check.final` (how each vehicle ends, the metrics),
-:mod:`~lotsim.check.report` (:class:`Violation`, :class:`CheckReport`) and
-:mod:`~lotsim.check.checker` (:func:`check_result`, the stages in order).
-:mod:`~lotsim.check.reference` checks the footprint rules the straightforward way, one
+The package holds the checker in the order it works: :mod:`~lotsim.verify.tolerances` (the
+format and the constants below), :mod:`~lotsim.verify.reading` (:func:`load_result` and the
+``structure`` rule), :mod:`~lotsim.verify.motion` (the rules on one vehicle's samples),
+:mod:`~lotsim.verify.footprints` (the rules on footprints over the common instants),
+:mod:`~lotsim.verify.final` (how each vehicle ends, the metrics),
+:mod:`~lotsim.verify.report` (:class:`Violation`, :class:`CheckReport`) and
+:mod:`~lotsim.verify.checker` (:func:`check_result`, the stages in order).
+:mod:`~oracles.reference_footprints` checks the footprint rules the straightforward way, one
 instant at a time, for the tests and the benchmark to hold the fast path against.
 
 Rules and tolerances (module constants)
@@ -133,10 +133,11 @@ Examples
 
 from __future__ import annotations
 
-from lotsim.check.checker import check_result
-from lotsim.check.reading import load_result
-from lotsim.check.report import CheckReport, Violation
-from lotsim.check.tolerances import (
+from lotsim.errors import ResultFormatError  # an error type only: no code is shared
+from lotsim.verify.checker import check_result
+from lotsim.verify.reading import load_result
+from lotsim.verify.report import CheckReport, Violation
+from lotsim.verify.tolerances import (
     ACCEL_TOL,
     CHORD_SLACK,
     CHORD_SPEED_REL,
@@ -184,7 +185,6 @@ from lotsim.check.tolerances import (
     FloatArray,
     Pose,
 )
-from lotsim.errors import ResultFormatError  # an error type only: no code is shared
 
 __all__ = [
     "ACCEL_TOL",

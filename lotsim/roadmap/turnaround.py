@@ -22,11 +22,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from lotsim.geometry import FloatArray, Segment, advance, sample_segments
+from lotsim.core.geometry import FloatArray, Segment, advance, sample_segments
 from lotsim.lot.build import obstacle_polygons
 from lotsim.lot.clearance import Collider, first_blocked
 from lotsim.lot.model import DesignVehicle, Lane, Lot
-from lotsim.lot.multipoint import closings, segment_to_world, to_local, to_world
+from lotsim.roadmap.multipoint import closings, segment_to_world, to_local, to_world
 
 MARGIN = 0.1
 """Clearance kept to slots, walls and the boundary during a turnaround [m] (seed 004)."""
@@ -91,7 +91,7 @@ def plan_turnaround(lane: Lane, back: Lane, collider: Collider, body: DesignVehi
     --------
     >>> from lotsim.lot.model import DesignVehicle
     >>> from shapely.geometry import box
-    >>> from lotsim.geometry import Segment
+    >>> from lotsim.core.geometry import Segment
     >>> from lotsim.lot.model import Lane
     >>> street = box(0, 0, 40, 9)   # a 9 m wide dead-end street, closed at x = 40
     >>> car = DesignVehicle(1.8, 3.7, 1.0, 4.97, 0.15, 2.0)

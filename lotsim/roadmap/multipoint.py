@@ -14,14 +14,14 @@ Montemerlo and Diebel, 2008):
   move (:func:`closings`: a straight, one arc and a straight along
   the lane, or an S of two wide arcs), left-handed or mirrored;
 * the cost is path length, plus a price on every change of direction and of steering
-  (each is a stop to turn the wheels: :func:`lotsim.trajectory.timed_path`), so the
+  (each is a stop to turn the wheels: :func:`lotsim.vehicles.motion.timed_path`), so the
   fewest strokes win; the heuristic is the larger of the straight-line distance to the
   stretch of lane it may land on and the full-lock arc that turns the car to the lane's
   heading, neither of which overestimates, weighted by :data:`WEIGHT` (a path found costs
   at most that much more than the cheapest, and is found far sooner).
 
 Everything is checked for ``body`` (a design vehicle grown by the safety margin, as
-:func:`lotsim.lot.turnaround.turnaround_collider` makes it) against ``collider``.
+:func:`lotsim.roadmap.turnaround.turnaround_collider` makes it) against ``collider``.
 """
 
 from __future__ import annotations
@@ -32,7 +32,7 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from lotsim.geometry import FloatArray, Pose, Segment, advance, sample_segments
+from lotsim.core.geometry import FloatArray, Pose, Segment, advance, sample_segments
 from lotsim.lot.clearance import Collider, first_blocked
 from lotsim.lot.model import DesignVehicle
 

@@ -1,6 +1,6 @@
 """Timed trajectories: paths driven the way a real car drives them.
 
-A path is a list of :class:`Piece` — a :class:`~lotsim.geometry.Segment` (a
+A path is a list of :class:`Piece` — a :class:`~lotsim.core.geometry.Segment` (a
 straight, an arc or a clothoid) and the speed limit that applies on it. A car
 drives it within every one of its limits:
 
@@ -31,7 +31,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from lotsim.geometry import FloatArray, Pose, Segment, travel
+from lotsim.core.geometry import FloatArray, Pose, Segment, travel
 from lotsim.vehicles.model import VehicleType
 
 DT = 0.05

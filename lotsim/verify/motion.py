@@ -8,9 +8,9 @@ from collections.abc import Callable
 import numpy as np
 import shapely
 
-from lotsim.check.reading import _Lot, _Vehicle
-from lotsim.check.report import Violation, _add
-from lotsim.check.tolerances import (
+from lotsim.verify.reading import _Lot, _Vehicle
+from lotsim.verify.report import Violation, _add
+from lotsim.verify.tolerances import (
     ACCEL_TOL,
     CHORD_SLACK,
     CHORD_SPEED_REL,

@@ -28,9 +28,9 @@ import numpy as np
 import shapely
 from shapely.geometry.base import BaseGeometry
 
-from lotsim.geometry import FloatArray
-from lotsim.trajectory import Motion, Profile, Stroke, Trajectory
+from lotsim.core.geometry import FloatArray
 from lotsim.vehicles.model import VehicleType
+from lotsim.vehicles.motion import Motion, Profile, Stroke, Trajectory
 
 CHUNK = 0.5
 """Longest time one swept hull covers [s]."""
@@ -675,7 +675,7 @@ class ReservationTable:
     def blocked_standing(self, sw: Swept, since: float, until: float, *,
                          ignore: str | None = None) -> list[tuple[float, float]]:
         """:meth:`blocked` for a standing body, one hull (:meth:`Swept.held` or a
-        :class:`~lotsim.planners.cooperative.SearchGraph`'s ``standing``), asked about again
+        :class:`~lotsim.traffic.search.SearchGraph`'s ``standing``), asked about again
         and again: the same intervals.
 
         The entries its hull meets are kept with it (by the object: keep it alive and

@@ -9,10 +9,10 @@ from typing import Any
 
 import numpy as np
 
-from lotsim.check.final import _check_final, _check_metrics
-from lotsim.check.footprints import _check_footprints
-from lotsim.check.motion import _check_motion
-from lotsim.check.reading import (
+from lotsim.verify.final import _check_final, _check_metrics
+from lotsim.verify.footprints import _check_footprints
+from lotsim.verify.motion import _check_motion
+from lotsim.verify.reading import (
     _format_problem,
     _is_number,
     _kind,
@@ -21,8 +21,8 @@ from lotsim.check.reading import (
     _parse_vehicle,
     _Vehicle,
 )
-from lotsim.check.report import CheckReport, Violation, _add, _guard
-from lotsim.check.tolerances import RULES
+from lotsim.verify.report import CheckReport, Violation, _add, _guard
+from lotsim.verify.tolerances import RULES
 
 
 def check_result(data: dict, *, max_violations: int = 50) -> CheckReport:

@@ -1,1 +1,0 @@
-"""Planners: parking maneuvers and cooperative multi-vehicle search (later issues)."""

@@ -1,0 +1,1 @@
+"""Independent references the tests hold lotsim's answers against."""
