@@ -52,7 +52,7 @@ from lotsim.io.result import result_dict, write_json  # noqa: E402
 from lotsim.io.scenario_yaml import load_scenario  # noqa: E402
 from lotsim.render import html as html_mod  # noqa: E402
 from lotsim.render.replay import Replay  # noqa: E402
-from lotsim.settings import HtmlSettings  # noqa: E402
+from lotsim.scenario import HtmlSettings  # noqa: E402
 from lotsim.sim.simulation import RunSettings, prepare, run  # noqa: E402
 from lotsim.traffic.demand import StreamSpec, TrafficSpec  # noqa: E402
 

@@ -12,7 +12,7 @@ As a library (``docs/python.md``)::
     result = lotsim.run(prepared, planner="whca", window=10)
     lotsim.check(result).ok
 
-The names below are imported on first use (:mod:`lotsim.api`, :mod:`lotsim.settings`,
+The names below are imported on first use (:mod:`lotsim.api`, :mod:`lotsim.sim.settings`,
 :mod:`lotsim.errors`), so ``import lotsim`` and ``lotsim --help`` stay quick.
 """
 
@@ -30,9 +30,9 @@ _EXPORTS = {
     "lotsim.sim.simulation": ("PreparedLot",),
     "lotsim.sim.validation": ("ValidationReport",),
     "lotsim.verify": ("CheckReport", "Violation"),
-    "lotsim.scenario": ("Scenario",),
-    "lotsim.settings": ("AnimationSpec", "GASettings", "GifSettings", "HtmlSettings",
-                        "MinSlotSettings", "RunSettings"),
+    "lotsim.scenario": ("AnimationSpec", "GifSettings", "HtmlSettings", "Scenario"),
+    "lotsim.sim.settings": ("GASettings", "RunSettings"),
+    "lotsim.maneuvers.settings": ("MinSlotSettings",),
     "lotsim.errors": ("InfeasibleManeuver", "LimitExceeded", "Location", "LotsimError",
                       "ReplayError", "ResultFormatError", "ScenarioError", "SettingsError"),
 }
@@ -84,15 +84,9 @@ if TYPE_CHECKING:  # for type checkers and editors: the same names, imported eag
         ScenarioError,
         SettingsError,
     )
-    from lotsim.scenario import Scenario  # noqa: F401
-    from lotsim.settings import (  # noqa: F401
-        AnimationSpec,
-        GASettings,
-        GifSettings,
-        HtmlSettings,
-        MinSlotSettings,
-        RunSettings,
-    )
+    from lotsim.maneuvers.settings import MinSlotSettings  # noqa: F401
+    from lotsim.scenario import AnimationSpec, GifSettings, HtmlSettings, Scenario  # noqa: F401
+    from lotsim.sim.settings import GASettings, RunSettings  # noqa: F401
     from lotsim.sim.simulation import PreparedLot  # noqa: F401
     from lotsim.sim.validation import ValidationReport  # noqa: F401
     from lotsim.verify import CheckReport, Violation  # noqa: F401

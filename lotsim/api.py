@@ -23,20 +23,13 @@ import os
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, NamedTuple
 
-from lotsim import settings as _settings
+from lotsim.core import checks as _checks
 from lotsim.errors import ReplayError, SettingsError
 from lotsim.io.scenario_yaml import read_scenario
-from lotsim.scenario import Scenario
-from lotsim.settings import (
-    MARGIN,
-    STYLES,
-    AnimationSpec,
-    GifSettings,
-    HtmlSettings,
-    MinSlotSettings,
-    RunSettings,
-)
+from lotsim.maneuvers.settings import MARGIN, STYLES, MinSlotSettings
+from lotsim.scenario import AnimationSpec, GifSettings, HtmlSettings, Scenario, size_problem
 from lotsim.sim import simulation as _sim
+from lotsim.sim.settings import RunSettings
 from lotsim.sim.simulation import PreparedLot
 from lotsim.sim.validation import ValidationReport, validate_prepared
 
@@ -302,7 +295,7 @@ def run(scenario_or_prepared: ScenarioLike | PreparedLot, settings: RunSettings 
     if settings is not None and not isinstance(settings, RunSettings):
         raise SettingsError("settings", f"expected RunSettings, found "
                                         f"{type(settings).__name__}")
-    settings = _settings.replace(settings or RunSettings(), overrides)
+    settings = _checks.replace(settings or RunSettings(), overrides)
     prepared = (scenario_or_prepared if isinstance(scenario_or_prepared, PreparedLot)
                 else prepare(scenario_or_prepared))
     traffic = prepared.scenario.traffic
@@ -408,9 +401,9 @@ def check(result: RunResult | dict | str | os.PathLike, *, max_violations: int =
     """
     from lotsim.verify import check_result
 
-    if not (_settings.is_real(max_violations) and max_violations >= 1):
+    if not (_checks.is_real(max_violations) and max_violations >= 1):
         raise SettingsError("max_violations", f"expected at least 1, found "
-                                              f"{_settings.shown(max_violations)}")
+                                              f"{_checks.shown(max_violations)}")
     return check_result(_document(result), max_violations=int(max_violations))
 
 
@@ -476,7 +469,7 @@ def _gif_settings(settings: GifSettings | AnimationSpec | None, overrides: dict
     if settings is not None and not isinstance(settings, GifSettings):
         raise SettingsError("settings", f"expected GifSettings or AnimationSpec, found "
                                         f"{type(settings).__name__}")
-    return _settings.replace(settings or GifSettings(), overrides)
+    return _checks.replace(settings or GifSettings(), overrides)
 
 
 def render_html(result: RunResult | dict | str | os.PathLike, path: str | os.PathLike,
@@ -515,7 +508,7 @@ def render_html(result: RunResult | dict | str | os.PathLike, path: str | os.Pat
     if settings is not None and not isinstance(settings, HtmlSettings):
         raise SettingsError("settings", f"expected HtmlSettings or AnimationSpec, found "
                                         f"{type(settings).__name__}")
-    settings = _settings.replace(settings or HtmlSettings(), overrides)
+    settings = _checks.replace(settings or HtmlSettings(), overrides)
     _suffix(path, ".html")
     doc = _drawable(result)
     from lotsim.render.html import write_html
@@ -579,7 +572,7 @@ def render_lot(scenario: ScenarioLike | PreparedLot, path: str | os.PathLike | N
     >>> render_lot(EXAMPLE, size=(400, 300)).size
     (400, 300)
     """
-    problem = _settings.size_problem(size)
+    problem = size_problem(size)
     if problem:
         raise SettingsError("size", problem)
     _suffix(path, ".png")
@@ -661,9 +654,9 @@ def check_slot_width(vehicle: VehicleType, width: float, *, narrow_ok: bool = Fa
     ...
     lotsim.errors.SettingsError: width: a 1.5 m slot is narrower than altis (1.78 m wide)
     """
-    if not (_settings.is_real(width) and 0 < width < math.inf):
+    if not (_checks.is_real(width) and 0 < width < math.inf):
         raise SettingsError("width", f"expected a positive slot width in metres, found "
-                                     f"{_settings.shown(width)}")
+                                     f"{_checks.shown(width)}")
     if width < vehicle.width and not narrow_ok:
         raise SettingsError("width", f"a {width:g} m slot is narrower than {vehicle.name} "
                                      f"({vehicle.width:g} m wide)")
@@ -702,7 +695,7 @@ def minslot(vehicle: VehicleType | str | os.PathLike, width: float,
     """
     from lotsim.maneuvers.minslot import min_slot_lengths
 
-    s = _settings.replace(settings or MinSlotSettings(), overrides)
+    s = _checks.replace(settings or MinSlotSettings(), overrides)
     v = vehicle if not isinstance(vehicle, (str, os.PathLike)) else car(vehicle)
     check_slot_width(v, width, narrow_ok=narrow_ok)
     rows = min_slot_lengths(v, width, max_changes=s.max_changes, resolution=s.resolution,
@@ -723,11 +716,11 @@ def maneuver_case(scenario: ScenarioLike, slot: str, *, vehicle: str | None = No
                   lane: str | None = None, style: str = "any", margin: float = MARGIN
                   ) -> _ManeuverCase:
     """The checked problem :func:`plan_maneuver` solves (the CLI draws it too)."""
-    problem = _settings.choice_problem(style, STYLES)
+    problem = _checks.choice_problem(style, STYLES)
     if problem:
         raise SettingsError("style", problem)
-    if not (_settings.is_real(margin) and 0.0 <= margin <= 1.0):
-        raise SettingsError("margin", f"expected 0 to 1 m, found {_settings.shown(margin)}")
+    if not (_checks.is_real(margin) and 0.0 <= margin <= 1.0):
+        raise SettingsError("margin", f"expected 0 to 1 m, found {_checks.shown(margin)}")
     from lotsim.lot.build import build_lot
     from lotsim.lot.model import DesignVehicle
 

@@ -18,19 +18,9 @@ from pathlib import Path
 
 from lotsim import __version__
 from lotsim.errors import ScenarioError, SettingsError
-from lotsim.settings import (
-    ASSIGNMENTS,
-    MARGIN,
-    MAX_SIZE,
-    MIN_SIZE,
-    PLANNERS,
-    PRIORITIES,
-    STYLES,
-    GifSettings,
-    MinSlotSettings,
-    RunSettings,
-    size_problem,
-)
+from lotsim.maneuvers.settings import MARGIN, STYLES, MinSlotSettings
+from lotsim.scenario import MAX_SIZE, MIN_SIZE, GifSettings, size_problem
+from lotsim.sim.settings import ASSIGNMENTS, PLANNERS, PRIORITIES, RunSettings
 
 EXIT_OK, EXIT_INCOMPLETE, EXIT_BAD_INPUT = 0, 1, 2
 _SIZES = f"{MIN_SIZE[0]}x{MIN_SIZE[1]} to {MAX_SIZE[0]}x{MAX_SIZE[1]}"
@@ -259,7 +249,7 @@ def main(argv: Sequence[str] | None = None) -> int:
 
 _OPTIONS = {"assignment": "--assign", "start": "--from", "end": "--to",
             "max_violations": "--max", "path": "-o"}
-"""Setting (:mod:`lotsim.settings`, :mod:`lotsim.api` keyword) → the option that sets it,
+"""Setting (:mod:`lotsim.sim.settings`, :mod:`lotsim.api` keyword) → the option that sets it,
 where the two are not named alike."""
 
 
@@ -301,7 +291,7 @@ def _validate(paths: Sequence[str], *, strict: bool) -> int:
 
 def _size(text: str) -> tuple[int, int] | str:
     """``--size WxH`` as ``(w, h)`` pixels, or what is wrong with it (the same limits for
-    every picture: :func:`lotsim.settings.size_problem`)."""
+    every picture: :func:`lotsim.scenario.size_problem`)."""
     try:
         w, h = (int(v) for v in text.lower().split("x"))
     except ValueError:

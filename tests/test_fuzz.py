@@ -26,7 +26,7 @@ from conftest import ROOT, time_limit
 from lotsim.cli import main
 from lotsim.errors import ScenarioError
 from lotsim.io.scenario_yaml import load_scenario
-from lotsim.settings import GifSettings
+from lotsim.scenario import GifSettings
 from lotsim.sim.simulation import check_traffic, prepare
 from lotsim.traffic.demand import arrivals
 from lotsim.verify import check_result

@@ -321,10 +321,10 @@ lot:
 
 
 def test_the_pixel_padding_is_not_named_like_the_safety_margin_in_metres() -> None:
-    # lot_image.MARGIN (14 px) read like lotsim.settings.MARGIN (0.1 m)
+    # lot_image.MARGIN (14 px) read like lotsim.maneuvers.settings.MARGIN (0.1 m)
     import lotsim.render.animation as anim
     import lotsim.render.maneuver_image as mi
-    from lotsim import settings
+    from lotsim.maneuvers import settings
 
     for module in (li, anim, mi):
         assert not hasattr(module, "MARGIN")

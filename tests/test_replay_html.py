@@ -28,7 +28,7 @@ from lotsim.render.animation import VEHICLE_COLOURS, GifSettings, plan_frames, v
 from lotsim.render.html import UNITS, replay_data, thin, write_html
 from lotsim.render.lot_image import lot_bounds
 from lotsim.render.replay import Replay, assign_colours
-from lotsim.settings import AnimationSpec, HtmlSettings
+from lotsim.scenario import AnimationSpec, HtmlSettings
 from lotsim.sim.simulation import RunSettings, run
 
 QUICKSTART = ROOT / "scenarios" / "quickstart.yaml"

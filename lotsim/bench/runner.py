@@ -21,8 +21,8 @@ from lotsim.errors import LotsimError, ScenarioError
 from lotsim.io.result import result_dict
 from lotsim.io.scenario_yaml import parse_scenario
 from lotsim.io.yamlnodes import parse_text
-from lotsim.settings import GASettings, RunSettings
 from lotsim.sim.orders import plan_run
+from lotsim.sim.settings import GASettings, RunSettings
 from lotsim.sim.simulation import RunResult, prepare
 from lotsim.verify import check_result
 

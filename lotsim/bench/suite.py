@@ -13,7 +13,7 @@ from lotsim.errors import SettingsError
 from lotsim.io.kinds import refuse_other_kind, top_level
 from lotsim.io.scenario_yaml import MAX_ITEMS, load_scenario, name_from_file
 from lotsim.io.yamlnodes import YNode, read_yaml
-from lotsim.settings import (
+from lotsim.sim.settings import (
     ASSIGNMENTS,
     BOOKING_HORIZON,
     PLANNERS,
@@ -200,7 +200,7 @@ def parse_suite(root: YNode) -> Suite:
 
 def _checked(node: YNode, cls: type, name: str, value: Any, **more: Any) -> Any:
     """``value`` of setting ``name`` (with ``more``), checked as ``cls`` checks it on
-    construction (:mod:`lotsim.settings`): the same message as from Python or the CLI,
+    construction (:mod:`lotsim.sim.settings`): the same message as from Python or the CLI,
     located at ``node``."""
     try:
         cls(**({name: value} if name else {}), **more)

@@ -31,8 +31,7 @@ from lotsim.lot.spec import (
     SpeedBumpSpec,
     SpeedZoneSpec,
 )
-from lotsim.scenario import Scenario
-from lotsim.settings import AnimationSpec
+from lotsim.scenario import AnimationSpec, Scenario
 from lotsim.traffic.demand import PATIENCE, Arrival, StreamSpec, TrafficSpec
 from lotsim.vehicles.catalogue import CATALOGUE, DEFAULT_VEHICLE
 from lotsim.vehicles.model import KMH, VehicleLimits, VehicleType

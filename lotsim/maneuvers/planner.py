@@ -74,9 +74,9 @@ from lotsim.errors import InfeasibleManeuver
 from lotsim.lot.clearance import first_blocked, hulls, hulls_blocked
 from lotsim.lot.model import Lane, Lot, Slot, unit
 from lotsim.maneuvers.minslot import SlotFrame, simulate, start_headings
+from lotsim.maneuvers.settings import MARGIN, STYLES
 from lotsim.roadmap.graph import lane_serves
 from lotsim.roadmap.multipoint import plan_onto
-from lotsim.settings import MARGIN, STYLES
 from lotsim.vehicles.model import VehicleType
 from lotsim.vehicles.motion import Motion, Piece, runs, timed_path
 

@@ -39,7 +39,7 @@ from lotsim.render.lot_image import (
     paint_scale_bar,
 )
 from lotsim.render.replay import COUNTERS, PHASES, Replay, assign_colours
-from lotsim.settings import MAX_FPS, GifSettings  # noqa: F401 - re-exported
+from lotsim.scenario import GifSettings
 
 CHUNK = 48
 """Frames encoded at a time: bounds memory to about ``CHUNK`` × width × height × 3 bytes."""

@@ -51,7 +51,7 @@ from lotsim.render.animation import (
 )
 from lotsim.render.lot_svg import lot_svg, rgb
 from lotsim.render.replay import COUNTERS, PHASES, Replay, assign_colours
-from lotsim.settings import REPLAY_SPEEDS, HtmlSettings
+from lotsim.scenario import REPLAY_SPEEDS, HtmlSettings
 
 STEER_TOLERANCE = 0.02
 """Largest error of the drawn wheel angle a left-out sample may cause [rad]."""

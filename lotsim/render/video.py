@@ -21,7 +21,7 @@ import numpy as np
 
 from lotsim.errors import LotsimError, SettingsError
 from lotsim.render.animation import CHUNK, GifRenderer, plan_frames
-from lotsim.settings import GifSettings
+from lotsim.scenario import GifSettings
 
 CRF = 16
 """x264's constant rate factor: 0 lossless, 23 its default; 16 keeps the thin lines and

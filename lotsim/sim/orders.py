@@ -17,7 +17,7 @@ import time
 import numpy as np
 
 from lotsim.errors import SettingsError
-from lotsim.settings import PRIORITIES, GASettings, RunSettings  # also re-exported
+from lotsim.sim.settings import PRIORITIES, GASettings, RunSettings
 from lotsim.sim.simulation import RunResult, require_traffic, run
 from lotsim.traffic.demand import arrivals
 

@@ -24,7 +24,7 @@ from lotsim.lot.model import DesignVehicle, Lot
 from lotsim.maneuvers.planner import MARGIN, ManeuverPlanner, plan_lot
 from lotsim.roadmap.graph import LotGraph, Reachability, build_graph, plan_turnarounds_ahead
 from lotsim.scenario import Scenario
-from lotsim.settings import ASSIGNMENTS, BOOKING_HORIZON, RunSettings  # noqa: F401 - re-exported
+from lotsim.sim.settings import RunSettings
 from lotsim.traffic.demand import Arrival, arrivals
 from lotsim.traffic.reservation import ReservationTable, standing_body
 from lotsim.traffic.search import (

@@ -50,7 +50,7 @@ from shapely.geometry.base import BaseGeometry
 from lotsim.core.geometry import same_pose
 from lotsim.maneuvers.planner import Maneuver
 from lotsim.roadmap.graph import LotGraph
-from lotsim.settings import OMEGA, PLANNERS
+from lotsim.sim.settings import OMEGA, PLANNERS
 from lotsim.traffic.reservation import (
     ReservationTable,
     Swept,

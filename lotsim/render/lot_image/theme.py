@@ -60,8 +60,8 @@ HALO: Color = (255, 255, 255)
 DEFAULT_PARKED = (4.5, 1.8)
 """Length and width [m] of the car drawn in taken slots when no vehicle type is given."""
 PAD_PX = 14
-"""Free pixels around the drawing and between panels [px] (not :data:`lotsim.settings.MARGIN`,
-the planner's safety margin in metres)."""
+"""Free pixels around the drawing and between panels [px] (not
+:data:`lotsim.maneuvers.settings.MARGIN`, the planner's safety margin in metres)."""
 
 
 # -- fonts and text ----------------------------------------------------------------------------
