@@ -57,7 +57,7 @@ from oracles.reference_footprints import reference_footprints, report_findings  
 from lotsim.bench.runner import run_spec  # noqa: E402
 from lotsim.bench.suite import PlannerVariant, RunSpec, SuiteScenario, load_suite  # noqa: E402
 from lotsim.io.scenario_yaml import load_scenario  # noqa: E402
-from lotsim.sim.simulation import prepare  # noqa: E402
+from lotsim.sim.preparation import prepare  # noqa: E402
 from lotsim.verify import check_result, load_result  # noqa: E402
 
 LARGE = ROOT / "scenarios" / "large_lot.yaml"

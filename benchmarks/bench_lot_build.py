@@ -19,7 +19,7 @@ import shapely
 from lotsim.io.scenario_yaml import load_scenario
 from lotsim.lot.build import SWEEP_STEP, lane_collider
 from lotsim.lot.clearance import Collider
-from lotsim.sim.simulation import prepare
+from lotsim.sim.preparation import prepare
 
 
 def per_pose(collider: Collider, bodies: np.ndarray, obstacles: list) -> np.ndarray:

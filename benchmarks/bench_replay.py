@@ -53,7 +53,9 @@ from lotsim.io.scenario_yaml import load_scenario  # noqa: E402
 from lotsim.render import html as html_mod  # noqa: E402
 from lotsim.render.replay import Replay  # noqa: E402
 from lotsim.scenario import HtmlSettings  # noqa: E402
-from lotsim.sim.simulation import RunSettings, prepare, run  # noqa: E402
+from lotsim.sim.preparation import prepare  # noqa: E402
+from lotsim.sim.settings import RunSettings  # noqa: E402
+from lotsim.sim.simulation import run  # noqa: E402
 from lotsim.traffic.demand import StreamSpec, TrafficSpec  # noqa: E402
 
 

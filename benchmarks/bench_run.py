@@ -38,7 +38,9 @@ sys.path.insert(0, str(ROOT))
 
 from lotsim.io.result import result_dict, write_json  # noqa: E402
 from lotsim.io.scenario_yaml import load_scenario  # noqa: E402
-from lotsim.sim.simulation import RunSettings, prepare, run  # noqa: E402
+from lotsim.sim.preparation import prepare  # noqa: E402
+from lotsim.sim.settings import RunSettings  # noqa: E402
+from lotsim.sim.simulation import run  # noqa: E402
 from lotsim.traffic.demand import StreamSpec, TrafficSpec  # noqa: E402
 from lotsim.verify import check_result  # noqa: E402
 

@@ -98,14 +98,14 @@ def whca_row() -> dict[str, dict]:
     """Plan the jammed lot with HCA*, WHCA* and WHCA* searching every replan; print a line
     each and the ratios; the metrics by name."""
     sc = parse_scenario(parse_text(JAMMED, "jammed.yaml"))
-    lg = lotsim.sim.simulation.prepare(sc, cache=False)
+    lg = lotsim.sim.preparation.prepare(sc, cache=False)
     rows = {}
     for name, planner, skip in (("HCA*", "hca", True), ("WHCA* 10 s", "whca", True),
                                 ("WHCA*, every replan", "whca", False)):
         lotsim.sim.simulation.SKIP_FRUITLESS = skip
         try:
             # each on a copy of the lot: none drives the edge motions another worked out
-            m = lotsim.sim.simulation.run(sc, lotsim.sim.simulation.RunSettings(planner=planner),
+            m = lotsim.sim.simulation.run(sc, lotsim.sim.settings.RunSettings(planner=planner),
                                lot_graph=copy.deepcopy(lg)).metrics()
         finally:
             lotsim.sim.simulation.SKIP_FRUITLESS = True

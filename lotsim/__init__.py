@@ -27,7 +27,7 @@ _EXPORTS = {
     "lotsim.api": ("EXAMPLE", "MinSlotTable", "RunResult", "car", "check", "load_animation",
                    "load_scenario", "minslot", "plan_maneuver", "prepare", "render_gif",
                    "render_html", "render_lot", "render_mp4", "run", "validate"),
-    "lotsim.sim.simulation": ("PreparedLot",),
+    "lotsim.sim.preparation": ("PreparedLot",),
     "lotsim.sim.validation": ("ValidationReport",),
     "lotsim.verify": ("CheckReport", "Violation"),
     "lotsim.scenario": ("AnimationSpec", "GifSettings", "HtmlSettings", "Scenario"),
@@ -86,7 +86,7 @@ if TYPE_CHECKING:  # for type checkers and editors: the same names, imported eag
     )
     from lotsim.maneuvers.settings import MinSlotSettings  # noqa: F401
     from lotsim.scenario import AnimationSpec, GifSettings, HtmlSettings, Scenario  # noqa: F401
+    from lotsim.sim.preparation import PreparedLot  # noqa: F401
     from lotsim.sim.settings import GASettings, RunSettings  # noqa: F401
-    from lotsim.sim.simulation import PreparedLot  # noqa: F401
     from lotsim.sim.validation import ValidationReport  # noqa: F401
     from lotsim.verify import CheckReport, Violation  # noqa: F401

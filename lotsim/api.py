@@ -28,9 +28,10 @@ from lotsim.errors import ReplayError, SettingsError
 from lotsim.io.scenario_yaml import read_scenario
 from lotsim.maneuvers.settings import MARGIN, STYLES, MinSlotSettings
 from lotsim.scenario import AnimationSpec, GifSettings, HtmlSettings, Scenario, size_problem
+from lotsim.sim import preparation as _preparation
 from lotsim.sim import simulation as _sim
+from lotsim.sim.preparation import PreparedLot
 from lotsim.sim.settings import RunSettings
-from lotsim.sim.simulation import PreparedLot
 from lotsim.sim.validation import ValidationReport, validate_prepared
 
 if TYPE_CHECKING:
@@ -175,7 +176,7 @@ def prepare(scenario: ScenarioLike, *, cache: bool = True, progress=None) -> Pre
     (6, {'valet': {}})
     """
     sc = _scenario(scenario)
-    return PreparedLot(sc, _sim.prepare(sc, cache=cache, progress=progress))
+    return PreparedLot(sc, _preparation.prepare(sc, cache=cache, progress=progress))
 
 
 def validate(scenario: ScenarioLike | PreparedLot, *, progress=None) -> ValidationReport:
@@ -580,7 +581,7 @@ def render_lot(scenario: ScenarioLike | PreparedLot, path: str | os.PathLike | N
         sc, lg = scenario.scenario, scenario.lot_graph
     else:
         sc = _scenario(scenario)
-        lg = _sim.prepare(sc, maneuvers=graph)
+        lg = _preparation.prepare(sc, maneuvers=graph)
     from lotsim.render.lot_image import draw_lot, save_png
 
     img = draw_lot(lg, size=size, show_graph=graph, parked_vehicle=sc.parked_vehicle,
@@ -739,7 +740,7 @@ def maneuver_case(scenario: ScenarioLike, slot: str, *, vehicle: str | None = No
         raise SettingsError("slot", f"no slot {slot!r} in {_source(scenario)}{hint} (its "
                                     f"slots: {id_ranges(lot.slot_by_id)}; lotsim show draws "
                                     f"them)")
-    planner = _sim.maneuver_planner(sc, lot, margin=margin)
+    planner = _preparation.maneuver_planner(sc, lot, margin=margin)
     lanes = [ln.id for ln in planner.lanes_for(chosen)]
     if lane is not None and lane not in lanes:
         raise SettingsError("lane", f"slot {chosen.id!r} is parked into from "

@@ -360,8 +360,8 @@ def _maneuver(args: argparse.Namespace) -> int:
 def _show(args: argparse.Namespace) -> int:
     from lotsim.api import load_scenario, render_lot
     from lotsim.render.lot_image import slot_labels_drawn
-    from lotsim.sim.simulation import PreparedLot
-    from lotsim.sim.simulation import prepare as prepare_lot
+    from lotsim.sim.preparation import PreparedLot
+    from lotsim.sim.preparation import prepare as prepare_lot
     from lotsim.sim.validation import id_ranges, natural
 
     size = _size(args.size)

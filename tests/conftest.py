@@ -18,7 +18,7 @@ from lotsim.io.scenario_yaml import parse_scenario
 from lotsim.io.yamlnodes import parse_text
 from lotsim.roadmap.graph import LotGraph
 from lotsim.scenario import Scenario
-from lotsim.sim.simulation import prepare
+from lotsim.sim.preparation import prepare
 
 ROOT = Path(__file__).resolve().parents[1]
 

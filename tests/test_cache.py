@@ -11,10 +11,11 @@ import sys
 import pytest
 
 import lotsim.core.diskcache
-import lotsim.sim.simulation
+import lotsim.sim.preparation
 from conftest import ONE_AISLE, ROOT, scenario_from_text
 from lotsim.io.result import result_dict
-from lotsim.sim.simulation import prepare, run
+from lotsim.sim.preparation import prepare
+from lotsim.sim.simulation import run
 
 TRAFFIC = """\
 traffic:
@@ -228,7 +229,7 @@ def test_an_edited_lot_searches_only_what_the_edit_changed(folder, monkeypatch):
     assert not prepare(scenario_from_text(LONG_AISLE + TRAFFIC)).from_cache
     assert not list(folder.glob("maneuvers-*.pickle"))  # 28 slots, one type: too small
     folder.joinpath(next(folder.glob("prepared-*.pickle"))).unlink()
-    monkeypatch.setattr(lotsim.sim.simulation, "REMEMBER_FROM", 1)
+    monkeypatch.setattr(lotsim.sim.preparation, "REMEMBER_FROM", 1)
     before = prepare(scenario_from_text(LONG_AISLE + TRAFFIC))
     assert before.maneuver_planner.stats["remembered"] == 0
     assert len(list(folder.glob("maneuvers-*.pickle"))) == 1

@@ -236,7 +236,7 @@ def test_slot_and_lane_ids_can_be_found(tmp_path, capsys):
 
     from lotsim.io.scenario_yaml import load_scenario
     from lotsim.render.lot_image import draw_lot, lot_layout
-    from lotsim.sim.simulation import prepare
+    from lotsim.sim.preparation import prepare
 
     assert main(["maneuver", str(QUICK), "--slot", "Q7"]) == 2
     assert "no slot 'Q7'" in capsys.readouterr().err

@@ -27,7 +27,8 @@ from lotsim.cli import main
 from lotsim.errors import ScenarioError
 from lotsim.io.scenario_yaml import load_scenario
 from lotsim.scenario import GifSettings
-from lotsim.sim.simulation import check_traffic, prepare
+from lotsim.sim.preparation import prepare
+from lotsim.sim.simulation import check_traffic
 from lotsim.traffic.demand import arrivals
 from lotsim.verify import check_result
 

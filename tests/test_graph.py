@@ -9,7 +9,7 @@ import shapely
 from conftest import ONE_AISLE, ROOT, SCENARIOS, graph_from_text, position, scenario_from_text
 from lotsim.core.geometry import wrap_angle
 from lotsim.errors import ScenarioError
-from lotsim.sim.simulation import prepare
+from lotsim.sim.preparation import prepare
 from lotsim.vehicles import KMH
 
 
@@ -116,7 +116,7 @@ def test_every_slot_is_linked_through_real_maneuvers_that_start_at_their_lane_no
 
 def test_without_maneuvers_slots_hang_off_marked_placeholders():
     from lotsim.io.scenario_yaml import load_scenario
-    from lotsim.sim.simulation import prepare
+    from lotsim.sim.preparation import prepare
 
     path = next(p for p in SCENARIOS if p.stem == "quickstart")
     lg = prepare(load_scenario(path), maneuvers=False)

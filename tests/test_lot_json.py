@@ -22,7 +22,8 @@ from lotsim.io.scenario_yaml import load_scenario
 from lotsim.lot.build import build_lot
 from lotsim.lot.model import Area, DesignVehicle, Lot, SpeedZone
 from lotsim.render import draw_lot
-from lotsim.sim.simulation import prepare, run
+from lotsim.sim.preparation import prepare
+from lotsim.sim.simulation import run
 from lotsim.verify import check_result
 
 TOL = 1e-5

@@ -506,7 +506,7 @@ def test_a_lot_planned_on_two_processes_gets_exactly_the_maneuvers_of_one_search
     and what validate reports about them, must be those of solving slot after slot in this
     process (the second implementation here: solve_lanes alone, on a fresh planner)."""
     from lotsim.maneuvers import planner as maneuver
-    from lotsim.sim.simulation import maneuver_planner
+    from lotsim.sim.preparation import maneuver_planner
 
     sc = load_scenario(ROOT / "scenarios" / "street.yaml")  # three types, both lanes
     lot = build_lot(sc.lot, DesignVehicle.envelope(sc.vehicle_types))
@@ -702,7 +702,7 @@ def test_every_maneuver_starts_on_the_lanes_start_grid_when_bays_are_off_its_pit
     ``ManeuverSettings.start_grid`` promises; answers shared between bays whose grid falls
     differently started 0.25 m off it."""
     from lotsim.maneuvers.planner import plan_lot
-    from lotsim.sim.simulation import maneuver_planner
+    from lotsim.sim.preparation import maneuver_planner
 
     lot, sc = _lot(ROW_OFF_GRID)
     planner = maneuver_planner(sc, lot)

@@ -17,7 +17,9 @@ from lotsim.sim.orders import (
     run_with_priority,
     shortest_first,
 )
-from lotsim.sim.simulation import RunSettings, prepare, run
+from lotsim.sim.preparation import prepare
+from lotsim.sim.settings import RunSettings
+from lotsim.sim.simulation import run
 from lotsim.traffic.demand import Arrival, TrafficSpec, arrivals
 from lotsim.verify import check_result
 

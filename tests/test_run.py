@@ -14,7 +14,9 @@ from lotsim.cli import main
 from lotsim.errors import ScenarioError
 from lotsim.io.result import result_dict
 from lotsim.io.scenario_yaml import load_scenario
-from lotsim.sim.simulation import RunSettings, prepare, run
+from lotsim.sim.preparation import prepare
+from lotsim.sim.settings import RunSettings
+from lotsim.sim.simulation import run
 from lotsim.traffic import search as cooperative
 from lotsim.traffic.demand import Arrival, TrafficSpec, arrivals
 from lotsim.verify import check_result

@@ -20,16 +20,9 @@ from conftest import scenario_from_text
 from lotsim.cli import main
 from lotsim.errors import ScenarioError, SettingsError
 from lotsim.io.result import result_dict
-from lotsim.sim.simulation import (
-    SAMPLE_DT,
-    STATUSES,
-    PreparedLot,
-    RunResult,
-    RunSettings,
-    prepare,
-    run,
-    samples,
-)
+from lotsim.sim.preparation import PreparedLot, prepare
+from lotsim.sim.settings import RunSettings
+from lotsim.sim.simulation import SAMPLE_DT, STATUSES, RunResult, run, samples
 from lotsim.traffic.demand import Arrival, StreamSpec, TrafficSpec, arrivals
 from lotsim.traffic.search import Plan, Status
 

@@ -22,8 +22,9 @@ from lotsim.io.result import result_dict
 from lotsim.io.scenario_yaml import parse_scenario
 from lotsim.io.yamlnodes import parse_text
 from lotsim.sim.orders import plan_run
+from lotsim.sim.preparation import prepare
 from lotsim.sim.settings import GASettings, RunSettings
-from lotsim.sim.simulation import RunResult, prepare
+from lotsim.sim.simulation import RunResult
 from lotsim.verify import check_result
 
 if TYPE_CHECKING:
@@ -75,7 +76,7 @@ def spec_scenario(spec: RunSpec, scenario: Scenario) -> Scenario:
 
 
 def spec_settings(spec: RunSpec) -> RunSettings:
-    """The :class:`~lotsim.sim.simulation.RunSettings` of a spec."""
+    """The :class:`~lotsim.sim.settings.RunSettings` of a spec."""
     kw: dict[str, Any] = {"planner": spec.planner.planner, "assignment": spec.assignment,
                           "seed": spec.seed, "priority": spec.priority,
                           "ga": GASettings(**dict(spec.ga))}

@@ -162,7 +162,7 @@ class LotGraph:
     maneuver_planner : ManeuverPlanner or None
         The planner (and its cache) the maneuvers came from.
     from_cache : bool
-        Whether :func:`~lotsim.sim.simulation.prepare` loaded it from the on-disk cache
+        Whether :func:`~lotsim.sim.preparation.prepare` loaded it from the on-disk cache
         (:mod:`lotsim.core.diskcache`) rather than planning it.
     kept : dict
         What planners work out from the lot alone and keep with it for the next runs in

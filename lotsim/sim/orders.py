@@ -2,7 +2,7 @@
 algorithm over orders (seed 004's G-JHCA*).
 
 A vehicle planned earlier never yields to one planned later, so the order matters when
-vehicles meet. With the traffic booked in advance (:attr:`lotsim.sim.simulation.RunSettings.order`)
+vehicles meet. With the traffic booked in advance (:attr:`lotsim.sim.settings.RunSettings.order`)
 any order can be planned; the fitness of an order is the run's total time to park (a
 vehicle that never parks counts as :data:`UNPARKED_PENALTY` seconds plus the traffic's
 patience). The GA evaluates an order by planning the whole run with it.

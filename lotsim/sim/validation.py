@@ -9,7 +9,8 @@ from dataclasses import dataclass
 
 from lotsim.core.diskcache import LOADED
 from lotsim.roadmap.graph import Reachability
-from lotsim.sim.simulation import PreparedLot, check_traffic
+from lotsim.sim.preparation import PreparedLot
+from lotsim.sim.simulation import check_traffic
 from lotsim.traffic.demand import Arrival, StreamSpec, arrivals
 
 
