@@ -47,18 +47,18 @@ import time
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
-sys.path[:0] = [str(ROOT), str(ROOT / "benchmarks")]
+sys.path[:0] = [str(ROOT), str(ROOT / "benchmarks"), str(ROOT / "tests")]
 
 import bench_minslot  # noqa: E402
 import bench_run  # noqa: E402
 import bench_validate  # noqa: E402
-from oracles.reference_footprints import reference_footprints, report_findings  # noqa: E402
 
 from lotsim.bench.runner import run_spec  # noqa: E402
 from lotsim.bench.suite import PlannerVariant, RunSpec, SuiteScenario, load_suite  # noqa: E402
 from lotsim.io.scenario_yaml import load_scenario  # noqa: E402
 from lotsim.sim.preparation import prepare  # noqa: E402
 from lotsim.verify import check_result, load_result  # noqa: E402
+from oracles.reference_footprints import reference_footprints, report_findings  # noqa: E402
 
 LARGE = ROOT / "scenarios" / "large_lot.yaml"
 SURFACE = ROOT / "scenarios" / "lots" / "surface364.yaml"

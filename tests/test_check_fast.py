@@ -14,10 +14,10 @@ import math
 
 import numpy as np
 import pytest
-from oracles.reference_footprints import reference_footprints, report_findings
 from test_check import random_traffic, refresh_metrics, valid_result
 
 from lotsim.verify import check_result, footprints
+from oracles.reference_footprints import reference_footprints, report_findings
 
 NOTCH = [[0, 0], [40, 0], [40, 20], [29, 20], [29, 13], [28, 13], [28, 20], [0, 20]]
 """The test lot's boundary with a notch cut down from its top edge, between P3 and the

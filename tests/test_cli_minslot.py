@@ -3,10 +3,10 @@
 import json
 
 import pytest
-from oracles.closed_form import one_change_excess
 
 from lotsim.cli import main
 from lotsim.vehicles import CATALOGUE
+from oracles.closed_form import one_change_excess
 
 
 def test_json_rows_for_every_change_count(capsys):

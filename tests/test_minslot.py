@@ -6,7 +6,6 @@ import math
 import numpy as np
 import pytest
 import shapely
-from oracles.closed_form import one_change_excess, sideways_gain, white_radius
 
 from lotsim.core.geometry import advance
 from lotsim.maneuvers.minslot import (
@@ -18,6 +17,7 @@ from lotsim.maneuvers.minslot import (
     start_poses,
 )
 from lotsim.vehicles import CATALOGUE
+from oracles.closed_form import one_change_excess, sideways_gain, white_radius
 
 
 def test_seed_000_altis_in_a_2_5_m_slot():
