@@ -807,3 +807,24 @@ def plan_maneuver(scenario: ScenarioLike, slot: str, *, vehicle: str | None = No
     else:
         m = case.planner.best(case.vehicle, case.slot, style=style)
     return m.reversed() if leave else m
+
+
+# -- exports ---------------------------------------------------------------------------------------
+def export_commonroad(result: RunResult | dict | str | os.PathLike, folder: str | os.PathLike,
+                      *, dt: float = 0.1):
+    """Write a run as CommonRoad files (``lotsim export --commonroad``, ``docs/export.md``):
+    ``scenario.xml`` (the lot's boundary, walls, islands and parked cars as obstacles, each
+    car's dwell in its slot, one planning problem per trip in or out) and ``solution.xml``
+    (a kinematic single-track trajectory per planning problem, on the uniform step ``dt``
+    [s], positions at the CommonRoad vehicle's centre).
+
+    Needs ``pip install 'lotsim[commonroad]'``; raises ``ExportUnavailable`` (a
+    :class:`LotsimError`) without it. Returns a ``CommonRoadInfo`` (files, counts, the
+    resampling error [m, rad], bytes).
+    """
+    if not (_settings.is_real(dt) and 0.01 <= dt <= 1.0):
+        raise SettingsError("dt", f"expected 0.01 to 1 s, found {_settings.shown(dt)}")
+    from lotsim.io.export import export_commonroad as write
+
+    return write(_document(result), folder, dt=dt)
+
