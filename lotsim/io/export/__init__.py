@@ -3,12 +3,8 @@
 Each reads only the result document and needs its own optional packages, imported when it
 runs, so that ``import lotsim`` does not:
 
-* :func:`export_commonroad`: a CommonRoad scenario, planning problems and a KS solution
-  (``pip install 'lotsim[commonroad]'``);
-* :func:`export_sumo`: a SUMO network, parking areas, routes and a ``.sumocfg``
-  (``pip install 'lotsim[sumo]'``);
-* :func:`export_openscenario`: an OpenSCENARIO file with every car's timed trajectory and
-  the lot as OpenDRIVE (``pip install 'lotsim[openscenario]'``).
+* :func:`export_commonroad`: CommonRoad scenarios and KS solutions, one per trip
+  (``pip install 'lotsim[commonroad]'``).
 """
 
 from __future__ import annotations
