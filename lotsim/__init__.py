@@ -29,7 +29,7 @@ _EXPORTS = {
     "lotsim.api": ("EXAMPLE", "MinSlotTable", "RunResult", "car", "check", "load_animation",
                    "load_scenario", "minslot", "plan_maneuver", "prepare", "render_gif",
                    "render_html", "render_lot", "render_mp4", "run", "validate",
-                   "export_commonroad"),
+                   "export_commonroad", "export_sumo"),
     "lotsim.sim": ("PreparedLot",),
     "lotsim.validation": ("ValidationReport",),
     "lotsim.check": ("CheckReport", "Violation"),

@@ -828,3 +828,21 @@ def export_commonroad(result: RunResult | dict | str | os.PathLike, folder: str 
 
     return write(_document(result), folder, dt=dt)
 
+
+
+def export_sumo(result: RunResult | dict | str | os.PathLike, folder: str | os.PathLike,
+                *, step: float = 0.1):
+    """Write a run as a SUMO simulation (``lotsim export --sumo``, ``docs/export.md``): the
+    aisles as a network built by ``netconvert`` (``lot.net.xml``), a parking area per slot
+    with one space at the pose a car stands in it (``lot.add.xml``), each car as a trip from
+    its entrance at its arrival time through a stop in its slot until it moved off, to its
+    exit (``lot.rou.xml``), and ``lot.sumocfg`` to run them on the step ``step`` [s].
+
+    Needs ``pip install 'lotsim[sumo]'``; raises ``ExportUnavailable`` (a
+    :class:`LotsimError`) without it. Returns a ``SumoInfo`` (files, spaces, trips, bytes).
+    """
+    if not (_settings.is_real(step) and 0.001 <= step <= 1.0):
+        raise SettingsError("step", f"expected 0.001 to 1 s, found {_settings.shown(step)}")
+    from lotsim.io.export import export_sumo as write
+
+    return write(_document(result), folder, step=step)

@@ -216,6 +216,8 @@ def _parser() -> argparse.ArgumentParser:
     ex.add_argument("result", metavar="RESULT_JSON", help="a result.json of lotsim run")
     ex.add_argument("--commonroad", metavar="DIR", help="CommonRoad scenarios and KS "
                     "solutions, one per trip (pip install 'lotsim[commonroad]')")
+    ex.add_argument("--sumo", metavar="DIR", help="a SUMO network, a parking area per slot "
+                    "and a trip per car, with lot.sumocfg (pip install 'lotsim[sumo]')")
 
     for action in sub._choices_actions:  # each command's --help: what it does, its exit codes
         command = sub.choices[action.dest]
@@ -1004,7 +1006,7 @@ def _bench(args: argparse.Namespace) -> int:
     return EXIT_INCOMPLETE if failed else EXIT_OK
 
 
-_FORMATS = ("commonroad",)
+_FORMATS = ("commonroad", "sumo")
 """The formats of ``lotsim export``, each an option and an ``api.export_<name>``."""
 
 

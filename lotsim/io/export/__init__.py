@@ -4,12 +4,22 @@ Each reads only the result document and needs its own optional packages, importe
 runs, so that ``import lotsim`` does not:
 
 * :func:`export_commonroad`: CommonRoad scenarios and KS solutions, one per trip
-  (``pip install 'lotsim[commonroad]'``).
+  (``pip install 'lotsim[commonroad]'``);
+* :func:`export_sumo`: a SUMO network, parking areas, trips and configuration
+  (``pip install 'lotsim[sumo]'``).
 """
 
 from __future__ import annotations
 
 from lotsim.io.export.commonroad import CommonRoadInfo, export_commonroad
+from lotsim.io.export.sumo import SumoInfo, export_sumo
 from lotsim.io.export.tracks import ExportError, ExportUnavailable
 
-__all__ = ["CommonRoadInfo", "ExportError", "ExportUnavailable", "export_commonroad"]
+__all__ = [
+    "CommonRoadInfo",
+    "ExportError",
+    "ExportUnavailable",
+    "SumoInfo",
+    "export_commonroad",
+    "export_sumo",
+]
