@@ -218,6 +218,9 @@ def _parser() -> argparse.ArgumentParser:
                     "solutions, one per trip (pip install 'lotsim[commonroad]')")
     ex.add_argument("--sumo", metavar="DIR", help="a SUMO network, a parking area per slot "
                     "and a trip per car, with lot.sumocfg (pip install 'lotsim[sumo]')")
+    ex.add_argument("--openscenario", metavar="DIR", help="OpenSCENARIO (a timed trajectory "
+                    "per car) on an OpenDRIVE lot with a parking space per slot "
+                    "(pip install 'lotsim[openscenario]')")
 
     for action in sub._choices_actions:  # each command's --help: what it does, its exit codes
         command = sub.choices[action.dest]
@@ -1006,7 +1009,7 @@ def _bench(args: argparse.Namespace) -> int:
     return EXIT_INCOMPLETE if failed else EXIT_OK
 
 
-_FORMATS = ("commonroad", "sumo")
+_FORMATS = ("commonroad", "sumo", "openscenario")
 """The formats of ``lotsim export``, each an option and an ``api.export_<name>``."""
 
 
