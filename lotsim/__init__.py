@@ -26,7 +26,8 @@ __version__ = "0.1.0"
 _EXPORTS = {
     "lotsim.api": ("EXAMPLE", "MinSlotTable", "RunResult", "car", "check", "load_animation",
                    "load_scenario", "minslot", "plan_maneuver", "prepare", "render_gif",
-                   "render_html", "render_lot", "render_mp4", "run", "validate"),
+                   "render_html", "render_lot", "render_mp4", "run", "validate",
+                   "export_commonroad", "export_sumo", "export_openscenario"),
     "lotsim.sim.preparation": ("PreparedLot",),
     "lotsim.sim.validation": ("ValidationReport",),
     "lotsim.verify": ("CheckReport", "Violation"),

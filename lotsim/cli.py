@@ -49,6 +49,8 @@ _EXITS = {
              "file is not a lotsim result",
     "show": "0 written; 2 bad input",
     "bench": "0 every run passed its check; 1 some run failed; 2 bad input",
+    "export": "0 written; 2 bad input, a result that cannot be exported, or the format's "
+              "packages missing",
 }
 """Each command's exit codes, for its --help."""
 
@@ -198,6 +200,18 @@ def _parser() -> argparse.ArgumentParser:
                        "(default: the number of CPUs; 1 runs in this process)")
     where.add_argument("--scheduler", metavar="ADDRESS", help="run on the Dask distributed "
                        "cluster whose scheduler is at ADDRESS (pip install 'lotsim[dask]')")
+    # -- export: a result.json in other tools' formats (docs/export.md) --
+    ex = sub.add_parser("export", help="write a result.json as CommonRoad, SUMO or "
+                        "OpenSCENARIO files (docs/export.md)")
+    ex.add_argument("result", metavar="RESULT_JSON", help="a result.json of lotsim run")
+    ex.add_argument("--commonroad", metavar="DIR", help="CommonRoad scenarios and KS "
+                    "solutions, one per trip (pip install 'lotsim[commonroad]')")
+    ex.add_argument("--sumo", metavar="DIR", help="a SUMO network, a parking area per slot "
+                    "and a trip per car, with lot.sumocfg (pip install 'lotsim[sumo]')")
+    ex.add_argument("--openscenario", metavar="DIR", help="OpenSCENARIO (a timed trajectory "
+                    "per car) on an OpenDRIVE lot with a parking space per slot "
+                    "(pip install 'lotsim[openscenario]')")
+
     for action in sub._choices_actions:  # each command's --help: what it does, its exit codes
         command = sub.choices[action.dest]
         command.description = command.description or action.help[0].upper() + action.help[1:]
@@ -231,6 +245,8 @@ def main(argv: Sequence[str] | None = None) -> int:
             return _render(args)
         if args.command == "bench":
             return _bench(args)
+        if args.command == "export":
+            return _export(args)
     except ScenarioError as exc:
         print(f"lotsim: {exc}", file=sys.stderr)
         return EXIT_BAD_INPUT
@@ -981,3 +997,34 @@ def _bench(args: argparse.Namespace) -> int:
     if not plots:
         print("  no plots: they need matplotlib (pip install 'lotsim[plot]')")
     return EXIT_INCOMPLETE if failed else EXIT_OK
+
+
+_FORMATS = ("commonroad", "sumo", "openscenario")
+"""The formats of ``lotsim export``, each an option and an ``api.export_<name>``."""
+
+
+def _export(args: argparse.Namespace) -> int:
+    """``lotsim export``: each format asked for, through the library (docs/export.md)."""
+    import time
+
+    from lotsim import api
+    from lotsim.errors import LotsimError
+
+    asked = [(name, getattr(args, name)) for name in _FORMATS if getattr(args, name)]
+    if not asked:
+        return _bad(f"export: give at least one of "
+                    f"{', '.join(f'--{name} DIR' for name in _FORMATS)}")
+    try:
+        doc = api.load_result(args.result)
+        for name, folder in asked:
+            start = time.perf_counter()
+            info = getattr(api, f"export_{name}")(doc, folder)
+            print(f"{name}: wrote {folder} ({info.bytes / 1e6:.1f} MB, "
+                  f"{time.perf_counter() - start:.1f} s)")
+    except SettingsError:
+        raise
+    except LotsimError as exc:
+        return _bad(str(exc))
+    except OSError as exc:
+        return _bad(f"{exc.filename or args.result}: {exc.strerror}")
+    return EXIT_OK

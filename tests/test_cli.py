@@ -201,7 +201,7 @@ def test_each_command_s_help_says_what_it_does_its_arguments_and_exit_codes(caps
     parser = _parser()
     commands = parser.commands
     assert set(commands) == {"cars", "validate", "minslot", "maneuver", "run", "render",
-                             "check", "show", "bench"}
+                             "check", "show", "bench", "export"}
     for name, command in commands.items():
         with pytest.raises(SystemExit) as exc:
             main([name, "--help"])

@@ -1,0 +1,576 @@
+"""A run as a CommonRoad scenario, planning problems and a KS solution (``commonroad-io``).
+
+:func:`export_commonroad` writes two files into a folder:
+
+* ``<name>.xml``: the scenario (the 2020a XML format, ``FileFormat.XML``): the lot's
+  boundary as four thin road-boundary obstacles outside its edges, every wall, island,
+  obstacle and no-go zone as a static obstacle, every car parked at start as a static
+  ``parkedVehicle``, each car's dwell in its slot as a dynamic obstacle that occupies its
+  parked footprint over that time interval (a set-based prediction), and one planning
+  problem per trip: a car's way in (its entrance to its slot, the goal its slot's polygon)
+  and, for a car that leaves, its way out (its slot to within 0.5 m and 0.1 rad of its
+  exit);
+* ``solution.xml``: one kinematic single-track (KS) trajectory per planning problem.
+
+Conventions (``docs/export.md``)
+--------------------------------
+* **Step.** States are on CommonRoad's uniform step ``dt`` (0.1 s): time step ``k`` is
+  ``k * dt`` seconds of the run. Between lotsim's samples (every 0.05 s, plus starts,
+  stops and cusps) the track is interpolated linearly, as ``docs/result.md`` defines it;
+  :func:`~lotsim.io.export.tracks.resample_error` measures what the step skips.
+* **Vehicle.** Each lotsim type maps to the CommonRoad vehicle (1 Ford Escort, 2 BMW 320i,
+  3 VW Vanagon) whose wheelbase ``a + b`` is nearest its own (:func:`commonroad_vehicle`).
+* **Position.** CommonRoad's KS states give the vehicle's centre: its checker moves the
+  position back by its parameter ``b`` (centre of gravity to rear axle) along the heading
+  to get the rear axle it integrates. lotsim's rear-axle centre is therefore written moved
+  *forward* by that vehicle's ``b``, so the checker's rear axle is lotsim's exactly.
+* **Steering.** The steering angle written is ``atan(l * tan(steer) / wheelbase)``, ``l``
+  the CommonRoad vehicle's wheelbase: the KS model then turns on lotsim's curvature, so its
+  path is lotsim's path. Velocity is lotsim's signed speed (negative in reverse).
+"""
+
+from __future__ import annotations
+
+import math
+import os
+import shutil
+import tempfile
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+import shapely
+
+from lotsim.io.export.tracks import (
+    ExportError,
+    Track,
+    VehicleShape,
+    Visit,
+    forward,
+    require,
+    resample,
+    resample_error,
+    tracks,
+    visits,
+)
+
+DT = 0.1
+"""CommonRoad's time step [s]."""
+BOUNDARY_THICKNESS = 0.2
+"""Thickness of the obstacles that stand for the lot's outline, outside it [m]."""
+FIRST_ID = 1_000_000
+"""Ids of lanelets and obstacles start here; a planning problem's id is its trip's (1, 2,
+...), unique in the run."""
+EXIT_REACH = (0.5, 0.1)
+"""A trip out reaches its exit within this distance [m] and heading [rad] (as ``lotsim
+check`` judges a departed vehicle)."""
+
+COMMONROAD_VEHICLES = {
+    1: ("FORD_ESCORT", 0.88392 + 1.50876, 1.50876),
+    2: ("BMW_320i", 1.1561957064 + 1.4227170936, 1.4227170936),
+    3: ("VW_VANAGON", 1.1507916024 + 1.3211363976, 1.3211363976),
+}
+"""CommonRoad vehicle id: (``VehicleType`` name, wheelbase ``a + b`` [m], ``b`` [m]), as
+``commonroad-vehicle-models`` gives them (parameters_vehicle1-3)."""
+
+
+@dataclass(frozen=True, slots=True)
+class Trip:
+    """One planning problem: a vehicle's track between two time steps."""
+
+    id: int
+    """Planning problem id."""
+    vehicle: str
+    kind: str
+    """``in`` (entrance to slot), ``out`` (slot to exit) or ``whole``."""
+    first: int
+    """First time step (``first * dt`` s)."""
+    last: int
+    """Last time step."""
+
+
+@dataclass(frozen=True, slots=True)
+class CommonRoadInfo:
+    """What :func:`export_commonroad` wrote: one scenario and one solution per trip."""
+
+    folder: Path
+    files: tuple[tuple[Trip, Path, Path], ...]
+    """``(trip, scenario file, solution file)``, in the order of :func:`trips`."""
+    states: int
+    """KS states in all solutions."""
+    dt: float
+    """[s]"""
+    position_error: float
+    """Largest distance of a lotsim sample from the resampled track [m]."""
+    heading_error: float
+    """Largest heading difference there [rad]."""
+    vehicles: dict[str, int]
+    """lotsim type name → CommonRoad vehicle id."""
+    bytes: int
+
+
+def commonroad_vehicle(shape: VehicleShape) -> int:
+    """The CommonRoad vehicle id (1-3) whose wheelbase is nearest the type's.
+
+    >>> commonroad_vehicle(VehicleShape("valet", 1.8, 3.9, 1.0, 2.8, 0.51, 0.44))
+    2
+    """
+    return min(
+        COMMONROAD_VEHICLES, key=lambda k: (abs(COMMONROAD_VEHICLES[k][1] - shape.wheelbase), k)
+    )
+
+
+def ks_states(tr: Track, first: int, last: int, dt: float = DT) -> dict[str, np.ndarray]:
+    """The KS states of ``tr`` at time steps ``first..last``: ``time_step``, ``x``, ``y``
+    (the CommonRoad centre [m]), ``orientation`` [rad], ``velocity`` [m/s],
+    ``steering_angle`` [rad] (module docstring)."""
+    _, wheelbase, b = COMMONROAD_VEHICLES[commonroad_vehicle(tr.shape)]
+    steps = np.arange(first, last + 1)
+    r = resample(tr, steps * dt)
+    x, y = forward(r["x"], r["y"], r["theta"], b)
+    steer = np.arctan(wheelbase * np.tan(r["steer"]) / tr.shape.wheelbase)
+    # continuous over the trip, starting in [-pi, pi); CommonRoad reads [-2 pi, 2 pi]
+    theta = r["theta"] - 2 * np.pi * np.floor((r["theta"][0] + np.pi) / (2 * np.pi))
+    if np.abs(theta).max() > 2 * np.pi:
+        theta = (theta + np.pi) % (2 * np.pi) - np.pi
+    return {
+        "time_step": steps,
+        "x": x,
+        "y": y,
+        "orientation": theta,
+        "velocity": r["v"],
+        "steering_angle": steer,
+    }
+
+
+def trips(doc: dict, dt: float = DT) -> list[tuple[Trip, Track, Visit]]:
+    """Each vehicle's trips on the step: in (first sample to parked), out (moved off to
+    last sample), or whole (a car that never stood in its slot). A trip begins at the first
+    step within its samples, or in the dwell before it; it ends at the last step within its
+    samples, or in the dwell after it."""
+    vs = visits(doc)
+    out, pid = [], 1
+    for tr in tracks(doc):
+        v = vs[tr.id]
+        first_in = math.ceil(tr.t[0] / dt - 1e-9)
+        last_in = math.floor(tr.t[-1] / dt + 1e-9)
+        spans = []
+        if v.park is None:
+            spans.append(("whole", first_in, last_in))
+        else:
+            park_step = min(
+                math.ceil(v.park / dt - 1e-9),
+                last_in if v.leave is None else math.floor(v.leave / dt + 1e-9),
+            )
+            spans.append(("in", first_in, max(park_step, first_in)))
+            if v.leave is not None:
+                leave_step = max(math.floor(v.leave / dt + 1e-9), park_step)
+                spans.append(("out", leave_step, max(last_in, leave_step)))
+        for kind, a, b in spans:
+            out.append((Trip(pid, tr.id, kind, a, b), tr, v))
+            pid += 1
+    return out
+
+
+def export_commonroad(doc: dict, folder: str | os.PathLike, *, dt: float = DT) -> CommonRoadInfo:
+    """Write a run (a ``result.json`` document) as CommonRoad files into ``folder``: for
+    each trip ``<vehicle>-<in|out|whole>.xml`` (its scenario) and
+    ``<vehicle>-<in|out|whole>.solution.xml`` (its KS trajectory).
+
+    Parameters
+    ----------
+    doc : dict
+        The result (:func:`lotsim.api.load_result`).
+    folder : path-like
+        Made if need be; the files are written to a temporary folder beside it and each
+        moved in when all are complete.
+    dt : float, keyword-only
+        The time step [s].
+
+    Returns
+    -------
+    CommonRoadInfo
+
+    Raises
+    ------
+    ExportUnavailable
+        Without ``commonroad-io`` (``pip install 'lotsim[commonroad]'``).
+    ExportError
+        For a run in which no vehicle moved.
+    """
+    require("commonroad", "commonroad")
+    from commonroad.common.file_writer import CommonRoadFileWriter, OverwriteExistingFile
+    from commonroad.common.solution import (
+        CommonRoadSolutionWriter,
+        CostFunction,
+        PlanningProblemSolution,
+        Solution,
+        VehicleModel,
+        VehicleType,
+    )
+    from commonroad.common.util import AngleInterval, FileFormat, Interval
+    from commonroad.geometry.obstacle_shapes.polygon_obstacle_shape import (
+        PolygonObstacleShape,
+    )
+    from commonroad.geometry.obstacle_shapes.rect_obstacle_shape import RectObstacleShape
+    from commonroad.geometry.occupancy.polygon_occupancy import PolygonOccupancy
+    from commonroad.geometry.occupancy.rect_occupancy import RectOccupancy
+    from commonroad.planning.goal import GoalRegion
+    from commonroad.planning.planning_problem import PlanningProblem, PlanningProblemSet
+    from commonroad.prediction.prediction import TrajectoryPrediction
+    from commonroad.scenario.lanelet import Lanelet, LaneletType
+    from commonroad.scenario.obstacle import DynamicObstacle, ObstacleType, StaticObstacle
+    from commonroad.scenario.scenario import Scenario, ScenarioID
+    from commonroad.scenario.state import CustomState, InitialState, KSState
+    from commonroad.scenario.trajectory import Trajectory
+
+    lot = doc["lot"]
+    trip_list = trips(doc, dt)
+    if not trip_list:
+        raise ExportError("no vehicle of this run moved: there is nothing to plan")
+    name = "".join(c for c in str(lot.get("name") or "lot").title() if c.isalnum()) or "Lot"
+    slots = {s["id"]: s for s in lot["slots"]}
+    exits = {e["id"]: e for e in lot.get("exits", [])}
+    every = tracks(doc)
+    vs = visits(doc)
+
+    def ring_of(points) -> list[tuple[float, float]]:
+        ring = [(float(x), float(y)) for x, y in points]
+        return ring[:-1] if ring[0] == ring[-1] else ring
+
+    def footprint(tr: Track, k: int) -> tuple[np.ndarray, float]:
+        """Centre [m] and heading [rad] of ``tr``'s footprint at step ``k``."""
+        r = resample(tr, np.array([k * dt]))
+        cx, cy = forward(r["x"], r["y"], r["theta"], (tr.shape.front - tr.shape.rear) / 2)
+        return np.array([cx[0], cy[0]]), _angle(r["theta"][0])
+
+    def lot_scenario(sid) -> Scenario:
+        """The scenario with what never moves: lanes, slots, boundary, walls, parked cars."""
+        scenario = Scenario(dt, sid)
+        ids = iter(range(FIRST_ID, 100 * FIRST_ID))
+        for lanelet in lanelets(doc, ids):
+            scenario.add_objects(
+                Lanelet(
+                    *lanelet[:4],
+                    lanelet_type={
+                        LaneletType.PARKING if lanelet[4] == "slot" else LaneletType.DRIVE_WAY
+                    },
+                )
+            )
+
+        def static(kind, shape, where=(0.0, 0.0, 0.0)) -> None:
+            state = InitialState(
+                position=np.array(where[:2]), orientation=where[2], velocity=0.0, time_step=0
+            )
+            scenario.add_objects(StaticObstacle(next(ids), kind, shape, state))
+
+        ring = np.array(ring_of(lot["boundary"]))
+        ccw = (
+            np.sum(ring[:, 0] * np.roll(ring[:, 1], -1) - np.roll(ring[:, 0], -1) * ring[:, 1]) > 0
+        )
+        for p, q in zip(ring, np.roll(ring, -1, axis=0), strict=True):
+            d = q - p
+            length = float(np.hypot(*d))
+            if length < 1e-9:
+                continue
+            outward = np.array([d[1], -d[0]]) / length * (1 if ccw else -1)
+            centre = (p + q) / 2 + outward * BOUNDARY_THICKNESS / 2
+            static(
+                ObstacleType.ROAD_BOUNDARY,
+                RectObstacleShape(BOUNDARY_THICKNESS, length + 2 * BOUNDARY_THICKNESS),
+                (float(centre[0]), float(centre[1]), math.atan2(d[1], d[0])),
+            )
+        # the 2020a format's static types: walls are road boundaries, the rest unknown
+        kinds = {"wall": ObstacleType.ROAD_BOUNDARY}
+        areas = (lot.get("drawing") or {}).get("areas")
+        if areas is None:
+            areas = [
+                {"kind": "obstacle", "polygon": {"type": "Polygon", "coordinates": [o]}}
+                for o in lot.get("obstacles", [])
+            ]
+        for area in areas:
+            geom = area["polygon"]
+            polys = [geom["coordinates"]] if geom["type"] == "Polygon" else geom["coordinates"]
+            for rings in polys:
+                static(
+                    kinds.get(area["kind"], ObstacleType.UNKNOWN),
+                    PolygonObstacleShape(tuple(ring_of(rings[0]))),
+                )
+        for points in lot.get("parked", []):
+            static(ObstacleType.PARKED_VEHICLE, PolygonObstacleShape(tuple(ring_of(points))))
+        scenario.next_id = next(ids)  # the first id left for the trip's own objects
+        return scenario
+
+    def ks_list(tr: Track, first: int, last: int, shift: int) -> list[KSState]:
+        s = ks_states(tr, first, last, dt)
+        return [
+            KSState(
+                time_step=int(k) - shift,
+                position=np.array([x, y]),
+                steering_angle=float(d),
+                velocity=float(v),
+                orientation=float(o),
+            )
+            for k, x, y, d, v, o in zip(
+                s["time_step"],
+                s["x"],
+                s["y"],
+                s["steering_angle"],
+                s["velocity"],
+                s["orientation"],
+                strict=True,
+            )
+        ]
+
+    target = Path(folder)
+    target.parent.mkdir(parents=True, exist_ok=True)
+    tmp = Path(tempfile.mkdtemp(prefix=f".{target.name}.", dir=target.parent))
+    written, states, worst = [], 0, [0.0, 0.0]
+    vehicle_ids: dict[str, int] = {}
+    try:
+        for trip, tr, visit in trip_list:
+            crid = commonroad_vehicle(tr.shape)
+            vehicle_ids[tr.shape.name] = crid
+            sid = ScenarioID(
+                country_id="ZAM",
+                map_name=name,
+                map_id=1,
+                configuration_id=trip.id,
+                obstacle_behavior="T",
+                prediction_id=1,
+            )
+            scenario = lot_scenario(sid)
+            ids = iter(range(scenario.next_id, 100 * FIRST_ID))
+            # the other cars: standing through the trip, a static obstacle; moving, a
+            # dynamic one from the trip's start (one that enters later is left out)
+            for other in every:
+                if other.id == trip.vehicle:
+                    continue
+                ov = vs[other.id]
+                first_k = math.ceil(other.t[0] / dt - 1e-9)
+                gone = ov.status == "departed"
+                last_k = math.floor(other.t[-1] / dt + 1e-9) if gone else trip.last
+                if first_k > trip.first or last_k < trip.first:
+                    continue
+                last_k = min(last_k, trip.last)
+                ks = ks_list(other, trip.first, last_k, trip.first)
+                moving = (
+                    any(abs(s.velocity) > 0 for s in ks)
+                    or len(ks) > 1
+                    and (np.ptp([s.position for s in ks], axis=0).max() > 1e-6)
+                )
+                centre, heading = footprint(other, trip.first)
+                shape = RectObstacleShape(other.shape.width, other.shape.length)
+                if not moving and (last_k == trip.last):
+                    scenario.add_objects(
+                        StaticObstacle(
+                            next(ids),
+                            ObstacleType.PARKED_VEHICLE,
+                            shape,
+                            InitialState(
+                                position=centre, orientation=heading, velocity=0.0, time_step=0
+                            ),
+                        )
+                    )
+                    continue
+                rear = other.shape.rear
+                cr_b = COMMONROAD_VEHICLES[commonroad_vehicle(other.shape)][2]
+                # the obstacle's reference point is the KS centre: its box is shifted so
+                # that it covers the car's footprint
+                box = RectObstacleShape(
+                    other.shape.width,
+                    other.shape.length,
+                    origin_x_shift=(cr_b - (other.shape.front - rear) / 2),
+                )
+                init = ks[0]
+                dyn = DynamicObstacle(
+                    next(ids),
+                    ObstacleType.CAR,
+                    box,
+                    InitialState(
+                        position=init.position,
+                        orientation=_angle(init.orientation),
+                        velocity=init.velocity,
+                        acceleration=0.0,
+                        yaw_rate=0.0,
+                        slip_angle=0.0,
+                        time_step=0,
+                    ),
+                    TrajectoryPrediction(
+                        Trajectory(
+                            1,
+                            [
+                                CustomState(
+                                    time_step=s.time_step,
+                                    position=s.position,
+                                    orientation=_angle(s.orientation),
+                                    velocity=s.velocity,
+                                )
+                                for s in ks[1:]
+                            ],
+                        ),
+                        box,
+                    )
+                    if len(ks) > 1
+                    else None,
+                )
+                scenario.add_objects(dyn)
+
+            ks = ks_list(tr, trip.first, trip.last, trip.first)
+            pe, he = resample_error(tr, np.arange(trip.first, trip.last + 1) * dt)
+            worst = [max(worst[0], pe), max(worst[1], he)]
+            states += len(ks)
+            k0 = ks[0]
+            initial = InitialState(
+                position=k0.position,
+                orientation=_angle(k0.orientation),
+                velocity=k0.velocity,
+                acceleration=0.0,
+                yaw_rate=0.0,
+                slip_angle=0.0,
+                time_step=0,
+            )
+            when = Interval(0, trip.last - trip.first)
+            if trip.kind == "in":
+                ring = ring_of(slots[str(visit.slot)]["polygon"])
+                goal = CustomState(position=PolygonOccupancy(shapely.Polygon(ring)), time_step=when)
+            elif visit.exit is not None:
+                ex, ey, eth = exits[visit.exit]["pose"]
+                cx, cy = forward(
+                    np.array(ex), np.array(ey), np.array(eth), COMMONROAD_VEHICLES[crid][2]
+                )
+                reach, turn = EXIT_REACH
+                goal = CustomState(
+                    position=RectOccupancy(
+                        shapely.Point(float(cx), float(cy)), 2 * reach, 2 * reach, _angle(eth)
+                    ),
+                    orientation=AngleInterval(eth - turn, eth + turn),
+                    time_step=when,
+                )
+            else:  # it neither parked nor left: its goal is where it stopped
+                last = ks[-1]
+                goal = CustomState(
+                    position=RectOccupancy(
+                        shapely.Point(*last.position), 1.0, 1.0, _angle(last.orientation)
+                    ),
+                    time_step=when,
+                )
+            # the solution's states start at the planning problem's initial state
+            ks[0] = KSState(
+                time_step=0,
+                position=k0.position,
+                steering_angle=k0.steering_angle,
+                velocity=k0.velocity,
+                orientation=_angle(k0.orientation),
+            )
+            problems = PlanningProblemSet([PlanningProblem(trip.id, initial, GoalRegion([goal]))])
+            stem = f"{_file_name(trip.vehicle)}-{trip.kind}"
+            CommonRoadFileWriter(
+                scenario,
+                problems,
+                author="lotsim",
+                affiliation="lotsim",
+                source="lotsim run",
+                tags=set(),
+                file_format=FileFormat.XML,
+            ).write_to_file(str(tmp / f"{stem}.xml"), OverwriteExistingFile.ALWAYS)
+            solution = Solution(
+                sid,
+                [
+                    PlanningProblemSolution(
+                        trip.id,
+                        VehicleModel.KS,
+                        getattr(VehicleType, COMMONROAD_VEHICLES[crid][0]),
+                        CostFunction.SA1,
+                        Trajectory(0, ks),
+                    )
+                ],
+                date=None,
+            )
+            (tmp / f"{stem}.solution.xml").write_text(
+                CommonRoadSolutionWriter(solution).dump(pretty=True)
+            )
+            written.append((trip, target / f"{stem}.xml", target / f"{stem}.solution.xml"))
+        _replace_folder(tmp, target)
+    except BaseException:
+        shutil.rmtree(tmp, ignore_errors=True)
+        raise
+    size = sum(p.stat().st_size for _, a, b in written for p in (a, b))
+    return CommonRoadInfo(target, tuple(written), states, dt, worst[0], worst[1], vehicle_ids, size)
+
+
+def _file_name(vehicle: str) -> str:
+    """A vehicle id as a file name: letters, digits, ``_`` and ``-`` kept."""
+    return "".join(c if c.isalnum() or c in "_-" else "_" for c in vehicle) or "_"
+
+
+def offset_polyline(points, d: float) -> np.ndarray:
+    """``points`` moved ``d`` metres to the left of their direction (mitred at corners).
+
+    >>> offset_polyline([[0, 0], [10, 0], [10, 10]], 1.0).tolist()
+    [[0.0, 1.0], [9.0, 1.0], [9.0, 10.0]]
+    """
+    p = np.asarray(points, dtype=float)
+    seg = np.diff(p, axis=0)
+    n = np.stack([-seg[:, 1], seg[:, 0]], axis=1) / np.hypot(*seg.T)[:, None]
+    normals = np.concatenate([n[:1], n[:-1] + n[1:], n[-1:]])
+    normals /= np.hypot(*normals.T)[:, None]
+    cos_half = np.ones(len(p))
+    cos_half[1:-1] = np.einsum("ij,ij->i", normals[1:-1], n[:-1])
+    return p + d * normals / cos_half[:, None]
+
+
+def lanelets(doc: dict, ids) -> list[tuple[np.ndarray, np.ndarray, np.ndarray, int, str]]:
+    """``(left, centre, right, id, kind)`` of each lane of each aisle (kind ``lane``: its
+    centreline offset as the lane is, bounds half the lane's width either side) and of each
+    slot (kind ``slot``: from its entry side to its far end, bounds along its sides)."""
+    drawing = doc["lot"].get("drawing") or {}
+    out = []
+    for aisle in drawing.get("aisles", []):
+        line = np.asarray(aisle["centerline"], dtype=float)
+        lanes = aisle["lanes"]
+        width = float(aisle["width"]) / max(len(lanes), 1)
+        for lane in lanes:
+            centre = offset_polyline(line, -float(lane["offset"]))
+            if not lane["with_polyline"]:
+                centre = offset_polyline(line[::-1], -float(lane["offset"]))
+            out.append(
+                (
+                    offset_polyline(centre, width / 2),
+                    centre,
+                    offset_polyline(centre, -width / 2),
+                    next(ids),
+                    "lane",
+                )
+            )
+    for slot in drawing.get("slots", []):
+        ring = [tuple(map(float, q)) for q in slot["polygon"]]
+        a, b = (tuple(map(float, q)) for q in slot["entry"])
+        ia, ib = ring.index(a), ring.index(b)
+        n = len(ring)
+        # the side from a: its other end is the neighbour of a that is not b
+        far_a = ring[(ia - 1) % n] if ring[(ia + 1) % n] == b else ring[(ia + 1) % n]
+        far_b = ring[(ib - 1) % n] if ring[(ib + 1) % n] == a else ring[(ib + 1) % n]
+        side_a, side_b = np.array([a, far_a]), np.array([b, far_b])
+        # left bound: on the left of the way in
+        way = (side_a[1] + side_b[1]) / 2 - (side_a[0] + side_b[0]) / 2
+        across = side_a[0] - side_b[0]
+        left, right = (
+            (side_a, side_b) if way[0] * across[1] - way[1] * across[0] < 0 else (side_b, side_a)
+        )
+        out.append((left, (left + right) / 2, right, next(ids), "slot"))
+    return out
+
+
+def _angle(theta: float) -> float:
+    """``theta`` [rad] wrapped into ``[-pi, pi)``."""
+    return float((theta + math.pi) % (2 * math.pi) - math.pi)
+
+
+def _replace_folder(tmp: Path, target: Path) -> None:
+    """Move the finished files of ``tmp`` into ``target`` (each by a rename), then remove
+    ``tmp``: a reader sees each file whole or not at all."""
+    target.mkdir(parents=True, exist_ok=True)
+    for p in tmp.iterdir():
+        os.replace(p, target / p.name)
+    tmp.rmdir()

@@ -1,0 +1,285 @@
+"""What every export reads from a ``result.json``: each car's timed track and its visit.
+
+A :class:`Track` is one vehicle's samples as numpy arrays (rear-axle centre pose, signed
+speed, road-wheel steer, gear; ``docs/result.md``) with the dimensions of its type. A
+:class:`Visit` says when it came, when it stood in its slot and when it left:
+
+* ``park`` is when it came to rest in its slot for its dwell and ``leave`` when it moved off
+  again (``None`` for a car that stays to the end of the run);
+* the dwell is the longest stretch of samples at rest at one pose whose centre lies inside
+  the car's slot.
+
+:func:`resample` puts a track on a uniform clock (the CommonRoad step) by the same linear
+interpolation that ``docs/result.md`` defines between samples (heading the short way round),
+and :func:`resample_error` measures how far the resampled track strays from the samples it
+skips: that is the whole approximation of the step.
+
+Examples
+--------
+>>> import numpy as np
+>>> tr = Track("a", VehicleShape("car", 1.8, 3.9, 1.0, 2.8, 0.5, 0.4),
+...            *np.array([[0.0, 0.1, 0.2], [0.0, 0.1, 0.2], [0.0, 0.0, 0.0], [0.0] * 3,
+...                       [1.0] * 3, [0.0] * 3, [1, 1, 1]]))
+>>> resample(tr, np.array([0.05, 0.15]))["x"].round(3).tolist()
+[0.05, 0.15]
+>>> round(tr.shape.length, 1), forward(tr.x, tr.y, tr.theta, 1.4)[0].round(1).tolist()
+(4.9, [1.4, 1.5, 1.6])
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+import shapely
+
+from lotsim.core.geometry import FloatArray
+from lotsim.errors import LotsimError
+
+POSE_TOLERANCE = 2e-4
+"""Two samples at rest closer than this [m, rad] stand at one pose (the file's rounding:
+0.1 mm, 1 µrad)."""
+
+
+class ExportError(LotsimError, ValueError):
+    """A result that cannot be exported (the message says why)."""
+
+
+class ExportUnavailable(LotsimError):
+    """An export's optional packages are not installed (the message names the extra)."""
+
+
+def require(module: str, extra: str) -> Any:
+    """Import ``module`` or raise :class:`ExportUnavailable` naming ``pip install
+    'lotsim[extra]'``."""
+    import importlib
+
+    try:
+        return importlib.import_module(module)
+    except ImportError:
+        raise ExportUnavailable(
+            f"the {extra} export needs the {module.split('.')[0]} "
+            f"package: pip install 'lotsim[{extra}]'"
+        ) from None
+
+
+@dataclass(frozen=True, slots=True)
+class VehicleShape:
+    """A vehicle type as ``result.json`` gives it (``vehicles[i].type``)."""
+
+    name: str
+    width: float
+    """[m]"""
+    front: float
+    """Rear axle to front bumper [m]."""
+    rear: float
+    """Rear axle to rear bumper [m]."""
+    wheelbase: float
+    """[m]"""
+    max_steer: float
+    """Road-wheel angle [rad]."""
+    max_steer_rate: float
+    """Road-wheel angle rate [rad/s]."""
+    max_forward_speed: float = math.inf
+    """[m/s]"""
+    max_reverse_speed: float = math.inf
+    """[m/s]"""
+    max_accel: float = math.inf
+    """[m/s²]"""
+    max_brake: float = math.inf
+    """[m/s²]"""
+
+    @property
+    def length(self) -> float:
+        """Bumper to bumper [m]."""
+        return self.front + self.rear
+
+    @classmethod
+    def from_json(cls, t: dict) -> VehicleShape:
+        return cls(
+            str(t["name"]),
+            *(
+                float(t[k])
+                for k in (
+                    "width",
+                    "front",
+                    "rear",
+                    "wheelbase",
+                    "max_steer",
+                    "max_steer_rate",
+                    "max_forward_speed",
+                    "max_reverse_speed",
+                    "max_accel",
+                    "max_brake",
+                )
+            ),
+        )
+
+
+@dataclass(frozen=True, slots=True)
+class Track:
+    """One vehicle's samples: time [s], rear-axle centre ``x``, ``y`` [m], heading
+    ``theta`` [rad], signed speed ``v`` [m/s], road-wheel ``steer`` [rad], ``gear``."""
+
+    id: str
+    shape: VehicleShape
+    t: FloatArray
+    x: FloatArray
+    y: FloatArray
+    theta: FloatArray
+    v: FloatArray
+    steer: FloatArray
+    gear: FloatArray
+
+    def __len__(self) -> int:
+        return len(self.t)
+
+
+@dataclass(frozen=True, slots=True)
+class Visit:
+    """A vehicle's story in times [s]: see the module's docstring."""
+
+    vehicle: str
+    slot: str | None
+    status: str
+    arrival: float
+    """When it arrived at its entrance (it may wait outside before its first sample)."""
+    entrance: str
+    start: float | None
+    """Its first sample (None: it never entered)."""
+    park: float | None
+    """It came to rest in its slot (None: it never stood in it)."""
+    leave: float | None
+    """It moved off from its slot (None: it stayed)."""
+    end: float | None
+    """Its last sample."""
+    exit: str | None
+    """The exit it left by (``departed`` vehicles only)."""
+
+
+def tracks(doc: dict) -> list[Track]:
+    """Every vehicle with samples, in the file's (arrival) order."""
+    out = []
+    for v in doc["vehicles"]:
+        s = v.get("samples") or {}
+        if len(s.get("t", ())) == 0:
+            continue
+        cols = [
+            np.asarray(s[k], dtype=float) for k in ("t", "x", "y", "theta", "v", "steer", "gear")
+        ]
+        out.append(Track(str(v["id"]), VehicleShape.from_json(v["type"]), *cols))
+    return out
+
+
+def forward(
+    x: FloatArray, y: FloatArray, theta: FloatArray, d: float
+) -> tuple[FloatArray, FloatArray]:
+    """Points ``d`` metres ahead of ``(x, y)`` along ``theta`` (behind when negative)."""
+    return x + d * np.cos(theta), y + d * np.sin(theta)
+
+
+def _rest_runs(tr: Track) -> list[tuple[int, int]]:
+    """Index ranges ``[i, j]`` of consecutive samples at rest at one pose."""
+    rest = (tr.v == 0) & (tr.gear == 0)
+    runs, i, n = [], 0, len(tr)
+    while i < n:
+        if not rest[i]:
+            i += 1
+            continue
+        j = i
+        while (
+            j + 1 < n
+            and rest[j + 1]
+            and abs(tr.x[j + 1] - tr.x[i]) <= POSE_TOLERANCE
+            and abs(tr.y[j + 1] - tr.y[i]) <= POSE_TOLERANCE
+            and abs(tr.theta[j + 1] - tr.theta[i]) <= POSE_TOLERANCE
+        ):
+            j += 1
+        runs.append((i, j))
+        i = j + 1
+    return runs
+
+
+def visits(doc: dict) -> dict[str, Visit]:
+    """Each vehicle's :class:`Visit`, by id (every vehicle, those without samples too)."""
+    slots = {s["id"]: shapely.Polygon(s["polygon"]) for s in doc["lot"]["slots"]}
+    by_id = {tr.id: tr for tr in tracks(doc)}
+    exits = doc["lot"].get("exits", [])
+    out = {}
+    for v in doc["vehicles"]:
+        vid, slot, status = str(v["id"]), v.get("slot"), str(v["status"])
+        tr = by_id.get(vid)
+        start = end = park = leave = None
+        exit_id = None
+        if tr is not None:
+            start, end = float(tr.t[0]), float(tr.t[-1])
+            poly = slots.get(slot)
+            if poly is not None:
+                cx, cy = forward(tr.x, tr.y, tr.theta, tr.shape.wheelbase / 2)
+                inside = shapely.contains_xy(poly, cx, cy)
+                best = None
+                for i, j in _rest_runs(tr):
+                    if not inside[i]:
+                        continue
+                    stays = j == len(tr) - 1 and status != "departed"
+                    span = math.inf if stays else tr.t[j] - tr.t[i]
+                    if best is None or span > best[2]:
+                        best = (i, j, span)
+                if best is not None:
+                    i, j, span = best
+                    park = float(tr.t[i])
+                    leave = None if span == math.inf else float(tr.t[j])
+            if status == "departed" and exits:
+                d = [math.hypot(e["pose"][0] - tr.x[-1], e["pose"][1] - tr.y[-1]) for e in exits]
+                exit_id = str(exits[int(np.argmin(d))]["id"])
+        out[vid] = Visit(
+            vid,
+            slot,
+            status,
+            float(v["arrival"]),
+            str(v.get("entrance", "")),
+            start,
+            park,
+            leave,
+            end,
+            exit_id,
+        )
+    return out
+
+
+def resample(tr: Track, times: FloatArray) -> dict[str, FloatArray]:
+    """The track at ``times`` [s] (within its first and last sample): pose, speed and steer
+    interpolated linearly between samples, the heading the short way round.
+
+    Returns
+    -------
+    dict
+        ``x``, ``y``, ``theta`` (unwrapped: continuous, not wrapped into a range), ``v``,
+        ``steer``: arrays like ``times``.
+    """
+    theta = np.unwrap(tr.theta)
+    return {
+        "x": np.interp(times, tr.t, tr.x),
+        "y": np.interp(times, tr.t, tr.y),
+        "theta": np.interp(times, tr.t, theta),
+        "v": np.interp(times, tr.t, tr.v),
+        "steer": np.interp(times, tr.t, tr.steer),
+    }
+
+
+def resample_error(tr: Track, times: FloatArray) -> tuple[float, float]:
+    """How far the track resampled at ``times`` (linear between them) strays from the
+    samples it skips within ``[times[0], times[-1]]``: the largest distance of the
+    rear-axle centre [m] and of the heading [rad]."""
+    keep = (tr.t >= times[0]) & (tr.t <= times[-1])
+    if not keep.any():
+        return 0.0, 0.0
+    r = resample(tr, times)
+    t = tr.t[keep]
+    x, y = np.interp(t, times, r["x"]), np.interp(t, times, r["y"])
+    th = np.interp(t, times, r["theta"])
+    dp = np.hypot(x - tr.x[keep], y - tr.y[keep])
+    dth = np.abs((th - tr.theta[keep] + np.pi) % (2 * np.pi) - np.pi)
+    return float(dp.max()), float(dth.max())
