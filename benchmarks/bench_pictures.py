@@ -1,5 +1,5 @@
 """How long the still pictures take on a large input: a lot of 1000 slots, a timeline of
-1000 vehicles (what tests/test_render.py and tests/test_plots.py once timed).
+1000 vehicles.
 
 Run with::
 

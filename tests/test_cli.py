@@ -4,10 +4,10 @@ import math
 import re
 
 import pytest
-from test_vehicles import DESIGN_TABLE
 
 from conftest import ROOT, SCENARIOS
 from lotsim.cli import main
+from oracles.catalogue import DESIGN_TABLE
 
 
 def test_cars_lists_the_catalogue_with_length_width_and_radius(capsys):

@@ -9,21 +9,11 @@ from shapely import affinity
 from shapely.geometry import box
 
 from lotsim.vehicles import CATALOGUE, VehicleType
-
-# (w, df, dr, b, max steer in degrees) as DESIGN.md gives them from seed 000
-DESIGN_TABLE = {
-    "msv": (1.8, 3.7, 1.0, 2.7, 45),
-    "zoe": (1.771, 3.427, 0.657, 2.588, 33),
-    "corsa": (1.532, 3.212, 0.410, 2.343, 32),
-    "vw": (1.994, 3.308, 1.192, 3.400, 36),
-    "benz": (1.939, 3.528, 1.016, 2.630, 32),
-    "altis": (1.780, 3.515, 0.815, 2.700, 28),
-    "vclass": (1.928, 4.400, 0.970, 3.430, 29),
-}
+from oracles.catalogue import DESIGN_TABLE
 
 
 @pytest.mark.parametrize("name", sorted(DESIGN_TABLE))
-def test_catalogue_matches_seed_000(name):
+def test_catalogue_matches_the_reports_appendix(name):
     w, df, dr, b, deg = DESIGN_TABLE[name]
     car = CATALOGUE[name]
     assert (car.width, car.front, car.rear, car.wheelbase) == (w, df, dr, b)
@@ -32,11 +22,11 @@ def test_catalogue_matches_seed_000(name):
     assert car.min_turning_radius == pytest.approx(b / math.tan(math.radians(deg)))
 
 
-def test_valet_car_is_seed_004s():
+def test_valet_car_is_the_valet_papers_car():
     car = CATALOGUE["valet"]
     assert car.length == pytest.approx(4.9) and car.width == 1.8 and car.wheelbase == 2.8
     assert math.degrees(car.max_steer) == pytest.approx(470 / 16)
-    # R = b / tan(phi), not seed 004's L / (2 sin phi)
+    # R = b / tan(phi), not the paper's L / (2 sin phi)
     assert car.min_turning_radius == pytest.approx(2.8 / math.tan(math.radians(29.375)))
     assert car.limits.max_forward_speed == pytest.approx(20 / 3.6)
     assert car.limits.max_reverse_speed == pytest.approx(10 / 3.6)

@@ -190,7 +190,7 @@ def test_multi_point_turns_have_their_own_colour_and_key() -> None:
     from lotsim.io.scenario_yaml import load_scenario
     from lotsim.render.lot_image.legend import _legend_entries
 
-    lots = Path(__file__).resolve().parents[1] / "scenarios" / "lots"
+    lots = Path(__file__).resolve().parents[3] / "scenarios" / "lots"
     sc = load_scenario(lots / "culdesac.yaml")
     lot = build_lot(sc.lot, DesignVehicle.envelope(sc.vehicle_types))
     g = build_graph(lot, vehicles=sc.vehicle_types)

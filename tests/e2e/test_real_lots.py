@@ -20,7 +20,7 @@ from lotsim.vehicles import CATALOGUE
 from lotsim.verify import check_result
 from single_track import assert_reproduced
 
-LOTS = Path(__file__).resolve().parents[1] / "scenarios" / "lots"
+LOTS = Path(__file__).resolve().parents[2] / "scenarios" / "lots"
 FAST = ("culdesac", "ladder")  # ring and gate_spur: -m slow
 
 

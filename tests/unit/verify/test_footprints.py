@@ -2,7 +2,7 @@
 (:mod:`oracles.reference_footprints`: a shapely polygon per vehicle per instant), and faults
 planted in a result the planner made, which the checker must catch where they are.
 
-The random results reuse the hand-built lot of ``tests/test_check.py`` (40 × 20 m, three
+The random results reuse the hand-built lot of ``tests/unit/verify/test_check.py`` (40 × 20 m, three
 slots, a car parked at start, an obstacle), with vehicles on random arcs that run into each
 other, the parked car, the obstacle, the boundary and each other's slots.
 """
@@ -14,7 +14,7 @@ import math
 
 import numpy as np
 import pytest
-from test_check import random_traffic, refresh_metrics, valid_result
+from hand_built import random_traffic, refresh_metrics, valid_result
 
 from lotsim.verify import check_result, footprints
 from oracles.reference_footprints import reference_footprints, report_findings
