@@ -5,7 +5,7 @@ Run from the repository root::
     python benchmarks/performance.py            # every row, 2 runs each (about 10 minutes
                                                 # on 2 cores)
     python benchmarks/performance.py --quick    # 1 run each; no 364-bay lot, no 1000 cars
-                                                # (a few minutes)
+                                                # (a few minutes on a quiet machine)
     python benchmarks/performance.py --runs 3 -o /tmp/perf.md
 
 Every figure is measured by running a ``lotsim`` command as a process, as a user runs it,
@@ -327,16 +327,20 @@ def commit() -> str:
 def write(page: Page, path: Path, args: argparse.Namespace, took: float) -> None:
     mode = "quick" if args.quick else "full"
     cmd = "python benchmarks/performance.py" + (" --quick" if args.quick else "")
+    cores, system, versions = machine()
     lines = [
         "# Performance",
         "",
-        f"Written by `{cmd}` (do not edit by hand: run it again). Each row names the command",
-        "that measures it; a figure is *min / median / max* over the runs or seeds counted",
-        "beside it.",
+        f"Written by `{cmd}`; do not edit by hand, run it again.",
+        "Each row names the command that measures it; a figure is *min / median / max* over",
+        "the runs or seeds counted beside it.",
         "",
         f"- commit: {commit()}",
         f"- date: {datetime.datetime.now().astimezone():%Y-%m-%d %H:%M %Z}",
-        *(f"- machine: {m}" for m in machine()),
+        f"- machine: {cores}; {system}",
+        f"- software: {versions}",
+        f"- load average (1 min) when it started and ended: {args.load[0]:.1f}, "
+        f"{os.getloadavg()[0]:.1f}",
         f"- mode: {mode}, {args.runs} run(s) of each timing; the whole command took "
         f"{took / 60:.1f} min",
         "",
@@ -359,6 +363,7 @@ def main() -> None:
     ap.add_argument("-o", "--output", default=str(ROOT / "docs" / "performance.md"))
     args = ap.parse_args()
     args.runs = args.runs or (1 if args.quick else 2)
+    args.load = os.getloadavg()
     started = time.perf_counter()
     page = Page()
     lots = [("large lot (1040 slots)", LARGE)]
