@@ -2,9 +2,9 @@
 
 Run: ``python benchmarks/bench_minslot.py [--processes 2] [--sample 3]``
 
-1. Computes the full table — seed 000's seven cars × slot widths {1.2, 1.3, 1.4, 1.5}
+1. Computes the full table — the catalogue's seven cars × slot widths {1.2, 1.3, 1.4, 1.5}
    × car width × direction changes 0..10 at 1 cm — with the exact planner, in parallel
-   processes, and prints the wall time (target: at most 5 s on 2 cores, issue 16).
+   processes, and prints the wall time (target: at most 5 s on 2 cores).
 2. For one car (altis, width 1.4 × car width) re-answers some of the same queries
    ("fewest changes for slot length L") with a 1 mm stepped simulation of the same
    strategy (vectorised over start headings, as the exact one is), checks that the

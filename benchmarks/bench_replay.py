@@ -27,7 +27,7 @@ Prints, for the replay written by ``lotsim.render_html``:
 * the time one frame takes to draw (cars, trails, counters, timeline cursor), mean of 200
   frames drawn back to back.
 
-Targets (issue 18): the 1000-car run loads in under 3 s and plays at 30 fps or better.
+Targets: the 1000-car run loads in under 3 s and plays at 30 fps or better.
 """
 
 from __future__ import annotations

@@ -15,7 +15,7 @@ Rows (each ``lotsim validate`` is a whole process, as a user runs it):
   target is at most 2×), with WHCA* searching every replan as the baseline of what
   skipping replans that cannot end sooner buys.
 
-Targets (issue 16, this 2-core machine): cold ≤ 3 s (large lot), ≤ 6 s (364-bay lot);
+Targets (on 2 cores): cold ≤ 3 s (large lot), ≤ 6 s (364-bay lot);
 warm ≤ 0.5 s; WHCA* ≤ 2× HCA*.
 """
 

@@ -29,8 +29,8 @@ def _results(tmp_path, name, hashseeds, *extra) -> list[bytes]:
 
 def test_results_do_not_depend_on_the_hash_seed(tmp_path):
     # the street: three vehicle types, arrivals and departures, parallel parking;
-    # seed003: a full lot with a queue and cars turned away
-    for name in ("street.yaml", "seed003_two_rows.yaml"):
+    # two rows: a full lot with a queue and cars turned away
+    for name in ("street.yaml", "two_rows.yaml"):
         a, b = _results(tmp_path, name, (0, 4242))
         assert a == b, name
 

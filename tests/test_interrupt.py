@@ -159,7 +159,7 @@ def test_ctrl_c_during_a_benchmark_on_two_processes_writes_nothing(tmp_path):
     worker prints a traceback."""
     if not Path("/proc/self/stat").exists():
         pytest.skip("finds the workers in /proc")
-    proc = _start("bench", str(SCENARIOS / "bench" / "seed004.yaml"), "-o", "out", "--jobs",
+    proc = _start("bench", str(SCENARIOS / "bench" / "valet.yaml"), "-o", "out", "--jobs",
                   "2", cwd=tmp_path)
     # two runs in flight: two workers past their start-up (imports take about 0.5 s of
     # processor time; an interrupt then is reported by multiprocessing itself)
@@ -178,7 +178,7 @@ def test_ctrl_c_while_benchmark_workers_start_is_one_line_and_exit_130(tmp_path,
     importing lotsim) or before there are any: no worker or forkserver prints a traceback."""
     if not Path("/proc/self/stat").exists():
         pytest.skip("finds the workers in /proc")
-    proc = _start("bench", str(SCENARIOS / "bench" / "seed004.yaml"), "-o", "out", "--jobs",
+    proc = _start("bench", str(SCENARIOS / "bench" / "valet.yaml"), "-o", "out", "--jobs",
                   "2", cwd=tmp_path)
     if moment == "importing":  # a worker has appeared and has not yet done its imports
         _wait_for(lambda: any(cpu < 0.3 for cpu in _workers(proc).values()), proc)

@@ -135,7 +135,7 @@ def _stroke_lengths(doc):
 
 
 @pytest.mark.parametrize(("name", "planner"), [
-    (name, planner) for name in ("quickstart", "street", "seed003_two_rows")
+    (name, planner) for name in ("quickstart", "street", "two_rows")
     for planner in ("ca", "hca", "whca")
     if (name, planner) != ("street", "ca")])  # CA* on the street: 15 s for no new case
 def test_every_planner_and_policy_gives_a_checked_result(planner, name, shipped_graphs):

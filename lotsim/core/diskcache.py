@@ -94,7 +94,7 @@ def load(name: str, folder: Path | None = None) -> object | None:
     collecting = gc.isenabled()
     # A prepared lot is some 10^5 small objects (a large lot's maneuvers alone are 30 000
     # path pieces) and no garbage: the cycle collector's passes over them while they are
-    # made were half of loading one
+    # made would take about as long as loading them
     gc.disable()
     try:
         with open(path, "rb") as f:

@@ -1,8 +1,10 @@
 """Built-in vehicle types.
 
-Seven cars from seed 000's ``car_param`` appendix (width, rear axle→front
-bumper, rear axle→rear bumper, wheelbase, max steer in degrees) and seed 004's
-valet car. Seed 004 gives the valet car's length (4.9 m), width (1.8 m),
+Seven cars from the ``car_param`` appendix of the report "Minimization of parking
+slots for parallel parking" (2022; width, rear axle→front bumper, rear axle→rear
+bumper, wheelbase, max steer in degrees) and the valet car of "Path planning in
+automatic parking of unmanned vehicles" (a modelling-contest paper, 2022). The
+paper gives the valet car's length (4.9 m), width (1.8 m),
 wheelbase (2.8 m) and steering (470° at the wheel, 16:1, so 29.375°) but not
 its overhangs; we take a 1.0 m rear overhang, so front = 3.9 m. Its limits are
 the defaults of :class:`~lotsim.vehicles.model.VehicleLimits`.

@@ -16,7 +16,8 @@ KMH = 1 / 3.6
 
 @dataclass(frozen=True, slots=True)
 class VehicleLimits:
-    """Driving limits; the defaults are seed 004's valet car.
+    """Driving limits; the defaults are the valet car's, from "Path planning in automatic
+    parking of unmanned vehicles" (a modelling-contest paper, 2022).
 
     Attributes
     ----------
@@ -29,15 +30,15 @@ class VehicleLimits:
     max_brake : float
         Braking deceleration, positive [m/s²].
     max_jerk : float
-        Rate of change of acceleration [m/s³], default 20 (seed 004).
+        Rate of change of acceleration [m/s³], default 20 (the valet paper's).
     max_steer_rate : float
         Road-wheel steering rate [rad/s]; default 400°/s at the steering wheel at
-        16:1 (seed 004), i.e. 25°/s: lock to lock takes 2.35 s.
+        16:1 (the valet paper's), i.e. 25°/s: lock to lock takes 2.35 s.
     max_lateral_accel : float
         Sideways acceleration ``v² · |curvature|`` [m/s²], default 2.0 (0.2 g): a
         comfort bound for passengers of a car driven for them at parking speeds.
-        Human drivers take low-speed turns at up to 3–4 m/s²; seed 004 gives no
-        figure. At the valet car's tightest radius (4.97 m) it allows 11.4 km/h.
+        Human drivers take low-speed turns at up to 3–4 m/s²; the valet paper gives
+        no figure. At the valet car's tightest radius (4.97 m) it allows 11.4 km/h.
     """
 
     max_forward_speed: float = 20 * KMH

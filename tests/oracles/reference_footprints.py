@@ -8,7 +8,7 @@ footprint as a shapely polygon and tests it against the others, the cars parked 
 the obstacles, the boundary and the slot it names. It shares nothing with the fast path but
 the reading of the result and the constants; it is slow (a polygon per vehicle per instant)
 and is kept as the reference the fast path is tested against and as the baseline of
-``benchmarks/bench_issue16.py``.
+``benchmarks/bench_targets.py``.
 
 Examples
 --------

@@ -32,7 +32,7 @@ from lotsim.sim.simulation import check_traffic
 from lotsim.traffic.demand import arrivals
 from lotsim.verify import check_result
 
-FILES = ("quickstart.yaml", "street.yaml", "seed003_two_rows.yaml", "mixed_lot.yaml")
+FILES = ("quickstart.yaml", "street.yaml", "two_rows.yaml", "mixed_lot.yaml")
 QUICK = 240
 SLOW = 2000
 LIMIT = 20.0

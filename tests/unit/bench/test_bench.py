@@ -390,7 +390,7 @@ def test_priority_orders_fill_their_columns(tmp_path):
     assert "total time to park [s]" in text and "evaluations" in text
 
 
-@pytest.mark.parametrize("name, runs", [("seed004", 9), ("large_lot_load", 12),
+@pytest.mark.parametrize("name, runs", [("valet", 9), ("large_lot_load", 12),
                                         ("head_to_head", 60)])
 def test_the_shipped_suites_are_valid(name, runs):
     suite = bench.load_suite(ROOT / "scenarios" / "bench" / f"{name}.yaml")

@@ -360,7 +360,7 @@ def test_counters_account_for_every_vehicle_and_agree_with_the_statuses(doc, str
 
 
 def test_a_turned_away_car_waits_outside_for_its_patience_then_counts_as_rejected():
-    rr = run(load_scenario(ROOT / "scenarios" / "seed003_two_rows.yaml"), RunSettings())
+    rr = run(load_scenario(ROOT / "scenarios" / "two_rows.yaml"), RunSettings())
     d = json.loads(json.dumps(result_dict(rr)))
     r = Replay(d)
     patience = d["settings"]["patience"]

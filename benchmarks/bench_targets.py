@@ -1,13 +1,13 @@
-"""Issue 16's table in one run: where users wait, each row with its target, the figure
-measured now and a ratio against a baseline measured in the same run.
+"""lotsim's speed targets in one run: where users wait, each row with its target, the
+figure measured now and a ratio against a baseline measured in the same run.
 
 Run with::
 
-    python benchmarks/bench_issue16.py                 # every row (about 15 minutes)
-    python benchmarks/bench_issue16.py --quick         # no 1000-car run, check or suites
-    python benchmarks/bench_issue16.py --result R.json # check this 1000-car result instead
+    python benchmarks/bench_targets.py                 # every row (about 15 minutes)
+    python benchmarks/bench_targets.py --quick         # no 1000-car run, check or suites
+    python benchmarks/bench_targets.py --result R.json # check this 1000-car result instead
                                                        # of planning one (kept by --keep)
-    python benchmarks/bench_issue16.py --tests         # also time the default test suite
+    python benchmarks/bench_targets.py --tests         # also time the default test suite
 
 Rows (the other benchmark scripts do the work; this one calls them and lines them up):
 
@@ -32,7 +32,8 @@ Rows (the other benchmark scripts do the work; this one calls them and lines the
   queries simulated in 1 mm steps (``bench_minslot.stepped_queries``), per query.
 * With ``--tests``: the default test suite, ``python -m pytest -q`` (no baseline).
 
-Times are wall seconds on this machine; the ratios are what carries to another one.
+Times are wall seconds on the machine it runs on; the ratios are what carries to another
+one. ``benchmarks/performance.py`` writes the figures users read (docs/performance.md).
 """
 
 from __future__ import annotations
@@ -117,7 +118,7 @@ def planning_rows(args: argparse.Namespace) -> Path | None:
         return None
     if args.result:
         return Path(args.result)
-    folder = Path(args.keep or tempfile.mkdtemp(prefix="bench16-"))
+    folder = Path(args.keep or tempfile.mkdtemp(prefix="bench-targets-"))
     folder.mkdir(parents=True, exist_ok=True)
     keep = folder / "result1000.json"
     for planner in ("hca", "ca") if args.ca_1000 else ("hca",):
@@ -234,10 +235,8 @@ def tests_row() -> None:
 
 def machine_speed() -> float:
     """CPU seconds [s] of a fixed pure-Python loop (10^7 multiply-adds): how fast this
-    machine runs the interpreter now, for comparing runs on other days and machines: the
-    targets are absolute, and this machine's speed varies by 2x within an hour (on
-    2026-11-24 the loop took 1.09 s when the 1000-car run took 84 s, which had taken 43-49
-    s the day before with the same code, and 0.53 s half an hour later)."""
+    machine runs the interpreter now, for comparing runs on other days and machines (the
+    targets are absolute, and a shared machine's speed can vary by 2x within an hour)."""
     t = time.process_time()
     s = 0
     for i in range(10**7):
@@ -272,7 +271,7 @@ def main() -> None:
     minslot_row()
     if args.tests:
         tests_row()
-    print(f"\nissue 16, measured in one run ({(time.perf_counter() - started) / 60:.0f} min, "
+    print(f"\nthe targets, measured in one run ({(time.perf_counter() - started) / 60:.0f} min, "
           f"{os.cpu_count()} cores; the 10^7 loop took {speed:.2f} s)")
     width = max(len(r[0]) for r in ROWS)
     for what, target, measured, against in ROWS:

@@ -1,0 +1,385 @@
+"""lotsim's performance in one command: writes ``docs/performance.md``.
+
+Run from the repository root::
+
+    python benchmarks/performance.py            # every row, 2 runs each (about 10 minutes
+                                                # on 2 cores)
+    python benchmarks/performance.py --quick    # 1 run each; no 364-bay lot, no 1000 cars
+                                                # (a few minutes on a quiet machine)
+    python benchmarks/performance.py --runs 3 -o /tmp/perf.md
+
+Every figure is measured by running a ``lotsim`` command as a process, as a user runs it,
+and each row of the page names that command. Rows:
+
+* where users wait: ``lotsim validate`` of the large lot (1040 slots) and of the 364-bay
+  lot, cold (empty cache: the lot is prepared) and warm (loaded from the on-disk cache);
+  ``lotsim run`` of the large lot's 100 cars; 1000 cars arriving at 1200 an hour and
+  staying 10-30 minutes, and ``lotsim check`` of their result; the minimum-slot table of
+  every catalogue car;
+* the shipped suites (``scenarios/bench/*.yaml``): the wall time of ``lotsim bench`` with
+  two workers, and the comparisons they exist for, read from their ``runs.csv``: the
+  planners (CA*, HCA*, WHCA*) and the slot assignments (shortest, nearest) head to head,
+  the priority orders (arrival, shortest first, the genetic algorithm), the large lot's
+  load sweep.
+
+For each figure the page gives how many values it is made of and their spread (min /
+median / max): repeated runs of a timing, or the seeds (and scenarios, assignments) of a
+suite's outcome, which do not change from one run to the next. The page states the commit,
+date and machine (cores, CPU, Python and library versions). Times depend on the machine
+and on what else runs on it; compare ratios between rows of one page.
+"""
+
+from __future__ import annotations
+
+import argparse
+import datetime
+import importlib.metadata
+import os
+import platform
+import re
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+import yaml
+
+ROOT = Path(__file__).resolve().parents[1]
+LOTSIM = (sys.executable, "-m", "lotsim")
+LARGE = "scenarios/large_lot.yaml"
+SURFACE = "scenarios/lots/surface364.yaml"
+SUITES = ("valet", "head_to_head", "priority", "large_lot_load")
+BIG = {"count": 1000, "rate_per_hour": 1200, "dwell": [600, 1800], "seed": 11}
+"""The 1000-car traffic on the large lot: arrivals, departures and queues at once."""
+PLANNING = re.compile(r"planning ([\d.]+) s \((\d+) searches, (\d+) expansions; per vehicle "
+                      r"median (\d+) ms, p95 (\d+) ms\)")
+
+
+# --- running and summarising ------------------------------------------------------------
+
+def process(*args: str, env: dict | None = None) -> tuple[float, float, int, str]:
+    """Run ``args`` in the repository root; its wall time [s], peak memory [MB], exit code
+    and output."""
+    t = time.perf_counter()
+    proc = subprocess.Popen(args, cwd=ROOT, env=env, stdout=subprocess.PIPE,
+                            stderr=subprocess.STDOUT, text=True)
+    out = proc.stdout.read()
+    _, status, usage = os.wait4(proc.pid, 0)
+    code = os.waitstatus_to_exitcode(status)
+    return time.perf_counter() - t, usage.ru_maxrss / 1024, code, out
+
+
+def environment(cache: str) -> dict:
+    """The environment of a measured process: its own cache folder, and Python keeping the
+    modules it compiles (as after ``pip install``)."""
+    env = {**os.environ, "LOTSIM_CACHE_DIR": cache}
+    env.pop("PYTHONDONTWRITEBYTECODE", None)
+    env["PYTHONPATH"] = os.pathsep.join(filter(None, [str(ROOT), env.get("PYTHONPATH")]))
+    return env
+
+
+def spread(values: list[float], fmt: str = "{:.2f}") -> str:
+    """``min / median / max`` of ``values`` (one value alone as itself)."""
+    if not values:
+        return "—"
+    if len(values) == 1:
+        return fmt.format(values[0])
+    return " / ".join(fmt.format(v) for v in (min(values), statistics.median(values),
+                                              max(values)))
+
+
+class Page:
+    """The rows of docs/performance.md, kept as they are measured."""
+
+    def __init__(self) -> None:
+        self.sections: list[tuple[str, str, list[str]]] = []
+
+    def section(self, title: str, text: str, header: str) -> None:
+        cols = header.count("|") - 1
+        self.sections.append((title, text, [header, "|" + "---|" * cols]))
+        print(f"\n## {title}", flush=True)
+
+    def row(self, *cells: object) -> None:
+        line = "| " + " | ".join(str(c) for c in cells) + " |"
+        self.sections[-1][2].append(line)
+        print(line, flush=True)
+
+
+# --- where users wait -----------------------------------------------------------------
+
+def validate_rows(page: Page, runs: int, lots: list[tuple[str, str]]) -> None:
+    page.section("Where users wait",
+                 "Wall time of each command as a process (Python's start included). *Cold*: "
+                 "an empty cache, the lot is prepared (its maneuvers, turns and graph); "
+                 "*warm*: the same command again, the prepared lot loaded from the cache.",
+                 "| what | command | runs | min / median / max |")
+    for name, path in lots:
+        cold, warm = [], []
+        for _ in range(runs):
+            with tempfile.TemporaryDirectory() as cache:
+                env = environment(cache)
+                cold.append(checked(process(*LOTSIM, "validate", path, env=env))[0])
+                warm.append(checked(process(*LOTSIM, "validate", path, env=env))[0])
+        cmd = f"`LOTSIM_CACHE_DIR=$(mktemp -d) lotsim validate {path}`"
+        page.row(f"validate {name}, cold", cmd, runs, spread(cold) + " s")
+        page.row(f"validate {name}, warm", "the same again", runs, spread(warm) + " s")
+
+
+def checked(measured: tuple[float, float, int, str], ok: tuple[int, ...] = (0,)):
+    if measured[2] not in ok:
+        raise SystemExit(f"a measured command failed (exit {measured[2]}):\n{measured[3]}")
+    return measured
+
+
+def run_rows(page: Page, runs: int, big: bool, cache: str, tmp: Path) -> None:
+    env = environment(cache)
+    checked(process(*LOTSIM, "validate", LARGE, env=env), (0, 1))  # prepared once, kept
+    cases = [("100 cars in ten minutes, large lot, HCA*", LARGE)]
+    if big:
+        doc = yaml.safe_load((ROOT / LARGE).read_text(encoding="utf-8"))
+        doc["traffic"] = {"stream": dict(BIG), "patience": 900}
+        doc["name"] = "large-lot-1000"
+        path = tmp / "large_lot_1000.yaml"
+        path.write_text(yaml.safe_dump(doc, sort_keys=False), encoding="utf-8")
+        cases.append(("1000 cars at 1200/h staying 10–30 min, large lot, HCA*", str(path)))
+    for what, path in cases:
+        walls, plans, p95s, peaks = [], [], [], []
+        for i in range(runs):
+            out = tmp / f"run{i}"
+            wall, peak, _, text = checked(process(*LOTSIM, "run", path, "-o", str(out),
+                                                  "--no-gif", env=env), (0, 1))
+            m = PLANNING.search(text)
+            walls.append(wall)
+            peaks.append(peak)
+            if m:
+                plans.append(float(m.group(1)))
+                p95s.append(float(m.group(5)))
+        shown = LARGE if path == LARGE else "the large lot, traffic " + ", ".join(
+            f"{k} {v}" for k, v in BIG.items())
+        cmd = f"`lotsim run {shown} --no-gif`" if path == LARGE else f"`lotsim run` of {shown}"
+        page.row(f"{what}: planning", cmd + " (prints it)", runs, spread(plans) + " s")
+        page.row(f"{what}: per car p95", "the same", runs, spread(p95s, "{:.0f}") + " ms")
+        page.row(f"{what}: whole command", "the same (lot prepared before)", runs,
+                 spread(walls) + " s")
+        page.row(f"{what}: peak memory", "the same", runs, spread(peaks, "{:.0f}") + " MB")
+        if path != LARGE:
+            walls, peaks = [], []
+            for _ in range(runs):
+                wall, peak, _, _ = checked(process(*LOTSIM, "check",
+                                                   str(tmp / "run0" / "result.json"), env=env))
+                walls.append(wall)
+                peaks.append(peak)
+            page.row("`lotsim check` of the 1000 cars' result", "`lotsim check result.json`",
+                     runs, f"{spread(walls)} s, peak {spread(peaks, '{:.0f}')} MB")
+
+
+def minslot_row(page: Page, runs: int) -> None:
+    args = ("minslot", "--all-cars", "--width", "2.2", "2.5", "2.8", "--max-changes", "10")
+    walls = [checked(process(*LOTSIM, *args))[0] for _ in range(runs)]
+    page.row("minimum-slot table: 7 cars × 3 widths × 0–10 direction changes",
+             "`lotsim " + " ".join(args) + "`", runs, spread(walls) + " s")
+
+
+# --- the suites -------------------------------------------------------------------------
+
+def suite_rows(page: Page, runs: int, tmp: Path) -> dict[str, list[list[dict]]]:
+    """Run every shipped suite ``runs`` times; its rows of each run, by suite."""
+    sys.path.insert(0, str(ROOT))
+    from lotsim.bench import read_csv
+
+    page.section("Benchmark suites",
+                 "Wall time of `lotsim bench scenarios/bench/SUITE.yaml --jobs 2` (every lot "
+                 "prepared from the on-disk cache, every result checked).",
+                 "| suite | runs in the suite | times run | wall time min / median / max |")
+    found: dict[str, list[list[dict]]] = {}
+    with tempfile.TemporaryDirectory() as cache:
+        env = environment(cache)
+        for name in SUITES:
+            path = f"scenarios/bench/{name}.yaml"
+            walls = []
+            for i in range(runs + 1):  # the first prepares the lots into the cache
+                out = tmp / f"{name}{i}"
+                wall, _, _, _ = checked(process(*LOTSIM, "bench", path, "-o", str(out),
+                                                "--jobs", "2", env=env))
+                if i:
+                    walls.append(wall)
+                    found.setdefault(name, []).append(read_csv(out / "runs.csv"))
+            summary = (tmp / f"{name}1" / "summary.md").read_text(encoding="utf-8")
+            found[name].append([{"summary": summary}])
+            page.row(f"`{name}`", len(found[name][0]), runs, spread(walls, "{:.1f}") + " s")
+    return found
+
+
+def label(r: dict) -> str:
+    return r["planner"] + (f"-{r['window_s']:g}" if r.get("window_s") else "")
+
+
+def planners_section(page: Page, runs: list[list[dict]]) -> None:
+    rows = [r for one in runs[:-1] for r in one]
+    page.section("Planners head to head",
+                 "`lotsim bench scenarios/bench/head_to_head.yaml`: each scenario's own "
+                 "traffic, 3 seeds × 2 assignments per planner. Time to park and expansions "
+                 "do not change from run to run (spread over the 6 runs of the grid); "
+                 "planning time spreads over those and the times the suite was run.",
+                 "| scenario | planner | mean time to park [s] | expansions per run | "
+                 "planning per run [s] |")
+    for scen in dict.fromkeys(r["scenario"] for r in rows):
+        for plan in dict.fromkeys(label(r) for r in rows):
+            g = [r for r in rows if r["scenario"] == scen and label(r) == plan]
+            once = g[:len(g) // (len(runs) - 1)]
+            page.row(scen, plan, spread([r["mean_time_to_park_s"] for r in once], "{:.1f}"),
+                     spread([r["expansions"] for r in once], "{:.0f}"),
+                     spread([r["planning_time_s"] for r in g], "{:.2f}"))
+    page.section("Slot assignment",
+                 "The same suite: `shortest` (least travel plus maneuver time) against "
+                 "`nearest` (least straight-line distance), over 5 planners × 3 seeds.",
+                 "| scenario | assignment | mean time to park [s] | max time to park [s] |")
+    once = runs[0]
+    for scen in dict.fromkeys(r["scenario"] for r in once):
+        for asg in ("shortest", "nearest"):
+            g = [r for r in once if r["scenario"] == scen and r["assignment"] == asg]
+            page.row(scen, asg, spread([r["mean_time_to_park_s"] for r in g], "{:.1f}"),
+                     spread([r["max_time_to_park_s"] for r in g], "{:.1f}"))
+
+
+def priority_section(page: Page, runs: list[list[dict]]) -> None:
+    once = runs[0]
+    page.section("Priority orders",
+                 "`lotsim bench scenarios/bench/priority.yaml`, HCA\\*, 3 seeds: the total "
+                 "time to park of all cars (`fitness_s`). `arrival` plans each car as it "
+                 "arrives; `shortest_first` and `ga` book the traffic a minute ahead. The "
+                 "GA's gain is against arrival order booked the same way in the same run "
+                 "(`ga_arrival_fitness_s`); negative is worse.",
+                 "| scenario | arrival [s] | shortest first [s] | GA [s] | GA's gain [%] | "
+                 "orders planned | ordering time [s] |")
+    for scen in dict.fromkeys(r["scenario"] for r in once):
+        by = {p: [r for r in once if r["scenario"] == scen and r["priority"] == p]
+              for p in ("arrival", "shortest_first", "ga")}
+        gains = [100 * (1 - r["fitness_s"] / r["ga_arrival_fitness_s"]) for r in by["ga"]]
+        times = [r["order_time_s"] for one in runs[:-1] for r in one
+                 if r["scenario"] == scen and r["priority"] == "ga"]
+        page.row(scen, *(spread([r["fitness_s"] for r in by[p]], "{:.1f}") for p in by),
+                 spread(gains, "{:+.1f}"),
+                 spread([r["evaluations"] for r in by["ga"]], "{:.0f}"),
+                 spread(times, "{:.1f}"))
+
+
+def load_section(page: Page, runs: list[list[dict]]) -> None:
+    once = runs[0]
+    summary = runs[-1][0]["summary"]
+    knee = re.findall(r"keeps up[^|\n]*|saturated[^|\n]*", summary)
+    page.section("Load on the large lot",
+                 "`lotsim bench scenarios/bench/large_lot_load.yaml`: 150 cars that stay, "
+                 "HCA\\*, 2 seeds per rate. The suite's summary says: "
+                 + ("; ".join(dict.fromkeys(k.strip() for k in knee)) or "no saturation found")
+                 + ".",
+                 "| arrival rate [veh/h] | throughput [veh/h] | mean time to park [s] | "
+                 "total waiting [s] |")
+    for rate in dict.fromkeys(r["rate_per_h"] for r in once):
+        g = [r for r in once if r["rate_per_h"] == rate]
+        page.row(f"{rate:g}", spread([r["throughput_per_h"] for r in g], "{:.0f}"),
+                 spread([r["mean_time_to_park_s"] for r in g], "{:.1f}"),
+                 spread([r["total_waiting_s"] for r in g], "{:.0f}"))
+
+
+def valet_section(page: Page, runs: list[list[dict]]) -> None:
+    once = runs[0]
+    page.section("The valet setting",
+                 "`lotsim bench scenarios/bench/valet.yaml`: 30 cars within an hour on the "
+                 "mixed lot, 3 seeds per planner.",
+                 "| planner | mean time to park [s] | expansions per run | planning p95 per "
+                 "car [ms] |")
+    for plan in dict.fromkeys(label(r) for r in once):
+        g = [r for r in once if label(r) == plan]
+        allg = [r for one in runs[:-1] for r in one if label(r) == plan]
+        page.row(plan, spread([r["mean_time_to_park_s"] for r in g], "{:.1f}"),
+                 spread([r["expansions"] for r in g], "{:.0f}"),
+                 spread([r["planning_p95_ms"] for r in allg], "{:.0f}"))
+
+
+# --- the page -------------------------------------------------------------------------
+
+def machine() -> list[str]:
+    cpu = platform.processor() or "?"
+    try:
+        for line in Path("/proc/cpuinfo").read_text().splitlines():
+            if line.startswith("model name"):
+                cpu = line.split(":", 1)[1].strip()
+                break
+    except OSError:
+        pass
+    libs = ", ".join(f"{n} {importlib.metadata.version(n)}"
+                     for n in ("numpy", "shapely", "networkx", "PyYAML", "Pillow"))
+    return [f"{os.cpu_count()} cores, {cpu}", f"{platform.system()} {platform.release()}",
+            f"Python {platform.python_version()}; {libs}"]
+
+
+def commit() -> str:
+    def git(*a: str) -> str:
+        return subprocess.run(("git", *a), cwd=ROOT, capture_output=True, text=True).stdout
+    head = git("rev-parse", "--short=12", "HEAD").strip() or "unknown"
+    dirty = git("status", "--porcelain", "--untracked-files=no", "lotsim").strip()
+    return head + (" (with changes not committed in lotsim/)" if dirty else "")
+
+
+def write(page: Page, path: Path, args: argparse.Namespace, took: float) -> None:
+    mode = "quick" if args.quick else "full"
+    cmd = "python benchmarks/performance.py" + (" --quick" if args.quick else "")
+    cores, system, versions = machine()
+    lines = [
+        "# Performance",
+        "",
+        f"Written by `{cmd}`; do not edit by hand, run it again.",
+        "Each row names the command that measures it; a figure is *min / median / max* over",
+        "the runs or seeds counted beside it.",
+        "",
+        f"- commit: {commit()}",
+        f"- date: {datetime.datetime.now().astimezone():%Y-%m-%d %H:%M %Z}",
+        f"- machine: {cores}; {system}",
+        f"- software: {versions}",
+        f"- load average (1 min) when it started and ended: {args.load[0]:.1f}, "
+        f"{os.getloadavg()[0]:.1f}",
+        f"- mode: {mode}, {args.runs} run(s) of each timing; the whole command took "
+        f"{took / 60:.1f} min",
+        "",
+        "All figures come from one machine, which other jobs shared while they were measured:",
+        "times on another machine (or another moment) differ; the outcomes of the suites",
+        "(times to park, expansions, gains) do not, and ratios between rows of this page",
+        "carry over better than seconds.",
+    ]
+    for title, text, table in page.sections:
+        lines += ["", f"## {title}", "", text, "", *table]
+    path.write_text("\n".join(lines) + "\n", encoding="utf-8")
+    print(f"\nwrote {path}")
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--quick", action="store_true",
+                    help="1 run each, no 364-bay lot, no 1000 cars")
+    ap.add_argument("--runs", type=int, help="runs of each timing (default 2, quick 1)")
+    ap.add_argument("-o", "--output", default=str(ROOT / "docs" / "performance.md"))
+    args = ap.parse_args()
+    args.runs = args.runs or (1 if args.quick else 2)
+    args.load = os.getloadavg()
+    started = time.perf_counter()
+    page = Page()
+    lots = [("large lot (1040 slots)", LARGE)]
+    if not args.quick:
+        lots.append(("364-bay lot (four vehicle types)", SURFACE))
+    with tempfile.TemporaryDirectory() as tmp, tempfile.TemporaryDirectory() as cache:
+        validate_rows(page, args.runs, lots)
+        run_rows(page, args.runs, not args.quick, cache, Path(tmp))
+        minslot_row(page, args.runs)
+        suites = suite_rows(page, args.runs, Path(tmp))
+    planners_section(page, suites["head_to_head"])
+    priority_section(page, suites["priority"])
+    valet_section(page, suites["valet"])
+    load_section(page, suites["large_lot_load"])
+    write(page, Path(args.output), args, time.perf_counter() - started)
+
+
+if __name__ == "__main__":
+    main()
