@@ -43,8 +43,8 @@ from lotsim.io.result import result_dict  # noqa: E402
 from lotsim.io.scenario_yaml import load_scenario  # noqa: E402
 from lotsim.render.animation import GifRenderer, GifSettings, write_gif  # noqa: E402
 from lotsim.render.replay import Replay  # noqa: E402
+from lotsim.sim.running import run  # noqa: E402
 from lotsim.sim.settings import RunSettings  # noqa: E402
-from lotsim.sim.simulation import run  # noqa: E402
 
 
 def peak_mb() -> float:

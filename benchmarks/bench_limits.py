@@ -44,7 +44,7 @@ def _case(count: int, watched: bool, queue: mp.Queue) -> None:
     from lotsim.io.result import result_dict, write_json
     from lotsim.io.scenario_yaml import load_scenario
     from lotsim.sim.limits import Budget, Watchdog, resident_memory
-    from lotsim.sim.simulation import run
+    from lotsim.sim.running import run
 
     with tempfile.TemporaryDirectory() as tmp:
         path = Path(tmp) / "load.yaml"

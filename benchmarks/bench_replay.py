@@ -54,8 +54,8 @@ from lotsim.render import html as html_mod  # noqa: E402
 from lotsim.render.replay import Replay  # noqa: E402
 from lotsim.scenario import HtmlSettings  # noqa: E402
 from lotsim.sim.preparation import prepare  # noqa: E402
+from lotsim.sim.running import run  # noqa: E402
 from lotsim.sim.settings import RunSettings  # noqa: E402
-from lotsim.sim.simulation import run  # noqa: E402
 from lotsim.traffic.demand import StreamSpec, TrafficSpec  # noqa: E402
 
 

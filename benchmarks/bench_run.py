@@ -39,8 +39,8 @@ sys.path.insert(0, str(ROOT))
 from lotsim.io.result import result_dict, write_json  # noqa: E402
 from lotsim.io.scenario_yaml import load_scenario  # noqa: E402
 from lotsim.sim.preparation import prepare  # noqa: E402
+from lotsim.sim.running import collector_tuned, run  # noqa: E402
 from lotsim.sim.settings import RunSettings  # noqa: E402
-from lotsim.sim.simulation import run  # noqa: E402
 from lotsim.traffic.demand import StreamSpec, TrafficSpec  # noqa: E402
 from lotsim.verify import check_result  # noqa: E402
 
@@ -58,7 +58,8 @@ def case(sc, lg, count: int, rate: float, dwell, planner: str, *, check: bool = 
                         entrances=tuple(lg.entrances), dwell=dwell, seed=11)
     sc = dataclasses.replace(sc, traffic=TrafficSpec(stream=stream, patience=900.0))
     t, cpu = time.perf_counter(), time.process_time()
-    rr = run(sc, RunSettings(planner=planner), lot_graph=lg)
+    with collector_tuned():
+        rr = run(sc, RunSettings(planner=planner), lot_graph=lg)
     wall, cpu = time.perf_counter() - t, time.process_time() - cpu
     m = rr.metrics()
     out = {"wall": wall, "cpu": cpu, **m, "peak_mb": peak_mb()}

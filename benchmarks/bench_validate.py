@@ -33,7 +33,7 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
-import lotsim.sim.simulation  # noqa: E402
+import lotsim.sim.running  # noqa: E402
 from lotsim.io.scenario_yaml import parse_scenario  # noqa: E402
 from lotsim.io.yamlnodes import parse_text  # noqa: E402
 
@@ -102,13 +102,11 @@ def whca_row() -> dict[str, dict]:
     rows = {}
     for name, planner, skip in (("HCA*", "hca", True), ("WHCA* 10 s", "whca", True),
                                 ("WHCA*, every replan", "whca", False)):
-        lotsim.sim.simulation.SKIP_FRUITLESS = skip
-        try:
-            # each on a copy of the lot: none drives the edge motions another worked out
-            m = lotsim.sim.simulation.run(sc, lotsim.sim.settings.RunSettings(planner=planner),
-                               lot_graph=copy.deepcopy(lg)).metrics()
-        finally:
-            lotsim.sim.simulation.SKIP_FRUITLESS = True
+        settings = lotsim.sim.settings.RunSettings(
+            planner=planner, tuning=lotsim.sim.settings.RunTuning(skip_fruitless=skip))
+        # each on a copy of the lot: none drives the edge motions another worked out
+        with lotsim.sim.running.collector_tuned():
+            m = lotsim.sim.running.run(sc, settings, lot_graph=copy.deepcopy(lg)).metrics()
         rows[name] = m
         print(f"jammed lot, {name:<20} planning {m['planning_time']:6.1f} s, "
               f"{m['searches']:4d} searches, {m['expansions']:7d} expansions; mean time to "

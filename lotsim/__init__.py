@@ -32,7 +32,7 @@ _EXPORTS = {
     "lotsim.sim.validation": ("ValidationReport",),
     "lotsim.verify": ("CheckReport", "Violation"),
     "lotsim.scenario": ("AnimationSpec", "GifSettings", "HtmlSettings", "Scenario"),
-    "lotsim.sim.settings": ("GASettings", "RunSettings"),
+    "lotsim.sim.settings": ("GASettings", "RunSettings", "RunTuning"),
     "lotsim.maneuvers.settings": ("MinSlotSettings",),
     "lotsim.errors": ("InfeasibleManeuver", "LimitExceeded", "Location", "LotsimError",
                       "ReplayError", "ResultFormatError", "ScenarioError", "SettingsError"),
@@ -88,6 +88,6 @@ if TYPE_CHECKING:  # for type checkers and editors: the same names, imported eag
     from lotsim.maneuvers.settings import MinSlotSettings  # noqa: F401
     from lotsim.scenario import AnimationSpec, GifSettings, HtmlSettings, Scenario  # noqa: F401
     from lotsim.sim.preparation import PreparedLot  # noqa: F401
-    from lotsim.sim.settings import GASettings, RunSettings  # noqa: F401
+    from lotsim.sim.settings import GASettings, RunSettings, RunTuning  # noqa: F401
     from lotsim.sim.validation import ValidationReport  # noqa: F401
     from lotsim.verify import CheckReport, Violation  # noqa: F401

@@ -29,7 +29,7 @@ from lotsim.io.scenario_yaml import read_scenario
 from lotsim.maneuvers.settings import MARGIN, STYLES, MinSlotSettings
 from lotsim.scenario import AnimationSpec, GifSettings, HtmlSettings, Scenario, size_problem
 from lotsim.sim import preparation as _preparation
-from lotsim.sim import simulation as _sim
+from lotsim.sim import results as _results
 from lotsim.sim.preparation import PreparedLot
 from lotsim.sim.settings import RunSettings
 from lotsim.sim.validation import ValidationReport, validate_prepared
@@ -212,7 +212,7 @@ def validate(scenario: ScenarioLike | PreparedLot, *, progress=None) -> Validati
 
 # -- running --------------------------------------------------------------------------------------
 @dataclasses.dataclass
-class RunResult(_sim.RunResult):
+class RunResult(_results.RunResult):
     """What :func:`run` returns: the lot, the settings and every vehicle's story.
 
     ``metrics()`` counts the vehicles by status and gives the timing figures of
@@ -266,7 +266,8 @@ def run(scenario_or_prepared: ScenarioLike | PreparedLot, settings: RunSettings 
         orders the genetic algorithm has tried.
     **overrides
         Fields of :class:`RunSettings` to change: ``planner``, ``assignment``, ``seed``,
-        ``window``, ``omega``, ``retry``, ``order``, ``horizon``, ``priority``, ``ga``.
+        ``window``, ``omega``, ``retry``, ``order``, ``horizon``, ``priority``, ``ga``,
+        ``tuning``.
 
     Returns
     -------
@@ -321,7 +322,7 @@ def run(scenario_or_prepared: ScenarioLike | PreparedLot, settings: RunSettings 
 def _document(result: RunResult | dict | str | os.PathLike) -> dict:
     """The document of ``result``; a file is read packed (:func:`load_result`): what is
     done with it here reads the samples as arrays."""
-    if isinstance(result, _sim.RunResult):
+    if isinstance(result, _results.RunResult):
         from lotsim.io.result import result_dict
 
         return result_dict(result)

@@ -417,7 +417,7 @@ def _run(args: argparse.Namespace) -> int:
     from lotsim.io.result import write_json
     from lotsim.io.scenario_yaml import read_scenario
     from lotsim.sim.limits import Watchdog
-    from lotsim.sim.simulation import require_traffic
+    from lotsim.sim.running import collector_tuned, require_traffic
 
     # an option that would change nothing is refused, not ignored
     if args.window is not None and args.planner != "whca":
@@ -483,15 +483,17 @@ def _run(args: argparse.Namespace) -> int:
         with _noting_sigint(seen), Watchdog(budget, where, then=progress) as dog:
             with _Preparing() as bar:
                 prepared = prepare(scenario, progress=bar)
-            rr = run(prepared, settings, progress=dog.progress)
+            with collector_tuned():
+                rr = run(prepared, settings, progress=dog.progress)
     else:  # the watchdog cannot project from trips: orders are tried
         bar = _ProgressBar("trying orders")
         try:
             with _noting_sigint(seen), Watchdog(budget, where):
                 with _Preparing() as preparing:
                     prepared = prepare(scenario, progress=preparing)
-                rr = run(prepared, settings,
-                         progress=bar if settings.priority == "ga" else None)
+                with collector_tuned():
+                    rr = run(prepared, settings,
+                             progress=bar if settings.priority == "ga" else None)
         finally:
             bar.close()
         found = rr.ordering

@@ -108,7 +108,7 @@ def mixed_lot_doc(shipped_graphs) -> dict:
     document, planned once for the session."""
     from lotsim.io.result import result_dict
     from lotsim.io.scenario_yaml import load_scenario
-    from lotsim.sim.simulation import run
+    from lotsim.sim.running import run
 
     sc = load_scenario(ROOT / "scenarios" / "mixed_lot.yaml")
     return result_dict(run(sc, lot_graph=shipped_graphs["mixed_lot"]))

@@ -24,7 +24,7 @@ from lotsim.errors import (
     SettingsError,
 )
 from lotsim.io.lot_json import LotFormatError
-from lotsim.sim.orders import run_with_priority
+from lotsim.sim.orders import plan_run
 
 QUICKSTART = ROOT / "scenarios" / "quickstart.yaml"
 
@@ -129,7 +129,7 @@ def test_the_priority_is_a_setting_and_a_result_settings_replay_it(prepared):
     sc, lg = prepared.scenario, prepared.lot_graph
     for priority in ("arrival", "shortest_first"):
         rr = lotsim.run(prepared, priority=priority)
-        old, _ = run_with_priority(sc, lotsim.RunSettings(), priority=priority, lot_graph=lg)
+        old = plan_run(sc, lotsim.RunSettings(priority=priority), lot_graph=lg)
         assert rr.to_dict() == lotsim.RunResult(
             **{f.name: getattr(old, f.name) for f in dataclasses.fields(old)}).to_dict()
         assert (rr.settings.order is None) == (priority == "arrival")
@@ -217,7 +217,7 @@ def test_validate_is_what_the_cli_prints(capsys):
 
 
 def test_import_lotsim_loads_nothing_heavy_until_asked():
-    code = ("import sys, lotsim; heavy = [m for m in ('numpy', 'lotsim.sim.simulation', "
+    code = ("import sys, lotsim; heavy = [m for m in ('numpy', 'lotsim.sim.running', "
             "'lotsim.api') "
             "if m in sys.modules]; lotsim.RunSettings; print(heavy, 'lotsim.api' in "
             "sys.modules, sorted(set(lotsim.__all__) - set(dir(lotsim))))")

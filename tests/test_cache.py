@@ -15,7 +15,7 @@ import lotsim.sim.preparation
 from conftest import ONE_AISLE, ROOT, scenario_from_text
 from lotsim.io.result import result_dict
 from lotsim.sim.preparation import prepare
-from lotsim.sim.simulation import run
+from lotsim.sim.running import run
 
 TRAFFIC = """\
 traffic:

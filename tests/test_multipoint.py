@@ -17,7 +17,7 @@ from lotsim.lot.model import DesignVehicle
 from lotsim.maneuvers.planner import ManeuverPlanner
 from lotsim.roadmap.multipoint import plan_onto
 from lotsim.sim.preparation import prepare
-from lotsim.sim.simulation import run
+from lotsim.sim.running import run
 from lotsim.vehicles import CATALOGUE
 from lotsim.verify import check_result
 

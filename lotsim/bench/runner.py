@@ -23,8 +23,9 @@ from lotsim.io.scenario_yaml import parse_scenario
 from lotsim.io.yamlnodes import parse_text
 from lotsim.sim.orders import plan_run
 from lotsim.sim.preparation import prepare
+from lotsim.sim.results import RunResult
+from lotsim.sim.running import collector_tuned
 from lotsim.sim.settings import GASettings, RunSettings
-from lotsim.sim.simulation import RunResult
 from lotsim.verify import check_result
 
 if TYPE_CHECKING:
@@ -88,7 +89,8 @@ def spec_settings(spec: RunSpec) -> RunSettings:
 def _plan(spec: RunSpec, scenario: Scenario, lg: LotGraph) -> tuple[RunResult, dict]:
     """Plan with the spec's priority order, as ``lotsim run`` does
     (:func:`lotsim.sim.orders.plan_run`)."""
-    rr = plan_run(scenario, spec_settings(spec), lot_graph=lg)
+    with collector_tuned():
+        rr = plan_run(scenario, spec_settings(spec), lot_graph=lg)
     return rr, rr.ordering
 
 

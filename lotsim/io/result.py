@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import json
 import math
 from pathlib import Path
@@ -12,10 +13,15 @@ import shapely
 from lotsim import __version__
 from lotsim.core.atomic import atomic_write
 from lotsim.io.lot_json import lot_to_json
-from lotsim.sim.simulation import RunResult, samples
+from lotsim.sim.results import RunResult, VehicleRun
+from lotsim.vehicles.motion import Trajectory
 
 FORMAT = "lotsim-result"
 VERSION = 1
+SAMPLE_DT = 0.05
+"""Interval of the samples of a moving vehicle in a result [s] (its ``settings.dt``):
+fine enough that the pose interpolated between two samples stays within millimetres of
+the planned path, which is what ``lotsim check`` verifies."""
 
 
 def _ring(poly: shapely.Polygon) -> list[list[float]]:
@@ -81,7 +87,7 @@ def result_dict(rr: RunResult) -> dict:
         })
     s = rr.settings
     settings = {"planner": s.planner, "assignment": s.assignment, "seed": rr.seed,
-                "dt": 0.05, "omega": s.omega, "lotsim_version": __version__,
+                "dt": SAMPLE_DT, "omega": s.omega, "lotsim_version": __version__,
                 "scenario": rr.scenario.name,
                 "patience": rr.scenario.traffic.patience if rr.scenario.traffic else None}
     if s.planner == "whca":
@@ -89,6 +95,7 @@ def result_dict(rr: RunResult) -> dict:
     if s.order is not None:  # booked traffic, planned in this order
         settings["order"] = list(s.order)
         settings["horizon"] = s.horizon if math.isfinite(s.horizon) else None
+    settings["tuning"] = dataclasses.asdict(s.tuning)
     # wall-clock timings differ run to run: they are printed, not written, so that the same
     # scenario and seed give the same file byte for byte
     metrics = {k: (round(v, 4) if isinstance(v, float) else v) for k, v in rr.metrics().items()
@@ -103,3 +110,46 @@ def write_json(obj: dict, path: str | Path) -> None:
     with atomic_write(path, "w", encoding="utf-8") as fh:
         json.dump(obj, fh, separators=(",", ":"), allow_nan=False)
         fh.write("\n")
+
+
+def samples(v: VehicleRun, *, dt: float = SAMPLE_DT) -> Trajectory | None:
+    """``v``'s motion sampled for a result: every ``dt`` [s] on a common clock (``k·dt``)
+    while it moves, plus every start, stop and cusp; standing stretches only at their ends
+    (gear 0). None when it never entered the lot."""
+    moves = [m for m in v.moves if m.kind != "outside"]
+    if not moves:
+        return None
+    parts: list[tuple[np.ndarray, ...]] = []
+    for m in moves:
+        if m.motion is None:  # standing
+            pose = m.end_pose
+            t = np.array([m.t0, m.t1])
+            z = np.zeros(2)
+            parts.append((t, z + pose[0], z + pose[1], z + pose[2], z, z + m.steer,
+                          np.zeros(2, int)))
+            continue
+        grid = np.arange(math.floor(m.t0 / dt) + 1, math.ceil(m.t1 / dt)) * dt
+        tau = np.unique(np.concatenate([[0.0], grid - m.t0, m.motion.cusps,
+                                        [m.motion.duration]]))
+        tau = tau[(tau >= 0) & (tau <= m.motion.duration)]
+        p, speed, steer, gear = m.motion.at(tau, wheelbase=v.vehicle.wheelbase)
+        parts.append((m.t0 + tau, p[:, 0], p[:, 1], p[:, 2], speed, steer, gear))
+    cols = [np.concatenate([p[k] for p in parts]) for k in range(7)]
+    # one sample per instant: where moves meet the later move's first sample stays; two
+    # samples microseconds apart (written to 1 µs) are one, at the earlier time
+    # (a sample that stands for one at rest is at rest: a drive that sets off 2 µs before
+    # a grid instant has rolled 1e-12 m/s by then, and the car stood until it set off)
+    t = cols[0]
+    near = np.append(np.diff(t) <= 2e-6, False)
+    later = np.flatnonzero(near) + 1
+    t[later] = t[later - 1]
+    keep = ~near
+    group = np.concatenate([[0], np.cumsum(keep[:-1])])  # the kept sample each one is
+    rest = np.zeros(int(keep.sum()), dtype=bool)
+    np.logical_or.at(rest, group, np.abs(cols[4]) < 1e-12)
+    cols = [c[keep] for c in cols]
+    # a sample at rest (a start, a stop, a cusp) is standing: gear 0
+    cols[4] = np.where(rest, 0.0, cols[4])
+    cols[6] = np.where(rest, 0, cols[6])
+    return Trajectory(*cols)
+

@@ -1,10 +1,12 @@
 """Priority orders for prioritised planning: arrival order, shortest first, and a genetic
-algorithm over orders (seed 004's G-JHCA*).
+algorithm over orders (the G-JHCA* of the modelling-contest paper on unmanned-car
+parking path planning, 2022).
 
 A vehicle planned earlier never yields to one planned later, so the order matters when
 vehicles meet. With the traffic booked in advance (:attr:`lotsim.sim.settings.RunSettings.order`)
 any order can be planned; the fitness of an order is the run's total time to park (a
-vehicle that never parks counts as :data:`UNPARKED_PENALTY` seconds plus the traffic's
+vehicle that never parks counts as
+:attr:`~lotsim.sim.settings.GASettings.unparked_penalty` seconds plus the traffic's
 patience). The GA evaluates an order by planning the whole run with it.
 """
 
@@ -16,35 +18,34 @@ import time
 
 import numpy as np
 
-from lotsim.errors import SettingsError
-from lotsim.sim.settings import PRIORITIES, GASettings, RunSettings
-from lotsim.sim.simulation import RunResult, require_traffic, run
+from lotsim.sim.assignment import SlotAssigner
+from lotsim.sim.results import RunResult
+from lotsim.sim.running import require_traffic, run
+from lotsim.sim.settings import GASettings, RunSettings
 from lotsim.traffic.demand import arrivals
-
-UNPARKED_PENALTY = 600.0
-"""Seconds added to the patience for a vehicle that never parks, in :func:`fitness`."""
 
 
 def fitness(rr: RunResult) -> float:
     """Total time to park of a run [s]: arrival to standing in the slot, summed over the
-    vehicles; one that never parks counts as its patience plus :data:`UNPARKED_PENALTY`."""
+    vehicles; one that never parks counts as its patience plus the run's
+    ``settings.ga.unparked_penalty``."""
     patience = rr.scenario.traffic.patience if rr.scenario.traffic else 0.0
+    penalty = rr.settings.ga.unparked_penalty
     return float(sum(v.parked_at - v.arrival.time if v.parked_at is not None
-                     else patience + UNPARKED_PENALTY for v in rr.vehicles))
+                     else patience + penalty for v in rr.vehicles))
 
 
 def shortest_first(scenario, lot_graph, seed: int | None = None) -> tuple[str, ...]:
     """Vehicle ids by their least static time from their entrance into a free slot they
     can use (travel along the graph plus the maneuver), ties by arrival."""
-    from lotsim.sim.simulation import _Simulation
-
     seed = scenario.seed if seed is None else seed
     traffic = arrivals(scenario.traffic, seed)
-    sim = _Simulation(scenario, lot_graph, RunSettings(), traffic, None)
+    assigner = SlotAssigner(lot_graph, scenario.vehicle_types)
+    free = {s.id for s in lot_graph.lot.free_slots}
     best = {}
     for a in traffic:
-        times = sim.slot_times(a.entrance, a.vehicle, a.dwell is not None)
-        best[a.id] = min((times[s] for s in sim.free if s in times), default=math.inf)
+        times = assigner.slot_times(a.entrance, a.vehicle, a.dwell is not None)
+        best[a.id] = min((times[s] for s in free if s in times), default=math.inf)
     rank = {a.id: k for k, a in enumerate(traffic)}
     return tuple(sorted(best, key=lambda vid: (best[vid], rank[vid])))
 
@@ -126,7 +127,7 @@ def plan_run(scenario, settings: RunSettings, *, lot_graph,
              progress=None) -> RunResult:
     """Plan the scenario's traffic in the order ``settings`` asks for: ``settings.order`` if
     given, else chosen by ``settings.priority`` (:data:`PRIORITIES`; the GA with
-    ``settings.ga``), then planned by :func:`lotsim.sim.simulation.run`.
+    ``settings.ga``), then planned by :func:`lotsim.sim.running.run`.
 
     The run's ``settings`` hold the order chosen (None when online); its ``ordering`` is a
     record: ``order_time`` (seconds spent choosing the order, the GA's evaluation runs
@@ -136,7 +137,7 @@ def plan_run(scenario, settings: RunSettings, *, lot_graph,
 
     ``progress(done, most)`` is called after each order the GA plans (``most``: the
     population times the generations plus one; repeated orders are not planned again);
-    otherwise, as :func:`lotsim.sim.simulation.run` calls it, as trips are dealt with.
+    otherwise, as :func:`lotsim.sim.running.run` calls it, as trips are dealt with.
     """
     require_traffic(scenario)
     clock = time.perf_counter()
@@ -157,20 +158,3 @@ def plan_run(scenario, settings: RunSettings, *, lot_graph,
     record["fitness"] = fitness(rr)
     rr.ordering = record
     return rr
-
-
-def run_with_priority(scenario, settings: RunSettings, *, priority: str, lot_graph,
-                      ga: GASettings | None = None,
-                      progress=None) -> tuple[RunResult, dict]:
-    """:func:`plan_run` with ``priority`` (and ``ga``) instead of the settings' own and no
-    order given; returns the run and its ``ordering`` record. Kept for callers from before
-    the priority was a setting.
-    """
-    if priority not in PRIORITIES:
-        raise SettingsError("priority", f"unknown priority {priority!r}; expected one of "
-                                        f"{', '.join(PRIORITIES)}")
-    settings = dataclasses.replace(settings, priority=priority, order=None,
-                                   ga=ga or settings.ga)
-    rr = plan_run(scenario, settings, lot_graph=lot_graph,
-                  progress=progress if priority == "ga" else None)
-    return rr, rr.ordering

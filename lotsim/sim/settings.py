@@ -1,5 +1,6 @@
 """How a run plans: :class:`RunSettings` (the cooperative A* variant, slot choice, the
-planning order, ...) and :class:`GASettings` (the genetic algorithm over planning orders).
+planning order, ...), :class:`RunTuning` (how hard a car looks at each slot before it tries
+another) and :class:`GASettings` (the genetic algorithm over planning orders).
 
 Each is a frozen dataclass that validates on construction and raises
 :class:`~lotsim.errors.SettingsError` (``window: expected 1 to 600 seconds, found 0``) for
@@ -46,6 +47,69 @@ BOOKING_HORIZON = 60.0
 MAX_SEED = 2**63 - 1
 MAX_WINDOW = 600.0
 """Longest WHCA* window [s]."""
+MAX_PENALTY = 86_400.0
+"""Largest :attr:`GASettings.unparked_penalty` [s]: a day."""
+MAX_BUDGET = 10**9
+"""Most expansions a setting may give a search."""
+
+
+# -- how hard a car looks at each slot ---------------------------------------------------------
+@dataclass(frozen=True, slots=True)
+class RunTuning:
+    """How a run spends its searches on the slots a car could take; every field can change
+    which slot a car gets and when it parks, so a result's ``settings`` hold them all.
+
+    A car first *looks* at each of its few best slots with a small budget of expansions,
+    then searches fully where a look ran out: a slot it can reach without a long wait is
+    found within the look, so the car does not queue behind cars parking in its best slot's
+    aisle while a slot in another aisle is free to reach.
+
+    Attributes
+    ----------
+    first_looks : int
+        Slots a car first looks at, 1 to 1000: its best, then the best in each other aisle,
+        then the next best (when the best cannot be reached in time its aisle is busy, and
+        its neighbours seldom can be).
+    first_look : int
+        Fewest expansions a first look gets, 1 to 10**9.
+    first_look_rate : float
+        Expansions a first look gets per second of the slot's static time from the
+        entrance (at least ``first_look``), at least 0: a far slot gets a budget as long as
+        its way.
+    jammed_for : float
+        How long an aisle counts as jammed after a first look into it ran out [s], at least
+        0 (0: never): meanwhile the next cars look first at their best slots in the other
+        aisles, where a look seldom runs out, and at its slots only after those.
+    heuristics_kept : int
+        Reverse searches towards a slot a run keeps for the next searches there, at least
+        0: memory against time (a kept one answers as a new one would, so no plan changes).
+    skip_fruitless : bool
+        WHCA*: skip a replan when nothing another car reserved was dropped or cut short
+        since the car last searched: the replan could then only find what the last search
+        passed over by its weighted heuristic, milliseconds in practice.
+    """
+
+    first_looks: int = 3
+    first_look: int = 400
+    first_look_rate: float = 8.0
+    jammed_for: float = 5.0
+    heuristics_kept: int = 16
+    skip_fruitless: bool = True
+
+    def __post_init__(self) -> None:
+        checks = [("first_looks", range_problem(self.first_looks, 1, 1000, integer=True)),
+                  ("first_look", range_problem(self.first_look, 1, MAX_BUDGET, integer=True)),
+                  ("first_look_rate", range_problem(self.first_look_rate, 0, MAX_BUDGET)),
+                  ("jammed_for", range_problem(self.jammed_for, 0, MAX_WINDOW * 6,
+                                               " seconds")),
+                  ("heuristics_kept", range_problem(self.heuristics_kept, 0, 100_000,
+                                                    integer=True))]
+        if not isinstance(self.skip_fruitless, bool):
+            checks.append(("skip_fruitless", f"expected true or false, found "
+                                             f"{self.skip_fruitless!r}"))
+        raise_first([(k, m) for k, m in checks if m is not None])
+        for name in ("first_look_rate", "jammed_for"):
+            set_field(self, name, float(getattr(self, name)))
 
 
 # -- the genetic algorithm over planning orders -----------------------------------------------
@@ -69,6 +133,10 @@ class GASettings:
         Best orders carried over unchanged, 0 to ``population``.
     tournament : int
         Orders drawn for each parent (at least 1); the fittest is taken.
+    unparked_penalty : float
+        Seconds a vehicle that never parks adds to an order's fitness beyond the traffic's
+        patience (:func:`lotsim.sim.orders.fitness`), at least 0: an order that turns a car
+        away must score worse than one that parks it late.
     """
 
     population: int = 12
@@ -77,16 +145,20 @@ class GASettings:
     mutation: float = 0.5
     elite: int = 2
     tournament: int = 3
+    unparked_penalty: float = 600.0
 
     def __post_init__(self) -> None:
         checks = [("population", range_problem(self.population, 2, 10_000, integer=True)),
                   ("generations", range_problem(self.generations, 0, 100_000, integer=True)),
                   ("seed", range_problem(self.seed, 0, MAX_SEED, integer=True)),
                   ("mutation", range_problem(self.mutation, 0, 1)),
-                  ("tournament", range_problem(self.tournament, 1, 10_000, integer=True))]
+                  ("tournament", range_problem(self.tournament, 1, 10_000, integer=True)),
+                  ("unparked_penalty", range_problem(self.unparked_penalty, 0, MAX_PENALTY,
+                                                     " seconds"))]
         if checks[0][1] is None:
             checks.append(("elite", range_problem(self.elite, 0, self.population, integer=True)))
         raise_first([(k, m) for k, m in checks if m is not None])
+        set_field(self, "unparked_penalty", float(self.unparked_penalty))
 
 
 # -- a run --------------------------------------------------------------------------------------
@@ -132,6 +204,8 @@ class RunSettings:
         booked in the best order the genetic algorithm finds (total time to park).
     ga : GASettings
         The genetic algorithm, for ``priority="ga"``.
+    tuning : RunTuning
+        How hard a car looks at each slot before it tries another.
     """
 
     planner: str = "hca"
@@ -144,6 +218,7 @@ class RunSettings:
     horizon: float = BOOKING_HORIZON
     priority: str = "arrival"
     ga: GASettings = field(default_factory=GASettings)
+    tuning: RunTuning = field(default_factory=RunTuning)
 
     def __post_init__(self) -> None:
         raise_first(self._problems())
@@ -188,4 +263,6 @@ class RunSettings:
                                       f"once, found {twice!r} twice"))
         if not isinstance(self.ga, GASettings):
             out.append(("ga", f"expected GASettings, found {self.ga!r}"))
+        if not isinstance(self.tuning, RunTuning):
+            out.append(("tuning", f"expected RunTuning, found {self.tuning!r}"))
         return out

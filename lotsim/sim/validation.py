@@ -10,7 +10,7 @@ from dataclasses import dataclass
 from lotsim.core.diskcache import LOADED
 from lotsim.roadmap.graph import Reachability
 from lotsim.sim.preparation import PreparedLot
-from lotsim.sim.simulation import check_traffic
+from lotsim.sim.running import check_traffic
 from lotsim.traffic.demand import Arrival, StreamSpec, arrivals
 
 
@@ -149,7 +149,7 @@ def validate_prepared(prepared: PreparedLot, source: str) -> ValidationReport:
     Raises
     ------
     ScenarioError
-        For traffic the lot cannot serve at all (:func:`lotsim.sim.simulation.check_traffic`).
+        For traffic the lot cannot serve at all (:func:`lotsim.sim.running.check_traffic`).
     """
     scenario, lg = prepared.scenario, prepared.lot_graph
     reach = lg.reachability()

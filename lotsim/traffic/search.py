@@ -31,7 +31,7 @@ free for ever after (the vehicle will stand there).
 
 Heuristics: CA* uses the straight-line distance at top speed; HCA* the true
 static time to the goal, from a Reverse Resumable A* (RRA*, Silver 2005) run
-backwards from the goal and resumed on demand. WHCA* (in :func:`lotsim.sim.simulation.run`)
+backwards from the goal and resumed on demand. WHCA* (in :func:`lotsim.sim.running.run`)
 searches like HCA* and replans every half window as it drives, keeping the new
 plan when it arrives sooner. The fuse of seed 004 stops a search that
 expands more than ``omega`` times the nodes its reverse search closed.

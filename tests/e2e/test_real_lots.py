@@ -13,7 +13,7 @@ import shapely
 from lotsim.io.result import result_dict
 from lotsim.io.scenario_yaml import load_scenario
 from lotsim.sim.preparation import prepare
-from lotsim.sim.simulation import run
+from lotsim.sim.running import run
 from lotsim.traffic.demand import arrivals
 from lotsim.traffic.search import SearchGraph
 from lotsim.vehicles import CATALOGUE

@@ -28,7 +28,7 @@ from lotsim.errors import ScenarioError
 from lotsim.io.scenario_yaml import load_scenario
 from lotsim.scenario import GifSettings
 from lotsim.sim.preparation import prepare
-from lotsim.sim.simulation import check_traffic
+from lotsim.sim.running import check_traffic
 from lotsim.traffic.demand import arrivals
 from lotsim.verify import check_result
 

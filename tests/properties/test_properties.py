@@ -51,8 +51,8 @@ from lotsim.io.result import result_dict
 from lotsim.io.scenario_yaml import parse_scenario
 from lotsim.io.yamlnodes import parse_text
 from lotsim.sim.preparation import prepare
+from lotsim.sim.running import run
 from lotsim.sim.settings import RunSettings
-from lotsim.sim.simulation import run
 from lotsim.traffic.demand import arrivals
 from lotsim.vehicles.catalogue import CATALOGUE
 from lotsim.verify import check_result

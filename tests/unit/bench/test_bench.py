@@ -17,8 +17,8 @@ from lotsim.cli import main
 from lotsim.errors import Location, ScenarioError
 from lotsim.io.scenario_yaml import load_scenario
 from lotsim.sim.preparation import prepare
+from lotsim.sim.running import run
 from lotsim.sim.settings import RunSettings
-from lotsim.sim.simulation import run
 from lotsim.verify import CheckReport, Violation
 
 # the quickstart's lot with a stream of three cars (a tiny lot: prepared in about a second)

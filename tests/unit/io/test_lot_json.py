@@ -23,7 +23,7 @@ from lotsim.lot.build import build_lot
 from lotsim.lot.model import Area, DesignVehicle, Lot, SpeedZone
 from lotsim.render import draw_lot
 from lotsim.sim.preparation import prepare
-from lotsim.sim.simulation import run
+from lotsim.sim.running import run
 from lotsim.verify import check_result
 
 TOL = 1e-5

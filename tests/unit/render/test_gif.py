@@ -26,8 +26,8 @@ from lotsim.render.animation import (
     write_gif,
 )
 from lotsim.render.replay import PHASES, Replay, assign_colours
+from lotsim.sim.running import run
 from lotsim.sim.settings import RunSettings
-from lotsim.sim.simulation import run
 
 QUICKSTART = ROOT / "scenarios" / "quickstart.yaml"
 BARE = "".join(line for line in QUICKSTART.read_text().splitlines(keepends=True)

@@ -133,8 +133,8 @@ def quickstart_doc():
     from conftest import ROOT
     from lotsim.io.result import result_dict
     from lotsim.io.scenario_yaml import load_scenario
+    from lotsim.sim.running import run
     from lotsim.sim.settings import RunSettings
-    from lotsim.sim.simulation import run
 
     rr = run(load_scenario(ROOT / "scenarios" / "quickstart.yaml"), RunSettings())
     return json.loads(json.dumps(result_dict(rr)))  # as read back from result.json

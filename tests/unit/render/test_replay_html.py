@@ -29,8 +29,8 @@ from lotsim.render.html import UNITS, replay_data, thin, write_html
 from lotsim.render.lot_image import lot_bounds
 from lotsim.render.replay import Replay, assign_colours
 from lotsim.scenario import AnimationSpec, HtmlSettings
+from lotsim.sim.running import run
 from lotsim.sim.settings import RunSettings
-from lotsim.sim.simulation import run
 
 QUICKSTART = ROOT / "scenarios" / "quickstart.yaml"
 WINDOW = (1000, 760)

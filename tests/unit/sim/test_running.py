@@ -1,4 +1,4 @@
-"""lotsim.sim.simulation: prepare a lot, run traffic through it, and what a run's result holds.
+"""lotsim.sim.running: prepare a lot, run traffic through it, and what a run's result holds.
 
 A lot small enough to check by eye: one one-way aisle along y = 11 m, three perpendicular
 slots P1–P3 on its left (x 12–19.5 m), an entrance at its west end and an exit at its east
@@ -9,20 +9,21 @@ how patient they are), not from an earlier run's numbers.
 from __future__ import annotations
 
 import dataclasses
-import math
+import gc
 
-import numpy as np
 import pytest
 import shapely
 
-import lotsim.sim.simulation
 from conftest import scenario_from_text
 from lotsim.cli import main
 from lotsim.errors import ScenarioError, SettingsError
 from lotsim.io.result import result_dict
+from lotsim.sim import loop as loopmod
+from lotsim.sim.loop import EventLoop
 from lotsim.sim.preparation import PreparedLot, prepare
+from lotsim.sim.results import STATUSES, RunResult
+from lotsim.sim.running import RUN_GC_THRESHOLDS, collector_tuned, run
 from lotsim.sim.settings import RunSettings
-from lotsim.sim.simulation import SAMPLE_DT, STATUSES, RunResult, run, samples
 from lotsim.traffic.demand import Arrival, StreamSpec, TrafficSpec, arrivals
 from lotsim.traffic.search import Plan, Status
 
@@ -120,21 +121,6 @@ def test_each_car_s_moves_follow_on_in_time_and_end_with_it_inside_its_slot(tiny
         assert slot.contains(body), v.id
 
 
-def test_samples_run_from_entering_to_parking_on_the_result_grid(tiny):
-    sc, lg = tiny
-    v = run(_with(sc, _cars(0)), lot_graph=lg).vehicles[0]
-    trace = samples(v)
-    inside = [m for m in v.moves if m.kind != "outside"]
-    assert trace.start_time == pytest.approx(inside[0].t0)
-    assert trace.end_time == pytest.approx(inside[-1].t1)
-    assert max(b - a for a, b in zip(trace.t, trace.t[1:], strict=False)) <= SAMPLE_DT + 1e-9 \
-        or v.moves[-1].motion is None  # standing stretches are sampled at their ends only
-    assert trace.poses[-1] == pytest.approx(v.parked_pose, abs=1e-6)
-    # a car that never got in has no samples
-    never = dataclasses.replace(v, moves=[])
-    assert samples(never) is None
-
-
 def test_metrics_count_every_status_and_add_up(tiny):
     sc, lg = tiny
     rr = run(_with(sc, _cars(0, 1, dwell=15.0), patience=40), lot_graph=lg)
@@ -147,29 +133,6 @@ def test_metrics_count_every_status_and_add_up(tiny):
 
 
 
-def test_a_car_setting_off_microseconds_before_a_sample_instant_stands_until_then(tiny):
-    # the 1000-car run had a car whose wait ended 2 µs before an instant of the sample grid:
-    # its drive's first grid sample (rolling for 2 µs, 4e-12 m/s) was merged onto the
-    # wait's end, so the wait ended in gear 1 and `lotsim check` found an 8 s gap in its
-    # sampling. Each move of a car that parks and leaves is shifted so that one drive
-    # after standing starts 1.5 µs before a grid instant, which the samples must show as
-    # standing to the end
-    sc, lg = tiny
-    rr = run(_with(sc, [Arrival("goes", "valet", "in", 0.0, 20.0)]), lot_graph=lg)
-    v = rr.vehicles[0]
-    k = next(k for k, m in enumerate(v.moves) if k and m.motion is not None
-             and v.moves[k - 1].motion is None)  # a drive after standing
-    t0 = v.moves[k].t0
-    shift = math.ceil(t0 / SAMPLE_DT) * SAMPLE_DT - 1.5e-6 - t0
-    v.moves = [dataclasses.replace(m, t0=m.t0 + shift, t1=m.t1 + shift) for m in v.moves]
-    tr = samples(v)
-    start = t0 + shift
-    at = int(np.argmin(np.abs(tr.t - start)))
-    assert abs(tr.t[at] - start) < 1e-9
-    assert tr.gear[at] == 0 and tr.v[at] == 0.0  # it stands until it sets off
-    assert tr.t[at + 1] - tr.t[at] <= SAMPLE_DT + 2e-6 and tr.gear[at + 1] != 0
-    rest = np.abs(tr.v) < 1e-9
-    assert (tr.gear[rest] == 0).all() and (tr.v[rest] == 0).all()
 
 # -- a full lot, and patience -------------------------------------------------------------------
 def test_cars_beyond_the_free_slots_are_turned_away_after_their_patience(tiny):
@@ -217,14 +180,14 @@ def test_a_car_that_can_never_leave_ends_waiting_with_its_reason_and_run_exits_1
         tiny, tmp_path, monkeypatch):
     # every search for a way out fails (as when the aisle stays blocked): the car tries
     # again and again, backing off, and is not reported parked when the run ends
-    real = lotsim.sim.simulation.search
+    real = loopmod.search
 
     def no_way_out(sg, table, *, goal, **kw):
         if goal.slot is None:  # towards the exits
             return Plan(Status.NO_PATH, expansions=1)
         return real(sg, table, goal=goal, **kw)
 
-    monkeypatch.setattr(lotsim.sim.simulation, "search", no_way_out)
+    monkeypatch.setattr(loopmod, "search", no_way_out)
     sc, lg = tiny
     rr = run(_with(sc, [Arrival("stuck", "valet", "in", 0.0, 20.0), *_cars(1)]), lot_graph=lg)
     stuck, other = rr.vehicles
@@ -239,7 +202,7 @@ def test_a_car_that_can_never_leave_ends_waiting_with_its_reason_and_run_exits_1
     path.write_text(TINY + "traffic:\n  vehicles:\n"
                     "    - {id: stuck, type: valet, entrance: in, arrival: 0, dwell: 20}\n")
     assert main(["run", str(path), "-o", str(tmp_path / "o"), "--no-gif"]) == 1
-    monkeypatch.setattr(lotsim.sim.simulation, "search", real)
+    monkeypatch.setattr(loopmod, "search", real)
     assert main(["run", str(path), "-o", str(tmp_path / "p"), "--no-gif"]) == 0
 
 
@@ -287,3 +250,59 @@ def test_an_order_must_hold_every_vehicle_once(tiny):
             run(sc, RunSettings(order=order), lot_graph=lg)
     rr = run(sc, RunSettings(order=("c1", "c0")), lot_graph=lg)
     assert {v.id: v.status for v in rr.vehicles} == {"c0": "parked", "c1": "parked"}
+
+
+# -- the garbage collector ---------------------------------------------------------------------
+def test_a_run_leaves_the_garbage_collector_as_it_found_it(tiny, monkeypatch):
+    sc, lg = tiny
+    seen = []
+    go = EventLoop.go
+
+    def spy(self):
+        seen.append((gc.get_freeze_count(), gc.get_threshold()))
+        go(self)
+
+    monkeypatch.setattr(EventLoop, "go", spy)
+    before = (gc.get_freeze_count(), gc.get_threshold())
+    run(_with(sc, _cars(0)), lot_graph=lg)
+    assert seen == [before] and (gc.get_freeze_count(), gc.get_threshold()) == before
+
+
+def test_collector_tuned_freezes_what_the_process_held_and_restores_it_even_on_an_error(
+        tiny, monkeypatch):
+    # frozen while it plans (the prepared lot is not scanned by its collections), collected
+    # in larger batches; back to normal after it, also when planning raises
+    sc, lg = tiny
+    seen = []
+    go = EventLoop.go
+
+    def spy(self):
+        seen.append((gc.get_freeze_count(), gc.get_threshold()))
+        go(self)
+
+    monkeypatch.setattr(EventLoop, "go", spy)
+    before = (gc.get_freeze_count(), gc.get_threshold())
+    assert before[1] != RUN_GC_THRESHOLDS
+    with collector_tuned():
+        run(_with(sc, _cars(0)), lot_graph=lg)
+    assert seen[0][0] > before[0] and seen[0][1] == RUN_GC_THRESHOLDS
+    assert (gc.get_freeze_count(), gc.get_threshold()) == before
+
+    def boom(self):
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(EventLoop, "go", boom)
+    with pytest.raises(KeyboardInterrupt), collector_tuned():
+        run(_with(sc, _cars(0)), lot_graph=lg)
+    assert (gc.get_freeze_count(), gc.get_threshold()) == before
+
+
+def test_collector_tuned_leaves_what_was_frozen_before_it_frozen():
+    gc.freeze()
+    try:
+        held = gc.get_freeze_count()
+        with collector_tuned():
+            assert gc.get_freeze_count() == held
+        assert gc.get_freeze_count() == held
+    finally:
+        gc.unfreeze()

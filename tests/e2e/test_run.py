@@ -9,14 +9,14 @@ import pickle
 import numpy as np
 import pytest
 
-from conftest import ONE_AISLE, ROOT, SCENARIOS, position, scenario_from_text, static_times
+from conftest import ONE_AISLE, SCENARIOS, position, scenario_from_text, static_times
 from lotsim.cli import main
 from lotsim.errors import ScenarioError
 from lotsim.io.result import result_dict
 from lotsim.io.scenario_yaml import load_scenario
 from lotsim.sim.preparation import prepare
-from lotsim.sim.settings import RunSettings
-from lotsim.sim.simulation import run
+from lotsim.sim.running import run
+from lotsim.sim.settings import RunSettings, RunTuning
 from lotsim.traffic import search as cooperative
 from lotsim.traffic.demand import Arrival, TrafficSpec, arrivals
 from lotsim.verify import check_result
@@ -48,38 +48,6 @@ def test_a_reverse_search_asked_many_things_answers_each_as_a_new_one_would(smal
                 reachable += 1
                 assert kept.closed_at(start) == new.closed
     assert reachable >= 20
-
-
-def test_a_run_leaves_what_the_process_held_before_out_of_its_collections_and_no_more(
-        small, monkeypatch):
-    # frozen while it plans (the prepared lot is not scanned by its collections), back to
-    # normal after it, also when planning raises
-    import gc
-
-    from lotsim.sim import simulation as sim
-    sc, lg = small
-    frozen = []
-    go = sim._Simulation.go
-
-    def spy(self):
-        frozen.append(gc.get_freeze_count())
-        thresholds.append(gc.get_threshold())
-        go(self)
-
-    monkeypatch.setattr(sim._Simulation, "go", spy)
-    before, was, thresholds = gc.get_freeze_count(), gc.get_threshold(), []
-    _run(sc, lg, [Arrival("a", "valet", "in", 0.0)])
-    assert frozen[0] > before and gc.get_freeze_count() == before
-    # ... and collected in larger batches while it plans, as before after
-    assert thresholds == [sim.RUN_GC_THRESHOLDS] != [was] and gc.get_threshold() == was
-
-    def boom(self):
-        raise KeyboardInterrupt
-
-    monkeypatch.setattr(sim._Simulation, "go", boom)
-    with pytest.raises(KeyboardInterrupt):
-        _run(sc, lg, [Arrival("a", "valet", "in", 0.0)])
-    assert gc.get_freeze_count() == before and gc.get_threshold() == was
 
 
 def _run(sc, lg, vehicles, patience=60.0, **settings):
@@ -282,7 +250,8 @@ def test_same_scenario_and_seed_give_the_same_file_byte_for_byte(tmp_path, shipp
         again = lotsim.run(lotsim.PreparedLot(prepared.scenario, held))
         assert again.write(tmp_path / f"again{k}.json").read_bytes() == outs[0]
     assert copy.kept["search_graphs"]
-    # another seed draws other arrivals (that a run takes its seed's: tests/test_sim.py)
+    # another seed draws other arrivals (that a run takes its seed's:
+    # tests/unit/sim/test_running.py)
     sc = prepared.scenario
     assert [a.time for a in arrivals(sc.traffic, 99)] != [
         v["arrival"] for v in json.loads(outs[0])["vehicles"]]
@@ -423,93 +392,16 @@ def test_a_car_speeds_up_across_closely_spaced_nodes():
     assert best <= plan.end <= 1.1 * best
 
 
-def test_a_car_that_misses_its_best_slot_tries_the_best_of_other_aisles_next():
-    from types import SimpleNamespace
-
-    from lotsim.sim.simulation import _Simulation
-
-    aisle = {"A1": "a", "A2": "a", "A3": "a", "B1": "b", "B2": "b", "C1": "c"}
-    slots = {k: SimpleNamespace(aisle=v) for k, v in aisle.items()}
-    sim = SimpleNamespace(lg=SimpleNamespace(lot=SimpleNamespace(slot_by_id=slots)))
-    ranked = ["A1", "A2", "B1", "A3", "B2", "C1"]
-    assert _Simulation.few(sim, ranked) == ["A1", "B1", "C1"]
-    assert _Simulation.few(sim, ranked, n=4) == ["A1", "B1", "C1", "A2"]  # then the next best
-    assert _Simulation.few(sim, ["A2", "A1"]) == ["A2", "A1"]  # one aisle: in rank order
-
-
-def test_after_a_first_look_runs_out_the_next_cars_look_at_other_aisles_first_for_a_while(
-        shipped_graphs, monkeypatch):
-    """Every first look runs out (a stand-in search): the next car, within JAMMED_FOR,
-    looks first at the best slot outside the aisles those looks were in, and at its own
-    best again once the span is over."""
-    from lotsim.sim import simulation as simmod
-    from lotsim.traffic.demand import Arrival
-    from lotsim.traffic.search import Plan, Status
-
-    lg = shipped_graphs["large_lot"]
-    sc = load_scenario(ROOT / "scenarios" / "large_lot.yaml")
-    car, gate = sc.vehicle_types[0].name, next(iter(lg.entrances))
-    cars = [Arrival(f"c{k}", car, gate, 0.0) for k in range(3)]
-    sim = simmod._Simulation(sc, lg, RunSettings(), cars, None)
-    looks: list[tuple[str, str, float]] = []  # (car, slot, start time) of each first look
-    slot_of = {node: sid for sid, node in lg.slot_nodes.items()}
-
-    def runs_out(sg, table, *, owner, t0, goal, budget=None, **kw):
-        if budget is not None:
-            looks.append((owner, slot_of[goal.slot], t0))
-            return Plan(Status.FUSE, expansions=budget + 1)
-        return Plan(Status.NO_PATH)
-
-    monkeypatch.setattr(simmod, "search", runs_out)
-    aisle = {s.id: s.aisle for s in lg.lot.slots}
-    ranked = sim.slot_choice(sim.vehicles[0])
-    sim.on_retry(0, sim.vehicles[0], 0.0)
-    first = [sid for who, sid, _ in looks if who == "c0"]
-    assert first == sim.few(ranked) and len({aisle[s] for s in first}) == 3
-    jammed = {aisle[s] for s in first}
-    sim.on_retry(1, sim.vehicles[1], simmod.JAMMED_FOR - 0.5)
-    second = [sid for who, sid, _ in looks if who == "c1"]
-    assert second[0] == next(s for s in ranked if aisle[s] not in jammed)
-    assert not jammed & {aisle[s] for s in second}
-    # JAMMED_FOR after c0's looks their aisles are free again; c1's are still jammed
-    sim.on_retry(2, sim.vehicles[2], simmod.JAMMED_FOR)
-    third = [sid for who, sid, _ in looks if who == "c2"]
-    assert third == sim.few([s for s in ranked if aisle[s] not in {aisle[x] for x in second}])
-    assert third[0] == ranked[0]
-
-
-def test_a_first_look_gets_eight_expansions_a_second_of_the_slots_way_and_at_least_400(
-        shipped_graphs):
-    from lotsim.sim import simulation as simmod
-    lg = shipped_graphs["large_lot"]
-    sc = load_scenario(ROOT / "scenarios" / "large_lot.yaml")
-    sim = simmod._Simulation(sc, lg, RunSettings(), [], None)
-    car = sc.vehicle_types[0].name
-    gate = next(iter(lg.entrances))
-    # static times by a forward search from the gate (the budget reads the slot's RRA*)
-    times = sim.slot_times(gate, car, False)
-    near, far = min(times, key=times.get), max(times, key=times.get)
-    assert 8 * times[near] < 400 < 8 * times[far]
-
-    def budget(sid):
-        return sim.first_look(sim.graphs[car], lg.entrances[gate], lg.slot_nodes[sid])
-
-    assert budget(near) == simmod.FIRST_LOOK == 400
-    assert abs(budget(far) - 8 * times[far]) <= 0.5 + 1e-9
-
-
 def test_whca_replans_only_when_space_was_freed_and_that_changes_next_to_nothing(
-        shipped_graphs, monkeypatch):
+        shipped_graphs):
     """A replan with nothing freed since the car's last search could only find what its
     optimal search missed by its time lattice: the street's cars end as with every replan,
     park within 0.1 s of it, with fewer than half the searches."""
-    import lotsim.sim.simulation
-
     sc = load_scenario(SCENARIOS[[p.stem for p in SCENARIOS].index("street")])
     runs = {}
     for skip in (True, False):
-        monkeypatch.setattr(lotsim.sim.simulation, "SKIP_FRUITLESS", skip)
-        runs[skip] = run(sc, RunSettings(planner="whca"), lot_graph=shipped_graphs["street"])
+        settings = RunSettings(planner="whca", tuning=RunTuning(skip_fruitless=skip))
+        runs[skip] = run(sc, settings, lot_graph=shipped_graphs["street"])
     fast, full = runs[True], runs[False]
     assert check_result(result_dict(fast)).ok
     assert 2 * fast.metrics()["searches"] < full.metrics()["searches"]

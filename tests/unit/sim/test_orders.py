@@ -2,6 +2,7 @@
 
 import dataclasses
 import math
+import time
 
 import numpy as np
 import pytest
@@ -10,16 +11,15 @@ from conftest import ONE_AISLE, ROOT, scenario_from_text, static_times
 from lotsim.io.result import result_dict
 from lotsim.io.scenario_yaml import load_scenario
 from lotsim.sim.orders import (
-    GASettings,
     _order_crossover,
     fitness,
     genetic_order,
-    run_with_priority,
+    plan_run,
     shortest_first,
 )
 from lotsim.sim.preparation import prepare
-from lotsim.sim.settings import RunSettings
-from lotsim.sim.simulation import run
+from lotsim.sim.running import run
+from lotsim.sim.settings import GASettings, RunSettings
 from lotsim.traffic.demand import Arrival, TrafficSpec, arrivals
 from lotsim.verify import check_result
 
@@ -71,7 +71,8 @@ def test_booked_runs_pass_the_checker_and_start_no_vehicle_before_it_arrives(bur
         rr = _checked(run(busy, RunSettings(order=order, horizon=horizon), lot_graph=lg))
         for v in rr.vehicles:
             assert all(m.t0 >= v.arrival.time - 1e-9 for m in v.moves)
-            assert v.status in ("parked", "departed", "rejected", "waiting")
+            # turned away after its patience exactly when it never got a plan in
+            assert (v.status == "rejected") == (v.moves == [])
 
 
 def test_an_order_must_name_every_vehicle_once(burst):
@@ -94,6 +95,9 @@ def test_fitness_is_the_total_time_to_park_with_a_penalty_for_the_unparked(burst
     parked = [v.parked_at - v.arrival.time for v in full.vehicles if v.parked_at is not None]
     assert len(parked) == 6
     assert fitness(full) == pytest.approx(sum(parked) + 2 * (30.0 + 600.0))
+    # the penalty is the run's GA setting
+    milder = dataclasses.replace(full, settings=RunSettings(ga=GASettings(unparked_penalty=50)))
+    assert fitness(milder) == pytest.approx(sum(parked) + 2 * (30.0 + 50.0))
 
 
 def test_shortest_first_orders_by_static_time_to_a_slot():
@@ -150,18 +154,22 @@ def test_the_ga_never_does_worse_than_arrival_order_or_shortest_first(burst):
     assert again == order
 
 
-def test_run_with_priority_records_the_search(burst):
+def test_plan_run_records_how_the_order_was_chosen(burst):
     sc, lg = burst
     busy = _with(sc, CARS)
     for priority in ("arrival", "shortest_first", "ga"):
-        rr, extra = run_with_priority(busy, RunSettings(), priority=priority, lot_graph=lg,
-                                      ga=GASettings(population=4, generations=1))
-        _checked(rr)
+        settings = RunSettings(priority=priority, ga=GASettings(population=4, generations=1))
+        clock = time.perf_counter()
+        rr = _checked(plan_run(busy, settings, lot_graph=lg))
+        wall = time.perf_counter() - clock
+        extra = rr.ordering
         assert extra["fitness"] == pytest.approx(fitness(rr))
-        assert extra["order_time"] >= 0
+        # chosen before the run planned in that order, within the call's time
+        assert 0 <= extra["order_time"] <= wall - rr.planning_time
         assert (extra["evaluations"] > 0) == (priority == "ga")
-    with pytest.raises(ValueError, match="unknown priority"):
-        run_with_priority(busy, RunSettings(), priority="random", lot_graph=lg)
+        assert (rr.settings.order is None) == (priority == "arrival")
+        if priority == "shortest_first":
+            assert rr.settings.order == shortest_first(busy, lg)
 
 
 def test_run_plans_booked_traffic_in_the_order_asked(tmp_path, capsys):

@@ -1,0 +1,367 @@
+"""The event loop of a run: cars arrive, look for a slot and a way to it, queue or wait
+outside when they find none, park, leave again, and (WHCA*) replan as they drive.
+
+Cars are planned one at a time, each against the reservation table of those planned
+before it (cooperative A*, Silver 2005); which slot a car tries is the
+:class:`~lotsim.sim.assignment.SlotAssigner`'s choice.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import heapq
+import math
+import time
+from collections import OrderedDict
+
+from lotsim.roadmap.graph import LotGraph
+from lotsim.scenario import Scenario
+from lotsim.sim.assignment import SlotAssigner
+from lotsim.sim.results import VehicleRun
+from lotsim.sim.settings import RunSettings
+from lotsim.traffic.demand import Arrival
+from lotsim.traffic.reservation import ReservationTable, standing_body
+from lotsim.traffic.search import (
+    Goal,
+    Move,
+    Plan,
+    ReverseResumable,
+    SearchGraph,
+    Status,
+    reserve_moves,
+    search,
+)
+
+
+class EventLoop:
+    """One run's events in time order: arrivals, retries after a failed search, timeouts,
+    departures and WHCA* replans, each planned against the reservations of those before.
+
+    Parameters
+    ----------
+    scenario : Scenario
+        Its traffic's patience, vehicle types and the car parked in occupied slots.
+    lg : LotGraph
+        The prepared lot.
+    settings : RunSettings
+    traffic : list of Arrival
+        The vehicles, in arrival order.
+    progress : callable or None
+        Called as ``progress(done, total)`` as trips are dealt with.
+    """
+
+    def __init__(self, scenario: Scenario, lg: LotGraph, settings: RunSettings,
+                 traffic: list[Arrival], progress) -> None:
+        self.lg = lg
+        self.s = settings
+        self.patience = scenario.traffic.patience
+        self.table = ReservationTable()
+        self.assigner = SlotAssigner(lg, scenario.vehicle_types, policy=settings.assignment,
+                                     tuning=settings.tuning)
+        self.graphs = self.assigner.graphs
+        self.leave = self.assigner.leave
+        types = {t.name: t for t in scenario.vehicle_types}
+        self.vehicles = [VehicleRun(a, types[a.vehicle]) for a in traffic]
+        self.by_id = {v.id: v for v in self.vehicles}
+        self.free = {s.id for s in lg.lot.free_slots}
+        self.queue: list[int] = []
+        self.events: list[tuple[float, int, str, int]] = []
+        self.seq = 0
+        self.progress = progress
+        self._trips = sum(1 + (v.arrival.dwell is not None) for v in self.vehicles)
+        self._trips_done = 0
+        self._counted: dict[str, int] = {}
+        self._exits: dict[str, ReverseResumable] = {}
+        self._heuristics: OrderedDict[tuple, ReverseResumable] = OrderedDict()
+        parked = scenario.parked_vehicle
+        for sid in sorted(lg.lot.occupied):
+            slot = lg.lot.slot_by_id[sid]
+            pose = slot.centered_pose(parked.front, parked.rear)
+            self.table.reserve_standing(f"parked:{sid}", standing_body(parked, pose), -math.inf,
+                                        in_slot=True)
+        last = max((a.time for a in traffic), default=0.0)
+        longest = max((a.dwell or 0.0 for a in traffic), default=0.0)
+        self.end_time = last + self.patience + longest + 3600.0
+        if settings.order is None:
+            for i, a in enumerate(traffic):
+                self.at(a.time, "arrive", i)
+        else:  # booked: each batch is planned at its start, in this order
+            index = {a.id: i for i, a in enumerate(traffic)}
+            first = min((a.time for a in traffic), default=0.0)
+            h = settings.horizon
+            for vid in settings.order:
+                a = traffic[index[vid]]
+                batch = first if math.isinf(h) else first + math.floor((a.time - first) / h) * h
+                self.at(batch, "arrive", index[vid])
+
+    def at(self, t: float, kind: str, i: int) -> None:
+        self.seq += 1
+        heapq.heappush(self.events, (t, self.seq, kind, i))
+
+    def go(self) -> None:
+        """Deal with every event; then every vehicle not done yet ends as it stands."""
+        while self.events:
+            t, _, kind, i = heapq.heappop(self.events)
+            # events come in time order and every search and release starts at its event's
+            # time or later: what ended before is no use to any of them
+            self.table.forget_before(t)
+            v = self.vehicles[i]
+            if v.done:
+                continue
+            if t > self.end_time:
+                # a parked car that has not left yet is still parked (no reason: it is fine),
+                # unless it should have left and could not: it is waiting to get out
+                if v.status == "parked" and v.reason.startswith("could not leave"):
+                    self.finish(v, "waiting", f"{v.reason} when the run ended at "
+                                              f"{self.end_time:.0f} s")
+                elif v.status == "parked":
+                    self.finish(v, "parked")
+                else:
+                    self.finish(v, "waiting", f"the run ended at {self.end_time:.0f} s first")
+                continue
+            getattr(self, f"on_{kind}")(i, v, t)
+        for v in self.vehicles:
+            if not v.done:
+                unsettled = v.status in ("waiting", "rejected")
+                self.finish(v, v.status, (v.reason or "the run ended") if unsettled else "")
+
+    def backoff(self, v: VehicleRun) -> float:
+        """Wait before the next try after a failed search: ``retry``, doubling with each
+        failure in a row, at most a minute [s]."""
+        v.failures += 1
+        return min(60.0, self.s.retry * 2 ** (v.failures - 1))
+
+    def finish(self, v: VehicleRun, status: str, reason: str = "") -> None:
+        v.status, v.reason, v.done = status, reason, True
+        self.handled(v, 2)
+
+    def handled(self, v: VehicleRun, trips: int) -> None:
+        """Count ``v``'s first ``trips`` trips (1: in, 2: in and out, if it leaves) as dealt
+        with, for ``progress``."""
+        trips = min(trips, 1 + (v.arrival.dwell is not None))
+        more = trips - self._counted.get(v.arrival.id, 0)
+        if more > 0:
+            self._counted[v.arrival.id] = trips
+            self._trips_done += more
+            if self.progress is not None:
+                self.progress(self._trips_done, self._trips)
+
+    # -- arriving -----------------------------------------------------------------------------
+    def on_arrive(self, i: int, v: VehicleRun, t: float) -> None:
+        if self.patience > 0:
+            self.at(v.arrival.time + self.patience, "timeout", i)
+        self.on_retry(i, v, t)
+
+    def on_timeout(self, i: int, v: VehicleRun, t: float) -> None:
+        if v.moves:  # it got in
+            return
+        if i in self.queue:
+            self.queue.remove(i)
+        why = v.reason or "no slot was freed"
+        self.finish(v, "rejected", f"waited {self.patience:g} s outside: {why}")
+
+    def on_retry(self, i: int, v: VehicleRun, t: float) -> None:
+        if v.moves or v.done:
+            return
+        t = max(t, v.arrival.time)  # a booked vehicle is planned before it arrives
+        sg = self.graphs[v.vehicle.name]
+        options = self.assigner.ranked(v.arrival, self.free)
+        if not options:
+            v.reason = "the lot is full"
+            if i not in self.queue:
+                self.queue.append(i)
+            if self.patience == 0:
+                self.on_timeout(i, v, t)
+            return
+        # a first look at each of the few best slots (those in jammed aisles last), then a
+        # full search where that ran out
+        start = self.lg.entrances[v.arrival.entrance]
+        tries = [(sid, True) for sid in self.assigner.first_looks(options, t)]
+        while tries:
+            sid, first = tries.pop(0)
+            goal = self.park_goal(v, sid)
+            budget = self.first_look(sg, start, goal.slot) if first else None
+            plan = self.plan(v, sg, start=start, t0=t, goal=goal, outside=True,
+                             key=("slot", sid), budget=budget)
+            if plan.status is Status.FOUND:
+                if i in self.queue:
+                    self.queue.remove(i)
+                self.free.discard(sid)
+                v.slot = sid
+                self.commit(i, v, sg, plan)
+                return
+            if plan.status is Status.FUSE and first:
+                tries.append((sid, False))
+                self.assigner.ran_out(sid, t)
+        v.reason = f"no conflict-free route found ({plan.status.value})"
+        if self.patience == 0:
+            self.on_timeout(i, v, t)
+            return
+        self.at(t + self.backoff(v), "retry", i)
+
+    def first_look(self, sg: SearchGraph, start: int, slot: int) -> int:
+        """The budget of a first look from ``start`` into slot node ``slot``
+        (:meth:`SlotAssigner.look_budget`), from the RRA* the search asks anyway."""
+        return self.assigner.look_budget(self.heuristic(sg, {slot: 0.0})(start))
+
+    def park_goal(self, v: VehicleRun, sid: str) -> Goal:
+        """Slot ``sid``, entered from where ``v`` can later leave if it will."""
+        return Goal(slot=self.lg.slot_nodes[sid],
+                    park_by=(self.leave[v.vehicle.name] if v.arrival.dwell is not None
+                             else None))
+
+    # -- planning -----------------------------------------------------------------------------
+    def plan(self, v: VehicleRun, sg: SearchGraph, *, key: tuple[str, str], **kw) -> Plan:
+        """Search for ``v`` (``kw``: :func:`~lotsim.traffic.search.search`'s), with the
+        heuristic kept for ``key`` (``("slot", id)`` or ``("exit", type)``); counted in
+        ``v``'s searches, expansions and planning time."""
+        goal = kw["goal"]
+        goals = ({goal.slot: 0.0} if goal.slot is not None else {n: 0.0 for n in goal.exits})
+        if key[0] == "exit" and self.s.planner != "ca":
+            # one for every way out of a type, its fuse sized by all it has closed so far
+            rra, shared = self._exits.get(key[1]), False
+            if rra is None:
+                rra = self._exits[key[1]] = sg.reverse_search(goals)
+        else:
+            rra, shared = self.heuristic(sg, goals), True
+        v.seen = len(self.table.releases)
+        clock = time.perf_counter()
+        plan = search(sg, self.table, owner=v.id, planner=self.s.planner, heuristic=rra,
+                      shared=shared, omega=self.s.omega, **kw)
+        v.planning_time += time.perf_counter() - clock
+        v.searches += 1
+        v.expansions += plan.expansions
+        return plan
+
+    def heuristic(self, sg: SearchGraph, goals: dict[int, float]) -> ReverseResumable:
+        """The RRA* towards ``goals`` for ``sg``'s type, kept for the next search there (the
+        same slot is searched for again and again: a first look, then a full search, by the
+        car's next try and by the next cars); the ``heuristics_kept`` last used."""
+        key = (sg.vehicle.name, *goals)
+        kept = self._heuristics
+        rra = kept.get(key)
+        if rra is None:
+            rra = kept[key] = sg.reverse_search(goals)
+            if len(kept) > self.s.tuning.heuristics_kept:
+                kept.popitem(last=False)
+        else:
+            kept.move_to_end(key)
+        return rra
+
+    def commit(self, i: int, v: VehicleRun, sg: SearchGraph, plan: Plan) -> None:
+        """Take ``plan`` (appended to ``v``'s moves) and reserve it; WHCA* replans it half a
+        window on, while there is more than that left to drive."""
+        v.failures = 0
+        exit_ = self.is_exit(plan)
+        reserve_moves(self.table, v.id, sg, plan.moves, hold_end=not exit_)
+        v.moves.extend(plan.moves)
+        t_end = plan.end
+        now = plan.moves[0].t0
+        if exit_:
+            v.left_at = t_end
+        else:
+            v.parked_at = t_end
+            v.parked_pose = plan.moves[-1].end_pose
+            v.status, v.reason = "parked", ""
+            self.handled(v, 1)
+            if v.arrival.dwell is not None:
+                v.depart_at = t_end + v.arrival.dwell
+                self.at(v.depart_at, "depart", i)
+        half = self.s.window / 2
+        if self.s.planner == "whca" and t_end > now + half:
+            self.at(now + half, "replan", i)
+        else:
+            self.settle(v)
+
+    def settle(self, v: VehicleRun) -> None:
+        """``v``'s plan is final: it departs, or parks for good."""
+        if v.left_at is not None:
+            self.finish(v, "departed")
+        elif v.arrival.dwell is None:
+            self.finish(v, "parked")
+
+    def is_exit(self, plan: Plan) -> bool:
+        return bool(plan.moves) and plan.moves[-1].node_to in self.lg.exits.values()
+
+    # -- leaving ------------------------------------------------------------------------------
+    def on_depart(self, i: int, v: VehicleRun, t: float) -> None:
+        if v.depart_at is None or abs(t - v.depart_at) > 1e-9 or v.leaving:
+            return  # superseded (a WHCA* replan moved the parking time)
+        sg = self.graphs[v.vehicle.name]
+        plan = self.plan(v, sg, start=self.lg.slot_nodes[v.slot], t0=t,
+                         start_pose=v.parked_pose, goal=Goal(exits=tuple(self.lg.exits.values())),
+                         key=("exit", v.vehicle.name))
+        if plan.status is not Status.FOUND:
+            v.reason = f"could not leave yet ({plan.status.value})"
+            v.depart_at = t + self.backoff(v)
+            self.at(v.depart_at, "depart", i)
+            return
+        self.table.release(v.id, after=t)
+        self.commit_departure(i, v, sg, plan, t)
+
+    def commit_departure(self, i: int, v: VehicleRun, sg: SearchGraph, plan: Plan,
+                         t: float) -> None:
+        v.leaving = True  # from now on its plans lead out
+        # the parked stretch until the departure's first move (already reserved until t)
+        if plan.moves[0].t0 > v.moves[-1].t1:
+            node = v.moves[-1].node_to
+            v.moves.append(Move("parked", v.moves[-1].t1, plan.moves[0].t0, node, node, 0, 0,
+                                end_pose=v.parked_pose))
+        self.commit(i, v, sg, plan)
+        self.free.add(v.slot)
+        self.wake(t)
+
+    def wake(self, t: float) -> None:
+        """Give freed slots to the queue, first come first served."""
+        for j in list(self.queue):
+            if not self.free:
+                break
+            self.on_retry(j, self.vehicles[j], t)
+
+    # -- WHCA* --------------------------------------------------------------------------------
+    def on_replan(self, i: int, v: VehicleRun, t: float) -> None:
+        """Replan from the end of the move under way at ``t``; keep the new plan if it gets
+        there sooner (the old one stays valid: nobody planned over it)."""
+        sg = self.graphs[v.vehicle.name]
+        k = next((k for k, m in enumerate(v.moves) if m.t1 > t), len(v.moves) - 1)
+        kept, last = v.moves[: k + 1], v.moves[k]
+        if last.kind in ("wait", "outside") and last.t0 < t < last.t1:
+            # waiting (for as long as its search found it must): from now, it may go sooner
+            last = dataclasses.replace(last, t1=t)
+            kept = [*v.moves[:k], last]
+        t_end = v.moves[-1].t1
+        if k < len(v.moves) - 1 and self.may_be_sooner(v, t_end):
+            goal = (Goal(exits=tuple(self.lg.exits.values())) if v.leaving
+                    else self.park_goal(v, v.slot))
+            in_slot = last.node_to == self.lg.slot_nodes.get(v.slot)
+            plan = self.plan(v, sg, start=last.node_to, t0=last.t1, level=last.level_to,
+                             goal=goal, outside=last.kind == "outside",
+                             start_pose=v.parked_pose if in_slot else None,
+                             key=("exit", v.vehicle.name) if v.leaving else ("slot", v.slot))
+            if plan.status is Status.FOUND and plan.end < t_end - 1e-6:
+                self.table.release(v.id, after=last.t1)
+                v.moves = kept
+                self.commit(i, v, sg, plan)
+                return
+        if t_end > t + self.s.window / 2:
+            self.at(t + self.s.window / 2, "replan", i)
+        else:
+            self.settle(v)
+
+    def may_be_sooner(self, v: VehicleRun, t_end: float) -> bool:
+        """Whether a replan of ``v``, whose plan ends at ``t_end``, is worth searching:
+        only if someone else's reservations were dropped or cut short before ``t_end``
+        since it last searched — or, for reservations that stood in a slot (a parked car
+        that leaves), in its own slot (a car's search meets a body in a slot only there).
+        Otherwise the table only grew meanwhile and the replan
+        starts on the car's own plan, which its last search chose over every other way
+        from there; a sooner one could only be what that search passed over, its heuristic
+        being weighted (1.25) and states passing a node at speed within
+        :data:`~lotsim.traffic.search.PASSING` of one another taken as one:
+        milliseconds in practice. Every replan is searched when the run's
+        ``tuning.skip_fruitless`` is off."""
+        return not self.s.tuning.skip_fruitless or any(
+            who != v.id and after < t_end
+            and (not in_slot or getattr(self.by_id.get(who), "slot", None) == v.slot)
+            for after, who, in_slot in self.table.releases[v.seen:])
+

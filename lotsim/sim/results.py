@@ -1,0 +1,94 @@
+"""What a run gives back: each vehicle's story (:class:`VehicleRun`) and the run as a whole
+(:class:`RunResult`, with its :meth:`~RunResult.metrics`)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from lotsim.roadmap.graph import LotGraph
+from lotsim.scenario import Scenario
+from lotsim.sim.settings import RunSettings
+from lotsim.traffic.demand import Arrival
+from lotsim.traffic.search import Move
+from lotsim.vehicles.model import VehicleType
+
+STATUSES = ("parked", "departed", "waiting", "rejected")
+"""What became of a vehicle when the run ended: it parked (and stays), it parked and left
+again, it is still waiting (to get in or out), or it was turned away after its patience."""
+
+
+@dataclass
+class VehicleRun:
+    """One vehicle's part of a run."""
+
+    arrival: Arrival
+    vehicle: VehicleType
+    slot: str | None = None
+    status: str = "waiting"
+    reason: str = ""
+    moves: list[Move] = field(default_factory=list)
+    parked_at: float | None = None
+    parked_pose: tuple[float, float, float] | None = None
+    depart_at: float | None = None
+    leaving: bool = False
+    left_at: float | None = None
+    searches: int = 0
+    failures: int = 0  # failed searches in a row
+    expansions: int = 0
+    planning_time: float = 0.0
+    done: bool = False  # nothing more will happen to it
+    seen: int = 0  # the reservation table's releases when it last searched
+
+    @property
+    def id(self) -> str:
+        return self.arrival.id
+
+
+@dataclass
+class RunResult:
+    """What :func:`lotsim.sim.running.run` returns: the lot, the settings and every
+    vehicle's story."""
+
+    scenario: Scenario
+    lot_graph: LotGraph
+    settings: RunSettings
+    seed: int
+    vehicles: list[VehicleRun]
+    planning_time: float
+    ordering: dict = field(default_factory=dict)
+    """How the planning order was chosen (:func:`lotsim.sim.orders.plan_run`); empty when
+    :func:`lotsim.sim.running.run` was called directly."""
+
+    def metrics(self) -> dict[str, float]:
+        """Counts by status and the timing figures of ``docs/result.md``."""
+        out: dict[str, float] = {s: 0 for s in STATUSES}
+        for v in self.vehicles:
+            out[v.status] += 1
+        out["vehicles"] = len(self.vehicles)
+        park = [v.parked_at - v.arrival.time for v in self.vehicles if v.parked_at is not None]
+        out["mean_time_to_park"] = float(np.mean(park)) if park else 0.0
+        out["max_time_to_park"] = float(np.max(park)) if park else 0.0
+        out["total_waiting"] = float(sum(m.t1 - m.t0 for v in self.vehicles for m in v.moves
+                                         if m.kind in ("wait", "outside"))
+                                     + sum(_queued(v) for v in self.vehicles)
+                                     + sum(self.scenario.traffic.patience  # turned away
+                                           for v in self.vehicles if v.status == "rejected"))
+        ends = [v.moves[-1].t1 for v in self.vehicles if v.moves]
+        out["makespan"] = float(max(ends)) if ends else 0.0
+        out["planning_time"] = self.planning_time
+        out["expansions"] = int(sum(v.expansions for v in self.vehicles))
+        out["searches"] = int(sum(v.searches for v in self.vehicles))
+        per = [v.planning_time for v in self.vehicles if v.searches]
+        out["planning_time_median"] = float(np.median(per)) if per else 0.0
+        out["planning_time_p95"] = float(np.percentile(per, 95)) if per else 0.0
+        return out
+
+
+def _queued(v: VehicleRun) -> float:
+    """Time spent queued outside before the plan that brought it in began [s]."""
+    start = next((m.t0 for m in v.moves), None)
+    if start is None:
+        return 0.0
+    return max(0.0, start - v.arrival.time)

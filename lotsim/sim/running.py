@@ -1,0 +1,173 @@
+"""A run from scenario to result: refuse traffic the lot cannot serve (:func:`check_traffic`,
+:func:`require_traffic`), then plan it (:func:`run`); :func:`collector_tuned` is the
+garbage-collector setting a caller may ask for while it runs many cars."""
+
+from __future__ import annotations
+
+import gc
+import time
+from collections.abc import Iterator
+from contextlib import contextmanager
+
+from lotsim.errors import Location, ScenarioError, SettingsError
+from lotsim.roadmap.graph import LotGraph, Reachability
+from lotsim.scenario import Scenario
+from lotsim.sim.loop import EventLoop
+from lotsim.sim.preparation import prepare
+from lotsim.sim.results import RunResult
+from lotsim.sim.settings import RunSettings
+from lotsim.traffic.demand import Arrival, arrivals
+
+RUN_GC_THRESHOLDS = (20_000, 20, 1000)
+"""The cycle collector's thresholds in :func:`collector_tuned` (Python's are 700, 10, 10):
+planning makes millions of objects and almost no cycles, so it still collects, in larger
+batches, and seldom scans everything."""
+
+
+@contextmanager
+def collector_tuned() -> Iterator[None]:
+    """Within this block, what the process held before (a prepared lot, earlier runs'
+    results) is left out of the garbage collections, and collections come in larger
+    batches (:data:`RUN_GC_THRESHOLDS`); both are restored after it, also when it raises.
+
+    A full collection scans every object it tracks: one that fell in a short run of a
+    process holding several lots took longer than the run's own work, skewing the
+    planning times runs are compared by. This changes process-wide state, so the library
+    never does it unasked; ``lotsim run`` asks for it. Objects frozen before the block
+    stay frozen (nothing more is frozen then).
+
+    Examples
+    --------
+    >>> import gc
+    >>> before = gc.get_threshold()
+    >>> with collector_tuned():
+    ...     gc.get_threshold() == RUN_GC_THRESHOLDS
+    True
+    >>> gc.get_threshold() == before
+    True
+    """
+    thresholds = gc.get_threshold()
+    freeze = gc.get_freeze_count() == 0
+    if freeze:
+        gc.freeze()
+    gc.set_threshold(*RUN_GC_THRESHOLDS)
+    try:
+        yield
+    finally:
+        gc.set_threshold(*thresholds)
+        if freeze:
+            gc.unfreeze()
+
+
+def check_traffic(lg: LotGraph, traffic: list[Arrival], reach: Reachability | None = None
+                  ) -> None:
+    """Refuse traffic the lot cannot serve at all: a type that fits no slot, an
+    entrance with no route to a slot, dwell times in a lot with no exit. ``reach`` is
+    ``lg.reachability()`` when the caller has it already.
+
+    Raises
+    ------
+    ScenarioError
+        Located at the vehicle or stream that asks for it.
+    """
+    facts = lg.facts()
+    for name in sorted({a.vehicle for a in traffic}):
+        who = next(a for a in traffic if a.vehicle == name)
+        if name not in facts.parks:
+            reasons = sorted(set(lg.infeasible.get(name, {}).values()))
+            why = f" ({reasons[0]})" if reasons else ""
+            raise ScenarioError(who.where, f"vehicle type {name!r} fits no slot of this "
+                                           f"lot{why}")
+    reach = reach or lg.reachability()
+    for name in sorted({a.vehicle for a in traffic}):
+        no_in, no_out = reach.by_type.get(name, ([], []))
+        fits = {sid for sid in (s.id for s in lg.lot.free_slots)
+                if sid not in lg.infeasible.get(name, {})}
+        mine = [a for a in traffic if a.vehicle == name]
+        if fits and fits <= set(no_in):
+            raise ScenarioError(mine[0].where, f"vehicle type {name!r} can reach none of the "
+                                               f"free slots it fits (no turns it can make "
+                                               f"lead there)")
+        leaving = [a for a in mine if a.dwell is not None]
+        if leaving and lg.exits and fits and fits <= set(no_in) | set(no_out):
+            raise ScenarioError(leaving[0].where, f"vehicle type {name!r} can leave none of "
+                                                  f"the free slots it reaches for an exit")
+    unreachable = reach.unreachable
+    free = len(lg.lot.free_slots)
+    for gate in sorted({a.entrance for a in traffic}):
+        # a full lot is no bad input: its cars are turned away ("the lot is full")
+        if free and len(unreachable[gate]) == free:
+            who = next(a for a in traffic if a.entrance == gate)
+            raise ScenarioError(who.where, f"no route from entrance {gate!r} to a free slot")
+    leaving = [a for a in traffic if a.dwell is not None]
+    if leaving and not lg.exits:
+        raise ScenarioError(leaving[0].where, "vehicles have dwell times but the lot has no "
+                                              "exit to leave by")
+    if leaving and not facts.leavable:
+        raise ScenarioError(leaving[0].where, "vehicles have dwell times but no slot can "
+                                              "be left for an exit along the lanes")
+
+
+def require_traffic(scenario: Scenario) -> None:
+    """Refuse to run a scenario that only describes a lot.
+
+    Raises
+    ------
+    ScenarioError
+        At the top of its file, when the scenario has no ``traffic`` section.
+    """
+    if scenario.traffic is None:
+        raise ScenarioError(Location(scenario.source, 1, 1), "the scenario has no 'traffic' "
+                                                              "section to run (see "
+                                                              "docs/scenario.md)")
+
+
+
+def run(scenario: Scenario, settings: RunSettings | None = None, *, lot_graph=None,
+        progress=None) -> RunResult:
+    """Plan the scenario's traffic: assign slots, plan every vehicle in, and out again.
+
+    Vehicles are planned one after another in arrival order (their priority),
+    or in ``settings.order`` when the traffic is booked in advance, each against
+    the reservations of those before it. A vehicle that finds no
+    free slot queues at its entrance and gets the next slot freed; one whose
+    search fails (fuse, no path) waits outside and tries again. After the
+    traffic's patience it is turned away, with the reason. Nothing is dropped:
+    every vehicle ends parked, departed, waiting or rejected.
+
+    Parameters
+    ----------
+    scenario : Scenario
+        Must have ``traffic``.
+    settings : RunSettings, optional
+    lot_graph : LotGraph, optional
+        The prepared lot (made with :func:`~lotsim.sim.preparation.prepare` if not given).
+    progress : callable, optional
+        Called as ``progress(done, total)`` as trips are dealt with: a vehicle's way in when
+        it is planned, its way out (if it has a dwell) when that is, or both when it is
+        turned away or the run ends. It may raise (e.g.
+        :class:`lotsim.sim.limits.LimitExceeded`) to stop the run.
+
+    The garbage collector is left as it is; a caller that runs many cars may ask for
+    :func:`collector_tuned` around the call.
+
+    Raises
+    ------
+    ScenarioError
+        For a scenario without traffic, or traffic the lot cannot serve at all (see
+        :func:`check_traffic`).
+    SettingsError
+        For an ``order`` that does not hold every vehicle of the traffic once.
+    """
+    settings = settings or RunSettings()
+    require_traffic(scenario)
+    lg = lot_graph or prepare(scenario)
+    seed = scenario.seed if settings.seed is None else settings.seed
+    traffic = arrivals(scenario.traffic, seed)
+    if settings.order is not None and sorted(settings.order) != sorted(a.id for a in traffic):
+        raise SettingsError("order", "expected every vehicle id of the traffic exactly once")
+    check_traffic(lg, traffic)
+    loop = EventLoop(scenario, lg, settings, traffic, progress)
+    clock = time.perf_counter()
+    loop.go()
+    return RunResult(scenario, lg, settings, seed, loop.vehicles, time.perf_counter() - clock)
