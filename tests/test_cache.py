@@ -11,10 +11,9 @@ import sys
 import pytest
 
 import lotsim.core.diskcache
-import lotsim.sim.preparation
 from conftest import ONE_AISLE, ROOT, scenario_from_text
 from lotsim.io.result import result_dict
-from lotsim.sim.preparation import prepare
+from lotsim.sim.preparation import prepare, prepare_lot
 from lotsim.sim.simulation import run
 
 TRAFFIC = """\
@@ -229,8 +228,7 @@ def test_an_edited_lot_searches_only_what_the_edit_changed(folder, monkeypatch):
     assert not prepare(scenario_from_text(LONG_AISLE + TRAFFIC)).from_cache
     assert not list(folder.glob("maneuvers-*.pickle"))  # 28 slots, one type: too small
     folder.joinpath(next(folder.glob("prepared-*.pickle"))).unlink()
-    monkeypatch.setattr(lotsim.sim.preparation, "REMEMBER_FROM", 1)
-    before = prepare(scenario_from_text(LONG_AISLE + TRAFFIC))
+    before = prepare_lot(scenario_from_text(LONG_AISLE + TRAFFIC), remember_from=1)
     assert before.maneuver_planner.stats["remembered"] == 0
     assert len(list(folder.glob("maneuvers-*.pickle"))) == 1
     shorter = LONG_AISLE.replace("count: 14, slot_width: 2.5,\n       slot_length: 5.0, "
@@ -238,23 +236,25 @@ def test_an_edited_lot_searches_only_what_the_edit_changed(folder, monkeypatch):
                                  "       slot_length: 5.0, start: 12, id_prefix: S")
     assert shorter != LONG_AISLE
     sc = scenario_from_text(shorter + TRAFFIC)
-    edited = prepare(sc)
+    edited = prepare_lot(sc, remember_from=1)
     stats = edited.maneuver_planner.stats
-    assert not edited.from_cache
+    assert not edited.lot_graph.from_cache
     assert 0 < stats["remembered"] < stats["planned"]  # some answers kept, some searched
-    cold = prepare(sc, cache=False)
+    cold = prepare_lot(sc, cache=False, remember_from=1)
     assert cold.maneuver_planner.stats["remembered"] == 0
-    assert _graph(edited) == _graph(cold)
-    assert _doc(sc, edited) == _doc(sc, cold)
+    assert _graph(edited.lot_graph) == _graph(cold.lot_graph)
+    assert _doc(sc, edited.lot_graph) == _doc(sc, cold.lot_graph)
     again = shorter.replace("count: 13, slot_width: 2.5,\n       slot_length: 5.0, start: 12, "
                             "id_prefix: S", "count: 12, slot_width: 2.5,\n       slot_length: "
                             "5.0, start: 12, id_prefix: S")
     assert again != shorter
-    other = prepare(scenario_from_text(again.replace("name: long", "name: other") + TRAFFIC))
-    assert not other.from_cache and other.maneuver_planner.stats["remembered"] == 0
-    same = prepare(scenario_from_text(again.replace("count: 12, slot_width", "count: 11, "
-                                                    "slot_width") + TRAFFIC))
-    assert not same.from_cache and same.maneuver_planner.stats["remembered"] > 0
+    other = prepare_lot(scenario_from_text(again.replace("name: long", "name: other")
+                                           + TRAFFIC), remember_from=1)
+    assert not other.lot_graph.from_cache and other.maneuver_planner.stats["remembered"] == 0
+    same = prepare_lot(scenario_from_text(again.replace("count: 12, slot_width", "count: 11, "
+                                                        "slot_width") + TRAFFIC),
+                       remember_from=1)
+    assert not same.lot_graph.from_cache and same.maneuver_planner.stats["remembered"] > 0
 
 
 def test_a_maneuver_problem_is_kept_by_everything_its_search_reads():

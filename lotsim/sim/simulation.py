@@ -18,7 +18,8 @@ import numpy as np
 
 from lotsim.core.geometry import same_pose
 from lotsim.errors import Location, ScenarioError, SettingsError
-from lotsim.roadmap.graph import LotGraph, Reachability
+from lotsim.roadmap.model import LotGraph
+from lotsim.roadmap.reach import Reachability
 from lotsim.scenario import Scenario
 from lotsim.sim.preparation import prepare
 from lotsim.sim.settings import RunSettings
