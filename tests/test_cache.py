@@ -3,6 +3,7 @@ loaded, not planned again, and gives exactly what planning it gives; anything el
 
 from __future__ import annotations
 
+import functools
 import json
 import os
 import subprocess
@@ -95,14 +96,13 @@ def test_no_cache_where_it_cannot_be_written_or_is_turned_off(tmp_path, monkeypa
     assert len(list((tmp_path / "xdg" / "lotsim").glob("prepared-*.pickle"))) == 1
 
 
-def test_the_least_recently_used_entries_go_first(folder, monkeypatch):
-    monkeypatch.setattr(lotsim.core.diskcache, "MOST_ENTRIES", 2)
+def test_the_least_recently_used_entries_go_first(folder):
     for k in range(3):
-        assert lotsim.core.diskcache.store(f"e{k}.pickle", k)
+        assert lotsim.core.diskcache.store(f"e{k}.pickle", k, most_entries=2)
         os.utime(folder / f"e{k}.pickle", (1000 + k, 1000 + k))
     assert lotsim.core.diskcache.load("e0.pickle") is None  # removed when e2 came
     assert lotsim.core.diskcache.load("e1.pickle") == 1  # now the most recently used
-    assert lotsim.core.diskcache.store("e3.pickle", 3)
+    assert lotsim.core.diskcache.store("e3.pickle", 3, most_entries=2)
     assert sorted(p.name for p in folder.glob("*.pickle")) == ["e1.pickle", "e3.pickle"]
     assert not list(folder.glob(".*.tmp"))
 
@@ -132,18 +132,18 @@ def test_two_processes_asking_for_one_lot_at_once_plan_it_once(folder):
     assert got[0][1] == got[1][1]
 
 
-def test_the_lock_of_an_entry_goes_with_it_unless_it_is_held(folder, monkeypatch):
-    monkeypatch.setattr(lotsim.core.diskcache, "MOST_ENTRIES", 1)
+def test_the_lock_of_an_entry_goes_with_it_unless_it_is_held(folder):
+    store = functools.partial(lotsim.core.diskcache.store, most_entries=1)
     with lotsim.core.diskcache.making("e0.pickle"):
-        assert lotsim.core.diskcache.store("e0.pickle", 0)
+        assert store("e0.pickle", 0)
     with lotsim.core.diskcache.making("e1.pickle"):
         # e0 and its lock go; e1's lock is held while e1 is made and stays with it
-        assert lotsim.core.diskcache.store("e1.pickle", 1)
+        assert store("e1.pickle", 1)
         with lotsim.core.diskcache.making("e2.pickle"):
-            assert lotsim.core.diskcache.store("e9.pickle", 9)  # e2 not made yet: its lock stays
+            assert store("e9.pickle", 9)  # e2 not made yet: its lock stays
     assert sorted(p.name for p in folder.iterdir()) == [".e1.pickle.lock", ".e2.pickle.lock",
                                                         "e9.pickle"]
-    assert lotsim.core.diskcache.store("e8.pickle", 8)  # nothing holds e1 and e2 now
+    assert store("e8.pickle", 8)  # nothing holds e1 and e2 now
     assert sorted(p.name for p in folder.iterdir()) == ["e8.pickle"]
 
 
@@ -220,7 +220,7 @@ LONG_AISLE = _longer(ONE_AISLE)
 window some 30 m across) near one end does not reach the other."""
 
 
-def test_an_edited_lot_searches_only_what_the_edit_changed(folder, monkeypatch):
+def test_an_edited_lot_searches_only_what_the_edit_changed(folder):
     """The maneuver problems of a lot prepared before are kept by their exact geometry: the
     lot with one slot fewer at one end searches again only the problems near that end, and
     is prepared exactly as without the cache. A lot of another name does not read them, nor

@@ -37,10 +37,10 @@ corner."""
 
 
 def _approx_tangent(deflection, radius: float, sharpness: float):
-    """The tangent length of a continuous-curvature turn (:func:`cc_turn`) by the road
-    designers' formula, ``(R + p) tan(Δ/2) + L/2`` with the clothoids' shift ``p = L² / 24R``
-    (within 0.1 % of the exact one for the turns built here); ``deflection`` [rad] may be an
-    array."""
+    """The tangent length of a continuous-curvature turn
+    (:func:`~lotsim.core.geometry.cc_turn`) by the road designers' formula,
+    ``(R + p) tan(Δ/2) + L/2`` with the clothoids' shift ``p = L² / 24R`` (within 0.1 % of
+    the exact one for the turns built here); ``deflection`` [rad] may be an array."""
     d = np.asarray(deflection, dtype=float)
     peak = np.minimum(1 / radius, np.sqrt(d * sharpness))
     ramp = peak / sharpness

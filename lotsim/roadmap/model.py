@@ -62,7 +62,7 @@ class Turn:
     lane_b: str
     station_b: float
     segments: tuple[Segment, ...]
-    wide: bool = False  # it uses the junction's area (:func:`area_turns`)
+    wide: bool = False  # it uses the junction's area (:mod:`lotsim.roadmap.area_turns`)
 
 
 @dataclass(frozen=True, slots=True)

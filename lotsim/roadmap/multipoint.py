@@ -21,7 +21,7 @@ Montemerlo and Diebel, 2008):
   at most that much more than the cheapest, and is found far sooner).
 
 Everything is checked for ``body`` (a design vehicle grown by the safety margin, as
-:func:`lotsim.roadmap.turnaround.turnaround_collider` makes it) against ``collider``.
+:func:`lotsim.roadmap.turnarounds.turnaround_collider` makes it) against ``collider``.
 """
 
 from __future__ import annotations
