@@ -22,7 +22,8 @@ from lotsim.io.scenario_yaml import load_scenario
 from lotsim.lot.build import build_lot
 from lotsim.lot.model import DesignVehicle
 from lotsim.maneuvers.planner import ManeuverPlanner
-from lotsim.roadmap.graph import build_graph
+from lotsim.roadmap.assemble import build_graph
+from lotsim.roadmap.reach import reachable_ranges
 
 
 def main() -> None:
@@ -32,7 +33,7 @@ def main() -> None:
     args = ap.parse_args()
     scenario = load_scenario(args.scenario)
     lot = build_lot(scenario.lot, DesignVehicle.envelope(scenario.vehicle_types))
-    ranges = build_graph(lot).reachable()
+    ranges = reachable_ranges(build_graph(lot))
 
     def planner() -> ManeuverPlanner:
         return ManeuverPlanner(lot, parked_width=scenario.parked_vehicle.width,

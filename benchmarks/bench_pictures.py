@@ -32,7 +32,7 @@ from lotsim.io.scenario_yaml import parse_scenario  # noqa: E402
 from lotsim.io.yamlnodes import parse_text  # noqa: E402
 from lotsim.lot.build import build_lot  # noqa: E402
 from lotsim.lot.model import DesignVehicle  # noqa: E402
-from lotsim.roadmap.graph import build_graph  # noqa: E402
+from lotsim.roadmap.assemble import build_graph  # noqa: E402
 
 
 def lot_text(per_row: int) -> str:

@@ -3,7 +3,7 @@
 The pipeline runs one way: a scenario YAML is loaded and validated into frozen
 specs (:mod:`lotsim.io`), the lot layout is built into slot polygons and lanes
 (:mod:`lotsim.lot`), and the lanes into a drivable :class:`networkx.DiGraph`
-(:mod:`lotsim.roadmap.graph`) that vehicles (:mod:`lotsim.vehicles`) travel.
+(:mod:`lotsim.roadmap`) that vehicles (:mod:`lotsim.vehicles`) travel.
 
 As a library (``docs/python.md``)::
 

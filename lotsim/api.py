@@ -176,7 +176,7 @@ def prepare(scenario: ScenarioLike, *, cache: bool = True, progress=None) -> Pre
     (6, {'valet': {}})
     """
     sc = _scenario(scenario)
-    return PreparedLot(sc, _preparation.prepare(sc, cache=cache, progress=progress))
+    return _preparation.prepare_lot(sc, cache=cache, progress=progress)
 
 
 def validate(scenario: ScenarioLike | PreparedLot, *, progress=None) -> ValidationReport:

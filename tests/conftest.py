@@ -16,7 +16,7 @@ import pytest
 
 from lotsim.io.scenario_yaml import parse_scenario
 from lotsim.io.yamlnodes import parse_text
-from lotsim.roadmap.graph import LotGraph
+from lotsim.roadmap.model import LotGraph
 from lotsim.scenario import Scenario
 from lotsim.sim.preparation import prepare
 

@@ -3,6 +3,7 @@ loaded, not planned again, and gives exactly what planning it gives; anything el
 
 from __future__ import annotations
 
+import functools
 import json
 import os
 import subprocess
@@ -11,10 +12,9 @@ import sys
 import pytest
 
 import lotsim.core.diskcache
-import lotsim.sim.preparation
 from conftest import ONE_AISLE, ROOT, scenario_from_text
 from lotsim.io.result import result_dict
-from lotsim.sim.preparation import prepare
+from lotsim.sim.preparation import prepare, prepare_lot
 from lotsim.sim.running import run
 
 TRAFFIC = """\
@@ -96,14 +96,13 @@ def test_no_cache_where_it_cannot_be_written_or_is_turned_off(tmp_path, monkeypa
     assert len(list((tmp_path / "xdg" / "lotsim").glob("prepared-*.pickle"))) == 1
 
 
-def test_the_least_recently_used_entries_go_first(folder, monkeypatch):
-    monkeypatch.setattr(lotsim.core.diskcache, "MOST_ENTRIES", 2)
+def test_the_least_recently_used_entries_go_first(folder):
     for k in range(3):
-        assert lotsim.core.diskcache.store(f"e{k}.pickle", k)
+        assert lotsim.core.diskcache.store(f"e{k}.pickle", k, most_entries=2)
         os.utime(folder / f"e{k}.pickle", (1000 + k, 1000 + k))
     assert lotsim.core.diskcache.load("e0.pickle") is None  # removed when e2 came
     assert lotsim.core.diskcache.load("e1.pickle") == 1  # now the most recently used
-    assert lotsim.core.diskcache.store("e3.pickle", 3)
+    assert lotsim.core.diskcache.store("e3.pickle", 3, most_entries=2)
     assert sorted(p.name for p in folder.glob("*.pickle")) == ["e1.pickle", "e3.pickle"]
     assert not list(folder.glob(".*.tmp"))
 
@@ -133,18 +132,18 @@ def test_two_processes_asking_for_one_lot_at_once_plan_it_once(folder):
     assert got[0][1] == got[1][1]
 
 
-def test_the_lock_of_an_entry_goes_with_it_unless_it_is_held(folder, monkeypatch):
-    monkeypatch.setattr(lotsim.core.diskcache, "MOST_ENTRIES", 1)
+def test_the_lock_of_an_entry_goes_with_it_unless_it_is_held(folder):
+    store = functools.partial(lotsim.core.diskcache.store, most_entries=1)
     with lotsim.core.diskcache.making("e0.pickle"):
-        assert lotsim.core.diskcache.store("e0.pickle", 0)
+        assert store("e0.pickle", 0)
     with lotsim.core.diskcache.making("e1.pickle"):
         # e0 and its lock go; e1's lock is held while e1 is made and stays with it
-        assert lotsim.core.diskcache.store("e1.pickle", 1)
+        assert store("e1.pickle", 1)
         with lotsim.core.diskcache.making("e2.pickle"):
-            assert lotsim.core.diskcache.store("e9.pickle", 9)  # e2 not made yet: its lock stays
+            assert store("e9.pickle", 9)  # e2 not made yet: its lock stays
     assert sorted(p.name for p in folder.iterdir()) == [".e1.pickle.lock", ".e2.pickle.lock",
                                                         "e9.pickle"]
-    assert lotsim.core.diskcache.store("e8.pickle", 8)  # nothing holds e1 and e2 now
+    assert store("e8.pickle", 8)  # nothing holds e1 and e2 now
     assert sorted(p.name for p in folder.iterdir()) == ["e8.pickle"]
 
 
@@ -221,7 +220,7 @@ LONG_AISLE = _longer(ONE_AISLE)
 window some 30 m across) near one end does not reach the other."""
 
 
-def test_an_edited_lot_searches_only_what_the_edit_changed(folder, monkeypatch):
+def test_an_edited_lot_searches_only_what_the_edit_changed(folder):
     """The maneuver problems of a lot prepared before are kept by their exact geometry: the
     lot with one slot fewer at one end searches again only the problems near that end, and
     is prepared exactly as without the cache. A lot of another name does not read them, nor
@@ -229,8 +228,7 @@ def test_an_edited_lot_searches_only_what_the_edit_changed(folder, monkeypatch):
     assert not prepare(scenario_from_text(LONG_AISLE + TRAFFIC)).from_cache
     assert not list(folder.glob("maneuvers-*.pickle"))  # 28 slots, one type: too small
     folder.joinpath(next(folder.glob("prepared-*.pickle"))).unlink()
-    monkeypatch.setattr(lotsim.sim.preparation, "REMEMBER_FROM", 1)
-    before = prepare(scenario_from_text(LONG_AISLE + TRAFFIC))
+    before = prepare_lot(scenario_from_text(LONG_AISLE + TRAFFIC), remember_from=1)
     assert before.maneuver_planner.stats["remembered"] == 0
     assert len(list(folder.glob("maneuvers-*.pickle"))) == 1
     shorter = LONG_AISLE.replace("count: 14, slot_width: 2.5,\n       slot_length: 5.0, "
@@ -238,23 +236,25 @@ def test_an_edited_lot_searches_only_what_the_edit_changed(folder, monkeypatch):
                                  "       slot_length: 5.0, start: 12, id_prefix: S")
     assert shorter != LONG_AISLE
     sc = scenario_from_text(shorter + TRAFFIC)
-    edited = prepare(sc)
+    edited = prepare_lot(sc, remember_from=1)
     stats = edited.maneuver_planner.stats
-    assert not edited.from_cache
+    assert not edited.lot_graph.from_cache
     assert 0 < stats["remembered"] < stats["planned"]  # some answers kept, some searched
-    cold = prepare(sc, cache=False)
+    cold = prepare_lot(sc, cache=False, remember_from=1)
     assert cold.maneuver_planner.stats["remembered"] == 0
-    assert _graph(edited) == _graph(cold)
-    assert _doc(sc, edited) == _doc(sc, cold)
+    assert _graph(edited.lot_graph) == _graph(cold.lot_graph)
+    assert _doc(sc, edited.lot_graph) == _doc(sc, cold.lot_graph)
     again = shorter.replace("count: 13, slot_width: 2.5,\n       slot_length: 5.0, start: 12, "
                             "id_prefix: S", "count: 12, slot_width: 2.5,\n       slot_length: "
                             "5.0, start: 12, id_prefix: S")
     assert again != shorter
-    other = prepare(scenario_from_text(again.replace("name: long", "name: other") + TRAFFIC))
-    assert not other.from_cache and other.maneuver_planner.stats["remembered"] == 0
-    same = prepare(scenario_from_text(again.replace("count: 12, slot_width", "count: 11, "
-                                                    "slot_width") + TRAFFIC))
-    assert not same.from_cache and same.maneuver_planner.stats["remembered"] > 0
+    other = prepare_lot(scenario_from_text(again.replace("name: long", "name: other")
+                                           + TRAFFIC), remember_from=1)
+    assert not other.lot_graph.from_cache and other.maneuver_planner.stats["remembered"] == 0
+    same = prepare_lot(scenario_from_text(again.replace("count: 12, slot_width", "count: 11, "
+                                                        "slot_width") + TRAFFIC),
+                       remember_from=1)
+    assert not same.lot_graph.from_cache and same.maneuver_planner.stats["remembered"] > 0
 
 
 def test_a_maneuver_problem_is_kept_by_everything_its_search_reads():

@@ -140,7 +140,7 @@ def test_preparing_a_lot_shows_its_progress_on_a_terminal_only(tmp_path, capsys,
     path = next(p for p in SCENARIOS if p.stem == "quickstart")
     calls = []
     report = lotsim.validate(path, progress=lambda done, total: calls.append((done, total)))
-    searched = report.prepared.lot_graph.maneuver_planner.stats["planned"]
+    searched = report.prepared.maneuver_planner.stats["planned"]
     assert calls == [(k, searched) for k in range(1, searched + 1)] and searched > 1
     assert main(["validate", str(path)]) == 0
     assert capsys.readouterr().err == ""  # a pipe: quiet

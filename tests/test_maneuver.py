@@ -454,9 +454,11 @@ def test_problems_keyed_together_are_keyed_as_one_at_a_time(shipped_graphs, name
     each digest, frame and lane station is the one posing and keying that problem alone
     gives (perpendicular, angled and parallel bays, bends, neighbours cut at the window's
     edge and at the slot's lines), so the same problems share answers."""
+    from lotsim.sim.preparation import maneuver_planner
+
     lg = shipped_graphs[name]
-    planner = lg.maneuver_planner
     sc = load_scenario(ROOT / "scenarios" / f"{name}.yaml")
+    planner = maneuver_planner(sc, lg.lot)
     triples = [(v, slot, lane) for v in sc.vehicle_types for slot in lg.lot.slots
                for lane in planner.lanes_for(slot)]
     assert {slot.kind for _, slot, _ in triples} >= {"perpendicular", "parallel"}

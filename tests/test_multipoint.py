@@ -86,14 +86,12 @@ def test_a_multi_point_path_lands_on_the_lane_within_its_stretch_clear_of_everyt
     assert shapely.covers(lot, _bodies(np.concatenate(poses), CAR)).all()
 
 
-def test_checking_states_ahead_in_one_batch_finds_what_checking_one_at_a_time_does(
-        monkeypatch):
+def test_checking_states_ahead_in_one_batch_finds_what_checking_one_at_a_time_does():
     """The search checks the state it expands and the next few on its heap in one batch
-    (:data:`lotsim.roadmap.multipoint.AHEAD`); the paths found, to the last bit, are those of
-    checking each state as it is expanded, on the spur and street above, bare and with posts
-    and a kerb in it (many moves blocked, many last moves refused)."""
-    import lotsim.roadmap.multipoint as mp
-
+    (``ahead``, :data:`lotsim.roadmap.multipoint.AHEAD` by default); the paths found, to the
+    last bit, are those of checking each state as it is expanded, on the spur and street
+    above, bare and with posts and a kerb in it (many moves blocked, many last moves
+    refused)."""
     lot = box(4, -12, 10, 0).union(box(0, 0, 16, 6))
     def posts(*at):
         return [("post", shapely.Point(x, y).buffer(0.3)) for x, y in at]
@@ -105,9 +103,8 @@ def test_checking_states_ahead_in_one_batch_finds_what_checking_one_at_a_time_do
     found = {}
     ahead = 6
     for n in (1, ahead):
-        monkeypatch.setattr(mp, "AHEAD", n)
         found[n] = [plan_onto([start], frame, lo, hi, Collider(obstacles, lot), CAR, 5.0,
-                              budget=600)
+                              budget=600, ahead=n)
                     for obstacles in ([], posts((1.0, 5.0), (15.0, 5.5)),
                                       posts((0.5, 0.5), (15.5, 5.5), (12.5, 0.4)) + kerb)
                     for start, frame, lo, hi in problems]

@@ -10,7 +10,7 @@ import shapely
 from shapely.geometry import box
 
 from lotsim.core.geometry import Segment
-from lotsim.roadmap.graph import LotGraph
+from lotsim.roadmap.model import LotGraph
 from lotsim.traffic import search as cooperative
 from lotsim.traffic.reservation import ReservationTable
 from lotsim.traffic.search import Goal, SearchGraph, Status, search

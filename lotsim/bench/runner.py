@@ -30,7 +30,7 @@ from lotsim.verify import check_result
 
 if TYPE_CHECKING:
 
-    from lotsim.roadmap.graph import LotGraph
+    from lotsim.roadmap.model import LotGraph
     from lotsim.scenario import Scenario
 
 

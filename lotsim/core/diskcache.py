@@ -43,7 +43,8 @@ LOADED = "; loaded from the cache: the lot, its types and lotsim are as when pla
 """What ``lotsim validate`` adds to its maneuver counts when the lot came from the cache."""
 MOST_ENTRIES = 64
 MOST_BYTES = 1 << 30
-"""The cache holds at most this many entries and bytes; the least recently used go first."""
+"""The cache holds at most this many entries and bytes by default (:func:`store`); the least
+recently used go first."""
 
 
 def cache_dir() -> Path | None:
@@ -135,8 +136,11 @@ def making(name: str, folder: Path | None = None) -> Iterator[None]:
             lock.close()  # and the lock with it
 
 
-def store(name: str, value: object, folder: Path | None = None) -> bool:
-    """Write ``value`` as the entry ``name`` (whole or not at all); whether it was."""
+def store(name: str, value: object, folder: Path | None = None, *,
+          most_entries: int = MOST_ENTRIES, most_bytes: int = MOST_BYTES) -> bool:
+    """Write ``value`` as the entry ``name`` (whole or not at all); whether it was. Then
+    the least recently used entries go, beyond ``most_entries`` entries and ``most_bytes``
+    bytes in all."""
     folder = folder if folder is not None else cache_dir()
     if folder is None:
         return False
@@ -148,7 +152,7 @@ def store(name: str, value: object, folder: Path | None = None) -> bool:
             pickle.dump(value, f, protocol=pickle.HIGHEST_PROTOCOL)
         os.replace(tmp, folder / name)
         tmp = None
-        _prune(folder)
+        _prune(folder, most_entries, most_bytes)
     except (OSError, pickle.PicklingError, TypeError, AttributeError):
         return False
     finally:
@@ -157,9 +161,8 @@ def store(name: str, value: object, folder: Path | None = None) -> bool:
     return True
 
 
-def _prune(folder: Path) -> None:
-    """Remove the least recently used entries beyond :data:`MOST_ENTRIES` and
-    :data:`MOST_BYTES`."""
+def _prune(folder: Path, most_entries: int, most_bytes: int) -> None:
+    """Remove the least recently used entries beyond ``most_entries`` and ``most_bytes``."""
     entries = []
     for path in folder.glob("*.pickle"):
         try:
@@ -171,7 +174,7 @@ def _prune(folder: Path) -> None:
     total = 0
     for k, (_, size, path) in enumerate(entries):
         total += size
-        if k >= MOST_ENTRIES or total > MOST_BYTES:
+        if k >= most_entries or total > most_bytes:
             path.unlink(missing_ok=True)
     # the locks of entries gone, unless held (one removed just as a process opens it only
     # lets a second one make that entry at the same time)

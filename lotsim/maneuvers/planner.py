@@ -75,7 +75,7 @@ from lotsim.lot.clearance import first_blocked, hulls, hulls_blocked
 from lotsim.lot.model import Lane, Lot, Slot, unit
 from lotsim.maneuvers.minslot import SlotFrame, simulate, start_headings
 from lotsim.maneuvers.settings import MARGIN, STYLES
-from lotsim.roadmap.graph import lane_serves
+from lotsim.roadmap.lanes import lane_serves
 from lotsim.roadmap.multipoint import plan_onto
 from lotsim.vehicles.model import VehicleType
 from lotsim.vehicles.motion import Motion, Piece, runs, timed_path
@@ -453,8 +453,9 @@ class ManeuverPlanner:
     lane_ranges : dict, keyword-only
         Lane id → (first, last) station [m] where a maneuver may start, or several such
         ranges (a slot's maneuver is planned in the one nearest it); a lane not listed gets
-        none. Default (None): every lane, whole. :meth:`LotGraph.maneuver_ranges` gives
-        the parts a car can reach or leave by.
+        none. Default (None): every lane, whole.
+        :func:`~lotsim.roadmap.reach.maneuver_ranges` gives the parts a car can reach or
+        leave by.
 
     Notes
     -----

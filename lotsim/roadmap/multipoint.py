@@ -21,7 +21,7 @@ Montemerlo and Diebel, 2008):
   at most that much more than the cheapest, and is found far sooner).
 
 Everything is checked for ``body`` (a design vehicle grown by the safety margin, as
-:func:`lotsim.roadmap.turnaround.turnaround_collider` makes it) against ``collider``.
+:func:`lotsim.roadmap.turnarounds.turnaround_collider` makes it) against ``collider``.
 """
 
 from __future__ import annotations
@@ -79,7 +79,7 @@ where the last arc meets the lane."""
 
 def plan_onto(starts: Sequence[Pose], frame: Pose, lo: float, hi: float,
               collider: Collider, body: DesignVehicle, radius: float, *,
-              max_changes: int = MAX_CHANGES, budget: int = BUDGET
+              max_changes: int = MAX_CHANGES, budget: int = BUDGET, ahead: int = AHEAD
               ) -> tuple[int, tuple[Segment, ...]] | None:
     """The cheapest multi-point path found from any of ``starts`` onto the line through
     ``frame`` (heading along it), landing between ``lo`` and ``hi`` metres along it and
@@ -88,7 +88,8 @@ def plan_onto(starts: Sequence[Pose], frame: Pose, lo: float, hi: float,
     direction changes. One search serves every start (a tie goes to the earlier).
 
     ``body`` is checked against ``collider`` all the way; no arc is tighter than
-    ``radius`` [m]. All poses are in the world frame.
+    ``radius`` [m]. All poses are in the world frame. ``ahead``: states whose moves are
+    checked in one batch (:data:`AHEAD`; the paths found are the same for any).
 
     Examples
     --------
@@ -106,54 +107,125 @@ def plan_onto(starts: Sequence[Pose], frame: Pose, lo: float, hi: float,
     >>> round(end[1], 6), round(end[2], 6), 9.0 <= end[0] <= 11.5
     (1.5, 0.0, True)
     """
-    origin = np.array(frame, dtype=float)
-    origin[:2] += lo * np.array([math.cos(frame[2]), math.sin(frame[2])])
-    span = hi - lo
-    if span < 0:
+    search = _Search(starts, frame, lo, hi, collider, body, radius, ahead)
+    if search.span < 0:
         return None
-    kmax = 1.0 / radius
-    moves = [(gear, kappa) for gear in (1, -1) for kappa in (kmax, 0.0, -kmax)]
-    n = round(MOVE / STEP)
-    s = np.linspace(0.0, MOVE, n + 1)
-    # the footprints of a state's moves: (n + 1) along each, in the order of ``moves``
-    along = np.concatenate([g * s for g, _ in moves])
-    bend = np.repeat([k for _, k in moves], n + 1)
-    # the sweeps between them: move m's run is m; none from one move into the next
-    # and, with a state's moves after another's, none from one state's into the next
-    run = np.where(np.arange(len(moves) * (n + 1)) % (n + 1) == n, -1,
-                   np.arange(len(moves) * (n + 1)) // (n + 1))
+    best = search.run(max_changes, budget)
+    if best is None:
+        return None
+    _, sid, tail = best
+    states = search.states
+    segs: list[Segment] = []
+    while states[sid][4] >= 0:
+        segs.append(states[sid][5])
+        sid = states[sid][4]
+    segs.reverse()
+    return sid, tuple(segment_to_world(search.origin, x) for x in _merged([*segs, *tail]))
 
-    def world(local: FloatArray) -> FloatArray:
-        return to_world(origin, local)
 
-    def h(q: FloatArray) -> float:
+class _Search:
+    """The state of one :func:`plan_onto` search, in the local frame of the landing
+    stretch (its start at the origin, heading +x, ``span`` long).
+
+    A state is (local pose, gear of the last move, curvature, changes, parent, segment);
+    the first ``len(starts)`` are the starts."""
+
+    def __init__(self, starts: Sequence[Pose], frame: Pose, lo: float, hi: float,
+                 collider: Collider, body: DesignVehicle, radius: float, ahead: int):
+        self.origin = np.array(frame, dtype=float)
+        self.origin[:2] += lo * np.array([math.cos(frame[2]), math.sin(frame[2])])
+        self.span = hi - lo
+        self.collider, self.body, self.radius, self.ahead = collider, body, radius, ahead
+        kmax = 1.0 / radius
+        self.moves = [(gear, kappa) for gear in (1, -1) for kappa in (kmax, 0.0, -kmax)]
+        n = round(MOVE / STEP)
+        s = np.linspace(0.0, MOVE, n + 1)
+        # the footprints of a state's moves: (n + 1) along each, in the order of ``moves``
+        self.along = np.concatenate([g * s for g, _ in self.moves])
+        self.bend = np.repeat([k for _, k in self.moves], n + 1)
+        # the sweeps between them: move m's run is m; none from one move into the next
+        # and, with a state's moves after another's, none from one state's into the next
+        self.run_of = np.where(np.arange(len(self.moves) * (n + 1)) % (n + 1) == n, -1,
+                               np.arange(len(self.moves) * (n + 1)) // (n + 1))
+        self.states: list[tuple[FloatArray, int, float, int, int, Segment | None]] = [
+            (to_local(self.origin, np.array(p, dtype=float)), 0, math.nan, 0, -1, None)
+            for p in starts]
+        self.cost = [0.0] * len(self.states)
+        self.heap = [(WEIGHT * self.h(x[0]), k) for k, x in enumerate(self.states)]
+        heapq.heapify(self.heap)
+        self.closed: set[tuple[int, int, int]] = set()
+        # what expanding a state checks (its shortest clear last move, its blocked moves),
+        # for it and the states likely next (``ahead``), in one batch
+        self.checked: dict[int, tuple[tuple[float, list[Segment]] | None, set[int]]] = {}
+
+    def h(self, q: FloatArray) -> float:
         """Never more than the path still to drive: the distance to the landing stretch,
         and the arc that turns the car to the lane's heading at full lock."""
-        return max(math.hypot(max(-q[0], 0.0, q[0] - span), q[1]),
-                   radius * abs(math.remainder(q[2], 2 * math.pi)))
+        return max(math.hypot(max(-q[0], 0.0, q[0] - self.span), q[1]),
+                   self.radius * abs(math.remainder(q[2], 2 * math.pi)))
 
+    @staticmethod
     def cell(q: FloatArray) -> tuple[int, int, int]:
         return (round(q[0] / CELL), round(q[1] / CELL),
                 round(q[2] / (2 * math.pi / HEADINGS)) % HEADINGS)
 
-    # state: (local pose, gear of the last move, curvature, changes, parent, segment);
-    # the first len(starts) are the starts
-    states: list[tuple[FloatArray, int, float, int, int, Segment | None]] = [
-        (to_local(origin, np.array(p, dtype=float)), 0, math.nan, 0, -1, None)
-        for p in starts]
-    cost = [0.0] * len(states)
-    heap = [(WEIGHT * h(x[0]), k) for k, x in enumerate(states)]
-    heapq.heapify(heap)
-    closed: set[tuple[int, int, int]] = set()
-    # what expanding a state checks (its shortest clear last move, its blocked moves), for
-    # it and the states likely next (:data:`AHEAD`), in one batch
-    checked: dict[int, tuple[tuple[float, list[Segment]] | None, set[int]]] = {}
+    def run(self, max_changes: int, budget: int
+            ) -> tuple[float, int, list[Segment]] | None:
+        """The cheapest path found: (its cost, the state it leaves from, its last move)."""
+        states, cost, heap, closed, moves = (self.states, self.cost, self.heap, self.closed,
+                                             self.moves)
+        best: tuple[float, int, list[Segment]] | None = None
+        expanded = found_at = 0
+        while heap and expanded < budget:
+            f, sid = heapq.heappop(heap)
+            if best is not None and (f >= best[0] or expanded >= found_at + IMPROVE):
+                break
+            q, gear, kappa, changes, _, _ = states[sid]
+            key = self.cell(q)
+            if key in closed:
+                continue
+            closed.add(key)
+            expanded += 1
+            if sid not in self.checked:
+                ahead = [k for _, k in sorted(heap[:2 * self.ahead])
+                         if k not in self.checked
+                         and self.cell(states[k][0]) not in closed][:self.ahead - 1]
+                self.check([sid, *ahead])
+            last, hit = self.checked.pop(sid)
+            if last is not None:
+                extra = (CUSP if gear < 0 else 0.0) + last[0]
+                if changes + (gear < 0) <= max_changes and (
+                        best is None or cost[sid] + extra < best[0]):
+                    if best is None:
+                        found_at = expanded
+                    best = (cost[sid] + extra, sid, last[1])
+            ends = advance(np.repeat(q[None, :], len(moves), axis=0),
+                           np.array([g * MOVE for g, _ in moves]),
+                           np.array([k for _, k in moves]))
+            for m, (g, k) in enumerate(moves):
+                if m in hit:
+                    continue
+                turn = gear != 0 and g != gear
+                if changes + turn > max_changes:
+                    continue
+                c = cost[sid] + MOVE * (1.0 if g > 0 else REVERSE) + (CUSP if turn else 0.0) + (
+                    STEER if not turn and gear != 0 and k != kappa else 0.0)
+                end = ends[m]
+                end[2] %= 2 * math.pi
+                states.append((end, g, k, changes + turn, sid,
+                               Segment(tuple(map(float, q)), g * MOVE, k)))
+                cost.append(c)
+                heapq.heappush(heap, (c + WEIGHT * self.h(end), len(states) - 1))
+        return best
 
-    def check(sids: list[int]) -> None:
+    def check(self, sids: list[int]) -> None:
+        """For each of states ``sids``, its shortest clear last move (or None) and its
+        blocked moves, all checked in one batch."""
+        moves, radius, span = self.moves, self.radius, self.span
         prints, runs, lasts = [], [], []
         at = len(sids) * len(moves)  # runs so far: the moves' first (below), then closings
         for sid in sids:
-            q = states[sid][0]
+            q = self.states[sid][0]
             found = [(sum(x.length for x in segs), segs) for segs in closings(q, span, radius)]
             found += [(sum(x.length for x in segs), _mirror(segs))
                       for segs in closings(_mirror_pose(q), span, radius)]
@@ -162,73 +234,25 @@ def plan_onto(starts: Sequence[Pose], frame: Pose, lo: float, hi: float,
             if found:  # the last moves, shortest first: one run each
                 sampled = [sample_segments(segs, STEP)[0] for _, segs in found]
                 owner = np.repeat(np.arange(len(sampled)), [len(x) for x in sampled])
-                prints.append(body.footprints(world(np.concatenate(sampled))))
+                prints.append(self.body.footprints(to_world(self.origin,
+                                                            np.concatenate(sampled))))
                 runs.append(np.where(owner[1:] == owner[:-1], owner[1:] + at, -1))
                 runs.append([-1])
                 at += len(found)
         # every state's moves in one batch
-        qs = np.array([states[sid][0] for sid in sids])
-        poses = advance(qs[:, None, :], along[None, :], bend[None, :]).reshape(-1, 3)
-        prints.insert(0, body.footprints(world(poses)))
-        runs.insert(0, np.where(run >= 0, run + len(moves) * np.arange(len(sids))[:, None],
+        qs = np.array([self.states[sid][0] for sid in sids])
+        poses = advance(qs[:, None, :], self.along[None, :], self.bend[None, :]).reshape(-1, 3)
+        prints.insert(0, self.body.footprints(to_world(self.origin, poses)))
+        runs.insert(0, np.where(self.run_of >= 0,
+                                self.run_of + len(moves) * np.arange(len(sids))[:, None],
                                 -1).ravel())
         of = np.concatenate(runs)[:-1].astype(int)
         hit = np.zeros(at, dtype=bool)
-        hit[of[first_blocked(collider.blocked, np.concatenate(prints), of)]] = True
+        hit[of[first_blocked(self.collider.blocked, np.concatenate(prints), of)]] = True
         for i, (sid, (found, first)) in enumerate(zip(sids, lasts, strict=True)):
             last = next((found[k] for k in range(len(found)) if not hit[first + k]), None)
-            checked[sid] = (last, set(np.flatnonzero(hit[i * len(moves):(i + 1) * len(moves)])
-                                      .tolist()))
-
-    best: tuple[float, int, list[Segment]] | None = None
-    expanded = found_at = 0
-    while heap and expanded < budget:
-        f, sid = heapq.heappop(heap)
-        if best is not None and (f >= best[0] or expanded >= found_at + IMPROVE):
-            break
-        q, gear, kappa, changes, _, _ = states[sid]
-        key = cell(q)
-        if key in closed:
-            continue
-        closed.add(key)
-        expanded += 1
-        if sid not in checked:
-            ahead = [k for _, k in sorted(heap[:2 * AHEAD])
-                     if k not in checked and cell(states[k][0]) not in closed][:AHEAD - 1]
-            check([sid, *ahead])
-        last, hit = checked.pop(sid)
-        if last is not None:
-            extra = (CUSP if gear < 0 else 0.0) + last[0]
-            if changes + (gear < 0) <= max_changes and (
-                    best is None or cost[sid] + extra < best[0]):
-                if best is None:
-                    found_at = expanded
-                best = (cost[sid] + extra, sid, last[1])
-        ends = advance(np.repeat(q[None, :], len(moves), axis=0),
-                       np.array([g * MOVE for g, _ in moves]), np.array([k for _, k in moves]))
-        for m, (g, k) in enumerate(moves):
-            if m in hit:
-                continue
-            turn = gear != 0 and g != gear
-            if changes + turn > max_changes:
-                continue
-            c = cost[sid] + MOVE * (1.0 if g > 0 else REVERSE) + (CUSP if turn else 0.0) + (
-                STEER if not turn and gear != 0 and k != kappa else 0.0)
-            end = ends[m]
-            end[2] %= 2 * math.pi
-            states.append((end, g, k, changes + turn, sid,
-                           Segment(tuple(map(float, q)), g * MOVE, k)))
-            cost.append(c)
-            heapq.heappush(heap, (c + WEIGHT * h(end), len(states) - 1))
-    if best is None:
-        return None
-    _, sid, tail = best
-    segs: list[Segment] = []
-    while states[sid][4] >= 0:
-        segs.append(states[sid][5])
-        sid = states[sid][4]
-    segs.reverse()
-    return sid, tuple(segment_to_world(origin, x) for x in _merged([*segs, *tail]))
+            self.checked[sid] = (last, set(
+                np.flatnonzero(hit[i * len(moves):(i + 1) * len(moves)]).tolist()))
 
 
 def _merged(segs: list[Segment]) -> list[Segment]:

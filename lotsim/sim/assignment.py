@@ -15,7 +15,7 @@ import math
 from collections.abc import Iterable, Sequence
 
 from lotsim.core.geometry import same_pose
-from lotsim.roadmap.graph import LotGraph
+from lotsim.roadmap.model import LotGraph
 from lotsim.sim.settings import RunTuning
 from lotsim.traffic.demand import Arrival
 from lotsim.traffic.search import SearchGraph, search_graph

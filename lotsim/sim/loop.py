@@ -14,7 +14,7 @@ import math
 import time
 from collections import OrderedDict
 
-from lotsim.roadmap.graph import LotGraph
+from lotsim.roadmap.model import LotGraph
 from lotsim.scenario import Scenario
 from lotsim.sim.assignment import SlotAssigner
 from lotsim.sim.results import VehicleRun

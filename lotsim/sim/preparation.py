@@ -11,20 +11,38 @@ import lotsim.core.diskcache
 from lotsim.lot.build import build_lot
 from lotsim.lot.model import DesignVehicle, Lot
 from lotsim.maneuvers.planner import MARGIN, ManeuverPlanner, plan_lot
-from lotsim.roadmap.graph import LotGraph, Reachability, build_graph, plan_turnarounds_ahead
+from lotsim.roadmap.assemble import build_graph, lane_graph
+from lotsim.roadmap.memo import RoadmapMemo
+from lotsim.roadmap.model import LotGraph
+from lotsim.roadmap.reach import Reachability, maneuver_ranges
+from lotsim.roadmap.turnarounds import plan_turnarounds_ahead
 from lotsim.scenario import Scenario
 from lotsim.traffic.demand import arrivals
 
 REMEMBER_FROM = 64
 """Fewest slots times vehicle types for which :func:`prepare` keeps a lot's maneuver answers
-for its later edits (a smaller lot is planned in a second or two, about what reading and
-writing them would take)."""
+for its later edits, by default (a smaller lot is planned in a second or two, about what
+reading and writing them would take)."""
 
 
 def prepare(scenario: Scenario, *, node_spacing: float = 4.0, maneuvers: bool = True,
-            margin: float = MARGIN, cache: bool = True, progress=None) -> LotGraph:
+            margin: float = MARGIN, cache: bool = True, progress=None,
+            remember_from: int = REMEMBER_FROM) -> LotGraph:
+    """The lot graph of :func:`prepare_lot`: the scenario's lot built for its vehicle
+    types, every slot's parking maneuver planned for every type, and the lot's drivable
+    graph through them."""
+    return prepare_lot(scenario, node_spacing=node_spacing, maneuvers=maneuvers,
+                       margin=margin, cache=cache, progress=progress,
+                       remember_from=remember_from).lot_graph
+
+
+def prepare_lot(scenario: Scenario, *, node_spacing: float = 4.0, maneuvers: bool = True,
+                margin: float = MARGIN, cache: bool = True, progress=None,
+                remember_from: int = REMEMBER_FROM) -> PreparedLot:
     """Build the scenario's lot for its vehicle types, plan every slot's parking maneuver
-    for every type, and build the lot's drivable graph through them.
+    for every type, and build the lot's drivable graph through them; with the maneuver
+    planner they came from (``PreparedLot.maneuver_planner``, None with
+    ``maneuvers=False``).
 
     The slots a type cannot use are in ``LotGraph.infeasible`` (type → slot → reason).
     A slot served by two lanes is parked on one pose from both, so that a car can leave
@@ -43,9 +61,9 @@ def prepare(scenario: Scenario, *, node_spacing: float = 4.0, maneuvers: bool = 
     waits for it and loads it (:func:`lotsim.core.diskcache.making`). A new one also reads and adds
     to the answers to the maneuver problems searched before in lots of the scenario's name,
     keyed by each problem's exact geometry
-    (:meth:`~lotsim.maneuvers.planner.ManeuverPlanner.prefetch`; lots of
-    :data:`REMEMBER_FROM` slot-types or more): an edited lot searches only the problems its
-    edit changed, and the answers are the same.
+    (:meth:`~lotsim.maneuvers.planner.ManeuverPlanner.prefetch`; lots of ``remember_from``
+    slot-types or more): an edited lot searches only the problems its edit changed, and the
+    answers are the same.
     ``progress(done, total)`` is called as the maneuvers' distinct problems are searched
     (not when the lot comes from the cache).
 
@@ -56,42 +74,50 @@ def prepare(scenario: Scenario, *, node_spacing: float = 4.0, maneuvers: bool = 
     """
     if not maneuvers:
         lot = build_lot(scenario.lot, DesignVehicle.envelope(scenario.vehicle_types))
-        return build_graph(lot, node_spacing=node_spacing, vehicles=scenario.vehicle_types)
+        return PreparedLot(scenario, build_graph(lot, node_spacing=node_spacing,
+                                                 vehicles=scenario.vehicle_types))
     leaves = ({a.dwell is not None for a in arrivals(scenario.traffic, scenario.seed)}
               if scenario.traffic is not None else {True})
     if not cache:
-        return _prepared(scenario, leaves, None, node_spacing, margin, progress)
+        lg, planner = _prepared(scenario, leaves, None, node_spacing, margin, progress,
+                                remember_from)
+        return PreparedLot(scenario, lg, planner)
     name = lotsim.core.diskcache.key("prepared", scenario.lot, scenario.vehicle_types,
-                            scenario.parked_vehicle, sorted(leaves), node_spacing, margin)
-    lg = _cached(name)
-    if lg is None:
+                                     scenario.parked_vehicle, sorted(leaves), node_spacing,
+                                     margin)
+    got = _cached(name)
+    if got is None:
         with lotsim.core.diskcache.making(name):
             # another process may have made it while this one waited for the lock
-            lg = _cached(name)
-            if lg is None:
-                lg = _prepared(scenario, leaves, name, node_spacing, margin, progress)
-    return lg
+            got = _cached(name)
+            if got is None:
+                got = _prepared(scenario, leaves, name, node_spacing, margin, progress,
+                                remember_from)
+    return PreparedLot(scenario, *got)
 
 
-def _cached(name: str) -> LotGraph | None:
-    lg = lotsim.core.diskcache.load(name)
-    if not isinstance(lg, LotGraph):
+def _cached(name: str) -> tuple[LotGraph, ManeuverPlanner] | None:
+    """The lot graph and maneuver planner stored as ``name``, or None."""
+    got = lotsim.core.diskcache.load(name)
+    if not (isinstance(got, tuple) and len(got) == 2 and isinstance(got[0], LotGraph)):
         return None
-    lg.from_cache = True
-    return lg
+    got[0].from_cache = True
+    return got
 
 
 def _prepared(scenario: Scenario, leaves: set[bool], name: str | None, node_spacing: float,
-              margin: float, progress) -> LotGraph:
-    """:func:`prepare` a lot not in the cache, and store it there as ``name`` (when not
-    None)."""
+              margin: float, progress, remember_from: int
+              ) -> tuple[LotGraph, ManeuverPlanner]:
+    """:func:`prepare_lot` a lot not in the cache, and store it there (the lot graph and
+    the maneuver planner) as ``name`` (when not None)."""
     lot = build_lot(scenario.lot, DesignVehicle.envelope(scenario.vehicle_types))
+    memo = RoadmapMemo(lot)  # what the lanes' graph works out, for the graph through slots
     # the dead ends' turnarounds, planned in time no other step wants (the graphs need them)
-    with plan_turnarounds_ahead(lot, scenario.vehicle_types):
-        planner = maneuver_planner(scenario, lot, margin=margin)
+    with plan_turnarounds_ahead(memo, scenario.vehicle_types):
+        planner = maneuver_planner(scenario, lot, margin=margin, memo=memo)
         known = known_name = None
         if (name is not None and lotsim.core.diskcache.cache_dir() is not None
-                and len(lot.slots) * len(scenario.vehicle_types) >= REMEMBER_FROM):
+                and len(lot.slots) * len(scenario.vehicle_types) >= remember_from):
             # the maneuvers of this lot as prepared before (by its name), whatever has changed
             # since: an edited lot searches again only the problems its edit changed
             known_name = lotsim.core.diskcache.key("maneuvers", scenario.name, planner.settings)
@@ -106,14 +132,13 @@ def _prepared(scenario: Scenario, leaves: set[bool], name: str | None, node_spac
         elif leaves == {True}:  # no car stays: where those begin would only be nodes in the way
             stays = {}
         lg = build_graph(lot, node_spacing=node_spacing, maneuvers=planned,
-                         vehicles=scenario.vehicle_types, stays=stays)
+                         vehicles=scenario.vehicle_types, stays=stays, memo=memo)
         lg.infeasible = infeasible
-        lg.maneuver_planner = planner
         if name is not None:
             lg.reachability()  # every run and validate asks: kept with the lot
             lg.facts()
-            lotsim.core.diskcache.store(name, lg)
-        return lg
+            lotsim.core.diskcache.store(name, (lg, planner))
+        return lg, planner
 
 
 @dataclass(frozen=True, slots=True)
@@ -130,10 +155,14 @@ class PreparedLot:
         The built lot (``.lot``), its drivable graph (``.graph``) and the slots each vehicle
         type cannot use with the reason (``.infeasible``). Runs read it and do not change
         what they read, so one prepared lot serves any number of runs.
+    maneuver_planner : ManeuverPlanner or None
+        The planner (and its answers) the maneuvers came from; None when the lot was
+        prepared without maneuvers or handed in as a lot graph alone.
     """
 
     scenario: Scenario
     lot_graph: LotGraph
+    maneuver_planner: ManeuverPlanner | None = None
 
     @property
     def lot(self) -> Lot:
@@ -150,11 +179,14 @@ class PreparedLot:
         return self.lot_graph.reachability()
 
 
-def maneuver_planner(scenario: Scenario, lot: Lot, *, margin: float = MARGIN) -> ManeuverPlanner:
+def maneuver_planner(scenario: Scenario, lot: Lot, *, margin: float = MARGIN,
+                     memo: RoadmapMemo | None = None) -> ManeuverPlanner:
     """The maneuver planner for ``lot``: clear of the scenario's parked cars, starting only
-    where a car can arrive from an entrance or leave for an exit (along lanes)."""
+    where a car can arrive from an entrance or leave for an exit (along lanes: the ranges
+    of the lot's lane graph, :func:`~lotsim.roadmap.reach.maneuver_ranges`; ``memo`` keeps
+    what that graph works out for the graph through the maneuvers)."""
+    lanes = lane_graph(lot, vehicles=scenario.vehicle_types, memo=memo)
     return ManeuverPlanner(lot, margin=margin, parked_width=scenario.parked_vehicle.width,
-                           lane_ranges=build_graph(
-                               lot, vehicles=scenario.vehicle_types).maneuver_ranges())
+                           lane_ranges=maneuver_ranges(lanes))
 
 

@@ -7,7 +7,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from lotsim.roadmap.graph import LotGraph
+from lotsim.roadmap.model import LotGraph
 from lotsim.scenario import Scenario
 from lotsim.sim.settings import RunSettings
 from lotsim.traffic.demand import Arrival

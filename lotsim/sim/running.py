@@ -10,7 +10,8 @@ from collections.abc import Iterator
 from contextlib import contextmanager
 
 from lotsim.errors import Location, ScenarioError, SettingsError
-from lotsim.roadmap.graph import LotGraph, Reachability
+from lotsim.roadmap.model import LotGraph
+from lotsim.roadmap.reach import Reachability
 from lotsim.scenario import Scenario
 from lotsim.sim.loop import EventLoop
 from lotsim.sim.preparation import prepare

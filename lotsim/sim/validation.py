@@ -8,7 +8,7 @@ from collections.abc import Iterable
 from dataclasses import dataclass
 
 from lotsim.core.diskcache import LOADED
-from lotsim.roadmap.graph import Reachability
+from lotsim.roadmap.reach import Reachability
 from lotsim.sim.preparation import PreparedLot
 from lotsim.sim.running import check_traffic
 from lotsim.traffic.demand import Arrival, StreamSpec, arrivals
@@ -116,7 +116,7 @@ class ValidationReport:
                 if slots:
                     lines.append(f"  note: exit {name!r} cannot be reached from {len(slots)} "
                                  f"slots: {_ids(slots)}")
-        planner = lg.maneuver_planner
+        planner = self.prepared.maneuver_planner
         if planner is not None:
             remembered = planner.stats.get("remembered", 0)
             lines.append(f"  maneuvers: {facts.park_maneuvers} kept (per type, slot and lane); "

@@ -49,7 +49,7 @@ from shapely.geometry.base import BaseGeometry
 
 from lotsim.core.geometry import same_pose
 from lotsim.maneuvers.planner import Maneuver
-from lotsim.roadmap.graph import LotGraph
+from lotsim.roadmap.model import LotGraph
 from lotsim.sim.settings import OMEGA, PLANNERS
 from lotsim.traffic.reservation import (
     ReservationTable,
@@ -479,7 +479,7 @@ class Goal:
 
     A car that will leave again (``park_by`` given) parks only by the park edges
     ``(lane node, slot node)`` in ``park_by``, those that park it on a pose it can leave
-    by (:meth:`~lotsim.roadmap.graph.LotGraph.leavable`), and never with a maneuver the lot
+    by (:meth:`~lotsim.roadmap.model.LotGraph.leavable`), and never with a maneuver the lot
     graph keeps for cars that stay (a park edge's ``stays``)."""
 
     slot: int | None = None

@@ -12,7 +12,7 @@ import shapely
 
 from lotsim.io.result import result_dict
 from lotsim.io.scenario_yaml import load_scenario
-from lotsim.sim.preparation import prepare
+from lotsim.sim.preparation import prepare, prepare_lot
 from lotsim.sim.running import run
 from lotsim.traffic.demand import arrivals
 from lotsim.traffic.search import SearchGraph
@@ -467,10 +467,10 @@ def test_a_car_that_stays_parks_with_its_lanes_best_and_one_that_leaves_on_the_s
     cars = "\n".join(f"    - {{id: c{k}, arrival: {12 * k}"
                      + (", dwell: 30}" if k % 2 else "}") for k in range(8))
     sc = scenario_from_text(text[:text.index("traffic:")] + "traffic:\n  vehicles:\n" + cars)
-    lg = prepare(sc)
+    prepared = prepare_lot(sc)
+    lg, planner = prepared.lot_graph, prepared.maneuver_planner
     rr, _ = _run_checked(sc, lg)
     g, lanes = lg.graph, {lane.id: lane for lane in lg.lot.lanes}
-    planner = lg.maneuver_planner
     differ = 0
     for v in rr.vehicles:
         park = next(m for m in v.moves if m.kind == "park")
@@ -499,8 +499,9 @@ def test_which_maneuvers_are_kept_follows_whether_cars_stay_or_leave(lots):
         assert all(a.dwell is not None for a in arrivals(sc.traffic, sc.seed)), name
         assert not any(d.get("stays") for *_, d in lg.graph.edges(data=True)), name
     text = (LOTS / "culdesac.yaml").read_text().replace(", dwell: [300, 900]", "")
-    lg = prepare(scenario_from_text(text))  # every car stays: each lane's own best only
-    planner, lanes = lg.maneuver_planner, {lane.id: lane for lane in lg.lot.lanes}
+    prepared = prepare_lot(scenario_from_text(text))  # every car stays: each lane's own best
+    lg, planner = prepared.lot_graph, prepared.maneuver_planner
+    lanes = {lane.id: lane for lane in lg.lot.lanes}
     g, flipped = lg.graph, 0
     for u, v, d in g.edges(data=True):
         if d["kind"] == "park":
@@ -656,60 +657,3 @@ def test_every_way_out_of_a_bay_leads_to_an_exit_even_from_a_closed_corner():
     backs = [d["path"] for _, _, d in g.edges(data=True) if d["kind"] == "turnaround"]
     for path in backs:
         _assert_turns_round_clear(path, lg)
-
-
-def test_closings_checked_in_batches_find_what_checking_each_finds(lots):
-    """A turnaround's last moves, from every probe along a stroke, are checked together,
-    the k-th of each at once (turnaround._first_clear): each probe gets the first closing
-    that checking them one by one finds clear (turnaround._blocked), or none."""
-    from lotsim.roadmap.multipoint import closings
-    from lotsim.roadmap.turnaround import _blocked, _first_clear, turnaround_collider
-
-    lot = lots["culdesac"][1].lot
-    collider, body = turnaround_collider(lot)
-    rng = np.random.default_rng(7)
-    aisle = next(a for a in lot.aisles.values() if not a.one_way and len(a.lanes) == 2)
-    lane, back = aisle.lanes
-    frame = np.array(back.segments[0].start)
-    length = back.segments[0].length
-    # poses across the lane's end, turned part of the way round: some closings clear, some
-    # through a slot or the boundary, some poses with none clear
-    x = rng.uniform(length - 25.0, length, 300)
-    y = rng.uniform(0.0, 9.0, 300)
-    th = rng.uniform(math.pi, 2 * math.pi, 300)
-    options = [closings(q, length, lot.design.min_radius) for q in np.column_stack([x, y, th])]
-    each = [next((k for k, path in enumerate(paths) if not _blocked(frame, path, collider, body)),
-                 None) for paths in options]
-    assert _first_clear(frame, options, collider, body) == each
-    assert {0, None} <= set(each) and any(k not in (0, None) for k in each)
-
-
-def test_turnarounds_planned_ahead_make_the_same_graph_and_are_used(monkeypatch):
-    """prepare plans every two-way lane's turnaround ahead, in CPU time nothing else wants
-    (graph.plan_turnarounds_ahead): a graph built with those plans is the one built
-    without, and the build plans none itself when they are all in."""
-    import lotsim.roadmap.graph as graph
-    from lotsim.lot.build import build_lot
-    from lotsim.lot.model import DesignVehicle
-
-    sc = load_scenario(LOTS / "culdesac.yaml")
-
-    def built(ahead: bool):
-        lot = build_lot(sc.lot, DesignVehicle.envelope(sc.vehicle_types))
-        if not ahead:
-            return graph.build_graph(lot, vehicles=sc.vehicle_types)
-        with graph.plan_turnarounds_ahead(lot, sc.vehicle_types) as bg:
-            keys, _ = graph._AHEAD[lot]
-            bg._proc.join(60)
-            assert len(bg.take()) == len(keys) > 0
-            with monkeypatch.context() as m:  # (the background process has its own copy)
-                m.setattr(graph, "plan_turnarounds", lambda *a: 1 / 0)
-                return graph.build_graph(lot, vehicles=sc.vehicle_types)
-
-    def edges(lg):
-        return sorted((u, v, d["kind"], d.get("types"), d["path"])
-                      for u, v, d in lg.graph.edges(data=True) if d["kind"] == "turnaround")
-
-    plain, ahead = built(False), built(True)
-    assert edges(plain) and edges(ahead) == edges(plain)
-    assert ahead.skipped_turns == plain.skipped_turns

@@ -365,7 +365,7 @@ def test_a_car_speeds_up_across_closely_spaced_nodes():
     import networkx as nx
 
     from lotsim.core.geometry import Segment
-    from lotsim.roadmap.graph import LotGraph
+    from lotsim.roadmap.model import LotGraph
     from lotsim.vehicles import CATALOGUE
     from lotsim.vehicles.motion import scurve
 

@@ -16,7 +16,7 @@ from lotsim.lot.build import build_lot
 from lotsim.lot.model import DesignVehicle
 from lotsim.render import LotCanvas, centered_footprints, draw_lot, lot_layout, save_lot_png
 from lotsim.render import lot_image as li
-from lotsim.roadmap.graph import build_graph
+from lotsim.roadmap.assemble import build_graph
 
 LOT_YAML = """
 name: render-test

@@ -10,6 +10,7 @@ import pytest
 from conftest import ONE_AISLE, ROOT, scenario_from_text, static_times
 from lotsim.io.result import result_dict
 from lotsim.io.scenario_yaml import load_scenario
+from lotsim.roadmap.reach import lane_reach
 from lotsim.sim.orders import (
     _order_crossover,
     fitness,
@@ -108,7 +109,7 @@ def test_shortest_first_orders_by_static_time_to_a_slot():
     assert sorted(order) == sorted(a.id for a in traffic)
     # independent: networkx Dijkstra over the lanes at each type's top speed, plus the
     # quickest maneuver into a free slot it can leave again (if it will leave)
-    leave = lg.leave_nodes()
+    leave = lane_reach(lg)[1]  # lane nodes from which an exit can be reached
     best = {}
     for a in traffic:
         car = sc.vehicle_type(a.vehicle)

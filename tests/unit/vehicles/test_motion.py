@@ -5,8 +5,9 @@ import math
 import numpy as np
 import pytest
 
-from conftest import graph_from_text
+from conftest import scenario_from_text
 from lotsim.core.geometry import Segment, wrap_angle
+from lotsim.sim.preparation import prepare_lot
 from lotsim.vehicles import CATALOGUE, KMH
 from lotsim.vehicles.motion import Piece, drive, speed_cap, standing, timed_path
 
@@ -132,7 +133,7 @@ def test_speed_on_a_curve_respects_lateral_acceleration_and_on_a_clothoid_the_st
 
 
 def test_a_planned_maneuver_is_driven_on_its_exact_path():
-    lg = graph_from_text("""
+    prepared = prepare_lot(scenario_from_text("""
         vehicle_types: [valet]
         lot:
           boundary: [[0, 0], [60, 0], [60, 30], [0, 30]]
@@ -143,9 +144,9 @@ def test_a_planned_maneuver_is_driven_on_its_exact_path():
                slot_length: 5.0, start: 15}
           entrances:
             - {id: in, x: 2, y: 10, heading_deg: 0}
-    """)
+    """))
     # a 4.6 m aisle is too narrow to swing in at once
-    m = lg.maneuver_planner.best(CAR, lg.lot.slot_by_id["main-left-5"])
+    m = prepared.maneuver_planner.best(CAR, prepared.lot.slot_by_id["main-left-5"])
     assert m.changes >= 1
     tr = drive([Piece(s, 10 * KMH) for s in m.segments], CAR, t0=5.0)
     _check_limits(tr)

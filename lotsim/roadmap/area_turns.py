@@ -1,0 +1,267 @@
+"""Junction turns that use the junction's whole area (:func:`area_turns`): drift sideways
+off the lane, turn the corner, drift back onto the other lane, as a driver does where the
+turn between the lanes themselves would touch a corner slot."""
+
+from __future__ import annotations
+
+import itertools
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from lotsim.core.geometry import Segment, cc_polyline, sample_segments, wrap_angle
+from lotsim.lot.build import SWEEP_STEP
+from lotsim.lot.clearance import Collider
+from lotsim.lot.model import unit
+from lotsim.roadmap.lanes import EPS
+from lotsim.roadmap.model import Turn
+
+AREA_SHIFTS = (0.0, 1.0, -1.0, 2.0, -2.0, 3.0, -3.0, 4.0)
+"""Sideways shifts [m] of the corner of a junction turn that uses the junction's area, from
+each lane's line (positive: to the lane's left, across the oncoming lane)."""
+
+
+AREA_LEADS = (1.5, 3.0, 4.5, 6.0, 9.0, 12.0)
+"""Lengths [m] of the drift from a lane to the shifted corner's line, and back."""
+
+
+AREA_RADII = (1.0, 1.5)
+"""Multiples of the design radius the corner of such a turn tries."""
+
+
+AREA_SPEEDS = (5.0 / 3.6, 3.0 / 3.6, 1.5 / 3.6)
+"""Design speeds [m/s] such a turn tries below the fastest its arc allows: a slower turn has
+shorter clothoids (the wheels turn at the same rate over less path), so it fits a tighter
+corner."""
+
+
+def _approx_tangent(deflection, radius: float, sharpness: float):
+    """The tangent length of a continuous-curvature turn
+    (:func:`~lotsim.core.geometry.cc_turn`) by the road designers' formula,
+    ``(R + p) tan(Δ/2) + L/2`` with the clothoids' shift ``p = L² / 24R`` (within 0.1 % of
+    the exact one for the turns built here); ``deflection`` [rad] may be an array."""
+    d = np.asarray(deflection, dtype=float)
+    peak = np.minimum(1 / radius, np.sqrt(d * sharpness))
+    ramp = peak / sharpness
+    with np.errstate(divide="ignore", invalid="ignore"):
+        out = (1 / peak + ramp * ramp * peak / 24) * np.tan(d / 2) + ramp / 2
+    return np.where(d > 1e-12, out, 0.0)
+
+
+def _area_designs(design, lot_speed: float) -> list[tuple[float, float]]:
+    """(radius multiple, design speed [m/s]) of the junction-area turns to try."""
+    out = []
+    for f in AREA_RADII:
+        top = min(lot_speed, math.sqrt(design.max_lateral_accel * f * design.min_radius))
+        out += [(f, v) for v in sorted({top, *(v for v in AREA_SPEEDS if v < top)},
+                                       reverse=True)]
+    return out
+
+
+def area_turns(a, sa0, pa, b, sb0, pb, design, collider: Collider,
+                lot_speed: float, via: tuple[Segment, ...] = (),
+                shifts: tuple[float, ...] = ()) -> list[Turn]:
+    """Turns from ``pa`` into ``pb`` that use the junction's whole area, as a driver does
+    where the turn between the lanes themselves touches a corner slot: drift sideways from
+    the lane (wide of the corner, across the oncoming lane where need be), turn, drift back
+    onto the other lane. Each line is shifted sideways by :data:`AREA_SHIFTS` (positive:
+    to the lane's left), the drifts take :data:`AREA_LEADS`, the corners' arcs
+    :data:`AREA_RADII`; every corner is continuous-curvature, sized for the arc's speed.
+    With ``via`` (a lane's straight between two junctions close together) the path runs
+    along that straight, shifted by ``shifts``, from one turn into the next without
+    drifting back to its lane between them.
+
+    The quickest clear one (length over design speed) is built and, when it is another,
+    the most compact clear one (the least lane used before and after: it starts latest and
+    ends soonest, so it fits between two turns close together); none when none is clear.
+    """
+    lay = _Layout.of(pa, pb, via, shifts)
+    blocks = _candidate_blocks(lay, pa, pb, design, lot_speed)
+    if not blocks:
+        return []
+    found = _Candidates(blocks, design, collider)
+    quick = found.first(np.lexsort((found.used, found.times)).tolist())
+    if quick is None:
+        return []
+    compact = found.first(np.lexsort((found.times, found.used)).tolist())
+    return [Turn(a.id, sa0 + float(found.starts[k]), b.id, sb0 + float(found.ends[k]),
+                 tuple(found.paths[k]), True) for k in dict.fromkeys((quick, compact))]
+
+
+@dataclass(frozen=True)
+class _Layout:
+    """The lines of an area turn (``pa``, the stretches ``via``, ``pb``) and, for every
+    sideways shift of them and every pair of drift lengths (:data:`AREA_LEADS`), the
+    corners where the shifted lines meet and where the drifts leave and rejoin the lanes:
+    arrays over the candidates, ``oi`` each one's shift."""
+
+    via: bool
+    dirs: np.ndarray
+    origins: np.ndarray
+    bends: np.ndarray
+    params: list[np.ndarray]
+    oi: np.ndarray
+    ta: np.ndarray
+    tb: np.ndarray
+    la: np.ndarray
+    lb: np.ndarray
+    u: np.ndarray
+    w: np.ndarray
+    a1: np.ndarray
+    b1: np.ndarray
+    corners: list[np.ndarray]
+    first_turn: np.ndarray
+    last_turn: np.ndarray
+    legs: list[np.ndarray]
+
+    @classmethod
+    def of(cls, pa: Segment, pb: Segment, via: tuple[Segment, ...],
+           shifts: tuple[float, ...]) -> _Layout:
+        lines = (pa, *via, pb)
+        dirs = np.array([unit(seg.start[2]) for seg in lines])  # (L, 2)
+        normals = np.column_stack([-dirs[:, 1], dirs[:, 0]])
+        origins = np.array([seg.start[:2] for seg in lines])
+        heads = np.array([seg.start[2] for seg in lines])
+        bends = np.abs(np.asarray(wrap_angle(np.diff(heads)), dtype=float))  # (L-1,)
+        grids = [AREA_SHIFTS, *([shifts or (0.0,)] * len(via)), AREA_SHIFTS]
+        offs = np.array(list(itertools.product(*grids)))  # (N, L)
+        if not via:
+            offs = offs[np.any(offs != 0.0, axis=1)]  # (0, 0) is the plain turn, already tried
+        # corner k: where line k shifted by offs[:, k] meets line k+1 shifted by offs[:, k+1]
+        corners, params = [], []
+        for k in range(len(lines) - 1):
+            inv = np.linalg.inv(np.column_stack([dirs[k], -dirs[k + 1]]))
+            rhs = (origins[k + 1] - origins[k] + offs[:, k + 1, None] * normals[k + 1]
+                   - offs[:, k, None] * normals[k])  # (N, 2)
+            ts = rhs @ inv.T  # (N, 2): along line k, along line k+1
+            corners.append(origins[k] + offs[:, k, None] * normals[k] + ts[:, :1] * dirs[k])
+            params.append(ts)
+        ta, tb = params[0][:, 0], params[-1][:, 1]
+        # leads (la, lb) for every shift: index arrays over (N × leads²)
+        leads = np.array(list(itertools.product(AREA_LEADS, AREA_LEADS)))
+        n_off, n_lead = len(offs), len(leads)
+        oi = np.repeat(np.arange(n_off), n_lead)
+        la, lb = np.tile(leads[:, 0], n_off), np.tile(leads[:, 1], n_off)
+        u, w = offs[oi, 0], offs[oi, -1]
+        a1 = origins[0] + (ta[oi] - la)[:, None] * dirs[0]
+        b1 = origins[-1] + (tb[oi] + lb)[:, None] * dirs[-1]
+        corners_n = [c[oi] for c in corners]
+        h1 = np.arctan2(*(corners_n[0] - a1).T[::-1])
+        h2 = np.arctan2(*(b1 - corners_n[-1]).T[::-1])
+        first_turn = np.abs(np.asarray(wrap_angle((heads[1] if via else h2) - h1), dtype=float))
+        last_turn = np.abs(np.asarray(wrap_angle(h2 - (heads[-2] if via else h1)), dtype=float))
+        return cls(bool(via), dirs, origins, bends, params, oi, ta, tb, la, lb, u, w, a1, b1,
+                   corners_n, first_turn, last_turn, [np.hypot(la, u), np.hypot(lb, w)])
+
+
+def _candidate_blocks(lay: _Layout, pa: Segment, pb: Segment, design, lot_speed: float
+                      ) -> list[tuple]:
+    """The candidate area turns with room on both lanes, a block per design and shape:
+    (points (M, P, 2) of their polylines, rough time [s], lane used [m], start along ``pa``
+    [m], end along ``pb`` [m], corner radius [m], clothoid sharpness)."""
+    blocks = []
+    oi, u, w, la, lb, dirs = lay.oi, lay.u, lay.w, lay.la, lay.lb, lay.dirs
+    a1, b1 = lay.a1, lay.b1
+    c_first, c_last = lay.corners[0], lay.corners[-1]
+
+    def add(ok, points, speed, da, db, r, sharp) -> None:
+        rows = np.flatnonzero(ok)
+        if len(rows):
+            pts = np.stack([p[rows] for p in points], axis=1)
+            rough = np.hypot(*np.diff(pts, axis=1).transpose(2, 0, 1)).sum(axis=1)
+            blocks.append((pts, rough / speed, db[rows] - da[rows], da[rows], db[rows], r,
+                           sharp))
+
+    for f, speed in _area_designs(design, lot_speed):
+        r = f * design.min_radius
+        sharp = design.sharpness(speed)
+        pre = np.where(u != 0.0, _approx_tangent(np.arctan2(np.abs(u), la), r, sharp) + 0.05,
+                       0.0)
+        post = np.where(w != 0.0, _approx_tangent(np.arctan2(np.abs(w), lb), r, sharp) + 0.05,
+                        0.0)
+        da, db = lay.ta[oi] - la - pre, lay.tb[oi] + lb + post
+        ok = ((da >= -EPS) & (da <= pa.length + EPS) & (db >= -EPS)
+              & (db <= pb.length + EPS)
+              # the corners' turns must leave room for the drifts' (road designers'
+              # estimate of the tangents; cc_polyline checks exactly)
+              & (_approx_tangent(lay.first_turn, r, sharp) + pre <= lay.legs[0] * 1.01)
+              & (_approx_tangent(lay.last_turn, r, sharp) + post <= lay.legs[1] * 1.01))
+        if lay.via:  # the corners on the stretch in order, with room for both turns
+            gap = lay.params[1][oi, 0] - lay.params[0][oi, 1]
+            ok &= gap >= float(_approx_tangent(lay.bends[0], r, sharp)
+                               + _approx_tangent(lay.bends[1], r, sharp))
+        add(ok, [a1 - dirs[0] * pre[:, None], a1, *lay.corners, b1,
+                 b1 + dirs[-1] * post[:, None]], speed, da, db, r, sharp)
+        if lay.via:
+            continue
+        # or: drift onto the shifted line, run along it, turn the corner, run along the
+        # other shifted line, drift back (the drift ends before the corner's turn begins, so
+        # a wide shift does not sharpen the corner: a big car's way round a corner slot)
+        corner = _approx_tangent(lay.bends[0], r, sharp)
+        g1 = np.where(u != 0.0, corner + pre + 0.05, 0.0)
+        g2 = np.where(w != 0.0, corner + post + 0.05, 0.0)
+        da, db = lay.ta[oi] - g1 - la - pre, lay.tb[oi] + g2 + lb + post
+        ok = (((u != 0.0) | (w != 0.0)) & (da >= -EPS) & (da <= pa.length + EPS)
+              & (db >= -EPS) & (db <= pb.length + EPS)
+              & (2 * pre <= lay.legs[0] * 1.01) & (2 * post <= lay.legs[1] * 1.01))
+        on_a = lay.origins[0] + (lay.ta[oi] - g1 - la)[:, None] * dirs[0]
+        on_b = lay.origins[-1] + (lay.tb[oi] + g2 + lb)[:, None] * dirs[-1]
+        add(ok, [on_a - dirs[0] * pre[:, None], on_a, c_first - dirs[0] * g1[:, None], c_first,
+                 c_last + dirs[-1] * g2[:, None], on_b, on_b + dirs[-1] * post[:, None]],
+            speed, da, db, r, sharp)
+    return blocks
+
+
+class _Candidates:
+    """The candidate area turns of :func:`_candidate_blocks` as one list, with what is found
+    of each: whether it is clear of ``collider`` for ``design``, and its path."""
+
+    def __init__(self, blocks: list[tuple], design, collider: Collider):
+        self.blocks, self.design, self.collider = blocks, design, collider
+        self.times, self.used, self.starts, self.ends = (
+            np.concatenate([b[k] for b in blocks]) for k in range(1, 5))
+        self.offsets = np.cumsum([0] + [len(b[1]) for b in blocks])
+        self.clear: dict[int, bool] = {}
+        self.paths: dict[int, list[Segment]] = {}
+
+    def candidate(self, k: int) -> tuple[np.ndarray, float, float]:
+        """Candidate ``k``'s polyline without repeated points, corner radius, sharpness."""
+        j = int(np.searchsorted(self.offsets, k, side="right")) - 1
+        i = k - int(self.offsets[j])
+        pts, *_, r, sharp = self.blocks[j]
+        row = pts[i]
+        keep = np.ones(len(row), dtype=bool)
+        keep[1:] = np.hypot(*np.diff(row, axis=0).T) > 1e-6
+        return row[keep], r, sharp
+
+    def first(self, order: list[int], chunk: int = 24) -> int | None:
+        """The first clear candidate of ``order``: a rough pass over footprints 1 m apart
+        drops most blocked ones a chunk at a time, then the sweep, in order."""
+        clear, paths, design, collider = self.clear, self.paths, self.design, self.collider
+        for c0 in range(0, len(order), chunk):
+            part = [k for k in order[c0 : c0 + chunk] if k not in clear]
+            built = []
+            for k in part:
+                pts, r, sharp = self.candidate(k)
+                try:
+                    built.append((k, cc_polyline(pts, r, sharp)))
+                except ValueError:  # no room for a corner's turn on a leg
+                    clear[k] = False
+            if built:
+                poses, of = sample_segments([sg for _, path in built for sg in path], 1.0)
+                owner = np.repeat(np.arange(len(built)), [len(path) for _, path in built])[of]
+                bad = collider.blocked(design.footprints(poses))
+                rough = np.bincount(owner[bad], minlength=len(built)) > 0
+                for (k, path), hit in zip(built, rough, strict=True):
+                    if hit:
+                        clear[k] = False
+                    else:
+                        paths[k] = path
+            for k in order[c0 : c0 + chunk]:
+                if k not in clear:
+                    clear[k] = collider.sweep_hit(
+                        design.footprints(sample_segments(paths[k], SWEEP_STEP)[0])) is None
+                if clear[k]:
+                    return k
+        return None

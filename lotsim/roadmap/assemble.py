@@ -1,0 +1,399 @@
+"""The assembler of a lot's drivable graph (:func:`build_graph`): each lane cut into nodes
+where something begins or ends on it (turns, turnarounds, gates, speed zones, the start of
+each parking maneuver), the junction turns, turnarounds, U-turns and multi-point turns
+between them, and each slot's park and leave edges through its planned maneuvers (or
+placeholder links abeam of it, for pictures and reachability). The graph's data is
+described in :mod:`lotsim.roadmap.model`."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import TYPE_CHECKING
+
+import numpy as np
+import shapely
+
+from lotsim.core.geometry import Segment, sample_segments, wrap_angle
+from lotsim.core.workers import fork_map
+from lotsim.lot.build import lane_collider
+from lotsim.lot.model import DesignVehicle, Lane, Lot, Slot
+from lotsim.roadmap.junction_multipoints import junction_multipoints
+from lotsim.roadmap.junctions import turns_of
+from lotsim.roadmap.lanes import EPS, lane_serves, portal_station
+from lotsim.roadmap.memo import RoadmapMemo, designs_of, types_key
+from lotsim.roadmap.model import LotGraph, Turn
+from lotsim.roadmap.turnarounds import Turnaround, dead_end_turnarounds
+from lotsim.roadmap.uturns import junction_uturns
+
+if TYPE_CHECKING:
+    import networkx as nx
+
+Tagged = list[tuple[Turn | Turnaround, "frozenset | None"]]
+"""Turns or turnarounds, each with the vehicle types that can drive it (None: every type)."""
+
+
+def build_graph(lot: Lot, *, node_spacing: float = 4.0, maneuvers=None,
+                vehicles=(), stays=None, memo: RoadmapMemo | None = None) -> LotGraph:
+    """Build the drivable graph of ``lot``.
+
+    Parameters
+    ----------
+    lot : Lot
+    node_spacing : float, keyword-only
+        Largest distance between consecutive nodes along a lane [m].
+    maneuvers : dict or None, keyword-only
+        ``(vehicle name, slot id, lane id)`` → parking Maneuver, from
+        :func:`lotsim.maneuvers.planner.plan_lot`; ``None`` links slots by placeholders.
+    vehicles : sequence of VehicleType, keyword-only
+        The scenario's types: the maneuvers' durations; with two or more, junction turns
+        are built for each type's own outline and turning radius, and a turn only some
+        types can drive says which (edge attribute ``types``, None for all).
+    stays : dict or None, keyword-only
+        Like ``maneuvers``: each lane's own best maneuver where the one in ``maneuvers``
+        parks the other way round, for cars that will not leave (a park edge's ``stays``).
+    memo : RoadmapMemo or None, keyword-only
+        What an earlier build of ``lot``'s graph worked out (turns, turnarounds); it takes
+        what this one works out. The graph is the same without it.
+
+    Returns
+    -------
+    LotGraph
+    """
+    stays = {} if maneuvers is None else (stays or {})
+    attach = (_attachments(lot) if maneuvers is None
+              else _maneuver_attachments(lot, [*maneuvers.items(), *stays.items()]))
+    net = _lane_network(lot, attach, node_spacing, vehicles, memo or RoadmapMemo(lot))
+    slot_nodes, attachments = _add_slots(lot, net, attach if maneuvers is None else None)
+    if maneuvers is not None:
+        _add_maneuvers(lot, net, slot_nodes, attachments, maneuvers, stays, vehicles)
+    return LotGraph(lot, net.graph, net.entrances, net.exits, slot_nodes, attachments,
+                    net.skipped)
+
+
+def lane_graph(lot: Lot, *, node_spacing: float = 4.0, vehicles=(),
+               memo: RoadmapMemo | None = None) -> LotGraph:
+    """The lanes of ``lot``'s graph without its slots: the nodes, lane edges, turns,
+    turnarounds and joins that :func:`build_graph` makes without maneuvers (the same nodes,
+    numbered alike), with no slot node or placeholder link. Enough to find where a parking
+    maneuver may begin (:func:`~lotsim.roadmap.reach.maneuver_ranges`) before any is
+    planned."""
+    net = _lane_network(lot, _attachments(lot), node_spacing, vehicles,
+                        memo or RoadmapMemo(lot))
+    return LotGraph(lot, net.graph, net.entrances, net.exits, {}, {}, net.skipped)
+
+
+@dataclass
+class _Network:
+    """A lot's lanes cut into nodes (numbered lane after lane, ``first[lane]`` on; the
+    stations of each lane's nodes in ``index``), with the edges between them."""
+
+    graph: nx.DiGraph
+    index: dict[str, np.ndarray]
+    first: dict[str, int]
+    entrances: dict[str, int]
+    exits: dict[str, int]
+    skipped: list[str]
+
+    def node_at(self, lid: str, s: float) -> int:
+        """The node of lane ``lid`` nearest station ``s`` [m]."""
+        return self.first[lid] + int(np.argmin(np.abs(self.index[lid] - s)))
+
+
+def _turns_and_backs(lot: Lot, attach: dict[str, list[tuple[str, float]]], vehicles,
+                     memo: RoadmapMemo) -> tuple[Tagged, Tagged, list[tuple[str, str]],
+                                                 list[str]]:
+    """The junction turns and the turnarounds (at dead ends, multi-point junction turns,
+    U-turns) of ``lot``, each with the types that can drive it, for more types first (two
+    that join the same nodes keep the one more can drive); the lane joins; the notes of
+    turns and turnarounds skipped. ``attach``: where cars park and unpark on each lane."""
+    designs = designs_of(vehicles)
+    tagged, skipped = turns_of(lot, lane_collider(lot), designs, memo)
+    tagged.sort(key=lambda c: -len(designs or ()) if c[1] is None else -len(c[1]))
+    turns = [t for t, _ in tagged]
+    joins = _joins(lot)
+    exits = {}
+    for p in lot.exits:
+        lid, st = portal_station(lot, p)
+        exits[lid] = max(exits.get(lid, -math.inf), st)
+    multis, uturns = junction_backs(lot, tagged, designs, exits, memo)
+    stops: dict[str, float] = {}  # per lane, the last station a car parks or unparks at
+    for links in attach.values():
+        for lid, st in links:
+            stops[lid] = max(stops.get(lid, -math.inf), st)
+    backs, no_back = dead_end_turnarounds(lot, turns, joins, exits, designs, stops,
+                                          [t for t, _ in multis], memo)
+    backs += multis + uturns
+    backs.sort(key=lambda c: -len(designs or ()) if c[1] is None else -len(c[1]))
+    return tagged, backs, joins, skipped + no_back
+
+
+def _lane_network(lot: Lot, attach: dict[str, list[tuple[str, float]]], node_spacing: float,
+                  vehicles, memo: RoadmapMemo) -> _Network:
+    """The lanes cut into nodes no more than ``node_spacing`` apart and wherever a turn,
+    turnaround, gate, speed zone or (``attach``) parking maneuver begins or ends, with the
+    lane edges, turns, turnarounds and joins between them, and the gates' nodes."""
+    memo.check(lot)
+    tagged, backs, joins, skipped = _turns_and_backs(lot, attach, vehicles, memo)
+    lanes = {lane.id: lane for lane in lot.lanes}
+    stations: dict[str, list[float]] = {lid: [0.0, lane.length] for lid, lane in lanes.items()}
+    for lid, lane in lanes.items():
+        stations[lid] += [float(s) for s in lane.starts]
+        stations[lid] += _zone_crossings(lot, lane)
+    for t in (*(t for t, _ in tagged), *(t for t, _ in backs)):
+        stations[t.lane_a].append(t.station_a)
+        stations[t.lane_b].append(t.station_b)
+    portals = {p: portal_station(lot, p) for p in (*lot.entrances, *lot.exits)}
+    for lid, s in portals.values():
+        stations[lid].append(s)
+    for links in attach.values():
+        for lid, s in links:
+            stations[lid].append(s)
+
+    import networkx as nx  # (here: a lot loaded from the cache may never need it)
+
+    g = nx.DiGraph()
+    net = _Network(g, {}, {}, {}, {}, skipped)
+    for lid, lane in lanes.items():
+        st = _spaced(np.array(stations[lid]), lane.length, node_spacing)
+        net.index[lid] = st
+        net.first[lid] = first = g.number_of_nodes()
+        for k, s in enumerate(st):
+            g.add_node(first + k, pose=lane.pose_at(float(s)), kind="lane", lane=lid,
+                       station=float(s), curvature=lane.curvature_at(float(s)))
+        for k in range(len(st) - 1):
+            seg = _lane_piece(lane, float(st[k]), float(st[k + 1]))
+            _add_edge(g, lot, first + k, first + k + 1, (seg,), "lane")
+    for kind, links in (("turn", tagged), ("turnaround", backs)):
+        for t, types in links:
+            u, v = net.node_at(t.lane_a, t.station_a), net.node_at(t.lane_b, t.station_b)
+            if not g.has_edge(u, v):
+                _add_edge(g, lot, u, v, t.segments, kind)
+                g.edges[u, v]["types"] = types
+    for a, b in joins:
+        g.add_edge(net.node_at(a, lanes[a].length), net.node_at(b, 0.0), kind="join",
+                   length=0.0, gear=1, path=None, speed_limit=lot.speed_limit,
+                   placeholder=False)
+    for gates, which, attr in ((lot.entrances, net.entrances, "entrance"),
+                               (lot.exits, net.exits, "exit")):
+        for p in gates:
+            which[p.id] = net.node_at(*portals[p])
+        for name, node in which.items():
+            g.nodes[node][attr] = name
+    return net
+
+
+def _add_slots(lot: Lot, net: _Network, placeholders: dict[str, list[tuple[str, float]]] | None
+               ) -> tuple[dict[str, int], dict[str, list[int]]]:
+    """A node for each slot (slot id → node) and, with ``placeholders`` (slot id → lanes and
+    stations abeam of it), its placeholder links (slot id → the lane nodes linked)."""
+    g = net.graph
+    slot_nodes: dict[str, int] = {}
+    attachments: dict[str, list[int]] = {}
+    for slot in lot.slots:
+        node = g.number_of_nodes()
+        slot_nodes[slot.id] = node
+        cx, cy = slot.center
+        g.add_node(node, pose=(cx, cy, slot.heading), kind="slot", slot=slot.id,
+                   occupied=slot.id in lot.occupied, curvature=0.0)
+        attachments[slot.id] = []
+        if placeholders is not None:
+            for lid, s in placeholders[slot.id]:
+                _add_placeholder(g, lot, net.node_at(lid, s), node, slot)
+                attachments[slot.id].append(net.node_at(lid, s))
+    return slot_nodes, attachments
+
+
+def _add_maneuvers(lot: Lot, net: _Network, slot_nodes: dict[str, int],
+                   attachments: dict[str, list[int]], maneuvers: dict, stays: dict,
+                   vehicles) -> None:
+    """Each slot's park and leave edges through ``maneuvers`` (and park edges through
+    ``stays``), with each type's duration (:func:`build_graph`)."""
+    g = net.graph
+    types = {v.name: v for v in vehicles}
+    leaving = {key: m.reversed() for key, m in maneuvers.items()}  # each way out
+    duration = _durations(lot, maneuvers, leaving, stays, types)
+    for (vname, sid, lid), m in sorted(maneuvers.items(), key=lambda kv: kv[0]):
+        a, node = net.node_at(lid, m.station), slot_nodes[sid]
+        if a not in attachments[sid]:
+            attachments[sid].append(a)
+        limit = _path_limit(lot, m)
+        back = leaving[vname, sid, lid]
+        for u, v, kind, path in ((a, node, "park", m), (node, a, "leave", back)):
+            e = _link(g, u, v, kind, path, limit)
+            e["maneuvers"][vname] = path
+            if vname in types:
+                e["duration"][vname] = duration(path, vname, limit)
+            e["length"] = min(e["length"], path.length)
+    for (vname, sid, lid), m in sorted(stays.items(), key=lambda kv: kv[0]):
+        a, node = net.node_at(lid, m.station), slot_nodes[sid]
+        limit = _path_limit(lot, m)
+        e = _link(g, a, node, "park", m, limit)
+        e.setdefault("stays", {})[vname] = m
+        e["stay_limit"] = min(e.get("stay_limit", math.inf), limit)
+        if vname in types:
+            e.setdefault("stay_duration", {})[vname] = duration(m, vname, limit)
+        e["length"] = min(e["length"], m.length)
+
+
+def _durations(lot: Lot, maneuvers: dict, leaving: dict, stays: dict, types: dict):
+    """``duration(path, type name, speed limit)`` [s] of each of ``maneuvers`` (and its
+    reverse in ``leaving``) and ``stays`` for the vehicle types in ``types``: a lot's
+    maneuvers repeat a few shapes, each timed once, on both cores."""
+
+    def shape(path, vname: str, limit: float) -> tuple:
+        """What the maneuver's time depends on: its pieces' shapes, not where they lie."""
+        return vname, limit, tuple((s.distance, s.curvature, s.sharpness)
+                                   for s in path.segments)
+
+    todo: dict[tuple, tuple] = {}
+    for kept, both in ((maneuvers, True), (stays, False)):
+        for key, m in kept.items():
+            if key[0] in types:
+                limit = _path_limit(lot, m)
+                for path in (m, leaving[key]) if both else (m,):
+                    todo.setdefault(shape(path, key[0], limit), (path, key[0], limit))
+    jobs = list(todo.values())
+    parts = [jobs[k::8] for k in range(8)] if len(jobs) >= 64 else [jobs]
+    times = fork_map(lambda part: [p.duration(types[v], lim) for p, v, lim in part], parts)
+    timed = {shape(*job): t for part, ts in zip(parts, times, strict=True)
+             for job, t in zip(part, ts, strict=True)}
+
+    def duration(path, vname: str, limit: float) -> float:
+        return timed[shape(path, vname, limit)]
+
+    return duration
+
+
+def junction_backs(lot: Lot, tagged: Tagged, designs: dict[str, DesignVehicle] | None,
+                   exits: dict[str, float], memo: RoadmapMemo) -> tuple[Tagged, Tagged]:
+    """:func:`~lotsim.roadmap.junction_multipoints.junction_multipoints` and
+    :func:`~lotsim.roadmap.uturns.junction_uturns`; the two at once, on both cores, when
+    neither is in ``memo`` for this set of types (each is a function of its arguments: the
+    same answers, kept in the memo as each keeps its own)."""
+    key = types_key(designs)
+    if key not in memo.multipoints and key not in memo.uturns:
+        # each kept as it keeps its own: what the workers kept went with them
+        memo.multipoints[key], memo.uturns[key] = fork_map(
+            lambda job: job(), [lambda: junction_multipoints(lot, tagged, designs, exits, memo),
+                                lambda: junction_uturns(lot, designs, memo)])
+    return (junction_multipoints(lot, tagged, designs, exits, memo),
+            junction_uturns(lot, designs, memo))
+
+
+def _link(g: nx.DiGraph, u: int, v: int, kind: str, path, limit: float) -> dict:
+    """The park or leave edge ``u`` → ``v``'s attributes, made (with no maneuver yet) if
+    new."""
+    if not g.has_edge(u, v):
+        g.add_edge(u, v, kind=kind, maneuvers={}, duration={}, length=math.inf,
+                   gear=path.segments[0].gear, path=None, speed_limit=limit,
+                   placeholder=False)
+    return g.edges[u, v]
+
+
+def _add_placeholder(g: nx.DiGraph, lot: Lot, a: int, node: int, slot: Slot) -> None:
+    ax, ay, _ = g.nodes[a]["pose"]
+    cx, cy = slot.center
+    reach = math.hypot(cx - ax, cy - ay)
+    gear = 1 if slot.kind == "angled" else -1
+    for u, v, kind in ((a, node, "park"), (node, a, "leave")):
+        g.add_edge(u, v, kind=kind, length=reach, gear=gear if kind == "park" else -gear,
+                   path=None, speed_limit=lot.speed_limit, placeholder=True,
+                   maneuvers={}, duration={})
+
+
+def _maneuver_attachments(lot: Lot, maneuvers) -> dict[str, list[tuple[str, float]]]:
+    """Lane and station where each planned maneuver starts (``maneuvers``: pairs of
+    ``(vehicle name, slot id, lane id)`` and Maneuver)."""
+    out: dict[str, list[tuple[str, float]]] = {s.id: [] for s in lot.slots}
+    for (_, sid, lid), m in maneuvers:
+        out[sid].append((lid, m.station))
+    return out
+
+
+def _spaced(stations: np.ndarray, length: float, spacing: float) -> np.ndarray:
+    """Sorted unique stations within [0, length], with extra ones so no gap exceeds spacing."""
+    st = np.unique(np.clip(stations, 0.0, length))
+    st = st[np.concatenate([[True], np.diff(st) > EPS])]
+    out = [st[:1]]
+    for a, b in zip(st[:-1], st[1:], strict=True):
+        n = max(1, math.ceil((b - a) / spacing - 1e-9))
+        out.append(np.linspace(a, b, n + 1)[1:])
+    return np.concatenate(out)
+
+
+def _lane_piece(lane: Lane, s0: float, s1: float) -> Segment:
+    i, d0 = lane.locate(s0)
+    seg = lane.segments[i]
+    # A piece ending exactly on the next segment's start still belongs to segment i.
+    d1 = min(s1 - float(lane.starts[i]), seg.length)
+    return seg.piece(d0, d1)
+
+
+def _path_limit(lot: Lot, path) -> float:
+    """Speed limit along ``path`` (segments, or a maneuver): the lowest zone it runs in
+    [m/s] (:func:`_zone_limit` of points 0.25 m apart; the lot's limit, unsampled, when the
+    lot has no zones)."""
+    if not lot.zones:
+        return lot.speed_limit
+    points = path.sample(0.25)[0] if hasattr(path, "sample") else sample_segments(path, 0.25)[0]
+    return _zone_limit(lot, points[:, :2])
+
+
+def _zone_limit(lot: Lot, points: np.ndarray) -> float:
+    """Speed limit along a path through ``points`` (N, 2): the lowest zone it runs in [m/s]."""
+    limit = lot.speed_limit
+    line = shapely.LineString(points) if lot.zones else None
+    for zone in lot.zones:
+        if zone.polygon.intersects(line) and zone.polygon.intersection(line).length > EPS:
+            limit = min(limit, zone.limit)
+    return limit
+
+
+def _add_edge(g: nx.DiGraph, lot: Lot, u: int, v: int, path: tuple[Segment, ...],
+              kind: str) -> None:
+    g.add_edge(u, v, kind=kind, length=sum(s.length for s in path), gear=path[0].gear,
+               path=path, speed_limit=_path_limit(lot, path),
+               placeholder=False)
+
+
+def _zone_crossings(lot: Lot, lane: Lane) -> list[float]:
+    """Stations where the lane enters or leaves a speed zone, so limits change at nodes."""
+    out: list[float] = []
+    for zone in lot.zones:
+        cut = lane.line.intersection(zone.polygon.boundary)
+        if cut.is_empty:
+            continue
+        pts = shapely.get_coordinates(cut)
+        out += [float(lane.line.project(shapely.Point(p))) for p in pts]
+    return out
+
+
+def _attachments(lot: Lot) -> dict[str, list[tuple[str, float]]]:
+    """Lane and station where each slot's parking maneuver begins (placeholder: abeam)."""
+    out: dict[str, list[tuple[str, float]]] = {}
+    for slot in lot.slots:
+        aisle = lot.aisles[slot.aisle]
+        mid = slot.entry.mean(axis=0)
+        links = []
+        for lane in aisle.lanes:
+            s, _ = lane.project((float(mid[0]), float(mid[1])))
+            if lane_serves(lane, s, slot):
+                links.append((lane.id, s))
+        out[slot.id] = links
+    return out
+
+
+def _joins(lot: Lot) -> list[tuple[str, str]]:
+    """Pairs of lanes where one ends exactly where the next begins, heading the same way."""
+    lanes = lot.lanes
+    ends = [(lane, lane.pose_at(lane.length)) for lane in lanes]
+    out = []
+    for a, (x, y, t) in ends:
+        for b in lanes:
+            if b.aisle == a.aisle:
+                continue
+            bx, by, bt = b.pose_at(0.0)
+            if math.hypot(bx - x, by - y) < 0.05 and abs(wrap_angle(bt - t)) < math.radians(1):
+                out.append((a.id, b.id))
+    return out

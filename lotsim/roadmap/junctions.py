@@ -1,0 +1,211 @@
+"""Junction turns: continuous-curvature turns (clothoid, arc, clothoid) from one aisle's
+lane into another's where the aisles meet, sized for a design speed, swept clear with each
+vehicle type they are for; where none between the lanes is clear, one through the
+junction's area (:mod:`lotsim.roadmap.area_turns`) or through a short stretch of lane
+(:mod:`lotsim.roadmap.through`)."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import shapely
+
+from lotsim.core.geometry import Segment, cc_turn, sample_segments, wrap_angle
+from lotsim.core.workers import fork_map
+from lotsim.lot.build import SWEEP_STEP
+from lotsim.lot.clearance import Collider
+from lotsim.lot.model import DesignVehicle, Lot, unit
+from lotsim.roadmap.area_turns import area_turns
+from lotsim.roadmap.lanes import EPS, straights
+from lotsim.roadmap.memo import RoadmapMemo, types_key
+from lotsim.roadmap.model import Turn
+from lotsim.roadmap.through import through_chains, through_turn
+
+TURN_SPEEDS = tuple(k / 3.6 for k in (15.0, 12.5, 10.0, 7.5, 5.0, 3.0, 1.5))
+"""Design speeds junction turns try, fastest first [m/s]: a turn for speed ``v`` has an arc
+of radius ``max(R, v² / a_lat)`` (or 2 R or 3 R, when wider) and clothoids every type can
+steer at ``v``; the fastest and the tightest that are clear of everything are built."""
+
+
+def _turn_designs(design, lot_speed: float) -> list[tuple[float, float]]:
+    """(design speed [m/s], arc radius [m]) of the junction turns to try, fastest first,
+    tightest first at each speed: the tightest arc the speed allows, and twice and three
+    times the design radius (a wide arc clears a corner that a tight one's body sweeps
+    over)."""
+    out = []
+    for speed in TURN_SPEEDS:
+        if speed > lot_speed + 1e-9 and speed != TURN_SPEEDS[-1]:
+            continue
+        least = max(design.min_radius, speed * speed / design.max_lateral_accel)
+        for r in sorted({least, 2 * design.min_radius, 3 * design.min_radius}):
+            if r >= least:
+                out.append((speed, r))
+    return out
+
+
+def lane_crossing(pa: Segment, pb: Segment, aisle_a, aisle_b, reach: float
+            ) -> tuple[float, float, float, np.ndarray] | None:
+    """Where straights ``pa`` and ``pb`` (of lanes of two aisles) meet, if they cross at
+    10° to 170° within ``reach`` of both aisles' centre lines: the turn's deflection [rad],
+    the distances along each to the crossing [m], and the crossing point."""
+    ta, tb = pa.start[2], pb.start[2]
+    delta = float(wrap_angle(tb - ta))
+    if abs(math.sin(delta)) < math.sin(math.radians(10)) or abs(delta) > math.radians(170):
+        return None
+    ua, ub = unit(ta), unit(tb)
+    pa_xy, pb_xy = np.array(pa.start[:2]), np.array(pb.start[:2])
+    # pa_xy + t ua = pb_xy + s ub
+    t, s = np.linalg.solve(np.column_stack([ua, -ub]), pb_xy - pa_xy)
+    x = pa_xy + t * ua
+    pt = shapely.Point(x)
+    if aisle_a.line.distance(pt) > reach or aisle_b.line.distance(pt) > reach:
+        return None
+    return delta, float(t), float(s), x
+
+
+def _fillet_between(a, sa0, pa, b, sb0, pb, aisle_a, aisle_b, reach, design,
+                    collider: Collider, lot_speed: float) -> list[Turn] | str | None:
+    """The turns from straight ``pa`` of lane ``a`` into straight ``pb`` of lane ``b``: the
+    fastest that is clear and, when it is another, the tightest that is clear (the shortest
+    tangent: it starts later and ends sooner, so it can reach a node the wide one passes
+    by).
+
+    Returns the turns, a reason string when the aisles meet but no turn is clear,
+    or None when the two straights do not meet.
+    """
+    corner = lane_crossing(pa, pb, aisle_a, aisle_b, reach)
+    if corner is None:
+        return None
+    delta, t, s, x = corner
+    reason = None
+    fits = []  # (speed, radius, tangent) of the turns with room on both lanes
+    for speed, r in _turn_designs(design, lot_speed):
+        _, tangent = cc_turn(delta, 1 / r, design.sharpness(speed))
+        da, db = t - tangent, s + tangent  # distances into pa and pb
+        if -EPS <= da <= pa.length + EPS and -EPS <= db <= pb.length + EPS:
+            fits.append((speed, r, tangent))
+        else:
+            reason = reason or f"no room for a turn at {speed * 3.6:.1f} km/h"
+    clear: dict[int, Turn | None] = {}
+
+    def sweep(k: int) -> Turn | None:
+        """The k-th fitting turn if its swept body touches nothing (each swept once)."""
+        nonlocal reason
+        if k not in clear:
+            speed, r, tangent = fits[k]
+            da = t - tangent
+            start = tuple(float(v) for v in pa.poses_at(min(max(da, 0.0), pa.length))[0])
+            segs, _ = cc_turn(delta, 1 / r, design.sharpness(speed), start)
+            hit = collider.sweep_hit(design.footprints(sample_segments(segs, SWEEP_STEP)[0]))
+            if hit is not None:
+                reason = f"touches {hit.what}"
+            clear[k] = None if hit is not None else Turn(a.id, sa0 + da, b.id,
+                                                          sb0 + s + tangent, tuple(segs))
+        return clear[k]
+
+    # the fastest clear turn, and the tightest (shortest tangent: starts latest, ends soonest)
+    fastest = next((tn for k in range(len(fits)) if (tn := sweep(k)) is not None), None)
+    tight = sorted(range(len(fits)), key=lambda k: fits[k][2])
+    tightest = next((tn for k in tight if (tn := sweep(k)) is not None), None)
+    found = [tn for tn in (fastest, tightest) if tn is not None]
+    if found:
+        return found if found[0] is not found[-1] else found[:1]
+    wide = area_turns(a, sa0, pa, b, sb0, pb, design, collider, lot_speed)
+    if wide:
+        return wide
+    return (f"turn {a.id} → {b.id} near ({x[0]:.1f}, {x[1]:.1f}) skipped: {reason}"
+            if reason and "touches" in reason else None)
+
+
+def junction_turns(lot: Lot, collider: Collider, design: DesignVehicle | None = None, *,
+                    lanes_a=None) -> tuple[list[Turn], list[str]]:
+    """Arcs between lanes of aisles that meet, each swept clear with ``design`` (default
+    the lot's design vehicle): out of ``lanes_a`` (default every lane)."""
+    design = design or lot.design
+    turns: list[Turn] = []
+    skipped: list[str] = []
+    lanes = lot.lanes
+    for a in lanes if lanes_a is None else lanes_a:
+        for b in lanes:
+            if a.aisle == b.aisle:
+                continue
+            aisle_a, aisle_b = lot.aisles[a.aisle], lot.aisles[b.aisle]
+            reach = max(aisle_a.width, aisle_b.width) / 2 + 1.0
+            for sa0, pa in straights(a):
+                for sb0, pb in straights(b):
+                    turn = _fillet_between(a, sa0, pa, b, sb0, pb, aisle_a, aisle_b, reach,
+                                           design, collider, lot.speed_limit)
+                    if isinstance(turn, list):
+                        turns.extend(turn)
+                    elif turn:
+                        skipped.append(turn)
+    return turns, skipped
+
+
+def turns_of(lot: Lot, collider: Collider, designs: dict[str, DesignVehicle] | None,
+             memo: RoadmapMemo) -> tuple[list[tuple[Turn, frozenset | None]], list[str]]:
+    """The lot's junction turns (:func:`junction_turns`, and the turns through short
+    stretches of lane, :mod:`lotsim.roadmap.through`), each with the vehicle types that can
+    drive it (None: every type), and the reasons of those skipped; worked out once per set
+    of types and kept in ``memo``.
+
+    With ``designs`` (vehicle type → its own outline and limits, for two types or more)
+    turns are built for each type on its own — a small car turns where the envelope of all
+    the types could not — and a turn built for several types is kept once; without, for
+    the lot's design vehicle (the envelope), for every type.
+    """
+    key = types_key(designs)
+    cache = memo.check(lot).turns
+    if key not in cache:
+        per = turns_per_design(lot, collider, list(designs.values()) if designs else [None])
+        if not designs:
+            turns, skipped = per[0]
+            cache[key] = ([(t, None) for t in turns], skipped)
+        else:
+            found: dict[Turn, None] = {}
+            why: dict[str, list[str]] = {}
+            for name, (turns, skipped) in zip(designs, per, strict=True):
+                found.update(dict.fromkeys(turns))
+                for reason in skipped:
+                    why.setdefault(reason, []).append(name)
+            # every turn for every type it suits: no tighter than its radius, swept clear
+            tagged: dict[Turn, set[str]] = {}
+            for t in found:
+                poses = sample_segments(t.segments, SWEEP_STEP)[0]
+                bend = max(seg.max_curvature for seg in t.segments)
+                for name, design in designs.items():
+                    if bend <= 1 / design.min_radius + 1e-9 and collider.sweep_hit(
+                            design.footprints(poses)) is None:
+                        tagged.setdefault(t, set()).add(name)
+            every = len(designs)
+            notes = [reason if len(names) == every else f"{reason} (for {', '.join(names)})"
+                     for reason, names in why.items()]
+            cache[key] = ([(t, None if len(n) == every else frozenset(n))
+                           for t, n in tagged.items()], notes)
+    turns, skipped = cache[key]
+    return list(turns), list(skipped)
+
+
+def turns_per_design(lot: Lot, collider: Collider, designs: list
+                     ) -> list[tuple[list[Turn], list[str]]]:
+    """:func:`junction_turns` and the turns through short stretches
+    (:func:`~lotsim.roadmap.through.through_turn`) for each of ``designs`` (None: the
+    lot's design vehicle), as each would find them on its own: the junction turns out of
+    each lane, then each design's turns through short stretches, on both cores
+    (:func:`~lotsim.core.workers.fork_map`; the same answers in the same order)."""
+    jobs = [(design, a) for design in designs for a in lot.lanes]
+    found = fork_map(lambda job: junction_turns(lot, collider, job[0], lanes_a=(job[1],)),
+                     jobs)
+    per = []
+    for k in range(len(designs)):
+        mine = found[k * len(lot.lanes):(k + 1) * len(lot.lanes)]
+        per.append(([t for turns, _ in mine for t in turns], [r for _, why in mine for r in why]))
+    # then each design's turns through short stretches, a stretch a task (a large type's
+    # take longest)
+    chains = [(k, chain) for k in range(len(designs)) for chain in through_chains(lot, per[k][0])]
+    got = fork_map(lambda job: through_turn(lot, collider, designs[job[0]], job[1]), chains)
+    through: list[list[Turn]] = [[] for _ in designs]
+    for (k, _), turns in zip(chains, got, strict=True):
+        through[k] += turns
+    return [(turns + extra, why) for (turns, why), extra in zip(per, through, strict=True)]

@@ -1,0 +1,79 @@
+"""What building a lot's graph works out that another build of the same lot asks again
+(:class:`RoadmapMemo`), and the vehicle types' designs it is keyed by."""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
+from lotsim.lot.model import DesignVehicle, Lot
+
+if TYPE_CHECKING:
+    from lotsim.core.workers import Background
+
+
+class RoadmapMemo:
+    """The answers building ``lot``'s graph works out, for the next build of the same lot.
+
+    Preparing a lot builds its graph twice (the lanes alone, for where each slot's maneuver
+    may begin, then the graph through the maneuvers); the junction turns, the multi-point
+    junction turns and U-turns, and the dead ends' turnarounds do not depend on the
+    maneuvers (or only through a few stations), so the second build takes them from here.
+    Every answer is a function of its arguments alone: a graph is the same built with a
+    memo as without. The caller creates one for a lot and passes it to each build
+    (:func:`~lotsim.roadmap.assemble.build_graph`); it lives as long as the caller keeps it.
+
+    Attributes
+    ----------
+    lot : Lot
+        The lot the answers are for (a build of another lot refuses the memo).
+    turns : dict
+        :func:`types_key` → the junction turns with the types each suits, and the notes of
+        those skipped (:func:`~lotsim.roadmap.junctions.turns_of`).
+    multipoints, uturns : dict
+        :func:`types_key` → multi-point junction turns, U-turns at junctions, each with the
+        types it suits.
+    turnarounds : dict
+        (types, dead ends with where cars arrive on them) → the dead ends' turnarounds and
+        notes (:func:`~lotsim.roadmap.turnarounds.dead_end_turnarounds`).
+    plans : dict
+        The turnaround searches made so far, by lane, design and arguments.
+    ahead : tuple or None
+        The keys of :attr:`plans` being planned ahead and the background process planning
+        them (:func:`~lotsim.roadmap.turnarounds.plan_turnarounds_ahead`).
+    """
+
+    def __init__(self, lot: Lot):
+        self.lot = lot
+        self.turns: dict = {}
+        self.multipoints: dict = {}
+        self.uturns: dict = {}
+        self.turnarounds: dict = {}
+        self.plans: dict = {}
+        self.ahead: tuple[list, Background] | None = None
+
+    def check(self, lot: Lot) -> RoadmapMemo:
+        """This memo, when it is ``lot``'s (a memo holds one lot's answers)."""
+        if lot is not self.lot:
+            raise ValueError("a RoadmapMemo serves the one lot it was made for")
+        return self
+
+    def take_ahead(self) -> None:
+        """Move the plans the background process has finished so far into :attr:`plans`."""
+        if self.ahead is not None:
+            keys, background = self.ahead
+            for k, plan in background.take().items():
+                self.plans.setdefault(keys[k], plan)
+
+
+def types_key(designs: dict[str, DesignVehicle] | None) -> tuple | None:
+    """What a :class:`RoadmapMemo` keys a set of vehicle types by (None: the lot's design
+    vehicle for every type)."""
+    return tuple(sorted(designs.items())) if designs else None
+
+
+def designs_of(vehicles) -> dict[str, DesignVehicle] | None:
+    """Vehicle type → its own outline and limits, for two types or more (None: the lot's
+    design vehicle serves every type): what a lot's graph plans turns and turnarounds for."""
+    names = sorted({v.name for v in vehicles})
+    return ({v.name: DesignVehicle.envelope([v]) for v in vehicles} if len(names) > 1
+            else None)

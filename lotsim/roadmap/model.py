@@ -1,0 +1,182 @@
+"""The drivable graph of a built lot as data (:class:`LotGraph`) and the junction turn
+(:class:`Turn`) its turn edges are made of.
+
+Nodes are poses ``(x, y, theta)`` along the aisle lanes (integers, with
+attributes ``pose``, ``kind``, ``lane``, ``station``), plus one node per slot.
+Lane nodes carry the lane's ``curvature`` there [1/m] (0 on straights): a car
+passing or standing at a node steers for it. Edges are pieces of path
+(``path``, a tuple of :class:`~lotsim.core.geometry.Segment`) with ``length`` [m],
+``gear`` (+1 forward, -1 reverse), ``speed_limit`` [m/s] and ``kind``:
+
+* ``lane`` — along a lane: one straight, clothoid or arc of it;
+* ``turn`` — a continuous-curvature turn (clothoid, arc, clothoid: a car
+  turning its wheels at a steady rate as it rolls) from one aisle's lane into
+  another's where the aisles meet, sized for a design speed
+  (:mod:`lotsim.roadmap.junctions`); where that touches a corner slot, one that swings
+  wide through the junction's area (:mod:`lotsim.roadmap.area_turns`). ``types`` names
+  the vehicle types that can drive it (None: all);
+* ``join`` — a lane that continues as another (zero length);
+* ``turnaround`` — a multi-point turn, driven from rest to rest, stopping at each cusp:
+  at a dead end onto the opposite lane (:mod:`lotsim.roadmap.turnarounds`), or where
+  aisles meet in a junction too small for one turn, onto the other aisle's lane
+  (:mod:`lotsim.roadmap.junction_multipoints`), or a U-turn at a junction, turning in the
+  crossing aisle's mouth back onto the opposite lane (:mod:`lotsim.roadmap.uturns`);
+* ``park`` / ``leave`` — from a lane node into a slot node and back, through
+  real parking maneuvers: ``maneuvers`` maps each vehicle type that can use
+  the link to its :class:`~lotsim.maneuvers.planner.Maneuver` (the leave edge
+  holds them reversed), ``duration`` maps it to seconds, ``length`` is the
+  shortest of them. A lane node sits exactly where each maneuver starts. A park
+  edge's ``stays`` (with ``stay_duration`` and ``stay_limit``) holds, per type,
+  the lane's own best maneuver where the one in ``maneuvers`` parks the other
+  way round so that the car can leave towards every lane: a car that will not
+  leave may park with it (it has no leave edge). Built without maneuvers, the
+  graph has ``placeholder=True`` links abeam of each
+  slot instead, with no geometry (enough to draw and check reachability).
+
+Every edge's geometry but a turnaround's is tangent- and curvature-continuous with
+its nodes' headings and curvatures, and every turn, turnaround and lane is swept
+with the design vehicle (a turn: with each type it is for) against slots, areas
+and the boundary before it is added (:mod:`lotsim.roadmap.assemble`).
+"""
+
+from __future__ import annotations
+
+from collections import Counter
+from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
+
+from lotsim.core.geometry import Segment
+from lotsim.lot.model import Lot
+from lotsim.roadmap.reach import Reachability, find_reachability, leavable_edges
+
+if TYPE_CHECKING:
+    import networkx as nx
+
+
+@dataclass(frozen=True, slots=True)
+class Turn:
+    """A junction turn from ``lane_a`` at ``station_a`` into ``lane_b`` at ``station_b``."""
+
+    lane_a: str
+    station_a: float
+    lane_b: str
+    station_b: float
+    segments: tuple[Segment, ...]
+    wide: bool = False  # it uses the junction's area (:mod:`lotsim.roadmap.area_turns`)
+
+
+@dataclass(frozen=True, slots=True)
+class GraphFacts:
+    """What ``lotsim validate`` says of a lot graph and checks traffic against, counted
+    once and kept with the lot (in the on-disk cache too: a warm ``validate`` does not
+    load the graph's library to read them)."""
+
+    nodes: int
+    edges: int
+    kinds: dict[str, int]
+    """Edges by kind (lane, turn, turnaround, join, park, leave)."""
+    park_maneuvers: int
+    """Parking maneuvers kept on park edges, one a type."""
+    parks: frozenset[str]
+    """The vehicle types with a parking maneuver into some slot."""
+    leavable: bool
+    """Some slot can be left for an exit along the lanes (:meth:`LotGraph.leavable`)."""
+
+
+@dataclass
+class LotGraph:
+    """A lot with its drivable graph.
+
+    Attributes
+    ----------
+    lot : Lot
+    graph : networkx.DiGraph
+    entrances, exits : dict
+        Portal id → node.
+    slot_nodes : dict
+        Slot id → slot node.
+    attachments : dict
+        Slot id → lane nodes where its parking maneuver begins.
+    skipped_turns : list of str
+        Junction turns that no radius could make collision-free, with the reason.
+    infeasible : dict
+        Vehicle type → {slot id: reason} for slots that type cannot park in.
+    from_cache : bool
+        Whether :func:`~lotsim.sim.preparation.prepare` loaded it from the on-disk cache
+        (:mod:`lotsim.core.diskcache`) rather than planning it.
+    kept : dict
+        What planners work out from the lot alone and keep with it for the next runs in
+        this process (the search graph of each vehicle type, with its edge motions:
+        :func:`~lotsim.traffic.search.search_graph`). Not pickled.
+    """
+
+    lot: Lot
+    graph: nx.DiGraph
+    entrances: dict[str, int]
+    exits: dict[str, int]
+    slot_nodes: dict[str, int]
+    attachments: dict[str, list[int]] = field(default_factory=dict)
+    skipped_turns: list[str] = field(default_factory=list)
+    infeasible: dict[str, dict[str, str]] = field(default_factory=dict)
+    from_cache: bool = False
+    _reach: Reachability | None = field(default=None, repr=False, compare=False)
+    _facts: GraphFacts | None = field(default=None, repr=False, compare=False)
+    kept: dict = field(default_factory=dict, repr=False, compare=False)
+
+    def __getstate__(self) -> dict:
+        # the graph as its plain dicts (nodes, successors, predecessors, each edge's data
+        # dict shared by the two, in their order), not as a networkx object: loading a lot
+        # imports networkx only when the graph itself is asked for (:meth:`__getattr__`)
+        state = {k: v for k, v in self.__dict__.items() if k not in ("kept", "graph")}
+        g = self.__dict__.get("graph")
+        if g is not None:
+            state["_graph_dicts"] = (g.graph, g._node, g._succ, g._pred)
+        return state
+
+    def __setstate__(self, state: dict) -> None:
+        self.__dict__.update(state)
+        self.kept = {}
+
+    def __getattr__(self, name: str):
+        # only for attributes not set: the graph of a lot loaded by pickle, made on first use
+        dicts = self.__dict__.get("_graph_dicts")
+        if name != "graph" or dicts is None:
+            raise AttributeError(f"{type(self).__name__!r} object has no attribute {name!r}")
+        import networkx as nx
+
+        g = nx.DiGraph()
+        g.graph.update(dicts[0])
+        g._node, g._succ, g._pred = dicts[1:]
+        g._adj = g._succ
+        self.graph = g
+        del self._graph_dicts
+        return g
+
+    def facts(self) -> GraphFacts:
+        """The graph's counts and what traffic is checked against (worked out once and
+        kept, in the on-disk cache too)."""
+        if self._facts is None:
+            edges = [d for _, _, d in self.graph.edges(data=True)]
+            parks = [d for d in edges if d["kind"] == "park"]
+            self._facts = GraphFacts(
+                self.graph.number_of_nodes(), len(edges),
+                dict(Counter(d["kind"] for d in edges)),
+                sum(len(d["maneuvers"]) for d in parks),
+                frozenset(name for d in parks for name in d.get("maneuvers", {})),
+                next(leavable_edges(self), None) is not None)
+        return self._facts
+
+    def leavable(self, vehicle: str | None = None) -> frozenset[tuple[int, int]]:
+        """Park edges ``(lane node, slot node)`` a car that will leave again may park by
+        (:func:`~lotsim.roadmap.reach.leavable_edges`; for ``vehicle``, or for any type)."""
+        return frozenset(leavable_edges(self, vehicle))
+
+    def reachability(self) -> Reachability:
+        """Free slots unreachable from each entrance, free slots that cannot reach each
+        exit, and free slots that no entrance reaches or that can be parked in only where no
+        exit can be reached (:func:`~lotsim.roadmap.reach.find_reachability`).
+
+        Worked out once (the graph does not change) and kept, in the on-disk cache too."""
+        if self._reach is None:
+            self._reach = find_reachability(self)
+        return self._reach

@@ -1,0 +1,513 @@
+"""Turnarounds: a multi-point turn from the end of a lane into the opposite lane of its aisle,
+and which lanes of a lot end in a dead end that needs one (:func:`dead_end_turnarounds`).
+
+Where a two-way aisle ends in a dead end (a cul-de-sac, the closed half of an aisle, a lot
+whose one gate is both the way in and the way out), a car turns back as a driver does in a
+narrow street: forward at full lock towards the far side until the next step would touch
+something, reverse at the other lock (which keeps turning it the same way), and so on, until
+one last forward move — a straight, one arc and a straight along the lane, or, where the
+strokes have turned it round beside the lane, an S of two wide arcs — lands it on the
+opposite lane heading back. The fewest direction changes win, then the shortest path.
+
+Everything is checked for the scenario's design vehicle (the envelope of its types, so every
+type can drive it: its arcs are no tighter than the largest minimum turning radius) grown by
+a safety margin, against every slot (all count as taken), wall, obstacle and no-go area,
+inside the lot boundary; sweeps are checked as hulls of consecutive footprints.
+
+Where every turnaround found this way lands past the last place a car can leave the
+opposite lane, or begins before where cars arrive on the lane, one is also looked for by
+multi-point search (:func:`~lotsim.roadmap.multipoint.plan_onto`). The turnarounds of every
+two-way lane can be planned ahead on a background process (:func:`plan_turnarounds_ahead`)
+while the lot's maneuvers are planned: the graph finds its dead ends' plans made.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import dataclasses
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from lotsim.core.geometry import FloatArray, Segment, advance, sample_segments
+from lotsim.core.workers import Background, fork_map
+from lotsim.lot.build import obstacle_polygons
+from lotsim.lot.clearance import Collider, first_blocked
+from lotsim.lot.model import DesignVehicle, Lane, Lot
+from lotsim.roadmap.lanes import EPS, along, two_way_lanes
+from lotsim.roadmap.memo import RoadmapMemo, designs_of, types_key
+from lotsim.roadmap.model import Turn
+from lotsim.roadmap.multipoint import (
+    closings,
+    plan_onto,
+    segment_to_world,
+    to_local,
+    to_world,
+)
+
+MARGIN = 0.1
+"""Clearance kept to slots, walls and the boundary during a turnaround [m]: the safety margin of
+the 2022 modelling-contest paper on unmanned-car parking path planning."""
+MAX_CHANGES = 8
+"""Most direction changes a turnaround may have."""
+PROBE = 0.25
+"""Spacing of the places along each stroke where the last move onto the lane is tried [m]."""
+STEP = 0.1
+"""Spacing of the footprints whose hulls cover a stroke when checking it [m]."""
+STARTS = (0.0, 2.0, 4.0, 6.0)
+"""How far before a lane's end a turnaround may begin [m]: a driver who knows the street
+ends starts turning before it does, where the first forward stroke has room."""
+MIN_STROKE = 0.3
+"""Shorter strokes are not worth a stop [m]."""
+
+
+@dataclass(frozen=True, slots=True)
+class Turnaround:
+    """A multi-point turn from ``lane_a`` at ``station_a`` onto ``lane_b`` at ``station_b``.
+
+    ``segments`` are driven in order, each in its own gear (the sign of its distance).
+    """
+
+    lane_a: str
+    station_a: float
+    lane_b: str
+    station_b: float
+    segments: tuple[Segment, ...]
+
+    @property
+    def changes(self) -> int:
+        """Direction changes (cusps)."""
+        gears = [s.gear for s in self.segments]
+        return sum(1 for a, b in zip(gears[:-1], gears[1:], strict=True) if a != b)
+
+
+def turnaround_collider(lot: Lot, design: DesignVehicle | None = None, margin: float = MARGIN
+                        ) -> tuple[Collider, DesignVehicle]:
+    """A checker for turnarounds on ``lot``: every slot, area and the boundary (no gates
+    beyond aisle ends: a car turns back inside the lot), and ``design`` (default the lot's
+    design vehicle) grown by ``margin``."""
+    d = design or lot.design
+    grown = dataclasses.replace(d, width=d.width + 2 * margin, front=d.front + margin,
+                                rear=d.rear + margin)
+    return Collider(obstacle_polygons(lot.areas, lot.slots), lot.boundary), grown
+
+
+def turnaround_clear(t: Turnaround, collider: Collider, body: DesignVehicle) -> bool:
+    """Whether ``body`` (see :func:`turnaround_collider`) drives turnaround ``t`` clear of
+    everything ``collider`` holds (hulls of footprints :data:`STEP` apart)."""
+    return not _blocked(np.zeros(3), list(t.segments), collider, body)  # world = local
+
+
+def plan_turnaround(lane: Lane, back: Lane, collider: Collider, body: DesignVehicle,
+                    radius: float, *, starts: tuple[float, ...] = ()) -> Turnaround | str:
+    """A turnaround from the end of ``lane`` onto ``back`` (the opposite lane of the aisle,
+    straight where it begins), for a car whose outline is ``body`` and whose tightest arc
+    has ``radius`` [m], beginning :data:`STARTS` (or ``starts``) metres before the lane's
+    end; or why there is none.
+
+    Examples
+    --------
+    >>> from lotsim.lot.model import DesignVehicle
+    >>> from shapely.geometry import box
+    >>> from lotsim.core.geometry import Segment
+    >>> from lotsim.lot.model import Lane
+    >>> street = box(0, 0, 40, 9)   # a 9 m wide dead-end street, closed at x = 40
+    >>> car = DesignVehicle(1.8, 3.7, 1.0, 4.97, 0.15, 2.0)
+    >>> east = Lane("e", "a", (Segment((0.0, 2.25, 0.0), 36.0, 0.0),), 2.25, True)
+    >>> west = Lane("w", "a", (Segment((36.0, 6.75, math.pi), 36.0, 0.0),), 2.25, False)
+    >>> t = plan_turnaround(east, west, Collider([], street), car, 4.97)
+    >>> t.changes, t.lane_b, t.station_a
+    (2, 'w', 30.0)
+    """
+    seg = back.segments[0]
+    if seg.curvature != 0.0 or seg.sharpness != 0.0:
+        return "the opposite lane bends where it begins"
+    frame = np.array(seg.start)  # local frame: the opposite lane runs along +x from 0
+    found = []
+    for back_off in starts or STARTS:
+        station = lane.length - back_off
+        i, _ = lane.locate(max(station, 0.0))
+        if station < 0 or lane.segments[i].curvature or lane.segments[i].sharpness:
+            break  # the lane bends (or ends) there: start no further back
+        start = to_local(frame, np.array(lane.pose_at(station)))
+        if start[1] <= 0.0:
+            return "the opposite lane is not on the left"
+        start[2] = math.pi  # heading the other way, up to rounding
+        best = _multipoint(frame, start, seg.length, collider, body, radius)
+        if best is not None:
+            found.append((best[0], best[1], station, best[2]))
+    if not found:
+        return (f"no multi-point turn with up to {MAX_CHANGES} direction changes keeping "
+                f"{MARGIN:g} m clear")
+    _, _, station, local = min(found, key=lambda c: c[:3])
+    segs = tuple(segment_to_world(frame, x) for x in local)
+    return Turnaround(lane.id, station, back.id, float(local[-1].end[0]), segs)
+
+
+def plan_turnarounds(lane: Lane, back: Lane, collider: Collider, body: DesignVehicle,
+                     radius: float) -> list[Turnaround] | str:
+    """The best turnaround at the end of ``lane`` (:func:`plan_turnaround`) and, when that
+    begins before the lane's last stretch, the best one that begins last: a car that parks
+    or comes out of a slot past the first's start must still be able to turn."""
+    best = plan_turnaround(lane, back, collider, body, radius)
+    if isinstance(best, str):
+        return best
+    out = [best]
+    for k in range(len(STARTS)):
+        if lane.length - STARTS[k] <= best.station_a + 1e-9:
+            break
+        last = plan_turnaround(lane, back, collider, body, radius, starts=STARTS[k : k + 1])
+        if not isinstance(last, str):
+            out.append(last)
+            break
+    return out
+
+
+def _multipoint(frame: FloatArray, start: FloatArray, lane_length: float, collider: Collider,
+                body: DesignVehicle, radius: float) -> tuple[int, float, list[Segment]] | None:
+    """The fewest-changes, then shortest, turnaround from local ``start`` onto the line
+    y = 0 heading +x (local frame ``frame``), as ``(changes, length, segments)``."""
+    kmax = 1.0 / radius
+    pose, done = start, []  # strokes so far
+    best = None
+    for k in range(MAX_CHANGES + 1):
+        gear = 1 if k % 2 == 0 else -1
+        kappa = gear * kmax  # forward at left lock, reverse at right lock: turning left
+        left = 2 * math.pi - pose[2]  # heading still to turn
+        extent = _extent(frame, pose, gear, kappa, min(left, math.pi / 2) / kmax, collider, body)
+        probes = np.unique(np.append(np.arange(0.0, extent, PROBE), extent)) if gear > 0 \
+            else np.array([extent])
+        poses = advance(pose, gear * probes, kappa) if len(probes) else np.zeros((0, 3))
+        changes = k + (1 if gear < 0 else 0)
+        order = sorted(zip(poses, probes, strict=True), key=lambda c: c[1])
+        options = [closings(q, lane_length, radius) for q, _ in order]
+        # the shortest clear closing from each pose is enough
+        for (_, s), paths, clear in zip(order, options,
+                                        _first_clear(frame, options, collider, body),
+                                        strict=True):
+            if clear is None:
+                continue
+            segs = done + ([Segment(tuple(map(float, pose)), gear * float(s), kappa)]
+                           if s > 1e-9 else []) + paths[clear]
+            length = sum(x.length for x in segs)
+            if best is None or (changes, length) < best[:2]:
+                best = (changes, length, segs)
+        if best is not None and best[0] <= changes:
+            break
+        if left <= 1e-6 or extent < MIN_STROKE and k > 0:
+            break
+        if extent < MIN_STROKE:
+            continue  # no room ahead at the lane's end: begin by reversing
+        stroke = Segment(tuple(map(float, pose)), gear * float(extent), kappa)
+        done.append(stroke)
+        pose = np.array(stroke.end)
+    return best
+
+
+def _extent(frame: FloatArray, pose: FloatArray, gear: int, kappa: float, cap: float,
+            collider: Collider, body: DesignVehicle) -> float:
+    """How far a stroke from local ``pose`` runs clear, to :data:`STEP` [m]."""
+    n = max(1, math.ceil(cap / STEP))
+    s = np.linspace(0.0, cap, n + 1)
+    local = advance(pose, gear * s, kappa)
+    bad = first_blocked(collider.blocked, body.footprints(to_world(frame, local)),
+                        np.zeros(n, dtype=int))
+    first = int(bad.argmax()) if bad.any() else n
+    return float(s[first])
+
+
+def _first_clear(frame: FloatArray, options: list[list[list[Segment]]], collider: Collider,
+                 body: DesignVehicle) -> list[int | None]:
+    """For each list of paths (local, in ``frame``) in ``options``, the index of the first
+    not :func:`_blocked`, or None: the first paths of all checked in one batch, then the
+    second paths of those whose first was blocked, and so on."""
+    out: list[int | None] = [None] * len(options)
+    todo = [i for i, paths in enumerate(options) if paths]
+    k = 0
+    while todo:
+        hit = _blocked_each(frame, [options[i][k] for i in todo], collider, body)
+        for i, blocked in zip(todo, hit, strict=True):
+            if not blocked:
+                out[i] = k
+        k += 1
+        todo = [i for i, blocked in zip(todo, hit, strict=True) if blocked and k < len(options[i])]
+    return out
+
+
+def _blocked_each(frame: FloatArray, paths: list[list[Segment]], collider: Collider,
+                  body: DesignVehicle) -> list[bool]:
+    """Whether each of ``paths`` (local, in ``frame``) touches anything: the hulls of its
+    consecutive footprints :data:`STEP` apart, a path a run of its own in
+    :func:`~lotsim.lot.clearance.first_blocked` (so checking them together tests the same
+    bodies as one by one); a path that is a point, its footprint."""
+    sampled = [sample_segments(segs, STEP)[0] for segs in paths]
+    sizes = [len(x) for x in sampled]
+    owner = np.repeat(np.arange(len(paths)), sizes)
+    run = np.where(owner[1:] == owner[:-1], owner[1:], -1)
+    prints = body.footprints(to_world(frame, np.concatenate(sampled)))
+    hit = np.zeros(len(paths), dtype=bool)
+    hit[run[first_blocked(collider.blocked, prints, run)]] = True
+    point = [k for k, n in enumerate(sizes) if n == 1]
+    if point:
+        hit[point] = collider.blocked(prints[np.cumsum(sizes)[point] - 1])
+    return hit.tolist()
+
+
+def _blocked(frame: FloatArray, segs: list[Segment], collider: Collider,
+             body: DesignVehicle) -> bool:
+    return _blocked_each(frame, [segs], collider, body)[0]
+
+
+
+
+
+DEAD_END = 15.0
+"""A lane whose last turn off it begins more than this before its end [m], and which does
+not continue as another, ends in a dead end: a car turns round there (a turnaround); so
+does one a car parks or unparks on past its last turn (:func:`dead_end_turnarounds`)."""
+
+
+def dead_end_turnarounds(lot: Lot, turns: list[Turn], joins: list[tuple[str, str]],
+                         exits: dict[str, float], designs: dict[str, DesignVehicle] | None,
+                         stops: dict[str, float], multis: list[Turnaround], memo: RoadmapMemo
+                         ) -> tuple[list[tuple[Turnaround, frozenset | None]], list[str]]:
+    """Turnarounds at the dead ends of two-way aisles, each with the vehicle types that can
+    drive it (None: every type), and a note for each dead end where none fits (naming the
+    types, when only some have none); each planned once per lot, lane and type.
+
+    A lane that does not continue as another ends in a dead end when its last turn off it
+    begins more than :data:`DEAD_END` before its end and it leads to no exit past that turn,
+    or when a car parks or unparks on it past its last turn and exit (``stops``: lane → the
+    last such station; a corner bay): a car there could not get on otherwise. ``exits`` maps a
+    lane to its last exit's station.
+
+    With ``designs`` (vehicle type → its own outline and limits, for two types or more)
+    turnarounds are planned for each type on its own — a small car turns round where the
+    envelope of all the types, or a van that fits no bay, could not — and each is tagged
+    with every type it suits: no tighter than its radius, clear for its body and margin.
+
+    Where every turnaround found lands past the last place the opposite lane can be left
+    (a turn off it, an exit, its continuation), or begins before where a car arrives on the
+    lane (a turn or a multi-point junction turn, ``multis``, landing near its end, or a
+    car unparking onto it: ``stops``), one is also looked for by multi-point search
+    (:func:`_reaching_turnarounds`).
+    """
+    last = {lane.id: exits.get(lane.id, -math.inf) + DEAD_END for lane in lot.lanes}
+    turned = {lane.id: exits.get(lane.id, -math.inf) for lane in lot.lanes}  # last way off
+    for t in turns:
+        last[t.lane_a] = max(last[t.lane_a], t.station_a)
+        turned[t.lane_a] = max(turned[t.lane_a], t.station_a)
+    joined = {a for a, _ in joins}
+    ends = [(lane, back) for lane, back in two_way_lanes(lot)
+            if lane.id not in joined and (last[lane.id] < lane.length - DEAD_END
+                                          or stops.get(lane.id, -math.inf) > turned[lane.id])]
+    # where a car arrives on each lane, and the last place it can leave each lane from
+    arrive: dict[str, set[float]] = {}
+    go_on = {lane.id: (lane.length if lane.id in joined else turned[lane.id])
+             for lane in lot.lanes}
+    for x in [*turns, *multis]:
+        arrive.setdefault(x.lane_b, set()).add(x.station_b)
+        go_on[x.lane_a] = max(go_on[x.lane_a], x.station_a)
+    for lid, st in stops.items():  # a car unparks onto the lane there
+        arrive.setdefault(lid, set()).add(st)
+    key = (types_key(designs),
+           tuple((lane.id, tuple(sorted(arrive.get(lane.id, ()))), go_on[back.id])
+                 for lane, back in ends))
+    cache = memo.check(lot).turnarounds
+    if key not in cache:
+        per = designs or {"": lot.design}
+        bodies = {name: turnaround_collider(lot, design) for name, design in per.items()}
+        tagged, why = _dead_end_plans(lot, per, bodies, ends, arrive, go_on, memo)
+        cache[key] = ([(t, None if len(n) == len(per) else frozenset(n))
+                       for t, n in tagged.items()], _dead_end_notes(per, ends, tagged, why))
+    found, notes = cache[key]
+    return list(found), list(notes)
+
+
+def _dead_end_plans(lot: Lot, per: dict[str, DesignVehicle], bodies: dict[str, tuple],
+                    ends: list[tuple[Lane, Lane]], arrive: dict[str, set[float]],
+                    go_on: dict[str, float], memo: RoadmapMemo
+                    ) -> tuple[dict[Turnaround, set[str]], dict[tuple[str, str], str]]:
+    """The turnarounds of :func:`dead_end_turnarounds`' ``ends``, each with the types of
+    ``per`` it suits, and why a lane has none for a type ((lane, type) → reason): the
+    searches not in ``memo`` (made by an earlier build of the lot's graph, or ahead) on both
+    cores, each a function of its arguments alone, so the answers are the same."""
+    tagged: dict[Turnaround, set[str]] = {}  # each with the types it was planned for
+    why: dict[tuple[str, str], str] = {}  # (lane, type) → why it has none
+    memo.take_ahead()
+    planned = memo.plans  # (lane, design) → plan_turnarounds, and the reaching ones
+    todo = {key: job for key, job in _turnaround_plans(per, bodies, ends).items()
+            if key not in planned}
+    planned.update(zip(todo, fork_map(lambda job: plan_turnarounds(*job),
+                                      list(todo.values())), strict=True))
+    reach = {}  # reach key → (lane, back, found, collider, body, radius, arrive, go on)
+
+    def reach_key(lane: Lane, back: Lane, design: DesignVehicle) -> tuple:
+        # what _reaching_turnarounds depends on: of the arrivals, only the last
+        return (lane.id, design, max(arrive.get(lane.id, ()), default=-math.inf),
+                go_on[back.id], "reach")
+
+    for name, design in per.items():
+        for lane, back in ends:
+            t = planned[lane.id, design]
+            if reach_key(lane, back, design) not in planned and fits_a_slot(lot, design):
+                reach[reach_key(lane, back, design)] = (
+                    lane, back, [] if isinstance(t, str) else t, *bodies[name],
+                    design.min_radius, arrive.get(lane.id, ()), go_on[back.id])
+    planned.update(_reaching_all(reach, planned))
+    for name, design in per.items():
+        for lane, back in ends:
+            t = planned[lane.id, design]
+            more = planned.get(reach_key(lane, back, design), [])
+            if isinstance(t, str) and not more:
+                why[lane.id, name] = t
+            for x in ([] if isinstance(t, str) else t) + more:
+                tagged.setdefault(x, set()).add(name)
+    for t, names in tagged.items():  # and every other type it suits
+        names.update(n for n in per if n not in names and suits(t, per[n], bodies[n]))
+    return tagged, why
+
+
+def _dead_end_notes(per: dict[str, DesignVehicle], ends: list[tuple[Lane, Lane]],
+                    tagged: dict[Turnaround, set[str]], why: dict[tuple[str, str], str]
+                    ) -> list[str]:
+    """A note for each dead end of ``ends`` with no turnaround for some type of ``per``."""
+    notes = []
+    for lane, _ in ends:
+        lacking = [name for name in per if not any(
+            t.lane_a == lane.id and name in names for t, names in tagged.items())]
+        if lacking:
+            x, y, _ = lane.pose_at(lane.length)
+            reason = next((why[lane.id, n] for n in lacking if (lane.id, n) in why),
+                          "none clear for it")
+            some = f" (for {', '.join(lacking)})" if len(lacking) < len(per) else ""
+            notes.append(f"dead end of lane {lane.id} at ({x:.1f}, {y:.1f}): no "
+                         f"turnaround{some}: {reason}")
+    return notes
+
+
+def _turnaround_plans(per: dict[str, DesignVehicle], bodies: dict[str, tuple],
+                      ends: list[tuple[Lane, Lane]]) -> dict[tuple[str, DesignVehicle], tuple]:
+    """(lane id, design) → the arguments of :func:`plan_turnarounds` for each of ``ends``
+    (lane, opposite lane) and each type's design in ``per`` (``bodies``: its
+    :func:`turnaround_collider`)."""
+    return {(lane.id, per[name]): (lane, back, *bodies[name], per[name].min_radius)
+            for name in per for lane, back in ends}
+
+
+def plan_turnarounds_ahead(memo: RoadmapMemo, vehicles=()) -> Background:
+    """Begin planning the turnaround at the end of every lane of a two-way aisle of the
+    memo's lot (for ``vehicles``' designs, as :func:`~lotsim.roadmap.assemble.build_graph`
+    will want them), on a background process that takes only CPU time nothing else wants
+    (:class:`~lotsim.core.workers.Background`), and hand them to ``memo``: the lanes that
+    turn out to be dead ends are then planned already when a graph of the lot is built with
+    that memo. Each plan is a function of its arguments alone, so the graph is the same with
+    it as without; one it has not finished is planned when needed, as without. Close it (or
+    use it as a context manager) when the lot is built."""
+    lot = memo.lot
+    per = designs_of(vehicles) or {"": lot.design}
+    bodies = {name: turnaround_collider(lot, design) for name, design in per.items()}
+    jobs = _turnaround_plans(per, bodies, two_way_lanes(lot))
+    keys = [key for key in jobs if key not in memo.plans]
+    ahead = Background(lambda key: plan_turnarounds(*jobs[key]), keys)
+    memo.ahead = (keys, ahead)
+    return ahead
+
+
+def fits_a_slot(lot: Lot, design: DesignVehicle) -> bool:
+    """Whether a car of outline ``design`` fits some slot of ``lot`` (length and width)."""
+    return any(design.front + design.rear <= s.length + EPS and design.width <= s.width + EPS
+               for s in lot.slots)
+
+
+def _reaching_all(jobs: dict, memo: dict) -> dict:
+    """:func:`_reaching_turnarounds` of each of ``jobs`` (key → its arguments), by key; its
+    multi-point searches on both cores, each once: ``memo`` holds (and is given) those
+    done before, by lane, design and arguments (an earlier build of the lot's graph made
+    some). A job's second search waits for its first (whether it is made depends on what
+    the first found), so the searches go in rounds, each round's on both cores."""
+    wanted: dict[tuple, tuple] = {}  # the searches the jobs need that are not done
+
+    def onto(lane, back, starts, hi, collider, body, radius):
+        key = (lane.id, back.id, body, radius, tuple(starts), hi, "onto")
+        if key not in memo:
+            wanted[key] = (lane, back, starts, hi, collider, body, radius)
+            raise _Pending
+        return memo[key]
+
+    while True:
+        wanted.clear()
+        out = {}
+        for key, job in jobs.items():
+            with contextlib.suppress(_Pending):
+                out[key] = _reaching_turnarounds(*job, onto=onto)
+        if not wanted:
+            return out
+        memo.update(zip(wanted, fork_map(lambda job: _reaching_onto(*job),
+                                         list(wanted.values())), strict=True))
+
+
+class _Pending(Exception):
+    """A search :func:`_reaching_all` has not made yet."""
+
+
+def _reaching_onto(lane: Lane, back: Lane, starts: list[float], hi: float,
+                   collider: Collider, body: DesignVehicle, radius: float
+                   ) -> Turnaround | None:
+    """A turnaround from ``lane`` (from the first of ``starts`` that has one, [m]) onto the
+    straight beginning ``back``, landing at or before ``hi`` along it
+    (:func:`~lotsim.roadmap.multipoint.plan_onto`), or None."""
+    seg = back.segments[0]
+    got = plan_onto([lane.pose_at(st) for st in starts], seg.start, 0.0, hi, collider, body,
+                    radius)
+    if got is None:
+        return None
+    k, segs = got
+    return Turnaround(lane.id, starts[k], back.id, along(seg, segs[-1].end), segs)
+
+
+def _reaching_turnarounds(lane: Lane, back: Lane, found: list[Turnaround],
+                          collider: Collider, body: DesignVehicle, radius: float,
+                          arrive, go_on: float, *, onto=_reaching_onto) -> list[Turnaround]:
+    """Turnarounds from ``lane`` onto ``back`` by multi-point search
+    (:func:`~lotsim.roadmap.multipoint.plan_onto`) that land at or before ``go_on`` (the last
+    station ``back`` can be left from), where those ``found`` leave a car stranded: one from
+    as near the lane's end as there is room when every one found lands past ``go_on`` (or
+    none was found), and one from the last station in ``arrive`` (where turns land on
+    ``lane`` and cars unpark onto it) when that is past where every one found begins (a car
+    arriving earlier drives on to it). ``onto`` makes each search
+    (:func:`_reaching_onto`'s arguments and answer)."""
+    seg = back.segments[0]
+    if seg.curvature != 0.0 or seg.sharpness != 0.0 or go_on < 0:
+        return []
+    hi = min(go_on, seg.length)
+    out: list[Turnaround] = []
+
+    def plan(starts) -> None:
+        starts = [st for st in starts if st >= 0 and _on_straight(lane, st)]
+        got = onto(lane, back, starts, hi, collider, body, radius) if starts else None
+        if got is not None:
+            out.append(got)
+
+    if all(t.station_b > go_on + EPS for t in found):
+        plan([lane.length - k for k in STARTS])
+    # a car arriving past every start drives on to the last arrival and turns there
+    latest = max((t.station_a for t in [*found, *out]), default=-math.inf)
+    last = max(arrive, default=-math.inf)
+    if last > latest + EPS:
+        plan([last])
+    return out
+
+
+def _on_straight(lane: Lane, station: float) -> bool:
+    seg = lane.segments[lane.locate(station)[0]]
+    return seg.curvature == 0.0 and seg.sharpness == 0.0
+
+
+def suits(t: Turnaround, design: DesignVehicle, checks: tuple[Collider, DesignVehicle]
+           ) -> bool:
+    """Whether a car of ``design`` can drive ``t``: no tighter than its radius, and clear
+    (``checks``: collider and grown body, :func:`turnaround_collider`)."""
+    bend = max(seg.max_curvature for seg in t.segments)
+    return bend <= 1 / design.min_radius + 1e-9 and turnaround_clear(t, *checks)
