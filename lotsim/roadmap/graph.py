@@ -23,7 +23,7 @@ passing or standing at a node steers for it. Edges are pieces of path
   (:func:`_junction_uturns`);
 * ``park`` / ``leave`` — from a lane node into a slot node and back, through
   real parking maneuvers: ``maneuvers`` maps each vehicle type that can use
-  the link to its :class:`~lotsim.maneuvers.planner.Maneuver` (the leave edge
+  the link to its :class:`~lotsim.maneuvers.maneuver.Maneuver` (the leave edge
   holds them reversed), ``duration`` maps it to seconds, ``length`` is the
   shortest of them. A lane node sits exactly where each maneuver starts. A park
   edge's ``stays`` (with ``stay_duration`` and ``stay_limit``) holds, per type,
@@ -405,7 +405,7 @@ def build_graph(lot: Lot, *, node_spacing: float = 4.0, maneuvers=None,
         Largest distance between consecutive nodes along a lane [m].
     maneuvers : dict or None, keyword-only
         ``(vehicle name, slot id, lane id)`` → parking Maneuver, from
-        :func:`lotsim.maneuvers.planner.plan_lot`; ``None`` links slots by placeholders.
+        :func:`lotsim.maneuvers.batch.plan_lot`; ``None`` links slots by placeholders.
     vehicles : sequence of VehicleType, keyword-only
         The scenario's types: the maneuvers' durations; with two or more, junction turns
         are built for each type's own outline and turning radius, and a turn only some

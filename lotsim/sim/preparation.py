@@ -10,7 +10,9 @@ from dataclasses import dataclass
 import lotsim.core.diskcache
 from lotsim.lot.build import build_lot
 from lotsim.lot.model import DesignVehicle, Lot
-from lotsim.maneuvers.planner import MARGIN, ManeuverPlanner, plan_lot
+from lotsim.maneuvers.batch import plan_lot
+from lotsim.maneuvers.planner import ManeuverPlanner
+from lotsim.maneuvers.settings import MARGIN
 from lotsim.roadmap.graph import LotGraph, Reachability, build_graph, plan_turnarounds_ahead
 from lotsim.scenario import Scenario
 from lotsim.traffic.demand import arrivals
@@ -43,7 +45,7 @@ def prepare(scenario: Scenario, *, node_spacing: float = 4.0, maneuvers: bool = 
     waits for it and loads it (:func:`lotsim.core.diskcache.making`). A new one also reads and adds
     to the answers to the maneuver problems searched before in lots of the scenario's name,
     keyed by each problem's exact geometry
-    (:meth:`~lotsim.maneuvers.planner.ManeuverPlanner.prefetch`; lots of
+    (:func:`~lotsim.maneuvers.batch.prefetch`; lots of
     :data:`REMEMBER_FROM` slot-types or more): an edited lot searches only the problems its
     edit changed, and the answers are the same.
     ``progress(done, total)`` is called as the maneuvers' distinct problems are searched
