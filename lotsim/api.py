@@ -38,8 +38,9 @@ if TYPE_CHECKING:
     from PIL import Image
 
     from lotsim.lot.model import Lot, Slot
+    from lotsim.maneuvers.maneuver import Maneuver
     from lotsim.maneuvers.minslot import MinSlotRow
-    from lotsim.maneuvers.planner import Maneuver, ManeuverPlanner
+    from lotsim.maneuvers.planner import ManeuverPlanner
     from lotsim.render.animation import GifInfo
     from lotsim.render.html import HtmlInfo
     from lotsim.render.video import VideoInfo

@@ -267,16 +267,17 @@ def test_a_maneuver_problem_is_kept_by_everything_its_search_reads():
 
     from lotsim.lot.build import build_lot
     from lotsim.lot.model import DesignVehicle
-    from lotsim.maneuvers.planner import ManeuverPlanner, _exact_key
+    from lotsim.maneuvers.planner import ManeuverPlanner
+    from lotsim.maneuvers.problem import exact_key
 
     sc = scenario_from_text(ONE_AISLE + TRAFFIC)
     lot = build_lot(sc.lot, DesignVehicle.envelope(sc.vehicle_types))
     planner = ManeuverPlanner(lot)
     slot = lot.slot_by_id["S3"]
-    p = planner._problem(sc.vehicle_types[0], slot, planner.lanes_for(slot)[0])
-    key = _exact_key(p, "any")
+    p = planner.problems.pose(sc.vehicle_types[0], slot, planner.lanes_for(slot)[0])
+    key = exact_key(p, "any")
     assert len(p.obstacles) >= 3
-    assert _exact_key(dataclasses.replace(p, obstacles=p.obstacles[::-1]), "any") == key
+    assert exact_key(dataclasses.replace(p, obstacles=p.obstacles[::-1]), "any") == key
     nudge = 1e-9
 
     def moved(g):
@@ -302,4 +303,4 @@ def test_a_maneuver_problem_is_kept_by_everything_its_search_reads():
             slot, polygon=slot.polygon + nudge)), "any"),
     }
     for what, (q, style) in changed.items():
-        assert _exact_key(q, style) != key, what
+        assert exact_key(q, style) != key, what

@@ -31,6 +31,15 @@ def test_closures_reach_the_workers_unpickled():
     assert fork_map(lambda k: k in lookup, ["a", "b"], workers=2) == [True, False]
 
 
+def test_progress_counts_the_answers_as_they_come_in_chunks_or_here():
+    for workers in (1, 2):
+        seen: list[tuple[int, int]] = []
+        got = fork_map(lambda x: x + 1, list(range(10)), workers=workers, chunk=3,
+                       progress=lambda done, total, seen=seen: seen.append((done, total)))
+        assert got == list(range(1, 11))
+        assert seen == [(k, 10) for k in range(1, 11)]
+
+
 def _taken(bg, n: int, seconds: float = 20.0) -> dict:
     """``bg.take()`` once it holds ``n`` answers (or after ``seconds``)."""
     end = time.monotonic() + seconds

@@ -260,8 +260,8 @@ def test_a_corner_bay_at_a_closed_end_is_left_towards_the_end_in_a_few_strokes()
     slot, lane = lot.slot_by_id["N1"], next(x for x in lot.lanes if x.id == "a0<")
     msv = CATALOGUE["msv"]
     result = planner.solve(msv, slot, lane)
-    assert result.ok, result.reason
-    m = result.maneuver
+    assert result.found, result.reason
+    m = result.value
     assert max(s.max_curvature for s in m.segments) <= 1 / msv.min_turning_radius + 1e-9
     start = lane.pose_at(m.station)
     assert np.allclose(m.start[:2], start[:2], atol=1e-6)

@@ -1,5 +1,6 @@
-"""``[fn(item) for item in items]`` on forked worker processes, the same answers in the same
-order as in this process.
+"""The one place lotsim forks: ``[fn(item) for item in items]`` on forked worker processes,
+the same answers in the same order as in this process (:func:`fork_map`), and one
+background process at the lowest priority (:class:`Background`).
 
 The workers are forked from this process as it is when the map starts, so ``fn`` and the
 items reach them by reference (nothing but an index goes down a pipe, the answers come back
@@ -14,14 +15,16 @@ from __future__ import annotations
 import multiprocessing
 import os
 import signal
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Iterable, Sequence
 
 _TASK: tuple = ()  # (fn, items, parent pid) for the forked workers
 
 
-def fork_map(fn: Callable, items: Sequence, *, workers: int | None = None) -> list:
+def fork_map(fn: Callable, items: Sequence, *, workers: int | None = None, chunk: int = 1,
+             progress: Callable[[int, int], None] | None = None) -> list:
     """``[fn(item) for item in items]``, on up to ``workers`` forked processes (default: as
-    many as the machine has), each item a task of its own, handed out as workers come free.
+    many as the machine has), the items handed out ``chunk`` at a time as workers come free;
+    ``progress(done, total)`` is called as answers come (in order).
 
     Examples
     --------
@@ -32,16 +35,29 @@ def fork_map(fn: Callable, items: Sequence, *, workers: int | None = None) -> li
     count = workers or (1 if multiprocessing.parent_process() else os.cpu_count()) or 1
     count = min(count, len(items))
     if count < 2 or "fork" not in multiprocessing.get_all_start_methods():
-        return [fn(item) for item in items]
+        return _counted(map(fn, items), len(items), progress)
     _TASK = (fn, items, os.getpid())
     pool = multiprocessing.get_context("fork").Pool(count, initializer=quiet_worker,
                                                     initargs=(os.getpid(),))
     try:
-        return pool.map(_run, range(len(items)), chunksize=1)
+        return _counted(pool.imap(_run, range(len(items)), chunksize=chunk), len(items),
+                        progress)
     finally:  # done, or Ctrl-C here: its workers end
         _TASK = ()
         pool.terminate()
         pool.join()
+
+
+def _counted(answers: Iterable, total: int, progress: Callable[[int, int], None] | None
+             ) -> list:
+    """``list(answers)``, calling ``progress(done, total)`` as they come."""
+    if progress is None:
+        return list(answers)
+    out = []
+    for answer in answers:
+        out.append(answer)
+        progress(len(out), total)
+    return out
 
 
 def _run(k: int) -> object:

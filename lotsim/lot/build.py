@@ -18,6 +18,7 @@ from shapely.ops import unary_union
 from lotsim.core.geometry import FloatArray, cc_polyline, ccw, wrap_angle
 from lotsim.errors import ScenarioError
 from lotsim.lot.clearance import Collider
+from lotsim.lot.kinds import KINDS
 from lotsim.lot.model import (
     Aisle,
     Area,
@@ -246,21 +247,11 @@ def _slot_on_aisle(
     aisle: Aisle, side: str, station: float, where, what: str,
 ) -> Slot:
     """One slot whose entry begins at aisle ``station`` (its lowest station) [m]."""
-    along = length if kind == "parallel" else width * math.sin(angle)
+    rules = KINDS[kind]
+    along = rules.frontage(width, length, angle)
     origin, u, n, heading = _slot_frame(aisle, side, station, station + along, where, what)
-    if kind == "parallel":
-        a = origin + station * u
-        poly = np.array([a, a + length * u, a + length * u + width * n, a + width * n])
-        entry = np.array([a, a + length * u])
-        into = heading if (side == "right" or aisle.one_way) else heading + math.pi
-    else:
-        d = math.cos(angle) * u + math.sin(angle) * n
-        b = origin + station * u  # back entry corner, recessed by width·cos(angle)
-        b = b + width * math.cos(angle) * n
-        a = b + width * (math.sin(angle) * u - math.cos(angle) * n)  # on the aisle edge
-        poly = np.array([a, b, b + length * d, a + length * d])
-        entry = np.array([b, a])
-        into = math.atan2(d[1], d[0])
+    poly, entry, into = rules.place(origin, u, n, heading, station, width, length, angle,
+                                    toward_traffic=side == "right" or aisle.one_way)
     return Slot(
         id=sid, kind=kind, polygon=ccw(poly), entry=entry,
         heading=float(wrap_angle(into)), aisle=aisle.id, side=side,
@@ -270,8 +261,7 @@ def _slot_on_aisle(
 
 def _row_slots(row: RowSpec, index: int, aisles: dict[str, Aisle]) -> list[Slot]:
     aisle = _aisle_ref(aisles, row.aisle, row.where)
-    pitch = (row.slot_length if row.kind == "parallel" else row.slot_width / math.sin(row.angle))
-    pitch += row.gap
+    pitch = KINDS[row.kind].pitch(row.slot_width, row.slot_length, row.angle) + row.gap
     prefix = row.id_prefix or f"{row.aisle}-{row.side}-"
     out = []
     for k in range(row.count):
@@ -311,10 +301,7 @@ def _free_slot(spec: SlotSpec, aisles: dict[str, Aisle]) -> Slot:
     hl, hw = spec.length / 2, spec.width / 2
     rr, fr = c - hl * d - hw * n, c + hl * d - hw * n
     fl, rl = c + hl * d + hw * n, c - hl * d + hw * n
-    if spec.kind == "parallel":
-        candidates = [np.array([rr, fr]), np.array([rl, fl])]
-    else:
-        candidates = [np.array([rl, rr])]
+    candidates = KINDS[spec.kind].entry_sides(rr, fr, fl, rl)
     best = None
     for edge in candidates:
         mid = Point(edge.mean(axis=0))

@@ -23,6 +23,7 @@ from lotsim.core.geometry import (
     wrap_angle,
 )
 from lotsim.errors import Location
+from lotsim.lot.kinds import KINDS
 
 
 @dataclass(frozen=True, slots=True)
@@ -83,7 +84,8 @@ class Slot:
     ----------
     id : str
     kind : str
-        ``perpendicular``, ``parallel`` or ``angled``.
+        ``perpendicular``, ``parallel`` or ``angled``: what it decides is its
+        :class:`~lotsim.lot.kinds.SlotKind` (:func:`~lotsim.lot.kinds.kind_of`).
     polygon : ndarray, shape (4, 2)
         Corners, counter-clockwise [m].
     entry : ndarray, shape (2, 2)
@@ -302,7 +304,7 @@ class Lot:
 
     def slot_counts(self) -> dict[str, int]:
         """Number of slots of each kind."""
-        out = {"perpendicular": 0, "parallel": 0, "angled": 0}
+        out = dict.fromkeys(KINDS, 0)
         for s in self.slots:
             out[s.kind] += 1
         return out

@@ -13,11 +13,12 @@ from dataclasses import dataclass, field
 
 from lotsim.core.geometry import Pose
 from lotsim.errors import Location
+from lotsim.lot.kinds import KINDS
 
 Point = tuple[float, float]
 Points = tuple[Point, ...]
 
-SLOT_KINDS = ("perpendicular", "parallel", "angled")
+SLOT_KINDS = tuple(KINDS)
 SIDES = ("left", "right")
 
 

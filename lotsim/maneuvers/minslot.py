@@ -1,4 +1,5 @@
-"""The minimum-slot planner for parallel slots (seed 000, after Vlasák, Sojka & Hanzálek 2022).
+"""The minimum-slot planner for parallel slots, after "Minimization of parking slots for
+parallel parking" (Vlasák, Sojka & Hanzálek, 2022).
 
 Slot frame: the slot is ``[0, L] × [0, W]`` with the road above (``y > W``). Its frame
 is three wall segments — the rear end ``x = 0``, the kerb ``y = 0`` and the front end

@@ -1,18 +1,126 @@
 """Settings of one car's parking maneuver and of the minimum-slot table: the clearance
-kept to parked cars and walls, the maneuver styles, how finely ``lotsim minslot`` searches."""
+kept to parked cars and walls, the maneuver styles, the maneuver planner's tuning
+(:class:`ManeuverSettings`: every value that can change a maneuver), how finely
+``lotsim minslot`` searches."""
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 from lotsim.core.checks import raise_first, range_problem
 
 MARGIN = 0.1
 """Default clearance of a parking maneuver to parked cars, walls and the aisle's far side
-[m] (seed 004)."""
+[m] (after the unmanned-parking path-planning paper of a 2022 modelling contest)."""
 STYLES = ("any", "forward", "reverse")
 """Parking maneuvers: ``forward``: nose-in; ``reverse``: nose-out (backed in); ``any``: the
 better one."""
+
+
+# -- one car into one slot --------------------------------------------------------------------
+@dataclass(frozen=True, slots=True)
+class ManeuverSettings:
+    """The maneuver planner's tuning, checked on construction.
+
+    Attributes
+    ----------
+    margin : float
+        Clearance kept to parked cars, walls, obstacles and the edges of the
+        drivable area [m], 0 to 1.
+    max_changes : int
+        Most direction changes a maneuver may have, 0 to 50.
+    probe : float
+        Spacing of the places along every stroke (and of the straight exits from a
+        perpendicular or angled slot) where a closing move onto the lane is tried [m].
+    first_turn : float
+        The first full-lock stroke out of a slot turns at most the slot's angle to the
+        lane plus this [rad] (20°).
+    candidates : int
+        Closing moves checked for collisions per number of direction changes, cheapest
+        first.
+    closing_radii : tuple of float
+        Multiples of the minimum turning radius the closing arc tries.
+    sweep : float
+        Spacing of the footprints whose hulls cover a path when checking it [m].
+    min_stroke : float
+        Shorter strokes of the perpendicular search are not worth a stop [m].
+    parallel_extra : float
+        Parallel slots: the minimum-slot strokes run to contact, so they are kept
+        this far inside the margin [m].
+    parallel_heading_step : float
+        Parallel slots: spacing of the start headings tried [°].
+    ease_ramps : tuple of float
+        Lengths of path over which a maneuver's curvature jumps are smoothed, longest
+        first [m]: a longer ramp is driven faster (the steering rate caps ``v`` at
+        ``φ̇ / (σ b)``) but moves the path further from the planned one.
+    ease_drift : float
+        Farthest an eased maneuver may end from the planned parked pose [m] (the clothoid
+        ramps that let the car steer as it rolls shift the path by a few millimetres
+        each).
+    start_grid : float
+        Maneuvers start (and leaving ends) on lane stations that are multiples of this
+        [m]: every vehicle type's maneuvers into nearby slots share lane nodes, and no car
+        creeps a few millimetres from one node to the next (0: anywhere).
+    approach : float
+        ... at least this far along the lane from where the closing arc meets it [m]: a
+        straight on which the car turns its wheels as it rolls into the arc.
+    rough : float
+        Spacing of the footprints of the cheap first pass that drops most blocked candidate
+        paths before their sweeps are checked [m].
+    creep : float
+        Shortest straight a closing move may begin with [m] (none at all is fine): where
+        the curvature jumps cannot be eased the car stops at both ends of that straight.
+    way_out_budget : int
+        Most states the multi-point search for a way out of a perpendicular or angled slot
+        expands when the full-lock shuffle found none (a slot with no way out costs the
+        whole budget).
+
+    Examples
+    --------
+    >>> ManeuverSettings(margin=0.2).margin
+    0.2
+    >>> ManeuverSettings(probe=0.0)
+    Traceback (most recent call last):
+      ...
+    ValueError: probe must be positive, got 0.0
+    """
+
+    margin: float = MARGIN
+    max_changes: int = 8
+    probe: float = 0.5
+    first_turn: float = math.radians(20)
+    candidates: int = 400
+    closing_radii: tuple[float, ...] = (1.0, 1.25, 1.5, 2.0, 3.0)
+    sweep: float = 0.2
+    min_stroke: float = 0.3
+    parallel_extra: float = 0.02
+    parallel_heading_step: float = 0.5
+    ease_ramps: tuple[float, ...] = (3.0, 2.2, 1.6, 1.1, 0.7, 0.4)
+    ease_drift: float = 0.03
+    start_grid: float = 0.5
+    approach: float = 0.5
+    rough: float = 1.0
+    creep: float = 0.1
+    way_out_budget: int = 1500
+
+    def __post_init__(self) -> None:
+        if not 0.0 <= self.margin <= 1.0:
+            raise ValueError(f"margin must be 0 to 1 m, got {self.margin!r}")
+        if not 0 <= self.max_changes <= 50:
+            raise ValueError(f"max_changes must be 0 to 50, got {self.max_changes!r}")
+        for key in ("probe", "sweep", "parallel_heading_step", "candidates", "rough",
+                    "way_out_budget"):
+            if not getattr(self, key) > 0:
+                raise ValueError(f"{key} must be positive, got {getattr(self, key)!r}")
+        for key in ("first_turn", "min_stroke", "parallel_extra", "ease_drift", "start_grid",
+                    "approach", "creep"):
+            if not getattr(self, key) >= 0:
+                raise ValueError(f"{key} must be zero or more, got {getattr(self, key)!r}")
+        if not self.closing_radii or min(self.closing_radii) < 1.0:
+            raise ValueError("closing_radii must be multiples of at least 1")
+        if any(r <= 0 for r in self.ease_ramps):
+            raise ValueError("ease_ramps must be positive")
 
 
 # -- the minimum-slot table ---------------------------------------------------------------------

@@ -44,7 +44,7 @@ def build_graph(lot: Lot, *, node_spacing: float = 4.0, maneuvers=None,
         Largest distance between consecutive nodes along a lane [m].
     maneuvers : dict or None, keyword-only
         ``(vehicle name, slot id, lane id)`` → parking Maneuver, from
-        :func:`lotsim.maneuvers.planner.plan_lot`; ``None`` links slots by placeholders.
+        :func:`lotsim.maneuvers.batch.plan_lot`; ``None`` links slots by placeholders.
     vehicles : sequence of VehicleType, keyword-only
         The scenario's types: the maneuvers' durations; with two or more, junction turns
         are built for each type's own outline and turning radius, and a turn only some

@@ -23,7 +23,7 @@ passing or standing at a node steers for it. Edges are pieces of path
   crossing aisle's mouth back onto the opposite lane (:mod:`lotsim.roadmap.uturns`);
 * ``park`` / ``leave`` — from a lane node into a slot node and back, through
   real parking maneuvers: ``maneuvers`` maps each vehicle type that can use
-  the link to its :class:`~lotsim.maneuvers.planner.Maneuver` (the leave edge
+  the link to its :class:`~lotsim.maneuvers.maneuver.Maneuver` (the leave edge
   holds them reversed), ``duration`` maps it to seconds, ``length`` is the
   shortest of them. A lane node sits exactly where each maneuver starts. A park
   edge's ``stays`` (with ``stay_duration`` and ``stay_limit``) holds, per type,

@@ -10,7 +10,9 @@ from dataclasses import dataclass
 import lotsim.core.diskcache
 from lotsim.lot.build import build_lot
 from lotsim.lot.model import DesignVehicle, Lot
-from lotsim.maneuvers.planner import MARGIN, ManeuverPlanner, plan_lot
+from lotsim.maneuvers.batch import plan_lot
+from lotsim.maneuvers.planner import ManeuverPlanner
+from lotsim.maneuvers.settings import MARGIN
 from lotsim.roadmap.assemble import build_graph, lane_graph
 from lotsim.roadmap.memo import RoadmapMemo
 from lotsim.roadmap.model import LotGraph
@@ -61,7 +63,7 @@ def prepare_lot(scenario: Scenario, *, node_spacing: float = 4.0, maneuvers: boo
     waits for it and loads it (:func:`lotsim.core.diskcache.making`). A new one also reads and adds
     to the answers to the maneuver problems searched before in lots of the scenario's name,
     keyed by each problem's exact geometry
-    (:meth:`~lotsim.maneuvers.planner.ManeuverPlanner.prefetch`; lots of ``remember_from``
+    (:func:`~lotsim.maneuvers.batch.prefetch`; lots of ``remember_from``
     slot-types or more): an edited lot searches only the problems its edit changed, and the
     answers are the same.
     ``progress(done, total)`` is called as the maneuvers' distinct problems are searched

@@ -48,7 +48,7 @@ import numpy as np
 from shapely.geometry.base import BaseGeometry
 
 from lotsim.core.geometry import same_pose
-from lotsim.maneuvers.planner import Maneuver
+from lotsim.maneuvers.maneuver import Maneuver
 from lotsim.roadmap.model import LotGraph
 from lotsim.sim.settings import OMEGA, PLANNERS
 from lotsim.traffic.reservation import (

@@ -475,7 +475,7 @@ def test_a_car_that_stays_parks_with_its_lanes_best_and_one_that_leaves_on_the_s
     for v in rr.vehicles:
         park = next(m for m in v.moves if m.kind == "park")
         slot = lg.lot.slot_by_id[v.slot]
-        own = planner.solve(v.vehicle, slot, lanes[g.nodes[park.node_from]["lane"]]).maneuver
+        own = planner.solve(v.vehicle, slot, lanes[g.nodes[park.node_from]["lane"]]).value
         shared = {tuple(np.round(d["maneuvers"]["valet"].end, 6))
                   for _, _, d in g.in_edges(lg.slot_nodes[slot.id], data=True)
                   if "valet" in d["maneuvers"]}
@@ -508,7 +508,7 @@ def test_which_maneuvers_are_kept_follows_whether_cars_stay_or_leave(lots):
             assert not d.get("stays")
             slot = lg.lot.slot_by_id[g.nodes[v]["slot"]]
             m = d["maneuvers"]["valet"]
-            own = planner.solve(CATALOGUE["valet"], slot, lanes[g.nodes[u]["lane"]]).maneuver
+            own = planner.solve(CATALOGUE["valet"], slot, lanes[g.nodes[u]["lane"]]).value
             assert abs(wrap_angle(m.end[2] - own.end[2])) < 0.1, slot.id
             hs = [d2["maneuvers"]["valet"].end[2] for _, _, d2 in g.in_edges(v, data=True)]
             flipped += any(abs(wrap_angle(h - hs[0])) > 3.0 for h in hs)

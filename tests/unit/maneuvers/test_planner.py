@@ -21,8 +21,11 @@ from lotsim.errors import InfeasibleManeuver
 from lotsim.io.scenario_yaml import load_scenario
 from lotsim.lot.build import build_lot
 from lotsim.lot.model import DesignVehicle
+from lotsim.maneuvers.closing import first_clear
 from lotsim.maneuvers.minslot import fewest_changes
-from lotsim.maneuvers.planner import ManeuverPlanner, plan_maneuver
+from lotsim.maneuvers.planner import ManeuverPlanner
+from lotsim.maneuvers.settings import ManeuverSettings
+from lotsim.maneuvers.validity import Validity
 from lotsim.vehicles import CATALOGUE
 
 STEP = 0.05
@@ -145,6 +148,11 @@ QUICK = """
       exits:
         - {id: out, x: 5, y: 11.75, heading_deg: 180}
 """.replace("AISLE", "7.0")
+
+
+def plan_maneuver(vehicle, slot, lot, *, style="any"):
+    """The best maneuver into ``slot`` over its lanes, by a planner of its own."""
+    return ManeuverPlanner(lot).best(vehicle, slot, style=style)
 
 
 def _lot(text):
@@ -409,8 +417,6 @@ def test_the_maneuver_picture_keeps_title_and_key_off_the_lot_and_marks_both_end
 
 # -- the planner's seams: settings, results with a status, a frozen problem ------------------
 def test_settings_check_themselves():
-    from lotsim.maneuvers.planner import ManeuverSettings
-
     for bad in ({"margin": -0.1}, {"margin": 2.0}, {"max_changes": -1}, {"probe": 0.0},
                 {"candidates": 0}, {"closing_radii": (0.5,)}, {"ease_ramps": (1.0, -1.0)}):
         with pytest.raises(ValueError):
@@ -420,16 +426,17 @@ def test_settings_check_themselves():
 
 
 def test_solve_answers_with_a_status_and_the_reason_plan_lot_keeps_as_it_is():
-    from lotsim.maneuvers.planner import ManeuverStatus, plan_lot
+    from lotsim.core.outcome import Status
+    from lotsim.maneuvers.batch import plan_lot
 
     lot, _ = _lot(QUICK)
     planner = ManeuverPlanner(lot)
     slot = lot.slot_by_id["main-left-3"]
     lane = planner.lanes_for(slot)[0]
     found = planner.solve(CATALOGUE["valet"], slot, lane)
-    assert found.status is ManeuverStatus.FOUND and found.ok and found.maneuver.slot == slot.id
+    assert found.status is Status.FOUND and found.found and found.value.slot == slot.id
     refused = planner.solve(CATALOGUE["vclass"], slot, lane)
-    assert refused.status is ManeuverStatus.INFEASIBLE and refused.maneuver is None
+    assert refused.status is Status.INFEASIBLE and refused.value is None
     assert refused.reason.startswith("the car is 5.37 m long")
     _, infeasible, _ = plan_lot(planner, [CATALOGUE["vclass"]])
     assert infeasible["vclass"][slot.id] == refused.reason  # no message parsed back
@@ -441,11 +448,11 @@ def test_the_problem_is_frozen_and_its_key_has_no_side_effects():
     lot, _ = _lot(QUICK)
     planner = ManeuverPlanner(lot)
     slot = lot.slot_by_id["main-left-4"]
-    problem = planner._problem(CATALOGUE["valet"], slot, planner.lanes_for(slot)[0])
+    problem = planner.problems.pose(CATALOGUE["valet"], slot, planner.lanes_for(slot)[0])
     with pytest.raises(dataclasses.FrozenInstanceError):
         problem.half = 1.0
-    keys = {planner._key(problem, "any") for _ in range(3)}
-    assert len(keys) == 1 and planner._key(problem, "forward") not in keys
+    keys = {planner.key(problem, "any") for _ in range(3)}
+    assert len(keys) == 1 and planner.key(problem, "forward") not in keys
 
 
 @pytest.mark.parametrize("name", ["mixed_lot", "example"])
@@ -462,16 +469,14 @@ def test_problems_keyed_together_are_keyed_as_one_at_a_time(shipped_graphs, name
     triples = [(v, slot, lane) for v in sc.vehicle_types for slot in lg.lot.slots
                for lane in planner.lanes_for(slot)]
     assert {slot.kind for _, slot, _ in triples} >= {"perpendicular", "parallel"}
-    together = planner._digests(triples)
-    alone = [(planner._digest(p), p.frame, p.lane_s0)
-             for p in (planner._problem(*t) for t in triples)]
+    together = planner.problems.digests(triples)
+    alone = [(planner.problems.digest(p), p.frame, p.lane_s0)
+             for p in (planner.problems.pose(*t) for t in triples)]
     assert together == alone
     assert len({d for d, _, _ in alone}) > 5  # (not all one problem)
 
 
 def test_the_settings_are_used():
-    from lotsim.maneuvers.planner import ManeuverSettings
-
     narrow = QUICK.replace("width: 7.0", "width: 4.6")
     lot, _ = _lot(narrow)
     car, slot = CATALOGUE["valet"], lot.slot_by_id["main-left-5"]
@@ -502,12 +507,11 @@ def test_maneuvers_start_on_a_half_metre_grid_of_lane_stations(shipped_graphs):
                 assert m.segments[0].curvature == 0, (name, m.slot)
 
 
-def test_a_lot_planned_on_two_processes_gets_exactly_the_maneuvers_of_one_search_at_a_time(
-        monkeypatch):
+def test_a_lot_planned_on_two_processes_gets_exactly_the_maneuvers_of_one_search_at_a_time():
     """plan_lot searches a lot's distinct problems ahead on worker processes; the answers,
     and what validate reports about them, must be those of solving slot after slot in this
     process (the second implementation here: solve_lanes alone, on a fresh planner)."""
-    from lotsim.maneuvers import planner as maneuver
+    from lotsim.maneuvers.batch import plan_lot
     from lotsim.sim.preparation import maneuver_planner
 
     sc = load_scenario(ROOT / "scenarios" / "street.yaml")  # three types, both lanes
@@ -521,9 +525,9 @@ def test_a_lot_planned_on_two_processes_gets_exactly_the_maneuvers_of_one_search
             want.update({(v.name, slot.id, k): m.segments for k, m in found.items()})
             if not found:
                 why[(v.name, slot.id)] = reason
-    monkeypatch.setattr(maneuver, "PARALLEL_FROM", 1)  # workers even for a small lot
     ahead = maneuver_planner(sc, lot)
-    found, infeasible, stays = maneuver.plan_lot(ahead, sc.vehicle_types, workers=2)
+    # two workers asked for: forked even for a lot this small
+    found, infeasible, stays = plan_lot(ahead, sc.vehicle_types, workers=2)
     got = {k: m.segments for k, m in found.items()}
     got.update({(*k, "own"): m.segments for k, m in stays.items()})
     assert got == want
@@ -533,12 +537,13 @@ def test_a_lot_planned_on_two_processes_gets_exactly_the_maneuvers_of_one_search
 
 @pytest.mark.parametrize("span", [1, 2])
 def test_the_coarse_to_fine_check_finds_the_first_blocked_body_of_every_run(span):
-    """``_Problem.first_blocked`` against checking every body on its own (brute force):
+    """``Validity.first_blocked`` against checking every body on its own (brute force):
     random poses in and around a slot, cut into runs of random lengths, some not asked."""
     lot, _ = _lot(QUICK)
     planner = ManeuverPlanner(lot)
     slot = lot.slot_by_id["main-left-4"]
-    problem = planner._problem(CATALOGUE["valet"], slot, planner.lanes_for(slot)[0])
+    problem = planner.problems.pose(CATALOGUE["valet"], slot, planner.lanes_for(slot)[0])
+    checks = Validity(problem)
     rng = np.random.default_rng(7)
     for _ in range(30):
         n = int(rng.integers(2, 60))
@@ -551,25 +556,25 @@ def test_the_coarse_to_fine_check_finds_the_first_blocked_body_of_every_run(span
         run = np.repeat(np.arange(len(cuts)), np.diff(np.concatenate([[0], cuts])))
         run = np.where(rng.random(count) < 0.15, -1, run)  # some bodies not asked
         bodies = np.concatenate([prints[k : k + count] for k in range(span)], axis=1)
-        each = problem.bodies_blocked(bodies) & (run >= 0)
+        each = checks.bodies_blocked(bodies) & (run >= 0)
         want = np.zeros(count, dtype=bool)
         for r in np.unique(run[run >= 0]):
             hits = np.flatnonzero(each & (run == r))
             if hits.size:
                 want[hits[0]] = True
-        assert np.array_equal(problem.first_blocked(prints, run, span), want)
+        assert np.array_equal(checks.first_blocked(prints, run, span), want)
 
 
 @pytest.mark.parametrize("before", [0, 3, 9, 70, 130])
 def test_the_first_clear_path_is_the_first_row_that_passes_both_checks(before):
-    """``_first_clear`` against checking each row on its own, in order: a clear path after
+    """``first_clear`` against checking each row on its own, in order: a clear path after
     ``before`` rows of blocked ones (found in the first batch, a later one, or none)."""
     from lotsim.core.geometry import Segment
 
     lot, _ = _lot(QUICK)
     planner = ManeuverPlanner(lot)
     slot = lot.slot_by_id["main-left-4"]
-    p = planner._problem(CATALOGUE["valet"], slot, planner.lanes_for(slot)[0])
+    p = Validity(planner.problems.pose(CATALOGUE["valet"], slot, planner.lanes_for(slot)[0]))
     rng = np.random.default_rng(before)
     rows = []
     while len(rows) < 2 * before + 40:  # random arcs and straights near the slot
@@ -587,34 +592,35 @@ def test_the_first_clear_path_is_the_first_row_that_passes_both_checks(before):
     free = [r for r in rows if clear(r)]
     assert len(blocked) >= before and len(free) >= 3
     order = blocked[:before] + free[:3] + blocked[before:]
-    assert planner._first_clear(p, order) is free[0]
-    assert planner._first_clear(p, blocked[:before]) is None
+    assert first_clear(p, order, step=1.0) is free[0]
+    assert first_clear(p, blocked[:before], step=1.0) is None
 
 
-def test_the_rough_pass_over_a_searchs_candidates_finds_what_checking_each_path_finds():
-    """``_rough`` (the ways to the stops checked once, the closing moves as arrays) against
+def test_the_rough_pass_over_a_searchs_candidates_finds_what_checking_each_path_finds(
+        monkeypatch):
+    """``rough`` (the ways to the stops checked once, the closing moves as arrays) against
     making each candidate's path and checking its footprints on its own
     (``paths_blocked(sweep=False)``): the rows of real searches in a narrow aisle (every
     level of direction changes), and those rows again with no straight before the arc, no
     run along the lane, or no closing move at all."""
-    from lotsim.maneuvers.planner import ROUGH
+    from lotsim.maneuvers import shuffle
 
     lot, _ = _lot(QUICK.replace("width: 7.0", "width: 5.0"))
     planner = ManeuverPlanner(lot)
+    step = planner.settings.rough
     asked = []
-    first_clear = planner._first_clear
 
-    def spy(p, rows, build=None, rough=None, chunk=8):
+    def spy(p, rows, *, step, build=None, rough=None, chunk=8):
         if rough is not None:
             asked.append((p, rows.copy(), build, rough))
-        return first_clear(p, rows, build, rough, chunk)
+        return first_clear(p, rows, step=step, build=build, rough=rough, chunk=chunk)
 
-    planner._first_clear = spy
+    monkeypatch.setattr(shuffle, "first_clear", spy)  # to see the rows the search makes
     for sid in ("main-left-1", "main-left-4"):
         slot = lot.slot_by_id[sid]
         for style in ("forward", "reverse"):
             assert planner.solve(CATALOGUE["valet"], slot, planner.lanes_for(slot)[0],
-                                 style=style).ok
+                                 style=style).found
     levels, blocked, clear = set(), 0, 0
     for p, rows, build, rough in asked:
         variants = [rows]
@@ -623,7 +629,7 @@ def test_the_rough_pass_over_a_searchs_candidates_finds_what_checking_each_path_
             v[::every, column] = 0.0
             variants.append(v)
         for v in variants:
-            want = np.array([p.paths_blocked([build(r)[2]], step=ROUGH, sweep=False)[0]
+            want = np.array([p.paths_blocked([build(r)[2]], step=step, sweep=False)[0]
                              for r in v], dtype=bool)
             assert np.array_equal(rough(v), want)
             blocked, clear = blocked + int(want.sum()), clear + int((~want).sum())
@@ -632,17 +638,19 @@ def test_the_rough_pass_over_a_searchs_candidates_finds_what_checking_each_path_
 
 
 def test_the_rough_pass_finds_blocked_ways_to_the_stops_and_runs_along_the_lane():
-    """``_rough`` on made-up levels of a search (random strokes near the slot, some through
+    """``rough`` on made-up levels of a search (random strokes near the slot, some through
     its neighbours; stops along them; closing moves with and without a straight, a run
     along the lane of up to 25 m (past the window) or none, or none at all) against making
     each row's path as the search does and checking its footprints on its own."""
     from lotsim.core.geometry import Segment, advance
-    from lotsim.maneuvers.planner import ROUGH, _closing_segments
+    from lotsim.maneuvers.closing import closing_segments
+    from lotsim.maneuvers.shuffle import rough
 
     lot, _ = _lot(QUICK)
     planner = ManeuverPlanner(lot)
     slot = lot.slot_by_id["main-left-4"]
-    p = planner._problem(CATALOGUE["valet"], slot, planner.lanes_for(slot)[0])
+    problem = planner.problems.pose(CATALOGUE["valet"], slot, planner.lanes_for(slot)[0])
+    p, step = Validity(problem), planner.settings.rough
     kmax = CATALOGUE["valet"].max_curvature
     rng = np.random.default_rng(3)
     registry, rows = [], []
@@ -651,7 +659,7 @@ def test_the_rough_pass_finds_blocked_ways_to_the_stops_and_runs_along_the_lane(
         for k in range(4):  # half of them along the lane
             pose = ((float(rng.uniform(-6, 6)), float(rng.uniform(-5, 2)),
                      float(rng.uniform(-math.pi, math.pi))) if k % 2 else
-                    (float(rng.uniform(-6, 6)), p.lane_y, float(rng.normal(0.0, 0.1))))
+                    (float(rng.uniform(-6, 6)), problem.lane_y, float(rng.normal(0.0, 0.1))))
             segs = [Segment(pose, float(rng.uniform(-3, 3)), float(rng.choice([0, kmax])))]
             heads.append((segs, segs[-1].end, segs[-1].length))
         g, kappa = int(rng.choice([-1, 1])), float(rng.choice([0.0, -kmax, kmax]))
@@ -673,11 +681,11 @@ def test_the_rough_pass_finds_blocked_ways_to_the_stops_and_runs_along_the_lane(
         segs, pose, _ = heads[owner[m]]
         head = segs + ([Segment(pose, g * float(flat[m]), kappa)] if flat[m] > 1e-9 else [])
         close = (int(row[4]), float(row[5]), float(row[6]), float(row[7]))
-        return head + _closing_segments(tuple(map(float, q[m])), close)
+        return head + closing_segments(tuple(map(float, q[m])), close)
 
-    want = np.array([p.paths_blocked([path(r)], step=ROUGH, sweep=False)[0] for r in rows])
+    want = np.array([p.paths_blocked([path(r)], step=step, sweep=False)[0] for r in rows])
     reached = {}
-    got = np.concatenate([planner._rough(p, registry, rows[k : k + 50], reached)
+    got = np.concatenate([rough(p, registry, rows[k : k + 50], reached, step)
                           for k in range(0, len(rows), 50)])
     assert np.array_equal(got, want)
     heads_blocked = sum(reached.values())
@@ -703,7 +711,7 @@ def test_every_maneuver_starts_on_the_lanes_start_grid_when_bays_are_off_its_pit
     (and each lane's own best) must still start on a multiple of the grid, as
     ``ManeuverSettings.start_grid`` promises; answers shared between bays whose grid falls
     differently started 0.25 m off it."""
-    from lotsim.maneuvers.planner import plan_lot
+    from lotsim.maneuvers.batch import plan_lot
     from lotsim.sim.preparation import maneuver_planner
 
     lot, sc = _lot(ROW_OFF_GRID)

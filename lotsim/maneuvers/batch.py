@@ -1,0 +1,145 @@
+"""Maneuvers for a whole lot: every slot, vehicle type and serving lane, the lot's distinct
+problems searched ahead on worker processes (:func:`~lotsim.core.workers.fork_map`), with
+exactly the answers of searching them one after another."""
+
+from __future__ import annotations
+
+import itertools
+import multiprocessing
+import os
+from collections.abc import Callable, Iterable
+
+from lotsim.core.workers import fork_map
+from lotsim.maneuvers.maneuver import Maneuver
+from lotsim.maneuvers.planner import ManeuverPlanner, search
+from lotsim.maneuvers.problem import exact_key
+from lotsim.vehicles.model import VehicleType
+
+PARALLEL_FROM = 64
+"""Fewest problems worth starting worker processes for (fewer are searched in this process
+unless the caller asks for workers)."""
+KNOWN_MOST = 20_000
+"""Most answers :func:`prefetch` keeps in ``known``, most recently used last (under 1 kB
+each); older ones are dropped."""
+
+
+def _pool_size(workers: int | None, problems: int) -> int:
+    """Worker processes for ``problems``: ``workers`` when given, else as many as the machine
+    has (one in a process multiprocessing started: its parent shares the cores out) for at
+    least :data:`PARALLEL_FROM` problems, each with a few dozen at least."""
+    if workers is not None:
+        return max(1, min(workers, problems))
+    if problems < PARALLEL_FROM:
+        return 1
+    count = (1 if multiprocessing.parent_process() else os.cpu_count()) or 1
+    return min(count, max(1, problems // 16))
+
+
+def prefetch(planner: ManeuverPlanner, vehicles: Iterable[VehicleType], *,
+             style: str = "any", shared: bool = True, workers: int | None = None,
+             progress: Callable[[int, int], None] | None = None,
+             known: dict[bytes, tuple] | None = None) -> None:
+    """Search every distinct problem :meth:`ManeuverPlanner.solve_lanes` will meet for
+    ``vehicles`` in every slot, on ``workers`` processes (default: as many as the machine
+    has, for a lot with :data:`PARALLEL_FROM` problems or more), so that it then only looks
+    them up.
+
+    The answers are exactly those of searching them one after another: each distinct
+    problem (by its rounded local geometry, as the planner's cache keys it) is searched as
+    posed the first time :meth:`~ManeuverPlanner.solve_lanes` meets it in slot order, as it
+    would be without this. Problems are posed (and keyed) on the workers too. Needs the
+    ``fork`` start method (Linux); elsewhere it works in this process.
+    ``progress(done, total)`` is called as the distinct problems are searched.
+
+    ``known`` (exact problem key → answer, :func:`~lotsim.maneuvers.problem.exact_key`)
+    holds answers found before, for this planner's settings and this lotsim, in any lot (the
+    on-disk cache keeps one per lot name: :func:`lotsim.sim.preparation.prepare`): a problem
+    it holds is not searched again, and those searched now are added to it, most recently
+    used last, at most :data:`KNOWN_MOST`. A search reads nothing but its problem (to the
+    last bit of every float) and the settings, so the answers are the same with it as
+    without.
+    """
+    calls = [(v, slot, lane, st) for v in vehicles for slot in planner.lot.slots
+             for st, lane in planner.searches(slot, style, shared)]  # solve_lanes' order
+    where = {(v.name, slot.id, lane.id): (v, slot, lane) for v, slot, lane, _ in calls}
+    triples = list(where.values())  # each problem posed once: the styles share it
+    at = {name: k for k, name in enumerate(where)}
+    count = _pool_size(workers, len(triples))
+    # keyed in batches, a few per worker (each batch one shapely call a step)
+    size = max(16, -(-len(triples) // (4 * count)))
+    parts = [(k, min(k + size, len(triples))) for k in range(0, len(triples), size)]
+    posed = [x for part in fork_map(lambda part: planner.problems.digests(
+        triples[part[0]:part[1]]), parts, workers=count) for x in part]
+    todo: dict[bytes, tuple[int, str]] = {}  # key → (triple, style), first met first
+    for v, slot, lane, st in calls:
+        k = at[v.name, slot.id, lane.id]
+        key = planner.pose_key(v, slot, lane, st, *posed[k])
+        if not planner.knows(key) and key not in todo:
+            todo[key] = (k, st)
+
+    def searched(job: tuple[int, str]) -> tuple:
+        """The problem of triple ``job[0]`` searched in style ``job[1]`` (posed here: it was
+        keyed without being posed whole): (eased, as planned, its exact key, whether
+        ``known`` held it). No exact key (None) when there is no ``known``."""
+        k, st = job
+        problem = planner.problems.pose(*triples[k])
+        if known is None:
+            return *search(problem, st, planner.settings), None, False
+        exact = exact_key(problem, st)
+        found = known.get(exact)
+        if found is not None:
+            return *found, exact, True
+        return *search(problem, st, planner.settings), exact, False
+
+    answers = fork_map(searched, list(todo.values()), workers=count, chunk=8,
+                       progress=progress)
+    for key, (hit, raw, exact, remembered) in zip(todo, answers, strict=True):
+        planner.learn(key, hit, raw)
+        if known is not None:
+            known.pop(exact, None)
+            known[exact] = hit, raw  # most recently used last
+            planner.stats["remembered"] += remembered
+    if known is not None:
+        for old in list(itertools.islice(known, max(0, len(known) - KNOWN_MOST))):
+            del known[old]
+
+
+def plan_lot(planner: ManeuverPlanner, vehicles: Iterable[VehicleType], *,
+             style: str = "any", workers: int | None = None,
+             progress: Callable[[int, int], None] | None = None,
+             known: dict[bytes, tuple] | None = None
+             ) -> tuple[dict[tuple[str, str, str], Maneuver], dict[str, dict[str, str]],
+                        dict[tuple[str, str, str], Maneuver]]:
+    """Maneuvers for every slot, vehicle type and lane of a lot, searched on ``workers``
+    processes (:func:`prefetch`; the same answers on any number).
+
+    Returns
+    -------
+    maneuvers : dict
+        ``(vehicle name, slot id, lane id)`` → Maneuver (:meth:`ManeuverPlanner.solve_all`).
+    infeasible : dict
+        vehicle name → {slot id: reason} for the slots it cannot use.
+    stays : dict
+        ``(vehicle name, slot id, lane id)`` → that lane's own best Maneuver, where it parks
+        the other way round than the one in ``maneuvers`` (for cars that will not leave;
+        :meth:`ManeuverPlanner.solve_lanes`).
+
+    ``progress(done, total)`` is called as the distinct problems are searched; ``known``:
+    answers found before, and kept (:func:`prefetch`).
+    """
+    vehicles = list(vehicles)
+    prefetch(planner, vehicles, style=style, workers=workers, progress=progress, known=known)
+    maneuvers: dict[tuple[str, str, str], Maneuver] = {}
+    stays: dict[tuple[str, str, str], Maneuver] = {}
+    infeasible: dict[str, dict[str, str]] = {}
+    for v in vehicles:
+        infeasible[v.name] = {}
+        for slot in planner.lot.slots:
+            found, own, why = planner.solve_lanes(v, slot, style=style)
+            for lane, m in found.items():
+                maneuvers[(v.name, slot.id, lane)] = m
+            for lane, m in own.items():
+                stays[(v.name, slot.id, lane)] = m
+            if not found:
+                infeasible[v.name][slot.id] = why
+    return maneuvers, infeasible, stays

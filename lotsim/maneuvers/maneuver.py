@@ -1,0 +1,120 @@
+"""A parking maneuver: a chain of :class:`~lotsim.core.geometry.Segment` pieces — straights
+and arcs no tighter than the car's minimum turning radius, each driven forward or in
+reverse — from a pose on a lane (on its centreline, heading its way) to the parked pose
+inside the slot. Leaving is the same path driven backwards in time
+(:meth:`Maneuver.reversed`): each piece flips gear, so a car that reversed in drives out
+forward."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from lotsim.core.geometry import FloatArray, Pose, Segment
+from lotsim.vehicles.model import VehicleType
+from lotsim.vehicles.motion import Motion, Piece, runs, timed_path
+
+
+@dataclass(frozen=True)
+class Maneuver:
+    """A path from a lane pose into a slot (or, reversed, out of it).
+
+    Attributes
+    ----------
+    segments : tuple of Segment
+        In driving order; consecutive pieces meet exactly.
+    vehicle : str
+        Name of the vehicle type it was planned for.
+    slot : str
+    lane : str
+        The lane it starts on (parking) or ends on (leaving).
+    station : float
+        Station on ``lane`` where it starts or ends [m].
+    leaving : bool
+        False for the way in, True for the way out.
+    """
+
+    segments: tuple[Segment, ...]
+    vehicle: str
+    slot: str
+    lane: str
+    station: float
+    leaving: bool = False
+
+    @property
+    def start(self) -> Pose:
+        return self.segments[0].start
+
+    @property
+    def end(self) -> Pose:
+        return self.segments[-1].end
+
+    @property
+    def length(self) -> float:
+        """Path length [m]."""
+        return float(sum(s.length for s in self.segments))
+
+    @property
+    def gears(self) -> tuple[int, ...]:
+        return tuple(s.gear for s in self.segments)
+
+    @property
+    def changes(self) -> int:
+        """Direction changes (cusps) within the maneuver."""
+        g = self.gears
+        return sum(1 for a, b in zip(g[:-1], g[1:], strict=True) if a != b)
+
+    @property
+    def cusps(self) -> tuple[Pose, ...]:
+        """Poses where the car stops and changes direction."""
+        return tuple(a.end for a, b in zip(self.segments[:-1], self.segments[1:], strict=True)
+                     if a.gear != b.gear)
+
+    def strokes(self) -> list[tuple[int, float]]:
+        """Maximal runs of one gear as ``(gear, length)``: the car stops between them."""
+        out: list[tuple[int, float]] = []
+        for s in self.segments:
+            if out and out[-1][0] == s.gear:
+                out[-1] = (s.gear, out[-1][1] + s.length)
+            else:
+                out.append((s.gear, s.length))
+        return out
+
+    def sample(self, step: float = 0.05) -> tuple[FloatArray, np.ndarray]:
+        """Poses (N, 3) at most ``step`` apart along the path, and the gear of each (N,).
+
+        Cusps appear once, with the gear of the stroke they end.
+        """
+        parts, gears = [], []
+        for k, seg in enumerate(self.segments):
+            p = seg.sample(step)
+            if k:
+                p = p[1:]
+            parts.append(p)
+            gears.append(np.full(len(p), seg.gear))
+        return np.concatenate(parts), np.concatenate(gears)
+
+    def reversed(self) -> Maneuver:
+        """The same path driven backwards in time: each piece with the other gear."""
+        segs = tuple(s.backwards() for s in reversed(self.segments))
+        return Maneuver(segs, self.vehicle, self.slot, self.lane, self.station, not self.leaving)
+
+    def motion(self, vehicle: VehicleType, speed_limit: float = math.inf) -> Motion:
+        """The maneuver timed from rest, wheels straight, to rest, wheels straight
+        (:func:`~lotsim.vehicles.motion.timed_path`): the car stops at every cusp and wherever
+        the curvature changes, and turns its wheels there standing."""
+        return timed_path([Piece(s, speed_limit) for s in self.segments], vehicle)
+
+    def duration(self, vehicle: VehicleType, speed_limit: float = math.inf) -> float:
+        """Time to drive it (:meth:`motion`) [s]: jerk-limited rest-to-rest runs within the
+        vehicle's limits and ``speed_limit`` [m/s], and the steering between them."""
+        return self.motion(vehicle, speed_limit).duration
+
+
+    def shortest_run(self) -> float:
+        """The shortest stretch [m] a car drives between two stops on it: the runs the timing
+        drives without stopping (:func:`~lotsim.vehicles.motion.runs`)."""
+        return min(sum(p.segment.length for p in run)
+                   for run in runs([Piece(s, math.inf) for s in self.segments]))

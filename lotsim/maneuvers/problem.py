@@ -1,0 +1,331 @@
+"""The problem of parking one car in one slot from one lane, OMPL's problem definition:
+the slot's local frame, the stretch of lane a maneuver may begin on, the window the search
+may use and what it must keep out of (:class:`ManeuverProblem`); the lot's problems posed
+and digested (:class:`LotProblems`).
+
+The planner works in a frame attached to the slot and its lane (mirrored so the slot is
+always on the right). Every other slot counts as taken (what a car parked there keeps
+others out of: :meth:`~lotsim.lot.kinds.SlotKind.taken`), as do walls, obstacles and no-go
+areas, each grown by the margin; the car stays inside the lot boundary shrunk by the margin
+and short of the far side of the aisle by the margin (that side is a wall), or inside its
+own slot. Same geometry, same maneuver: a problem's digest is the vehicle type, the rounded
+geometry inside the window around the slot — the search cannot see past the window — and
+where the lane's start grid falls beside the slot (the closing move runs on to a grid
+station), so problems with equal digests have the same answer.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import math
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+import numpy as np
+import shapely
+from shapely.geometry import Polygon
+from shapely.geometry.base import BaseGeometry
+
+from lotsim.core.geometry import FloatArray, Segment, wrap_angle
+from lotsim.lot.kinds import kind_of
+from lotsim.lot.model import Lane, Lot, Slot
+from lotsim.maneuvers.settings import ManeuverSettings
+from lotsim.vehicles.model import VehicleType
+
+
+@dataclass(frozen=True, slots=True)
+class LocalFrame:
+    """A rigid (possibly mirrored) frame: local ``(x, y)`` ↦ origin + R(heading)·(x, ±y)."""
+
+    x: float
+    y: float
+    heading: float
+    mirror: bool
+
+    def poses_to_world(self, p: FloatArray) -> FloatArray:
+        p = np.atleast_2d(np.asarray(p, dtype=float))
+        sy = -1.0 if self.mirror else 1.0
+        c, s = math.cos(self.heading), math.sin(self.heading)
+        lx, ly = p[:, 0], sy * p[:, 1]
+        return np.stack([self.x + c * lx - s * ly, self.y + s * lx + c * ly,
+                         wrap_angle(self.heading + sy * p[:, 2])], axis=-1)
+
+    def poses_to_local(self, p: FloatArray) -> FloatArray:
+        p = np.atleast_2d(np.asarray(p, dtype=float))
+        sy = -1.0 if self.mirror else 1.0
+        c, s = math.cos(self.heading), math.sin(self.heading)
+        dx, dy = p[:, 0] - self.x, p[:, 1] - self.y
+        return np.stack([c * dx + s * dy, sy * (-s * dx + c * dy),
+                         wrap_angle(sy * (p[:, 2] - self.heading))], axis=-1)
+
+    def points_to_local(self, pts: FloatArray) -> FloatArray:
+        pts = np.asarray(pts, dtype=float)
+        flat = np.column_stack([pts.reshape(-1, 2), np.zeros(pts.size // 2)])
+        return self.poses_to_local(flat)[:, :2].reshape(pts.shape)
+
+    def segments_to_world(self, segs: Sequence[Segment]) -> tuple[Segment, ...]:
+        """Each of ``segs`` in world coordinates (their starts moved in one batch)."""
+        starts = self.poses_to_world(np.array([seg.start for seg in segs])).tolist()
+        sign = -1.0 if self.mirror else 1.0
+        return tuple(Segment(tuple(p), seg.distance, sign * seg.curvature, sign * seg.sharpness)
+                     for p, seg in zip(starts, segs, strict=True))
+
+
+@dataclass(frozen=True, eq=False)
+class ManeuverProblem:
+    """One car into one slot from one lane, seen in the slot's local frame (slot at y < 0,
+    the lane heading +x): everything a search reads, frozen. Its validity checks (is this
+    footprint free, is this motion free) are :class:`~lotsim.maneuvers.validity.Validity`.
+
+    Attributes
+    ----------
+    vehicle : VehicleType
+    slot : Slot
+    lane : Lane
+    frame : LocalFrame
+        Local ↔ world.
+    lane_y : float
+        The lane's straight near the slot is the line y = lane_y (NaN: it bends there).
+    lane_x : tuple of float
+        ... between these x [m]: where a maneuver may begin.
+    lane_s0 : float
+        Lane station at local x = 0 [m].
+    half : float
+        Half the size of the square window the search may use [m].
+    allowed : BaseGeometry
+        The prepared world region the car must stay in.
+    obstacles : ndarray of Polygon
+        What the car must keep out of near the slot (world).
+    tree : STRtree
+        Of ``obstacles``.
+    sweep : float
+        Footprint spacing when checking a motion [m].
+    window : Polygon
+        The square the search may use (:meth:`LotProblems.window`).
+    """
+
+    vehicle: VehicleType
+    slot: Slot
+    lane: Lane
+    frame: LocalFrame
+    lane_y: float
+    lane_x: tuple[float, float]
+    lane_s0: float
+    half: float
+    allowed: BaseGeometry
+    obstacles: np.ndarray
+    tree: shapely.STRtree
+    sweep: float
+    window: Polygon
+
+
+class LotProblems:
+    """The maneuver problems of one lot: poses each (vehicle, slot, lane) problem against what
+    the lot's parked cars, walls, obstacles and no-go areas take (each grown by the margin),
+    and digests it by its rounded local geometry (equal digests, equal answers).
+
+    Parameters
+    ----------
+    lot : Lot
+    settings : ManeuverSettings
+    parked_width : float, keyword-only
+        Width of the widest car that may stand in a perpendicular or angled slot [m];
+        default the lot's design width.
+    lane_ranges : dict, keyword-only
+        Lane id → (first, last) station [m] where a maneuver may start, or several such
+        ranges (a slot's maneuver is planned in the one nearest it); a lane not listed gets
+        none. Default (None): every lane, whole.
+    """
+
+    def __init__(self, lot: Lot, settings: ManeuverSettings, *,
+                 parked_width: float | None = None,
+                 lane_ranges: dict[str, tuple] | None = None):
+        margin = settings.margin
+        self.lot, self.settings, self.lane_ranges = lot, settings, lane_ranges
+        width = max(parked_width or 0.0, lot.design.width)
+        polys = [kind_of(s).taken(s, width, margin) for s in lot.slots]
+        polys += [a.polygon.buffer(margin, join_style="mitre") if margin else a.polygon
+                  for a in lot.areas]
+        self._polys = np.array(polys, dtype=object)
+        self._tree = shapely.STRtree(self._polys)
+        self._region = lot.boundary.buffer(-margin, join_style="mitre") if margin \
+            else lot.boundary
+        self._index = {s.id: k for k, s in enumerate(lot.slots)}
+
+    @property
+    def margin(self) -> float:
+        return self.settings.margin
+
+    def pose(self, vehicle: VehicleType, slot: Slot, lane: Lane) -> ManeuverProblem:
+        """The problem of parking ``vehicle`` in ``slot`` from ``lane``."""
+        frame, lane_y, lane_x, s0, half = self.head(vehicle, slot, lane)
+        index = self._index[slot.id]
+        win = self.window(slot, frame, half)
+        shapely.prepare(win)
+        # the slot itself is the car's to fill: no margin to its own lines
+        allowed = self._region.union(slot.shape).intersection(win)
+        shapely.prepare(allowed)
+        near = [int(k) for k in self._tree.query(win) if k != index]
+        # the margin around neighbours stops at this slot's lines: the car may fill its slot.
+        # Inside the window, those clear of the slot are kept as they are (the same shapes as
+        # their difference, in another vertex order); those across its edge are made as
+        # before, as :meth:`digest` cuts them at the edge (a cut's rounded corners follow
+        # the order of the vertices cut).
+        obstacles = self._polys[near]
+        cut = ~shapely.contains_properly(win, obstacles) | shapely.intersects(obstacles,
+                                                                              slot.shape)
+        obstacles[cut] = shapely.difference(obstacles[cut], slot.shape)
+        return ManeuverProblem(vehicle, slot, lane, frame, lane_y, lane_x, s0, half, allowed,
+                               obstacles, shapely.STRtree(obstacles), self.settings.sweep, win)
+
+    def head(self, vehicle: VehicleType, slot: Slot, lane: Lane
+             ) -> tuple[LocalFrame, float, tuple[float, float], float, float]:
+        """A problem's frame, lane line (``lane_y``, NaN on a bend), the stretch of it a
+        maneuver may begin on (``lane_x``), the lane station at x = 0 and the window's
+        half size."""
+        mid = slot.entry.mean(axis=0)
+        s_mid, _ = lane.project((float(mid[0]), float(mid[1])))
+        i, _ = lane.locate(s_mid)
+        seg = lane.segments[i]
+        heading = lane.pose_at(s_mid)[2]
+        d = np.asarray(slot.center) - mid
+        left = math.cos(heading) * d[1] - math.sin(heading) * d[0] > 0
+        frame = LocalFrame(float(mid[0]), float(mid[1]), heading, left)
+        if seg.curvature != 0.0 or seg.sharpness != 0.0:
+            lane_y, lane_x, s0 = math.nan, (0.0, 0.0), 0.0
+        else:
+            a = frame.poses_to_local(np.array(seg.start))[0]
+            lane_y = float(a[1])
+            lo = float(a[0])
+            s0 = float(lane.starts[i]) - lo
+        half = 2 * vehicle.min_turning_radius + vehicle.length + 1.0
+        if kind_of(slot).parks_along and math.isfinite(lane_y):
+            # a parallel slot is left at a shallow heading (about 25°), so the closing
+            # straight onto a lane lane_y away reaches some 2 lane_y along it: the window
+            # must hold the car at its end (a fixed window refused roomy aisles)
+            half += 2.0 * abs(lane_y)
+        if math.isfinite(lane_y):
+            whole = (0.0, lane.length)
+            spans = ((whole,) if self.lane_ranges is None
+                     else self.lane_ranges.get(lane.id, ((math.inf, -math.inf),)))
+            if spans and not isinstance(spans[0], tuple):
+                spans = (spans,)  # one (first, last)
+            # the range nearest the slot (the first of those it lies in)
+            first, last = min(spans, key=lambda r: max(r[0] - s_mid, s_mid - r[1], 0.0))
+            lane_x = (max(lo, -half, first - s0), min(lo + seg.length, half, last - s0))
+        return frame, lane_y, lane_x, s0, half
+
+    def window(self, slot: Slot, frame: LocalFrame, half: float) -> Polygon:
+        """The square the search may use, cut at the far side of the aisle less the margin."""
+        h = half
+        aisle = self.lot.aisles[slot.aisle]
+        mid = shapely.Point(slot.entry.mean(axis=0))
+        on_line = aisle.line.interpolate(aisle.line.project(mid))
+        centre_y = float(frame.points_to_local(np.array([on_line.x, on_line.y]))[1])
+        top = min(h, centre_y + aisle.width / 2 - self.margin)
+        corners = np.array([[-h, -h, 0], [h, -h, 0], [h, top, 0], [-h, top, 0]], dtype=float)
+        return Polygon(frame.poses_to_world(corners)[:, :2])
+
+    def digest(self, p: ManeuverProblem) -> bytes:
+        """The car, the slot, the rounded local geometry within the window and where the
+        lane's start grid falls."""
+        # only what reaches the window's edge is cut (the rest would come out as the same
+        # shape, and the key is of normalised shapes)
+        clipped = p.obstacles.copy()
+        cross = ~shapely.contains_properly(p.window, clipped)
+        clipped[cross] = shapely.intersection(clipped[cross], p.window)
+        clipped = np.concatenate([[p.allowed], clipped])
+        local = local_geometry(clipped, [p.frame], np.zeros(len(clipped), dtype=np.int64))
+        return self._hashed(p.vehicle, p.slot, p.frame, p.lane_y, p.lane_x, p.lane_s0,
+                            p.half, local)
+
+    def digests(self, triples: Sequence[tuple[VehicleType, Slot, Lane]]
+                ) -> list[tuple[bytes, LocalFrame, float]]:
+        """:meth:`digest` of each triple's problem, with its frame and lane station at
+        x = 0: posed and keyed together, each step one shapely or numpy call over all of
+        them (the same operations on the same shapes as :meth:`pose` and
+        :meth:`digest` make one problem at a time, so the same digests), without the
+        rest of a problem (its obstacle tree), which only a search needs."""
+        heads = [self.head(*t) for t in triples]
+        n = len(triples)
+        wins = np.array([self.window(slot, h[0], h[4]) for (_, slot, _), h
+                         in zip(triples, heads, strict=True)], dtype=object)
+        shapely.prepare(wins)
+        shapes = np.array([slot.shape for _, slot, _ in triples], dtype=object)
+        allowed = shapely.intersection(shapely.union(self._region, shapes), wins)
+        # each problem's neighbours (all but its own slot) as (problem, polygon) pairs
+        k, j = self._tree.query(wins)
+        mine = np.array([self._index[slot.id] for _, slot, _ in triples], dtype=np.int64)
+        k, j = k[j != mine[k]], j[j != mine[k]]
+        obstacles = self._polys[j]
+        cut = ~shapely.contains_properly(wins[k], obstacles) | shapely.intersects(obstacles,
+                                                                                  shapes[k])
+        obstacles[cut] = shapely.difference(obstacles[cut], shapes[k[cut]])
+        cross = ~shapely.contains_properly(wins[k], obstacles)
+        obstacles[cross] = shapely.intersection(obstacles[cross], wins[k[cross]])
+        owner = np.concatenate([np.arange(n), k])
+        local = local_geometry(np.concatenate([allowed, obstacles]), [h[0] for h in heads],
+                               owner)
+        per: list[list[bytes]] = [[] for _ in range(n)]
+        for g, o in zip(local, owner.tolist(), strict=True):
+            per[o].append(g)
+        return [(self._hashed(v, slot, *h, mine_local), h[0], h[3])
+                for (v, slot, _), h, mine_local in zip(triples, heads, per, strict=True)]
+
+    def _hashed(self, v: VehicleType, slot: Slot, frame: LocalFrame, lane_y: float,
+                lane_x: tuple[float, float], s0: float, half: float, local: list[bytes]
+                ) -> bytes:
+        """The digest of a problem from its head and its local geometry (:func:`local_geometry`,
+        in any order)."""
+        slot_local = np.round(frame.points_to_local(slot.polygon), 2)
+        # where the lane's start grid falls: a closing move runs on along the lane to a
+        # grid station, so slots alike but for it do not start on the same offsets
+        grid = self.settings.start_grid
+        phase = round(s0 % grid, 6) % grid if grid > 0 else 0.0
+        head = (v.name, v.width, v.front, v.rear, v.wheelbase, v.max_steer, slot.kind,
+                round(lane_y, 3) if math.isfinite(lane_y) else None,
+                tuple(np.round(lane_x, 2)), round(half, 3), phase)
+        h = hashlib.blake2b(repr(head).encode(), digest_size=20)
+        h.update(np.sort(slot_local.reshape(-1, 2), axis=0).tobytes())
+        for g in sorted(local):
+            h.update(g)
+        return h.digest()
+
+
+def local_geometry(geoms: np.ndarray, frames: Sequence[LocalFrame], owner: np.ndarray
+                   ) -> list[bytes]:
+    """Rounded (1 cm), normalised WKB of each of ``geoms`` in its frame, ``frames[owner[i]]``
+    for ``geoms[i]`` (the sums of :meth:`LocalFrame.points_to_local`, so the same floats)."""
+    xy, at = shapely.get_coordinates(geoms, return_index=True)
+    of = owner[at]
+    ox, oy = np.array([f.x for f in frames])[of], np.array([f.y for f in frames])[of]
+    c = np.array([math.cos(f.heading) for f in frames])[of]
+    s = np.array([math.sin(f.heading) for f in frames])[of]
+    sy = np.array([-1.0 if f.mirror else 1.0 for f in frames])[of]
+    dx, dy = xy[:, 0] - ox, xy[:, 1] - oy
+    local = shapely.set_coordinates(geoms.copy(), np.stack(
+        [c * dx + s * dy, sy * (-s * dx + c * dy)], axis=-1))
+    # pointwise: a cache key needs rounded coordinates, not a valid polygon (a neighbour's
+    # thin margin strip, moved into the local frame, may self-touch, and GEOS's default
+    # mode then throws a TopologyException)
+    local = shapely.normalize(shapely.set_precision(local, 0.01, mode="pointwise"))
+    return list(shapely.to_wkb(local))
+
+
+def exact_key(p: ManeuverProblem, style: str) -> bytes:
+    """Everything a search of ``p`` in ``style`` reads, floats to the last bit: the car, the
+    slot, the frame, the lane, the window, the allowed region and the set of obstacles. Problems
+    with equal keys, from any lot, are searched alike and have the same answer (for the
+    same settings and lotsim). :meth:`ManeuverPlanner.key` rounds to 1 cm instead: it
+    finds the problems of one lot that may share an answer."""
+    h = hashlib.blake2b(digest_size=20)
+    h.update(repr((p.vehicle, p.slot.kind, p.slot.length, p.slot.width, p.frame, p.lane_y,
+                   p.lane_x, p.lane_s0, p.half, p.sweep, style)).encode())
+    h.update(np.asarray(p.slot.polygon, dtype=float).tobytes())
+    for wkb in shapely.to_wkb([p.slot.shape, p.allowed, p.window]):
+        h.update(wkb)
+    # the obstacles as a set: a search only asks whether a body meets any (their order is
+    # the lot's tree's, which an edit elsewhere in the lot changes)
+    for wkb in sorted(shapely.to_wkb(p.obstacles)):
+        h.update(wkb)
+    return h.digest()
