@@ -17,6 +17,7 @@ import shapely
 from lotsim.core.geometry import Segment, sample_segments, wrap_angle
 from lotsim.core.workers import fork_map
 from lotsim.lot.build import lane_collider
+from lotsim.lot.kinds import kind_of
 from lotsim.lot.model import DesignVehicle, Lane, Lot, Slot
 from lotsim.roadmap.junction_multipoints import junction_multipoints
 from lotsim.roadmap.junctions import turns_of
@@ -295,7 +296,7 @@ def _add_placeholder(g: nx.DiGraph, lot: Lot, a: int, node: int, slot: Slot) -> 
     ax, ay, _ = g.nodes[a]["pose"]
     cx, cy = slot.center
     reach = math.hypot(cx - ax, cy - ay)
-    gear = 1 if slot.kind == "angled" else -1
+    gear = kind_of(slot).entry_gear
     for u, v, kind in ((a, node, "park"), (node, a, "leave")):
         g.add_edge(u, v, kind=kind, length=reach, gear=gear if kind == "park" else -gear,
                    path=None, speed_limit=lot.speed_limit, placeholder=True,

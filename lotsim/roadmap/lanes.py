@@ -11,6 +11,7 @@ import shapely
 
 from lotsim.core.geometry import Segment, wrap_angle
 from lotsim.errors import ScenarioError
+from lotsim.lot.kinds import kind_of
 from lotsim.lot.model import Lane, Lot, Portal, Slot, unit
 
 EPS = 1e-6
@@ -44,11 +45,9 @@ def two_way_lanes(lot: Lot) -> list[tuple[Lane, Lane]]:
 
 
 def lane_serves(lane: Lane, station: float, slot: Slot) -> bool:
-    """Whether a car on ``lane`` can begin this slot's maneuver: by kind and direction."""
-    if slot.kind == "perpendicular":
-        return True
-    heading = lane.pose_at(station)[2]
-    return float(np.dot(unit(heading), unit(slot.heading))) > 1e-9
+    """Whether a car on ``lane`` can begin this slot's maneuver: its kind decides by the
+    lane's direction there (:meth:`~lotsim.lot.kinds.SlotKind.serves`)."""
+    return kind_of(slot).serves(slot, lane.pose_at(station)[2])
 
 
 PORTAL_HEADING_TOLERANCE = math.radians(15)

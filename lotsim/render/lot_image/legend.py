@@ -9,6 +9,7 @@ from dataclasses import dataclass
 import numpy as np
 from PIL import Image, ImageDraw
 
+from lotsim.lot.kinds import KINDS
 from lotsim.render.lot_image.canvas import (
     LotCanvas,
     _flat,
@@ -156,7 +157,7 @@ def _swatch_multipoint(img: Image.Image, box: tuple[int, int, int, int]) -> None
 def _legend_entries(lot_graph, lot, show_graph: bool) -> list[_Entry]:
     out = [_Entry("aisle, lane direction", _swatch_arrow)]
     kinds = {s.kind for s in lot.slots}
-    for kind in ("perpendicular", "parallel", "angled"):
+    for kind in KINDS:
         if kind in kinds:
             out.append(_Entry(f"{kind} slot", _swatch_slot(SLOT_LINE[kind])))
     if lot.occupied:
