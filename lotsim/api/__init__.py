@@ -72,14 +72,15 @@ EXPORTS: dict[str, tuple[str, ...]] = {
 }
 """Module → the public names :mod:`lotsim.api` offers from it."""
 
-_WHERE = {name: module for module, names in EXPORTS.items() for name in names}
-__all__ = sorted(_WHERE)
+EXPORTS_BY_NAME = {name: module for module, names in EXPORTS.items() for name in names}
+"""Public name → the module that defines it."""
+__all__ = sorted(EXPORTS_BY_NAME)
 
 
 def __getattr__(name: str) -> Any:
     # looked up anew each time (a module attribute read, once imported), so that the name
     # is always what its module holds now
-    module = _WHERE.get(name)
+    module = EXPORTS_BY_NAME.get(name)
     if module is None:
         raise AttributeError(f"module 'lotsim.api' has no attribute {name!r}")
     return getattr(importlib.import_module(module), name)
