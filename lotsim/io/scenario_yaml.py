@@ -84,18 +84,10 @@ def read_scenario(source: str | os.PathLike) -> ScenarioFile:
 
 
 def load_scenario(path_or_text: str | os.PathLike) -> Scenario:
-    """Read and validate a scenario: the lot, its vehicle types and traffic.
-
-    Parameters
-    ----------
-    path_or_text : str or path-like
-        A scenario file (``docs/scenario.md``), or its YAML text: a ``str`` holding a line
-        break is read as text, and errors then name the file ``<scenario>``.
-
-    Returns
-    -------
-    Scenario
-        Frozen; the file's ``animation`` section is not part of it (:func:`load_animation`).
+    """Read and validate a scenario: the lot, its vehicle types and traffic, frozen; the
+    file's ``animation`` section is not part of it (:func:`load_animation`).
+    ``path_or_text`` is a scenario file (``docs/scenario.md``), or its YAML text: a ``str``
+    holding a line break is read as text, and errors then name the file ``<scenario>``.
 
     Raises
     ------
