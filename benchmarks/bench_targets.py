@@ -58,7 +58,7 @@ from lotsim.bench.runner import run_spec  # noqa: E402
 from lotsim.bench.suite import PlannerVariant, RunSpec, SuiteScenario, load_suite  # noqa: E402
 from lotsim.io.scenario_yaml import load_scenario  # noqa: E402
 from lotsim.sim.preparation import prepare  # noqa: E402
-from lotsim.verify import check_result, load_result  # noqa: E402
+from lotsim.verify import check_result, read_result  # noqa: E402
 from oracles.reference_footprints import reference_footprints, report_findings  # noqa: E402
 
 LARGE = ROOT / "scenarios" / "large_lot.yaml"
@@ -152,7 +152,7 @@ def plan_big(planner: str, keep: str, small: bool = False) -> None:
 def check_rows(path: Path, ref_cars: int) -> None:
     wall, peak, code, out = child(sys.executable, "-m", "lotsim", "check", str(path))
     verdict = out.strip().splitlines()[0].split(": ", 1)[-1][:60] if out.strip() else "?"
-    doc = load_result(path)
+    doc = read_result(path)
     full = check_result(doc, max_violations=0).stats
     part = dict(doc, vehicles=doc["vehicles"][:ref_cars])
     t = time.perf_counter()

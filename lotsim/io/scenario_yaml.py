@@ -83,16 +83,49 @@ def read_scenario(source: str | os.PathLike) -> ScenarioFile:
     return parse_scenario_file(read_yaml(source, expect="scenario"))
 
 
-def load_scenario(path: str | os.PathLike) -> Scenario:
-    """Read and validate a scenario file (or text, as :func:`read_scenario`): the problem
-    alone, without its ``animation`` section.
+def load_scenario(path_or_text: str | os.PathLike) -> Scenario:
+    """Read and validate a scenario: the lot, its vehicle types and traffic, frozen; the
+    file's ``animation`` section is not part of it (:func:`load_animation`).
+    ``path_or_text`` is a scenario file (``docs/scenario.md``), or its YAML text: a ``str``
+    holding a line break is read as text, and errors then name the file ``<scenario>``.
 
     Raises
     ------
     ScenarioError
-        On the first problem, located as ``file:line:col: key.path: ...``.
+        On the first problem, as ``file:line:col: key: what was expected``.
+
+    Examples
+    --------
+    >>> from lotsim.api import EXAMPLE
+    >>> sc = load_scenario(EXAMPLE)
+    >>> sc.name, [v.name for v in sc.vehicle_types], len(sc.traffic.vehicles)
+    ('example', ['valet'], 3)
+    >>> load_scenario(EXAMPLE.replace("width: 7.0", "width: wide"))  # doctest: +ELLIPSIS
+    Traceback (most recent call last):
+    ...
+    lotsim.errors.ScenarioError: <scenario>:7:58: lot.aisles[0].width: expected a number, ...
     """
-    return read_scenario(path).scenario
+    return read_scenario(path_or_text).scenario
+
+
+def load_animation(path_or_text: str | os.PathLike) -> AnimationSpec | None:
+    """A scenario file's ``animation`` section: how ``lotsim run`` draws the run's GIF
+    (None when it has none). Give it to :func:`lotsim.render_gif` as its settings.
+
+    Raises
+    ------
+    ScenarioError
+        On the first problem in the file (the whole scenario is checked).
+
+    Examples
+    --------
+    >>> from lotsim.api import EXAMPLE
+    >>> load_animation(EXAMPLE + "animation: {speed: 2}\\n").gif_settings().speed
+    2.0
+    >>> load_animation(EXAMPLE) is None
+    True
+    """
+    return read_scenario(path_or_text).animation
 
 
 def load_vehicle(path: str | Path) -> VehicleType:

@@ -9,7 +9,7 @@ from consecutive samples. A bug in the planners can therefore not hide itself by
 repeated here.
 
 The package holds the checker in the order it works: :mod:`~lotsim.verify.tolerances` (the
-format and the constants below), :mod:`~lotsim.verify.reading` (:func:`load_result` and the
+format and the constants below), :mod:`~lotsim.verify.reading` (:func:`read_result` and the
 ``structure`` rule), :mod:`~lotsim.verify.motion` (the rules on one vehicle's samples),
 :mod:`~lotsim.verify.footprints` (the rules on footprints over the common instants),
 :mod:`~lotsim.verify.final` (how each vehicle ends, the metrics),
@@ -135,7 +135,7 @@ from __future__ import annotations
 
 from lotsim.errors import ResultFormatError  # an error type only: no code is shared
 from lotsim.verify.checker import check_result
-from lotsim.verify.reading import load_result
+from lotsim.verify.reading import read_result
 from lotsim.verify.report import CheckReport, Violation
 from lotsim.verify.tolerances import (
     ACCEL_TOL,
@@ -237,5 +237,5 @@ __all__ = [
     "V_ROUND",
     "Violation",
     "check_result",
-    "load_result",
+    "read_result",
 ]

@@ -1,4 +1,4 @@
-"""Reading a result: :func:`load_result`, and the lot and vehicles parsed from it with the
+"""Reading a result: :func:`read_result`, and the lot and vehicles parsed from it with the
 ``structure`` rule (a vehicle whose structure is broken is left out of the later rules)."""
 
 from __future__ import annotations
@@ -32,7 +32,7 @@ from lotsim.verify.tolerances import (
 )
 
 
-def load_result(path: str | os.PathLike[str], *, packed: bool = False) -> dict:
+def read_result(path: str | os.PathLike[str], *, packed: bool = False) -> dict:
     """Read a ``result.json``.
 
     Parameters
@@ -60,7 +60,7 @@ def load_result(path: str | os.PathLike[str], *, packed: bool = False) -> dict:
 
     Examples
     --------
-    >>> load_result("/no/result.json")
+    >>> read_result("/no/result.json")
     Traceback (most recent call last):
     ...
     lotsim.errors.ResultFormatError: /no/result.json: cannot read it (No such file or directory)
@@ -329,7 +329,7 @@ def _samples(raw: Any, problems: list[str]) -> dict[str, np.ndarray] | None:
     for key in SAMPLE_KEYS:
         col = raw.get(key)
         if isinstance(col, np.ndarray) and col.ndim == 1 and col.dtype == float:
-            arr = col  # read packed (:func:`load_result`)
+            arr = col  # read packed (:func:`read_result`)
         elif not isinstance(col, list):
             problems.append(f"samples.{key}: expected a list of numbers, found {_kind(col)}")
             continue

@@ -1,5 +1,5 @@
 """Every bad input is a ScenarioError at the right line and column (as ``lotsim.validate``
-raises it; the command line prints it as one line and exits 2: tests/test_cli.py)."""
+raises it; the command line prints it as one line and exits 2: tests/unit/cli/test_commands.py)."""
 
 import textwrap
 from pathlib import Path

@@ -45,7 +45,7 @@ from hand_built import (
     vehicle,
 )
 
-from lotsim.verify import CheckReport, ResultFormatError, check_result, load_result
+from lotsim.verify import CheckReport, ResultFormatError, check_result, read_result
 from lotsim.verify.footprints import _Items, _rects_overlap
 
 
@@ -103,14 +103,14 @@ def test_the_fixture_is_tight(result):
 def test_json_round_trip(result, tmp_path):
     path = tmp_path / "result.json"
     path.write_text(json.dumps(result))
-    assert check_result(load_result(path)).ok
+    assert check_result(read_result(path)).ok
 
 
 @pytest.mark.parametrize("damage", ["none", "nan", "unequal", "not-increasing",
                                     "missing-key", "gear-value", "string-number", "boolean",
                                     "nested", "empty", "object", "integers"])
 def test_a_result_read_packed_checks_as_one_read_as_lists(result, tmp_path, damage):
-    """``load_result(packed=True)`` makes each sample column a float array as it reads the
+    """``read_result(packed=True)`` makes each sample column a float array as it reads the
     file (what the checker and a replay read them as): the same values as the lists, the
     same report, whatever is wrong with a column (what is not a list of numbers stays as
     read)."""
@@ -140,7 +140,7 @@ def test_a_result_read_packed_checks_as_one_read_as_lists(result, tmp_path, dama
         v1["gear"] = [int(g) for g in v1["gear"]]
     path = tmp_path / "result.json"
     path.write_text(json.dumps(result))
-    plain, packed = load_result(path), load_result(path, packed=True)
+    plain, packed = read_result(path), read_result(path, packed=True)
     arrays = 0
     for a, b in zip(plain["vehicles"], packed["vehicles"], strict=True):
         for key, col in a["samples"].items():
@@ -450,9 +450,9 @@ def test_load_result_rejects_what_is_not_json(tmp_path):
     path = tmp_path / "result.json"
     path.write_text('{"format": "lotsim-result",')
     with pytest.raises(ResultFormatError, match="not JSON"):
-        load_result(path)
+        read_result(path)
     with pytest.raises(ResultFormatError, match="cannot read"):
-        load_result(tmp_path / "missing.json")
+        read_result(tmp_path / "missing.json")
 
 
 @pytest.mark.parametrize(("content", "match"), [
@@ -467,7 +467,7 @@ def test_load_result_rejects_json_that_is_not_a_result(tmp_path, content, match)
     path = tmp_path / "result.json"
     path.write_text(json.dumps(content))
     with pytest.raises(ResultFormatError, match=match):
-        load_result(path)
+        read_result(path)
     assert rules(check_result(content)) == {"structure"}
 
 

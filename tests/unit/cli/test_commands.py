@@ -196,9 +196,9 @@ def test_every_picture_takes_the_same_sizes(tmp_path, capsys):
 
 def test_each_command_s_help_says_what_it_does_its_arguments_and_exit_codes(capsys):
     # commands had no description, positionals no help, exit codes appeared nowhere
-    from lotsim.cli import _parser
+    from lotsim.cli.parser import build_parser
 
-    parser = _parser()
+    parser = build_parser()
     commands = parser.commands
     assert set(commands) == {"cars", "validate", "minslot", "maneuver", "run", "render",
                              "check", "show", "bench", "export"}

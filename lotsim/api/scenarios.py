@@ -1,0 +1,146 @@
+"""Scenarios in, prepared lots out: the example scenario, preparing a scenario's lot
+(:func:`prepare`, or only for a picture: :func:`prepare_for_drawing`) and what ``lotsim
+validate`` reports (:func:`validate`). Reading a scenario is :mod:`lotsim.io.scenario_yaml`'s
+(``load_scenario``, ``load_animation``, ``read_scenario``), offered by :mod:`lotsim.api`."""
+
+from __future__ import annotations
+
+import os
+
+from lotsim.errors import SettingsError
+from lotsim.io.scenario_yaml import load_scenario
+from lotsim.scenario import Scenario
+from lotsim.sim import preparation
+from lotsim.sim.preparation import PreparedLot
+from lotsim.sim.validation import ValidationReport, validate_prepared
+
+ScenarioLike = Scenario | str | os.PathLike
+"""A :class:`~lotsim.scenario.Scenario`, a path to its file, or its YAML text."""
+
+EXAMPLE = """\
+name: example
+description: One one-way aisle, 2 x 4 perpendicular slots, two taken; three cars, one leaves.
+seed: 1
+lot:
+  boundary: [[0, 0], [32, 0], [32, 20], [0, 20]]
+  aisles:
+    - {id: main, centerline: [[0, 10], [32, 10]], width: 7.0, direction: one-way}
+  rows:
+    - {aisle: main, side: left, kind: perpendicular, count: 4, slot_width: 2.5,
+       slot_length: 5.0, start: 8.0, id_prefix: N}
+    - {aisle: main, side: right, kind: perpendicular, count: 4, slot_width: 2.5,
+       slot_length: 5.0, start: 8.0, id_prefix: S}
+  entrances: [{id: in, x: 3.0, y: 10.0, heading_deg: 0}]
+  exits: [{id: out, x: 24.0, y: 10.0, heading_deg: 0}]
+  occupied: [N2, S3]
+traffic:
+  vehicles:
+    - {id: ada, arrival: 0}
+    - {id: bob, arrival: 3, dwell: 20}
+    - {id: cy, arrival: 6}
+"""
+"""A small scenario's YAML text, for examples and first steps: it prepares and runs in
+about a second."""
+
+
+def scenario_of(scenario: ScenarioLike | PreparedLot) -> Scenario:
+    """The :class:`Scenario` of what a caller gave: a prepared lot's, the scenario itself,
+    or one read from a path or YAML text."""
+    if isinstance(scenario, PreparedLot):
+        return scenario.scenario
+    if isinstance(scenario, Scenario):
+        return scenario
+    if isinstance(scenario, (str, os.PathLike)):
+        return load_scenario(scenario)
+    raise SettingsError("scenario", f"expected a Scenario, a PreparedLot, a path or YAML "
+                                    f"text, found {type(scenario).__name__}")
+
+
+def source_of(scenario: ScenarioLike | PreparedLot) -> str:
+    """How a scenario was named, for messages: its path as given, else its source."""
+    if isinstance(scenario, os.PathLike) or (isinstance(scenario, str) and "\n" not in scenario):
+        return os.fspath(scenario)
+    return scenario_of(scenario).source
+
+
+def prepare(scenario: ScenarioLike, *, cache: bool = True, progress=None) -> PreparedLot:
+    """Build the scenario's lot for its vehicle types, plan every slot's maneuvers and the
+    drivable graph through them, once, for any number of runs.
+
+    Parameters
+    ----------
+    scenario : Scenario, path or YAML text
+    cache : bool, keyword-only
+        Load a lot prepared before (same lot, vehicle types and lotsim) from the on-disk
+        cache (``LOTSIM_CACHE_DIR``; ``off`` turns it off) and store a new one there.
+    progress : callable, optional, keyword-only
+        Called as ``progress(done, total)`` as the maneuvers' distinct problems are searched
+        (the longest part of preparing a large lot; not called for a lot from the cache).
+
+    Returns
+    -------
+    PreparedLot
+        Frozen: the scenario and its ``lot_graph``; hand it to :func:`run`.
+
+    Raises
+    ------
+    ScenarioError
+        When the layout does not hold together (overlaps, narrow aisles, ...).
+
+    Examples
+    --------
+    >>> prepared = prepare(EXAMPLE)
+    >>> len(prepared.lot.free_slots), prepared.infeasible
+    (6, {'valet': {}})
+    """
+    sc = scenario_of(scenario)
+    return preparation.prepare_lot(sc, cache=cache, progress=progress)
+
+
+def validate(scenario: ScenarioLike | PreparedLot, *, progress=None) -> ValidationReport:
+    """What ``lotsim validate`` checks and prints, as data: the scenario is read, its lot
+    prepared, its traffic checked as :func:`run` checks it. ``progress`` is passed to
+    :func:`prepare`.
+
+    Returns
+    -------
+    ValidationReport
+        ``.summary()`` is the text ``lotsim validate`` prints; ``.complete`` is what
+        ``--strict`` requires (every free slot and exit reachable, every slot usable by
+        every type); ``.reachability``, ``.infeasible`` and ``.warnings`` hold the details;
+        ``.prepared`` is ready for :func:`run`.
+
+    Raises
+    ------
+    ScenarioError
+        For anything ``lotsim validate`` reports as an error (exit 2).
+
+    Examples
+    --------
+    >>> report = validate(EXAMPLE)
+    >>> report.complete, report.warnings
+    (True, [])
+    >>> print(report.summary().splitlines()[1])
+      slots: 8 (perpendicular 8, parallel 0, angled 0); free 6, taken 2
+    """
+    prepared = (scenario if isinstance(scenario, PreparedLot)
+                else prepare(scenario, progress=progress))
+    return validate_prepared(prepared, source_of(scenario))
+
+
+def prepare_for_drawing(scenario: ScenarioLike | PreparedLot, *, graph: bool = False
+                        ) -> PreparedLot:
+    """The scenario's lot ready to be drawn (``lotsim show``): with ``graph``, prepared as
+    :func:`prepare` does (every maneuver planned, from the cache when it can); without, the
+    lot alone with its slots on placeholder links (quick) — a picture's lot, not one to
+    :func:`run`. A :class:`PreparedLot` is returned as it is.
+
+    Examples
+    --------
+    >>> len(prepare_for_drawing(EXAMPLE).lot.slots)
+    8
+    """
+    if isinstance(scenario, PreparedLot):
+        return scenario
+    sc = scenario_of(scenario)
+    return PreparedLot(sc, preparation.prepare(sc, maneuvers=graph))

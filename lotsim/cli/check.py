@@ -1,0 +1,33 @@
+"""``lotsim check``: verify a result.json independently of the planner."""
+
+from __future__ import annotations
+
+import argparse
+
+from lotsim import api
+from lotsim.cli.output import EXIT_INCOMPLETE, EXIT_OK, bad
+from lotsim.errors import ResultFormatError
+
+HELP = "verify a result.json independently of the planner"
+EXITS = ("0 the result holds every rule; 1 violations (the first are listed); 2 the file is "
+         "not a lotsim result")
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("result", metavar="RESULT_JSON", help="a result.json of lotsim run")
+    parser.add_argument("--max", type=int, default=20, help="violations to list (20)")
+
+
+def execute(args: argparse.Namespace) -> int:
+    try:
+        report = api.check(args.result, max_violations=args.max)
+    except ResultFormatError as exc:
+        return bad(str(exc))
+    st = report.stats
+    if report.ok:
+        print(f"{args.result}: ok ({', '.join(f'{k} {v}' for k, v in st.items())})")
+        return EXIT_OK
+    print(f"{args.result}: {st.get('violations', len(report.violations))} violation(s)")
+    for vi in report.violations:
+        print(f"  {vi.rule}: {vi.message}")
+    return EXIT_INCOMPLETE

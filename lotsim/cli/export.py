@@ -1,0 +1,50 @@
+"""``lotsim export``: a result.json in other tools' formats (``docs/export.md``)."""
+
+from __future__ import annotations
+
+import argparse
+import time
+
+from lotsim import api
+from lotsim.cli.output import EXIT_OK, bad
+from lotsim.errors import LotsimError, SettingsError
+
+HELP = "write a result.json as CommonRoad, SUMO or OpenSCENARIO files (docs/export.md)"
+EXITS = ("0 written; 2 bad input, a result that cannot be exported, or the format's "
+         "packages missing")
+
+FORMATS = ("commonroad", "sumo", "openscenario")
+"""The formats of ``lotsim export``, each an option and an ``api.export_<name>``."""
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("result", metavar="RESULT_JSON", help="a result.json of lotsim run")
+    parser.add_argument("--commonroad", metavar="DIR", help="CommonRoad scenarios and KS "
+                        "solutions, one per trip (pip install 'lotsim[commonroad]')")
+    parser.add_argument("--sumo", metavar="DIR", help="a SUMO network, a parking area per "
+                        "slot and a trip per car, with lot.sumocfg (pip install "
+                        "'lotsim[sumo]')")
+    parser.add_argument("--openscenario", metavar="DIR", help="OpenSCENARIO (a timed "
+                        "trajectory per car) on an OpenDRIVE lot with a parking space per "
+                        "slot (pip install 'lotsim[openscenario]')")
+
+
+def execute(args: argparse.Namespace) -> int:
+    asked = [(name, getattr(args, name)) for name in FORMATS if getattr(args, name)]
+    if not asked:
+        return bad(f"export: give at least one of "
+                   f"{', '.join(f'--{name} DIR' for name in FORMATS)}")
+    try:
+        doc = api.load_result(args.result)
+        for name, folder in asked:
+            start = time.perf_counter()
+            info = getattr(api, f"export_{name}")(doc, folder)
+            print(f"{name}: wrote {folder} ({info.bytes / 1e6:.1f} MB, "
+                  f"{time.perf_counter() - start:.1f} s)")
+    except SettingsError:
+        raise
+    except LotsimError as exc:
+        return bad(str(exc))
+    except OSError as exc:
+        return bad(f"{exc.filename or args.result}: {exc.strerror}")
+    return EXIT_OK

@@ -1,0 +1,69 @@
+"""What every command shares: exit codes, one-line errors on stderr, the words of the
+one-screen summary, and the checks of sizes and output file names given as options."""
+
+from __future__ import annotations
+
+import os
+import sys
+from pathlib import Path
+
+from lotsim import api
+
+EXIT_OK, EXIT_INCOMPLETE, EXIT_BAD_INPUT = 0, 1, 2
+EXIT_INTERRUPTED = 130
+"""Ctrl-C: 128 + SIGINT, as a shell reports it."""
+
+OPTIONS = {"assignment": "--assign", "start": "--from", "end": "--to",
+           "max_violations": "--max", "path": "-o"}
+"""Setting (:mod:`lotsim.sim.settings`, :mod:`lotsim.api` keyword) → the option that sets it,
+where the two are not named alike."""
+
+
+def option(name: str) -> str:
+    """The option that sets the setting ``name``: ``window`` → ``--window``."""
+    return OPTIONS.get(name, "--" + name.replace("_", "-"))
+
+
+def bad(message: str) -> int:
+    """Say what is wrong on stderr, as ``lotsim: message``; the exit code of bad input."""
+    print(f"lotsim: {message}", file=sys.stderr)
+    return EXIT_BAD_INPUT
+
+
+def cannot_write(path: str | os.PathLike, exc: OSError) -> int:
+    """``lotsim: PATH: cannot write: why``; the exit code of bad input."""
+    return bad(f"{path}: cannot write: {exc.strerror or exc}")
+
+
+def plural(count: int, one: str, many: str | None = None) -> str:
+    """``1 search``, ``3 searches``."""
+    return f"{count} {one if count == 1 else many or one + 's'}"
+
+
+def sizes() -> str:
+    """The picture sizes every ``--size`` accepts, for the options' help."""
+    return f"{api.MIN_SIZE[0]}x{api.MIN_SIZE[1]} to {api.MAX_SIZE[0]}x{api.MAX_SIZE[1]}"
+
+
+def parse_size(text: str) -> tuple[int, int] | str:
+    """``--size WxH`` as ``(w, h)`` pixels, or what is wrong with it (the same limits for
+    every picture: :func:`lotsim.scenario.size_problem`)."""
+    try:
+        w, h = (int(v) for v in text.lower().split("x"))
+    except ValueError:
+        return f"--size: expected WxH in pixels, such as 800x600, found {text!r}"
+    problem = api.size_problem((w, h))
+    return f"--size: {problem}" if problem else (w, h)
+
+
+def output_problem(opt: str, path: str, suffix: str, made: Path | None = None) -> str | None:
+    """What is wrong with an output file named by option ``opt`` (None if nothing); its
+    folder must exist, unless it is ``made`` (the run's output folder, made by the run)."""
+    p = Path(path)
+    if p.suffix.lower() != suffix:
+        return f"{opt}: expected a file name ending in {suffix}, found {path!r}"
+    if made is not None and os.path.abspath(p.parent) == os.path.abspath(made):
+        return None
+    if not p.parent.is_dir():
+        return f"{opt}: folder {str(p.parent)!r} does not exist"
+    return None

@@ -1,0 +1,138 @@
+"""``lotsim render``: draw a result.json as an animated GIF, an interactive HTML replay, an
+MP4 video and/or a timeline plot."""
+
+from __future__ import annotations
+
+import argparse
+import os
+import sys
+
+from lotsim import api
+from lotsim.cli.output import (
+    EXIT_INTERRUPTED,
+    EXIT_OK,
+    bad,
+    cannot_write,
+    option,
+    output_problem,
+    parse_size,
+    sizes,
+)
+from lotsim.cli.pictures import write_gif, write_html, write_mp4
+from lotsim.errors import ReplayError, ResultFormatError, SettingsError
+
+HELP = ("draw a result.json: animated GIF, interactive HTML replay, MP4 video, timeline "
+        "plot")
+EXITS = "0 written; 2 bad input, or a result that cannot be drawn"
+
+
+def add_arguments(rd: argparse.ArgumentParser) -> None:
+    rd.add_argument("result", metavar="RESULT_JSON", help="a result.json of lotsim run")
+    rd.add_argument("--gif", metavar="GIF", help="animated GIF to write")
+    rd.add_argument("--html", metavar="HTML", help="interactive replay to write: one "
+                    "self-contained HTML file that opens from disk in a browser")
+    rd.add_argument("--mp4", metavar="MP4", help="the GIF's frames as an H.264 video (needs "
+                    "pip install 'lotsim[video]'; even --size)")
+    rd.add_argument("--timeline", metavar="PNG", help="timeline plot to write (matplotlib)")
+    gs = api.GifSettings()
+    rd.add_argument("--fps", type=float, default=gs.fps,
+                    help=f"GIF frames per second ({gs.fps:g})")
+    rd.add_argument("--speed", type=float, default=gs.speed,
+                    help=f"run seconds per GIF second ({gs.speed:g})")
+    size = "x".join(map(str, gs.size))
+    rd.add_argument("--size", default=size, help=f"GIF size WxH in pixels, {sizes()} ({size})")
+    rd.add_argument("--from", dest="start", type=float, help="first run time shown [s] "
+                    "(default the first arrival)")
+    rd.add_argument("--to", dest="end", type=float, help="last run time shown [s] "
+                    "(default the last event)")
+    rd.add_argument("--max-frames", type=int, default=gs.max_frames,
+                    help=f"at most this many frames; a longer span plays faster "
+                    f"({gs.max_frames})")
+    rd.add_argument("--trail", type=float, default=gs.trail,
+                    help=f"seconds of path drawn behind a moving car ({gs.trail:g})")
+    rd.add_argument("--skip-quiet", action="store_true", help="GIF and MP4: leave out "
+                    "stretches in which no car moves (the frame says how long was skipped)")
+    rd.add_argument("--no-legend", dest="legend", action="store_false", help="GIF and MP4: "
+                    "no key of the cars' colours in the footer")
+
+
+def execute(args: argparse.Namespace) -> int:
+    if not (args.gif or args.html or args.mp4 or args.timeline):
+        return bad("render: nothing to do: give --gif GIF, --html HTML, --mp4 MP4 and/or "
+                   "--timeline PNG")
+    size = parse_size(args.size)
+    if isinstance(size, str):
+        return bad(size)
+    try:
+        settings = api.GifSettings(fps=args.fps, speed=args.speed, size=size,
+                                   start=args.start, end=args.end, max_frames=args.max_frames,
+                                   trail=args.trail, skip_quiet=args.skip_quiet,
+                                   legend=args.legend)
+    except SettingsError as exc:
+        return bad(f"{option(exc.name)}: {exc.message}")
+    problem = _outputs_problem(args, size)
+    if problem:
+        return bad(problem)
+    try:
+        doc = api.load_result(args.result, packed=True)
+    except ResultFormatError as exc:
+        return bad(str(exc))
+    if not isinstance(doc.get("lot"), dict) or "drawing" not in doc["lot"]:
+        return bad(f"{args.result}: no lot.drawing: written by an older lotsim? run the "
+                   "scenario again")
+    done = []
+    for path, write, what in (
+            (args.gif, lambda p: write_gif(doc, p, settings), args.gif),
+            (args.html, lambda p: write_html(doc, p, None), args.html),
+            (args.mp4, lambda p: write_mp4(doc, p, settings), args.mp4),
+            (args.timeline, lambda p: _timeline(doc, p), "the timeline")):
+        if not path:
+            continue
+        try:
+            code = write(path)
+        except KeyboardInterrupt:
+            if done:
+                print(f"lotsim: interrupted; {', '.join(done)} written, {what} not",
+                      file=sys.stderr)
+                return EXIT_INTERRUPTED
+            raise
+        if code != EXIT_OK:
+            return code
+        done.append(path)
+    return EXIT_OK
+
+
+def _outputs_problem(args: argparse.Namespace, size: tuple[int, int]) -> str | None:
+    """What is wrong with the files to write (names, folders, one file named twice, a
+    video that cannot be made), before the result is read; None if nothing."""
+    outputs = (("--gif", args.gif, ".gif"), ("--html", args.html, ".html"),
+               ("--mp4", args.mp4, ".mp4"), ("--timeline", args.timeline, ".png"))
+    for opt, path, suffix in outputs:
+        problem = path and output_problem(opt, path, suffix)
+        if problem:
+            return problem
+    given = [path for _, path, _ in outputs if path]
+    if len({os.path.realpath(p) for p in given}) < len(given):
+        return "render: two outputs name the same file"
+    if args.mp4 and (size[0] % 2 or size[1] % 2):
+        return (f"--size: an H.264 video needs an even width and height, found "
+                f"{size[0]}x{size[1]}")
+    if args.mp4:
+        try:
+            api.require_ffmpeg()
+        except api.VideoUnavailable as exc:
+            return f"--mp4: {exc}"
+    return None
+
+
+def _timeline(doc: dict, path: str) -> int:
+    try:
+        api.plot_timeline(doc, path)
+    except ImportError:
+        return bad("--timeline needs matplotlib: pip install 'lotsim[plot]'")
+    except ReplayError as exc:
+        return bad(f"cannot draw this result: {exc}")
+    except OSError as exc:
+        return cannot_write(path, exc)
+    print(f"  wrote {path}")
+    return EXIT_OK

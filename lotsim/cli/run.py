@@ -1,0 +1,277 @@
+"""``lotsim run``: plan a scenario's traffic, write OUTDIR/result.json (and the pictures the
+scenario or the options ask for), and summarise the run on one screen."""
+
+from __future__ import annotations
+
+import argparse
+import math
+import sys
+from pathlib import Path
+
+from lotsim import api
+from lotsim.cli.output import (
+    EXIT_INCOMPLETE,
+    EXIT_INTERRUPTED,
+    EXIT_OK,
+    bad,
+    output_problem,
+    plural,
+)
+from lotsim.cli.pictures import write_gif, write_html, write_mp4
+from lotsim.cli.progress import Preparing, ProgressBar, noting_sigint
+
+HELP = "plan a scenario's traffic and write OUTDIR/result.json"
+EXITS = ("0 every car parked, left or was turned away; 1 a car is still waiting when the run "
+         "ends; 2 bad input, or a memory or time limit stopped the run (nothing written); "
+         "130 interrupted")
+MIN_MEMORY = 2**20
+"""The smallest ``--memory-limit`` taken [bytes]: less is a unit forgotten (``4`` for 4G)."""
+
+
+def add_arguments(r: argparse.ArgumentParser) -> None:
+    r.add_argument("scenario", metavar="SCENARIO", help="scenario YAML file with traffic")
+    r.add_argument("-o", "--output", metavar="OUTDIR",
+                   help="directory for result.json (default runs/<scenario name>)")
+    rs = api.RunSettings()  # defaults and choices: the library's, checked there too
+    r.add_argument("--planner", choices=api.PLANNERS, default=rs.planner,
+                   help=f"cooperative A* variant (default {rs.planner})")
+    r.add_argument("--assign", choices=api.ASSIGNMENTS, default=rs.assignment,
+                   help=f"slot choice: straight-line distance or travel time (default "
+                   f"{rs.assignment})")
+    r.add_argument("--seed", type=int, help="seed of the traffic stream (default the "
+                   "scenario's)")
+    r.add_argument("--window", type=float,
+                   help=f"with --planner whca: the window [s] ({rs.window:g})")
+    r.add_argument("--omega", type=float, default=rs.omega,
+                   help=f"search fuse: expansions allowed per reverse-search node "
+                   f"({rs.omega:g})")
+    r.add_argument("--priority", choices=api.PRIORITIES,
+                   default=rs.priority, help=f"planning order (default {rs.priority}): "
+                   "online in arrival order, or booked in advance: shortest static time "
+                   "first, or the best order a genetic algorithm finds (total time to park)")
+    r.add_argument("--horizon", type=float,
+                   help="with --priority shortest_first/ga: how far ahead arrivals are "
+                   f"booked [s] ({rs.horizon:g}; inf: all)")
+    r.add_argument("--memory-limit", metavar="SIZE", help="stop, writing nothing, when the "
+                   "run holds or is projected to need more memory than this, e.g. 4G "
+                   "(default 80%% of the memory available)")
+    r.add_argument("--time-limit", type=float, default=7200.0, metavar="SECONDS",
+                   help="stop, writing nothing, when planning takes or is projected to take "
+                   "longer than this (default 7200; 0: no limit)")
+    gif = r.add_mutually_exclusive_group()
+    gif.add_argument("--gif", metavar="GIF", help="also write an animated GIF of the run "
+                     "(default: OUTDIR/run.gif when the scenario has an 'animation' section)")
+    gif.add_argument("--no-gif", action="store_true", help="write no GIF, whatever the "
+                     "scenario asks")
+    r.add_argument("--html", metavar="HTML", help="also write the interactive replay of the "
+                   "run, one HTML file (default: OUTDIR/NAME when the scenario's 'animation' "
+                   "section names one)")
+    r.add_argument("--mp4", metavar="MP4", help="also write the GIF's frames as an H.264 "
+                   "video (needs pip install 'lotsim[video]'; default: OUTDIR/NAME when the "
+                   "scenario's 'animation' section names one)")
+
+
+def execute(args: argparse.Namespace) -> int:
+    problem = _pointless(args)
+    if problem:
+        return bad(problem)
+    given = {k: v for k, v in (("window", args.window), ("horizon", args.horizon))
+             if v is not None}
+    settings = api.RunSettings(planner=args.planner, assignment=args.assign, seed=args.seed,
+                               omega=args.omega, priority=args.priority, **given)
+    scenario_file = api.read_scenario(args.scenario)
+    scenario, anim = scenario_file.scenario, scenario_file.animation
+    api.require_traffic(scenario)
+    out = Path(args.output) if args.output else Path("runs") / scenario.name
+    pictures = _pictures(args, out, anim)
+    if isinstance(pictures, str):
+        return bad(pictures)
+    if out.exists() and not out.is_dir():
+        return bad(f"-o: {out} exists and is not a directory")
+    budget = _budget(args)
+    if isinstance(budget, str):
+        return bad(budget)
+    rr = _plan(args, scenario, settings, budget)
+    doc = rr.to_dict()
+    out.mkdir(parents=True, exist_ok=True)
+    written = [p for p in pictures.values() if p is not None]
+    removed = _remove_earlier(out, anim, written)
+    api.write_result(doc, out / "result.json")
+    m = rr.metrics()
+    _summary(args, scenario, rr, m, doc)
+    print(f"  wrote {out / 'result.json'}")
+    for p in removed:
+        if p not in written:
+            print(f"  removed {p}: it showed an earlier run")
+    code = _draw(doc, pictures, anim, out)
+    if code != EXIT_OK:
+        return code
+    return EXIT_INCOMPLETE if m["waiting"] else EXIT_OK
+
+
+def _pointless(args: argparse.Namespace) -> str | None:
+    """An option that would change nothing is refused, not ignored."""
+    if args.window is not None and args.planner != "whca":
+        return (f"--window: only --planner whca plans in windows; with --planner "
+                f"{args.planner} it would change nothing")
+    if args.horizon is not None and args.priority == "arrival":
+        return ("--horizon: only booked orders (--priority shortest_first or ga) look ahead; "
+                "with --priority arrival it would change nothing")
+    return None
+
+
+def _pictures(args: argparse.Namespace, out: Path, anim) -> dict[str, Path | None] | str:
+    """The GIF, replay and video to write (``"gif"``, ``"html"``, ``"mp4"`` → a path, or
+    None): as the options say, else as the scenario's animation section says; or what is
+    wrong with them."""
+    paths: dict[str, Path | None] = {}
+    for key in ("gif", "html", "mp4"):
+        given = getattr(args, key)
+        paths[key] = None
+        if given:
+            problem = output_problem(f"--{key}", given, f".{key}", made=out)
+            if problem:
+                return problem
+            paths[key] = Path(given)
+        elif anim is not None and key == "gif" and not args.no_gif:
+            paths[key] = out / anim.gif
+        elif anim is not None and key != "gif" and getattr(anim, key):
+            paths[key] = out / getattr(anim, key)
+    if paths["mp4"] is not None:
+        w, h = (anim.gif_settings() if anim is not None else api.GifSettings()).size
+        if w % 2 or h % 2:
+            return (f"--mp4: an H.264 video needs an even width and height; the animation's "
+                    f"size is {w}x{h}")
+        try:
+            api.require_ffmpeg()
+        except api.VideoUnavailable as exc:
+            return f"--mp4: {exc}"
+    return paths
+
+
+def _budget(args: argparse.Namespace) -> api.Budget | str:
+    """The run's budget from ``--memory-limit``/``--time-limit``, or what is wrong with
+    them."""
+    memory = None
+    if args.memory_limit is not None:
+        try:
+            memory = api.parse_size(args.memory_limit)
+        except ValueError as exc:
+            return f"--memory-limit: {exc}"
+        if memory < MIN_MEMORY:
+            return f"--memory-limit: expected at least 1M, found {args.memory_limit!r}"
+    t = args.time_limit
+    if not t >= 0:
+        return f"--time-limit: expected a number of seconds ≥ 0, found {t:g}"
+    return api.Budget.default(memory=memory, seconds=None if t in (0, math.inf) else t)
+
+
+def _plan(args: argparse.Namespace, scenario, settings, budget) -> api.RunResult:
+    """Prepare the lot and run it within ``budget``, showing progress on a terminal."""
+    tty = sys.stderr.isatty()
+
+    def progress(done: int, total: int) -> None:
+        if tty:
+            print(f"\rplanned {done}/{total} trips in and out", end="", file=sys.stderr,
+                  flush=True)
+
+    traffic = scenario.traffic
+    where = traffic.stream.where if traffic.stream is not None else traffic.where
+    seen: list[bool] = []  # Ctrl-C, even where a finaliser swallowed its KeyboardInterrupt
+    if settings.priority == "arrival":
+        with noting_sigint(seen), api.Watchdog(budget, where, then=progress) as dog:
+            with Preparing() as bar:
+                prepared = api.prepare(scenario, progress=bar)
+            with api.collector_tuned():
+                rr = api.run(prepared, settings, progress=dog.progress)
+    else:  # the watchdog cannot project from trips: orders are tried
+        bar = ProgressBar("trying orders")
+        try:
+            with noting_sigint(seen), api.Watchdog(budget, where):
+                with Preparing() as preparing:
+                    prepared = api.prepare(scenario, progress=preparing)
+                with api.collector_tuned():
+                    rr = api.run(prepared, settings,
+                                 progress=bar if settings.priority == "ga" else None)
+        finally:
+            bar.close()
+        found = rr.ordering
+        extra = (f", arrival order {found['fitness_arrival']:.1f} s, shortest first "
+                 f"{found['fitness_shortest_first']:.1f} s ({found['evaluations']} orders "
+                 "tried)" if args.priority == "ga" else "")
+        print(f"priority {args.priority}: total time to park {found['fitness']:.1f} s{extra}; "
+              f"choosing the order took {found['order_time']:.1f} s")
+    if seen:
+        raise KeyboardInterrupt
+    if tty:
+        print("\r" + " " * 40 + "\r", end="", file=sys.stderr)
+    return rr
+
+
+def _remove_earlier(out: Path, anim, written: list[Path]) -> list[Path]:
+    """A run's outputs are one set: no GIF of an earlier run is left beside this result (one
+    this run writes is removed first, in case it is interrupted before it is done). The
+    files removed."""
+    earlier = [out / (anim.gif if anim is not None else "run.gif"),
+               out / ((anim.html if anim is not None else None) or "replay.html"),
+               out / ((anim.mp4 if anim is not None else None) or "run.mp4")]
+    removed = [p for p in dict.fromkeys([*earlier, *written]) if p.is_file()]
+    for p in removed:
+        p.unlink()
+    return removed
+
+
+def _summary(args: argparse.Namespace, scenario, rr, m: dict, doc: dict) -> None:
+    """The run on one screen: what became of the vehicles, how long they took, what the
+    planning cost (``m``: the run's metrics), and why any car did not park."""
+    print(f"{scenario.name}: {m['vehicles']} vehicles, planner {args.planner}, "
+          f"assignment {args.assign}, seed {rr.seed}")
+    print("  " + _counts(m))
+    away = (f", {m['rejected']} of them turned away after {scenario.traffic.patience:g} s"
+            if m["rejected"] and scenario.traffic.patience > 0 else "")
+    parked = m["parked"] + m["departed"]
+    park = (f"mean {m['mean_time_to_park']:.1f} s, max {m['max_time_to_park']:.1f} s"
+            if parked else "no car parked")
+    moved = any(v.moves for v in rr.vehicles)
+    end = f"the last move ends at {m['makespan']:.1f} s" if moved else "no car moved"
+    print(f"  time to park: {park}; total waiting {m['total_waiting']:.1f} s (queued outside "
+          f"or standing on the way{away}); {end}")
+    print(f"  planning {m['planning_time']:.2f} s "
+          f"({plural(m['searches'], 'search', 'searches')}, "
+          f"{plural(m['expansions'], 'expansion')}; per vehicle median "
+          f"{1000 * m['planning_time_median']:.0f} ms, p95 {1000 * m['planning_time_p95']:.0f} ms)")
+    for v in doc["vehicles"]:
+        if v["status"] in ("waiting", "rejected"):
+            status = "turned away" if v["status"] == "rejected" else "still waiting"
+            print(f"  {v['id']}: {status}: {v['reason']}")
+
+
+def _counts(m: dict) -> str:
+    """What became of the run's vehicles: ``6 parked (2 of them left again), 0 still
+    waiting, 1 turned away`` (the result's ``parked`` counts those still in their slot,
+    ``departed`` those that parked and left)."""
+    parked = m["parked"] + m["departed"]
+    left = f" ({m['departed']} of them left again)" if m["departed"] else ""
+    return (f"{parked} parked{left}, {m['waiting']} still waiting, {m['rejected']} turned "
+            f"away")
+
+
+def _draw(doc: dict, pictures: dict[str, Path | None], anim, out: Path) -> int:
+    """Write the run's GIF, replay and video after its result.json; the exit code."""
+    gif_settings = anim.gif_settings() if anim is not None else api.GifSettings()
+    html_settings = anim.html_settings() if anim is not None else None
+    for path, write, what in (
+            (pictures["gif"], lambda p: write_gif(doc, p, gif_settings), "the GIF"),
+            (pictures["html"], lambda p: write_html(doc, p, html_settings), "the replay"),
+            (pictures["mp4"], lambda p: write_mp4(doc, p, gif_settings), "the video")):
+        if path is None:
+            continue
+        try:
+            code = write(path)
+        except KeyboardInterrupt:
+            print(f"lotsim: interrupted; {out / 'result.json'} was written, {what} was not",
+                  file=sys.stderr)
+            return EXIT_INTERRUPTED
+        if code != EXIT_OK:
+            return code
+    return EXIT_OK

@@ -1,0 +1,54 @@
+"""``lotsim show``: draw a scenario's lot to a PNG, and list its slots and lanes."""
+
+from __future__ import annotations
+
+import argparse
+
+from lotsim import api
+from lotsim.cli.output import EXIT_OK, bad, cannot_write, parse_size, sizes
+
+HELP = "draw a scenario's lot to a PNG"
+EXITS = "0 written; 2 bad input"
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("scenario", metavar="SCENARIO", help="scenario YAML file")
+    parser.add_argument("-o", "--output", default="lot.png",
+                        help="PNG to write (default lot.png)")
+    parser.add_argument("--graph", action="store_true", help="draw the lot graph too")
+    parser.add_argument("--size", default="1200x900",
+                        help=f"image size WxH in pixels, {sizes()} (1200x900)")
+
+
+def execute(args: argparse.Namespace) -> int:
+    size = parse_size(args.size)
+    if isinstance(size, str):
+        return bad(size)
+    # built once, drawn and listed
+    prepared = api.prepare_for_drawing(api.load_scenario(args.scenario), graph=args.graph)
+    try:
+        api.render_lot(prepared, args.output, size=size, graph=args.graph)
+    except OSError as exc:
+        return cannot_write(args.output, exc)
+    print(f"wrote {args.output}")
+    lot = prepared.lot
+    print(f"  slots: {api.id_ranges([s.id for s in lot.slots], most=40)}")
+    print(f"  lanes: {', '.join(sorted((ln.id for ln in lot.lanes), key=api.natural))}")
+    drawn = api.slot_labels_drawn(prepared.lot_graph, size, show_graph=args.graph)
+    if drawn < len(lot.slots):  # say where they can all be read, if anywhere
+        print(f"  slot ids drawn: {drawn} of {len(lot.slots)} at {size[0]}x{size[1]} "
+              f"({_bigger(prepared, size, graph=args.graph)})")
+    return EXIT_OK
+
+
+def _bigger(prepared, size: tuple[int, int], *, graph: bool) -> str:
+    """The advice on a ``--size`` that draws every slot id, up to the largest allowed."""
+    count = len(prepared.lot.slots)
+    for k in range(1, 40):
+        w, h = (round(v * 1.2**k) for v in size)
+        if api.size_problem((w, h)) is not None:
+            break
+        if api.slot_labels_drawn(prepared.lot_graph, (w, h), show_graph=graph) == count:
+            return f"--size {w}x{h} draws them all"
+    return (f"no --size up to {api.MAX_SIZE[0]}x{api.MAX_SIZE[1]} draws them all: they are "
+            "listed above")
