@@ -27,7 +27,8 @@ _EXPORTS = {
     "lotsim.api": ("EXAMPLE", "MinSlotTable", "RunResult", "car", "check", "load_animation",
                    "load_scenario", "minslot", "plan_maneuver", "prepare", "render_gif",
                    "render_html", "render_lot", "render_mp4", "run", "validate",
-                   "export_commonroad", "export_sumo", "export_openscenario"),
+                   "export_commonroad", "export_sumo", "export_openscenario", "result_dict",
+                   "write_result", "load_result"),
     "lotsim.sim.preparation": ("PreparedLot",),
     "lotsim.sim.validation": ("ValidationReport",),
     "lotsim.verify": ("CheckReport", "Violation"),
@@ -54,8 +55,6 @@ def __dir__() -> list[str]:
     return sorted(set(globals()) | set(__all__))
 
 
-
-
 if TYPE_CHECKING:  # for type checkers and editors: the same names, imported eagerly
     from lotsim.api import (  # noqa: F401
         EXAMPLE,
@@ -63,7 +62,11 @@ if TYPE_CHECKING:  # for type checkers and editors: the same names, imported eag
         RunResult,
         car,
         check,
+        export_commonroad,
+        export_openscenario,
+        export_sumo,
         load_animation,
+        load_result,
         load_scenario,
         minslot,
         plan_maneuver,
@@ -72,8 +75,10 @@ if TYPE_CHECKING:  # for type checkers and editors: the same names, imported eag
         render_html,
         render_lot,
         render_mp4,
+        result_dict,
         run,
         validate,
+        write_result,
     )
     from lotsim.errors import (  # noqa: F401
         InfeasibleManeuver,

@@ -28,7 +28,7 @@ def result_path(name: str) -> Path:
 
     folder = Path(tempfile.mkdtemp(prefix=f"lotsim-export-{name}-"))
     atexit.register(shutil.rmtree, folder, True)
-    return lotsim.run(RUNS[name]).write(folder / "result.json")
+    return lotsim.write_result(lotsim.run(RUNS[name]), folder / "result.json")
 
 
 def need(module: str):

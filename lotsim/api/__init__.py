@@ -33,7 +33,9 @@ EXPORTS: dict[str, tuple[str, ...]] = {
     # the facade's own
     "lotsim.api.scenarios": ("EXAMPLE", "ScenarioLike", "prepare", "prepare_for_drawing",
                              "validate"),
-    "lotsim.api.running": ("RunResult", "run"),
+    "lotsim.api.running": ("run",),
+    "lotsim.sim.results": ("RunResult",),
+    "lotsim.io.result": ("result_dict",),
     "lotsim.api.results": ("check", "load_result", "write_result"),
     "lotsim.api.drawing": ("render_gif", "render_html", "render_lot", "render_maneuver",
                            "render_mp4"),
@@ -107,7 +109,7 @@ if TYPE_CHECKING:  # for type checkers and editors: the same names, imported eag
     )
     from lotsim.api.maneuvers import car, maneuver_case, minslot, plan_maneuver  # noqa: F401
     from lotsim.api.results import check, load_result, write_result  # noqa: F401
-    from lotsim.api.running import RunResult, run  # noqa: F401
+    from lotsim.api.running import run  # noqa: F401
     from lotsim.api.scenarios import (  # noqa: F401
         EXAMPLE,
         ScenarioLike,
@@ -134,6 +136,7 @@ if TYPE_CHECKING:  # for type checkers and editors: the same names, imported eag
         SettingsError,
     )
     from lotsim.io.lot_json import LotFormatError  # noqa: F401
+    from lotsim.io.result import result_dict  # noqa: F401
     from lotsim.io.scenario_yaml import (  # noqa: F401
         ScenarioFile,
         load_animation,
@@ -162,6 +165,7 @@ if TYPE_CHECKING:  # for type checkers and editors: the same names, imported eag
     from lotsim.sim.limits import Budget, Watchdog, parse_size  # noqa: F401
     from lotsim.sim.maneuver_case import ManeuverCase  # noqa: F401
     from lotsim.sim.preparation import PreparedLot  # noqa: F401
+    from lotsim.sim.results import RunResult  # noqa: F401
     from lotsim.sim.running import collector_tuned, require_traffic  # noqa: F401
     from lotsim.sim.settings import (  # noqa: F401
         ASSIGNMENTS,

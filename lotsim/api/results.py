@@ -80,7 +80,7 @@ def check(result: RunResult | dict | str | os.PathLike, *, max_violations: int =
     Parameters
     ----------
     result : RunResult, dict or path
-        A run, its document (:meth:`RunResult.to_dict`) or a ``result.json``.
+        A run, its document (:func:`~lotsim.io.result.result_dict`) or a ``result.json``.
     max_violations : int, keyword-only
         How many violations to list (``.stats["violations"]`` counts them all).
 
@@ -111,14 +111,15 @@ def check(result: RunResult | dict | str | os.PathLike, *, max_violations: int =
 
 
 def write_result(result: RunResult | dict, path: str | os.PathLike) -> Path:
-    """Write a run, or its document (:meth:`RunResult.to_dict`), to ``path`` as
+    """Write a run, or its document (:func:`~lotsim.io.result.result_dict`), to ``path`` as
     ``result.json``: atomically (nothing half-written), its folder made if need be; byte
     for byte what ``lotsim run`` writes for the same scenario and seed.
 
     Examples
     --------
     >>> import tempfile
-    >>> doc = run(EXAMPLE).to_dict()
+    >>> from lotsim.io.result import result_dict
+    >>> doc = result_dict(run(EXAMPLE))
     >>> write_result(doc, f"{tempfile.mkdtemp()}/out/result.json").name
     'result.json'
     """

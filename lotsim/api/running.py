@@ -1,11 +1,9 @@
-"""Running a prepared lot's traffic (:func:`run`) and what a run gives back
-(:class:`RunResult`)."""
+"""Running a prepared lot's traffic (:func:`run`); a run gives back a
+:class:`~lotsim.sim.results.RunResult`, which :func:`~lotsim.io.result.result_dict` turns into
+the JSON document of ``docs/result.md`` and :func:`lotsim.write_result` writes."""
 
 from __future__ import annotations
 
-import dataclasses
-import os
-from pathlib import Path
 from typing import Any
 
 from lotsim.api.scenarios import (
@@ -15,48 +13,9 @@ from lotsim.api.scenarios import (
 )
 from lotsim.core import checks as _checks
 from lotsim.errors import SettingsError
-from lotsim.sim import results as _results
 from lotsim.sim.preparation import PreparedLot
+from lotsim.sim.results import RunResult
 from lotsim.sim.settings import RunSettings
-
-
-@dataclasses.dataclass
-class RunResult(_results.RunResult):
-    """What :func:`run` returns: the lot, the settings and every vehicle's story.
-
-    ``metrics()`` counts the vehicles by status and gives the timing figures of
-    ``docs/result.md``; ``vehicles`` holds each one's arrival, slot, status, reason and
-    moves; ``settings`` the :class:`RunSettings` it was planned with (the order its
-    priority chose included: running them again plans the same run); ``ordering`` how the
-    order was chosen.
-    """
-
-    def to_dict(self) -> dict:
-        """The run as the JSON document ``lotsim run`` writes (``docs/result.md``).
-
-        >>> doc = run(EXAMPLE).to_dict()
-        >>> doc["format"], [v["status"] for v in doc["vehicles"]]
-        ('lotsim-result', ['parked', 'departed', 'parked'])
-        """
-        from lotsim.io.result import result_dict
-
-        return result_dict(self)
-
-    def write(self, path: str | os.PathLike) -> Path:
-        """Write the run to ``path`` as ``result.json`` (atomically: nothing half-written;
-        its folder is made if need be); byte for byte what ``lotsim run`` writes for the
-        same scenario and seed.
-
-        >>> import tempfile
-        >>> folder = tempfile.mkdtemp()
-        >>> run(EXAMPLE).write(f"{folder}/result.json").name
-        'result.json'
-        """
-        from lotsim.io.result import write_json
-
-        Path(path).parent.mkdir(parents=True, exist_ok=True)
-        write_json(self.to_dict(), path)
-        return Path(path)
 
 
 def run(scenario_or_prepared: ScenarioLike | PreparedLot, settings: RunSettings | None = None,
@@ -80,7 +39,8 @@ def run(scenario_or_prepared: ScenarioLike | PreparedLot, settings: RunSettings 
     Returns
     -------
     RunResult
-        ``.metrics()``, ``.vehicles``, ``.to_dict()``, ``.write(path)``.
+        ``.metrics()``, ``.vehicles``, ``.settings``, ``.ordering``; its document is
+        :func:`lotsim.result_dict`, and :func:`lotsim.write_result` writes it.
 
     Raises
     ------
@@ -121,6 +81,5 @@ def run(scenario_or_prepared: ScenarioLike | PreparedLot, settings: RunSettings 
                                         f"nothing")
     from lotsim.sim.orders import plan_run
 
-    rr = plan_run(prepared.scenario, settings, lot_graph=prepared.lot_graph,
-                  progress=progress)
-    return RunResult(**{f.name: getattr(rr, f.name) for f in dataclasses.fields(rr)})
+    return plan_run(prepared.scenario, settings, lot_graph=prepared.lot_graph,
+                    progress=progress)

@@ -92,7 +92,7 @@ def execute(args: argparse.Namespace) -> int:
     if isinstance(budget, str):
         return bad(budget)
     rr = _plan(args, scenario, settings, budget)
-    doc = rr.to_dict()
+    doc = api.result_dict(rr)
     out.mkdir(parents=True, exist_ok=True)
     written = [p for p in pictures.values() if p is not None]
     removed = _remove_earlier(out, anim, written)

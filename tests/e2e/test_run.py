@@ -238,7 +238,8 @@ def test_same_scenario_and_seed_give_the_same_file_byte_for_byte(tmp_path, shipp
     path = next(p for p in SCENARIOS if p.stem == "street")
     lg = shipped_graphs["street"]
     prepared = lotsim.PreparedLot(load_scenario(path), lg)
-    outs = [lotsim.run(prepared).write(tmp_path / f"r{k}.json").read_bytes() for k in range(2)]
+    outs = [lotsim.write_result(lotsim.run(prepared), tmp_path / f"r{k}.json").read_bytes()
+            for k in range(2)]
     assert outs[0] == outs[1]
     # runs after the first on a prepared lot drive the edge motions it worked out, kept with
     # the lot (after another planner's run here); a copy of the lot keeps none and works
@@ -248,7 +249,7 @@ def test_same_scenario_and_seed_give_the_same_file_byte_for_byte(tmp_path, shipp
     assert copy.kept == {} and lg.kept["search_graphs"]
     for k, held in enumerate((lg, copy)):
         again = lotsim.run(lotsim.PreparedLot(prepared.scenario, held))
-        assert again.write(tmp_path / f"again{k}.json").read_bytes() == outs[0]
+        assert lotsim.write_result(again, tmp_path / f"again{k}.json").read_bytes() == outs[0]
     assert copy.kept["search_graphs"]
     # another seed draws other arrivals (that a run takes its seed's:
     # tests/unit/sim/test_running.py)

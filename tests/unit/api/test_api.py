@@ -1,7 +1,6 @@
 """lotsim as a Python library: the flat API of ``import lotsim``, its settings' checks, its
 errors, and that it does what the CLI does (docs/python.md runs here as a doctest)."""
 
-import dataclasses
 import doctest
 import importlib
 import shutil
@@ -104,8 +103,8 @@ def test_run_takes_the_settings_fields_as_keywords(prepared):
     b = lotsim.run(prepared, lotsim.RunSettings(planner="whca", window=6.0))
     c = lotsim.run(prepared, lotsim.RunSettings(planner="ca"), planner="whca", window=6.0)
     assert a.settings == b.settings == c.settings
-    assert a.settings.planner == "whca" and a.to_dict()["settings"]["window"] == 6.0
-    assert a.to_dict() == b.to_dict() == c.to_dict()
+    assert a.settings.planner == "whca" and lotsim.result_dict(a)["settings"]["window"] == 6.0
+    assert lotsim.result_dict(a) == lotsim.result_dict(b) == lotsim.result_dict(c)
     with pytest.raises(SettingsError, match="windw: no such setting of RunSettings "
                                             r"\(did you mean 'window'\?\)"):
         lotsim.run(prepared, windw=6)
@@ -117,8 +116,9 @@ def test_a_scenario_and_its_prepared_lot_run_alike_and_as_the_cli_does(prepared,
     by_path = lotsim.run(QUICKSTART, assignment="nearest")
     by_scenario = lotsim.run(lotsim.load_scenario(QUICKSTART), assignment="nearest")
     by_prepared = lotsim.run(prepared, assignment="nearest")
-    assert by_path.to_dict() == by_scenario.to_dict() == by_prepared.to_dict()
-    by_prepared.write(tmp_path / "lib" / "result.json")
+    docs = [lotsim.result_dict(r) for r in (by_path, by_scenario, by_prepared)]
+    assert docs[0] == docs[1] == docs[2]
+    lotsim.write_result(by_prepared, tmp_path / "lib" / "result.json")
     assert main(["run", str(QUICKSTART), "-o", str(tmp_path / "cli"), "--assign", "nearest",
                  "--no-gif"]) == 0
     assert ((tmp_path / "lib" / "result.json").read_bytes()
@@ -130,10 +130,9 @@ def test_the_priority_is_a_setting_and_a_result_settings_replay_it(prepared):
     for priority in ("arrival", "shortest_first"):
         rr = lotsim.run(prepared, priority=priority)
         old = plan_run(sc, lotsim.RunSettings(priority=priority), lot_graph=lg)
-        assert rr.to_dict() == lotsim.RunResult(
-            **{f.name: getattr(old, f.name) for f in dataclasses.fields(old)}).to_dict()
+        assert lotsim.result_dict(rr) == lotsim.result_dict(old)
         assert (rr.settings.order is None) == (priority == "arrival")
-        assert lotsim.run(prepared, rr.settings).to_dict() == rr.to_dict()
+        assert lotsim.result_dict(lotsim.run(prepared, rr.settings)) == lotsim.result_dict(rr)
         assert rr.ordering["fitness"] > 0
 
 
@@ -181,11 +180,11 @@ def test_errors_survive_pickling():
 # -- results -------------------------------------------------------------------------------------
 def test_check_takes_a_run_its_document_or_its_file(prepared, tmp_path):
     rr = lotsim.run(prepared)
-    path = rr.write(tmp_path / "result.json")
-    reports = [lotsim.check(rr), lotsim.check(rr.to_dict()), lotsim.check(path),
+    path = lotsim.write_result(rr, tmp_path / "result.json")
+    reports = [lotsim.check(rr), lotsim.check(lotsim.result_dict(rr)), lotsim.check(path),
                lotsim.check(str(path))]
     assert all(r.ok and not r.violations for r in reports)
-    broken = rr.to_dict()
+    broken = lotsim.result_dict(rr)
     broken["vehicles"][1]["samples"]["x"] = broken["vehicles"][0]["samples"]["x"]
     assert not lotsim.check(broken).ok
     with pytest.raises(ResultFormatError, match="cannot read"):
@@ -194,10 +193,10 @@ def test_check_takes_a_run_its_document_or_its_file(prepared, tmp_path):
 
 def test_render_gif_accepts_a_run_its_document_or_its_file(prepared, tmp_path):
     rr = lotsim.run(prepared)
-    path = rr.write(tmp_path / "result.json")
+    path = lotsim.write_result(rr, tmp_path / "result.json")
     small = {"size": (200, 160), "end": 12.0}
     infos = [lotsim.render_gif(r, tmp_path / f"{k}.gif", **small)
-             for k, r in enumerate((rr, rr.to_dict(), path))]
+             for k, r in enumerate((rr, lotsim.result_dict(rr), path))]
     assert infos[0].frames > 1
     data = {(tmp_path / f"{k}.gif").read_bytes() for k in range(3)}
     assert len(data) == 1

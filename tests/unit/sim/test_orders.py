@@ -182,7 +182,7 @@ def test_run_plans_booked_traffic_in_the_order_asked(tmp_path, capsys):
     prepared = lotsim.PreparedLot(sc, prepare(sc))
     rr = lotsim.run(prepared, priority="shortest_first", horizon=120)
     assert rr.settings.order == shortest_first(sc, prepared.lot_graph)
-    doc = rr.to_dict()
+    doc = lotsim.result_dict(rr)
     assert tuple(doc["settings"]["order"]) == rr.settings.order
     assert doc["settings"]["horizon"] == 120
     assert check_result(doc).ok
