@@ -18,6 +18,7 @@ from pathlib import Path
 from lotsim.errors import ScenarioError
 from lotsim.io.kinds import refuse_other_kind, top_level
 from lotsim.io.yamlnodes import YNode, parse_text, read_yaml
+from lotsim.lot.kinds import KINDS
 from lotsim.lot.spec import (
     SIDES,
     SLOT_KINDS,
@@ -465,19 +466,21 @@ def _aisle(node: YNode) -> AisleSpec:
 
 
 def _kind_angle(f: dict[str, YNode], node: YNode) -> float:
-    """The slot angle [rad] from ``kind`` and, for angled slots only, ``angle_deg``."""
-    kind = f["kind"].string(choices=SLOT_KINDS)
-    if kind == "angled":
+    """The slot angle [rad]: fixed by the ``kind`` (:attr:`SlotKind.fixed_angle`), or given
+    as ``angle_deg`` for a kind that does not fix it (angled)."""
+    kind = KINDS[f["kind"].string(choices=SLOT_KINDS)]
+    if kind.fixed_angle is None:
         if "angle_deg" not in f:
-            raise node.error("missing key 'angle_deg': an angled slot needs its angle (0 to 90)")
+            raise node.error(f"missing key 'angle_deg': an {kind.name} slot needs its angle "
+                             f"(0 to 90)")
         return math.radians(
             f["angle_deg"].number(min=0, max=90, open_min=True, open_max=True)
         )
     if "angle_deg" in f:
         raise f["angle_deg"].error(
-            f"angle_deg applies to angled slots only; a {kind} slot's angle is fixed"
+            f"angle_deg applies to angled slots only; a {kind.name} slot's angle is fixed"
         )
-    return math.pi / 2 if kind == "perpendicular" else 0.0
+    return kind.fixed_angle
 
 
 def _row(node: YNode) -> RowSpec:

@@ -58,11 +58,15 @@ class SlotKind:
         it parks across the aisle, centred in its bay, by a shuffle out of it.
     entry_gear : int
         The gear a car enters in (+1 forward, -1 reverse) before its maneuver is planned.
+    fixed_angle : float or None
+        The angle between the slot's long side and its aisle [rad] when the kind fixes it
+        (perpendicular: pi/2, parallel: 0); None when a row gives it (angled).
     """
 
     name: str = ""
     parks_along: bool = False
     entry_gear: int = -1
+    fixed_angle: float | None = math.pi / 2
 
     def __repr__(self) -> str:
         return f"SlotKind({self.name!r})"
@@ -133,6 +137,7 @@ class Angled(SlotKind):
 
     name = "angled"
     entry_gear = 1
+    fixed_angle = None
 
 
 class Parallel(SlotKind):
@@ -140,6 +145,7 @@ class Parallel(SlotKind):
 
     name = "parallel"
     parks_along = True
+    fixed_angle = 0.0
 
     def frontage(self, width: float, length: float, angle: float) -> float:
         return length
