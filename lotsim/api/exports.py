@@ -26,7 +26,7 @@ def export_commonroad(result: RunResult | dict | str | os.PathLike, folder: str 
     """
     if not (_checks.is_real(dt) and 0.01 <= dt <= 1.0):
         raise SettingsError("dt", f"expected 0.01 to 1 s, found {_checks.shown(dt)}")
-    from lotsim.io.export import export_commonroad as write
+    from lotsim.io.export import write_commonroad as write
 
     return write(result_document(result), folder, dt=dt)
 
@@ -45,7 +45,7 @@ def export_sumo(result: RunResult | dict | str | os.PathLike, folder: str | os.P
     """
     if not (_checks.is_real(step) and 0.001 <= step <= 1.0):
         raise SettingsError("step", f"expected 0.001 to 1 s, found {_checks.shown(step)}")
-    from lotsim.io.export import export_sumo as write
+    from lotsim.io.export import write_sumo as write
 
     return write(result_document(result), folder, step=step)
 
@@ -61,6 +61,6 @@ def export_openscenario(result: RunResult | dict | str | os.PathLike,
     :class:`LotsimError`) without it. Returns an ``OpenScenarioInfo`` (files, counts, the
     polylines' error [m, rad], bytes).
     """
-    from lotsim.io.export import export_openscenario as write
+    from lotsim.io.export import write_openscenario as write
 
     return write(result_document(result), folder)

@@ -12,7 +12,7 @@ from lotsim.cli.output import (
     bad,
     cannot_write,
     output_problem,
-    parse_size,
+    picture_size,
     plural,
     sizes,
 )
@@ -40,7 +40,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def execute(args: argparse.Namespace) -> int:
-    size = parse_size(args.size)
+    size = picture_size(args.size)
     if isinstance(size, str):
         return bad(size)
     problem = args.output and output_problem("-o", args.output, ".png")

@@ -45,7 +45,7 @@ def sizes() -> str:
     return f"{api.MIN_SIZE[0]}x{api.MIN_SIZE[1]} to {api.MAX_SIZE[0]}x{api.MAX_SIZE[1]}"
 
 
-def parse_size(text: str) -> tuple[int, int] | str:
+def picture_size(text: str) -> tuple[int, int] | str:
     """``--size WxH`` as ``(w, h)`` pixels, or what is wrong with it (the same limits for
     every picture: :func:`lotsim.scenario.size_problem`)."""
     try:

@@ -12,7 +12,7 @@ from lotsim.cli.progress import ProgressBar, noting_sigint
 from lotsim.errors import ReplayError, SettingsError
 
 
-def write_gif(doc: dict, path, settings) -> int:
+def save_gif(doc: dict, path, settings) -> int:
     """Draw the run ``doc`` as an animated GIF; the exit code."""
     bar = ProgressBar("rendering frames")
     seen: list[bool] = []
@@ -52,7 +52,7 @@ def write_gif(doc: dict, path, settings) -> int:
     return EXIT_OK
 
 
-def write_html(doc: dict, path, settings) -> int:
+def save_html(doc: dict, path, settings) -> int:
     """Write the run ``doc`` as an interactive replay; the exit code."""
     try:
         info = api.render_html(doc, path, settings)
@@ -67,7 +67,7 @@ def write_html(doc: dict, path, settings) -> int:
     return EXIT_OK
 
 
-def write_mp4(doc: dict, path, settings) -> int:
+def save_mp4(doc: dict, path, settings) -> int:
     """Encode the run ``doc`` as an H.264 video; the exit code."""
     bar = ProgressBar("encoding video")
     try:

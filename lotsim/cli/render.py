@@ -15,10 +15,10 @@ from lotsim.cli.output import (
     cannot_write,
     option,
     output_problem,
-    parse_size,
+    picture_size,
     sizes,
 )
-from lotsim.cli.pictures import write_gif, write_html, write_mp4
+from lotsim.cli.pictures import save_gif, save_html, save_mp4
 from lotsim.errors import ReplayError, ResultFormatError, SettingsError
 
 HELP = ("draw a result.json: animated GIF, interactive HTML replay, MP4 video, timeline "
@@ -60,7 +60,7 @@ def execute(args: argparse.Namespace) -> int:
     if not (args.gif or args.html or args.mp4 or args.timeline):
         return bad("render: nothing to do: give --gif GIF, --html HTML, --mp4 MP4 and/or "
                    "--timeline PNG")
-    size = parse_size(args.size)
+    size = picture_size(args.size)
     if isinstance(size, str):
         return bad(size)
     try:
@@ -82,9 +82,9 @@ def execute(args: argparse.Namespace) -> int:
                    "scenario again")
     done = []
     for path, write, what in (
-            (args.gif, lambda p: write_gif(doc, p, settings), args.gif),
-            (args.html, lambda p: write_html(doc, p, None), args.html),
-            (args.mp4, lambda p: write_mp4(doc, p, settings), args.mp4),
+            (args.gif, lambda p: save_gif(doc, p, settings), args.gif),
+            (args.html, lambda p: save_html(doc, p, None), args.html),
+            (args.mp4, lambda p: save_mp4(doc, p, settings), args.mp4),
             (args.timeline, lambda p: _timeline(doc, p), "the timeline")):
         if not path:
             continue

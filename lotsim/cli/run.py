@@ -17,7 +17,7 @@ from lotsim.cli.output import (
     output_problem,
     plural,
 )
-from lotsim.cli.pictures import write_gif, write_html, write_mp4
+from lotsim.cli.pictures import save_gif, save_html, save_mp4
 from lotsim.cli.progress import Preparing, ProgressBar, noting_sigint
 
 HELP = "plan a scenario's traffic and write OUTDIR/result.json"
@@ -261,9 +261,9 @@ def _draw(doc: dict, pictures: dict[str, Path | None], anim, out: Path) -> int:
     gif_settings = anim.gif_settings() if anim is not None else api.GifSettings()
     html_settings = anim.html_settings() if anim is not None else None
     for path, write, what in (
-            (pictures["gif"], lambda p: write_gif(doc, p, gif_settings), "the GIF"),
-            (pictures["html"], lambda p: write_html(doc, p, html_settings), "the replay"),
-            (pictures["mp4"], lambda p: write_mp4(doc, p, gif_settings), "the video")):
+            (pictures["gif"], lambda p: save_gif(doc, p, gif_settings), "the GIF"),
+            (pictures["html"], lambda p: save_html(doc, p, html_settings), "the replay"),
+            (pictures["mp4"], lambda p: save_mp4(doc, p, gif_settings), "the video")):
         if path is None:
             continue
         try:

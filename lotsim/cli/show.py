@@ -5,7 +5,7 @@ from __future__ import annotations
 import argparse
 
 from lotsim import api
-from lotsim.cli.output import EXIT_OK, bad, cannot_write, parse_size, sizes
+from lotsim.cli.output import EXIT_OK, bad, cannot_write, picture_size, sizes
 
 HELP = "draw a scenario's lot to a PNG"
 EXITS = "0 written; 2 bad input"
@@ -21,7 +21,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def execute(args: argparse.Namespace) -> int:
-    size = parse_size(args.size)
+    size = picture_size(args.size)
     if isinstance(size, str):
         return bad(size)
     # built once, drawn and listed

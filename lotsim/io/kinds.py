@@ -5,11 +5,11 @@ instead of reporting the first key it does not expect.
 
 Examples
 --------
->>> kind_of({"format": "lotsim-result", "lot": {}})
+>>> document_kind({"format": "lotsim-result", "lot": {}})
 'result'
->>> kind_of({"lot": {}, "traffic": {}}), kind_of({"scenarios": [], "planners": []})
+>>> document_kind({"lot": {}, "traffic": {}}), document_kind({"scenarios": [], "planners": []})
 ('scenario', 'suite')
->>> print(kind_of({"width": 2.0}))
+>>> print(document_kind({"width": 2.0}))
 None
 >>> wrong_kind("result", "scenario")
 'this is a lotsim result, not a scenario: results are read by lotsim check and lotsim render'
@@ -42,7 +42,7 @@ READERS = {
 """What reads each kind of file."""
 
 
-def kind_of(document: Any) -> str | None:
+def document_kind(document: Any) -> str | None:
     """``"scenario"``, ``"result"`` or ``"suite"`` by a document's top-level keys (None:
     none of them, or not a mapping)."""
     if not isinstance(document, Mapping):
@@ -67,14 +67,14 @@ def wrong_kind(found: str, expected: str) -> str:
 def refuse_other_kind(document: Any, expected: str, file: str) -> None:
     """Raise :class:`ScenarioError` at the top of ``file`` when ``document`` (its parsed
     top level) is another kind of lotsim file than ``expected``."""
-    found = kind_of(document)
+    found = document_kind(document)
     if found is not None and found != expected:
         raise ScenarioError(Location(file, 1, 1), wrong_kind(found, expected))
 
 
 def top_level(root: YNode) -> dict[str, str | None]:
     """A composed YAML document's top-level keys with their scalar values (None for a
-    list or mapping), for :func:`kind_of`; empty when it is not a mapping."""
+    list or mapping), for :func:`document_kind`; empty when it is not a mapping."""
     if not root.is_mapping:
         return {}
     return {k.value: (v.value if isinstance(v, yaml.ScalarNode) else None)
@@ -87,7 +87,7 @@ def json_kind(raw: bytes) -> str | None:
     if raw.lstrip()[:1] != b"{":
         return None
     try:
-        return kind_of(json.loads(raw))
+        return document_kind(json.loads(raw))
     except (ValueError, RecursionError):
         return None
 
@@ -103,6 +103,6 @@ def file_kind(path: str | os.PathLike) -> str | None:
     if found is not None or len(raw) > 2_000_000:
         return found
     try:
-        return kind_of(yaml.safe_load(raw))
+        return document_kind(yaml.safe_load(raw))
     except (yaml.YAMLError, ValueError, RecursionError):
         return None

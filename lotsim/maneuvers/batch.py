@@ -11,7 +11,7 @@ from collections.abc import Callable, Iterable
 
 from lotsim.core.workers import fork_map
 from lotsim.maneuvers.maneuver import Maneuver
-from lotsim.maneuvers.planner import ManeuverPlanner, search
+from lotsim.maneuvers.planner import ManeuverPlanner, search_maneuver
 from lotsim.maneuvers.problem import exact_key
 from lotsim.vehicles.model import VehicleType
 
@@ -84,12 +84,12 @@ def prefetch(planner: ManeuverPlanner, vehicles: Iterable[VehicleType], *,
         k, st = job
         problem = planner.problems.pose(*triples[k])
         if known is None:
-            return *search(problem, st, planner.settings), None, False
+            return *search_maneuver(problem, st, planner.settings), None, False
         exact = exact_key(problem, st)
         found = known.get(exact)
         if found is not None:
             return *found, exact, True
-        return *search(problem, st, planner.settings), exact, False
+        return *search_maneuver(problem, st, planner.settings), exact, False
 
     answers = fork_map(searched, list(todo.values()), workers=count, chunk=8,
                        progress=progress)

@@ -44,7 +44,7 @@ Answer = Outcome[tuple[tuple[Segment, ...], float]]
 where it starts, or why there is none."""
 
 
-def search(problem: ManeuverProblem, style: str, settings: ManeuverSettings
+def search_maneuver(problem: ManeuverProblem, style: str, settings: ManeuverSettings
            ) -> tuple[Answer, Answer]:
     """The parking maneuver of ``problem`` in ``style``, eased
     (:func:`~lotsim.maneuvers.easing.eased`) and as planned, in the problem's local frame
@@ -189,7 +189,7 @@ class ManeuverPlanner:
         hit = self._cache.get(key)
         if hit is None:
             problem = problem or self.problems.pose(vehicle, slot, lane)
-            hit, self._raw[key] = search(problem, style, self.settings)
+            hit, self._raw[key] = search_maneuver(problem, style, self.settings)
             self._cache[key] = hit
             self.stats["planned"] += 1
         elif key in self._fresh:  # searched ahead of time (batch.prefetch): first use

@@ -11,7 +11,7 @@ Montemerlo and Diebel, 2008):
   forward or in reverse, and is kept only if the body's sweep over it touches nothing
   (hulls of footprints :data:`STEP` apart, as everywhere in lotsim);
 * from every state the search tries to finish at once with the turnaround planner's last
-  move (:func:`closings`: a straight, one arc and a straight along
+  move (:func:`closing_moves`: a straight, one arc and a straight along
   the lane, or an S of two wide arcs), left-handed or mirrored;
 * the cost is path length, plus a price on every change of direction and of steering
   (each is a stop to turn the wheels: :func:`lotsim.vehicles.motion.timed_path`), so the
@@ -226,9 +226,9 @@ class _Search:
         at = len(sids) * len(moves)  # runs so far: the moves' first (below), then closings
         for sid in sids:
             q = self.states[sid][0]
-            found = [(sum(x.length for x in segs), segs) for segs in closings(q, span, radius)]
+            found = [(sum(x.length for x in segs), segs) for segs in closing_moves(q, span, radius)]
             found += [(sum(x.length for x in segs), _mirror(segs))
-                      for segs in closings(_mirror_pose(q), span, radius)]
+                      for segs in closing_moves(_mirror_pose(q), span, radius)]
             found.sort(key=lambda c: c[0])
             lasts.append((found, at))
             if found:  # the last moves, shortest first: one run each
@@ -279,7 +279,7 @@ def _mirror(segs: list[Segment]) -> list[Segment]:
                     -x.sharpness) for x in segs]
 
 
-def closings(q: FloatArray, lane_length: float, radius: float) -> list[list[Segment]]:
+def closing_moves(q: FloatArray, lane_length: float, radius: float) -> list[list[Segment]]:
     """Last moves from local pose ``q`` onto the line y = 0 heading +x, driven forward: a
     straight, a left arc, a straight along the lane to a grid station, or (from above the
     line, heading along it or down) an S of two arcs and a straight; shortest first."""

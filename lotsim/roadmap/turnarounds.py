@@ -39,7 +39,7 @@ from lotsim.roadmap.lanes import EPS, along, two_way_lanes
 from lotsim.roadmap.memo import RoadmapMemo, designs_of, types_key
 from lotsim.roadmap.model import Turn
 from lotsim.roadmap.multipoint import (
-    closings,
+    closing_moves,
     plan_onto,
     segment_to_world,
     to_local,
@@ -181,7 +181,7 @@ def _multipoint(frame: FloatArray, start: FloatArray, lane_length: float, collid
         poses = advance(pose, gear * probes, kappa) if len(probes) else np.zeros((0, 3))
         changes = k + (1 if gear < 0 else 0)
         order = sorted(zip(poses, probes, strict=True), key=lambda c: c[1])
-        options = [closings(q, lane_length, radius) for q, _ in order]
+        options = [closing_moves(q, lane_length, radius) for q, _ in order]
         # the shortest clear closing from each pose is enough
         for (_, s), paths, clear in zip(order, options,
                                         _first_clear(frame, options, collider, body),

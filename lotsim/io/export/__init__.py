@@ -3,19 +3,19 @@
 Each reads only the result document and needs its own optional packages, imported when it
 runs, so that ``import lotsim`` does not:
 
-* :func:`export_commonroad`: CommonRoad scenarios and KS solutions, one per trip
+* :func:`write_commonroad`: CommonRoad scenarios and KS solutions, one per trip
   (``pip install 'lotsim[commonroad]'``);
-* :func:`export_sumo`: a SUMO network, parking areas, trips and configuration
+* :func:`write_sumo`: a SUMO network, parking areas, trips and configuration
   (``pip install 'lotsim[sumo]'``);
-* :func:`export_openscenario`: OpenSCENARIO with a timed trajectory per car on an OpenDRIVE
+* :func:`write_openscenario`: OpenSCENARIO with a timed trajectory per car on an OpenDRIVE
   lot with a ``parkingSpace`` per slot (``pip install 'lotsim[openscenario]'``).
 """
 
 from __future__ import annotations
 
-from lotsim.io.export.commonroad import CommonRoadInfo, export_commonroad
-from lotsim.io.export.openscenario import OpenScenarioInfo, export_openscenario
-from lotsim.io.export.sumo import SumoInfo, export_sumo
+from lotsim.io.export.commonroad import CommonRoadInfo, write_commonroad
+from lotsim.io.export.openscenario import OpenScenarioInfo, write_openscenario
+from lotsim.io.export.sumo import SumoInfo, write_sumo
 from lotsim.io.export.tracks import ExportError, ExportUnavailable
 
 __all__ = [
@@ -24,7 +24,7 @@ __all__ = [
     "ExportUnavailable",
     "OpenScenarioInfo",
     "SumoInfo",
-    "export_commonroad",
-    "export_openscenario",
-    "export_sumo",
+    "write_commonroad",
+    "write_openscenario",
+    "write_sumo",
 ]

@@ -1,6 +1,6 @@
 """A run as a CommonRoad scenario, planning problems and a KS solution (``commonroad-io``).
 
-:func:`export_commonroad` writes two files into a folder:
+:func:`write_commonroad` writes two files into a folder:
 
 * ``<name>.xml``: the scenario (the 2020a XML format, ``FileFormat.XML``): the lot's
   boundary as four thin road-boundary obstacles outside its edges, every wall, island,
@@ -91,7 +91,7 @@ class Trip:
 
 @dataclass(frozen=True, slots=True)
 class CommonRoadInfo:
-    """What :func:`export_commonroad` wrote: one scenario and one solution per trip."""
+    """What :func:`write_commonroad` wrote: one scenario and one solution per trip."""
 
     folder: Path
     files: tuple[tuple[Trip, Path, Path], ...]
@@ -172,7 +172,7 @@ def trips(doc: dict, dt: float = DT) -> list[tuple[Trip, Track, Visit]]:
     return out
 
 
-def export_commonroad(doc: dict, folder: str | os.PathLike, *, dt: float = DT) -> CommonRoadInfo:
+def write_commonroad(doc: dict, folder: str | os.PathLike, *, dt: float = DT) -> CommonRoadInfo:
     """Write a run (a ``result.json`` document) as CommonRoad files into ``folder``: for
     each trip ``<vehicle>-<in|out|whole>.xml`` (its scenario) and
     ``<vehicle>-<in|out|whole>.solution.xml`` (its KS trajectory).
@@ -504,10 +504,10 @@ def _file_name(vehicle: str) -> str:
     return "".join(c if c.isalnum() or c in "_-" else "_" for c in vehicle) or "_"
 
 
-def offset_polyline(points, d: float) -> np.ndarray:
+def offset_line(points, d: float) -> np.ndarray:
     """``points`` moved ``d`` metres to the left of their direction (mitred at corners).
 
-    >>> offset_polyline([[0, 0], [10, 0], [10, 10]], 1.0).tolist()
+    >>> offset_line([[0, 0], [10, 0], [10, 10]], 1.0).tolist()
     [[0.0, 1.0], [9.0, 1.0], [9.0, 10.0]]
     """
     p = np.asarray(points, dtype=float)
@@ -531,14 +531,14 @@ def lanelets(doc: dict, ids) -> list[tuple[np.ndarray, np.ndarray, np.ndarray, i
         lanes = aisle["lanes"]
         width = float(aisle["width"]) / max(len(lanes), 1)
         for lane in lanes:
-            centre = offset_polyline(line, -float(lane["offset"]))
+            centre = offset_line(line, -float(lane["offset"]))
             if not lane["with_polyline"]:
-                centre = offset_polyline(line[::-1], -float(lane["offset"]))
+                centre = offset_line(line[::-1], -float(lane["offset"]))
             out.append(
                 (
-                    offset_polyline(centre, width / 2),
+                    offset_line(centre, width / 2),
                     centre,
-                    offset_polyline(centre, -width / 2),
+                    offset_line(centre, -width / 2),
                     next(ids),
                     "lane",
                 )

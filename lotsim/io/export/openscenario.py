@@ -1,7 +1,7 @@
 """A run as an OpenSCENARIO scenario with a timed trajectory per car, on the lot as an
 OpenDRIVE road network with a ``parkingSpace`` object per slot (``scenariogeneration``).
 
-:func:`export_openscenario` writes two files into a folder:
+:func:`write_openscenario` writes two files into a folder:
 
 * ``lot.xodr``: OpenDRIVE 1.7 (``revMinor="7"``). Each aisle is a road on its centreline
   (a ``line`` per straight piece), with a ``driving`` lane each way for a two-way aisle and
@@ -62,7 +62,7 @@ WHEEL_DIAMETER = 0.65
 
 @dataclass(frozen=True, slots=True)
 class OpenScenarioInfo:
-    """What :func:`export_openscenario` wrote."""
+    """What :func:`write_openscenario` wrote."""
 
     folder: Path
     scenario: Path
@@ -235,7 +235,7 @@ def _f(v: float) -> str:
     return out + "0" if out.endswith(".") else out
 
 
-def export_openscenario(doc: dict, folder: str | os.PathLike) -> OpenScenarioInfo:
+def write_openscenario(doc: dict, folder: str | os.PathLike) -> OpenScenarioInfo:
     """Write a run (a ``result.json`` document) as ``lot.xosc`` (OpenSCENARIO 1.2) and
     ``lot.xodr`` (OpenDRIVE 1.7) into ``folder`` (module docstring).
 

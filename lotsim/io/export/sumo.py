@@ -1,7 +1,7 @@
 """A run as a SUMO simulation: the aisles as a network, each slot a parking space at its
 real pose, the cars as vehicles that park there for their dwell (``eclipse-sumo``).
 
-:func:`export_sumo` writes into a folder:
+:func:`write_sumo` writes into a folder:
 
 * ``lot.nod.xml``, ``lot.edg.xml``: the network in SUMO's plain XML. A node wherever an
   aisle ends or meets another aisle; an edge per lane of each aisle between two nodes
@@ -47,7 +47,7 @@ import shapely
 from shapely.geometry import LineString, Point
 from shapely.ops import substring
 
-from lotsim.io.export.commonroad import _replace_folder, offset_polyline
+from lotsim.io.export.commonroad import _replace_folder, offset_line
 from lotsim.io.export.tracks import ExportError, Visit, forward, require, tracks, visits
 
 NODE_MERGE = 1.0
@@ -65,7 +65,7 @@ FILES = ("lot.nod.xml", "lot.edg.xml", "lot.net.xml", "lot.add.xml", "lot.rou.xm
 
 @dataclass(frozen=True, slots=True)
 class SumoInfo:
-    """What :func:`export_sumo` wrote."""
+    """What :func:`write_sumo` wrote."""
 
     folder: Path
     config: Path
@@ -149,9 +149,9 @@ def network(doc: dict) -> tuple[dict[str, tuple[float, float]], list[_Edge]]:
             part = np.asarray(substring(line, s0, s1).coords)
             for lane in lanes:
                 if lane["with_polyline"]:
-                    shape, ends = offset_polyline(part, -float(lane["offset"])), (n0, n1)
+                    shape, ends = offset_line(part, -float(lane["offset"])), (n0, n1)
                 else:
-                    shape, ends = offset_polyline(part[::-1], -float(lane["offset"])), (n1, n0)
+                    shape, ends = offset_line(part[::-1], -float(lane["offset"])), (n1, n0)
                 edges.append(
                     _Edge(f"{_sumo_id(lane['id'])}#{piece}", a["id"], *ends, shape, width)
                 )
@@ -268,7 +268,7 @@ def _on_lane(lanes, edges: list[_Edge], x: float, y: float, theta: float | None,
     return best[1:]
 
 
-def export_sumo(doc: dict, folder: str | os.PathLike, *, step: float = STEP) -> SumoInfo:
+def write_sumo(doc: dict, folder: str | os.PathLike, *, step: float = STEP) -> SumoInfo:
     """Write a run (a ``result.json`` document) as a SUMO simulation into ``folder``
     (module docstring; run it with ``sumo -c folder/lot.sumocfg``).
 

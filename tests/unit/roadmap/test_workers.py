@@ -14,7 +14,7 @@ from lotsim.roadmap import assemble, turnarounds
 from lotsim.roadmap.junctions import junction_turns, turns_of, turns_per_design
 from lotsim.roadmap.lanes import portal_station
 from lotsim.roadmap.memo import RoadmapMemo
-from lotsim.roadmap.multipoint import closings
+from lotsim.roadmap.multipoint import closing_moves
 from lotsim.roadmap.through import through_chains, through_turn
 from lotsim.sim.preparation import prepare
 
@@ -162,12 +162,12 @@ def test_closings_checked_in_batches_find_what_checking_each_finds():
     lane, back = aisle.lanes
     frame = np.array(back.segments[0].start)
     length = back.segments[0].length
-    # poses across the lane's end, turned part of the way round: some closings clear, some
+    # poses across the lane's end, turned part of the way round: some closing_moves clear, some
     # through a slot or the boundary, some poses with none clear
     x = rng.uniform(length - 25.0, length, 300)
     y = rng.uniform(0.0, 9.0, 300)
     th = rng.uniform(math.pi, 2 * math.pi, 300)
-    options = [closings(q, length, lot.design.min_radius) for q in np.column_stack([x, y, th])]
+    options = [closing_moves(q, length, lot.design.min_radius) for q in np.column_stack([x, y, th])]
     each = [next((k for k, path in enumerate(paths)
                   if not turnarounds._blocked(frame, path, collider, body)), None)
             for paths in options]
