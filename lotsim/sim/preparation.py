@@ -121,7 +121,7 @@ class PreparedLot:
     """A scenario with its lot built and every maneuver planned (:func:`lotsim.prepare`):
     reusable across runs, which then skip the preparation (seconds to a minute on a large
     lot) and drive the edge motions earlier runs on it worked out
-    (:func:`~lotsim.traffic.search.search_graph`).
+    (:func:`~lotsim.traffic.searchgraph.search_graph`).
 
     Attributes
     ----------

@@ -30,17 +30,14 @@ from lotsim.core.checks import (
     set_field,
     shown,
 )
+from lotsim.traffic.settings import OMEGA, PLANNERS
 
-PLANNERS = ("ca", "hca", "whca")
-"""Cooperative A* variants (:func:`lotsim.traffic.search.search`)."""
 ASSIGNMENTS = ("nearest", "shortest")
 """Slot choice: straight-line distance from the entrance, or travel time."""
 PRIORITIES = ("arrival", "shortest_first", "ga")
 """``arrival``: online, each vehicle planned when it arrives; ``shortest_first``: booked,
 the vehicle with the least static time to a slot first; ``ga``: booked, the order a
 genetic algorithm finds (:mod:`lotsim.sim.orders`)."""
-OMEGA = 10.0
-"""Fuse: a search stops after expanding ``OMEGA`` × its reverse search's closed nodes."""
 BOOKING_HORIZON = 60.0
 """Default of :attr:`RunSettings.horizon` [s]."""
 MAX_SEED = 2**63 - 1

@@ -17,24 +17,19 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from lotsim.core.geometry import same_pose
+from lotsim.core.outcome import Status
 from lotsim.errors import Location, ScenarioError, SettingsError
 from lotsim.roadmap.graph import LotGraph, Reachability
 from lotsim.scenario import Scenario
 from lotsim.sim.preparation import prepare
 from lotsim.sim.settings import RunSettings
 from lotsim.traffic.demand import Arrival, arrivals
-from lotsim.traffic.reservation import ReservationTable, standing_body
-from lotsim.traffic.search import (
-    Goal,
-    Move,
-    Plan,
-    ReverseResumable,
-    SearchGraph,
-    Status,
-    reserve_moves,
-    search,
-    search_graph,
-)
+from lotsim.traffic.heuristic import ReverseResumable
+from lotsim.traffic.plans import Move, Plan, reserve_moves
+from lotsim.traffic.reservation import ReservationTable
+from lotsim.traffic.search import Goal, SearchRequest, search
+from lotsim.traffic.searchgraph import SearchGraph, search_graph
+from lotsim.traffic.swept import standing_body
 from lotsim.vehicles.model import VehicleType
 from lotsim.vehicles.motion import Trajectory
 
@@ -426,10 +421,10 @@ class _Simulation:
                 v.slot = sid
                 self.commit(i, v, sg, plan)
                 return
-            if plan.status is Status.FUSE and first:
+            if plan.status is Status.OUT_OF_BUDGET and first:
                 tries.append((sid, False))
                 self.jammed[self.lg.lot.slot_by_id[sid].aisle] = t
-        v.reason = f"no conflict-free route found ({plan.status.value})"
+        v.reason = f"no conflict-free route found ({plan.reason})"
         if self.patience == 0:
             self.on_timeout(i, v, t)
             return
@@ -531,8 +526,8 @@ class _Simulation:
             rra, shared = self.heuristic(sg, goals), True
         v.seen = len(self.table.releases)
         clock = time.perf_counter()
-        plan = search(sg, self.table, owner=v.id, planner=self.s.planner, heuristic=rra,
-                      shared=shared, omega=self.s.omega, **kw)
+        plan = search(sg, self.table, SearchRequest(owner=v.id, **kw), planner=self.s.planner,
+                      heuristic=rra, shared=shared, omega=self.s.omega)
         v.planning_time += time.perf_counter() - clock
         v.searches += 1
         v.expansions += plan.expansions
@@ -597,7 +592,7 @@ class _Simulation:
                          start_pose=v.parked_pose, goal=Goal(exits=tuple(self.lg.exits.values())),
                          key=("exit", v.vehicle.name))
         if plan.status is not Status.FOUND:
-            v.reason = f"could not leave yet ({plan.status.value})"
+            v.reason = f"could not leave yet ({plan.reason})"
             v.depart_at = t + self.backoff(v)
             self.at(v.depart_at, "depart", i)
             return
@@ -663,7 +658,7 @@ class _Simulation:
         starts on the car's own plan, which its last search chose over every other way
         from there; a sooner one could only be what that search passed over, its heuristic
         being weighted (1.25) and states passing a node at speed within
-        :data:`~lotsim.traffic.search.PASSING` of one another taken as one —
+        :attr:`~lotsim.traffic.settings.SearchSettings.passing` of one another taken as one —
         milliseconds in practice (a test bounds it at 0.1 s a car on the street's
         run)."""
         return not SKIP_FRUITLESS or any(
