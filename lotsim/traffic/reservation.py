@@ -227,7 +227,7 @@ class ReservationTable:
         the same buckets again and again, and then only the times and boxes are compared
         again — the same tests on the same entries, in the same order, as without it."""
         grid, st = self._grid, self._store
-        k0, k1 = grid.bucket_of(t0), grid.last_bucket(t1)
+        k0, k1 = math.floor((t0 - EPS) / self.bucket), grid.last_bucket(t1)
         if memo is not None:
             filed = memo.get((cells, k0, k1))
             if filed is None:

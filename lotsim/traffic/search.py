@@ -201,7 +201,7 @@ class _SpaceTimeSearch:
 
     __slots__ = ("sg", "table", "request", "rra", "h", "heap", "states", "parent", "closed",
                  "passed", "h_of", "loss", "in_way", "parked_until", "gathered", "end",
-                 "start_stand", "weight", "passing", "depart_after")
+                 "start_stand", "weight", "passing", "depart_after", "push")
 
     def __init__(self, sg: SearchGraph, table: ReservationTable, request: SearchRequest,
                  rra: ReverseResumable, h: Callable[[int], float]):
@@ -227,35 +227,7 @@ class _SpaceTimeSearch:
         self.in_way: dict[int, list[tuple[float, float]]] = {}  # node → when standing is not
         self.parked_until: dict[int, float] = {}  # park edge → till when its pose is taken
         self.gathered: dict = {}  # what the table holds near each edge, by time buckets
-
-    def weighted(self, node: int) -> float:
-        """The weight × ``node``'s heuristic (inf where the goal is out of reach), kept."""
-        h, rra, inf = self.h, self.rra, math.inf
-        hv = h(node)
-        if h is not rra and hv != inf and rra(node) == inf:
-            hv = inf
-        wh = self.h_of[node] = self.weight * hv
-        return wh
-
-    def push(self, node: int, lvl: int, t: float, out: bool, par: int, step: tuple | None
-             ) -> None:
-        """Open state ``(node, lvl, t, out)``, reached from state ``par`` by ``step`` (see
-        :meth:`moves_of`); not where the goal is out of reach, nor passing a node soon after
-        a state already expanded there (it would be dropped when popped: the times
-        expanded at a node and level only grow)."""
-        if lvl:
-            last = self.passed.get((node, lvl))
-            if last is not None and t - last < self.passing:
-                return
-        wh = self.h_of.get(node)
-        if wh is None:
-            wh = self.weighted(node)
-        if wh == math.inf:
-            return
-        states = self.states
-        states.append((node, lvl, t, out))
-        self.parent.append((par, step))
-        heapq.heappush(self.heap, (t + (wh + self.loss[lvl]), -t, len(states) - 1))  # ties: deepest
+        self.push = _opener(self)
 
     def run(self, fuse: float) -> Plan:
         """Expand states, best first, until the goal, the fuse or nothing left."""
@@ -394,6 +366,47 @@ class _SpaceTimeSearch:
             moves.extend(reversed(self.moves_of(step)))
         moves.reverse()
         return Plan(Status.FOUND, moves, expansions)
+
+
+def _opener(search: _SpaceTimeSearch
+            ) -> Callable[[int, int, float, bool, int, tuple | None], None]:
+    """``push(node, lvl, t, out, par, step)`` for ``search``: open state ``(node, lvl, t,
+    out)``, reached from state ``par`` by ``step`` (see :meth:`_SpaceTimeSearch.moves_of`);
+    not where the goal is out of reach, nor passing a node soon after a state already
+    expanded there (it would be dropped when popped: the times expanded at a node and level
+    only grow).
+
+    The search's most frequent call (millions in a busy run), so the state it touches is
+    bound once, here; and it holds that state, not the search (which holds it): no cycle,
+    so a search's states are let go as soon as it ends, not by the garbage collector."""
+    passed, passing, h_of = search.passed, search.passing, search.h_of
+    states, parent, heap, loss = search.states, search.parent, search.heap, search.loss
+    h, rra, weight = search.h, search.rra, search.weight
+    heappush, inf = heapq.heappush, math.inf
+
+    def weighted(node: int) -> float:
+        """The weight × ``node``'s heuristic (inf where the goal is out of reach), kept."""
+        hv = h(node)
+        if h is not rra and hv != inf and rra(node) == inf:
+            hv = inf
+        wh = h_of[node] = weight * hv
+        return wh
+
+    def push(node: int, lvl: int, t: float, out: bool, par: int, step: tuple | None) -> None:
+        if lvl:
+            last = passed.get((node, lvl))
+            if last is not None and t - last < passing:
+                return
+        wh = h_of.get(node)
+        if wh is None:
+            wh = weighted(node)
+        if wh == inf:
+            return
+        states.append((node, lvl, t, out))
+        parent.append((par, step))
+        heappush(heap, (t + (wh + loss[lvl]), -t, len(states) - 1))  # ties: deepest
+
+    return push
 
 
 def _free_till(in_way: list[tuple[float, float]], t: float) -> float:
