@@ -26,7 +26,7 @@ from lotsim.sim.preparation import PreparedLot
 if TYPE_CHECKING:
     from PIL import Image
 
-    from lotsim.maneuvers.planner import Maneuver
+    from lotsim.maneuvers.maneuver import Maneuver
     from lotsim.render.animation import GifInfo
     from lotsim.render.html import HtmlInfo
     from lotsim.render.video import VideoInfo

@@ -21,7 +21,7 @@ from lotsim.maneuvers.slot_table import MinSlotTable, min_slot_table
 from lotsim.sim.maneuver_case import ManeuverCase
 
 if TYPE_CHECKING:
-    from lotsim.maneuvers.planner import Maneuver
+    from lotsim.maneuvers.maneuver import Maneuver
     from lotsim.vehicles.model import VehicleType
 
 

@@ -82,4 +82,4 @@ def run(scenario_or_prepared: ScenarioLike | PreparedLot, settings: RunSettings 
     from lotsim.sim.orders import plan_run
 
     return plan_run(prepared.scenario, settings, lot_graph=prepared.lot_graph,
-                    progress=progress)
+                    progress=progress, memo=prepared.search_graphs)

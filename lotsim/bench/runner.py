@@ -26,6 +26,7 @@ from lotsim.sim.preparation import prepare
 from lotsim.sim.results import RunResult
 from lotsim.sim.running import collector_tuned
 from lotsim.sim.settings import GASettings, RunSettings
+from lotsim.traffic.searchgraph import SearchGraphMemo
 from lotsim.verify import check_result
 
 if TYPE_CHECKING:
@@ -46,18 +47,19 @@ class SchedulerUnreachable(LotsimError):
     """The Dask scheduler at the given address did not answer."""
 
 
-_PREPARED: dict[str, tuple[Scenario, LotGraph]] = {}
+_PREPARED: dict[str, tuple[Scenario, LotGraph, SearchGraphMemo]] = {}
 _PREPARING = threading.Lock()
 
 
-def prepared(sc: SuiteScenario) -> tuple[Scenario, LotGraph]:
-    """The scenario and its prepared lot, made once per process and scenario text: preparing
-    a large lot takes seconds, and every worker keeps what it prepared."""
+def prepared(sc: SuiteScenario) -> tuple[Scenario, LotGraph, SearchGraphMemo]:
+    """The scenario, its prepared lot and the lot's search graphs, made once per process and
+    scenario text: preparing a large lot takes seconds, and every worker keeps what it
+    prepared for its next runs on the lot."""
     key = hashlib.sha256(f"{sc.file}\0{sc.text}".encode()).hexdigest()
     with _PREPARING:  # Dask threads of one worker share this cache: prepare each lot once
         if key not in _PREPARED:
             scenario = parse_scenario(parse_text(sc.text, sc.file))
-            _PREPARED[key] = (scenario, prepare(scenario))
+            _PREPARED[key] = (scenario, prepare(scenario), SearchGraphMemo())
         return _PREPARED[key]
 
 
@@ -86,11 +88,12 @@ def spec_settings(spec: RunSpec) -> RunSettings:
     return RunSettings(**kw, horizon=spec.horizon)
 
 
-def _plan(spec: RunSpec, scenario: Scenario, lg: LotGraph) -> tuple[RunResult, dict]:
+def _plan(spec: RunSpec, scenario: Scenario, lg: LotGraph, memo: SearchGraphMemo
+          ) -> tuple[RunResult, dict]:
     """Plan with the spec's priority order, as ``lotsim run`` does
     (:func:`lotsim.sim.orders.plan_run`)."""
     with collector_tuned():
-        rr = plan_run(scenario, spec_settings(spec), lot_graph=lg)
+        rr = plan_run(scenario, spec_settings(spec), lot_graph=lg, memo=memo)
     return rr, rr.ordering
 
 
@@ -111,11 +114,11 @@ def run_spec(spec: RunSpec) -> dict:
     """
     row = _identity(spec)
     try:
-        scenario, lg = prepared(spec.scenario)
+        scenario, lg, memo = prepared(spec.scenario)
         scenario = spec_scenario(spec, scenario)
         row.update(_traffic_columns(scenario))
         clock = time.perf_counter()
-        rr, extra = _plan(spec, scenario, lg)
+        rr, extra = _plan(spec, scenario, lg, memo)
         report = check_result(result_dict(rr))
         row["wall_time_s"] = time.perf_counter() - clock
         row.update(_result_columns(rr, report, extra))

@@ -96,6 +96,7 @@ def result_dict(rr: RunResult) -> dict:
         settings["order"] = list(s.order)
         settings["horizon"] = s.horizon if math.isfinite(s.horizon) else None
     settings["tuning"] = dataclasses.asdict(s.tuning)
+    settings["search"] = dataclasses.asdict(s.search)
     # wall-clock timings differ run to run: they are printed, not written, so that the same
     # scenario and seed give the same file byte for byte
     metrics = {k: (round(v, 4) if isinstance(v, float) else v) for k, v in rr.metrics().items()

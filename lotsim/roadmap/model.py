@@ -104,10 +104,6 @@ class LotGraph:
     from_cache : bool
         Whether :func:`~lotsim.sim.preparation.prepare` loaded it from the on-disk cache
         (:mod:`lotsim.core.diskcache`) rather than planning it.
-    kept : dict
-        What planners work out from the lot alone and keep with it for the next runs in
-        this process (the search graph of each vehicle type, with its edge motions:
-        :func:`~lotsim.traffic.search.search_graph`). Not pickled.
     """
 
     lot: Lot
@@ -121,13 +117,12 @@ class LotGraph:
     from_cache: bool = False
     _reach: Reachability | None = field(default=None, repr=False, compare=False)
     _facts: GraphFacts | None = field(default=None, repr=False, compare=False)
-    kept: dict = field(default_factory=dict, repr=False, compare=False)
 
     def __getstate__(self) -> dict:
         # the graph as its plain dicts (nodes, successors, predecessors, each edge's data
         # dict shared by the two, in their order), not as a networkx object: loading a lot
         # imports networkx only when the graph itself is asked for (:meth:`__getattr__`)
-        state = {k: v for k, v in self.__dict__.items() if k not in ("kept", "graph")}
+        state = {k: v for k, v in self.__dict__.items() if k != "graph"}
         g = self.__dict__.get("graph")
         if g is not None:
             state["_graph_dicts"] = (g.graph, g._node, g._succ, g._pred)
@@ -135,7 +130,6 @@ class LotGraph:
 
     def __setstate__(self, state: dict) -> None:
         self.__dict__.update(state)
-        self.kept = {}
 
     def __getattr__(self, name: str):
         # only for attributes not set: the graph of a lot loaded by pickle, made on first use

@@ -18,7 +18,8 @@ from lotsim.core.geometry import same_pose
 from lotsim.roadmap.model import LotGraph
 from lotsim.sim.settings import RunTuning
 from lotsim.traffic.demand import Arrival
-from lotsim.traffic.search import SearchGraph, search_graph
+from lotsim.traffic.searchgraph import SearchGraph, SearchGraphMemo, search_graph
+from lotsim.traffic.settings import SearchSettings
 from lotsim.vehicles.model import VehicleType
 
 
@@ -47,11 +48,14 @@ class SlotAssigner:
     """
 
     def __init__(self, lot_graph: LotGraph, vehicle_types: Sequence[VehicleType], *,
-                 policy: str = "shortest", tuning: RunTuning | None = None) -> None:
+                 policy: str = "shortest", tuning: RunTuning | None = None,
+                 search: SearchSettings | None = None,
+                 memo: SearchGraphMemo | None = None) -> None:
         self.lg = lot_graph
         self.policy = policy
         self.tuning = tuning or RunTuning()
-        self.graphs = {t.name: search_graph(lot_graph, t) for t in vehicle_types}
+        self.graphs = {t.name: search_graph(lot_graph, t, memo, settings=search)
+                       for t in vehicle_types}
         self.leave = {t.name: lot_graph.leavable(t.name) for t in vehicle_types}
         self._times: dict[tuple[str, str, bool], dict[str, float]] = {}
         self._jammed: dict[str, float] = {}  # aisle → when a first look there last ran out

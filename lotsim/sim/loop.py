@@ -14,23 +14,19 @@ import math
 import time
 from collections import OrderedDict
 
+from lotsim.core.outcome import Status
 from lotsim.roadmap.model import LotGraph
 from lotsim.scenario import Scenario
 from lotsim.sim.assignment import SlotAssigner
 from lotsim.sim.results import VehicleRun
 from lotsim.sim.settings import RunSettings
 from lotsim.traffic.demand import Arrival
-from lotsim.traffic.reservation import ReservationTable, standing_body
-from lotsim.traffic.search import (
-    Goal,
-    Move,
-    Plan,
-    ReverseResumable,
-    SearchGraph,
-    Status,
-    reserve_moves,
-    search,
-)
+from lotsim.traffic.heuristic import ReverseResumable
+from lotsim.traffic.plans import Move, Plan, reserve_moves
+from lotsim.traffic.reservation import ReservationTable
+from lotsim.traffic.search import Goal, SearchRequest, search
+from lotsim.traffic.searchgraph import SearchGraph, SearchGraphMemo
+from lotsim.traffic.swept import standing_body
 
 
 class EventLoop:
@@ -51,13 +47,15 @@ class EventLoop:
     """
 
     def __init__(self, scenario: Scenario, lg: LotGraph, settings: RunSettings,
-                 traffic: list[Arrival], progress) -> None:
+                 traffic: list[Arrival], progress, memo: SearchGraphMemo | None = None
+                 ) -> None:
         self.lg = lg
         self.s = settings
         self.patience = scenario.traffic.patience
         self.table = ReservationTable()
         self.assigner = SlotAssigner(lg, scenario.vehicle_types, policy=settings.assignment,
-                                     tuning=settings.tuning)
+                                     tuning=settings.tuning, search=settings.search,
+                                     memo=memo)
         self.graphs = self.assigner.graphs
         self.leave = self.assigner.leave
         types = {t.name: t for t in scenario.vehicle_types}
@@ -190,10 +188,10 @@ class EventLoop:
                 v.slot = sid
                 self.commit(i, v, sg, plan)
                 return
-            if plan.status is Status.FUSE and first:
+            if plan.status is Status.OUT_OF_BUDGET and first:
                 tries.append((sid, False))
                 self.assigner.ran_out(sid, t)
-        v.reason = f"no conflict-free route found ({plan.status.value})"
+        v.reason = f"no conflict-free route found ({plan.reason})"
         if self.patience == 0:
             self.on_timeout(i, v, t)
             return
@@ -226,8 +224,8 @@ class EventLoop:
             rra, shared = self.heuristic(sg, goals), True
         v.seen = len(self.table.releases)
         clock = time.perf_counter()
-        plan = search(sg, self.table, owner=v.id, planner=self.s.planner, heuristic=rra,
-                      shared=shared, omega=self.s.omega, **kw)
+        plan = search(sg, self.table, SearchRequest(owner=v.id, **kw), planner=self.s.planner,
+                      heuristic=rra, shared=shared, omega=self.s.omega)
         v.planning_time += time.perf_counter() - clock
         v.searches += 1
         v.expansions += plan.expansions
@@ -292,7 +290,7 @@ class EventLoop:
                          start_pose=v.parked_pose, goal=Goal(exits=tuple(self.lg.exits.values())),
                          key=("exit", v.vehicle.name))
         if plan.status is not Status.FOUND:
-            v.reason = f"could not leave yet ({plan.status.value})"
+            v.reason = f"could not leave yet ({plan.reason})"
             v.depart_at = t + self.backoff(v)
             self.at(v.depart_at, "depart", i)
             return
@@ -357,7 +355,7 @@ class EventLoop:
         starts on the car's own plan, which its last search chose over every other way
         from there; a sooner one could only be what that search passed over, its heuristic
         being weighted (1.25) and states passing a node at speed within
-        :data:`~lotsim.traffic.search.PASSING` of one another taken as one:
+        :attr:`~lotsim.traffic.settings.SearchSettings.passing` of one another taken as one:
         milliseconds in practice. Every replan is searched when the run's
         ``tuning.skip_fruitless`` is off."""
         return not self.s.tuning.skip_fruitless or any(

@@ -20,7 +20,8 @@ from lotsim.sim.validation import id_ranges
 from lotsim.vehicles.model import VehicleType
 
 if TYPE_CHECKING:
-    from lotsim.maneuvers.planner import Maneuver, ManeuverPlanner
+    from lotsim.maneuvers.maneuver import Maneuver
+    from lotsim.maneuvers.planner import ManeuverPlanner
 
 
 @dataclass(frozen=True)

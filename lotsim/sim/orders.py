@@ -23,6 +23,8 @@ from lotsim.sim.results import RunResult
 from lotsim.sim.running import require_traffic, run
 from lotsim.sim.settings import GASettings, RunSettings
 from lotsim.traffic.demand import arrivals
+from lotsim.traffic.searchgraph import SearchGraphMemo
+from lotsim.traffic.settings import SearchSettings
 
 
 def fitness(rr: RunResult) -> float:
@@ -35,12 +37,15 @@ def fitness(rr: RunResult) -> float:
                      else patience + penalty for v in rr.vehicles))
 
 
-def shortest_first(scenario, lot_graph, seed: int | None = None) -> tuple[str, ...]:
+def shortest_first(scenario, lot_graph, seed: int | None = None, *,
+                   search: SearchSettings | None = None,
+                   memo: SearchGraphMemo | None = None) -> tuple[str, ...]:
     """Vehicle ids by their least static time from their entrance into a free slot they
-    can use (travel along the graph plus the maneuver), ties by arrival."""
+    can use (travel along the graph plus the maneuver, on the search graphs of ``search``
+    settings, from ``memo`` when given), ties by arrival."""
     seed = scenario.seed if seed is None else seed
     traffic = arrivals(scenario.traffic, seed)
-    assigner = SlotAssigner(lot_graph, scenario.vehicle_types)
+    assigner = SlotAssigner(lot_graph, scenario.vehicle_types, search=search, memo=memo)
     free = {s.id for s in lot_graph.lot.free_slots}
     best = {}
     for a in traffic:
@@ -64,7 +69,8 @@ def _order_crossover(a: np.ndarray, b: np.ndarray, rng: np.random.Generator) -> 
 
 
 def genetic_order(scenario, settings: RunSettings, *, lot_graph, ga: GASettings,
-                  progress=None) -> tuple[tuple[str, ...], dict]:
+                  progress=None, memo: SearchGraphMemo | None = None
+                  ) -> tuple[tuple[str, ...], dict]:
     """Search planning orders with a genetic algorithm; fitness :func:`fitness` of the run
     planned in that order (booked traffic).
 
@@ -83,7 +89,8 @@ def genetic_order(scenario, settings: RunSettings, *, lot_graph, ga: GASettings,
         key = tuple(int(x) for x in perm)
         if key not in cache:
             order = tuple(ids[k] for k in key)
-            rr = run(scenario, dataclasses.replace(settings, order=order), lot_graph=lot_graph)
+            rr = run(scenario, dataclasses.replace(settings, order=order), lot_graph=lot_graph,
+                     memo=memo)
             cache[key] = fitness(rr)
             if progress is not None:
                 progress(len(cache))
@@ -91,7 +98,8 @@ def genetic_order(scenario, settings: RunSettings, *, lot_graph, ga: GASettings,
 
     arrival = np.arange(n)
     pos = {vid: k for k, vid in enumerate(ids)}
-    sf = np.array([pos[v] for v in shortest_first(scenario, lot_graph, seed)])
+    sf = np.array([pos[v] for v in shortest_first(scenario, lot_graph, seed,
+                                                  search=settings.search, memo=memo)])
     pop = [arrival, sf] + [rng.permutation(n) for _ in range(max(0, ga.population - 2))]
     pop = pop[: max(2, ga.population)]
     fit = [score(p) for p in pop]
@@ -124,7 +132,7 @@ def genetic_order(scenario, settings: RunSettings, *, lot_graph, ga: GASettings,
 
 
 def plan_run(scenario, settings: RunSettings, *, lot_graph,
-             progress=None) -> RunResult:
+             progress=None, memo: SearchGraphMemo | None = None) -> RunResult:
     """Plan the scenario's traffic in the order ``settings`` asks for: ``settings.order`` if
     given, else chosen by ``settings.priority`` (:data:`PRIORITIES`; the GA with
     ``settings.ga``), then planned by :func:`lotsim.sim.running.run`.
@@ -138,23 +146,28 @@ def plan_run(scenario, settings: RunSettings, *, lot_graph,
     ``progress(done, most)`` is called after each order the GA plans (``most``: the
     population times the generations plus one; repeated orders are not planned again);
     otherwise, as :func:`lotsim.sim.running.run` calls it, as trips are dealt with.
+
+    ``memo`` holds the lot's search graphs for every run on it (a prepared lot's
+    ``search_graphs``); without one, the runs of this call share a new one.
     """
     require_traffic(scenario)
+    memo = SearchGraphMemo() if memo is None else memo
     clock = time.perf_counter()
     record: dict = {"evaluations": 0}
     order, searching = settings.order, False
     if order is None and settings.priority == "shortest_first":
-        order = shortest_first(scenario, lot_graph, settings.seed)
+        order = shortest_first(scenario, lot_graph, settings.seed, search=settings.search,
+                               memo=memo)
     elif order is None and settings.priority == "ga":
         ga, searching = settings.ga, True
         most = max(2, ga.population) * (ga.generations + 1)
         order, found = genetic_order(
-            scenario, settings, lot_graph=lot_graph, ga=ga,
+            scenario, settings, lot_graph=lot_graph, ga=ga, memo=memo,
             progress=None if progress is None else (lambda k: progress(k, most)))
         record.update({k: v for k, v in found.items() if k != "fitness"})
     record["order_time"] = time.perf_counter() - clock
     rr = run(scenario, dataclasses.replace(settings, order=order), lot_graph=lot_graph,
-             progress=None if searching else progress)
+             progress=None if searching else progress, memo=memo)
     record["fitness"] = fitness(rr)
     rr.ordering = record
     return rr

@@ -5,7 +5,7 @@ before."""
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import lotsim.core.diskcache
 from lotsim.lot.build import build_lot
@@ -20,6 +20,7 @@ from lotsim.roadmap.reach import Reachability, maneuver_ranges
 from lotsim.roadmap.turnarounds import plan_turnarounds_ahead
 from lotsim.scenario import Scenario
 from lotsim.traffic.demand import arrivals
+from lotsim.traffic.searchgraph import SearchGraphMemo
 
 REMEMBER_FROM = 64
 """Fewest slots times vehicle types for which :func:`prepare` keeps a lot's maneuver answers
@@ -148,7 +149,7 @@ class PreparedLot:
     """A scenario with its lot built and every maneuver planned (:func:`lotsim.prepare`):
     reusable across runs, which then skip the preparation (seconds to a minute on a large
     lot) and drive the edge motions earlier runs on it worked out
-    (:func:`~lotsim.traffic.search.search_graph`).
+    (:func:`~lotsim.traffic.searchgraph.search_graph`).
 
     Attributes
     ----------
@@ -160,11 +161,16 @@ class PreparedLot:
     maneuver_planner : ManeuverPlanner or None
         The planner (and its answers) the maneuvers came from; None when the lot was
         prepared without maneuvers or handed in as a lot graph alone.
+    search_graphs : SearchGraphMemo
+        The lot's search graphs, one per vehicle type and search settings, made by the
+        first run that needs each and driven by the later ones (they plan the same).
     """
 
     scenario: Scenario
     lot_graph: LotGraph
     maneuver_planner: ManeuverPlanner | None = None
+    search_graphs: SearchGraphMemo = field(default_factory=SearchGraphMemo, repr=False,
+                                           compare=False)
 
     @property
     def lot(self) -> Lot:

@@ -11,7 +11,7 @@ from lotsim.roadmap.model import LotGraph
 from lotsim.scenario import Scenario
 from lotsim.sim.settings import RunSettings
 from lotsim.traffic.demand import Arrival
-from lotsim.traffic.search import Move
+from lotsim.traffic.plans import Move
 from lotsim.vehicles.model import VehicleType
 
 STATUSES = ("parked", "departed", "waiting", "rejected")

@@ -18,6 +18,7 @@ from lotsim.sim.preparation import prepare
 from lotsim.sim.results import RunResult
 from lotsim.sim.settings import RunSettings
 from lotsim.traffic.demand import Arrival, arrivals
+from lotsim.traffic.searchgraph import SearchGraphMemo
 
 RUN_GC_THRESHOLDS = (20_000, 20, 1000)
 """The cycle collector's thresholds in :func:`collector_tuned` (Python's are 700, 10, 10):
@@ -125,7 +126,7 @@ def require_traffic(scenario: Scenario) -> None:
 
 
 def run(scenario: Scenario, settings: RunSettings | None = None, *, lot_graph=None,
-        progress=None) -> RunResult:
+        progress=None, memo: SearchGraphMemo | None = None) -> RunResult:
     """Plan the scenario's traffic: assign slots, plan every vehicle in, and out again.
 
     Vehicles are planned one after another in arrival order (their priority),
@@ -148,6 +149,10 @@ def run(scenario: Scenario, settings: RunSettings | None = None, *, lot_graph=No
         it is planned, its way out (if it has a dwell) when that is, or both when it is
         turned away or the run ends. It may raise (e.g.
         :class:`lotsim.sim.limits.LimitExceeded`) to stop the run.
+    memo : SearchGraphMemo, optional
+        The lot's search graphs, shared by the runs on it (a prepared lot's
+        ``search_graphs``): later runs drive the edge motions the first worked out, and plan
+        the same.
 
     The garbage collector is left as it is; a caller that runs many cars may ask for
     :func:`collector_tuned` around the call.
@@ -168,7 +173,7 @@ def run(scenario: Scenario, settings: RunSettings | None = None, *, lot_graph=No
     if settings.order is not None and sorted(settings.order) != sorted(a.id for a in traffic):
         raise SettingsError("order", "expected every vehicle id of the traffic exactly once")
     check_traffic(lg, traffic)
-    loop = EventLoop(scenario, lg, settings, traffic, progress)
+    loop = EventLoop(scenario, lg, settings, traffic, progress, memo)
     clock = time.perf_counter()
     loop.go()
     return RunResult(scenario, lg, settings, seed, loop.vehicles, time.perf_counter() - clock)

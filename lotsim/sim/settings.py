@@ -31,17 +31,14 @@ from lotsim.core.checks import (
     set_field,
     shown,
 )
+from lotsim.traffic.settings import OMEGA, PLANNERS, SearchSettings
 
-PLANNERS = ("ca", "hca", "whca")
-"""Cooperative A* variants (:func:`lotsim.traffic.search.search`)."""
 ASSIGNMENTS = ("nearest", "shortest")
 """Slot choice: straight-line distance from the entrance, or travel time."""
 PRIORITIES = ("arrival", "shortest_first", "ga")
 """``arrival``: online, each vehicle planned when it arrives; ``shortest_first``: booked,
 the vehicle with the least static time to a slot first; ``ga``: booked, the order a
 genetic algorithm finds (:mod:`lotsim.sim.orders`)."""
-OMEGA = 10.0
-"""Fuse: a search stops after expanding ``OMEGA`` × its reverse search's closed nodes."""
 BOOKING_HORIZON = 60.0
 """Default of :attr:`RunSettings.horizon` [s]."""
 MAX_SEED = 2**63 - 1
@@ -206,6 +203,9 @@ class RunSettings:
         The genetic algorithm, for ``priority="ga"``.
     tuning : RunTuning
         How hard a car looks at each slot before it tries another.
+    search : SearchSettings
+        The cooperative search's own tuning (:class:`~lotsim.traffic.settings.SearchSettings`:
+        speed levels, express edges, the reservations' chunks, the heuristic's weight, ...).
     """
 
     planner: str = "hca"
@@ -219,6 +219,7 @@ class RunSettings:
     priority: str = "arrival"
     ga: GASettings = field(default_factory=GASettings)
     tuning: RunTuning = field(default_factory=RunTuning)
+    search: SearchSettings = field(default_factory=SearchSettings)
 
     def __post_init__(self) -> None:
         raise_first(self._problems())
@@ -265,4 +266,6 @@ class RunSettings:
             out.append(("ga", f"expected GASettings, found {self.ga!r}"))
         if not isinstance(self.tuning, RunTuning):
             out.append(("tuning", f"expected RunTuning, found {self.tuning!r}"))
+        if not isinstance(self.search, SearchSettings):
+            out.append(("search", f"expected SearchSettings, found {self.search!r}"))
         return out

@@ -15,7 +15,7 @@ from lotsim.io.scenario_yaml import load_scenario
 from lotsim.sim.preparation import prepare, prepare_lot
 from lotsim.sim.running import run
 from lotsim.traffic.demand import arrivals
-from lotsim.traffic.search import SearchGraph
+from lotsim.traffic.searchgraph import SearchGraph
 from lotsim.vehicles import CATALOGUE
 from lotsim.verify import check_result
 from single_track import assert_reproduced
@@ -571,8 +571,9 @@ def test_a_car_whose_way_on_is_blocked_turns_back_at_a_junction(lots):
 
     from shapely.geometry import box
 
+    from lotsim.core.outcome import Status
     from lotsim.traffic.reservation import ReservationTable
-    from lotsim.traffic.search import Goal, Status, search
+    from lotsim.traffic.search import Goal, SearchRequest, search
 
     _, lg = lots["ladder"]
     g = lg.graph
@@ -596,8 +597,8 @@ def test_a_car_whose_way_on_is_blocked_turns_back_at_a_junction(lots):
         for k, w in enumerate(walls):
             table.reserve_standing(f"wall{k}", w, 0.0)
         sg = SearchGraph(lot_graph, car)
-        return sg, search(sg, table, owner="me", start=lg.entrances["in"], t0=0.0,
-                          goal=Goal(exits=(goal,)))
+        return sg, search(sg, table, SearchRequest(owner="me", start=lg.entrances["in"],
+                                                   t0=0.0, goal=Goal(exits=(goal,))))
 
     sg, found = plan(lg)
     assert found.status is Status.FOUND

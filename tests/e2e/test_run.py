@@ -11,14 +11,18 @@ import pytest
 
 from conftest import ONE_AISLE, SCENARIOS, position, scenario_from_text, static_times
 from lotsim.cli import main
+from lotsim.core.outcome import Status
 from lotsim.errors import ScenarioError
 from lotsim.io.result import result_dict
 from lotsim.io.scenario_yaml import load_scenario
 from lotsim.sim.preparation import prepare
 from lotsim.sim.running import run
 from lotsim.sim.settings import RunSettings, RunTuning
-from lotsim.traffic import search as cooperative
 from lotsim.traffic.demand import Arrival, TrafficSpec, arrivals
+from lotsim.traffic.reservation import ReservationTable
+from lotsim.traffic.search import Goal, SearchRequest, search
+from lotsim.traffic.searchgraph import SearchGraph
+from lotsim.traffic.settings import SearchSettings
 from lotsim.verify import check_result
 from single_track import assert_reproduced
 
@@ -35,7 +39,7 @@ def test_a_reverse_search_asked_many_things_answers_each_as_a_new_one_would(smal
     # the static times, and how many nodes a new one closes to answer (what sizes a
     # search's fuse), whatever the kept one was asked before
     sc, lg = small
-    sg = cooperative.SearchGraph(lg, sc.vehicle_types[0])
+    sg = SearchGraph(lg, sc.vehicle_types[0])
     nodes = sorted(sg.pose)
     rng = np.random.default_rng(5)
     reachable = 0
@@ -241,16 +245,14 @@ def test_same_scenario_and_seed_give_the_same_file_byte_for_byte(tmp_path, shipp
     outs = [lotsim.write_result(lotsim.run(prepared), tmp_path / f"r{k}.json").read_bytes()
             for k in range(2)]
     assert outs[0] == outs[1]
-    # runs after the first on a prepared lot drive the edge motions it worked out, kept with
-    # the lot (after another planner's run here); a copy of the lot keeps none and works
-    # them out anew: the same file either way
+    # after another planner's run on the same lot, and on a copy of the lot: the same file
     lotsim.run(prepared, lotsim.RunSettings(planner="whca", seed=7))
+    # its runs drive one search graph a vehicle type, made by the first
+    assert len(prepared.search_graphs) == len(prepared.scenario.vehicle_types)
     copy = pickle.loads(pickle.dumps(lg))
-    assert copy.kept == {} and lg.kept["search_graphs"]
-    for k, held in enumerate((lg, copy)):
-        again = lotsim.run(lotsim.PreparedLot(prepared.scenario, held))
+    for k, held in enumerate((prepared, lotsim.PreparedLot(prepared.scenario, copy))):
+        again = lotsim.run(held)
         assert lotsim.write_result(again, tmp_path / f"again{k}.json").read_bytes() == outs[0]
-    assert copy.kept["search_graphs"]
     # another seed draws other arrivals (that a run takes its seed's:
     # tests/unit/sim/test_running.py)
     sc = prepared.scenario
@@ -258,11 +260,10 @@ def test_same_scenario_and_seed_give_the_same_file_byte_for_byte(tmp_path, shipp
         v["arrival"] for v in json.loads(outs[0])["vehicles"]]
 
 
-def test_a_blown_fuse_makes_the_vehicle_wait_then_leaves_it_rejected_with_the_reason(
-        small, monkeypatch):
+def test_a_blown_fuse_makes_the_vehicle_wait_then_leaves_it_rejected_with_the_reason(small):
     sc, lg = small
-    monkeypatch.setattr(cooperative, "MIN_BUDGET", 3)
-    rr = _run(sc, lg, [Arrival("x", "valet", "in", 0.0)], patience=20.0, omega=1.0)
+    rr = _run(sc, lg, [Arrival("x", "valet", "in", 0.0)], patience=20.0, omega=1.0,
+              search=SearchSettings(min_budget=3))
     v = rr.vehicles[0]
     assert v.status == "rejected" and "fuse" in v.reason
     assert v.searches >= 3  # it tried again while it waited
@@ -378,14 +379,14 @@ def test_a_car_speeds_up_across_closely_spaced_nodes():
     for k in range(n - 1):
         g.add_edge(k, k + 1, kind="lane", length=step, gear=1, speed_limit=20 / 3.6,
                    path=(Segment((k * step, 0.0, 0.0), step, 0.0),), placeholder=False)
-    sg = cooperative.SearchGraph(LotGraph(None, g, {}, {}, {}), car)
-    table, goal = cooperative.ReservationTable(), cooperative.Goal(exits=(n - 1,))
-    plan = cooperative.search(sg, table, owner="x", start=0, t0=0.0, goal=goal)
-    assert plan.status is cooperative.Status.FOUND
+    sg = SearchGraph(LotGraph(None, g, {}, {}, {}), car)
+    table, goal = ReservationTable(), Goal(exits=(n - 1,))
+    plan = search(sg, table, SearchRequest(owner="x", start=0, t0=0.0, goal=goal))
+    assert plan.status is Status.FOUND
     # a first look with a budget smaller than the search needs blows the fuse there
-    look = cooperative.search(sg, table, owner="x", start=0, t0=0.0, goal=goal,
-                              budget=plan.expansions - 2)
-    assert look.status is cooperative.Status.FUSE and look.expansions == plan.expansions - 1
+    look = search(sg, table, SearchRequest(owner="x", start=0, t0=0.0, goal=goal,
+                                           budget=plan.expansions - 2))
+    assert look.status is Status.OUT_OF_BUDGET and look.expansions == plan.expansions - 1
     lim = car.limits
     best = min(p.duration for v in sg.levels
                if (p := scurve(60.0, 0.0, float(v), min(20 / 3.6, lim.max_forward_speed),

@@ -4,12 +4,13 @@ would take too long to run out."""
 import pytest
 
 from conftest import ROOT
+from lotsim.core.outcome import Status
 from lotsim.io.scenario_yaml import load_scenario
 from lotsim.sim import loop as loopmod
 from lotsim.sim.loop import EventLoop
 from lotsim.sim.settings import RunSettings, RunTuning
 from lotsim.traffic.demand import Arrival
-from lotsim.traffic.search import Plan, Status
+from lotsim.traffic.plans import Plan
 
 
 @pytest.fixture(scope="module")
@@ -31,10 +32,10 @@ def test_after_a_first_look_runs_out_the_next_cars_look_at_other_aisles_first_fo
     looks: list[tuple[str, str, float]] = []  # (car, slot, start time) of each first look
     slot_of = {node: sid for sid, node in lg.slot_nodes.items()}
 
-    def runs_out(sg, table, *, owner, t0, goal, budget=None, **kw):
-        if budget is not None:
-            looks.append((owner, slot_of[goal.slot], t0))
-            return Plan(Status.FUSE, expansions=budget + 1)
+    def runs_out(sg, table, ask, **kw):
+        if ask.budget is not None:
+            looks.append((ask.owner, slot_of[ask.goal.slot], ask.t0))
+            return Plan(Status.OUT_OF_BUDGET, expansions=ask.budget + 1)
         return Plan(Status.NO_PATH)
 
     monkeypatch.setattr(loopmod, "search", runs_out)

@@ -16,6 +16,7 @@ import shapely
 
 from conftest import scenario_from_text
 from lotsim.cli import main
+from lotsim.core.outcome import Status
 from lotsim.errors import ScenarioError, SettingsError
 from lotsim.io.result import result_dict
 from lotsim.sim import loop as loopmod
@@ -25,7 +26,7 @@ from lotsim.sim.results import STATUSES, RunResult
 from lotsim.sim.running import RUN_GC_THRESHOLDS, collector_tuned, run
 from lotsim.sim.settings import RunSettings
 from lotsim.traffic.demand import Arrival, StreamSpec, TrafficSpec, arrivals
-from lotsim.traffic.search import Plan, Status
+from lotsim.traffic.plans import Plan
 
 TINY = """\
 name: tiny
@@ -182,10 +183,10 @@ def test_a_car_that_can_never_leave_ends_waiting_with_its_reason_and_run_exits_1
     # again and again, backing off, and is not reported parked when the run ends
     real = loopmod.search
 
-    def no_way_out(sg, table, *, goal, **kw):
-        if goal.slot is None:  # towards the exits
+    def no_way_out(sg, table, request, **kw):
+        if request.goal.slot is None:  # towards the exits
             return Plan(Status.NO_PATH, expansions=1)
-        return real(sg, table, goal=goal, **kw)
+        return real(sg, table, request, **kw)
 
     monkeypatch.setattr(loopmod, "search", no_way_out)
     sc, lg = tiny

@@ -9,13 +9,11 @@ import shapely.affinity
 from shapely.geometry import box
 
 from lotsim.core.geometry import Segment
-from lotsim.traffic.reservation import (
-    ReservationTable,
-    Swept,
-    standing_body,
-    swept_motion,
-    swept_trajectory,
-)
+from lotsim.traffic import candidates
+from lotsim.traffic.grid import CELL, cells_of, cells_of_all
+from lotsim.traffic.reservation import ReservationTable
+from lotsim.traffic.search import _free_till
+from lotsim.traffic.swept import Swept, standing_body, swept, swept_motion, swept_motions
 from lotsim.vehicles import CATALOGUE
 from lotsim.vehicles.motion import Piece, drive, timed_path
 
@@ -64,9 +62,10 @@ def test_random_crossings_that_touch_at_an_instant_are_always_caught(via):
             table.reserve("a", swept_motion(timed_path(pa, CAR), CAR), offset=ta)
             conflict = table.first_conflict(swept_motion(timed_path(pb, CAR), CAR),
                                             offset=tb)
-        else:
-            table.reserve("a", swept_trajectory(drive(pa, CAR, t0=ta), CAR))
-            conflict = table.first_conflict(swept_trajectory(drive(pb, CAR, t0=tb), CAR))
+        else:  # sampled trajectories, chunk edges missing from their samples
+            ra, rb = drive(pa, CAR, t0=ta), drive(pb, CAR, t0=tb)
+            table.reserve("a", swept(ra.poses, ra.t, CAR))
+            conflict = table.first_conflict(swept(rb.poses, rb.t, CAR))
         if _dense_overlap(a, b):
             touching += 1
             assert conflict is not None and conflict.owner == "a"
@@ -91,8 +90,8 @@ def test_a_parked_car_blocks_only_from_when_it_parks_and_not_its_owner():
     assert table.is_free([(5.0, 9.5, probe)])
     assert table.first_conflict([(9.0, 10.5, probe)]).owner == "p"
     assert table.is_free([(200.0, 201.0, probe)], ignore="p")
-    assert table.free_from(probe, 0.0).owner == "p"
-    assert table.free_from(box(5, 5, 6, 6), 0.0) is None
+    assert table.taken_until(probe) == math.inf and table.taken_until(probe, ignore="p") < 0
+    assert table.taken_until(box(5, 5, 6, 6)) == -math.inf
 
 
 def test_release_after_a_time_keeps_the_past_and_cuts_the_parked_car_there():
@@ -108,7 +107,7 @@ def test_release_after_a_time_keeps_the_past_and_cuts_the_parked_car_there():
     assert not table.is_free([(motion.duration + 1, motion.duration + 2, end)])
     assert not table.is_free([(0.0, 0.1, standing_body(CAR, (0.0, 0.0, 0.0)))])
     table.release("v")
-    assert table.owners() == set() and len(table) == 0
+    assert len(table) == 0
 
 
 def test_long_and_short_entries_are_both_found_across_many_buckets():
@@ -146,8 +145,6 @@ def test_blocked_departures_are_exactly_the_offsets_is_free_refuses():
     # random motions against random bodies held over random times (some for ever): a
     # departure the table calls free lies outside every blocked interval, and one it does
     # not lies inside one, at random offsets and at each interval's very ends
-    from lotsim.traffic.reservation import Swept
-
     rng = np.random.default_rng(5)
     for _ in range(25):
         table = ReservationTable()
@@ -171,11 +168,12 @@ def test_blocked_departures_are_exactly_the_offsets_is_free_refuses():
             assert table.is_free(sw, offset=float(d)) is not inside, (d, hit)
 
 
-def _random_table(rng, n=40):
+def _random_table(rng, n=40, few=True):
     """Bodies held by a few owners over random times: short ones, ones spanning many time
     buckets, some for ever, some standing in a slot. Times on a 0.5 s grid and corners on
-    a 1 m one, so that bodies and times often just touch."""
-    table = ReservationTable()
+    a 1 m one, so that bodies and times often just touch. Not ``few``: its queries take
+    numpy's way for any number of candidates, not Python's."""
+    table = ReservationTable() if few else ReservationTable(few_pairs=0, few_entries=0)
     for k in range(n):
         x, y = rng.integers(-15, 15, size=2)
         body = box(x, y, x + rng.integers(1, 5), y + rng.integers(1, 5))
@@ -193,8 +191,6 @@ def _random_table(rng, n=40):
 
 
 def _random_swept(rng):
-    from lotsim.traffic.reservation import Swept
-
     x, y = rng.integers(-15, 15, size=2)
     out, t = [], 0.0
     for _ in range(rng.integers(1, 8)):
@@ -209,35 +205,28 @@ def _brute_first_conflict(table, sw, offset, ignore):
     """The earliest interval's clash, entry by entry in the order they were reserved (an
     independent reading of the store: alive, not ``ignore``'s, not in a slot)."""
     st = table._store
-    skip = table._ids.get(ignore, -1)
+    skip = st.ids.get(ignore, -1)
     for (a, z), g in zip(sw.t, sw.geoms, strict=True):
         a, z = a + offset, z + offset
         for i in range(st.n):
             if (st.alive[i] and not st.in_slot[i] and st.owner[i] != skip
                     and st.t[i, 0] <= z + 1e-9 and st.t[i, 1] >= a - 1e-9
                     and shapely.intersects(g, st.geom[i])):
-                return table._names[st.owner[i]], float(st.t[i, 0]), float(st.t[i, 1])
+                return st.names[st.owner[i]], float(st.t[i, 0]), float(st.t[i, 1])
     return None
 
 
 @pytest.mark.parametrize("few", [True, False])
-def test_queries_among_the_nearby_entries_answer_as_the_table_and_a_brute_force_do(
-        few, monkeypatch):
+def test_queries_among_the_nearby_entries_answer_as_the_table_and_a_brute_force_do(few):
     # candidates gathered once over the cells and times of several queries (as a search
     # does per edge) are every entry that may meet them (read off the store directly), and
     # give the same first conflicts (also found by brute force) and the same blocked
     # departures as the queries gathering their own; long windows (more time buckets
     # than a cell holds) included
-    from lotsim.traffic import reservation
-    from lotsim.traffic.reservation import cells_of
-
-    if not few:  # numpy's way for any number of entries and pairs, not Python's
-        monkeypatch.setattr(reservation, "_FEW_ENTRIES", 0)
-        monkeypatch.setattr(reservation, "_FEW_PAIRS", 0)
     rng = np.random.default_rng(16)
     clashes = blocked = 0
     for _ in range(80):
-        table = _random_table(rng, n=int(rng.choice([40, 300])))
+        table = _random_table(rng, n=int(rng.choice([40, 300])), few=few)
         st = table._store
         sws = [_random_swept(rng) for _ in range(3)]
         ignore = "o2" if rng.integers(2) else None
@@ -248,12 +237,11 @@ def test_queries_among_the_nearby_entries_answer_as_the_table_and_a_brute_force_
         cells = cells_of((b[:, 0].min(), b[:, 1].min(), b[:, 2].max(), b[:, 3].max()))
         near = table.nearby(cells, since, until + longest, ignore=ignore)
         want = [i for i in range(st.n)
-                if st.alive[i] and not st.in_slot[i] and st.owner[i] != table._ids.get(ignore)
+                if st.alive[i] and not st.in_slot[i] and st.owner[i] != st.ids.get(ignore)
                 and st.t[i, 0] <= until + longest + 1e-9 and st.t[i, 1] >= since - 1e-9
                 and set(cells_of(st.box[i])) & set(cells)]
         assert near.ids == want
         assert near.rows == [(*st.t[i], *st.box[i]) for i in want]
-        assert bool(near) != table.quiet(cells, since, until + longest, ignore=ignore)
         # only those whose box meets the box of all the queries' hulls: the same answers
         inside = table.nearby(cells, since, until + longest, ignore=ignore,
                               box=(*b[:, :2].min(axis=0), *b[:, 2:].max(axis=0)))
@@ -273,8 +261,8 @@ def test_queries_among_the_nearby_entries_answer_as_the_table_and_a_brute_force_
                 assert table.first_conflict(sw, offset=d, ignore=ignore) == got
                 assert table.first_conflict(sw, offset=d, ignore=ignore, among=inside) == got
                 assert table.is_free(sw, offset=d, ignore=ignore, among=near) == (got is None)
-                pairs = reservation._pairs(sw, near, d)
-                anyhow = reservation._pairs(sw, near, d, ordered=False)
+                pairs = candidates.pairs(sw, near, d, few=table.few_pairs)
+                anyhow = candidates.pairs(sw, near, d, ordered=False, few=table.few_pairs)
                 assert sorted(zip(*pairs, strict=True)) == list(zip(*pairs, strict=True))
                 assert sorted(zip(*anyhow, strict=True)) == list(zip(*pairs, strict=True))
                 assert table.is_free(sw, offset=d, ignore=ignore, among=inside) == (got is None)
@@ -303,8 +291,8 @@ def test_a_table_that_forgets_the_past_answers_every_later_query_as_one_that_kee
         table.forget_before(now)
         st = table._store
         forgot += sum(r is None for r in st.rows) - sum(r is None for r in kept._store.rows)
-        assert all(k >= math.floor((now - 1e-9) / table.bucket) for c in table._grid.values()
-                   for k in c)
+        assert all(k >= math.floor((now - 1e-9) / table.bucket)
+                   for c in table._grid.by_cell.values() for k in c)
         for _ in range(6):
             sw = _random_swept(rng)
             ignore = "o2" if rng.integers(2) else None
@@ -324,8 +312,6 @@ def test_a_table_that_forgets_the_past_answers_every_later_query_as_one_that_kee
             body = sw.geoms[0]
             a, b = (x.taken_until(body, ignore=ignore) for x in (table, kept))
             assert a == b or (a < now and b < now)  # compared only with times from now on
-            assert (table.free_from(body, since, ignore=ignore)
-                    == kept.free_from(body, since, ignore=ignore))
         after = now + float(rng.integers(0, 10)) / 2
         for x in (table, kept):
             x.release("o3", after=after)
@@ -337,8 +323,6 @@ def test_standing_bodies_kept_between_queries_are_blocked_as_the_table_says():
     # bodies asked about again and again while the table grows, drops, cuts short and
     # forgets entries (as lane nodes are by one search after another): each query gives
     # the intervals blocked gives, and one made anew (nothing kept) gives them too
-    from lotsim.traffic.reservation import Swept
-
     rng = np.random.default_rng(30)
     met = 0
     for _ in range(40):
@@ -381,7 +365,6 @@ def test_motions_swept_together_are_swept_as_each_alone():
     # one straight path (one or several collinear segments) driven between random speeds,
     # swept together: the very same hulls, times, boxes and cells as one by one; curved
     # paths and mixed groups fall back to one by one
-    from lotsim.traffic.reservation import Swept, swept_motions
     from lotsim.vehicles.motion import Motion, Stroke, scurve
 
     rng = np.random.default_rng(3)
@@ -413,9 +396,6 @@ def test_motions_swept_together_are_swept_as_each_alone():
             # the arrays made from the rows: the intervals' times and shapely's bounds
             assert np.array_equal(sw.t, [(a, z) for a, z, _ in intervals])
             assert np.array_equal(sw.bounds, shapely.bounds(sw.geoms))
-            held = sw.held(3.0, 7.5)
-            assert np.array_equal(held.t, [[3.0, 7.5]])
-            assert np.array_equal(held.bounds, shapely.bounds(sw.geoms[:1]))
             assert sw.cells == alone.cells and sw.rows == alone.rows
             assert all(shapely.equals_exact(a, b, tolerance=0.0)
                        for a, b in zip(sw.geoms, alone.geoms, strict=True))
@@ -425,9 +405,6 @@ def test_when_a_standing_body_is_first_in_the_way_can_be_read_from_one_query():
     # a search asks once per node, from its start t0, when a body standing there is in
     # somebody's way, and reads from that when it is first in the way after any later t:
     # the same time as a query from t on, or (both) before t: in the way already
-    from lotsim.traffic.reservation import Swept
-    from lotsim.traffic.search import _free_till
-
     rng = np.random.default_rng(7)
     later = before = 0
     for _ in range(30):
@@ -451,26 +428,22 @@ def test_when_a_standing_body_is_first_in_the_way_can_be_read_from_one_query():
 
 
 def test_cells_of_many_boxes_at_once_are_each_ones():
-    from lotsim.traffic.reservation import CELL, _cells_of_all, cells_of
-
     rng = np.random.default_rng(2)
     lo = np.concatenate([rng.uniform(-40, 40, size=(200, 2)),
                          rng.integers(-6, 6, size=(50, 2)) * CELL])  # on cell borders too
     size = np.concatenate([rng.uniform(0, 15, size=(200, 2)),
                            rng.integers(0, 3, size=(50, 2)) * CELL])
     bounds = np.hstack([lo, lo + size])
-    assert _cells_of_all(bounds) == tuple(cells_of(b) for b in bounds)
+    assert cells_of_all(bounds) == tuple(cells_of(b) for b in bounds)
 
 
 def test_boxes_in_the_same_cells_share_one_tuple_of_cells():
     # hundreds of thousands of hulls and entries meet the same few blocks of cells: they
     # hold one tuple each, not a copy apiece
-    from lotsim.traffic.reservation import _cells_of_all, cells_of
-
     a = cells_of((0.5, 0.5, 7.0, 7.0))
     assert a == ((0, 0), (0, 1), (1, 0), (1, 1))
     assert cells_of((1.0, 1.0, 8.0, 8.0)) is a
-    assert _cells_of_all(np.array([[2.0, 3.0, 9.0, 10.0]]))[0] is a
+    assert cells_of_all(np.array([[2.0, 3.0, 9.0, 10.0]]))[0] is a
 
 
 def test_a_swept_knows_its_extent_and_whether_its_intervals_come_in_order():
@@ -507,7 +480,8 @@ def test_reserving_a_swept_files_it_as_its_intervals_one_by_one():
     rng = np.random.default_rng(30)
     for _ in range(30):
         sws = [_random_swept(rng) for _ in range(3)]
-        sws.append(sws[0].held(float(rng.integers(0, 50)), float(rng.integers(60, 200))))
+        long = (float(rng.integers(0, 50)), float(rng.integers(60, 200)), sws[0].geoms[0])
+        sws.append(Swept.of([long]))
         a, b = ReservationTable(), ReservationTable()
         for k, sw in enumerate(sws):
             d = float(rng.integers(-10, 100)) / 4
@@ -517,31 +491,27 @@ def test_reserving_a_swept_files_it_as_its_intervals_one_by_one():
         n = a._store.n
         assert np.array_equal(a._store.box[:n], b._store.box[:n])
         assert np.array_equal(a._store.t[:n], b._store.t[:n])
-        assert a._grid == b._grid and a._long_cells == b._long_cells
+        assert a._grid.by_cell == b._grid.by_cell and a._grid.long_cells == b._grid.long_cells
         assert a._store.rows == [(*a._store.t[i], *shapely.bounds(a._store.geom[i]))
                                  for i in range(n)]
 
 
 @pytest.mark.parametrize("few", [True, False])
-def test_blocked_departures_of_bodies_and_motions_are_those_a_brute_force_finds(
-        few, monkeypatch):
+def test_blocked_departures_of_bodies_and_motions_are_those_a_brute_force_finds(few):
     # blocked (gathering its own candidates) against every entry and hull tested with
     # shapely and the definition's interval [t0 - z, t1 - a] (widened by eps) merged: a
     # standing body (one hull) and motions, Python's way and numpy's
-    from lotsim.traffic import reservation
-    if not few:
-        monkeypatch.setattr(reservation, "_FEW_PAIRS", 0)
     rng = np.random.default_rng(31)
     found = 0
     for _ in range(60):
-        table = _random_table(rng, n=int(rng.choice([40, 200])))
+        table = _random_table(rng, n=int(rng.choice([40, 200])), few=few)
         st = table._store
         ignore = "o2" if rng.integers(2) else None
-        skip = table._ids.get(ignore, -1)
+        skip = st.ids.get(ignore, -1)
         moving = _random_swept(rng)
         if rng.integers(2):  # diamonds: boxes that meet, bodies that may not
             moving = Swept.of([(a, z, shapely.affinity.rotate(g, 45)) for a, z, g in moving])
-        for sw in (moving, moving.held(0.0, 0.0)):
+        for sw in (moving, Swept.of([(0.0, 0.0, moving.geoms[0])])):
             since = float(rng.integers(0, 120)) / 2
             until = since + float(rng.choice([0, rng.integers(0, 10), rng.integers(100, 7200)]))
             lo, hi = [], []
@@ -553,7 +523,7 @@ def test_blocked_departures_of_bodies_and_motions_are_those_a_brute_force_finds(
                         if high >= since and low <= until:
                             lo.append(float(low))
                             hi.append(float(high))
-            want = reservation._merged(lo, hi)
+            want = candidates.merged(lo, hi)
             assert table.blocked(sw, since, until, ignore=ignore) == want
             # and among the entries gathered near it (as a search asks, from rest)
             cells = sorted({c for cs in sw.cells for c in cs})

@@ -1,6 +1,7 @@
 """lotsim.traffic.search.search on a hand-built straight lane: when a car waits, for
 how long, and that what it plans meets nobody (checked with shapely, not the table)."""
 
+import dataclasses
 import math
 
 import networkx as nx
@@ -10,17 +11,19 @@ import shapely
 from shapely.geometry import box
 
 from lotsim.core.geometry import Segment
+from lotsim.core.outcome import Status
 from lotsim.roadmap.model import LotGraph
-from lotsim.traffic import search as cooperative
 from lotsim.traffic.reservation import ReservationTable
-from lotsim.traffic.search import Goal, SearchGraph, Status, search
+from lotsim.traffic.search import Goal, SearchRequest, search
+from lotsim.traffic.searchgraph import SearchGraph
+from lotsim.traffic.settings import SearchSettings
 from lotsim.vehicles import CATALOGUE
 
 CAR = CATALOGUE["valet"]  # 1.0 m behind the rear axle, 3.9 m in front, 1.8 m wide
 LIMIT = 20 / 3.6
 
 
-def _lane(xs):
+def _lane(xs, settings=None):
     """A one-way lane along the x axis with nodes at ``xs`` [m], one edge between each two
     neighbours (the last node is the exit)."""
     g = nx.DiGraph()
@@ -30,7 +33,7 @@ def _lane(xs):
         length = float(xs[k + 1] - xs[k])
         g.add_edge(k, k + 1, kind="lane", length=length, gear=1, speed_limit=LIMIT,
                    path=(Segment((float(xs[k]), 0.0, 0.0), length, 0.0),), placeholder=False)
-    return SearchGraph(LotGraph(None, g, {}, {}, {}), CAR)
+    return SearchGraph(LotGraph(None, g, {}, {}, {}), CAR, settings=settings)
 
 
 def _front_meets(x_rear_axle, x0, x1):
@@ -50,8 +53,8 @@ def test_a_car_departs_exactly_when_its_motion_clears_a_body_crossing_its_way(ou
     x0, x1, t1 = 15.0, 15.5, 6.3
     table = ReservationTable()
     table.reserve("other", [(0.0, t1, box(x0, -3.0, x1, 3.0))])
-    plan = search(sg, table, owner="me", start=0, t0=0.0, goal=Goal(exits=(1,)),
-                  outside=outside)
+    plan = search(sg, table, SearchRequest(owner="me", start=0, t0=0.0, goal=Goal(exits=(1,)),
+                                           outside=outside))
     assert plan.status is Status.FOUND
     *waits, drive = plan.moves
     assert waits and {w.kind for w in waits} == {"outside" if outside else "wait"}
@@ -73,43 +76,44 @@ def test_a_way_blocked_for_ever_is_no_path_after_a_few_expansions():
     sg = _lane([0.0, 10.0, 30.0])
     table = ReservationTable()
     table.reserve_standing("wall", box(20.0, -3.0, 20.5, 3.0), 0.0)
-    plan = search(sg, table, owner="me", start=0, t0=0.0, goal=Goal(exits=(2,)))
+    plan = search(sg, table, SearchRequest(owner="me", start=0, t0=0.0, goal=Goal(exits=(2,))))
     assert plan.status is Status.NO_PATH
     assert plan.expansions <= 10
 
 
-def test_the_fuse_blows_after_omega_times_the_reverse_search_and_a_long_wait_fits(
-        monkeypatch):
+def test_the_fuse_blows_after_omega_times_the_reverse_search_and_a_long_wait_fits():
     # a car waiting 100 s for its way is found in a few expansions, within a fuse of 4
     # times the reverse search's 2 nodes; a smaller budget still blows it, then
-    monkeypatch.setattr(cooperative, "MIN_BUDGET", 0)
-    sg = _lane([0.0, 30.0])
+    sg = _lane([0.0, 30.0], SearchSettings(min_budget=0))
     table = ReservationTable()
     table.reserve("other", [(0.0, 100.0, box(15.0, -3.0, 15.5, 3.0))])
-    kw = dict(owner="me", start=0, t0=0.0, goal=Goal(exits=(1,)))
-    plan = search(sg, table, omega=4, **kw)
+    ask = SearchRequest(owner="me", start=0, t0=0.0, goal=Goal(exits=(1,)))
+    plan = search(sg, table, ask, omega=4)
     assert plan.status is Status.FOUND and plan.moves[0].t1 > 90
-    assert search(sg, table, omega=0.5, **kw).status is Status.FUSE
-    look = search(sg, table, budget=1, **kw)
-    assert look.status is Status.FUSE and look.expansions == 2
+    blown = search(sg, table, ask, omega=0.5)
+    assert blown.status is Status.OUT_OF_BUDGET and not blown.found and blown.reason == "fuse"
+    look = search(sg, table, dataclasses.replace(ask, budget=1))
+    assert look.status is Status.OUT_OF_BUDGET and look.expansions == 2
+    # the same search with the default floor of expansions finds it
+    assert search(_lane([0.0, 30.0]), table, ask, omega=0.5).found
 
 
-def test_a_reverse_search_kept_from_other_searches_sizes_the_fuse_as_a_new_one(monkeypatch):
+def test_a_reverse_search_kept_from_other_searches_sizes_the_fuse_as_a_new_one():
     # the RRA* from the exit has closed all 4 nodes for an earlier search from node 0; a
     # search from node 1 with it, shared, blows its fuse (omega 0.5) where one with a new
     # RRA* (3 nodes closed to reach node 1) does, not a step later
-    monkeypatch.setattr(cooperative, "MIN_BUDGET", 0)
-    sg = _lane([0.0, 10.0, 20.0, 30.0])
+    sg = _lane([0.0, 10.0, 20.0, 30.0], SearchSettings(min_budget=0))
     table = ReservationTable()
     table.reserve("other", [(0.0, 100.0, box(25.0, -3.0, 25.5, 3.0))])
-    kw = dict(owner="me", start=1, t0=0.0, goal=Goal(exits=(3,)), omega=0.5)
+    ask = SearchRequest(owner="me", start=1, t0=0.0, goal=Goal(exits=(3,)))
     used = sg.reverse_search({3: 0.0})
     assert used(0) < math.inf and used.closed == 4
-    new = search(sg, table, heuristic=sg.reverse_search({3: 0.0}), **kw)
-    kept = search(sg, table, heuristic=used, shared=True, **kw)
-    assert new.status is kept.status is Status.FUSE
+    new = search(sg, table, ask, heuristic=sg.reverse_search({3: 0.0}), omega=0.5)
+    kept = search(sg, table, ask, heuristic=used, shared=True, omega=0.5)
+    assert new.status is kept.status is Status.OUT_OF_BUDGET
     assert kept.expansions == new.expansions == 2
-    assert search(sg, table, heuristic=used, **kw).expansions == 3  # sized by all it closed
+    # sized by all it closed
+    assert search(sg, table, ask, heuristic=used, omega=0.5).expansions == 3
 
 
 def _footprint(pose):
@@ -156,10 +160,11 @@ def test_a_planned_car_meets_no_reserved_body_at_any_instant():
             body = box(x, -3.0, x + float(rng.uniform(0.3, 2.0)), 3.0)
             bodies.append((t0, t1, body))
             table.reserve(f"o{k}", [(t0, t1, body)])
-        plan = search(sg, table, owner="me", start=0, t0=0.0, goal=Goal(exits=(6,)))
+        ask = SearchRequest(owner="me", start=0, t0=0.0, goal=Goal(exits=(6,)))
+        plan = search(sg, table, ask)
         assert plan.status is Status.FOUND
         assert _meets(plan.moves, bodies) is None, seed
-        again = search(sg, table, owner="me", start=0, t0=0.0, goal=Goal(exits=(6,)))
+        again = search(sg, table, ask)
         assert again.moves == plan.moves
         assert plan.moves[0].t0 == 0.0 and plan.moves[-1].node_to == 6
         for a, b in zip(plan.moves, plan.moves[1:], strict=False):

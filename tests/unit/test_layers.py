@@ -1,0 +1,104 @@
+"""The package's layers depend one way: every import in ``lotsim/`` (function-level ones and
+those only for type checkers included) goes from a layer to itself or to one on its left,
+
+    errors <- core <- {lot, vehicles} <- roadmap <- maneuvers <- traffic <- scenario <- sim
+           <- io <- render <- bench <- api <- cli
+
+and the independent checker (``lotsim.verify``) imports nothing of lotsim but
+``lotsim.errors``. A ``_private`` name is not imported from another package."""
+
+from __future__ import annotations
+
+import ast
+from pathlib import Path
+
+PACKAGE = Path(__file__).resolve().parents[2] / "lotsim"
+
+ORDER = ["errors", "core", ("lot", "vehicles"), "roadmap", "maneuvers", "traffic", "scenario",
+         "sim", "io", "render", "bench", "api", "cli"]
+RANK = {name: i for i, layer in enumerate(ORDER)
+        for name in (layer if isinstance(layer, tuple) else (layer,))}
+RANK["verify"] = RANK["core"]  # anyone may check a result; it imports only errors
+
+
+def layer_of(module: str) -> str:
+    """``lotsim.roadmap.graph`` -> ``roadmap``; the package root and ``__main__`` are the top."""
+    parts = module.split(".")
+    return parts[1] if len(parts) > 1 and parts[1] != "__main__" else "cli"
+
+
+def module_of(path: Path) -> str:
+    rel = path.relative_to(PACKAGE.parent).with_suffix("")
+    parts = list(rel.parts)
+    return ".".join(parts[:-1] if parts[-1] == "__init__" else parts)
+
+
+def imports(path: Path) -> list[tuple[int, str, list[str]]]:
+    """Every ``lotsim`` import of a file: (line, module, names imported from it)."""
+    module = module_of(path)
+    is_package = path.name == "__init__.py"
+    out = []
+    for node in ast.walk(ast.parse(path.read_text(), str(path))):
+        if isinstance(node, ast.Import):
+            out += [(node.lineno, a.name, []) for a in node.names
+                    if a.name.split(".")[0] == "lotsim"]
+        elif isinstance(node, ast.ImportFrom):
+            if node.level:  # relative: resolve against this module's package
+                base = module.split(".")[: len(module.split(".")) - node.level + is_package]
+                target = ".".join(base + ([node.module] if node.module else []))
+            else:
+                target = node.module or ""
+            if target.split(".")[0] != "lotsim":
+                continue
+            base = PACKAGE.parent.joinpath(*target.split("."))
+            for a in node.names:  # ``from lotsim import bench`` imports the module lotsim.bench
+                is_module = (base / a.name).is_dir() or base.joinpath(f"{a.name}.py").is_file()
+                out.append((node.lineno, f"{target}.{a.name}", []) if is_module
+                           else (node.lineno, target, [a.name]))
+    return out
+
+
+def edges() -> list[tuple[str, int, str, list[str]]]:
+    return [(module_of(p), line, target, names)
+            for p in sorted(PACKAGE.rglob("*.py")) if p.name != "__init__.py" or p.parent != PACKAGE
+            for line, target, names in imports(p)]
+
+
+def test_every_import_goes_down_the_layers():
+    wrong = []
+    for module, line, target, names in edges():
+        src, dst = layer_of(module), layer_of(target)
+        if target == "lotsim" and set(names) <= {"__version__"}:
+            ok = True  # the package's version, which every layer may write into its files
+        elif src == "verify":
+            ok = dst in ("verify", "errors")
+        elif src in ("lot", "vehicles") and dst in ("lot", "vehicles"):
+            ok = src == dst or dst == "vehicles"  # a lot may know vehicle sizes; not back
+        else:
+            ok = RANK[dst] <= RANK[src]
+        if not ok:
+            wrong.append(f"{module}:{line} imports {target} ({src} -> {dst})")
+    assert not wrong, "imports against the layers:\n" + "\n".join(wrong)
+
+
+def test_no_private_name_is_imported_from_another_package():
+    def package(module: str) -> str:
+        return ".".join(module.split(".")[:2])
+
+    wrong = [f"{module}:{line} imports {name} from {target}"
+             for module, line, target, names in edges()
+             for name in names
+             if name.startswith("_") and not name.startswith("__")
+             and package(module) != package(target)]
+    assert not wrong, "\n".join(wrong)
+
+
+def test_the_rule_reads_a_wrong_import():
+    # the reader sees function-level and type-checking imports, and the rule catches them
+    src = ("from typing import TYPE_CHECKING\nif TYPE_CHECKING:\n    from lotsim.sim import x\n"
+           "def f():\n    from lotsim.cli import main\n")
+    tree = [n for n in ast.walk(ast.parse(src)) if isinstance(n, ast.ImportFrom)]
+    targets = [n.module for n in tree if n.module.startswith("lotsim")]
+    assert targets == ["lotsim.sim", "lotsim.cli"]
+    assert RANK[layer_of("lotsim.cli")] > RANK[layer_of("lotsim.roadmap.graph")]
+    assert layer_of("lotsim") == "cli" and layer_of("lotsim.verify.checker") == "verify"
