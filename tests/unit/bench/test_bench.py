@@ -289,10 +289,10 @@ def test_a_run_that_fails_its_check_counts_as_failed(tmp_path, capsys, monkeypat
 def test_a_run_that_crashes_is_a_failed_row(tmp_path, monkeypatch):
     path = _write(tmp_path, SUITE.replace("[360, 1440]", "[360]").replace("[1, 2]", "[1]"))
 
-    def crash(spec, scenario, lg):
+    def crash(spec, scenario, lg, memo):
         if spec.planner.planner == "ca":
             raise RuntimeError("the planner fell over")
-        return real(spec, scenario, lg)
+        return real(spec, scenario, lg, memo)
 
     real = runner._plan
     monkeypatch.setattr(runner, "_plan", crash)

@@ -348,7 +348,7 @@ def test_slot_ids_of_a_big_lot_are_drawn_along_the_slots_where_they_fit_only_so(
     from lotsim.render.lot_image.layers import _slot_label_spots
     from lotsim.render.lot_image.theme import text_size
 
-    sc = load_scenario(os.path.join(os.path.dirname(__file__), "..", "scenarios",
+    sc = load_scenario(os.path.join(os.path.dirname(__file__), "..", "..", "..", "scenarios",
                                     "large_lot.yaml"))
     lot = build_lot(sc.lot, DesignVehicle.envelope(sc.vehicle_types))  # no graph: not drawn
     size = (4000, 3000)
