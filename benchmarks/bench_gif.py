@@ -43,7 +43,7 @@ from lotsim.io.result import result_dict  # noqa: E402
 from lotsim.io.scenario_yaml import load_scenario  # noqa: E402
 from lotsim.render.animation import GifRenderer, GifSettings, write_gif  # noqa: E402
 from lotsim.render.replay import Replay  # noqa: E402
-from lotsim.sim.running import run  # noqa: E402
+from lotsim.sim.running import simulate  # noqa: E402
 from lotsim.sim.settings import RunSettings  # noqa: E402
 
 
@@ -112,7 +112,7 @@ def main() -> None:
         doc = json.loads(args.result.read_text())
     else:
         t = time.perf_counter()
-        rr = run(load_scenario(ROOT / "scenarios" / "large_lot.yaml"), RunSettings())
+        rr = simulate(load_scenario(ROOT / "scenarios" / "large_lot.yaml"), RunSettings())
         doc = json.loads(json.dumps(result_dict(rr)))
         print(f"planned the large lot's {len(doc['vehicles'])} cars in "
               f"{time.perf_counter() - t:.1f} s")

@@ -44,7 +44,7 @@ def _case(count: int, watched: bool, queue: mp.Queue) -> None:
     from lotsim.io.result import result_dict, write_json
     from lotsim.io.scenario_yaml import load_scenario
     from lotsim.sim.limits import Budget, Watchdog, resident_memory
-    from lotsim.sim.running import run
+    from lotsim.sim.running import simulate
 
     with tempfile.TemporaryDirectory() as tmp:
         path = Path(tmp) / "load.yaml"
@@ -65,10 +65,10 @@ def _case(count: int, watched: bool, queue: mp.Queue) -> None:
                             seen[share] = need
 
             with dog:
-                rr = run(scenario, progress=progress)
+                rr = simulate(scenario, progress=progress)
             first_rss = dog.first[1]
         else:
-            rr = run(scenario)
+            rr = simulate(scenario)
             first_rss = 0
         write_json(result_dict(rr), Path(tmp) / "result.json")
         total = time.perf_counter() - start

@@ -19,7 +19,7 @@ import shapely
 from lotsim.io.scenario_yaml import load_scenario
 from lotsim.lot.build import SWEEP_STEP, lane_collider
 from lotsim.lot.clearance import Collider
-from lotsim.sim.preparation import prepare
+from lotsim.sim.preparation import prepare_graph
 
 
 def per_pose(collider: Collider, bodies: np.ndarray, obstacles: list) -> np.ndarray:
@@ -34,7 +34,7 @@ def main(path: str = "scenarios/large_lot.yaml") -> None:
     t0 = time.perf_counter()
     scenario = load_scenario(path)
     t1 = time.perf_counter()
-    lg = prepare(scenario)
+    lg = prepare_graph(scenario)
     t2 = time.perf_counter()
     lot = lg.lot
     print(f"{path}: {len(lot.slots)} slots, {lg.graph.number_of_nodes()} nodes, "

@@ -53,8 +53,8 @@ from lotsim.io.scenario_yaml import load_scenario  # noqa: E402
 from lotsim.render import html as html_mod  # noqa: E402
 from lotsim.render.replay import Replay  # noqa: E402
 from lotsim.scenario import HtmlSettings  # noqa: E402
-from lotsim.sim.preparation import prepare  # noqa: E402
-from lotsim.sim.running import run  # noqa: E402
+from lotsim.sim.preparation import prepare_graph  # noqa: E402
+from lotsim.sim.running import simulate  # noqa: E402
 from lotsim.sim.settings import RunSettings  # noqa: E402
 from lotsim.traffic.demand import StreamSpec, TrafficSpec  # noqa: E402
 
@@ -65,12 +65,12 @@ def make_result(cars: int) -> Path:
         print(f"reusing {path.relative_to(ROOT)}")
         return path
     sc = load_scenario(ROOT / "scenarios" / "large_lot.yaml")
-    lg = prepare(sc)
+    lg = prepare_graph(sc)
     stream = StreamSpec(count=cars, rate=1200 / 3600, mix=((sc.vehicle_types[0].name, 1.0),),
                         entrances=tuple(lg.entrances), dwell=(600.0, 1800.0), seed=11)
     sc = dataclasses.replace(sc, traffic=TrafficSpec(stream=stream, patience=900.0))
     t = time.perf_counter()
-    rr = run(sc, RunSettings(planner="hca"), lot_graph=lg)
+    rr = simulate(sc, RunSettings(planner="hca"), lot_graph=lg)
     print(f"planned {cars} cars in {time.perf_counter() - t:.0f} s")
     path.parent.mkdir(parents=True, exist_ok=True)
     write_json(result_dict(rr), path)

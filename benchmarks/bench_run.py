@@ -38,8 +38,8 @@ sys.path.insert(0, str(ROOT))
 
 from lotsim.io.result import result_dict, write_json  # noqa: E402
 from lotsim.io.scenario_yaml import load_scenario  # noqa: E402
-from lotsim.sim.preparation import prepare  # noqa: E402
-from lotsim.sim.running import collector_tuned, run  # noqa: E402
+from lotsim.sim.preparation import prepare_graph  # noqa: E402
+from lotsim.sim.running import collector_tuned, simulate  # noqa: E402
 from lotsim.sim.settings import RunSettings  # noqa: E402
 from lotsim.traffic.demand import StreamSpec, TrafficSpec  # noqa: E402
 from lotsim.verify import check_result  # noqa: E402
@@ -59,7 +59,7 @@ def case(sc, lg, count: int, rate: float, dwell, planner: str, *, check: bool = 
     sc = dataclasses.replace(sc, traffic=TrafficSpec(stream=stream, patience=900.0))
     t, cpu = time.perf_counter(), time.process_time()
     with collector_tuned():
-        rr = run(sc, RunSettings(planner=planner), lot_graph=lg)
+        rr = simulate(sc, RunSettings(planner=planner), lot_graph=lg)
     wall, cpu = time.perf_counter() - t, time.process_time() - cpu
     m = rr.metrics()
     out = {"wall": wall, "cpu": cpu, **m, "peak_mb": peak_mb()}
@@ -103,7 +103,7 @@ def main() -> None:
     args = ap.parse_args()
     sc = load_scenario(ROOT / "scenarios" / "large_lot.yaml")
     t = time.perf_counter()
-    lg = prepare(sc)
+    lg = prepare_graph(sc)
     print(f"large lot: {len(lg.lot.slots)} slots ({len(lg.lot.free_slots)} free), "
           f"{lg.graph.number_of_nodes()} nodes; prepared in {time.perf_counter() - t:.1f} s")
     hca = case(sc, lg, 100, 600, None, "hca")

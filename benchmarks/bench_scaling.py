@@ -92,21 +92,21 @@ def one_case(slots: int, cars: int) -> dict:
     from lotsim.io.result import result_dict
     from lotsim.io.scenario_yaml import parse_scenario
     from lotsim.io.yamlnodes import parse_text
-    from lotsim.sim.preparation import prepare
-    from lotsim.sim.running import collector_tuned, run
+    from lotsim.sim.preparation import prepare_graph
+    from lotsim.sim.running import collector_tuned, simulate
     from lotsim.sim.settings import RunSettings
     from lotsim.traffic.demand import StreamSpec, TrafficSpec
     from lotsim.verify import check_result
 
     sc = parse_scenario(parse_text(grid_lot(*LOTS[slots]), f"grid-{slots}.yaml"))
     t = time.perf_counter()
-    lg = prepare(sc)
+    lg = prepare_graph(sc)
     prepared = time.perf_counter() - t
     stream = StreamSpec(count=cars, rate=rate(slots) / 3600, mix=(("valet", 1.0),),
                         entrances=tuple(lg.entrances), dwell=DWELL, seed=11)
     sc = dataclasses.replace(sc, traffic=TrafficSpec(stream=stream, patience=900.0))
     with collector_tuned():
-        rr = run(sc, RunSettings(planner="hca"), lot_graph=lg)
+        rr = simulate(sc, RunSettings(planner="hca"), lot_graph=lg)
     m = rr.metrics()
     t = time.perf_counter()
     report = check_result(result_dict(rr))

@@ -57,7 +57,7 @@ import bench_validate  # noqa: E402
 from lotsim.bench.runner import run_spec  # noqa: E402
 from lotsim.bench.suite import PlannerVariant, RunSpec, SuiteScenario, load_suite  # noqa: E402
 from lotsim.io.scenario_yaml import load_scenario  # noqa: E402
-from lotsim.sim.preparation import prepare  # noqa: E402
+from lotsim.sim.preparation import prepare_graph  # noqa: E402
 from lotsim.verify import check_result, read_result  # noqa: E402
 from oracles.reference_footprints import reference_footprints, report_findings  # noqa: E402
 
@@ -103,7 +103,7 @@ def planning_rows(args: argparse.Namespace) -> Path | None:
         raise SystemExit(f"the 100-car run failed:\n{out}")
     first = json.loads(out.strip().splitlines()[-1])
     sc = load_scenario(LARGE)
-    lg = prepare(sc)
+    lg = prepare_graph(sc)
     # CA* first: it works out the edge motions, kept with the lot (search_graph), so HCA*
     # is not charged for them, as in a suite or notebook that runs the lot again
     ca = bench_run.case(sc, lg, 100, 600, None, "ca", check=False)
@@ -144,7 +144,7 @@ def plan_big(planner: str, keep: str, small: bool = False) -> None:
     its figures as JSON."""
     sc = load_scenario(LARGE)
     count, rate, dwell = (100, 600.0, None) if small else BIG
-    r = bench_run.case(sc, prepare(sc), count, rate, dwell, planner, check=False,
+    r = bench_run.case(sc, prepare_graph(sc), count, rate, dwell, planner, check=False,
                        keep=Path(keep) if planner == "hca" and not small else None)
     print(json.dumps(r))
 

@@ -98,7 +98,7 @@ def whca_row() -> dict[str, dict]:
     """Plan the jammed lot with HCA*, WHCA* and WHCA* searching every replan; print a line
     each and the ratios; the metrics by name."""
     sc = parse_scenario(parse_text(JAMMED, "jammed.yaml"))
-    lg = lotsim.sim.preparation.prepare(sc, cache=False)
+    lg = lotsim.sim.preparation.prepare_graph(sc, cache=False)
     rows = {}
     for name, planner, skip in (("HCA*", "hca", True), ("WHCA* 10 s", "whca", True),
                                 ("WHCA*, every replan", "whca", False)):
@@ -106,7 +106,7 @@ def whca_row() -> dict[str, dict]:
             planner=planner, tuning=lotsim.sim.settings.RunTuning(skip_fruitless=skip))
         # each on a copy of the lot: none drives the edge motions another worked out
         with lotsim.sim.running.collector_tuned():
-            m = lotsim.sim.running.run(sc, settings, lot_graph=copy.deepcopy(lg)).metrics()
+            m = lotsim.sim.running.simulate(sc, settings, lot_graph=copy.deepcopy(lg)).metrics()
         rows[name] = m
         print(f"jammed lot, {name:<20} planning {m['planning_time']:6.1f} s, "
               f"{m['searches']:4d} searches, {m['expansions']:7d} expansions; mean time to "

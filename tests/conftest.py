@@ -18,7 +18,7 @@ from lotsim.io.scenario_yaml import parse_scenario
 from lotsim.io.yamlnodes import parse_text
 from lotsim.roadmap.model import LotGraph
 from lotsim.scenario import Scenario
-from lotsim.sim.preparation import prepare
+from lotsim.sim.preparation import prepare_graph
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -74,7 +74,7 @@ def scenario_from_text(text: str, file: str = "t.yaml") -> Scenario:
 
 
 def graph_from_text(text: str) -> LotGraph:
-    return prepare(scenario_from_text(text))
+    return prepare_graph(scenario_from_text(text))
 
 
 def position(text: str, needle: str, nth: int = 0) -> tuple[int, int]:
@@ -99,7 +99,7 @@ def position(text: str, needle: str, nth: int = 0) -> tuple[int, int]:
 def shipped_graphs() -> dict[str, LotGraph]:
     from lotsim.io.scenario_yaml import load_scenario
 
-    return {p.stem: prepare(load_scenario(p)) for p in SCENARIOS}
+    return {p.stem: prepare_graph(load_scenario(p)) for p in SCENARIOS}
 
 
 @pytest.fixture(scope="session")
@@ -108,10 +108,10 @@ def mixed_lot_doc(shipped_graphs) -> dict:
     document, planned once for the session."""
     from lotsim.io.result import result_dict
     from lotsim.io.scenario_yaml import load_scenario
-    from lotsim.sim.running import run
+    from lotsim.sim.running import simulate
 
     sc = load_scenario(ROOT / "scenarios" / "mixed_lot.yaml")
-    return result_dict(run(sc, lot_graph=shipped_graphs["mixed_lot"]))
+    return result_dict(simulate(sc, lot_graph=shipped_graphs["mixed_lot"]))
 
 
 def static_times(lg, vehicle, source):

@@ -14,8 +14,8 @@ import pytest
 import lotsim.core.diskcache
 from conftest import ONE_AISLE, ROOT, scenario_from_text
 from lotsim.io.result import result_dict
-from lotsim.sim.preparation import prepare, prepare_lot
-from lotsim.sim.running import run
+from lotsim.sim.preparation import prepare_graph, prepare_lot
+from lotsim.sim.running import simulate
 
 TRAFFIC = """\
 traffic:
@@ -33,14 +33,14 @@ def folder(tmp_path, monkeypatch):
 
 
 def _doc(scenario, lg) -> str:
-    return json.dumps(result_dict(run(scenario, lot_graph=lg)), sort_keys=True)
+    return json.dumps(result_dict(simulate(scenario, lot_graph=lg)), sort_keys=True)
 
 
 def test_a_lot_prepared_before_is_loaded_and_runs_exactly_as_planned(folder):
     sc = scenario_from_text(ONE_AISLE + TRAFFIC)
-    cold = prepare(sc)
+    cold = prepare_graph(sc)
     assert not cold.from_cache and len(list(folder.glob("prepared-*.pickle"))) == 1
-    warm = prepare(sc)
+    warm = prepare_graph(sc)
     assert warm.from_cache
     assert warm.infeasible == cold.infeasible
     assert warm.facts() == cold.facts()
@@ -52,32 +52,32 @@ def test_a_lot_prepared_before_is_loaded_and_runs_exactly_as_planned(folder):
     assert list(h.edges) == list(g.edges) and [list(h.pred[n]) for n in h] == [
         list(g.pred[n]) for n in g]
     assert all(h.succ[u][v] is h.pred[v][u] for u, v in h.edges)
-    assert _doc(sc, warm) == _doc(sc, cold) == _doc(sc, prepare(sc, cache=False))
+    assert _doc(sc, warm) == _doc(sc, cold) == _doc(sc, prepare_graph(sc, cache=False))
 
 
 def test_a_changed_lot_or_lotsim_is_planned_again(folder, monkeypatch):
-    prepare(scenario_from_text(ONE_AISLE + TRAFFIC))
+    prepare_graph(scenario_from_text(ONE_AISLE + TRAFFIC))
     wider = ONE_AISLE.replace("slot_width: 2.5,\n       slot_length: 5.0, start: 12, id_prefix: S",
                               "slot_width: 2.6,\n       slot_length: 5.0, start: 12, id_prefix: S")
     assert wider != ONE_AISLE
-    assert not prepare(scenario_from_text(wider + TRAFFIC)).from_cache
+    assert not prepare_graph(scenario_from_text(wider + TRAFFIC)).from_cache
     # the cars' stays decide which maneuvers are kept: other traffic, other entry
     stay = TRAFFIC.replace(", dwell: 20", "")
-    assert not prepare(scenario_from_text(ONE_AISLE + stay)).from_cache
-    assert prepare(scenario_from_text(ONE_AISLE + stay)).from_cache
+    assert not prepare_graph(scenario_from_text(ONE_AISLE + stay)).from_cache
+    assert prepare_graph(scenario_from_text(ONE_AISLE + stay)).from_cache
     monkeypatch.setattr(lotsim.core.diskcache, "code_version", lambda: "another lotsim")
-    assert not prepare(scenario_from_text(ONE_AISLE + TRAFFIC)).from_cache
+    assert not prepare_graph(scenario_from_text(ONE_AISLE + TRAFFIC)).from_cache
 
 
 def test_a_damaged_entry_is_planned_again_and_replaced(folder):
     sc = scenario_from_text(ONE_AISLE + TRAFFIC)
-    cold = prepare(sc)
+    cold = prepare_graph(sc)
     (entry,) = folder.glob("prepared-*.pickle")
     entry.write_bytes(entry.read_bytes()[:1000])  # cut short, as a full disk leaves it
-    again = prepare(sc)
+    again = prepare_graph(sc)
     assert not again.from_cache
     assert _doc(sc, again) == _doc(sc, cold)
-    assert prepare(sc).from_cache
+    assert prepare_graph(sc).from_cache
 
 
 def test_no_cache_where_it_cannot_be_written_or_is_turned_off(tmp_path, monkeypatch):
@@ -85,14 +85,14 @@ def test_no_cache_where_it_cannot_be_written_or_is_turned_off(tmp_path, monkeypa
     blocker = tmp_path / "a-file"
     blocker.write_text("not a folder")
     monkeypatch.setenv("LOTSIM_CACHE_DIR", str(blocker / "cache"))
-    assert not prepare(sc).from_cache and not prepare(sc).from_cache
+    assert not prepare_graph(sc).from_cache and not prepare_graph(sc).from_cache
     monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path / "xdg"))
     monkeypatch.setenv("LOTSIM_CACHE_DIR", "off")
-    assert not prepare(sc).from_cache and not prepare(sc).from_cache
+    assert not prepare_graph(sc).from_cache and not prepare_graph(sc).from_cache
     assert not (tmp_path / "xdg").exists()
     monkeypatch.delenv("LOTSIM_CACHE_DIR")
-    prepare(sc)
-    assert prepare(sc).from_cache
+    prepare_graph(sc)
+    assert prepare_graph(sc).from_cache
     assert len(list((tmp_path / "xdg" / "lotsim").glob("prepared-*.pickle"))) == 1
 
 
@@ -110,7 +110,7 @@ def test_the_least_recently_used_entries_go_first(folder):
 def _prepare_after(barrier, text: str, out) -> None:
     sc = scenario_from_text(text)
     barrier.wait()
-    lg = prepare(sc)
+    lg = prepare_graph(sc)
     out.put((lg.from_cache, _doc(sc, lg)))
 
 
@@ -225,7 +225,7 @@ def test_an_edited_lot_searches_only_what_the_edit_changed(folder):
     lot with one slot fewer at one end searches again only the problems near that end, and
     is prepared exactly as without the cache. A lot of another name does not read them, nor
     does a small lot keep them."""
-    assert not prepare(scenario_from_text(LONG_AISLE + TRAFFIC)).from_cache
+    assert not prepare_graph(scenario_from_text(LONG_AISLE + TRAFFIC)).from_cache
     assert not list(folder.glob("maneuvers-*.pickle"))  # 28 slots, one type: too small
     folder.joinpath(next(folder.glob("prepared-*.pickle"))).unlink()
     before = prepare_lot(scenario_from_text(LONG_AISLE + TRAFFIC), remember_from=1)

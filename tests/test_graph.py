@@ -9,7 +9,7 @@ import shapely
 from conftest import ONE_AISLE, SCENARIOS, graph_from_text, position, scenario_from_text
 from lotsim.core.geometry import wrap_angle
 from lotsim.errors import ScenarioError
-from lotsim.sim.preparation import prepare
+from lotsim.sim.preparation import prepare_graph
 from lotsim.vehicles import KMH
 
 
@@ -116,10 +116,10 @@ def test_every_slot_is_linked_through_real_maneuvers_that_start_at_their_lane_no
 
 def test_without_maneuvers_slots_hang_off_marked_placeholders():
     from lotsim.io.scenario_yaml import load_scenario
-    from lotsim.sim.preparation import prepare
+    from lotsim.sim.preparation import prepare_graph
 
     path = next(p for p in SCENARIOS if p.stem == "quickstart")
-    lg = prepare(load_scenario(path), maneuvers=False)
+    lg = prepare_graph(load_scenario(path), maneuvers=False)
     for slot in lg.lot.slots:
         parks = [d for _, _, d in lg.graph.in_edges(lg.slot_nodes[slot.id], data=True)]
         assert parks and all(d["kind"] == "park" and d["placeholder"] for d in parks)
@@ -266,9 +266,9 @@ def test_a_portal_heading_off_its_lane_is_refused_not_turned_without_a_word():
                                  f"{{id: in, x: 3.0, y: 11.0, heading_deg: {heading}}}")
         sc = scenario_from_text(text)
         if ok:
-            assert prepare(sc, maneuvers=False).entrances["in"] is not None
+            assert prepare_graph(sc, maneuvers=False).entrances["in"] is not None
             continue
         with pytest.raises(ScenarioError) as err:
-            prepare(sc, maneuvers=False)
+            prepare_graph(sc, maneuvers=False)
         assert (err.value.where.line, err.value.where.col) == position(text, "|{id: in")
         assert "lane 'a>' there heads 0°" in err.value.message

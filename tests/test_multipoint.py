@@ -16,8 +16,8 @@ from lotsim.lot.clearance import Collider
 from lotsim.lot.model import DesignVehicle
 from lotsim.maneuvers.planner import ManeuverPlanner
 from lotsim.roadmap.multipoint import plan_onto
-from lotsim.sim.preparation import prepare
-from lotsim.sim.running import run
+from lotsim.sim.preparation import prepare_graph
+from lotsim.sim.running import simulate
 from lotsim.vehicles import CATALOGUE
 from lotsim.verify import check_result
 
@@ -153,7 +153,7 @@ def test_a_spur_meeting_a_short_arm_is_turned_into_in_a_few_strokes_and_every_ba
     from conftest import scenario_from_text
 
     sc = scenario_from_text(TINY_TEE)
-    lg = prepare(sc, cache=False)
+    lg = prepare_graph(sc, cache=False)
     g = lg.graph
     multi = [d["path"] for u, v, d in g.edges(data=True) if d["kind"] == "turnaround"
              and (g.nodes[u]["lane"], g.nodes[v]["lane"]) == ("spur>", "a0>")]
@@ -176,7 +176,7 @@ def _every_bay_served_and_every_car_departs(sc, lg, vehicle: str) -> None:
     assert reach.ok and not reach.no_way_in and not reach.no_way_out, reach
     assert reach.by_type[vehicle] == ([], []), reach
     assert not lg.infeasible.get(vehicle), lg.infeasible
-    doc = result_dict(run(sc, lot_graph=lg))
+    doc = result_dict(simulate(sc, lot_graph=lg))
     report = check_result(doc)
     assert report.ok, [v.message for v in report.violations[:5]]
     assert {v["status"] for v in doc["vehicles"]} == {"departed"}
@@ -218,7 +218,7 @@ def test_a_6_m_tee_whose_exit_is_close_to_the_junction_is_left_by_a_multi_point_
     from conftest import scenario_from_text
 
     sc = scenario_from_text(SMALL_TEE)
-    lg = prepare(sc, cache=False)
+    lg = prepare_graph(sc, cache=False)
     g = lg.graph
     exit_station = g.nodes[lg.exits["gate-out"]]["station"]
     into_exit = [g.nodes[v]["station"] for u, v, d in g.edges(data=True)

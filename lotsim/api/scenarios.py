@@ -143,4 +143,4 @@ def prepare_for_drawing(scenario: ScenarioLike | PreparedLot, *, graph: bool = F
     if isinstance(scenario, PreparedLot):
         return scenario
     sc = scenario_of(scenario)
-    return PreparedLot(sc, preparation.prepare(sc, maneuvers=graph))
+    return PreparedLot(sc, preparation.prepare_graph(sc, maneuvers=graph))

@@ -22,7 +22,7 @@ from lotsim.io.result import result_dict
 from lotsim.io.scenario_yaml import parse_scenario
 from lotsim.io.yamlnodes import parse_text
 from lotsim.sim.orders import plan_run
-from lotsim.sim.preparation import prepare
+from lotsim.sim.preparation import prepare_graph
 from lotsim.sim.results import RunResult
 from lotsim.sim.running import collector_tuned
 from lotsim.sim.settings import GASettings, RunSettings
@@ -59,7 +59,7 @@ def prepared(sc: SuiteScenario) -> tuple[Scenario, LotGraph, SearchGraphMemo]:
     with _PREPARING:  # Dask threads of one worker share this cache: prepare each lot once
         if key not in _PREPARED:
             scenario = parse_scenario(parse_text(sc.text, sc.file))
-            _PREPARED[key] = (scenario, prepare(scenario), SearchGraphMemo())
+            _PREPARED[key] = (scenario, prepare_graph(scenario), SearchGraphMemo())
         return _PREPARED[key]
 
 

@@ -53,7 +53,7 @@ def prefetch(planner: ManeuverPlanner, vehicles: Iterable[VehicleType], *,
 
     ``known`` (exact problem key → answer, :func:`~lotsim.maneuvers.problem.exact_key`)
     holds answers found before, for this planner's settings and this lotsim, in any lot (the
-    on-disk cache keeps one per lot name: :func:`lotsim.sim.preparation.prepare`): a problem
+    on-disk cache keeps one per lot name: :func:`lotsim.sim.preparation.prepare_graph`): a problem
     it holds is not searched again, and those searched now are added to it, most recently
     used last, at most :data:`KNOWN_MOST`. A search reads nothing but its problem (to the
     last bit of every float) and the settings, so the answers are the same with it as

@@ -102,7 +102,7 @@ class LotGraph:
     infeasible : dict
         Vehicle type → {slot id: reason} for slots that type cannot park in.
     from_cache : bool
-        Whether :func:`~lotsim.sim.preparation.prepare` loaded it from the on-disk cache
+        Whether :func:`~lotsim.sim.preparation.prepare_graph` loaded it from the on-disk cache
         (:mod:`lotsim.core.diskcache`) rather than planning it.
     """
 

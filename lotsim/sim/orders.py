@@ -20,7 +20,7 @@ import numpy as np
 
 from lotsim.sim.assignment import SlotAssigner
 from lotsim.sim.results import RunResult
-from lotsim.sim.running import require_traffic, run
+from lotsim.sim.running import require_traffic, simulate
 from lotsim.sim.settings import GASettings, RunSettings
 from lotsim.traffic.demand import arrivals
 from lotsim.traffic.searchgraph import SearchGraphMemo
@@ -89,7 +89,7 @@ def genetic_order(scenario, settings: RunSettings, *, lot_graph, ga: GASettings,
         key = tuple(int(x) for x in perm)
         if key not in cache:
             order = tuple(ids[k] for k in key)
-            rr = run(scenario, dataclasses.replace(settings, order=order), lot_graph=lot_graph,
+            rr = simulate(scenario, dataclasses.replace(settings, order=order), lot_graph=lot_graph,
                      memo=memo)
             cache[key] = fitness(rr)
             if progress is not None:
@@ -135,7 +135,7 @@ def plan_run(scenario, settings: RunSettings, *, lot_graph,
              progress=None, memo: SearchGraphMemo | None = None) -> RunResult:
     """Plan the scenario's traffic in the order ``settings`` asks for: ``settings.order`` if
     given, else chosen by ``settings.priority`` (:data:`PRIORITIES`; the GA with
-    ``settings.ga``), then planned by :func:`lotsim.sim.running.run`.
+    ``settings.ga``), then planned by :func:`lotsim.sim.running.simulate`.
 
     The run's ``settings`` hold the order chosen (None when online); its ``ordering`` is a
     record: ``order_time`` (seconds spent choosing the order, the GA's evaluation runs
@@ -145,7 +145,7 @@ def plan_run(scenario, settings: RunSettings, *, lot_graph,
 
     ``progress(done, most)`` is called after each order the GA plans (``most``: the
     population times the generations plus one; repeated orders are not planned again);
-    otherwise, as :func:`lotsim.sim.running.run` calls it, as trips are dealt with.
+    otherwise, as :func:`lotsim.sim.running.simulate` calls it, as trips are dealt with.
 
     ``memo`` holds the lot's search graphs for every run on it (a prepared lot's
     ``search_graphs``); without one, the runs of this call share a new one.
@@ -166,7 +166,7 @@ def plan_run(scenario, settings: RunSettings, *, lot_graph,
             progress=None if progress is None else (lambda k: progress(k, most)))
         record.update({k: v for k, v in found.items() if k != "fitness"})
     record["order_time"] = time.perf_counter() - clock
-    rr = run(scenario, dataclasses.replace(settings, order=order), lot_graph=lot_graph,
+    rr = simulate(scenario, dataclasses.replace(settings, order=order), lot_graph=lot_graph,
              progress=None if searching else progress, memo=memo)
     record["fitness"] = fitness(rr)
     rr.ordering = record

@@ -28,7 +28,7 @@ for its later edits, by default (a smaller lot is planned in a second or two, ab
 reading and writing them would take)."""
 
 
-def prepare(scenario: Scenario, *, node_spacing: float = 4.0, maneuvers: bool = True,
+def prepare_graph(scenario: Scenario, *, node_spacing: float = 4.0, maneuvers: bool = True,
             margin: float = MARGIN, cache: bool = True, progress=None,
             remember_from: int = REMEMBER_FROM) -> LotGraph:
     """The lot graph of :func:`prepare_lot`: the scenario's lot built for its vehicle

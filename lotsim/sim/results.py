@@ -48,7 +48,7 @@ class VehicleRun:
 
 @dataclass
 class RunResult:
-    """What :func:`lotsim.sim.running.run` returns: the lot, the settings and every
+    """What :func:`lotsim.sim.running.simulate` returns: the lot, the settings and every
     vehicle's story."""
 
     scenario: Scenario
@@ -59,7 +59,7 @@ class RunResult:
     planning_time: float
     ordering: dict = field(default_factory=dict)
     """How the planning order was chosen (:func:`lotsim.sim.orders.plan_run`); empty when
-    :func:`lotsim.sim.running.run` was called directly."""
+    :func:`lotsim.sim.running.simulate` was called directly."""
 
     def metrics(self) -> dict[str, float]:
         """Counts by status and the timing figures of ``docs/result.md``."""

@@ -14,7 +14,7 @@ from lotsim.roadmap.model import LotGraph
 from lotsim.roadmap.reach import Reachability
 from lotsim.scenario import Scenario
 from lotsim.sim.loop import EventLoop
-from lotsim.sim.preparation import prepare
+from lotsim.sim.preparation import prepare_graph
 from lotsim.sim.results import RunResult
 from lotsim.sim.settings import RunSettings
 from lotsim.traffic.demand import Arrival, arrivals
@@ -125,7 +125,7 @@ def require_traffic(scenario: Scenario) -> None:
 
 
 
-def run(scenario: Scenario, settings: RunSettings | None = None, *, lot_graph=None,
+def simulate(scenario: Scenario, settings: RunSettings | None = None, *, lot_graph=None,
         progress=None, memo: SearchGraphMemo | None = None) -> RunResult:
     """Plan the scenario's traffic: assign slots, plan every vehicle in, and out again.
 
@@ -143,7 +143,7 @@ def run(scenario: Scenario, settings: RunSettings | None = None, *, lot_graph=No
         Must have ``traffic``.
     settings : RunSettings, optional
     lot_graph : LotGraph, optional
-        The prepared lot (made with :func:`~lotsim.sim.preparation.prepare` if not given).
+        The prepared lot (made with :func:`~lotsim.sim.preparation.prepare_graph` if not given).
     progress : callable, optional
         Called as ``progress(done, total)`` as trips are dealt with: a vehicle's way in when
         it is planned, its way out (if it has a dwell) when that is, or both when it is
@@ -167,7 +167,7 @@ def run(scenario: Scenario, settings: RunSettings | None = None, *, lot_graph=No
     """
     settings = settings or RunSettings()
     require_traffic(scenario)
-    lg = lot_graph or prepare(scenario)
+    lg = lot_graph or prepare_graph(scenario)
     seed = scenario.seed if settings.seed is None else settings.seed
     traffic = arrivals(scenario.traffic, seed)
     if settings.order is not None and sorted(settings.order) != sorted(a.id for a in traffic):

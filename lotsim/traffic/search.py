@@ -34,7 +34,7 @@ free for ever after (the vehicle will stand there).
 Heuristics: CA* uses the straight-line distance at top speed; HCA* the true
 static time to the goal, from a Reverse Resumable A* (RRA*, Silver 2005) run
 backwards from the goal and resumed on demand (:mod:`~lotsim.traffic.heuristic`). WHCA*
-(in :func:`lotsim.sim.running.run`) searches like HCA* and replans every half window as
+(in :func:`lotsim.sim.running.simulate`) searches like HCA* and replans every half window as
 it drives, keeping the new plan when it arrives sooner. The fuse (after the modelling-contest
 paper "Path planning for automatic parking of unmanned vehicles", 2022) stops a search that
 expands more than ``omega`` times the nodes its reverse search closed; the search then ends

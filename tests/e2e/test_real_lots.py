@@ -12,8 +12,8 @@ import shapely
 
 from lotsim.io.result import result_dict
 from lotsim.io.scenario_yaml import load_scenario
-from lotsim.sim.preparation import prepare, prepare_lot
-from lotsim.sim.running import run
+from lotsim.sim.preparation import prepare_graph, prepare_lot
+from lotsim.sim.running import simulate
 from lotsim.traffic.demand import arrivals
 from lotsim.traffic.searchgraph import SearchGraph
 from lotsim.vehicles import CATALOGUE
@@ -29,12 +29,12 @@ def lots():
     out = {}
     for name in FAST:
         sc = load_scenario(LOTS / f"{name}.yaml")
-        out[name] = (sc, prepare(sc))
+        out[name] = (sc, prepare_graph(sc))
     return out
 
 
 def _run_checked(sc, lg):
-    rr = run(sc, lot_graph=lg)
+    rr = simulate(sc, lot_graph=lg)
     doc = result_dict(rr)
     report = check_result(doc)
     assert report.ok, [v.message for v in report.violations[:5]]
@@ -72,7 +72,7 @@ def test_a_cul_de_sac_is_left_by_a_multi_point_turn_at_its_closed_end(lots):
         assert {s.gear for s in d["path"]} == {1, -1}  # multi-point: forward and back
         _assert_turns_round_clear(d["path"], lg)
     # cars park from either lane and leave towards the gate: none needs to turn round
-    rr = run(sc, lot_graph=lg)
+    rr = simulate(sc, lot_graph=lg)
     assert {v.status for v in rr.vehicles} == {"departed"}
 
 
@@ -124,7 +124,7 @@ def test_short_arms_with_corner_bays_have_turnarounds_and_every_bay_is_left():
     from conftest import scenario_from_text
 
     sc = scenario_from_text(TEE)
-    lg = prepare(sc)
+    lg = prepare_graph(sc)
     reach = lg.reachability()
     no_in, no_out = reach.by_type["msv"]
     assert not no_out and not reach.no_way_out, reach
@@ -149,7 +149,7 @@ def test_a_bay_no_car_can_reach_says_so_instead_of_failing_its_maneuver():
         "  rows:\n", "    - {id: a1, centerline: [[1.0, 25.0], [22.5, 25.0]], width: 7.3}\n"
                       "  rows:\n    - {aisle: a1, side: left, kind: perpendicular, count: 3, "
                       "slot_width: 2.65, slot_length: 5.2, start: 5.0, id_prefix: I}\n")
-    lg = prepare(scenario_from_text(text))
+    lg = prepare_graph(scenario_from_text(text))
     island = {f"I{k}" for k in (1, 2, 3)}
     assert set(lg.reachability().no_way_in) >= island
     for sid in island:
@@ -175,7 +175,7 @@ def test_turnarounds_are_planned_for_each_vehicle_type_and_used_only_by_it():
     from lotsim.lot.model import DesignVehicle
 
     sc = _narrow_culdesac("[msv, vclass]")
-    lg = prepare(sc)
+    lg = prepare_graph(sc)
     g, lot = lg.graph, lg.lot
     types = {v.name: v for v in sc.vehicle_types}
     backs = [(d["path"], d["types"]) for _, _, d in g.edges(data=True)
@@ -202,7 +202,7 @@ def test_a_narrow_cul_de_sac_lined_with_bays_is_turned_in_and_every_bay_left():
     place, beside its lane, and the last move is an S across (before it, no turnaround was
     found and no bay could be left)."""
     sc = _narrow_culdesac("[vw]")
-    lg = prepare(sc)
+    lg = prepare_graph(sc)
     backs = [d["path"] for _, _, d in lg.graph.edges(data=True) if d["kind"] == "turnaround"]
     assert backs
     for path in backs:
@@ -237,7 +237,7 @@ def test_a_car_that_leaves_an_angled_bay_towards_a_dead_end_turns_round_there():
 
     # angled bays are entered and left only by the lane heading their way: into the dead end
     sc = scenario_from_text(ANGLED_DEAD_END)
-    lg = prepare(sc)
+    lg = prepare_graph(sc)
     assert lg.reachability().ok
     rr, doc = _run_checked(sc, lg)
     assert {v["status"] for v in doc["vehicles"]} == {"departed"}
@@ -298,7 +298,7 @@ def test_a_van_swings_wide_round_a_corner_bay_onto_the_far_lane_before_turning()
     from conftest import scenario_from_text
 
     sc = scenario_from_text(VAN_CORNER)
-    lg = prepare(sc, maneuvers=False)
+    lg = prepare_graph(sc, maneuvers=False)
     g, lot = lg.graph, lg.lot
     assert not lg.skipped_turns, lg.skipped_turns
     van = CATALOGUE["vclass"]
@@ -348,7 +348,7 @@ def test_a_van_that_cannot_turn_round_in_a_dead_end_leaves_its_bay_towards_the_o
     from conftest import scenario_from_text
 
     sc = scenario_from_text(DEAD_ARM)
-    lg = prepare(sc)
+    lg = prepare_graph(sc)
     g = lg.graph
     assert any("dead end of lane a>" in note for note in lg.skipped_turns)
     assert not any(d["kind"] == "turnaround" and g.nodes[u]["lane"] == "a>"
@@ -380,7 +380,7 @@ def test_validate_strict_and_run_agree_on_a_real_lot():
 @pytest.mark.parametrize("name", ["ring", "gate_spur"])
 def test_a_ring_and_a_gate_spur_lot_with_dead_end_halves_serve_every_slot(name):
     sc = load_scenario(LOTS / f"{name}.yaml")
-    lg = prepare(sc)
+    lg = prepare_graph(sc)
     reach = lg.reachability()
     assert reach.ok, reach
     assert not any(lg.infeasible.values())
@@ -396,7 +396,7 @@ def test_a_364_bay_surface_lot_with_four_types_serves_every_bay_each_type_fits()
     last bay at a dead end it cannot turn round in (no maneuver out towards the other lane
     yet). Before, the van could leave none, and 13 of its junction turns were skipped."""
     sc = load_scenario(LOTS / "surface364.yaml")
-    lg = prepare(sc)
+    lg = prepare_graph(sc)
     assert not [s for s in lg.skipped_turns if "skipped" in s], lg.skipped_turns
     reach = lg.reachability()
     for name, (no_in, no_out) in reach.by_type.items():
@@ -437,7 +437,7 @@ def test_a_car_parks_on_one_pose_from_either_lane_and_leaves_by_the_nearer_gate(
     from conftest import scenario_from_text
 
     sc = scenario_from_text(STREET)
-    lg = prepare(sc)
+    lg = prepare_graph(sc)
     g = lg.graph
     for slot in lg.lot.slots:
         ends = {tuple(np.round(d["maneuvers"]["valet"].end, 6))
@@ -522,7 +522,7 @@ def test_junction_turns_are_built_for_each_vehicle_type_and_used_only_by_it():
     text = (LOTS / "ladder.yaml").read_text().replace(
         "seed: 3", "seed: 3\nvehicle_types: [valet, corsa, msv]")
     sc = scenario_from_text(text)
-    lg = prepare(sc, maneuvers=False)
+    lg = prepare_graph(sc, maneuvers=False)
     g, lot = lg.graph, lg.lot
     types = {v.name: v for v in sc.vehicle_types}
     tagged = [(d["path"], d["types"]) for _, _, d in g.edges(data=True)
@@ -554,7 +554,7 @@ def test_a_lot_of_several_types_serves_each_by_its_own_turns():
     text = (LOTS / "ladder.yaml").read_text().replace(
         "seed: 3", "seed: 3\nvehicle_types: [valet, corsa, msv]")
     sc = scenario_from_text(text)
-    lg = prepare(sc)
+    lg = prepare_graph(sc)
     # every type reaches every slot it fits
     assert not any(no_in for no_in, _ in lg.reachability().by_type.values())
     rr, doc = _run_checked(sc, lg)
@@ -643,7 +643,7 @@ def test_every_way_out_of_a_bay_leads_to_an_exit_even_from_a_closed_corner():
     # was its only way out, the bay was unusable)
     from conftest import scenario_from_text
 
-    lg = prepare(scenario_from_text(CORNER))
+    lg = prepare_graph(scenario_from_text(CORNER))
     g = lg.graph
     exits = set(lg.exits.values())
     driven = g.edge_subgraph([(u, v) for u, v, d in g.edges(data=True)

@@ -15,8 +15,8 @@ from lotsim.core.outcome import Status
 from lotsim.errors import ScenarioError
 from lotsim.io.result import result_dict
 from lotsim.io.scenario_yaml import load_scenario
-from lotsim.sim.preparation import prepare
-from lotsim.sim.running import run
+from lotsim.sim.preparation import prepare_graph
+from lotsim.sim.running import simulate
 from lotsim.sim.settings import RunSettings, RunTuning
 from lotsim.traffic.demand import Arrival, TrafficSpec, arrivals
 from lotsim.traffic.reservation import ReservationTable
@@ -32,7 +32,7 @@ LOT = ONE_AISLE
 @pytest.fixture(scope="module")
 def small():
     sc = scenario_from_text(LOT + "traffic: {vehicles: [{id: x, arrival: 0}]}\n")
-    return sc, prepare(sc)
+    return sc, prepare_graph(sc)
 
 
 def test_a_reverse_search_asked_many_things_answers_each_as_a_new_one_would(small):
@@ -57,7 +57,7 @@ def test_a_reverse_search_asked_many_things_answers_each_as_a_new_one_would(smal
 def _run(sc, lg, vehicles, patience=60.0, **settings):
     sc = dataclasses.replace(sc, traffic=TrafficSpec(vehicles=tuple(vehicles),
                                                      patience=patience))
-    return run(sc, RunSettings(**settings), lot_graph=lg)
+    return simulate(sc, RunSettings(**settings), lot_graph=lg)
 
 
 def _checked(rr):
@@ -84,7 +84,7 @@ def test_every_shipped_scenario_runs_and_passes_the_independent_check(path, whol
     if not whole:
         stream = dataclasses.replace(sc.traffic.stream, count=_SHORTENED[path.stem])
         sc = dataclasses.replace(sc, traffic=dataclasses.replace(sc.traffic, stream=stream))
-    rr = run(sc, lot_graph=shipped_graphs[path.stem])
+    rr = simulate(sc, lot_graph=shipped_graphs[path.stem])
     doc = _checked(rr)
     m = doc["metrics"]
     # nobody is lost: every vehicle is accounted for, with a reason where it did not park
@@ -113,7 +113,7 @@ def _stroke_lengths(doc):
 def test_every_planner_and_policy_gives_a_checked_result(planner, name, shipped_graphs):
     sc = load_scenario(next(p for p in SCENARIOS if p.stem == name))
     assign = "nearest" if planner == "ca" else "shortest"
-    rr = run(sc, RunSettings(planner=planner, assignment=assign, window=6.0),
+    rr = simulate(sc, RunSettings(planner=planner, assignment=assign, window=6.0),
              lot_graph=shipped_graphs[name])
     _checked(rr)
 
@@ -318,7 +318,7 @@ def test_a_type_that_fits_no_slot_is_refused_at_its_vehicle(small):
   - {name: limo, width: 2.0, front: 5.5, rear: 1.2, wheelbase: 4.2, max_steer_deg: 30}""")
         + "traffic: {vehicles: [{id: x, arrival: 0}, {id: long, arrival: 1, type: limo}]}\n")
     with pytest.raises(ScenarioError) as err:
-        run(sc)
+        simulate(sc)
     assert "'limo' fits no slot" in err.value.message
     assert err.value.where.line == sc.traffic.vehicles[1].where.line
 
@@ -331,7 +331,7 @@ def test_an_entrance_with_no_route_is_refused(small):
                        "    - {id: late, x: 43.0, y: 11.0, heading_deg: 0}")
     sc = scenario_from_text(text + "traffic: {vehicles: [{id: x, arrival: 0, entrance: late}]}\n")
     with pytest.raises(ScenarioError, match="no route from entrance 'late'"):
-        run(sc)
+        simulate(sc)
 
 
 def test_cli_run_errors_are_clean(tmp_path, capsys):
@@ -354,7 +354,7 @@ def test_a_portal_where_a_car_would_stick_out_of_the_lot_is_refused():
     text = LOT.replace("{id: out, x: 44.0, y: 11.0, heading_deg: 0}",
                        "{id: out, x: 48.0, y: 11.0, heading_deg: 0}")
     with pytest.raises(ScenarioError) as err:
-        prepare(scenario_from_text(text))
+        prepare_graph(scenario_from_text(text))
     assert "sticks out of the lot boundary" in err.value.message
     assert (err.value.where.line, err.value.where.col) == position(text, "|{id: out")
 
@@ -403,7 +403,7 @@ def test_whca_replans_only_when_space_was_freed_and_that_changes_next_to_nothing
     runs = {}
     for skip in (True, False):
         settings = RunSettings(planner="whca", tuning=RunTuning(skip_fruitless=skip))
-        runs[skip] = run(sc, settings, lot_graph=shipped_graphs["street"])
+        runs[skip] = simulate(sc, settings, lot_graph=shipped_graphs["street"])
     fast, full = runs[True], runs[False]
     assert check_result(result_dict(fast)).ok
     assert 2 * fast.metrics()["searches"] < full.metrics()["searches"]

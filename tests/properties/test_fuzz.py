@@ -27,7 +27,7 @@ from lotsim.cli import main
 from lotsim.errors import ScenarioError
 from lotsim.io.scenario_yaml import load_scenario
 from lotsim.scenario import GifSettings
-from lotsim.sim.preparation import prepare
+from lotsim.sim.preparation import prepare_graph
 from lotsim.sim.running import check_traffic
 from lotsim.traffic.demand import arrivals
 from lotsim.verify import check_result
@@ -93,7 +93,7 @@ def outcome(path, *, maneuvers: bool = False) -> str:
     try:
         with time_limit(LIMIT):
             sc = load_scenario(path)
-            lg = prepare(sc, maneuvers=maneuvers)
+            lg = prepare_graph(sc, maneuvers=maneuvers)
             if maneuvers and sc.traffic is not None:
                 check_traffic(lg, arrivals(sc.traffic, sc.seed))
     except ScenarioError as exc:

@@ -50,8 +50,8 @@ from lotsim.errors import ScenarioError
 from lotsim.io.result import result_dict
 from lotsim.io.scenario_yaml import parse_scenario
 from lotsim.io.yamlnodes import parse_text
-from lotsim.sim.preparation import prepare
-from lotsim.sim.running import run
+from lotsim.sim.preparation import prepare_graph
+from lotsim.sim.running import simulate
 from lotsim.sim.settings import RunSettings
 from lotsim.traffic.demand import arrivals
 from lotsim.vehicles.catalogue import CATALOGUE
@@ -427,14 +427,14 @@ def plan_and_check(case: Case) -> None:
     SEEN["drawn"] += 1
     setting = case.settings
     try:
-        lg = prepare(sc)
+        lg = prepare_graph(sc)
         drawn = arrivals(sc.traffic, sc.seed if setting.seed is None else setting.seed)
         if case.booked is not None:
             order, horizon = case.booked
             setting = dataclasses.replace(setting, order=tuple(drawn[i].id for i in order),
                                           horizon=horizon)
         note(repr(setting))
-        rr = run(sc, setting, lot_graph=lg)
+        rr = simulate(sc, setting, lot_graph=lg)
     except ScenarioError as exc:
         SEEN["refused"] += 1
         SEEN[f"refused: {str(exc).split(': ', 2)[-1]}"] += 1
@@ -469,7 +469,7 @@ def plan_and_check(case: Case) -> None:
     start_at_their_entrance(doc)
     SEEN.update(f"{v['status']}: {re.sub(r'[0-9.]+', 'N', v['reason'])}".rstrip(": ")
                 for v in doc["vehicles"])
-    again = result_dict(run(sc, setting, lot_graph=lg))
+    again = result_dict(simulate(sc, setting, lot_graph=lg))
     assert json.dumps(again, sort_keys=True) == json.dumps(doc, sort_keys=True), "not repeatable"
 
 

@@ -16,8 +16,8 @@ from lotsim.bench import runner
 from lotsim.cli import main
 from lotsim.errors import Location, ScenarioError
 from lotsim.io.scenario_yaml import load_scenario
-from lotsim.sim.preparation import prepare
-from lotsim.sim.running import run
+from lotsim.sim.preparation import prepare_graph
+from lotsim.sim.running import simulate
 from lotsim.sim.settings import RunSettings
 from lotsim.verify import CheckReport, Violation
 
@@ -185,13 +185,13 @@ def test_rows_agree_with_a_direct_run(local):
     path, out, _ = local
     rows = _rows(out / "runs.csv")
     scenario = load_scenario(path.parent / "tiny.yaml")
-    lg = prepare(scenario)
+    lg = prepare_graph(scenario)
     for r in (rows[0], rows[-1]):
         stream = dataclasses.replace(scenario.traffic.stream,
                                      rate=float(r["rate_per_h"]) / 3600, count=3)
         sc = dataclasses.replace(scenario,
                                  traffic=dataclasses.replace(scenario.traffic, stream=stream))
-        rr = run(sc, RunSettings(planner=r["planner"], assignment=r["assignment"],
+        rr = simulate(sc, RunSettings(planner=r["planner"], assignment=r["assignment"],
                                  seed=int(r["seed"])), lot_graph=lg)
         m = rr.metrics()
         assert int(r["parked"]) == m["parked"] and int(r["departed"]) == m["departed"]
@@ -307,7 +307,7 @@ def test_a_lot_that_does_not_build_is_bad_input(tmp_path, capsys, monkeypatch):
     def broken(scenario):
         raise ScenarioError(Location("tiny.yaml", 3, 5, "lot.aisles[0]"), "aisle too narrow")
 
-    monkeypatch.setattr(runner, "prepare", broken)
+    monkeypatch.setattr(runner, "prepare_graph", broken)
     monkeypatch.setattr(runner, "_PREPARED", {})
     assert main(["bench", str(path), "--jobs", "1", "-o", str(tmp_path / "out")]) == 2
     assert capsys.readouterr().err == "lotsim: tiny.yaml:3:5: lot.aisles[0]: aisle too narrow\n"

@@ -236,7 +236,7 @@ def test_slot_and_lane_ids_can_be_found(tmp_path, capsys):
 
     from lotsim.io.scenario_yaml import load_scenario
     from lotsim.render.lot_image import draw_lot, lot_layout
-    from lotsim.sim.preparation import prepare
+    from lotsim.sim.preparation import prepare_graph
 
     assert main(["maneuver", str(QUICK), "--slot", "Q7"]) == 2
     assert "no slot 'Q7'" in capsys.readouterr().err
@@ -252,7 +252,7 @@ def test_slot_and_lane_ids_can_be_found(tmp_path, capsys):
     size = tuple(map(int, re.search(r"drawn: 0 of 20 at 200x150 \(--size (\d+)x(\d+) draws "
                                     r"them all\)", text).groups()))
     # at that size each slot holds its id: pixels inside it differ with labels and without
-    lg = prepare(load_scenario(QUICK), maneuvers=False)
+    lg = prepare_graph(load_scenario(QUICK), maneuvers=False)
     on, off = (np.asarray(draw_lot(lg, size=size, labels=flag)) for flag in (True, False))
     canvas = lot_layout(lg, size=size).canvas
     for slot in lg.lot.slots:

@@ -22,8 +22,8 @@ from lotsim.io.scenario_yaml import load_scenario
 from lotsim.lot.build import build_lot
 from lotsim.lot.model import Area, DesignVehicle, Lot, SpeedZone
 from lotsim.render import draw_lot
-from lotsim.sim.preparation import prepare
-from lotsim.sim.running import run
+from lotsim.sim.preparation import prepare_graph
+from lotsim.sim.running import simulate
 from lotsim.verify import check_result
 
 TOL = 1e-5
@@ -182,7 +182,7 @@ def test_a_run_result_holds_the_drawing_and_still_passes_the_check():
           occupied: [N2]
         traffic: {vehicles: [{id: x, arrival: 0}]}
         """)
-    rr = run(sc, lot_graph=prepare(sc))
+    rr = simulate(sc, lot_graph=prepare_graph(sc))
     doc = json.loads(json.dumps(result_dict(rr), allow_nan=False))
     assert check_result(doc).ok
     drawing = doc["lot"]["drawing"]

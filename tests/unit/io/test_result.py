@@ -8,8 +8,8 @@ import pytest
 
 from conftest import ONE_AISLE, scenario_from_text
 from lotsim.io.result import SAMPLE_DT, result_dict, samples
-from lotsim.sim.preparation import prepare
-from lotsim.sim.running import run
+from lotsim.sim.preparation import prepare_graph
+from lotsim.sim.running import simulate
 from lotsim.sim.settings import RunSettings, RunTuning
 from lotsim.traffic.demand import Arrival, TrafficSpec
 
@@ -17,13 +17,13 @@ from lotsim.traffic.demand import Arrival, TrafficSpec
 @pytest.fixture(scope="module")
 def small():
     sc = scenario_from_text(ONE_AISLE + "traffic: {vehicles: [{id: x, arrival: 0}]}\n")
-    return sc, prepare(sc)
+    return sc, prepare_graph(sc)
 
 
 def _run(small, *cars, settings=None):
     sc, lg = small
     sc = dataclasses.replace(sc, traffic=TrafficSpec(vehicles=cars, patience=60.0))
-    return run(sc, settings, lot_graph=lg)
+    return simulate(sc, settings, lot_graph=lg)
 
 
 def test_samples_run_from_entering_to_parking_on_the_result_grid(small):

@@ -26,7 +26,7 @@ from lotsim.render.animation import (
     write_gif,
 )
 from lotsim.render.replay import PHASES, Replay, assign_colours
-from lotsim.sim.running import run
+from lotsim.sim.running import simulate
 from lotsim.sim.settings import RunSettings
 
 QUICKSTART = ROOT / "scenarios" / "quickstart.yaml"
@@ -39,14 +39,14 @@ SMALL = GifSettings(size=(400, 300))
 @pytest.fixture(scope="module")
 def doc():
     """quickstart's run: 6 cars, two of which leave; a round trip through JSON, as on disk."""
-    rr = run(load_scenario(QUICKSTART), RunSettings())
+    rr = simulate(load_scenario(QUICKSTART), RunSettings())
     return json.loads(json.dumps(result_dict(rr)))
 
 
 @pytest.fixture(scope="module")
 def street():
     """street: parallel parking, so cars reverse; 14 cars of 3 types coming and going."""
-    rr = run(load_scenario(ROOT / "scenarios" / "street.yaml"), RunSettings())
+    rr = simulate(load_scenario(ROOT / "scenarios" / "street.yaml"), RunSettings())
     return json.loads(json.dumps(result_dict(rr)))
 
 
@@ -360,7 +360,7 @@ def test_counters_account_for_every_vehicle_and_agree_with_the_statuses(doc, str
 
 
 def test_a_turned_away_car_waits_outside_for_its_patience_then_counts_as_rejected():
-    rr = run(load_scenario(ROOT / "scenarios" / "two_rows.yaml"), RunSettings())
+    rr = simulate(load_scenario(ROOT / "scenarios" / "two_rows.yaml"), RunSettings())
     d = json.loads(json.dumps(result_dict(rr)))
     r = Replay(d)
     patience = d["settings"]["patience"]

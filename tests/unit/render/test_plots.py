@@ -133,10 +133,10 @@ def quickstart_doc():
     from conftest import ROOT
     from lotsim.io.result import result_dict
     from lotsim.io.scenario_yaml import load_scenario
-    from lotsim.sim.running import run
+    from lotsim.sim.running import simulate
     from lotsim.sim.settings import RunSettings
 
-    rr = run(load_scenario(ROOT / "scenarios" / "quickstart.yaml"), RunSettings())
+    rr = simulate(load_scenario(ROOT / "scenarios" / "quickstart.yaml"), RunSettings())
     return json.loads(json.dumps(result_dict(rr)))  # as read back from result.json
 
 

@@ -29,7 +29,7 @@ from lotsim.render.html import UNITS, replay_data, thin, write_html
 from lotsim.render.lot_image import lot_bounds
 from lotsim.render.replay import Replay, assign_colours
 from lotsim.scenario import AnimationSpec, HtmlSettings
-from lotsim.sim.running import run
+from lotsim.sim.running import simulate
 from lotsim.sim.settings import RunSettings
 
 QUICKSTART = ROOT / "scenarios" / "quickstart.yaml"
@@ -39,7 +39,7 @@ WINDOW = (1000, 760)
 @pytest.fixture(scope="module")
 def doc():
     """quickstart's run (6 cars, two leave), through JSON as on disk."""
-    rr = run(load_scenario(QUICKSTART), RunSettings())
+    rr = simulate(load_scenario(QUICKSTART), RunSettings())
     return json.loads(json.dumps(result_dict(rr)))
 
 

@@ -16,7 +16,7 @@ from lotsim.roadmap.lanes import portal_station
 from lotsim.roadmap.memo import RoadmapMemo
 from lotsim.roadmap.multipoint import closing_moves
 from lotsim.roadmap.through import through_chains, through_turn
-from lotsim.sim.preparation import prepare
+from lotsim.sim.preparation import prepare_graph
 
 LOTS = ROOT / "scenarios" / "lots"
 
@@ -77,7 +77,7 @@ def test_turnarounds_searched_in_rounds_on_two_workers_are_those_searched_one_by
     monkeypatch.setattr(turnarounds, "fork_map", recording)
     monkeypatch.setattr(turnarounds, "_reaching_all", lambda todo, memo: (
         jobs.update(todo), real_reaching_all(todo, memo))[1])
-    found = backs(prepare(sc, cache=False))
+    found = backs(prepare_graph(sc, cache=False))
     assert len(searched) >= 8 and len(set(searched)) == len(searched)
     # a second build whose cars arrive elsewhere on a lane searches only from there
     ends = [job for job in jobs.values() if any(
@@ -93,7 +93,7 @@ def test_turnarounds_searched_in_rounds_on_two_workers_are_those_searched_one_by
     monkeypatch.setattr(turnarounds, "fork_map", real_fork_map)
     monkeypatch.setattr(turnarounds, "_reaching_all", lambda todo, memo: {
         key: turnarounds._reaching_turnarounds(*job) for key, job in todo.items()})
-    assert backs(prepare(sc, cache=False)) == found
+    assert backs(prepare_graph(sc, cache=False)) == found
 
 
 def test_junction_multipoints_and_uturns_found_at_once_are_those_found_one_after_another():

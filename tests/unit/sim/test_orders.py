@@ -18,8 +18,8 @@ from lotsim.sim.orders import (
     plan_run,
     shortest_first,
 )
-from lotsim.sim.preparation import prepare
-from lotsim.sim.running import run
+from lotsim.sim.preparation import prepare_graph
+from lotsim.sim.running import simulate
 from lotsim.sim.settings import GASettings, RunSettings
 from lotsim.traffic.demand import Arrival, TrafficSpec, arrivals
 from lotsim.verify import check_result
@@ -32,7 +32,7 @@ BURST = ONE_AISLE.replace("occupied: [N1, N2, N3, N4, N5, S1, S2, S3, S4]",
 @pytest.fixture(scope="module")
 def burst():
     sc = scenario_from_text(BURST)
-    return sc, prepare(sc)
+    return sc, prepare_graph(sc)
 
 
 def _with(sc, cars, patience=120.0):
@@ -53,9 +53,9 @@ def test_the_vehicle_planned_first_parks_as_fast_as_it_would_alone(burst):
     busy = _with(sc, CARS)
     for first in ("c4", "c2", "c0"):
         order = (first,) + tuple(c.id for c in CARS if c.id != first)
-        rr = _checked(run(busy, RunSettings(order=order), lot_graph=lg))
+        rr = _checked(simulate(busy, RunSettings(order=order), lot_graph=lg))
         got = next(v for v in rr.vehicles if v.id == first)
-        alone = run(_with(sc, [c for c in CARS if c.id == first]), RunSettings(),
+        alone = simulate(_with(sc, [c for c in CARS if c.id == first]), RunSettings(),
                     lot_graph=lg).vehicles[0]
         assert got.slot == alone.slot
         assert got.parked_at == pytest.approx(alone.parked_at, abs=1e-9)
@@ -69,7 +69,7 @@ def test_booked_runs_pass_the_checker_and_start_no_vehicle_before_it_arrives(bur
     ids = [c.id for c in cars]
     for horizon in (5.0, 30.0, math.inf):
         order = tuple(rng.permutation(ids).tolist())
-        rr = _checked(run(busy, RunSettings(order=order, horizon=horizon), lot_graph=lg))
+        rr = _checked(simulate(busy, RunSettings(order=order, horizon=horizon), lot_graph=lg))
         for v in rr.vehicles:
             assert all(m.t0 >= v.arrival.time - 1e-9 for m in v.moves)
             # turned away after its patience exactly when it never got a plan in
@@ -81,17 +81,17 @@ def test_an_order_must_name_every_vehicle_once(burst):
     busy = _with(sc, CARS)
     for bad in (("c0", "c1"), ("c0", "c0", "c1", "c2", "c3"), ("c0", "c1", "c2", "c3", "zz")):
         with pytest.raises(ValueError, match="every vehicle id"):
-            run(busy, RunSettings(order=bad), lot_graph=lg)
+            simulate(busy, RunSettings(order=bad), lot_graph=lg)
 
 
 def test_fitness_is_the_total_time_to_park_with_a_penalty_for_the_unparked(burst):
     sc, lg = burst
-    rr = run(_with(sc, CARS), RunSettings(), lot_graph=lg)
+    rr = simulate(_with(sc, CARS), RunSettings(), lot_graph=lg)
     m = rr.metrics()
     assert m["parked"] == 5
     assert fitness(rr) == pytest.approx(m["mean_time_to_park"] * 5)
     # 8 cars for 6 free slots, nobody leaves: two are turned away after 30 s
-    full = run(_with(sc, [Arrival(f"f{k}", "valet", "in", 2.0 * k) for k in range(8)], 30.0),
+    full = simulate(_with(sc, [Arrival(f"f{k}", "valet", "in", 2.0 * k) for k in range(8)], 30.0),
                RunSettings(), lot_graph=lg)
     parked = [v.parked_at - v.arrival.time for v in full.vehicles if v.parked_at is not None]
     assert len(parked) == 6
@@ -103,7 +103,7 @@ def test_fitness_is_the_total_time_to_park_with_a_penalty_for_the_unparked(burst
 
 def test_shortest_first_orders_by_static_time_to_a_slot():
     sc = load_scenario(ROOT / "scenarios" / "street.yaml")
-    lg = prepare(sc)
+    lg = prepare_graph(sc)
     order = shortest_first(sc, lg)
     traffic = arrivals(sc.traffic, sc.seed)
     assert sorted(order) == sorted(a.id for a in traffic)
@@ -148,7 +148,7 @@ def test_the_ga_never_does_worse_than_arrival_order_or_shortest_first(burst):
                                              strict=False))
     assert found["evaluations"] <= ga.population * (ga.generations + 1)
     # the order found gives that fitness when planned again (independent run)
-    rr = _checked(run(busy, RunSettings(order=order), lot_graph=lg))
+    rr = _checked(simulate(busy, RunSettings(order=order), lot_graph=lg))
     assert fitness(rr) == pytest.approx(found["fitness"])
     # same GA seed, same answer
     again, _ = genetic_order(busy, RunSettings(), lot_graph=lg, ga=ga)
@@ -179,7 +179,7 @@ def test_run_plans_booked_traffic_in_the_order_asked(tmp_path, capsys):
 
     path = ROOT / "scenarios" / "street.yaml"
     sc = load_scenario(path)
-    prepared = lotsim.PreparedLot(sc, prepare(sc))
+    prepared = lotsim.PreparedLot(sc, prepare_graph(sc))
     rr = lotsim.run(prepared, priority="shortest_first", horizon=120)
     assert rr.settings.order == shortest_first(sc, prepared.lot_graph)
     doc = lotsim.result_dict(rr)

@@ -21,9 +21,9 @@ from lotsim.errors import ScenarioError, SettingsError
 from lotsim.io.result import result_dict
 from lotsim.sim import loop as loopmod
 from lotsim.sim.loop import EventLoop
-from lotsim.sim.preparation import PreparedLot, prepare
+from lotsim.sim.preparation import PreparedLot, prepare_graph
 from lotsim.sim.results import STATUSES, RunResult
-from lotsim.sim.running import RUN_GC_THRESHOLDS, collector_tuned, run
+from lotsim.sim.running import RUN_GC_THRESHOLDS, collector_tuned, simulate
 from lotsim.sim.settings import RunSettings
 from lotsim.traffic.demand import Arrival, StreamSpec, TrafficSpec, arrivals
 from lotsim.traffic.plans import Plan
@@ -50,7 +50,7 @@ SLOTS = ("P1", "P2", "P3")
 @pytest.fixture(scope="module")
 def tiny():
     sc = scenario_from_text(TINY + "traffic: {vehicles: [{id: x, arrival: 0}]}\n")
-    return sc, prepare(sc)
+    return sc, prepare_graph(sc)
 
 
 def _with(sc, vehicles=(), *, patience=60.0, stream=None):
@@ -78,10 +78,10 @@ def test_a_type_longer_than_every_slot_can_use_none_and_is_refused_at_its_vehicl
     limo = "  - {name: limo, width: 2.0, front: 5.5, rear: 1.2, wheelbase: 4.2, max_steer_deg: 30}"
     text = TINY.replace("vehicle_types: [valet]", f"vehicle_types:\n  - valet\n{limo}")
     sc = scenario_from_text(text + "traffic: {vehicles: [{id: x, arrival: 0, type: limo}]}\n")
-    lg = prepare(sc)
+    lg = prepare_graph(sc)
     assert sorted(lg.infeasible["limo"]) == list(SLOTS)  # 6.7 m of car, 5 m of slot
     with pytest.raises(ScenarioError, match="'limo' fits no slot"):
-        run(sc, lot_graph=lg)
+        simulate(sc, lot_graph=lg)
 
 
 def test_a_prepared_lot_is_frozen_and_says_what_its_graph_says(tiny):
@@ -97,7 +97,7 @@ def test_a_run_holds_its_inputs_and_every_car_once_in_arrival_order(tiny):
     sc, lg = tiny
     sc = _with(sc, _cars(4, 0, 2))  # listed out of order
     settings = RunSettings(planner="hca")
-    rr = run(sc, settings, lot_graph=lg)
+    rr = simulate(sc, settings, lot_graph=lg)
     assert isinstance(rr, RunResult)
     assert rr.scenario is sc and rr.lot_graph is lg and rr.settings is settings
     assert rr.seed == sc.seed == 3
@@ -110,7 +110,7 @@ def test_a_run_holds_its_inputs_and_every_car_once_in_arrival_order(tiny):
 
 def test_each_car_s_moves_follow_on_in_time_and_end_with_it_inside_its_slot(tiny):
     sc, lg = tiny
-    rr = run(_with(sc, _cars(0, 1)), lot_graph=lg)
+    rr = simulate(_with(sc, _cars(0, 1)), lot_graph=lg)
     car = sc.vehicle_types[0]
     for v in rr.vehicles:
         assert v.moves[0].t0 >= v.arrival.time
@@ -124,7 +124,7 @@ def test_each_car_s_moves_follow_on_in_time_and_end_with_it_inside_its_slot(tiny
 
 def test_metrics_count_every_status_and_add_up(tiny):
     sc, lg = tiny
-    rr = run(_with(sc, _cars(0, 1, dwell=15.0), patience=40), lot_graph=lg)
+    rr = simulate(_with(sc, _cars(0, 1, dwell=15.0), patience=40), lot_graph=lg)
     m = rr.metrics()
     assert sum(m[s] for s in STATUSES) == m["vehicles"] == 2
     assert m["departed"] == 2  # both leave again through the exit
@@ -138,7 +138,7 @@ def test_metrics_count_every_status_and_add_up(tiny):
 # -- a full lot, and patience -------------------------------------------------------------------
 def test_cars_beyond_the_free_slots_are_turned_away_after_their_patience(tiny):
     sc, lg = tiny
-    rr = run(_with(sc, _cars(0, 1, 2, 3, 4), patience=25), lot_graph=lg)
+    rr = simulate(_with(sc, _cars(0, 1, 2, 3, 4), patience=25), lot_graph=lg)
     by = {v.id: v for v in rr.vehicles}
     # nobody leaves: the first three get the three slots, the other two wait and give up
     assert [by[k].status for k in ("c0", "c1", "c2")] == ["parked"] * 3
@@ -155,7 +155,7 @@ def test_a_lot_with_every_slot_taken_turns_every_car_away_without_an_error(tiny)
     sc, _ = tiny
     full = scenario_from_text(TINY + "  occupied: [P1, P2, P3]\n"
                               + "traffic: {patience: 10, vehicles: [{id: x, arrival: 0}]}\n")
-    rr = run(_with(full, _cars(0, 5), patience=10))
+    rr = simulate(_with(full, _cars(0, 5), patience=10))
     assert [(v.status, "full" in v.reason) for v in rr.vehicles] == [("rejected", True)] * 2
     assert rr.metrics()["total_waiting"] == pytest.approx(20.0)
 
@@ -165,7 +165,7 @@ def test_a_queued_car_gets_the_freed_slot_only_if_it_waits_long_enough(tiny):
     # three cars fill the lot, one of them leaves after 30 s; the fourth arrives at once
     cars = [*_cars(0, 0.5), Arrival("goes", "valet", "in", 1.0, 30.0),
             Arrival("late", "valet", "in", 2.0)]
-    rr = run(_with(sc, cars, patience=600), lot_graph=lg)
+    rr = simulate(_with(sc, cars, patience=600), lot_graph=lg)
     by = {v.id: v for v in rr.vehicles}
     late, goes = by["late"], by["goes"]
     assert late.status == "parked" and late.slot == goes.slot
@@ -173,7 +173,7 @@ def test_a_queued_car_gets_the_freed_slot_only_if_it_waits_long_enough(tiny):
     assert way_in >= next(m.t0 for m in goes.moves if m.kind == "leave")  # once it was free
     # a little less patient, it gives up before the slot is free
     patience = 0.8 * (way_in - late.arrival.time)
-    late = run(_with(sc, cars, patience=patience), lot_graph=lg).vehicles[-1]
+    late = simulate(_with(sc, cars, patience=patience), lot_graph=lg).vehicles[-1]
     assert late.status == "rejected" and f"waited {patience:g} s" in late.reason
 
 
@@ -190,7 +190,7 @@ def test_a_car_that_can_never_leave_ends_waiting_with_its_reason_and_run_exits_1
 
     monkeypatch.setattr(loopmod, "search", no_way_out)
     sc, lg = tiny
-    rr = run(_with(sc, [Arrival("stuck", "valet", "in", 0.0, 20.0), *_cars(1)]), lot_graph=lg)
+    rr = simulate(_with(sc, [Arrival("stuck", "valet", "in", 0.0, 20.0), *_cars(1)]), lot_graph=lg)
     stuck, other = rr.vehicles
     assert other.status == "parked" and other.reason == ""
     assert stuck.status == "waiting" and stuck.slot is not None
@@ -213,10 +213,10 @@ def test_a_seeded_stream_runs_the_same_twice_and_its_seed_draws_its_arrivals(tin
     stream = StreamSpec(count=4, rate=240.0, mix=(("valet", 1.0),), entrances=("in",),
                         dwell=(10.0, 20.0))
     sc = _with(sc, stream=stream, patience=60)
-    a, b = (result_dict(run(sc, lot_graph=lg)) for _ in range(2))
+    a, b = (result_dict(simulate(sc, lot_graph=lg)) for _ in range(2))
     assert a["vehicles"] == b["vehicles"] and a["settings"] == b["settings"]
     for seed in (3, 4):
-        rr = run(sc, RunSettings(seed=seed), lot_graph=lg)
+        rr = simulate(sc, RunSettings(seed=seed), lot_graph=lg)
         drawn = arrivals(sc.traffic, seed)
         assert rr.seed == seed and len(drawn) == 4
         assert [(v.id, v.arrival.time, v.arrival.dwell) for v in rr.vehicles] == [
@@ -227,7 +227,7 @@ def test_a_seeded_stream_runs_the_same_twice_and_its_seed_draws_its_arrivals(tin
 def test_progress_counts_every_trip_in_and_out_once(tiny):
     sc, lg = tiny
     calls = []
-    run(_with(sc, [*_cars(0, 1), Arrival("goes", "valet", "in", 2.0, 10.0)]), lot_graph=lg,
+    simulate(_with(sc, [*_cars(0, 1), Arrival("goes", "valet", "in", 2.0, 10.0)]), lot_graph=lg,
         progress=lambda done, total: calls.append((done, total)))
     total = 2 + 2  # two cars in, one car in and out
     assert {t for _, t in calls} == {total}
@@ -238,7 +238,7 @@ def test_progress_counts_every_trip_in_and_out_once(tiny):
 def test_a_scenario_without_traffic_is_refused_at_its_first_line():
     sc = scenario_from_text(TINY, file="lot.yaml")
     with pytest.raises(ScenarioError) as err:
-        run(sc)
+        simulate(sc)
     assert (err.value.where.file, err.value.where.line, err.value.where.col) == ("lot.yaml", 1, 1)
     assert "no 'traffic' section" in err.value.message
 
@@ -248,8 +248,8 @@ def test_an_order_must_hold_every_vehicle_once(tiny):
     sc = _with(sc, _cars(0, 1))
     for order in (("c0",), ("c0", "c0"), ("c0", "c1", "zz")):
         with pytest.raises(SettingsError, match="every vehicle id"):
-            run(sc, RunSettings(order=order), lot_graph=lg)
-    rr = run(sc, RunSettings(order=("c1", "c0")), lot_graph=lg)
+            simulate(sc, RunSettings(order=order), lot_graph=lg)
+    rr = simulate(sc, RunSettings(order=("c1", "c0")), lot_graph=lg)
     assert {v.id: v.status for v in rr.vehicles} == {"c0": "parked", "c1": "parked"}
 
 
@@ -265,7 +265,7 @@ def test_a_run_leaves_the_garbage_collector_as_it_found_it(tiny, monkeypatch):
 
     monkeypatch.setattr(EventLoop, "go", spy)
     before = (gc.get_freeze_count(), gc.get_threshold())
-    run(_with(sc, _cars(0)), lot_graph=lg)
+    simulate(_with(sc, _cars(0)), lot_graph=lg)
     assert seen == [before] and (gc.get_freeze_count(), gc.get_threshold()) == before
 
 
@@ -285,7 +285,7 @@ def test_collector_tuned_freezes_what_the_process_held_and_restores_it_even_on_a
     before = (gc.get_freeze_count(), gc.get_threshold())
     assert before[1] != RUN_GC_THRESHOLDS
     with collector_tuned():
-        run(_with(sc, _cars(0)), lot_graph=lg)
+        simulate(_with(sc, _cars(0)), lot_graph=lg)
     assert seen[0][0] > before[0] and seen[0][1] == RUN_GC_THRESHOLDS
     assert (gc.get_freeze_count(), gc.get_threshold()) == before
 
@@ -294,7 +294,7 @@ def test_collector_tuned_freezes_what_the_process_held_and_restores_it_even_on_a
 
     monkeypatch.setattr(EventLoop, "go", boom)
     with pytest.raises(KeyboardInterrupt), collector_tuned():
-        run(_with(sc, _cars(0)), lot_graph=lg)
+        simulate(_with(sc, _cars(0)), lot_graph=lg)
     assert (gc.get_freeze_count(), gc.get_threshold()) == before
 
 
