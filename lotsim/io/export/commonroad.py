@@ -33,20 +33,20 @@ from __future__ import annotations
 
 import math
 import os
-import shutil
-import tempfile
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 import shapely
 
+from lotsim.io.export.files import staged_folder
 from lotsim.io.export.tracks import (
     ExportError,
     Track,
     VehicleShape,
     Visit,
     forward,
+    offset_line,
     require,
     resample,
     resample_error,
@@ -323,11 +323,9 @@ def write_commonroad(doc: dict, folder: str | os.PathLike, *, dt: float = DT) ->
         ]
 
     target = Path(folder)
-    target.parent.mkdir(parents=True, exist_ok=True)
-    tmp = Path(tempfile.mkdtemp(prefix=f".{target.name}.", dir=target.parent))
     written, states, worst = [], 0, [0.0, 0.0]
     vehicle_ids: dict[str, int] = {}
-    try:
+    with staged_folder(target) as tmp:
         for trip, tr, visit in trip_list:
             crid = commonroad_vehicle(tr.shape)
             vehicle_ids[tr.shape.name] = crid
@@ -491,10 +489,6 @@ def write_commonroad(doc: dict, folder: str | os.PathLike, *, dt: float = DT) ->
                 CommonRoadSolutionWriter(solution).dump(pretty=True)
             )
             written.append((trip, target / f"{stem}.xml", target / f"{stem}.solution.xml"))
-        _replace_folder(tmp, target)
-    except BaseException:
-        shutil.rmtree(tmp, ignore_errors=True)
-        raise
     size = sum(p.stat().st_size for _, a, b in written for p in (a, b))
     return CommonRoadInfo(target, tuple(written), states, dt, worst[0], worst[1], vehicle_ids, size)
 
@@ -502,22 +496,6 @@ def write_commonroad(doc: dict, folder: str | os.PathLike, *, dt: float = DT) ->
 def _file_name(vehicle: str) -> str:
     """A vehicle id as a file name: letters, digits, ``_`` and ``-`` kept."""
     return "".join(c if c.isalnum() or c in "_-" else "_" for c in vehicle) or "_"
-
-
-def offset_line(points, d: float) -> np.ndarray:
-    """``points`` moved ``d`` metres to the left of their direction (mitred at corners).
-
-    >>> offset_line([[0, 0], [10, 0], [10, 10]], 1.0).tolist()
-    [[0.0, 1.0], [9.0, 1.0], [9.0, 10.0]]
-    """
-    p = np.asarray(points, dtype=float)
-    seg = np.diff(p, axis=0)
-    n = np.stack([-seg[:, 1], seg[:, 0]], axis=1) / np.hypot(*seg.T)[:, None]
-    normals = np.concatenate([n[:1], n[:-1] + n[1:], n[-1:]])
-    normals /= np.hypot(*normals.T)[:, None]
-    cos_half = np.ones(len(p))
-    cos_half[1:-1] = np.einsum("ij,ij->i", normals[1:-1], n[:-1])
-    return p + d * normals / cos_half[:, None]
 
 
 def lanelets(doc: dict, ids) -> list[tuple[np.ndarray, np.ndarray, np.ndarray, int, str]]:
@@ -566,11 +544,3 @@ def _angle(theta: float) -> float:
     """``theta`` [rad] wrapped into ``[-pi, pi)``."""
     return float((theta + math.pi) % (2 * math.pi) - math.pi)
 
-
-def _replace_folder(tmp: Path, target: Path) -> None:
-    """Move the finished files of ``tmp`` into ``target`` (each by a rename), then remove
-    ``tmp``: a reader sees each file whole or not at all."""
-    target.mkdir(parents=True, exist_ok=True)
-    for p in tmp.iterdir():
-        os.replace(p, target / p.name)
-    tmp.rmdir()

@@ -31,8 +31,6 @@ from __future__ import annotations
 import datetime
 import math
 import os
-import shutil
-import tempfile
 import xml.etree.ElementTree as ET
 from dataclasses import dataclass
 from pathlib import Path
@@ -41,7 +39,7 @@ import numpy as np
 import shapely
 from shapely.geometry import LineString
 
-from lotsim.io.export.commonroad import _replace_folder
+from lotsim.io.export.files import staged_folder
 from lotsim.io.export.tracks import ExportError, Track, require, tracks, visits
 
 POSITION_ERROR = 0.01
@@ -369,17 +367,11 @@ def write_openscenario(doc: dict, folder: str | os.PathLike) -> OpenScenarioInfo
     )
 
     target = Path(folder)
-    target.parent.mkdir(parents=True, exist_ok=True)
-    tmp = Path(tempfile.mkdtemp(prefix=f".{target.name}.", dir=target.parent))
-    try:
+    with staged_folder(target) as tmp:
         ET.indent(road_root)
         ET.ElementTree(road_root).write(tmp / "lot.xodr", encoding="UTF-8",
                                         xml_declaration=True)
         scenario.write_xml(str(tmp / "lot.xosc"), prettyprint=True)
-        _replace_folder(tmp, target)
-    except BaseException:
-        shutil.rmtree(tmp, ignore_errors=True)
-        raise
     files = [target / f for f in FILES]
     return OpenScenarioInfo(
         target,

@@ -37,7 +37,6 @@ import math
 import os
 import shutil
 import subprocess
-import tempfile
 import xml.etree.ElementTree as ET
 from dataclasses import dataclass
 from pathlib import Path
@@ -47,8 +46,16 @@ import shapely
 from shapely.geometry import LineString, Point
 from shapely.ops import substring
 
-from lotsim.io.export.commonroad import _replace_folder, offset_line
-from lotsim.io.export.tracks import ExportError, Visit, forward, require, tracks, visits
+from lotsim.io.export.files import staged_folder
+from lotsim.io.export.tracks import (
+    ExportError,
+    Visit,
+    forward,
+    offset_line,
+    require,
+    tracks,
+    visits,
+)
 
 NODE_MERGE = 1.0
 """Aisle ends and crossings closer than this are one node [m]."""
@@ -300,9 +307,7 @@ def write_sumo(doc: dict, folder: str | os.PathLike, *, step: float = STEP) -> S
     nodes, edges = network(doc)
     vs = visits(doc)
     target = Path(folder)
-    target.parent.mkdir(parents=True, exist_ok=True)
-    tmp = Path(tempfile.mkdtemp(prefix=f".{target.name}.", dir=target.parent))
-    try:
+    with staged_folder(target) as tmp:
         root = ET.Element("nodes")
         for nid, (x, y) in nodes.items():
             ET.SubElement(root, "node", id=nid, x=f"{x:.4f}", y=f"{y:.4f}", type="priority")
@@ -471,10 +476,6 @@ def write_sumo(doc: dict, folder: str | os.PathLike, *, step: float = STEP) -> S
         ET.SubElement(tm, "end", value=f"{end:.2f}")
         ET.SubElement(tm, "step-length", value=f"{step:g}")
         _write(cfg, tmp / "lot.sumocfg", "sumoConfiguration.xsd")
-        _replace_folder(tmp, target)
-    except BaseException:
-        shutil.rmtree(tmp, ignore_errors=True)
-        raise
     files = tuple(target / f for f in FILES)
     return SumoInfo(
         target,
