@@ -33,20 +33,20 @@ from __future__ import annotations
 
 import math
 import os
-import shutil
-import tempfile
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 import shapely
 
+from lotsim.io.export.files import staged_folder
 from lotsim.io.export.tracks import (
     ExportError,
     Track,
     VehicleShape,
     Visit,
     forward,
+    offset_line,
     require,
     resample,
     resample_error,
@@ -199,31 +199,6 @@ def write_commonroad(doc: dict, folder: str | os.PathLike, *, dt: float = DT) ->
         For a run in which no vehicle moved.
     """
     require("commonroad", "commonroad")
-    from commonroad.common.file_writer import CommonRoadFileWriter, OverwriteExistingFile
-    from commonroad.common.solution import (
-        CommonRoadSolutionWriter,
-        CostFunction,
-        PlanningProblemSolution,
-        Solution,
-        VehicleModel,
-        VehicleType,
-    )
-    from commonroad.common.util import AngleInterval, FileFormat, Interval
-    from commonroad.geometry.obstacle_shapes.polygon_obstacle_shape import (
-        PolygonObstacleShape,
-    )
-    from commonroad.geometry.obstacle_shapes.rect_obstacle_shape import RectObstacleShape
-    from commonroad.geometry.occupancy.polygon_occupancy import PolygonOccupancy
-    from commonroad.geometry.occupancy.rect_occupancy import RectOccupancy
-    from commonroad.planning.goal import GoalRegion
-    from commonroad.planning.planning_problem import PlanningProblem, PlanningProblemSet
-    from commonroad.prediction.prediction import TrajectoryPrediction
-    from commonroad.scenario.lanelet import Lanelet, LaneletType
-    from commonroad.scenario.obstacle import DynamicObstacle, ObstacleType, StaticObstacle
-    from commonroad.scenario.scenario import Scenario, ScenarioID
-    from commonroad.scenario.state import CustomState, InitialState, KSState
-    from commonroad.scenario.trajectory import Trajectory
-
     lot = doc["lot"]
     trip_list = trips(doc, dt)
     if not trip_list:
@@ -234,290 +209,384 @@ def write_commonroad(doc: dict, folder: str | os.PathLike, *, dt: float = DT) ->
     every = tracks(doc)
     vs = visits(doc)
 
-    def ring_of(points) -> list[tuple[float, float]]:
-        ring = [(float(x), float(y)) for x, y in points]
-        return ring[:-1] if ring[0] == ring[-1] else ring
-
-    def footprint(tr: Track, k: int) -> tuple[np.ndarray, float]:
-        """Centre [m] and heading [rad] of ``tr``'s footprint at step ``k``."""
-        r = resample(tr, np.array([k * dt]))
-        cx, cy = forward(r["x"], r["y"], r["theta"], (tr.shape.front - tr.shape.rear) / 2)
-        return np.array([cx[0], cy[0]]), _angle(r["theta"][0])
-
-    def lot_scenario(sid) -> Scenario:
-        """The scenario with what never moves: lanes, slots, boundary, walls, parked cars."""
-        scenario = Scenario(dt, sid)
-        ids = iter(range(FIRST_ID, 100 * FIRST_ID))
-        for lanelet in lanelets(doc, ids):
-            scenario.add_objects(
-                Lanelet(
-                    *lanelet[:4],
-                    lanelet_type={
-                        LaneletType.PARKING if lanelet[4] == "slot" else LaneletType.DRIVE_WAY
-                    },
-                )
-            )
-
-        def static(kind, shape, where=(0.0, 0.0, 0.0)) -> None:
-            state = InitialState(
-                position=np.array(where[:2]), orientation=where[2], velocity=0.0, time_step=0
-            )
-            scenario.add_objects(StaticObstacle(next(ids), kind, shape, state))
-
-        ring = np.array(ring_of(lot["boundary"]))
-        ccw = (
-            np.sum(ring[:, 0] * np.roll(ring[:, 1], -1) - np.roll(ring[:, 0], -1) * ring[:, 1]) > 0
-        )
-        for p, q in zip(ring, np.roll(ring, -1, axis=0), strict=True):
-            d = q - p
-            length = float(np.hypot(*d))
-            if length < 1e-9:
-                continue
-            outward = np.array([d[1], -d[0]]) / length * (1 if ccw else -1)
-            centre = (p + q) / 2 + outward * BOUNDARY_THICKNESS / 2
-            static(
-                ObstacleType.ROAD_BOUNDARY,
-                RectObstacleShape(BOUNDARY_THICKNESS, length + 2 * BOUNDARY_THICKNESS),
-                (float(centre[0]), float(centre[1]), math.atan2(d[1], d[0])),
-            )
-        # the 2020a format's static types: walls are road boundaries, the rest unknown
-        kinds = {"wall": ObstacleType.ROAD_BOUNDARY}
-        areas = (lot.get("drawing") or {}).get("areas")
-        if areas is None:
-            areas = [
-                {"kind": "obstacle", "polygon": {"type": "Polygon", "coordinates": [o]}}
-                for o in lot.get("obstacles", [])
-            ]
-        for area in areas:
-            geom = area["polygon"]
-            polys = [geom["coordinates"]] if geom["type"] == "Polygon" else geom["coordinates"]
-            for rings in polys:
-                static(
-                    kinds.get(area["kind"], ObstacleType.UNKNOWN),
-                    PolygonObstacleShape(tuple(ring_of(rings[0]))),
-                )
-        for points in lot.get("parked", []):
-            static(ObstacleType.PARKED_VEHICLE, PolygonObstacleShape(tuple(ring_of(points))))
-        scenario.next_id = next(ids)  # the first id left for the trip's own objects
-        return scenario
-
-    def ks_list(tr: Track, first: int, last: int, shift: int) -> list[KSState]:
-        s = ks_states(tr, first, last, dt)
-        return [
-            KSState(
-                time_step=int(k) - shift,
-                position=np.array([x, y]),
-                steering_angle=float(d),
-                velocity=float(v),
-                orientation=float(o),
-            )
-            for k, x, y, d, v, o in zip(
-                s["time_step"],
-                s["x"],
-                s["y"],
-                s["steering_angle"],
-                s["velocity"],
-                s["orientation"],
-                strict=True,
-            )
-        ]
-
     target = Path(folder)
-    target.parent.mkdir(parents=True, exist_ok=True)
-    tmp = Path(tempfile.mkdtemp(prefix=f".{target.name}.", dir=target.parent))
     written, states, worst = [], 0, [0.0, 0.0]
     vehicle_ids: dict[str, int] = {}
-    try:
+    with staged_folder(target) as tmp:
         for trip, tr, visit in trip_list:
             crid = commonroad_vehicle(tr.shape)
             vehicle_ids[tr.shape.name] = crid
-            sid = ScenarioID(
-                country_id="ZAM",
-                map_name=name,
-                map_id=1,
-                configuration_id=trip.id,
-                obstacle_behavior="T",
-                prediction_id=1,
-            )
-            scenario = lot_scenario(sid)
-            ids = iter(range(scenario.next_id, 100 * FIRST_ID))
-            # the other cars: standing through the trip, a static obstacle; moving, a
-            # dynamic one from the trip's start (one that enters later is left out)
-            for other in every:
-                if other.id == trip.vehicle:
-                    continue
-                ov = vs[other.id]
-                first_k = math.ceil(other.t[0] / dt - 1e-9)
-                gone = ov.status == "departed"
-                last_k = math.floor(other.t[-1] / dt + 1e-9) if gone else trip.last
-                if first_k > trip.first or last_k < trip.first:
-                    continue
-                last_k = min(last_k, trip.last)
-                ks = ks_list(other, trip.first, last_k, trip.first)
-                moving = (
-                    any(abs(s.velocity) > 0 for s in ks)
-                    or len(ks) > 1
-                    and (np.ptp([s.position for s in ks], axis=0).max() > 1e-6)
-                )
-                centre, heading = footprint(other, trip.first)
-                shape = RectObstacleShape(other.shape.width, other.shape.length)
-                if not moving and (last_k == trip.last):
-                    scenario.add_objects(
-                        StaticObstacle(
-                            next(ids),
-                            ObstacleType.PARKED_VEHICLE,
-                            shape,
-                            InitialState(
-                                position=centre, orientation=heading, velocity=0.0, time_step=0
-                            ),
-                        )
-                    )
-                    continue
-                rear = other.shape.rear
-                cr_b = COMMONROAD_VEHICLES[commonroad_vehicle(other.shape)][2]
-                # the obstacle's reference point is the KS centre: its box is shifted so
-                # that it covers the car's footprint
-                box = RectObstacleShape(
-                    other.shape.width,
-                    other.shape.length,
-                    origin_x_shift=(cr_b - (other.shape.front - rear) / 2),
-                )
-                init = ks[0]
-                dyn = DynamicObstacle(
-                    next(ids),
-                    ObstacleType.CAR,
-                    box,
-                    InitialState(
-                        position=init.position,
-                        orientation=_angle(init.orientation),
-                        velocity=init.velocity,
-                        acceleration=0.0,
-                        yaw_rate=0.0,
-                        slip_angle=0.0,
-                        time_step=0,
-                    ),
-                    TrajectoryPrediction(
-                        Trajectory(
-                            1,
-                            [
-                                CustomState(
-                                    time_step=s.time_step,
-                                    position=s.position,
-                                    orientation=_angle(s.orientation),
-                                    velocity=s.velocity,
-                                )
-                                for s in ks[1:]
-                            ],
-                        ),
-                        box,
-                    )
-                    if len(ks) > 1
-                    else None,
-                )
-                scenario.add_objects(dyn)
-
-            ks = ks_list(tr, trip.first, trip.last, trip.first)
+            sid = _scenario_id(name, trip)
+            scenario = _lot_scenario(doc, sid, dt)
+            _add_other_cars(scenario, trip, every, vs, dt)
+            ks = _ks_list(tr, trip.first, trip.last, trip.first, dt)
             pe, he = resample_error(tr, np.arange(trip.first, trip.last + 1) * dt)
             worst = [max(worst[0], pe), max(worst[1], he)]
             states += len(ks)
-            k0 = ks[0]
-            initial = InitialState(
-                position=k0.position,
-                orientation=_angle(k0.orientation),
-                velocity=k0.velocity,
-                acceleration=0.0,
-                yaw_rate=0.0,
-                slip_angle=0.0,
-                time_step=0,
-            )
-            when = Interval(0, trip.last - trip.first)
-            if trip.kind == "in":
-                ring = ring_of(slots[str(visit.slot)]["polygon"])
-                goal = CustomState(position=PolygonOccupancy(shapely.Polygon(ring)), time_step=when)
-            elif visit.exit is not None:
-                ex, ey, eth = exits[visit.exit]["pose"]
-                cx, cy = forward(
-                    np.array(ex), np.array(ey), np.array(eth), COMMONROAD_VEHICLES[crid][2]
-                )
-                reach, turn = EXIT_REACH
-                goal = CustomState(
-                    position=RectOccupancy(
-                        shapely.Point(float(cx), float(cy)), 2 * reach, 2 * reach, _angle(eth)
-                    ),
-                    orientation=AngleInterval(eth - turn, eth + turn),
-                    time_step=when,
-                )
-            else:  # it neither parked nor left: its goal is where it stopped
-                last = ks[-1]
-                goal = CustomState(
-                    position=RectOccupancy(
-                        shapely.Point(*last.position), 1.0, 1.0, _angle(last.orientation)
-                    ),
-                    time_step=when,
-                )
-            # the solution's states start at the planning problem's initial state
-            ks[0] = KSState(
-                time_step=0,
-                position=k0.position,
-                steering_angle=k0.steering_angle,
-                velocity=k0.velocity,
-                orientation=_angle(k0.orientation),
-            )
-            problems = PlanningProblemSet([PlanningProblem(trip.id, initial, GoalRegion([goal]))])
+            goal = _goal(trip, visit, ks, crid, slots, exits)
             stem = f"{_file_name(trip.vehicle)}-{trip.kind}"
-            CommonRoadFileWriter(
+            _write_trip(
+                tmp,
+                stem,
                 scenario,
-                problems,
-                author="lotsim",
-                affiliation="lotsim",
-                source="lotsim run",
-                tags=set(),
-                file_format=FileFormat.XML,
-            ).write_to_file(str(tmp / f"{stem}.xml"), OverwriteExistingFile.ALWAYS)
-            solution = Solution(
-                sid,
-                [
-                    PlanningProblemSolution(
-                        trip.id,
-                        VehicleModel.KS,
-                        getattr(VehicleType, COMMONROAD_VEHICLES[crid][0]),
-                        CostFunction.SA1,
-                        Trajectory(0, ks),
-                    )
-                ],
-                date=None,
-            )
-            (tmp / f"{stem}.solution.xml").write_text(
-                CommonRoadSolutionWriter(solution).dump(pretty=True)
+                _planning_problems(trip, ks[0], goal),
+                _solution(sid, trip, crid, ks),
             )
             written.append((trip, target / f"{stem}.xml", target / f"{stem}.solution.xml"))
-        _replace_folder(tmp, target)
-    except BaseException:
-        shutil.rmtree(tmp, ignore_errors=True)
-        raise
     size = sum(p.stat().st_size for _, a, b in written for p in (a, b))
     return CommonRoadInfo(target, tuple(written), states, dt, worst[0], worst[1], vehicle_ids, size)
+
+
+def _scenario_id(name: str, trip: Trip):
+    """The benchmark id of ``trip``'s scenario (``ZAM_<name>-1_<trip>_T-1``): a made-up map
+    (CommonRoad's country code ``ZAM``) named after the lot, one configuration per trip, the
+    other cars predicted by their trajectories (``T``)."""
+    from commonroad.scenario.scenario import ScenarioID
+
+    return ScenarioID(
+        country_id="ZAM",
+        map_name=name,
+        map_id=1,
+        configuration_id=trip.id,
+        obstacle_behavior="T",
+        prediction_id=1,
+    )
+
+
+def _ring_of(points) -> list[tuple[float, float]]:
+    """A polygon's corners as floats, without the closing repeat of the first (CommonRoad's
+    polygons close themselves)."""
+    ring = [(float(x), float(y)) for x, y in points]
+    return ring[:-1] if ring[0] == ring[-1] else ring
+
+
+def _boundary_boxes(boundary) -> list[tuple[float, tuple[float, float, float]]]:
+    """The thin boxes that stand for the lot's outline: for each edge of ``boundary`` its
+    length [m] and the box's centre ``x, y`` [m] and heading [rad], the box lying
+    :data:`BOUNDARY_THICKNESS` wide just outside the edge (a planner must stay inside the
+    lot, and CommonRoad has no outline of its own)."""
+    ring = np.array(_ring_of(boundary))
+    ccw = np.sum(ring[:, 0] * np.roll(ring[:, 1], -1) - np.roll(ring[:, 0], -1) * ring[:, 1]) > 0
+    out = []
+    for p, q in zip(ring, np.roll(ring, -1, axis=0), strict=True):
+        d = q - p
+        length = float(np.hypot(*d))
+        if length < 1e-9:
+            continue
+        outward = np.array([d[1], -d[0]]) / length * (1 if ccw else -1)
+        centre = (p + q) / 2 + outward * BOUNDARY_THICKNESS / 2
+        out.append((length, (float(centre[0]), float(centre[1]), math.atan2(d[1], d[0]))))
+    return out
+
+
+def _static_obstacles(lot: dict) -> list[tuple]:
+    """``(ObstacleType, shape, (x, y, heading))`` of everything in the lot that never
+    moves, in id order: the outline's boxes, every drawn area (walls as road boundaries,
+    islands, obstacles and no-go zones as unknown: the 2020a format's static types) or,
+    for a lot without a drawing, its obstacles, and the cars parked at start."""
+    from commonroad.geometry.obstacle_shapes.polygon_obstacle_shape import (
+        PolygonObstacleShape,
+    )
+    from commonroad.geometry.obstacle_shapes.rect_obstacle_shape import RectObstacleShape
+    from commonroad.scenario.obstacle import ObstacleType
+
+    origin = (0.0, 0.0, 0.0)
+    out: list[tuple] = [
+        (
+            ObstacleType.ROAD_BOUNDARY,
+            RectObstacleShape(BOUNDARY_THICKNESS, length + 2 * BOUNDARY_THICKNESS),
+            where,
+        )
+        for length, where in _boundary_boxes(lot["boundary"])
+    ]
+    kinds = {"wall": ObstacleType.ROAD_BOUNDARY}
+    areas = (lot.get("drawing") or {}).get("areas")
+    if areas is None:
+        areas = [
+            {"kind": "obstacle", "polygon": {"type": "Polygon", "coordinates": [o]}}
+            for o in lot.get("obstacles", [])
+        ]
+    for area in areas:
+        geom = area["polygon"]
+        polys = [geom["coordinates"]] if geom["type"] == "Polygon" else geom["coordinates"]
+        for rings in polys:
+            out.append(
+                (
+                    kinds.get(area["kind"], ObstacleType.UNKNOWN),
+                    PolygonObstacleShape(tuple(_ring_of(rings[0]))),
+                    origin,
+                )
+            )
+    for points in lot.get("parked", []):
+        out.append(
+            (ObstacleType.PARKED_VEHICLE, PolygonObstacleShape(tuple(_ring_of(points))), origin)
+        )
+    return out
+
+
+def _lot_scenario(doc: dict, sid, dt: float):
+    """The scenario of what every trip shares: the lanes and slots as lanelets
+    (:func:`lanelets`) and the static obstacles (:func:`_static_obstacles`). Ids count up
+    from :data:`FIRST_ID`; the scenario's ``next_id`` is the first one left for the trip's
+    own objects."""
+    from commonroad.scenario.lanelet import Lanelet, LaneletType
+    from commonroad.scenario.obstacle import StaticObstacle
+    from commonroad.scenario.scenario import Scenario
+    from commonroad.scenario.state import InitialState
+
+    scenario = Scenario(dt, sid)
+    ids = iter(range(FIRST_ID, 100 * FIRST_ID))
+    for lanelet in lanelets(doc, ids):
+        scenario.add_objects(
+            Lanelet(
+                *lanelet[:4],
+                lanelet_type={
+                    LaneletType.PARKING if lanelet[4] == "slot" else LaneletType.DRIVE_WAY
+                },
+            )
+        )
+    for kind, shape, where in _static_obstacles(doc["lot"]):
+        state = InitialState(
+            position=np.array(where[:2]), orientation=where[2], velocity=0.0, time_step=0
+        )
+        scenario.add_objects(StaticObstacle(next(ids), kind, shape, state))
+    scenario.next_id = next(ids)
+    return scenario
+
+
+def _add_other_cars(
+    scenario, trip: Trip, every: list[Track], vs: dict[str, Visit], dt: float
+) -> None:
+    """Add the cars other than ``trip``'s to its scenario, as they are from the trip's
+    start: one standing through the whole trip is a static parked vehicle at its footprint,
+    one that moves (or leaves the run during the trip) a dynamic obstacle on its KS states
+    (:func:`_moving_car`). A car that enters the run after the trip's start, or left it
+    before, is left out."""
+    from commonroad.geometry.obstacle_shapes.rect_obstacle_shape import RectObstacleShape
+    from commonroad.scenario.obstacle import ObstacleType, StaticObstacle
+    from commonroad.scenario.state import InitialState
+
+    ids = iter(range(scenario.next_id, 100 * FIRST_ID))
+    for other in every:
+        if other.id == trip.vehicle:
+            continue
+        first_k = math.ceil(other.t[0] / dt - 1e-9)
+        gone = vs[other.id].status == "departed"
+        last_k = math.floor(other.t[-1] / dt + 1e-9) if gone else trip.last
+        if first_k > trip.first or last_k < trip.first:
+            continue
+        last_k = min(last_k, trip.last)
+        ks = _ks_list(other, trip.first, last_k, trip.first, dt)
+        moving = (
+            any(abs(s.velocity) > 0 for s in ks)
+            or len(ks) > 1
+            and (np.ptp([s.position for s in ks], axis=0).max() > 1e-6)
+        )
+        if moving or last_k != trip.last:
+            scenario.add_objects(_moving_car(next(ids), other, ks))
+            continue
+        centre, heading = _footprint(other, trip.first, dt)
+        scenario.add_objects(
+            StaticObstacle(
+                next(ids),
+                ObstacleType.PARKED_VEHICLE,
+                RectObstacleShape(other.shape.width, other.shape.length),
+                InitialState(position=centre, orientation=heading, velocity=0.0, time_step=0),
+            )
+        )
+
+
+def _moving_car(oid: int, other: Track, ks: list):
+    """A car other than the planned one as a dynamic obstacle with id ``oid``: its KS
+    states ``ks`` (from the trip's start) as its trajectory prediction. Its reference point
+    is the KS centre, so its box is shifted along the heading to cover the car's footprint."""
+    from commonroad.geometry.obstacle_shapes.rect_obstacle_shape import RectObstacleShape
+    from commonroad.prediction.prediction import TrajectoryPrediction
+    from commonroad.scenario.obstacle import DynamicObstacle, ObstacleType
+    from commonroad.scenario.state import CustomState, InitialState
+    from commonroad.scenario.trajectory import Trajectory
+
+    cr_b = COMMONROAD_VEHICLES[commonroad_vehicle(other.shape)][2]
+    box = RectObstacleShape(
+        other.shape.width,
+        other.shape.length,
+        origin_x_shift=(cr_b - (other.shape.front - other.shape.rear) / 2),
+    )
+    init = ks[0]
+    prediction = None
+    if len(ks) > 1:
+        states = [
+            CustomState(
+                time_step=s.time_step,
+                position=s.position,
+                orientation=_angle(s.orientation),
+                velocity=s.velocity,
+            )
+            for s in ks[1:]
+        ]
+        prediction = TrajectoryPrediction(Trajectory(1, states), box)
+    return DynamicObstacle(
+        oid,
+        ObstacleType.CAR,
+        box,
+        InitialState(
+            position=init.position,
+            orientation=_angle(init.orientation),
+            velocity=init.velocity,
+            acceleration=0.0,
+            yaw_rate=0.0,
+            slip_angle=0.0,
+            time_step=0,
+        ),
+        prediction,
+    )
+
+
+def _footprint(tr: Track, k: int, dt: float) -> tuple[np.ndarray, float]:
+    """Centre [m] and heading [rad] of ``tr``'s footprint at step ``k``."""
+    r = resample(tr, np.array([k * dt]))
+    cx, cy = forward(r["x"], r["y"], r["theta"], (tr.shape.front - tr.shape.rear) / 2)
+    return np.array([cx[0], cy[0]]), _angle(r["theta"][0])
+
+
+def _ks_list(tr: Track, first: int, last: int, shift: int, dt: float) -> list:
+    """:func:`ks_states` of ``tr`` at steps ``first..last`` as CommonRoad ``KSState``
+    objects, their time steps counted from ``shift`` (a trip's scenario starts at 0)."""
+    from commonroad.scenario.state import KSState
+
+    s = ks_states(tr, first, last, dt)
+    return [
+        KSState(
+            time_step=int(k) - shift,
+            position=np.array([x, y]),
+            steering_angle=float(d),
+            velocity=float(v),
+            orientation=float(o),
+        )
+        for k, x, y, d, v, o in zip(
+            s["time_step"],
+            s["x"],
+            s["y"],
+            s["steering_angle"],
+            s["velocity"],
+            s["orientation"],
+            strict=True,
+        )
+    ]
+
+
+def _goal(trip: Trip, visit: Visit, ks: list, crid: int, slots: dict, exits: dict):
+    """The goal state of ``trip``, reached by its last step: a way in ends anywhere in its
+    slot's polygon; a way out within :data:`EXIT_REACH` of its exit (the exit's pose moved
+    to the KS centre of CommonRoad vehicle ``crid``); a car that neither parked nor left
+    ends in a 1 m square around where it stopped."""
+    from commonroad.common.util import AngleInterval, Interval
+    from commonroad.geometry.occupancy.polygon_occupancy import PolygonOccupancy
+    from commonroad.geometry.occupancy.rect_occupancy import RectOccupancy
+    from commonroad.scenario.state import CustomState
+
+    when = Interval(0, trip.last - trip.first)
+    if trip.kind == "in":
+        ring = _ring_of(slots[str(visit.slot)]["polygon"])
+        return CustomState(position=PolygonOccupancy(shapely.Polygon(ring)), time_step=when)
+    if visit.exit is not None:
+        ex, ey, eth = exits[visit.exit]["pose"]
+        cx, cy = forward(np.array(ex), np.array(ey), np.array(eth), COMMONROAD_VEHICLES[crid][2])
+        reach, turn = EXIT_REACH
+        return CustomState(
+            position=RectOccupancy(
+                shapely.Point(float(cx), float(cy)), 2 * reach, 2 * reach, _angle(eth)
+            ),
+            orientation=AngleInterval(eth - turn, eth + turn),
+            time_step=when,
+        )
+    last = ks[-1]
+    return CustomState(
+        position=RectOccupancy(shapely.Point(*last.position), 1.0, 1.0, _angle(last.orientation)),
+        time_step=when,
+    )
+
+
+def _planning_problems(trip: Trip, k0, goal):
+    """The scenario's one planning problem: from ``trip``'s first KS state ``k0`` (at rest
+    in acceleration, yaw rate and slip) to ``goal``; its id is the trip's."""
+    from commonroad.planning.goal import GoalRegion
+    from commonroad.planning.planning_problem import PlanningProblem, PlanningProblemSet
+    from commonroad.scenario.state import InitialState
+
+    initial = InitialState(
+        position=k0.position,
+        orientation=_angle(k0.orientation),
+        velocity=k0.velocity,
+        acceleration=0.0,
+        yaw_rate=0.0,
+        slip_angle=0.0,
+        time_step=0,
+    )
+    return PlanningProblemSet([PlanningProblem(trip.id, initial, GoalRegion([goal]))])
+
+
+def _solution(sid, trip: Trip, crid: int, ks: list):
+    """The KS solution of ``trip`` on CommonRoad vehicle ``crid``: its states ``ks``, the
+    first written as the planning problem's initial state (heading wrapped into
+    ``[-pi, pi)``), so that the trajectory starts where the problem does."""
+    from commonroad.common.solution import (
+        CostFunction,
+        PlanningProblemSolution,
+        Solution,
+        VehicleModel,
+        VehicleType,
+    )
+    from commonroad.scenario.state import KSState
+    from commonroad.scenario.trajectory import Trajectory
+
+    k0 = ks[0]
+    first = KSState(
+        time_step=0,
+        position=k0.position,
+        steering_angle=k0.steering_angle,
+        velocity=k0.velocity,
+        orientation=_angle(k0.orientation),
+    )
+    return Solution(
+        sid,
+        [
+            PlanningProblemSolution(
+                trip.id,
+                VehicleModel.KS,
+                getattr(VehicleType, COMMONROAD_VEHICLES[crid][0]),
+                CostFunction.SA1,
+                Trajectory(0, [first, *ks[1:]]),
+            )
+        ],
+        date=None,
+    )
+
+
+def _write_trip(folder: Path, stem: str, scenario, problems, solution) -> None:
+    """Write one trip's files into ``folder``: ``<stem>.xml`` (the scenario with its
+    planning problem, 2020a XML) and ``<stem>.solution.xml``."""
+    from commonroad.common.file_writer import CommonRoadFileWriter, OverwriteExistingFile
+    from commonroad.common.solution import CommonRoadSolutionWriter
+    from commonroad.common.util import FileFormat
+
+    CommonRoadFileWriter(
+        scenario,
+        problems,
+        author="lotsim",
+        affiliation="lotsim",
+        source="lotsim run",
+        tags=set(),
+        file_format=FileFormat.XML,
+    ).write_to_file(str(folder / f"{stem}.xml"), OverwriteExistingFile.ALWAYS)
+    (folder / f"{stem}.solution.xml").write_text(
+        CommonRoadSolutionWriter(solution).dump(pretty=True)
+    )
 
 
 def _file_name(vehicle: str) -> str:
     """A vehicle id as a file name: letters, digits, ``_`` and ``-`` kept."""
     return "".join(c if c.isalnum() or c in "_-" else "_" for c in vehicle) or "_"
-
-
-def offset_line(points, d: float) -> np.ndarray:
-    """``points`` moved ``d`` metres to the left of their direction (mitred at corners).
-
-    >>> offset_line([[0, 0], [10, 0], [10, 10]], 1.0).tolist()
-    [[0.0, 1.0], [9.0, 1.0], [9.0, 10.0]]
-    """
-    p = np.asarray(points, dtype=float)
-    seg = np.diff(p, axis=0)
-    n = np.stack([-seg[:, 1], seg[:, 0]], axis=1) / np.hypot(*seg.T)[:, None]
-    normals = np.concatenate([n[:1], n[:-1] + n[1:], n[-1:]])
-    normals /= np.hypot(*normals.T)[:, None]
-    cos_half = np.ones(len(p))
-    cos_half[1:-1] = np.einsum("ij,ij->i", normals[1:-1], n[:-1])
-    return p + d * normals / cos_half[:, None]
 
 
 def lanelets(doc: dict, ids) -> list[tuple[np.ndarray, np.ndarray, np.ndarray, int, str]]:
@@ -566,11 +635,3 @@ def _angle(theta: float) -> float:
     """``theta`` [rad] wrapped into ``[-pi, pi)``."""
     return float((theta + math.pi) % (2 * math.pi) - math.pi)
 
-
-def _replace_folder(tmp: Path, target: Path) -> None:
-    """Move the finished files of ``tmp`` into ``target`` (each by a rename), then remove
-    ``tmp``: a reader sees each file whole or not at all."""
-    target.mkdir(parents=True, exist_ok=True)
-    for p in tmp.iterdir():
-        os.replace(p, target / p.name)
-    tmp.rmdir()

@@ -31,18 +31,17 @@ from __future__ import annotations
 import datetime
 import math
 import os
-import shutil
-import tempfile
 import xml.etree.ElementTree as ET
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 import shapely
 from shapely.geometry import LineString
 
-from lotsim.io.export.commonroad import _replace_folder
-from lotsim.io.export.tracks import ExportError, Track, require, tracks, visits
+from lotsim.io.export.files import staged_folder
+from lotsim.io.export.tracks import ExportError, Track, VehicleShape, require, tracks, visits
 
 POSITION_ERROR = 0.01
 """Every lotsim sample lies within this of its polyline [m] ..."""
@@ -259,8 +258,6 @@ def write_openscenario(doc: dict, folder: str | os.PathLike) -> OpenScenarioInfo
         For a lot without aisles or a run in which no vehicle moved.
     """
     require("scenariogeneration", "openscenario")
-    from scenariogeneration import xosc
-
     lot = doc["lot"]
     every = tracks(doc)
     if not every:
@@ -268,118 +265,16 @@ def write_openscenario(doc: dict, folder: str | os.PathLike) -> OpenScenarioInfo
     name = "".join(c for c in str(lot.get("name") or "lot") if c.isalnum() or c in "_-") or "lot"
     road_root, roads, spaces = opendrive(doc, name)
     vs = visits(doc)
-
-    entities = xosc.Entities()
-    init = xosc.Init()
-    act = xosc.Act(
-        "run",
-        xosc.ValueTrigger(
-            "start", 0, xosc.ConditionEdge.none,
-            xosc.SimulationTimeCondition(0, xosc.Rule.greaterOrEqual),
-        ),
-    )  # fmt: skip
-    n_vertices = n_samples = 0
-    worst = [0.0, 0.0]
-    for tr in every:
-        sh = tr.shape
-        rear_track = 0.85 * sh.width
-        vehicle = xosc.Vehicle(
-            sh.name,
-            xosc.VehicleCategory.car,
-            xosc.BoundingBox(sh.width, sh.length, VEHICLE_HEIGHT, (sh.front - sh.rear) / 2, 0.0,
-                             VEHICLE_HEIGHT / 2),
-            xosc.Axle(sh.max_steer, WHEEL_DIAMETER, rear_track, sh.wheelbase, WHEEL_DIAMETER / 2),
-            xosc.Axle(0.0, WHEEL_DIAMETER, rear_track, 0.0, WHEEL_DIAMETER / 2),
-            min(sh.max_forward_speed, 1000.0),
-            min(sh.max_accel, 100.0),
-            min(sh.max_brake, 100.0),
-        )
-        entities.add_scenario_object(tr.id, vehicle)
-        theta = np.unwrap(tr.theta)
-        init.add_init_action(
-            tr.id,
-            xosc.TeleportAction(
-                xosc.WorldPosition(float(tr.x[0]), float(tr.y[0]), 0.0, float(theta[0]))
-            ),
-        )
-        idx = vertices(tr)
-        pe, he = polyline_error(tr, idx)
-        worst = [max(worst[0], pe), max(worst[1], he)]
-        n_vertices += len(idx)
-        n_samples += len(tr)
-        if len(idx) < 2:
-            continue
-        trajectory = xosc.Trajectory(f"{tr.id}-track", False)
-        trajectory.add_shape(
-            xosc.Polyline(
-                [round(float(tr.t[i]), 6) for i in idx],
-                [
-                    xosc.WorldPosition(
-                        round(float(tr.x[i]), 6), round(float(tr.y[i]), 6), 0.0,
-                        round(float(theta[i]), 6),
-                    )
-                    for i in idx
-                ],
-            )
-        )  # fmt: skip
-        event = xosc.Event(f"{tr.id}-drive", xosc.Priority.override)
-        event.add_action(
-            f"{tr.id}-follow",
-            xosc.FollowTrajectoryAction(
-                trajectory,
-                xosc.FollowingMode.position,
-                xosc.ReferenceContext.absolute,
-                1,
-                0,
-            ),
-        )
-        event.add_trigger(
-            xosc.ValueTrigger(
-                f"{tr.id}-enters", 0, xosc.ConditionEdge.none,
-                xosc.SimulationTimeCondition(float(tr.t[0]), xosc.Rule.greaterOrEqual),
-            )
-        )  # fmt: skip
-        maneuver = xosc.Maneuver(f"{tr.id}-way")
-        maneuver.add_event(event)
-        group = xosc.ManeuverGroup(f"{tr.id}-group")
-        group.add_actor(tr.id)
-        group.add_maneuver(maneuver)
-        act.add_maneuver_group(group)
+    cars = _cars(every)
     end = max(v.end for v in vs.values() if v.end is not None)
-    story = xosc.Story("lotsim")
-    story.add_act(act)
-    storyboard = xosc.StoryBoard(
-        init,
-        xosc.ValueTrigger(
-            "end", 0, xosc.ConditionEdge.none,
-            xosc.SimulationTimeCondition(end + 1.0, xosc.Rule.greaterThan), "stop",
-        ),
-    )  # fmt: skip
-    storyboard.add_story(story)
-    scenario = xosc.Scenario(
-        name,
-        "lotsim",
-        xosc.ParameterDeclarations(),
-        entities,
-        storyboard,
-        xosc.RoadNetwork("lot.xodr"),
-        xosc.Catalog(),
-        osc_minor_version=OSC_MINOR,
-        creation_date=FILE_DATE,
-    )
+    scenario = _scenario(name, cars, end)
 
     target = Path(folder)
-    target.parent.mkdir(parents=True, exist_ok=True)
-    tmp = Path(tempfile.mkdtemp(prefix=f".{target.name}.", dir=target.parent))
-    try:
+    with staged_folder(target) as tmp:
         ET.indent(road_root)
         ET.ElementTree(road_root).write(tmp / "lot.xodr", encoding="UTF-8",
                                         xml_declaration=True)
         scenario.write_xml(str(tmp / "lot.xosc"), prettyprint=True)
-        _replace_folder(tmp, target)
-    except BaseException:
-        shutil.rmtree(tmp, ignore_errors=True)
-        raise
     files = [target / f for f in FILES]
     return OpenScenarioInfo(
         target,
@@ -388,9 +283,157 @@ def write_openscenario(doc: dict, folder: str | os.PathLike) -> OpenScenarioInfo
         roads,
         spaces,
         len(every),
-        n_vertices,
-        n_samples,
-        worst[0],
-        worst[1],
+        cars.vertices,
+        cars.samples,
+        cars.position_error,
+        cars.heading_error,
         sum(p.stat().st_size for p in files),
+    )
+
+
+@dataclass(slots=True)
+class _Cars:
+    """The cars of a scenario as :func:`_cars` builds them: the ``xosc`` entities, their
+    init actions and the act that drives them, with the counts and errors of their
+    polylines for :class:`OpenScenarioInfo`."""
+
+    entities: Any
+    init: Any
+    act: Any
+    vertices: int = 0
+    samples: int = 0
+    position_error: float = 0.0
+    heading_error: float = 0.0
+
+
+def _cars(every: list[Track]) -> _Cars:
+    """Every car as a vehicle entity, teleported to its first pose at the start and then
+    following its timed polyline (:func:`vertices`) in the act ``run``; a car with a single
+    vertex stays where it was put."""
+    from scenariogeneration import xosc
+
+    cars = _Cars(
+        xosc.Entities(),
+        xosc.Init(),
+        xosc.Act(
+            "run",
+            xosc.ValueTrigger(
+                "start", 0, xosc.ConditionEdge.none,
+                xosc.SimulationTimeCondition(0, xosc.Rule.greaterOrEqual),
+            ),
+        ),
+    )  # fmt: skip
+    for tr in every:
+        cars.entities.add_scenario_object(tr.id, _vehicle(tr.shape))
+        theta = np.unwrap(tr.theta)
+        cars.init.add_init_action(
+            tr.id,
+            xosc.TeleportAction(
+                xosc.WorldPosition(float(tr.x[0]), float(tr.y[0]), 0.0, float(theta[0]))
+            ),
+        )
+        idx = vertices(tr)
+        pe, he = polyline_error(tr, idx)
+        cars.position_error = max(cars.position_error, pe)
+        cars.heading_error = max(cars.heading_error, he)
+        cars.vertices += len(idx)
+        cars.samples += len(tr)
+        if len(idx) >= 2:
+            cars.act.add_maneuver_group(_follow(tr, theta, idx))
+    return cars
+
+
+def _vehicle(sh: VehicleShape):
+    """A lotsim type as an OpenSCENARIO car: its bounding box centred ``(front - rear) / 2``
+    ahead of the rear axle (the reference point), its front axle a wheelbase ahead turning
+    up to its steering limit, and its limits capped to finite numbers (lotsim's infinity
+    means none). Height, wheels and track width lotsim does not have are set to
+    :data:`VEHICLE_HEIGHT`, :data:`WHEEL_DIAMETER` and 85 % of the width."""
+    from scenariogeneration import xosc
+
+    rear_track = 0.85 * sh.width
+    return xosc.Vehicle(
+        sh.name,
+        xosc.VehicleCategory.car,
+        xosc.BoundingBox(sh.width, sh.length, VEHICLE_HEIGHT, (sh.front - sh.rear) / 2, 0.0,
+                         VEHICLE_HEIGHT / 2),
+        xosc.Axle(sh.max_steer, WHEEL_DIAMETER, rear_track, sh.wheelbase, WHEEL_DIAMETER / 2),
+        xosc.Axle(0.0, WHEEL_DIAMETER, rear_track, 0.0, WHEEL_DIAMETER / 2),
+        min(sh.max_forward_speed, 1000.0),
+        min(sh.max_accel, 100.0),
+        min(sh.max_brake, 100.0),
+    )
+
+
+def _follow(tr: Track, theta: np.ndarray, idx: np.ndarray):
+    """The maneuver group in which car ``tr`` follows its polyline through the samples
+    ``idx`` (headings ``theta``, unwrapped), times absolute on the simulation clock, from
+    when the simulation reaches its first sample. Values are rounded to 1 µm, 1 µs and
+    1 µrad, as the road network's are."""
+    from scenariogeneration import xosc
+
+    trajectory = xosc.Trajectory(f"{tr.id}-track", False)
+    trajectory.add_shape(
+        xosc.Polyline(
+            [round(float(tr.t[i]), 6) for i in idx],
+            [
+                xosc.WorldPosition(
+                    round(float(tr.x[i]), 6), round(float(tr.y[i]), 6), 0.0,
+                    round(float(theta[i]), 6),
+                )
+                for i in idx
+            ],
+        )
+    )  # fmt: skip
+    event = xosc.Event(f"{tr.id}-drive", xosc.Priority.override)
+    event.add_action(
+        f"{tr.id}-follow",
+        xosc.FollowTrajectoryAction(
+            trajectory,
+            xosc.FollowingMode.position,
+            xosc.ReferenceContext.absolute,
+            1,
+            0,
+        ),
+    )
+    event.add_trigger(
+        xosc.ValueTrigger(
+            f"{tr.id}-enters", 0, xosc.ConditionEdge.none,
+            xosc.SimulationTimeCondition(float(tr.t[0]), xosc.Rule.greaterOrEqual),
+        )
+    )  # fmt: skip
+    maneuver = xosc.Maneuver(f"{tr.id}-way")
+    maneuver.add_event(event)
+    group = xosc.ManeuverGroup(f"{tr.id}-group")
+    group.add_actor(tr.id)
+    group.add_maneuver(maneuver)
+    return group
+
+
+def _scenario(name: str, cars: _Cars, end: float):
+    """The OpenSCENARIO document: ``cars`` in a story ``lotsim`` on the road network
+    ``lot.xodr``, stopped a second after the run's end ``end`` [s], dated
+    :data:`FILE_DATE` so that the same result gives the same file."""
+    from scenariogeneration import xosc
+
+    story = xosc.Story("lotsim")
+    story.add_act(cars.act)
+    storyboard = xosc.StoryBoard(
+        cars.init,
+        xosc.ValueTrigger(
+            "end", 0, xosc.ConditionEdge.none,
+            xosc.SimulationTimeCondition(end + 1.0, xosc.Rule.greaterThan), "stop",
+        ),
+    )  # fmt: skip
+    storyboard.add_story(story)
+    return xosc.Scenario(
+        name,
+        "lotsim",
+        xosc.ParameterDeclarations(),
+        cars.entities,
+        storyboard,
+        xosc.RoadNetwork("lot.xodr"),
+        xosc.Catalog(),
+        osc_minor_version=OSC_MINOR,
+        creation_date=FILE_DATE,
     )

@@ -37,7 +37,6 @@ import math
 import os
 import shutil
 import subprocess
-import tempfile
 import xml.etree.ElementTree as ET
 from dataclasses import dataclass
 from pathlib import Path
@@ -47,8 +46,18 @@ import shapely
 from shapely.geometry import LineString, Point
 from shapely.ops import substring
 
-from lotsim.io.export.commonroad import _replace_folder, offset_line
-from lotsim.io.export.tracks import ExportError, Visit, forward, require, tracks, visits
+from lotsim.io.export.files import staged_folder
+from lotsim.io.export.tracks import (
+    ExportError,
+    Track,
+    VehicleShape,
+    Visit,
+    forward,
+    offset_line,
+    require,
+    tracks,
+    visits,
+)
 
 NODE_MERGE = 1.0
 """Aisle ends and crossings closer than this are one node [m]."""
@@ -300,181 +309,18 @@ def write_sumo(doc: dict, folder: str | os.PathLike, *, step: float = STEP) -> S
     nodes, edges = network(doc)
     vs = visits(doc)
     target = Path(folder)
-    target.parent.mkdir(parents=True, exist_ok=True)
-    tmp = Path(tempfile.mkdtemp(prefix=f".{target.name}.", dir=target.parent))
-    try:
-        root = ET.Element("nodes")
-        for nid, (x, y) in nodes.items():
-            ET.SubElement(root, "node", id=nid, x=f"{x:.4f}", y=f"{y:.4f}", type="priority")
-        _write(root, tmp / "lot.nod.xml", "nodes_file.xsd")
-        root = ET.Element("edges")
+    with staged_folder(target) as tmp:
+        _write(_nodes_xml(nodes), tmp / "lot.nod.xml", "nodes_file.xsd")
         speed = float(lot.get("speed_limit") or drawing.get("speed_limit") or 13.89)
-        for e in edges:
-            ET.SubElement(
-                root,
-                "edge",
-                id=e.id,
-                to=e.end,
-                numLanes="1",
-                width=f"{e.width:.4f}",
-                speed=f"{speed:.4f}",
-                shape=_points(e.shape),
-                spreadType="center",
-                name=e.aisle,
-                attrib={"from": e.start},
-            )
-        _write(root, tmp / "lot.edg.xml", "edges_file.xsd")
-        done = subprocess.run(
-            [
-                netconvert,
-                "--node-files", "lot.nod.xml",
-                "--edge-files", "lot.edg.xml",
-                "--output-file", "lot.net.xml",
-                "--offset.disable-normalization", "true",
-                "--no-warnings", "true",
-            ],
-            cwd=tmp, capture_output=True, text=True,
-        )  # fmt: skip
-        if done.returncode != 0:
-            raise ExportError(f"netconvert refused the lot's network: {done.stderr.strip()}")
-        lanes = _lanes(tmp / "lot.net.xml")
-
-        # one parking area per slot, on the nearest lane of its aisle
+        _write(_edges_xml(edges, speed), tmp / "lot.edg.xml", "edges_file.xsd")
+        lanes = _build_network(netconvert, tmp)
         spaces = space_poses(doc, vs)
-        root = ET.Element("additional")
-        area_edge: dict[str, str] = {}
-        for s in drawing.get("slots", []):
-            (ax, ay), (bx, by) = s["entry"]
-            area_edge[s["id"]], lane, pos, length = _on_lane(
-                lanes, edges, (ax + bx) / 2, (ay + by) / 2, None, s["aisle"]
-            )
-            half = min(float(s["width"]) / 2, length / 2)
-            start = min(max(pos - half, 0.0), length - 2 * half)
-            area = ET.SubElement(
-                root,
-                "parkingArea",
-                id=_sumo_id(s["id"]),
-                lane=lane,
-                startPos=f"{start:.4f}",
-                endPos=f"{start + 2 * half:.4f}",
-                roadsideCapacity="0",
-                name=str(s["id"]),
-            )
-            x, y, angle = spaces[s["id"]]
-            ET.SubElement(
-                area,
-                "space",
-                x=f"{x:.4f}",
-                y=f"{y:.4f}",
-                width=f"{float(s['width']):.4f}",
-                length=f"{float(s['length']):.4f}",
-                angle=f"{angle:.4f}",
-            )
-        _write(root, tmp / "lot.add.xml", "additional_file.xsd")
-
-        # the cars: a type per lotsim type, a trip per car through its slot's area
-        portals = {p["id"]: p["pose"] for p in lot.get("entrances", []) + lot.get("exits", [])}
-        root = ET.Element("routes")
-        types: dict[str, ET.Element] = {}
-        trips, left_out = [], []
+        areas, area_edge = _parking_areas(drawing, lanes, edges, spaces)
+        _write(areas, tmp / "lot.add.xml", "additional_file.xsd")
         end = max((v.end for v in vs.values() if v.end is not None), default=0.0) + END_MARGIN
-        for tr in tracks(doc):
-            v = vs[tr.id]
-            if tr.shape.name not in types:
-                sh = tr.shape
-                types[sh.name] = ET.Element(
-                    "vType",
-                    id=_sumo_id(sh.name),
-                    vClass="passenger",
-                    length=f"{sh.length:.4f}",
-                    width=f"{sh.width:.4f}",
-                    minGap=f"{MIN_GAP:.2f}",
-                    maxSpeed=f"{min(sh.max_forward_speed, 1000.0):.4f}",
-                    accel=f"{min(sh.max_accel, 100.0):.4f}",
-                    decel=f"{min(sh.max_brake, 100.0):.4f}",
-                    emergencyDecel=f"{max(min(sh.max_brake, 100.0), 9.0):.4f}",
-                    sigma="0",
-                    speedFactor="1",
-                )
-            if v.park is None and v.exit is None:
-                left_out.append(tr.id)
-                continue
-            ex, ey, eth = portals.get(v.entrance, (tr.x[0], tr.y[0], tr.theta[0]))
-            src, _, depart_pos, _ = _on_lane(lanes, edges, ex, ey, eth)
-            if v.exit is not None:
-                ox, oy, oth = portals[v.exit]
-            else:  # it stays: its trip ends at its slot
-                ox, oy, oth = tr.x[-1], tr.y[-1], None
-            attrs = {
-                "id": _sumo_id(tr.id),
-                "type": _sumo_id(tr.shape.name),
-                "depart": f"{v.arrival:.2f}",
-                "departLane": "0",
-                "departPos": f"{depart_pos:.4f}",
-                "departSpeed": "0",
-                "from": src,
-            }
-            if v.exit is not None:
-                dst, _, arrival_pos, _ = _on_lane(lanes, edges, ox, oy, oth)
-                attrs |= {"to": dst, "arrivalPos": f"{arrival_pos:.4f}"}
-            trip = ET.Element("trip", attrs)
-            if v.park is not None:
-                ET.SubElement(
-                    trip,
-                    "stop",
-                    parkingArea=_sumo_id(str(v.slot)),
-                    parking="true",
-                    until=f"{(v.leave if v.leave is not None else end + 1.0):.2f}",
-                )
-                if v.exit is None:  # its trip ends at the area's edge
-                    trip.set("to", area_edge[str(v.slot)])
-            trips.append((v.arrival, tr.id, trip))
-        moving = len(trips)
-        # the cars parked at start: inserted in their spaces (departPos="stop") for good
-        for slot, (_, _, _, length, width) in sorted(parked_at_start(doc).items()):
-            tid = f"parked-{length:.2f}x{width:.2f}"
-            types.setdefault(
-                tid,
-                ET.Element(
-                    "vType", id=tid, vClass="passenger", length=f"{length:.4f}",
-                    width=f"{width:.4f}", minGap=f"{MIN_GAP:.2f}",
-                ),
-            )  # fmt: skip
-            trip = ET.Element(
-                "trip",
-                {
-                    "id": f"parked-{_sumo_id(slot)}",
-                    "type": tid,
-                    "depart": "0.00",
-                    "departPos": "stop",
-                    "from": area_edge[slot],
-                    "to": area_edge[slot],
-                },
-            )
-            ET.SubElement(
-                trip, "stop", parkingArea=_sumo_id(slot), parking="true", until=f"{end + 1:.2f}"
-            )
-            trips.append((-1.0, trip.get("id"), trip))
-        for t in types.values():
-            root.append(t)
-        for _, _, trip in sorted(trips, key=lambda x: (x[0], x[1])):
-            root.append(trip)
-        _write(root, tmp / "lot.rou.xml", "routes_file.xsd")
-
-        cfg = ET.Element("configuration")
-        inp = ET.SubElement(cfg, "input")
-        ET.SubElement(inp, "net-file", value="lot.net.xml")
-        ET.SubElement(inp, "route-files", value="lot.rou.xml")
-        ET.SubElement(inp, "additional-files", value="lot.add.xml")
-        tm = ET.SubElement(cfg, "time")
-        ET.SubElement(tm, "begin", value="0")
-        ET.SubElement(tm, "end", value=f"{end:.2f}")
-        ET.SubElement(tm, "step-length", value=f"{step:g}")
-        _write(cfg, tmp / "lot.sumocfg", "sumoConfiguration.xsd")
-        _replace_folder(tmp, target)
-    except BaseException:
-        shutil.rmtree(tmp, ignore_errors=True)
-        raise
+        routes, moving, parked, left_out = _routes(doc, vs, lanes, edges, area_edge, end)
+        _write(routes, tmp / "lot.rou.xml", "routes_file.xsd")
+        _write(_config_xml(end, step), tmp / "lot.sumocfg", "sumoConfiguration.xsd")
     files = tuple(target / f for f in FILES)
     return SumoInfo(
         target,
@@ -483,8 +329,251 @@ def write_sumo(doc: dict, folder: str | os.PathLike, *, step: float = STEP) -> S
         len(edges),
         {s["id"]: spaces[s["id"]] for s in drawing.get("slots", [])},
         moving,
-        len(trips) - moving,
+        parked,
         tuple(left_out),
         end,
         sum(p.stat().st_size for p in files),
     )
+
+
+def _nodes_xml(nodes: dict[str, tuple[float, float]]) -> ET.Element:
+    """``lot.nod.xml``: the network's nodes (:func:`network`), each a priority junction."""
+    root = ET.Element("nodes")
+    for nid, (x, y) in nodes.items():
+        ET.SubElement(root, "node", id=nid, x=f"{x:.4f}", y=f"{y:.4f}", type="priority")
+    return root
+
+
+def _edges_xml(edges: list[_Edge], speed: float) -> ET.Element:
+    """``lot.edg.xml``: an edge of one lane per lane of each piece of aisle, its shape the
+    lane's centreline (``spreadType="center"`` keeps SUMO from moving it aside), its width
+    the lane's and its speed ``speed`` [m/s], the lot's limit."""
+    root = ET.Element("edges")
+    for e in edges:
+        ET.SubElement(
+            root,
+            "edge",
+            id=e.id,
+            to=e.end,
+            numLanes="1",
+            width=f"{e.width:.4f}",
+            speed=f"{speed:.4f}",
+            shape=_points(e.shape),
+            spreadType="center",
+            name=e.aisle,
+            attrib={"from": e.start},
+        )
+    return root
+
+
+def _build_network(netconvert: str, folder: Path) -> dict[str, tuple[str, LineString]]:
+    """Build ``lot.net.xml`` from the node and edge files in ``folder`` with ``netconvert``,
+    keeping lotsim's coordinates, and return its lanes (:func:`_lanes`): the parking areas
+    and trips are placed on the lanes SUMO made, not on the ones lotsim asked for.
+
+    Raises
+    ------
+    ExportError
+        When ``netconvert`` refuses the network (its message is quoted).
+    """
+    done = subprocess.run(
+        [
+            netconvert,
+            "--node-files", "lot.nod.xml",
+            "--edge-files", "lot.edg.xml",
+            "--output-file", "lot.net.xml",
+            "--offset.disable-normalization", "true",
+            "--no-warnings", "true",
+        ],
+        cwd=folder, capture_output=True, text=True,
+    )  # fmt: skip
+    if done.returncode != 0:
+        raise ExportError(f"netconvert refused the lot's network: {done.stderr.strip()}")
+    return _lanes(folder / "lot.net.xml")
+
+
+def _parking_areas(
+    drawing: dict, lanes, edges: list[_Edge], spaces: dict[str, tuple[float, float, float]]
+) -> tuple[ET.Element, dict[str, str]]:
+    """``lot.add.xml``: a parking area per slot (module docstring), as long as the slot is
+    wide, on the lane of the slot's aisle nearest the middle of its entry side, with one
+    space at ``spaces[slot]``; and each slot's area's edge, where the trips stop."""
+    root = ET.Element("additional")
+    area_edge: dict[str, str] = {}
+    for s in drawing.get("slots", []):
+        (ax, ay), (bx, by) = s["entry"]
+        area_edge[s["id"]], lane, pos, length = _on_lane(
+            lanes, edges, (ax + bx) / 2, (ay + by) / 2, None, s["aisle"]
+        )
+        half = min(float(s["width"]) / 2, length / 2)
+        start = min(max(pos - half, 0.0), length - 2 * half)
+        area = ET.SubElement(
+            root,
+            "parkingArea",
+            id=_sumo_id(s["id"]),
+            lane=lane,
+            startPos=f"{start:.4f}",
+            endPos=f"{start + 2 * half:.4f}",
+            roadsideCapacity="0",
+            name=str(s["id"]),
+        )
+        x, y, angle = spaces[s["id"]]
+        ET.SubElement(
+            area,
+            "space",
+            x=f"{x:.4f}",
+            y=f"{y:.4f}",
+            width=f"{float(s['width']):.4f}",
+            length=f"{float(s['length']):.4f}",
+            angle=f"{angle:.4f}",
+        )
+    return root, area_edge
+
+
+def _routes(
+    doc: dict,
+    vs: dict[str, Visit],
+    lanes,
+    edges: list[_Edge],
+    area_edge: dict[str, str],
+    end: float,
+) -> tuple[ET.Element, int, int, list[str]]:
+    """``lot.rou.xml``: a ``<vType>`` per lotsim type and a trip per car
+    (:func:`_car_trip`), then a type per footprint and a trip per car parked at start
+    (:func:`_parked_trips`), the trips in order of departure. Also returns the number of
+    cars written as trips, of cars parked at start, and the ids of the cars left out."""
+    lot = doc["lot"]
+    portals = {p["id"]: p["pose"] for p in lot.get("entrances", []) + lot.get("exits", [])}
+    types: dict[str, ET.Element] = {}
+    trips, left_out = [], []
+    for tr in tracks(doc):
+        v = vs[tr.id]
+        if tr.shape.name not in types:
+            types[tr.shape.name] = _vehicle_type(tr.shape)
+        trip = _car_trip(tr, v, portals, lanes, edges, area_edge, end)
+        if trip is None:
+            left_out.append(tr.id)
+            continue
+        trips.append((v.arrival, tr.id, trip))
+    moving = len(trips)
+    trips += _parked_trips(doc, area_edge, end, types)
+    root = ET.Element("routes")
+    for t in types.values():
+        root.append(t)
+    for _, _, trip in sorted(trips, key=lambda x: (x[0], x[1])):
+        root.append(trip)
+    return root, moving, len(trips) - moving, left_out
+
+
+def _vehicle_type(sh: VehicleShape) -> ET.Element:
+    """A lotsim type as a SUMO ``<vType>``: its footprint and limits, an unlimited one
+    (lotsim's infinity) capped to a finite number SUMO accepts (1000 m/s, 100 m/s²), the
+    emergency deceleration at least SUMO's usual 9 m/s²; driven without imperfection
+    (``sigma="0"``) at its own top speed (``speedFactor="1"``)."""
+    return ET.Element(
+        "vType",
+        id=_sumo_id(sh.name),
+        vClass="passenger",
+        length=f"{sh.length:.4f}",
+        width=f"{sh.width:.4f}",
+        minGap=f"{MIN_GAP:.2f}",
+        maxSpeed=f"{min(sh.max_forward_speed, 1000.0):.4f}",
+        accel=f"{min(sh.max_accel, 100.0):.4f}",
+        decel=f"{min(sh.max_brake, 100.0):.4f}",
+        emergencyDecel=f"{max(min(sh.max_brake, 100.0), 9.0):.4f}",
+        sigma="0",
+        speedFactor="1",
+    )
+
+
+def _car_trip(
+    tr: Track,
+    v: Visit,
+    portals: dict,
+    lanes,
+    edges: list[_Edge],
+    area_edge: dict[str, str],
+    end: float,
+) -> ET.Element | None:
+    """A car's ``<trip>``: from the lane at its entrance (at its arrival time) to the lane at
+    its exit, with a stop in its slot's parking area until it moved off (or past ``end``
+    when it stays, its trip then ending at the area's edge). ``None`` for a car that neither
+    parked nor left: SUMO has nowhere to send it."""
+    if v.park is None and v.exit is None:
+        return None
+    ex, ey, eth = portals.get(v.entrance, (tr.x[0], tr.y[0], tr.theta[0]))
+    src, _, depart_pos, _ = _on_lane(lanes, edges, ex, ey, eth)
+    attrs = {
+        "id": _sumo_id(tr.id),
+        "type": _sumo_id(tr.shape.name),
+        "depart": f"{v.arrival:.2f}",
+        "departLane": "0",
+        "departPos": f"{depart_pos:.4f}",
+        "departSpeed": "0",
+        "from": src,
+    }
+    if v.exit is not None:
+        ox, oy, oth = portals[v.exit]
+        dst, _, arrival_pos, _ = _on_lane(lanes, edges, ox, oy, oth)
+        attrs |= {"to": dst, "arrivalPos": f"{arrival_pos:.4f}"}
+    trip = ET.Element("trip", attrs)
+    if v.park is not None:
+        ET.SubElement(
+            trip,
+            "stop",
+            parkingArea=_sumo_id(str(v.slot)),
+            parking="true",
+            until=f"{(v.leave if v.leave is not None else end + 1.0):.2f}",
+        )
+        if v.exit is None:
+            trip.set("to", area_edge[str(v.slot)])
+    return trip
+
+
+def _parked_trips(
+    doc: dict, area_edge: dict[str, str], end: float, types: dict[str, ET.Element]
+) -> list[tuple[float, str, ET.Element]]:
+    """The cars parked at start as trips inserted in their spaces (``departPos="stop"``) at
+    time 0 and parked past ``end``, each ``(-1, id, trip)`` to sort before every car of the
+    run. A ``<vType>`` per footprint is added to ``types`` (they have no lotsim type)."""
+    out = []
+    for slot, (_, _, _, length, width) in sorted(parked_at_start(doc).items()):
+        tid = f"parked-{length:.2f}x{width:.2f}"
+        types.setdefault(
+            tid,
+            ET.Element(
+                "vType", id=tid, vClass="passenger", length=f"{length:.4f}",
+                width=f"{width:.4f}", minGap=f"{MIN_GAP:.2f}",
+            ),
+        )  # fmt: skip
+        trip = ET.Element(
+            "trip",
+            {
+                "id": f"parked-{_sumo_id(slot)}",
+                "type": tid,
+                "depart": "0.00",
+                "departPos": "stop",
+                "from": area_edge[slot],
+                "to": area_edge[slot],
+            },
+        )
+        ET.SubElement(
+            trip, "stop", parkingArea=_sumo_id(slot), parking="true", until=f"{end + 1:.2f}"
+        )
+        out.append((-1.0, trip.get("id"), trip))
+    return out
+
+
+def _config_xml(end: float, step: float) -> ET.Element:
+    """``lot.sumocfg``: the network, routes and parking areas, run from 0 to ``end`` [s] on
+    the step ``step`` [s]."""
+    cfg = ET.Element("configuration")
+    inp = ET.SubElement(cfg, "input")
+    ET.SubElement(inp, "net-file", value="lot.net.xml")
+    ET.SubElement(inp, "route-files", value="lot.rou.xml")
+    ET.SubElement(inp, "additional-files", value="lot.add.xml")
+    tm = ET.SubElement(cfg, "time")
+    ET.SubElement(tm, "begin", value="0")
+    ET.SubElement(tm, "end", value=f"{end:.2f}")
+    ET.SubElement(tm, "step-length", value=f"{step:g}")
+    return cfg

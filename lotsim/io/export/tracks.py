@@ -12,7 +12,8 @@ speed, road-wheel steer, gear; ``docs/result.md``) with the dimensions of its ty
 :func:`resample` puts a track on a uniform clock (the CommonRoad step) by the same linear
 interpolation that ``docs/result.md`` defines between samples (heading the short way round),
 and :func:`resample_error` measures how far the resampled track strays from the samples it
-skips: that is the whole approximation of the step.
+skips: that is the whole approximation of the step. :func:`offset_line` draws a lane beside
+its aisle's centreline.
 
 Examples
 --------
@@ -178,6 +179,24 @@ def forward(
 ) -> tuple[FloatArray, FloatArray]:
     """Points ``d`` metres ahead of ``(x, y)`` along ``theta`` (behind when negative)."""
     return x + d * np.cos(theta), y + d * np.sin(theta)
+
+
+def offset_line(points, d: float) -> np.ndarray:
+    """``points`` moved ``d`` metres to the left of their direction (mitred at corners):
+    a lane's line from its aisle's centreline and the lane's offset, the same for every
+    export that draws lanes (CommonRoad's lanelets, SUMO's edges).
+
+    >>> offset_line([[0, 0], [10, 0], [10, 10]], 1.0).tolist()
+    [[0.0, 1.0], [9.0, 1.0], [9.0, 10.0]]
+    """
+    p = np.asarray(points, dtype=float)
+    seg = np.diff(p, axis=0)
+    n = np.stack([-seg[:, 1], seg[:, 0]], axis=1) / np.hypot(*seg.T)[:, None]
+    normals = np.concatenate([n[:1], n[:-1] + n[1:], n[-1:]])
+    normals /= np.hypot(*normals.T)[:, None]
+    cos_half = np.ones(len(p))
+    cos_half[1:-1] = np.einsum("ij,ij->i", normals[1:-1], n[:-1])
+    return p + d * normals / cos_half[:, None]
 
 
 def _rest_runs(tr: Track) -> list[tuple[int, int]]:
