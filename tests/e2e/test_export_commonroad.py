@@ -6,6 +6,7 @@ steering-rate limit; a planted steering jump is caught."""
 from __future__ import annotations
 
 import copy
+import datetime
 import math
 from pathlib import Path
 
@@ -209,3 +210,17 @@ def test_a_planted_steering_jump_is_caught(exported):
         s.steering_angle += 0.1
     found = ks_violations(doc, [(trip, scenario, problems, bad)])
     assert found and f"problem {trip.id} step {st[k - 1].time_step}:" in found[0], found
+
+
+def test_the_same_result_gives_the_same_files_whatever_the_day(exported, tmp_path):
+    # CommonRoad's writer stamps the day it writes; the export fixes the date in the header
+    import lotsim
+    from lotsim.io.export.commonroad import FILE_DATE
+
+    doc, info, _ = exported
+    again = lotsim.export_commonroad(doc, tmp_path / "again")
+    for (_, a, sa), (_, b, sb) in zip(info.files, again.files, strict=True):
+        assert Path(a).read_bytes() == Path(b).read_bytes()
+        assert Path(sa).read_bytes() == Path(sb).read_bytes()
+    header = Path(info.files[0][1]).read_text()[:400]
+    assert f'date="{FILE_DATE}"' in header and str(datetime.date.today()) != FILE_DATE

@@ -33,6 +33,7 @@ from __future__ import annotations
 
 import math
 import os
+import re
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -54,6 +55,9 @@ from lotsim.io.export.tracks import (
     visits,
 )
 
+FILE_DATE = "2000-01-01"
+"""The date in each scenario file's header: fixed, so that the same result gives the same
+files."""
 DT = 0.1
 """CommonRoad's time step [s]."""
 BOUNDARY_THICKNESS = 0.2
@@ -579,6 +583,12 @@ def _write_trip(folder: Path, stem: str, scenario, problems, solution) -> None:
         tags=set(),
         file_format=FileFormat.XML,
     ).write_to_file(str(folder / f"{stem}.xml"), OverwriteExistingFile.ALWAYS)
+    # CommonRoad's writer stamps the day it writes; a fixed date keeps the same result's
+    # files the same (the date is the file's, not the plan's)
+    path = folder / f"{stem}.xml"
+    text = path.read_text()
+    path.write_text(re.sub(r'(<commonRoad [^>]*\bdate=")[0-9-]+(")', rf"\g<1>{FILE_DATE}\g<2>",
+                           text, count=1))
     (folder / f"{stem}.solution.xml").write_text(
         CommonRoadSolutionWriter(solution).dump(pretty=True)
     )
