@@ -290,34 +290,6 @@ def sample_pieces(starts: FloatArray, distance: FloatArray, curvature: FloatArra
     return travel(starts[owner], dist, curvature[owner], sharp[owner]), owner
 
 
-def fillet_polyline(points: ArrayLike, radius: float) -> list[Segment]:
-    """Forward segments along a polyline with every corner rounded by an arc.
-
-    Parameters
-    ----------
-    points : array_like, shape (N, 2)
-        Polyline vertices [m], N ≥ 2, no two consecutive equal.
-    radius : float
-        Radius of every corner arc [m].
-
-    Returns
-    -------
-    list of Segment
-        Straights and arcs, tangent-continuous, from the first to the last point.
-
-    Raises
-    ------
-    ValueError
-        If a corner turns by 179° or more, or two corners' arcs overlap on a
-        leg (the message names the vertex index).
-
-    >>> segs = fillet_polyline([[0, 0], [10, 0], [10, 10]], 2.0)
-    >>> [round(s.length, 4) for s in segs]
-    [8.0, 3.1416, 8.0]
-    """
-    return cc_polyline(points, radius, math.inf)
-
-
 def cc_turn(deflection: float, max_curvature: float, sharpness: float,
             start: Pose = (0.0, 0.0, 0.0)) -> tuple[list[Segment], float]:
     """A symmetric continuous-curvature turn (Fraichard & Scheuer 2004), driven forward.
@@ -400,13 +372,13 @@ def cc_polyline(points: ArrayLike, radius: ArrayLike, sharpness: float) -> list[
         Radius of each corner's arc [m].
     sharpness : float
         Rate of change of curvature along the clothoids [1/m²]; ``inf`` rounds the
-        corners by plain arcs (:func:`fillet_polyline`).
+        corners by plain arcs.
 
     Raises
     ------
     ValueError
-        Like :func:`fillet_polyline`, when a corner turns back or two corners'
-        turns overlap on a leg.
+        When a corner turns by 179° or more, or two corners' turns overlap on a leg
+        (the message names the vertex index).
 
     >>> segs = cc_polyline([[0, 0], [20, 0], [20, 20]], 5.0, 0.05)
     >>> [round(s.curvature, 3) for s in segs], round(segs[-1].end[0], 9)

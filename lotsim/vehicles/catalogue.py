@@ -16,7 +16,7 @@ import math
 
 from lotsim.vehicles.model import VehicleType
 
-_SEED_000 = {
+_REPORT_CARS = {
     "msv": (1.8, 3.7, 1.0, 2.7, 45.0),
     "zoe": (1.771, 3.427, 0.657, 2.588, 33.0),
     "corsa": (1.532, 3.212, 0.410, 2.343, 32.0),
@@ -28,7 +28,7 @@ _SEED_000 = {
 
 CATALOGUE: dict[str, VehicleType] = {
     name: VehicleType(name, w, df, dr, b, math.radians(deg))
-    for name, (w, df, dr, b, deg) in _SEED_000.items()
+    for name, (w, df, dr, b, deg) in _REPORT_CARS.items()
 }
 CATALOGUE["valet"] = VehicleType("valet", 1.8, 3.9, 1.0, 2.8, math.radians(470 / 16))
 

@@ -390,11 +390,11 @@ def test_a_ring_and_a_gate_spur_lot_with_dead_end_halves_serve_every_slot(name):
 
 @pytest.mark.slow
 def test_a_364_bay_surface_lot_with_four_types_serves_every_bay_each_type_fits():
-    """The drone-survey lot of issue 15, in our own numbers: four 7 m aisles with dead-end
-    halves, corner bays at every junction, one gate spur at a T, four types up to a 5.37 m
-    van. Every bay a type is short enough for is reached and left by it, but one: the van's
-    last bay at a dead end it cannot turn round in (no maneuver out towards the other lane
-    yet). Before, the van could leave none, and 13 of its junction turns were skipped."""
+    """A lot drawn like the drone-surveyed lot of the Dragon Lake Parking dataset, in our
+    own numbers: four 7 m aisles with dead-end halves, corner bays at every junction, one
+    gate spur at a T, four types up to a 5.37 m van. Every bay a type is short enough for is
+    reached and left by it, but one: the van's last bay at a dead end it cannot turn round
+    in (no maneuver out towards the other lane)."""
     sc = load_scenario(LOTS / "surface364.yaml")
     lg = prepare_graph(sc)
     assert not [s for s in lg.skipped_turns if "skipped" in s], lg.skipped_turns

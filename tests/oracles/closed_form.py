@@ -1,4 +1,5 @@
-"""Closed forms for parallel parking (J. White, "Parallel Parking Optimization", 2009; seed 002).
+"""Closed forms for parallel parking (J. White, "Parallel Parking Optimization", parts 1
+and 2, 2009).
 
 White's radius ``r`` is measured from the centre of rotation to the outer wall of the
 outer front tyre. With the body's side taken as the tyre wall, the centre lies on the

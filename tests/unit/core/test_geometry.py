@@ -12,7 +12,6 @@ from lotsim.core.geometry import (
     cc_turn,
     ccw,
     ease_joints,
-    fillet_polyline,
     signed_area,
     travel,
     wrap_angle,
@@ -62,9 +61,9 @@ def test_segment_pieces_add_up_and_join():
     assert a.gear == b.gear == -1
 
 
-def test_fillet_polyline_is_tangent_continuous_and_hits_the_ends():
+def test_a_polyline_rounded_by_arcs_is_tangent_continuous_and_hits_the_ends():
     pts = [[0, 0], [20, 0], [20, 15], [5, 30]]
-    segs = fillet_polyline(pts, 4.0)
+    segs = cc_polyline(pts, 4.0, math.inf)
     for a, b in zip(segs[:-1], segs[1:], strict=True):
         assert np.allclose(a.end[:2], b.start[:2], atol=1e-9)
         assert math.isclose(wrap_angle(a.end[2] - b.start[2]), 0.0, abs_tol=1e-9)
@@ -74,9 +73,9 @@ def test_fillet_polyline_is_tangent_continuous_and_hits_the_ends():
     assert len(arcs) == 2 and all(math.isclose(s.radius, 4.0) for s in arcs)
 
 
-def test_fillet_polyline_rejects_corners_without_room():
+def test_a_polyline_rounded_by_arcs_refuses_corners_without_room():
     with pytest.raises(ValueError, match="leg 1"):
-        fillet_polyline([[0, 0], [10, 0], [10, 3], [0, 3]], 4.0)
+        cc_polyline([[0, 0], [10, 0], [10, 3], [0, 3]], 4.0, math.inf)
 
 
 def test_ccw_orients_rings():

@@ -1,5 +1,5 @@
-"""The minimum-slot planner against seed 000's figures, White's closed form and a stepped
-brute force."""
+"""The minimum-slot planner against the figures of the report *Minimization of parking
+slots for parallel parking* (2022), White's closed form and a stepped brute force."""
 
 import math
 
@@ -32,7 +32,7 @@ def test_seed_000_altis_in_a_2_5_m_slot():
 def test_seed_000_vclass_about_6_2_m_with_three_changes():
     rows = {r.changes: r.length for r in min_slot_lengths(CATALOGUE["vclass"], 2.5,
                                                           max_changes=3, step_deg=0.1)}
-    # seed 000 reads 6.2 m off a 0.01 m stepped simulation; the exact contacts give 6.3 m
+    # the report reads 6.2 m off a 0.01 m stepped simulation; the exact contacts give 6.3 m
     assert rows[3] == pytest.approx(6.2, abs=0.11)
 
 
