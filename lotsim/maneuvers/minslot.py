@@ -166,7 +166,7 @@ def _stroke(vehicle: VehicleType, frame: SlotFrame, poses: FloatArray, k: int):
     return contact, fits.min(axis=1), kappa
 
 
-def simulate(
+def simulate_strokes(
     vehicle: VehicleType, frame: SlotFrame, theta0: FloatArray, *, max_changes: int = 10,
     record: bool = False, stop_at_first: bool = False,
 ):
@@ -261,7 +261,7 @@ def fewest_changes(
     if length < vehicle.length or width < vehicle.width:
         return NO_SOLUTION, math.nan
     thetas = start_headings(step_deg)
-    changes = simulate(vehicle, SlotFrame(length, width), thetas, max_changes=max_changes,
+    changes = simulate_strokes(vehicle, SlotFrame(length, width), thetas, max_changes=max_changes,
                        stop_at_first=True)
     ok = changes >= 0
     if not ok.any():

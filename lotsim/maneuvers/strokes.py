@@ -13,7 +13,7 @@ import numpy as np
 from lotsim.core.geometry import Segment, wrap_angle
 from lotsim.core.outcome import Outcome, Status
 from lotsim.maneuvers.closing import closing_segments, closings, first_clear, park_path
-from lotsim.maneuvers.minslot import SlotFrame, simulate, start_headings
+from lotsim.maneuvers.minslot import SlotFrame, simulate_strokes, start_headings
 from lotsim.maneuvers.settings import ManeuverSettings
 from lotsim.maneuvers.validity import Validity
 from lotsim.vehicles.model import VehicleType
@@ -33,7 +33,7 @@ def park_along(checks: Validity, settings: ManeuverSettings
             f"{frame.length:.2f} × {frame.width:.2f} m for a "
             f"{v.length:.2f} × {v.width:.2f} m car"))
     thetas = start_headings(settings.parallel_heading_step)
-    changes, strokes = simulate(v, frame, thetas, max_changes=settings.max_changes,
+    changes, strokes = simulate_strokes(v, frame, thetas, max_changes=settings.max_changes,
                                 record=True)
     ok = np.flatnonzero(changes >= 0)
     if not ok.size:

@@ -40,14 +40,14 @@ from pathlib import Path
 import numpy as np
 import shapely
 
+from lotsim.io.export.commonroad_lot import FIRST_ID, lot_scenario, ring_of
 from lotsim.io.export.files import staged_folder
 from lotsim.io.export.tracks import (
+    CarTrack,
     ExportError,
-    Track,
     VehicleShape,
     Visit,
     forward,
-    offset_line,
     require,
     resample,
     resample_error,
@@ -60,11 +60,6 @@ FILE_DATE = "2000-01-01"
 files."""
 DT = 0.1
 """CommonRoad's time step [s]."""
-BOUNDARY_THICKNESS = 0.2
-"""Thickness of the obstacles that stand for the lot's outline, outside it [m]."""
-FIRST_ID = 1_000_000
-"""Ids of lanelets and obstacles start here; a planning problem's id is its trip's (1, 2,
-...), unique in the run."""
 EXIT_REACH = (0.5, 0.1)
 """A trip out reaches its exit within this distance [m] and heading [rad] (as ``lotsim
 check`` judges a departed vehicle)."""
@@ -124,7 +119,7 @@ def commonroad_vehicle(shape: VehicleShape) -> int:
     )
 
 
-def ks_states(tr: Track, first: int, last: int, dt: float = DT) -> dict[str, np.ndarray]:
+def ks_states(tr: CarTrack, first: int, last: int, dt: float = DT) -> dict[str, np.ndarray]:
     """The KS states of ``tr`` at time steps ``first..last``: ``time_step``, ``x``, ``y``
     (the CommonRoad centre [m]), ``orientation`` [rad], ``velocity`` [m/s],
     ``steering_angle`` [rad] (module docstring)."""
@@ -147,7 +142,7 @@ def ks_states(tr: Track, first: int, last: int, dt: float = DT) -> dict[str, np.
     }
 
 
-def trips(doc: dict, dt: float = DT) -> list[tuple[Trip, Track, Visit]]:
+def trips(doc: dict, dt: float = DT) -> list[tuple[Trip, CarTrack, Visit]]:
     """Each vehicle's trips on the step: in (first sample to parked), out (moved off to
     last sample), or whole (a car that never stood in its slot). A trip begins at the first
     step within its samples, or in the dwell before it; it ends at the last step within its
@@ -221,7 +216,7 @@ def write_commonroad(doc: dict, folder: str | os.PathLike, *, dt: float = DT) ->
             crid = commonroad_vehicle(tr.shape)
             vehicle_ids[tr.shape.name] = crid
             sid = _scenario_id(name, trip)
-            scenario = _lot_scenario(doc, sid, dt)
+            scenario = lot_scenario(doc, sid, dt)
             _add_other_cars(scenario, trip, every, vs, dt)
             ks = _ks_list(tr, trip.first, trip.last, trip.first, dt)
             pe, he = resample_error(tr, np.arange(trip.first, trip.last + 1) * dt)
@@ -257,109 +252,8 @@ def _scenario_id(name: str, trip: Trip):
     )
 
 
-def _ring_of(points) -> list[tuple[float, float]]:
-    """A polygon's corners as floats, without the closing repeat of the first (CommonRoad's
-    polygons close themselves)."""
-    ring = [(float(x), float(y)) for x, y in points]
-    return ring[:-1] if ring[0] == ring[-1] else ring
-
-
-def _boundary_boxes(boundary) -> list[tuple[float, tuple[float, float, float]]]:
-    """The thin boxes that stand for the lot's outline: for each edge of ``boundary`` its
-    length [m] and the box's centre ``x, y`` [m] and heading [rad], the box lying
-    :data:`BOUNDARY_THICKNESS` wide just outside the edge (a planner must stay inside the
-    lot, and CommonRoad has no outline of its own)."""
-    ring = np.array(_ring_of(boundary))
-    ccw = np.sum(ring[:, 0] * np.roll(ring[:, 1], -1) - np.roll(ring[:, 0], -1) * ring[:, 1]) > 0
-    out = []
-    for p, q in zip(ring, np.roll(ring, -1, axis=0), strict=True):
-        d = q - p
-        length = float(np.hypot(*d))
-        if length < 1e-9:
-            continue
-        outward = np.array([d[1], -d[0]]) / length * (1 if ccw else -1)
-        centre = (p + q) / 2 + outward * BOUNDARY_THICKNESS / 2
-        out.append((length, (float(centre[0]), float(centre[1]), math.atan2(d[1], d[0]))))
-    return out
-
-
-def _static_obstacles(lot: dict) -> list[tuple]:
-    """``(ObstacleType, shape, (x, y, heading))`` of everything in the lot that never
-    moves, in id order: the outline's boxes, every drawn area (walls as road boundaries,
-    islands, obstacles and no-go zones as unknown: the 2020a format's static types) or,
-    for a lot without a drawing, its obstacles, and the cars parked at start."""
-    from commonroad.geometry.obstacle_shapes.polygon_obstacle_shape import (
-        PolygonObstacleShape,
-    )
-    from commonroad.geometry.obstacle_shapes.rect_obstacle_shape import RectObstacleShape
-    from commonroad.scenario.obstacle import ObstacleType
-
-    origin = (0.0, 0.0, 0.0)
-    out: list[tuple] = [
-        (
-            ObstacleType.ROAD_BOUNDARY,
-            RectObstacleShape(BOUNDARY_THICKNESS, length + 2 * BOUNDARY_THICKNESS),
-            where,
-        )
-        for length, where in _boundary_boxes(lot["boundary"])
-    ]
-    kinds = {"wall": ObstacleType.ROAD_BOUNDARY}
-    areas = (lot.get("drawing") or {}).get("areas")
-    if areas is None:
-        areas = [
-            {"kind": "obstacle", "polygon": {"type": "Polygon", "coordinates": [o]}}
-            for o in lot.get("obstacles", [])
-        ]
-    for area in areas:
-        geom = area["polygon"]
-        polys = [geom["coordinates"]] if geom["type"] == "Polygon" else geom["coordinates"]
-        for rings in polys:
-            out.append(
-                (
-                    kinds.get(area["kind"], ObstacleType.UNKNOWN),
-                    PolygonObstacleShape(tuple(_ring_of(rings[0]))),
-                    origin,
-                )
-            )
-    for points in lot.get("parked", []):
-        out.append(
-            (ObstacleType.PARKED_VEHICLE, PolygonObstacleShape(tuple(_ring_of(points))), origin)
-        )
-    return out
-
-
-def _lot_scenario(doc: dict, sid, dt: float):
-    """The scenario of what every trip shares: the lanes and slots as lanelets
-    (:func:`lanelets`) and the static obstacles (:func:`_static_obstacles`). Ids count up
-    from :data:`FIRST_ID`; the scenario's ``next_id`` is the first one left for the trip's
-    own objects."""
-    from commonroad.scenario.lanelet import Lanelet, LaneletType
-    from commonroad.scenario.obstacle import StaticObstacle
-    from commonroad.scenario.scenario import Scenario
-    from commonroad.scenario.state import InitialState
-
-    scenario = Scenario(dt, sid)
-    ids = iter(range(FIRST_ID, 100 * FIRST_ID))
-    for lanelet in lanelets(doc, ids):
-        scenario.add_objects(
-            Lanelet(
-                *lanelet[:4],
-                lanelet_type={
-                    LaneletType.PARKING if lanelet[4] == "slot" else LaneletType.DRIVE_WAY
-                },
-            )
-        )
-    for kind, shape, where in _static_obstacles(doc["lot"]):
-        state = InitialState(
-            position=np.array(where[:2]), orientation=where[2], velocity=0.0, time_step=0
-        )
-        scenario.add_objects(StaticObstacle(next(ids), kind, shape, state))
-    scenario.next_id = next(ids)
-    return scenario
-
-
 def _add_other_cars(
-    scenario, trip: Trip, every: list[Track], vs: dict[str, Visit], dt: float
+    scenario, trip: Trip, every: list[CarTrack], vs: dict[str, Visit], dt: float
 ) -> None:
     """Add the cars other than ``trip``'s to its scenario, as they are from the trip's
     start: one standing through the whole trip is a static parked vehicle at its footprint,
@@ -400,7 +294,7 @@ def _add_other_cars(
         )
 
 
-def _moving_car(oid: int, other: Track, ks: list):
+def _moving_car(oid: int, other: CarTrack, ks: list):
     """A car other than the planned one as a dynamic obstacle with id ``oid``: its KS
     states ``ks`` (from the trip's start) as its trajectory prediction. Its reference point
     is the KS centre, so its box is shifted along the heading to cover the car's footprint."""
@@ -446,14 +340,14 @@ def _moving_car(oid: int, other: Track, ks: list):
     )
 
 
-def _footprint(tr: Track, k: int, dt: float) -> tuple[np.ndarray, float]:
+def _footprint(tr: CarTrack, k: int, dt: float) -> tuple[np.ndarray, float]:
     """Centre [m] and heading [rad] of ``tr``'s footprint at step ``k``."""
     r = resample(tr, np.array([k * dt]))
     cx, cy = forward(r["x"], r["y"], r["theta"], (tr.shape.front - tr.shape.rear) / 2)
     return np.array([cx[0], cy[0]]), _angle(r["theta"][0])
 
 
-def _ks_list(tr: Track, first: int, last: int, shift: int, dt: float) -> list:
+def _ks_list(tr: CarTrack, first: int, last: int, shift: int, dt: float) -> list:
     """:func:`ks_states` of ``tr`` at steps ``first..last`` as CommonRoad ``KSState``
     objects, their time steps counted from ``shift`` (a trip's scenario starts at 0)."""
     from commonroad.scenario.state import KSState
@@ -491,7 +385,7 @@ def _goal(trip: Trip, visit: Visit, ks: list, crid: int, slots: dict, exits: dic
 
     when = Interval(0, trip.last - trip.first)
     if trip.kind == "in":
-        ring = _ring_of(slots[str(visit.slot)]["polygon"])
+        ring = ring_of(slots[str(visit.slot)]["polygon"])
         return CustomState(position=PolygonOccupancy(shapely.Polygon(ring)), time_step=when)
     if visit.exit is not None:
         ex, ey, eth = exits[visit.exit]["pose"]
@@ -597,48 +491,6 @@ def _write_trip(folder: Path, stem: str, scenario, problems, solution) -> None:
 def _file_name(vehicle: str) -> str:
     """A vehicle id as a file name: letters, digits, ``_`` and ``-`` kept."""
     return "".join(c if c.isalnum() or c in "_-" else "_" for c in vehicle) or "_"
-
-
-def lanelets(doc: dict, ids) -> list[tuple[np.ndarray, np.ndarray, np.ndarray, int, str]]:
-    """``(left, centre, right, id, kind)`` of each lane of each aisle (kind ``lane``: its
-    centreline offset as the lane is, bounds half the lane's width either side) and of each
-    slot (kind ``slot``: from its entry side to its far end, bounds along its sides)."""
-    drawing = doc["lot"].get("drawing") or {}
-    out = []
-    for aisle in drawing.get("aisles", []):
-        line = np.asarray(aisle["centerline"], dtype=float)
-        lanes = aisle["lanes"]
-        width = float(aisle["width"]) / max(len(lanes), 1)
-        for lane in lanes:
-            centre = offset_line(line, -float(lane["offset"]))
-            if not lane["with_polyline"]:
-                centre = offset_line(line[::-1], -float(lane["offset"]))
-            out.append(
-                (
-                    offset_line(centre, width / 2),
-                    centre,
-                    offset_line(centre, -width / 2),
-                    next(ids),
-                    "lane",
-                )
-            )
-    for slot in drawing.get("slots", []):
-        ring = [tuple(map(float, q)) for q in slot["polygon"]]
-        a, b = (tuple(map(float, q)) for q in slot["entry"])
-        ia, ib = ring.index(a), ring.index(b)
-        n = len(ring)
-        # the side from a: its other end is the neighbour of a that is not b
-        far_a = ring[(ia - 1) % n] if ring[(ia + 1) % n] == b else ring[(ia + 1) % n]
-        far_b = ring[(ib - 1) % n] if ring[(ib + 1) % n] == a else ring[(ib + 1) % n]
-        side_a, side_b = np.array([a, far_a]), np.array([b, far_b])
-        # left bound: on the left of the way in
-        way = (side_a[1] + side_b[1]) / 2 - (side_a[0] + side_b[0]) / 2
-        across = side_a[0] - side_b[0]
-        left, right = (
-            (side_a, side_b) if way[0] * across[1] - way[1] * across[0] < 0 else (side_b, side_a)
-        )
-        out.append((left, (left + right) / 2, right, next(ids), "slot"))
-    return out
 
 
 def _angle(theta: float) -> float:

@@ -41,7 +41,7 @@ import shapely
 from shapely.geometry import LineString
 
 from lotsim.io.export.files import staged_folder
-from lotsim.io.export.tracks import ExportError, Track, VehicleShape, require, tracks, visits
+from lotsim.io.export.tracks import CarTrack, ExportError, VehicleShape, require, tracks, visits
 
 POSITION_ERROR = 0.01
 """Every lotsim sample lies within this of its polyline [m] ..."""
@@ -83,7 +83,7 @@ class OpenScenarioInfo:
 
 
 def vertices(
-    tr: Track, *, position: float = POSITION_ERROR, heading: float = HEADING_ERROR
+    tr: CarTrack, *, position: float = POSITION_ERROR, heading: float = HEADING_ERROR
 ) -> np.ndarray:
     """Indices of the samples a timed polyline of ``tr`` keeps: the fewest (a
     Douglas-Peucker split in time) such that every sample lies within ``position`` [m] and
@@ -92,7 +92,7 @@ def vertices(
     >>> import numpy as np
     >>> from lotsim.io.export.tracks import VehicleShape
     >>> t = np.arange(5.0)
-    >>> tr = Track("a", VehicleShape("car", 1.8, 3.9, 1.0, 2.8, 0.5, 0.4), t, t, 0 * t,
+    >>> tr = CarTrack("a", VehicleShape("car", 1.8, 3.9, 1.0, 2.8, 0.5, 0.4), t, t, 0 * t,
     ...            0 * t, 1 + 0 * t, 0 * t, 1 + 0 * t)
     >>> vertices(tr).tolist()  # a straight at constant speed: its ends
     [0, 4]
@@ -124,7 +124,7 @@ def vertices(
     return np.flatnonzero(keep)
 
 
-def polyline_error(tr: Track, idx: np.ndarray) -> tuple[float, float]:
+def polyline_error(tr: CarTrack, idx: np.ndarray) -> tuple[float, float]:
     """Largest distance [m] and heading difference [rad] of ``tr``'s samples from the
     polyline through ``idx`` (linear in time)."""
     theta = np.unwrap(tr.theta)
@@ -306,7 +306,7 @@ class _Cars:
     heading_error: float = 0.0
 
 
-def _cars(every: list[Track]) -> _Cars:
+def _cars(every: list[CarTrack]) -> _Cars:
     """Every car as a vehicle entity, teleported to its first pose at the start and then
     following its timed polyline (:func:`vertices`) in the act ``run``; a car with a single
     vertex stays where it was put."""
@@ -365,7 +365,7 @@ def _vehicle(sh: VehicleShape):
     )
 
 
-def _follow(tr: Track, theta: np.ndarray, idx: np.ndarray):
+def _follow(tr: CarTrack, theta: np.ndarray, idx: np.ndarray):
     """The maneuver group in which car ``tr`` follows its polyline through the samples
     ``idx`` (headings ``theta``, unwrapped), times absolute on the simulation clock, from
     when the simulation reaches its first sample. Values are rounded to 1 µm, 1 µs and

@@ -48,8 +48,8 @@ from shapely.ops import substring
 
 from lotsim.io.export.files import staged_folder
 from lotsim.io.export.tracks import (
+    CarTrack,
     ExportError,
-    Track,
     VehicleShape,
     Visit,
     forward,
@@ -487,7 +487,7 @@ def _vehicle_type(sh: VehicleShape) -> ET.Element:
 
 
 def _car_trip(
-    tr: Track,
+    tr: CarTrack,
     v: Visit,
     portals: dict,
     lanes,

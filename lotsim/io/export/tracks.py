@@ -1,6 +1,6 @@
 """What every export reads from a ``result.json``: each car's timed track and its visit.
 
-A :class:`Track` is one vehicle's samples as numpy arrays (rear-axle centre pose, signed
+A :class:`CarTrack` is one vehicle's samples as numpy arrays (rear-axle centre pose, signed
 speed, road-wheel steer, gear; ``docs/result.md``) with the dimensions of its type. A
 :class:`Visit` says when it came, when it stood in its slot and when it left:
 
@@ -18,7 +18,7 @@ its aisle's centreline.
 Examples
 --------
 >>> import numpy as np
->>> tr = Track("a", VehicleShape("car", 1.8, 3.9, 1.0, 2.8, 0.5, 0.4),
+>>> tr = CarTrack("a", VehicleShape("car", 1.8, 3.9, 1.0, 2.8, 0.5, 0.4),
 ...            *np.array([[0.0, 0.1, 0.2], [0.0, 0.1, 0.2], [0.0, 0.0, 0.0], [0.0] * 3,
 ...                       [1.0] * 3, [0.0] * 3, [1, 1, 1]]))
 >>> resample(tr, np.array([0.05, 0.15]))["x"].round(3).tolist()
@@ -120,7 +120,7 @@ class VehicleShape:
 
 
 @dataclass(frozen=True, slots=True)
-class Track:
+class CarTrack:
     """One vehicle's samples: time [s], rear-axle centre ``x``, ``y`` [m], heading
     ``theta`` [rad], signed speed ``v`` [m/s], road-wheel ``steer`` [rad], ``gear``."""
 
@@ -160,7 +160,7 @@ class Visit:
     """The exit it left by (``departed`` vehicles only)."""
 
 
-def tracks(doc: dict) -> list[Track]:
+def tracks(doc: dict) -> list[CarTrack]:
     """Every vehicle with samples, in the file's (arrival) order."""
     out = []
     for v in doc["vehicles"]:
@@ -170,7 +170,7 @@ def tracks(doc: dict) -> list[Track]:
         cols = [
             np.asarray(s[k], dtype=float) for k in ("t", "x", "y", "theta", "v", "steer", "gear")
         ]
-        out.append(Track(str(v["id"]), VehicleShape.from_json(v["type"]), *cols))
+        out.append(CarTrack(str(v["id"]), VehicleShape.from_json(v["type"]), *cols))
     return out
 
 
@@ -199,7 +199,7 @@ def offset_line(points, d: float) -> np.ndarray:
     return p + d * normals / cos_half[:, None]
 
 
-def _rest_runs(tr: Track) -> list[tuple[int, int]]:
+def _rest_runs(tr: CarTrack) -> list[tuple[int, int]]:
     """Index ranges ``[i, j]`` of consecutive samples at rest at one pose."""
     rest = (tr.v == 0) & (tr.gear == 0)
     runs, i, n = [], 0, len(tr)
@@ -268,7 +268,7 @@ def visits(doc: dict) -> dict[str, Visit]:
     return out
 
 
-def resample(tr: Track, times: FloatArray) -> dict[str, FloatArray]:
+def resample(tr: CarTrack, times: FloatArray) -> dict[str, FloatArray]:
     """The track at ``times`` [s] (within its first and last sample): pose, speed and steer
     interpolated linearly between samples, the heading the short way round.
 
@@ -288,7 +288,7 @@ def resample(tr: Track, times: FloatArray) -> dict[str, FloatArray]:
     }
 
 
-def resample_error(tr: Track, times: FloatArray) -> tuple[float, float]:
+def resample_error(tr: CarTrack, times: FloatArray) -> tuple[float, float]:
     """How far the track resampled at ``times`` (linear between them) strays from the
     samples it skips within ``[times[0], times[-1]]``: the largest distance of the
     rear-axle centre [m] and of the heading [rad]."""

@@ -13,7 +13,7 @@ from lotsim.maneuvers.minslot import (
     SlotFrame,
     fewest_changes,
     min_slot_lengths,
-    simulate,
+    simulate_strokes,
     start_poses,
 )
 from lotsim.vehicles import CATALOGUE
@@ -96,7 +96,7 @@ def test_exact_contacts_agree_with_a_stepped_brute_force(length, width):
     car = CATALOGUE["altis"]
     frame = SlotFrame(length, width)
     thetas = np.radians(np.arange(12.0, 36.0, 3.0))
-    exact = simulate(car, frame, thetas, max_changes=4)
+    exact = simulate_strokes(car, frame, thetas, max_changes=4)
     brute = np.array([stepped_changes(car, frame, t, 4) for t in thetas])
     # 1 cm steps stop up to 1 cm short of each contact, so they may need one change more
     agree = (exact == brute) | ((brute == exact + 1) & (exact >= 0))
@@ -118,7 +118,7 @@ def test_recorded_strokes_alternate_and_end_inside():
     car = CATALOGUE["altis"]
     frame = SlotFrame(5.3, 2.5)
     best, theta0 = fewest_changes(car, 5.3, 2.5, max_changes=6, step_deg=0.1)
-    changes, strokes = simulate(car, frame, np.array([theta0]), max_changes=6, record=True)
+    changes, strokes = simulate_strokes(car, frame, np.array([theta0]), max_changes=6, record=True)
     assert changes[0] == best and len(strokes[0]) == best + 1
     gears = [s.gear for s in strokes[0]]
     assert gears[0] == -1 and all(a != b for a, b in zip(gears, gears[1:], strict=False))
