@@ -1,20 +1,6 @@
-"""The independent result checker against hand-built results.
-
-The lot (40 × 20 m) is small enough to check by eye::
-
-    y=20 +----------------------------------------+
-         |                   |P1 |P2 |P3 |        |   P3 occupied (a car parked at start)
-    14.5 |      v5 (6, 12)   +---+---+---+   [ob] |   obstacle at x 30-31, y 10-11
-         |                ,-'                     |
-         | v1, v2 -> y=5 |   [ zone 18-24 x 2-8 ]  -> exit (34, 5)
-    y=0  +----------------------------------------+
-         x=0                                      x=40
-
-``v1`` drives straight through (departed), ``v2`` turns left on a quarter circle of exactly
-the minimum radius into P1 (parked), ``v5`` drives forward, stops, reverses and waits,
-``v3`` is rejected and ``v4`` queued (waiting, no samples). Every path is computed here in
-closed form, at a constant 0.9 m/s (below the zone's 1 m/s), sampled every 0.05 s.
-Each test breaks the valid result in one way and expects exactly that rule.
+"""The independent result checker against the hand-built result of ``tests/hand_built.py``
+(a lot small enough to check by eye, every path computed in closed form). Each test breaks
+the valid result in one way and expects exactly that rule.
 """
 
 from __future__ import annotations
