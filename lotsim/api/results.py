@@ -58,7 +58,7 @@ def load_result(path: str | os.PathLike, *, packed: bool = False) -> dict:
     lotsim.errors.ResultFormatError: /.../example.yaml: this is a lotsim scenario, not a result: ...
     """
     from lotsim.errors import ResultFormatError
-    from lotsim.io.kinds import file_kind, wrong_kind
+    from lotsim.io.file_kinds import file_kind, wrong_kind
     from lotsim.verify import read_result
 
     try:

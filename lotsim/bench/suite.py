@@ -10,7 +10,7 @@ from pathlib import Path
 from typing import Any
 
 from lotsim.errors import SettingsError
-from lotsim.io.kinds import refuse_other_kind, top_level
+from lotsim.io.file_kinds import refuse_other_kind, top_level
 from lotsim.io.scenario_yaml import MAX_ITEMS, load_scenario, name_from_file
 from lotsim.io.yamlnodes import YNode, read_yaml
 from lotsim.sim.settings import (

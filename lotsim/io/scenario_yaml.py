@@ -16,7 +16,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from lotsim.errors import ScenarioError
-from lotsim.io.kinds import refuse_other_kind, top_level
+from lotsim.io.file_kinds import refuse_other_kind, top_level
 from lotsim.io.yamlnodes import YNode, parse_text, read_yaml
 from lotsim.lot.kinds import KINDS
 from lotsim.lot.spec import (

@@ -365,7 +365,7 @@ def parse_text(text: str, file: str) -> YNode:
 
 def read_yaml(path: str | Path, *, expect: str | None = None) -> YNode:
     """Read and compose a YAML file; a missing or unreadable file is a ScenarioError, and
-    so is a JSON file of another kind than ``expect`` (:mod:`lotsim.io.kinds`: a result
+    so is a JSON file of another kind than ``expect`` (:mod:`lotsim.io.file_kinds`: a result
     given where a scenario belongs)."""
     file = str(path)
     try:
@@ -373,7 +373,7 @@ def read_yaml(path: str | Path, *, expect: str | None = None) -> YNode:
     except OSError as exc:
         raise ScenarioError(None, f"{file}: cannot read: {exc.strerror or exc}") from None
     if expect is not None:
-        from lotsim.io.kinds import json_kind, wrong_kind
+        from lotsim.io.file_kinds import json_kind, wrong_kind
 
         found = json_kind(raw)
         if found is not None and found != expect:
