@@ -45,6 +45,10 @@ class _SlotLike(Protocol):
     def center(self) -> tuple[float, float]: ...
 
 
+class _LaneLike(Protocol):
+    def pose_at(self, station: float) -> FloatArray: ...
+
+
 class SlotKind:
     """What one kind of slot decides (a strategy; one instance per kind in :data:`KINDS`).
 
@@ -61,12 +65,15 @@ class SlotKind:
     fixed_angle : float or None
         The angle between the slot's long side and its aisle [rad] when the kind fixes it
         (perpendicular: pi/2, parallel: 0); None when a row gives it (angled).
+    every_lane : bool
+        Every lane beside the slot serves it, whichever way it runs (perpendicular).
     """
 
     name: str = ""
     parks_along: bool = False
     entry_gear: int = -1
     fixed_angle: float | None = math.pi / 2
+    every_lane: bool = False
 
     def __repr__(self) -> str:
         return f"SlotKind({self.name!r})"
@@ -106,7 +113,12 @@ class SlotKind:
         """Whether a car on a lane heading ``lane_heading`` [rad] beside ``slot`` can begin
         its parking maneuver: a slot angled one way is entered in that direction of
         travel."""
-        return float(np.dot(_unit(lane_heading), _unit(slot.heading))) > 1e-9
+        return self.every_lane or float(np.dot(_unit(lane_heading), _unit(slot.heading))) > 1e-9
+
+    def serves_lane(self, slot: _SlotLike, lane: _LaneLike, station: float) -> bool:
+        """:meth:`serves`, asked of ``lane`` at ``station`` [m]: its heading there is read
+        only where the kind depends on it."""
+        return self.every_lane or self.serves(slot, lane.pose_at(station)[2])
 
     # -- parked cars ------------------------------------------------------------------------
     def taken(self, slot: _SlotLike, width: float, margin: float) -> Polygon:
@@ -126,9 +138,7 @@ class Perpendicular(SlotKind):
     """A bay at right angles to its aisle: served by every lane beside it, backed into."""
 
     name = "perpendicular"
-
-    def serves(self, slot: _SlotLike, lane_heading: float) -> bool:
-        return True
+    every_lane = True
 
 
 class Angled(SlotKind):

@@ -135,8 +135,8 @@ class ManeuverPlanner:
         mid = slot.entry.mean(axis=0)
         kind = kind_of(slot)
         return [lane for lane in self.lot.aisles[slot.aisle].lanes
-                if kind.serves(slot, lane.pose_at(
-                    lane.project((float(mid[0]), float(mid[1])))[0])[2])]
+                if kind.serves_lane(slot, lane,
+                                    lane.project((float(mid[0]), float(mid[1])))[0])]
 
     def solve(self, vehicle: VehicleType, slot: Slot, lane: Lane, *,
               style: str = "any", eased: bool = True) -> Outcome[Maneuver]:

@@ -47,7 +47,7 @@ def two_way_lanes(lot: Lot) -> list[tuple[Lane, Lane]]:
 def lane_serves(lane: Lane, station: float, slot: Slot) -> bool:
     """Whether a car on ``lane`` can begin this slot's maneuver: its kind decides by the
     lane's direction there (:meth:`~lotsim.lot.kinds.SlotKind.serves`)."""
-    return kind_of(slot).serves(slot, lane.pose_at(station)[2])
+    return kind_of(slot).serves_lane(slot, lane, station)
 
 
 PORTAL_HEADING_TOLERANCE = math.radians(15)
