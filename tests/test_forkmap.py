@@ -1,9 +1,11 @@
-"""fork_map: the answers of a plain loop, in the items' order, from forked workers."""
+"""fork_map and ForkPool: the answers of a plain loop, in the items' order, from forked workers."""
 
 import os
 import time
 
-from lotsim.core.workers import fork_map
+import pytest
+
+from lotsim.core.workers import ForkPool, fork_map
 
 
 def test_answers_in_order_whatever_finishes_first():
@@ -77,3 +79,35 @@ def test_a_background_started_by_a_worker_starts_nothing():
             return bg.take(), bg._proc is None
 
     assert fork_map(inside, [0, 1], workers=2) == [({}, True), ({}, True)]
+
+
+class _Notes:
+    """A task whose workers remember what they were given."""
+
+    def __init__(self) -> None:
+        self.notes: list[int] = []
+
+    def note(self, x: int) -> int:
+        self.notes.append(x)
+        return x * x
+
+    def count(self, _: int) -> int:
+        return len(self.notes)
+
+    def pid(self, _: int) -> int:
+        return os.getpid()
+
+
+def test_a_fork_pool_maps_on_workers_forked_once_that_keep_what_earlier_maps_built():
+    task = _Notes()
+    with ForkPool(task, workers=2) as pool:
+        assert pool.map(task.note, range(8)) == [x * x for x in range(8)]
+        counts = pool.map(task.count, range(8))
+        pids = set(pool.map(task.pid, range(8)))
+    assert task.notes == []  # the notes were taken on the workers
+    assert sum(counts) > 0  # ... which the second map found there: not new workers
+    assert os.getpid() not in pids
+    with ForkPool(task, workers=1) as pool:  # one worker: this process
+        assert pool.map(task.note, [3]) == [9] and task.notes == [3]
+    with pytest.raises(ValueError), ForkPool(task, workers=2) as pool:
+        pool.map(_Notes().note, [1])  # another task's method

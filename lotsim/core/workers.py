@@ -1,6 +1,7 @@
 """The one place lotsim forks: ``[fn(item) for item in items]`` on forked worker processes,
-the same answers in the same order as in this process (:func:`fork_map`), and one
-background process at the lowest priority (:class:`Background`).
+the same answers in the same order as in this process (:func:`fork_map`); several such maps
+on one set of workers forked once (:class:`ForkPool`); and one background process at the
+lowest priority (:class:`Background`).
 
 The workers are forked from this process as it is when the map starts, so ``fn`` and the
 items reach them by reference (nothing but an index goes down a pipe, the answers come back
@@ -17,7 +18,83 @@ import os
 import signal
 from collections.abc import Callable, Iterable, Sequence
 
-_TASK: tuple = ()  # (fn, items, parent pid) for the forked workers
+_TASK: tuple = ()  # (task, parent pid) for the forked workers
+
+
+def _default_workers() -> int:
+    """As many workers as the machine has cores; one in a process multiprocessing started
+    (a worker of the bench, of Dask, of the caller: its parent already shares the cores
+    out)."""
+    return (1 if multiprocessing.parent_process() else os.cpu_count()) or 1
+
+
+class ForkPool:
+    """Worker processes forked once, from this process as it is when the pool opens, each
+    holding ``task`` by reference; :meth:`map` calls one of ``task``'s methods on items.
+
+    Successive maps on one pool share what the workers built in the earlier ones (a lot's
+    trees, a planner's problems posed), where a pool a map would work it out again. Only
+    the items go down a pipe and the answers come back, pickled. With fewer than two
+    ``workers``, or without the ``fork`` start method (Linux), it works in this process.
+
+    Examples
+    --------
+    >>> class Squares:
+    ...     def square(self, x):
+    ...         return x * x
+    >>> task = Squares()
+    >>> with ForkPool(task, workers=2) as pool:
+    ...     pool.map(task.square, [1, 2, 3]), pool.map(task.square, [4])
+    ([1, 4, 9], [16])
+    """
+
+    def __init__(self, task: object, *, workers: int | None = None) -> None:
+        self.task = task
+        self.count = _default_workers() if workers is None else workers
+        self.pool = None
+
+    def __enter__(self) -> ForkPool:
+        global _TASK
+        if self.count >= 2 and "fork" in multiprocessing.get_all_start_methods():
+            _TASK = (self.task, os.getpid())
+            self.pool = multiprocessing.get_context("fork").Pool(
+                self.count, initializer=quiet_worker, initargs=(os.getpid(),))
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        global _TASK
+        _TASK = ()
+        if self.pool is not None:  # done, or Ctrl-C here: its workers end
+            self.pool.terminate()
+            self.pool.join()
+
+    def map(self, method: Callable, items: Sequence, *, chunk: int = 1,
+            progress: Callable[[int, int], None] | None = None) -> list:
+        """``[method(item) for item in items]`` for a bound method of the pool's task, the
+        items handed out ``chunk`` at a time as workers come free; ``progress(done, total)``
+        is called as answers come (in order)."""
+        if getattr(method, "__self__", None) is not self.task:
+            raise ValueError("a ForkPool maps methods of its own task")
+        if self.pool is None:
+            return _counted(map(method, items), len(items), progress)
+        jobs = [(method.__name__, item) for item in items]
+        return _counted(self.pool.imap(_call, jobs, chunksize=chunk), len(items), progress)
+
+
+def _call(job: tuple[str, object]) -> object:
+    name, item = job
+    return getattr(_TASK[0], name)(item)
+
+
+class _Indexed:
+    """``fn`` over ``items`` by index, for :func:`fork_map`: the items reach the workers by
+    reference, only their indices go down the pipe."""
+
+    def __init__(self, fn: Callable, items: Sequence) -> None:
+        self.fn, self.items = fn, items
+
+    def at(self, k: int) -> object:
+        return self.fn(self.items[k])
 
 
 def fork_map(fn: Callable, items: Sequence, *, workers: int | None = None, chunk: int = 1,
@@ -31,21 +108,10 @@ def fork_map(fn: Callable, items: Sequence, *, workers: int | None = None, chunk
     >>> fork_map(lambda x: x * x, [1, 2, 3], workers=2)
     [1, 4, 9]
     """
-    global _TASK
-    count = workers or (1 if multiprocessing.parent_process() else os.cpu_count()) or 1
-    count = min(count, len(items))
-    if count < 2 or "fork" not in multiprocessing.get_all_start_methods():
-        return _counted(map(fn, items), len(items), progress)
-    _TASK = (fn, items, os.getpid())
-    pool = multiprocessing.get_context("fork").Pool(count, initializer=quiet_worker,
-                                                    initargs=(os.getpid(),))
-    try:
-        return _counted(pool.imap(_run, range(len(items)), chunksize=chunk), len(items),
-                        progress)
-    finally:  # done, or Ctrl-C here: its workers end
-        _TASK = ()
-        pool.terminate()
-        pool.join()
+    task = _Indexed(fn, items)
+    count = min(workers or _default_workers(), len(items))
+    with ForkPool(task, workers=count) as pool:
+        return pool.map(task.at, range(len(items)), chunk=chunk, progress=progress)
 
 
 def _counted(answers: Iterable, total: int, progress: Callable[[int, int], None] | None
@@ -58,11 +124,6 @@ def _counted(answers: Iterable, total: int, progress: Callable[[int, int], None]
         out.append(answer)
         progress(len(out), total)
     return out
-
-
-def _run(k: int) -> object:
-    fn, items, _ = _TASK
-    return fn(items[k])
 
 
 def quiet_worker(parent: int) -> None:

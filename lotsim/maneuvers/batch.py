@@ -1,5 +1,5 @@
 """Maneuvers for a whole lot: every slot, vehicle type and serving lane, the lot's distinct
-problems searched ahead on worker processes (:func:`~lotsim.core.workers.fork_map`), with
+problems searched ahead on worker processes (:class:`~lotsim.core.workers.ForkPool`), with
 exactly the answers of searching them one after another."""
 
 from __future__ import annotations
@@ -9,7 +9,7 @@ import multiprocessing
 import os
 from collections.abc import Callable, Iterable
 
-from lotsim.core.workers import fork_map
+from lotsim.core.workers import ForkPool
 from lotsim.maneuvers.maneuver import Maneuver
 from lotsim.maneuvers.planner import ManeuverPlanner, search_maneuver
 from lotsim.maneuvers.problem import exact_key
@@ -33,6 +33,34 @@ def _pool_size(workers: int | None, problems: int) -> int:
         return 1
     count = (1 if multiprocessing.parent_process() else os.cpu_count()) or 1
     return min(count, max(1, problems // 16))
+
+
+class _Batch:
+    """What the workers of :func:`prefetch` do, on their copy of the planner: key the
+    problems of ``triples`` (vehicle, slot, lane) and search them."""
+
+    def __init__(self, planner: ManeuverPlanner, triples: list, known: dict | None) -> None:
+        self.planner, self.triples, self.known = planner, triples, known
+
+    def digests(self, part: tuple[int, int]) -> list:
+        """The problem digest, frame and lane station of triples ``part[0]`` to ``part[1]``
+        (excluded), posed in one batch."""
+        return self.planner.problems.digests(self.triples[part[0]:part[1]])
+
+    def searched(self, job: tuple[int, str]) -> tuple:
+        """The problem of triple ``job[0]`` searched in style ``job[1]`` (posed here: it was
+        keyed without being posed whole): (eased, as planned, its exact key, whether
+        ``known`` held it). No exact key (None) when there is no ``known``."""
+        k, st = job
+        planner = self.planner
+        problem = planner.problems.pose(*self.triples[k])
+        if self.known is None:
+            return *search_maneuver(problem, st, planner.settings), None, False
+        exact = exact_key(problem, st)
+        found = self.known.get(exact)
+        if found is not None:
+            return *found, exact, True
+        return *search_maneuver(problem, st, planner.settings), exact, False
 
 
 def prefetch(planner: ManeuverPlanner, vehicles: Iterable[VehicleType], *,
@@ -68,31 +96,17 @@ def prefetch(planner: ManeuverPlanner, vehicles: Iterable[VehicleType], *,
     # keyed in batches, a few per worker (each batch one shapely call a step)
     size = max(16, -(-len(triples) // (4 * count)))
     parts = [(k, min(k + size, len(triples))) for k in range(0, len(triples), size)]
-    posed = [x for part in fork_map(lambda part: planner.problems.digests(
-        triples[part[0]:part[1]]), parts, workers=count) for x in part]
-    todo: dict[bytes, tuple[int, str]] = {}  # key → (triple, style), first met first
-    for v, slot, lane, st in calls:
-        k = at[v.name, slot.id, lane.id]
-        key = planner.pose_key(v, slot, lane, st, *posed[k])
-        if not planner.knows(key) and key not in todo:
-            todo[key] = (k, st)
-
-    def searched(job: tuple[int, str]) -> tuple:
-        """The problem of triple ``job[0]`` searched in style ``job[1]`` (posed here: it was
-        keyed without being posed whole): (eased, as planned, its exact key, whether
-        ``known`` held it). No exact key (None) when there is no ``known``."""
-        k, st = job
-        problem = planner.problems.pose(*triples[k])
-        if known is None:
-            return *search_maneuver(problem, st, planner.settings), None, False
-        exact = exact_key(problem, st)
-        found = known.get(exact)
-        if found is not None:
-            return *found, exact, True
-        return *search_maneuver(problem, st, planner.settings), exact, False
-
-    answers = fork_map(searched, list(todo.values()), workers=count, chunk=8,
-                       progress=progress)
+    batch = _Batch(planner, triples, known)
+    # one set of workers for both steps: the searches reuse what keying built in them
+    with ForkPool(batch, workers=count) as pool:
+        posed = [x for part in pool.map(batch.digests, parts) for x in part]
+        todo: dict[bytes, tuple[int, str]] = {}  # key → (triple, style), first met first
+        for v, slot, lane, st in calls:
+            k = at[v.name, slot.id, lane.id]
+            key = planner.pose_key(v, slot, lane, st, *posed[k])
+            if not planner.knows(key) and key not in todo:
+                todo[key] = (k, st)
+        answers = pool.map(batch.searched, list(todo.values()), chunk=8, progress=progress)
     for key, (hit, raw, exact, remembered) in zip(todo, answers, strict=True):
         planner.learn(key, hit, raw)
         if known is not None:
