@@ -35,10 +35,14 @@ def module_of(path: Path) -> str:
 
 def imports(path: Path) -> list[tuple[int, str, list[str]]]:
     """Every ``lotsim`` import of a file: (line, module, names imported from it)."""
-    module = module_of(path)
-    is_package = path.name == "__init__.py"
+    return imports_in(path.read_text(), module_of(path), is_package=path.name == "__init__.py")
+
+
+def imports_in(source: str, module: str, *, is_package: bool = False
+               ) -> list[tuple[int, str, list[str]]]:
+    """Every ``lotsim`` import of ``source``, the text of ``module``."""
     out = []
-    for node in ast.walk(ast.parse(path.read_text(), str(path))):
+    for node in ast.walk(ast.parse(source)):
         if isinstance(node, ast.Import):
             out += [(node.lineno, a.name, []) for a in node.names
                     if a.name.split(".")[0] == "lotsim"]
@@ -64,9 +68,10 @@ def edges() -> list[tuple[str, int, str, list[str]]]:
             for line, target, names in imports(p)]
 
 
-def test_every_import_goes_down_the_layers():
+def against_layers(found: list[tuple[str, int, str, list[str]]]) -> list[str]:
+    """The imports of ``found`` (module, line, target, names) that go against the layers."""
     wrong = []
-    for module, line, target, names in edges():
+    for module, line, target, names in found:
         src, dst = layer_of(module), layer_of(target)
         if target == "lotsim" and set(names) <= {"__version__"}:
             ok = True  # the package's version, which every layer may write into its files
@@ -78,6 +83,11 @@ def test_every_import_goes_down_the_layers():
             ok = RANK[dst] <= RANK[src]
         if not ok:
             wrong.append(f"{module}:{line} imports {target} ({src} -> {dst})")
+    return wrong
+
+
+def test_every_import_goes_down_the_layers():
+    wrong = against_layers(edges())
     assert not wrong, "imports against the layers:\n" + "\n".join(wrong)
 
 
@@ -102,3 +112,10 @@ def test_the_rule_reads_a_wrong_import():
     assert targets == ["lotsim.sim", "lotsim.cli"]
     assert RANK[layer_of("lotsim.cli")] > RANK[layer_of("lotsim.roadmap.graph")]
     assert layer_of("lotsim") == "cli" and layer_of("lotsim.verify.checker") == "verify"
+    # the reader and the rule themselves, on a roadmap module importing upwards twice
+    found = [("lotsim.roadmap.x", line, target, names)
+             for line, target, names in imports_in(src, "lotsim.roadmap.x")]
+    assert [target for _, _, target, _ in found] == ["lotsim.sim", "lotsim.cli"]
+    assert against_layers(found) == ["lotsim.roadmap.x:3 imports lotsim.sim (roadmap -> sim)",
+                                     "lotsim.roadmap.x:5 imports lotsim.cli (roadmap -> cli)"]
+    assert against_layers([("lotsim.sim.x", 1, "lotsim.roadmap.model", [])]) == []
