@@ -1,0 +1,250 @@
+"""A lot as an importer builds it, written as a scenario YAML a person can read and edit.
+
+An importer fills a :class:`LotDraft` (aisles, rows and single slots, areas, gates, what is
+paved, a default traffic) in local metres and calls :meth:`LotDraft.to_yaml`. The text is
+deterministic: the same draft gives the same bytes (numbers to the centimetre, or the
+hundredth of a degree, in the order the draft holds them), and it says in comments where
+each item came from.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import re
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+
+Point = tuple[float, float]
+
+_PLAIN = re.compile(r"[A-Za-z_][A-Za-z0-9_.-]*")
+_RESERVED = {"true", "false", "yes", "no", "on", "off", "null", "y", "n", "~"}
+
+
+def num(value: float, places: int = 2) -> str:
+    """A number as a scenario writes it: at most ``places`` decimals, no trailing zeros,
+    never ``-0``, always read by YAML as a number.
+
+    >>> num(3.0), num(-0.001), num(2.345), num(1e5)
+    ('3', '0', '2.35', '100000')
+    """
+    if not math.isfinite(value):
+        raise ValueError(f"not a finite number: {value!r}")
+    text = f"{round(value, places):.{places}f}".rstrip("0").rstrip(".")
+    return "0" if text in ("-0", "") else text
+
+
+def text(value: str) -> str:
+    """A string as YAML reads it back unchanged: bare when plain, else double-quoted.
+
+    >>> text("A1"), text("way 12"), text("yes"), text("12")
+    ('A1', '"way 12"', '"yes"', '"12"')
+    """
+    if _PLAIN.fullmatch(value) and value.lower() not in _RESERVED:
+        return value
+    return json.dumps(value, ensure_ascii=False)
+
+
+def points(pts: Sequence[Point]) -> str:
+    """``[[x, y], ...]`` in one flow line."""
+    return "[" + ", ".join(f"[{num(x)}, {num(y)}]" for x, y in pts) + "]"
+
+
+def comment(line: str) -> str:
+    """``line`` as one YAML comment line (line breaks folded)."""
+    return "# " + " ".join(line.split())
+
+
+@dataclass
+class AisleDraft:
+    """An aisle: its centre line [m], width [m], one-way or two-way; ``note`` says where it
+    came from."""
+
+    id: str
+    centerline: list[Point]
+    width: float
+    one_way: bool = False
+    note: str = ""
+
+
+@dataclass
+class RowDraft:
+    """A row of slots along one side of an aisle (``docs/scenario.md``, ``rows``)."""
+
+    aisle: str
+    side: str
+    kind: str
+    count: int
+    slot_width: float
+    slot_length: float
+    start: float
+    id_prefix: str
+    angle_deg: float | None = None
+    gap: float = 0.0
+    note: str = ""
+
+
+@dataclass
+class SlotDraft:
+    """A free-standing slot: its centre [m] and the heading of a car that drove in forward
+    [degrees]."""
+
+    id: str
+    kind: str
+    width: float
+    length: float
+    center: Point
+    heading_deg: float
+    note: str = ""
+
+
+@dataclass
+class AreaDraft:
+    """A polygon: a wall, an obstacle, a no-go zone or a paved area."""
+
+    id: str
+    polygon: list[Point]
+    note: str = ""
+
+
+@dataclass
+class GateDraft:
+    """An entrance or an exit: a pose on a lane, heading its way [m, m, degrees]."""
+
+    id: str
+    x: float
+    y: float
+    heading_deg: float
+    note: str = ""
+
+
+@dataclass
+class LotDraft:
+    """One imported lot, ready to be written as a scenario.
+
+    ``header`` lines open the file as comments (the source, its id and tags, the projection
+    and its error). ``paved`` is None for a lot paved wall to wall; else the lot's aisles
+    (``paved_aisles``) and slots plus the ``paved`` areas are its pavement.
+    ``traffic`` is the ``traffic`` section as plain data (None: none).
+    """
+
+    name: str
+    description: str
+    boundary: list[Point]
+    header: list[str] = field(default_factory=list)
+    vehicle_types: list[str] = field(default_factory=lambda: ["valet"])
+    speed_limit_kmh: float | None = None
+    aisles: list[AisleDraft] = field(default_factory=list)
+    rows: list[RowDraft] = field(default_factory=list)
+    slots: list[SlotDraft] = field(default_factory=list)
+    walls: list[AreaDraft] = field(default_factory=list)
+    obstacles: list[AreaDraft] = field(default_factory=list)
+    no_go: list[AreaDraft] = field(default_factory=list)
+    paved: list[AreaDraft] | None = None
+    paved_aisles: bool = True
+    entrances: list[GateDraft] = field(default_factory=list)
+    exits: list[GateDraft] = field(default_factory=list)
+    occupied: list[str] = field(default_factory=list)
+    traffic: dict | None = None
+
+    @property
+    def slot_count(self) -> int:
+        """Slots drawn: the rows' and the single ones."""
+        return sum(r.count for r in self.rows) + len(self.slots)
+
+    def to_yaml(self) -> str:
+        """The scenario text (``docs/scenario.md``), deterministic, ending in a line break."""
+        out = [comment(h) for h in self.header]
+        out += [f"name: {text(self.name)}", f"description: {text(self.description)}",
+                "vehicle_types: [" + ", ".join(text(v) for v in self.vehicle_types) + "]",
+                "lot:", f"  boundary: {points(self.boundary)}"]
+        if self.speed_limit_kmh is not None:
+            out.append(f"  speed_limit_kmh: {num(self.speed_limit_kmh)}")
+        if self.paved is not None:
+            out.append("  paved:")
+            out.append(f"    aisles: {'true' if self.paved_aisles else 'false'}")
+            if self.paved:
+                out.append("    areas:")
+                out += _areas(self.paved, "      ")
+        out.append("  aisles:")
+        for a in self.aisles:
+            if a.note:
+                out.append("    " + comment(a.note))
+            out.append(f"    - {{id: {text(a.id)}, width: {num(a.width)}, direction: "
+                       f"{'one-way' if a.one_way else 'two-way'},")
+            out.append(f"       centerline: {points(a.centerline)}}}")
+        if self.rows:
+            out.append("  rows:")
+            for r in self.rows:
+                if r.note:
+                    out.append("    " + comment(r.note))
+                angle = f", angle_deg: {num(r.angle_deg)}" if r.angle_deg is not None else ""
+                gap = f", gap: {num(r.gap)}" if r.gap else ""
+                out.append(f"    - {{aisle: {text(r.aisle)}, side: {r.side}, kind: {r.kind}"
+                           f"{angle}, count: {r.count}, slot_width: {num(r.slot_width)}, "
+                           f"slot_length: {num(r.slot_length)}, start: {num(r.start)}{gap}, "
+                           f"id_prefix: {text(r.id_prefix)}}}")
+        if self.slots:
+            out.append("  slots:")
+            for s in self.slots:
+                if s.note:
+                    out.append("    " + comment(s.note))
+                out.append(f"    - {{id: {text(s.id)}, kind: {s.kind}, width: {num(s.width)}, "
+                           f"length: {num(s.length)}, center: {points([s.center])[1:-1]}, "
+                           f"heading_deg: {num(s.heading_deg)}}}")
+        for key, items in (("walls", self.walls), ("obstacles", self.obstacles),
+                           ("no_go", self.no_go)):
+            if items:
+                out.append(f"  {key}:")
+                out += _areas(items, "    ")
+        for key, gates in (("entrances", self.entrances), ("exits", self.exits)):
+            if gates:
+                out.append(f"  {key}:")
+                for g in gates:
+                    if g.note:
+                        out.append("    " + comment(g.note))
+                    out.append(f"    - {{id: {text(g.id)}, x: {num(g.x)}, y: {num(g.y)}, "
+                               f"heading_deg: {num(g.heading_deg)}}}")
+        if self.occupied:
+            out.append("  occupied: [" + ", ".join(text(s) for s in self.occupied) + "]")
+        if self.traffic is not None:
+            out.append("traffic:")
+            out += _plain_yaml(self.traffic, "  ")
+        return "\n".join(out) + "\n"
+
+
+def _areas(items: Sequence[AreaDraft], indent: str) -> list[str]:
+    out = []
+    for a in items:
+        if a.note:
+            out.append(indent + comment(a.note))
+        out.append(f"{indent}- {{id: {text(a.id)}, polygon: {points(a.polygon)}}}")
+    return out
+
+
+def _scalar(value) -> str:
+    if isinstance(value, bool):
+        return "true" if value else "false"
+    if isinstance(value, int):
+        return str(value)
+    if isinstance(value, float):
+        return num(value)
+    if isinstance(value, str):
+        return text(value)
+    if isinstance(value, (list, tuple)):
+        return "[" + ", ".join(_scalar(v) for v in value) + "]"
+    if isinstance(value, dict):
+        return "{" + ", ".join(f"{text(k)}: {_scalar(v)}" for k, v in value.items()) + "}"
+    raise TypeError(f"cannot write {type(value).__name__} into a scenario")
+
+
+def _plain_yaml(data: dict, indent: str) -> list[str]:
+    """A mapping of plain data as block YAML: mappings as blocks, lists in flow."""
+    out = []
+    for key, value in data.items():
+        if isinstance(value, dict):
+            out.append(f"{indent}{text(key)}:")
+            out += _plain_yaml(value, indent + "  ")
+        else:
+            out.append(f"{indent}{text(key)}: {_scalar(value)}")
+    return out
