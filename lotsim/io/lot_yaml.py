@@ -18,6 +18,7 @@ from lotsim.lot.spec import (
     AreaSpec,
     LotSpec,
     OccupancySpec,
+    PavementSpec,
     PortalSpec,
     RowSpec,
     SlotSpec,
@@ -58,6 +59,7 @@ def parse_lot(node: YNode) -> LotSpec:
             "entrances",
             "exits",
             "occupied",
+            "paved",
         ],
     )
 
@@ -83,6 +85,7 @@ def parse_lot(node: YNode) -> LotSpec:
         exits=each("exits", _portal),
         occupancy=_occupancy(f["occupied"]) if "occupied" in f else OccupancySpec(),
         speed_limit=speed(f["speed_limit_kmh"]) if "speed_limit_kmh" in f else 20 * KMH,
+        paved=_pavement(f["paved"]) if "paved" in f else None,
         where=node.where,
         boundary_where=f["boundary"].where,
     )
@@ -236,6 +239,20 @@ def _area(node: YNode, kind: str) -> AreaSpec:
     f = node.fields(required=["polygon"], optional=["id"])
     ident = f["id"].ident() if "id" in f else f"{kind}@{node.where.line}"
     return AreaSpec(id=ident, kind=kind, polygon=_polygon(f["polygon"]), where=node.where)
+
+
+def _pavement(node: YNode) -> PavementSpec:
+    f = node.fields(optional=["aisles", "corner_radius", "areas"])
+    areas = tuple(_area(n, "paved") for n in f["areas"].items(max_len=MAX_ITEMS)) \
+        if "areas" in f else ()
+    aisles = f["aisles"].boolean() if "aisles" in f else True
+    if not aisles and not areas:
+        raise node.error("expected paved areas when the aisles are not paved "
+                         "(aisles: false): list them under areas")
+    return PavementSpec(
+        aisles=aisles,
+        corner_radius=f["corner_radius"].number(min=0, max=50) if "corner_radius" in f else 3.0,
+        areas=areas, where=node.where)
 
 
 def _bump(node: YNode) -> SpeedBumpSpec:
