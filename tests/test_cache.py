@@ -317,3 +317,36 @@ def test_the_code_version_covers_every_source_file_of_lotsim():
     hashed = lotsim.core.diskcache.source_files()
     assert hashed == expected
     assert package / "lot" / "build.py" in hashed and package / "cli" / "run.py" in hashed
+
+
+def _entry(folder) -> Path:
+    (entry,) = folder.glob("prepared-*.pickle")
+    return entry
+
+
+@pytest.mark.skipif(not hasattr(os, "getuid"), reason="owners and modes are POSIX's")
+def test_the_cache_folder_is_private_and_entries_others_could_write_are_not_loaded(folder):
+    """Loading a pickle runs what it says: an entry someone else could have written is
+    planned afresh, not loaded (and replaced by the user's own)."""
+    sc = scenario_from_text(ONE_AISLE + TRAFFIC)
+    prepare_graph(sc)
+    assert folder.stat().st_mode & 0o777 == 0o700
+    entry = _entry(folder)
+    assert entry.stat().st_mode & 0o077 == 0
+    assert prepare_graph(sc).from_cache
+    entry.chmod(0o666)  # anyone may write it
+    assert not prepare_graph(sc).from_cache
+    assert entry.stat().st_mode & 0o777 == 0o600  # planned again, stored privately
+    assert prepare_graph(sc).from_cache
+    folder.chmod(0o777)  # anyone may put an entry in the folder
+    assert not prepare_graph(sc).from_cache
+    folder.chmod(0o700)
+
+
+@pytest.mark.skipif(not hasattr(os, "geteuid") or os.geteuid() != 0,
+                    reason="giving a file to another user needs root")
+def test_an_entry_another_user_owns_is_not_loaded(folder):
+    sc = scenario_from_text(ONE_AISLE + TRAFFIC)
+    prepare_graph(sc)
+    os.chown(_entry(folder), 12345, -1)
+    assert not prepare_graph(sc).from_cache
