@@ -158,7 +158,8 @@ def test_validate_from_another_folder_and_process_finds_the_lot(tmp_path):
         path = tmp_path / f"d{k}" / "lot.yaml"
         path.write_text(text)
         env = {**os.environ, "LOTSIM_CACHE_DIR": str(cache), "PYTHONHASHSEED": str(seed)}
-        outs.append(subprocess.run([sys.executable, "-m", "lotsim", "validate", str(path)],
+        outs.append(subprocess.run([sys.executable, "-m", "lotsim", "validate", str(path),
+                                    "--verbose"],
                                    env=env, capture_output=True, text=True, timeout=300))
     assert [o.returncode for o in outs] == [0, 0], outs
     assert lotsim.core.diskcache.LOADED not in outs[0].stdout
@@ -170,7 +171,8 @@ def test_validate_from_another_folder_and_process_finds_the_lot(tmp_path):
 def test_a_warm_validate_does_not_load_the_graph_library(tmp_path):
     """Importing networkx took a fifth of a warm ``validate``: a lot from the cache makes
     its graph only when asked for it, and validate reads the counts kept with the lot."""
-    code = ("import sys\nfrom lotsim.cli import main\ntry:\n    main(['validate', sys.argv[1]])\n"
+    code = ("import sys\nfrom lotsim.cli import main\ntry:\n"
+            "    main(['validate', sys.argv[1], '--verbose'])\n"
             "except SystemExit as e:\n    assert not e.code\nprint('networkx' in sys.modules)")
     env = {**os.environ, "LOTSIM_CACHE_DIR": str(tmp_path)}
     said = [subprocess.run([sys.executable, "-c", code, str(ROOT / "scenarios" / "street.yaml")],
