@@ -6,7 +6,7 @@ import argparse
 import sys
 
 from lotsim import api
-from lotsim.cli.output import EXIT_BAD_INPUT, EXIT_INCOMPLETE, EXIT_OK
+from lotsim.cli.output import EXIT_BAD_INPUT, EXIT_INCOMPLETE, EXIT_OK, located
 from lotsim.cli.progress import Preparing
 from lotsim.errors import ScenarioError
 
@@ -33,7 +33,7 @@ def execute(args: argparse.Namespace) -> int:
             with Preparing() as bar:
                 report = api.validate(path, progress=bar)
         except ScenarioError as exc:
-            print(f"lotsim: {exc}", file=sys.stderr)
+            print(located(exc), file=sys.stderr)
             worst = EXIT_BAD_INPUT
             continue
         print(report.summary(verbose=args.verbose))
