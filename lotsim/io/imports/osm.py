@@ -1,0 +1,670 @@
+"""OpenStreetMap lots as scenarios: :func:`import_osm` (``lotsim import osm FILE -o DIR``).
+
+Every ``amenity=parking`` object of the file is a lot. An area (a closed way, or a
+multipolygon relation of one outer ring and inner rings, the islands) becomes one scenario
+``<out_dir>/<kind>-<id>.yaml`` in local metres (:class:`~lotsim.io.imports.frame.LocalFrame`
+at the lot's centroid); a lot mapped as a point, an open way, a lot the extract clips (a
+member way or node missing), and a lot with no parking aisle are reported, with the reason,
+and not written.
+
+What a scenario holds, and where it comes from:
+
+* aisles: the lot's ``service=parking_aisle`` ways (:mod:`.osm_aisles`: clipped, joined,
+  ``oneway`` honoured, width from the ``width`` tag or a default);
+* gates: where a road reaches an aisle at the lot's edge (:func:`.osm_aisles.find_gates`),
+  an entrance on the aisle's inward lane and an exit on its outward lane; a lot no road
+  reaches gets an assumed gate at the aisle end nearest its edge, and says so;
+* slots: mapped ``amenity=parking_space`` areas, else bays inferred along the aisles
+  (:mod:`.osm_slots`); a ``capacity`` tag is compared with their count;
+* the boundary: the lot with its aisles (an aisle drawn along the lot's edge reaches past
+  it), simplified; islands (inner rings) and mapped green areas (``landuse=grass`` and the
+  like, ``natural=*``, parks) are no-go zones, buildings and barriers obstacles;
+* a stream of ``min(20, slots)`` cars, 60 an hour, staying 5 to 15 minutes when the lot
+  has an exit.
+
+Each file is checked by building its lot as ``lotsim validate`` does; an inferred bay that
+the build refuses is dropped, and a lot that still does not build is reported, not written.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+import re
+import textwrap
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+import shapely
+from shapely.geometry import LineString, MultiPolygon, Polygon
+from shapely.ops import unary_union
+
+from lotsim.core.atomic import atomic_write
+from lotsim.errors import LotsimError, ScenarioError, SettingsError
+from lotsim.io.imports.draft import AisleDraft, AreaDraft, GateDraft, LotDraft
+from lotsim.io.imports.frame import LocalFrame
+from lotsim.io.imports.osm_aisles import (
+    CLIP_GROW,
+    ONE_WAY_WIDTH,
+    TWO_WAY_WIDTH,
+    AisleRules,
+    Chain,
+    Gate,
+    aisle_ways,
+    assumed_gate,
+    build_chains,
+    clip_network,
+    find_gates,
+    is_road,
+    join_ends,
+    junctions,
+    merge_short_legs,
+    sharpest_corner,
+    split_chains,
+    tidy_chains,
+)
+from lotsim.io.imports.osm_read import E7, OsmData, read_osm
+from lotsim.io.imports.osm_slots import (
+    BAY_LENGTH,
+    BAY_WIDTH,
+    infer_bays,
+    mapped_slots,
+    rows_of,
+)
+from lotsim.io.imports.report import ImportedLot, ImportReport
+from lotsim.io.scenario_yaml import read_scenario
+from lotsim.lot.build import LANE_CLEARANCE, build_lot
+from lotsim.lot.model import DesignVehicle
+from lotsim.vehicles.catalogue import CATALOGUE, DEFAULT_VEHICLE
+
+NO_AISLE = "no parking aisle mapped; lotsim layout will lay such lots out"
+"""Why a lot without aisles is not written."""
+STREAM_MAX = 20
+"""The default stream brings at most this many cars."""
+NEAR = 150.0
+"""Ways this close to a lot [m] are read for it: aisles and roads its gates may use."""
+SIMPLIFY_BOUNDARY = 0.1
+"""The boundary is grown by this much and simplified within it [m]."""
+ATTRIBUTION = ("Map data © OpenStreetMap contributors, ODbL 1.0: "
+               "https://www.openstreetmap.org/copyright")
+
+GREEN_LANDUSE = frozenset({"grass", "meadow", "flowerbed", "forest", "village_green",
+                           "orchard", "allotments", "plant_nursery", "vineyard", "farmland"})
+"""``landuse`` values that are not driven on: no-go zones inside a lot."""
+GREEN_LEISURE = frozenset({"park", "garden", "playground", "pitch"})
+"""``leisure`` values that are not driven on."""
+
+_ID = re.compile(r"(node|way|relation)[/ ]?(\d+)|([nwr])(\d+)|(\d+)")
+_KINDS = {"n": "node", "w": "way", "r": "relation"}
+_ORDER = {"node": 0, "way": 1, "relation": 2}
+
+
+def import_osm(source: str | os.PathLike, out_dir: str | os.PathLike, *,
+               lots: Sequence[str] | None = None,
+               progress: Callable[[str], None] | None = None) -> ImportReport:
+    """Write one scenario per parking lot of an OpenStreetMap file.
+
+    Parameters
+    ----------
+    source : path
+        An ``.osm`` XML file (also gzip- or bzip2-compressed) or an ``.osm.pbf`` file
+        (needs ``pip install 'lotsim[osm]'``).
+    out_dir : path
+        Where the scenarios go, as ``<kind>-<id>.yaml`` (``way-123.yaml``); made if missing.
+    lots : sequence of str, optional, keyword-only
+        Only these lots: ``way/123``, ``relation/9``, ``node/5`` or a bare number (any
+        kind with that id).
+    progress : callable, optional, keyword-only
+        Called with a line of text as the file is read and as each lot is done (its
+        :meth:`~lotsim.io.imports.report.ImportedLot.line`).
+
+    Returns
+    -------
+    ImportReport
+        Every lot, written or skipped, with its figures and why.
+
+    Raises
+    ------
+    LotsimError
+        The file is missing or not OpenStreetMap, the PBF reader is not installed, a lot
+        asked for is not in the file, or ``out_dir`` cannot be made.
+    SettingsError
+        An id in ``lots`` is not one.
+
+    Examples
+    --------
+    >>> import pathlib, tempfile
+    >>> d = pathlib.Path(tempfile.mkdtemp())
+    >>> _ = (d / "one.osm").write_text(
+    ...     '<osm version="0.6"><node id="1" lat="60.1" lon="24.9">'
+    ...     '<tag k="amenity" v="parking"/></node></osm>')
+    >>> print(import_osm(d / "one.osm", d / "out").text())
+    node/1: 0 m², slots 0 mapped / 0 inferred, capacity -, 0 aisles, 0 gates: skipped (a \
+point, not an area: lotsim needs the lot's outline)
+    0 of 1 lots written
+    """
+    wanted = _wanted(lots)
+    data = read_osm(source, progress=progress)
+    found = sorted(((kind, oid, tags) for kind, oid, tags in _parking(data)),
+                   key=lambda t: (_ORDER[t[0]], t[1]))
+    if wanted is not None:
+        missing = [w for w in wanted
+                   if not any(_matches(w, kind, oid) for kind, oid, _ in found)]
+        if missing:
+            raise LotsimError(f"{source}: no amenity=parking lot "
+                              f"{', '.join(_show(w) for w in missing)} in the file")
+        found = [f for f in found if any(_matches(w, f[0], f[1]) for w in wanted)]
+    out = Path(out_dir)
+    try:
+        out.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        raise LotsimError(f"{out}: cannot make the output folder: {exc.strerror}") from None
+    index = _Index.of(data)
+    results = []
+    for kind, oid, tags in found:
+        lot = _import_lot(kind, oid, tags, data, index, out, Path(source).name)
+        results.append(lot)
+        if progress is not None:
+            progress(lot.line())
+    return ImportReport(Path(source), tuple(results))
+
+
+# -- choosing lots ------------------------------------------------------------------------------
+def _wanted(lots: Sequence[str] | None) -> list[tuple[str | None, int]] | None:
+    if lots is None:
+        return None
+    if isinstance(lots, str):
+        lots = [lots]
+    out = []
+    for text in lots:
+        m = _ID.fullmatch(str(text).strip())
+        if m is None:
+            raise SettingsError("lots", f"{text!r}: expected way/ID, relation/ID, node/ID "
+                                        "or a number")
+        if m.group(1):
+            out.append((m.group(1), int(m.group(2))))
+        elif m.group(3):
+            out.append((_KINDS[m.group(3)], int(m.group(4))))
+        else:
+            out.append((None, int(m.group(5))))
+    return out
+
+
+def _matches(w: tuple[str | None, int], kind: str, oid: int) -> bool:
+    return w[1] == oid and w[0] in (None, kind)
+
+
+def _show(w: tuple[str | None, int]) -> str:
+    return f"{w[0]}/{w[1]}" if w[0] else str(w[1])
+
+
+def _parking(data: OsmData):
+    for nid, tags in data.node_tags.items():
+        if tags.get("amenity") == "parking":
+            yield "node", nid, tags
+    for wid, way in data.ways.items():
+        if way.tags.get("amenity") == "parking":
+            yield "way", wid, way.tags
+    for rid, rel in data.relations.items():
+        if rel.tags.get("amenity") == "parking":
+            yield "relation", rid, rel.tags
+
+
+# -- what is near a lot -----------------------------------------------------------------------
+@dataclass
+class _Index:
+    """The file's ways that matter to lots, each with its extent (:func:`_box`)."""
+
+    data: OsmData
+    aisles: list = field(default_factory=list)  # (way id, way, box)
+    roads: dict = field(default_factory=dict)  # way id -> (way, box)
+    road_nodes: dict = field(default_factory=dict)  # node id -> road way ids
+    features: list = field(default_factory=list)  # (kind, label, "way 5", rings, box)
+    spaces: list = field(default_factory=list)  # (way id, refs, box)
+
+    @classmethod
+    def of(cls, data: OsmData) -> _Index:
+        ix = cls(data)
+        ix.aisles = [(wid, w, _box(data, w.refs)) for wid, w in aisle_ways(data)]
+        for wid, way in sorted(data.ways.items()):
+            tags = way.tags
+            if is_road(tags):
+                ix.roads[wid] = (way, _box(data, way.refs))
+                for n in way.refs:
+                    ix.road_nodes.setdefault(n, []).append(wid)
+            elif tags.get("amenity") == "parking_space" and _closed(way.refs):
+                ix.spaces.append((wid, way.refs, _box(data, way.refs)))
+            elif (what := _feature(tags)) and _closed(way.refs) \
+                    and tags.get("amenity") != "parking":
+                ix.features.append((*what, f"way {wid}", [way.refs], _box(data, way.refs)))
+        for rid, rel in sorted(data.relations.items()):
+            what = _feature(rel.tags)
+            if what and rel.tags.get("type") == "multipolygon" \
+                    and rel.tags.get("amenity") != "parking":
+                rings = _rings(data, rel.members, ("outer", ""))
+                if not isinstance(rings, str):
+                    ix.features.append((*what, f"relation {rid}", rings,
+                                        _box(data, [n for r in rings for n in r])))
+        return ix
+
+
+def _box(data: OsmData, refs) -> tuple[int, int, int, int] | None:
+    """The extent of the nodes ``refs`` (those in the file), in 10⁻⁷ degree."""
+    pts = [data.nodes[n] for n in refs if n in data.nodes]
+    if not pts:
+        return None
+    lat, lon = zip(*pts, strict=True)
+    return min(lat), min(lon), max(lat), max(lon)
+
+
+def _closed(refs) -> bool:
+    return len(refs) >= 4 and refs[0] == refs[-1]
+
+
+def _feature(tags: dict[str, str]) -> tuple[str, str] | None:
+    """What a mapped area inside a lot is to lotsim: ``obstacles`` or ``no_go``."""
+    if tags.get("building", "no") != "no":
+        return "obstacles", f"building={tags['building']}"
+    if "barrier" in tags:
+        return "obstacles", f"barrier={tags['barrier']}"
+    if tags.get("landuse") in GREEN_LANDUSE:
+        return "no_go", f"landuse={tags['landuse']}"
+    if "natural" in tags:
+        return "no_go", f"natural={tags['natural']}"
+    if tags.get("leisure") in GREEN_LEISURE:
+        return "no_go", f"leisure={tags['leisure']}"
+    return None
+
+
+def _rings(data: OsmData, members, roles) -> list[list[int]] | str:
+    """The closed rings the member ways of ``roles`` make, or why they make none."""
+    ways = []
+    for kind, ref, role in members:
+        if kind != "way" or role not in roles:
+            continue
+        if ref not in data.ways:
+            return f"clipped by the extract: member way {ref} is not in the file"
+        ways.append(list(data.ways[ref].refs))
+    rings = []
+    while ways:
+        ring = ways.pop(0)
+        while ring[0] != ring[-1]:
+            for i, w in enumerate(ways):
+                if w[0] == ring[-1]:
+                    ring += w[1:]
+                elif w[-1] == ring[-1]:
+                    ring += w[-2::-1]
+                else:
+                    continue
+                ways.pop(i)
+                break
+            else:
+                return "its member ways do not close into rings"
+        rings.append(ring)
+    return rings
+
+
+# -- one lot -----------------------------------------------------------------------------------
+def _import_lot(kind: str, oid: int, tags: dict[str, str], data: OsmData, index: _Index,
+                out: Path, source_name: str) -> ImportedLot:
+    lid = f"{kind}/{oid}"
+    capacity = _capacity(tags)
+    outline = _outline(kind, oid, data)
+    if isinstance(outline, str):
+        return ImportedLot(lid, 0.0, capacity=capacity, reason=outline)
+    outer, inners = outline
+    frame = _frame_at_centroid(data, outer)
+    near = _Near(data, index, frame, outer)
+    lot = Polygon(near.xy_of(outer), [near.xy_of(r) for r in inners])
+    if not lot.is_valid or lot.area <= 1.0:
+        why = shapely.is_valid_reason(lot) if not lot.is_valid else "it has no area"
+        return ImportedLot(lid, 0.0, capacity=capacity,
+                           reason=f"its outline is not a simple polygon: {why}")
+    area = float(lot.area)
+    splits: set[int] = set()
+    while True:
+        drawn = _Drawn.of(lot, near, kind, oid, tags, splits)
+        if drawn is None:
+            return ImportedLot(lid, area, capacity=capacity, reason=NO_AISLE)
+        outcome = drawn.settle(lot)
+        if not isinstance(outcome, int):
+            break
+        splits.add(outcome)
+    if isinstance(outcome, str):
+        return ImportedLot(lid, area, mapped=len(drawn.spaces), capacity=capacity,
+                           aisles=len(drawn.chains), gates=drawn.real_gates, reason=outcome)
+    draft = drawn.draft
+    n_slots = draft.slot_count
+    bx, by = zip(*draft.boundary, strict=True)
+    error = frame.error_over(np.array(bx), np.array(by))
+    if n_slots:
+        stream: dict = {"count": min(STREAM_MAX, n_slots), "rate_per_hour": 60}
+        if draft.exits:
+            stream["dwell"] = [300, 900]
+        draft.traffic = {"stream": stream}
+    draft.header = _header(kind, oid, tags, source_name, frame, error, drawn, capacity)
+    path = out / f"{kind}-{oid}.yaml"
+    with atomic_write(path, "w", encoding="utf-8") as fh:
+        fh.write(draft.to_yaml())
+    return ImportedLot(lid, area, mapped=len(drawn.spaces),
+                       inferred=n_slots - len(drawn.spaces), capacity=capacity,
+                       aisles=len(drawn.chains), gates=drawn.real_gates, path=path,
+                       reason=_remarks(capacity, n_slots, drawn), projection_error=error)
+
+
+@dataclass
+class _Drawn:
+    """A lot as drawn from the map: its aisles, gates, slots and areas, and the draft."""
+
+    chains: list[Chain]
+    gates: list[Gate]
+    real_gates: int
+    spaces: list
+    bays: list
+    draft: LotDraft
+    notes: list[str]
+
+    @classmethod
+    def of(cls, lot: Polygon, near: _Near, kind: str, oid: int, tags: dict[str, str],
+           splits: set[int]) -> _Drawn | None:
+        """Draw the lot; ``splits``: vertices where aisles are cut in two. None when it has
+        no aisle."""
+        notes: list[str] = []
+        design = DesignVehicle.envelope([CATALOGUE[DEFAULT_VEHICLE]])
+        rules = AisleRules(least_two_way=2 * (design.width + 2 * LANE_CLEARANCE),
+                           least_one_way=design.width + 2 * LANE_CLEARANCE)
+        vertices, edges = clip_network(near.aisles, near.xy, lot.buffer(CLIP_GROW), rules,
+                                       near.index.road_nodes, notes)
+        edges = merge_short_legs(vertices, edges)
+        chains = tidy_chains(build_chains(vertices, edges), vertices)
+        if not chains:
+            return None
+        notes += join_ends(chains, vertices)
+        if splits:
+            chains = split_chains(chains, splits)
+        gates = find_gates(chains, vertices, lot, near.road_lines(), near.road_name)
+        real_gates = len(gates)
+        if not any(g.entrance for g in gates):
+            gates += assumed_gate(chains, lot)
+        for c in chains:
+            c.pts = [(round(x, 2), round(y, 2)) for x, y in c.pts]
+        obstacles, no_go = near.areas(lot, chains, oid if kind == "way" else None)
+        for i, ring in enumerate(lot.interiors):
+            no_go.append(AreaDraft(f"island{i + 1}", _ring(ring),
+                                   note=f"inner ring {i + 1} of the lot"))
+        blocked = [Polygon(a.polygon) for a in obstacles + no_go]
+        spaces = mapped_slots(near.spaces(lot), chains, lot, blocked, notes)
+        bays = [] if spaces else infer_bays(chains, junctions(chains), lot, blocked)
+        draft = LotDraft(name=f"{kind}-{oid}", description=_description(kind, oid, tags),
+                         boundary=[],
+                         aisles=[AisleDraft(c.id, c.pts, c.width, c.one_way, _aisle_note(c))
+                                 for c in chains],
+                         slots=[s for s, _ in spaces], obstacles=obstacles, no_go=no_go)
+        _set_gates(draft, gates)
+        return cls(chains, gates, real_gates, spaces, bays, draft, notes)
+
+    def settle(self, lot: Polygon) -> str | int | None:
+        """Lay the bays out as rows and check that lotsim builds the lot, dropping each bay
+        it refuses. None when it builds; the vertex to cut an aisle at where its bends are
+        too tight; else why it cannot be built."""
+        draft, bays = self.draft, list(self.bays)
+        design = DesignVehicle.envelope([CATALOGUE[DEFAULT_VEHICLE]])
+        mapped = [p for _, p in self.spaces]
+        while True:
+            rows, ids = rows_of(bays)
+            draft.rows = rows
+            draft.boundary = _boundary(lot, self.chains, mapped)
+            try:
+                sc = read_scenario(draft.to_yaml()).scenario
+                build_lot(sc.lot, design)
+                self.bays = bays
+                return None
+            except ScenarioError as exc:
+                message = exc.message
+            named = [ids[s] for s in re.findall(r"slot '([^']+)'", message) if s in ids]
+            if named:
+                bays.remove(named[0])
+                continue
+            tight = re.match(r"aisle '([^']+)': curves too tight", message)
+            chain = next((c for c in self.chains if tight and c.id == tight.group(1)), None)
+            if chain is not None and len(chain.pts) > 2:
+                return sharpest_corner(chain)
+            return f"lotsim cannot build the lot drawn from it: {message}"
+
+
+def _capacity(tags: dict[str, str]) -> int | None:
+    value = tags.get("capacity", "").strip()
+    return int(value) if value.isdigit() else None
+
+
+def _outline(kind: str, oid: int, data: OsmData) -> tuple[list[int], list[list[int]]] | str:
+    """The lot's outer ring and inner rings (node ids), or why it has none."""
+    if kind == "node":
+        return "a point, not an area: lotsim needs the lot's outline"
+    if kind == "way":
+        refs = list(data.ways[oid].refs)
+        if not _closed(refs):
+            return "an open way, not an area"
+        rings: list[list[int]] = [refs]
+        outers, inners = rings, []
+    else:
+        rel = data.relations[oid]
+        if rel.tags.get("type") != "multipolygon":
+            return f"a relation of type {rel.tags.get('type', '(none)')}, not a multipolygon"
+        outers = _rings(data, rel.members, ("outer", ""))
+        if isinstance(outers, str):
+            return outers
+        inners = _rings(data, rel.members, ("inner",))
+        if isinstance(inners, str):
+            return inners
+        if len(outers) != 1:
+            return (f"{len(outers)} outer rings: lotsim takes one lot per outline "
+                    "(map each as its own lot)")
+        rings = outers + inners
+    missing = sorted({n for r in rings for n in r if n not in data.nodes})
+    if missing:
+        return (f"clipped by the extract: {len(missing)} of its nodes are not in the file "
+                f"(node {missing[0]}{', ...' if len(missing) > 1 else ''})")
+    return outers[0], inners
+
+
+def _frame_at_centroid(data: OsmData, ring: list[int]) -> LocalFrame:
+    """The tangent plane at the centroid of the ring, to 10⁻⁷ degree."""
+    lat = np.array([data.nodes[n][0] for n in ring], dtype=float) / E7
+    lon = np.array([data.nodes[n][1] for n in ring], dtype=float) / E7
+    k = math.cos(math.radians(float(lat.mean())))
+    c = Polygon(np.column_stack([lon * k, lat])).centroid
+    return LocalFrame(round(c.y, 7), round(c.x / k, 7))
+
+
+class _Near:
+    """What lies near one lot, in its local metres."""
+
+    def __init__(self, data: OsmData, index: _Index, frame: LocalFrame, ring: list[int]):
+        self.data, self.index, self.frame = data, index, frame
+        lat = [data.nodes[n][0] for n in ring]
+        lon = [data.nodes[n][1] for n in ring]
+        dlat = NEAR / 111_000 * E7
+        dlon = dlat / max(0.05, math.cos(math.radians(sum(lat) / len(lat) / E7)))
+        self.box = (min(lat) - dlat, min(lon) - dlon, max(lat) + dlat, max(lon) + dlon)
+        self.aisles = [(wid, w) for wid, w, box in index.aisles if self._near(box)]
+        self.roads = {wid: w for wid, (w, box) in index.roads.items() if self._near(box)}
+        nodes = set(ring)
+        for _, w in self.aisles:
+            nodes.update(w.refs)
+        for w in self.roads.values():
+            nodes.update(w.refs)
+        self._features = [f[:4] for f in index.features if self._near(f[4])]
+        self._spaces = [(wid, refs) for wid, refs, box in index.spaces if self._near(box)]
+        for f in self._features:
+            nodes.update(n for r in f[3] for n in r)
+        for _, refs in self._spaces:
+            nodes.update(refs)
+        known = sorted(n for n in nodes if n in data.nodes)
+        lat_lon = np.array([data.nodes[n] for n in known], dtype=float).reshape(-1, 2) / E7
+        x, y = frame.to_local(lat_lon[:, 0], lat_lon[:, 1])
+        self.xy = {n: (float(a), float(b)) for n, a, b in zip(known, x, y, strict=True)}
+
+    def _near(self, b) -> bool:
+        return b is not None and not (b[2] < self.box[0] or b[0] > self.box[2]
+                                      or b[3] < self.box[1] or b[1] > self.box[3])
+
+    def xy_of(self, refs) -> list[tuple[float, float]]:
+        return [self.xy[n] for n in refs]
+
+    def road_lines(self) -> dict[int, LineString]:
+        out = {}
+        for wid, w in self.roads.items():
+            pts = [self.xy[n] for n in w.refs if n in self.xy]
+            if len(pts) >= 2:
+                out[wid] = LineString(pts)
+        return out
+
+    def road_name(self, wid: int) -> str:
+        tags = self.roads[wid].tags if wid in self.roads else self.data.ways[wid].tags
+        name = f" {tags['name']!r}" if "name" in tags else ""
+        return f"highway={tags.get('highway')} way {wid}{name}"
+
+    def spaces(self, lot: Polygon) -> list[tuple[int, Polygon]]:
+        out = []
+        for wid, refs in self._spaces:
+            if all(n in self.xy for n in refs):
+                poly = Polygon(self.xy_of(refs))
+                if poly.is_valid and lot.buffer(1.0).contains(poly.centroid):
+                    out.append((wid, poly))
+        return out
+
+    def areas(self, lot: Polygon, chains: list[Chain], own: int | None
+              ) -> tuple[list[AreaDraft], list[AreaDraft]]:
+        """Mapped areas inside the lot that are not driven on: obstacles and no-go zones,
+        clipped to the lot, less the aisles."""
+        aisles = unary_union([c.polygon for c in chains]).buffer(0.1)
+        out: dict[str, list[AreaDraft]] = {"obstacles": [], "no_go": []}
+        for kind, label, name, rings in self._features:
+            if name == f"way {own}":
+                continue
+            for ring in rings:
+                if not all(n in self.xy for n in ring):
+                    continue
+                poly = Polygon(self.xy_of(ring))
+                if not poly.is_valid:
+                    poly = poly.buffer(0)
+                inside = poly.intersection(lot)
+                if inside.area < 0.5 or inside.area > 0.5 * lot.area:
+                    continue  # next to the lot, or the land the lot lies in
+                pieces = _polygons(inside.difference(aisles))
+                pieces = [p for p in pieces if p.area >= 0.5]
+                for j, p in enumerate(pieces):
+                    ident = name.replace(" ", "") + (f"-{j + 1}" if len(pieces) > 1 else "")
+                    out[kind].append(AreaDraft(ident, _ring(p.exterior),
+                                               note=f"{label} ({name})"))
+        return out["obstacles"], out["no_go"]
+
+
+def _polygons(geom) -> list[Polygon]:
+    if isinstance(geom, Polygon):
+        return [geom] if not geom.is_empty else []
+    return [g for g in getattr(geom, "geoms", []) if isinstance(g, Polygon) and not g.is_empty]
+
+
+def _ring(ring) -> list[tuple[float, float]]:
+    """A ring's points, rounded to the centimetre, without the closing repeat."""
+    pts = [(round(x, 2), round(y, 2)) for x, y in list(ring.coords)[:-1]]
+    return [p for i, p in enumerate(pts) if p != pts[i - 1]]
+
+
+# -- the draft -------------------------------------------------------------------------------
+def _set_gates(draft: LotDraft, gates: list[Gate]) -> None:
+    for i, g in enumerate(gates, start=1):
+        if g.entrance:
+            x, y, t = g.entrance
+            draft.entrances.append(GateDraft(f"in{i}", x, y, math.degrees(t), g.note))
+        if g.exit:
+            x, y, t = g.exit
+            draft.exits.append(GateDraft(f"out{i}", x, y, math.degrees(t),
+                                         g.note if not g.entrance else ""))
+
+
+def _boundary(lot: Polygon, chains: list[Chain], slots: list[Polygon]
+              ) -> list[tuple[float, float]]:
+    """A simple polygon holding the lot, its aisles and its slots."""
+    shapes = [Polygon(lot.exterior)] + slots + [
+        c.line.buffer(c.width / 2, cap_style="flat", join_style="mitre", mitre_limit=2.0)
+        for c in chains]
+    whole = unary_union(shapes)
+    if isinstance(whole, MultiPolygon):
+        whole = whole.buffer(CLIP_GROW, join_style="mitre").buffer(-CLIP_GROW,
+                                                                   join_style="mitre")
+    if isinstance(whole, MultiPolygon):
+        whole = whole.convex_hull
+    outline = Polygon(whole.exterior)
+    grown = outline.buffer(SIMPLIFY_BOUNDARY, join_style="mitre").simplify(SIMPLIFY_BOUNDARY)
+    if isinstance(grown, Polygon) and grown.is_valid and grown.covers(outline):
+        outline = grown
+    pts = _ring(outline.exterior)
+    rounded = Polygon(pts)
+    if not rounded.is_valid or not rounded.buffer(0.01).covers(whole):
+        pts = _ring(outline.buffer(0.02, join_style="mitre").exterior)
+    return pts
+
+
+def _small(length: float) -> str:
+    """A length of at most a few millimetres, readably.
+
+    >>> _small(3e-9), _small(0.00042)
+    ('0.001 mm', '0.42 mm')
+    """
+    return f"{max(length * 1000, 0.001):.2g} mm"
+
+
+def _description(kind: str, oid: int, tags: dict[str, str]) -> str:
+    name = f": {tags['name']}" if tags.get("name") else ""
+    return f"OpenStreetMap {kind} {oid}{name}, a parking lot imported by lotsim"
+
+
+def _aisle_note(c: Chain) -> str:
+    ways = ", ".join(str(w) for w in c.ways)
+    width = "width from its tag" if c.note else (
+        f"default width for {'one' if c.one_way else 'two'}-way")
+    return f"way{'s' if len(c.ways) > 1 else ''} {ways}: {width}"
+
+
+def _remarks(capacity: int | None, n_slots: int, drawn: _Drawn) -> str:
+    out = []
+    if capacity is not None:
+        diff = n_slots - capacity
+        out.append(f"capacity tag {capacity}, {n_slots} slots laid out"
+                   + ("" if diff == 0 else f" ({abs(diff)} {'more' if diff > 0 else 'fewer'})"))
+    if not drawn.real_gates:
+        out.append(f"no gate: no road reaches an aisle at the lot's edge; "
+                   f"{drawn.gates[-1].note}")
+    if not n_slots:
+        out.append("no room for a slot")
+    return "; ".join(out)
+
+
+def _header(kind: str, oid: int, tags: dict[str, str], source_name: str, frame: LocalFrame,
+            error: float, drawn: _Drawn, capacity: int | None) -> list[str]:
+    chains, spaces, n_slots = drawn.chains, drawn.spaces, drawn.draft.slot_count
+    lines = [f"OpenStreetMap {kind} {oid} of {source_name}, imported by lotsim import osm "
+             "(docs/import.md)", ATTRIBUTION,
+             "tags: " + ", ".join(f"{k}={v}" for k, v in sorted(tags.items())),
+             f"projection: {frame.describe()}; x east, y north [m]; distances within "
+             f"{_small(error)} of the ground's over the lot",
+             f"aisles: {len(chains)} from service=parking_aisle ways; untagged widths "
+             f"{TWO_WAY_WIDTH:g} m two-way, {ONE_WAY_WIDTH:g} m one-way"]
+    if spaces:
+        lines.append(f"slots: {len(spaces)} mapped amenity=parking_space areas")
+    else:
+        lines.append(f"slots: {n_slots} perpendicular bays {BAY_WIDTH:g} x {BAY_LENGTH:g} m "
+                     "inferred along the aisles' straight legs")
+    if capacity is not None:
+        lines.append(f"capacity tag: {capacity}")
+    lines += [g.note for g in drawn.gates]
+    lines += drawn.notes
+    out = []
+    for line in lines:
+        out += textwrap.wrap(line, 96, break_long_words=False, break_on_hyphens=False) or [""]
+    return out
