@@ -77,6 +77,7 @@ from lotsim.io.imports.report import ImportedLot, ImportReport
 from lotsim.io.scenario_yaml import read_scenario
 from lotsim.lot.build import LANE_CLEARANCE, build_lot
 from lotsim.lot.model import DesignVehicle
+from lotsim.roadmap.lanes import portal_station
 from lotsim.vehicles.catalogue import CATALOGUE, DEFAULT_VEHICLE
 
 NO_AISLE = "no parking aisle mapped; lotsim layout will lay such lots out"
@@ -383,7 +384,7 @@ class _Drawn:
             return None
         notes += join_ends(chains, vertices)
         if splits:
-            chains = split_chains(chains, splits)
+            chains = split_chains(chains, splits, vertices)
         gates = find_gates(chains, vertices, lot, near.road_lines(), near.road_name)
         real_gates = len(gates)
         if not any(g.entrance for g in gates):
@@ -411,14 +412,18 @@ class _Drawn:
         too tight; else why it cannot be built."""
         draft, bays = self.draft, list(self.bays)
         design = DesignVehicle.envelope([CATALOGUE[DEFAULT_VEHICLE]])
-        mapped = [p for _, p in self.spaces]
+        held = [p for _, p in self.spaces] + [
+            Polygon(design.footprints(np.array([[g.x, g.y, math.radians(g.heading_deg)]]))[0])
+            for g in draft.entrances + draft.exits]
         while True:
             rows, ids = rows_of(bays)
             draft.rows = rows
-            draft.boundary = _boundary(lot, self.chains, mapped)
+            draft.boundary = _boundary(lot, self.chains, held)
             try:
                 sc = read_scenario(draft.to_yaml()).scenario
-                build_lot(sc.lot, design)
+                built = build_lot(sc.lot, design)
+                for portal in built.entrances + built.exits:
+                    portal_station(built, portal)
                 self.bays = bays
                 return None
             except ScenarioError as exc:
@@ -587,10 +592,11 @@ def _set_gates(draft: LotDraft, gates: list[Gate]) -> None:
                                          g.note if not g.entrance else ""))
 
 
-def _boundary(lot: Polygon, chains: list[Chain], slots: list[Polygon]
+def _boundary(lot: Polygon, chains: list[Chain], held: list[Polygon]
               ) -> list[tuple[float, float]]:
-    """A simple polygon holding the lot, its aisles and its slots."""
-    shapes = [Polygon(lot.exterior)] + slots + [
+    """A simple polygon holding the lot, its aisles and ``held`` (the mapped slots, a car
+    standing at each gate)."""
+    shapes = [Polygon(lot.exterior)] + held + [
         c.line.buffer(c.width / 2, cap_style="flat", join_style="mitre", mitre_limit=2.0)
         for c in chains]
     whole = unary_union(shapes)

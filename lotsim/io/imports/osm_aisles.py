@@ -663,16 +663,29 @@ def sharpest_corner(c: Chain) -> int:
     return c.keys[int(np.argmax(turn)) + 1]
 
 
-def split_chains(chains: list[Chain], at: set[int]) -> list[Chain]:
-    """Cut aisles in two at the vertices ``at`` (an L where they met as a bend), and number
-    the aisles again."""
+def split_chains(chains: list[Chain], at: set[int], vertices: dict[int, Vertex]
+                 ) -> list[Chain]:
+    """Cut aisles in two at the vertices ``at`` (an L where they met as a bend; a piece
+    shorter than :data:`MIN_AISLE` at an aisle's end is dropped, its end's roads going to
+    the new end), and number the aisles again."""
     out = []
     for c in chains:
         cuts = [i for i, k in enumerate(c.keys[1:-1], start=1) if k in at]
         bounds = [0, *cuts, len(c.keys) - 1]
-        for i, j in zip(bounds, bounds[1:], strict=False):
-            out.append(Chain("", c.keys[i:j + 1], c.pts[i:j + 1], c.ways, c.width, c.one_way,
-                             c.note))
+        pieces = [Chain("", c.keys[i:j + 1], c.pts[i:j + 1], c.ways, c.width, c.one_way,
+                        c.note) for i, j in zip(bounds, bounds[1:], strict=False)]
+        while len(pieces) > 1 and pieces[0].line.length < MIN_AISLE:
+            gone = pieces.pop(0)
+            _inherit(vertices[pieces[0].keys[0]], vertices[gone.keys[0]])
+        while len(pieces) > 1 and pieces[-1].line.length < MIN_AISLE:
+            gone = pieces.pop()
+            _inherit(vertices[pieces[-1].keys[-1]], vertices[gone.keys[-1]])
+        out += pieces
     for i, c in enumerate(out):
         c.id = f"a{i + 1}"
     return out
+
+
+def _inherit(end: Vertex, gone: Vertex) -> None:
+    end.roads |= gone.roads
+    end.cut |= gone.cut and bool(gone.roads)
