@@ -8,6 +8,7 @@ import json
 import os
 import subprocess
 import sys
+from pathlib import Path
 
 import pytest
 
@@ -304,3 +305,15 @@ def test_a_maneuver_problem_is_kept_by_everything_its_search_reads():
     }
     for what, (q, style) in changed.items():
         assert exact_key(q, style) != key, what
+
+
+def test_the_code_version_covers_every_source_file_of_lotsim():
+    """A prepared lot is planned by every layer of lotsim, not only by the folder the cache
+    lives in: a change to any of its files must make a new entry."""
+    import lotsim
+
+    package = Path(lotsim.__file__).resolve().parent
+    expected = sorted(package.rglob("*.py"))
+    hashed = lotsim.core.diskcache.source_files()
+    assert hashed == expected
+    assert package / "lot" / "build.py" in hashed and package / "cli" / "run.py" in hashed

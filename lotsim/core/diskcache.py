@@ -70,11 +70,20 @@ def code_version() -> str:
     # imports it only when its graph is asked for)
     spec = importlib.util.find_spec("networkx")
     h.update(Path(spec.origin).read_bytes() if spec is not None and spec.origin else b"")
-    root = Path(__file__).resolve().parent
-    for path in sorted(root.rglob("*.py")):
+    root = PACKAGE_ROOT
+    for path in source_files():
         h.update(path.relative_to(root).as_posix().encode())
         h.update(path.read_bytes())
     return h.hexdigest()
+
+
+PACKAGE_ROOT = Path(__file__).resolve().parents[1]
+"""The folder of the lotsim package."""
+
+
+def source_files() -> list[Path]:
+    """Every source file of the lotsim package, sorted: what :func:`code_version` hashes."""
+    return sorted(PACKAGE_ROOT.rglob("*.py"))
 
 
 def key(kind: str, *parts: object) -> str:

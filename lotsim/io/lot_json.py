@@ -117,7 +117,7 @@ def lot_to_json(lot: Lot) -> dict[str, Any]:
         "occupied": sorted(lot.occupied),
         "speed_limit": _round(lot.speed_limit),
         "design": {k: _round(getattr(lot.design, k)) for k in _DESIGN_KEYS},
-    }
+    } | ({} if lot.pavement is None else {"pavement": _geometry_json(lot.pavement)})
 
 
 def _round(x: float) -> float:
@@ -208,7 +208,8 @@ def lot_from_json(d: Any, *, root: str = "drawing") -> Lot:
             raise LotFormatError(f"{root}: missing key {key!r}")
         if type(d[key]) is not type(want) or d[key] != want:
             raise LotFormatError(f"{root}.{key}: expected {want!r}, found {_found(d[key])}")
-    d = _object(d, root, _TOP_KEYS)
+    raw_pavement = d.get("pavement")  # optional: absent, the lot is paved wall to wall
+    d = _object({k: v for k, v in d.items() if k != "pavement"}, root, _TOP_KEYS)
     geoms: list[tuple[str, Any]] = []  # checked for validity at once, at the end
 
     def geometry(value: Any, path: str) -> Polygon | MultiPolygon:
@@ -246,6 +247,7 @@ def lot_from_json(d: Any, *, root: str = "drawing") -> Lot:
     occupied = _occupied(d["occupied"], f"{root}.occupied", slots)
     design = _object(d["design"], f"{root}.design", _DESIGN_KEYS)
     design_vehicle = DesignVehicle(*(_number(design, k, f"{root}.design") for k in _DESIGN_KEYS))
+    pavement = None if raw_pavement is None else geometry(raw_pavement, f"{root}.pavement")
     valid = shapely.is_valid(np.array([g for _, g in geoms], dtype=object))
     if not valid.all():
         path, g = geoms[int(np.argmin(valid))]
@@ -253,7 +255,8 @@ def lot_from_json(d: Any, *, root: str = "drawing") -> Lot:
                              f"{shapely.is_valid_reason(g)}")
     return Lot(boundary=boundary, aisles=aisles, slots=slots, areas=tuple(areas),
                zones=tuple(zones), entrances=entrances, exits=exits, occupied=occupied,
-               speed_limit=_number(d, "speed_limit", root), design=design_vehicle)
+               speed_limit=_number(d, "speed_limit", root), design=design_vehicle,
+               pavement=pavement)
 
 
 def _aisle(raw: Any, path: str, geometry: Callable[[Any, str], Any]) -> Aisle:

@@ -28,6 +28,14 @@ def _ring(poly: shapely.Polygon) -> list[list[float]]:
     return np.round(np.asarray(poly.exterior.coords)[:-1], 4).tolist()
 
 
+def _rings(geom) -> list[list[list[list[float]]]]:
+    """A polygon or multipolygon as GeoJSON MultiPolygon coordinates: per polygon its
+    outline, then its holes, each ring ``[[x, y], ...]`` without the closing point."""
+    polys = [geom] if geom.geom_type == "Polygon" else list(geom.geoms)
+    return [[np.round(np.asarray(ring.coords)[:-1], 4).tolist()
+             for ring in (p.exterior, *p.interiors)] for p in polys if not p.is_empty]
+
+
 def result_dict(rr: RunResult) -> dict:
     """The JSON document of a run."""
     lg = rr.lot_graph
@@ -56,6 +64,8 @@ def result_dict(rr: RunResult) -> dict:
         "exits": [portal(k, n) for k, n in lg.exits.items()],
         "drawing": lot_to_json(lot),
     }
+    if lot.pavement is not None:
+        doc_lot["paved"] = _rings(lot.pavement)
     vehicles = []
     for v in rr.vehicles:
         t = v.vehicle

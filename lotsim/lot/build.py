@@ -13,6 +13,7 @@ import math
 import numpy as np
 import shapely
 from shapely.geometry import LineString, Point, Polygon
+from shapely.geometry.base import BaseGeometry
 from shapely.ops import unary_union
 
 from lotsim.core.geometry import FloatArray, cc_polyline, ccw, wrap_angle
@@ -30,6 +31,7 @@ from lotsim.lot.model import (
     SpeedZone,
     unit,
 )
+from lotsim.lot.pavement import HEAL, pave
 from lotsim.lot.spec import AisleSpec, LotSpec, OccupancySpec, RowSpec, SlotSpec
 
 LANE_CLEARANCE = 0.15
@@ -62,7 +64,14 @@ def build_lot(spec: LotSpec, design: DesignVehicle) -> Lot:
     )
     slots = _build_slots(spec, aisles)
     _check_slots(slots, aisles, areas, boundary)
-    collider = Collider(obstacle_polygons(areas, slots), drivable_region(boundary, aisles, design))
+    pavement = None
+    if spec.paved is not None:
+        paved = [_polygon(a.polygon, a.where, f"paved area {a.id!r}") for a in spec.paved.areas]
+        pavement = pave(spec.paved, boundary, aisles, slots, paved)
+    ground = boundary if pavement is None else pavement
+    collider = Collider(obstacle_polygons(areas, slots),
+                        drivable_region(boundary, aisles, design, ground),
+                        edge="the lot boundary" if pavement is None else "the edge of the pavement")
     aisles = {k: _fit_lanes(a, design, collider) for k, a in aisles.items()}
     zones = tuple(
         SpeedZone(b.id, "bump", LineString(b.line).buffer(b.reach), b.limit, LineString(b.line))
@@ -86,6 +95,7 @@ def build_lot(spec: LotSpec, design: DesignVehicle) -> Lot:
         occupied=_occupancy(spec.occupancy, slots),
         speed_limit=spec.speed_limit,
         design=design,
+        pavement=pavement,
     )
     return lot
 
@@ -112,14 +122,17 @@ def lane_collider(lot: Lot) -> Collider:
     """A validity checker for driving on ``lot``'s lanes: slots count as occupied."""
     return Collider(
         obstacle_polygons(lot.areas, lot.slots),
-        drivable_region(lot.boundary, lot.aisles, lot.design),
+        drivable_region(lot.boundary, lot.aisles, lot.design, lot.ground),
+        edge=lot.edge,
     )
 
 
 def drivable_region(
-    boundary: Polygon, aisles: dict[str, Aisle], design: DesignVehicle
-) -> Polygon:
-    """The lot boundary plus a car-length gate beyond each aisle end that meets it.
+    boundary: Polygon, aisles: dict[str, Aisle], design: DesignVehicle,
+    ground: BaseGeometry | None = None,
+) -> BaseGeometry:
+    """The ground cars may drive on (default: all within ``boundary``) plus a car-length
+    gate beyond each aisle end that meets the boundary.
 
     Vehicles enter and leave through those ends, so their bodies may poke out there.
     """
@@ -134,8 +147,12 @@ def drivable_region(
             d = (end - prev) / np.linalg.norm(end - prev)
             n = np.array([-d[1], d[0]]) * aisle.width / 2
             far = end + d * depth
-            gates.append(Polygon([end - n, far - n, far + n, end + n]))
-    return unary_union([boundary, *gates]) if gates else boundary
+            # on a pavement, the gate reaches into it: their edges, computed apart, may
+            # leave a crack between them
+            near = end - d * HEAL if ground is not None and ground is not boundary else end
+            gates.append(Polygon([near - n, far - n, far + n, near + n]))
+    ground = boundary if ground is None else ground
+    return unary_union([ground, *gates]) if gates else ground
 
 
 # -- aisles ------------------------------------------------------------------------------------

@@ -17,7 +17,7 @@ class Hit:
     """The first place along a sweep where the body is not free."""
 
     index: int  # index of the first offending sample pair
-    what: str  # label of what was hit, or "the lot boundary"
+    what: str  # label of what was hit, or the collider's edge ("the lot boundary")
     point: tuple[float, float]  # a point of the offending body [m]
 
 
@@ -49,10 +49,14 @@ class Collider:
         What a body must not touch.
     allowed : geometry
         The region a body must stay inside.
+    edge : str
+        What a body leaving ``allowed`` runs into, for messages.
     """
 
-    def __init__(self, obstacles: list[tuple[str, BaseGeometry]], allowed: BaseGeometry):
+    def __init__(self, obstacles: list[tuple[str, BaseGeometry]], allowed: BaseGeometry,
+                 *, edge: str = "the lot boundary"):
         self.labels = [label for label, _ in obstacles]
+        self.edge = edge
         self.tree = shapely.STRtree([g for _, g in obstacles])
         self.allowed = allowed
         shapely.prepare(self.allowed)
@@ -78,7 +82,7 @@ class Collider:
         i = int(bad[0])
         poly = shapely.convex_hull(shapely.linestrings(bodies[i]))
         if not self.allowed.covers(poly):
-            what = "the lot boundary"
+            what = self.edge
         else:
             what = self.labels[int(self.tree.query(poly, predicate="intersects")[0])]
         c = poly.centroid

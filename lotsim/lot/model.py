@@ -13,6 +13,7 @@ from functools import cached_property
 import numpy as np
 import shapely
 from shapely.geometry import LineString, Polygon
+from shapely.geometry.base import BaseGeometry
 
 from lotsim.core.geometry import (
     FloatArray,
@@ -289,6 +290,17 @@ class Lot:
     occupied: frozenset[str]
     speed_limit: float
     design: DesignVehicle
+    pavement: BaseGeometry | None = None  # None: paved wall to wall
+
+    @property
+    def ground(self) -> BaseGeometry:
+        """Where cars may drive: the pavement, or the whole boundary when it is all paved."""
+        return self.boundary if self.pavement is None else self.pavement
+
+    @property
+    def edge(self) -> str:
+        """What a car leaving :attr:`ground` runs into, in messages."""
+        return "the lot boundary" if self.pavement is None else "the edge of the pavement"
 
     @cached_property
     def slot_by_id(self) -> dict[str, Slot]:

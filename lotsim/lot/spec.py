@@ -101,6 +101,18 @@ class AreaSpec:
 
 
 @dataclass(frozen=True, slots=True)
+class PavementSpec:
+    """What is paved in a lot that is not paved wall to wall: with ``aisles``, the aisles,
+    their kerb corners (of ``corner_radius`` [m]) where they join, and the slots; and the
+    ``areas`` (``kind`` ``"paved"``). Cars drive only on it."""
+
+    aisles: bool = True
+    corner_radius: float = 3.0
+    areas: tuple[AreaSpec, ...] = ()
+    where: Location | None = _loc()
+
+
+@dataclass(frozen=True, slots=True)
 class SpeedBumpSpec:
     """A speed bump across the lanes; within ``reach`` metres of it the limit applies."""
 
@@ -159,5 +171,6 @@ class LotSpec:
     exits: tuple[PortalSpec, ...] = ()
     occupancy: OccupancySpec = OccupancySpec()
     speed_limit: float = 20 / 3.6
+    paved: PavementSpec | None = None  # None: all the ground inside the boundary
     where: Location | None = _loc()
     boundary_where: Location | None = _loc()

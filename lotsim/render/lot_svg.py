@@ -112,7 +112,11 @@ def lot_svg(lot, parked: FloatArray, bounds: tuple[float, float, float, float]) 
            'height="1.2" patternTransform="rotate(45)"><rect width="0.3" height="1.2" '
            f'fill="{rgb(li.NO_GO_HATCH)}"/></pattern></defs><g>']
     add = out.append
-    add(_path(_geom_d([lot.boundary]), fill=rgb(li.GROUND), fill_rule="evenodd"))
+    if lot.pavement is None:
+        add(_path(_geom_d([lot.boundary]), fill=rgb(li.PAVED), fill_rule="evenodd"))
+    else:
+        add(_path(_geom_d([lot.boundary]), fill=rgb(li.GROUND), fill_rule="evenodd"))
+        add(_path(_geom_d([lot.pavement]), fill=rgb(li.PAVED), fill_rule="evenodd"))
     add(_path(_geom_d(a.polygon for a in lot.aisles.values()), fill=rgb(li.ASPHALT),
               fill_rule="nonzero"))
     add(_path("".join(_ring_d(s.polygon) for s in lot.slots), fill=rgb(li.SLOT_PAVING)))

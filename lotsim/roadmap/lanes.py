@@ -82,11 +82,12 @@ def portal_station(lot: Lot, portal: Portal) -> tuple[str, float]:
         )
     lane = next(ln for ln in lot.lanes if ln.id == best[1])
     body = shapely.Polygon(lot.design.footprints(np.array([lane.pose_at(best[2])]))[0])
-    out = body.difference(lot.boundary).area
-    if out > 1e-6:
-        raise ScenarioError(
-            portal.where,
-            f"a car standing at {portal.id!r} sticks out of the lot boundary "
-            f"({out:.2f} m²); cars appear and vanish at portals, so move it inward",
-        )
+    for ground, what in ((lot.boundary, "the lot boundary"), (lot.ground, "the pavement")):
+        out = body.difference(ground).area
+        if out > 1e-6:
+            raise ScenarioError(
+                portal.where,
+                f"a car standing at {portal.id!r} sticks out of {what} "
+                f"({out:.2f} m²); cars appear and vanish at portals, so move it inward",
+            )
     return best[1], best[2]

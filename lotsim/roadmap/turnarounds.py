@@ -84,13 +84,13 @@ class Turnaround:
 
 def turnaround_collider(lot: Lot, design: DesignVehicle | None = None, margin: float = MARGIN
                         ) -> tuple[Collider, DesignVehicle]:
-    """A checker for turnarounds on ``lot``: every slot, area and the boundary (no gates
-    beyond aisle ends: a car turns back inside the lot), and ``design`` (default the lot's
-    design vehicle) grown by ``margin``."""
+    """A checker for turnarounds on ``lot``: every slot, area and the ground it may drive on
+    (no gates beyond aisle ends: a car turns back inside the lot), and ``design`` (default
+    the lot's design vehicle) grown by ``margin``."""
     d = design or lot.design
     grown = dataclasses.replace(d, width=d.width + 2 * margin, front=d.front + margin,
                                 rear=d.rear + margin)
-    return Collider(obstacle_polygons(lot.areas, lot.slots), lot.boundary), grown
+    return Collider(obstacle_polygons(lot.areas, lot.slots), lot.ground, edge=lot.edge), grown
 
 
 def turnaround_clear(t: Turnaround, collider: Collider, body: DesignVehicle) -> bool:

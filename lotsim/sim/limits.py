@@ -1,6 +1,6 @@
 """Memory and time budgets: stop a run that would outgrow the machine, saying so.
 
-A lot's size is bounded when the scenario is read (:data:`lotsim.io.scenario_yaml.MAX_SLOTS` and
+A lot's size is bounded when the scenario is read (:data:`lotsim.io.lot_yaml.MAX_SLOTS` and
 its neighbours). How much a run needs depends on its traffic and can only be seen while it
 plans, so :class:`Watchdog` watches it: a thread samples the process's resident memory and
 the clock four times a second and, from the trips (a vehicle's way in, and out if it leaves)

@@ -8,6 +8,7 @@ from collections.abc import Iterable
 from dataclasses import dataclass
 
 from lotsim.core.diskcache import LOADED
+from lotsim.lot.pavement import loose_ends
 from lotsim.roadmap.reach import Reachability
 from lotsim.sim.preparation import PreparedLot
 from lotsim.sim.running import check_traffic
@@ -134,8 +135,12 @@ class ValidationReport:
                              f"{_ids(sorted(slots))}")
                 for why in sorted(set(slots.values()))[:3]:
                     lines.append(f"    because {why}")
+        for end in loose_ends(lot.aisles, lot.pavement):
+            lines.append(f"  warning: {end}")
         for note in lg.skipped_turns:
-            lines.append(f"  note: {note}")
+            # a turn the ground is not paved for is the lot's drawing, not its design
+            tag = "warning" if "the edge of the pavement" in note else "note"
+            lines.append(f"  {tag}: {note}")
         return "\n".join(lines)
 
     def __str__(self) -> str:

@@ -93,7 +93,7 @@ jerk
     digit written); about ``4 · V_ROUND / h²``, 0.08 m/s³ at 0.05 s and 0.5 m/s³ at
     0.02 s. For a speed with a continuous acceleration and a bounded jerk,
     ``2 · v[t₀, t₁, t₂]`` is a weighted mean of the jerk over ``[t₀, t₂]``.
-overlap, parked, obstacle, boundary
+overlap, parked, obstacle, boundary, pavement
     Footprints shrunk by ``SHRINK`` = 1 cm on every side are compared at the common
     instants ``k · GRID_DT`` (0.05 s) from the earliest to the latest sample, poses
     interpolated linearly between samples (heading the short way). A vehicle is present
@@ -101,7 +101,8 @@ overlap, parked, obstacle, boundary
     stays at its last pose to the end. No two present footprints intersect (touching
     shrunk rectangles count: the true ones then overlap by 2 cm), none intersects a car
     parked at start (``parked``) or an obstacle (``obstacle``), each is covered by the
-    lot boundary (``boundary``). Each pair is reported once, at its first instant.
+    lot boundary (``boundary``) and, where the lot says what is paved (``lot.paved``), by
+    the pavement (``pavement``). Each pair is reported once, at its first instant.
 slot
     A ``parked`` vehicle names a slot of the lot that was free at start, its last
     footprint (shrunk) lies within that slot, and it is at rest (``|v| ≤ REST_SPEED``).

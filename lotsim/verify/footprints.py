@@ -366,7 +366,7 @@ def _near_polygons(items: _Items, polys: np.ndarray) -> tuple[np.ndarray, np.nda
     return item[~apart], p[~apart]
 
 
-def _surely_covered(items: _Items, idx: np.ndarray, boundary: shapely.Polygon) -> np.ndarray:
+def _surely_covered(items: _Items, idx: np.ndarray, boundary) -> np.ndarray:
     """Which footprints ``idx`` certainly lie within ``boundary``: their box (widened by
     ``_SURE``) lies within the boundary's box and meets the box of no piece of that box
     outside the boundary. False says nothing: those are tested exactly."""
@@ -393,7 +393,7 @@ def _first_per_key(keys: np.ndarray, k: np.ndarray) -> np.ndarray:
 
 def _check_footprints(vehicles: list[_Vehicle], lot: _Lot, out: list[Violation],
                       stats: dict[str, Any]) -> None:
-    """Rule 6 (overlap, parked, obstacle, boundary) and slot sharing (rule 7)."""
+    """Rule 6 (overlap, parked, obstacle, boundary, pavement) and slot sharing (rule 7)."""
     if not vehicles:
         return
     first, last = min(v.t[0] for v in vehicles), max(v.t[-1] for v in vehicles)
@@ -448,30 +448,38 @@ def _check_footprints(vehicles: list[_Vehicle], lot: _Lot, out: list[Violation],
             _add(out, kind, name, k * GRID_DT,
                  f"{name} overlaps {what} at t={k * GRID_DT:.2f} s ({area:.2f} m²)")
 
-    # inside the boundary
-    if lot.boundary is not None:
-        inner = lot.boundary.buffer(-margin)
-        sure = np.zeros(len(items), dtype=bool)
-        if not inner.is_empty:
-            shapely.prepare(inner)
-            sure = shapely.contains_xy(inner, items.cx, items.cy)
-        unsure = np.flatnonzero(~sure)
-        unsure = unsure[~_surely_covered(items, unsure, lot.boundary)]
-        shapely.prepare(lot.boundary)
-        polys = items.polygons(unsure)
-        stats["footprint_tests"] += len(unsure)
-        outside = unsure[~shapely.covers(lot.boundary, polys)]
-        for i in _first_per_key(items.veh[outside][:, None], items.ka[outside]):
-            it = int(outside[i])
-            k = int(items.ka[it])
-            foot = items.polygons(np.array([it]), inset=0.0)[0]
-            area = shapely.area(shapely.difference(foot, lot.boundary))
-            name = ids[items.veh[it]]
-            _add(out, "boundary", name, k * GRID_DT,
-                 f"{name} leaves the lot boundary at t={k * GRID_DT:.2f} s "
-                 f"({area:.2f} m² outside)")
+    # inside the boundary, and on the pavement where the lot says what is paved
+    for rule, region, what in (("boundary", lot.boundary, "the lot boundary"),
+                               ("pavement", lot.paved, "the pavement")):
+        if region is not None:
+            _check_within(items, region, margin, rule, what, ids, out, stats)
 
     _check_slot_sharing(vehicles, items, lot, kmax, out, stats)
+
+
+def _check_within(items: _Items, region, margin: float, rule: str, what: str,
+                  ids: list[str], out: list[Violation], stats: dict[str, Any]) -> None:
+    """Every footprint lies within ``region``; the first instant each vehicle leaves it is
+    reported under ``rule``."""
+    inner = region.buffer(-margin)
+    sure = np.zeros(len(items), dtype=bool)
+    if not inner.is_empty:
+        shapely.prepare(inner)
+        sure = shapely.contains_xy(inner, items.cx, items.cy)
+    unsure = np.flatnonzero(~sure)
+    unsure = unsure[~_surely_covered(items, unsure, region)]
+    shapely.prepare(region)
+    polys = items.polygons(unsure)
+    stats["footprint_tests"] += len(unsure)
+    outside = unsure[~shapely.covers(region, polys)]
+    for i in _first_per_key(items.veh[outside][:, None], items.ka[outside]):
+        it = int(outside[i])
+        k = int(items.ka[it])
+        foot = items.polygons(np.array([it]), inset=0.0)[0]
+        area = shapely.area(shapely.difference(foot, region))
+        name = ids[items.veh[it]]
+        _add(out, rule, name, k * GRID_DT,
+             f"{name} leaves {what} at t={k * GRID_DT:.2f} s ({area:.2f} m² outside)")
 
 
 def _check_slot_sharing(vehicles: list[_Vehicle], items: _Items, lot: _Lot, kmax: int,

@@ -117,6 +117,7 @@ class _Slot:
 @dataclass(slots=True)
 class _Lot:
     boundary: shapely.Polygon | None = None
+    paved: shapely.MultiPolygon | None = None  # None: all inside the boundary is paved
     slots: dict[str, _Slot] = field(default_factory=dict)
     obstacles: list[shapely.Polygon] = field(default_factory=list)
     parked: list[shapely.Polygon] = field(default_factory=list)
@@ -215,6 +216,27 @@ def _polygon(value: Any, where: str, out: list[Violation]) -> shapely.Polygon | 
     return poly
 
 
+def _multipolygon(value: Any, where: str, out: list[Violation]) -> shapely.MultiPolygon | None:
+    """GeoJSON MultiPolygon coordinates: polygons, each its outline then its holes."""
+    if not isinstance(value, list) or not value:
+        _add(out, "structure", None, None, f"{where}: expected a non-empty list of polygons")
+        return None
+    polys = []
+    for i, rings in enumerate(value):
+        pts = [_points(r) for r in rings] if isinstance(rings, list) and rings else [None]
+        if any(p is None or len(p) < 3 for p in pts):
+            _add(out, "structure", None, None, f"{where}[{i}]: expected a list of rings "
+                 f"[[x, y], ...] of at least 3 finite points, the outline first")
+            return None
+        polys.append(shapely.Polygon(pts[0], pts[1:]))
+    geom = shapely.MultiPolygon(polys)
+    if not geom.is_valid:
+        _add(out, "structure", None, None,
+             f"{where}: not a valid multipolygon ({shapely.is_valid_reason(geom)})")
+        return None
+    return geom
+
+
 def _pose(value: Any) -> Pose | None:
     if isinstance(value, list) and len(value) == 3 and all(_is_number(c) for c in value):
         return (float(value[0]), float(value[1]), float(value[2]))
@@ -231,6 +253,8 @@ def _parse_lot(raw: Any, out: list[Violation]) -> _Lot:
             _add(out, "structure", None, None, f"lot: missing key {key!r}")
     if "boundary" in raw:
         lot.boundary = _polygon(raw["boundary"], "lot.boundary", out)
+    if "paved" in raw:
+        lot.paved = _multipolygon(raw["paved"], "lot.paved", out)
 
     slots = raw.get("slots", [])
     if not isinstance(slots, list):

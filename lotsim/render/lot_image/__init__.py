@@ -61,6 +61,7 @@ from lotsim.render.lot_image.theme import PAD_PX, draw_text, font
 from lotsim.render.lot_image.theme import PARKED_CAR as PARKED_CAR
 from lotsim.render.lot_image.theme import PARKED_CAR_EDGE as PARKED_CAR_EDGE
 from lotsim.render.lot_image.theme import PARKED_CAR_FRONT as PARKED_CAR_FRONT
+from lotsim.render.lot_image.theme import PAVED as PAVED
 from lotsim.render.lot_image.theme import SLOT_LABEL as SLOT_LABEL
 from lotsim.render.lot_image.theme import SLOT_LINE as SLOT_LINE
 from lotsim.render.lot_image.theme import SLOT_PAVING as SLOT_PAVING

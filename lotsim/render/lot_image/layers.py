@@ -38,6 +38,7 @@ from lotsim.render.lot_image.theme import (
     NO_GO_TINT,
     OBSTACLE,
     OBSTACLE_EDGE,
+    PAVED,
     SLOT_LABEL,
     SLOT_LINE,
     SLOT_NODE,
@@ -150,7 +151,11 @@ def paint_lot(
     bodies ``parked_bodies`` (N, 4, 2) [m] when given (as a result file lists them).
     """
     draw = ImageDraw.Draw(img)
-    fill_geometry(img, canvas, lot.boundary, GROUND)
+    if lot.pavement is None:
+        fill_geometry(img, canvas, lot.boundary, PAVED)
+    else:
+        fill_geometry(img, canvas, lot.boundary, GROUND)
+        fill_geometry(img, canvas, lot.pavement, PAVED)
     for aisle in lot.aisles.values():
         fill_geometry(img, canvas, aisle.polygon, ASPHALT)
     for s in lot.slots:

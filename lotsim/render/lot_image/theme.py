@@ -12,7 +12,9 @@ Color = tuple[int, int, int]
 BACKGROUND: Color = (246, 246, 242)
 """Outside the lot."""
 GROUND: Color = (200, 207, 190)
-"""Inside the boundary where there is no aisle or slot."""
+"""Unpaved ground inside the boundary (a verge, a planted island)."""
+PAVED: Color = (150, 152, 157)
+"""Paved ground that is neither aisle nor slot (all of it in a lot paved wall to wall)."""
 ASPHALT: Color = (104, 106, 112)
 """Aisles."""
 SLOT_PAVING: Color = (126, 127, 132)

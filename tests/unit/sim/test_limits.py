@@ -13,7 +13,7 @@ import lotsim
 from conftest import ONE_AISLE, ROOT, position, time_limit
 from lotsim.cli import main
 from lotsim.errors import Location
-from lotsim.io.scenario_yaml import MAX_AISLE_LENGTH, MAX_LOT_SIZE, MAX_SLOTS
+from lotsim.io.lot_yaml import MAX_AISLE_LENGTH, MAX_LOT_SIZE, MAX_SLOTS
 from lotsim.sim.limits import WARMUP, Budget, LimitExceeded, Watchdog, parse_size
 
 STREAM = "traffic: {stream: {count: COUNT, rate_per_hour: 3600, dwell: [20, 40]}}\n"

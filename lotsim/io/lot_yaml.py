@@ -1,0 +1,304 @@
+"""The ``lot`` section of a scenario YAML → a validated, frozen :class:`~lotsim.lot.spec.LotSpec`
+(boundary, pavement, aisles, rows and slots, areas, speed bumps and zones, entrances and exits,
+occupancy), with the limits on a lot's size. Part of :mod:`lotsim.io.scenario_yaml`.
+"""
+
+from __future__ import annotations
+
+import itertools
+import math
+
+from lotsim.errors import ScenarioError
+from lotsim.io.yamlnodes import YNode
+from lotsim.lot.kinds import KINDS
+from lotsim.lot.spec import (
+    SIDES,
+    SLOT_KINDS,
+    AisleSpec,
+    AreaSpec,
+    LotSpec,
+    OccupancySpec,
+    PavementSpec,
+    PortalSpec,
+    RowSpec,
+    SlotSpec,
+    SpeedBumpSpec,
+    SpeedZoneSpec,
+)
+from lotsim.vehicles.model import KMH
+
+MAX_ITEMS = 100_000
+"""Largest list a scenario may hold (slots in a row, polygon points, ...)."""
+
+
+def _polygon(node: YNode) -> tuple[tuple[float, float], ...]:
+    pts = node.points(min_len=3)
+    if len(pts) > MAX_ITEMS:
+        raise node.error(f"expected at most {MAX_ITEMS} points")
+    return pts
+
+
+def speed(node: YNode) -> float:
+    """Read a speed in km/h → m/s."""
+    return node.number(positive=True, max=200) * KMH
+
+
+def parse_lot(node: YNode) -> LotSpec:
+    """Validate the ``lot`` mapping."""
+    f = node.fields(
+        required=["boundary", "aisles"],
+        optional=[
+            "speed_limit_kmh",
+            "rows",
+            "slots",
+            "walls",
+            "obstacles",
+            "no_go",
+            "speed_bumps",
+            "speed_zones",
+            "entrances",
+            "exits",
+            "occupied",
+            "paved",
+        ],
+    )
+
+    def each(key: str, parse, min_len: int = 0):  # type: ignore[no-untyped-def]
+        if key not in f:
+            return ()
+        return tuple(parse(n) for n in f[key].items(min_len=min_len, max_len=MAX_ITEMS))
+
+    areas = (
+        each("walls", lambda n: _area(n, "wall"))
+        + each("obstacles", lambda n: _area(n, "obstacle"))
+        + each("no_go", lambda n: _area(n, "no_go"))
+    )
+    spec = LotSpec(
+        boundary=_polygon(f["boundary"]),
+        aisles=each("aisles", _aisle, min_len=1),
+        rows=each("rows", _row),
+        slots=each("slots", _slot),
+        areas=areas,
+        speed_bumps=each("speed_bumps", _bump),
+        speed_zones=each("speed_zones", _zone),
+        entrances=each("entrances", _portal),
+        exits=each("exits", _portal),
+        occupancy=_occupancy(f["occupied"]) if "occupied" in f else OccupancySpec(),
+        speed_limit=speed(f["speed_limit_kmh"]) if "speed_limit_kmh" in f else 20 * KMH,
+        paved=_pavement(f["paved"]) if "paved" in f else None,
+        where=node.where,
+        boundary_where=f["boundary"].where,
+    )
+    _check_unique_ids(f, spec)
+    _check_size(f, spec)
+    return spec
+
+
+MAX_LOT_SIZE = 2000.0
+"""Longest side of the boundary's bounding box lotsim plans [m] (16 × the large lot)."""
+MAX_AISLE_LENGTH = 20_000.0
+"""Total length of the aisles' centrelines lotsim plans [m]."""
+MAX_SLOTS = 20_000
+"""Slots lotsim plans in one lot: 20 × the large lot, about 80 s and 300 MB to build."""
+
+
+def _check_size(f: dict[str, YNode], spec: LotSpec) -> None:
+    """Refuse lots too big to build and plan on one machine in reasonable time, with the
+    first value that crosses a limit (the limits are measured, see docs/scenario.md)."""
+    xs, ys = zip(*spec.boundary, strict=True)
+    size = max(max(xs) - min(xs), max(ys) - min(ys))
+    if size > MAX_LOT_SIZE:
+        raise f["boundary"].error(f"the lot is {size:,.0f} m across; lotsim plans lots of at "
+                                  f"most {MAX_LOT_SIZE:,.0f} m (is the unit metres?)")
+    total = 0.0
+    for a in spec.aisles:
+        total += sum(math.dist(p, q) for p, q in itertools.pairwise(a.centerline))
+        if total > MAX_AISLE_LENGTH:
+            raise ScenarioError(a.where, f"the aisles are {total:,.0f} m long up to here; lotsim "
+                                f"plans lots with at most {MAX_AISLE_LENGTH:,.0f} m of aisle")
+    slots = len(spec.slots)
+    for r in spec.rows:
+        slots += r.count
+        if slots > MAX_SLOTS:
+            raise ScenarioError(r.where, f"the lot has {slots:,} slots up to this row; lotsim "
+                                f"plans lots of at most {MAX_SLOTS:,} slots")
+
+
+def _check_unique_ids(f: dict[str, YNode], spec: LotSpec) -> None:
+    for key, items in (("aisles", spec.aisles), ("entrances", spec.entrances),
+                       ("exits", spec.exits)):
+        seen: set[str] = set()
+        for item in items:
+            if item.id in seen:
+                raise ScenarioError(item.where, f"{key[:-1]} id {item.id!r} is used twice")
+            seen.add(item.id)
+
+
+def _aisle(node: YNode) -> AisleSpec:
+    f = node.fields(
+        required=["id", "centerline", "width"], optional=["direction", "bend_radius"]
+    )
+    line = f["centerline"].points(min_len=2)
+    for i in range(1, len(line)):
+        if math.dist(line[i - 1], line[i]) < 1e-6:
+            raise f["centerline"].items()[i].error("expected a point apart from the one before")
+    direction = (
+        f["direction"].string(choices=["two-way", "one-way"]) if "direction" in f else "two-way"
+    )
+    return AisleSpec(
+        id=f["id"].ident(),
+        centerline=line,
+        width=f["width"].number(positive=True, max=100),
+        one_way=direction == "one-way",
+        bend_radius=f["bend_radius"].number(positive=True) if "bend_radius" in f else None,
+        where=node.where,
+    )
+
+
+def _kind_angle(f: dict[str, YNode], node: YNode) -> float:
+    """The slot angle [rad]: fixed by the ``kind`` (:attr:`SlotKind.fixed_angle`), or given
+    as ``angle_deg`` for a kind that does not fix it (angled)."""
+    kind = KINDS[f["kind"].string(choices=SLOT_KINDS)]
+    if kind.fixed_angle is None:
+        if "angle_deg" not in f:
+            raise node.error(f"missing key 'angle_deg': an {kind.name} slot needs its angle "
+                             f"(0 to 90)")
+        return math.radians(
+            f["angle_deg"].number(min=0, max=90, open_min=True, open_max=True)
+        )
+    if "angle_deg" in f:
+        raise f["angle_deg"].error(
+            f"angle_deg applies to angled slots only; a {kind.name} slot's angle is fixed"
+        )
+    return kind.fixed_angle
+
+
+def _row(node: YNode) -> RowSpec:
+    f = node.fields(
+        required=["aisle", "side", "kind", "count", "slot_width", "slot_length", "start"],
+        optional=["angle_deg", "gap", "id_prefix", "first_number"],
+    )
+    angle = _kind_angle(f, node)
+    return RowSpec(
+        aisle=f["aisle"].ident(),
+        side=f["side"].string(choices=SIDES),
+        kind=f["kind"].string(),
+        angle=angle,
+        count=f["count"].integer(min=1, max=MAX_ITEMS),
+        slot_width=f["slot_width"].number(positive=True, max=50),
+        slot_length=f["slot_length"].number(positive=True, max=50),
+        start=f["start"].number(min=0),
+        gap=f["gap"].number(min=0) if "gap" in f else 0.0,
+        id_prefix=f["id_prefix"].string(max_len=40) if "id_prefix" in f else "",
+        first_number=f["first_number"].integer(min=0) if "first_number" in f else 1,
+        where=node.where,
+        angle_where=f["angle_deg"].where if "angle_deg" in f else None,
+    )
+
+
+def _slot(node: YNode) -> SlotSpec:
+    f = node.fields(
+        required=["id", "kind", "width", "length"],
+        optional=["angle_deg", "aisle", "side", "at", "center", "heading_deg"],
+    )
+    along = [k for k in ("aisle", "side", "at") if k in f]
+    free = [k for k in ("center", "heading_deg") if k in f]
+    if along and free:
+        raise f[free[0]].error(
+            "a slot is placed either along an aisle (aisle, side, at) "
+            "or on its own (center, heading_deg), not both"
+        )
+    wanted = ("aisle", "side", "at") if along or not free else ("center", "heading_deg")
+    missing = [k for k in wanted if k not in f]
+    if missing:
+        raise node.error(f"missing key {missing[0]!r}; a slot needs {', '.join(wanted)}")
+    angle = _kind_angle(f, node)
+    common = dict(
+        id=f["id"].ident(),
+        kind=f["kind"].string(),
+        width=f["width"].number(positive=True, max=50),
+        length=f["length"].number(positive=True, max=50),
+        angle=angle,
+        where=node.where,
+    )
+    if along:
+        return SlotSpec(
+            **common,
+            aisle=f["aisle"].ident(),
+            side=f["side"].string(choices=SIDES),
+            at=f["at"].number(min=0),
+        )
+    return SlotSpec(
+        **common,
+        center=f["center"].point(),
+        heading=math.radians(f["heading_deg"].number(min=-360, max=360)),
+    )
+
+
+def _area(node: YNode, kind: str) -> AreaSpec:
+    f = node.fields(required=["polygon"], optional=["id"])
+    ident = f["id"].ident() if "id" in f else f"{kind}@{node.where.line}"
+    return AreaSpec(id=ident, kind=kind, polygon=_polygon(f["polygon"]), where=node.where)
+
+
+def _pavement(node: YNode) -> PavementSpec:
+    f = node.fields(optional=["aisles", "corner_radius", "areas"])
+    areas = tuple(_area(n, "paved") for n in f["areas"].items(max_len=MAX_ITEMS)) \
+        if "areas" in f else ()
+    aisles = f["aisles"].boolean() if "aisles" in f else True
+    if not aisles and not areas:
+        raise node.error("expected paved areas when the aisles are not paved "
+                         "(aisles: false): list them under areas")
+    return PavementSpec(
+        aisles=aisles,
+        corner_radius=f["corner_radius"].number(min=0, max=50) if "corner_radius" in f else 3.0,
+        areas=areas, where=node.where)
+
+
+def _bump(node: YNode) -> SpeedBumpSpec:
+    f = node.fields(required=["line"], optional=["id", "limit_kmh", "reach"])
+    line = f["line"].points(min_len=2)
+    return SpeedBumpSpec(
+        id=f["id"].ident() if "id" in f else f"bump@{node.where.line}",
+        line=line,
+        limit=speed(f["limit_kmh"]) if "limit_kmh" in f else 10 * KMH,
+        reach=f["reach"].number(min=0, max=100) if "reach" in f else 5.0,
+        where=node.where,
+    )
+
+
+def _zone(node: YNode) -> SpeedZoneSpec:
+    f = node.fields(required=["polygon", "limit_kmh"], optional=["id"])
+    return SpeedZoneSpec(
+        id=f["id"].ident() if "id" in f else f"zone@{node.where.line}",
+        polygon=_polygon(f["polygon"]),
+        limit=speed(f["limit_kmh"]),
+        where=node.where,
+    )
+
+
+def _portal(node: YNode) -> PortalSpec:
+    f = node.fields(required=["id", "x", "y", "heading_deg"])
+    return PortalSpec(
+        id=f["id"].ident(),
+        pose=(
+            f["x"].number(),
+            f["y"].number(),
+            math.radians(f["heading_deg"].number(min=-360, max=360)),
+        ),
+        where=node.where,
+    )
+
+
+def _occupancy(node: YNode) -> OccupancySpec:
+    if node.is_sequence:
+        items = node.items(max_len=MAX_ITEMS)
+        ids = tuple(n.ident() for n in items)
+        return OccupancySpec(ids=ids, where=node.where, id_where=tuple(n.where for n in items))
+    f = node.fields(required=["fraction"], optional=["seed", "min_free"])
+    return OccupancySpec(
+        fraction=f["fraction"].number(min=0, max=1),
+        seed=f["seed"].integer(min=0, max=2**63 - 1) if "seed" in f else 0,
+        min_free=f["min_free"].integer(min=0) if "min_free" in f else 1,
+        where=node.where,
+    )
