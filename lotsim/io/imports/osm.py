@@ -402,7 +402,9 @@ class _Drawn:
                          boundary=[],
                          aisles=[AisleDraft(c.id, c.pts, c.width, c.one_way, _aisle_note(c))
                                  for c in chains],
-                         slots=[s for s, _ in spaces], obstacles=obstacles, no_go=no_go)
+                         slots=[s for s, _ in spaces], obstacles=obstacles, no_go=no_go,
+                         paved=[AreaDraft("lot", _ring(lot.exterior),
+                                          note=f"the lot's outline ({kind} {oid})")])
         _set_gates(draft, gates)
         return cls(chains, gates, real_gates, spaces, bays, draft, notes)
 
