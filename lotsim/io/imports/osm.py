@@ -317,7 +317,7 @@ def _import_lot(kind: str, oid: int, tags: dict[str, str], data: OsmData, index:
         return ImportedLot(lid, 0.0, capacity=capacity, reason=outline)
     outer, inners = outline
     frame = _frame_at_centroid(data, outer)
-    near = _Near(data, index, frame, outer)
+    near = _Near(data, index, frame, outer, inners)
     lot = Polygon(near.xy_of(outer), [near.xy_of(r) for r in inners])
     if not lot.is_valid or lot.area <= 1.0:
         why = shapely.is_valid_reason(lot) if not lot.is_valid else "it has no area"
@@ -472,7 +472,9 @@ def _outline(kind: str, oid: int, data: OsmData) -> tuple[list[int], list[list[i
         rings = outers + inners
     missing = sorted({n for r in rings for n in r if n not in data.nodes})
     if missing:
-        return (f"clipped by the extract: {len(missing)} of its nodes are not in the file "
+        total = len({n for r in rings for n in r})
+        return (f"clipped by the extract: {len(missing)} of its {total} nodes "
+                f"{'is' if len(missing) == 1 else 'are'} not in the file "
                 f"(node {missing[0]}{', ...' if len(missing) > 1 else ''})")
     return outers[0], inners
 
@@ -489,7 +491,8 @@ def _frame_at_centroid(data: OsmData, ring: list[int]) -> LocalFrame:
 class _Near:
     """What lies near one lot, in its local metres."""
 
-    def __init__(self, data: OsmData, index: _Index, frame: LocalFrame, ring: list[int]):
+    def __init__(self, data: OsmData, index: _Index, frame: LocalFrame, ring: list[int],
+                 inners: list[list[int]]):
         self.data, self.index, self.frame = data, index, frame
         lat = [data.nodes[n][0] for n in ring]
         lon = [data.nodes[n][1] for n in ring]
@@ -498,7 +501,7 @@ class _Near:
         self.box = (min(lat) - dlat, min(lon) - dlon, max(lat) + dlat, max(lon) + dlon)
         self.aisles = [(wid, w) for wid, w, box in index.aisles if self._near(box)]
         self.roads = {wid: w for wid, (w, box) in index.roads.items() if self._near(box)}
-        nodes = set(ring)
+        nodes = set(ring).union(*inners)
         for _, w in self.aisles:
             nodes.update(w.refs)
         for w in self.roads.values():
