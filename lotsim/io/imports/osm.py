@@ -38,7 +38,7 @@ from pathlib import Path
 
 import numpy as np
 import shapely
-from shapely.geometry import LineString, MultiPolygon, Polygon
+from shapely.geometry import LineString, MultiPolygon, Point, Polygon
 from shapely.ops import unary_union
 
 from lotsim.core.atomic import atomic_write
@@ -376,7 +376,8 @@ class _Drawn:
         design = DesignVehicle.envelope([CATALOGUE[DEFAULT_VEHICLE]])
         rules = AisleRules(least_two_way=2 * (design.width + 2 * LANE_CLEARANCE),
                            least_one_way=design.width + 2 * LANE_CLEARANCE)
-        vertices, edges = clip_network(near.aisles, near.xy, lot.buffer(CLIP_GROW), rules,
+        ways = sorted(near.aisles + near.driveways(lot))
+        vertices, edges = clip_network(ways, near.xy, lot.buffer(CLIP_GROW), rules,
                                        near.index.road_nodes, notes)
         edges = merge_short_legs(vertices, edges)
         chains = tidy_chains(build_chains(vertices, edges), vertices)
@@ -523,6 +524,14 @@ class _Near:
 
     def xy_of(self, refs) -> list[tuple[float, float]]:
         return [self.xy[n] for n in refs]
+
+    def driveways(self, lot: Polygon) -> list:
+        """The service roads that meet an aisle inside the lot: the lot's driveways, driven
+        as aisles up to where they leave it."""
+        inside = {n for _, w in self.aisles for n in w.refs
+                  if n in self.xy and lot.covers(Point(self.xy[n]))}
+        return [(wid, w) for wid, w in sorted(self.roads.items())
+                if w.tags.get("highway") == "service" and inside.intersection(w.refs)]
 
     def road_lines(self) -> dict[int, LineString]:
         out = {}

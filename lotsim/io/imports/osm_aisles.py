@@ -595,13 +595,13 @@ def assumed_gate(chains: list[Chain], lot: Polygon) -> list[Gate]:
     for c in chains:
         for k in c.keys:
             shared[k] = shared.get(k, 0) + 1
-    ends = sorted((lot.exterior.distance(Point(c.pts[end])), i, end)
+    ends = sorted((round(lot.exterior.distance(Point(c.pts[end])), 3), i, -end, end)
                   for i, c in enumerate(chains) for end in (0, -1)
                   if shared[c.keys[end]] == 1 and not (c.one_way and end == -1))
     if not ends:  # every end joins another aisle: a ring
         c = chains[0]
         return [_gate(c, 0, None, f"assumed gate on aisle {c.id}: no road reaches the lot")]
-    _, i, end = ends[0]
+    _, i, _, end = ends[0]
     c = chains[i]
     return [_gate(c, end, None, f"assumed gate at the end of aisle {c.id} nearest the lot's "
                   "edge: no road reaches an aisle there")]

@@ -36,7 +36,8 @@ TOL = 0.02  # the hand-laid lots' nodes are written to 10⁻⁷ degree, about a 
 # the hand-laid lots, in the metres of their scenario (origin at the outer ring's centroid)
 BOXES = {"way-100": box(-20, -10, 20, 10), "way-110": box(-25, -10, 25, 10),
          "way-120": box(-25, -10, 25, 10), "relation-1": box(-30, -15, 30, 15),
-         "way-170": box(-15, -10, 15, 10), "way-180": box(-30, -20, 30, 20)}
+         "way-170": box(-15, -10, 15, 10), "way-180": box(-30, -20, 30, 20),
+         "way-195": box(-20, -10, 20, 10)}
 ISLAND = box(-5, -13, 5, -7)  # relation 1's inner ring
 BUILDING = box(15, 7, 25, 13)  # in relation 1
 # the lots of test.osm.pbf with a parking aisle in or at them (read off the map by hand)
@@ -109,7 +110,7 @@ def test_the_report_lists_every_lot_in_the_order_of_ids_and_why(hand):
     report, lots, out = hand
     assert [lot.id for lot in report.lots] == [
         "node/1500", "way/100", "way/110", "way/120", "way/140", "way/160", "way/170",
-        "way/180", "way/190", "relation/1"]
+        "way/180", "way/190", "way/195", "relation/1"]
     assert lots["node/1500"].reason.startswith("a point")
     assert lots["way/140"].reason.startswith("clipped by the extract")
     assert "99999" in lots["way/140"].reason
@@ -118,7 +119,7 @@ def test_the_report_lists_every_lot_in_the_order_of_ids_and_why(hand):
     written = sorted(p.name for p in out.glob("*.yaml"))
     assert written == sorted(f"{k}.yaml" for k in BOXES)
     assert all(not lots[k].written for k in ("node/1500", "way/140", "way/160", "way/190"))
-    assert report.text().splitlines()[-1] == "6 of 10 lots written"
+    assert report.text().splitlines()[-1] == "7 of 11 lots written"
 
 
 def test_every_written_lot_builds_and_its_gates_stand_on_their_lanes(hand):
@@ -235,6 +236,16 @@ def test_an_aisle_that_stops_short_of_another_ends_on_its_centre_line(hand):
         if s.aisle == main.id:
             lo, hi = np.min(s.entry[:, 0]), np.max(s.entry[:, 0])
             assert hi <= x - 3.5 - 2.5 + TOL or lo >= x + 3.5 + 2.5 - TOL
+
+
+def test_a_lot_no_road_reaches_is_written_with_an_assumed_gate_and_says_so(hand):
+    _, lots, out = hand
+    n = lots["way/195"]
+    assert n.written and n.gates == 0 and n.reason.startswith("no gate")
+    _, lot = _built(out / "way-195.yaml")
+    (entrance,) = lot.entrances
+    # at the west end of the aisle (x = -17 here), 5 m in, on the eastbound lane
+    assert entrance.pose == pytest.approx((-12, -1.75, 0.0), abs=TOL)
 
 
 # -- choosing lots, determinism, XML and PBF ---------------------------------------------------
