@@ -33,12 +33,12 @@ import os
 import re
 import textwrap
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 import shapely
-from shapely.geometry import LineString, MultiPolygon, Point, Polygon
+from shapely.geometry import MultiPolygon, Polygon
 from shapely.ops import unary_union
 
 from lotsim.core.atomic import atomic_write
@@ -51,13 +51,8 @@ from lotsim.io.imports.osm_aisles import (
     TWO_WAY_WIDTH,
     AisleRules,
     Chain,
-    Gate,
-    aisle_ways,
-    assumed_gate,
     build_chains,
     clip_network,
-    find_gates,
-    is_road,
     join_ends,
     junctions,
     merge_short_legs,
@@ -65,7 +60,15 @@ from lotsim.io.imports.osm_aisles import (
     split_chains,
     tidy_chains,
 )
-from lotsim.io.imports.osm_read import E7, OsmData, read_osm
+from lotsim.io.imports.osm_gates import Gate, assumed_gate, find_gates
+from lotsim.io.imports.osm_near import (
+    MapIndex,
+    NearLot,
+    frame_at_centroid,
+    lot_outline,
+    ring_points,
+)
+from lotsim.io.imports.osm_read import OsmData, read_osm
 from lotsim.io.imports.osm_slots import (
     BAY_LENGTH,
     BAY_WIDTH,
@@ -84,18 +87,10 @@ NO_AISLE = "no parking aisle mapped; lotsim layout will lay such lots out"
 """Why a lot without aisles is not written."""
 STREAM_MAX = 20
 """The default stream brings at most this many cars."""
-NEAR = 150.0
-"""Ways this close to a lot [m] are read for it: aisles and roads its gates may use."""
 SIMPLIFY_BOUNDARY = 0.1
 """The boundary is grown by this much and simplified within it [m]."""
 ATTRIBUTION = ("Map data © OpenStreetMap contributors, ODbL 1.0: "
                "https://www.openstreetmap.org/copyright")
-
-GREEN_LANDUSE = frozenset({"grass", "meadow", "flowerbed", "forest", "village_green",
-                           "orchard", "allotments", "plant_nursery", "vineyard", "farmland"})
-"""``landuse`` values that are not driven on: no-go zones inside a lot."""
-GREEN_LEISURE = frozenset({"park", "garden", "playground", "pitch"})
-"""``leisure`` values that are not driven on."""
 
 _ID = re.compile(r"(node|way|relation)[/ ]?(\d+)|([nwr])(\d+)|(\d+)")
 _KINDS = {"n": "node", "w": "way", "r": "relation"}
@@ -162,7 +157,7 @@ point, not an area: lotsim needs the lot's outline)
         out.mkdir(parents=True, exist_ok=True)
     except OSError as exc:
         raise LotsimError(f"{out}: cannot make the output folder: {exc.strerror}") from None
-    index = _Index.of(data)
+    index = MapIndex.of(data)
     results = []
     for kind, oid, tags in found:
         lot = _import_lot(kind, oid, tags, data, index, out, Path(source).name)
@@ -213,111 +208,17 @@ def _parking(data: OsmData):
             yield "relation", rid, rel.tags
 
 
-# -- what is near a lot -----------------------------------------------------------------------
-@dataclass
-class _Index:
-    """The file's ways that matter to lots, each with its extent (:func:`_box`)."""
-
-    data: OsmData
-    aisles: list = field(default_factory=list)  # (way id, way, box)
-    roads: dict = field(default_factory=dict)  # way id -> (way, box)
-    road_nodes: dict = field(default_factory=dict)  # node id -> road way ids
-    features: list = field(default_factory=list)  # (kind, label, "way 5", rings, box)
-    spaces: list = field(default_factory=list)  # (way id, refs, box)
-
-    @classmethod
-    def of(cls, data: OsmData) -> _Index:
-        ix = cls(data)
-        ix.aisles = [(wid, w, _box(data, w.refs)) for wid, w in aisle_ways(data)]
-        for wid, way in sorted(data.ways.items()):
-            tags = way.tags
-            if is_road(tags):
-                ix.roads[wid] = (way, _box(data, way.refs))
-                for n in way.refs:
-                    ix.road_nodes.setdefault(n, []).append(wid)
-            elif tags.get("amenity") == "parking_space" and _closed(way.refs):
-                ix.spaces.append((wid, way.refs, _box(data, way.refs)))
-            elif (what := _feature(tags)) and _closed(way.refs) \
-                    and tags.get("amenity") != "parking":
-                ix.features.append((*what, f"way {wid}", [way.refs], _box(data, way.refs)))
-        for rid, rel in sorted(data.relations.items()):
-            what = _feature(rel.tags)
-            if what and rel.tags.get("type") == "multipolygon" \
-                    and rel.tags.get("amenity") != "parking":
-                rings = _rings(data, rel.members, ("outer", ""))
-                if not isinstance(rings, str):
-                    ix.features.append((*what, f"relation {rid}", rings,
-                                        _box(data, [n for r in rings for n in r])))
-        return ix
-
-
-def _box(data: OsmData, refs) -> tuple[int, int, int, int] | None:
-    """The extent of the nodes ``refs`` (those in the file), in 10⁻⁷ degree."""
-    pts = [data.nodes[n] for n in refs if n in data.nodes]
-    if not pts:
-        return None
-    lat, lon = zip(*pts, strict=True)
-    return min(lat), min(lon), max(lat), max(lon)
-
-
-def _closed(refs) -> bool:
-    return len(refs) >= 4 and refs[0] == refs[-1]
-
-
-def _feature(tags: dict[str, str]) -> tuple[str, str] | None:
-    """What a mapped area inside a lot is to lotsim: ``obstacles`` or ``no_go``."""
-    if tags.get("building", "no") != "no":
-        return "obstacles", f"building={tags['building']}"
-    if "barrier" in tags:
-        return "obstacles", f"barrier={tags['barrier']}"
-    if tags.get("landuse") in GREEN_LANDUSE:
-        return "no_go", f"landuse={tags['landuse']}"
-    if "natural" in tags:
-        return "no_go", f"natural={tags['natural']}"
-    if tags.get("leisure") in GREEN_LEISURE:
-        return "no_go", f"leisure={tags['leisure']}"
-    return None
-
-
-def _rings(data: OsmData, members, roles) -> list[list[int]] | str:
-    """The closed rings the member ways of ``roles`` make, or why they make none."""
-    ways = []
-    for kind, ref, role in members:
-        if kind != "way" or role not in roles:
-            continue
-        if ref not in data.ways:
-            return f"clipped by the extract: member way {ref} is not in the file"
-        ways.append(list(data.ways[ref].refs))
-    rings = []
-    while ways:
-        ring = ways.pop(0)
-        while ring[0] != ring[-1]:
-            for i, w in enumerate(ways):
-                if w[0] == ring[-1]:
-                    ring += w[1:]
-                elif w[-1] == ring[-1]:
-                    ring += w[-2::-1]
-                else:
-                    continue
-                ways.pop(i)
-                break
-            else:
-                return "its member ways do not close into rings"
-        rings.append(ring)
-    return rings
-
-
 # -- one lot -----------------------------------------------------------------------------------
-def _import_lot(kind: str, oid: int, tags: dict[str, str], data: OsmData, index: _Index,
+def _import_lot(kind: str, oid: int, tags: dict[str, str], data: OsmData, index: MapIndex,
                 out: Path, source_name: str) -> ImportedLot:
     lid = f"{kind}/{oid}"
     capacity = _capacity(tags)
-    outline = _outline(kind, oid, data)
+    outline = lot_outline(kind, oid, data)
     if isinstance(outline, str):
         return ImportedLot(lid, 0.0, capacity=capacity, reason=outline)
     outer, inners = outline
-    frame = _frame_at_centroid(data, outer)
-    near = _Near(data, index, frame, outer, inners)
+    frame = frame_at_centroid(data, outer)
+    near = NearLot(data, index, frame, outer, inners)
     lot = Polygon(near.xy_of(outer), [near.xy_of(r) for r in inners])
     if not lot.is_valid or lot.area <= 1.0:
         why = shapely.is_valid_reason(lot) if not lot.is_valid else "it has no area"
@@ -368,7 +269,7 @@ class _Drawn:
     notes: list[str]
 
     @classmethod
-    def of(cls, lot: Polygon, near: _Near, kind: str, oid: int, tags: dict[str, str],
+    def of(cls, lot: Polygon, near: NearLot, kind: str, oid: int, tags: dict[str, str],
            splits: set[int]) -> _Drawn | None:
         """Draw the lot; ``splits``: vertices where aisles are cut in two. None when it has
         no aisle."""
@@ -394,7 +295,7 @@ class _Drawn:
             c.pts = [(round(x, 2), round(y, 2)) for x, y in c.pts]
         obstacles, no_go = near.areas(lot, chains, oid if kind == "way" else None)
         for i, ring in enumerate(lot.interiors):
-            no_go.append(AreaDraft(f"island{i + 1}", _ring(ring),
+            no_go.append(AreaDraft(f"island{i + 1}", ring_points(ring),
                                    note=f"inner ring {i + 1} of the lot"))
         blocked = [Polygon(a.polygon) for a in obstacles + no_go]
         spaces = mapped_slots(near.spaces(lot), chains, lot, blocked, notes)
@@ -404,7 +305,7 @@ class _Drawn:
                          aisles=[AisleDraft(c.id, c.pts, c.width, c.one_way, _aisle_note(c))
                                  for c in chains],
                          slots=[s for s, _ in spaces], obstacles=obstacles, no_go=no_go,
-                         paved=[AreaDraft("lot", _ring(lot.exterior),
+                         paved=[AreaDraft("lot", ring_points(lot.exterior),
                                           note=f"the lot's outline ({kind} {oid})")])
         _set_gates(draft, gates)
         return cls(chains, gates, real_gates, spaces, bays, draft, notes)
@@ -447,153 +348,6 @@ def _capacity(tags: dict[str, str]) -> int | None:
     return int(value) if value.isdigit() else None
 
 
-def _outline(kind: str, oid: int, data: OsmData) -> tuple[list[int], list[list[int]]] | str:
-    """The lot's outer ring and inner rings (node ids), or why it has none."""
-    if kind == "node":
-        return "a point, not an area: lotsim needs the lot's outline"
-    if kind == "way":
-        refs = list(data.ways[oid].refs)
-        if not _closed(refs):
-            return "an open way, not an area"
-        rings: list[list[int]] = [refs]
-        outers, inners = rings, []
-    else:
-        rel = data.relations[oid]
-        if rel.tags.get("type") != "multipolygon":
-            return f"a relation of type {rel.tags.get('type', '(none)')}, not a multipolygon"
-        outers = _rings(data, rel.members, ("outer", ""))
-        if isinstance(outers, str):
-            return outers
-        inners = _rings(data, rel.members, ("inner",))
-        if isinstance(inners, str):
-            return inners
-        if len(outers) != 1:
-            return (f"{len(outers)} outer rings: lotsim takes one lot per outline "
-                    "(map each as its own lot)")
-        rings = outers + inners
-    missing = sorted({n for r in rings for n in r if n not in data.nodes})
-    if missing:
-        total = len({n for r in rings for n in r})
-        return (f"clipped by the extract: {len(missing)} of its {total} nodes "
-                f"{'is' if len(missing) == 1 else 'are'} not in the file "
-                f"(node {missing[0]}{', ...' if len(missing) > 1 else ''})")
-    return outers[0], inners
-
-
-def _frame_at_centroid(data: OsmData, ring: list[int]) -> LocalFrame:
-    """The tangent plane at the centroid of the ring, to 10⁻⁷ degree."""
-    lat = np.array([data.nodes[n][0] for n in ring], dtype=float) / E7
-    lon = np.array([data.nodes[n][1] for n in ring], dtype=float) / E7
-    k = math.cos(math.radians(float(lat.mean())))
-    c = Polygon(np.column_stack([lon * k, lat])).centroid
-    return LocalFrame(round(c.y, 7), round(c.x / k, 7))
-
-
-class _Near:
-    """What lies near one lot, in its local metres."""
-
-    def __init__(self, data: OsmData, index: _Index, frame: LocalFrame, ring: list[int],
-                 inners: list[list[int]]):
-        self.data, self.index, self.frame = data, index, frame
-        lat = [data.nodes[n][0] for n in ring]
-        lon = [data.nodes[n][1] for n in ring]
-        dlat = NEAR / 111_000 * E7
-        dlon = dlat / max(0.05, math.cos(math.radians(sum(lat) / len(lat) / E7)))
-        self.box = (min(lat) - dlat, min(lon) - dlon, max(lat) + dlat, max(lon) + dlon)
-        self.aisles = [(wid, w) for wid, w, box in index.aisles if self._near(box)]
-        self.roads = {wid: w for wid, (w, box) in index.roads.items() if self._near(box)}
-        nodes = set(ring).union(*inners)
-        for _, w in self.aisles:
-            nodes.update(w.refs)
-        for w in self.roads.values():
-            nodes.update(w.refs)
-        self._features = [f[:4] for f in index.features if self._near(f[4])]
-        self._spaces = [(wid, refs) for wid, refs, box in index.spaces if self._near(box)]
-        for f in self._features:
-            nodes.update(n for r in f[3] for n in r)
-        for _, refs in self._spaces:
-            nodes.update(refs)
-        known = sorted(n for n in nodes if n in data.nodes)
-        lat_lon = np.array([data.nodes[n] for n in known], dtype=float).reshape(-1, 2) / E7
-        x, y = frame.to_local(lat_lon[:, 0], lat_lon[:, 1])
-        self.xy = {n: (float(a), float(b)) for n, a, b in zip(known, x, y, strict=True)}
-
-    def _near(self, b) -> bool:
-        return b is not None and not (b[2] < self.box[0] or b[0] > self.box[2]
-                                      or b[3] < self.box[1] or b[1] > self.box[3])
-
-    def xy_of(self, refs) -> list[tuple[float, float]]:
-        return [self.xy[n] for n in refs]
-
-    def driveways(self, lot: Polygon) -> list:
-        """The service roads that meet an aisle inside the lot: the lot's driveways, driven
-        as aisles up to where they leave it."""
-        inside = {n for _, w in self.aisles for n in w.refs
-                  if n in self.xy and lot.covers(Point(self.xy[n]))}
-        return [(wid, w) for wid, w in sorted(self.roads.items())
-                if w.tags.get("highway") == "service" and inside.intersection(w.refs)]
-
-    def road_lines(self) -> dict[int, LineString]:
-        out = {}
-        for wid, w in self.roads.items():
-            pts = [self.xy[n] for n in w.refs if n in self.xy]
-            if len(pts) >= 2:
-                out[wid] = LineString(pts)
-        return out
-
-    def road_name(self, wid: int) -> str:
-        tags = self.roads[wid].tags if wid in self.roads else self.data.ways[wid].tags
-        name = f" {tags['name']!r}" if "name" in tags else ""
-        return f"highway={tags.get('highway')} way {wid}{name}"
-
-    def spaces(self, lot: Polygon) -> list[tuple[int, Polygon]]:
-        out = []
-        for wid, refs in self._spaces:
-            if all(n in self.xy for n in refs):
-                poly = Polygon(self.xy_of(refs))
-                if poly.is_valid and lot.buffer(1.0).contains(poly.centroid):
-                    out.append((wid, poly))
-        return out
-
-    def areas(self, lot: Polygon, chains: list[Chain], own: int | None
-              ) -> tuple[list[AreaDraft], list[AreaDraft]]:
-        """Mapped areas inside the lot that are not driven on: obstacles and no-go zones,
-        clipped to the lot, less the aisles."""
-        aisles = unary_union([c.polygon for c in chains]).buffer(0.1)
-        out: dict[str, list[AreaDraft]] = {"obstacles": [], "no_go": []}
-        for kind, label, name, rings in self._features:
-            if name == f"way {own}":
-                continue
-            for ring in rings:
-                if not all(n in self.xy for n in ring):
-                    continue
-                poly = Polygon(self.xy_of(ring))
-                if not poly.is_valid:
-                    poly = poly.buffer(0)
-                inside = poly.intersection(lot)
-                if inside.area < 0.5 or inside.area > 0.5 * lot.area:
-                    continue  # next to the lot, or the land the lot lies in
-                pieces = _polygons(inside.difference(aisles))
-                pieces = [p for p in pieces if p.area >= 0.5]
-                for j, p in enumerate(pieces):
-                    ident = name.replace(" ", "") + (f"-{j + 1}" if len(pieces) > 1 else "")
-                    out[kind].append(AreaDraft(ident, _ring(p.exterior),
-                                               note=f"{label} ({name})"))
-        return out["obstacles"], out["no_go"]
-
-
-def _polygons(geom) -> list[Polygon]:
-    if isinstance(geom, Polygon):
-        return [geom] if not geom.is_empty else []
-    return [g for g in getattr(geom, "geoms", []) if isinstance(g, Polygon) and not g.is_empty]
-
-
-def _ring(ring) -> list[tuple[float, float]]:
-    """A ring's points, rounded to the centimetre, without the closing repeat."""
-    pts = [(round(x, 2), round(y, 2)) for x, y in list(ring.coords)[:-1]]
-    return [p for i, p in enumerate(pts) if p != pts[i - 1]]
-
-
 # -- the draft -------------------------------------------------------------------------------
 def _set_gates(draft: LotDraft, gates: list[Gate]) -> None:
     for i, g in enumerate(gates, start=1):
@@ -623,10 +377,10 @@ def _boundary(lot: Polygon, chains: list[Chain], held: list[Polygon]
     grown = outline.buffer(SIMPLIFY_BOUNDARY, join_style="mitre").simplify(SIMPLIFY_BOUNDARY)
     if isinstance(grown, Polygon) and grown.is_valid and grown.covers(outline):
         outline = grown
-    pts = _ring(outline.exterior)
+    pts = ring_points(outline.exterior)
     rounded = Polygon(pts)
     if not rounded.is_valid or not rounded.buffer(0.01).covers(whole):
-        pts = _ring(outline.buffer(0.02, join_style="mitre").exterior)
+        pts = ring_points(outline.buffer(0.02, join_style="mitre").exterior)
     return pts
 
 

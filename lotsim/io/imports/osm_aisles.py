@@ -1,28 +1,23 @@
-"""The parking aisles of an OpenStreetMap lot, and its gates.
+"""The parking aisles of an OpenStreetMap lot.
 
 Aisles are the ``highway=service`` + ``service=parking_aisle`` ways that lie in the lot or
-meet it, cut where they leave the lot grown by :data:`CLIP_GROW`. Their pieces become
-lotsim aisles (:class:`Chain`): legs shorter than :data:`MIN_LEG` are merged into their
-neighbours, pieces that share a node and run on (same width and direction, turning less
-than :data:`MAX_CORNER`) are joined into one polyline, and at a node where several meet
-the straightest pair runs through (turning less than :data:`THROUGH_TURN`) and the others
-end on its centre line (lotsim's junction rule, ``docs/scenario.md``, "How aisles join").
-An aisle end that stops short of, or overshoots, another aisle's centre line by less than
-half that aisle's width plus 1 m is moved onto it. Centre lines are simplified within
-:data:`SIMPLIFY_TOLERANCE`.
-
-A gate (:class:`Gate`) is an aisle end at the lot's edge that a road reaches: the aisle
-way goes on outside the lot to a node of a road, or shares its end node with a road, or
-ends within :data:`GATE_EDGE` of the lot's edge with a road passing or ending within
-:data:`GATE_ROAD` of it outside the lot. Roads are ``highway`` ways that cars drive
-(:data:`CAR_ROADS`).
+meet it (and the lot's driveways, :meth:`.osm_near.NearLot.driveways`), cut where they leave
+the lot grown by :data:`CLIP_GROW`. Their pieces become lotsim aisles (:class:`Chain`): legs
+shorter than :data:`MIN_LEG` are merged into their neighbours, pieces that share a node and
+run on (same width and direction, turning less than :data:`MAX_CORNER`) are joined into one
+polyline, and at a node where several meet the straightest pair runs through (turning less
+than :data:`THROUGH_TURN`) and the others end on its centre line (lotsim's junction rule,
+``docs/scenario.md``, "How aisles join"). An aisle end that stops short of, or overshoots,
+another aisle's centre line by less than half that aisle's width plus 1 m is moved onto it.
+Centre lines are simplified within :data:`SIMPLIFY_TOLERANCE`. Where lotsim finds an aisle's
+bends too tight for its legs, the importer cuts it at its sharpest corner into two aisles
+meeting in an L (:func:`split_chains`). The lot's gates are :mod:`.osm_gates`'.
 """
 
 from __future__ import annotations
 
 import math
 import re
-from collections.abc import Callable
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -50,24 +45,10 @@ THROUGH_TURN = math.radians(45)
 """Where several pieces meet, two that turn less than this run through as one aisle."""
 JOIN_REACH = 1.0
 """An aisle end within half another's width plus this [m] of its centre line joins it."""
-GATE_EDGE = 4.0
-"""A gate's aisle end lies within this distance of the lot's edge [m]."""
-GATE_ROAD = 5.0
-"""A road passing or ending within this distance of an aisle end makes it a gate [m]."""
-GATE_DEPTH = 5.0
-"""Entrances and exits stand this far in from the aisle's end [m]: a car (the valet car is
-4.9 m long) standing there is wholly inside the lot."""
 ROAD_SEARCH = 100.0
 """How far an aisle way is followed outside the lot to a road [m]."""
 MIN_AISLE = 3.0
 """A piece of aisle shorter than this that joins no other is dropped [m]."""
-
-CAR_ROADS = frozenset({
-    "motorway", "trunk", "primary", "secondary", "tertiary", "motorway_link", "trunk_link",
-    "primary_link", "secondary_link", "tertiary_link", "unclassified", "residential",
-    "living_street", "service", "road", "track"})
-"""``highway`` values of the roads cars come from (footways, cycleways, paths and steps
-are not)."""
 
 _WIDTH = re.compile(r"\s*(\d+(?:[.,]\d+)?)\s*(m|metres|meters)?\s*")
 _FEET = re.compile(r"\s*(\d+)\s*'\s*(?:(\d+)\s*\")?\s*")
@@ -76,11 +57,6 @@ _FEET = re.compile(r"\s*(\d+)\s*'\s*(?:(\d+)\s*\")?\s*")
 def is_aisle(tags: dict[str, str]) -> bool:
     """A ``service=parking_aisle`` way."""
     return tags.get("highway") == "service" and tags.get("service") == "parking_aisle"
-
-
-def is_road(tags: dict[str, str]) -> bool:
-    """A road cars drive on, other than a parking aisle."""
-    return tags.get("highway") in CAR_ROADS and not is_aisle(tags)
 
 
 def width_tag(value: str | None) -> float | None:
@@ -170,19 +146,6 @@ class Chain:
     def polygon(self) -> Polygon:
         """What lotsim builds as the aisle's surface."""
         return self.line.buffer(self.width / 2, cap_style="flat", join_style="round")
-
-
-@dataclass
-class Gate:
-    """An aisle end where cars come in or leave: ``end`` 0 (the aisle's first point) or -1;
-    ``road`` the road way that reaches it (None for an assumed gate)."""
-
-    chain: Chain
-    end: int
-    road: int | None
-    entrance: tuple[float, float, float] | None
-    exit: tuple[float, float, float] | None
-    note: str
 
 
 # -- the network ------------------------------------------------------------------------------
@@ -404,7 +367,8 @@ def build_chains(vertices: dict[int, Vertex], edges: list[Edge]) -> list[Chain]:
                     legs.insert(0, nxt)
             if closed:
                 break
-        sequences += _split_loops(keys, legs)
+        for piece in _split_loops(keys, legs):
+            sequences += _simple(*piece, vertices)
     chains = []
     for keys, legs in sequences:
         e0 = edges[legs[0]]
@@ -425,6 +389,16 @@ def _split_loops(keys: list[int], legs: list[int]) -> list[tuple[list[int], list
                 return (_split_loops(keys[: mid + 1], legs[:mid])
                         + _split_loops(keys[mid:], legs[mid:]))
     return [(keys, legs)] if len(keys) >= 2 else []
+
+
+def _simple(keys: list[int], legs: list[int], vertices: dict[int, Vertex]
+            ) -> list[tuple[list[int], list[int]]]:
+    """A sequence whose polyline crosses itself is cut in the middle until it does not."""
+    if len(keys) <= 2 or LineString([vertices[k].xy for k in keys]).is_simple:
+        return [(keys, legs)]
+    mid = len(keys) // 2
+    return _simple(keys[: mid + 1], legs[:mid], vertices) + _simple(keys[mid:], legs[mid:],
+                                                                    vertices)
 
 
 def tidy_chains(chains: list[Chain], vertices: dict[int, Vertex]) -> list[Chain]:
@@ -546,112 +520,13 @@ def junctions(chains: list[Chain]) -> dict[str, list[tuple[float, float]]]:
     return {k: sorted(v) for k, v in out.items()}
 
 
-# -- gates ------------------------------------------------------------------------------------
-def find_gates(chains: list[Chain], vertices: dict[int, Vertex], lot: Polygon,
-               road_lines: dict[int, LineString], road_name: Callable[[int], str]
-               ) -> list[Gate]:
-    """The aisle ends a road reaches at the lot's edge, extended to the edge when they stop
-    short of it, each with its entrance and exit."""
-    shared: dict[int, int] = {}
+def end_counts(chains: list[Chain]) -> dict[int, int]:
+    """How many aisles pass through or end at each vertex."""
+    count: dict[int, int] = {}
     for c in chains:
         for k in c.keys:
-            shared[k] = shared.get(k, 0) + 1
-    edge = lot.exterior
-    gates = []
-    for c in chains:
-        for end in (0, -1):
-            k = c.keys[end]
-            if shared[k] > 1:
-                continue
-            p = Point(c.pts[end])
-            inside = lot.contains(p)
-            near_edge = not inside or edge.distance(p) <= GATE_EDGE
-            if not near_edge:
-                continue
-            roads = sorted(vertices[k].roads) if k in vertices else []
-            how = "shares its node with" if roads and not vertices[k].cut else \
-                "goes on outside the lot to" if roads else ""
-            if not roads:
-                outside = [(line.difference(lot).distance(p), rid)
-                           for rid, line in road_lines.items()]
-                outside = [(d, rid) for d, rid in outside if d <= GATE_ROAD]
-                if outside:
-                    roads = [min(outside)[1]]
-                    how = f"ends {min(outside)[0]:.1f} m from"
-            if not roads:
-                continue
-            if inside:
-                _extend_to_edge(c, end, lot)
-            road = roads[0]
-            gates.append(_gate(c, end, road, f"gate: aisle {c.id} (way "
-                               f"{_way_list(c.ways)}) {how} {road_name(road)}"))
-    return gates
-
-
-def assumed_gate(chains: list[Chain], lot: Polygon) -> list[Gate]:
-    """For a lot no road reaches: an entrance (and exit) at the free aisle end nearest the
-    lot's edge, so that the scenario runs; the user should move it where cars come in."""
-    shared: dict[int, int] = {}
-    for c in chains:
-        for k in c.keys:
-            shared[k] = shared.get(k, 0) + 1
-    ends = sorted((round(lot.exterior.distance(Point(c.pts[end])), 3), i, -end, end)
-                  for i, c in enumerate(chains) for end in (0, -1)
-                  if shared[c.keys[end]] == 1 and not (c.one_way and end == -1))
-    if not ends:  # every end joins another aisle: a ring
-        c = chains[0]
-        return [_gate(c, 0, None, f"assumed gate on aisle {c.id}: no road reaches the lot")]
-    _, i, _, end = ends[0]
-    c = chains[i]
-    return [_gate(c, end, None, f"assumed gate at the end of aisle {c.id} nearest the lot's "
-                  "edge: no road reaches an aisle there")]
-
-
-def _way_list(ways: list[int]) -> str:
-    return ", ".join(str(w) for w in ways)
-
-
-def _extend_to_edge(c: Chain, end: int, lot: Polygon) -> None:
-    """Lengthen the aisle's last leg to 0.5 m past the lot's edge."""
-    p = np.asarray(c.pts[end])
-    prev = np.asarray(c.pts[1 if end == 0 else -2])
-    d = (p - prev) / np.hypot(*(p - prev))
-    ray = LineString([p, p + d * (GATE_EDGE + 1.0)])
-    hit = ray.intersection(lot.exterior)
-    if hit.is_empty:
-        return
-    t = min(Point(p).distance(g) for g in getattr(hit, "geoms", [hit]))
-    new = p + d * (t + 0.5)
-    c.pts[end] = (float(new[0]), float(new[1]))
-
-
-def _gate(c: Chain, end: int, road: int | None, note: str) -> Gate:
-    path = np.asarray(c.pts if end == 0 else c.pts[::-1], dtype=float)
-    line = LineString(path)
-    s = GATE_DEPTH if line.length >= GATE_DEPTH + 1.0 else line.length / 2
-    p = line.interpolate(s)
-    a = line.interpolate(max(0.0, s - 0.05))
-    b = line.interpolate(min(line.length, s + 0.05))
-    u = np.array([b.x - a.x, b.y - a.y])
-    u = u / np.hypot(*u)
-    left = np.array([-u[1], u[0]])
-    heading = math.atan2(u[1], u[0])
-    at = np.array([p.x, p.y])
-    inward = end == 0  # the aisle's own direction runs inward from its first point
-    if c.one_way:
-        entrance = (*at, heading) if inward else None
-        exit_ = (*at, heading + math.pi) if not inward else None
-    else:
-        off = c.width / 4
-        entrance = (*(at - left * off), heading)
-        exit_ = (*(at + left * off), heading + math.pi)
-    return Gate(c, end, road, _pose(entrance), _pose(exit_), note)
-
-
-def _pose(p) -> tuple[float, float, float] | None:
-    if p is None:
-        return None
-    return float(p[0]), float(p[1]), float(math.atan2(math.sin(p[2]), math.cos(p[2])))
+            count[k] = count.get(k, 0) + 1
+    return count
 
 
 def sharpest_corner(c: Chain) -> int:
