@@ -231,9 +231,11 @@ def _import_lot(kind: str, oid: int, tags: dict[str, str], data: OsmData, index:
         if drawn is None:
             return ImportedLot(lid, area, capacity=capacity, reason=NO_AISLE)
         outcome = drawn.settle(lot)
-        if not isinstance(outcome, int):
+        if not isinstance(outcome, int) or outcome in splits:
             break
         splits.add(outcome)
+    if isinstance(outcome, int):
+        outcome = "lotsim finds an aisle's bends too tight, cut where it may"
     if isinstance(outcome, str):
         return ImportedLot(lid, area, mapped=len(drawn.spaces), capacity=capacity,
                            aisles=len(drawn.chains), gates=drawn.real_gates, reason=outcome)
@@ -277,7 +279,8 @@ class _Drawn:
         design = DesignVehicle.envelope([CATALOGUE[DEFAULT_VEHICLE]])
         rules = AisleRules(least_two_way=2 * (design.width + 2 * LANE_CLEARANCE),
                            least_one_way=design.width + 2 * LANE_CLEARANCE)
-        ways = sorted(near.aisles + near.driveways(lot))
+        driveways = near.driveways(lot)
+        ways = sorted(near.aisles + driveways)
         vertices, edges = clip_network(ways, near.xy, lot.buffer(CLIP_GROW), rules,
                                        near.index.road_nodes, notes)
         edges = merge_short_legs(vertices, edges)
@@ -302,7 +305,8 @@ class _Drawn:
         bays = [] if spaces else infer_bays(chains, junctions(chains), lot, blocked)
         draft = LotDraft(name=f"{kind}-{oid}", description=_description(kind, oid, tags),
                          boundary=[],
-                         aisles=[AisleDraft(c.id, c.pts, c.width, c.one_way, _aisle_note(c))
+                         aisles=[AisleDraft(c.id, c.pts, c.width, c.one_way,
+                                            _aisle_note(c, {w for w, _ in driveways}))
                                  for c in chains],
                          slots=[s for s, _ in spaces], obstacles=obstacles, no_go=no_go,
                          paved=[AreaDraft("lot", ring_points(lot.exterior),
@@ -398,8 +402,9 @@ def _description(kind: str, oid: int, tags: dict[str, str]) -> str:
     return f"OpenStreetMap {kind} {oid}{name}, a parking lot imported by lotsim"
 
 
-def _aisle_note(c: Chain) -> str:
-    ways = ", ".join(str(w) for w in c.ways)
+def _aisle_note(c: Chain, driveways: set[int]) -> str:
+    ways = ", ".join(f"{w} (a driveway, highway=service)" if w in driveways else str(w)
+                     for w in c.ways)
     width = "width from its tag" if c.note else (
         f"default width for {'one' if c.one_way else 'two'}-way")
     return f"way{'s' if len(c.ways) > 1 else ''} {ways}: {width}"
@@ -427,7 +432,8 @@ def _header(kind: str, oid: int, tags: dict[str, str], source_name: str, frame: 
              "tags: " + ", ".join(f"{k}={v}" for k, v in sorted(tags.items())),
              f"projection: {frame.describe()}; x east, y north [m]; distances within "
              f"{_small(error)} of the ground's over the lot",
-             f"aisles: {len(chains)} from service=parking_aisle ways; untagged widths "
+             f"aisles: {len(chains)} from service=parking_aisle ways and the service roads "
+             f"that meet them inside the lot; untagged widths "
              f"{TWO_WAY_WIDTH:g} m two-way, {ONE_WAY_WIDTH:g} m one-way"]
     if spaces:
         lines.append(f"slots: {len(spaces)} mapped amenity=parking_space areas")

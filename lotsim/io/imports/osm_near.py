@@ -32,6 +32,7 @@ GREEN_LANDUSE = frozenset({"grass", "meadow", "flowerbed", "forest", "village_gr
 GREEN_LEISURE = frozenset({"park", "garden", "playground", "pitch"})
 """``leisure`` values that are not driven on."""
 
+
 @dataclass
 class MapIndex:
     """The file's ways that matter to lots, each with its extent (:func:`box_of`)."""
@@ -251,12 +252,12 @@ class NearLot:
                 inside = poly.intersection(lot)
                 if inside.area < 0.5 or inside.area > 0.5 * lot.area:
                     continue  # next to the lot, or the land the lot lies in
-                pieces = polygons_of(inside.difference(aisles))
-                pieces = [p for p in pieces if p.area >= 0.5]
+                pieces = [ring_points(p.exterior)
+                          for p in polygons_of(inside.difference(aisles)) if p.area >= 0.5]
+                pieces = [p for p in pieces if len(p) >= 3 and Polygon(p).is_valid]
                 for j, p in enumerate(pieces):
                     ident = name.replace(" ", "") + (f"-{j + 1}" if len(pieces) > 1 else "")
-                    out[kind].append(AreaDraft(ident, ring_points(p.exterior),
-                                               note=f"{label} ({name})"))
+                    out[kind].append(AreaDraft(ident, p, note=f"{label} ({name})"))
         return out["obstacles"], out["no_go"]
 
 
