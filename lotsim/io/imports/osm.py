@@ -36,6 +36,7 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
+import networkx as nx
 import numpy as np
 import shapely
 from shapely.geometry import MultiPolygon, Polygon
@@ -79,7 +80,8 @@ from lotsim.io.imports.osm_slots import (
 from lotsim.io.imports.report import ImportedLot, ImportReport
 from lotsim.io.scenario_yaml import read_scenario
 from lotsim.lot.build import LANE_CLEARANCE, build_lot
-from lotsim.lot.model import DesignVehicle
+from lotsim.lot.model import DesignVehicle, Lot
+from lotsim.roadmap.assemble import build_graph
 from lotsim.roadmap.lanes import portal_station
 from lotsim.vehicles.catalogue import CATALOGUE, DEFAULT_VEHICLE
 
@@ -243,11 +245,8 @@ def _import_lot(kind: str, oid: int, tags: dict[str, str], data: OsmData, index:
     n_slots = draft.slot_count
     bx, by = zip(*draft.boundary, strict=True)
     error = frame.error_over(np.array(bx), np.array(by))
-    if n_slots:
-        stream: dict = {"count": min(STREAM_MAX, n_slots), "rate_per_hour": 60}
-        if draft.exits:
-            stream["dwell"] = [300, 900]
-        draft.traffic = {"stream": stream}
+    serving = _Serving.of(drawn.built)
+    draft.traffic = serving.traffic()
     draft.header = _header(kind, oid, tags, source_name, frame, error, drawn, capacity)
     path = out / f"{kind}-{oid}.yaml"
     with atomic_write(path, "w", encoding="utf-8") as fh:
@@ -255,7 +254,8 @@ def _import_lot(kind: str, oid: int, tags: dict[str, str], data: OsmData, index:
     return ImportedLot(lid, area, mapped=len(drawn.spaces),
                        inferred=n_slots - len(drawn.spaces), capacity=capacity,
                        aisles=len(drawn.chains), gates=drawn.real_gates, path=path,
-                       reason=_remarks(capacity, n_slots, drawn), projection_error=error)
+                       reason=_remarks(capacity, n_slots, drawn, serving),
+                       projection_error=error)
 
 
 @dataclass
@@ -269,6 +269,7 @@ class _Drawn:
     bays: list
     draft: LotDraft
     notes: list[str]
+    built: Lot | None = None
 
     @classmethod
     def of(cls, lot: Polygon, near: NearLot, kind: str, oid: int, tags: dict[str, str],
@@ -301,8 +302,10 @@ class _Drawn:
             no_go.append(AreaDraft(f"island{i + 1}", ring_points(ring),
                                    note=f"inner ring {i + 1} of the lot"))
         blocked = [Polygon(a.polygon) for a in obstacles + no_go]
-        spaces = mapped_slots(near.spaces(lot), chains, lot, blocked, notes)
-        bays = [] if spaces else infer_bays(chains, junctions(chains), lot, blocked)
+        spaces = mapped_slots(near.spaces(lot), chains, lot, blocked,
+                              (design.width, design.front + design.rear), notes)
+        bays = [] if spaces else infer_bays(chains, junctions(chains, vertices), lot,
+                                                blocked)
         draft = LotDraft(name=f"{kind}-{oid}", description=_description(kind, oid, tags),
                          boundary=[],
                          aisles=[AisleDraft(c.id, c.pts, c.width, c.one_way,
@@ -332,7 +335,7 @@ class _Drawn:
                 built = build_lot(sc.lot, design)
                 for portal in built.entrances + built.exits:
                     portal_station(built, portal)
-                self.bays = bays
+                self.bays, self.built = bays, built
                 return None
             except ScenarioError as exc:
                 message = exc.message
@@ -345,6 +348,55 @@ class _Drawn:
             if chain is not None and len(chain.pts) > 2:
                 return sharpest_corner(chain)
             return f"lotsim cannot build the lot drawn from it: {message}"
+
+
+@dataclass(frozen=True)
+class _Serving:
+    """Which slots of a built lot cars can reach from each entrance and leave for an exit,
+    along its lanes, junction turns and turnarounds (slots linked to their lanes as
+    placeholders: a parking maneuver that cannot be found is what ``validate`` says)."""
+
+    slots: tuple[str, ...]
+    by_entrance: dict[str, frozenset[str]]
+    leavable: frozenset[str]
+    exits: bool
+
+    @classmethod
+    def of(cls, lot: Lot) -> _Serving:
+        lg = build_graph(lot, vehicles=[CATALOGUE[DEFAULT_VEHICLE]])
+        g = lg.graph
+        slot_nodes = set(lg.slot_nodes.values())
+        lanes = g.subgraph(n for n in g.nodes if n not in slot_nodes)
+        by_entrance = {}
+        for gate, node in sorted(lg.entrances.items()):
+            seen = nx.descendants(lanes, node) | {node}
+            by_entrance[gate] = frozenset(
+                sid for sid, n in lg.slot_nodes.items() if any(p in seen for p in g.pred[n]))
+        out: set = set()
+        for node in lg.exits.values():
+            out |= nx.ancestors(lanes, node) | {node}
+        leavable = frozenset(sid for sid, n in lg.slot_nodes.items()
+                             if any(q in out for q in g.succ[n]))
+        return cls(tuple(sorted(lg.slot_nodes)), by_entrance, leavable, bool(lg.exits))
+
+    @property
+    def reached(self) -> frozenset[str]:
+        return frozenset().union(*self.by_entrance.values())
+
+    def traffic(self) -> dict | None:
+        """The default stream: as many cars as slots a car can reach, at most
+        :data:`STREAM_MAX`, 60 an hour, through the entrances that lead to a slot, staying
+        5 to 15 minutes where a slot can be left for an exit; None when none can be
+        reached."""
+        if not self.reached:
+            return None
+        stream: dict = {"count": min(STREAM_MAX, len(self.reached)), "rate_per_hour": 60}
+        gates = [g for g, s in self.by_entrance.items() if s]
+        if len(gates) < len(self.by_entrance):
+            stream["entrances"] = gates
+        if self.exits and self.reached & self.leavable:
+            stream["dwell"] = [300, 900]
+        return {"stream": stream}
 
 
 def _capacity(tags: dict[str, str]) -> int | None:
@@ -410,7 +462,7 @@ def _aisle_note(c: Chain, driveways: set[int]) -> str:
     return f"way{'s' if len(c.ways) > 1 else ''} {ways}: {width}"
 
 
-def _remarks(capacity: int | None, n_slots: int, drawn: _Drawn) -> str:
+def _remarks(capacity: int | None, n_slots: int, drawn: _Drawn, serving: _Serving) -> str:
     out = []
     if capacity is not None:
         diff = n_slots - capacity
@@ -421,6 +473,11 @@ def _remarks(capacity: int | None, n_slots: int, drawn: _Drawn) -> str:
                    f"{drawn.gates[-1].note}")
     if not n_slots:
         out.append("no room for a slot")
+    elif not serving.reached:
+        out.append("no slot can be reached from a gate along its lanes: no traffic written")
+    elif len(serving.reached) < n_slots:
+        out.append(f"{n_slots - len(serving.reached)} of {n_slots} slots cannot be reached "
+                   "from a gate along its lanes")
     return "; ".join(out)
 
 

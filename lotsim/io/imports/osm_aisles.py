@@ -104,14 +104,16 @@ class AisleRules:
 
 @dataclass
 class Vertex:
-    """A point of the aisle network in local metres: an OSM node, or where a way leaves the
-    clip region (``cut``). ``roads``: road ways reached from it."""
+    """A point of the aisle network in local metres: an OSM node, where a way leaves the
+    clip region (``cut``), or where a loop is cut into aisles that run on into each other
+    (``seam``). ``roads``: road ways reached from it."""
 
     key: int
     xy: tuple[float, float]
     node: int | None
     cut: bool = False
     roads: set[int] = field(default_factory=set)
+    seam: bool = False
 
 
 @dataclass
@@ -367,12 +369,14 @@ def build_chains(vertices: dict[int, Vertex], edges: list[Edge]) -> list[Chain]:
                     legs.insert(0, nxt)
             if closed:
                 break
-        for piece in _split_loops(keys, legs):
+        for piece in _cut_loops(keys, legs, vertices):
             sequences += _simple(*piece, vertices)
     chains = []
     for keys, legs in sequences:
         e0 = edges[legs[0]]
-        if e0.one_way and not (e0.a == keys[0] and e0.b == keys[1]):
+        run = np.subtract(vertices[keys[1]].xy, vertices[keys[0]].xy)
+        way = np.subtract(vertices[e0.b].xy, vertices[e0.a].xy)
+        if e0.one_way and float(np.dot(run, way)) < 0:
             keys, legs = keys[::-1], legs[::-1]
         ways = sorted({edges[i].way for i in legs})
         chains.append(Chain("", keys, [vertices[k].xy for k in keys], ways, e0.width,
@@ -380,15 +384,46 @@ def build_chains(vertices: dict[int, Vertex], edges: list[Edge]) -> list[Chain]:
     return chains
 
 
-def _split_loops(keys: list[int], legs: list[int]) -> list[tuple[list[int], list[int]]]:
-    """A sequence visiting a vertex twice (a loop) is cut into pieces that do not."""
+def _cut_loops(keys: list[int], legs: list[int], vertices: dict[int, Vertex]
+               ) -> list[tuple[list[int], list[int]]]:
+    """A sequence that comes back to a vertex (a loop) is cut in the middle of the loop's
+    longest leg (a closed loop also in the middle of the leg across from it), so that the
+    pieces run on into each other (lotsim's lanes continue where one aisle ends and the next
+    begins heading the same way)."""
     for i in range(len(keys)):
         for j in range(i + 1, len(keys)):
-            if keys[j] == keys[i]:
-                mid = (i + j + 1) // 2 if j - i >= 2 else j
-                return (_split_loops(keys[: mid + 1], legs[:mid])
-                        + _split_loops(keys[mid:], legs[mid:]))
+            if keys[j] != keys[i]:
+                continue
+            length = [math.dist(vertices[keys[p]].xy, vertices[keys[p + 1]].xy)
+                      for p in range(len(legs))]
+            first = max(range(i, j), key=lambda p: (length[p], -p))
+            closed = i == 0 and j == len(keys) - 1
+            at = {first, (first + j // 2) % j} if closed else {first}
+            pieces = _cut_at(keys, legs, at, vertices)
+            if closed:  # the last piece runs on into the first through keys[0]
+                last = pieces.pop()
+                pieces[0] = (last[0] + pieces[0][0][1:], last[1] + pieces[0][1])
+            return [q for piece in pieces for q in _cut_loops(*piece, vertices)]
     return [(keys, legs)] if len(keys) >= 2 else []
+
+
+def _cut_at(keys: list[int], legs: list[int], at: set[int], vertices: dict[int, Vertex]
+            ) -> list[tuple[list[int], list[int]]]:
+    """The sequence cut in the middle of the legs at positions ``at`` (a seam vertex each)."""
+    pieces = []
+    cur_keys, cur_legs = [keys[0]], []
+    for p, leg in enumerate(legs):
+        if p in at:
+            mid = min(min(vertices), 0) - 1
+            a, b = vertices[keys[p]].xy, vertices[keys[p + 1]].xy
+            vertices[mid] = Vertex(mid, ((a[0] + b[0]) / 2, (a[1] + b[1]) / 2), None,
+                                   seam=True)
+            pieces.append((cur_keys + [mid], cur_legs + [leg]))
+            cur_keys, cur_legs = [mid], []
+        cur_keys.append(keys[p + 1])
+        cur_legs.append(leg)
+    pieces.append((cur_keys, cur_legs))
+    return pieces
 
 
 def _simple(keys: list[int], legs: list[int], vertices: dict[int, Vertex]
@@ -396,9 +431,8 @@ def _simple(keys: list[int], legs: list[int], vertices: dict[int, Vertex]
     """A sequence whose polyline crosses itself is cut in the middle until it does not."""
     if len(keys) <= 2 or LineString([vertices[k].xy for k in keys]).is_simple:
         return [(keys, legs)]
-    mid = len(keys) // 2
-    return _simple(keys[: mid + 1], legs[:mid], vertices) + _simple(keys[mid:], legs[mid:],
-                                                                    vertices)
+    return [q for piece in _cut_at(keys, legs, {len(legs) // 2}, vertices)
+            for q in _simple(*piece, vertices)]
 
 
 def tidy_chains(chains: list[Chain], vertices: dict[int, Vertex]) -> list[Chain]:
@@ -503,9 +537,11 @@ def _crossing_angle(leg: np.ndarray, d: Chain, at: tuple[float, float]) -> float
     return math.acos(min(1.0, cos))
 
 
-def junctions(chains: list[Chain]) -> dict[str, list[tuple[float, float]]]:
+def junctions(chains: list[Chain], vertices: dict[int, Vertex]
+              ) -> dict[str, list[tuple[float, float]]]:
     """Per aisle, the stations [m] where another aisle meets or crosses it, with that
-    aisle's half width [m]."""
+    aisle's half width [m]; not where one runs on into the next (a seam)."""
+    seams = [Point(v.xy) for v in vertices.values() if v.seam]
     out: dict[str, list[tuple[float, float]]] = {c.id: [] for c in chains}
     for c in chains:
         for d in chains:
@@ -513,7 +549,7 @@ def junctions(chains: list[Chain]) -> dict[str, list[tuple[float, float]]]:
                 continue
             hit = c.line.intersection(d.line.buffer(0.05))
             for part in getattr(hit, "geoms", [hit]):
-                if part.is_empty:
+                if part.is_empty or any(part.distance(m) < 0.1 for m in seams):
                     continue
                 s = c.line.project(part.centroid)
                 out[c.id].append((s, d.width / 2))

@@ -6,11 +6,12 @@ drove in) of the kind its long side's angle to the nearest aisle says: perpendic
 60° to 90°, parallel at 0° to 30°; between (angled) it is written as the nearer of the two,
 since a free-standing angled slot needs its angle written, which imported slots do not
 carry. A space whose entry lies within :data:`SNAP` of the aisle's edge is moved onto it
-(lotsim wants it within 0.3 m); a space still off every aisle, or on an aisle or another
-space, is dropped.
+(lotsim wants it within 0.3 m); a space still off every aisle, on an aisle, an island or
+another space, or smaller than the scenario's car, is dropped.
 
 Without mapped spaces, perpendicular bays of :data:`BAY_WIDTH` × :data:`BAY_LENGTH` are
-laid side by side along both sides of each straight leg of each aisle, as rows: each bay
+laid side by side along both sides of each straight leg of each aisle at least
+:data:`PARKING_AISLE` wide, as rows: each bay
 inside the lot, clear of every aisle, island and obstacle and of the other bays, and its
 entry :data:`TURN_MARGIN` beyond the edge of any aisle that meets or crosses its own (room
 for the turn there). Along each leg the bays' grid is shifted (in steps of 0.25 m) to hold
@@ -43,6 +44,10 @@ SNAP = 1.0
 """A mapped space whose entry is this close to an aisle's edge [m] is moved onto it."""
 ENTRY_GAP = 0.3
 """lotsim's rule: a free-standing slot's entry lies within this of an aisle [m]."""
+PARKING_AISLE = 5.0
+"""Bays are laid along aisles at least this wide [m]: cars back into 2.5 x 5.0 m bays from
+a 5 m aisle (on lotsim's one-aisle cul-de-sac, every bay but the one at the closed end is
+usable at 5.0 m; at 4.5 m two more are not)."""
 _SHIFTS = np.arange(0.0, BAY_WIDTH - 1e-9, 0.25)
 
 
@@ -70,6 +75,8 @@ def infer_bays(chains: list[Chain], joins: dict[str, list[tuple[float, float]]],
     placed: list[Polygon] = []
     bays: list[Bay] = []
     for c in chains:
+        if c.width < PARKING_AISLE:
+            continue
         pts = np.asarray(c.pts, dtype=float)
         station = np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(pts, axis=0).T))])
         for i in range(len(pts) - 1):
@@ -141,8 +148,10 @@ def rows_of(bays: list[Bay]) -> tuple[list[RowDraft], dict[str, Bay]]:
 
 # -- mapped spaces ----------------------------------------------------------------------------
 def mapped_slots(spaces: list[tuple[int, Polygon]], chains: list[Chain], lot: Polygon,
-                 blocked: list[Polygon], notes: list[str]) -> list[tuple[SlotDraft, Polygon]]:
-    """Free-standing slots from mapped spaces (way id, outline), with their outlines."""
+                 blocked: list[Polygon], car: tuple[float, float], notes: list[str]
+                 ) -> list[tuple[SlotDraft, Polygon]]:
+    """Free-standing slots from mapped spaces (way id, outline), with their outlines; those
+    narrower or shorter than ``car`` (width, length [m]) are dropped."""
     aisles = unary_union([c.polygon for c in chains])
     out: list[tuple[SlotDraft, Polygon]] = []
     for wid, outline in spaces:
@@ -151,6 +160,11 @@ def mapped_slots(spaces: list[tuple[int, Polygon]], chains: list[Chain], lot: Po
             notes.append(f"parking_space way {wid} dropped: {got}")
             continue
         slot, poly = got
+        if slot.width < car[0] or slot.length < car[1]:
+            notes.append(f"parking_space way {wid} dropped: {slot.width:.2f} x "
+                         f"{slot.length:.2f} m is smaller than the car ({car[0]:g} x "
+                         f"{car[1]:g} m)")
+            continue
         core = poly.buffer(-CLEARANCE, join_style="mitre")
         why = ("it lies on an aisle" if core.intersects(aisles) else
                "it lies on an island or obstacle" if any(core.intersects(b) for b in blocked)
