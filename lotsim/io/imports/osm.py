@@ -9,21 +9,26 @@ and not written.
 
 What a scenario holds, and where it comes from:
 
-* aisles: the lot's ``service=parking_aisle`` ways (:mod:`.osm_aisles`: clipped, joined,
-  ``oneway`` honoured, width from the ``width`` tag or a default);
-* gates: where a road reaches an aisle at the lot's edge (:func:`.osm_aisles.find_gates`),
-  an entrance on the aisle's inward lane and an exit on its outward lane; a lot no road
-  reaches gets an assumed gate at the aisle end nearest its edge, and says so;
+* aisles: the lot's ``service=parking_aisle`` ways and the service roads that meet them
+  inside it (:mod:`.osm_aisles`: clipped, joined, ``oneway`` honoured, width from the
+  ``width`` tag or a default);
+* gates: where a road reaches an aisle at the lot's edge (:mod:`.osm_gates`), an entrance
+  on the aisle's inward lane and an exit on its outward lane; a lot no road reaches gets an
+  assumed gate at the aisle end nearest its edge, and says so;
 * slots: mapped ``amenity=parking_space`` areas, else bays inferred along the aisles
   (:mod:`.osm_slots`); a ``capacity`` tag is compared with their count;
 * the boundary: the lot with its aisles (an aisle drawn along the lot's edge reaches past
-  it), simplified; islands (inner rings) and mapped green areas (``landuse=grass`` and the
-  like, ``natural=*``, parks) are no-go zones, buildings and barriers obstacles;
-* a stream of ``min(20, slots)`` cars, 60 an hour, staying 5 to 15 minutes when the lot
-  has an exit.
+  it) and a car standing at each gate, simplified; the paved ground: the aisles, the slots
+  and the lot's outline; islands (inner rings) and mapped green areas are no-go zones,
+  buildings and barriers obstacles (:mod:`.osm_near`);
+* a stream of as many cars as there are slots the lanes lead to from a gate (at most 20),
+  60 an hour, through the entrances that lead to one, staying 5 to 15 minutes where such a
+  slot can be left for an exit.
 
-Each file is checked by building its lot as ``lotsim validate`` does; an inferred bay that
-the build refuses is dropped, and a lot that still does not build is reported, not written.
+Each file is checked by building its lot as ``lotsim validate`` does: an inferred bay that
+the build refuses is dropped, an aisle whose bends are too tight for its legs is cut at its
+sharpest corner, and a lot that still does not build is reported, not written. Whether a car
+can park in each slot (its maneuver) is what ``lotsim validate`` then says.
 """
 
 from __future__ import annotations

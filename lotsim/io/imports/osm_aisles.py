@@ -106,7 +106,7 @@ class AisleRules:
 class Vertex:
     """A point of the aisle network in local metres: an OSM node, where a way leaves the
     clip region (``cut``), or where a loop is cut into aisles that run on into each other
-    (``seam``). ``roads``: road ways reached from it."""
+    (``seam``). ``roads``: road ways reached from it; ``ways``: the aisle ways through it."""
 
     key: int
     xy: tuple[float, float]
@@ -114,6 +114,7 @@ class Vertex:
     cut: bool = False
     roads: set[int] = field(default_factory=set)
     seam: bool = False
+    ways: set[int] = field(default_factory=set)
 
 
 @dataclass
@@ -201,6 +202,8 @@ def clip_network(ways: list[tuple[int, OsmWay]], xy: dict[int, tuple[float, floa
                             roads=_roads_beyond(beyond, graph, xy, region, road_nodes))
                         keys.append(next_cut)
                         next_cut -= 1
+                for k in keys:
+                    vertices[k].ways.add(wid)
                 edges.append(Edge(keys[0], keys[1], wid, width, tagged, one_way))
     return vertices, edges
 
@@ -288,6 +291,7 @@ def merge_short_legs(vertices: dict[int, Vertex], edges: list[Edge]) -> list[Edg
                 keep, drop = (ra, rb) if rank(ra) >= rank(rb) else (rb, ra)
                 parent[drop] = keep
                 vertices[keep].roads |= vertices[drop].roads
+                vertices[keep].ways |= vertices[drop].ways
                 vertices[keep].cut |= vertices[drop].cut
     out: list[Edge] = []
     seen: set[tuple[int, int]] = set()
@@ -599,4 +603,5 @@ def split_chains(chains: list[Chain], at: set[int], vertices: dict[int, Vertex]
 
 def _inherit(end: Vertex, gone: Vertex) -> None:
     end.roads |= gone.roads
+    end.ways |= gone.ways
     end.cut |= gone.cut and bool(gone.roads)

@@ -87,8 +87,11 @@ def find_gates(chains: list[Chain], vertices: dict[int, Vertex], lot: Polygon,
             if inside:
                 _extend_to_edge(c, end, lot)
             road = roads[0]
-            gates.append(_gate(c, end, road, f"gate: aisle {c.id} (way "
-                               f"{_way_list(c.ways)}) {how} {road_name(road)}"))
+            ways = sorted(vertices[k].ways & set(c.ways)) or c.ways
+            gates.append(_gate(c, end, road, f"gate {len(gates) + 1}, at the lot's "
+                               f"{_side(c.pts[end], lot)} edge: the "
+                               f"{'first' if end == 0 else 'last'} end of aisle {c.id} (way "
+                               f"{_way_list(ways)}) {how} {road_name(road)}"))
     return gates
 
 
@@ -101,11 +104,27 @@ def assumed_gate(chains: list[Chain], lot: Polygon) -> list[Gate]:
                   if shared[c.keys[end]] == 1 and not (c.one_way and end == -1))
     if not ends:  # every end joins another aisle: a ring
         c = chains[0]
-        return [_gate(c, 0, None, f"assumed gate on aisle {c.id}: no road reaches the lot")]
+        return [_gate(c, 0, None, f"assumed gate on aisle {c.id}: no road reaches the lot; "
+                      "move it where cars come in")]
     _, i, _, end = ends[0]
     c = chains[i]
-    return [_gate(c, end, None, f"assumed gate at the end of aisle {c.id} nearest the lot's "
-                  "edge: no road reaches an aisle there")]
+    return [_gate(c, end, None, f"assumed gate at the {'first' if end == 0 else 'last'} end "
+                  f"of aisle {c.id}, the aisle end nearest the lot's edge ("
+                  f"{_side(c.pts[end], lot)}): move it where cars come in")]
+
+
+def _side(p: tuple[float, float], lot: Polygon) -> str:
+    """Which side of the lot a point is on, as a compass point seen from its centroid.
+
+    >>> from shapely.geometry import box
+    >>> _side((0, 9), box(-5, -5, 5, 5)), _side((7, -6), box(-5, -5, 5, 5))
+    ('north', 'south-east')
+    """
+    c = lot.centroid
+    angle = math.degrees(math.atan2(p[1] - c.y, p[0] - c.x)) % 360
+    names = ("east", "north-east", "north", "north-west", "west", "south-west", "south",
+             "south-east")
+    return names[int((angle + 22.5) // 45) % 8]
 
 
 def _way_list(ways: list[int]) -> str:
