@@ -328,13 +328,12 @@ class _Drawn:
         too tight; else why it cannot be built."""
         draft, bays = self.draft, list(self.bays)
         design = DesignVehicle.envelope([CATALOGUE[DEFAULT_VEHICLE]])
-        held = [p for _, p in self.spaces] + [
-            Polygon(design.footprints(np.array([[g.x, g.y, math.radians(g.heading_deg)]]))[0])
-            for g in draft.entrances + draft.exits]
+        cars = [Polygon(design.footprints(np.array([[g.x, g.y, math.radians(g.heading_deg)]]))[0])
+                for g in draft.entrances + draft.exits]
         while True:
             rows, ids = rows_of(bays)
             draft.rows = rows
-            draft.boundary = _boundary(lot, self.chains, held)
+            draft.boundary = _boundary(lot, self.chains, [p for _, p in self.spaces] + cars)
             try:
                 sc = read_scenario(draft.to_yaml()).scenario
                 built = build_lot(sc.lot, design)
@@ -344,9 +343,16 @@ class _Drawn:
                 return None
             except ScenarioError as exc:
                 message = exc.message
-            named = [ids[s] for s in re.findall(r"slot '([^']+)'", message) if s in ids]
-            if named:
-                bays.remove(named[0])
+            named = re.findall(r"slot '([^']+)'", message)
+            bay = next((ids[n] for n in named if n in ids), None)
+            if bay is not None:
+                bays.remove(bay)
+                continue
+            space = next((i for i, (sd, _) in enumerate(self.spaces) if sd.id in named), None)
+            if space is not None:
+                gone = self.spaces.pop(space)[0]
+                draft.slots = [sd for sd, _ in self.spaces]
+                self.notes.append(f"{gone.note} dropped: {message}")
                 continue
             tight = re.match(r"aisle '([^']+)': curves too tight", message)
             chain = next((c for c in self.chains if tight and c.id == tight.group(1)), None)

@@ -61,6 +61,8 @@ def find_gates(chains: list[Chain], vertices: dict[int, Vertex], lot: Polygon,
     short of it, each with its entrance and exit."""
     shared = end_counts(chains)
     edge = lot.exterior
+    beyond = {rid: line.difference(lot) for rid, line in road_lines.items()
+              if line.distance(edge) <= GATE_EDGE + GATE_ROAD}
     gates = []
     for c in chains:
         for end in (0, -1):
@@ -76,8 +78,8 @@ def find_gates(chains: list[Chain], vertices: dict[int, Vertex], lot: Polygon,
             how = "shares its node with" if roads and not vertices[k].cut else \
                 "goes on outside the lot to" if roads else ""
             if not roads:
-                outside = [(line.difference(lot).distance(p), rid)
-                           for rid, line in road_lines.items()]
+                outside = [(line.distance(p), rid) for rid, line in beyond.items()
+                           if not line.is_empty]
                 outside = [(d, rid) for d, rid in outside if d <= GATE_ROAD]
                 if outside:
                     roads = [min(outside)[1]]
