@@ -131,7 +131,8 @@ class Edge:
 
 @dataclass
 class Chain:
-    """One lotsim aisle: its centre line, the OSM ways it comes from, its width."""
+    """One lotsim aisle: its centre line, the OSM ways it comes from, its width;
+    ``attached``: its ends (0, -1) moved onto another aisle's centre line."""
 
     id: str
     keys: list[int]
@@ -140,6 +141,11 @@ class Chain:
     width: float
     one_way: bool
     note: str = ""
+    attached: set[int] = field(default_factory=set)
+
+    def free(self, end: int, counts: dict[int, int]) -> bool:
+        """Whether the end (0 or -1) joins no other aisle (``counts``: :func:`end_counts`)."""
+        return counts[self.keys[end]] == 1 and end not in self.attached
 
     @property
     def line(self) -> LineString:
@@ -527,6 +533,7 @@ def join_ends(chains: list[Chain], vertices: dict[int, Vertex]) -> list[str]:
                 continue
             c.pts[end] = target
             c.keys[end] = key
+            c.attached.add(end)
             shared[key] = shared.get(key, 0) + 1
             moved.append(f"{c.id} end moved {gap:.2f} m onto {d.id}'s centre line")
     return moved
@@ -589,6 +596,8 @@ def split_chains(chains: list[Chain], at: set[int], vertices: dict[int, Vertex]
         bounds = [0, *cuts, len(c.keys) - 1]
         pieces = [Chain("", c.keys[i:j + 1], c.pts[i:j + 1], c.ways, c.width, c.one_way,
                         c.note) for i, j in zip(bounds, bounds[1:], strict=False)]
+        pieces[0].attached |= c.attached & {0}
+        pieces[-1].attached |= c.attached & {-1}
         while len(pieces) > 1 and pieces[0].line.length < MIN_AISLE:
             gone = pieces.pop(0)
             _inherit(vertices[pieces[0].keys[0]], vertices[gone.keys[0]])

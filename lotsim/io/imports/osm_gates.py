@@ -67,7 +67,7 @@ def find_gates(chains: list[Chain], vertices: dict[int, Vertex], lot: Polygon,
     for c in chains:
         for end in (0, -1):
             k = c.keys[end]
-            if shared[k] > 1:
+            if not c.free(end, shared):
                 continue
             p = Point(c.pts[end])
             inside = lot.contains(p)
@@ -103,7 +103,7 @@ def assumed_gate(chains: list[Chain], lot: Polygon) -> list[Gate]:
     shared = end_counts(chains)
     ends = sorted((round(lot.exterior.distance(Point(c.pts[end])), 3), i, -end, end)
                   for i, c in enumerate(chains) for end in (0, -1)
-                  if shared[c.keys[end]] == 1 and not (c.one_way and end == -1))
+                  if c.free(end, shared) and not (c.one_way and end == -1))
     if not ends:  # every end joins another aisle: a ring
         c = chains[0]
         return [_gate(c, 0, None, f"assumed gate on aisle {c.id}: no road reaches the lot; "
