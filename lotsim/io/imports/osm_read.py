@@ -234,6 +234,6 @@ def _read_pbf(path: Path) -> OsmData:
                 kinds = {"n": "node", "w": "way", "r": "relation"}
                 data.relations[obj.id] = OsmRelation(
                     tuple((kinds[m.type], m.ref, m.role) for m in obj.members), tags)
-    except RuntimeError as exc:
+    except (RuntimeError, ValueError, OSError) as exc:
         raise LotsimError(f"{path}: not a readable OSM PBF file: {exc}") from None
     return data
