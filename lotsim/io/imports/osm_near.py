@@ -12,10 +12,12 @@ land the lot lies in, not a thing in it, and is left out.
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 
 import numpy as np
-from shapely.geometry import LineString, Point, Polygon
+from shapely.geometry import LinearRing, LineString, Point, Polygon
+from shapely.geometry.base import BaseGeometry
 from shapely.ops import unary_union
 
 from lotsim.io.imports.draft import AreaDraft
@@ -70,7 +72,7 @@ class MapIndex:
         return ix
 
 
-def box_of(data: OsmData, refs) -> tuple[int, int, int, int] | None:
+def box_of(data: OsmData, refs: Sequence[int]) -> tuple[int, int, int, int] | None:
     """The extent of the nodes ``refs`` (those in the file), in 10⁻⁷ degree."""
     pts = [data.nodes[n] for n in refs if n in data.nodes]
     if not pts:
@@ -79,7 +81,8 @@ def box_of(data: OsmData, refs) -> tuple[int, int, int, int] | None:
     return min(lat), min(lon), max(lat), max(lon)
 
 
-def is_closed(refs) -> bool:
+def is_closed(refs: Sequence[int]) -> bool:
+    """A way that ends where it begins, with at least three corners."""
     return len(refs) >= 4 and refs[0] == refs[-1]
 
 
@@ -98,7 +101,8 @@ def feature_kind(tags: dict[str, str]) -> tuple[str, str] | None:
     return None
 
 
-def rings_of(data: OsmData, members, roles) -> list[list[int]] | str:
+def rings_of(data: OsmData, members: Sequence[tuple[str, int, str]],
+             roles: tuple[str, ...]) -> list[list[int]] | str:
     """The closed rings the member ways of ``roles`` make, or why they make none."""
     ways = []
     for kind, ref, role in members:
@@ -261,13 +265,14 @@ class NearLot:
         return out["obstacles"], out["no_go"]
 
 
-def polygons_of(geom) -> list[Polygon]:
+def polygons_of(geom: BaseGeometry) -> list[Polygon]:
+    """The non-empty polygons of a geometry."""
     if isinstance(geom, Polygon):
         return [geom] if not geom.is_empty else []
     return [g for g in getattr(geom, "geoms", []) if isinstance(g, Polygon) and not g.is_empty]
 
 
-def ring_points(ring) -> list[tuple[float, float]]:
+def ring_points(ring: LinearRing) -> list[tuple[float, float]]:
     """A ring's points, rounded to the centimetre, without the closing repeat."""
     pts = [(round(x, 2), round(y, 2)) for x, y in list(ring.coords)[:-1]]
     return [p for i, p in enumerate(pts) if p != pts[i - 1]]
