@@ -21,6 +21,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--strict", action="store_true",
                         help="exit 1 when a slot or exit cannot be reached, or a vehicle "
                         "type cannot park in a slot")
+    parser.add_argument("--verbose", action="store_true",
+                        help="also how the maneuvers were found (problems searched, repeats "
+                        "answered from them, whether the lot came from the cache)")
 
 
 def execute(args: argparse.Namespace) -> int:
@@ -33,7 +36,7 @@ def execute(args: argparse.Namespace) -> int:
             print(f"lotsim: {exc}", file=sys.stderr)
             worst = EXIT_BAD_INPUT
             continue
-        print(report.summary())
+        print(report.summary(verbose=args.verbose))
         if args.strict and not report.complete:
             worst = max(worst, EXIT_INCOMPLETE)
     return worst

@@ -184,7 +184,10 @@ def test_missing_file(tmp_path, capsys):
 
 def test_empty_file(tmp_path):
     err, path = refused(tmp_path, "")
-    assert err.startswith(f"{path}:1:1: ")
+    assert err.startswith(f"{path}:1:1: ") and "found an empty file" in err
+    # a file of comments was called empty too
+    err, path = refused(tmp_path, "# a lot to come\n\n# its aisles\n")
+    assert err.startswith(f"{path}:1:1: ") and "found only comments" in err
 
 
 def test_unknown_command_and_option_exit_2(capsys):
