@@ -10,8 +10,8 @@ and not written.
 What a scenario holds, and where it comes from:
 
 * aisles: the lot's ``service=parking_aisle`` ways and the service roads that meet them
-  inside it (:mod:`.osm_aisles`: clipped, joined, ``oneway`` honoured, width from the
-  ``width`` tag or a default);
+  inside it (:mod:`.osm_aisles`, :mod:`.osm_chains`: clipped, joined, ``oneway``
+  honoured, width from the ``width`` tag or a default);
 * gates: where a road reaches an aisle at the lot's edge (:mod:`.osm_gates`), an entrance
   on the aisle's inward lane and an exit on its outward lane; a lot no road reaches gets an
   assumed gate at the aisle end nearest its edge, and says so;
@@ -56,12 +56,14 @@ from lotsim.io.imports.osm_aisles import (
     ONE_WAY_WIDTH,
     TWO_WAY_WIDTH,
     AisleRules,
+    clip_network,
+    merge_short_legs,
+)
+from lotsim.io.imports.osm_chains import (
     Chain,
     build_chains,
-    clip_network,
     join_ends,
     junctions,
-    merge_short_legs,
     sharpest_corner,
     split_chains,
     tidy_chains,

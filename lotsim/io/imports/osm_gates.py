@@ -19,7 +19,8 @@ from dataclasses import dataclass
 import numpy as np
 from shapely.geometry import LineString, Point, Polygon
 
-from lotsim.io.imports.osm_aisles import Chain, Vertex, end_counts, is_aisle
+from lotsim.io.imports.osm_aisles import Vertex, is_aisle
+from lotsim.io.imports.osm_chains import Chain, end_counts
 
 GATE_EDGE = 4.0
 """A gate's aisle end lies within this distance of the lot's edge [m]."""

@@ -22,7 +22,8 @@ from shapely.ops import unary_union
 
 from lotsim.io.imports.draft import AreaDraft
 from lotsim.io.imports.frame import LocalFrame
-from lotsim.io.imports.osm_aisles import Chain, aisle_ways
+from lotsim.io.imports.osm_aisles import aisle_ways
+from lotsim.io.imports.osm_chains import Chain
 from lotsim.io.imports.osm_gates import is_road
 from lotsim.io.imports.osm_read import E7, OsmData
 

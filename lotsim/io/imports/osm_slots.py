@@ -30,7 +30,7 @@ from shapely.geometry import Point, Polygon
 from shapely.ops import unary_union
 
 from lotsim.io.imports.draft import RowDraft, SlotDraft
-from lotsim.io.imports.osm_aisles import Chain
+from lotsim.io.imports.osm_chains import Chain
 
 BAY_WIDTH = 2.5
 """Width of an inferred bay [m] (the common 2.5 m; lotsim's example lots use it)."""
