@@ -42,6 +42,8 @@ EXPORTS: dict[str, tuple[str, ...]] = {
     "lotsim.api.maneuvers": ("car", "maneuver_case", "minslot", "plan_maneuver"),
     "lotsim.api.benchmarks": ("connect_scheduler",),
     "lotsim.api.exports": ("export_commonroad", "export_openscenario", "export_sumo"),
+    "lotsim.api.imports": ("import_osm",),
+    "lotsim.io.imports.report": ("ImportReport", "ImportedLot"),
     # scenarios and what they hold
     "lotsim.io.scenario_yaml": ("ScenarioFile", "load_animation", "load_scenario",
                                 "read_scenario"),
@@ -108,6 +110,7 @@ if TYPE_CHECKING:  # for type checkers and editors: the same names, imported eag
         export_openscenario,
         export_sumo,
     )
+    from lotsim.api.imports import import_osm  # noqa: F401
     from lotsim.api.maneuvers import car, maneuver_case, minslot, plan_maneuver  # noqa: F401
     from lotsim.api.results import check, load_result, write_result  # noqa: F401
     from lotsim.api.running import run  # noqa: F401
@@ -137,6 +140,7 @@ if TYPE_CHECKING:  # for type checkers and editors: the same names, imported eag
         ScenarioErrors,
         SettingsError,
     )
+    from lotsim.io.imports.report import ImportedLot, ImportReport  # noqa: F401
     from lotsim.io.lot_json import LotFormatError  # noqa: F401
     from lotsim.io.result import result_dict  # noqa: F401
     from lotsim.io.scenario_yaml import (  # noqa: F401

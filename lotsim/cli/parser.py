@@ -13,6 +13,7 @@ from lotsim.cli import (
     cars,
     check,
     export,
+    imports,
     maneuver,
     minslot,
     render,
@@ -24,7 +25,7 @@ from lotsim.cli.output import EXIT_BAD_INPUT
 
 COMMANDS = {"cars": cars, "validate": validate, "minslot": minslot, "maneuver": maneuver,
             "run": run, "render": render, "check": check, "show": show, "bench": bench,
-            "export": export}
+            "export": export, "import": imports}
 """Command name → its module (``HELP``, ``EXITS``, ``add_arguments``, ``execute``), in the
 order ``lotsim --help`` lists them."""
 

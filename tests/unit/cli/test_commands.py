@@ -201,7 +201,7 @@ def test_each_command_s_help_says_what_it_does_its_arguments_and_exit_codes(caps
     parser = build_parser()
     commands = parser.commands
     assert set(commands) == {"cars", "validate", "minslot", "maneuver", "run", "render",
-                             "check", "show", "bench", "export"}
+                             "check", "show", "bench", "export", "import"}
     for name, command in commands.items():
         with pytest.raises(SystemExit) as exc:
             main([name, "--help"])
@@ -300,3 +300,21 @@ def test_validate_says_how_many_free_slots_each_type_can_use_and_which(capsys):
     line = next(ln for ln in report.summary().splitlines() if "usable" in ln)
     assert line.strip() == ("usable free slots per type: valet 11 of 11; vclass 6 of 11 "
                             "(S1–S6)")
+
+
+def test_import_writes_the_lots_and_says_what_became_of_each(tmp_path, capsys):
+    source = ROOT / "tests" / "data" / "osm" / "lots.osm"
+    out = tmp_path / "lots"
+    assert main(["import", "osm", str(source), "-o", str(out)]) == 0
+    said = capsys.readouterr().out.splitlines()
+    written = sorted(p.name for p in out.glob("*.yaml"))
+    assert said[-1] == f"{len(written)} of {len(said) - 1} lots written" and written
+    for name in written:  # each written lot has its line, naming its file
+        assert any(f"written {out / name}" in line for line in said)
+    # a lot picked that is not in the file, a missing file: bad input, nothing written
+    assert main(["import", "osm", str(source), "-o", str(tmp_path / "x"), "--lot",
+                 "way/1"]) == 2
+    assert main(["import", "osm", str(tmp_path / "none.osm"), "-o", str(tmp_path / "y")]) == 2
+    err = capsys.readouterr().err
+    assert "way/1" in err and "none.osm" in err and "Traceback" not in err
+    assert not (tmp_path / "x").exists() and not (tmp_path / "y").exists()
