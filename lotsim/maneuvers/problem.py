@@ -6,9 +6,9 @@ and digested (:class:`LotProblems`).
 The planner works in a frame attached to the slot and its lane (mirrored so the slot is
 always on the right). Every other slot counts as taken (what a car parked there keeps
 others out of: :meth:`~lotsim.lot.kinds.SlotKind.taken`), as do walls, obstacles and no-go
-areas, each grown by the margin; the car stays on the ground it may drive on (the
-pavement, or all inside the boundary) shrunk by the margin and short of the far side of
-the aisle by the margin (that side is a wall), or inside its own slot. Same geometry,
+areas, each grown by the margin; the car stays inside the lot boundary shrunk by the margin
+and on the pavement (up to its edge, a kerb and not a thing to hit), short of the far side
+of the aisle by the margin (that side is a wall), or inside its own slot. Same geometry,
 same maneuver: a problem's digest is the vehicle type, the rounded geometry inside the
 window around the slot — the search cannot see past the window — and where the lane's
 start grid falls beside the slot (the closing move runs on to a grid station), so
@@ -149,8 +149,12 @@ class LotProblems:
                   for a in lot.areas]
         self._polys = np.array(polys, dtype=object)
         self._tree = shapely.STRtree(self._polys)
-        self._region = lot.ground.buffer(-margin, join_style="mitre") if margin \
-            else lot.ground
+        # the margin keeps the car off the lot's walls; the pavement's edge is a kerb or a
+        # verge, not a thing to hit: the car may come up to it, not over it
+        self._region = lot.boundary.buffer(-margin, join_style="mitre") if margin \
+            else lot.boundary
+        if lot.pavement is not None:
+            self._region = self._region.intersection(lot.pavement)
         self._index = {s.id: k for k, s in enumerate(lot.slots)}
 
     @property

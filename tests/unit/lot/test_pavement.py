@@ -167,3 +167,18 @@ def test_the_same_traffic_on_the_lot_paved_wall_to_wall_crosses_that_ground(pave
     doc["lot"]["paved"] = paved_run["lot"]["paved"]
     report = check_result(json.loads(json.dumps(doc)))
     assert "pavement" in {v.rule for v in report.violations}
+
+
+def test_a_parallel_slot_on_a_paved_lot_is_parked_in_up_to_the_kerb():
+    """The margin kept to walls kept cars 0.1 m off the pavement's edge too, and a car
+    backing into a free-standing parallel bay swings its corner over that strip: the bay
+    was refused on a paved lot."""
+    import lotsim
+    from conftest import ROOT
+
+    text = (ROOT / "scenarios" / "example.yaml").read_text().replace(
+        "  speed_limit_kmh: 20           # optional, default 20\n",
+        "  speed_limit_kmh: 20           # optional, default 20\n  paved: {aisles: true}\n", 1)
+    report = lotsim.validate(text)
+    assert report.prepared.lot_graph.lot.pavement is not None
+    assert "X2" in report.usable()["valet"] and "X2" in report.usable()["van"]
