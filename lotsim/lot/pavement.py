@@ -2,9 +2,10 @@
 joining.
 
 A lot is paved wall to wall unless its scenario says otherwise (``lot.paved``,
-:class:`~lotsim.lot.spec.PavementSpec`): then the pavement is its aisles, the kerb corners
-where aisles join and its slots (unless ``aisles: false``), and the paved areas listed,
-all within the boundary. Kerb corners round the inside corners where two aisles' strips
+:class:`~lotsim.lot.spec.PavementSpec`): then the pavement is its aisles (each with the inside of
+its bends, where its lanes round the corners of its centre line), the kerb corners where
+aisles join and its slots (unless ``aisles: false``), and the paved areas listed, all
+within the boundary. Kerb corners round the inside corners where two aisles' strips
 meet, with the kerb radius given (a morphological closing of the two strips, kept near
 where they overlap), so a car turning from one onto the other has the ground a kerb
 return gives it. Two aisles whose strips do not overlap are not joined: the ground between
@@ -48,6 +49,18 @@ def kerb_corners(aisles: dict[str, Aisle], radius: float) -> list[BaseGeometry]:
     return out
 
 
+def bend_insides(aisles: dict[str, Aisle]) -> list[BaseGeometry]:
+    """The ground inside an aisle's bends that its lanes, rounding the corners of its centre
+    line, run over: each lane's strip (its own share of the aisle's width) along its path."""
+    out = []
+    for a in aisles.values():
+        if len(a.centerline) < 3:
+            continue  # straight: its lanes run within its strip
+        half = a.width / (2 if a.one_way else 4)
+        out += [lane.line.buffer(half, cap_style="flat") for lane in a.lanes]
+    return out
+
+
 def pave(spec: PavementSpec, boundary: BaseGeometry, aisles: dict[str, Aisle],
          slots: tuple[Slot, ...], areas: list[BaseGeometry]) -> BaseGeometry:
     """The pavement of a lot whose scenario says what is paved: the aisles with their kerb
@@ -55,6 +68,7 @@ def pave(spec: PavementSpec, boundary: BaseGeometry, aisles: dict[str, Aisle],
     pieces = [s.shape for s in slots] + list(areas)
     if spec.aisles:
         pieces += [a.polygon for a in aisles.values()]
+        pieces += bend_insides(aisles)
         pieces += kerb_corners(aisles, spec.corner_radius)
     ground = unary_union(pieces)
     ground = ground.buffer(HEAL / 2, join_style="mitre").buffer(-HEAL / 2, join_style="mitre")

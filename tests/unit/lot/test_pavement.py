@@ -182,3 +182,27 @@ def test_a_parallel_slot_on_a_paved_lot_is_parked_in_up_to_the_kerb():
     report = lotsim.validate(text)
     assert report.prepared.lot_graph.lot.pavement is not None
     assert "X2" in report.usable()["valet"] and "X2" in report.usable()["van"]
+
+
+def test_the_inside_of_an_aisles_bends_is_paved_where_its_lanes_run():
+    """A lane rounds the corners of its aisle's centre line, and a car on the inner lane
+    of a two-way aisle cuts inside the strip's corner: that ground is the aisle's too."""
+    text = """\
+vehicle_types: [valet]
+lot:
+  boundary: [[0, 0], [60, 0], [60, 60], [0, 60]]
+  paved: {}
+  aisles:
+    - {id: bend, centerline: [[0, 10], [40, 10], [40, 60]], width: 7.0}
+  entrances: [{id: in, x: 3, y: 8.25, heading_deg: 0}]
+"""
+    sc = scenario_from_text(text)
+    lot = build_lot(sc.lot, DesignVehicle.envelope(sc.vehicle_types))
+    strip = lot.aisles["bend"].polygon
+    cut = False
+    for lane in lot.lanes:
+        bodies = shapely.polygons(lot.design.footprints(lane.sample(0.2)))
+        bodies = shapely.intersection(bodies, lot.boundary)  # a gate pokes out of the lot
+        assert shapely.covers(lot.pavement.buffer(1e-6), bodies).all(), lane.id
+        cut |= not shapely.covers(strip.buffer(1e-6), bodies).all()
+    assert cut, "the strip alone holds the lanes: this lot tests nothing"
