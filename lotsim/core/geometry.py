@@ -370,9 +370,9 @@ def cc_polyline(points: ArrayLike, radius: ArrayLike, sharpness: float) -> list[
         Polyline vertices [m], N ≥ 2, no two consecutive equal.
     radius : float or array_like of N - 2 floats
         Radius of each corner's arc [m].
-    sharpness : float
-        Rate of change of curvature along the clothoids [1/m²]; ``inf`` rounds the
-        corners by plain arcs.
+    sharpness : float or array_like of N - 2 floats
+        Rate of change of curvature along the clothoids [1/m²], or each corner's; ``inf``
+        rounds a corner by a plain arc.
 
     Raises
     ------
@@ -390,19 +390,20 @@ def cc_polyline(points: ArrayLike, radius: ArrayLike, sharpness: float) -> list[
     headings = np.arctan2(legs[:, 1], legs[:, 0])
     turns = np.atleast_1d(wrap_angle(np.diff(headings))) if len(legs) > 1 else np.zeros(0)
     radii = np.broadcast_to(np.asarray(radius, dtype=float), turns.shape)
+    sharp = np.broadcast_to(np.asarray(sharpness, dtype=float), turns.shape)
     if np.any(np.abs(turns) >= math.radians(179)):
         i = int(np.argmax(np.abs(turns) >= math.radians(179))) + 1
         raise ValueError(f"the polyline turns back on itself at vertex {i}")
     corners = []
-    for turn, r in zip(turns, radii, strict=True):
+    for turn, r, sigma in zip(turns, radii, sharp, strict=True):
         if abs(turn) <= 1e-12:
             corners.append(([], 0.0))
-        elif math.isinf(sharpness):
+        elif math.isinf(sigma):
             t = r * math.tan(abs(turn) / 2)
             corners.append(([Segment((0.0, 0.0, 0.0), float(r * abs(turn)),
                                      math.copysign(1 / float(r), turn))], t))
         else:
-            corners.append(_cc_corner(float(turn), float(1 / r), float(sharpness)))
+            corners.append(_cc_corner(float(turn), float(1 / r), float(sigma)))
     tangents = np.array([t for _, t in corners])
     cut_in = np.concatenate([[0.0], tangents])
     cut_out = np.concatenate([tangents, [0.0]])

@@ -152,7 +152,9 @@ def _aisle_json(a: Aisle) -> dict[str, Any]:
     return {"id": a.id, "centerline": _points_json(a.centerline), "width": _round(a.width),
             "one_way": bool(a.one_way), "bend_radius": _round(a.bend_radius),
             "bend_sharpness": float(a.bend_sharpness),
-            "polygon": _geometry_json(a.polygon), "lanes": lanes}
+            "polygon": _geometry_json(a.polygon), "lanes": lanes} | (
+        {"corner_sharpness": [None if math.isinf(c) else float(c) for c in a.corner_sharpness]}
+        if a.corner_sharpness else {})
 
 
 def _slot_json(s: Slot) -> dict[str, Any]:
@@ -260,6 +262,10 @@ def lot_from_json(d: Any, *, root: str = "drawing") -> Lot:
 
 
 def _aisle(raw: Any, path: str, geometry: Callable[[Any, str], Any]) -> Aisle:
+    # optional: written only for aisles whose corners are too close for bend_sharpness
+    corners = raw.get("corner_sharpness") if isinstance(raw, dict) else None
+    if isinstance(raw, dict):
+        raw = {k: v for k, v in raw.items() if k != "corner_sharpness"}
     o = _object(raw, path, _AISLE_KEYS)
     aid = _str(o, "id", path)
     lanes = []
@@ -277,7 +283,20 @@ def _aisle(raw: Any, path: str, geometry: Callable[[Any, str], Any]) -> Aisle:
     return Aisle(aid, centerline, _number(o, "width", path), _bool(o, "one_way", path),
                  _number(o, "bend_radius", path), _number(o, "bend_sharpness", path),
                  geometry(o["polygon"], f"{path}.polygon"),
-                 tuple(lanes))
+                 tuple(lanes), corner_sharpness=_corners(corners, f"{path}.corner_sharpness",
+                                                         len(centerline) - 2))
+
+
+def _corners(value: Any, path: str, n: int) -> tuple[float, ...]:
+    """Each corner's sharpness, ``null`` for a plain arc (``inf``); () when not given."""
+    if value is None:
+        return ()
+    if not isinstance(value, list) or len(value) != n or not all(
+            v is None or (type(v) in (int, float) and math.isfinite(v) and v > 0)
+            for v in value):
+        raise LotFormatError(f"{path}: expected a list of {n} positive numbers or nulls, "
+                             f"one per corner of the centre line")
+    return tuple(math.inf if v is None else float(v) for v in value)
 
 
 def _slots(raws: list, path: str, aisles: dict[str, Aisle]) -> tuple[Slot, ...]:

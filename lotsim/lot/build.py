@@ -8,6 +8,7 @@ aisle, aisles too narrow or curves too tight for the scenario's vehicles.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 
 import numpy as np
@@ -16,6 +17,7 @@ from shapely.geometry import LineString, Point, Polygon
 from shapely.geometry.base import BaseGeometry
 from shapely.ops import unary_union
 
+from lotsim.core.corners import corner_sharpness
 from lotsim.core.geometry import FloatArray, cc_polyline, ccw, wrap_angle
 from lotsim.errors import ScenarioError
 from lotsim.lot.clearance import Collider
@@ -40,6 +42,9 @@ AREA_TOL = 1e-6
 """Overlaps smaller than this [m²] are touching, not overlapping."""
 SWEEP_STEP = 0.2
 """Spacing of footprints when checking that a lane can be driven [m]."""
+CRAWL_SPEED = 0.25
+"""The slowest speed a bend of a lane is driven at [m/s] (0.9 km/h): corners too close for
+the clothoids the steering rate allows at that speed are refused."""
 
 
 def build_lot(spec: LotSpec, design: DesignVehicle) -> Lot:
@@ -210,22 +215,38 @@ def _build_aisle(spec: AisleSpec, design: DesignVehicle, boundary: Polygon,
         )
     sharpness = bend_sharpness(radius, offset, design, speed_limit)
     paths = [(line, 0.0)] if spec.one_way else [(line, offset), (line[::-1], offset)]
-    lanes = []
-    for k, (pts, right) in enumerate(paths):
-        # concentric corners: a lane right of the centreline is outside a left turn
+    # concentric corners: a lane right of the centreline is outside a left turn
+    drawn = []
+    for pts, right in paths:
         heading = np.arctan2(*np.diff(pts, axis=0).T[::-1])
-        radii = radius + right * np.sign(np.atleast_1d(wrap_angle(np.diff(heading))))
-        try:
-            segs = cc_polyline(offset_polyline(pts, right), radii, sharpness)
-        except ValueError as exc:
-            raise ScenarioError(
-                spec.where, f"aisle {spec.id!r}: curves too tight for a {radius:.2f} m bend: {exc}"
-            ) from None
-        lanes.append(Lane(f"{spec.id}{'>' if k == 0 else '<'}", spec.id, tuple(segs), right,
-                          k == 0))
+        drawn.append((offset_polyline(pts, right),
+                      radius + right * np.sign(np.atleast_1d(wrap_angle(np.diff(heading))))))
+    # corners too close for the clothoids of cruising speed are driven slower, with
+    # sharper ones: the sharpness each corner needs on the centre line and on every lane
+    corners = np.full(max(len(line) - 2, 0), sharpness)
+    sharpest = design.sharpness(CRAWL_SPEED)
+    try:
+        for k, (pts, radii) in enumerate([(line, radius), *drawn]):
+            need = corner_sharpness(pts, radii, sharpness, sharpest)
+            corners = np.maximum(corners, need[::-1] if k == 2 else need)
+    except ValueError as exc:
+        raise ScenarioError(
+            spec.where, f"aisle {spec.id!r}: curves too tight for a {radius:.2f} m bend: "
+            f"{exc}, even at a crawl of {CRAWL_SPEED * 3.6:.1f} km/h: lengthen the leg"
+            + (f", or give a smaller bend_radius (no less than "
+               f"{design.min_radius + offset:.2f} m)" if radius > design.min_radius + offset
+               + 1e-9 else "")
+        ) from None
+    lanes = []
+    for k, (pts, radii) in enumerate(drawn):
+        segs = cc_polyline(pts, radii, corners if k == 0 else corners[::-1])
+        lanes.append(Lane(f"{spec.id}{'>' if k == 0 else '<'}", spec.id, tuple(segs),
+                          paths[k][1], k == 0))
     polygon = LineString(line).buffer(spec.width / 2, cap_style="flat", join_style="round")
     return Aisle(spec.id, line, spec.width, spec.one_way, radius, sharpness, polygon,
-                 tuple(lanes), spec.where)
+                 tuple(lanes), spec.where,
+                 corner_sharpness=tuple(map(float, corners)) if (corners != sharpness).any()
+                 else ())
 
 
 # -- slots -------------------------------------------------------------------------------------
@@ -470,6 +491,5 @@ def _fit_lanes(aisle: Aisle, design: DesignVehicle, collider: Collider) -> Aisle
         if s0 > 0.0 or s1 is not None:
             lane = lane.trimmed(s0, s1 if s1 is not None else lane.length)
         lanes.append(lane)
-    return Aisle(aisle.id, aisle.centerline, aisle.width, aisle.one_way, aisle.bend_radius,
-                 aisle.bend_sharpness, aisle.polygon, tuple(lanes), aisle.where)
+    return dataclasses.replace(aisle, lanes=tuple(lanes))
 

@@ -222,10 +222,18 @@ class Aisle:
     polygon: Polygon
     lanes: tuple[Lane, ...]
     where: Location | None = field(default=None, repr=False)
+    corner_sharpness: tuple[float, ...] = ()  # per corner where not bend_sharpness; inf: arc
 
     @cached_property
     def line(self) -> LineString:
         return LineString(self.centerline)
+
+    @property
+    def corners(self) -> tuple[float, ...]:
+        """The sharpness of each corner's clothoids [1/m²] (``inf``: a plain arc, the car
+        stopping to steer): :attr:`bend_sharpness` unless the corners were too close."""
+        n = max(len(self.centerline) - 2, 0)
+        return self.corner_sharpness or (self.bend_sharpness,) * n
 
     @cached_property
     def legs(self) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
@@ -236,8 +244,10 @@ class Aisle:
         start = np.concatenate([[0.0], np.cumsum(length)[:-1]])
         heading = np.arctan2(vec[:, 1], vec[:, 0])
         turns = np.abs(np.atleast_1d(wrap_angle(np.diff(heading)))) if len(vec) > 1 else np.zeros(0)
-        cut = np.array([cc_turn(float(t), 1 / self.bend_radius, self.bend_sharpness)[1]
-                        if t > 1e-12 else 0.0 for t in turns])
+        cut = np.array([(self.bend_radius * math.tan(t / 2) if math.isinf(sigma) else
+                         cc_turn(float(t), 1 / self.bend_radius, sigma)[1])
+                        if t > 1e-12 else 0.0 for t, sigma in zip(turns, self.corners,
+                                                                  strict=True)])
         lo = start + np.concatenate([[0.0], cut])
         hi = start + length - np.concatenate([cut, [0.0]])
         return start, heading, lo, hi

@@ -21,7 +21,7 @@ from lotsim.verify import check_result
 from single_track import assert_reproduced
 
 LOTS = Path(__file__).resolve().parents[2] / "scenarios" / "lots"
-FAST = ("culdesac", "ladder")  # ring and gate_spur: -m slow
+FAST = ("culdesac", "ladder", "short_loop")  # ring and gate_spur: -m slow
 
 
 @pytest.fixture(scope="module")

@@ -36,6 +36,7 @@ from lotsim.render.lot_image.theme import (
     PARKED_CAR,
     PARKED_CAR_EDGE,
     PARKED_CAR_FRONT,
+    PAVED,
     SLOT_LINE,
     SLOT_PAVING,
     WALL,
@@ -154,6 +155,14 @@ def _swatch_multipoint(img: Image.Image, box: tuple[int, int, int, int]) -> None
            fill=GRAPH_EDGE["turnaround"], width=1)
 
 
+def _swatch_ground(img: Image.Image, box: tuple[int, int, int, int]) -> None:
+    x0, y0, x1, y1 = box
+    mid = (x0 + x1) // 2
+    draw = ImageDraw.Draw(img)
+    draw.rectangle((x0, y0, mid, y1), fill=PAVED)
+    draw.rectangle((mid + 1, y0, x1, y1), fill=GROUND, outline=(120, 130, 110))
+
+
 def _legend_entries(lot_graph, lot, show_graph: bool) -> list[_Entry]:
     out = [_Entry("aisle, lane direction", _swatch_arrow)]
     kinds = {s.kind for s in lot.slots}
@@ -162,6 +171,8 @@ def _legend_entries(lot_graph, lot, show_graph: bool) -> list[_Entry]:
             out.append(_Entry(f"{kind} slot", _swatch_slot(SLOT_LINE[kind])))
     if lot.occupied:
         out.append(_Entry("parked car", _swatch_car))
+    if lot.pavement is not None:
+        out.append(_Entry("paved, unpaved ground", _swatch_ground))
     area_kinds = {a.kind for a in lot.areas}
     if "wall" in area_kinds:
         out.append(_Entry("wall", _swatch_rect(WALL)))

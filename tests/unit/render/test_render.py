@@ -380,3 +380,17 @@ def test_slot_ids_of_a_big_lot_are_drawn_along_the_slots_where_they_fit_only_so(
     assert shapely.contains_xy(shapely.union_all(polys).buffer(1.0), x, y).all()
     for poly in polys[::97]:
         assert shapely.contains_xy(poly, x, y).sum() > 10
+
+
+def test_the_ground_is_drawn_as_it_is_paved_or_not() -> None:
+    """A lot paved wall to wall is paved between its rows and the boundary; one that says
+    what is paved shows the rest as unpaved ground, and its kerb corners paved."""
+    whole_sc, whole = build()
+    paved_text = LOT_YAML.replace("  aisles:\n", "  paved: {}\n  aisles:\n", 1)
+    _, paved = build(paved_text)
+    verge = (20.0, 0.5)  # between the south row's backs and the boundary
+    for g, expected in ((whole, li.PAVED), (paved, li.GROUND)):
+        img = draw_lot(g, size=SIZE, labels=False, legend=False)
+        canvas = lot_layout(g, size=SIZE, legend=False).canvas
+        assert rgb(img, canvas.to_px(verge)) == expected
+        assert rgb(img, canvas.to_px((20.0, 10.0))) != li.GROUND  # the aisle
