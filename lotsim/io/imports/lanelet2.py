@@ -20,7 +20,7 @@ from pathlib import Path
 
 import numpy as np
 import shapely
-from shapely.geometry import LineString, Polygon
+from shapely.geometry import LineString, Point, Polygon
 from shapely.ops import split, unary_union
 
 from lotsim.core.atomic import atomic_write
@@ -29,12 +29,16 @@ from lotsim.io.imports.draft import AisleDraft, AreaDraft, GateDraft, LotDraft, 
 from lotsim.io.imports.lanelet2_layout import (
     ENTRY_REACH,
     AisleLayout,
+    Bends,
     assign,
-    corner_needs,
+    beside_bends,
+    cut_at_corners,
     drivable,
     end_on,
     extend_to,
     fit,
+    join_corner,
+    legs_of,
 )
 from lotsim.io.imports.lanelet2_map import Lanelet2Map, read_lanelet2
 from lotsim.io.imports.lanelet2_roads import carriageways, network
@@ -55,6 +59,9 @@ TRAFFIC = {"stream": {"count": 20, "rate_per_hour": 60, "dwell": [300, 900]}}
 WRITE_PAVED = True
 VEHICLE_TYPES = ("altis", "zoe")
 """The vehicle types the scenario lists."""
+GUESS_STRIP = 1.4
+"""Access ground each side of a carriageway guessed before the aisles are fitted, to see
+which of a road's corners lotsim can round [m]."""
 DEFAULT_SPEED_KMH = 20.0
 """lotsim's speed limit when the map gives none [km/h]."""
 """Write ``lot.paved`` (the map's drawn ground): on once the scenario format has the key."""
@@ -133,34 +140,53 @@ def _draft(m: Lanelet2Map, say: Callable[[str], None]) -> tuple[LotDraft, Import
     access = unary_union([a.polygon for a in m.accesses]) if m.accesses else Polygon()
     ground = unary_union([lanelet_ground, access])
     spots = sorted((fit_spot(a, ground) for a in m.spots), key=lambda s: _key(s.id))
-    aisles = [AisleLayout(road) for road in net.roads]
-    reasons = assign(spots, aisles)
+    speed = (_speed_limit(m) or DEFAULT_SPEED_KMH) / 3.6
+    design = DesignVehicle.envelope([get_vehicle(v) for v in VEHICLE_TYPES])
+    roads = []
+    for road in net.roads:
+        guess = Bends(road.width + 2 * GUESS_STRIP, road.two_way, design, speed)
+        roads.append(AisleLayout(road, legs_of(road, guess.short)))
+    reasons = assign(spots, roads)
+    aisles, of_road = [], []  # the pieces, and the road of each
+    for r, road in enumerate(roads):
+        pieces = cut_at_corners(road, lambda w, rd=road.road: Bends(w, rd.two_way, design, speed))
+        aisles += pieces
+        of_road += [r] * len(pieces)
     for aisle in aisles:
         reasons.update(fit(aisle))
-    speed = _speed_limit(m)
-    design = DesignVehicle.envelope([get_vehicle(v) for v in VEHICLE_TYPES])
-    needs = [corner_needs(a.width, a.road.two_way, design,
-                          (speed or DEFAULT_SPEED_KMH) / 3.6) for a in aisles]
-    for aisle, need in zip(aisles, needs, strict=True):
+    needs = [Bends(a.width, a.road.two_way, design, speed).short for a in aisles]
+    for k, (aisle, need) in enumerate(zip(aisles, needs, strict=True)):
         aisle.line = drivable(aisle.line, need)
+        if k and aisle.ends[0][0] == "corner":
+            join_corner(aisles[k - 1], aisle)
     for aisle, need in zip(aisles, needs, strict=True):  # T ends on their hosts' lines
-        for e, (kind, host) in enumerate(aisle.road.ends):
+        for e, (kind, host) in enumerate(aisle.ends):
             if kind == "on":
-                aisle.line = drivable(end_on(aisle.line, e, aisles[host].line), need)
+                end = aisle.line[-1 if e else 0]
+                near = min((k for k, r in enumerate(of_road) if r == host),
+                           key=lambda k: LineString(aisles[k].line).distance(Point(end)))
+                aisle.line = drivable(end_on(aisle.line, e, aisles[near].line), need)
     spot_ground = unary_union([s.polygon for s in spots]) if spots else Polygon()
     drawn = unary_union([ground, spot_ground] + [a.polygon for a in aisles])
     boundary = _boundary(drawn)
     parking = unary_union([access, spot_ground])
     gates_at = []
     for a, aisle in enumerate(aisles):
-        for e, (kind, _) in enumerate(aisle.road.ends):
+        for e, (kind, _) in enumerate(aisle.ends):
             if kind == "open" and _at_edge(aisle, e, parking):
                 aisle.line = drivable(extend_to(aisle.line, e, boundary, 0.02), needs[a])
                 gates_at.append((a, e))
+    for aisle in aisles:
+        reasons.update(beside_bends(aisle, Bends(aisle.width, aisle.road.two_way, design,
+                                                 speed)))
     if not gates_at:
         raise ScenarioError(None, f"{m.source}: no road of the map ends at its edge: the lot "
                                   "has nowhere for cars to come in")
-    ids = [f"L{a.road.lanelets[0]}" for a in aisles]
+    ids = []
+    for k, r in enumerate(of_road):
+        first = of_road.index(r)
+        ids.append(f"L{roads[r].road.lanelets[0]}" + (f"-{k - first + 1}"
+                                                       if of_road.count(r) > 1 else ""))
     slots = _slots(aisles, ids, reasons, boundary)
     drawn_map = unary_union([ground, spot_ground])
     blocks, dropped_lines = _blocks(m, ground, spot_ground)
@@ -194,7 +220,7 @@ def _draft(m: Lanelet2Map, say: Callable[[str], None]) -> tuple[LotDraft, Import
         boundary=_ring(boundary),
         vehicle_types=list(VEHICLE_TYPES),
         header=header,
-        speed_limit_kmh=speed,
+        speed_limit_kmh=_speed_limit(m),
         aisles=[AisleDraft(ids[k], [tuple(map(float, p)) for p in a.line], a.width,
                            not a.road.two_way, _aisle_note(a)) for k, a in enumerate(aisles)],
         slots=[s for s, _ in slots],

@@ -3,13 +3,13 @@
 Each road (:mod:`.lanelet2_roads`) becomes an aisle along its carriageway, widened over the
 ``parking_access`` ground on each side so that its edge lies along the entries of the spots
 that open onto it: lotsim's slots open onto an aisle's edge within 0.3 m
-(``docs/scenario.md``). A spot opens onto the road its entry faces (the first centre line
-straight out of it). The aisle keeps one width; its centre line is the road's, shifted
-sideways by an offset that may change along it (rows drawn along a curve beside a straight
-road, access strips of different depths), never faster than :data:`SLOPE` metres a metre:
-the offsets are chosen by dynamic programming so that the aisle's edge reaches the most
-entries without covering a spot, and then drawn with as few bends as they allow. A spot
-its edge cannot reach so is reported, with why.
+(``docs/scenario.md``), and a car parks only from a straight stretch of lane. So the aisle
+keeps the road's straight legs (a road drawn with corners too close for lotsim to round
+them has them merged, :func:`drivable`), each shifted sideways on its own, and one width:
+the width and the shifts that reach the entries of the most spots without covering any.
+A spot opens onto the road its entry faces (the nearest centre line in front of it); a
+spot the aisle's edge cannot reach, or that lies beside a bend of its lanes, is reported,
+with why.
 """
 
 from __future__ import annotations
@@ -21,20 +21,23 @@ import numpy as np
 import shapely
 from shapely.geometry import LineString, Point, Polygon
 
+from lotsim.core.corners import corner_sharpness
 from lotsim.core.geometry import FloatArray, cc_turn
 from lotsim.io.imports.lanelet2_roads import Road
 from lotsim.io.imports.lanelet2_spots import Spot
-from lotsim.lot.build import bend_sharpness, offset_polyline
+from lotsim.lot.build import CRAWL_SPEED, bend_sharpness, offset_polyline
 from lotsim.lot.model import DesignVehicle
 
 ENTRY_REACH = 0.3
 """A slot's entry must lie within this of its aisle [m] (lotsim's rule)."""
 MARGIN = 0.04
 """Kept between an aisle's edge and a slot, and inside the 0.3 m, against rounding [m]."""
-SIMPLIFY = 0.05
+SIMPLIFY = 0.1
 """Tolerance of the road lines' simplification [m]."""
+TIE_DEG = 3.0
+"""Legs meeting at a smaller bend [degrees] are shifted together."""
 FACING = 12.0
-"""How far straight out of its entry a spot looks for the road it opens onto [m]."""
+"""How far in front of its entry a spot looks for the road it opens onto [m]."""
 FACING_DEG = 50.0
 """A spot faces a road whose nearest point lies within this of straight out of its entry
 [degrees]."""
@@ -42,30 +45,37 @@ FREE_SIDE = 1.0
 """On a side with no spots the aisle's edge keeps within this of the carriageway's [m]."""
 MIN_WIDTH = 4.2
 """The narrowest aisle: two lanes of a 1.8 m car with 0.15 m each side [m]."""
-SLOPE = 0.2
-"""The fastest the centre line's offset changes along the road [m/m] (11°)."""
+MAX_EDGE = 8.0
+"""The farthest an aisle's edge lies from its road's centre line [m]."""
 GRID = 0.01
-"""Resolution of the offsets searched [m]."""
-REACH = 4.0
-"""The farthest the centre line is shifted off the road's [m]."""
-KNOT_GAP = 4.0
-"""Offsets are chosen at least this often along the road [m]."""
+"""Resolution of the widths and shifts searched [m]."""
+SPLIT_DEG = 20.0
+"""A road bending this much or more may be cut there into two aisles meeting in an L
+[degrees]."""
+MIN_GAIN = 2
+"""Cut a road into two aisles only where that serves at least this many more spots."""
+BEND_CLEAR = 0.3
+"""A spot's entry this close to where a lane starts to bend is beside the bend [m]."""
 
 
 @dataclass(frozen=True)
 class Facing:
-    """A spot opening onto an aisle's road: its side (+1 left, -1 right), and the stations
-    [m] and distances [m] from the road's line of its entry's ends and middle."""
+    """A spot opening onto an aisle's road: the leg of the road's line it faces, its side
+    (+1 left, -1 right), the distances [m] of its entry's middle and nearer end from the
+    leg's line, and the station of its entry's middle along the road's line [m]."""
 
     spot: Spot
+    leg: int
     side: int
-    stations: tuple[float, float, float]  # one end, the middle, the other end
-    distances: tuple[float, float, float]
+    mid: float
+    near: float
+    station: float
 
 
 @dataclass
 class AisleLayout:
-    """One aisle: its road, its centre line [m] and width [m], its slots."""
+    """One aisle: its road, the road's line as straight legs (``base``), the spots facing
+    it, and once fitted its centre line [m], width [m] and slots."""
 
     road: Road
     base: FloatArray = field(default_factory=lambda: np.zeros((0, 2)))
@@ -73,11 +83,12 @@ class AisleLayout:
     line: FloatArray = field(default_factory=lambda: np.zeros((0, 2)))
     width: float = 0.0
     slots: list[Spot] = field(default_factory=list)
+    ends: list[tuple[str, int | None]] = field(default_factory=list)
+    first_leg: int = 0  # of the road's legs, this piece's first
 
     def __post_init__(self) -> None:
-        if not len(self.base) and len(self.road.line):
-            self.base = np.asarray(shapely.simplify(LineString(self.road.line),
-                                                    SIMPLIFY).coords)
+        if not self.ends:
+            self.ends = list(self.road.ends)
 
     @property
     def half(self) -> float:
@@ -91,14 +102,32 @@ class AisleLayout:
                                             join_style="round")
 
 
+def legs_of(road: Road, short: Callable[[FloatArray], FloatArray]) -> FloatArray:
+    """The road's line as straight legs: simplified, bends under :data:`TIE_DEG` / 2
+    straightened, corners lotsim could not round merged (:func:`drivable`)."""
+    line = np.asarray(shapely.simplify(LineString(road.line), SIMPLIFY).coords)
+    for _ in range(len(line)):
+        turns = np.degrees(np.abs(_turns(line)))
+        if not len(turns) or turns.min() >= TIE_DEG / 2:
+            break
+        line = np.delete(line, int(np.argmin(turns)) + 1, axis=0)
+    return drivable(line, short)
+
+
 def _unit(v: FloatArray) -> FloatArray:
     return v / float(np.hypot(*v))
 
 
+def _turns(line: FloatArray) -> FloatArray:
+    d = np.diff(line, axis=0)
+    h = np.arctan2(d[:, 1], d[:, 0])
+    return (np.diff(h) + np.pi) % (2 * np.pi) - np.pi
+
+
 def assign(spots: list[Spot], aisles: list[AisleLayout]) -> dict[str, str]:
     """Put each spot on the aisle whose road its entry faces: the nearest road line within
-    :data:`FACING` that lies within :data:`FACING_DEG` of straight out of the entry; the
-    spots that face none, with why."""
+    :data:`FACING` that lies within :data:`FACING_DEG` of straight out of the entry, on the
+    leg nearest its entry; the spots that face none, with why."""
     lines = [LineString(a.base) for a in aisles]
     reasons: dict[str, str] = {}
     cos_max = float(np.cos(np.radians(FACING_DEG)))
@@ -109,239 +138,185 @@ def assign(spots: list[Spot], aisles: list[AisleLayout]) -> dict[str, str]:
         mid = spot.entry_mid
         best = None
         for a, line in enumerate(lines):
-            s = float(line.project(Point(mid)))
-            q = np.asarray(line.interpolate(s).coords[0])
+            q = np.asarray(line.interpolate(line.project(Point(mid))).coords[0])
             d = float(np.hypot(*(q - mid)))
             if d > FACING or d < 1e-6 or float(np.dot(q - mid, spot.outward)) < cos_max * d:
                 continue
             if best is None or d < best[0]:
-                best = (d, a, s)
+                best = (d, a)
         if best is None:
             reasons[spot.id] = (f"no road's centre line lies within {FACING:g} m in front of "
                                 "its entry")
             continue
-        _, a, s = best
-        aisle, line = aisles[a], lines[a]
-        pts = (spot.entry[0], mid, spot.entry[1])
-        stations = tuple(float(line.project(Point(p))) for p in pts)
-        distances = tuple(float(line.distance(Point(p))) for p in pts)
-        q = np.asarray(line.interpolate(s).coords[0])
-        t = _tangent(aisle.base, s)
-        side = 1 if t[0] * (mid - q)[1] - t[1] * (mid - q)[0] > 0 else -1
-        aisle.facing.append(Facing(spot, side, stations, distances))
+        aisle = aisles[best[1]]
+        base = aisle.base
+        gaps = [LineString(base[j:j + 2]).distance(Point(mid)) for j in range(len(base) - 1)]
+        j = int(np.argmin(gaps))
+        u = _unit(base[j + 1] - base[j])
+        n = np.array([-u[1], u[0]])
+        ya, ym, yb = (float(np.dot(p - base[j], n)) for p in (spot.entry[0], mid,
+                                                              spot.entry[1]))
+        side = 1 if ym > 0 else -1
+        aisle.facing.append(Facing(spot, j, side, abs(ym), min(side * ya, side * yb),
+                                   float(lines[best[1]].project(Point(mid)))))
     return reasons
 
 
-def _tangent(line: FloatArray, s: float) -> FloatArray:
-    """Unit direction of the polyline at station ``s``."""
-    seg = np.hypot(*np.diff(line, axis=0).T)
-    k = int(np.clip(np.searchsorted(np.cumsum(seg), s), 0, len(seg) - 1))
-    return _unit(line[k + 1] - line[k])
-
-
-def _bounds(f: Facing, width: float) -> list[tuple[float, float, float]]:
-    """The spot's demands on the centre line's offset: (station, lowest, highest)."""
-    (sa, sm, sb), (ya, ym, yb) = f.stations, f.distances
-    h = width / 2
-    if f.side > 0:  # left edge = offset + h: short of each entry end, within reach of its middle
-        return [(sa, -np.inf, ya - MARGIN - h), (sb, -np.inf, yb - MARGIN - h),
-                (sm, ym - ENTRY_REACH + MARGIN - h, np.inf)]
-    return [(sa, h - ya + MARGIN, np.inf), (sb, h - yb + MARGIN, np.inf),
-            (sm, -np.inf, h - ym + ENTRY_REACH - MARGIN)]
-
-
-def _width(aisle: AisleLayout) -> float:
-    """The width that suits the most stretches: where spots face each other across the road,
-    the gap between their entries less 0.06 to 0.54 m; where one side has none, the spots'
-    side within reach and the other near the carriageway's edge."""
-    spans = []
-    for f in aisle.facing:
-        lo_f = f.distances[1] - ENTRY_REACH + MARGIN
-        hi_f = min(f.distances[0], f.distances[2]) - MARGIN
-        across = [g for g in aisle.facing if g.side != f.side
-                  and min(g.stations[0], g.stations[2]) - 0.5 <= f.stations[1]
-                  <= max(g.stations[0], g.stations[2]) + 0.5]
-        if across:
-            for g in across:
-                lo_g = g.distances[1] - ENTRY_REACH + MARGIN
-                hi_g = min(g.distances[0], g.distances[2]) - MARGIN
-                spans.append((lo_f + lo_g, hi_f + hi_g, 1.0))
-        else:
-            spans.append((lo_f + aisle.half - FREE_SIDE, hi_f + aisle.half + FREE_SIDE, 0.5))
-    if not spans:
-        return max(MIN_WIDTH, 2 * aisle.half)
-    grid = np.arange(MIN_WIDTH, 2 * (REACH + aisle.half) + GRID, GRID)
-    score = np.zeros(len(grid))
-    for lo, hi, weight in spans:
-        score[(grid >= lo - 1e-9) & (grid <= hi + 1e-9)] += weight
-    best = np.flatnonzero(score >= score.max() - 1e-9)
-    # the middle of the longest run of best widths
-    runs = np.split(best, np.flatnonzero(np.diff(best) > 1) + 1)
-    run = max(runs, key=len)
-    return float(grid[run[len(run) // 2]])
+def _counts(spans: list[tuple[float, float]], size: int) -> FloatArray:
+    """How many of ``spans`` hold each edge distance ``k * GRID`` [m], k < size."""
+    diff = np.zeros(size + 1)
+    for lo, hi in spans:
+        a, b = max(int(np.ceil(lo / GRID - 1e-9)), 0), min(int(np.floor(hi / GRID + 1e-9)),
+                                                           size - 1)
+        if a <= b:
+            diff[a] += 1
+            diff[b + 1] -= 1
+    return np.cumsum(diff)[:size]
 
 
 def fit(aisle: AisleLayout) -> dict[str, str]:
-    """Choose the aisle's width and its centre line; the spots left out, with why."""
-    width = _width(aisle)
-    length = float(LineString(aisle.base).length)
-    knots: dict[float, list[tuple[float, float, int]]] = {}  # station -> (lo, hi, facing)
+    """Choose the aisle's width and each stretch's shift so that the edge reaches the most
+    spots' entries within :data:`ENTRY_REACH` and covers none; the spots left out, with why.
 
-    def at(s: float) -> list[tuple[float, float, int]]:
-        s = float(np.clip(s, 0.0, length))
-        for known in knots:
-            if abs(known - s) < 0.05:
-                return knots[known]
-        return knots.setdefault(s, [])
-
-    for k, f in enumerate(aisle.facing):
-        for s, lo, hi in _bounds(f, width):
-            at(s).append((lo, hi, k))
-    cum = np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(aisle.base, axis=0).T))])
-    for s in cum:
-        at(float(s))
-    for s in np.arange(0.0, length, KNOT_GAP):
-        at(float(s))
-    stations = np.array(sorted(knots))
-    grid = np.arange(-REACH, REACH + GRID / 2, GRID)
-    offsets = _profile(aisle, stations, [knots[s] for s in stations], grid, width)
+    A stretch is a run of legs meeting at bends under :data:`TIE_DEG`. Each side of a
+    stretch scores every edge distance by the spots it serves (a side with none: 0 within
+    :data:`FREE_SIDE` of the carriageway's edge); the width is the one whose best split
+    between the sides, summed over the stretches, serves the most."""
+    base = aisle.base
+    aisle.slots = []
+    turns = np.degrees(np.abs(_turns(base)))
+    stretch = np.concatenate([[0], np.cumsum(turns >= TIE_DEG)])  # leg -> stretch
+    count = int(stretch[-1]) + 1
+    size = int(MAX_EDGE / GRID) + 1
+    tables = []
+    for k in range(count):
+        score = {}
+        for side in (1, -1):
+            items = [f for f in aisle.facing if stretch[f.leg] == k and f.side == side]
+            if items:
+                score[side] = _counts([(f.mid - ENTRY_REACH + MARGIN, f.near - MARGIN)
+                                       for f in items], size)
+            else:
+                free = np.full(size, -np.inf)
+                lo = max(int((aisle.half - FREE_SIDE) / GRID), 0)
+                free[lo:min(int((aisle.half + FREE_SIDE) / GRID), size - 1) + 1] = 0.0
+                score[side] = free
+        left, right = score[1], score[-1]
+        total = np.full(2 * size - 1, -np.inf)
+        for e in np.flatnonzero(np.isfinite(left)):
+            total[e:e + size] = np.maximum(total[e:e + size], left[e] + right)
+        tables.append((left, right, total))
+    overall = np.sum([t[2] for t in tables], axis=0)
+    overall[:int(np.ceil(MIN_WIDTH / GRID))] = -np.inf
+    best = np.flatnonzero(overall >= overall.max() - 1e-9)
+    runs = np.split(best, np.flatnonzero(np.diff(best) > 1) + 1)
+    run = max(runs, key=len)
+    w = int(run[len(run) // 2])  # the middle of the widest range of best widths
+    width = w * GRID
+    edges = []
+    for left, right, _ in tables:
+        ks = np.arange(max(0, w - size + 1), min(size, w + 1))
+        sums = left[ks] + right[w - ks]
+        top = ks[sums >= sums.max() - 1e-9]
+        e = int(top[len(top) // 2])
+        edges.append((e * GRID, width - e * GRID))
     reasons = {}
-    kept = []
-    for k, f in enumerate(aisle.facing):
-        bad = [(s, lo, hi) for s, lo, hi in _bounds(f, width)
-               if not lo - 1e-6 <= float(np.interp(s, stations, offsets)) <= hi + 1e-6]
-        if bad:
-            reasons[f.spot.id] = _why(f, width, float(np.interp(f.stations[1], stations,
-                                                                 offsets)))
+    for f in aisle.facing:
+        edge = edges[stretch[f.leg]][0 if f.side > 0 else 1]
+        if f.near - edge < MARGIN - 1e-9:
+            reasons[f.spot.id] = (
+                f"its entry lies {f.mid:.2f} m from the road's centre line, inside the "
+                f"{width:.2f} m aisle whose edge reaches more of the entries there")
+        elif f.mid - edge > ENTRY_REACH - MARGIN + 1e-9:
+            reasons[f.spot.id] = (
+                f"its entry lies {f.mid:.2f} m from the road's centre line, "
+                f"{f.mid - edge:.2f} m beyond the edge of the {width:.2f} m aisle, which "
+                "reaches more of the entries there")
         else:
-            kept.append(k)
-    aisle.slots = [aisle.facing[k].spot for k in kept]
+            aisle.slots.append(f.spot)
     aisle.width = width
-    bands = []
-    for s, o in zip(stations, offsets, strict=True):
-        cons = [(lo, hi) for lo, hi, k in knots[s] if k in kept]
-        lo = max([c[0] for c in cons], default=o - 0.2)
-        hi = min([c[1] for c in cons], default=o + 0.2)
-        bands.append((min(lo, o), max(hi, o)))
-    breaks = _few_bends(stations, offsets, bands)
-    aisle.line = _offset_line(aisle.base, breaks)
+    shifts = [(left - right) / 2 for left, right in edges]
+    aisle.line = _shifted(base, [shifts[stretch[j]] for j in range(len(base) - 1)])
     return reasons
 
 
-def _why(f: Facing, width: float, offset: float) -> str:
-    edge = offset + width / 2 if f.side > 0 else width / 2 - offset
-    ym = f.distances[1]
-    if ym - edge > ENTRY_REACH - MARGIN:
-        return (f"its entry lies {ym:.2f} m from the road's centre line, {ym - edge:.2f} m "
-                f"beyond the edge of its {width:.2f} m aisle, which reaches more of its "
-                f"neighbours' entries there")
-    return (f"its entry lies {ym:.2f} m from the road's centre line, within the "
-            f"{width:.2f} m aisle, which reaches more of its neighbours' entries there")
+def cut_at_corners(aisle: AisleLayout, bends: Callable[[float], Bends]) -> list[AisleLayout]:
+    """The aisle cut into pieces at corners of :data:`SPLIT_DEG` or more where that lets
+    more spots be served (each piece fitted on its own, :func:`fit`, and its spots beside
+    its bends left out, :func:`beside_bends`): pieces that meet at a corner make an L.
+    ``bends`` gives the :class:`Bends` of a piece of a width."""
+    def served(piece: AisleLayout) -> int:
+        trial = AisleLayout(piece.road, piece.base, piece.facing)
+        fit(trial)
+        trial.line = drivable(trial.line, bends(trial.width).short)
+        beside_bends(trial, bends(trial.width))
+        return len(trial.slots)
+
+    turns = np.degrees(np.abs(_turns(aisle.base)))
+    best = (served(aisle) + MIN_GAIN - 1, None)
+    for k in np.flatnonzero(turns >= SPLIT_DEG) + 1:
+        a, b = _cut(aisle, int(k))
+        gain = served(a) + served(b)
+        if gain > best[0]:
+            best = (gain, (a, b))
+    if best[1] is None:
+        return [aisle]
+    a, b = best[1]
+    return cut_at_corners(a, bends) + cut_at_corners(b, bends)
 
 
-def _profile(aisle: AisleLayout, stations: FloatArray, cons: list, grid: FloatArray,
-             width: float) -> FloatArray:
-    """The offsets at ``stations`` that break the fewest demands of spots, change by at most
-    :data:`SLOPE` a metre, and keep a side without spots near the carriageway's edge."""
-    n, size = len(stations), len(grid)
-    sides = {1: [], -1: []}
-    for f in aisle.facing:
-        sides[f.side].append((min(f.stations[0], f.stations[2]) - 3.0,
-                              max(f.stations[0], f.stations[2]) + 3.0))
-    h = width / 2
-    cost = np.zeros((n, size))
-    for i, s in enumerate(stations):
-        for lo, hi, _ in cons[i]:
-            cost[i] += (grid < lo - 1e-9) | (grid > hi + 1e-9)
-        for side, spans in sides.items():
-            if not any(a <= s <= b for a, b in spans):
-                edge = grid + h if side > 0 else h - grid
-                cost[i] += 0.3 * (np.abs(edge - aisle.half) > FREE_SIDE)
-        cost[i] += 1e-3 * np.abs(grid)  # otherwise: on the road's line
-    value = cost[0].copy()
-    back = np.zeros((n, size), dtype=np.int64)
-    step_cost = 0.02  # per metre of offset change: fewer bends
-    idx = np.arange(size)
-    for i in range(1, n):
-        reach = min(int(SLOPE * (stations[i] - stations[i - 1]) / GRID), 200)
-        best = value.copy()
-        src = idx.copy()
-        for d in range(1, reach + 1):
-            pen = step_cost * d * GRID
-            for cand, came in ((np.concatenate([np.full(d, np.inf), value[:-d] + pen]), idx - d),
-                               (np.concatenate([value[d:] + pen, np.full(d, np.inf)]), idx + d)):
-                better = cand < best - 1e-12
-                best[better] = cand[better]
-                src[better] = came[better]
-        back[i] = src
-        value = best + cost[i]
-    j = int(np.argmin(value))
-    out = np.empty(n)
-    for i in range(n - 1, -1, -1):
-        out[i] = grid[j]
-        j = int(back[i][j]) if i else j
-    return out
+def _cut(aisle: AisleLayout, k: int) -> tuple[AisleLayout, AisleLayout]:
+    """The aisle's pieces before and after its base's vertex ``k``."""
+    first = [f for f in aisle.facing if f.leg < k]
+    second = [Facing(f.spot, f.leg - k, f.side, f.mid, f.near, f.station)
+              for f in aisle.facing if f.leg >= k]
+    a = AisleLayout(aisle.road, aisle.base[:k + 1], first,
+                    ends=[aisle.ends[0], ("corner", None)], first_leg=aisle.first_leg)
+    b = AisleLayout(aisle.road, aisle.base[k:], second,
+                    ends=[("corner", None), aisle.ends[1]], first_leg=aisle.first_leg + k)
+    return a, b
 
 
-def _few_bends(stations: FloatArray, offsets: FloatArray,
-               bands: list[tuple[float, float]]) -> list[tuple[float, float]]:
-    """Breakpoints (station, offset) of a piecewise-linear offset that stays in every band
-    and changes by at most :data:`SLOPE` a metre, with few pieces: each piece runs as far as
-    a line from its start can stay in the bands."""
-    out = [(float(stations[0]), float(offsets[0]))]
-    i = 0
-    n = len(stations)
-    while i < n - 1:
-        s0, o0 = out[-1]
-        lo_t, hi_t = -SLOPE, SLOPE
-        last = None
-        for k in range(i + 1, n):
-            ds = stations[k] - s0
-            a, b = (bands[k][0] - o0) / ds, (bands[k][1] - o0) / ds
-            if max(lo_t, a) > min(hi_t, b) + 1e-12:
-                break
-            lo_t, hi_t = max(lo_t, a), min(hi_t, b)
-            last = (k, lo_t, hi_t)
-        if last is None:  # not even the next knot: follow the chosen offsets
-            k = i + 1
-            out.append((float(stations[k]), float(offsets[k])))
-            i = k
-            continue
-        k, lo_t, hi_t = last
-        want = (offsets[k] - o0) / (stations[k] - s0)
-        t = float(np.clip(want, lo_t, hi_t))
-        out.append((float(stations[k]), o0 + t * float(stations[k] - s0)))
-        i = k
-    return out
+def join_corner(a: AisleLayout, b: AisleLayout) -> None:
+    """Put the end of ``a`` and the start of ``b`` on the point where their end legs meet."""
+    p = _crossing(a.line[-2], a.line[-1], b.line[0], b.line[1])
+    a.line = np.vstack([a.line[:-1], p])
+    b.line = np.vstack([p, b.line[1:]])
 
 
-def _offset_line(base: FloatArray, breaks: list[tuple[float, float]]) -> FloatArray:
-    """The base line shifted left by the piecewise-linear offset ``breaks``: points at its
-    breakpoints and at the base's corners (mitred)."""
-    seg = np.hypot(*np.diff(base, axis=0).T)
-    cum = np.concatenate([[0.0], np.cumsum(seg)])
-    bs = np.array([b[0] for b in breaks])
-    bo = np.array([b[1] for b in breaks])
-    normals = np.array([[-d[1], d[0]] for d in (np.diff(base, axis=0) / seg[:, None])])
-    pts = []
-    for s in sorted(set(bs.tolist()) | set(cum.tolist())):
-        o = float(np.interp(s, bs, bo))
-        k = int(np.searchsorted(cum, s, side="right") - 1)
-        k = min(k, len(seg) - 1)
-        if abs(s - cum[k]) < 1e-9 and k > 0:
-            a, b = normals[k - 1], normals[k]
-            n = (a + b) / (1 + float(np.dot(a, b)))
-            p = base[k]
-        elif abs(s - cum[-1]) < 1e-9:
-            n, p = normals[-1], base[-1]
+def _shifted(base: FloatArray, shifts: list[float]) -> FloatArray:
+    """``base`` with each leg moved ``shifts[j]`` to its left, corners where the moved legs
+    meet."""
+    d = np.diff(base, axis=0)
+    n = np.column_stack([-d[:, 1], d[:, 0]]) / np.hypot(*d.T)[:, None]
+    a = base[:-1] + n * np.asarray(shifts)[:, None]
+    b = base[1:] + n * np.asarray(shifts)[:, None]
+    pts = [a[0]]
+    for j in range(1, len(a)):
+        pts.append(_crossing(a[j - 1], b[j - 1], a[j], b[j]))
+    pts.append(b[-1])
+    return np.array(pts)
+
+
+def beside_bends(aisle: AisleLayout, bends: Bends) -> dict[str, str]:
+    """Drop the aisle's slots whose entry lies beside a bend of its lanes (lotsim parks a
+    car only from a straight stretch of lane): within :data:`BEND_CLEAR` of where a lane
+    turns at a corner of the centre line."""
+    line = LineString(aisle.line)
+    zones = [(lo - BEND_CLEAR, hi + BEND_CLEAR) for lo, hi in bends.zones(aisle.line)]
+    reasons = {}
+    kept = []
+    for spot in aisle.slots:
+        s = line.project(Point(spot.entry_mid))
+        hit = next(((lo, hi) for lo, hi in zones if lo <= s <= hi), None)
+        if hit is None:
+            kept.append(spot)
         else:
-            n = normals[k]
-            p = base[k] + (base[k + 1] - base[k]) * (s - cum[k]) / seg[k]
-        pts.append(p + n * o)
-    line = np.array(pts)
-    keep = np.concatenate([[True], np.hypot(*np.diff(line, axis=0).T) > 1e-6])
-    line = line[keep]
-    return np.asarray(shapely.simplify(LineString(line), 0.005).coords)
+            reasons[spot.id] = ("its entry faces a bend of its aisle, where the lanes turn "
+                                f"(over {hit[1] - hit[0]:.1f} m): lotsim parks a car from a "
+                                "straight stretch of lane")
+    aisle.slots = kept
+    return reasons
 
 
 def end_on(line: FloatArray, end: int, host: FloatArray) -> FloatArray:
@@ -382,37 +357,75 @@ def extend_to(line: FloatArray, end: int, boundary: Polygon, inset: float) -> Fl
     return pts if end == 1 else pts[::-1]
 
 
-def corner_needs(width: float, two_way: bool, design: DesignVehicle,
-                 speed: float) -> Callable[[FloatArray], FloatArray]:
-    """For a centre line, by how much each leg is too short for lotsim to round the corners at
-    its ends on every lane [m] (positive: too short): lotsim rounds each lane's corners with
-    continuous-curvature turns of the default bend radius, concentric about the centre
-    line's (:func:`~lotsim.lot.build.bend_sharpness`)."""
-    offset = width / 4 if two_way else 0.0
-    radius = design.min_radius + offset
-    sharp = bend_sharpness(radius, offset, design, speed)
-    lanes = [offset] if not two_way else [offset, -offset]  # right of the line, and left
+@dataclass(frozen=True)
+class Bends:
+    """How lotsim rounds an aisle's corners (:func:`~lotsim.lot.build.build_lot`): the
+    default bend radius on the centre line, concentric on the lanes a quarter of the width
+    either side (one lane on the line when one-way), clothoids of cruising speed, sharper
+    down to a crawl where legs are short."""
 
-    def short(pts: FloatArray) -> FloatArray:
-        legs = np.diff(pts, axis=0)
-        heading = np.arctan2(legs[:, 1], legs[:, 0])
-        turns = (np.diff(heading) + np.pi) % (2 * np.pi) - np.pi
-        worst = np.full(len(legs), -np.inf)
-        for right in lanes or [0.0]:
-            lane = offset_polyline(pts, right)
-            lengths = np.hypot(*np.diff(lane, axis=0).T)
-            radii = radius + right * np.sign(turns)
-            cut = np.array([cc_turn(float(t), 1 / float(r), sharp)[1] if abs(t) > 1e-12
-                            else 0.0 for t, r in zip(turns, radii, strict=True)])
+    width: float
+    two_way: bool
+    design: DesignVehicle
+    speed: float  # the lot's speed limit [m/s]
+
+    def paths(self, line: FloatArray) -> list[tuple[FloatArray, FloatArray, bool]]:
+        """The centre line and each lane: (points, each corner's radius, reversed)."""
+        offset = self.width / 4 if self.two_way else 0.0
+        radius = self.design.min_radius + offset
+        turns = _turns(line)
+        out = [(line, np.full(len(turns), radius), False)]
+        for pts, rev in ([(line, False), (line[::-1], True)] if self.two_way
+                         else [(line, False)]):
+            t = _turns(pts)
+            out.append((offset_polyline(pts, offset) if offset else pts,
+                        radius + offset * np.sign(t), rev))
+        return out
+
+    @property
+    def sharpness(self) -> tuple[float, float]:
+        """The clothoids' sharpness at cruising speed and at a crawl [1/m²]."""
+        offset = self.width / 4 if self.two_way else 0.0
+        radius = self.design.min_radius + offset
+        return (bend_sharpness(radius, offset, self.design, self.speed),
+                self.design.sharpness(CRAWL_SPEED))
+
+    def short(self, line: FloatArray) -> FloatArray:
+        """By how much each leg is too short for the corners at its ends [m] (positive:
+        lotsim refuses it), on the centre line or a lane, at a crawl."""
+        _, sharpest = self.sharpness
+        worst = np.full(len(line) - 1, -np.inf)
+        for pts, radii, rev in self.paths(line):
+            cut = np.array([cc_turn(float(t), 1 / float(r), sharpest)[1] if abs(t) > 1e-12
+                            else 0.0 for t, r in zip(_turns(pts), radii, strict=True)])
             need = np.concatenate([[0.0], cut]) + np.concatenate([cut, [0.0]])
-            worst = np.maximum(worst, need - lengths)
+            lack = need - np.hypot(*np.diff(pts, axis=0).T)
+            worst = np.maximum(worst, lack[::-1] if rev else lack)
         return worst
-    return short
+
+    def zones(self, line: FloatArray) -> list[tuple[float, float]]:
+        """The stretches of the centre line [m] beside which a lane turns at a corner."""
+        cruise, sharpest = self.sharpness
+        sharp = np.full(len(line) - 2, cruise)
+        for pts, radii, rev in self.paths(line):
+            need = np.asarray(corner_sharpness(pts, radii, cruise, sharpest))
+            sharp = np.maximum(sharp, need[::-1] if rev else need)
+        cum = np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(line, axis=0).T))])
+        reach = np.zeros(len(line) - 2)
+        for pts, radii, rev in self.paths(line):
+            sig = sharp[::-1] if rev else sharp
+            turns = _turns(pts)
+            cut = np.array([cc_turn(float(t), 1 / float(r), float(g))[1]
+                            + abs((pts is not line) * self.width / 4 * np.tan(t / 2))
+                            if abs(t) > 1e-12 else 0.0
+                            for t, r, g in zip(turns, radii, sig, strict=True)])
+            reach = np.maximum(reach, cut[::-1] if rev else cut)
+        return [(cum[k + 1] - c, cum[k + 1] + c) for k, c in enumerate(reach) if c > 0]
 
 
 def drivable(line: FloatArray, short: Callable[[FloatArray], FloatArray]) -> FloatArray:
     """``line`` with its corners few enough and far enough apart for lotsim to round each
-    (``short``: :func:`corner_needs`): two corners too close that turn the same way become
+    (``short``: :meth:`Bends.short`): two corners too close that turn the same way become
     one where their outer legs meet; of two that turn opposite ways (a jog), the smaller
     goes. The ends stay."""
     pts = np.asarray(line, dtype=float)
