@@ -40,7 +40,7 @@ from lotsim.io.imports.lanelet2_layout import (
     join_corner,
     legs_of,
 )
-from lotsim.io.imports.lanelet2_map import Lanelet2Map, read_lanelet2
+from lotsim.io.imports.lanelet2_map import Lanelet, Lanelet2Map, read_lanelet2
 from lotsim.io.imports.lanelet2_roads import carriageways, network
 from lotsim.io.imports.lanelet2_spots import fit_spot
 from lotsim.io.imports.report import ImportedLot, ImportReport
@@ -192,21 +192,21 @@ def _draft(m: Lanelet2Map, say: Callable[[str], None]) -> tuple[LotDraft, Import
     blocks, dropped_lines = _blocks(m, ground, spot_ground)
     entrances, exits = [], []
     for a, e in gates_at:
-        road = aisles[a].road
-        entrance, exit_ = _gates(aisles[a], e, road.parts[0 if e == 0 else -1].lanelets[0])
-        entrances.append(entrance)
-        exits.append(exit_)
+        entrance, exit_ = _gates(aisles[a], e, {ll.id: ll for ll in m.lanelets})
+        entrances += [entrance] if entrance else []
+        exits += [exit_] if exit_ else []
     header = [
         f"Imported by lotsim from the Lanelet2 map {m.source.name} (Autoware valet-parking "
         "convention).",
         f"Projection: {m.frame.describe()} ({m.origin_source}); its error over the map is "
         f"under {max(m.error, 1e-4) * 1000:.1f} mm.",
-        f"{len(m.lanelets)} lanelets as {len(parts)} carriageways and {len(aisles)} aisles "
-        f"({len(net.connectors)} junction connector lanelets dropped: lotsim builds its own "
-        f"turns); {len(m.accesses)} parking_access areas widen the aisles to the spots.",
-        f"{len(m.spots)} parking_spot areas: {len(slots)} slots; {len(reasons)} not "
-        "imported (below, why).",
-        "Gates: an entrance and an exit on each road that ends at the map's edge, "
+        f"{_n(len(m.lanelets), 'lanelet')} as {_n(len(parts), 'carriageway')} and "
+        f"{_n(len(aisles), 'aisle')} ({_n(len(net.connectors), 'junction connector lanelet')} "
+        f"dropped: lotsim builds its own turns); {_n(len(m.accesses), 'parking_access area')} "
+        "widen the aisles to the spots.",
+        f"{_n(len(m.spots), 'parking_spot area')}: {_n(len(slots), 'slot')}; "
+        f"{len(reasons)} not imported" + (" (below, why)." if reasons else "."),
+        "Gates: an entrance and an exit where each road ends at the map's edge, "
         f"{GATE_IN:g} m in; no gate tags are read.",
     ]
     header += [f"spot {sid} not imported: {why}" for sid, why in
@@ -215,8 +215,8 @@ def _draft(m: Lanelet2Map, say: Callable[[str], None]) -> tuple[LotDraft, Import
         header.append(dropped_lines)
     draft = LotDraft(
         name=_name(m.source.stem),
-        description=f"{m.source.name}: {len(slots)} slots from the map's parking_spot areas, "
-                    f"{len(aisles)} aisles from its lanelets.",
+        description=f"{m.source.name}: {_n(len(slots), 'slot')} from the map's parking_spot "
+                    f"areas, {_n(len(aisles), 'aisle')} from its lanelets.",
         boundary=_ring(boundary),
         vehicle_types=list(VEHICLE_TYPES),
         header=header,
@@ -239,6 +239,11 @@ def _draft(m: Lanelet2Map, say: Callable[[str], None]) -> tuple[LotDraft, Import
     return draft, lot
 
 
+def _n(count: int, what: str) -> str:
+    """``3 aisles``, ``1 aisle``."""
+    return f"{count} {what}" if count == 1 else f"{count} {what}s"
+
+
 def _aisle_note(aisle: AisleLayout) -> str:
     ids = aisle.road.lanelets
     shown = ", ".join(ids[:8]) + (", ..." if len(ids) > 8 else "")
@@ -257,8 +262,9 @@ def _rounded(spot, shrink: float) -> tuple[SlotDraft, Polygon]:
 
     cx, cy = (round(float(v), 2) for v in spot.center)
     heading = round(math.degrees(spot.heading), 2)
-    width = math.floor((spot.width - 2 * shrink) * 100 + 1e-6) / 100
-    length = math.floor((spot.length - 2 * SHRINK) * 100 + 1e-6) / 100
+    # to the centimetre below: a spot a hair under 2.5 m is 2.5 m less the rim, not 2.47
+    width = math.floor(round((spot.width - 2 * shrink) * 100, 2)) / 100
+    length = math.floor(round((spot.length - 2 * SHRINK) * 100, 2)) / 100
     draft = SlotDraft(f"P{spot.id}", "perpendicular", width, length, (cx, cy), heading)
     return draft, rectangle((cx, cy), math.radians(heading), width, length)
 
@@ -430,9 +436,11 @@ def _at_edge(aisle: AisleLayout, end: int, parking) -> bool:
     return box.intersection(parking).area < 0.05 * box.area
 
 
-def _gates(aisle: AisleLayout, end: int, lanelet: str) -> tuple[GateDraft, GateDraft]:
-    """An entrance on the lane heading in and an exit on the lane heading out, :data:`GATE_IN`
-    from the end ``end``."""
+def _gates(aisle: AisleLayout, end: int, lanelets: dict[str, Lanelet]
+           ) -> tuple[GateDraft | None, GateDraft | None]:
+    """An entrance on the lane heading in and an exit on the lane heading out,
+    :data:`GATE_IN` from the aisle's end ``end``, each named after the map's lanelet that
+    runs that way there (a one-way aisle: the one its traffic allows)."""
     line = LineString(aisle.line)
     s = GATE_IN if end == 0 else line.length - GATE_IN
     p = np.asarray(line.interpolate(s).coords[0])
@@ -441,8 +449,23 @@ def _gates(aisle: AisleLayout, end: int, lanelet: str) -> tuple[GateDraft, GateD
     right = np.array([d_in[1], -d_in[0]])
     off = 0.0 if not aisle.road.two_way else aisle.width / 4
     heading = math.degrees(math.atan2(d_in[1], d_in[0]))
-    note = f"the open end of lanelet {lanelet}"
-    entrance = GateDraft(f"in-{lanelet}", *(p + right * off), heading, note)
-    exit_ = GateDraft(f"out-{lanelet}", *(p - right * off), heading + 180 if heading <= 0
-                      else heading - 180)
+    part = aisle.road.parts[0 if end == 0 else -1]
+
+    def named(sign: float) -> str:
+        """The end part's lanelet heading along ``sign * d_in``."""
+        def along(ll: Lanelet) -> float:
+            d = (ll.left[-1] + ll.right[-1] - ll.left[0] - ll.right[0]) / 2
+            return float(np.dot(d, d_in)) * sign
+        return max(part.lanelets, key=lambda i: along(lanelets[i]))
+
+    entrance = exit_ = None
+    if aisle.road.two_way or end == 0:
+        ident = named(1.0)
+        entrance = GateDraft(f"in-{ident}", *(p + right * off), heading,
+                             f"where lanelet {ident} comes in from the map's edge")
+    if aisle.road.two_way or end == 1:
+        ident = named(-1.0)
+        exit_ = GateDraft(f"out-{ident}", *(p - right * off),
+                          heading + 180 if heading <= 0 else heading - 180,
+                          f"where lanelet {ident} leaves at the map's edge")
     return entrance, exit_

@@ -315,8 +315,8 @@ def _lanelet(e: _Element, left: FloatArray, right: FloatArray, path: Path) -> La
     across = _mean_point(left) - _mean_point(right)
     if float(np.hypot(*mid)) < 1e-6:
         raise ScenarioError(_loc(path, e), f"lanelet {e.id} has no length")
-    if mid[0] * across[1] - mid[1] * across[0] < 0:
-        left, right = right[::-1], left[::-1]
+    if mid[0] * across[1] - mid[1] * across[0] < 0:  # drawn against the way it is driven
+        left, right = left[::-1], right[::-1]
     return Lanelet(e.id, left, right, e.tags, _loc(path, e))
 
 
