@@ -167,7 +167,10 @@ def _draft(m: Lanelet2Map, say: Callable[[str], None]) -> tuple[LotDraft, Import
                            key=lambda k: LineString(aisles[k].line).distance(Point(end)))
                 aisle.line = drivable(end_on(aisle.line, e, aisles[near].line), need)
     spot_ground = unary_union([s.polygon for s in spots]) if spots else Polygon()
-    drawn = unary_union([ground, spot_ground] + [a.polygon for a in aisles])
+    bends = [Bends(a.width, a.road.two_way, design, speed) for a in aisles]
+    drawn = unary_union([ground, spot_ground] + [a.polygon for a in aisles]
+                        + [b.sweep(np.round(a.line, 2)) for a, b in zip(aisles, bends,
+                                                                        strict=True)])
     boundary = _boundary(drawn)
     parking = unary_union([access, spot_ground])
     gates_at = []
@@ -176,9 +179,8 @@ def _draft(m: Lanelet2Map, say: Callable[[str], None]) -> tuple[LotDraft, Import
             if kind == "open" and _at_edge(aisle, e, parking):
                 aisle.line = drivable(extend_to(aisle.line, e, boundary, 0.02), needs[a])
                 gates_at.append((a, e))
-    for aisle in aisles:
-        reasons.update(beside_bends(aisle, Bends(aisle.width, aisle.road.two_way, design,
-                                                 speed)))
+    for aisle, bend in zip(aisles, bends, strict=True):
+        reasons.update(beside_bends(aisle, bend))
     if not gates_at:
         raise ScenarioError(None, f"{m.source}: no road of the map ends at its edge: the lot "
                                   "has nowhere for cars to come in")
@@ -225,7 +227,8 @@ def _draft(m: Lanelet2Map, say: Callable[[str], None]) -> tuple[LotDraft, Import
                            not a.road.two_way, _aisle_note(a)) for k, a in enumerate(aisles)],
         slots=[s for s, _ in slots],
         obstacles=blocks,
-        paved=_paved(drawn_map) + _bend_fills(aisles, ids) if WRITE_PAVED else None,
+        paved=_paved(drawn_map) + _swept(aisles, ids, bends, drawn_map) if WRITE_PAVED
+        else None,
         paved_aisles=True,
         entrances=entrances,
         exits=exits,
@@ -362,25 +365,24 @@ def _paved(drawn) -> list[AreaDraft]:
             for k, ring in enumerate(out)]
 
 
-KERB_RADIUS = 3.0
-"""Radius of the kerb return that paves the inside of an aisle's bend [m], as lotsim paves
-the inside corners where aisles join."""
-
-
-def _bend_fills(aisles: list[AisleLayout], ids: list[str]) -> list[AreaDraft]:
-    """The inside of each aisle's bends, paved as a kerb return of :data:`KERB_RADIUS`: a car
-    rounding a bend on its inner lane cuts the corner of the aisle's strip."""
+def _swept(aisles: list[AisleLayout], ids: list[str], bends: list[Bends],
+           paved) -> list[AreaDraft]:
+    """Ground a car driving an aisle's lanes covers beyond the aisle's strip and the map's
+    drawn ground ``paved`` (the inside of a bend, which a car cuts): paved too."""
     out = []
-    for aisle, aid in zip(aisles, ids, strict=True):
-        strip = LineString(np.round(aisle.line, 2)).buffer(aisle.width / 2, cap_style="flat",
-                                                           join_style="round")
-        closed = strip.buffer(KERB_RADIUS, quad_segs=16).buffer(-KERB_RADIUS, quad_segs=16)
-        pieces = [p for p in shapely.get_parts(closed.difference(strip)) if p.area > 0.05]
+    for aisle, aid, bend in zip(aisles, ids, bends, strict=True):
+        line = np.round(aisle.line, 2)
+        strip = LineString(line).buffer(aisle.width / 2, cap_style="flat",
+                                        join_style="round")
+        extra = bend.sweep(line).buffer(0.05, join_style="mitre").difference(
+            shapely.union_all([strip, paved]))
+        pieces = [p for p in shapely.get_parts(extra) if p.area > 0.01]
         pieces.sort(key=lambda p: (round(p.centroid.x, 2), round(p.centroid.y, 2)))
         for piece in pieces:
-            for ring in _simple(piece.buffer(0.02, join_style="mitre")):
-                out.append(AreaDraft(f"bend-{aid}-{len(out) + 1}", ring,
-                                     f"the inside of a bend of aisle {aid}"))
+            for ring in _simple(shapely.simplify(piece.buffer(0.02, join_style="mitre"),
+                                                 0.01)):
+                out.append(AreaDraft(f"swept-{aid}-{len(out) + 1}", ring,
+                                     f"where a car on a lane of aisle {aid} cuts a bend"))
     return out
 
 

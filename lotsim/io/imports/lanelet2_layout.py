@@ -22,10 +22,11 @@ import shapely
 from shapely.geometry import LineString, Point, Polygon
 
 from lotsim.core.corners import corner_sharpness
-from lotsim.core.geometry import FloatArray, cc_turn
+from lotsim.core.geometry import FloatArray, cc_polyline, cc_turn, sample_segments
 from lotsim.io.imports.lanelet2_roads import Road
 from lotsim.io.imports.lanelet2_spots import Spot
-from lotsim.lot.build import CRAWL_SPEED, bend_sharpness, offset_polyline
+from lotsim.lot.build import CRAWL_SPEED, SWEEP_STEP, bend_sharpness, offset_polyline
+from lotsim.lot.clearance import Collider
 from lotsim.lot.model import DesignVehicle
 
 ENTRY_REACH = 0.3
@@ -403,13 +404,31 @@ class Bends:
             worst = np.maximum(worst, lack[::-1] if rev else lack)
         return worst
 
-    def zones(self, line: FloatArray) -> list[tuple[float, float]]:
-        """The stretches of the centre line [m] beside which a lane turns at a corner."""
+    def corners(self, line: FloatArray) -> FloatArray:
+        """Each corner's clothoid sharpness [1/m²], as lotsim picks it: the cruising one,
+        sharper where the centre line's or a lane's legs are short."""
         cruise, sharpest = self.sharpness
         sharp = np.full(len(line) - 2, cruise)
         for pts, radii, rev in self.paths(line):
             need = np.asarray(corner_sharpness(pts, radii, cruise, sharpest))
             sharp = np.maximum(sharp, need[::-1] if rev else need)
+        return sharp
+
+    def sweep(self, line: FloatArray) -> Polygon:
+        """The ground the envelope car covers driving every lane of the aisle [m²]."""
+        sharp = self.corners(line)
+        parts = []
+        for pts, radii, rev in self.paths(line)[1:]:
+            segs = cc_polyline(pts, radii, sharp[::-1] if rev else sharp)
+            poses, _ = sample_segments(segs, SWEEP_STEP)
+            hulls = shapely.convex_hull(shapely.multipoints(
+                Collider.sweeps(self.design.footprints(poses))))
+            parts.append(shapely.union_all(hulls))
+        return shapely.union_all(parts)
+
+    def zones(self, line: FloatArray) -> list[tuple[float, float]]:
+        """The stretches of the centre line [m] beside which a lane turns at a corner."""
+        sharp = self.corners(line)
         cum = np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(line, axis=0).T))])
         reach = np.zeros(len(line) - 2)
         for pts, radii, rev in self.paths(line):
