@@ -24,10 +24,12 @@ from shapely.geometry import LineString, Point, Polygon
 from shapely.ops import split, unary_union
 
 from lotsim.core.atomic import atomic_write
+from lotsim.core.geometry import FloatArray
 from lotsim.errors import LotsimError, ScenarioError
 from lotsim.io.imports.draft import AisleDraft, AreaDraft, GateDraft, LotDraft, SlotDraft
 from lotsim.io.imports.lanelet2_layout import (
     ENTRY_REACH,
+    MARGIN,
     AisleLayout,
     Bends,
     assign,
@@ -167,12 +169,16 @@ def _draft(m: Lanelet2Map, say: Callable[[str], None]) -> tuple[LotDraft, Import
                            key=lambda k: LineString(aisles[k].line).distance(Point(end)))
                 aisle.line = drivable(end_on(aisle.line, e, aisles[near].line), need)
     spot_ground = unary_union([s.polygon for s in spots]) if spots else Polygon()
+    parking = unary_union([access, spot_ground])
+    for aisle, need in zip(aisles, needs, strict=True):  # dead ends: on to the spots ahead
+        for e, (kind, _) in enumerate(aisle.ends):
+            if kind == "open" and not _at_edge(aisle, e, parking):
+                aisle.line = drivable(_dead_end(aisle, e, spot_ground, ground), need)
     bends = [Bends(a.width, a.road.two_way, design, speed) for a in aisles]
     drawn = unary_union([ground, spot_ground] + [a.polygon for a in aisles]
                         + [b.sweep(np.round(a.line, 2)) for a, b in zip(aisles, bends,
                                                                         strict=True)])
     boundary = _boundary(drawn)
-    parking = unary_union([access, spot_ground])
     gates_at = []
     for a, aisle in enumerate(aisles):
         for e, (kind, _) in enumerate(aisle.ends):
@@ -227,7 +233,8 @@ def _draft(m: Lanelet2Map, say: Callable[[str], None]) -> tuple[LotDraft, Import
                            not a.road.two_way, _aisle_note(a)) for k, a in enumerate(aisles)],
         slots=[s for s, _ in slots],
         obstacles=blocks,
-        paved=_paved(drawn_map) + _swept(aisles, ids, bends, drawn_map) if WRITE_PAVED
+        paved=_paved(drawn_map) + _corners(aisles, ids) + _swept(aisles, ids, bends, drawn_map)
+        if WRITE_PAVED
         else None,
         paved_aisles=True,
         entrances=entrances,
@@ -365,6 +372,29 @@ def _paved(drawn) -> list[AreaDraft]:
             for k, ring in enumerate(out)]
 
 
+def _corners(aisles: list[AisleLayout], ids: list[str]) -> list[AreaDraft]:
+    """The outside of each L where two pieces of a road meet, paved as the corner of a road
+    is: the hull of their strips near the corner."""
+    out = []
+    for k in range(1, len(aisles)):
+        a, b = aisles[k - 1], aisles[k]
+        if b.ends[0][0] != "corner":
+            continue
+        p = shapely.Point(np.round(b.line[0], 2))
+        near = p.buffer(max(a.width, b.width), quad_segs=4)
+        strips = [LineString(np.round(x.line, 2)).buffer(x.width / 2, cap_style="flat",
+                                                         join_style="round") for x in (a, b)]
+        hull = shapely.union_all(strips).intersection(near).convex_hull
+        extra = hull.difference(shapely.union_all(strips))
+        for piece in shapely.get_parts(extra):
+            if piece.area > 0.01:
+                for ring in _simple(piece.buffer(0.02, join_style="mitre")):
+                    out.append(AreaDraft(f"corner-{ids[k - 1]}-{ids[k]}", ring,
+                                         f"the outside of the corner where {ids[k - 1]} "
+                                         f"meets {ids[k]}"))
+    return out
+
+
 def _swept(aisles: list[AisleLayout], ids: list[str], bends: list[Bends],
            paved) -> list[AreaDraft]:
     """Ground a car driving an aisle's lanes covers beyond the aisle's strip and the map's
@@ -436,6 +466,34 @@ def _at_edge(aisle: AisleLayout, end: int, parking) -> bool:
     tip = pts[-1]
     box = Polygon([tip - n, tip + d * EDGE_PROBE - n, tip + d * EDGE_PROBE + n, tip + n])
     return box.intersection(parking).area < 0.05 * box.area
+
+
+DEAD_END_REACH = 6.0
+"""A dead end is carried on at most this far over the ground the map draws ahead of it
+[m]."""
+
+
+def _dead_end(aisle: AisleLayout, end: int, spots, ground) -> FloatArray:
+    """The aisle's line with its dead end ``end`` carried on over the drawn ground ahead,
+    short of the spots there by the margin (room to turn round at the end of a court)."""
+    pts = aisle.line if end == 1 else aisle.line[::-1]
+    tip = pts[-1]
+    d = (tip - pts[-2]) / float(np.hypot(*(tip - pts[-2])))
+    n = np.array([-d[1], d[0]]) * aisle.width / 2
+    room = ground.buffer(0.05)
+    best = 0.0
+    for k in range(1, int(DEAD_END_REACH / 0.1) + 1):
+        far = tip + d * (k * 0.1 + MARGIN)
+        band = Polygon([tip - n, far - n, far + n, tip + n])
+        if band.intersection(spots).area > 1e-6 or not room.covers(
+                Polygon([tip, far, far + n * 0.5, tip + n * 0.5]).union(
+                    Polygon([tip, far, far - n * 0.5, tip - n * 0.5]))):
+            break
+        best = k * 0.1
+    if best <= 0:
+        return aisle.line
+    pts = np.vstack([pts[:-1], tip + d * best])
+    return pts if end == 1 else pts[::-1]
 
 
 def _gates(aisle: AisleLayout, end: int, lanelets: dict[str, Lanelet]
