@@ -19,38 +19,40 @@ from collections.abc import Callable
 from pathlib import Path
 
 import numpy as np
-import shapely
 from shapely.geometry import LineString, Point, Polygon
-from shapely.ops import split, unary_union
+from shapely.ops import unary_union
 
 from lotsim.core.atomic import atomic_write
 from lotsim.core.geometry import FloatArray
 from lotsim.errors import LotsimError, ScenarioError
-from lotsim.io.imports.draft import AisleDraft, AreaDraft, GateDraft, LotDraft, SlotDraft
+from lotsim.io.imports.draft import AisleDraft, GateDraft, LotDraft
+from lotsim.io.imports.lanelet2_ground import (
+    blocking,
+    boundary_of,
+    corner_areas,
+    drawn_areas,
+    ring,
+    swept_areas,
+)
 from lotsim.io.imports.lanelet2_layout import (
-    ENTRY_REACH,
     MARGIN,
     AisleLayout,
-    Bends,
     assign,
     beside_bends,
     cut_at_corners,
-    drivable,
-    end_on,
-    extend_to,
     fit,
     join_corner,
     legs_of,
+    written_slots,
 )
-from lotsim.io.imports.lanelet2_map import Lanelet, Lanelet2Map, read_lanelet2
+from lotsim.io.imports.lanelet2_lines import Bends, drivable, end_on, extend_to
+from lotsim.io.imports.lanelet2_map import Lanelet, Lanelet2Map, id_key, read_lanelet2
 from lotsim.io.imports.lanelet2_roads import carriageways, network
 from lotsim.io.imports.lanelet2_spots import fit_spot
 from lotsim.io.imports.report import ImportedLot, ImportReport
 from lotsim.lot.model import DesignVehicle
 from lotsim.vehicles.catalogue import get_vehicle
 
-BOUNDARY_GROW = 0.5
-"""The boundary is the drawn ground grown by this [m]."""
 GATE_IN = 5.0
 """Gates stand this far in from an open road end [m]."""
 EDGE_PROBE = 3.0
@@ -141,7 +143,7 @@ def _draft(m: Lanelet2Map, say: Callable[[str], None]) -> tuple[LotDraft, Import
     lanelet_ground = unary_union([ll.polygon for ll in m.lanelets])
     access = unary_union([a.polygon for a in m.accesses]) if m.accesses else Polygon()
     ground = unary_union([lanelet_ground, access])
-    spots = sorted((fit_spot(a, ground) for a in m.spots), key=lambda s: _key(s.id))
+    spots = sorted((fit_spot(a, ground) for a in m.spots), key=lambda s: id_key(s.id))
     speed = (_speed_limit(m) or DEFAULT_SPEED_KMH) / 3.6
     design = DesignVehicle.envelope([get_vehicle(v) for v in VEHICLE_TYPES])
     roads = []
@@ -151,7 +153,8 @@ def _draft(m: Lanelet2Map, say: Callable[[str], None]) -> tuple[LotDraft, Import
     reasons = assign(spots, roads)
     aisles, of_road = [], []  # the pieces, and the road of each
     for r, road in enumerate(roads):
-        pieces = cut_at_corners(road, lambda w, rd=road.road: Bends(w, rd.two_way, design, speed))
+        pieces = cut_at_corners(road, lambda w, rd=road.road: Bends(w, rd.two_way, design,
+                                                                         speed))
         aisles += pieces
         of_road += [r] * len(pieces)
     for aisle in aisles:
@@ -178,7 +181,7 @@ def _draft(m: Lanelet2Map, say: Callable[[str], None]) -> tuple[LotDraft, Import
     drawn = unary_union([ground, spot_ground] + [a.polygon for a in aisles]
                         + [b.sweep(np.round(a.line, 2)) for a, b in zip(aisles, bends,
                                                                         strict=True)])
-    boundary = _boundary(drawn)
+    boundary = boundary_of(drawn)
     gates_at = []
     for a, aisle in enumerate(aisles):
         for e, (kind, _) in enumerate(aisle.ends):
@@ -195,9 +198,9 @@ def _draft(m: Lanelet2Map, say: Callable[[str], None]) -> tuple[LotDraft, Import
         first = of_road.index(r)
         ids.append(f"L{roads[r].road.lanelets[0]}" + (f"-{k - first + 1}"
                                                        if of_road.count(r) > 1 else ""))
-    slots = _slots(aisles, ids, reasons, boundary)
+    slots = written_slots(aisles, ids, reasons, boundary)
     drawn_map = unary_union([ground, spot_ground])
-    blocks, dropped_lines = _blocks(m, ground, spot_ground)
+    blocks, dropped_lines = blocking(m, ground, spot_ground)
     entrances, exits = [], []
     for a, e in gates_at:
         entrance, exit_ = _gates(aisles[a], e, {ll.id: ll for ll in m.lanelets})
@@ -218,14 +221,14 @@ def _draft(m: Lanelet2Map, say: Callable[[str], None]) -> tuple[LotDraft, Import
         f"{GATE_IN:g} m in; no gate tags are read.",
     ]
     header += [f"spot {sid} not imported: {why}" for sid, why in
-               sorted(reasons.items(), key=lambda kv: _key(kv[0]))]
+               sorted(reasons.items(), key=lambda kv: id_key(kv[0]))]
     if dropped_lines:
         header.append(dropped_lines)
     draft = LotDraft(
         name=_name(m.source.stem),
         description=f"{m.source.name}: {_n(len(slots), 'slot')} from the map's parking_spot "
                     f"areas, {_n(len(aisles), 'aisle')} from its lanelets.",
-        boundary=_ring(boundary),
+        boundary=ring(boundary),
         vehicle_types=list(VEHICLE_TYPES),
         header=header,
         speed_limit_kmh=_speed_limit(m),
@@ -233,9 +236,8 @@ def _draft(m: Lanelet2Map, say: Callable[[str], None]) -> tuple[LotDraft, Import
                            not a.road.two_way, _aisle_note(a)) for k, a in enumerate(aisles)],
         slots=[s for s, _ in slots],
         obstacles=blocks,
-        paved=_paved(drawn_map) + _corners(aisles, ids) + _swept(aisles, ids, bends, drawn_map)
-        if WRITE_PAVED
-        else None,
+        paved=(drawn_areas(drawn_map) + corner_areas(aisles, ids)
+               + swept_areas(aisles, ids, bends, drawn_map)) if WRITE_PAVED else None,
         paved_aisles=True,
         entrances=entrances,
         exits=exits,
@@ -262,199 +264,9 @@ def _aisle_note(aisle: AisleLayout) -> str:
             f"{len(aisle.slots)} spots open onto it")
 
 
-SHRINK = 0.01
-"""Each slot is drawn this much inside the mapped spot's long sides and ends [m], so that
-neighbours that share a side do not overlap once written to the centimetre."""
-
-
-def _rounded(spot, shrink: float) -> tuple[SlotDraft, Polygon]:
-    from lotsim.io.imports.lanelet2_spots import rectangle
-
-    cx, cy = (round(float(v), 2) for v in spot.center)
-    heading = round(math.degrees(spot.heading), 2)
-    # to the centimetre below: a spot a hair under 2.5 m is 2.5 m less the rim, not 2.47
-    width = math.floor(round((spot.width - 2 * shrink) * 100, 2)) / 100
-    length = math.floor(round((spot.length - 2 * SHRINK) * 100, 2)) / 100
-    draft = SlotDraft(f"P{spot.id}", "perpendicular", width, length, (cx, cy), heading)
-    return draft, rectangle((cx, cy), math.radians(heading), width, length)
-
-
-def _slots(aisles: list[AisleLayout], ids: list[str], reasons: dict[str, str],
-           boundary: Polygon) -> list[tuple[SlotDraft, str]]:
-    """The kept spots as slots, as lotsim will build them from the written numbers: drawn
-    inside their outlines so that neighbours do not overlap, each opening onto an aisle's
-    edge within reach and covered by none; a spot that does not is reported."""
-    spots = sorted(((s, ids[k]) for k, a in enumerate(aisles) for s in a.slots),
-                   key=lambda sa: _key(sa[0].id))
-    shrink = {s.id: SHRINK for s, _ in spots}
-    while True:
-        built = [_rounded(s, shrink[s.id]) for s, _ in spots]
-        polys = np.array([p for _, p in built])
-        tree = shapely.STRtree(polys)
-        left, right = tree.query(polys, predicate="intersects")
-        keep = left < right
-        left, right = left[keep], right[keep]
-        area = shapely.area(shapely.intersection(polys[left], polys[right]))
-        bad = sorted({int(i) for k in np.flatnonzero(area > 1e-7) for i in (left[k],
-                                                                            right[k])})
-        if not bad:
-            break
-        for i in bad:
-            shrink[spots[i][0].id] += 0.01
-    rounded = [np.round(a.line, 2) for a in aisles]
-    shapes = [LineString(line).buffer(a.width / 2, cap_style="flat", join_style="round")
-              for line, a in zip(rounded, aisles, strict=True)]
-    out = []
-    for (spot, aid), (draft, poly) in zip(spots, built, strict=True):
-        covered = [ids[k] for k, sh in enumerate(shapes) if poly.intersection(sh).area > 1e-7]
-        c = np.asarray(draft.center)
-        d = np.array([math.cos(math.radians(draft.heading_deg)),
-                      math.sin(math.radians(draft.heading_deg))])
-        entry = shapely.Point(c - d * draft.length / 2)
-        gap = min(sh.distance(entry) for sh in shapes)
-        if covered:
-            reasons[spot.id] = f"aisle {covered[0]} covers part of it"
-        elif gap > ENTRY_REACH - 1e-3:
-            reasons[spot.id] = f"its entry is {gap:.2f} m from the nearest aisle"
-        elif not boundary.covers(poly):
-            reasons[spot.id] = "it lies partly outside the lot's boundary"
-        else:
-            out.append((draft, aid))
-    return out
-
-
-BLOCKING = ("Walls", "Columns", "Kerbs")
-"""The map's line features that block a car where they cross its drawn ground."""
-
-
-def _blocks(m: Lanelet2Map, ground, spots) -> tuple[list[AreaDraft], str]:
-    """Walls, columns and kerbs that cross the ground driven on (lanelets and access areas,
-    clear of the spots: a row's kerb runs along its spots' backs), as thin obstacles; a
-    line saying what of the map's lines is left out."""
-    out = []
-    left = 0
-    inner = ground.buffer(-0.05).difference(spots.buffer(0.1))
-    for ln in m.lines:
-        if ln.subtype not in BLOCKING:
-            continue
-        inside = LineString(ln.points).intersection(inner)
-        if inside.is_empty or inside.length < 0.2:
-            left += 1
-            continue
-        shape = inside.buffer(0.05, cap_style="flat", join_style="mitre")
-        for piece in getattr(shape, "geoms", [shape]):
-            out.append(AreaDraft(f"{ln.subtype.lower()}-{ln.id}", _ring(piece),
-                                 f"{ln.subtype} way {ln.id} across the ground driven on"))
-    kinds = sorted({ln.subtype for ln in m.lines} - set(BLOCKING))
-    note = (f"Dropped: {left} wall, column and kerb lines that stay off the ground driven on, "
-            f"and the map's {', '.join(kinds)} lines.") if left or kinds else ""
-    return out, note
-
-
-def _paved(drawn) -> list[AreaDraft]:
-    """The drawn ground as simple polygons: each part cut across its holes, written to the
-    centimetre."""
-    healed = drawn.buffer(0.01, join_style="mitre").buffer(-0.01, join_style="mitre")
-    parts = [p for p in shapely.get_parts(healed) if p.area > 0.01]
-    out = []
-    while parts:
-        part = parts.pop()
-        if part.interiors:
-            x = Polygon(part.interiors[0]).centroid.x
-            lo, hi = part.bounds[1] - 1, part.bounds[3] + 1
-            parts.extend(p for p in split(part, LineString([(x, lo), (x, hi)])).geoms
-                         if p.area > 0.01)
-            continue
-        out.extend(_simple(shapely.simplify(part, 0.005)))
-    out.sort(key=lambda r: (round(Polygon(r).centroid.x, 2), round(Polygon(r).centroid.y, 2)))
-    return [AreaDraft(f"drawn-{k + 1}", ring,
-                      "lanelets, parking_access areas and spots of the map")
-            for k, ring in enumerate(out)]
-
-
-def _corners(aisles: list[AisleLayout], ids: list[str]) -> list[AreaDraft]:
-    """The outside of each L where two pieces of a road meet, paved as the corner of a road
-    is: the hull of their strips near the corner."""
-    out = []
-    for k in range(1, len(aisles)):
-        a, b = aisles[k - 1], aisles[k]
-        if b.ends[0][0] != "corner":
-            continue
-        p = shapely.Point(np.round(b.line[0], 2))
-        near = p.buffer(max(a.width, b.width), quad_segs=4)
-        strips = [LineString(np.round(x.line, 2)).buffer(x.width / 2, cap_style="flat",
-                                                         join_style="round") for x in (a, b)]
-        hull = shapely.union_all(strips).intersection(near).convex_hull
-        extra = hull.difference(shapely.union_all(strips))
-        for piece in shapely.get_parts(extra):
-            if piece.area > 0.01:
-                for ring in _simple(piece.buffer(0.02, join_style="mitre")):
-                    out.append(AreaDraft(f"corner-{ids[k - 1]}-{ids[k]}", ring,
-                                         f"the outside of the corner where {ids[k - 1]} "
-                                         f"meets {ids[k]}"))
-    return out
-
-
-def _swept(aisles: list[AisleLayout], ids: list[str], bends: list[Bends],
-           paved) -> list[AreaDraft]:
-    """Ground a car driving an aisle's lanes covers beyond the aisle's strip and the map's
-    drawn ground ``paved`` (the inside of a bend, which a car cuts): paved too."""
-    out = []
-    for aisle, aid, bend in zip(aisles, ids, bends, strict=True):
-        line = np.round(aisle.line, 2)
-        strip = LineString(line).buffer(aisle.width / 2, cap_style="flat",
-                                        join_style="round")
-        extra = bend.sweep(line).buffer(0.05, join_style="mitre").difference(
-            shapely.union_all([strip, paved]))
-        pieces = [p for p in shapely.get_parts(extra) if p.area > 0.01]
-        pieces.sort(key=lambda p: (round(p.centroid.x, 2), round(p.centroid.y, 2)))
-        for piece in pieces:
-            for ring in _simple(shapely.simplify(piece.buffer(0.02, join_style="mitre"),
-                                                 0.01)):
-                out.append(AreaDraft(f"swept-{aid}-{len(out) + 1}", ring,
-                                     f"where a car on a lane of aisle {aid} cuts a bend"))
-    return out
-
-
-def _simple(poly: Polygon) -> list[list[tuple[float, float]]]:
-    """``poly`` as rings to the centimetre, each a simple polygon (a ring that rounding makes
-    cross itself is split where it does)."""
-    ring = [(round(float(x), 2), round(float(y), 2)) for x, y in poly.exterior.coords[:-1]]
-    ring = [p for k, p in enumerate(ring) if p != ring[k - 1]]
-    rounded = Polygon(ring)
-    if len(ring) >= 3 and rounded.is_valid and rounded.area > 0.01:
-        return [ring]
-    fixed = shapely.make_valid(rounded) if len(ring) >= 3 else Polygon()
-    out = []
-    for piece in shapely.get_parts(fixed):
-        if piece.geom_type == "Polygon" and piece.area > 0.01:
-            out.extend(_simple(Polygon(piece.exterior)))
-    return out
-
-
-def _key(ident: str):
-    return (0, int(ident)) if ident.lstrip("-").isdigit() else (1, ident)
-
-
 def _name(stem: str) -> str:
     name = re.sub(r"[^A-Za-z0-9_.-]+", "-", stem).strip("-.")
     return name or "lanelet2-lot"
-
-
-def _boundary(drawn) -> Polygon:
-    """A simple polygon holding everything drawn: its outline grown, holes filled."""
-    grown = drawn.buffer(BOUNDARY_GROW, join_style="mitre", mitre_limit=2.0)
-    parts = getattr(grown, "geoms", [grown])
-    outer = max(parts, key=lambda p: p.area)
-    shell = Polygon(outer.exterior)
-    simple = shapely.simplify(shell, 0.1)
-    if not simple.covers(drawn.buffer(BOUNDARY_GROW / 2)):
-        simple = shell
-    return simple
-
-
-def _ring(poly: Polygon) -> list[tuple[float, float]]:
-    return [(float(x), float(y)) for x, y in np.asarray(poly.exterior.coords)[:-1]]
 
 
 def _at_edge(aisle: AisleLayout, end: int, parking) -> bool:

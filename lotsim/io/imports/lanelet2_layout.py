@@ -4,9 +4,11 @@ Each road (:mod:`.lanelet2_roads`) becomes an aisle along its carriageway, widen
 ``parking_access`` ground on each side so that its edge lies along the entries of the spots
 that open onto it: lotsim's slots open onto an aisle's edge within 0.3 m
 (``docs/scenario.md``), and a car parks only from a straight stretch of lane. So the aisle
-keeps the road's straight legs (a road drawn with corners too close for lotsim to round
-them has them merged, :func:`drivable`), each shifted sideways on its own, and one width:
-the width and the shifts that reach the entries of the most spots without covering any.
+keeps the road's straight legs (corners too close for lotsim to round them merged:
+:func:`~lotsim.io.imports.lanelet2_lines.drivable`), each shifted sideways on its own, and
+one width: the width and the shifts that reach the entries of the most spots without
+covering any. A road may be cut at a corner into aisles meeting in an L where that serves
+more spots (:func:`cut_at_corners`).
 A spot opens onto the road its entry faces (the nearest centre line in front of it); a
 spot the aisle's edge cannot reach, or that lies beside a bend of its lanes, is reported,
 with why.
@@ -14,6 +16,7 @@ with why.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable
 from dataclasses import dataclass, field
 
@@ -21,13 +24,12 @@ import numpy as np
 import shapely
 from shapely.geometry import LineString, Point, Polygon
 
-from lotsim.core.corners import corner_sharpness
-from lotsim.core.geometry import FloatArray, cc_polyline, cc_turn, sample_segments
+from lotsim.core.geometry import FloatArray
+from lotsim.io.imports.draft import SlotDraft
+from lotsim.io.imports.lanelet2_lines import Bends, crossing, drivable, turn_angles, unit
+from lotsim.io.imports.lanelet2_map import id_key
 from lotsim.io.imports.lanelet2_roads import Road
-from lotsim.io.imports.lanelet2_spots import Spot
-from lotsim.lot.build import CRAWL_SPEED, SWEEP_STEP, bend_sharpness, offset_polyline
-from lotsim.lot.clearance import Collider
-from lotsim.lot.model import DesignVehicle
+from lotsim.io.imports.lanelet2_spots import Spot, rectangle
 
 ENTRY_REACH = 0.3
 """A slot's entry must lie within this of its aisle [m] (lotsim's rule)."""
@@ -108,21 +110,11 @@ def legs_of(road: Road, short: Callable[[FloatArray], FloatArray]) -> FloatArray
     straightened, corners lotsim could not round merged (:func:`drivable`)."""
     line = np.asarray(shapely.simplify(LineString(road.line), SIMPLIFY).coords)
     for _ in range(len(line)):
-        turns = np.degrees(np.abs(_turns(line)))
+        turns = np.degrees(np.abs(turn_angles(line)))
         if not len(turns) or turns.min() >= TIE_DEG / 2:
             break
         line = np.delete(line, int(np.argmin(turns)) + 1, axis=0)
     return drivable(line, short)
-
-
-def _unit(v: FloatArray) -> FloatArray:
-    return v / float(np.hypot(*v))
-
-
-def _turns(line: FloatArray) -> FloatArray:
-    d = np.diff(line, axis=0)
-    h = np.arctan2(d[:, 1], d[:, 0])
-    return (np.diff(h) + np.pi) % (2 * np.pi) - np.pi
 
 
 def assign(spots: list[Spot], aisles: list[AisleLayout]) -> dict[str, str]:
@@ -153,7 +145,7 @@ def assign(spots: list[Spot], aisles: list[AisleLayout]) -> dict[str, str]:
         base = aisle.base
         gaps = [LineString(base[j:j + 2]).distance(Point(mid)) for j in range(len(base) - 1)]
         j = int(np.argmin(gaps))
-        u = _unit(base[j + 1] - base[j])
+        u = unit(base[j + 1] - base[j])
         n = np.array([-u[1], u[0]])
         ya, ym, yb = (float(np.dot(p - base[j], n)) for p in (spot.entry[0], mid,
                                                               spot.entry[1]))
@@ -185,7 +177,7 @@ def fit(aisle: AisleLayout) -> dict[str, str]:
     between the sides, summed over the stretches, serves the most."""
     base = aisle.base
     aisle.slots = []
-    turns = np.degrees(np.abs(_turns(base)))
+    turns = np.degrees(np.abs(turn_angles(base)))
     stretch = np.concatenate([[0], np.cumsum(turns >= TIE_DEG)])  # leg -> stretch
     count = int(stretch[-1]) + 1
     size = int(MAX_EDGE / GRID) + 1
@@ -253,7 +245,7 @@ def cut_at_corners(aisle: AisleLayout, bends: Callable[[float], Bends]) -> list[
         beside_bends(trial, bends(trial.width))
         return len(trial.slots)
 
-    turns = np.degrees(np.abs(_turns(aisle.base)))
+    turns = np.degrees(np.abs(turn_angles(aisle.base)))
     best = (served(aisle) + MIN_GAIN - 1, None)
     for k in np.flatnonzero(turns >= SPLIT_DEG) + 1:
         a, b = _cut(aisle, int(k))
@@ -280,7 +272,7 @@ def _cut(aisle: AisleLayout, k: int) -> tuple[AisleLayout, AisleLayout]:
 
 def join_corner(a: AisleLayout, b: AisleLayout) -> None:
     """Put the end of ``a`` and the start of ``b`` on the point where their end legs meet."""
-    p = _crossing(a.line[-2], a.line[-1], b.line[0], b.line[1])
+    p = crossing(a.line[-2], a.line[-1], b.line[0], b.line[1])
     a.line = np.vstack([a.line[:-1], p])
     b.line = np.vstack([p, b.line[1:]])
 
@@ -294,7 +286,7 @@ def _shifted(base: FloatArray, shifts: list[float]) -> FloatArray:
     b = base[1:] + n * np.asarray(shifts)[:, None]
     pts = [a[0]]
     for j in range(1, len(a)):
-        pts.append(_crossing(a[j - 1], b[j - 1], a[j], b[j]))
+        pts.append(crossing(a[j - 1], b[j - 1], a[j], b[j]))
     pts.append(b[-1])
     return np.array(pts)
 
@@ -320,162 +312,63 @@ def beside_bends(aisle: AisleLayout, bends: Bends) -> dict[str, str]:
     return reasons
 
 
-def end_on(line: FloatArray, end: int, host: FloatArray) -> FloatArray:
-    """``line`` with its end ``end`` (0 first, 1 last) on the centre line ``host``: its end
-    leg carried on or cut back to where it crosses it, else a leg to its nearest point."""
-    pts = line if end == 1 else line[::-1]
-    target = LineString(host)
-    base, tip = pts[-2], pts[-1]
-    d = _unit(tip - base)
-    ray = LineString([base, tip + d * 60.0])
-    hit = ray.intersection(target)
-    cands = [np.asarray(g.coords[0]) for g in getattr(hit, "geoms", [hit])
-             if not g.is_empty and g.geom_type == "Point"]
-    cands = [q for q in cands if float(np.dot(q - base, d)) > 0.5]
-    if cands:
-        q = min(cands, key=lambda q: float(np.hypot(*(q - tip))))
-        pts = np.vstack([pts[:-1], q])
-    else:
-        q = np.asarray(target.interpolate(target.project(Point(tip))).coords[0])
-        pts = np.vstack([pts, q])
-    return pts if end == 1 else pts[::-1]
+SHRINK = 0.01
+"""Each slot is drawn this much inside the mapped spot's long sides and ends [m], so that
+neighbours that share a side do not overlap once written to the centimetre."""
 
 
-def extend_to(line: FloatArray, end: int, boundary: Polygon, inset: float) -> FloatArray:
-    """``line`` with its end ``end`` carried on to ``inset`` metres inside ``boundary``."""
-    pts = line if end == 1 else line[::-1]
-    base, tip = pts[-2], pts[-1]
-    d = _unit(tip - base)
-    ray = LineString([tip, tip + d * 50.0])
-    hit = ray.intersection(boundary.exterior)
-    cands = [np.asarray(g.coords[0]) for g in getattr(hit, "geoms", [hit])
-             if not g.is_empty and g.geom_type == "Point"]
-    if cands:
-        q = min(cands, key=lambda q: float(np.hypot(*(q - tip))))
-        far = q - d * inset
-        if float(np.dot(far - tip, d)) > 0:
-            pts = np.vstack([pts[:-1], far])
-    return pts if end == 1 else pts[::-1]
+def rounded_slot(spot: Spot, shrink: float) -> tuple[SlotDraft, Polygon]:
+    """The slot of ``spot`` as written (to the centimetre and the hundredth of a degree),
+    ``shrink`` [m] in from its long sides and :data:`SHRINK` from its ends, and the
+    rectangle lotsim will build from those numbers."""
+    cx, cy = (round(float(v), 2) for v in spot.center)
+    heading = round(math.degrees(spot.heading), 2)
+    # to the centimetre below: a spot a hair under 2.5 m is 2.5 m less the rim, not 2.47
+    width = math.floor(round((spot.width - 2 * shrink) * 100, 2)) / 100
+    length = math.floor(round((spot.length - 2 * SHRINK) * 100, 2)) / 100
+    draft = SlotDraft(f"P{spot.id}", "perpendicular", width, length, (cx, cy), heading)
+    return draft, rectangle((cx, cy), math.radians(heading), width, length)
 
 
-@dataclass(frozen=True)
-class Bends:
-    """How lotsim rounds an aisle's corners (:func:`~lotsim.lot.build.build_lot`): the
-    default bend radius on the centre line, concentric on the lanes a quarter of the width
-    either side (one lane on the line when one-way), clothoids of cruising speed, sharper
-    down to a crawl where legs are short."""
-
-    width: float
-    two_way: bool
-    design: DesignVehicle
-    speed: float  # the lot's speed limit [m/s]
-
-    def paths(self, line: FloatArray) -> list[tuple[FloatArray, FloatArray, bool]]:
-        """The centre line and each lane: (points, each corner's radius, reversed)."""
-        offset = self.width / 4 if self.two_way else 0.0
-        radius = self.design.min_radius + offset
-        turns = _turns(line)
-        out = [(line, np.full(len(turns), radius), False)]
-        for pts, rev in ([(line, False), (line[::-1], True)] if self.two_way
-                         else [(line, False)]):
-            t = _turns(pts)
-            out.append((offset_polyline(pts, offset) if offset else pts,
-                        radius + offset * np.sign(t), rev))
-        return out
-
-    @property
-    def sharpness(self) -> tuple[float, float]:
-        """The clothoids' sharpness at cruising speed and at a crawl [1/m²]."""
-        offset = self.width / 4 if self.two_way else 0.0
-        radius = self.design.min_radius + offset
-        return (bend_sharpness(radius, offset, self.design, self.speed),
-                self.design.sharpness(CRAWL_SPEED))
-
-    def short(self, line: FloatArray) -> FloatArray:
-        """By how much each leg is too short for the corners at its ends [m] (positive:
-        lotsim refuses it), on the centre line or a lane, at a crawl."""
-        _, sharpest = self.sharpness
-        worst = np.full(len(line) - 1, -np.inf)
-        for pts, radii, rev in self.paths(line):
-            cut = np.array([cc_turn(float(t), 1 / float(r), sharpest)[1] if abs(t) > 1e-12
-                            else 0.0 for t, r in zip(_turns(pts), radii, strict=True)])
-            need = np.concatenate([[0.0], cut]) + np.concatenate([cut, [0.0]])
-            lack = need - np.hypot(*np.diff(pts, axis=0).T)
-            worst = np.maximum(worst, lack[::-1] if rev else lack)
-        return worst
-
-    def corners(self, line: FloatArray) -> FloatArray:
-        """Each corner's clothoid sharpness [1/m²], as lotsim picks it: the cruising one,
-        sharper where the centre line's or a lane's legs are short."""
-        cruise, sharpest = self.sharpness
-        sharp = np.full(len(line) - 2, cruise)
-        for pts, radii, rev in self.paths(line):
-            need = np.asarray(corner_sharpness(pts, radii, cruise, sharpest))
-            sharp = np.maximum(sharp, need[::-1] if rev else need)
-        return sharp
-
-    def sweep(self, line: FloatArray) -> Polygon:
-        """The ground the envelope car covers driving every lane of the aisle [m²]."""
-        sharp = self.corners(line)
-        parts = []
-        for pts, radii, rev in self.paths(line)[1:]:
-            segs = cc_polyline(pts, radii, sharp[::-1] if rev else sharp)
-            poses, _ = sample_segments(segs, SWEEP_STEP)
-            hulls = shapely.convex_hull(shapely.multipoints(
-                Collider.sweeps(self.design.footprints(poses))))
-            parts.append(shapely.union_all(hulls))
-        return shapely.union_all(parts)
-
-    def zones(self, line: FloatArray) -> list[tuple[float, float]]:
-        """The stretches of the centre line [m] beside which a lane turns at a corner."""
-        sharp = self.corners(line)
-        cum = np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(line, axis=0).T))])
-        reach = np.zeros(len(line) - 2)
-        for pts, radii, rev in self.paths(line):
-            sig = sharp[::-1] if rev else sharp
-            turns = _turns(pts)
-            cut = np.array([cc_turn(float(t), 1 / float(r), float(g))[1]
-                            + abs((pts is not line) * self.width / 4 * np.tan(t / 2))
-                            if abs(t) > 1e-12 else 0.0
-                            for t, r, g in zip(turns, radii, sig, strict=True)])
-            reach = np.maximum(reach, cut[::-1] if rev else cut)
-        return [(cum[k + 1] - c, cum[k + 1] + c) for k, c in enumerate(reach) if c > 0]
-
-
-def drivable(line: FloatArray, short: Callable[[FloatArray], FloatArray]) -> FloatArray:
-    """``line`` with its corners few enough and far enough apart for lotsim to round each
-    (``short``: :meth:`Bends.short`): two corners too close that turn the same way become
-    one where their outer legs meet; of two that turn opposite ways (a jog), the smaller
-    goes. The ends stay."""
-    pts = np.asarray(line, dtype=float)
-    for _ in range(len(pts)):
-        if len(pts) < 3:
-            return pts
-        lack = short(pts)
-        i = int(np.argmax(lack))
-        if lack[i] <= 1e-6:
-            return pts
-        legs = np.diff(pts, axis=0)
-        heading = np.arctan2(legs[:, 1], legs[:, 0])
-        turns = (np.diff(heading) + np.pi) % (2 * np.pi) - np.pi
-        # leg i runs from vertex i to i + 1; vertices 1..n-2 are corners (turns[v - 1])
-        inner = [v for v in (i, i + 1) if 0 < v < len(pts) - 1]
-        if len(inner) == 2 and turns[i - 1] * turns[i] > 0 and i + 2 < len(pts):
-            p = _crossing(pts[i - 1], pts[i], pts[i + 1], pts[i + 2])
-            length = float(np.hypot(*legs[i]))
-            if float(np.hypot(*(p - (pts[i] + pts[i + 1]) / 2))) < 3 * length + 2.0:
-                pts = np.vstack([pts[:i], p, pts[i + 2:]])
-                continue
-        v = min(inner, key=lambda v: abs(turns[v - 1]))
-        pts = np.delete(pts, v, axis=0)
-    return pts
-
-
-def _crossing(a0: FloatArray, a1: FloatArray, b0: FloatArray, b1: FloatArray) -> FloatArray:
-    """Where the line through a0, a1 meets the line through b0, b1."""
-    da, db = a1 - a0, b1 - b0
-    den = da[0] * db[1] - da[1] * db[0]
-    if abs(den) < 1e-12:
-        return (a1 + b0) / 2
-    t = ((b0 - a0)[0] * db[1] - (b0 - a0)[1] * db[0]) / den
-    return a0 + t * da
+def written_slots(aisles: list[AisleLayout], ids: list[str], reasons: dict[str, str],
+                  boundary: Polygon) -> list[tuple[SlotDraft, str]]:
+    """The kept spots as slots, as lotsim will build them from the written numbers: drawn
+    inside their outlines so that neighbours do not overlap, each opening onto an aisle's
+    edge within reach and covered by none; a spot that does not is reported."""
+    spots = sorted(((s, ids[k]) for k, a in enumerate(aisles) for s in a.slots),
+                   key=lambda sa: id_key(sa[0].id))
+    shrink = {s.id: SHRINK for s, _ in spots}
+    while True:
+        built = [rounded_slot(s, shrink[s.id]) for s, _ in spots]
+        polys = np.array([p for _, p in built])
+        tree = shapely.STRtree(polys)
+        left, right = tree.query(polys, predicate="intersects")
+        keep = left < right
+        left, right = left[keep], right[keep]
+        area = shapely.area(shapely.intersection(polys[left], polys[right]))
+        bad = sorted({int(i) for k in np.flatnonzero(area > 1e-7) for i in (left[k],
+                                                                            right[k])})
+        if not bad:
+            break
+        for i in bad:
+            shrink[spots[i][0].id] += 0.01
+    rounded = [np.round(a.line, 2) for a in aisles]
+    shapes = [LineString(line).buffer(a.width / 2, cap_style="flat", join_style="round")
+              for line, a in zip(rounded, aisles, strict=True)]
+    out = []
+    for (spot, aid), (draft, poly) in zip(spots, built, strict=True):
+        covered = [ids[k] for k, sh in enumerate(shapes) if poly.intersection(sh).area > 1e-7]
+        c = np.asarray(draft.center)
+        d = np.array([math.cos(math.radians(draft.heading_deg)),
+                      math.sin(math.radians(draft.heading_deg))])
+        entry = shapely.Point(c - d * draft.length / 2)
+        gap = min(sh.distance(entry) for sh in shapes)
+        if covered:
+            reasons[spot.id] = f"aisle {covered[0]} covers part of it"
+        elif gap > ENTRY_REACH - 1e-3:
+            reasons[spot.id] = f"its entry is {gap:.2f} m from the nearest aisle"
+        elif not boundary.covers(poly):
+            reasons[spot.id] = "it lies partly outside the lot's boundary"
+        else:
+            out.append((draft, aid))
+    return out

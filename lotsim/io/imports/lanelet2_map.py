@@ -199,6 +199,12 @@ def read_lanelet2(source: str | os.PathLike, *,
                        tuple(accesses), tuple(lines))
 
 
+def id_key(ident: str) -> tuple[int, int | str]:
+    """Order of OSM ids: numbers by value (negative ones, of elements not yet uploaded,
+    too), then any other text."""
+    return (0, int(ident)) if ident.lstrip("-").isdigit() else (1, ident)
+
+
 # -- the file ---------------------------------------------------------------------------------
 def _parse(path: Path) -> list[_Element]:
     """The file's nodes, ways and relations, with their lines."""

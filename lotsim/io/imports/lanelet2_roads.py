@@ -22,7 +22,7 @@ import shapely
 from shapely.geometry import LineString, Point, Polygon
 
 from lotsim.core.geometry import FloatArray
-from lotsim.io.imports.lanelet2_map import Lanelet
+from lotsim.io.imports.lanelet2_map import Lanelet, id_key
 
 NODE_TOL = 1.0
 """Carriageway ends closer than this meet [m]."""
@@ -81,10 +81,6 @@ class Network:
     connectors: tuple[str, ...]
 
 
-def _key(ident: str) -> tuple[int, int | str]:
-    return (0, int(ident)) if ident.lstrip("-").isdigit() else (1, ident)
-
-
 def _resampled(a: FloatArray, b: FloatArray) -> tuple[FloatArray, FloatArray]:
     """Both polylines at the same fractions of their lengths (every vertex of either)."""
     def fractions(p: FloatArray) -> FloatArray:
@@ -120,7 +116,7 @@ def _heading(line: FloatArray) -> FloatArray:
 
 def carriageways(lanelets: tuple[Lanelet, ...]) -> list[Carriageway]:
     """Pair opposite lanelets over the same ground or side by side; the rest are one-way."""
-    order = sorted(lanelets, key=lambda ll: _key(ll.id))
+    order = sorted(lanelets, key=lambda ll: id_key(ll.id))
     polys = [ll.polygon for ll in order]
     mids = [midline(ll.left, ll.right) for ll in order]
     tree = shapely.STRtree(polys)
@@ -233,7 +229,7 @@ def network(parts: list[Carriageway]) -> Network:
             n = node_of[(k, int(rev) if e == 0 else 1 - int(rev))]
             road.ends[e] = ("junction", jid[n]) if n in junction else ("open", None)
         roads.append(road)
-    dropped = tuple(sorted((i for k in connectors for i in parts[k].lanelets), key=_key))
+    dropped = tuple(sorted((i for k in connectors for i in parts[k].lanelets), key=id_key))
     return Network(_join(roads, centres), tuple(centres), dropped)
 
 
