@@ -220,6 +220,11 @@ def _draft(m: Lanelet2Map, say: Callable[[str], None]) -> tuple[LotDraft, Import
         "Gates: an entrance and an exit where each road ends at the map's edge, "
         f"{GATE_IN:g} m in; no gate tags are read.",
     ]
+    angled = sorted((f"P{s.id}" for a in aisles for s in a.slots if s.kind == "angled"),
+                    key=id_key)
+    if angled:
+        header.append(f"Angled spots written as perpendicular slots (the writer gives no angle; "
+                      f"lotsim takes a free slot's from its shape): {', '.join(angled)}.")
     header += [f"spot {sid} not imported: {why}" for sid, why in
                sorted(reasons.items(), key=lambda kv: id_key(kv[0]))]
     if dropped_lines:

@@ -99,26 +99,33 @@ def corner_areas(aisles: list[AisleLayout], ids: list[str]) -> list[AreaDraft]:
 
 
 def swept_areas(aisles: list[AisleLayout], ids: list[str], bends: list[Bends],
-           paved) -> list[AreaDraft]:
-    """Ground a car driving an aisle's lanes covers beyond the aisle's strip and the map's
-    drawn ground ``paved`` (the inside of a bend, which a car cuts): paved too."""
+                paved) -> list[AreaDraft]:
+    """Ground a car driving round an aisle's bends covers beyond the aisle's strip and the
+    map's drawn ground ``paved`` (the inside of a bend, which a car cuts): paved too. (At
+    an aisle's ends lotsim cuts its lanes back where a car would leave the ground.)"""
     out = []
     for aisle, aid, bend in zip(aisles, ids, bends, strict=True):
         line = np.round(aisle.line, 2)
+        if len(line) < 3:
+            continue
         strip = LineString(line).buffer(aisle.width / 2, cap_style="flat",
                                         join_style="round")
+        corners = shapely.multipoints(line[1:-1]).buffer(aisle.width + BEND_REACH)
         extra = bend.sweep(line).buffer(0.05, join_style="mitre").difference(
-            shapely.union_all([strip, paved]))
+            shapely.union_all([strip, paved])).intersection(corners)
         pieces = [p for p in shapely.get_parts(extra) if p.area > 0.01]
         pieces.sort(key=lambda p: (round(p.centroid.x, 2), round(p.centroid.y, 2)))
         for piece in pieces:
-            for ring in simple_rings(shapely.simplify(piece.buffer(0.02, join_style="mitre"),
-                                                 0.01)):
+            grown = shapely.simplify(piece.buffer(0.02, join_style="mitre"), 0.01)
+            for ring in simple_rings(grown):
                 out.append(AreaDraft(f"swept-{aid}-{len(out) + 1}", ring,
                                      f"where a car on a lane of aisle {aid} cuts a bend"))
     return out
 
 
+BEND_REACH = 10.0
+"""How far beyond its width from a corner a car rounding it may leave an aisle's strip
+[m]."""
 BLOCKING = ("Walls", "Columns", "Kerbs")
 """The map's line features that block a car where they cross its drawn ground."""
 

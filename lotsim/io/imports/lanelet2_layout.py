@@ -29,7 +29,7 @@ from lotsim.io.imports.draft import SlotDraft
 from lotsim.io.imports.lanelet2_lines import Bends, crossing, drivable, turn_angles, unit
 from lotsim.io.imports.lanelet2_map import id_key
 from lotsim.io.imports.lanelet2_roads import Road
-from lotsim.io.imports.lanelet2_spots import Spot, rectangle
+from lotsim.io.imports.lanelet2_spots import Spot, kind_of, rectangle
 
 ENTRY_REACH = 0.3
 """A slot's entry must lie within this of its aisle [m] (lotsim's rule)."""
@@ -150,6 +150,7 @@ def assign(spots: list[Spot], aisles: list[AisleLayout]) -> dict[str, str]:
         ya, ym, yb = (float(np.dot(p - base[j], n)) for p in (spot.entry[0], mid,
                                                               spot.entry[1]))
         side = 1 if ym > 0 else -1
+        spot = kind_of(spot, math.atan2(u[1], u[0]))
         aisle.facing.append(Facing(spot, j, side, abs(ym), min(side * ya, side * yb),
                                    float(lines[best[1]].project(Point(mid)))))
     return reasons
@@ -319,14 +320,18 @@ neighbours that share a side do not overlap once written to the centimetre."""
 
 def rounded_slot(spot: Spot, shrink: float) -> tuple[SlotDraft, Polygon]:
     """The slot of ``spot`` as written (to the centimetre and the hundredth of a degree),
-    ``shrink`` [m] in from its long sides and :data:`SHRINK` from its ends, and the
-    rectangle lotsim will build from those numbers."""
+    ``shrink`` [m] in from the sides it shares with its neighbours (a bay's long sides, a
+    kerbside space's ends) and :data:`SHRINK` from the others, and the rectangle lotsim
+    will build from those numbers. An angled spot is written as a perpendicular slot (the
+    scenario writer gives no angle yet; lotsim takes a free slot's angle from its shape)."""
     cx, cy = (round(float(v), 2) for v in spot.center)
     heading = round(math.degrees(spot.heading), 2)
+    across, along = (SHRINK, shrink) if spot.parallel else (shrink, SHRINK)
     # to the centimetre below: a spot a hair under 2.5 m is 2.5 m less the rim, not 2.47
-    width = math.floor(round((spot.width - 2 * shrink) * 100, 2)) / 100
-    length = math.floor(round((spot.length - 2 * SHRINK) * 100, 2)) / 100
-    draft = SlotDraft(f"P{spot.id}", "perpendicular", width, length, (cx, cy), heading)
+    width = math.floor(round((spot.width - 2 * across) * 100, 2)) / 100
+    length = math.floor(round((spot.length - 2 * along) * 100, 2)) / 100
+    kind = "parallel" if spot.kind == "parallel" else "perpendicular"
+    draft = SlotDraft(f"P{spot.id}", kind, width, length, (cx, cy), heading)
     return draft, rectangle((cx, cy), math.radians(heading), width, length)
 
 
@@ -361,8 +366,11 @@ def written_slots(aisles: list[AisleLayout], ids: list[str], reasons: dict[str, 
         c = np.asarray(draft.center)
         d = np.array([math.cos(math.radians(draft.heading_deg)),
                       math.sin(math.radians(draft.heading_deg))])
-        entry = shapely.Point(c - d * draft.length / 2)
-        gap = min(sh.distance(entry) for sh in shapes)
+        n = np.array([-d[1], d[0]])
+        # the entry's middle: the back of a bay, either long side of a kerbside space
+        ends = ([c + n * draft.width / 2, c - n * draft.width / 2] if spot.parallel
+                else [c - d * draft.length / 2])
+        gap = min(sh.distance(shapely.Point(p)) for sh in shapes for p in ends)
         if covered:
             reasons[spot.id] = f"aisle {covered[0]} covers part of it"
         elif gap > ENTRY_REACH - 1e-3:

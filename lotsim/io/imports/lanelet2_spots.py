@@ -12,7 +12,7 @@ side, a kerbside (parallel) space.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 import shapely
@@ -48,6 +48,10 @@ class Spot:
         The entry is a long side.
     reason : str
         Why the spot opens onto nothing ("" when it opens onto the ground).
+    kind : str
+        The slot kind, once the aisle it opens onto is known (:func:`kind_of`).
+    angle : float
+        The angle between its long side and that aisle [degrees].
     """
 
     id: str
@@ -60,6 +64,8 @@ class Spot:
     outward: FloatArray
     parallel: bool
     reason: str = ""
+    kind: str = "perpendicular"
+    angle: float = 90.0
 
     @property
     def rectangle(self) -> Polygon:
@@ -69,6 +75,28 @@ class Spot:
     @property
     def entry_mid(self) -> FloatArray:
         return self.entry.mean(axis=0)
+
+
+ANGLED_DEG = 15.0
+"""A spot entered by a short side whose long side is more than this off square to its
+aisle is angled [degrees]."""
+
+
+def kind_of(spot: Spot, along: float) -> Spot:
+    """``spot`` with its kind and angle against an aisle heading ``along`` [rad] beside it:
+    parallel (entered by a long side; a car in it faces the way the traffic beside it runs,
+    right-hand traffic), else perpendicular, or angled when its long side is more than
+    :data:`ANGLED_DEG` off square to the aisle."""
+    u = np.array([math.cos(along), math.sin(along)])
+    axis = np.array([math.cos(spot.heading), math.sin(spot.heading)])
+    angle = math.degrees(math.acos(min(1.0, abs(float(np.dot(u, axis))))))
+    if spot.parallel:
+        left = float(u[0] * spot.outward[1] - u[1] * spot.outward[0]) < 0  # the spot's side
+        heading = along + math.pi if left else along
+        heading = math.atan2(math.sin(heading), math.cos(heading))
+        return replace(spot, kind="parallel", angle=angle, heading=heading)
+    kind = "perpendicular" if angle >= 90 - ANGLED_DEG else "angled"
+    return replace(spot, kind=kind, angle=angle)
 
 
 def rectangle(center, heading: float, width: float, length: float) -> Polygon:
