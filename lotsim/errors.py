@@ -69,6 +69,50 @@ class ScenarioError(LotsimError):
         return (type(self), (self.where, self.message))
 
 
+class ScenarioErrors(ScenarioError):
+    """Several independent problems in one input, in file order: each a
+    :class:`ScenarioError` of its own (``errors``); the first is this error's ``where`` and
+    ``message``, and its text is every one's, a line each."""
+
+    def __init__(self, errors):
+        self.errors = tuple(errors)
+        first = self.errors[0]
+        self.where, self.message = first.where, first.message
+        Exception.__init__(self, "\n".join(str(e) for e in self.errors))
+
+    def __reduce__(self):
+        return (type(self), (self.errors,))
+
+
+class ErrorCollector:
+    """Gathers the independent problems of an input, so that a user sees them all at once.
+
+    ``attempt(fn, *args)`` runs ``fn`` and returns its value, or keeps the
+    :class:`ScenarioError` it raised and returns ``default``; :meth:`check` then raises
+    what was kept: the one error, or a :class:`ScenarioErrors` of them in file order.
+    """
+
+    def __init__(self):
+        self.errors: list[ScenarioError] = []
+
+    def attempt(self, fn, *args, default=None):
+        try:
+            return fn(*args)
+        except ScenarioErrors as exc:
+            self.errors.extend(exc.errors)
+        except ScenarioError as exc:
+            self.errors.append(exc)
+        return default
+
+    def check(self) -> None:
+        if not self.errors:
+            return
+        order = sorted(self.errors, key=lambda e: (e.where is None, e.where.file if e.where
+                                                    else "", e.where.line if e.where else 0,
+                                                    e.where.col if e.where else 0))
+        raise order[0] if len(order) == 1 else ScenarioErrors(order)
+
+
 class LimitExceeded(ScenarioError):
     """A run stopped because it needs more memory or time than its budget
     (:mod:`lotsim.sim.limits`)."""

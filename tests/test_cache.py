@@ -158,7 +158,8 @@ def test_validate_from_another_folder_and_process_finds_the_lot(tmp_path):
         path = tmp_path / f"d{k}" / "lot.yaml"
         path.write_text(text)
         env = {**os.environ, "LOTSIM_CACHE_DIR": str(cache), "PYTHONHASHSEED": str(seed)}
-        outs.append(subprocess.run([sys.executable, "-m", "lotsim", "validate", str(path)],
+        outs.append(subprocess.run([sys.executable, "-m", "lotsim", "validate", str(path),
+                                    "--verbose"],
                                    env=env, capture_output=True, text=True, timeout=300))
     assert [o.returncode for o in outs] == [0, 0], outs
     assert lotsim.core.diskcache.LOADED not in outs[0].stdout
@@ -170,7 +171,8 @@ def test_validate_from_another_folder_and_process_finds_the_lot(tmp_path):
 def test_a_warm_validate_does_not_load_the_graph_library(tmp_path):
     """Importing networkx took a fifth of a warm ``validate``: a lot from the cache makes
     its graph only when asked for it, and validate reads the counts kept with the lot."""
-    code = ("import sys\nfrom lotsim.cli import main\ntry:\n    main(['validate', sys.argv[1]])\n"
+    code = ("import sys\nfrom lotsim.cli import main\ntry:\n"
+            "    main(['validate', sys.argv[1], '--verbose'])\n"
             "except SystemExit as e:\n    assert not e.code\nprint('networkx' in sys.modules)")
     env = {**os.environ, "LOTSIM_CACHE_DIR": str(tmp_path)}
     said = [subprocess.run([sys.executable, "-c", code, str(ROOT / "scenarios" / "street.yaml")],
@@ -317,3 +319,36 @@ def test_the_code_version_covers_every_source_file_of_lotsim():
     hashed = lotsim.core.diskcache.source_files()
     assert hashed == expected
     assert package / "lot" / "build.py" in hashed and package / "cli" / "run.py" in hashed
+
+
+def _entry(folder) -> Path:
+    (entry,) = folder.glob("prepared-*.pickle")
+    return entry
+
+
+@pytest.mark.skipif(not hasattr(os, "getuid"), reason="owners and modes are POSIX's")
+def test_the_cache_folder_is_private_and_entries_others_could_write_are_not_loaded(folder):
+    """Loading a pickle runs what it says: an entry someone else could have written is
+    planned afresh, not loaded (and replaced by the user's own)."""
+    sc = scenario_from_text(ONE_AISLE + TRAFFIC)
+    prepare_graph(sc)
+    assert folder.stat().st_mode & 0o777 == 0o700
+    entry = _entry(folder)
+    assert entry.stat().st_mode & 0o077 == 0
+    assert prepare_graph(sc).from_cache
+    entry.chmod(0o666)  # anyone may write it
+    assert not prepare_graph(sc).from_cache
+    assert entry.stat().st_mode & 0o777 == 0o600  # planned again, stored privately
+    assert prepare_graph(sc).from_cache
+    folder.chmod(0o777)  # anyone may put an entry in the folder
+    assert not prepare_graph(sc).from_cache
+    folder.chmod(0o700)
+
+
+@pytest.mark.skipif(not hasattr(os, "geteuid") or os.geteuid() != 0,
+                    reason="giving a file to another user needs root")
+def test_an_entry_another_user_owns_is_not_loaded(folder):
+    sc = scenario_from_text(ONE_AISLE + TRAFFIC)
+    prepare_graph(sc)
+    os.chown(_entry(folder), 12345, -1)
+    assert not prepare_graph(sc).from_cache

@@ -272,3 +272,17 @@ def test_a_portal_heading_off_its_lane_is_refused_not_turned_without_a_word():
             prepare_graph(sc, maneuvers=False)
         assert (err.value.where.line, err.value.where.col) == position(text, "|{id: in")
         assert "lane 'a>' there heads 0°" in err.value.message
+
+
+def test_a_portal_heading_the_other_lanes_way_is_told_the_heading_not_the_boundary():
+    """Heading 180° on the eastbound lane of a two-way aisle matched the westbound lane
+    3.5 m off and was reported as a car sticking out of the boundary there."""
+    text = (ONE_AISLE.replace("direction: one-way", "direction: two-way")
+            .replace("{id: in, x: 3.0, y: 11.0, heading_deg: 0}",
+                     "{id: in, x: 3.0, y: 9.25, heading_deg: 180}")
+            .replace("{id: out, x: 44.0, y: 11.0,", "{id: out, x: 44.0, y: 9.25,"))
+    with pytest.raises(ScenarioError) as err:
+        prepare_graph(scenario_from_text(text), maneuvers=False)
+    assert (err.value.where.line, err.value.where.col) == position(text, "|{id: in")
+    assert "stands on lane 'a>', which heads 0°" in err.value.message
+    assert "boundary" not in err.value.message

@@ -71,7 +71,8 @@ EXPORTS: dict[str, tuple[str, ...]] = {
                      "table_text", "write_outputs"),
     # errors
     "lotsim.errors": ("InfeasibleManeuver", "LimitExceeded", "Location", "LotsimError",
-                      "ReplayError", "ResultFormatError", "ScenarioError", "SettingsError"),
+                      "ReplayError", "ResultFormatError", "ScenarioError", "ScenarioErrors",
+                      "SettingsError"),
 }
 """Module → the public names :mod:`lotsim.api` offers from it."""
 
@@ -133,6 +134,7 @@ if TYPE_CHECKING:  # for type checkers and editors: the same names, imported eag
         ReplayError,
         ResultFormatError,
         ScenarioError,
+        ScenarioErrors,
         SettingsError,
     )
     from lotsim.io.lot_json import LotFormatError  # noqa: F401

@@ -12,7 +12,7 @@ import os
 import sys
 from collections.abc import Sequence
 
-from lotsim.cli.output import EXIT_BAD_INPUT, EXIT_INTERRUPTED, bad, option
+from lotsim.cli.output import EXIT_BAD_INPUT, EXIT_INTERRUPTED, bad, located, option
 from lotsim.cli.parser import COMMANDS, build_parser
 from lotsim.errors import ScenarioError, SettingsError
 
@@ -29,7 +29,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     try:
         return COMMANDS[args.command].execute(args)
     except ScenarioError as exc:
-        print(f"lotsim: {exc}", file=sys.stderr)
+        print(located(exc), file=sys.stderr)
         return EXIT_BAD_INPUT
     except SettingsError as exc:  # the library's check of an option: name the option
         return bad(f"{option(exc.name)}: {exc.message}")

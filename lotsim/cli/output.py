@@ -67,3 +67,9 @@ def output_problem(opt: str, path: str, suffix: str, made: Path | None = None) -
     if not p.parent.is_dir():
         return f"{opt}: folder {str(p.parent)!r} does not exist"
     return None
+
+
+def located(exc) -> str:
+    """A :class:`~lotsim.errors.ScenarioError` for stderr: ``lotsim: file:line:col: ...``,
+    a line for each of several problems."""
+    return "\n".join(f"lotsim: {e}" for e in getattr(exc, "errors", (exc,)))

@@ -6,7 +6,7 @@ import argparse
 import sys
 
 from lotsim import api
-from lotsim.cli.output import EXIT_BAD_INPUT, EXIT_INCOMPLETE, EXIT_OK
+from lotsim.cli.output import EXIT_BAD_INPUT, EXIT_INCOMPLETE, EXIT_OK, located
 from lotsim.cli.progress import Preparing
 from lotsim.errors import ScenarioError
 
@@ -21,6 +21,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--strict", action="store_true",
                         help="exit 1 when a slot or exit cannot be reached, or a vehicle "
                         "type cannot park in a slot")
+    parser.add_argument("--verbose", action="store_true",
+                        help="also how the maneuvers were found (problems searched, repeats "
+                        "answered from them, whether the lot came from the cache)")
 
 
 def execute(args: argparse.Namespace) -> int:
@@ -30,10 +33,10 @@ def execute(args: argparse.Namespace) -> int:
             with Preparing() as bar:
                 report = api.validate(path, progress=bar)
         except ScenarioError as exc:
-            print(f"lotsim: {exc}", file=sys.stderr)
+            print(located(exc), file=sys.stderr)
             worst = EXIT_BAD_INPUT
             continue
-        print(report.summary())
+        print(report.summary(verbose=args.verbose))
         if args.strict and not report.complete:
             worst = max(worst, EXIT_INCOMPLETE)
     return worst

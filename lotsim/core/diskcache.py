@@ -13,6 +13,13 @@ Where: ``$LOTSIM_CACHE_DIR``, else ``$XDG_CACHE_HOME/lotsim``, else ``~/.cache/l
 that cannot be read or written is planned as if there were none, and the oldest entries
 are removed once there are more than :data:`MOST_ENTRIES` or :data:`MOST_BYTES`.
 
+Entries are pickles, and loading a pickle runs what it says: the cache loads only what the
+user alone could have written. Its folder is made private (``0700``); an entry is loaded
+only when it and the folder are owned by the user and neither can be written by anyone
+else (:func:`trusted`). Anything else — a cache folder shared with others, an entry
+another user left — is planned afresh, not loaded (and, in the user's own folder, replaced
+by the user's own entry).
+
 Processes that ask for the same missing entry at once (a test suite on every core, jobs
 started together on one machine) make it once: the first holds a lock on it
 (:func:`making`, a hidden ``.lock`` file beside the entries) while it plans, the others
@@ -28,6 +35,7 @@ import hashlib
 import importlib.util
 import os
 import pickle
+import stat
 import sys
 import tempfile
 from collections.abc import Iterator
@@ -95,12 +103,34 @@ def key(kind: str, *parts: object) -> str:
     return f"{kind}-{h.hexdigest()}.pickle"
 
 
+def trusted(path: Path) -> bool:
+    """Whether ``path`` can only have been written by this user: owned by them and not
+    writable by group or others (on systems without owners, always)."""
+    if not hasattr(os, "getuid"):
+        return True
+    try:
+        st = path.stat()
+    except OSError:
+        return False
+    return st.st_uid == os.getuid() and not st.st_mode & (stat.S_IWGRP | stat.S_IWOTH)
+
+
+def _make_private(folder: Path) -> None:
+    """Make the cache folder (and its missing parents), the folder itself private."""
+    if not folder.is_dir():
+        folder.mkdir(parents=True, exist_ok=True)
+        os.chmod(folder, 0o700)
+
+
 def load(name: str, folder: Path | None = None) -> object | None:
-    """The entry ``name`` (:func:`key`), or None when there is none that can be read."""
+    """The entry ``name`` (:func:`key`), or None when there is none that can be read, or it
+    or its folder could have been written by someone else (:func:`trusted`)."""
     folder = folder if folder is not None else cache_dir()
     if folder is None:
         return None
     path = folder / name
+    if not (trusted(folder) and trusted(path)):
+        return None
     collecting = gc.isenabled()
     # A prepared lot is some 10^5 small objects (a large lot's maneuvers alone are 30 000
     # path pieces) and no garbage: the cycle collector's passes over them while they are
@@ -133,7 +163,7 @@ def making(name: str, folder: Path | None = None) -> Iterator[None]:
     lock = None
     if folder is not None and fcntl is not None:
         try:
-            folder.mkdir(parents=True, exist_ok=True)
+            _make_private(folder)
             lock = open(folder / f".{name}.lock", "wb")  # noqa: SIM115 - closed below
             fcntl.flock(lock, fcntl.LOCK_EX)
         except OSError:
@@ -155,7 +185,9 @@ def store(name: str, value: object, folder: Path | None = None, *,
         return False
     tmp = None
     try:
-        folder.mkdir(parents=True, exist_ok=True)
+        _make_private(folder)
+        if not trusted(folder):  # others could swap the entry: not worth writing
+            return False
         fd, tmp = tempfile.mkstemp(dir=folder, prefix=".", suffix=".tmp")
         with os.fdopen(fd, "wb") as f:
             pickle.dump(value, f, protocol=pickle.HIGHEST_PROTOCOL)

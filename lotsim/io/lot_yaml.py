@@ -8,7 +8,7 @@ from __future__ import annotations
 import itertools
 import math
 
-from lotsim.errors import ScenarioError
+from lotsim.errors import ErrorCollector, ScenarioError
 from lotsim.io.yamlnodes import YNode
 from lotsim.lot.kinds import KINDS
 from lotsim.lot.spec import (
@@ -63,18 +63,25 @@ def parse_lot(node: YNode) -> LotSpec:
         ],
     )
 
+    errors = ErrorCollector()  # each item on its own: a user sees every broken one at once
+
     def each(key: str, parse, min_len: int = 0):  # type: ignore[no-untyped-def]
         if key not in f:
             return ()
-        return tuple(parse(n) for n in f[key].items(min_len=min_len, max_len=MAX_ITEMS))
+        items = errors.attempt(lambda: f[key].items(min_len=min_len, max_len=MAX_ITEMS),
+                               default=[])
+        return tuple(errors.attempt(parse, n) for n in items)
+
+    def one(key: str, parse, default):  # type: ignore[no-untyped-def]
+        return errors.attempt(parse, f[key], default=default) if key in f else default
 
     areas = (
         each("walls", lambda n: _area(n, "wall"))
         + each("obstacles", lambda n: _area(n, "obstacle"))
         + each("no_go", lambda n: _area(n, "no_go"))
     )
-    spec = LotSpec(
-        boundary=_polygon(f["boundary"]),
+    parts = dict(
+        boundary=one("boundary", _polygon, ()),
         aisles=each("aisles", _aisle, min_len=1),
         rows=each("rows", _row),
         slots=each("slots", _slot),
@@ -83,12 +90,12 @@ def parse_lot(node: YNode) -> LotSpec:
         speed_zones=each("speed_zones", _zone),
         entrances=each("entrances", _portal),
         exits=each("exits", _portal),
-        occupancy=_occupancy(f["occupied"]) if "occupied" in f else OccupancySpec(),
-        speed_limit=speed(f["speed_limit_kmh"]) if "speed_limit_kmh" in f else 20 * KMH,
-        paved=_pavement(f["paved"]) if "paved" in f else None,
-        where=node.where,
-        boundary_where=f["boundary"].where,
+        occupancy=one("occupied", _occupancy, OccupancySpec()),
+        speed_limit=one("speed_limit_kmh", speed, 20 * KMH),
+        paved=one("paved", _pavement, None),
     )
+    errors.check()
+    spec = LotSpec(**parts, where=node.where, boundary_where=f["boundary"].where)
     _check_unique_ids(f, spec)
     _check_size(f, spec)
     return spec

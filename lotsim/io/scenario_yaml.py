@@ -14,6 +14,9 @@ import re
 from dataclasses import dataclass
 from pathlib import Path
 
+import yaml
+
+from lotsim.errors import ErrorCollector
 from lotsim.io.file_kinds import refuse_other_kind, top_level
 from lotsim.io.lot_yaml import MAX_ITEMS, parse_lot
 from lotsim.io.yamlnodes import YNode, parse_text, read_yaml
@@ -123,38 +126,52 @@ def parse_scenario(root: YNode) -> Scenario:
 
 
 def parse_scenario_file(root: YNode) -> ScenarioFile:
-    """Validate a composed scenario document: the scenario and its output options."""
+    """Validate a composed scenario document: the scenario and its output options.
+
+    Every independent problem is reported at once (:class:`~lotsim.errors.ScenarioErrors`,
+    in file order): each section, and each item of a list, is read on its own; the traffic
+    is checked against the vehicle types and entrances as written even where those have
+    problems of their own.
+    """
     refuse_other_kind(top_level(root), "scenario", root.file)
     f = root.fields(
         required=["lot"],
         optional=["name", "description", "seed", "vehicle_types", "parked_vehicle", "traffic",
                   "animation"],
     )
-    name = (f["name"].file_name(purpose="it names the output folder runs/NAME")
+    errors = ErrorCollector()
+    name = (errors.attempt(lambda: f["name"].file_name(
+        purpose="it names the output folder runs/NAME"), default="scenario")
             if "name" in f else name_from_file(root.file))
-    seed = f["seed"].integer(min=0, max=2**63 - 1) if "seed" in f else 0
+    seed = errors.attempt(lambda: f["seed"].integer(min=0, max=2**63 - 1), default=0) \
+        if "seed" in f else 0
+    types = (CATALOGUE[DEFAULT_VEHICLE],)
+    names = [DEFAULT_VEHICLE]
     if "vehicle_types" in f:
-        types = tuple(parse_vehicle(n) for n in f["vehicle_types"].items(min_len=1))
+        nodes = errors.attempt(lambda: f["vehicle_types"].items(min_len=1), default=[])
+        parsed = [errors.attempt(parse_vehicle, n) for n in nodes]
         seen: dict[str, YNode] = {}
-        for n, t in zip(f["vehicle_types"].items(min_len=1), types, strict=True):
-            if t.name in seen:
-                raise n.error(f"vehicle type {t.name!r} is given twice")
-            seen[t.name] = n
-    else:
-        types = (CATALOGUE[DEFAULT_VEHICLE],)
-    if "parked_vehicle" in f:
-        wanted = f["parked_vehicle"].string()
-        pool = {t.name: t for t in types} | {k: v for k, v in CATALOGUE.items()}
-        if wanted not in pool:
-            raise f["parked_vehicle"].error(
-                f"expected a vehicle type of this scenario or the catalogue, found {wanted!r}"
-            )
-        parked = pool[wanted]
-    else:
-        parked = types[0]
-    lot = parse_lot(f["lot"])
-    traffic = (parse_traffic(f["traffic"], [t.name for t in types],
-                             [p.id for p in lot.entrances]) if "traffic" in f else None)
+        for n, t in zip(nodes, parsed, strict=True):
+            if t is not None and t.name in seen:
+                errors.attempt(_refuse, n, f"vehicle type {t.name!r} is given twice")
+            elif t is not None:
+                seen[t.name] = n
+        types = tuple(t for t in parsed if t is not None)
+        names = [t.name for t in types] + [_raw_name(n) for n, t in zip(nodes, parsed,
+                                                                         strict=True)
+                                           if t is None]
+    parked = errors.attempt(_parked, f["parked_vehicle"], types) if "parked_vehicle" in f \
+        else (types[0] if types else None)
+    lot = errors.attempt(parse_lot, f["lot"])
+    entrances = ([p.id for p in lot.entrances] if lot is not None
+                 else _raw_ids(f["lot"], "entrances"))
+    names = [n for n in names if n]
+    traffic = (errors.attempt(parse_traffic, f["traffic"], names, entrances)
+               if "traffic" in f and names else None)  # no type to check it against
+    animation = errors.attempt(parse_animation, f["animation"]) if "animation" in f else None
+    description = (errors.attempt(lambda: f["description"].string(max_len=2000), default="")
+                   if "description" in f else "")
+    errors.check()
     scenario = Scenario(
         name=name,
         lot=lot,
@@ -163,10 +180,50 @@ def parse_scenario_file(root: YNode) -> ScenarioFile:
         parked_vehicle=parked,
         seed=seed,
         source=root.file,
-        description=f["description"].string(max_len=2000) if "description" in f else "",
+        description=description,
     )
-    return ScenarioFile(scenario,
-                        parse_animation(f["animation"]) if "animation" in f else None)
+    return ScenarioFile(scenario, animation)
+
+
+def _refuse(node: YNode, message: str) -> None:
+    raise node.error(message)
+
+
+def _parked(node: YNode, types) -> VehicleType:
+    wanted = node.string()
+    pool = {t.name: t for t in types} | {k: v for k, v in CATALOGUE.items()}
+    if wanted not in pool:
+        raise node.error(
+            f"expected a vehicle type of this scenario or the catalogue, found {wanted!r}")
+    return pool[wanted]
+
+
+def _raw_name(node: YNode) -> str:
+    """The name a vehicle type item gives, as written, even when the item is broken."""
+    raw = node.node
+    if isinstance(raw, yaml.ScalarNode):
+        return str(raw.value)
+    if isinstance(raw, yaml.MappingNode):
+        for k, v in raw.value:
+            if getattr(k, "value", None) == "name" and isinstance(v, yaml.ScalarNode):
+                return str(v.value)
+    return ""
+
+
+def _raw_ids(lot: YNode, key: str) -> list[str]:
+    """The ids of the items of ``lot.<key>`` as written (for checking the traffic against
+    them when the lot has problems of its own)."""
+    out: list[str] = []
+    if not isinstance(lot.node, yaml.MappingNode):
+        return out
+    for k, v in lot.node.value:
+        if getattr(k, "value", None) == key and isinstance(v, yaml.SequenceNode):
+            for item in v.value:
+                if isinstance(item, yaml.MappingNode):
+                    out += [str(iv.value) for ik, iv in item.value
+                            if getattr(ik, "value", None) == "id"
+                            and isinstance(iv, yaml.ScalarNode)]
+    return out
 
 
 def name_from_file(file: str) -> str:
@@ -236,34 +293,38 @@ def parse_traffic(node: YNode, types: list[str], entrances: list[str]) -> Traffi
     def entrance(n: YNode) -> str:
         return n.string(choices=entrances)
 
-    vehicles = []
     seen: dict[str, YNode] = {}
-    for n in f["vehicles"].items(min_len=1, max_len=MAX_ITEMS) if "vehicles" in f else ():
+
+    def arrival(n: YNode) -> Arrival:
         v = n.fields(required=["id", "arrival"], optional=["type", "entrance", "dwell"])
         ident = v["id"].ident()
         if ident in seen:
             raise v["id"].error(f"vehicle id {ident!r} is used twice")
         seen[ident] = v["id"]
-        vehicles.append(Arrival(
+        return Arrival(
             id=ident,
             vehicle=vehicle_type(v["type"]) if "type" in v else types[0],
             entrance=entrance(v["entrance"]) if "entrance" in v else entrances[0],
             time=v["arrival"].number(min=0, max=1e7),
             dwell=v["dwell"].number(positive=True, max=1e7) if "dwell" in v else None,
             where=n.where,
-        ))
-    stream = _stream(f["stream"], types, entrances) if "stream" in f else None
+        )
+
+    errors = ErrorCollector()  # each car, the stream and the patience on their own
+    items = (errors.attempt(lambda: f["vehicles"].items(min_len=1, max_len=MAX_ITEMS),
+                            default=[]) if "vehicles" in f else [])
+    vehicles = [errors.attempt(arrival, n) for n in items]
+    stream = errors.attempt(_stream, f["stream"], types, entrances) if "stream" in f else None
+    patience = (errors.attempt(lambda: f["patience"].number(min=0, max=1e7), default=PATIENCE)
+                if "patience" in f else PATIENCE)
     if stream is not None:
         for ident, n in seen.items():
             if ident.startswith(stream.prefix) and ident[len(stream.prefix):].isdigit():
-                raise n.error(f"vehicle id {ident!r} may clash with the stream's ids "
-                              f"({stream.prefix}01, ...); pick another id or stream prefix")
-    return TrafficSpec(
-        vehicles=tuple(vehicles),
-        stream=stream,
-        patience=f["patience"].number(min=0, max=1e7) if "patience" in f else PATIENCE,
-        where=node.where,
-    )
+                errors.attempt(_refuse, n, f"vehicle id {ident!r} may clash with the stream's "
+                               f"ids ({stream.prefix}01, ...); pick another id or stream prefix")
+    errors.check()
+    return TrafficSpec(vehicles=tuple(vehicles), stream=stream, patience=patience,
+                       where=node.where)
 
 
 def _stream(node: YNode, types: list[str], entrances: list[str]) -> StreamSpec:

@@ -351,7 +351,9 @@ def parse_text(text: str, file: str) -> YNode:
     except RecursionError:
         raise ScenarioError(Location(file, 1, 1), "nesting is too deep") from None
     if not nodes:
-        raise ScenarioError(Location(file, 1, 1), "expected a YAML mapping, found an empty file")
+        found = ("only comments" if any(line.strip() for line in text.splitlines())
+                 else "an empty file")
+        raise ScenarioError(Location(file, 1, 1), f"expected a YAML mapping, found {found}")
     if len(nodes) > 1:
         mark = nodes[1].start_mark
         raise ScenarioError(

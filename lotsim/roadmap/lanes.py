@@ -60,7 +60,9 @@ def portal_station(lot: Lot, portal: Portal) -> tuple[str, float]:
     pose = portal.pose
     best = None
     near = None  # the nearest lane the portal stands on, whichever way it heads
+    under = None  # the lane right under the portal, when it heads another way
     for aisle in lot.aisles.values():
+        half = aisle.width / (2 if aisle.one_way else 4)  # of a lane's own strip
         for lane in aisle.lanes:
             s, dist = lane.project(pose[:2])
             if dist > aisle.width / 2 + 0.01:
@@ -70,7 +72,22 @@ def portal_station(lot: Lot, portal: Portal) -> tuple[str, float]:
             if near is None or (off, dist) < near[:2]:
                 near = (off, dist, lane.id, heading)
             if off <= PORTAL_HEADING_TOLERANCE and (best is None or dist < best[0]):
-                best = (dist, lane.id, s)
+                best = (dist, lane.id, s, half)
+            elif off > PORTAL_HEADING_TOLERANCE and dist <= half + 0.01 and (
+                    under is None or dist < under[0]):
+                under = (dist, lane.id, heading)
+    if best is not None and under is not None and best[0] > best[3] + 0.01:
+        # standing on one lane, heading the way of another one beside it: a slip of the
+        # heading, more likely than a car meant for the far lane
+        raise ScenarioError(
+            portal.where,
+            f"{portal.id!r} at ({pose[0]:g}, {pose[1]:g}) heading "
+            f"{math.degrees(pose[2]):.0f}° stands on lane {under[1]!r}, which heads "
+            f"{math.degrees(under[2]) % 360:.0f}° (give heading_deg within "
+            f"{math.degrees(PORTAL_HEADING_TOLERANCE):.0f}° of it); lane {best[1]!r}, "
+            f"{best[0]:.2f} m away, heads {math.degrees(pose[2]) % 360:.0f}°: to stand on "
+            f"it, move the portal onto it",
+        )
     if best is None:
         there = (f"; lane {near[2]!r} there heads {math.degrees(near[3]) % 360:.0f}° (give "
                  f"heading_deg within {math.degrees(PORTAL_HEADING_TOLERANCE):.0f}° of it)"

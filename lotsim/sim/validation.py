@@ -62,8 +62,22 @@ class ValidationReport:
         return [line.strip()[len("warning: "):] for line in self.summary().splitlines()
                 if line.strip().startswith("warning: ")]
 
-    def summary(self) -> str:
-        """What ``lotsim validate`` prints for this scenario."""
+    def usable(self) -> dict[str, list[str]]:
+        """Per vehicle type, the free slots it can use: fits, can reach from an entrance,
+        park in and (where the lot has exits) leave for one; natural order."""
+        lg, reach = self.prepared.lot_graph, self.reachability
+        free = [s.id for s in lg.lot.free_slots]
+        out = {}
+        for v in self.prepared.scenario.vehicle_types:
+            no_in, no_out = reach.by_type.get(v.name, ([], []))
+            bad = (set(lg.infeasible.get(v.name, {})) | set(no_in) | set(no_out)
+                   | set(reach.no_way_in) | set(reach.no_way_out))
+            out[v.name] = sorted((sid for sid in free if sid not in bad), key=natural)
+        return out
+
+    def summary(self, *, verbose: bool = False) -> str:
+        """What ``lotsim validate`` prints for this scenario (``verbose``: also how the
+        maneuvers were found: problems searched, repeats, the cache)."""
         lg, reach = self.prepared.lot_graph, self.reachability
         scenario = self.prepared.scenario
         lot = lg.lot
@@ -117,8 +131,14 @@ class ValidationReport:
                 if slots:
                     lines.append(f"  note: exit {name!r} cannot be reached from {len(slots)} "
                                  f"slots: {_ids(slots)}")
+        free = len(lot.slots) - taken
+        usable = "; ".join(
+            f"{name} {len(ids)} of {free}" + (f" ({id_ranges(ids, most=4)})"
+                                              if 0 < len(ids) < free else "")
+            for name, ids in self.usable().items())
+        lines.append(f"  usable free slots per type: {usable}")
         planner = self.prepared.maneuver_planner
-        if planner is not None:
+        if planner is not None and verbose:
             remembered = planner.stats.get("remembered", 0)
             lines.append(f"  maneuvers: {facts.park_maneuvers} kept (per type, slot and lane); "
                          f"{planner.stats['planned'] - remembered} distinct problems "
@@ -128,6 +148,7 @@ class ValidationReport:
                          + f"({planner.stats['reused']} repeats answered from them; "
                          f"margin {planner.margin:g} m)"
                          + (LOADED if lg.from_cache else ""))
+        if planner is not None:
             for vname, slots in lg.infeasible.items():
                 if not slots:
                     continue

@@ -279,7 +279,10 @@ def test_run_cli_writes_a_result_that_check_accepts_and_a_corrupted_one_it_refus
     assert "parked" in text and "the last move ends at" in text and "result.json" in text
     assert [p.name for p in out.iterdir()] == ["result.json"]  # nothing half-written
     assert main(["check", str(out / "result.json")]) == 0
-    capsys.readouterr()
+    said = capsys.readouterr().out
+    assert "ok — 6 vehicles checked" in said and "footprint" not in said  # no internals
+    assert main(["check", str(out / "result.json"), "--verbose"]) == 0
+    assert "footprint tests" in capsys.readouterr().out
     doc = json.loads((out / "result.json").read_text())
     a, b = doc["vehicles"][0], doc["vehicles"][2]
     # drive the third car along the first one's path at the first one's time

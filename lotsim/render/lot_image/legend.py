@@ -138,13 +138,20 @@ def _swatch_graph(img: Image.Image, box: tuple[int, int, int, int]) -> None:
         d.ellipse([x - 2.5, y - 2.5, x + 2.5, y + 2.5], fill=GRAPH_NODE, outline=(0, 0, 0))
 
 
-def _swatch_link(img: Image.Image, box: tuple[int, int, int, int]) -> None:
+def _swatch_turn(img: Image.Image, box: tuple[int, int, int, int]) -> None:
+    d = ImageDraw.Draw(img)
+    x0, y0, x1, y1 = box
+    d.rectangle(box, fill=ASPHALT)
+    d.arc((x0 + 3, y0 + 3, x0 + 3 + 2 * (x1 - x0 - 6), y1 + (y1 - y0)), 180, 270,
+          fill=GRAPH_EDGE["turn"], width=2)
+
+
+def _swatch_park(img: Image.Image, box: tuple[int, int, int, int]) -> None:
     d = ImageDraw.Draw(img)
     x0, y0, x1, y1 = box
     d.rectangle(box, fill=ASPHALT)
     y = (y0 + y1) / 2
-    dashed_line(d, np.array([[x0 + 3, y], [x1 - 3, y]]), GRAPH_EDGE["park"], on=2, off=3)
-    d.line([(x0 + 3, y - 5), (x1 - 3, y + 5)], fill=GRAPH_EDGE["turn"], width=1)
+    dashed_line(d, np.array([[x0 + 3, y], [x1 - 3, y]]), GRAPH_EDGE["park"], on=3, off=2)
 
 
 def _swatch_multipoint(img: Image.Image, box: tuple[int, int, int, int]) -> None:
@@ -191,7 +198,11 @@ def _legend_entries(lot_graph, lot, show_graph: bool) -> list[_Entry]:
         out.append(_Entry("exit", _swatch_triangle(EXIT)))
     if show_graph and lot_graph is not None:
         out.append(_Entry("graph node, lane edge", _swatch_graph))
-        out.append(_Entry("turn, park link", _swatch_link))
+        kinds = {d["kind"] for *_, d in lot_graph.graph.edges(data=True)}
+        if "turn" in kinds:
+            out.append(_Entry("junction turn", _swatch_turn))
+        if kinds & {"park", "leave"}:
+            out.append(_Entry("park link (to a slot)", _swatch_park))
         if any(d["kind"] == "turnaround" for *_, d in lot_graph.graph.edges(data=True)):
             out.append(_Entry("multi-point turn", _swatch_multipoint))
     return out

@@ -5,7 +5,7 @@ import re
 
 import pytest
 
-from conftest import ROOT, SCENARIOS
+from conftest import ONE_AISLE, ROOT, SCENARIOS
 from lotsim.cli import main
 from oracles.catalogue import DESIGN_TABLE
 
@@ -145,7 +145,7 @@ def test_preparing_a_lot_shows_its_progress_on_a_terminal_only(tmp_path, capsys,
     assert main(["validate", str(path)]) == 0
     assert capsys.readouterr().err == ""  # a pipe: quiet
     monkeypatch.setattr("sys.stderr.isatty", lambda: True)
-    assert main(["validate", str(path)]) == 0
+    assert main(["validate", str(path), "--verbose"]) == 0
     cap = capsys.readouterr()
     assert f"{searched} distinct problems searched" in cap.out
     shown = re.findall(r"planning maneuvers \[[#-]+\] (\d+)/(\d+)", cap.err)
@@ -282,3 +282,21 @@ def test_the_maneuver_picture_title_counts_its_changes_in_words(tmp_path, monkey
     word = "change" if changes == 1 else "changes"
     assert titles == [f"quickstart: valet into N3, {changes} {word} of direction, "
                       + titles[0].rsplit(", ", 1)[1]]
+
+
+def test_validate_says_how_many_free_slots_each_type_can_use_and_which(capsys):
+    """"Does my van fit?": the answer is the positive fact, per type, with the slots."""
+    text = ONE_AISLE.replace("vehicle_types: [valet]", "vehicle_types: [valet, vclass]").replace(
+        "slot_length: 5.0, start: 12, id_prefix: S", "slot_length: 6.0, start: 12, id_prefix: S"
+    ).replace("occupied: [N1, N2, N3, N4, N5, S1, S2, S3, S4]", "occupied: [N1]")
+    import lotsim
+
+    report = lotsim.validate(text)
+    usable = report.usable()
+    assert usable["valet"] == ["N2", "N3", "N4", "N5", "N6", "S1", "S2", "S3", "S4", "S5", "S6"]
+    # the 5.37 m van is refused the 5 m bays, with the reason, and fits the 6 m ones
+    assert usable["vclass"] == ["S1", "S2", "S3", "S4", "S5", "S6"]
+    assert set(report.prepared.lot_graph.infeasible["vclass"]) == {f"N{k}" for k in range(1, 7)}
+    line = next(ln for ln in report.summary().splitlines() if "usable" in ln)
+    assert line.strip() == ("usable free slots per type: valet 11 of 11; vclass 6 of 11 "
+                            "(S1–S6)")

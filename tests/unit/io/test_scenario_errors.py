@@ -184,7 +184,10 @@ def test_missing_file(tmp_path, capsys):
 
 def test_empty_file(tmp_path):
     err, path = refused(tmp_path, "")
-    assert err.startswith(f"{path}:1:1: ")
+    assert err.startswith(f"{path}:1:1: ") and "found an empty file" in err
+    # a file of comments was called empty too
+    err, path = refused(tmp_path, "# a lot to come\n\n# its aisles\n")
+    assert err.startswith(f"{path}:1:1: ") and "found only comments" in err
 
 
 def test_unknown_command_and_option_exit_2(capsys):
@@ -283,3 +286,40 @@ def test_unreadable_yaml_is_reported_as_the_python_composer_reports_it(text):
     assert "x.yaml:" in str(got.value)
     with pytest.raises(yaml.YAMLError):
         yaml.compose(text, Loader=yamlnodes._ComposeLoader)
+
+
+TWO_PROBLEMS = """\
+name: two-problems
+vehicle_types: [valet, {name: van, width: 2.0, front: 4.2, rear: 1.0, wheelbase: 3.3}]
+lot:
+  boundary: [[0, 0], [40, 0], [40, 20], [0, 20]]
+  aisles:
+    - {id: main, centerline: [[0, 10], [40, 10]], width: 7.0}
+  rows:
+    - {aisle: main, side: left, kind: perpendicular, count: 5, slot_widht: 2.5,
+       slot_length: 5.5, start: 8.0}
+    - {aisle: main, side: right, kind: perpendicular, count: 5, slot_width: 2.5,
+       slot_length: 5.5, start: 8.0}
+  entrances:
+    - {id: in, x: 3.0, y: 8.25, heading_deg: 0}
+traffic:
+  vehicles:
+    - {id: a, arrival: 0, type: van, entrance: in}
+  stream: {count: 5, rate_per_hour: -60}
+"""
+
+
+def test_validate_reports_every_independent_problem_in_file_order(tmp_path, capsys):
+    """A misspelt key in a row and a negative rate in the stream: both, each located, and
+    nothing about the traffic's type or entrance, which the broken parts still declare."""
+    path = tmp_path / "two.yaml"
+    path.write_text(TWO_PROBLEMS)
+    assert main(["validate", str(path)]) == 2
+    lines = capsys.readouterr().err.splitlines()
+    assert len(lines) == 3, lines  # the van misses max_steer_deg; the row; the stream
+    where = [tuple(map(int, ln.split(":")[2:4])) for ln in lines]
+    assert where == [position(TWO_PROBLEMS, "|{name: van"),
+                     position(TWO_PROBLEMS, "|slot_widht"),
+                     position(TWO_PROBLEMS, "rate_per_hour: |-60")]
+    assert all(ln.startswith(f"lotsim: {path}:") for ln in lines)
+    assert "slot_widht" in lines[1] and "rate_per_hour" in lines[2]

@@ -394,3 +394,20 @@ def test_the_ground_is_drawn_as_it_is_paved_or_not() -> None:
         canvas = lot_layout(g, size=SIZE, legend=False).canvas
         assert rgb(img, canvas.to_px(verge)) == expected
         assert rgb(img, canvas.to_px((20.0, 10.0))) != li.GROUND  # the aisle
+
+
+def test_the_graph_legend_gives_each_kind_of_link_its_own_colour(scene) -> None:
+    """One magenta swatch read "turn, park link" though park links are drawn orange."""
+    from lotsim.render.lot_image.legend import _legend_entries
+
+    _, g = scene
+    entries = {e.label: e for e in _legend_entries(g, g.lot, True)}
+    assert "park link (to a slot)" in entries
+    swatches = {}
+    for label in ("park link (to a slot)", "junction turn"):
+        if label in entries:
+            img = Image.new("RGB", (30, 20), (0, 0, 0))
+            entries[label].swatch(img, (0, 0, 29, 19))
+            swatches[label] = {c for _, c in img.getcolors(600)}
+    assert li.GRAPH_EDGE["park"] in swatches["park link (to a slot)"]
+    assert li.GRAPH_EDGE["turn"] not in swatches["park link (to a slot)"]

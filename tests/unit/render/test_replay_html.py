@@ -53,8 +53,8 @@ def page(doc, tmp_path_factory):
 @pytest.fixture(scope="module")
 def browser():
     if find_browser() is None:
-        message = ("HTML REPLAY NOT TESTED IN A BROWSER: no Chromium found; install Debian's "
-                   "'chromium' package (apt-get install chromium) or set LOTSIM_CHROMIUM")
+        message = ("the replay's browser tests need Chromium: apt-get install chromium, or "
+                   "set LOTSIM_CHROMIUM to a Chrome or Chromium binary (README)")
         if os.environ.get("LOTSIM_REQUIRE_BROWSER") == "1":
             pytest.fail(message)
         pytest.skip(message)
