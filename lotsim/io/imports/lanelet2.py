@@ -25,7 +25,7 @@ from shapely.ops import unary_union
 from lotsim.core.atomic import atomic_write
 from lotsim.core.geometry import FloatArray
 from lotsim.errors import LotsimError, ScenarioError
-from lotsim.io.imports.draft import AisleDraft, GateDraft, LotDraft
+from lotsim.io.imports.draft import AisleDraft, GateDraft, LotDraft, SlotDraft
 from lotsim.io.imports.lanelet2_ground import (
     blocking,
     boundary_of,
@@ -50,6 +50,8 @@ from lotsim.io.imports.lanelet2_map import Lanelet, Lanelet2Map, id_key, read_la
 from lotsim.io.imports.lanelet2_roads import carriageways, network
 from lotsim.io.imports.lanelet2_spots import fit_spot
 from lotsim.io.imports.report import ImportedLot, ImportReport
+from lotsim.io.scenario_yaml import read_scenario
+from lotsim.lot.build import build_lot
 from lotsim.lot.model import DesignVehicle
 from lotsim.vehicles.catalogue import get_vehicle
 
@@ -206,13 +208,49 @@ def _draft(m: Lanelet2Map, say: Callable[[str], None]) -> tuple[LotDraft, Import
         entrance, exit_ = _gates(aisles[a], e, {ll.id: ll for ll in m.lanelets})
         entrances += [entrance] if entrance else []
         exits += [exit_] if exit_ else []
+    draft = LotDraft(
+        name=_name(m.source.stem),
+        description=f"{m.source.name}: {_n(len(slots), 'slot')} from the map's parking_spot "
+                    f"areas, {_n(len(aisles), 'aisle')} from its lanelets.",
+        boundary=ring(boundary),
+        vehicle_types=list(VEHICLE_TYPES),
+        speed_limit_kmh=_speed_limit(m),
+        aisles=[AisleDraft(ids[k], [tuple(map(float, p)) for p in a.line], a.width,
+                           not a.road.two_way, _aisle_note(a)) for k, a in enumerate(aisles)],
+        slots=[s for s, _ in slots],
+        obstacles=blocks,
+        paved=(drawn_areas(drawn_map) + corner_areas(aisles, ids)
+               + swept_areas(aisles, ids, bends, drawn_map)) if WRITE_PAVED else None,
+        paved_aisles=True,
+        entrances=entrances,
+        exits=exits,
+        traffic=TRAFFIC,
+    )
+    _builds(draft, reasons, design, m.source)
+    draft.header = _header(m, parts, len(net.connectors), aisles, draft.slots, reasons,
+                           dropped_lines)
+    draft.description = (f"{m.source.name}: {_n(len(draft.slots), 'slot')} from the map's "
+                         f"parking_spot areas, {_n(len(aisles), 'aisle')} from its lanelets.")
+    lot = ImportedLot(m.source.stem, float(drawn_map.area), mapped=len(draft.slots),
+                      aisles=len(aisles), gates=len(gates_at),
+                      reason=f"{len(reasons)} of {len(m.spots)} parking spots not imported "
+                             "(why: in the file's header)" if reasons else "",
+                      projection_error=m.error)
+    return draft, lot
+
+
+def _header(m: Lanelet2Map, parts: list, connectors: int, aisles: list[AisleLayout],
+            slots: list[SlotDraft], reasons: dict[str, str], dropped_lines: str) -> list[str]:
+    """The scenario's opening comments: the source, the projection and its error, what
+    became of the map's lanelets and spots (each spot not imported, with why), the gates'
+    rule, what of the map was dropped."""
     header = [
         f"Imported by lotsim from the Lanelet2 map {m.source.name} (Autoware valet-parking "
         "convention).",
         f"Projection: {m.frame.describe()} ({m.origin_source}); its error over the map is "
         f"under {max(m.error, 1e-4) * 1000:.1f} mm.",
         f"{_n(len(m.lanelets), 'lanelet')} as {_n(len(parts), 'carriageway')} and "
-        f"{_n(len(aisles), 'aisle')} ({_n(len(net.connectors), 'junction connector lanelet')} "
+        f"{_n(len(aisles), 'aisle')} ({_n(connectors, 'junction connector lanelet')} "
         f"dropped: lotsim builds its own turns); {_n(len(m.accesses), 'parking_access area')} "
         "widen the aisles to the spots.",
         f"{_n(len(m.spots), 'parking_spot area')}: {_n(len(slots), 'slot')}; "
@@ -229,31 +267,31 @@ def _draft(m: Lanelet2Map, say: Callable[[str], None]) -> tuple[LotDraft, Import
                sorted(reasons.items(), key=lambda kv: id_key(kv[0]))]
     if dropped_lines:
         header.append(dropped_lines)
-    draft = LotDraft(
-        name=_name(m.source.stem),
-        description=f"{m.source.name}: {_n(len(slots), 'slot')} from the map's parking_spot "
-                    f"areas, {_n(len(aisles), 'aisle')} from its lanelets.",
-        boundary=ring(boundary),
-        vehicle_types=list(VEHICLE_TYPES),
-        header=header,
-        speed_limit_kmh=_speed_limit(m),
-        aisles=[AisleDraft(ids[k], [tuple(map(float, p)) for p in a.line], a.width,
-                           not a.road.two_way, _aisle_note(a)) for k, a in enumerate(aisles)],
-        slots=[s for s, _ in slots],
-        obstacles=blocks,
-        paved=(drawn_areas(drawn_map) + corner_areas(aisles, ids)
-               + swept_areas(aisles, ids, bends, drawn_map)) if WRITE_PAVED else None,
-        paved_aisles=True,
-        entrances=entrances,
-        exits=exits,
-        traffic=TRAFFIC,
-    )
-    lot = ImportedLot(m.source.stem, float(drawn_map.area), mapped=len(slots),
-                      aisles=len(aisles), gates=len(gates_at),
-                      reason=f"{len(reasons)} of {len(m.spots)} parking spots not imported "
-                             "(why: in the file's header)" if reasons else "",
-                      projection_error=m.error)
-    return draft, lot
+    return header
+
+
+def _builds(draft: LotDraft, reasons: dict[str, str], design: DesignVehicle,
+            source: Path) -> None:
+    """Build the draft's lot as ``lotsim validate`` does; a slot the build refuses is
+    dropped, with lotsim's reason, and the lot built again.
+
+    Raises
+    ------
+    LotsimError
+        The lot does not build for another reason (nothing is written then).
+    """
+    for _ in range(len(draft.slots) + 1):
+        try:
+            build_lot(read_scenario(draft.to_yaml()).scenario.lot, design)
+            return
+        except ScenarioError as exc:
+            named = set(re.findall(r"slot '([^']+)'", exc.message))
+            gone = [sd for sd in draft.slots if sd.id in named]
+            if not gone:
+                raise LotsimError(f"{source}: the lot laid out from the map does not build: "
+                                  f"{exc.message}") from None
+            draft.slots = [sd for sd in draft.slots if sd is not gone[-1]]
+            reasons[gone[-1].id[1:]] = f"lotsim refuses it: {exc.message}"
 
 
 def _n(count: int, what: str) -> str:
