@@ -143,8 +143,7 @@ def assign(spots: list[Spot], aisles: list[AisleLayout]) -> dict[str, str]:
             continue
         aisle = aisles[best[1]]
         base = aisle.base
-        gaps = [LineString(base[j:j + 2]).distance(Point(mid)) for j in range(len(base) - 1)]
-        j = int(np.argmin(gaps))
+        j = _leg_faced(base, mid, spot.outward)
         u = unit(base[j + 1] - base[j])
         n = np.array([-u[1], u[0]])
         ya, ym, yb = (float(np.dot(p - base[j], n)) for p in (spot.entry[0], mid,
@@ -154,6 +153,23 @@ def assign(spots: list[Spot], aisles: list[AisleLayout]) -> dict[str, str]:
         aisle.facing.append(Facing(spot, j, side, abs(ym), min(side * ya, side * yb),
                                    float(lines[best[1]].project(Point(mid)))))
     return reasons
+
+
+def _leg_faced(base: FloatArray, mid: FloatArray, outward: FloatArray) -> int:
+    """The leg of ``base`` an entry at ``mid`` facing ``outward`` opens onto: of the legs
+    within a metre of the nearest, one it lies beside (its foot on the leg), else (past a
+    corner) the one it faces most squarely."""
+    legs = []
+    for j in range(len(base) - 1):
+        a, b = base[j], base[j + 1]
+        d = b - a
+        t = float(np.dot(mid - a, d) / np.dot(d, d))
+        n = np.array([-d[1], d[0]]) / float(np.hypot(*d))
+        legs.append((LineString([a, b]).distance(Point(mid)), 0.0 <= t <= 1.0,
+                     abs(float(np.dot(n, outward))), j))
+    near = min(g for g, *_ in legs) + 1.0
+    return min((lg for lg in legs if lg[0] <= near),
+               key=lambda lg: (not lg[1], lg[0] if lg[1] else -lg[2]))[3]
 
 
 def _counts(spans: list[tuple[float, float]], size: int) -> FloatArray:
