@@ -6,8 +6,9 @@ east-north plane (:class:`~lotsim.io.imports.frame.LocalFrame`). Its lanelets be
 (:mod:`.lanelet2_roads`), the roads aisles widened over the ``parking_access`` ground to the
 spots' entries (:mod:`.lanelet2_layout`), its ``parking_spot`` areas free-standing slots
 (:mod:`.lanelet2_spots`); open road ends at the map's edge become gates. What is paved is
-what the map draws: lanelets, access areas and spots. ``docs/import.md`` says what is read,
-what is inferred and what is dropped.
+what the map draws (lanelets, access areas, spots) and the aisles laid on it
+(:mod:`.lanelet2_ground`). ``docs/import.md`` says what is read, what is inferred and what
+is dropped.
 """
 
 from __future__ import annotations
@@ -16,6 +17,7 @@ import math
 import os
 import re
 from collections.abc import Callable
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -62,7 +64,6 @@ EDGE_PROBE = 3.0
 or access area [m]."""
 TRAFFIC = {"stream": {"count": 20, "rate_per_hour": 60, "dwell": [300, 900]}}
 """The default traffic: a stream of 20 cars, one a minute, each parked 5 to 15 minutes."""
-WRITE_PAVED = True
 VEHICLE_TYPES = ("altis", "zoe")
 """The vehicle types the scenario lists."""
 GUESS_STRIP = 1.4
@@ -70,7 +71,6 @@ GUESS_STRIP = 1.4
 which of a road's corners lotsim can round [m]."""
 DEFAULT_SPEED_KMH = 20.0
 """lotsim's speed limit when the map gives none [km/h]."""
-"""Write ``lot.paved`` (the map's drawn ground): on once the scenario format has the key."""
 
 
 def import_lanelet2(source: str | os.PathLike, out_dir: str | os.PathLike, *,
@@ -120,9 +120,7 @@ def import_lanelet2(source: str | os.PathLike, out_dir: str | os.PathLike, *,
     except OSError as exc:
         raise LotsimError(f"{out}: cannot write the scenario: {exc.strerror or exc}") from None
     say(f"wrote {target}")
-    done = ImportedLot(lot.id, lot.area, lot.mapped, 0, None, lot.aisles, lot.gates, target,
-                       lot.reason, m.error)
-    return ImportReport(path, (done,))
+    return ImportReport(path, (replace(lot, path=target),))
 
 
 def _speed_limit(m: Lanelet2Map) -> float | None:
@@ -139,6 +137,10 @@ def _speed_limit(m: Lanelet2Map) -> float | None:
 
 
 def _draft(m: Lanelet2Map, say: Callable[[str], None]) -> tuple[LotDraft, ImportedLot]:
+    """The map's lot as a draft, built as lotsim will build it, and its line of the report:
+    roads from the lanelets, aisles fitted to the spots that open onto them (a road cut
+    into an L at a corner where that serves more), their ends joined, carried on or made
+    gates, the slots, the ground and what blocks it."""
     parts = carriageways(m.lanelets)
     net = network(parts)
     say(f"{len(parts)} carriageways: {len(net.roads)} roads, {len(net.junctions)} junctions")
@@ -220,7 +222,7 @@ def _draft(m: Lanelet2Map, say: Callable[[str], None]) -> tuple[LotDraft, Import
         slots=[s for s, _ in slots],
         obstacles=blocks,
         paved=(drawn_areas(drawn_map) + corner_areas(aisles, ids)
-               + swept_areas(aisles, ids, bends, drawn_map)) if WRITE_PAVED else None,
+               + swept_areas(aisles, ids, bends, drawn_map)),
         paved_aisles=True,
         entrances=entrances,
         exits=exits,

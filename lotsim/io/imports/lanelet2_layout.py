@@ -65,14 +65,13 @@ BEND_CLEAR = 0.3
 class Facing:
     """A spot opening onto an aisle's road: the leg of the road's line it faces, its side
     (+1 left, -1 right), the distances [m] of its entry's middle and nearer end from the
-    leg's line, and the station of its entry's middle along the road's line [m]."""
+    leg's line."""
 
     spot: Spot
     leg: int
     side: int
     mid: float
     near: float
-    station: float
 
 
 @dataclass
@@ -87,7 +86,6 @@ class AisleLayout:
     width: float = 0.0
     slots: list[Spot] = field(default_factory=list)
     ends: list[tuple[str, int | None]] = field(default_factory=list)
-    first_leg: int = 0  # of the road's legs, this piece's first
 
     def __post_init__(self) -> None:
         if not self.ends:
@@ -150,8 +148,7 @@ def assign(spots: list[Spot], aisles: list[AisleLayout]) -> dict[str, str]:
                                                               spot.entry[1]))
         side = 1 if ym > 0 else -1
         spot = kind_of(spot, math.atan2(u[1], u[0]))
-        aisle.facing.append(Facing(spot, j, side, abs(ym), min(side * ya, side * yb),
-                                   float(lines[best[1]].project(Point(mid)))))
+        aisle.facing.append(Facing(spot, j, side, abs(ym), min(side * ya, side * yb)))
     return reasons
 
 
@@ -278,12 +275,12 @@ def cut_at_corners(aisle: AisleLayout, bends: Callable[[float], Bends]) -> list[
 def _cut(aisle: AisleLayout, k: int) -> tuple[AisleLayout, AisleLayout]:
     """The aisle's pieces before and after its base's vertex ``k``."""
     first = [f for f in aisle.facing if f.leg < k]
-    second = [Facing(f.spot, f.leg - k, f.side, f.mid, f.near, f.station)
+    second = [Facing(f.spot, f.leg - k, f.side, f.mid, f.near)
               for f in aisle.facing if f.leg >= k]
     a = AisleLayout(aisle.road, aisle.base[:k + 1], first,
-                    ends=[aisle.ends[0], ("corner", None)], first_leg=aisle.first_leg)
+                    ends=[aisle.ends[0], ("corner", None)])
     b = AisleLayout(aisle.road, aisle.base[k:], second,
-                    ends=[("corner", None), aisle.ends[1]], first_leg=aisle.first_leg + k)
+                    ends=[("corner", None), aisle.ends[1]])
     return a, b
 
 

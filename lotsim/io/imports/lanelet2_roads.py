@@ -22,6 +22,7 @@ import shapely
 from shapely.geometry import LineString, Point, Polygon
 
 from lotsim.core.geometry import FloatArray
+from lotsim.io.imports.lanelet2_lines import end_on
 from lotsim.io.imports.lanelet2_map import Lanelet, id_key
 
 NODE_TOL = 1.0
@@ -278,7 +279,8 @@ def _join(roads: list[Road], centres: list[FloatArray]) -> tuple[Road, ...]:
                 continue
             end, _ = _arrival(roads[r], e)
             host = min(through, key=lambda t: LineString(roads[t].line).distance(Point(end)))
-            roads[r] = _end_on(roads[r], e, roads[host].line)
+            roads[r] = Road(end_on(roads[r].line, e, roads[host].line), roads[r].parts,
+                            roads[r].two_way, list(roads[r].ends))
             roads[r].ends[e] = ("on", host)
     kept = [k for k, r in enumerate(roads) if r.ends[0][0] != "gone"]
     index = {k: i for i, k in enumerate(kept)}
@@ -307,28 +309,3 @@ def _merge(a: Road, ea: int, b: Road, eb: int) -> Road:
     if ea == 0:  # keep a one-way road's direction: it was arriving at its start
         road = Road(road.line[::-1], road.parts[::-1], road.two_way, road.ends[::-1])
     return road
-
-
-def _end_on(road: Road, e: int, host: FloatArray) -> Road:
-    """``road`` with its end ``e`` moved onto the centre line ``host``: its last leg carried
-    on (or cut back) to where it crosses ``host``, else a leg to the nearest point of it."""
-    line = road.line if e == 1 else road.line[::-1]
-    target = LineString(host)
-    p, d = line[-1], (line[-1] - line[-2]) / float(np.hypot(*(line[-1] - line[-2])))
-    reach = 50.0
-    ray = LineString([p - d * reach, p + d * reach])
-    hit = ray.intersection(target)
-    points = [np.asarray(g.coords[0]) for g in getattr(hit, "geoms", [hit])
-              if not g.is_empty and g.geom_type == "Point"]
-    base = line[-2]
-    ahead = [q for q in points if float(np.dot(q - base, d)) > 0.5]
-    if ahead:
-        q = min(ahead, key=lambda q: float(np.hypot(*(q - p))))
-        line = np.vstack([line[:-1], q])
-    else:
-        q = np.asarray(target.interpolate(target.project(Point(p))).coords[0])
-        line = np.vstack([line, q])
-    line = _dedup(line)
-    if e == 0:
-        line = line[::-1]
-    return Road(line, road.parts, road.two_way, list(road.ends))
