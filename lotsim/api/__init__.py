@@ -42,7 +42,7 @@ EXPORTS: dict[str, tuple[str, ...]] = {
     "lotsim.api.maneuvers": ("car", "maneuver_case", "minslot", "plan_maneuver"),
     "lotsim.api.benchmarks": ("connect_scheduler",),
     "lotsim.api.exports": ("export_commonroad", "export_openscenario", "export_sumo"),
-    "lotsim.api.imports": ("import_osm",),
+    "lotsim.api.imports": ("import_lanelet2", "import_osm"),
     "lotsim.io.imports.report": ("ImportReport", "ImportedLot"),
     # scenarios and what they hold
     "lotsim.io.scenario_yaml": ("ScenarioFile", "load_animation", "load_scenario",
@@ -110,7 +110,7 @@ if TYPE_CHECKING:  # for type checkers and editors: the same names, imported eag
         export_openscenario,
         export_sumo,
     )
-    from lotsim.api.imports import import_osm  # noqa: F401
+    from lotsim.api.imports import import_lanelet2, import_osm  # noqa: F401
     from lotsim.api.maneuvers import car, maneuver_case, minslot, plan_maneuver  # noqa: F401
     from lotsim.api.results import check, load_result, write_result  # noqa: F401
     from lotsim.api.running import run  # noqa: F401

@@ -318,3 +318,18 @@ def test_import_writes_the_lots_and_says_what_became_of_each(tmp_path, capsys):
     err = capsys.readouterr().err
     assert "way/1" in err and "none.osm" in err and "Traceback" not in err
     assert not (tmp_path / "x").exists() and not (tmp_path / "y").exists()
+
+
+def test_import_lanelet2_writes_the_map_and_refuses_options_it_does_not_take(tmp_path, capsys):
+    source = ROOT / "tests" / "data" / "lanelet2" / "autonomoustuff_parking_lot.osm"
+    out = tmp_path / "map"
+    assert main(["import", "lanelet2", str(source), "-o", str(out)]) == 0
+    said = capsys.readouterr().out.splitlines()
+    assert said[-1] == "1 of 1 lots written"
+    assert (out / "autonomoustuff_parking_lot.yaml").is_file()
+    assert main(["import", "lanelet2", str(source), "-o", str(out), "--lot", "1"]) == 2
+    assert main(["import", "osm", str(source), "-o", str(out), "--origin", "1,2"]) == 2
+    assert main(["import", "lanelet2", str(source), "-o", str(out), "--origin", "91,0"]) == 2
+    err = capsys.readouterr().err
+    assert "--lot is for OpenStreetMap" in err and "--origin is for Lanelet2" in err
+    assert "latitude within ±90" in err
