@@ -53,10 +53,8 @@ def main(argv: list[str] | None = None) -> int:
             continue
         took = time.perf_counter() - t0
         g = rep.prepared.lot_graph
-        free = {s.id for s in g.lot.free_slots}
-        usable = ", ".join(
-            f"{v.name} {len(free - set(g.infeasible.get(v.name, {})))}/{len(free)}"
-            for v in rep.prepared.scenario.vehicle_types)
+        free = len(g.lot.free_slots)
+        usable = ", ".join(f"{name} {len(ids)}/{free}" for name, ids in rep.usable().items())
         park, verdict = "", ""
         if not args.no_run and g.lot.entrances and rep.prepared.scenario.traffic is not None:
             result = lotsim.run(rep.prepared)

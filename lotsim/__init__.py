@@ -28,7 +28,7 @@ _EXPORTS = {
                    "load_scenario", "minslot", "plan_maneuver", "prepare", "render_gif",
                    "render_html", "render_lot", "render_mp4", "run", "validate",
                    "export_commonroad", "export_sumo", "export_openscenario", "result_dict",
-                   "write_result", "load_result"),
+                   "write_result", "load_result", "import_osm", "import_lanelet2"),
     "lotsim.sim.preparation": ("PreparedLot",),
     "lotsim.sim.validation": ("ValidationReport",),
     "lotsim.verify": ("CheckReport", "Violation"),
@@ -36,7 +36,8 @@ _EXPORTS = {
     "lotsim.sim.settings": ("GASettings", "RunSettings", "RunTuning"),
     "lotsim.maneuvers.settings": ("MinSlotSettings",),
     "lotsim.errors": ("InfeasibleManeuver", "LimitExceeded", "Location", "LotsimError",
-                      "ReplayError", "ResultFormatError", "ScenarioError", "SettingsError"),
+                      "ReplayError", "ResultFormatError", "ScenarioError", "ScenarioErrors",
+                      "SettingsError"),
 }
 _WHERE = {name: module for module, names in _EXPORTS.items() for name in names}
 __all__ = sorted(_WHERE)
@@ -65,6 +66,8 @@ if TYPE_CHECKING:  # for type checkers and editors: the same names, imported eag
         export_commonroad,
         export_openscenario,
         export_sumo,
+        import_lanelet2,
+        import_osm,
         load_animation,
         load_result,
         load_scenario,
@@ -88,6 +91,7 @@ if TYPE_CHECKING:  # for type checkers and editors: the same names, imported eag
         ReplayError,
         ResultFormatError,
         ScenarioError,
+        ScenarioErrors,
         SettingsError,
     )
     from lotsim.maneuvers.settings import MinSlotSettings  # noqa: F401
