@@ -47,9 +47,10 @@ class EventLoop:
     """
 
     def __init__(self, scenario: Scenario, lg: LotGraph, settings: RunSettings,
-                 traffic: list[Arrival], progress, memo: SearchGraphMemo | None = None
-                 ) -> None:
+                 traffic: list[Arrival], progress, memo: SearchGraphMemo | None = None,
+                 *, turned_away: dict[str, str] | None = None) -> None:
         self.lg = lg
+        self.turned_away = turned_away or {}  # vehicle id → why the lot cannot serve it
         self.s = settings
         self.patience = scenario.traffic.patience
         self.table = ReservationTable()
@@ -66,7 +67,8 @@ class EventLoop:
         self.events: list[tuple[float, int, str, int]] = []
         self.seq = 0
         self.progress = progress
-        self._trips = sum(1 + (v.arrival.dwell is not None) for v in self.vehicles)
+        self._trips = sum(1 + (v.arrival.dwell is not None) for v in self.vehicles
+                          if v.id not in self.turned_away)
         self._trips_done = 0
         self._counted: dict[str, int] = {}
         self._exits: dict[str, ReverseResumable] = {}
@@ -146,6 +148,9 @@ class EventLoop:
 
     # -- arriving -----------------------------------------------------------------------------
     def on_arrive(self, i: int, v: VehicleRun, t: float) -> None:
+        if v.id in self.turned_away:  # a type the lot cannot serve: turned away at once
+            self.finish(v, "rejected", self.turned_away[v.id])
+            return
         if self.patience > 0:
             self.at(v.arrival.time + self.patience, "timeout", i)
         self.on_retry(i, v, t)

@@ -61,11 +61,46 @@ def collector_tuned() -> Iterator[None]:
             gc.unfreeze()
 
 
+def turned_away(lg: LotGraph, traffic: list[Arrival], reach: Reachability | None = None
+                ) -> dict[str, str]:
+    """The cars of the traffic the lot cannot serve, by vehicle id, and why: a type that
+    fits no free slot, that can reach none of those it fits, or (for a car that will leave)
+    can leave none of those it reaches for an exit. This is the designer's question "does
+    my van fit?", not a broken file: ``validate`` warns of it and ``run`` turns such cars
+    away with the reason. ``reach`` is ``lg.reachability()`` when the caller has it."""
+    facts = lg.facts()
+    reach = reach or lg.reachability()
+    why: dict[str, str] = {}
+    leave_why: dict[str, str] = {}
+    for name in sorted({a.vehicle for a in traffic}):
+        no_in, no_out = reach.by_type.get(name, ([], []))
+        fits = {sid for sid in (s.id for s in lg.lot.free_slots)
+                if sid not in lg.infeasible.get(name, {})}
+        if name not in facts.parks:
+            reasons = sorted(set(lg.infeasible.get(name, {}).values()))
+            why[name] = (f"vehicle type {name!r} fits no slot of this lot"
+                         + (f" ({reasons[0]})" if reasons else ""))
+        elif fits and fits <= set(no_in):
+            why[name] = (f"vehicle type {name!r} can reach none of the free slots it fits "
+                         f"(no turns it can make lead there)")
+        elif lg.exits and fits and fits <= set(no_in) | set(no_out):
+            leave_why[name] = (f"vehicle type {name!r} can leave none of the free slots it "
+                               f"reaches for an exit")
+    out = {}
+    for a in traffic:
+        if a.vehicle in why:
+            out[a.id] = why[a.vehicle]
+        elif a.vehicle in leave_why and a.dwell is not None:
+            out[a.id] = leave_why[a.vehicle]
+    return out
+
+
 def check_traffic(lg: LotGraph, traffic: list[Arrival], reach: Reachability | None = None
                   ) -> None:
-    """Refuse traffic the lot cannot serve at all: a type that fits no slot, an
-    entrance with no route to a slot, dwell times in a lot with no exit. ``reach`` is
-    ``lg.reachability()`` when the caller has it already.
+    """Refuse traffic the lot cannot serve at all: an entrance with no route to a free
+    slot, dwell times in a lot with no exit (cars of a type the lot cannot serve are turned
+    away, not refused: :func:`turned_away`). ``reach`` is ``lg.reachability()`` when the
+    caller has it already.
 
     Raises
     ------
@@ -73,27 +108,7 @@ def check_traffic(lg: LotGraph, traffic: list[Arrival], reach: Reachability | No
         Located at the vehicle or stream that asks for it.
     """
     facts = lg.facts()
-    for name in sorted({a.vehicle for a in traffic}):
-        who = next(a for a in traffic if a.vehicle == name)
-        if name not in facts.parks:
-            reasons = sorted(set(lg.infeasible.get(name, {}).values()))
-            why = f" ({reasons[0]})" if reasons else ""
-            raise ScenarioError(who.where, f"vehicle type {name!r} fits no slot of this "
-                                           f"lot{why}")
     reach = reach or lg.reachability()
-    for name in sorted({a.vehicle for a in traffic}):
-        no_in, no_out = reach.by_type.get(name, ([], []))
-        fits = {sid for sid in (s.id for s in lg.lot.free_slots)
-                if sid not in lg.infeasible.get(name, {})}
-        mine = [a for a in traffic if a.vehicle == name]
-        if fits and fits <= set(no_in):
-            raise ScenarioError(mine[0].where, f"vehicle type {name!r} can reach none of the "
-                                               f"free slots it fits (no turns it can make "
-                                               f"lead there)")
-        leaving = [a for a in mine if a.dwell is not None]
-        if leaving and lg.exits and fits and fits <= set(no_in) | set(no_out):
-            raise ScenarioError(leaving[0].where, f"vehicle type {name!r} can leave none of "
-                                                  f"the free slots it reaches for an exit")
     unreachable = reach.unreachable
     free = len(lg.lot.free_slots)
     for gate in sorted({a.entrance for a in traffic}):
@@ -161,7 +176,8 @@ def simulate(scenario: Scenario, settings: RunSettings | None = None, *, lot_gra
     ------
     ScenarioError
         For a scenario without traffic, or traffic the lot cannot serve at all (see
-        :func:`check_traffic`).
+        :func:`check_traffic`); cars of a type it cannot serve are turned away with the
+        reason (:func:`turned_away`).
     SettingsError
         For an ``order`` that does not hold every vehicle of the traffic once.
     """
@@ -173,7 +189,8 @@ def simulate(scenario: Scenario, settings: RunSettings | None = None, *, lot_gra
     if settings.order is not None and sorted(settings.order) != sorted(a.id for a in traffic):
         raise SettingsError("order", "expected every vehicle id of the traffic exactly once")
     check_traffic(lg, traffic)
-    loop = EventLoop(scenario, lg, settings, traffic, progress, memo)
+    loop = EventLoop(scenario, lg, settings, traffic, progress, memo,
+                     turned_away=turned_away(lg, traffic))
     clock = time.perf_counter()
     loop.go()
     return RunResult(scenario, lg, settings, seed, loop.vehicles, time.perf_counter() - clock)

@@ -5,13 +5,13 @@ from __future__ import annotations
 import re
 from collections import Counter
 from collections.abc import Iterable
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 from lotsim.core.diskcache import LOADED
 from lotsim.lot.pavement import loose_ends
 from lotsim.roadmap.reach import Reachability
 from lotsim.sim.preparation import PreparedLot
-from lotsim.sim.running import check_traffic
+from lotsim.sim.running import check_traffic, turned_away
 from lotsim.traffic.demand import Arrival, StreamSpec, arrivals
 
 
@@ -30,11 +30,15 @@ class ValidationReport:
     reachability : Reachability
         The free slots that cannot be reached from an entrance or left for an exit, in
         all and per vehicle type.
+    turned_away : dict
+        Vehicle type → why ``lotsim run`` turns away its cars of the traffic (a type that
+        fits no free slot, reaches none, or can leave none for an exit).
     """
 
     source: str
     prepared: PreparedLot
     reachability: Reachability
+    turned_away: dict[str, str] = field(default_factory=dict)
 
     @property
     def name(self) -> str:
@@ -54,7 +58,8 @@ class ValidationReport:
     def complete(self) -> bool:
         """Every free slot and exit can be reached and every type can park in every slot:
         what ``lotsim validate --strict`` requires."""
-        return self.reachability.ok and not any(self.infeasible.values())
+        return (self.reachability.ok and not any(self.infeasible.values())
+                and not self.turned_away)
 
     @property
     def warnings(self) -> list[str]:
@@ -137,6 +142,8 @@ class ValidationReport:
                                               if 0 < len(ids) < free else "")
             for name, ids in self.usable().items())
         lines.append(f"  usable free slots per type: {usable}")
+        for why in self.turned_away.values():
+            lines.append(f"  warning: {why}: its cars in the traffic will be turned away")
         planner = self.prepared.maneuver_planner
         if planner is not None and verbose:
             remembered = planner.stats.get("remembered", 0)
@@ -179,10 +186,18 @@ def validate_prepared(prepared: PreparedLot, source: str) -> ValidationReport:
     """
     scenario, lg = prepared.scenario, prepared.lot_graph
     reach = lg.reachability()
+    away: dict[str, str] = {}
     if scenario.traffic is not None:
-        check_traffic(lg, arrivals(scenario.traffic, scenario.seed)
-                      + _any_draw(scenario.traffic.stream), reach)
-    return ValidationReport(source, prepared, reach)
+        traffic = arrivals(scenario.traffic, scenario.seed)
+        check_traffic(lg, traffic + _any_draw(scenario.traffic.stream), reach)
+        # why each type's cars would be turned away (the scenario's own draw, and any car
+        # of that type another seed may draw)
+        every = traffic + _any_draw(scenario.traffic.stream)
+        ids = turned_away(lg, every, reach)
+        for a in every:
+            if a.id in ids:
+                away.setdefault(a.vehicle, ids[a.id])
+    return ValidationReport(source, prepared, reach, away)
 
 
 def _any_draw(stream: StreamSpec | None) -> list[Arrival]:
@@ -192,7 +207,8 @@ def _any_draw(stream: StreamSpec | None) -> list[Arrival]:
     if stream is None:
         return []
     dwell = None if stream.dwell is None else stream.dwell[0]
-    return [Arrival(f"{stream.prefix}?", name, gate, stream.start, dwell, stream.where)
+    return [Arrival(f"{stream.prefix}?{name}@{gate}", name, gate, stream.start, dwell,
+                    stream.where)
             for name, weight in stream.mix if weight > 0 for gate in stream.entrances]
 
 

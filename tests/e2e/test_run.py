@@ -165,9 +165,9 @@ def test_a_lot_with_every_slot_taken_turns_its_cars_away_and_validate_says_so():
     assert lotsim.check(rr).ok
 
 
-def test_validate_refuses_what_run_refuses_for_any_seed_of_the_stream(tmp_path):
+def test_validate_warns_of_the_cars_run_turns_away_for_any_seed_of_the_stream(tmp_path):
     # the scenario's seed draws no limo, a seed of run's may: validate judges every type the
-    # stream can draw, with run's message (it said ok, then run refused it)
+    # stream can draw, with run's reason (it said ok, then run refused it)
     import lotsim
 
     path = tmp_path / "mix.yaml"
@@ -179,11 +179,12 @@ def test_validate_refuses_what_run_refuses_for_any_seed_of_the_stream(tmp_path):
     assert {a.vehicle for a in arrivals(sc.traffic, sc.seed)} == {"valet"}
     seed = next(s for s in range(100) if "limo" in {a.vehicle for a in arrivals(sc.traffic, s)})
     prepared = lotsim.prepare(path)
-    with pytest.raises(ScenarioError, match="'limo' fits no slot") as by_run:
-        lotsim.run(prepared, seed=seed)
-    with pytest.raises(ScenarioError) as by_validate:
-        lotsim.validate(path)
-    assert str(by_validate.value) == str(by_run.value)
+    away = [v for v in lotsim.run(prepared, seed=seed).vehicles if v.vehicle.name == "limo"]
+    assert away and all(v.status == "rejected" for v in away)
+    report = lotsim.validate(path)
+    assert report.turned_away == {"limo": away[0].reason} and not report.complete
+    assert "'limo' fits no slot" in away[0].reason
+    assert f"warning: {away[0].reason}: its cars" in report.summary()
 
 
 def test_a_queued_vehicle_gets_the_next_freed_slot(small):
@@ -315,15 +316,14 @@ def test_traffic_errors_point_at_the_value(traffic, needle, words):
     assert words in err.value.message
 
 
-def test_a_type_that_fits_no_slot_is_refused_at_its_vehicle(small):
+def test_a_type_that_fits_no_slot_is_turned_away_and_the_others_park(small):
     sc = scenario_from_text(LOT.replace("vehicle_types: [valet]", """vehicle_types:
   - valet
   - {name: limo, width: 2.0, front: 5.5, rear: 1.2, wheelbase: 4.2, max_steer_deg: 30}""")
         + "traffic: {vehicles: [{id: x, arrival: 0}, {id: long, arrival: 1, type: limo}]}\n")
-    with pytest.raises(ScenarioError) as err:
-        simulate(sc)
-    assert "'limo' fits no slot" in err.value.message
-    assert err.value.where.line == sc.traffic.vehicles[1].where.line
+    x, long = simulate(sc).vehicles
+    assert x.status == "parked"
+    assert long.status == "rejected" and "'limo' fits no slot" in long.reason
 
 
 def test_an_entrance_with_no_route_is_refused(small):
