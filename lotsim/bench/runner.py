@@ -172,6 +172,7 @@ def _result_columns(rr: RunResult, report: Any, extra: dict) -> dict:
         "violations": violations,
         "problem": problem,
         "vehicles": m["vehicles"],
+        "served": m["served"],
         "parked": m["parked"],
         "departed": m["departed"],
         "waiting": m["waiting"],

@@ -21,7 +21,7 @@ of arrivals are noise."""
 
 COLUMNS = (
     "run", "scenario", "planner", "window_s", "assignment", "priority", "rate_per_h", "count",
-    "seed", "ok", "solved", "violations", "problem", "vehicles", "parked", "departed",
+    "seed", "ok", "solved", "violations", "problem", "vehicles", "served", "parked", "departed",
     "waiting", "rejected", "makespan_s", "mean_time_to_park_s", "max_time_to_park_s",
     "total_waiting_s", "arrival_rate_per_h", "throughput_per_h", "searches", "expansions",
     "evaluations", "fitness_s", "ga_arrival_fitness_s", "ga_shortest_first_fitness_s",
@@ -49,8 +49,8 @@ def _rounded(row: dict) -> dict:
     return out
 
 
-_INTS = ("run", "count", "seed", "violations", "vehicles", "parked", "departed", "waiting",
-         "rejected", "searches", "expansions", "evaluations")
+_INTS = ("run", "count", "seed", "violations", "vehicles", "served", "parked", "departed",
+         "waiting", "rejected", "searches", "expansions", "evaluations")
 _TEXTS = ("scenario", "planner", "assignment", "priority", "problem")
 
 
@@ -117,8 +117,9 @@ def aggregate(rows: Sequence[dict]) -> list[dict]:
         g["ok"] = sum(bool(r["ok"]) for r in rs)
         g["solved"] = sum(bool(r["solved"]) for r in rs)
         g["failed"] = [r["run"] for r in rs if not r["ok"]]
-        served = [float(r["parked"]) + float(r["departed"]) for r in rs
-                  if r.get("parked") is not None]
+        served = [float(r["served"]) if r.get("served") is not None
+                  else float(r["parked"]) + float(r["departed"])
+                  for r in rs if r.get("parked") is not None]
         g["served"] = float(np.mean(served)) if served else None
         for k in MEANS:
             vals = [float(r[k]) for r in rs if r.get(k) is not None]

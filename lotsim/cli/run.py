@@ -21,7 +21,7 @@ from lotsim.cli.pictures import save_gif, save_html, save_mp4
 from lotsim.cli.progress import Preparing, ProgressBar, noting_sigint
 
 HELP = "plan a scenario's traffic and write OUTDIR/result.json"
-EXITS = ("0 every car parked, left or was turned away; 1 a car is still waiting when the run "
+EXITS = ("0 every car was served or rejected; 1 a car is still waiting when the run "
          "ends; 2 bad input, or a memory or time limit stopped the run (nothing written); "
          "130 interrupted")
 MIN_MEMORY = 2**20
@@ -227,11 +227,9 @@ def _summary(args: argparse.Namespace, scenario, rr, m: dict, doc: dict) -> None
     print(f"{scenario.name}: {m['vehicles']} vehicles, planner {args.planner}, "
           f"assignment {args.assign}, seed {rr.seed}")
     print("  " + _counts(m))
-    away = (f", {m['rejected']} of them turned away after {scenario.traffic.patience:g} s"
-            if m["rejected"] and scenario.traffic.patience > 0 else "")
-    parked = m["parked"] + m["departed"]
+    away = (", and rejected cars' wait for a slot" if m["rejected"] else "")
     park = (f"mean {m['mean_time_to_park']:.1f} s, max {m['max_time_to_park']:.1f} s"
-            if parked else "no car parked")
+            if m["served"] else "no car parked")
     moved = any(v.moves for v in rr.vehicles)
     end = f"the last move ends at {m['makespan']:.1f} s" if moved else "no car moved"
     print(f"  time to park: {park}; total waiting {m['total_waiting']:.1f} s (queued outside "
@@ -242,18 +240,14 @@ def _summary(args: argparse.Namespace, scenario, rr, m: dict, doc: dict) -> None
           f"{1000 * m['planning_time_median']:.0f} ms, p95 {1000 * m['planning_time_p95']:.0f} ms)")
     for v in doc["vehicles"]:
         if v["status"] in ("waiting", "rejected"):
-            status = "turned away" if v["status"] == "rejected" else "still waiting"
-            print(f"  {v['id']}: {status}: {v['reason']}")
+            print(f"  {v['id']}: {v['status']}: {v['reason']}")
 
 
 def _counts(m: dict) -> str:
-    """What became of the run's vehicles: ``6 parked (2 of them left again), 0 still
-    waiting, 1 turned away`` (the result's ``parked`` counts those still in their slot,
-    ``departed`` those that parked and left)."""
-    parked = m["parked"] + m["departed"]
-    left = f" ({m['departed']} of them left again)" if m["departed"] else ""
-    return (f"{parked} parked{left}, {m['waiting']} still waiting, {m['rejected']} turned "
-            f"away")
+    """What became of the run's vehicles, in the result's words (``docs/result.md``):
+    ``6 served (4 parked at the end, 2 departed), 0 waiting, 1 rejected``."""
+    return (f"{m['served']} served ({m['parked']} parked at the end, {m['departed']} "
+            f"departed), {m['waiting']} waiting, {m['rejected']} rejected")
 
 
 def _draw(doc: dict, pictures: dict[str, Path | None], anim, out: Path) -> int:

@@ -161,6 +161,7 @@ class EventLoop:
         if i in self.queue:
             self.queue.remove(i)
         why = v.reason or "no slot was freed"
+        v.waited_outside = self.patience
         self.finish(v, "rejected", f"waited {self.patience:g} s outside: {why}")
 
     def on_retry(self, i: int, v: VehicleRun, t: float) -> None:

@@ -39,6 +39,7 @@ class VehicleRun:
     expansions: int = 0
     planning_time: float = 0.0
     done: bool = False  # nothing more will happen to it
+    waited_outside: float = 0.0  # before it was rejected [s]; 0 when rejected on arrival
     seen: int = 0  # the reservation table's releases when it last searched
 
     @property
@@ -62,10 +63,12 @@ class RunResult:
     :func:`lotsim.sim.running.simulate` was called directly."""
 
     def metrics(self) -> dict[str, float]:
-        """Counts by status and the timing figures of ``docs/result.md``."""
+        """Counts by status (``served``: parked and departed) and the timing figures of
+        ``docs/result.md``."""
         out: dict[str, float] = {s: 0 for s in STATUSES}
         for v in self.vehicles:
             out[v.status] += 1
+        out["served"] = out["parked"] + out["departed"]
         out["vehicles"] = len(self.vehicles)
         park = [v.parked_at - v.arrival.time for v in self.vehicles if v.parked_at is not None]
         out["mean_time_to_park"] = float(np.mean(park)) if park else 0.0
@@ -73,8 +76,8 @@ class RunResult:
         out["total_waiting"] = float(sum(m.t1 - m.t0 for v in self.vehicles for m in v.moves
                                          if m.kind in ("wait", "outside"))
                                      + sum(_queued(v) for v in self.vehicles)
-                                     + sum(self.scenario.traffic.patience  # turned away
-                                           for v in self.vehicles if v.status == "rejected"))
+                                     + sum(v.waited_outside for v in self.vehicles
+                                           if v.status == "rejected"))
         ends = [v.moves[-1].t1 for v in self.vehicles if v.moves]
         out["makespan"] = float(max(ends)) if ends else 0.0
         out["planning_time"] = self.planning_time

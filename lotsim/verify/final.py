@@ -92,12 +92,15 @@ def _check_exit(veh: _Vehicle, lot: _Lot, out: list[Violation]) -> None:
 def _check_metrics(metrics: dict, vehicles: list[_Vehicle], out: list[Violation]) -> None:
     counts = Counter(v.status for v in vehicles)
     expected = {s: counts[s] for s in STATUSES} | {"vehicles": len(vehicles)}
+    if "served" in metrics:  # parked and departed: the cars that got a slot
+        expected["served"] = counts["parked"] + counts["departed"]
     for key, n in expected.items():
         got = metrics.get(key)
         if not (isinstance(got, int) and not isinstance(got, bool)):
             _add(out, "metrics", None, None, f"metrics.{key}: expected a count, found {got!r}")
         elif got != n:
-            what = "vehicles" if key == "vehicles" else f"vehicles with status {key!r}"
+            what = ("vehicles" if key == "vehicles" else "vehicles parked or departed"
+                    if key == "served" else f"vehicles with status {key!r}")
             _add(out, "metrics", None, None, f"metrics.{key} is {got} but there are {n} {what}")
     makespan = metrics.get("makespan")
     ends = [v.t[-1] for v in vehicles if v.n]

@@ -430,11 +430,13 @@ def test_the_run_summary_counts_what_became_of_each_car_as_the_result_does(tmp_p
     status = [v["status"] for v in doc["vehicles"]]
     away = status.count("rejected")
     assert status.count("departed") == 1 and away >= 1  # three slots for five cars
-    assert (f"{len(status) - away} parked (1 of them left again), 0 still waiting, "
-            f"{away} turned away") in out
+    served = len(status) - away
+    assert (f"{served} served ({served - 1} parked at the end, 1 departed), 0 waiting, "
+            f"{away} rejected") in out
+    assert doc["metrics"]["served"] == served  # the same word in the result
     # a car turned away queued outside for the whole patience
     assert doc["metrics"]["total_waiting"] >= 25 * away
-    assert out.count(": turned away: waited 25 s outside") == away
+    assert out.count(": rejected: waited 25 s outside") == away
     searches = doc["metrics"]["searches"]
     assert f"({searches} searches, " in out and searches > 1
 
@@ -443,7 +445,8 @@ def test_the_run_summary_counts_what_became_of_each_car_as_the_result_does(tmp_p
                     + "traffic:\n  patience: 25\n  vehicles: [{id: a, arrival: 0}]\n")
     assert main(["run", str(path), "-o", str(tmp_path / "o"), "--no-gif"]) == 0
     out = capsys.readouterr().out
-    assert "1 parked, 0 still waiting, 0 turned away" in out and "(1 search, " in out
+    assert "1 served (1 parked at the end, 0 departed), 0 waiting, 0 rejected" in out
+    assert "(1 search, " in out
 
     path.write_text(LOT.replace("occupied: [N1, N2, N3, N4, N5, S1, S2, S3, S4]",
                                 "occupied: {fraction: 1, seed: 0, min_free: 0}")
