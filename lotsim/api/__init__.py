@@ -48,7 +48,7 @@ EXPORTS: dict[str, tuple[str, ...]] = {
     "lotsim.io.scenario_yaml": ("ScenarioFile", "load_animation", "load_scenario",
                                 "read_scenario"),
     "lotsim.scenario": ("AnimationSpec", "GifSettings", "HtmlSettings", "MAX_SIZE", "MIN_SIZE",
-                        "Scenario", "size_problem"),
+                        "REPLAY_SPEEDS", "Scenario", "size_problem"),
     "lotsim.vehicles.catalogue": ("CATALOGUE",),
     # settings and their choices
     "lotsim.sim.settings": ("ASSIGNMENTS", "GASettings", "PLANNERS", "PRIORITIES",
@@ -162,6 +162,7 @@ if TYPE_CHECKING:  # for type checkers and editors: the same names, imported eag
     from lotsim.scenario import (  # noqa: F401
         MAX_SIZE,
         MIN_SIZE,
+        REPLAY_SPEEDS,
         AnimationSpec,
         GifSettings,
         HtmlSettings,

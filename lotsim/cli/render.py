@@ -35,39 +35,80 @@ def add_arguments(rd: argparse.ArgumentParser) -> None:
                     "pip install 'lotsim[video]'; even --size)")
     rd.add_argument("--timeline", metavar="PNG", help="timeline plot to write (matplotlib)")
     gs = api.GifSettings()
-    rd.add_argument("--fps", type=float, default=gs.fps,
-                    help=f"GIF frames per second ({gs.fps:g})")
-    rd.add_argument("--speed", type=float, default=gs.speed,
-                    help=f"run seconds per GIF second ({gs.speed:g})")
+    # defaults None: an option given where it would change nothing is refused, not ignored
+    rd.add_argument("--fps", type=float, help=f"GIF and MP4 frames per second ({gs.fps:g})")
+    rd.add_argument("--speed", type=float,
+                    help=f"GIF and MP4: run seconds per second of film ({gs.speed:g}); the "
+                    f"replay opens at this speed, one of "
+                    f"{', '.join(map(str, api.REPLAY_SPEEDS))} "
+                    f"({api.HtmlSettings().speed:g})")
     size = "x".join(map(str, gs.size))
-    rd.add_argument("--size", default=size, help=f"GIF size WxH in pixels, {sizes()} ({size})")
-    rd.add_argument("--from", dest="start", type=float, help="first run time shown [s] "
-                    "(default the first arrival)")
-    rd.add_argument("--to", dest="end", type=float, help="last run time shown [s] "
-                    "(default the last event)")
-    rd.add_argument("--max-frames", type=int, default=gs.max_frames,
-                    help=f"at most this many frames; a longer span plays faster "
+    rd.add_argument("--size", help=f"GIF and MP4 size WxH in pixels, {sizes()} ({size})")
+    rd.add_argument("--from", dest="start", type=float, help="GIF and MP4: first run time "
+                    "shown [s] (default the first arrival)")
+    rd.add_argument("--to", dest="end", type=float, help="GIF and MP4: last run time shown "
+                    "[s] (default the last event)")
+    rd.add_argument("--max-frames", type=int,
+                    help=f"GIF and MP4: at most this many frames; a longer span plays faster "
                     f"({gs.max_frames})")
-    rd.add_argument("--trail", type=float, default=gs.trail,
-                    help=f"seconds of path drawn behind a moving car ({gs.trail:g})")
-    rd.add_argument("--skip-quiet", action="store_true", help="GIF and MP4: leave out "
-                    "stretches in which no car moves (the frame says how long was skipped)")
-    rd.add_argument("--no-legend", dest="legend", action="store_false", help="GIF and MP4: "
-                    "no key of the cars' colours in the footer")
+    rd.add_argument("--trail", type=float,
+                    help=f"GIF and MP4: seconds of path drawn behind a moving car "
+                    f"({gs.trail:g})")
+    rd.add_argument("--skip-quiet", action="store_true", default=None,
+                    help="GIF and MP4: leave out stretches in which no car moves (the frame "
+                    "says how long was skipped); the replay's toggle starts on either way")
+    rd.add_argument("--no-legend", dest="legend", action="store_const", const=False,
+                    help="GIF and MP4: no key of the cars' colours in the footer")
+
+
+FILM_OPTIONS = (("--fps", "fps"), ("--size", "size"), ("--from", "start"), ("--to", "end"),
+                ("--max-frames", "max_frames"), ("--trail", "trail"),
+                ("--no-legend", "legend"))
+"""Options that only set the GIF's and the video's frames."""
+
+
+def _pointless(args: argparse.Namespace) -> str | None:
+    """An option that would change nothing for the files asked for, refused."""
+    film = args.gif or args.mp4
+    if not film:
+        for opt, name in FILM_OPTIONS + (("--skip-quiet", "skip_quiet"),):
+            if getattr(args, name) is not None:
+                asked = " and ".join(o for o, path in (("--html", args.html),
+                                                       ("--timeline", args.timeline)) if path)
+                return (f"{opt}: only --gif and --mp4 have frames; for {asked} it would "
+                        f"change nothing")
+        if args.speed is not None and not args.html:
+            return "--speed: the timeline has no speed; it would change nothing"
+    if args.html and args.speed is not None and args.speed not in api.REPLAY_SPEEDS:
+        return (f"--speed: the replay opens at one of "
+                f"{', '.join(map(str, api.REPLAY_SPEEDS))}, found {args.speed:g}")
+    return None
 
 
 def execute(args: argparse.Namespace) -> int:
     if not (args.gif or args.html or args.mp4 or args.timeline):
         return bad("render: nothing to do: give --gif GIF, --html HTML, --mp4 MP4 and/or "
                    "--timeline PNG")
-    size = picture_size(args.size)
+    pointless = _pointless(args)
+    if pointless:
+        return bad(pointless)
+    gs = api.GifSettings()
+    size = picture_size(args.size) if args.size is not None else gs.size
     if isinstance(size, str):
         return bad(size)
     try:
-        settings = api.GifSettings(fps=args.fps, speed=args.speed, size=size,
-                                   start=args.start, end=args.end, max_frames=args.max_frames,
-                                   trail=args.trail, skip_quiet=args.skip_quiet,
-                                   legend=args.legend)
+        settings = api.GifSettings(
+            fps=gs.fps if args.fps is None else args.fps,
+            speed=gs.speed if args.speed is None else args.speed, size=size,
+            start=args.start, end=args.end,
+            max_frames=gs.max_frames if args.max_frames is None else args.max_frames,
+            trail=gs.trail if args.trail is None else args.trail,
+            skip_quiet=bool(args.skip_quiet), legend=args.legend is None)
+        html = None
+        if args.html:  # the replay opens at --speed (checked above to be one it offers)
+            html = api.HtmlSettings(**({} if args.speed is None else
+                                       {"speed": int(args.speed) if args.speed.is_integer()
+                                        else args.speed}))
     except SettingsError as exc:
         return bad(f"{option(exc.name)}: {exc.message}")
     problem = _outputs_problem(args, size)
@@ -83,7 +124,7 @@ def execute(args: argparse.Namespace) -> int:
     done = []
     for path, write, what in (
             (args.gif, lambda p: save_gif(doc, p, settings), args.gif),
-            (args.html, lambda p: save_html(doc, p, None), args.html),
+            (args.html, lambda p: save_html(doc, p, html), args.html),
             (args.mp4, lambda p: save_mp4(doc, p, settings), args.mp4),
             (args.timeline, lambda p: _timeline(doc, p), "the timeline")):
         if not path:

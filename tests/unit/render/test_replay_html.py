@@ -482,3 +482,32 @@ def test_the_harness_sees_errors_in_the_page(opened):
     assert any("boom" in e for e in opened.errors())
     with pytest.raises(BrowserError, match="bang"):
         opened.evaluate("(() => { throw new Error('bang'); })()")
+
+
+def test_render_honours_the_options_the_replay_takes_and_refuses_the_others(doc, tmp_path,
+                                                                             capsys):
+    """--speed, --fps, --size and --skip-quiet changed nothing (byte-identical output) when
+    only --html or --timeline was written."""
+    import re
+
+    result = tmp_path / "result.json"
+    result.write_text(json.dumps(doc))
+    pages = {}
+    for speed in ("4", "30"):
+        out = tmp_path / f"r{speed}.html"
+        assert main(["render", str(result), "--html", str(out), "--speed", speed]) == 0
+        pages[speed] = out.read_text()
+    opening = {k: float(re.search(r'"speed": *([0-9.]+)', v).group(1))
+               for k, v in pages.items()}
+    assert opening == {"4": 4, "30": 30}
+    capsys.readouterr()
+    for args, message in (
+            (["--html", str(tmp_path / "a.html"), "--fps", "5"], "--fps: only --gif and --mp4"),
+            (["--html", str(tmp_path / "a.html"), "--size", "640x480"], "--size: only --gif"),
+            (["--html", str(tmp_path / "a.html"), "--skip-quiet"], "--skip-quiet: only"),
+            (["--html", str(tmp_path / "a.html"), "--speed", "5"],
+             "--speed: the replay opens at one of 1, 2, 4, 10, 30, 60, found 5"),
+            (["--timeline", str(tmp_path / "t.png"), "--speed", "10"], "--speed: the timeline")):
+        assert main(["render", str(result), *args]) == 2
+        assert message in capsys.readouterr().err
+    assert not (tmp_path / "a.html").exists() and not (tmp_path / "t.png").exists()
