@@ -155,7 +155,7 @@ def _aisle(node: YNode) -> AisleSpec:
     return AisleSpec(
         id=f["id"].ident(),
         centerline=line,
-        width=f["width"].number(positive=True, max=100),
+        width=f["width"].number(positive=True, max=100, unit="m"),
         one_way=direction == "one-way",
         bend_radius=f["bend_radius"].number(positive=True) if "bend_radius" in f else None,
         where=node.where,
@@ -171,7 +171,8 @@ def _kind_angle(f: dict[str, YNode], node: YNode) -> float:
             raise node.error(f"missing key 'angle_deg': an {kind.name} slot needs its angle "
                              f"(0 to 90)")
         return math.radians(
-            f["angle_deg"].number(min=0, max=90, open_min=True, open_max=True)
+            f["angle_deg"].number(min=0, max=90, open_min=True, open_max=True,
+                                  unit="deg", least=10)
         )
     if "angle_deg" in f:
         raise f["angle_deg"].error(
@@ -192,8 +193,8 @@ def _row(node: YNode) -> RowSpec:
         kind=f["kind"].string(),
         angle=angle,
         count=f["count"].integer(min=1, max=MAX_ITEMS),
-        slot_width=f["slot_width"].number(positive=True, max=50),
-        slot_length=f["slot_length"].number(positive=True, max=50),
+        slot_width=f["slot_width"].number(positive=True, max=50, unit="m"),
+        slot_length=f["slot_length"].number(positive=True, max=50, unit="m"),
         start=f["start"].number(min=0),
         gap=f["gap"].number(min=0) if "gap" in f else 0.0,
         id_prefix=f["id_prefix"].string(max_len=40) if "id_prefix" in f else "",
@@ -223,8 +224,8 @@ def _slot(node: YNode) -> SlotSpec:
     common = dict(
         id=f["id"].ident(),
         kind=f["kind"].string(),
-        width=f["width"].number(positive=True, max=50),
-        length=f["length"].number(positive=True, max=50),
+        width=f["width"].number(positive=True, max=50, unit="m"),
+        length=f["length"].number(positive=True, max=50, unit="m"),
         angle=angle,
         where=node.where,
     )

@@ -376,12 +376,13 @@ def parse_vehicle(node: YNode) -> VehicleType:
     }
     return VehicleType(
         name=f["name"].ident(),
-        width=f["width"].number(positive=True, max=10),
-        front=f["front"].number(positive=True, max=30),
-        rear=f["rear"].number(min=0, max=30),
-        wheelbase=f["wheelbase"].number(positive=True, max=30),
+        width=f["width"].number(positive=True, max=10, unit="m"),
+        front=f["front"].number(positive=True, max=30, unit="m"),
+        rear=f["rear"].number(min=0, max=30, unit="m"),
+        wheelbase=f["wheelbase"].number(positive=True, max=30, unit="m"),
         max_steer=math.radians(
-            f["max_steer_deg"].number(min=0, max=90, open_min=True, open_max=True)
+            f["max_steer_deg"].number(min=0, max=90, open_min=True, open_max=True,
+                                     unit="deg", least=10)
         ),
         limits=VehicleLimits(**limits),
     )

@@ -167,8 +167,16 @@ class YNode:
         open_min: bool = False,
         open_max: bool = False,
         what: str = "a number",
+        unit: str | None = None,
+        least: float | None = None,
     ) -> float:
-        """Read a finite decimal number, optionally within bounds."""
+        """Read a finite decimal number, optionally within bounds.
+
+        ``unit`` ("m" or "deg") says what the number measures, for a hint where a value
+        out of bounds is plausible in another unit: a length over ``max`` that would fit
+        in millimetres or centimetres; an angle in degrees under ``least`` that is a
+        plausible angle in radians (refused: no car steers 0.52°).
+        """
         if not isinstance(self.node, yaml.ScalarNode):
             raise self._expected(what)
         node = self.node
@@ -200,7 +208,13 @@ class YNode:
             raise self.error(f"expected {what} {op} {min:g}, found {raw}")
         if max is not None and (value > max or (open_max and value == max)):
             op = "<" if open_max else "≤"
-            raise self.error(f"expected {what} {op} {max:g}, found {raw}")
+            raise self.error(f"expected {what} {op} {max:g}, found {raw}"
+                             + (_metres_hint(value, max) if unit == "m" else ""))
+        if unit == "deg" and least is not None and 0 < value < least <= 90 \
+                and value <= math.pi / 2:
+            deg = math.degrees(value)
+            raise self.error(f"expected degrees, found {raw}, which looks like radians "
+                             f"({deg:.1f}°): write {deg:.0f}")
         return value
 
     def integer(self, *, min: int | None = None, max: int | None = None) -> int:
@@ -286,6 +300,15 @@ class YNode:
     def points(self, *, min_len: int) -> tuple[tuple[float, float], ...]:
         """Read a list of at least ``min_len`` points ``[[x, y], ...]`` [m]."""
         return tuple(p.point() for p in self.items(min_len=min_len))
+
+
+def _metres_hint(value: float, most: float) -> str:
+    """A hint for a length too long in metres that is plausible in mm or cm."""
+    for factor, name in ((1000, "millimetres"), (100, "centimetres")):
+        if value / factor <= most:
+            return (f" (in {name}? lotsim's lengths are metres: {value:g} {name[:1]}m is "
+                    f"{value / factor:g} m)")
+    return ""
 
 
 def _with_point(raw: str) -> str:

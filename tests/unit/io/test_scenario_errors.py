@@ -323,3 +323,35 @@ def test_validate_reports_every_independent_problem_in_file_order(tmp_path, caps
                      position(TWO_PROBLEMS, "rate_per_hour: |-60")]
     assert all(ln.startswith(f"lotsim: {path}:") for ln in lines)
     assert "slot_widht" in lines[1] and "rate_per_hour" in lines[2]
+
+
+UNITS = """\
+vehicle_types:
+  - {name: van, width: 2.0, front: 4.2, rear: 1.0, wheelbase: 3.3, max_steer_deg: STEER}
+lot:
+  boundary: [[0, 0], [40, 0], [40, 20], [0, 20]]
+  aisles:
+    - {id: main, centerline: [[0, 10], [40, 10]], width: WIDTH, direction: one-way}
+  rows:
+    - {aisle: main, side: left, kind: angled, angle_deg: ANGLE, count: 4, slot_width: 2.5,
+       slot_length: 5.0, start: 4}
+  entrances: [{id: in, x: 2, y: 10, heading_deg: 0}]
+"""
+
+
+@pytest.mark.parametrize("values, key, words", [
+    ({"ANGLE": "0.785"}, "angle_deg: |0.785", "looks like radians (45.0°): write 45"),
+    ({"STEER": "0.52"}, "max_steer_deg: |0.52", "looks like radians (29.8°): write 30"),
+    ({"WIDTH": "7000"}, "width: |7000", "in millimetres? lotsim's lengths are metres: "
+                                        "7000 mm is 7 m"),
+])
+def test_a_value_plausible_in_another_unit_says_so(values, key, words):
+    """Radians for degrees and millimetres for metres gave true but unhelpful messages
+    ("slot 'A2' runs to station 187.51 m past the end of aisle")."""
+    text = UNITS
+    for k, v in {"STEER": "30", "WIDTH": "6.0", "ANGLE": "45", **values}.items():
+        text = text.replace(k, v)
+    with pytest.raises(lotsim.ScenarioError) as err:
+        lotsim.validate(text)
+    assert (err.value.where.line, err.value.where.col) == position(text, key)
+    assert words in err.value.message
