@@ -56,6 +56,20 @@ def __dir__() -> list[str]:
     return sorted(set(globals()) | set(__all__))
 
 
+def _show_in_notebooks() -> None:
+    """In IPython, let runs, prepared lots and validation reports show themselves
+    (:mod:`lotsim.api.notebook`); nothing elsewhere."""
+    import sys
+
+    if "IPython" in sys.modules:
+        from lotsim.api.notebook import register_if_interactive
+
+        register_if_interactive()
+
+
+_show_in_notebooks()
+
+
 if TYPE_CHECKING:  # for type checkers and editors: the same names, imported eagerly
     from lotsim.api import (  # noqa: F401
         EXAMPLE,
