@@ -12,6 +12,7 @@ from lotsim.render.lot_image import (
     _flat,
     draw_text,
     font,
+    paint_labels,
     paint_lot,
     paint_portals,
     text_size,
@@ -57,7 +58,8 @@ def draw_maneuver(
     the curvature jumps); the car's outline every ``every`` metres of travel [m],
     and solid at the start and the end, edged and tagged ("start", "parked"; "parked",
     "end" for a way out). The title and the key sit in opaque bands above and below
-    the drawing.
+    the drawing. The two solid outlines carry a triangle pointing to the car's front, and
+    slot ids are drawn over the path.
     """
     poses, gears = maneuver.sample(0.05)
     bodies = vehicle.footprints(poses)
@@ -66,7 +68,7 @@ def draw_maneuver(
     bottom = h_img - KEY_BAND
     canvas = maneuver_canvas(maneuver, vehicle, size=size, title=bool(title))
     img = canvas.new_image()
-    paint_lot(img, canvas, lot, parked_vehicle=parked_vehicle, labels=True)
+    paint_lot(img, canvas, lot, parked_vehicle=parked_vehicle, labels=False)
     paint_portals(img, canvas, lot, labels=False)
     draw = ImageDraw.Draw(img, "RGBA")
     travelled = np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(poses[:, :2], axis=0).T))])
@@ -92,6 +94,9 @@ def draw_maneuver(
         cx, cy = canvas.to_px(np.array([x, y]))
         draw.ellipse((cx - ring, cy - ring, cx + ring, cy + ring), outline=STEER,
                      width=max(2, w // 2 + 1))
+    for k, (_, color) in zip((0, len(bodies) - 1), ends, strict=True):  # over the path
+        draw.polygon(_flat(canvas.to_px(nose(bodies[k]))), fill=color)
+    paint_labels(img, canvas, lot)  # over the path: a slot's id stays readable
     d = ImageDraw.Draw(img)
     f = font(14)
     frame = (PAD_PX, top + PAD_PX, w_img - PAD_PX, bottom - PAD_PX)
@@ -123,6 +128,18 @@ def draw_maneuver(
         _, right = _text_on_line(d, x + 30, mid, label, fk)
         x = right + 22
     return img
+
+
+def nose(body: np.ndarray) -> np.ndarray:
+    """A triangle (3, 2) inside a car's outline (4, 2: rear right, front right, front
+    left, rear left, as ``footprints`` gives them) pointing forward, its base a third of
+    the car's length behind the front: which end is the front."""
+    rear_mid = (body[0] + body[3]) / 2
+    front_r, front_l = body[1], body[2]
+    front_mid = (front_l + front_r) / 2
+    base = front_mid + (rear_mid - front_mid) / 3
+    half = (front_r - front_l) / 2 * 0.6
+    return np.array([base - half, base + half, front_mid + (base - front_mid) * 0.1])
 
 
 def maneuver_canvas(

@@ -722,3 +722,28 @@ def test_every_maneuver_starts_on_the_lanes_start_grid_when_bays_are_off_its_pit
     for m in [*found.values(), *stays.values()]:
         off = m.station / grid - round(m.station / grid)
         assert abs(off) < 1e-6, (m.slot, m.lane, m.station)
+
+
+def test_the_maneuver_picture_shows_which_end_of_the_car_is_its_front():
+    """Nose and tail looked alike: a triangle in each solid outline points to the front."""
+    from lotsim.render.maneuver_image import (
+        PARKED_EDGE,
+        START_EDGE,
+        draw_maneuver,
+        maneuver_canvas,
+    )
+
+    lot, _ = _lot(QUICK)
+    car = CATALOGUE["valet"]
+    m = ManeuverPlanner(lot).best(car, lot.slot_by_id["main-left-5"])
+    img = draw_maneuver(lot, m, car).convert("RGB")
+    canvas = maneuver_canvas(m, car)
+    poses = m.sample(0.05)[0]
+    for pose, colour in ((poses[0], START_EDGE), (poses[-1], PARKED_EDGE)):
+        x, y, th = pose
+        u = np.array([np.cos(th), np.sin(th)])
+        front = np.array([x, y]) + u * (car.front - 0.6)  # inside the nose triangle
+        rear = np.array([x, y]) - u * (car.rear + 0.3 - 0.9)  # the tail's middle
+        px = lambda p: tuple(int(v) for v in np.rint(canvas.to_px(p)))  # noqa: E731
+        assert img.getpixel(px(front)) == colour
+        assert img.getpixel(px(rear)) != colour
