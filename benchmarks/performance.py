@@ -176,7 +176,7 @@ def run_rows(page: Page, runs: int, big: bool, cache: str, tmp: Path) -> None:
 
 
 def minslot_row(page: Page, runs: int) -> None:
-    args = ("minslot", "--all-cars", "--width", "2.2", "2.5", "2.8", "--max-changes", "10")
+    args = ("minslot", "--all-vehicles", "--width", "2.2", "2.5", "2.8", "--max-changes", "10")
     walls = [checked(process(*LOTSIM, *args))[0] for _ in range(runs)]
     page.row("minimum-slot table: 7 cars × 3 widths × 0–10 direction changes",
              "`lotsim " + " ".join(args) + "`", runs, spread(walls) + " s")

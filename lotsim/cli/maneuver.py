@@ -25,7 +25,7 @@ EXITS = "0 planned; 1 the vehicle type cannot park there; 2 bad input"
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("scenario", metavar="SCENARIO", help="scenario YAML file")
     parser.add_argument("--slot", required=True, help="slot id")
-    parser.add_argument("--car", "--vehicle", dest="vehicle", metavar="TYPE",
+    parser.add_argument("--vehicle", "--car", dest="vehicle", metavar="TYPE",
                         help="vehicle type of the scenario (default its first)")
     parser.add_argument("--lane", help="lane id to start from (default the best)")
     parser.add_argument("--style", choices=api.STYLES, default=api.STYLES[0],

@@ -17,9 +17,10 @@ NO_MATPLOTLIB = "--plot needs matplotlib: pip install 'lotsim[plot]'"
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     which = parser.add_mutually_exclusive_group(required=True)
-    which.add_argument("--car", "--vehicle", dest="car", metavar="CAR",
+    which.add_argument("--vehicle", "--car", dest="car", metavar="TYPE",
                        help="a catalogue name (see `lotsim cars`) or a vehicle YAML file")
-    which.add_argument("--all-cars", action="store_true", help="every catalogue car")
+    which.add_argument("--all-vehicles", "--all-cars", dest="all_cars", action="store_true",
+                       help="every catalogue vehicle")
     parser.add_argument("--width", type=float, nargs="+", required=True, metavar="WIDTH",
                         help="slot width [m]; several give one table (and curve) per width")
     ms = api.MinSlotSettings()
@@ -44,7 +45,7 @@ def execute(args: argparse.Namespace) -> int:
         for vehicle in cars:
             api.check_slot_width(vehicle, width, narrow_ok=args.all_cars)
     if args.plot:
-        try:  # before the sweep, which takes a while with --all-cars
+        try:  # before the sweep, which takes a while with --all-vehicles
             api.require_matplotlib()
         except api.MatplotlibMissing:
             return bad(NO_MATPLOTLIB)

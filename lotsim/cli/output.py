@@ -13,7 +13,7 @@ EXIT_OK, EXIT_INCOMPLETE, EXIT_BAD_INPUT = 0, 1, 2
 EXIT_INTERRUPTED = 130
 """Ctrl-C: 128 + SIGINT, as a shell reports it."""
 
-OPTIONS = {"assignment": "--assign", "start": "--from", "end": "--to",
+OPTIONS = {"assignment": "--assignment", "start": "--from", "end": "--to",
            "max_violations": "--max", "path": "-o"}
 """Setting (:mod:`lotsim.sim.settings`, :mod:`lotsim.api` keyword) → the option that sets it,
 where the two are not named alike."""

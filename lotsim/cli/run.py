@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import argparse
 import math
+import os
 import sys
 from pathlib import Path
 
@@ -35,7 +36,8 @@ def add_arguments(r: argparse.ArgumentParser) -> None:
     rs = api.RunSettings()  # defaults and choices: the library's, checked there too
     r.add_argument("--planner", choices=api.PLANNERS, default=rs.planner,
                    help=f"cooperative A* variant (default {rs.planner})")
-    r.add_argument("--assign", choices=api.ASSIGNMENTS, default=rs.assignment,
+    r.add_argument("--assignment", "--assign", dest="assign", choices=api.ASSIGNMENTS,
+                   default=rs.assignment,
                    help=f"slot choice: straight-line distance or travel time (default "
                    f"{rs.assignment})")
     r.add_argument("--seed", type=int, help="seed of the traffic stream (default the "
@@ -95,7 +97,7 @@ def execute(args: argparse.Namespace) -> int:
     doc = api.result_dict(rr)
     out.mkdir(parents=True, exist_ok=True)
     written = [p for p in pictures.values() if p is not None]
-    removed = _remove_earlier(out, anim, written)
+    removed = _remove_earlier(out, written)
     api.write_result(doc, out / "result.json")
     m = rr.metrics()
     _summary(args, scenario, rr, m, doc)
@@ -208,17 +210,38 @@ def _plan(args: argparse.Namespace, scenario, settings, budget) -> api.RunResult
     return rr
 
 
-def _remove_earlier(out: Path, anim, written: list[Path]) -> list[Path]:
-    """A run's outputs are one set: no GIF of an earlier run is left beside this result (one
-    this run writes is removed first, in case it is interrupted before it is done). The
-    files removed."""
-    earlier = [out / (anim.gif if anim is not None else "run.gif"),
-               out / ((anim.html if anim is not None else None) or "replay.html"),
-               out / ((anim.mp4 if anim is not None else None) or "run.mp4")]
+MANIFEST = ".lotsim-run"
+"""The file in a run's folder that lists the pictures ``lotsim run`` wrote there, one name
+a line: the only files a later run removes."""
+
+
+def _remove_earlier(out: Path, written: list[Path]) -> list[Path]:
+    """A run's outputs are one set: no picture an earlier run wrote (the folder's
+    :data:`MANIFEST` lists them) is left beside this result, and one this run writes is
+    removed first, in case it is interrupted before it is done. A file lotsim did not write
+    there is left alone. The files removed."""
+    try:
+        names = (out / MANIFEST).read_text(encoding="utf-8").splitlines()
+    except OSError:
+        names = []
+    earlier = [out / n for n in names if n and "/" not in n and n not in (".", "..")]
     removed = [p for p in dict.fromkeys([*earlier, *written]) if p.is_file()]
     for p in removed:
         p.unlink()
+    _note_written(out, [])
     return removed
+
+
+def _note_written(out: Path, pictures: list[Path]) -> None:
+    """Record the pictures this run wrote into its folder (:data:`MANIFEST`)."""
+    mine = [p.name for p in pictures if p.resolve().parent == out.resolve()]
+    path = out / MANIFEST
+    if not mine:
+        path.unlink(missing_ok=True)
+        return
+    tmp = out / f"{MANIFEST}.tmp"
+    tmp.write_text("".join(f"{n}\n" for n in mine), encoding="utf-8")
+    os.replace(tmp, path)  # whole or not at all
 
 
 def _summary(args: argparse.Namespace, scenario, rr, m: dict, doc: dict) -> None:
@@ -254,6 +277,7 @@ def _draw(doc: dict, pictures: dict[str, Path | None], anim, out: Path) -> int:
     """Write the run's GIF, replay and video after its result.json; the exit code."""
     gif_settings = anim.gif_settings() if anim is not None else api.GifSettings()
     html_settings = anim.html_settings() if anim is not None else None
+    done: list[Path] = []
     for path, write, what in (
             (pictures["gif"], lambda p: save_gif(doc, p, gif_settings), "the GIF"),
             (pictures["html"], lambda p: save_html(doc, p, html_settings), "the replay"),
@@ -268,4 +292,6 @@ def _draw(doc: dict, pictures: dict[str, Path | None], anim, out: Path) -> int:
             return EXIT_INTERRUPTED
         if code != EXIT_OK:
             return code
+        done.append(Path(path))
+        _note_written(out, done)
     return EXIT_OK

@@ -154,7 +154,8 @@ def run_outcome(path, out, capsys, *, gif: bool) -> int:
     assert report.ok, [v.message for v in report.violations[:5]]
     assert (code == 1) == (doc["metrics"]["waiting"] > 0)
     gifs = [name for name in written if name.endswith(".gif")]
-    assert written == sorted(["result.json", *gifs]), written  # no temporary file
+    manifest = [".lotsim-run"] if gifs else []  # lists the pictures the run wrote
+    assert written == sorted(["result.json", *gifs, *manifest]), written  # no temporary file
     assert len(gifs) <= (1 if gif else 0)
     for name in gifs:
         with Image.open(out / name) as im:

@@ -92,3 +92,36 @@ def test_a_sweep_over_cars_lists_those_a_slot_is_too_narrow_for_with_no_length()
         pytest.raises(lotsim.SettingsError, lotsim.minslot, "altis", 1.5).value)
     table = lotsim.minslot("altis", 1.5, narrow_ok=True, max_changes=1)
     assert [(r.changes, r.length) for r in table.rows] == [(0, None), (1, None)]
+
+
+def test_minslot_and_maneuver_name_the_vehicle_alike(capsys):
+    """--car (minslot) and --vehicle (maneuver) named one thing: both take --vehicle now,
+    and --car as before."""
+    args = ["--width", "2.5", "--max-changes", "2"]
+    assert main(["minslot", "--vehicle", "zoe", *args]) == 0
+    by_vehicle = capsys.readouterr().out
+    assert main(["minslot", "--car", "zoe", *args]) == 0
+    assert capsys.readouterr().out == by_vehicle and "zoe" in by_vehicle
+    from lotsim.cli.parser import build_parser
+
+    helps = {name: " ".join(p.format_help().split())
+             for name, p in build_parser().commands.items()}
+    assert "--vehicle TYPE, --car TYPE" in helps["minslot"]
+    assert "--vehicle TYPE, --car TYPE" in helps["maneuver"]
+    assert "--assignment" in helps["run"] and "--all-vehicles" in helps["minslot"]
+
+
+def test_the_vehicle_file_of_the_docs_is_one(tmp_path):
+    """The vehicle file's format was written only in an error message."""
+    import re
+
+    import lotsim
+    from conftest import ROOT
+
+    text = (ROOT / "docs" / "scenario.md").read_text()
+    section = text[text.index("## A vehicle file"):]
+    block = re.search(r"```yaml\n(.*?)```", section, re.S).group(1)
+    path = tmp_path / "van.yaml"
+    path.write_text(block)
+    van = lotsim.car(str(path))
+    assert (van.name, van.width, van.length, van.wheelbase) == ("van", 2.0, 5.2, 3.3)

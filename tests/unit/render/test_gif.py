@@ -547,9 +547,10 @@ def test_a_run_leaves_no_gif_of_an_earlier_run_beside_its_result(tmp_path, capsy
     path = tmp_path / "s.yaml"
     path.write_text(BARE + "\nanimation: {gif: cars.gif, size: [320, 240]}\n")
     out = tmp_path / "a"
-    out.mkdir()
+    assert main(["run", str(path), "-o", str(out)]) == 0  # an earlier run, with its GIF
     old = out / "cars.gif"
-    old.write_bytes(b"GIF89a, an earlier run")
+    assert old.is_file()
+    capsys.readouterr()
     assert main(["run", str(path), "-o", str(out), "--no-gif"]) == 0
     assert sorted(p.name for p in out.iterdir()) == ["result.json"]
     assert f"removed {old}: it showed an earlier run" in capsys.readouterr().out
@@ -561,3 +562,17 @@ def test_a_run_leaves_no_gif_of_an_earlier_run_beside_its_result(tmp_path, capsy
     monkeypatch.setattr("lotsim.api.render_gif", interrupted)
     assert main(["run", str(path), "-o", str(out)]) == 130
     assert sorted(p.name for p in out.iterdir()) == ["result.json"]
+
+
+def test_a_run_leaves_the_users_own_files_in_its_folder_alone(tmp_path, capsys):
+    """run removed a replay.html the user had left in the output folder: it removes only
+    the pictures a run wrote there."""
+    path = tmp_path / "s.yaml"
+    path.write_text(BARE + "\nanimation: {gif: cars.gif, size: [320, 240]}\n")
+    out = tmp_path / "a"
+    out.mkdir()
+    mine = out / "replay.html"
+    mine.write_text("<p>my notes on this lot</p>")
+    assert main(["run", str(path), "-o", str(out), "--no-gif"]) == 0
+    assert mine.read_text() == "<p>my notes on this lot</p>"
+    assert "removed" not in capsys.readouterr().out

@@ -385,7 +385,9 @@ def test_run_writes_the_replay_the_scenario_asks_for(tmp_path, capsys):
     sc.write_text(text)
     out = tmp_path / "out"
     assert main(["run", str(sc), "-o", str(out)]) == 0
-    assert sorted(p.name for p in out.iterdir()) == ["a.gif", "replay.html", "result.json"]
+    assert sorted(p.name for p in out.iterdir()) == [".lotsim-run", "a.gif", "replay.html",
+                                                     "result.json"]
+    assert (out / ".lotsim-run").read_text().split() == ["a.gif", "replay.html"]
     capsys.readouterr()
     # given on the command line (--no-gif): the earlier replay in the folder goes
     assert main(["run", str(sc), "-o", str(out), "--no-gif", "--html",
@@ -396,7 +398,8 @@ def test_run_writes_the_replay_the_scenario_asks_for(tmp_path, capsys):
     # the README's main command: the replay into the output folder the run makes
     fresh = tmp_path / "fresh"
     assert main(["run", str(sc), "-o", str(fresh), "--html", str(fresh / "r.html")]) == 0
-    assert sorted(p.name for p in fresh.iterdir()) == ["a.gif", "r.html", "result.json"]
+    assert sorted(p.name for p in fresh.iterdir()) == [".lotsim-run", "a.gif", "r.html",
+                                                       "result.json"]
     assert main(["run", str(sc), "-o", str(fresh), "--html", str(tmp_path / "no" / "r.html")
                  ]) == 2
     assert "--html: folder" in capsys.readouterr().err

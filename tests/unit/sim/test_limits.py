@@ -222,7 +222,8 @@ def test_a_run_writes_only_inside_its_output_folder(tmp_path, monkeypatch):
     before = {p for p in tmp_path.rglob("*")}
     assert main(["run", str(ROOT / "scenarios" / "quickstart.yaml"), "-o", "out"]) == 0
     created = {p for p in tmp_path.rglob("*")} - before
-    assert created == {work / "out", work / "out" / "result.json", work / "out" / "run.gif"}
+    assert created == {work / "out", work / "out" / "result.json", work / "out" / "run.gif",
+                       work / "out" / ".lotsim-run"}  # the pictures a run wrote there
 
 
 # -- safe YAML ---------------------------------------------------------------------------------
