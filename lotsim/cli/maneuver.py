@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import argparse
 import sys
+from pathlib import Path
 
 from lotsim import api
 from lotsim.cli.output import (
@@ -11,6 +12,7 @@ from lotsim.cli.output import (
     EXIT_OK,
     bad,
     cannot_write,
+    into_folder,
     output_problem,
     picture_size,
     plural,
@@ -34,7 +36,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="the way out instead of the way in")
     parser.add_argument("--margin", type=float, default=api.MARGIN,
                         help=f"safety margin [m] ({api.MARGIN:g})")
-    parser.add_argument("-o", "--output", help="PNG to write")
+    parser.add_argument("-o", "--output", help="PNG to write; a folder gets "
+                        "SCENARIO-SLOT.png in it")
     parser.add_argument("--size", default="900x700",
                         help=f"image size WxH in pixels, {sizes()} (900x700)")
 
@@ -43,6 +46,8 @@ def execute(args: argparse.Namespace) -> int:
     size = picture_size(args.size)
     if isinstance(size, str):
         return bad(size)
+    if args.output:
+        args.output = into_folder(args.output, f"{Path(args.scenario).stem}-{args.slot}.png")
     problem = args.output and output_problem("-o", args.output, ".png")
     if problem:
         return bad(problem)

@@ -69,6 +69,15 @@ def output_problem(opt: str, path: str, suffix: str, made: Path | None = None) -
     return None
 
 
+def into_folder(path: str, name: str) -> str:
+    """``-o`` of a command that writes one file: a folder (one that exists, or a name ending
+    in ``/``) gets the file ``name`` in it, as ``-o`` of ``run`` names the folder it writes
+    into; anything else is the file itself."""
+    if path.endswith(("/", os.sep)) or Path(path).is_dir():
+        return str(Path(path) / name)
+    return path
+
+
 def located(exc) -> str:
     """A :class:`~lotsim.errors.ScenarioError` for stderr: ``lotsim: file:line:col: ...``,
     a line for each of several problems."""

@@ -3,9 +3,18 @@
 from __future__ import annotations
 
 import argparse
+from pathlib import Path
 
 from lotsim import api
-from lotsim.cli.output import EXIT_OK, bad, cannot_write, picture_size, sizes
+from lotsim.cli.output import (
+    EXIT_OK,
+    bad,
+    cannot_write,
+    into_folder,
+    output_problem,
+    picture_size,
+    sizes,
+)
 
 HELP = "draw a scenario's lot to a PNG"
 EXITS = "0 written; 2 bad input"
@@ -14,7 +23,7 @@ EXITS = "0 written; 2 bad input"
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("scenario", metavar="SCENARIO", help="scenario YAML file")
     parser.add_argument("-o", "--output", default="lot.png",
-                        help="PNG to write (default lot.png)")
+                        help="PNG to write (default lot.png); a folder gets SCENARIO.png in it")
     parser.add_argument("--graph", action="store_true", help="draw the lot graph too")
     parser.add_argument("--size", default="1200x900",
                         help=f"image size WxH in pixels, {sizes()} (1200x900)")
@@ -24,6 +33,10 @@ def execute(args: argparse.Namespace) -> int:
     size = picture_size(args.size)
     if isinstance(size, str):
         return bad(size)
+    args.output = into_folder(args.output, f"{Path(args.scenario).stem}.png")
+    problem = output_problem("-o", args.output, ".png")
+    if problem:
+        return bad(problem)
     # built once, drawn and listed
     prepared = api.prepare_for_drawing(api.load_scenario(args.scenario), graph=args.graph)
     try:

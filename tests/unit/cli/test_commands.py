@@ -333,3 +333,17 @@ def test_import_lanelet2_writes_the_map_and_refuses_options_it_does_not_take(tmp
     err = capsys.readouterr().err
     assert "--lot is for OpenStreetMap" in err and "--origin is for Lanelet2" in err
     assert "latitude within ±90" in err
+
+
+def test_o_names_a_folder_or_a_file_alike_for_every_command(tmp_path, capsys):
+    """-o was a folder for run and bench but a file for show and maneuver: a folder now
+    works for show and maneuver too (the picture is named for the scenario), and a file
+    that is no PNG is refused."""
+    folder = tmp_path / "pics"
+    folder.mkdir()
+    quick = next(p for p in SCENARIOS if p.stem == "quickstart")
+    assert main(["show", str(quick), "-o", str(folder)]) == 0
+    assert main(["maneuver", str(quick), "--slot", "N1", "-o", f"{folder}/"]) == 0
+    assert sorted(p.name for p in folder.iterdir()) == ["quickstart-N1.png", "quickstart.png"]
+    assert main(["show", str(quick), "-o", str(folder / "lot.jpg")]) == 2
+    assert "expected a file name ending in .png" in capsys.readouterr().err
