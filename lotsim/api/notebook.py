@@ -8,7 +8,9 @@ In Jupyter (or any IPython shell), ``import lotsim`` registers display formatter
   small enough to embed (:data:`MOST_INLINE`);
 * a :class:`~lotsim.sim.preparation.PreparedLot` shows the lot's picture with its graph;
 * a :class:`~lotsim.sim.validation.ValidationReport` shows its summary, the free slots each
-  vehicle type can use as a table, and its warnings.
+  vehicle type can use as a table, and its warnings;
+* preparing a lot and running its traffic show their progress in the cell
+  (:func:`progress_for`), when no ``progress`` is given.
 
 The formatters draw only when the notebook asks for them; nothing is registered outside
 IPython.
@@ -80,6 +82,48 @@ def report_html(report) -> str:
     rows = [(name, f"{len(ids)} of {free}") for name, ids in report.usable().items()]
     return (f"<pre>{html.escape(report.summary())}</pre>"
             + _table(rows, ("vehicle type", "usable free slots")))
+
+
+class NotebookProgress:
+    """``progress(done, total)`` as one line in the notebook cell that updates in place
+    (``label 412/2080, ~8 s left``), at most ten times a second."""
+
+    def __init__(self, label: str, display=None):
+        import time
+
+        if display is None:
+            from IPython.display import display
+        self.label, self._clock, self._t0 = label, time.perf_counter, time.perf_counter()
+        self._handle = display(self._text(0, 0), display_id=True)
+        self._last = -1.0
+
+    def _text(self, done: int, total: int) -> str:
+        if total <= 0:
+            return f"{self.label} …"
+        spent = self._clock() - self._t0
+        left = (f", ~{spent / done * (total - done):.0f} s left" if 0 < done < total
+                else "")
+        return f"{self.label} {done}/{total}{left}"
+
+    def __call__(self, done: int, total: int) -> None:
+        now = self._clock()
+        if done < total and now - self._last < 0.1:
+            return
+        self._last = now
+        if self._handle is not None:
+            self._handle.update(self._text(done, total))
+
+
+def progress_for(label: str):
+    """A progress callback for long work started from a notebook cell
+    (:class:`NotebookProgress`), or None outside a notebook."""
+    import sys
+
+    ipython = sys.modules.get("IPython")
+    shell = ipython.get_ipython() if ipython is not None else None
+    if shell is None or not hasattr(shell, "kernel"):  # a terminal shows its own bars
+        return None
+    return NotebookProgress(label)
 
 
 def register(shell) -> bool:

@@ -81,5 +81,9 @@ def run(scenario_or_prepared: ScenarioLike | PreparedLot, settings: RunSettings 
                                         f"nothing")
     from lotsim.sim.orders import plan_run
 
+    if progress is None:  # in a notebook, the cell shows it
+        from lotsim.api.notebook import progress_for
+
+        progress = progress_for("planning trips")
     return plan_run(prepared.scenario, settings, lot_graph=prepared.lot_graph,
                     progress=progress, memo=prepared.search_graphs)

@@ -94,6 +94,10 @@ def prepare(scenario: ScenarioLike, *, cache: bool = True, progress=None) -> Pre
     (6, {'valet': {}})
     """
     sc = scenario_of(scenario)
+    if progress is None:  # in a notebook, the cell shows it
+        from lotsim.api.notebook import progress_for
+
+        progress = progress_for("planning maneuvers")
     return preparation.prepare_lot(sc, cache=cache, progress=progress)
 
 

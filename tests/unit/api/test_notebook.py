@@ -56,3 +56,23 @@ def test_import_lotsim_registers_only_where_a_shell_runs(monkeypatch):
     assert not notebook.register_if_interactive()
     monkeypatch.delenv("LOTSIM_NO_NOTEBOOK")
     assert not notebook.register(object())  # not a shell
+
+
+def test_long_work_shows_its_progress_in_the_cell():
+    from lotsim.api.notebook import NotebookProgress, progress_for
+
+    shown = []
+
+    class Handle:
+        def update(self, text):
+            shown.append(text)
+
+    def display(text, display_id):
+        shown.append(text)
+        return Handle()
+
+    bar = NotebookProgress("planning trips", display=display)
+    for k in range(1, 6):
+        bar(k, 5)
+    assert shown[0] == "planning trips …" and shown[-1] == "planning trips 5/5"
+    assert progress_for("x") is None  # not in a notebook's kernel
