@@ -160,6 +160,7 @@ def _rate(times: Sequence[float]) -> float | None:
 
 def _result_columns(rr: RunResult, report: Any, extra: dict) -> dict:
     m = rr.metrics()
+    trips = rr.trip_figures()
     parked_at = [v.parked_at for v in rr.vehicles if v.parked_at is not None]
     violations = report.stats.get("violations", len(report.violations))
     problem = ""
@@ -180,6 +181,14 @@ def _result_columns(rr: RunResult, report: Any, extra: dict) -> dict:
         "makespan_s": m["makespan"],
         "mean_time_to_park_s": m["mean_time_to_park"],
         "max_time_to_park_s": m["max_time_to_park"],
+        "median_time_to_park_s": trips["median_time_to_park"],
+        "p90_time_to_park_s": trips["p90_time_to_park"],
+        "median_time_to_leave_s": trips["median_time_to_leave"],
+        "p90_time_to_leave_s": trips["p90_time_to_leave"],
+        "standing_per_car_s": trips["standing_per_car"],
+        "standing_outside_per_car_s": trips["standing_outside_per_car"],
+        "standing_in_per_car_s": trips["standing_in_per_car"],
+        "standing_out_per_car_s": trips["standing_out_per_car"],
         "total_waiting_s": m["total_waiting"],
         "arrival_rate_per_h": _rate([v.arrival.time for v in rr.vehicles]),
         "throughput_per_h": _rate(parked_at),

@@ -23,6 +23,9 @@ COLUMNS = (
     "run", "scenario", "planner", "window_s", "assignment", "priority", "rate_per_h", "count",
     "seed", "ok", "solved", "violations", "problem", "vehicles", "served", "parked", "departed",
     "waiting", "rejected", "makespan_s", "mean_time_to_park_s", "max_time_to_park_s",
+    "median_time_to_park_s", "p90_time_to_park_s", "median_time_to_leave_s",
+    "p90_time_to_leave_s", "standing_per_car_s", "standing_outside_per_car_s",
+    "standing_in_per_car_s", "standing_out_per_car_s",
     "total_waiting_s", "arrival_rate_per_h", "throughput_per_h", "searches", "expansions",
     "evaluations", "fitness_s", "ga_arrival_fitness_s", "ga_shortest_first_fitness_s",
     "planning_time_s", "planning_median_ms", "planning_p95_ms", "order_time_s", "wall_time_s",
@@ -89,7 +92,10 @@ def _cell(value: Any) -> str:
 GROUP = ("scenario", "planner_label", "assignment", "priority", "rate_per_h")
 """What a row of the summary is: the grid point less the seed."""
 MEANS = ("vehicles", "parked", "departed", "rejected", "waiting", "mean_time_to_park_s",
-         "max_time_to_park_s", "total_waiting_s", "makespan_s", "arrival_rate_per_h",
+         "max_time_to_park_s", "median_time_to_park_s", "p90_time_to_park_s",
+         "median_time_to_leave_s", "p90_time_to_leave_s", "standing_per_car_s",
+         "standing_outside_per_car_s", "standing_in_per_car_s", "standing_out_per_car_s",
+         "total_waiting_s", "makespan_s", "arrival_rate_per_h",
          "throughput_per_h", "expansions", "evaluations", "fitness_s", "ga_arrival_fitness_s",
          "ga_shortest_first_fitness_s", "planning_median_ms",
          "planning_p95_ms", "order_time_s", "wall_time_s", "peak_memory_mb")

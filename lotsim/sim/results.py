@@ -88,6 +88,27 @@ class RunResult:
         out["planning_time_p95"] = float(np.percentile(per, 95)) if per else 0.0
         return out
 
+    def trip_figures(self) -> dict[str, float]:
+        """What a lot's traffic costs its cars, for benchmarks (``docs/bench.md``): median
+        and 90th percentile of the time to park (arrival to standing in the slot) and of the
+        time to leave (the end of the dwell to passing the exit), and the standing per car
+        (:func:`standing`) in all and split into queued outside, on the way in and on the
+        way out, over every car of the traffic [s]."""
+        park = [v.parked_at - v.arrival.time for v in self.vehicles if v.parked_at is not None]
+        leave = [v.left_at - wanted for v in self.vehicles
+                 if v.left_at is not None and (wanted := _wants_to_leave(v)) is not None]
+        parts = np.array([standing(v) for v in self.vehicles]).reshape(-1, 3)
+        n = max(len(self.vehicles), 1)
+        out = {}
+        for name, xs in (("time_to_park", park), ("time_to_leave", leave)):
+            out[f"median_{name}"] = float(np.median(xs)) if xs else 0.0
+            out[f"p90_{name}"] = float(np.percentile(xs, 90)) if xs else 0.0
+        total = parts.sum(axis=0)
+        out["standing_per_car"] = float(total.sum() / n)
+        for k, where in enumerate(("outside", "in", "out")):
+            out[f"standing_{where}_per_car"] = float(total[k] / n)
+        return out
+
 
 def _queued(v: VehicleRun) -> float:
     """Time spent queued outside before the plan that brought it in began [s]."""
@@ -95,3 +116,32 @@ def _queued(v: VehicleRun) -> float:
     if start is None:
         return 0.0
     return max(0.0, start - v.arrival.time)
+
+
+def _wants_to_leave(v: VehicleRun) -> float | None:
+    """When ``v`` wanted to leave: the end of its dwell after it parked [s]; None for a car
+    that stays."""
+    if v.parked_at is None or v.arrival.dwell is None:
+        return None
+    return v.parked_at + v.arrival.dwell
+
+
+def standing(v: VehicleRun) -> tuple[float, float, float]:
+    """The time ``v`` stood still when it wanted to move [s]: queued outside (before the
+    plan that brought it in, or until it was turned away), standing on the way in (its
+    waits before it parked), and on the way out (from the end of its dwell to the first
+    move of its way out, and its waits after that)."""
+    outside = _queued(v) + v.waited_outside + sum(
+        m.t1 - m.t0 for m in v.moves if m.kind == "outside")
+    parked = v.parked_at if v.parked_at is not None else float("inf")
+    way_in = sum(m.t1 - m.t0 for m in v.moves if m.kind == "wait" and m.t0 < parked)
+    way_out = sum(m.t1 - m.t0 for m in v.moves if m.kind == "wait" and m.t0 >= parked)
+    wanted = _wants_to_leave(v)
+    if wanted is not None:
+        first_out = next((m.t0 for m in v.moves if m.t0 >= parked and m.kind not in
+                          ("parked", "wait")), None)
+        end = first_out if first_out is not None else max(
+            [m.t1 for m in v.moves] + [wanted])  # never left: it stood to the run's end
+        way_out += max(0.0, end - wanted)
+    return outside, way_in, way_out
+
