@@ -391,7 +391,7 @@ def test_priority_orders_fill_their_columns(tmp_path):
 
 
 @pytest.mark.parametrize("name, runs", [("valet", 9), ("large_lot_load", 12),
-                                        ("head_to_head", 60)])
+                                        ("head_to_head", 60), ("real_demand", 16)])
 def test_the_shipped_suites_are_valid(name, runs):
     suite = bench.load_suite(ROOT / "scenarios" / "bench" / f"{name}.yaml")
     assert suite.size == runs == len(suite.specs())
@@ -445,3 +445,21 @@ def test_the_bench_plots_load_only_when_drawn():
     done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
                           check=True, cwd=ROOT)
     assert done.stdout.strip() == "[]"
+
+
+def test_the_real_demand_suite_in_small_reports_what_its_cars_paid(tmp_path):
+    """The real-demand suite cut to 8 cars on the gate-spur lot, at its slowest and fastest
+    rates: every run checks, and each row has the trip figures it is read for."""
+    text = (ROOT / "scenarios" / "bench" / "real_demand.yaml").read_text()
+    text = (text.replace("scenarios: [../lots/gate_spur.yaml, ../lots/surface364.yaml]",
+                         f"scenarios: [{ROOT / 'scenarios' / 'lots' / 'gate_spur.yaml'}]")
+            .replace("rates_per_hour: [200, 350, 500, 700]", "rates_per_hour: [200, 700]")
+            .replace("count: 100", "count: 8").replace("seeds: [1, 2]", "seeds: [1]"))
+    rows = bench.run_suite(bench.load_suite(_write(tmp_path, text)), jobs=1)
+    assert [r["rate_per_h"] for r in rows] == [200, 700] and all(r["ok"] for r in rows)
+    for r in rows:
+        parts = (r["standing_outside_per_car_s"] + r["standing_in_per_car_s"]
+                 + r["standing_out_per_car_s"])
+        assert r["standing_per_car_s"] == pytest.approx(parts)
+        assert 0 < r["median_time_to_park_s"] <= r["p90_time_to_park_s"]
+        assert r["median_time_to_leave_s"] > 0
