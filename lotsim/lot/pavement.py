@@ -84,6 +84,8 @@ def loose_ends(aisles: dict[str, Aisle], ground: BaseGeometry | None = None) -> 
     for a in aisles.values():
         for end in (a.centerline[0], a.centerline[-1]):
             p = Point(end)
+            if any(b is not a and b.line.distance(p) <= 1e-3 for b in aisles.values()):
+                continue  # it joins an aisle: others near it are that junction's business
             for b in aisles.values():
                 if b is a:
                     continue

@@ -91,6 +91,15 @@ def test_aisles_that_do_not_meet_leave_the_ground_between_unpaved_and_say_so():
     assert "not paved" in warning
     _, joined = t_lot()
     assert loose_ends(joined.aisles, joined.pavement) == []
+    # an end that joins one aisle is not short of another nearby (a spur meeting the first
+    # aisle 6.5 m from a cross aisle)
+    text = T_LOT.replace("{PAVED}", "{}").replace("SPUR_END", "25").replace(
+        "  aisles:\n", "  aisles:\n    - {id: west, centerline: [[23.5, 25], [23.5, 40]], "
+        "width: 7.0}\n", 1).replace("slot_length: 5.0, start: 20}", "slot_length: 5.0, "
+                                     "start: 30}")
+    sc = scenario_from_text(text)
+    near = build_lot(sc.lot, DesignVehicle.envelope(sc.vehicle_types))
+    assert loose_ends(near.aisles, near.pavement) == []
 
 
 def test_the_paved_key_is_checked_where_it_is_written():
