@@ -391,7 +391,7 @@ def test_priority_orders_fill_their_columns(tmp_path):
 
 
 @pytest.mark.parametrize("name, runs", [("valet", 9), ("large_lot_load", 12),
-                                        ("head_to_head", 60), ("real_demand", 16)])
+                                        ("head_to_head", 60), ("real_demand", 24)])
 def test_the_shipped_suites_are_valid(name, runs):
     suite = bench.load_suite(ROOT / "scenarios" / "bench" / f"{name}.yaml")
     assert suite.size == runs == len(suite.specs())
@@ -451,7 +451,8 @@ def test_the_real_demand_suite_in_small_reports_what_its_cars_paid(tmp_path):
     """The real-demand suite cut to 8 cars on the gate-spur lot, at its slowest and fastest
     rates: every run checks, and each row has the trip figures it is read for."""
     text = (ROOT / "scenarios" / "bench" / "real_demand.yaml").read_text()
-    text = (text.replace("scenarios: [../lots/gate_spur.yaml, ../lots/surface364.yaml]",
+    text = (text.replace("scenarios: [../lots/gate_spur.yaml, ../lots/surface364.yaml, "
+                         "../lots/dlp_like.yaml]",
                          f"scenarios: [{ROOT / 'scenarios' / 'lots' / 'gate_spur.yaml'}]")
             .replace("rates_per_hour: [200, 350, 500, 700]", "rates_per_hour: [200, 700]")
             .replace("count: 100", "count: 8").replace("seeds: [1, 2]", "seeds: [1]"))
