@@ -107,9 +107,11 @@ class ErrorCollector:
     def check(self) -> None:
         if not self.errors:
             return
-        order = sorted(self.errors, key=lambda e: (e.where is None, e.where.file if e.where
-                                                    else "", e.where.line if e.where else 0,
-                                                    e.where.col if e.where else 0))
+        def place(e: ScenarioError) -> tuple:  # file order; the unlocated last
+            w = e.where
+            return (1, "", 0, 0) if w is None else (0, w.file, w.line, w.col)
+
+        order = sorted(self.errors, key=place)
         raise order[0] if len(order) == 1 else ScenarioErrors(order)
 
 

@@ -275,8 +275,8 @@ def test_a_portal_heading_off_its_lane_is_refused_not_turned_without_a_word():
 
 
 def test_a_portal_heading_the_other_lanes_way_is_told_the_heading_not_the_boundary():
-    """Heading 180° on the eastbound lane of a two-way aisle matched the westbound lane
-    3.5 m off and was reported as a car sticking out of the boundary there."""
+    """Heading 180° on the eastbound lane of a two-way aisle is a heading off its lane, not
+    a car for the westbound lane 3.5 m away."""
     text = (ONE_AISLE.replace("direction: one-way", "direction: two-way")
             .replace("{id: in, x: 3.0, y: 11.0, heading_deg: 0}",
                      "{id: in, x: 3.0, y: 9.25, heading_deg: 180}")

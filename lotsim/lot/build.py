@@ -23,6 +23,7 @@ from lotsim.errors import ScenarioError
 from lotsim.lot.clearance import Collider
 from lotsim.lot.kinds import KINDS
 from lotsim.lot.model import (
+    PAVEMENT_EDGE,
     Aisle,
     Area,
     DesignVehicle,
@@ -31,6 +32,7 @@ from lotsim.lot.model import (
     Portal,
     Slot,
     SpeedZone,
+    edge_of,
     unit,
 )
 from lotsim.lot.pavement import HEAL, pave
@@ -75,8 +77,7 @@ def build_lot(spec: LotSpec, design: DesignVehicle) -> Lot:
         pavement = pave(spec.paved, boundary, aisles, slots, paved)
     ground = boundary if pavement is None else pavement
     collider = Collider(obstacle_polygons(areas, slots),
-                        drivable_region(boundary, aisles, design, ground),
-                        edge="the lot boundary" if pavement is None else "the edge of the pavement")
+                        drivable_region(boundary, aisles, design, ground), edge=edge_of(pavement))
     aisles = {k: _fit_lanes(a, design, collider) for k, a in aisles.items()}
     zones = tuple(
         SpeedZone(b.id, "bump", LineString(b.line).buffer(b.reach), b.limit, LineString(b.line))
@@ -483,6 +484,13 @@ def _fit_lanes(aisle: Aisle, design: DesignVehicle, collider: Collider) -> Aisle
             hit = collider.first_hit(Collider.sweeps(design.footprints(poses[k : k + 2])))
             what = hit.what if hit is not None else "an obstacle"
             x, y = poses[k, :2]
+            if what == PAVEMENT_EDGE:
+                raise ScenarioError(
+                    aisle.where,
+                    f"aisle {aisle.id!r}: the largest vehicle driving lane {lane.id!r} leaves "
+                    f"the pavement near ({x:.1f}, {y:.1f}): pave the aisle (lot.paved: "
+                    f"aisles: true, or an area under it)",
+                )
             raise ScenarioError(
                 aisle.where,
                 f"aisle {aisle.id!r} is too narrow or its curves too tight: the largest "

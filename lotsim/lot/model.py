@@ -310,7 +310,7 @@ class Lot:
     @property
     def edge(self) -> str:
         """What a car leaving :attr:`ground` runs into, in messages."""
-        return "the lot boundary" if self.pavement is None else "the edge of the pavement"
+        return edge_of(self.pavement)
 
     @cached_property
     def slot_by_id(self) -> dict[str, Slot]:
@@ -330,6 +330,16 @@ class Lot:
         for s in self.slots:
             out[s.kind] += 1
         return out
+
+
+PAVEMENT_EDGE = "the edge of the pavement"
+"""What a car leaving a lot's pavement runs into, in messages."""
+
+
+def edge_of(pavement: BaseGeometry | None) -> str:
+    """What a car leaving the ground runs into, in messages: the boundary of a lot paved
+    wall to wall, else :data:`PAVEMENT_EDGE`."""
+    return "the lot boundary" if pavement is None else PAVEMENT_EDGE
 
 
 def unit(theta: float) -> FloatArray:

@@ -8,6 +8,7 @@ from collections.abc import Iterable
 from dataclasses import dataclass, field
 
 from lotsim.core.diskcache import LOADED
+from lotsim.lot.model import PAVEMENT_EDGE
 from lotsim.lot.pavement import loose_ends
 from lotsim.roadmap.reach import Reachability
 from lotsim.sim.preparation import PreparedLot
@@ -167,7 +168,7 @@ class ValidationReport:
             lines.append(f"  warning: {end}")
         for note in lg.skipped_turns:
             # a turn the ground is not paved for is the lot's drawing, not its design
-            tag = "warning" if "the edge of the pavement" in note else "note"
+            tag = "warning" if PAVEMENT_EDGE in note else "note"
             lines.append(f"  {tag}: {note}")
         return "\n".join(lines)
 

@@ -167,7 +167,7 @@ def test_a_lot_with_every_slot_taken_turns_its_cars_away_and_validate_says_so():
 
 def test_validate_warns_of_the_cars_run_turns_away_for_any_seed_of_the_stream(tmp_path):
     # the scenario's seed draws no limo, a seed of run's may: validate judges every type the
-    # stream can draw, with run's reason (it said ok, then run refused it)
+    # stream can draw, with run's reason
     import lotsim
 
     path = tmp_path / "mix.yaml"

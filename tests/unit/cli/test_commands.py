@@ -336,9 +336,8 @@ def test_import_lanelet2_writes_the_map_and_refuses_options_it_does_not_take(tmp
 
 
 def test_o_names_a_folder_or_a_file_alike_for_every_command(tmp_path, capsys):
-    """-o was a folder for run and bench but a file for show and maneuver: a folder now
-    works for show and maneuver too (the picture is named for the scenario), and a file
-    that is no PNG is refused."""
+    """-o of show and maneuver may name a folder, as it does for run and bench (the picture
+    is named for the scenario), or a PNG; any other file is refused."""
     folder = tmp_path / "pics"
     folder.mkdir()
     quick = next(p for p in SCENARIOS if p.stem == "quickstart")

@@ -95,8 +95,7 @@ def test_a_sweep_over_cars_lists_those_a_slot_is_too_narrow_for_with_no_length()
 
 
 def test_minslot_and_maneuver_name_the_vehicle_alike(capsys):
-    """--car (minslot) and --vehicle (maneuver) named one thing: both take --vehicle now,
-    and --car as before."""
+    """minslot and maneuver name the vehicle alike: --vehicle, or --car."""
     args = ["--width", "2.5", "--max-changes", "2"]
     assert main(["minslot", "--vehicle", "zoe", *args]) == 0
     by_vehicle = capsys.readouterr().out
@@ -112,7 +111,7 @@ def test_minslot_and_maneuver_name_the_vehicle_alike(capsys):
 
 
 def test_the_vehicle_file_of_the_docs_is_one(tmp_path):
-    """The vehicle file's format was written only in an error message."""
+    """The vehicle file docs/scenario.md shows is one lotsim reads."""
     import re
 
     import lotsim

@@ -185,7 +185,7 @@ def test_missing_file(tmp_path, capsys):
 def test_empty_file(tmp_path):
     err, path = refused(tmp_path, "")
     assert err.startswith(f"{path}:1:1: ") and "found an empty file" in err
-    # a file of comments was called empty too
+    # a file of comments only is said to be one
     err, path = refused(tmp_path, "# a lot to come\n\n# its aisles\n")
     assert err.startswith(f"{path}:1:1: ") and "found only comments" in err
 
@@ -346,8 +346,8 @@ lot:
                                         "7000 mm is 7 m"),
 ])
 def test_a_value_plausible_in_another_unit_says_so(values, key, words):
-    """Radians for degrees and millimetres for metres gave true but unhelpful messages
-    ("slot 'A2' runs to station 187.51 m past the end of aisle")."""
+    """Radians for degrees and millimetres for metres are refused where they are written,
+    saying which unit the value looks like."""
     text = UNITS
     for k, v in {"STEER": "30", "WIDTH": "6.0", "ANGLE": "45", **values}.items():
         text = text.replace(k, v)

@@ -83,7 +83,7 @@ def test_the_pavement_is_the_aisles_slots_and_areas_within_the_boundary():
 
 
 def test_aisles_that_do_not_meet_leave_the_ground_between_unpaved_and_say_so():
-    _, lot = t_lot(spur_end=20.0)  # the spur stops 1.5 m short of the main aisle's edge
+    _, lot = t_lot(spur_end=20.0)  # the spur's end, 1.5 m from the main aisle's strip
     gap = box(26.5, 20.0, 33.5, 21.5)
     assert lot.pavement.intersection(gap).area < 1e-6
     (warning,) = loose_ends(lot.aisles, lot.pavement)
@@ -115,7 +115,7 @@ def test_the_paved_key_is_checked_where_it_is_written():
         t_lot("{corner_radius: -1}")
 
 
-def test_a_portal_off_the_pavement_is_refused():
+def test_an_aisle_off_the_pavement_is_refused_saying_so():
     text = T_LOT.replace("{PAVED}", "{aisles: false, areas: [{id: a, polygon: "
                          "[[0, 21.5], [60, 21.5], [60, 28.5], [0, 28.5]]}]}")
     with pytest.raises(ScenarioError, match="pavement|paved"):
@@ -179,9 +179,8 @@ def test_the_same_traffic_on_the_lot_paved_wall_to_wall_crosses_that_ground(pave
 
 
 def test_a_parallel_slot_on_a_paved_lot_is_parked_in_up_to_the_kerb():
-    """The margin kept to walls kept cars 0.1 m off the pavement's edge too, and a car
-    backing into a free-standing parallel bay swings its corner over that strip: the bay
-    was refused on a paved lot."""
+    """A car backing into a free-standing parallel bay swings its corner up to the
+    pavement's edge: the margin it keeps to walls is not kept to the kerb."""
     import lotsim
     from conftest import ROOT
 

@@ -725,7 +725,7 @@ def test_every_maneuver_starts_on_the_lanes_start_grid_when_bays_are_off_its_pit
 
 
 def test_the_maneuver_picture_shows_which_end_of_the_car_is_its_front():
-    """Nose and tail looked alike: a triangle in each solid outline points to the front."""
+    """A triangle in each solid outline points to the car's front."""
     from lotsim.render.maneuver_image import (
         PARKED_EDGE,
         START_EDGE,

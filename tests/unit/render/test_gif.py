@@ -565,8 +565,8 @@ def test_a_run_leaves_no_gif_of_an_earlier_run_beside_its_result(tmp_path, capsy
 
 
 def test_a_run_leaves_the_users_own_files_in_its_folder_alone(tmp_path, capsys):
-    """run removed a replay.html the user had left in the output folder: it removes only
-    the pictures a run wrote there."""
+    """A run removes from its folder only the pictures a run wrote there, not a
+    replay.html of the user's."""
     path = tmp_path / "s.yaml"
     path.write_text(BARE + "\nanimation: {gif: cars.gif, size: [320, 240]}\n")
     out = tmp_path / "a"

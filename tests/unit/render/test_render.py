@@ -397,7 +397,7 @@ def test_the_ground_is_drawn_as_it_is_paved_or_not() -> None:
 
 
 def test_the_graph_legend_gives_each_kind_of_link_its_own_colour(scene) -> None:
-    """One magenta swatch read "turn, park link" though park links are drawn orange."""
+    """Junction turns and park links each have a swatch in the colour they are drawn in."""
     from lotsim.render.lot_image.legend import _legend_entries
 
     _, g = scene

@@ -489,8 +489,8 @@ def test_the_harness_sees_errors_in_the_page(opened):
 
 def test_render_honours_the_options_the_replay_takes_and_refuses_the_others(doc, tmp_path,
                                                                              capsys):
-    """--speed, --fps, --size and --skip-quiet changed nothing (byte-identical output) when
-    only --html or --timeline was written."""
+    """The replay opens at --speed; the options only the GIF and the video have are refused
+    when only --html or --timeline is written."""
     import re
 
     result = tmp_path / "result.json"

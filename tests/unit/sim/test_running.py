@@ -76,7 +76,7 @@ def test_prepare_builds_the_slots_and_a_way_into_each_for_every_type(tiny):
 
 def test_a_type_longer_than_every_slot_can_use_none_and_its_cars_are_turned_away():
     """"Does my limo fit?" is the designer's question, not a broken file: its cars are
-    turned away with the reason (they were refused as bad input)."""
+    turned away with the reason."""
     limo = "  - {name: limo, width: 2.0, front: 5.5, rear: 1.2, wheelbase: 4.2, max_steer_deg: 30}"
     text = TINY.replace("vehicle_types: [valet]", f"vehicle_types:\n  - valet\n{limo}")
     sc = scenario_from_text(text + "traffic: {vehicles: [{id: x, arrival: 0, type: limo}]}\n")
