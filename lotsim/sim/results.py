@@ -135,13 +135,16 @@ def standing(v: VehicleRun) -> tuple[float, float, float]:
         m.t1 - m.t0 for m in v.moves if m.kind == "outside")
     parked = v.parked_at if v.parked_at is not None else float("inf")
     way_in = sum(m.t1 - m.t0 for m in v.moves if m.kind == "wait" and m.t0 < parked)
-    way_out = sum(m.t1 - m.t0 for m in v.moves if m.kind == "wait" and m.t0 >= parked)
     wanted = _wants_to_leave(v)
-    if wanted is not None:
-        first_out = next((m.t0 for m in v.moves if m.t0 >= parked and m.kind not in
-                          ("parked", "wait")), None)
-        end = first_out if first_out is not None else max(
-            [m.t1 for m in v.moves] + [wanted])  # never left: it stood to the run's end
-        way_out += max(0.0, end - wanted)
+    if wanted is None:
+        return outside, way_in, 0.0
+    # standing in the slot (parked or waiting) from the end of the dwell to the first move
+    # out, then every wait after that
+    first_out = next((m.t0 for m in v.moves if m.t0 >= parked and m.kind not in
+                      ("parked", "wait")), None)
+    end = first_out if first_out is not None else max(
+        [m.t1 for m in v.moves] + [wanted])  # never left: it stood to the run's end
+    way_out = max(0.0, end - wanted) + sum(m.t1 - m.t0 for m in v.moves
+                                           if m.kind == "wait" and m.t0 >= end)
     return outside, way_in, way_out
 

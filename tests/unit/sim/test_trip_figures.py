@@ -34,6 +34,14 @@ def test_standing_is_split_into_outside_the_way_in_and_the_way_out():
     assert standing(car(10, 100, moves, parked_at=30, left_at=150)) == (3, 2, 4 + 5)
 
 
+def test_a_wait_in_the_slot_before_leaving_is_counted_once():
+    # wants out at 130; its way out waits in the slot until 140, leaves, waits 3 s later
+    moves = [move("drive", 10, 25), move("park", 25, 30), move("parked", 30, 130),
+             move("wait", 130, 140), move("leave", 140, 146), move("wait", 146, 149),
+             move("drive", 149, 155)]
+    assert standing(car(10, 100, moves, parked_at=30, left_at=155)) == (0, 0, 10 + 3)
+
+
 def test_a_car_that_never_got_out_stood_from_the_end_of_its_dwell_to_the_end():
     moves = [move("drive", 0, 10), move("park", 10, 15), move("parked", 15, 400)]
     assert standing(car(0, 60, moves, parked_at=15)) == (0, 0, 400 - 75)
@@ -68,3 +76,8 @@ def test_the_figures_of_a_run_are_its_cars(culdesac_run):
     # the standing the run's metrics count (waits and queueing), plus the way out's start
     waited = rr.metrics()["total_waiting"] / len(rr.vehicles)
     assert f["standing_per_car"] >= waited - 1e-9
+    for v in rr.vehicles:  # nobody stands longer than its trips take
+        outside, way_in, way_out = standing(v)
+        assert outside + way_in <= v.parked_at - v.arrival.time + 1e-9
+        if v.left_at is not None:
+            assert way_out <= v.left_at - v.parked_at - v.arrival.dwell + 1e-9
