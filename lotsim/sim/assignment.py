@@ -3,16 +3,22 @@
 The policy (:data:`lotsim.sim.settings.ASSIGNMENTS`) ranks the free slots a car can use:
 ``nearest`` by straight-line distance from its entrance, ``shortest`` by static travel time
 along the graph plus the maneuver (and, for a car that will leave, the way out to the
-nearest exit). A car then looks first at a few of them (:class:`~lotsim.sim.settings.RunTuning`):
-its best, then the best in each other aisle, those in aisles where a look just ran out last.
-The event loop (:mod:`lotsim.sim.loop`) and the shortest-first planning order
+nearest exit), ``priced`` by that time plus the delay the car's maneuvers are expected to
+cause the cars that pass the slot (:meth:`SlotAssigner.prices`: the slots at a lot's
+throat, which every car passes, cost the more the busier the gate). A car then looks
+first at a few of them (:class:`~lotsim.sim.settings.RunTuning`): its best, then the
+best in each other aisle, those in aisles where a look just ran out last. The event loop
+(:mod:`lotsim.sim.loop`) and the shortest-first planning order
 (:func:`lotsim.sim.orders.shortest_first`) share one :class:`SlotAssigner`'s timings.
 """
 
 from __future__ import annotations
 
+import bisect
 import math
 from collections.abc import Iterable, Sequence
+
+import numpy as np
 
 from lotsim.core.geometry import same_pose
 from lotsim.roadmap.model import LotGraph
@@ -33,11 +39,11 @@ class SlotAssigner:
     vehicle_types : sequence of VehicleType
         The types that drive in it (each gets its search graph and the park edges it can
         leave again by).
-    policy : {"nearest", "shortest"}
+    policy : {"nearest", "shortest", "priced"}
         How slots are ranked.
     tuning : RunTuning
-        How many slots a car first looks at, their budgets and how long an aisle where a
-        look ran out stays jammed.
+        How many slots a car first looks at, their budgets, how long an aisle where a
+        look ran out stays jammed, and over how long a ``priced`` ranking sees the flows.
 
     Attributes
     ----------
@@ -59,15 +65,25 @@ class SlotAssigner:
         self.leave = {t.name: lot_graph.leavable(t.name) for t in vehicle_types}
         self._times: dict[tuple[str, str, bool], dict[str, float]] = {}
         self._jammed: dict[str, float] = {}  # aisle → when a first look there last ran out
+        self._seen: dict[str | None, list[float]] = {}  # entrance (None: out) → times
+        self._terms: dict[tuple[str, str, bool], dict[str, dict[str | None, float]]] = {}
+        self._share: dict[tuple[str, str | None], dict[int, float]] = {}
 
     # -- ranking ------------------------------------------------------------------------------
-    def ranked(self, arrival: Arrival, free: Iterable[str]) -> list[str]:
+    def ranked(self, arrival: Arrival, free: Iterable[str], t: float | None = None
+               ) -> list[str]:
         """The slots of ``free`` that ``arrival``'s car can park in (and leave again, if it
-        will), best first by the policy, ties by slot id."""
-        times = self.slot_times(arrival.entrance, arrival.vehicle, arrival.dwell is not None)
+        will), best first by the policy at time ``t`` [s] (the arrival's, if None), ties by
+        slot id."""
+        leaving = arrival.dwell is not None
+        times = self.slot_times(arrival.entrance, arrival.vehicle, leaving)
         usable = [s for s in free if s in times]
         if self.policy == "shortest":
             return sorted(usable, key=lambda s: (times[s], s))
+        if self.policy == "priced":
+            price = self.prices(arrival.entrance, arrival.vehicle, leaving,
+                                arrival.time if t is None else t)
+            return sorted(usable, key=lambda s: (times[s] + price.get(s, 0.0), s))
         x, y, _ = self.lg.graph.nodes[self.lg.entrances[arrival.entrance]]["pose"]
         slots = self.lg.lot.slot_by_id
         return sorted(usable, key=lambda s: (math.dist((x, y), slots[s].center), s))
@@ -76,23 +92,127 @@ class SlotAssigner:
         """Static time [s] from entrance ``gate`` into each slot a ``vname`` can use and, if
         ``leaving``, out of it again (by any way out from the pose it parks on) to the
         nearest exit: a car that will leave counts the way out as well as the way in."""
+        return {sid: tt for sid, (tt, _, _) in self.slot_ways(gate, vname, leaving).items()}
+
+    def slot_ways(self, gate: str, vname: str, leaving: bool
+                  ) -> dict[str, tuple[float, int, int | None]]:
+        """For each slot a ``vname`` from entrance ``gate`` can use, :meth:`slot_times`'s
+        time [s] with the park edge and (if ``leaving``) the leave edge of that way, as
+        edge indices of the type's search graph (the first in edge order of equal time)."""
         key = (gate, vname, leaving)
         if key not in self._times:
             sg = self.graphs[vname]
             dist = sg.forward_times(self.lg.entrances[gate])
             to_exit = (sg.reverse_search({n: 0.0 for n in self.lg.exits.values()})
                        if leaving else None)
-            out: dict[str, float] = {}
+            out: dict[str, tuple[float, int, int | None]] = {}
             for i, e in enumerate(sg.edges):
                 if e.kind == "park" and e.u in dist and (
                         not leaving or ((e.u, e.v) in self.leave[vname] and not e.stay)):
                     sid = self.lg.graph.nodes[e.v]["slot"]
-                    tt = dist[e.u] + e.duration
+                    tt, way_out = dist[e.u] + e.duration, None
                     if to_exit is not None:
-                        tt += _way_out(sg, i, to_exit)
-                    out[sid] = min(out.get(sid, math.inf), tt)
+                        t_out, way_out = _way_out(sg, i, to_exit)
+                        tt += t_out
+                    if tt < out.get(sid, (math.inf,))[0]:
+                        out[sid] = (tt, i, way_out)
             self._times[key] = out
         return self._times[key]
+
+    # -- the price of a slot to the others ----------------------------------------------------
+    def saw(self, gate: str | None, t: float) -> None:
+        """A car came in at entrance ``gate`` (None: one set off out) at ``t`` [s]: the flows
+        :meth:`prices` reckons with are those seen over the last ``tuning.flow_window``."""
+        bisect.insort(self._seen.setdefault(gate, []), t)
+
+    def flows(self, t: float) -> dict[str | None, float]:
+        """Cars a second seen at each entrance (None: setting off out) over the
+        ``tuning.flow_window`` seconds up to ``t`` [s]."""
+        w = self.tuning.flow_window
+        return {g: (bisect.bisect_right(ts, t) - bisect.bisect_right(ts, t - w)) / w
+                for g, ts in self._seen.items()}
+
+    def prices(self, gate: str, vname: str, leaving: bool, t: float) -> dict[str, float]:
+        """The delay [s] a ``vname`` from ``gate`` is expected to cause the other cars by
+        parking in each slot (and leaving it again, if ``leaving``), at time ``t`` [s].
+
+        While a maneuver of ``d`` seconds holds a stretch of lane, the cars that come by
+        at a rate ``f`` wait for it, ``d / 2`` on average: ``f d² / 2`` seconds in all.
+        The rate past a lane node is the flow seen at each entrance (:meth:`flows`) times
+        the share of the slots whose shortest way in from there passes the node, plus the
+        flow seen setting off out times the share of the slots whose shortest way out does;
+        a maneuver's stretch is every lane node within half the car's length of its path's
+        box, and its rate the highest of theirs. Slots are counted alike (each as likely a
+        goal): a prior, not the run's own choices."""
+        flows = self.flows(t)
+        if not any(flows.values()):
+            return {}
+        terms = self._price_terms(gate, vname, leaving)
+        out: dict[str, float] = {}
+        for sid, by in terms.items():
+            out[sid] = sum(flows.get(g, 0.0) * c for g, c in by.items())
+        return out
+
+    def _price_terms(self, gate: str, vname: str, leaving: bool
+                     ) -> dict[str, dict[str | None, float]]:
+        """For each slot, :meth:`prices`' sum of ``share × d² / 2`` over the slot's
+        maneuvers, by the flow (entrance, or None for the way out) it is multiplied by."""
+        key = (gate, vname, leaving)
+        if key not in self._terms:
+            sg = self.graphs[vname]
+            shares = {g: self._shares(vname, g) for g in self.lg.entrances}
+            shares[None] = self._shares(vname, None)
+            ids = np.array(sorted(set().union(*shares.values())), dtype=int)
+            xy = np.array([sg.pose[n][:2] for n in ids]).reshape(-1, 2)
+            table = {g: np.array([sh.get(n, 0.0) for n in ids]) for g, sh in shares.items()}
+            reach = sg.vehicle.length / 2
+            out: dict[str, dict[str | None, float]] = {}
+            for sid, (_, park, leave) in self.slot_ways(gate, vname, leaving).items():
+                terms: dict[str | None, float] = dict.fromkeys(table, 0.0)
+                for ei in (park, leave):
+                    if ei is None:
+                        continue
+                    e = sg.edges[ei]
+                    pts = np.array([p[:2] for p in _path_points(e.maneuver)])
+                    lo, hi = pts.min(axis=0) - reach, pts.max(axis=0) + reach
+                    held = np.all((xy >= lo) & (xy <= hi), axis=1)
+                    if held.any():
+                        for g, sh in table.items():
+                            terms[g] += float(sh[held].max()) * e.duration ** 2 / 2
+                out[sid] = terms
+            self._terms[key] = out
+        return self._terms[key]
+
+    def _shares(self, vname: str, gate: str | None) -> dict[int, float]:
+        """Share of the slots a ``vname`` can use whose shortest way in from entrance
+        ``gate`` (None: whose shortest way out to the nearest exit) passes each lane node."""
+        key = (vname, gate)
+        if key not in self._share:
+            sg = self.graphs[vname]
+            lg = self.lg
+            if gate is not None:
+                dist, by = sg.forward_tree(lg.entrances[gate])
+                ends = {sid: sg.edges[p].u
+                        for sid, (_, p, _) in self.slot_ways(gate, vname, False).items()}
+                nxt = {n: sg.edges[ei].u for n, ei in by.items()}
+            else:
+                dist, by = sg.backward_tree(lg.exits.values())
+                ends = {}
+                for sid, (_, _, leave) in self.slot_ways(
+                        min(lg.entrances), vname, True).items():
+                    if leave is not None:
+                        ends[sid] = sg.edges[leave].v
+                nxt = {n: sg.edges[ei].v for n, ei in by.items()}
+            count: dict[int, float] = {}
+            for n in ends.values():
+                count[n] = count.get(n, 0.0) + 1.0
+            for n in sorted(count.keys() | nxt.keys(), key=lambda n: (-dist.get(n, 0.0), n)):
+                if n in nxt and n in count:
+                    count[nxt[n]] = count.get(nxt[n], 0.0) + count[n]
+            total = max(len(ends), 1)
+            self._share[key] = {n: c / total for n, c in count.items()
+                                if n not in sg.slot_nodes}
+        return self._share[key]
 
     # -- the first looks ----------------------------------------------------------------------
     def first_looks(self, ranked: list[str], t: float) -> list[str]:
@@ -142,13 +262,21 @@ class SlotAssigner:
         return out + [sid for sid in options if sid not in out][:n - len(out)]
 
 
-def _way_out(sg: SearchGraph, park: int, to_exit) -> float:
+def _way_out(sg: SearchGraph, park: int, to_exit) -> tuple[float, int | None]:
     """Static time [s] from the pose park edge ``park`` leaves the car on, by a leave edge
-    that begins there, to the nearest exit."""
+    that begins there, to the nearest exit, and that leave edge (the first of equal time;
+    None if there is none)."""
     pose = sg.parked_pose(park)
-    best = math.inf
+    best, by = math.inf, None
     for j in sg.out[sg.edges[park].v]:
         e = sg.edges[j]
         if e.kind == "leave" and same_pose(sg.parked_pose(j), pose):
-            best = min(best, e.duration + to_exit(e.v))
-    return best
+            tt = e.duration + to_exit(e.v)
+            if tt < best:
+                best, by = tt, j
+    return best, by
+
+
+def _path_points(maneuver) -> list:
+    """The poses a maneuver's pieces begin and end at."""
+    return [seg.start for seg in maneuver.segments] + [maneuver.end]

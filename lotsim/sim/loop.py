@@ -151,6 +151,7 @@ class EventLoop:
         if v.id in self.turned_away:  # a type the lot cannot serve: turned away at once
             self.finish(v, "rejected", self.turned_away[v.id])
             return
+        self.assigner.saw(v.arrival.entrance, v.arrival.time)
         if self.patience > 0:
             self.at(v.arrival.time + self.patience, "timeout", i)
         self.on_retry(i, v, t)
@@ -169,7 +170,7 @@ class EventLoop:
             return
         t = max(t, v.arrival.time)  # a booked vehicle is planned before it arrives
         sg = self.graphs[v.vehicle.name]
-        options = self.assigner.ranked(v.arrival, self.free)
+        options = self.assigner.ranked(v.arrival, self.free, t)
         if not options:
             v.reason = "the lot is full"
             if i not in self.queue:
@@ -306,6 +307,7 @@ class EventLoop:
     def commit_departure(self, i: int, v: VehicleRun, sg: SearchGraph, plan: Plan,
                          t: float) -> None:
         v.leaving = True  # from now on its plans lead out
+        self.assigner.saw(None, t)
         # the parked stretch until the departure's first move (already reserved until t)
         if plan.moves[0].t0 > v.moves[-1].t1:
             node = v.moves[-1].node_to

@@ -33,8 +33,10 @@ from lotsim.core.checks import (
 )
 from lotsim.traffic.settings import OMEGA, PLANNERS, SearchSettings
 
-ASSIGNMENTS = ("nearest", "shortest")
-"""Slot choice: straight-line distance from the entrance, or travel time."""
+ASSIGNMENTS = ("nearest", "shortest", "priced")
+"""Slot choice: straight-line distance from the entrance, travel time, or travel time plus
+the delay the car's maneuvers are expected to cause the others
+(:meth:`lotsim.sim.assignment.SlotAssigner.prices`)."""
 PRIORITIES = ("arrival", "shortest_first", "ga")
 """``arrival``: online, each vehicle planned when it arrives; ``shortest_first``: booked,
 the vehicle with the least static time to a slot first; ``ga``: booked, the order a
@@ -84,6 +86,9 @@ class RunTuning:
         WHCA*: skip a replan when nothing another car reserved was dropped or cut short
         since the car last searched: the replan could then only find what the last search
         passed over by its weighted heuristic, milliseconds in practice.
+    flow_window : float
+        ``priced`` assignment: the flows of cars in and out it prices a slot by are those
+        seen over this many seconds before the car (1 to 86 400 [s]).
     """
 
     first_looks: int = 3
@@ -92,6 +97,7 @@ class RunTuning:
     jammed_for: float = 5.0
     heuristics_kept: int = 16
     skip_fruitless: bool = True
+    flow_window: float = 600.0
 
     def __post_init__(self) -> None:
         checks = [("first_looks", range_problem(self.first_looks, 1, 1000, integer=True)),
@@ -100,12 +106,13 @@ class RunTuning:
                   ("jammed_for", range_problem(self.jammed_for, 0, MAX_WINDOW * 6,
                                                " seconds")),
                   ("heuristics_kept", range_problem(self.heuristics_kept, 0, 100_000,
-                                                    integer=True))]
+                                                    integer=True)),
+                  ("flow_window", range_problem(self.flow_window, 1, MAX_PENALTY, " seconds"))]
         if not isinstance(self.skip_fruitless, bool):
             checks.append(("skip_fruitless", f"expected true or false, found "
                                              f"{self.skip_fruitless!r}"))
         raise_first([(k, m) for k, m in checks if m is not None])
-        for name in ("first_look_rate", "jammed_for"):
+        for name in ("first_look_rate", "jammed_for", "flow_window"):
             set_field(self, name, float(getattr(self, name)))
 
 
@@ -167,9 +174,11 @@ class RunSettings:
     ----------
     planner : {"ca", "hca", "whca"}
         The cooperative A* variant (:data:`PLANNERS`).
-    assignment : {"nearest", "shortest"}
+    assignment : {"nearest", "shortest", "priced"}
         Slot choice: straight-line distance from the entrance, or travel time
-        along the graph plus the maneuver's time.
+        along the graph plus the maneuver's time (and, for a car that will leave, the way
+        out), or that time plus the delay its maneuvers are expected to cause the cars
+        that pass (``priced``: :meth:`lotsim.sim.assignment.SlotAssigner.prices`).
     seed : int or None
         Seed of the traffic stream, 0 to 2**63-1 (None: the scenario's).
     window : float

@@ -321,24 +321,43 @@ class SearchGraph:
     def forward_times(self, source: int) -> dict[int, float]:
         """Static shortest times [s] from ``source`` to every node it reaches (Dijkstra,
         entering no slot on the way)."""
-        dist = {source: 0.0}
-        heap = [(0.0, source)]
+        return self.forward_tree(source)[0]
+
+    def forward_tree(self, source: int) -> tuple[dict[int, float], dict[int, int]]:
+        """:meth:`forward_times` and, for every node reached but ``source``, the edge (by
+        index) its shortest way from ``source`` ends with."""
+        return self._tree({source: 0.0}, self.out, lambda e: e.v)
+
+    def backward_tree(self, goals) -> tuple[dict[int, float], dict[int, int]]:
+        """Static shortest times [s] from every node to the nearest of ``goals`` (node ids),
+        leaving no slot on the way, and for every node but the goals the edge (by index) its
+        shortest way there begins with."""
+        return self._tree({n: 0.0 for n in goals}, self.into, lambda e: e.u)
+
+    def _tree(self, sources: dict[int, float], step: dict[int, list[int]], far
+              ) -> tuple[dict[int, float], dict[int, int]]:
+        """Dijkstra from ``sources`` over the edges ``step`` lists at each node, each edge
+        leading to ``far(edge)``; a slot node is reached but not gone on from."""
+        dist = dict(sources)
+        by: dict[int, int] = {}
+        heap = [(d, n) for n, d in sorted(sources.items())]
+        heapq.heapify(heap)
         done: set[int] = set()
-        slots = self.lg.graph.nodes
         while heap:
             d, u = heapq.heappop(heap)
             if u in done:
                 continue
             done.add(u)
-            if slots[u]["kind"] == "slot":
+            if u in self.slot_nodes and u not in sources:
                 continue
-            for ei in self.out[u]:
-                e = self.edges[ei]
+            for ei in step[u]:
+                n = far(self.edges[ei])
                 nd = d + self._static_time[ei]
-                if nd < dist.get(e.v, math.inf):
-                    dist[e.v] = nd
-                    heapq.heappush(heap, (nd, e.v))
-        return dist
+                if nd < dist.get(n, math.inf):
+                    dist[n] = nd
+                    by[n] = ei
+                    heapq.heappush(heap, (nd, n))
+        return dist, by
 
 
 class SearchGraphMemo:
