@@ -2,10 +2,11 @@
 
 Run from the repository root::
 
-    python benchmarks/performance.py            # every row, 2 runs each (about 10 minutes
+    python benchmarks/performance.py            # every row, 2 runs each (about 40 minutes
                                                 # on 2 cores)
-    python benchmarks/performance.py --quick    # 1 run each; no 364-bay lot, no 1000 cars
-                                                # (a few minutes on a quiet machine)
+    python benchmarks/performance.py --quick    # 1 run each; no 364-bay lot, no 1000 cars,
+                                                # no real-demand suite (a few minutes on a
+                                                # quiet machine)
     python benchmarks/performance.py --runs 3 -o /tmp/perf.md
 
 Every figure is measured by running a ``lotsim`` command as a process, as a user runs it,
@@ -20,7 +21,10 @@ and each row of the page names that command. Rows:
   two workers, and the comparisons they exist for, read from their ``runs.csv``: the
   planners (CA*, HCA*, WHCA*) and the slot assignments (shortest, nearest) head to head,
   the priority orders (arrival, shortest first, the genetic algorithm), the large lot's
-  load sweep.
+  load sweep;
+* traffic at real demand (``scenarios/bench/real_demand.yaml``, run once, its lots
+  prepared first; not in ``--quick``): what the cars of three one-gate lots pay at 200 to
+  700 arrivals an hour with each slot choice.
 
 For each figure the page gives how many values it is made of and their spread (min /
 median / max): repeated runs of a timing, or the seeds (and scenarios, assignments) of a
@@ -299,6 +303,64 @@ def valet_section(page: Page, runs: list[list[dict]]) -> None:
                  spread([r["planning_p95_ms"] for r in allg], "{:.0f}"))
 
 
+REAL_DEMAND = "scenarios/bench/real_demand.yaml"
+
+
+def real_demand_rows(page: Page, tmp: Path) -> None:
+    """The real-demand suite, run once after its lots are prepared into the cache."""
+    sys.path.insert(0, str(ROOT))
+    from lotsim.bench import read_csv
+
+    suite = yaml.safe_load((ROOT / REAL_DEMAND).read_text(encoding="utf-8"))
+    with tempfile.TemporaryDirectory() as cache:
+        env = environment(cache)
+        for lot in suite["scenarios"]:
+            checked(process(*LOTSIM, "validate", str(Path(REAL_DEMAND).parent / lot),
+                            env=env), (0, 1))
+        out = tmp / "real_demand"
+        wall, _, _, _ = checked(process(*LOTSIM, "bench", REAL_DEMAND, "-o", str(out),
+                                        "--jobs", "2", env=env))
+        rows = read_csv(out / "runs.csv")
+        summary = (out / "summary.md").read_text(encoding="utf-8")
+    seeds = len(suite["seeds"])
+    knee = re.findall(r"\n\s*[-*]?\s*([^\n]*(?:keeps up|saturated)[^\n]*)", summary)
+    page.section("Traffic at real demand",
+                 rf"`lotsim bench {REAL_DEMAND} --jobs 2` ({wall / 60:.0f} min, HCA\*): 100 "
+                 "cars staying 5 to 15 minutes at each rate, through the one gate of three "
+                 "lots, each slot chosen by its static time (`shortest`) or by that time "
+                 "plus the delay it is expected to cause the others (`priced`). Each cell is "
+                 f"the median over the {seeds} seeds (for two, their mean). *Standing*: per "
+                 "car, queued outside / on the way in / on the way out. Every result passed "
+                 "`lotsim check`. The suite's summary says: "
+                 + ("; ".join(dict.fromkeys(k.strip(" -*") for k in knee))
+                    or "no saturation found") + ".",
+                 "| lot | assignment | rate [veh/h] | time to park median / p90 [s] | time to "
+                 "leave median [s] | standing per car [s] | throughput [veh/h] | planning "
+                 "[s] (median per car [ms]) | served |")
+    for scen in dict.fromkeys(r["scenario"] for r in rows):
+        for asg in dict.fromkeys(r["assignment"] for r in rows):
+            for rate in dict.fromkeys(r["rate_per_h"] for r in rows):
+                g = [r for r in rows if (r["scenario"], r["assignment"], r["rate_per_h"])
+                     == (scen, asg, rate)]
+                if not g:
+                    continue
+
+                def med(key: str, g=g) -> float:
+                    return statistics.median(r[key] for r in g)
+
+                page.row(scen, asg, f"{rate:g}",
+                         f"{med('median_time_to_park_s'):.1f} / "
+                         f"{med('p90_time_to_park_s'):.1f}",
+                         f"{med('median_time_to_leave_s'):.1f}",
+                         f"{med('standing_per_car_s'):.1f} "
+                         f"({med('standing_outside_per_car_s'):.1f} / "
+                         f"{med('standing_in_per_car_s'):.1f} / "
+                         f"{med('standing_out_per_car_s'):.1f})",
+                         f"{med('throughput_per_h'):.0f}",
+                         f"{med('planning_time_s'):.1f} ({med('planning_median_ms'):.0f})",
+                         f"{sum(r['served'] for r in g)}/{sum(r['vehicles'] for r in g)}")
+
+
 # --- the page -------------------------------------------------------------------------
 
 def machine() -> list[str]:
@@ -358,7 +420,7 @@ def write(page: Page, path: Path, args: argparse.Namespace, took: float) -> None
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--quick", action="store_true",
-                    help="1 run each, no 364-bay lot, no 1000 cars")
+                    help="1 run each, no 364-bay lot, no 1000 cars, no real-demand suite")
     ap.add_argument("--runs", type=int, help="runs of each timing (default 2, quick 1)")
     ap.add_argument("-o", "--output", default=str(ROOT / "docs" / "performance.md"))
     args = ap.parse_args()
@@ -374,10 +436,12 @@ def main() -> None:
         run_rows(page, args.runs, not args.quick, cache, Path(tmp))
         minslot_row(page, args.runs)
         suites = suite_rows(page, args.runs, Path(tmp))
-    planners_section(page, suites["head_to_head"])
-    priority_section(page, suites["priority"])
-    valet_section(page, suites["valet"])
-    load_section(page, suites["large_lot_load"])
+        planners_section(page, suites["head_to_head"])
+        priority_section(page, suites["priority"])
+        valet_section(page, suites["valet"])
+        load_section(page, suites["large_lot_load"])
+        if not args.quick:
+            real_demand_rows(page, Path(tmp))
     write(page, Path(args.output), args, time.perf_counter() - started)
 
 

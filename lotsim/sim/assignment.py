@@ -160,8 +160,8 @@ class SlotAssigner:
         key = (gate, vname, leaving)
         if key not in self._terms:
             sg = self.graphs[vname]
-            shares = {g: self._shares(vname, g) for g in self.lg.entrances}
-            shares[None] = self._shares(vname, None)
+            shares = {g: self.route_shares(vname, g) for g in self.lg.entrances}
+            shares[None] = self.route_shares(vname, None)
             ids = np.array(sorted(set().union(*shares.values())), dtype=int)
             xy = np.array([sg.pose[n][:2] for n in ids]).reshape(-1, 2)
             table = {g: np.array([sh.get(n, 0.0) for n in ids]) for g, sh in shares.items()}
@@ -171,7 +171,7 @@ class SlotAssigner:
                 terms: dict[str | None, float] = dict.fromkeys(table, 0.0)
                 for ei in (park, leave):
                     if ei is None:
-                        continue
+                        continue  # a car that stays: no way out
                     e = sg.edges[ei]
                     pts = np.array([p[:2] for p in _path_points(e.maneuver)])
                     lo, hi = pts.min(axis=0) - reach, pts.max(axis=0) + reach
@@ -183,7 +183,7 @@ class SlotAssigner:
             self._terms[key] = out
         return self._terms[key]
 
-    def _shares(self, vname: str, gate: str | None) -> dict[int, float]:
+    def route_shares(self, vname: str, gate: str | None) -> dict[int, float]:
         """Share of the slots a ``vname`` can use whose shortest way in from entrance
         ``gate`` (None: whose shortest way out to the nearest exit) passes each lane node."""
         key = (vname, gate)
@@ -191,12 +191,12 @@ class SlotAssigner:
             sg = self.graphs[vname]
             lg = self.lg
             if gate is not None:
-                dist, by = sg.forward_tree(lg.entrances[gate])
+                dist, by = sg.forward_tree(lg.entrances[gate], express=False)
                 ends = {sid: sg.edges[p].u
                         for sid, (_, p, _) in self.slot_ways(gate, vname, False).items()}
                 nxt = {n: sg.edges[ei].u for n, ei in by.items()}
             else:
-                dist, by = sg.backward_tree(lg.exits.values())
+                dist, by = sg.backward_tree(lg.exits.values(), express=False)
                 ends = {}
                 for sid, (_, _, leave) in self.slot_ways(
                         min(lg.entrances), vname, True).items():
@@ -206,8 +206,8 @@ class SlotAssigner:
             count: dict[int, float] = {}
             for n in ends.values():
                 count[n] = count.get(n, 0.0) + 1.0
-            for n in sorted(count.keys() | nxt.keys(), key=lambda n: (-dist.get(n, 0.0), n)):
-                if n in nxt and n in count:
+            for n in _leaves_first(nxt):  # each route's count passed on towards its root
+                if n in count:
                     count[nxt[n]] = count.get(nxt[n], 0.0) + count[n]
             total = max(len(ends), 1)
             self._share[key] = {n: c / total for n, c in count.items()
@@ -275,6 +275,22 @@ def _way_out(sg: SearchGraph, park: int, to_exit) -> tuple[float, int | None]:
             if tt < best:
                 best, by = tt, j
     return best, by
+
+
+def _leaves_first(nxt: dict[int, int]) -> list[int]:
+    """The nodes of the tree ``nxt`` (node → the next towards its root), each before the
+    one it leads to."""
+    depth: dict[int, int] = {}
+    for n in nxt:
+        path = []
+        while n in nxt and n not in depth:
+            path.append(n)
+            n = nxt[n]
+        d = depth.get(n, 0)
+        for m in reversed(path):
+            d += 1
+            depth[m] = d
+    return sorted(nxt, key=lambda n: (-depth[n], n))
 
 
 def _path_points(maneuver) -> list:

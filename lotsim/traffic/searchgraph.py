@@ -150,6 +150,8 @@ class SearchGraph:
             for seg in d.get("path") or ():
                 cap = min(cap, speed_cap(seg, vehicle))
             self._add(Edge(u, v, kind, float(d["length"]), cap, d))
+        self.base_edges = len(self.edges)
+        """How many of :attr:`edges` are the lot graph's; the rest are express edges."""
         self._express()
         self.pose = {n: tuple(map(float, g.nodes[n]["pose"])) for n in g.nodes}
         self.steer = {n: math.atan(g.nodes[n].get("curvature", 0.0) * vehicle.wheelbase)
@@ -323,21 +325,32 @@ class SearchGraph:
         entering no slot on the way)."""
         return self.forward_tree(source)[0]
 
-    def forward_tree(self, source: int) -> tuple[dict[int, float], dict[int, int]]:
-        """:meth:`forward_times` and, for every node reached but ``source``, the edge (by
-        index) its shortest way from ``source`` ends with."""
-        return self._tree({source: 0.0}, self.out, lambda e: e.v)
+    def static_time(self, ei: int) -> float:
+        """Least time [s] edge ``ei`` can be driven in (its maneuver's, or its length at its
+        speed limit)."""
+        return self._static_time[ei]
 
-    def backward_tree(self, goals) -> tuple[dict[int, float], dict[int, int]]:
+    def forward_tree(self, source: int, *, express: bool = True
+                     ) -> tuple[dict[int, float], dict[int, int]]:
+        """:meth:`forward_times` and, for every node reached but ``source``, the edge (by
+        index) its shortest way from ``source`` ends with; without ``express`` edges, so
+        that a way names every node it passes."""
+        return self._tree({source: 0.0}, self.out, lambda e: e.v, express)
+
+    def backward_tree(self, goals, *, express: bool = True
+                      ) -> tuple[dict[int, float], dict[int, int]]:
         """Static shortest times [s] from every node to the nearest of ``goals`` (node ids),
         leaving no slot on the way, and for every node but the goals the edge (by index) its
-        shortest way there begins with."""
-        return self._tree({n: 0.0 for n in goals}, self.into, lambda e: e.u)
+        shortest way there begins with; without ``express`` edges, so that a way names
+        every node it passes."""
+        return self._tree({n: 0.0 for n in goals}, self.into, lambda e: e.u, express)
 
-    def _tree(self, sources: dict[int, float], step: dict[int, list[int]], far
-              ) -> tuple[dict[int, float], dict[int, int]]:
-        """Dijkstra from ``sources`` over the edges ``step`` lists at each node, each edge
-        leading to ``far(edge)``; a slot node is reached but not gone on from."""
+    def _tree(self, sources: dict[int, float], step: dict[int, list[int]], far,
+              express: bool = True) -> tuple[dict[int, float], dict[int, int]]:
+        """Dijkstra from ``sources`` over the edges ``step`` lists at each node (the express
+        edges only with ``express``), each edge leading to ``far(edge)``; a slot node is
+        reached but not gone on from."""
+        last = len(self.edges) if express else self.base_edges
         dist = dict(sources)
         by: dict[int, int] = {}
         heap = [(d, n) for n, d in sorted(sources.items())]
@@ -351,6 +364,8 @@ class SearchGraph:
             if u in self.slot_nodes and u not in sources:
                 continue
             for ei in step[u]:
+                if ei >= last:
+                    continue
                 n = far(self.edges[ei])
                 nd = d + self._static_time[ei]
                 if nd < dist.get(n, math.inf):

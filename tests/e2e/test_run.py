@@ -215,7 +215,7 @@ def test_a_later_vehicle_waits_for_an_earlier_one_instead_of_overlapping(small):
     _checked(rr)
 
 
-@pytest.mark.parametrize("policy", ["nearest", "shortest"])
+@pytest.mark.parametrize("policy", ["nearest", "shortest", "priced"])
 def test_the_first_vehicle_gets_the_best_slot_by_each_policy(policy, shipped_graphs):
     sc = load_scenario(next(p for p in SCENARIOS if p.stem == "mixed_lot"))
     lg = shipped_graphs["mixed_lot"]

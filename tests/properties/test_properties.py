@@ -328,7 +328,7 @@ def scenarios(draw, size: dict) -> Case:
            "parked_vehicle": draw(st.sampled_from(names)),
            "lot": {k: v for k, v in lot.items() if v}, "traffic": traffic}
     setting = RunSettings(planner=draw(st.sampled_from(["ca", "hca", "whca"])),
-                          assignment=draw(st.sampled_from(["nearest", "shortest"])),
+                          assignment=draw(st.sampled_from(["nearest", "shortest", "priced"])),
                           seed=draw(st.none() | st.integers(0, 2**31)),
                           window=draw(st.sampled_from([4.0, 10.0, 20.0])))
     booked = draw(st.none() | st.tuples(st.permutations(range(cars)),
@@ -414,7 +414,7 @@ def networks(draw, size: dict) -> Case:
     doc = {"name": "net", "seed": draw(st.integers(0, 2**31)), "vehicle_types": names,
            "lot": lot, "traffic": traffic}
     setting = RunSettings(planner=draw(st.sampled_from(["hca", "whca"])),
-                          assignment=draw(st.sampled_from(["nearest", "shortest"])))
+                          assignment=draw(st.sampled_from(["nearest", "shortest", "priced"])))
     text = yaml.safe_dump(doc, sort_keys=False, default_flow_style=None, width=100)
     return Case(text, setting, None, frozenset(taken), tuple(tags))
 

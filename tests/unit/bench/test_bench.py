@@ -391,7 +391,7 @@ def test_priority_orders_fill_their_columns(tmp_path):
 
 
 @pytest.mark.parametrize("name, runs", [("valet", 9), ("large_lot_load", 12),
-                                        ("head_to_head", 60), ("real_demand", 24)])
+                                        ("head_to_head", 60), ("real_demand", 48)])
 def test_the_shipped_suites_are_valid(name, runs):
     suite = bench.load_suite(ROOT / "scenarios" / "bench" / f"{name}.yaml")
     assert suite.size == runs == len(suite.specs())
@@ -457,7 +457,9 @@ def test_the_real_demand_suite_in_small_reports_what_its_cars_paid(tmp_path):
             .replace("rates_per_hour: [200, 350, 500, 700]", "rates_per_hour: [200, 700]")
             .replace("count: 100", "count: 8").replace("seeds: [1, 2]", "seeds: [1]"))
     rows = bench.run_suite(bench.load_suite(_write(tmp_path, text)), jobs=1)
-    assert [r["rate_per_h"] for r in rows] == [200, 700] and all(r["ok"] for r in rows)
+    assert [(r["assignment"], r["rate_per_h"]) for r in rows] == [
+        ("shortest", 200), ("shortest", 700), ("priced", 200), ("priced", 700)]
+    assert all(r["ok"] for r in rows)
     for r in rows:
         parts = (r["standing_outside_per_car_s"] + r["standing_in_per_car_s"]
                  + r["standing_out_per_car_s"])

@@ -72,4 +72,4 @@ def test_the_settings_section_records_the_sampling_and_every_tuning_value(small)
     assert doc["settings"]["dt"] == SAMPLE_DT
     assert doc["settings"]["tuning"] == {
         "first_looks": 2, "first_look": 400, "first_look_rate": 8.0, "jammed_for": 0.0,
-        "heuristics_kept": 16, "skip_fruitless": False}
+        "heuristics_kept": 16, "skip_fruitless": False, "flow_window": 600.0}

@@ -17,6 +17,7 @@ from lotsim.sim.settings import GASettings, RunSettings, RunTuning
     ("jammed_for", -0.5, "seconds, found -0.5"),
     ("heuristics_kept", -1, "expected 0 to"),
     ("skip_fruitless", "yes", "expected true or false"),
+    ("flow_window", 0, "expected 1 to 86400 seconds, found 0"),
 ])
 def test_a_tuning_value_out_of_range_is_refused_by_name(field, value, words):
     with pytest.raises(SettingsError, match=words) as err:
