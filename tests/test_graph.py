@@ -259,6 +259,45 @@ def test_junction_turns_join_aisles_with_feasible_arcs():
     assert reach.unreachable["in"] == [] and reach.stranded["out"] == []
 
 
+def test_a_car_reaches_the_exit_of_a_short_spur_at_driving_speed_not_a_crawl():
+    """A gate spur 12 m long meets an aisle at a T, its exit 4.5 m in from the boundary.
+    The fastest turns into the spur's outbound lane end past the exit (they need a long
+    tangent), the tightest is designed for 1.5 km/h; the fastest turn that ends before the
+    exit is built too: a car coming along the aisle's far lane turns out at 10 km/h or
+    more, one on the near lane (a right turn, with 5.75 m from the lanes' crossing to the
+    exit) at 3 km/h, not at a crawl."""
+    from lotsim.vehicles.catalogue import CATALOGUE
+    from lotsim.vehicles.motion import speed_cap
+
+    lg = graph_from_text("""
+        lot:
+          boundary: [[0, 0], [80, 0], [80, 40], [0, 40]]
+          aisles:
+            - {id: spur, centerline: [[40.5, 0], [40.5, 12.0]], width: 7.0}
+            - {id: a, centerline: [[3.5, 12.0], [79, 12.0]], width: 7.0}
+          rows:
+            - {aisle: a, side: left, kind: perpendicular, count: 20, slot_width: 2.6,
+               slot_length: 5.4, start: 14, id_prefix: N}
+          entrances:
+            - {id: in, x: 42.25, y: 1.5, heading_deg: 90}
+          exits:
+            - {id: out, x: 38.75, y: 4.5, heading_deg: -90}
+        """)
+    g = lg.graph
+    car = CATALOGUE["valet"]
+    out_lane = g.nodes[lg.exits["out"]]["lane"]
+    fastest: dict[str, float] = {}  # by the lane the turn comes from
+    for u, v, d in g.edges(data=True):
+        if d["kind"] == "turn" and g.nodes[v]["lane"] == out_lane \
+                and g.nodes[v]["pose"][1] >= 4.5 - 1e-6:  # it ends before the exit
+            cap = min(speed_cap(seg, car) for seg in d["path"])
+            lane = g.nodes[u]["lane"]
+            fastest[lane] = max(fastest.get(lane, 0.0), cap)
+    assert fastest["a<"] >= 10 * KMH - 1e-9
+    assert fastest["a>"] >= 3 * KMH - 1e-9
+    assert lg.reachability().stranded["out"] == []
+
+
 def test_a_portal_heading_off_its_lane_is_refused_not_turned_without_a_word():
     # 45° on a lane running at 0° was snapped to 0° silently; a few degrees are fine
     for heading, ok in ((45, False), (-30, False), (10, True)):

@@ -17,7 +17,7 @@ from lotsim.lot.build import SWEEP_STEP
 from lotsim.lot.clearance import Collider
 from lotsim.lot.model import DesignVehicle, Lot, unit
 from lotsim.roadmap.area_turns import area_turns
-from lotsim.roadmap.lanes import EPS, straights
+from lotsim.roadmap.lanes import EPS, portal_station, straights
 from lotsim.roadmap.memo import RoadmapMemo, types_key
 from lotsim.roadmap.model import Turn
 from lotsim.roadmap.through import through_chains, through_turn
@@ -65,11 +65,17 @@ def lane_crossing(pa: Segment, pb: Segment, aisle_a, aisle_b, reach: float
 
 
 def _fillet_between(a, sa0, pa, b, sb0, pb, aisle_a, aisle_b, reach, design,
-                    collider: Collider, lot_speed: float) -> list[Turn] | str | None:
+                    collider: Collider, lot_speed: float,
+                    gates: tuple[tuple[float, ...], tuple[float, ...]] = ((), ())
+                    ) -> list[Turn] | str | None:
     """The turns from straight ``pa`` of lane ``a`` into straight ``pb`` of lane ``b``: the
     fastest that is clear and, when it is another, the tightest that is clear (the shortest
     tangent: it starts later and ends sooner, so it can reach a node the wide one passes
-    by).
+    by); and for each station of ``gates`` — entrances on ``a``, exits on ``b`` — the
+    fastest clear turn that starts after that entrance or ends before that exit, when the
+    fastest does not: a car from the entrance can take it, a car can reach the exit by it
+    (the fastest may start behind the one or end past the other, and the tightest is
+    driven at a crawl).
 
     Returns the turns, a reason string when the aisles meet but no turn is clear,
     or None when the two straights do not meet.
@@ -105,12 +111,21 @@ def _fillet_between(a, sa0, pa, b, sb0, pb, aisle_a, aisle_b, reach, design,
         return clear[k]
 
     # the fastest clear turn, and the tightest (shortest tangent: starts latest, ends soonest)
-    fastest = next((tn for k in range(len(fits)) if (tn := sweep(k)) is not None), None)
+    first = next((k for k in range(len(fits)) if sweep(k) is not None), None)
     tight = sorted(range(len(fits)), key=lambda k: fits[k][2])
-    tightest = next((tn for k in tight if (tn := sweep(k)) is not None), None)
-    found = [tn for tn in (fastest, tightest) if tn is not None]
+    picked = [k for k in (first, next((k for k in tight if sweep(k) is not None), None))
+              if k is not None]
+    # and the fastest clear turn each gate's cars can use, when the fastest is not
+    entrances, exits = gates
+    for usable in ([lambda k, g=g: sa0 + t - fits[k][2] >= g - EPS for g in entrances]
+                   + [lambda k, g=g: sb0 + s + fits[k][2] <= g + EPS for g in exits]):
+        if first is not None and usable(first):
+            continue
+        picked.append(next((k for k in range(len(fits)) if usable(k) and sweep(k) is not None),
+                           None))
+    found = [clear[k] for k in dict.fromkeys(k for k in picked if k is not None)]
     if found:
-        return found if found[0] is not found[-1] else found[:1]
+        return found
     wide = area_turns(a, sa0, pa, b, sb0, pb, design, collider, lot_speed)
     if wide:
         return wide
@@ -126,6 +141,11 @@ def junction_turns(lot: Lot, collider: Collider, design: DesignVehicle | None = 
     turns: list[Turn] = []
     skipped: list[str] = []
     lanes = lot.lanes
+    gates: dict[tuple[str, str], list[float]] = {}  # (lane, "in" or "out") → stations
+    for way, portals in (("in", lot.entrances), ("out", lot.exits)):
+        for p in portals:
+            lid, st = portal_station(lot, p)
+            gates.setdefault((lid, way), []).append(st)
     for a in lanes if lanes_a is None else lanes_a:
         for b in lanes:
             if a.aisle == b.aisle:
@@ -135,7 +155,9 @@ def junction_turns(lot: Lot, collider: Collider, design: DesignVehicle | None = 
             for sa0, pa in straights(a):
                 for sb0, pb in straights(b):
                     turn = _fillet_between(a, sa0, pa, b, sb0, pb, aisle_a, aisle_b, reach,
-                                           design, collider, lot.speed_limit)
+                                           design, collider, lot.speed_limit,
+                                           (tuple(gates.get((a.id, "in"), ())),
+                                            tuple(gates.get((b.id, "out"), ()))))
                     if isinstance(turn, list):
                         turns.extend(turn)
                     elif turn:
