@@ -38,7 +38,8 @@ def add_arguments(r: argparse.ArgumentParser) -> None:
                    help=f"cooperative A* variant (default {rs.planner})")
     r.add_argument("--assignment", "--assign", dest="assign", choices=api.ASSIGNMENTS,
                    default=rs.assignment,
-                   help=f"slot choice: straight-line distance or travel time (default "
+                   help=f"slot choice: straight-line distance, travel time, or travel "
+                   f"time plus the delay the car's maneuvers cause the others (default "
                    f"{rs.assignment})")
     r.add_argument("--seed", type=int, help="seed of the traffic stream (default the "
                    "scenario's)")
