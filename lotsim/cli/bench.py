@@ -56,6 +56,7 @@ def execute(args: argparse.Namespace) -> int:
         where = "in this process" if jobs == 1 else f"on {jobs} local processes"
     print(f"{suite.name}: {suite.size} run{'s' * (suite.size != 1)} {where}", flush=True)
     bar = ProgressBar("runs")
+    bar(0, suite.size)
     try:
         rows = api.run_suite(suite, jobs=args.jobs, client=client, progress=bar)
     finally:

@@ -1,53 +1,120 @@
-"""Progress on one terminal line of stderr (silent when stderr is not a terminal), and
-noting Ctrl-C where a library may swallow it."""
+"""Progress where a user waits: on one terminal line of stderr, or, when stderr is not a
+terminal (a pipe, a log file, a batch job), a plain line every few seconds once the work
+has taken that long; and noting Ctrl-C where a library may swallow it."""
 
 from __future__ import annotations
 
 import contextlib
 import signal
 import sys
+import threading
 import time
 from collections.abc import Iterator
 
+PIPE_EVERY = 5.0
+"""Seconds between the progress lines written where stderr is not a terminal."""
+
 
 class ProgressBar:
-    """``label [#####-----] done/total, ~N s left`` on a terminal; silent otherwise."""
+    """``label [#####-----] done/total, ~N s left`` on one terminal line; where stderr is
+    not a terminal, ``label: done/total, ~N s left (M s)`` on a line of its own every
+    ``every`` seconds from its first news on while the work goes on, and a last line when
+    it is done (only for work that took that long: quick work writes nothing there).
 
-    def __init__(self, label: str):
+    Parameters
+    ----------
+    label : str
+    stream : file, optional
+        Where to write (default ``sys.stderr`` as it is when the bar is made).
+    every : float, optional
+        Seconds between the lines written where the stream is not a terminal (default
+        :data:`PIPE_EVERY`).
+    """
+
+    def __init__(self, label: str, *, stream=None, every: float | None = None):
         self.label = label
-        self.on = sys.stderr.isatty()
+        self.stream = sys.stderr if stream is None else stream
+        self.on = self.stream.isatty()
         self.t0 = time.perf_counter()
         self.shown = False
+        self.status = f"{label} …"
+        self.lines = 0  # written as lines of their own (not a terminal)
+        self.every = PIPE_EVERY if every is None else every
+        self._lock = threading.Lock()
+        self._stop = threading.Event()
+        self._beats: threading.Thread | None = None
+
+    def _start(self) -> None:
+        """Not a terminal: from the first news on, write the status every ``every``
+        seconds."""
+        if not self.on and self._beats is None and not self._stop.is_set():
+            self._beats = threading.Thread(target=self._beat_on, daemon=True)
+            self._beats.start()
 
     def __call__(self, done: int, total: int) -> None:
-        if not self.on or total <= 0:
+        self._start()
+        if total <= 0:
             return
         frac = done / total
-        bar = "#" * int(24 * frac) + "-" * (24 - int(24 * frac))
         spent = time.perf_counter() - self.t0
         left = f", ~{spent / frac * (1 - frac):.0f} s left" if 0 < frac < 1 else ""
-        print(f"\r{self.label} [{bar}] {done}/{total}{left}   ", end="", file=sys.stderr,
+        if not self.on:
+            self.status = f"{self.label}: {done}/{total}{left}"
+            return
+        bar = "#" * int(24 * frac) + "-" * (24 - int(24 * frac))
+        print(f"\r{self.label} [{bar}] {done}/{total}{left}   ", end="", file=self.stream,
               flush=True)
         self.shown = True
 
+    def beat(self) -> None:
+        """Write the status as a line of its own, with the time spent so far."""
+        with self._lock:
+            spent = time.perf_counter() - self.t0
+            print(f"{self.status} ({spent:.0f} s)", file=self.stream, flush=True)
+            self.lines += 1
+
+    def _beat_on(self) -> None:
+        while not self._stop.wait(self.every):
+            self.beat()
+
     def close(self) -> None:
+        self._stop.set()
+        if self._beats is not None:
+            self._beats.join()
+            self._beats = None
+            if self.lines:  # it wrote while it ran: say that it is over
+                self.status = f"{self.label}: done"
+                self.beat()
         if self.shown:
-            print("\r" + " " * 79 + "\r", end="", file=sys.stderr, flush=True)
+            print("\r" + " " * 79 + "\r", end="", file=self.stream, flush=True)
+
+    def __enter__(self) -> ProgressBar:
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.close()
 
 
 class Preparing(ProgressBar):
-    """A lot being prepared, on one terminal line: ``preparing the lot …``, then
-    ``planning maneuvers [###---] 412/2080``, then ``building the lot graph …``; silent
-    when stderr is not a terminal (and when the lot comes from the cache, quick)."""
+    """A lot being prepared: ``preparing the lot …``, then ``planning maneuvers [###---]
+    412/2080``, then ``building the lot graph …``, on one terminal line, or (not a
+    terminal) every few seconds while it lasts (a lot from the cache is quick: nothing)."""
 
     def __init__(self):
         super().__init__("planning maneuvers")
         self.note("preparing the lot …")
 
+    def close(self) -> None:
+        self.label = "preparing the lot"
+        super().close()
+
     def note(self, text: str) -> None:
         if self.on:
-            print(f"\r{text:<79}", end="", file=sys.stderr, flush=True)
+            print(f"\r{text:<79}", end="", file=self.stream, flush=True)
             self.shown = True
+        else:
+            self._start()
+            self.status = text
 
     def __call__(self, done: int, total: int) -> None:
         super().__call__(done, total)
@@ -56,9 +123,6 @@ class Preparing(ProgressBar):
 
     def __enter__(self) -> Preparing:
         return self
-
-    def __exit__(self, *exc: object) -> None:
-        self.close()
 
 
 @contextlib.contextmanager

@@ -95,11 +95,12 @@ def execute(args: argparse.Namespace) -> int:
     if isinstance(budget, str):
         return bad(budget)
     rr = _plan(args, scenario, settings, budget)
-    doc = api.result_dict(rr)
-    out.mkdir(parents=True, exist_ok=True)
-    written = [p for p in pictures.values() if p is not None]
-    removed = _remove_earlier(out, written)
-    api.write_result(doc, out / "result.json")
+    with ProgressBar("writing the result") as bar:
+        doc = api.result_dict(rr, progress=bar)
+        out.mkdir(parents=True, exist_ok=True)
+        written = [p for p in pictures.values() if p is not None]
+        removed = _remove_earlier(out, written)
+        api.write_result(doc, out / "result.json")
     m = rr.metrics()
     _summary(args, scenario, rr, m, doc)
     print(f"  wrote {out / 'result.json'}")
@@ -170,14 +171,16 @@ def _budget(args: argparse.Namespace) -> api.Budget | str:
 
 
 def _plan(args: argparse.Namespace, scenario, settings, budget) -> api.RunResult:
-    """Prepare the lot and run it within ``budget``, showing progress on a terminal."""
-    tty = sys.stderr.isatty()
+    """Prepare the lot and run it within ``budget``, showing progress as it goes."""
+    progress = ProgressBar("trips in and out planned")
+    try:
+        return _planned(args, scenario, settings, budget, progress)
+    finally:
+        progress.close()
 
-    def progress(done: int, total: int) -> None:
-        if tty:
-            print(f"\rplanned {done}/{total} trips in and out", end="", file=sys.stderr,
-                  flush=True)
 
+def _planned(args: argparse.Namespace, scenario, settings, budget,
+             progress: ProgressBar) -> api.RunResult:
     traffic = scenario.traffic
     where = traffic.stream.where if traffic.stream is not None else traffic.where
     seen: list[bool] = []  # Ctrl-C, even where a finaliser swallowed its KeyboardInterrupt
@@ -206,8 +209,6 @@ def _plan(args: argparse.Namespace, scenario, settings, budget) -> api.RunResult
               f"choosing the order took {found['order_time']:.1f} s")
     if seen:
         raise KeyboardInterrupt
-    if tty:
-        print("\r" + " " * 40 + "\r", end="", file=sys.stderr)
     return rr
 
 

@@ -36,8 +36,9 @@ def _rings(geom) -> list[list[list[list[float]]]]:
              for ring in (p.exterior, *p.interiors)] for p in polys if not p.is_empty]
 
 
-def result_dict(rr: RunResult) -> dict:
-    """The JSON document of a run."""
+def result_dict(rr: RunResult, *, progress=None) -> dict:
+    """The JSON document of a run; ``progress(done, total)`` is called as each vehicle's
+    motion is sampled (a thousand cars take seconds)."""
     lg = rr.lot_graph
     lot = lg.lot
     parked = rr.scenario.parked_vehicle
@@ -67,7 +68,9 @@ def result_dict(rr: RunResult) -> dict:
     if lot.pavement is not None:
         doc_lot["paved"] = _rings(lot.pavement)
     vehicles = []
-    for v in rr.vehicles:
+    for k, v in enumerate(rr.vehicles):
+        if progress is not None:
+            progress(k, len(rr.vehicles))
         t = v.vehicle
         lim = t.limits
         tr = samples(v)
@@ -95,6 +98,8 @@ def result_dict(rr: RunResult) -> dict:
             "reason": v.reason,
             "samples": cols,
         })
+    if progress is not None:
+        progress(len(rr.vehicles), len(rr.vehicles))
     s = rr.settings
     settings = {"planner": s.planner, "assignment": s.assignment, "seed": rr.seed,
                 "dt": SAMPLE_DT, "omega": s.omega, "lotsim_version": __version__,

@@ -132,7 +132,7 @@ def test_the_scenario_page_example_is_a_shipped_scenario_that_validates_and_runs
     assert block == path.read_text()
 
 
-def test_preparing_a_lot_shows_its_progress_on_a_terminal_only(tmp_path, capsys, monkeypatch):
+def test_preparing_a_lot_shows_its_progress_on_a_terminal(tmp_path, capsys, monkeypatch):
     # validate and run of a big lot said nothing for 20 s while its maneuvers were planned
     import lotsim
 
@@ -143,7 +143,7 @@ def test_preparing_a_lot_shows_its_progress_on_a_terminal_only(tmp_path, capsys,
     searched = report.prepared.maneuver_planner.stats["planned"]
     assert calls == [(k, searched) for k in range(1, searched + 1)] and searched > 1
     assert main(["validate", str(path)]) == 0
-    assert capsys.readouterr().err == ""  # a pipe: quiet
+    assert capsys.readouterr().err == ""  # a pipe: quick work writes nothing there
     monkeypatch.setattr("sys.stderr.isatty", lambda: True)
     assert main(["validate", str(path), "--verbose"]) == 0
     cap = capsys.readouterr()
@@ -346,3 +346,57 @@ def test_o_names_a_folder_or_a_file_alike_for_every_command(tmp_path, capsys):
     assert sorted(p.name for p in folder.iterdir()) == ["quickstart-N1.png", "quickstart.png"]
     assert main(["show", str(quick), "-o", str(folder / "lot.jpg")]) == 2
     assert "expected a file name ending in .png" in capsys.readouterr().err
+
+
+def test_where_stderr_is_not_a_terminal_long_work_writes_a_line_every_few_seconds(
+        capsys, monkeypatch):
+    import io
+    import time
+
+    from lotsim.cli.progress import Preparing, ProgressBar
+
+    stream = io.StringIO()  # a pipe, a log file: not a terminal
+    bar = ProgressBar("runs", stream=stream, every=0.05)
+    bar(0, 10)
+    time.sleep(0.3)
+    bar(4, 10)
+    time.sleep(0.3)
+    bar(10, 10)
+    bar.close()
+    lines = stream.getvalue().splitlines()
+    assert len(lines) >= 4 and "\r" not in stream.getvalue()
+    assert all(re.fullmatch(r"runs(: \d+/10(, ~\d+ s left)?| …|: done) \(\d+ s\)", line)
+               for line in lines), lines
+    assert any(line.startswith("runs: 4/10, ~") for line in lines)
+    assert lines[-1].startswith("runs: done")
+    time.sleep(0.2)
+    assert stream.getvalue().splitlines() == lines  # closed: it has stopped
+    quick = io.StringIO()
+    with ProgressBar("runs", stream=quick, every=5.0) as fast:
+        fast(1, 1)
+    assert quick.getvalue() == ""  # quick work writes nothing there
+    # a lot being prepared says which step it is at
+    import lotsim.cli.progress as progress
+
+    monkeypatch.setattr(progress, "PIPE_EVERY", 0.05)
+    capsys.readouterr()
+    with Preparing() as prep:
+        prep(3, 3)
+        time.sleep(0.2)
+    said = capsys.readouterr().err
+    assert "building the lot graph … (" in said
+    assert said.endswith("preparing the lot: done (0 s)\n")
+
+
+def test_a_run_on_a_pipe_tells_its_trips_and_the_writing_of_its_result(tmp_path, capsys,
+                                                                       monkeypatch):
+    import lotsim.cli.progress as progress
+
+    monkeypatch.setattr(progress, "PIPE_EVERY", 0.001)
+    path = next(p for p in SCENARIOS if p.stem == "quickstart")
+    assert main(["run", str(path), "-o", str(tmp_path / "o"), "--no-gif"]) == 0
+    err = capsys.readouterr().err
+    assert "\r" not in err
+    assert re.search(r"^trips in and out planned: \d+/\d+", err, re.M)
+    assert re.search(r"^writing the result: \d+/\d+", err, re.M)
+    assert "trips in and out planned: done" in err and "writing the result: done" in err
