@@ -202,6 +202,7 @@ def _result_columns(rr: RunResult, report: Any, extra: dict) -> dict:
         "planning_time_s": m["planning_time"],
         "planning_median_ms": 1000 * m["planning_time_median"],
         "planning_p95_ms": 1000 * m["planning_time_p95"],
+        "motions_s": m["planning_time_motions"],
         "order_time_s": extra.get("order_time"),
     }
 

@@ -262,7 +262,8 @@ def _summary(args: argparse.Namespace, scenario, rr, m: dict, doc: dict) -> None
     print(f"  planning {m['planning_time']:.2f} s "
           f"({plural(m['searches'], 'search', 'searches')}, "
           f"{plural(m['expansions'], 'expansion')}; per vehicle median "
-          f"{1000 * m['planning_time_median']:.0f} ms, p95 {1000 * m['planning_time_p95']:.0f} ms)")
+          f"{1000 * m['planning_time_median']:.0f} ms, p95 {1000 * m['planning_time_p95']:.0f} ms)"
+          f"; and {m['planning_time_motions']:.2f} s working out the edge motions it drove")
     for v in doc["vehicles"]:
         if v["status"] in ("waiting", "rejected"):
             print(f"  {v['id']}: {v['status']}: {v['reason']}")

@@ -193,4 +193,6 @@ def simulate(scenario: Scenario, settings: RunSettings | None = None, *, lot_gra
                      turned_away=turned_away(lg, traffic))
     clock = time.perf_counter()
     loop.go()
-    return RunResult(scenario, lg, settings, seed, loop.vehicles, time.perf_counter() - clock)
+    took = time.perf_counter() - clock
+    return RunResult(scenario, lg, settings, seed, loop.vehicles, took - loop.motion_time,
+                     motion_time=loop.motion_time)

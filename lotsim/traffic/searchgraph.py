@@ -18,6 +18,7 @@ from __future__ import annotations
 
 import heapq
 import math
+import time
 from dataclasses import dataclass
 
 import numpy as np
@@ -36,6 +37,16 @@ AT_REST = ("park", "leave", "turnaround")
 """Edges driven from rest to rest (multi-stroke: the car stops at every cusp)."""
 
 
+class Tally:
+    """Seconds spent working out what a search graph keeps (edge motions and their swept
+    hulls), so that a search's time can be told from the graph's first-use work."""
+
+    __slots__ = ("seconds",)
+
+    def __init__(self) -> None:
+        self.seconds = 0.0
+
+
 class EdgeMotion:
     """An edge driven between two speed levels: the motion, its duration [s], end pose,
     and the hulls it sweeps (in its own time; worked out when first asked for: a search
@@ -43,9 +54,11 @@ class EdgeMotion:
     the edge is driven to from the same start speed, so those are worked out together,
     see :meth:`SearchGraph.variants`)."""
 
-    __slots__ = ("motion", "duration", "end", "_vehicle", "_settings", "_swept", "group")
+    __slots__ = ("motion", "duration", "end", "_vehicle", "_settings", "_swept", "group",
+                 "_tally")
 
-    def __init__(self, motion: Motion, vehicle: VehicleType, settings: SearchSettings):
+    def __init__(self, motion: Motion, vehicle: VehicleType, settings: SearchSettings,
+                 tally: Tally | None = None):
         self.motion = motion
         self.duration = motion.duration
         self.end = motion.end
@@ -53,18 +66,22 @@ class EdgeMotion:
         self._settings = settings
         self._swept: Swept | None = None
         self.group: list[EdgeMotion] = [self]
+        self._tally = tally
 
     @property
     def swept(self) -> Swept:
         """The hulls it sweeps, chunk by chunk (the graph's settings' ``chunk`` and
         ``sample``), in its own time."""
         if self._swept is None:
+            clock = time.perf_counter()
             todo = [em for em in self.group if em._swept is None]
             s = self._settings
             for em, sw in zip(todo, swept_motions([em.motion for em in todo], self._vehicle,
                                                   chunk=s.chunk, sample=s.sample),
                               strict=True):
                 em._swept = sw
+            if self._tally is not None:
+                self._tally.seconds += time.perf_counter() - clock
         return self._swept
 
 
@@ -158,6 +175,9 @@ class SearchGraph:
                       for n in g.nodes}
         self.slot_nodes = set(lg.slot_nodes.values())
         self._motions: dict[tuple[int, int, int], EdgeMotion | None] = {}
+        self.tally = Tally()
+        """Seconds spent so far working out edge motions and their hulls (kept for every
+        later search on the graph)."""
         self._paths: dict[int, tuple] = {}
         self._variants: dict[tuple[int, int], tuple[list[tuple[int, EdgeMotion]], float]] = {}
         self._bodies: dict[int, BaseGeometry] = {}
@@ -208,6 +228,7 @@ class SearchGraph:
         key = (ei, a, b)
         if key in self._motions:
             return self._motions[key]
+        clock = time.perf_counter()
         e = self.edges[ei]
         out = None
         if e.kind in AT_REST:
@@ -227,6 +248,7 @@ class SearchGraph:
                 if prof is not None:
                     out = self._timed(Motion((Stroke(self._path(ei), prof),)))
         self._motions[key] = out
+        self.tally.seconds += time.perf_counter() - clock
         return out
 
     def _path(self, ei: int) -> tuple:
@@ -263,7 +285,7 @@ class SearchGraph:
         return box
 
     def _timed(self, motion: Motion) -> EdgeMotion:
-        return EdgeMotion(motion, self.vehicle, self.settings)
+        return EdgeMotion(motion, self.vehicle, self.settings, self.tally)
 
     def edge_cells(self, ei: int, em: EdgeMotion) -> Cells:
         """Grid cells of everything edge ``ei`` sweeps (the same at any speed)."""

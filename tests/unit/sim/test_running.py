@@ -309,3 +309,23 @@ def test_collector_tuned_leaves_what_was_frozen_before_it_frozen():
         assert gc.get_freeze_count() == held
     finally:
         gc.unfreeze()
+
+
+def test_runs_on_a_lot_are_timed_alike_whatever_ran_before_them(tiny):
+    """The edge motions a lot's first run works out are kept (the lot's search graphs) for
+    its later runs: that work is counted apart (``motion_time``), out of the planning
+    times, so the first run's planning is not charged for it."""
+    from lotsim.traffic.searchgraph import SearchGraphMemo
+
+    sc, lg = tiny
+    sc = _with(sc, _cars(0, 20, 40, dwell=60.0))
+    memo = SearchGraphMemo()
+    first, second = (simulate(sc, RunSettings(), lot_graph=lg, memo=memo) for _ in range(2))
+    assert result_dict(first) == result_dict(second)  # the same plans
+    assert first.motion_time > 0 and second.motion_time < first.motion_time / 10
+    for rr in (first, second):
+        assert rr.planning_time >= 0
+        assert rr.metrics()["planning_time_motions"] == rr.motion_time
+        assert sum(v.planning_time for v in rr.vehicles) <= rr.planning_time + 1e-9
+    fresh = simulate(sc, RunSettings(), lot_graph=lg, memo=SearchGraphMemo())
+    assert fresh.motion_time > second.motion_time  # a new memo works them out again
