@@ -27,6 +27,7 @@ _EXPORTS = {
     "lotsim.api": ("EXAMPLE", "MinSlotTable", "RunResult", "car", "check", "load_animation",
                    "load_scenario", "minslot", "plan_maneuver", "prepare", "render_gif",
                    "render_html", "render_lot", "render_mp4", "run", "validate",
+                   "validate_files",
                    "export_commonroad", "export_sumo", "export_openscenario", "result_dict",
                    "write_result", "load_result", "import_osm", "import_lanelet2"),
     "lotsim.sim.preparation": ("PreparedLot",),
@@ -95,6 +96,7 @@ if TYPE_CHECKING:  # for type checkers and editors: the same names, imported eag
         result_dict,
         run,
         validate,
+        validate_files,
         write_result,
     )
     from lotsim.errors import (  # noqa: F401

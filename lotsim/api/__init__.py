@@ -31,8 +31,8 @@ from lotsim import __version__ as __version__  # what lotsim --version says
 
 EXPORTS: dict[str, tuple[str, ...]] = {
     # the facade's own
-    "lotsim.api.scenarios": ("EXAMPLE", "ScenarioLike", "prepare", "prepare_for_drawing",
-                             "validate"),
+    "lotsim.api.scenarios": ("EXAMPLE", "FileValidation", "ScenarioLike", "prepare",
+                             "prepare_for_drawing", "validate", "validate_files"),
     "lotsim.api.running": ("run",),
     "lotsim.sim.results": ("RunResult",),
     "lotsim.io.result": ("result_dict",),
@@ -116,10 +116,12 @@ if TYPE_CHECKING:  # for type checkers and editors: the same names, imported eag
     from lotsim.api.running import run  # noqa: F401
     from lotsim.api.scenarios import (  # noqa: F401
         EXAMPLE,
+        FileValidation,
         ScenarioLike,
         prepare,
         prepare_for_drawing,
         validate,
+        validate_files,
     )
     from lotsim.bench import (  # noqa: F401
         DaskMissing,

@@ -6,8 +6,12 @@ validate`` reports (:func:`validate`). Reading a scenario is :mod:`lotsim.io.sce
 from __future__ import annotations
 
 import os
+import time
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass
+from typing import Any
 
-from lotsim.errors import SettingsError
+from lotsim.errors import ScenarioError, SettingsError
 from lotsim.io.scenario_yaml import load_scenario
 from lotsim.scenario import Scenario
 from lotsim.sim import preparation
@@ -148,3 +152,95 @@ def prepare_for_drawing(scenario: ScenarioLike | PreparedLot, *, graph: bool = F
         return scenario
     sc = scenario_of(scenario)
     return PreparedLot(sc, preparation.prepare_graph(sc, maneuvers=graph))
+
+
+@dataclass(frozen=True)
+class FileValidation:
+    """What :func:`validate_files` found of one file.
+
+    Attributes
+    ----------
+    source : str
+        The file, as given.
+    summary : str
+        What ``lotsim validate`` prints of its lot (``""`` when it is not a valid
+        scenario).
+    complete : bool
+        What ``--strict`` requires (:attr:`ValidationReport.complete`); False for a file
+        that is not a valid scenario.
+    problems : tuple of str
+        Each problem of a file that is not a valid scenario, located (``file:line:col:
+        ...``); empty for a valid one.
+    seconds : float
+        How long preparing and checking it took, where it was done.
+    """
+
+    source: str
+    summary: str
+    complete: bool
+    problems: tuple[str, ...]
+    seconds: float
+
+    @property
+    def valid(self) -> bool:
+        """Whether the file is a valid scenario."""
+        return not self.problems
+
+
+def validate_file(job: tuple[str, bool]) -> FileValidation:
+    """:func:`validate` one ``(path, verbose)``, its outcome as plain data (a worker's job
+    in :func:`validate_files`: it pickles, where the prepared lot would be heavy)."""
+    path, verbose = job
+    clock = time.perf_counter()
+    try:
+        report = validate(path)
+    except ScenarioError as exc:
+        problems = tuple(str(e) for e in getattr(exc, "errors", (exc,)))
+        return FileValidation(path, "", False, problems, time.perf_counter() - clock)
+    return FileValidation(path, report.summary(verbose=verbose), report.complete, (),
+                          time.perf_counter() - clock)
+
+
+def validate_files(paths: Sequence[str | os.PathLike], *, verbose: bool = False,
+                   jobs: int | None = None, client: Any = None,
+                   progress: Callable[[int, int], None] | None = None
+                   ) -> list[FileValidation]:
+    """:func:`validate` each of ``paths`` — the lots of a city's extract, a designer's
+    variants — several at once: on ``jobs`` local processes (default 1: in this process,
+    one after another, each lot on every core), or on a Dask cluster (``client``,
+    :func:`~lotsim.bench.connect`, as ``lotsim bench`` uses). A file is one job: its lot
+    is prepared on one core of the process that takes it. ``progress(done, total)`` is
+    called as files are done.
+
+    Returns
+    -------
+    list of FileValidation
+        In the order of ``paths``; a file that is not a valid scenario says why in its
+        ``problems`` (it does not stop the others).
+
+    Examples
+    --------
+    >>> import pathlib, tempfile
+    >>> path = pathlib.Path(tempfile.mkdtemp()) / "lot.yaml"
+    >>> _ = path.write_text(EXAMPLE)
+    >>> [(f.valid, f.complete) for f in validate_files([path])]
+    [(True, True)]
+    """
+    from lotsim.bench.runner import run_all
+
+    jobs_ = [(os.fspath(p), verbose) for p in paths]
+    found: dict[int, FileValidation] = {}
+
+    def take(k: int, outcome: FileValidation) -> None:
+        found[k] = outcome
+        if progress is not None:
+            progress(len(found), len(jobs_))
+
+    def lost(k: int, exc: BaseException) -> FileValidation:
+        return FileValidation(jobs_[k][0], "", False,
+                              (f"{jobs_[k][0]}: its worker was lost ({exc!r})",), 0.0)
+
+    if progress is not None:
+        progress(0, len(jobs_))
+    run_all(validate_file, jobs_, take, lost, jobs=jobs or 1, client=client)
+    return [found[k] for k in range(len(jobs_))]

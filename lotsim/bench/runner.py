@@ -239,19 +239,34 @@ def run_suite(suite: Suite, *, jobs: int | None = None, client: Any = None,
 
     if progress is not None:
         progress(0, total)
-    if client is not None:
-        _run_dask(client, specs, take)
-    else:
-        workers = min(jobs or os.cpu_count() or 1, total)
-        if workers <= 1:
-            for spec in specs:
-                take(spec.index, run_spec(spec))
-        else:
-            _run_pool(workers, specs, take)
+    run_all(run_spec, specs, lambda k, row: take(specs[k].index, row),
+            lambda k, exc: _lost(specs[k], exc), jobs=jobs, client=client)
     return [rows[i] for i in range(total)]
 
 
-def _run_pool(workers: int, specs: list[RunSpec], take: Callable[[int, dict], None]) -> None:
+def run_all(fn: Callable[[Any], Any], items: Sequence[Any], take: Callable[[int, Any], None],
+            lost: Callable[[int, BaseException], Any], *, jobs: int | None = None,
+            client: Any = None) -> None:
+    """``fn(item)`` for every item: on the Dask cluster of ``client``, or on ``jobs`` local
+    processes (default ``os.cpu_count()``; 1: in this process, in order). ``take(k,
+    answer)`` is called here as each is done, ``k`` the item's place; the answer of an item
+    whose worker died (killed, out of memory, lost by the cluster) is ``lost(k, exc)``.
+    ``fn`` and the items must pickle (``fn`` by name: a module-level function). Ctrl-C
+    stops the workers and raises KeyboardInterrupt here."""
+    if client is not None:
+        _run_dask(client, fn, items, take, lost)
+        return
+    workers = min(jobs or os.cpu_count() or 1, len(items))
+    if workers <= 1:
+        for k, item in enumerate(items):
+            take(k, fn(item))
+    else:
+        _run_pool(workers, fn, items, take, lost)
+
+
+def _run_pool(workers: int, fn: Callable[[Any], Any], items: Sequence[Any],
+              take: Callable[[int, Any], None],
+              lost: Callable[[int, BaseException], Any]) -> None:
     import multiprocessing
     from concurrent.futures import ProcessPoolExecutor, as_completed
 
@@ -268,14 +283,14 @@ def _run_pool(workers: int, specs: list[RunSpec], take: Callable[[int, dict], No
                                initializer=_deaf_to_ctrl_c)
     try:
         with _ctrl_c_held():  # the pool's processes start here, in submit
-            futures = {pool.submit(run_spec, s): s for s in specs}
+            futures = {pool.submit(fn, item): k for k, item in enumerate(items)}
         for fut in as_completed(futures):
-            spec = futures[fut]
+            k = futures[fut]
             try:
-                row = fut.result()
+                answer = fut.result()
             except Exception as exc:  # BrokenProcessPool: a worker died
-                row = _lost(spec, exc)
-            take(spec.index, row)
+                answer = lost(k, exc)
+            take(k, answer)
     except BaseException:  # Ctrl-C, or an error: stop the runs in flight instead of waiting
         for proc in list((getattr(pool, "_processes", None) or {}).values()):
             proc.terminate()
@@ -372,19 +387,21 @@ def _first_line(exc: BaseException) -> str:
     return text.splitlines()[0] if text else type(exc).__name__
 
 
-def _run_dask(client: Any, specs: list[RunSpec], take: Callable[[int, dict], None]) -> None:
+def _run_dask(client: Any, fn: Callable[[Any], Any], items: Sequence[Any],
+              take: Callable[[int, Any], None],
+              lost: Callable[[int, BaseException], Any]) -> None:
     import distributed
 
-    # pure=False: two runs of the same spec are still two runs (timings differ)
-    futures = client.map(run_spec, specs, pure=False)
-    by_key = {f.key: s for f, s in zip(futures, specs, strict=True)}
+    # pure=False: two runs of the same item are still two runs (timings differ)
+    futures = client.map(fn, list(items), pure=False)
+    by_key = {f.key: k for k, f in enumerate(futures)}
     try:
         for fut in distributed.as_completed(futures, loop=client.loop):
-            spec = by_key[fut.key]
+            k = by_key[fut.key]
             try:
-                row = fut.result()
+                answer = fut.result()
             except Exception as exc:  # KilledWorker and the like
-                row = _lost(spec, exc)
-            take(spec.index, row)
+                answer = lost(k, exc)
+            take(k, answer)
     finally:
         client.cancel(futures)

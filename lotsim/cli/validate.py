@@ -6,8 +6,9 @@ import argparse
 import sys
 
 from lotsim import api
-from lotsim.cli.output import EXIT_BAD_INPUT, EXIT_INCOMPLETE, EXIT_OK, located
-from lotsim.cli.progress import Preparing
+from lotsim.cli.bench import MAX_JOBS
+from lotsim.cli.output import EXIT_BAD_INPUT, EXIT_INCOMPLETE, EXIT_OK, bad, located
+from lotsim.cli.progress import Preparing, ProgressBar
 from lotsim.errors import ScenarioError
 
 HELP = "check scenario files and summarise each lot"
@@ -24,9 +25,20 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--verbose", action="store_true",
                         help="also how the maneuvers were found (problems searched, repeats "
                         "answered from them, whether the lot came from the cache)")
+    where = parser.add_mutually_exclusive_group()
+    where.add_argument("--jobs", type=int, metavar="N",
+                       help="validate N files at once on local processes, each lot on one "
+                       "core (default: one file after another, each on every core)")
+    where.add_argument("--scheduler", metavar="ADDRESS",
+                       help="validate the files on the Dask distributed cluster whose "
+                       "scheduler is at ADDRESS (pip install 'lotsim[dask]')")
 
 
 def execute(args: argparse.Namespace) -> int:
+    if args.jobs is not None and not 1 <= args.jobs <= MAX_JOBS:
+        return bad(f"--jobs: expected 1 to {MAX_JOBS}, found {args.jobs}")
+    if args.jobs is not None or args.scheduler is not None:
+        return _many(args)
     worst = EXIT_OK
     for path in args.scenarios:
         try:
@@ -38,5 +50,33 @@ def execute(args: argparse.Namespace) -> int:
             continue
         print(report.summary(verbose=args.verbose))
         if args.strict and not report.complete:
+            worst = max(worst, EXIT_INCOMPLETE)
+    return worst
+
+
+def _many(args: argparse.Namespace) -> int:
+    """The files validated several at once (``--jobs``, ``--scheduler``), printed in their
+    order as they would be one after another."""
+    client = None
+    if args.scheduler is not None:
+        try:
+            client = api.connect_scheduler(args.scheduler)
+        except (api.DaskMissing, api.SchedulerUnreachable) as exc:
+            return bad(str(exc))
+    try:
+        with ProgressBar("lots validated") as bar:
+            found = api.validate_files(args.scenarios, verbose=args.verbose, jobs=args.jobs,
+                                       client=client, progress=bar)
+    finally:
+        if client is not None:
+            client.close()
+    worst = EXIT_OK
+    for f in found:
+        if not f.valid:
+            print("\n".join(f"lotsim: {p}" for p in f.problems), file=sys.stderr)
+            worst = EXIT_BAD_INPUT
+            continue
+        print(f.summary)
+        if args.strict and not f.complete:
             worst = max(worst, EXIT_INCOMPLETE)
     return worst

@@ -236,6 +236,7 @@ def test_docs_python_md_runs(tmp_path, monkeypatch):
     """The notebook walk-through, run from a folder holding the scenario it loads."""
     (tmp_path / "scenarios").mkdir()
     shutil.copy(QUICKSTART, tmp_path / "scenarios" / "quickstart.yaml")
+    shutil.copy(ROOT / "scenarios" / "example.yaml", tmp_path / "scenarios" / "example.yaml")
     monkeypatch.chdir(tmp_path)
     failed, attempted = doctest.testfile(str(ROOT / "docs" / "python.md"),
                                          module_relative=False, verbose=False)

@@ -400,3 +400,42 @@ def test_a_run_on_a_pipe_tells_its_trips_and_the_writing_of_its_result(tmp_path,
     assert re.search(r"^trips in and out planned: \d+/\d+", err, re.M)
     assert re.search(r"^writing the result: \d+/\d+", err, re.M)
     assert "trips in and out planned: done" in err and "writing the result: done" in err
+
+
+def test_validate_takes_several_files_at_once_and_says_what_one_after_another_says(
+        tmp_path, capsys):
+    import lotsim
+
+    bad_file = tmp_path / "bad.yaml"
+    bad_file.write_text("name: bad\nlot:\n  boundary: [[0, 0], [10, 0]]\n")
+    paths = [str(ROOT / "scenarios" / "example.yaml"), str(bad_file),
+             str(ROOT / "scenarios" / "quickstart.yaml")]
+    serial = main(["validate", *paths, "--strict"])
+    one_by_one = capsys.readouterr()
+    assert serial == 2 and "bad.yaml:" in one_by_one.err
+    for many in (["--jobs", "2"], ["--jobs", "1"]):
+        assert main(["validate", *paths, "--strict", *many]) == serial
+        at_once = capsys.readouterr()
+        assert (at_once.out, at_once.err) == (one_by_one.out, one_by_one.err)
+    found = lotsim.validate_files(paths, jobs=2)
+    assert [f.source for f in found] == paths
+    assert [(f.valid, f.complete) for f in found] == [(True, True), (False, False),
+                                                      (True, True)]
+    assert found[1].problems and all(p.startswith(str(bad_file)) for p in found[1].problems)
+    assert found[0].summary == lotsim.validate(paths[0]).summary()
+    assert main(["validate", paths[0], "--jobs", "0"]) == 2
+    assert "--jobs: expected 1 to" in capsys.readouterr().err
+
+
+def test_validate_on_a_dask_cluster_says_the_same(capsys):
+    distributed = pytest.importorskip("distributed")
+    paths = [str(ROOT / "scenarios" / "example.yaml"),
+             str(ROOT / "scenarios" / "quickstart.yaml")]
+    assert main(["validate", *paths]) == 0
+    here = capsys.readouterr().out
+    with distributed.LocalCluster(n_workers=1, processes=False, threads_per_worker=1,
+                                  dashboard_address=None) as cluster:
+        assert main(["validate", *paths, "--scheduler", cluster.scheduler_address]) == 0
+    assert capsys.readouterr().out == here
+    assert main(["validate", paths[0], "--scheduler", "tcp://127.0.0.1:1"]) == 2
+    assert "cannot reach a Dask scheduler" in capsys.readouterr().err
