@@ -32,6 +32,17 @@ def add_arguments(b: argparse.ArgumentParser) -> None:
                        "cluster whose scheduler is at ADDRESS (pip install 'lotsim[dask]')")
 
 
+def connected(address: str | None):
+    """``(client, None)`` of the Dask scheduler at ``address`` (``(None, None)`` without
+    one), or ``(None, why not)``."""
+    if address is None:
+        return None, None
+    try:
+        return api.connect_scheduler(address), None
+    except (api.DaskMissing, api.SchedulerUnreachable) as exc:
+        return None, str(exc)
+
+
 def execute(args: argparse.Namespace) -> int:
     if args.jobs is not None and not 1 <= args.jobs <= MAX_JOBS:
         return bad(f"--jobs: expected 1 to {MAX_JOBS}, found {args.jobs}")
@@ -44,12 +55,10 @@ def execute(args: argparse.Namespace) -> int:
         plots = True
     except ImportError:
         plots = False
-    client = None
-    if args.scheduler is not None:
-        try:
-            client = api.connect_scheduler(args.scheduler)
-        except (api.DaskMissing, api.SchedulerUnreachable) as exc:
-            return bad(str(exc))
+    client, problem = connected(args.scheduler)
+    if problem is not None:
+        return bad(problem)
+    if client is not None:
         where = f"on the Dask cluster at {args.scheduler}"
     else:
         jobs = min(args.jobs or os.cpu_count() or 1, suite.size)

@@ -6,7 +6,7 @@ import argparse
 import sys
 
 from lotsim import api
-from lotsim.cli.bench import MAX_JOBS
+from lotsim.cli.bench import MAX_JOBS, connected
 from lotsim.cli.output import EXIT_BAD_INPUT, EXIT_INCOMPLETE, EXIT_OK, bad, located
 from lotsim.cli.progress import Preparing, ProgressBar
 from lotsim.errors import ScenarioError
@@ -57,12 +57,9 @@ def execute(args: argparse.Namespace) -> int:
 def _many(args: argparse.Namespace) -> int:
     """The files validated several at once (``--jobs``, ``--scheduler``), printed in their
     order as they would be one after another."""
-    client = None
-    if args.scheduler is not None:
-        try:
-            client = api.connect_scheduler(args.scheduler)
-        except (api.DaskMissing, api.SchedulerUnreachable) as exc:
-            return bad(str(exc))
+    client, problem = connected(args.scheduler)
+    if problem is not None:
+        return bad(problem)
     try:
         with ProgressBar("lots validated") as bar:
             found = api.validate_files(args.scenarios, verbose=args.verbose, jobs=args.jobs,
