@@ -9,6 +9,7 @@ import sys
 
 from lotsim import api
 from lotsim.cli.output import EXIT_OK, bad, cannot_write
+from lotsim.cli.progress import ProgressBar
 
 HELP = "shortest parallel slot for each number of direction changes"
 EXITS = "0 the table was computed; 2 bad input"
@@ -61,18 +62,15 @@ def execute(args: argparse.Namespace) -> int:
 
 
 def _tables(cars: list, widths: list[float], settings, *, narrow_ok: bool) -> list[dict]:
-    """Each car's table for each width, as :meth:`MinSlotTable.to_dict`; on a terminal,
-    which one is being computed."""
+    """Each car's table for each width, as :meth:`MinSlotTable.to_dict`, showing which one
+    is being computed."""
     jobs = [(vehicle, width) for vehicle in cars for width in widths]
-    show_progress = sys.stderr.isatty() and len(jobs) > 1
     docs = []
-    for i, (vehicle, width) in enumerate(jobs):
-        if show_progress:
-            print(f"\r{i}/{len(jobs)} … {vehicle.name:8} {width:g} m", end="", file=sys.stderr,
-                  flush=True)
-        docs.append(api.minslot(vehicle, width, settings, narrow_ok=narrow_ok).to_dict())
-    if show_progress:
-        print("\r" + " " * 40 + "\r", end="", file=sys.stderr)
+    with ProgressBar("minimum-slot tables") as bar:
+        for i, (vehicle, width) in enumerate(jobs):
+            if len(jobs) > 1:
+                bar(i, len(jobs), f"{vehicle.name} {width:g} m")
+            docs.append(api.minslot(vehicle, width, settings, narrow_ok=narrow_ok).to_dict())
     return docs
 
 

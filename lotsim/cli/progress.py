@@ -51,19 +51,21 @@ class ProgressBar:
             self._beats = threading.Thread(target=self._beat_on, daemon=True)
             self._beats.start()
 
-    def __call__(self, done: int, total: int) -> None:
+    def __call__(self, done: int, total: int, what: str = "") -> None:
+        """``done`` of ``total``; ``what``: the one being done now, to show beside."""
         self._start()
         if total <= 0:
             return
         frac = done / total
         spent = time.perf_counter() - self.t0
         left = f", ~{spent / frac * (1 - frac):.0f} s left" if 0 < frac < 1 else ""
+        now = f" … {what}" if what else ""
         if not self.on:
-            self.status = f"{self.label}: {done}/{total}{left}"
+            self.status = f"{self.label}: {done}/{total}{left}{now}"
             return
         bar = "#" * int(24 * frac) + "-" * (24 - int(24 * frac))
-        print(f"\r{self.label} [{bar}] {done}/{total}{left}   ", end="", file=self.stream,
-              flush=True)
+        print(f"\r{self.label} [{bar}] {done}/{total}{left}{now}   ", end="",
+              file=self.stream, flush=True)
         self.shown = True
 
     def beat(self) -> None:
