@@ -239,6 +239,12 @@ class SearchGraph:
                                     self.vehicle, steer_from=self.steer[e.u],
                                     steer_to=self.steer[e.v])
                 out = self._timed(motion)
+        elif e.length > 0 and self.crawls(e):
+            if a == 0 and b == 0:  # from rest to rest: each piece at the speed it allows
+                motion = timed_path([Piece(s, e.data["speed_limit"]) for s in self._path(ei)],
+                                    self.vehicle, steer_from=self.steer[e.u],
+                                    steer_to=self.steer[e.v])
+                out = self._timed(motion)
         elif e.length > 0:
             lim = self.vehicle.limits
             va, vb = self.levels[a], self.levels[b]
@@ -250,6 +256,13 @@ class SearchGraph:
         self._motions[key] = out
         self.tally.seconds += time.perf_counter() - clock
         return out
+
+    def crawls(self, e: Edge) -> bool:
+        """Whether edge ``e``'s tightest piece is slower than the lowest speed a car passes a
+        node at: it is then driven from rest to rest, each piece as fast as it allows (a
+        tight junction turn's sharp clothoids slowly, the arc between them faster), not
+        all of it at its tightest piece's speed."""
+        return len(self.levels) > 1 and e.cap < self.levels[1] - 1e-9
 
     def _path(self, ei: int) -> tuple:
         """Edge ``ei``'s path as a tuple, one for all the motions along it (kept)."""
@@ -324,7 +337,7 @@ class SearchGraph:
     def _lower_time(self, i: int, e: Edge) -> float:
         if e.kind in ("park", "leave"):
             return e.duration
-        if e.kind == "turnaround":
+        if e.kind == "turnaround" or (e.length > 0 and self.crawls(e)):
             em = self.motion(i, 0, 0)
             return em.duration if em is not None else math.inf
         return e.length / e.cap if e.length > 0 else 0.0
