@@ -41,33 +41,50 @@ def timed(args: list[str], runs: int) -> list[float]:
     return out
 
 
-def main(argv: list[str] | None = None) -> int:
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("source", nargs="?", default=str(ROOT / "tests/data/osm/test.osm.pbf"))
-    ap.add_argument("--runs", type=int, default=3)
-    args = ap.parse_args(argv)
-    os.environ["LOTSIM_CACHE_DIR"] = "off"  # here too: the Dask workers inherit it
+DEFAULT_SOURCE = ROOT / "tests" / "data" / "osm" / "test.osm.pbf"
+
+
+def measure(source: str | os.PathLike, runs: int) -> tuple[int, dict[str, list[float]]]:
+    """The lots of ``source`` imported into a temporary folder, then ``lotsim validate`` of
+    all of them timed each way: how many lots, and the wall times by way."""
     sys.path.insert(0, str(ROOT))
     import lotsim
 
     folder = Path(tempfile.mkdtemp(prefix="lotsim-many-"))
-    report = lotsim.import_osm(args.source, folder)
+    lotsim.import_osm(source, folder)
     files = sorted(str(p) for p in folder.glob("*.yaml"))
-    print(f"{len(files)} lots imported from {args.source} ({len(report.written)} written); "
-          f"{os.cpu_count()} cores, {args.runs} runs each")
     rows = [("one after another", files), ("--jobs 2", [*files, "--jobs", "2"])]
-    times = {name: timed(["validate", *a], args.runs) for name, a in rows}
+    times = {name: timed(["validate", *a], runs) for name, a in rows}
     try:
         import distributed
     except ImportError:
-        distributed = None
-        print("(no Dask rows: pip install 'lotsim[dask]')")
-    if distributed is not None:
+        return len(files), times
+    was = os.environ.get("LOTSIM_CACHE_DIR")
+    os.environ["LOTSIM_CACHE_DIR"] = "off"  # the Dask workers inherit it
+    try:
         for n in (1, 2):
             with distributed.LocalCluster(n_workers=n, threads_per_worker=1, processes=True,
                                           dashboard_address=None) as cluster:
                 times[f"Dask, {n} worker{'s' * (n > 1)}"] = timed(
-                    ["validate", *files, "--scheduler", cluster.scheduler_address], args.runs)
+                    ["validate", *files, "--scheduler", cluster.scheduler_address], runs)
+    finally:
+        if was is None:
+            os.environ.pop("LOTSIM_CACHE_DIR", None)
+        else:
+            os.environ["LOTSIM_CACHE_DIR"] = was
+    return len(files), times
+
+
+def main(argv: list[str] | None = None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("source", nargs="?", default=str(DEFAULT_SOURCE))
+    ap.add_argument("--runs", type=int, default=3)
+    args = ap.parse_args(argv)
+    lots, times = measure(args.source, args.runs)
+    print(f"{lots} lots imported from {args.source}; {os.cpu_count()} cores, {args.runs} "
+          "runs each")
+    if len(times) == 2:
+        print("(no Dask rows: pip install 'lotsim[dask]')")
     serial = statistics.median(times["one after another"])
     print("| how | wall s min / median / max | median against one after another |")
     print("|---|---|---|")

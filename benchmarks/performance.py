@@ -16,7 +16,9 @@ and each row of the page names that command. Rows:
   lot, cold (empty cache: the lot is prepared) and warm (loaded from the on-disk cache);
   ``lotsim run`` of the large lot's 100 cars; 1000 cars arriving at 1200 an hour and
   staying 10-30 minutes, and ``lotsim check`` of their result; the minimum-slot table of
-  every catalogue car;
+  every catalogue car; ``lotsim validate`` of the lots of an OpenStreetMap extract one
+  after another, two at once and on a local Dask cluster of one and two workers (not in
+  ``--quick``);
 * the shipped suites (``scenarios/bench/*.yaml``): the wall time of ``lotsim bench`` with
   two workers, and the comparisons they exist for, read from their ``runs.csv``: the
   planners (CA*, HCA*, WHCA*) and the slot assignments (shortest, nearest) head to head,
@@ -177,6 +179,21 @@ def run_rows(page: Page, runs: int, big: bool, cache: str, tmp: Path) -> None:
                 peaks.append(peak)
             page.row("`lotsim check` of the 1000 cars' result", "`lotsim check result.json`",
                      runs, f"{spread(walls)} s, peak {spread(peaks, '{:.0f}')} MB")
+
+
+def many_rows(page: Page, runs: int) -> None:
+    """``lotsim validate`` of every lot of the OpenStreetMap test extract: one after
+    another, ``--jobs 2``, and on a local Dask cluster of one and two workers."""
+    from bench_validate_many import DEFAULT_SOURCE, measure
+
+    lots, times = measure(DEFAULT_SOURCE, runs)
+    serial = statistics.median(times["one after another"])
+    source = DEFAULT_SOURCE.relative_to(ROOT)
+    for how, ts in times.items():
+        ratio = statistics.median(ts) / serial
+        page.row(f"validate the {lots} lots of {source}, {how}, cold",
+                 f"`python benchmarks/bench_validate_many.py` ({ratio:.2f} × one after "
+                 "another)", runs, spread(ts) + " s")
 
 
 def minslot_row(page: Page, runs: int) -> None:
@@ -435,6 +452,8 @@ def main() -> None:
         validate_rows(page, args.runs, lots)
         run_rows(page, args.runs, not args.quick, cache, Path(tmp))
         minslot_row(page, args.runs)
+        if not args.quick:
+            many_rows(page, args.runs)
         suites = suite_rows(page, args.runs, Path(tmp))
         planners_section(page, suites["head_to_head"])
         priority_section(page, suites["priority"])
