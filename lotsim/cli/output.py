@@ -81,4 +81,9 @@ def into_folder(path: str, name: str) -> str:
 def located(exc) -> str:
     """A :class:`~lotsim.errors.ScenarioError` for stderr: ``lotsim: file:line:col: ...``,
     a line for each of several problems."""
-    return "\n".join(f"lotsim: {e}" for e in getattr(exc, "errors", (exc,)))
+    return problem_lines(getattr(exc, "errors", (exc,)))
+
+
+def problem_lines(problems) -> str:
+    """Located problems (or errors) for stderr, a ``lotsim: ...`` line each."""
+    return "\n".join(f"lotsim: {p}" for p in problems)

@@ -7,7 +7,14 @@ import sys
 
 from lotsim import api
 from lotsim.cli.bench import MAX_JOBS, connected
-from lotsim.cli.output import EXIT_BAD_INPUT, EXIT_INCOMPLETE, EXIT_OK, bad, located
+from lotsim.cli.output import (
+    EXIT_BAD_INPUT,
+    EXIT_INCOMPLETE,
+    EXIT_OK,
+    bad,
+    located,
+    problem_lines,
+)
 from lotsim.cli.progress import Preparing, ProgressBar
 from lotsim.errors import ScenarioError
 
@@ -70,7 +77,7 @@ def _many(args: argparse.Namespace) -> int:
     worst = EXIT_OK
     for f in found:
         if not f.valid:
-            print("\n".join(f"lotsim: {p}" for p in f.problems), file=sys.stderr)
+            print(problem_lines(f.problems), file=sys.stderr)
             worst = EXIT_BAD_INPUT
             continue
         print(f.summary)

@@ -133,19 +133,27 @@ def _fillet_between(a, sa0, pa, b, sb0, pb, aisle_a, aisle_b, reach, design,
             if reason and "touches" in reason else None)
 
 
-def junction_turns(lot: Lot, collider: Collider, design: DesignVehicle | None = None, *,
-                    lanes_a=None) -> tuple[list[Turn], list[str]]:
-    """Arcs between lanes of aisles that meet, each swept clear with ``design`` (default
-    the lot's design vehicle): out of ``lanes_a`` (default every lane)."""
-    design = design or lot.design
-    turns: list[Turn] = []
-    skipped: list[str] = []
-    lanes = lot.lanes
-    gates: dict[tuple[str, str], list[float]] = {}  # (lane, "in" or "out") → stations
+def gate_stations(lot: Lot) -> dict[tuple[str, str], list[float]]:
+    """(lane id, ``"in"`` or ``"out"``) → the stations of the entrances (exits) on it."""
+    gates: dict[tuple[str, str], list[float]] = {}
     for way, portals in (("in", lot.entrances), ("out", lot.exits)):
         for p in portals:
             lid, st = portal_station(lot, p)
             gates.setdefault((lid, way), []).append(st)
+    return gates
+
+
+def junction_turns(lot: Lot, collider: Collider, design: DesignVehicle | None = None, *,
+                   lanes_a=None, gates: dict[tuple[str, str], list[float]] | None = None
+                   ) -> tuple[list[Turn], list[str]]:
+    """Arcs between lanes of aisles that meet, each swept clear with ``design`` (default
+    the lot's design vehicle): out of ``lanes_a`` (default every lane). ``gates``: the
+    lot's :func:`gate_stations`, when the caller has them."""
+    design = design or lot.design
+    turns: list[Turn] = []
+    skipped: list[str] = []
+    lanes = lot.lanes
+    gates = gate_stations(lot) if gates is None else gates
     for a in lanes if lanes_a is None else lanes_a:
         for b in lanes:
             if a.aisle == b.aisle:
@@ -217,8 +225,9 @@ def turns_per_design(lot: Lot, collider: Collider, designs: list
     each lane, then each design's turns through short stretches, on both cores
     (:func:`~lotsim.core.workers.fork_map`; the same answers in the same order)."""
     jobs = [(design, a) for design in designs for a in lot.lanes]
-    found = fork_map(lambda job: junction_turns(lot, collider, job[0], lanes_a=(job[1],)),
-                     jobs)
+    gates = gate_stations(lot)
+    found = fork_map(lambda job: junction_turns(lot, collider, job[0], lanes_a=(job[1],),
+                                                gates=gates), jobs)
     per = []
     for k in range(len(designs)):
         mine = found[k * len(lot.lanes):(k + 1) * len(lot.lanes)]

@@ -64,6 +64,7 @@ class SlotAssigner:
                        for t in vehicle_types}
         self.leave = {t.name: lot_graph.leavable(t.name) for t in vehicle_types}
         self._times: dict[tuple[str, str, bool], dict[str, float]] = {}
+        self._ways: dict[tuple[str, str, bool], dict[str, tuple[float, int, int | None]]] = {}
         self._jammed: dict[str, float] = {}  # aisle → when a first look there last ran out
         self._seen: dict[str | None, list[float]] = {}  # entrance (None: out) → times
         self._terms: dict[tuple[str, str, bool], dict[str, dict[str | None, float]]] = {}
@@ -92,7 +93,11 @@ class SlotAssigner:
         """Static time [s] from entrance ``gate`` into each slot a ``vname`` can use and, if
         ``leaving``, out of it again (by any way out from the pose it parks on) to the
         nearest exit: a car that will leave counts the way out as well as the way in."""
-        return {sid: tt for sid, (tt, _, _) in self.slot_ways(gate, vname, leaving).items()}
+        key = (gate, vname, leaving)
+        if key not in self._times:  # asked at every arrival: kept
+            self._times[key] = {sid: tt for sid, (tt, _, _)
+                                in self.slot_ways(gate, vname, leaving).items()}
+        return self._times[key]
 
     def slot_ways(self, gate: str, vname: str, leaving: bool
                   ) -> dict[str, tuple[float, int, int | None]]:
@@ -100,7 +105,7 @@ class SlotAssigner:
         time [s] with the park edge and (if ``leaving``) the leave edge of that way, as
         edge indices of the type's search graph (the first in edge order of equal time)."""
         key = (gate, vname, leaving)
-        if key not in self._times:
+        if key not in self._ways:
             sg = self.graphs[vname]
             dist = sg.forward_times(self.lg.entrances[gate])
             to_exit = (sg.reverse_search({n: 0.0 for n in self.lg.exits.values()})
@@ -116,8 +121,8 @@ class SlotAssigner:
                         tt += t_out
                     if tt < out.get(sid, (math.inf,))[0]:
                         out[sid] = (tt, i, way_out)
-            self._times[key] = out
-        return self._times[key]
+            self._ways[key] = out
+        return self._ways[key]
 
     # -- the price of a slot to the others ----------------------------------------------------
     def saw(self, gate: str | None, t: float) -> None:

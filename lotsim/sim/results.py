@@ -63,10 +63,10 @@ class RunResult:
     """How the planning order was chosen (:func:`lotsim.sim.orders.plan_run`); empty when
     :func:`lotsim.sim.running.simulate` was called directly."""
     motion_time: float = 0.0
-    """Seconds its searches spent working out edge motions and their swept hulls that no
-    earlier run on the lot in this process had (the lot's search graphs keep them): a
-    lot's first runs pay it, later ones little; planning times leave it out, so that runs
-    are timed alike whatever ran before them."""
+    """Seconds it spent (searching, or reserving what the searches found) working out edge
+    motions and their swept hulls that no earlier run on the lot in this process had (the
+    lot's search graphs keep them): a lot's first runs pay it, later ones little; planning
+    times leave it out, so that runs are timed alike whatever ran before them."""
 
     def metrics(self) -> dict[str, float]:
         """Counts by status (``served``: parked and departed) and the timing figures of
