@@ -13,6 +13,7 @@ from lotsim.core.workers import ForkPool
 from lotsim.maneuvers.maneuver import Maneuver
 from lotsim.maneuvers.planner import ManeuverPlanner, search_maneuver
 from lotsim.maneuvers.problem import exact_key
+from lotsim.maneuvers.reuse import Found, fit_first, settle
 from lotsim.vehicles.model import VehicleType
 
 PARALLEL_FROM = 64
@@ -37,14 +38,15 @@ def _pool_size(workers: int | None, problems: int) -> int:
 
 class _Batch:
     """What the workers of :func:`prefetch` do, on their copy of the planner: key the
-    problems of ``triples`` (vehicle, slot, lane) and search them."""
+    problems of ``triples`` (vehicle, slot, lane), search them, fit their classes' answers
+    to them."""
 
     def __init__(self, planner: ManeuverPlanner, triples: list, known: dict | None) -> None:
         self.planner, self.triples, self.known = planner, triples, known
 
     def digests(self, part: tuple[int, int]) -> list:
-        """The problem digest, frame and lane station of triples ``part[0]`` to ``part[1]``
-        (excluded), posed in one batch."""
+        """The problem digest, frame, lane station and shape of triples ``part[0]`` to
+        ``part[1]`` (excluded), posed in one batch."""
         return self.planner.problems.digests(self.triples[part[0]:part[1]])
 
     def searched(self, job: tuple[int, str]) -> tuple:
@@ -62,31 +64,42 @@ class _Batch:
             return *found, exact, True
         return *search_maneuver(problem, st, planner.settings), exact, False
 
+    def fitted(self, job: tuple[int, str, list[Found]]) -> tuple | None:
+        """The first of ``job[2]`` (maneuvers of its class) that fits the problem of triple
+        ``job[0]`` in style ``job[1]``, or its own with fewer changes
+        (:func:`~lotsim.maneuvers.reuse.fit_first`); None when none fits."""
+        k, st, offers = job
+        planner = self.planner
+        problem = planner.problems.pose(*self.triples[k])
+        return fit_first(problem, st, offers, planner.settings, planner.fewer)
+
 
 def prefetch(planner: ManeuverPlanner, vehicles: Iterable[VehicleType], *,
              style: str = "any", shared: bool = True, workers: int | None = None,
              progress: Callable[[int, int], None] | None = None,
              known: dict[bytes, tuple] | None = None) -> None:
-    """Search every distinct problem :meth:`ManeuverPlanner.solve_lanes` will meet for
+    """Answer every distinct problem :meth:`ManeuverPlanner.solve_lanes` will meet for
     ``vehicles`` in every slot, on ``workers`` processes (default: as many as the machine
     has, for a lot with :data:`PARALLEL_FROM` problems or more), so that it then only looks
     them up.
 
-    The answers are exactly those of searching them one after another: each distinct
-    problem (by its rounded local geometry, as the planner's cache keys it) is searched as
-    posed the first time :meth:`~ManeuverPlanner.solve_lanes` meets it in slot order, as it
-    would be without this. Problems are posed (and keyed) on the workers too. Needs the
-    ``fork`` start method (Linux); elsewhere it works in this process.
-    ``progress(done, total)`` is called as the distinct problems are searched.
+    The answers are exactly those of :meth:`~ManeuverPlanner.solve_lanes` alone: each
+    distinct problem (by its rounded local geometry, as the planner's cache keys it) is
+    answered as its class is (:mod:`~lotsim.maneuvers.reuse`: searched, or a maneuver
+    found in its class fitted to it), the searches and fits of a round on the workers.
+    Problems are posed (and keyed) on the workers too. Needs the ``fork`` start method
+    (Linux); elsewhere it works in this process. ``progress(done, total)`` is called as
+    the distinct problems are answered.
 
     ``known`` (exact problem key → answer, :func:`~lotsim.maneuvers.problem.exact_key`)
-    holds answers found before, for this planner's settings and this lotsim, in any lot (the
-    on-disk cache keeps one per lot name: :func:`lotsim.sim.preparation.prepare_graph`): a problem
-    it holds is not searched again, and those searched now are added to it, most recently
-    used last, at most :data:`KNOWN_MOST`. A search reads nothing but its problem (to the
-    last bit of every float) and the settings, so the answers are the same with it as
-    without.
+    holds answers searched before, for this planner's settings and this lotsim, in any lot
+    (the on-disk cache keeps one per lot name: :func:`lotsim.sim.preparation.prepare_graph`):
+    a problem it holds is not searched again, and those searched now are added to it, most
+    recently used last, at most :data:`KNOWN_MOST`. A search reads nothing but its problem
+    (to the last bit of every float) and the settings, so the answers are the same with it
+    as without.
     """
+    lanes = {slot.id: len(planner.lanes_for(slot)) for slot in planner.lot.slots}
     calls = [(v, slot, lane, st) for v in vehicles for slot in planner.lot.slots
              for st, lane in planner.searches(slot, style, shared)]  # solve_lanes' order
     where = {(v.name, slot.id, lane.id): (v, slot, lane) for v, slot, lane, _ in calls}
@@ -97,25 +110,67 @@ def prefetch(planner: ManeuverPlanner, vehicles: Iterable[VehicleType], *,
     size = max(16, -(-len(triples) // (4 * count)))
     parts = [(k, min(k + size, len(triples))) for k in range(0, len(triples), size)]
     batch = _Batch(planner, triples, known)
-    # one set of workers for both steps: the searches reuse what keying built in them
+    # one set of workers for every step: the searches reuse what keying built in them
     with ForkPool(batch, workers=count) as pool:
         posed = [x for part in pool.map(batch.digests, parts) for x in part]
         todo: dict[bytes, tuple[int, str]] = {}  # key → (triple, style), first met first
+        classes: dict[object, list[bytes]] = {}
         for v, slot, lane, st in calls:
             k = at[v.name, slot.id, lane.id]
-            key = planner.pose_key(v, slot, lane, st, *posed[k])
+            digest, frame, s0, shape = posed[k]
+            n = lanes[slot.id]
+            key = planner.pose_key(v, slot, lane, st, digest, frame, s0, lanes=n)
             if not planner.knows(key) and key not in todo:
                 todo[key] = (k, st)
-        answers = pool.map(batch.searched, list(todo.values()), chunk=8, progress=progress)
-    for key, (hit, raw, exact, remembered) in zip(todo, answers, strict=True):
-        planner.learn(key, hit, raw)
-        if known is not None:
+                classes.setdefault(key if shape is None else (shape, st, n), []).append(key)
+        count_done = _Progress(progress, len(todo))
+        extra: dict[bytes, tuple] = {}  # key → (exact key, whether known held it)
+
+        def search(keys: list[bytes]) -> list[tuple]:
+            got = pool.map(batch.searched, [todo[k] for k in keys], chunk=8,
+                           progress=count_done.part)
+            count_done.done += len(keys)  # (the map reported them)
+            for key, (_, _, exact, remembered) in zip(keys, got, strict=True):
+                extra[key] = exact, remembered
+            return [(hit, raw) for hit, raw, _, _ in got]
+
+        def fit(jobs: list) -> list:
+            got = pool.map(batch.fitted, [(*todo[k], offers) for k, offers in jobs], chunk=16)
+            for _ in range(sum(x is not None for x in got)):
+                count_done.add()
+            return got
+
+        settled = settle(list(classes.values()), search, fit)
+    for key in todo:  # in the order first met
+        (hit, raw), searched = settled[key]
+        planner.learn(key, hit, raw, searched=searched)
+        if known is not None and searched:
+            exact, remembered = extra[key]
             known.pop(exact, None)
             known[exact] = hit, raw  # most recently used last
             planner.stats["remembered"] += remembered
     if known is not None:
         for old in list(itertools.islice(known, max(0, len(known) - KNOWN_MOST))):
             del known[old]
+
+
+class _Progress:
+    """``progress(done, total)`` over the rounds of :func:`prefetch`: ``done`` counts the
+    problems answered in earlier maps, and within a map as its answers come."""
+
+    def __init__(self, progress: Callable[[int, int], None] | None, total: int) -> None:
+        self.progress, self.total, self.done = progress, total, 0
+        self.part = None if progress is None else self._part
+
+    def _part(self, done: int, _: int) -> None:
+        """A search map's answers so far (its own count, from 1)."""
+        self.progress(self.done + done, self.total)
+
+    def add(self) -> None:
+        """One more answered."""
+        self.done += 1
+        if self.progress is not None:
+            self.progress(self.done, self.total)
 
 
 def plan_lot(planner: ManeuverPlanner, vehicles: Iterable[VehicleType], *,

@@ -12,8 +12,10 @@ Every search answers with an :class:`~lotsim.core.outcome.Outcome`.
 
 Answers are cached per lot by the problem's rounded local geometry (its digest,
 :meth:`~lotsim.maneuvers.problem.LotProblems.digest`) and the style: same geometry, same
-maneuver, moved rigidly. :mod:`~lotsim.maneuvers.batch` searches a whole lot's distinct
-problems ahead on worker processes.
+maneuver, moved rigidly. Bays of one shape that differ around them share maneuvers where
+one fits another (:mod:`~lotsim.maneuvers.reuse`): a few of each shape are searched, the
+rest checked. :mod:`~lotsim.maneuvers.batch` answers a whole lot's distinct problems ahead
+on worker processes.
 """
 
 from __future__ import annotations
@@ -30,6 +32,7 @@ from lotsim.lot.model import Lane, Lot, Slot
 from lotsim.maneuvers.easing import eased
 from lotsim.maneuvers.maneuver import Maneuver
 from lotsim.maneuvers.problem import LocalFrame, LotProblems, ManeuverProblem
+from lotsim.maneuvers.reuse import fit_first, settle
 from lotsim.maneuvers.settings import STYLES, ManeuverSettings
 from lotsim.maneuvers.shuffle import park_across
 from lotsim.maneuvers.strokes import park_along
@@ -44,11 +47,13 @@ Answer = Outcome[tuple[tuple[Segment, ...], float]]
 where it starts, or why there is none."""
 
 
-def search_maneuver(problem: ManeuverProblem, style: str, settings: ManeuverSettings
-           ) -> tuple[Answer, Answer]:
+def search_maneuver(problem: ManeuverProblem, style: str, settings: ManeuverSettings, *,
+                    fewer_than: int | None = None) -> tuple[Answer, Answer]:
     """The parking maneuver of ``problem`` in ``style``, eased
     (:func:`~lotsim.maneuvers.easing.eased`) and as planned, in the problem's local frame
-    (a search reads nothing but its problem and the settings)."""
+    (a search reads nothing but its problem and the settings). With ``fewer_than`` (a
+    perpendicular or angled slot), only one with fewer direction changes than that: the
+    same answer as without when it has fewer, else NO_PATH."""
     v, s = problem.vehicle, problem.slot
     why = None
     if not math.isfinite(problem.lane_y):
@@ -65,7 +70,7 @@ def search_maneuver(problem: ManeuverProblem, style: str, settings: ManeuverSett
         return refused, refused
     checks = Validity(problem)
     raw = (park_along(checks, settings) if kind_of(s).parks_along
-           else park_across(checks, style, settings))
+           else park_across(checks, style, settings, fewer_than=fewer_than))
     if not raw.found:
         return raw, raw
     local, x0 = raw.value
@@ -116,9 +121,11 @@ class ManeuverPlanner:
                                     lane_ranges=lane_ranges)
         self._cache: dict[bytes, Answer] = {}
         self._raw: dict[bytes, Answer] = {}  # not eased
-        self.stats = {"planned": 0, "reused": 0, "remembered": 0}
+        self.stats = {"planned": 0, "reused": 0, "remembered": 0, "fitted": 0}
         self._posed: dict[tuple[str, str, str, str], tuple[bytes, LocalFrame, float]] = {}
-        self._fresh: set[bytes] = set()  # searched ahead of time, not yet asked for
+        self._fresh: set[bytes] = set()  # answered ahead of time, not yet asked for
+        self._fitted: set[bytes] = set()  # answered by a maneuver of their class
+        self._classes: dict[str, dict] = {}  # vehicle → (shape, lanes) → slots and lanes
 
     @property
     def margin(self) -> float:
@@ -180,21 +187,15 @@ class ManeuverPlanner:
         """
         if style not in STYLES:
             raise ValueError(f"style must be one of {', '.join(STYLES)}")
-        problem = None
-        posed = self._posed.get((vehicle.name, slot.id, lane.id, style))
-        if posed is None:
-            problem = self.problems.pose(vehicle, slot, lane)
-            posed = self.key(problem, style), problem.frame, problem.lane_s0
-        key, frame, s0 = posed
+        key, frame, s0 = self._pose(vehicle, slot, lane, style)[:3]
         hit = self._cache.get(key)
-        if hit is None:
-            problem = problem or self.problems.pose(vehicle, slot, lane)
-            hit, self._raw[key] = search_maneuver(problem, style, self.settings)
-            self._cache[key] = hit
-            self.stats["planned"] += 1
-        elif key in self._fresh:  # searched ahead of time (batch.prefetch): first use
+        if hit is None:  # this problem's class answered, one problem after another
+            self.settle_class(vehicle, slot, lane, style)
+            hit = self._cache[key]
+        if key in self._fresh:  # answered ahead of time (batch.prefetch): first use
             self._fresh.discard(key)
             self.stats["planned"] += 1
+            self.stats["fitted"] += key in self._fitted
         else:
             self.stats["reused"] += 1
         if not eased:
@@ -327,22 +328,79 @@ class ManeuverPlanner:
         reasons = [tried[st][k].reason for k in range(len(lanes)) for st in tried]
         return out, {}, "; ".join(dict.fromkeys(reasons))
 
-    def key(self, p: ManeuverProblem, style: str, digest: bytes | None = None) -> bytes:
-        """The problem and the style: equal keys plan equal maneuvers. ``digest`` is
-        :meth:`~lotsim.maneuvers.problem.LotProblems.digest` of ``p`` when the caller has
-        it."""
+    def key(self, p: ManeuverProblem, style: str, digest: bytes | None = None, *,
+            lanes: int = 1) -> bytes:
+        """The problem, the style and how many lanes serve the slot (which class of
+        :mod:`~lotsim.maneuvers.reuse` it is in): equal keys plan equal maneuvers.
+        ``digest`` is :meth:`~lotsim.maneuvers.problem.LotProblems.digest` of ``p`` when the
+        caller has it."""
         h = hashlib.blake2b(digest if digest is not None else self.problems.digest(p),
                             digest_size=20)
-        h.update(style.encode())
+        h.update(f"{style} {lanes}".encode())
         return h.digest()
+
+    def _pose(self, vehicle: VehicleType, slot: Slot, lane: Lane, style: str
+              ) -> tuple[bytes, LocalFrame, float, ManeuverProblem | None]:
+        """The cache key, frame and lane station at x = 0 of a problem, and the problem
+        when it had to be posed for them."""
+        posed = self._posed.get((vehicle.name, slot.id, lane.id, style))
+        if posed is not None:
+            return *posed, None
+        problem = self.problems.pose(vehicle, slot, lane)
+        key = self.key(problem, style, lanes=len(self.lanes_for(slot)))
+        self._posed[(vehicle.name, slot.id, lane.id, style)] = (key, problem.frame,
+                                                                 problem.lane_s0)
+        return key, problem.frame, problem.lane_s0, problem
+
+    def class_of(self, vehicle: VehicleType, slot: Slot, lane: Lane
+                 ) -> list[tuple[Slot, Lane]]:
+        """The slots and lanes of the lot whose problems for ``vehicle`` are in one class
+        with that of ``slot`` from ``lane`` (:mod:`~lotsim.maneuvers.reuse`), in slot order
+        (it alone for a problem that shares with none)."""
+        classes = self._classes.get(vehicle.name)
+        if classes is None:  # every class of this vehicle's problems, worked out once
+            classes = self._classes[vehicle.name] = {}
+            for other in self.lot.slots:
+                lanes = self.lanes_for(other)
+                for x in lanes:
+                    shape = self.problems.shape(vehicle, other, x)
+                    if shape is not None:
+                        classes.setdefault((shape, len(lanes)), []).append((other, x))
+        shape = self.problems.shape(vehicle, slot, lane)
+        if shape is None:
+            return [(slot, lane)]
+        return classes[shape, len(self.lanes_for(slot))]
+
+    def settle_class(self, vehicle: VehicleType, slot: Slot, lane: Lane, style: str) -> None:
+        """Answer every problem of the class of ``vehicle`` into ``slot`` from ``lane`` in
+        ``style`` (:func:`~lotsim.maneuvers.reuse.settle`, in this process): what
+        :func:`~lotsim.maneuvers.batch.prefetch` answers on workers, the same answers."""
+        problems: dict[bytes, ManeuverProblem] = {}
+        for other, x in self.class_of(vehicle, slot, lane):
+            key, _, _, problem = self._pose(vehicle, other, x, style)
+            if key not in self._cache and key not in problems:
+                problems[key] = problem or self.problems.pose(vehicle, other, x)
+        settled = settle(
+            [list(problems)],
+            lambda keys: [search_maneuver(problems[k], style, self.settings) for k in keys],
+            lambda jobs: [fit_first(problems[k], style, offers, self.settings, self.fewer)
+                          for k, offers in jobs])
+        for key, ((answer, raw), searched) in settled.items():
+            self.learn(key, answer, raw, searched=searched)
+
+    def fewer(self, problem: ManeuverProblem, style: str, changes: int
+              ) -> tuple[Answer, Answer]:
+        """``problem``'s own maneuver when it has fewer than ``changes`` direction changes
+        (:func:`search_maneuver`)."""
+        return search_maneuver(problem, style, self.settings, fewer_than=changes)
 
     # -- what a batch search (:func:`~lotsim.maneuvers.batch.prefetch`) needs ----------------
     def pose_key(self, vehicle: VehicleType, slot: Slot, lane: Lane, style: str,
-                 digest: bytes, frame: LocalFrame, s0: float) -> bytes:
-        """Record the problem of ``vehicle`` in ``slot`` from ``lane`` in ``style`` as keyed
-        elsewhere (its digest, frame and lane station at x = 0): :meth:`solve` then needs
-        not pose it. Its cache key."""
-        key = self.key(None, style, digest)
+                 digest: bytes, frame: LocalFrame, s0: float, *, lanes: int) -> bytes:
+        """Record the problem of ``vehicle`` in ``slot`` (served by ``lanes`` lanes) from
+        ``lane`` in ``style`` as keyed elsewhere (its digest, frame and lane station at
+        x = 0): :meth:`solve` then needs not pose it. Its cache key."""
+        key = self.key(None, style, digest, lanes=lanes)
         self._posed[(vehicle.name, slot.id, lane.id, style)] = (key, frame, s0)
         return key
 
@@ -350,8 +408,12 @@ class ManeuverPlanner:
         """Whether the answer of the problem with cache ``key`` is known."""
         return key in self._cache
 
-    def learn(self, key: bytes, answer: Answer, raw: Answer) -> None:
-        """Keep the answer of a problem searched ahead of time (eased and as planned): the
-        first :meth:`solve` that asks for it counts it as planned."""
+    def learn(self, key: bytes, answer: Answer, raw: Answer, *, searched: bool = True
+              ) -> None:
+        """Keep the answer of a problem answered ahead of time (eased and as planned; by
+        its own search or fitted from its class): the first :meth:`solve` that asks for it
+        counts it as planned."""
         self._cache[key], self._raw[key] = answer, raw
         self._fresh.add(key)
+        if not searched:
+            self._fitted.add(key)

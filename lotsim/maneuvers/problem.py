@@ -245,10 +245,10 @@ class LotProblems:
                             p.half, local)
 
     def digests(self, triples: Sequence[tuple[VehicleType, Slot, Lane]]
-                ) -> list[tuple[bytes, LocalFrame, float]]:
-        """:meth:`digest` of each triple's problem, with its frame and lane station at
-        x = 0: posed and keyed together, each step one shapely or numpy call over all of
-        them (the same operations on the same shapes as :meth:`pose` and
+                ) -> list[tuple[bytes, LocalFrame, float, bytes | None]]:
+        """:meth:`digest` of each triple's problem, with its frame, lane station at x = 0
+        and shape (:func:`shape_key`): posed and keyed together, each step one shapely or
+        numpy call over all of them (the same operations on the same shapes as :meth:`pose` and
         :meth:`digest` make one problem at a time, so the same digests), without the
         rest of a problem (its obstacle tree), which only a search needs."""
         heads = [self.head(*t) for t in triples]
@@ -274,8 +274,14 @@ class LotProblems:
         per: list[list[bytes]] = [[] for _ in range(n)]
         for g, o in zip(local, owner.tolist(), strict=True):
             per[o].append(g)
-        return [(self._hashed(v, slot, *h, mine_local), h[0], h[3])
+        return [(self._hashed(v, slot, *h, mine_local), h[0], h[3],
+                 shape_key(v, slot, h[0], h[1], h[4]))
                 for (v, slot, _), h, mine_local in zip(triples, heads, per, strict=True)]
+
+    def shape(self, vehicle: VehicleType, slot: Slot, lane: Lane) -> bytes | None:
+        """:func:`shape_key` of the problem of ``vehicle`` in ``slot`` from ``lane``."""
+        frame, lane_y, _, _, half = self.head(vehicle, slot, lane)
+        return shape_key(vehicle, slot, frame, lane_y, half)
 
     def _hashed(self, v: VehicleType, slot: Slot, frame: LocalFrame, lane_y: float,
                 lane_x: tuple[float, float], s0: float, half: float, local: list[bytes]
@@ -295,6 +301,24 @@ class LotProblems:
         for g in sorted(local):
             h.update(g)
         return h.digest()
+
+
+def shape_key(vehicle: VehicleType, slot: Slot, frame: LocalFrame, lane_y: float,
+              half: float) -> bytes | None:
+    """What problems that may share a maneuver have in common
+    (:mod:`~lotsim.maneuvers.reuse`), or None for a problem that shares with none (a
+    parallel slot, a lane that bends beside the slot): the car, the slot's kind and outline
+    in the local frame (to 1 cm), the lane line (to 1 mm) and the window's size — a
+    digest's head and outline without the stretch of lane a maneuver may begin on, the
+    start grid's phase and the geometry around the slot."""
+    if kind_of(slot).parks_along or not math.isfinite(lane_y):
+        return None
+    outline = np.sort(np.round(frame.points_to_local(slot.polygon), 2).reshape(-1, 2), axis=0)
+    head = (vehicle.name, vehicle.width, vehicle.front, vehicle.rear, vehicle.wheelbase,
+            vehicle.max_steer, slot.kind, round(lane_y, 3), round(half, 3))
+    h = hashlib.blake2b(repr(head).encode(), digest_size=20)
+    h.update(outline.tobytes())
+    return h.digest()
 
 
 def local_geometry(geoms: np.ndarray, frames: Sequence[LocalFrame], owner: np.ndarray

@@ -27,12 +27,15 @@ from lotsim.maneuvers.validity import LocalChecks, Validity
 from lotsim.roadmap.multipoint import plan_onto
 
 
-def park_across(checks: Validity, style: str, settings: ManeuverSettings
+def park_across(checks: Validity, style: str, settings: ManeuverSettings, *,
+                fewer_than: int | None = None
                 ) -> Outcome[tuple[tuple[Segment, ...], float]]:
     """The parking maneuver into a perpendicular or angled slot (local frame) and the local
     x where it starts: the way out of the parked pose (:func:`shuffle`, nose-in and
     nose-out as ``style`` allows; the fewest direction changes, then the shortest), else
-    :func:`any_way_out`, driven backwards in time."""
+    :func:`any_way_out`, driven backwards in time. With ``fewer_than``, only a way out of
+    the shuffle with fewer direction changes than that (the same answer as without, when
+    it has fewer), else NO_PATH."""
     p = checks.problem
     v, s = p.vehicle, p.slot
     heading_in = float(p.frame.poses_to_local(np.array([0.0, 0.0, s.heading]))[0, 2])
@@ -47,12 +50,15 @@ def park_across(checks: Validity, style: str, settings: ManeuverSettings
         if checks.poses_blocked(np.array([root]))[0]:
             continue
         # leave-time: a nose-in car backs out, a nose-out car drives out
-        found = shuffle(checks, root, -1 if nose_in else 1, settings,
-                        bound=best[:2] if best else None)
+        bound = best[:2] if best else (None if fewer_than is None else (fewer_than, 0.0))
+        found = shuffle(checks, root, -1 if nose_in else 1, settings, bound=bound)
         if found.found and (best is None or found.value[:2] < best[:2]):
             best = found.value
     if best is not None:
         return Outcome.of(park_path(best[2]))
+    if fewer_than is not None:
+        return Outcome.failed(Status.NO_PATH, f"no way out with fewer than {fewer_than} "
+                              "direction changes at full lock")
     way_out = any_way_out(checks, style, heading_in, settings,
                           axle_of=lambda h: centre - unit(h) * (v.front - v.rear) / 2)
     if not way_out.found:
@@ -127,6 +133,8 @@ def shuffle(checks: Validity, root: Pose, gear0: int, settings: ManeuverSettings
 
     pending = np.zeros((0, 8))  # rows: changes, length, level, m, gear, straight, κ, extend
     for k in range(settings.max_changes + 1):
+        if bound is not None and k == bound[0] and bound[1] <= 0.0:
+            break  # nothing at this level is cheaper
         g = gear0 if k % 2 == 0 else -gear0
         kappa = rho * g * kmax
         turn_cap = abs(theta) + settings.first_turn if k == 0 else math.pi / 2

@@ -148,12 +148,14 @@ class ValidationReport:
         planner = self.prepared.maneuver_planner
         if planner is not None and verbose:
             remembered = planner.stats.get("remembered", 0)
+            fitted = planner.stats.get("fitted", 0)
+            searched = planner.stats["planned"] - remembered - fitted
             lines.append(f"  maneuvers: {facts.park_maneuvers} kept (per type, slot and lane); "
-                         f"{planner.stats['planned'] - remembered} distinct problems "
-                         "searched "
-                         + (f"and {remembered} answered as in a lot prepared before "
+                         f"{planner.stats['planned']} distinct problems: {searched} searched, "
+                         f"{fitted} fitted from a bay of the same shape"
+                         + (f", {remembered} answered as in a lot prepared before"
                             if remembered else "")
-                         + f"({planner.stats['reused']} repeats answered from them; "
+                         + f" ({planner.stats['reused']} repeats answered from them; "
                          f"margin {planner.margin:g} m)"
                          + (LOADED if lg.from_cache else ""))
         if planner is not None:

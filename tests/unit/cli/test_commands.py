@@ -140,14 +140,17 @@ def test_preparing_a_lot_shows_its_progress_on_a_terminal(tmp_path, capsys, monk
     path = next(p for p in SCENARIOS if p.stem == "quickstart")
     calls = []
     report = lotsim.validate(path, progress=lambda done, total: calls.append((done, total)))
-    searched = report.prepared.maneuver_planner.stats["planned"]
+    stats = report.prepared.maneuver_planner.stats
+    searched = stats["planned"]
     assert calls == [(k, searched) for k in range(1, searched + 1)] and searched > 1
     assert main(["validate", str(path)]) == 0
     assert capsys.readouterr().err == ""  # a pipe: quick work writes nothing there
     monkeypatch.setattr("sys.stderr.isatty", lambda: True)
     assert main(["validate", str(path), "--verbose"]) == 0
     cap = capsys.readouterr()
-    assert f"{searched} distinct problems searched" in cap.out
+    fitted = stats["fitted"]
+    assert (f"{searched} distinct problems: {searched - fitted} searched, {fitted} fitted"
+            in cap.out)
     shown = re.findall(r"planning maneuvers \[[#-]+\] (\d+)/(\d+)", cap.err)
     assert shown[-1] == (str(searched), str(searched)) and "\n" not in cap.err
     assert cap.err.endswith("\r")  # the line is wiped when done

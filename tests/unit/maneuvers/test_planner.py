@@ -27,70 +27,7 @@ from lotsim.maneuvers.planner import ManeuverPlanner
 from lotsim.maneuvers.settings import ManeuverSettings
 from lotsim.maneuvers.validity import Validity
 from lotsim.vehicles import CATALOGUE
-
-STEP = 0.05
-
-
-def parked_bodies(slots, vehicles):
-    """Polygons of cars of each type parked centred in ``slots``, nose along the slot."""
-    out = []
-    for s in slots:
-        if s.kind == "parallel":
-            out.append(s.shape)
-            continue
-        c = np.asarray(s.center)
-        for v in vehicles:
-            for h in (s.heading, s.heading + math.pi):
-                k = np.array([math.cos(h), math.sin(h)])
-                axle = c - k * (v.front - v.rear) / 2
-                out.append(shapely.Polygon(v.footprints([[*axle, h]])[0]))
-    return out
-
-
-def check_maneuver(lot, m, vehicle, cars, *, clearance=0.05):
-    """Every problem found with maneuver ``m``, as strings; [] when it is sound."""
-    problems = []
-    segs = m.segments
-    for a, b in zip(segs[:-1], segs[1:], strict=True):
-        if (math.dist(a.end[:2], b.start[:2]) > 1e-6
-                or abs(wrap_angle(a.end[2] - b.start[2])) > 1e-6):
-            problems.append("pieces do not meet")
-    poses, _ = m.sample(STEP)
-    ds = np.hypot(*np.diff(poses[:, :2], axis=0).T)
-    assert ds.max() <= STEP + 1e-9
-    turn = np.abs(wrap_angle(np.diff(poses[:, 2])))
-    moving = ds > 1e-9
-    # turn over chord exceeds curvature by (arc / chord - 1) ≈ Δθ²/24 < 1e-4 at 5 cm
-    if np.any(turn[moving] / ds[moving] > vehicle.max_curvature * (1 + 1e-4)):
-        problems.append("tighter than the minimum turning radius")
-    # motion along the heading: no sideways jumps
-    # (a chord of an arc leaves the heading by half the turn: ds · Δθ / 2 at most)
-    step = np.diff(poses[:, :2], axis=0)
-    sideways = np.abs(np.cos(poses[:-1, 2]) * step[:, 1] - np.sin(poses[:-1, 2]) * step[:, 0])
-    if np.any(sideways > 0.5 * STEP * STEP * vehicle.max_curvature + 1e-9):
-        problems.append("sideways motion")
-    bodies = shapely.polygons(vehicle.footprints(poses))
-    if not shapely.covers(lot.boundary, bodies).all():
-        problems.append("leaves the lot")
-    tree = shapely.STRtree(cars)
-    hit = tree.query(bodies, predicate="intersects")
-    if hit.size:
-        problems.append(f"touches a parked car at sample {hit[0][0]}")
-    near = tree.query(bodies, predicate="dwithin", distance=clearance)
-    if near.size:
-        problems.append(f"passes within {clearance} m of a parked car")
-    areas = [a.polygon for a in lot.areas]
-    if areas and shapely.STRtree(areas).query(bodies, predicate="dwithin", distance=clearance).size:
-        problems.append("touches or grazes a wall, obstacle or no-go area")
-    slot = lot.slot_by_id[m.slot]
-    end = shapely.Polygon(vehicle.footprints([m.end])[0])
-    if not slot.shape.buffer(1e-6).covers(end):
-        problems.append("does not end inside its slot")
-    lane = next(lane for lane in lot.lanes if lane.id == m.lane)
-    station, off = lane.project(m.start[:2])
-    if off > 1e-3 or abs(wrap_angle(lane.pose_at(station)[2] - m.start[2])) > 1e-3:
-        problems.append("does not start on its lane heading its way")
-    return problems
+from oracles.maneuver_check import check_maneuver, parked_bodies
 
 
 @pytest.mark.parametrize("path", SCENARIOS, ids=lambda p: p.stem)
@@ -291,7 +228,7 @@ def test_same_geometry_is_planned_once_and_moved_rigidly():
     a, b = lot.slot_by_id["main-left-10"], lot.slot_by_id["main-left-12"]
     lane = planner.lanes_for(a)[0]
     ma, mb = planner.plan(car, a, lane), planner.plan(car, b, lane)
-    assert planner.stats == {"planned": 1, "reused": 1, "remembered": 0}
+    assert (planner.stats["planned"], planner.stats["reused"]) == (1, 1)
     shift = np.subtract(b.center, a.center)
     pa, _ = ma.sample(0.1)
     pb, _ = mb.sample(0.1)
@@ -458,8 +395,8 @@ def test_the_problem_is_frozen_and_its_key_has_no_side_effects():
 @pytest.mark.parametrize("name", ["mixed_lot", "example"])
 def test_problems_keyed_together_are_keyed_as_one_at_a_time(shipped_graphs, name):
     """prefetch keys its problems in batches (one shapely call a step over all of them):
-    each digest, frame and lane station is the one posing and keying that problem alone
-    gives (perpendicular, angled and parallel bays, bends, neighbours cut at the window's
+    each digest, frame, lane station and shape is the one posing and keying that problem
+    alone gives (perpendicular, angled and parallel bays, bends, neighbours cut at the window's
     edge and at the slot's lines), so the same problems share answers."""
     from lotsim.sim.preparation import maneuver_planner
 
@@ -470,10 +407,10 @@ def test_problems_keyed_together_are_keyed_as_one_at_a_time(shipped_graphs, name
                for lane in planner.lanes_for(slot)]
     assert {slot.kind for _, slot, _ in triples} >= {"perpendicular", "parallel"}
     together = planner.problems.digests(triples)
-    alone = [(planner.problems.digest(p), p.frame, p.lane_s0)
-             for p in (planner.problems.pose(*t) for t in triples)]
+    alone = [(planner.problems.digest(p), p.frame, p.lane_s0, planner.problems.shape(*t))
+             for p, t in ((planner.problems.pose(*t), t) for t in triples)]
     assert together == alone
-    assert len({d for d, _, _ in alone}) > 5  # (not all one problem)
+    assert len({d for d, *_ in alone}) > 5  # (not all one problem)
 
 
 def test_the_settings_are_used():

@@ -106,7 +106,8 @@ def test_a_slot_every_way_passes_costs_the_flow_times_its_maneuvers_squared():
     """On a one-way aisle, every way in passes where the slot nearest the entrance is
     parked from, and every way out where the slot nearest the exit is left to: with cars
     seen only coming in (only going out), that slot's price is ``f (d_park² + d_leave²) /
-    2``, the most of any slot's. Prices follow the flow seen."""
+    2``, the most any slot's maneuvers can cost (no stretch of lane sees more than the whole
+    flow). Prices follow the flow seen."""
     sc = load_scenario(ONE_AISLE)
     lg = prepare_graph(sc)
     assigner = SlotAssigner(lg, sc.vehicle_types, policy="priced")
@@ -126,7 +127,7 @@ def test_a_slot_every_way_passes_costs_the_flow_times_its_maneuvers_squared():
         assigner.saw("in", 100.0 * k)
     price = assigner.prices("in", car, True, 599.0)
     assert price[first_in] == pytest.approx(0.01 * held(first_in))
-    assert max(price.values()) == pytest.approx(price[first_in])
+    assert all(p <= 0.01 * held(sid) * (1 + 1e-9) for sid, p in price.items())
     last_in = max(ways, key=lambda sid: dist_in[sg.edges[ways[sid][1]].u])
     assert price[last_in] < 0.7 * 0.01 * held(last_in)  # fewer ways go past the farthest
     assigner.saw("in", 599.0)  # one more car in: a sixth dearer
@@ -137,7 +138,7 @@ def test_a_slot_every_way_passes_costs_the_flow_times_its_maneuvers_squared():
         going.saw(None, 100.0 * k)
     out = going.prices("in", car, True, 599.0)
     assert out[last_out] == pytest.approx(0.005 * held(last_out))
-    assert max(out.values()) == pytest.approx(out[last_out])
+    assert all(p <= 0.005 * held(sid) * (1 + 1e-9) for sid, p in out.items())
 
 
 def test_with_traffic_seen_priced_takes_the_cheapest_slot_all_told(gate_spur):
