@@ -12,8 +12,10 @@ Run from the repository root::
 Every figure is measured by running a ``lotsim`` command as a process, as a user runs it,
 and each row of the page names that command. Rows:
 
-* where users wait: ``lotsim validate`` of the large lot (1040 slots) and of the 364-bay
-  lot, cold (empty cache: the lot is prepared) and warm (loaded from the on-disk cache);
+* where users wait: ``lotsim validate`` of the large lot (1040 slots), of the 364-bay lot
+  and of a generated 5000-bay grid (not in ``--quick``), cold (empty cache: the lot is
+  prepared) and warm (loaded from the on-disk cache), and of the 364-bay lot again after
+  shortening one of its rows;
   ``lotsim run`` of the large lot's 100 cars; 1000 cars arriving at 1200 an hour and
   staying 10-30 minutes, and ``lotsim check`` of their result; the minimum-slot table of
   every catalogue car; ``lotsim validate`` of the lots of an OpenStreetMap extract one
@@ -115,22 +117,59 @@ class Page:
 
 # --- where users wait -----------------------------------------------------------------
 
-def validate_rows(page: Page, runs: int, lots: list[tuple[str, str]]) -> None:
+def validate_rows(page: Page, runs: int, lots: list[tuple[str, str]], tmp: Path) -> None:
     page.section("Where users wait",
                  "Wall time of each command as a process (Python's start included). *Cold*: "
                  "an empty cache, the lot is prepared (its maneuvers, turns and graph); "
-                 "*warm*: the same command again, the prepared lot loaded from the cache.",
+                 "*warm*: the same command again, the prepared lot loaded from the cache; "
+                 "*after an edit*: the lot with one row a bay shorter, validated after the "
+                 "lot as it was (its maneuvers are remembered by the scenario's name; the "
+                 "rest is prepared again).",
                  "| what | command | runs | min / median / max |")
     for name, path in lots:
-        cold, warm = [], []
+        cold, warm, edited = [], [], []
+        shorter = _one_row_shorter(path, tmp) if path == SURFACE else None
         for _ in range(runs):
             with tempfile.TemporaryDirectory() as cache:
                 env = environment(cache)
                 cold.append(checked(process(*LOTSIM, "validate", path, env=env))[0])
                 warm.append(checked(process(*LOTSIM, "validate", path, env=env))[0])
-        cmd = f"`LOTSIM_CACHE_DIR=$(mktemp -d) lotsim validate {path}`"
+                if shorter is not None:
+                    edited.append(checked(process(*LOTSIM, "validate", shorter,
+                                                  env=env))[0])
+        shown = path if Path(path).parent != tmp else Path(path).name
+        cmd = f"`LOTSIM_CACHE_DIR=$(mktemp -d) lotsim validate {shown}`"
         page.row(f"validate {name}, cold", cmd, runs, spread(cold) + " s")
         page.row(f"validate {name}, warm", "the same again", runs, spread(warm) + " s")
+        if shorter is not None:
+            page.row(f"validate {name} after an edit", "then the lot with its row "
+                     f"`{EDITED_ROW}` a bay shorter", runs, spread(edited) + " s")
+
+
+EDITED_ROW = "A1SE-"
+"""The row of the 364-bay lot that the edit row shortens by one bay."""
+
+
+def _one_row_shorter(path: str, tmp: Path) -> str:
+    """A copy of the lot at ``path`` (same name) with its row :data:`EDITED_ROW` one bay
+    shorter."""
+    doc = yaml.safe_load((ROOT / path).read_text(encoding="utf-8"))
+    row = next(r for r in doc["lot"]["rows"] if r.get("id_prefix") == EDITED_ROW)
+    row["count"] -= 1
+    out = tmp / "surface364_edited.yaml"
+    out.write_text(yaml.safe_dump(doc, sort_keys=False), encoding="utf-8")
+    return str(out)
+
+
+def _grid_5000(tmp: Path) -> str:
+    """The generated 5000-bay regular lot of ``benchmarks/bench_scaling.py``, written to
+    ``tmp``."""
+    sys.path.insert(0, str(ROOT / "benchmarks"))
+    from bench_scaling import LOTS, grid_lot
+
+    out = tmp / "grid5000.yaml"
+    out.write_text(grid_lot(*LOTS[5000]), encoding="utf-8")
+    return str(out)
 
 
 def checked(measured: tuple[float, float, int, str], ok: tuple[int, ...] = (0,)):
@@ -445,11 +484,12 @@ def main() -> None:
     args.load = os.getloadavg()
     started = time.perf_counter()
     page = Page()
-    lots = [("large lot (1040 slots)", LARGE)]
-    if not args.quick:
-        lots.append(("364-bay lot (four vehicle types)", SURFACE))
     with tempfile.TemporaryDirectory() as tmp, tempfile.TemporaryDirectory() as cache:
-        validate_rows(page, args.runs, lots)
+        lots = [("large lot (1040 slots)", LARGE)]
+        if not args.quick:
+            lots += [("364-bay lot (four vehicle types)", SURFACE),
+                     ("a generated 5000-bay grid (`bench_scaling.py`'s)", _grid_5000(Path(tmp)))]
+        validate_rows(page, args.runs, lots, Path(tmp))
         run_rows(page, args.runs, not args.quick, cache, Path(tmp))
         minslot_row(page, args.runs)
         if not args.quick:

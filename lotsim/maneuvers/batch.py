@@ -4,6 +4,7 @@ exactly the answers of searching them one after another."""
 
 from __future__ import annotations
 
+import hashlib
 import itertools
 import multiprocessing
 import os
@@ -64,14 +65,24 @@ class _Batch:
             return *found, exact, True
         return *search_maneuver(problem, st, planner.settings), exact, False
 
-    def fitted(self, job: tuple[int, str, list[Found]]) -> tuple | None:
+    def fitted(self, job: tuple[int, str, list[Found]]) -> tuple:
         """The first of ``job[2]`` (maneuvers of its class) that fits the problem of triple
         ``job[0]`` in style ``job[1]``, or its own with fewer changes
-        (:func:`~lotsim.maneuvers.reuse.fit_first`); None when none fits."""
+        (:func:`~lotsim.maneuvers.reuse.fit_first`), None when none fits; and the key
+        ``known`` keeps that by (None when there is no ``known``), whether it held it."""
         k, st, offers = job
         planner = self.planner
         problem = planner.problems.pose(*self.triples[k])
-        return fit_first(problem, st, offers, planner.settings, planner.fewer)
+        if self.known is None:
+            return fit_first(problem, st, offers, planner.settings, planner.fewer), None, False
+        # the problem to the last bit, and the problems the offers were searched for
+        h = hashlib.blake2b(exact_key(problem, st), digest_size=20)
+        for found in offers:
+            h.update(found.source)
+        key = h.digest()
+        if key in self.known:
+            return self.known[key], key, True
+        return fit_first(problem, st, offers, planner.settings, planner.fewer), key, False
 
 
 def prefetch(planner: ManeuverPlanner, vehicles: Iterable[VehicleType], *,
@@ -136,11 +147,16 @@ def prefetch(planner: ManeuverPlanner, vehicles: Iterable[VehicleType], *,
 
         def fit(jobs: list) -> list:
             got = pool.map(batch.fitted, [(*todo[k], offers) for k, offers in jobs], chunk=16)
-            for _ in range(sum(x is not None for x in got)):
-                count_done.add()
-            return got
+            for pair, exact, _ in got:
+                if exact is not None:
+                    fits[exact] = pair
+                if pair is not None:
+                    count_done.add()
+            return [pair for pair, _, _ in got]
 
-        settled = settle(list(classes.values()), search, fit)
+        fits: dict[bytes, tuple | None] = {}  # what ``known`` is to keep of the fits
+        settled = settle(list(classes.values()), search, fit,
+                         offer=lambda key, pair: Found.of(pair, extra[key][0]))
     for key in todo:  # in the order first met
         (hit, raw), searched = settled[key]
         planner.learn(key, hit, raw, searched=searched)
@@ -150,6 +166,9 @@ def prefetch(planner: ManeuverPlanner, vehicles: Iterable[VehicleType], *,
             known[exact] = hit, raw  # most recently used last
             planner.stats["remembered"] += remembered
     if known is not None:
+        for key, pair in fits.items():
+            known.pop(key, None)
+            known[key] = pair  # most recently used last
         for old in list(itertools.islice(known, max(0, len(known) - KNOWN_MOST))):
             del known[old]
 

@@ -50,15 +50,17 @@ class Found:
     length: float
     answer: Outcome
     raw: Outcome
+    source: bytes | None = None
 
     @classmethod
-    def of(cls, pair: Pair) -> Found | None:
-        """The offer of a search's answer, or None when it found none."""
+    def of(cls, pair: Pair, source: bytes | None = None) -> Found | None:
+        """The offer of a search's answer (``source``: what names the problem searched,
+        when the caller keeps fits by it), or None when it found none."""
         answer, raw = pair
         if not answer.found:
             return None
         segs = answer.value[0]
-        return cls(changes(segs), sum(s.length for s in segs), answer, raw)
+        return cls(changes(segs), sum(s.length for s in segs), answer, raw, source)
 
 
 def changes(segments: Sequence[Segment]) -> int:
@@ -140,7 +142,7 @@ is offered to the problems up to this many places either side of it."""
 def settle(classes: Sequence[Sequence[Member]],
            search: Callable[[list[Member]], list[Pair]],
            fit: Callable[[list[tuple[Member, list[Found]]]], list[Pair | None]], *,
-           offer: Callable[[Pair], Found | None] = Found.of
+           offer: Callable[[Member, Pair], Found | None] = lambda _, pair: Found.of(pair)
            ) -> dict[Member, tuple[Pair, bool]]:
     """Every member of every class answered, in rounds. The first round searches every
     :data:`STRIDE`-th member of each class (in order, the first first); each later one the
@@ -152,8 +154,8 @@ def settle(classes: Sequence[Sequence[Member]],
     ``(member, offers)`` by the first offer that fits it (fewest changes first, then
     shortest), or by its own search when that finds fewer changes, or None
     (:func:`fit_first`). Both may work on other processes: the answers depend on the
-    classes alone. ``offer(pair)``: what a search's answer offers the others
-    (:meth:`Found.of`).
+    classes alone. ``offer(member, pair)``: what a member's search's answer offers the
+    others (:meth:`Found.of`).
 
     Returns member → (its answer eased and as planned, whether it was searched).
     """
@@ -164,7 +166,7 @@ def settle(classes: Sequence[Sequence[Member]],
         offers: list[dict[int, Found]] = [{} for _ in classes]
         for (c, i), pair in zip(flat, search([classes[c][i] for c, i in flat]), strict=True):
             out[classes[c][i]] = pair, True
-            found = offer(pair)
+            found = offer(classes[c][i], pair)
             if found is not None:
                 offers[c][i] = found
         jobs, where = [], []

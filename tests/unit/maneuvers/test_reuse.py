@@ -152,7 +152,7 @@ def test_the_rounds_search_every_stride_then_the_first_of_each_run_left():
     class Offer(str):
         changes, length = 0, 0.0
 
-    out = settle([members], search, fit, offer=lambda pair: Offer(pair[0]))
+    out = settle([members], search, fit, offer=lambda _, pair: Offer(pair[0]))
     assert searched[0] == list(range(0, len(members), STRIDE))
     odd = [m for m in members if m % 2 and m % STRIDE]
     assert [m for ms in searched[1:] for m in ms] == sorted(odd)
