@@ -1,81 +1,92 @@
-"""Planning every slot's parking maneuver, with the geometry cache against without it.
+"""Planning every slot's parking maneuver: searched once per shape and checked per bay,
+against every distinct problem searched on its own.
 
-Run: ``python benchmarks/bench_maneuvers.py [scenarios/large_lot.yaml] [--sample N]``
+Run: ``python benchmarks/bench_maneuvers.py [scenarios/lots/surface364.yaml] [--sample N]``
 
-Plans every (vehicle type, slot, lane) of the lot with one ManeuverPlanner (which
-plans each distinct local geometry once and moves the result rigidly), then plans
-a seeded sample of the same problems with the cache emptied before each one, the
-baseline. Prints both times, the per-problem ratio, and checks that the sampled
-maneuvers agree (same changes, length within 1 mm) — the cache must not change
-answers, only their cost.
+Plans every (vehicle type, slot, lane) of the lot as preparing it does, in one process
+(:func:`lotsim.maneuvers.batch.plan_lot` with one worker: a few problems of each shape
+searched, the rest fitted from them, :mod:`lotsim.maneuvers.reuse`), then searches a seeded
+sample of the same distinct problems each on its own, the baseline. Prints both times, the
+estimated ratio for the whole lot, and how the sampled answers compare: searched ones must
+be the very answers of their own search; fitted ones never have more direction changes, and
+the figures say how much longer they are.
 """
 
 from __future__ import annotations
 
 import argparse
+import statistics
 import time
 
 import numpy as np
 
-from lotsim.errors import InfeasibleManeuver
 from lotsim.io.scenario_yaml import load_scenario
 from lotsim.lot.build import build_lot
 from lotsim.lot.model import DesignVehicle
-from lotsim.maneuvers.planner import ManeuverPlanner
-from lotsim.roadmap.assemble import build_graph
-from lotsim.roadmap.reach import reachable_ranges
+from lotsim.maneuvers.batch import plan_lot
+from lotsim.maneuvers.planner import search_maneuver
+from lotsim.maneuvers.reuse import changes
+from lotsim.sim.preparation import maneuver_planner
 
 
 def main() -> None:
     ap = argparse.ArgumentParser()
-    ap.add_argument("scenario", nargs="?", default="scenarios/large_lot.yaml")
-    ap.add_argument("--sample", type=int, default=40, help="problems planned without cache")
+    ap.add_argument("scenario", nargs="?", default="scenarios/lots/surface364.yaml")
+    ap.add_argument("--sample", type=int, default=300,
+                    help="distinct problems searched on their own (default 300)")
     args = ap.parse_args()
     scenario = load_scenario(args.scenario)
     lot = build_lot(scenario.lot, DesignVehicle.envelope(scenario.vehicle_types))
-    ranges = reachable_ranges(build_graph(lot))
-
-    def planner() -> ManeuverPlanner:
-        return ManeuverPlanner(lot, parked_width=scenario.parked_vehicle.width,
-                               lane_ranges=ranges)
-
-    cached = planner()
-    problems = [(v, s, lane) for v in scenario.vehicle_types for s in lot.slots
-                for lane in cached.lanes_for(s)]
+    planner = maneuver_planner(scenario, lot)
     t0 = time.perf_counter()
-    results = {}
-    for v, s, lane in problems:
-        try:
-            results[(v.name, s.id, lane.id)] = cached.plan(v, s, lane)
-        except InfeasibleManeuver:
-            results[(v.name, s.id, lane.id)] = None
-    t_cached = time.perf_counter() - t0
+    plan_lot(planner, scenario.vehicle_types, workers=1)
+    t_lot = time.perf_counter() - t0
+    types = {v.name: v for v in scenario.vehicle_types}
+    lanes = {lane.id: lane for lane in lot.lanes}
+    distinct = {}
+    for (vname, sid, lid, style), (key, _, _) in planner._posed.items():
+        distinct.setdefault(key, (types[vname], lot.slot_by_id[sid], lanes[lid], style))
+    keys = list(distinct)
     rng = np.random.default_rng(7)
-    pick = rng.choice(len(problems), size=min(args.sample, len(problems)), replace=False)
-    fresh = planner()
-    t0 = time.perf_counter()
-    agree = 0
-    for i in pick:
-        v, s, lane = problems[i]
-        fresh._cache.clear()
-        try:
-            m = fresh.plan(v, s, lane)
-        except InfeasibleManeuver:
-            m = None
-        ref = results[(v.name, s.id, lane.id)]
-        same = (m is None and ref is None) or (
-            m is not None and ref is not None and m.changes == ref.changes
-            and abs(m.length - ref.length) < 1e-3)
-        agree += same
-    t_fresh = (time.perf_counter() - t0) / len(pick)
-    n = len(problems)
-    print(f"{args.scenario}: {len(lot.slots)} slots, {n} (type, slot, lane) problems")
-    print(f"  with cache : {t_cached:7.2f} s total, {1e3 * t_cached / n:6.1f} ms per problem; "
-          f"{cached.stats['planned']} planned, {cached.stats['reused']} reused")
-    print(f"  no cache   : {1e3 * t_fresh:6.1f} ms per problem (sample of {len(pick)}), "
-          f"{t_fresh * n:7.2f} s for the lot (estimated)")
-    print(f"  speed-up   : {t_fresh * n / t_cached:5.1f}x; sampled answers agree: "
-          f"{agree}/{len(pick)}")
+    pick = rng.choice(len(keys), size=min(args.sample, len(keys)), replace=False)
+    own_time, same, fitted_more, fitted_fewer, fitted_equal, longer = 0.0, 0, 0, 0, 0, []
+    for i in pick.tolist():
+        key = keys[i]
+        v, slot, lane, style = distinct[key]
+        problem = planner.problems.pose(v, slot, lane)
+        t0 = time.perf_counter()
+        own, _ = search_maneuver(problem, style, planner.settings)
+        own_time += time.perf_counter() - t0
+        got = planner._cache[key]
+        if key not in planner._fitted:
+            same += own.found == got.found and (not own.found or own.value == got.value)
+            continue
+        a, b = changes(got.value[0]), (changes(own.value[0]) if own.found else None)
+        if b is None or a < b:
+            fitted_fewer += 1
+        elif a > b:
+            fitted_more += 1
+        else:
+            fitted_equal += 1
+            longer.append(sum(s.length for s in got.value[0])
+                          - sum(s.length for s in own.value[0]))
+    per = own_time / len(pick)
+    searched_sample = len(pick) - fitted_more - fitted_fewer - fitted_equal
+    print(f"{args.scenario}: {len(lot.slots)} slots, {len(keys)} distinct problems: "
+          f"{len(keys) - len(planner._fitted)} searched, {len(planner._fitted)} fitted")
+    print(f"  per shape : {t_lot:7.2f} s for the lot (one process)")
+    print(f"  each alone: {1e3 * per:6.1f} ms per problem (sample of {len(pick)}), "
+          f"{per * len(keys):7.2f} s for the lot (estimated)")
+    print(f"  ratio     : {t_lot / (per * len(keys)):5.2f} of the time")
+    print(f"  sampled searched problems answered as their own search: "
+          f"{same}/{searched_sample}")
+    print(f"  sampled fitted problems, direction changes against their own search: "
+          f"{fitted_equal} the same, {fitted_fewer} fewer (or it found none), "
+          f"{fitted_more} more")
+    if longer:
+        print(f"  ... longer than their own search, where the changes are the same: mean "
+              f"{statistics.mean(longer):.2f} m, median {statistics.median(longer):.2f} m, "
+              f"max {max(longer):.2f} m, min {min(longer):.2f} m")
 
 
 if __name__ == "__main__":
