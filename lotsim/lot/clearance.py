@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import hashlib
+import math
 from collections.abc import Callable
 from dataclasses import dataclass
 
@@ -65,6 +67,22 @@ class Collider:
         """Boolean mask of the ``bodies`` (N, K, 2 point sets, taken as hulls) that are not free."""
         return hulls_blocked(hulls(bodies), self.allowed, self.tree)
 
+    def around(self, box: tuple[float, float, float, float]) -> bytes:
+        """A digest of all that a check of a body lying inside ``box`` (x min, y min, x max,
+        y max) reads: the obstacles whose bounds meet the box, with their labels, in the
+        tree's order (a hit names the first), and the allowed region within the box. Two
+        colliders with equal digests for a box answer every check inside it alike."""
+        h = hashlib.blake2b(self.edge.encode(), digest_size=20)
+        if not box[0] <= box[2] or not box[1] <= box[3]:
+            return h.digest()  # nothing was checked
+        area = shapely.box(*box)
+        at = np.sort(self.tree.query(area))
+        h.update(repr([self.labels[int(i)] for i in at]).encode())
+        for wkb in shapely.to_wkb(self.tree.geometries.take(at)):
+            h.update(wkb)
+        h.update(shapely.to_wkb(shapely.normalize(shapely.intersection(self.allowed, area))))
+        return h.digest()
+
     @staticmethod
     def sweeps(footprints: FloatArray) -> FloatArray:
         """Point sets (N-1, 8, 2) of consecutive footprint pairs: their hulls cover the sweep."""
@@ -95,6 +113,24 @@ class Collider:
         exactly and an arc up to its sagitta (about 1 mm at 0.2 m steps).
         """
         return self.first_hit(self.sweeps(footprints))
+
+
+class Watched(Collider):
+    """``collider``'s checks, noting the box every body checked lies in (:attr:`box`):
+    what an answer worked out with it can depend on (:meth:`Collider.around`)."""
+
+    def __init__(self, collider: Collider):
+        self.__dict__.update(collider.__dict__)
+        self.box = (math.inf, math.inf, -math.inf, -math.inf)
+
+    def blocked(self, bodies: FloatArray) -> np.ndarray:
+        if len(bodies):
+            pts = np.asarray(bodies).reshape(-1, 2)
+            lo, hi = pts.min(axis=0), pts.max(axis=0)
+            x0, y0, x1, y1 = self.box
+            self.box = (min(x0, float(lo[0])), min(y0, float(lo[1])),
+                        max(x1, float(hi[0])), max(y1, float(hi[1])))
+        return super().blocked(bodies)
 
 
 def first_blocked(blocked: Callable[[FloatArray], np.ndarray], prints: FloatArray,

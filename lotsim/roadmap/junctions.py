@@ -12,7 +12,6 @@ import numpy as np
 import shapely
 
 from lotsim.core.geometry import Segment, cc_turn, sample_segments, wrap_angle
-from lotsim.core.workers import fork_map
 from lotsim.lot.build import SWEEP_STEP
 from lotsim.lot.clearance import Collider
 from lotsim.lot.model import DesignVehicle, Lot, unit
@@ -20,6 +19,7 @@ from lotsim.roadmap.area_turns import area_turns
 from lotsim.roadmap.lanes import EPS, portal_station, straights
 from lotsim.roadmap.memo import RoadmapMemo, types_key
 from lotsim.roadmap.model import Turn
+from lotsim.roadmap.remembered import lot_key, piece_key, worked_out
 from lotsim.roadmap.through import through_chains, through_turn
 
 TURN_SPEEDS = tuple(k / 3.6 for k in (15.0, 12.5, 10.0, 7.5, 5.0, 3.0, 1.5))
@@ -188,7 +188,8 @@ def turns_of(lot: Lot, collider: Collider, designs: dict[str, DesignVehicle] | N
     key = types_key(designs)
     cache = memo.check(lot).turns
     if key not in cache:
-        per = turns_per_design(lot, collider, list(designs.values()) if designs else [None])
+        per = turns_per_design(lot, collider, list(designs.values()) if designs else [None],
+                               memo)
         if not designs:
             turns, skipped = per[0]
             cache[key] = ([(t, None) for t in turns], skipped)
@@ -217,17 +218,24 @@ def turns_of(lot: Lot, collider: Collider, designs: dict[str, DesignVehicle] | N
     return list(turns), list(skipped)
 
 
-def turns_per_design(lot: Lot, collider: Collider, designs: list
-                     ) -> list[tuple[list[Turn], list[str]]]:
+def turns_per_design(lot: Lot, collider: Collider, designs: list,
+                     memo: RoadmapMemo | None = None) -> list[tuple[list[Turn], list[str]]]:
     """:func:`junction_turns` and the turns through short stretches
     (:func:`~lotsim.roadmap.through.through_turn`) for each of ``designs`` (None: the
     lot's design vehicle), as each would find them on its own: the junction turns out of
     each lane, then each design's turns through short stretches, on both cores
-    (:func:`~lotsim.core.workers.fork_map`; the same answers in the same order)."""
+    (:func:`~lotsim.core.workers.fork_map`; the same answers in the same order), each
+    taken from ``memo``'s store of an earlier preparation where what it read is the same
+    (:mod:`~lotsim.roadmap.remembered`)."""
     jobs = [(design, a) for design in designs for a in lot.lanes]
     gates = gate_stations(lot)
-    found = fork_map(lambda job: junction_turns(lot, collider, job[0], lanes_a=(job[1],),
-                                                gates=gates), jobs)
+    known = memo.known if memo is not None else None
+    base = lot_key(lot) if known is not None else b""
+    found, taken = worked_out(
+        known, [piece_key(base, "junction", design or lot.design, a.id, sorted(gates.items()))
+                for design, a in jobs], collider,
+        lambda k, eye: junction_turns(lot, eye, jobs[k][0], lanes_a=(jobs[k][1],),
+                                      gates=gates))
     per = []
     for k in range(len(designs)):
         mine = found[k * len(lot.lanes):(k + 1) * len(lot.lanes)]
@@ -235,7 +243,14 @@ def turns_per_design(lot: Lot, collider: Collider, designs: list
     # then each design's turns through short stretches, a stretch a task (a large type's
     # take longest)
     chains = [(k, chain) for k in range(len(designs)) for chain in through_chains(lot, per[k][0])]
-    got = fork_map(lambda job: through_turn(lot, collider, designs[job[0]], job[1]), chains)
+    got, more = worked_out(
+        known, [piece_key(base, "through", designs[k] or lot.design,
+                          [x.id if hasattr(x, "id") else x for x in chain])
+                for k, chain in chains], collider,
+        lambda j, eye: through_turn(lot, eye, designs[chains[j][0]], chains[j][1]))
+    if memo is not None:
+        memo.recalled += taken + more
+        memo.worked += len(jobs) + len(chains) - taken - more
     through: list[list[Turn]] = [[] for _ in designs]
     for (k, _), turns in zip(chains, got, strict=True):
         through[k] += turns

@@ -6,6 +6,7 @@ from __future__ import annotations
 from typing import TYPE_CHECKING
 
 from lotsim.lot.model import DesignVehicle, Lot
+from lotsim.roadmap.remembered import keep
 
 if TYPE_CHECKING:
     from lotsim.core.workers import Background
@@ -38,12 +39,20 @@ class RoadmapMemo:
     plans : dict
         The turnaround searches made so far, by lane, design and arguments.
     ahead : tuple or None
-        The keys of :attr:`plans` being planned ahead and the background process planning
-        them (:func:`~lotsim.roadmap.turnarounds.plan_turnarounds_ahead`).
+        The keys of :attr:`plans` being planned ahead, the background process planning
+        them and their piece keys (:func:`~lotsim.roadmap.turnarounds.plan_turnarounds_ahead`).
+    known : dict or None
+        Pieces of the roadmap worked out when the lot (or an earlier version of it) was
+        prepared before, by what each read (:mod:`~lotsim.roadmap.remembered`); those
+        worked out now are added. None: none kept.
+    recalled, worked : int
+        How many pieces were taken from :attr:`known`, and how many worked out.
     """
 
-    def __init__(self, lot: Lot):
+    def __init__(self, lot: Lot, known: dict | None = None):
         self.lot = lot
+        self.known = known
+        self.recalled = self.worked = 0
         self.turns: dict = {}
         self.multipoints: dict = {}
         self.uturns: dict = {}
@@ -60,9 +69,13 @@ class RoadmapMemo:
     def take_ahead(self) -> None:
         """Move the plans the background process has finished so far into :attr:`plans`."""
         if self.ahead is not None:
-            keys, background = self.ahead
-            for k, plan in background.take().items():
-                self.plans.setdefault(keys[k], plan)
+            keys, background, pieces = self.ahead
+            for k, version in background.take().items():
+                if keys[k] not in self.plans:
+                    self.plans[keys[k]] = version[0]
+                    if keys[k] in pieces and self.known is not None:
+                        keep(self.known, pieces[keys[k]], version)
+                    self.worked += 1
 
 
 def types_key(designs: dict[str, DesignVehicle] | None) -> tuple | None:

@@ -45,6 +45,15 @@ from lotsim.roadmap.multipoint import (
     to_local,
     to_world,
 )
+from lotsim.roadmap.remembered import (
+    MISSING,
+    keep,
+    lot_key,
+    piece_key,
+    recall,
+    watched,
+    worked_out,
+)
 
 MARGIN = 0.1
 """Clearance kept to slots, walls and the boundary during a turnaround [m]: the safety margin of
@@ -339,8 +348,20 @@ def _dead_end_plans(lot: Lot, per: dict[str, DesignVehicle], bodies: dict[str, t
     planned = memo.plans  # (lane, design) → plan_turnarounds, and the reaching ones
     todo = {key: job for key, job in _turnaround_plans(per, bodies, ends).items()
             if key not in planned}
-    planned.update(zip(todo, fork_map(lambda job: plan_turnarounds(*job),
-                                      list(todo.values())), strict=True))
+    pieces = _plan_keys(memo, todo)
+    for key, job in todo.items():
+        got = recall(memo.known, pieces.get(key), job[2])
+        if got is not MISSING:
+            planned[key] = got
+            memo.recalled += 1
+    todo = {key: job for key, job in todo.items() if key not in planned}
+    got = fork_map(lambda job: watched(lambda eye: plan_turnarounds(*job[:2], eye, *job[3:]),
+                                       job[2], memo.known is not None), list(todo.values()))
+    for key, version in zip(todo, got, strict=True):
+        planned[key] = version[0]
+        if key in pieces:
+            keep(memo.known, pieces[key], version)
+        memo.worked += 1
     reach = {}  # reach key → (lane, back, found, collider, body, radius, arrive, go on)
 
     def reach_key(lane: Lane, back: Lane, design: DesignVehicle) -> tuple:
@@ -355,7 +376,7 @@ def _dead_end_plans(lot: Lot, per: dict[str, DesignVehicle], bodies: dict[str, t
                 reach[reach_key(lane, back, design)] = (
                     lane, back, [] if isinstance(t, str) else t, *bodies[name],
                     design.min_radius, arrive.get(lane.id, ()), go_on[back.id])
-    planned.update(_reaching_all(reach, planned))
+    planned.update(_reaching_all(reach, planned, memo))
     for name, design in per.items():
         for lane, back in ends:
             t = planned[lane.id, design]
@@ -409,10 +430,30 @@ def plan_turnarounds_ahead(memo: RoadmapMemo, vehicles=()) -> Background:
     per = designs_of(vehicles) or {"": lot.design}
     bodies = {name: turnaround_collider(lot, design) for name, design in per.items()}
     jobs = _turnaround_plans(per, bodies, two_way_lanes(lot))
+    pieces = _plan_keys(memo, jobs)
+    for key, args in jobs.items():  # those an earlier preparation planned, where unchanged
+        if key not in memo.plans:
+            got = recall(memo.known, pieces.get(key), args[2])
+            if got is not MISSING:
+                memo.plans[key] = got
+                memo.recalled += 1
     keys = [key for key in jobs if key not in memo.plans]
-    ahead = Background(lambda key: plan_turnarounds(*jobs[key]), keys)
-    memo.ahead = (keys, ahead)
+    watch = memo.known is not None
+    ahead = Background(lambda key: watched(
+        lambda eye: plan_turnarounds(*jobs[key][:2], eye, *jobs[key][3:]), jobs[key][2],
+        watch), keys)
+    memo.ahead = (keys, ahead, pieces)
     return ahead
+
+
+def _plan_keys(memo: RoadmapMemo, jobs: dict) -> dict:
+    """The piece key (:mod:`~lotsim.roadmap.remembered`) of each of :func:`_turnaround_plans`'
+    ``jobs`` (empty when ``memo`` keeps none)."""
+    if memo.known is None:
+        return {}
+    base = lot_key(memo.lot)
+    return {key: piece_key(base, "turnaround", lane.id, back.id, body, radius)
+            for key, (lane, back, _, body, radius) in jobs.items()}
 
 
 def fits_a_slot(lot: Lot, design: DesignVehicle) -> bool:
@@ -421,12 +462,16 @@ def fits_a_slot(lot: Lot, design: DesignVehicle) -> bool:
                for s in lot.slots)
 
 
-def _reaching_all(jobs: dict, memo: dict) -> dict:
+def _reaching_all(jobs: dict, memo: dict, roads: RoadmapMemo | None = None) -> dict:
     """:func:`_reaching_turnarounds` of each of ``jobs`` (key → its arguments), by key; its
     multi-point searches on both cores, each once: ``memo`` holds (and is given) those
     done before, by lane, design and arguments (an earlier build of the lot's graph made
     some). A job's second search waits for its first (whether it is made depends on what
-    the first found), so the searches go in rounds, each round's on both cores."""
+    the first found), so the searches go in rounds, each round's on both cores; each taken
+    from ``roads``' store of an earlier preparation where what it read is the same
+    (:mod:`~lotsim.roadmap.remembered`)."""
+    known = roads.known if roads is not None else None
+    base = lot_key(roads.lot) if known is not None else b""
     wanted: dict[tuple, tuple] = {}  # the searches the jobs need that are not done
 
     def onto(lane, back, starts, hi, collider, body, radius):
@@ -444,8 +489,16 @@ def _reaching_all(jobs: dict, memo: dict) -> dict:
                 out[key] = _reaching_turnarounds(*job, onto=onto)
         if not wanted:
             return out
-        memo.update(zip(wanted, fork_map(lambda job: _reaching_onto(*job),
-                                         list(wanted.values())), strict=True))
+        keys = [piece_key(base, "reach", lane.id, back.id, starts, hi, body, radius)
+                for lane, back, starts, hi, _, body, radius in wanted.values()]
+        jobs_now = list(wanted.values())
+        found, taken = worked_out(
+            known, keys, [job[4] for job in jobs_now],
+            lambda k, eye, jobs=jobs_now: _reaching_onto(*jobs[k][:4], eye, *jobs[k][5:]))
+        memo.update(zip(wanted, found, strict=True))
+        if roads is not None:
+            roads.recalled += taken
+            roads.worked += len(keys) - taken
 
 
 class _Pending(Exception):

@@ -114,18 +114,21 @@ def _prepared(scenario: Scenario, leaves: set[bool], name: str | None, node_spac
     """:func:`prepare_lot` a lot not in the cache, and store it there (the lot graph and
     the maneuver planner) as ``name`` (when not None)."""
     lot = build_lot(scenario.lot, DesignVehicle.envelope(scenario.vehicle_types))
-    memo = RoadmapMemo(lot)  # what the lanes' graph works out, for the graph through slots
+    remember = (name is not None and lotsim.core.diskcache.cache_dir() is not None
+                and len(lot.slots) * len(scenario.vehicle_types) >= remember_from)
+    # the pieces of this lot's roadmap (and below, its maneuvers) as prepared before (by its
+    # name), whatever has changed since: an edited lot works out again only what its edit
+    # touched
+    roads_name = lotsim.core.diskcache.key("roadmap", scenario.name) if remember else None
+    roads = _known(roads_name)
+    # what the lanes' graph works out, for the graph through slots
+    memo = RoadmapMemo(lot, roads)
     # the dead ends' turnarounds, planned in time no other step wants (the graphs need them)
     with plan_turnarounds_ahead(memo, scenario.vehicle_types):
         planner = maneuver_planner(scenario, lot, margin=margin, memo=memo)
-        known = known_name = None
-        if (name is not None and lotsim.core.diskcache.cache_dir() is not None
-                and len(lot.slots) * len(scenario.vehicle_types) >= remember_from):
-            # the maneuvers of this lot as prepared before (by its name), whatever has changed
-            # since: an edited lot searches again only the problems its edit changed
-            known_name = lotsim.core.diskcache.key("maneuvers", scenario.name, planner.settings)
-            known = lotsim.core.diskcache.load(known_name)
-            known = known if isinstance(known, dict) else {}
+        known_name = (lotsim.core.diskcache.key("maneuvers", scenario.name, planner.settings)
+                      if remember else None)
+        known = _known(known_name)
         planned, infeasible, stays = plan_lot(planner, scenario.vehicle_types, progress=progress,
                                               known=known)
         if known_name is not None and planner.stats["planned"] > planner.stats["remembered"]:
@@ -137,11 +140,22 @@ def _prepared(scenario: Scenario, leaves: set[bool], name: str | None, node_spac
         lg = build_graph(lot, node_spacing=node_spacing, maneuvers=planned,
                          vehicles=scenario.vehicle_types, stays=stays, memo=memo)
         lg.infeasible = infeasible
+        if roads_name is not None and memo.worked:
+            lotsim.core.diskcache.store(roads_name, roads)
         if name is not None:
             lg.reachability()  # every run and validate asks: kept with the lot
             lg.facts()
             lotsim.core.diskcache.store(name, (lg, planner))
         return lg, planner
+
+
+def _known(name: str | None) -> dict | None:
+    """The store of answers kept on disk as ``name`` (empty when there is none yet); None
+    without a name."""
+    if name is None:
+        return None
+    got = lotsim.core.diskcache.load(name)
+    return got if isinstance(got, dict) else {}
 
 
 @dataclass(frozen=True, slots=True)

@@ -60,23 +60,26 @@ def test_turnarounds_searched_in_rounds_on_two_workers_are_those_searched_one_by
     # the ladder's dead ends need multi-point turnarounds, some of them searched after
     # another (a car arriving past the first): searched in rounds on forked workers, each
     # once, against each searched where it is met
+    from lotsim.roadmap import remembered
+
     sc = load_scenario(LOTS / "ladder.yaml")
     searched, jobs = [], {}
-    real_fork_map, real_reaching_all = turnarounds.fork_map, turnarounds._reaching_all
+    real_fork_map, real_reaching_all = remembered.fork_map, turnarounds._reaching_all
+    real_onto = turnarounds._reaching_onto
 
-    def recording(fn, items, **kw):
-        searched.extend((lane.id, back.id, body, tuple(starts), hi)
-                        for lane, back, starts, hi, _, body, _ in
-                        (x for x in items if isinstance(x, tuple) and len(x) == 7))
-        return real_fork_map(fn, items, **kw)
+    def recording(lane, back, starts, hi, collider, body, radius):
+        searched.append((lane.id, back.id, body, tuple(starts), hi))
+        return real_onto(lane, back, starts, hi, collider, body, radius)
 
     def backs(lg):
         return sorted((u, v, d["path"]) for u, v, d in lg.graph.edges(data=True)
                       if d["kind"] == "turnaround")
 
-    monkeypatch.setattr(turnarounds, "fork_map", recording)
-    monkeypatch.setattr(turnarounds, "_reaching_all", lambda todo, memo: (
-        jobs.update(todo), real_reaching_all(todo, memo))[1])
+    # the searches in this process, to count them
+    monkeypatch.setattr(remembered, "fork_map", lambda fn, items, **kw: [fn(x) for x in items])
+    monkeypatch.setattr(turnarounds, "_reaching_onto", recording)
+    monkeypatch.setattr(turnarounds, "_reaching_all", lambda todo, memo, *rest: (
+        jobs.update(todo), real_reaching_all(todo, memo, *rest))[1])
     found = backs(prepare_graph(sc, cache=False))
     assert len(searched) >= 8 and len(set(searched)) == len(searched)
     # a second build whose cars arrive elsewhere on a lane searches only from there
@@ -90,8 +93,10 @@ def test_turnarounds_searched_in_rounds_on_two_workers_are_those_searched_one_by
         searched.clear()
         real_reaching_all({0: (*job[:6], {arrive - 0.5}, job[7])}, memo)
         assert all(len(starts) == 1 for *_, starts, _ in searched)
-    monkeypatch.setattr(turnarounds, "fork_map", real_fork_map)
-    monkeypatch.setattr(turnarounds, "_reaching_all", lambda todo, memo: {
+    monkeypatch.setattr(remembered, "fork_map", real_fork_map)  # on two workers
+    monkeypatch.setattr(turnarounds, "_reaching_onto", real_onto)
+    assert backs(prepare_graph(sc, cache=False)) == found
+    monkeypatch.setattr(turnarounds, "_reaching_all", lambda todo, memo, *rest: {
         key: turnarounds._reaching_turnarounds(*job) for key, job in todo.items()})
     assert backs(prepare_graph(sc, cache=False)) == found
 
@@ -187,7 +192,7 @@ def test_turnarounds_planned_ahead_make_the_same_graph_and_are_used(monkeypatch)
             return assemble.build_graph(lot, vehicles=sc.vehicle_types)
         memo = RoadmapMemo(lot)
         with turnarounds.plan_turnarounds_ahead(memo, sc.vehicle_types) as bg:
-            keys, _ = memo.ahead
+            keys, *_ = memo.ahead
             bg._proc.join(60)
             assert len(bg.take()) == len(keys) > 0
             with monkeypatch.context() as m:  # (the background process has its own copy)
@@ -201,3 +206,36 @@ def test_turnarounds_planned_ahead_make_the_same_graph_and_are_used(monkeypatch)
     plain, ahead = built(False), built(True)
     assert edges(plain) and edges(ahead) == edges(plain)
     assert ahead.skipped_turns == plain.skipped_turns
+
+
+def test_roadmap_pieces_remembered_from_an_earlier_lot_are_taken_only_where_unchanged():
+    """Pieces of a lot's roadmap (junction turns out of each lane, the dead ends' plans and
+    multi-point searches) kept with what each read: the same lot again takes every one of
+    them; the lot with one bay fewer at the end of a row takes those whose checks never
+    reached it and works out the rest; each graph is the one built without the store."""
+    import yaml
+
+    from conftest import scenario_from_text
+
+    doc = yaml.safe_load((LOTS / "ladder.yaml").read_text(encoding="utf-8"))
+
+    def graph(document, known):
+        sc = scenario_from_text(yaml.safe_dump(document))
+        lot = build_lot(sc.lot, DesignVehicle.envelope(sc.vehicle_types))
+        memo = RoadmapMemo(lot, known)
+        lg = assemble.lane_graph(lot, vehicles=sc.vehicle_types, memo=memo)
+        edges = sorted((u, v, d["kind"], d.get("types"), d["path"])
+                       for u, v, d in lg.graph.edges(data=True))
+        return edges, memo
+
+    known: dict = {}
+    cold, first = graph(doc, known)
+    assert first.worked > 0 and first.recalled == 0 and known
+    again, second = graph(doc, known)
+    assert again == cold and second.worked == 0 and second.recalled == first.worked
+    row = doc["lot"]["rows"][0]
+    row["count"] -= 1  # a bay fewer at the row's far end
+    plain, _ = graph(doc, None)
+    edited, third = graph(doc, known)
+    assert edited == plain
+    assert third.recalled > 0 and third.worked > 0

@@ -1,0 +1,94 @@
+"""Pieces of a lot's roadmap remembered from an earlier preparation of the lot, by what each
+read: an edited lot plans again only the pieces its edit touched.
+
+A piece (the junction turns out of one lane for one vehicle type, the turns through one
+short stretch) is a function of the lot's lanes and aisles, its own arguments and what its
+collision checks found. It is worked out with a :class:`~lotsim.lot.clearance.Watched`
+collider, which notes the box every body it checked lies in, and kept with that box and
+the digest of what the collider holds inside it (:meth:`~lotsim.lot.clearance.Collider.around`).
+A later preparation takes the piece when its key is the same and the collider's digest of
+that box is too: every check the piece made would come out the same, so the piece would.
+The answers are the same with the store as without it.
+"""
+
+from __future__ import annotations
+
+import hashlib
+from collections.abc import Callable, Sequence
+
+from lotsim.core.workers import fork_map
+from lotsim.lot.clearance import Collider, Watched
+from lotsim.lot.model import Lot
+
+KEEP = 3
+"""Most versions of one piece a store keeps (most recent first)."""
+
+
+def lot_key(lot: Lot) -> bytes:
+    """What every piece of ``lot``'s roadmap reads of the lot besides its collisions: the
+    lanes, the aisles, the speed limit and the design vehicle."""
+    aisles = [(a.id, a.centerline.tolist(), a.width, a.one_way) for a in lot.aisles.values()]
+    lanes = [(lane.id, lane.aisle, lane.segments) for lane in lot.lanes]
+    return hashlib.blake2b(repr((lot.speed_limit, lot.design, aisles, lanes)).encode(),
+                           digest_size=20).digest()
+
+
+def piece_key(base: bytes, *parts: object) -> bytes:
+    """The key of a piece: the lot's :func:`lot_key` and the piece's own arguments."""
+    return hashlib.blake2b(base + repr(parts).encode(), digest_size=20).digest()
+
+
+MISSING = object()
+"""What :func:`recall` answers for a piece it does not hold."""
+
+
+def recall(known: dict | None, key: bytes, collider: Collider) -> object:
+    """The piece ``known`` (piece key → versions) holds as ``key`` whose box ``collider``
+    holds what it did, else :data:`MISSING`."""
+    for box, digest, piece in (known or {}).get(key, ()):
+        if collider.around(box) == digest:
+            return piece
+    return MISSING
+
+
+def watched(work: Callable[[Collider], object], collider: Collider, watch: bool = True
+            ) -> tuple:
+    """``work(collider)``, with the box its checks lay in and ``collider``'s digest of it
+    (None, None without ``watch``): a version of the piece for :func:`keep`."""
+    if not watch:
+        return work(collider), None, None
+    eye = Watched(collider)
+    piece = work(eye)
+    return piece, eye.box, collider.around(eye.box)
+
+
+def keep(known: dict | None, key: bytes, version: tuple) -> None:
+    """Add ``version`` (:func:`watched`: the piece, its box and digest) of piece ``key`` to
+    ``known``, most recent first."""
+    if known is not None:
+        piece, box, digest = version
+        known[key] = [(box, digest, piece), *known.get(key, ())][:KEEP]
+
+
+def worked_out(known: dict | None, keys: Sequence[bytes],
+               collider: Collider | Sequence[Collider],
+               work: Callable[[int, Collider], object]) -> tuple[list, int]:
+    """``[work(k, collider) for k in range(len(keys))]`` (``collider``: one for all, or
+    each piece's), each taken from ``known`` (piece key → versions) where a version's box
+    holds what it did (:func:`recall`), the others worked out on both cores
+    (:func:`~lotsim.core.workers.fork_map`) and added to ``known``; and how many were
+    taken. Without ``known``, all are worked out."""
+    each = (list(collider) if isinstance(collider, (list, tuple))
+            else [collider] * len(keys))
+    out: list = [None] * len(keys)
+    todo = []
+    for k, key in enumerate(keys):
+        out[k] = recall(known, key, each[k])
+        if out[k] is MISSING:
+            todo.append(k)
+    got = fork_map(lambda k: watched(lambda eye: work(k, eye), each[k], known is not None),
+                   todo)
+    for k, version in zip(todo, got, strict=True):
+        out[k] = version[0]
+        keep(known, keys[k], version)
+    return out, len(keys) - len(todo)
