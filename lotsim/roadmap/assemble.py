@@ -24,6 +24,7 @@ from lotsim.roadmap.junctions import turns_of
 from lotsim.roadmap.lanes import EPS, lane_serves, portal_station
 from lotsim.roadmap.memo import RoadmapMemo, designs_of, types_key
 from lotsim.roadmap.model import LotGraph, Turn
+from lotsim.roadmap.remembered import handed_back, take_back
 from lotsim.roadmap.turnarounds import Turnaround, dead_end_turnarounds
 from lotsim.roadmap.uturns import junction_uturns
 
@@ -274,10 +275,13 @@ def junction_backs(lot: Lot, tagged: Tagged, designs: dict[str, DesignVehicle] |
     same answers, kept in the memo as each keeps its own)."""
     key = types_key(designs)
     if key not in memo.multipoints and key not in memo.uturns:
-        # each kept as it keeps its own: what the workers kept went with them
-        memo.multipoints[key], memo.uturns[key] = fork_map(
-            lambda job: job(), [lambda: junction_multipoints(lot, tagged, designs, exits, memo),
-                                lambda: junction_uturns(lot, designs, memo)])
+        # each kept as it keeps its own: what the workers kept went with them, but for the
+        # searches they added to the memo's store, handed back
+        memo.multipoints[key], memo.uturns[key] = (take_back(memo, got) for got in fork_map(
+            lambda job: job(), [
+                handed_back(memo, lambda: junction_multipoints(lot, tagged, designs, exits,
+                                                               memo)),
+                handed_back(memo, lambda: junction_uturns(lot, designs, memo))]))
     return (junction_multipoints(lot, tagged, designs, exits, memo),
             junction_uturns(lot, designs, memo))
 

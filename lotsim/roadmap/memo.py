@@ -53,6 +53,7 @@ class RoadmapMemo:
         self.lot = lot
         self.known = known
         self.recalled = self.worked = 0
+        self.touched: set[bytes] = set()  # keys added to known (by a forked worker)
         self.turns: dict = {}
         self.multipoints: dict = {}
         self.uturns: dict = {}

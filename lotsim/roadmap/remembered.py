@@ -92,3 +92,48 @@ def worked_out(known: dict | None, keys: Sequence[bytes],
         out[k] = version[0]
         keep(known, keys[k], version)
     return out, len(keys) - len(todo)
+
+
+def remembered(memo, key_parts: tuple, collider: Collider,
+               work: Callable[[Collider], object]) -> object:
+    """``work(collider)`` — one search of a piece worked out in order with others (a
+    junction's multi-point turn, a U-turn) — taken from ``memo``'s store
+    (:attr:`~lotsim.roadmap.memo.RoadmapMemo.known`) where what it read is unchanged, else
+    worked out and kept there (its key noted in ``memo.touched``, for a worker to hand
+    back: :func:`handed_back`). ``key_parts``: the search's own arguments."""
+    if memo.known is None:
+        return work(collider)
+    key = piece_key(lot_key(memo.lot), *key_parts)
+    got = recall(memo.known, key, collider)
+    if got is not MISSING:
+        memo.recalled += 1
+        return got
+    version = watched(work, collider)
+    keep(memo.known, key, version)
+    memo.touched.add(key)
+    memo.worked += 1
+    return version[0]
+
+
+def handed_back(memo, work: Callable[[], object]) -> Callable[[], tuple]:
+    """``work`` for a forked worker: its answer with what it added to ``memo``'s store and
+    counted (:func:`remembered`), for :func:`take_back` in the process that forked it."""
+
+    def job() -> tuple:
+        before = (memo.recalled, memo.worked)
+        memo.touched = set()
+        out = work()
+        added = {k: memo.known[k] for k in memo.touched} if memo.known is not None else {}
+        return out, added, memo.recalled - before[0], memo.worked - before[1]
+
+    return job
+
+
+def take_back(memo, answer: tuple) -> object:
+    """The answer of a :func:`handed_back` job, its additions put into ``memo``."""
+    out, added, recalled, worked = answer
+    if memo.known is not None:
+        memo.known.update(added)
+    memo.recalled += recalled
+    memo.worked += worked
+    return out
