@@ -123,8 +123,8 @@ def validate_rows(page: Page, runs: int, lots: list[tuple[str, str]], tmp: Path)
                  "an empty cache, the lot is prepared (its maneuvers, turns and graph); "
                  "*warm*: the same command again, the prepared lot loaded from the cache; "
                  "*after an edit*: the lot with one row a bay shorter, validated after the "
-                 "lot as it was (its maneuvers are remembered by the scenario's name; the "
-                 "rest is prepared again).",
+                 "lot as it was (its maneuvers and the pieces of its roadmap are remembered "
+                 "by the scenario's name: what the edit reached is planned again).",
                  "| what | command | runs | min / median / max |")
     for name, path in lots:
         cold, warm, edited = [], [], []
