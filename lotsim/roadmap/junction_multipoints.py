@@ -10,8 +10,7 @@ from lotsim.roadmap.junctions import lane_crossing
 from lotsim.roadmap.lanes import EPS, along, straights
 from lotsim.roadmap.memo import RoadmapMemo, types_key
 from lotsim.roadmap.model import Turn
-from lotsim.roadmap.multipoint import plan_onto
-from lotsim.roadmap.remembered import remembered
+from lotsim.roadmap.remembered import plan_onto_remembered
 from lotsim.roadmap.turnarounds import Turnaround, fits_a_slot, suits, turnaround_collider
 
 MULTI_STARTS = (0.0, 3.0, 6.0)
@@ -80,12 +79,9 @@ def junction_multipoints(lot: Lot, tagged: list[tuple[Turn, frozenset | None]],
                                if (t.lane_a, t.lane_b) == (a.id, b.id)):
                             continue
                         lo = max(tb - 1.0, 0.0)
-                        got = remembered(
-                            memo, ("multipoint", a.id, sa0, b.id, sb0, starts, lo, hi,
-                                   bodies[name][1], per[name].min_radius), bodies[name][0],
-                            lambda eye, pa=pa, pb=pb, starts=starts, lo=lo, hi=hi, name=name:
-                            plan_onto(list(pa.poses_at(starts)), pb.start, lo, hi, eye,
-                                      bodies[name][1], per[name].min_radius))
+                        got = plan_onto_remembered(memo, "multipoint", a, sa0, pa, b, sb0,
+                                                   pb, starts, lo, hi, bodies[name],
+                                                   per[name].min_radius)
                         if got is not None:
                             k, segs = got
                             t = Turnaround(a.id, sa0 + starts[k], b.id,

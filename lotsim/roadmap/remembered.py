@@ -19,6 +19,7 @@ from collections.abc import Callable, Sequence
 from lotsim.core.workers import fork_map
 from lotsim.lot.clearance import Collider, Watched
 from lotsim.lot.model import Lot
+from lotsim.roadmap.multipoint import plan_onto
 
 KEEP = 3
 """Most versions of one piece a store keeps (most recent first)."""
@@ -137,3 +138,17 @@ def take_back(memo, answer: tuple) -> object:
     memo.recalled += recalled
     memo.worked += worked
     return out
+
+
+def plan_onto_remembered(memo, what: str, a, sa0: float, pa, b, sb0: float, pb,
+                         starts: list[float], lo: float, hi: float,
+                         checks: tuple[Collider, object], radius: float):
+    """:func:`~lotsim.roadmap.multipoint.plan_onto` from the stations ``starts`` of
+    straight ``pa`` (of lane ``a``, starting at station ``sa0``) onto straight ``pb`` (of
+    lane ``b``) between ``lo`` and ``hi`` along it, ``checks`` (collider and body) and
+    ``radius``: a search of ``what`` (a junction's multi-point turn, a U-turn), taken from
+    ``memo``'s store where what it read is unchanged (:func:`remembered`)."""
+    collider, body = checks
+    return remembered(memo, (what, a.id, sa0, b.id, sb0, starts, lo, hi, body, radius),
+                      collider, lambda eye: plan_onto(list(pa.poses_at(starts)), pb.start,
+                                                      lo, hi, eye, body, radius))

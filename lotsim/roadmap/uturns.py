@@ -12,8 +12,8 @@ from lotsim.roadmap.junction_multipoints import MULTI_ROOM, MULTI_STARTS
 from lotsim.roadmap.junctions import lane_crossing
 from lotsim.roadmap.lanes import EPS, along, straight_at, straights
 from lotsim.roadmap.memo import RoadmapMemo, types_key
-from lotsim.roadmap.multipoint import plan_onto, segment_to_world, to_local
-from lotsim.roadmap.remembered import remembered
+from lotsim.roadmap.multipoint import segment_to_world, to_local
+from lotsim.roadmap.remembered import plan_onto_remembered
 from lotsim.roadmap.turnarounds import (
     Turnaround,
     fits_a_slot,
@@ -81,12 +81,9 @@ def junction_uturns(lot: Lot, designs: dict[str, DesignVehicle] | None, memo: Ro
                     if t is None:
                         starts = sorted({max(end - k, 0.0) for k in MULTI_STARTS},
                                         reverse=True)
-                        plan = remembered(
-                            memo, ("uturn", a.id, sa0, back.id, sb0, starts, lo, hi,
-                                   bodies[name][1], per[name].min_radius), bodies[name][0],
-                            lambda eye, pa=pa, pb=pb, starts=starts, lo=lo, hi=hi, name=name:
-                            plan_onto(list(pa.poses_at(starts)), pb.start, lo, hi, eye,
-                                      bodies[name][1], per[name].min_radius))
+                        plan = plan_onto_remembered(memo, "uturn", a, sa0, pa, back, sb0, pb,
+                                                    starts, lo, hi, bodies[name],
+                                                    per[name].min_radius)
                         if plan is None:
                             continue
                         k, segs = plan
