@@ -352,3 +352,26 @@ def test_an_entry_another_user_owns_is_not_loaded(folder):
     prepare_graph(sc)
     os.chown(_entry(folder), 12345, -1)
     assert not prepare_graph(sc).from_cache
+
+
+def test_a_lot_prepared_again_takes_its_roadmap_and_maneuver_times_from_the_store(
+        folder, monkeypatch):
+    """A lot prepared before (its prepared entry gone, its stores kept) takes every junction
+    turn, turnaround and maneuver time from what the first preparation kept, and comes out
+    the same."""
+    from lotsim.maneuvers.maneuver import Maneuver
+    from lotsim.roadmap import junctions
+
+    sc = scenario_from_text(LONG_AISLE + TRAFFIC)
+    first = prepare_lot(sc, remember_from=1)
+    assert len(list(folder.glob("roadmap-*.pickle"))) == 1
+    folder.joinpath(next(folder.glob("prepared-*.pickle"))).unlink()
+
+    def refused(*_a, **_k):
+        raise AssertionError("worked out again")
+
+    monkeypatch.setattr(Maneuver, "duration", refused)
+    monkeypatch.setattr(junctions, "junction_turns", refused)
+    again = prepare_lot(sc, remember_from=1)
+    assert not again.lot_graph.from_cache
+    assert _graph(again.lot_graph) == _graph(first.lot_graph)

@@ -24,7 +24,7 @@ from lotsim.roadmap.junctions import turns_of
 from lotsim.roadmap.lanes import EPS, lane_serves, portal_station
 from lotsim.roadmap.memo import RoadmapMemo, designs_of, types_key
 from lotsim.roadmap.model import LotGraph, Turn
-from lotsim.roadmap.remembered import handed_back, take_back
+from lotsim.roadmap.remembered import handed_back, piece_key, take_back
 from lotsim.roadmap.turnarounds import Turnaround, dead_end_turnarounds
 from lotsim.roadmap.uturns import junction_uturns
 
@@ -65,10 +65,12 @@ def build_graph(lot: Lot, *, node_spacing: float = 4.0, maneuvers=None,
     stays = {} if maneuvers is None else (stays or {})
     attach = (_attachments(lot) if maneuvers is None
               else _maneuver_attachments(lot, [*maneuvers.items(), *stays.items()]))
-    net = _lane_network(lot, attach, node_spacing, vehicles, memo or RoadmapMemo(lot))
+    memo = memo or RoadmapMemo(lot)
+    net = _lane_network(lot, attach, node_spacing, vehicles, memo)
     slot_nodes, attachments = _add_slots(lot, net, attach if maneuvers is None else None)
     if maneuvers is not None:
-        _add_maneuvers(lot, net, slot_nodes, attachments, maneuvers, stays, vehicles)
+        _add_maneuvers(lot, net, slot_nodes, attachments, maneuvers, stays, vehicles,
+                       memo.known)
     return LotGraph(lot, net.graph, net.entrances, net.exits, slot_nodes, attachments,
                     net.skipped)
 
@@ -208,13 +210,14 @@ def _add_slots(lot: Lot, net: _Network, placeholders: dict[str, list[tuple[str, 
 
 def _add_maneuvers(lot: Lot, net: _Network, slot_nodes: dict[str, int],
                    attachments: dict[str, list[int]], maneuvers: dict, stays: dict,
-                   vehicles) -> None:
+                   vehicles, known: dict | None = None) -> None:
     """Each slot's park and leave edges through ``maneuvers`` (and park edges through
-    ``stays``), with each type's duration (:func:`build_graph`)."""
+    ``stays``), with each type's duration (:func:`build_graph`; ``known``: the durations
+    an earlier preparation of the lot worked out, and kept)."""
     g = net.graph
     types = {v.name: v for v in vehicles}
     leaving = {key: m.reversed() for key, m in maneuvers.items()}  # each way out
-    duration = _durations(lot, maneuvers, leaving, stays, types)
+    duration = _durations(lot, maneuvers, leaving, stays, types, known)
     for (vname, sid, lid), m in sorted(maneuvers.items(), key=lambda kv: kv[0]):
         a, node = net.node_at(lid, m.station), slot_nodes[sid]
         if a not in attachments[sid]:
@@ -238,10 +241,13 @@ def _add_maneuvers(lot: Lot, net: _Network, slot_nodes: dict[str, int],
         e["length"] = min(e["length"], m.length)
 
 
-def _durations(lot: Lot, maneuvers: dict, leaving: dict, stays: dict, types: dict):
+def _durations(lot: Lot, maneuvers: dict, leaving: dict, stays: dict, types: dict,
+               known: dict | None = None):
     """``duration(path, type name, speed limit)`` [s] of each of ``maneuvers`` (and its
     reverse in ``leaving``) and ``stays`` for the vehicle types in ``types``: a lot's
-    maneuvers repeat a few shapes, each timed once, on both cores."""
+    maneuvers repeat a few shapes, each timed once, on both cores, or taken from ``known``
+    (a duration is a function of the shape, the vehicle type and the limit), where those
+    timed now are kept."""
 
     def shape(path, vname: str, limit: float) -> tuple:
         """What the maneuver's time depends on: its pieces' shapes, not where they lie."""
@@ -255,11 +261,20 @@ def _durations(lot: Lot, maneuvers: dict, leaving: dict, stays: dict, types: dic
                 limit = _path_limit(lot, m)
                 for path in (m, leaving[key]) if both else (m,):
                     todo.setdefault(shape(path, key[0], limit), (path, key[0], limit))
-    jobs = list(todo.values())
+    def stored(key: tuple) -> bytes:
+        return piece_key(b"duration", types[key[0]], key[1:])
+
+    timed = {}
+    if known is not None:
+        timed = {key: known[stored(key)] for key in todo if stored(key) in known}
+    jobs = [job for key, job in todo.items() if key not in timed]
     parts = [jobs[k::8] for k in range(8)] if len(jobs) >= 64 else [jobs]
     times = fork_map(lambda part: [p.duration(types[v], lim) for p, v, lim in part], parts)
-    timed = {shape(*job): t for part, ts in zip(parts, times, strict=True)
-             for job, t in zip(part, ts, strict=True)}
+    for part, ts in zip(parts, times, strict=True):
+        for job, t in zip(part, ts, strict=True):
+            timed[shape(*job)] = t
+            if known is not None:
+                known[stored(shape(*job))] = t
 
     def duration(path, vname: str, limit: float) -> float:
         return timed[shape(path, vname, limit)]

@@ -121,6 +121,7 @@ def _prepared(scenario: Scenario, leaves: set[bool], name: str | None, node_spac
     # touched
     roads_name = lotsim.core.diskcache.key("roadmap", scenario.name) if remember else None
     roads = _known(roads_name)
+    held = len(roads or ())
     # what the lanes' graph works out, for the graph through slots
     memo = RoadmapMemo(lot, roads)
     # the dead ends' turnarounds, planned in time no other step wants (the graphs need them)
@@ -140,8 +141,8 @@ def _prepared(scenario: Scenario, leaves: set[bool], name: str | None, node_spac
         lg = build_graph(lot, node_spacing=node_spacing, maneuvers=planned,
                          vehicles=scenario.vehicle_types, stays=stays, memo=memo)
         lg.infeasible = infeasible
-        if roads_name is not None and memo.worked:
-            lotsim.core.diskcache.store(roads_name, roads)
+        if roads_name is not None and (memo.worked or len(roads) != held):
+            lotsim.core.diskcache.store(roads_name, roads)  # it learnt something
         if name is not None:
             lg.reachability()  # every run and validate asks: kept with the lot
             lg.facts()
