@@ -145,6 +145,8 @@ def prefetch(planner: ManeuverPlanner, vehicles: Iterable[VehicleType], *,
                 extra[key] = exact, remembered
             return [(hit, raw) for hit, raw, _, _ in got]
 
+        fits: dict[bytes, tuple | None] = {}  # what ``known`` is to keep of the fits
+
         def fit(jobs: list) -> list:
             got = pool.map(batch.fitted, [(*todo[k], offers) for k, offers in jobs], chunk=16)
             for pair, exact, _ in got:
@@ -154,7 +156,6 @@ def prefetch(planner: ManeuverPlanner, vehicles: Iterable[VehicleType], *,
                     count_done.add()
             return [pair for pair, _, _ in got]
 
-        fits: dict[bytes, tuple | None] = {}  # what ``known`` is to keep of the fits
         settled = settle(list(classes.values()), search, fit,
                          offer=lambda key, pair: Found.of(pair, extra[key][0]))
     for key in todo:  # in the order first met

@@ -274,9 +274,12 @@ class LotProblems:
         per: list[list[bytes]] = [[] for _ in range(n)]
         for g, o in zip(local, owner.tolist(), strict=True):
             per[o].append(g)
-        return [(self._hashed(v, slot, *h, mine_local), h[0], h[3],
-                 shape_key(v, slot, h[0], h[1], h[4]))
-                for (v, slot, _), h, mine_local in zip(triples, heads, per, strict=True)]
+        common = [_common(v, slot, h[0], h[1], h[4])
+                  for (v, slot, _), h in zip(triples, heads, strict=True)]
+        return [(self._hashed(v, slot, *h, mine_local, c), h[0], h[3],
+                 shape_key(v, slot, h[0], h[1], h[4], c))
+                for (v, slot, _), h, mine_local, c in zip(triples, heads, per, common,
+                                                          strict=True)]
 
     def shape(self, vehicle: VehicleType, slot: Slot, lane: Lane) -> bytes | None:
         """:func:`shape_key` of the problem of ``vehicle`` in ``slot`` from ``lane``."""
@@ -284,41 +287,44 @@ class LotProblems:
         return shape_key(vehicle, slot, frame, lane_y, half)
 
     def _hashed(self, v: VehicleType, slot: Slot, frame: LocalFrame, lane_y: float,
-                lane_x: tuple[float, float], s0: float, half: float, local: list[bytes]
-                ) -> bytes:
+                lane_x: tuple[float, float], s0: float, half: float, local: list[bytes],
+                common: bytes | None = None) -> bytes:
         """The digest of a problem from its head and its local geometry (:func:`local_geometry`,
-        in any order)."""
-        slot_local = np.round(frame.points_to_local(slot.polygon), 2)
+        in any order); ``common``: its :func:`_common` when the caller has it."""
         # where the lane's start grid falls: a closing move runs on along the lane to a
         # grid station, so slots alike but for it do not start on the same offsets
         grid = self.settings.start_grid
         phase = round(s0 % grid, 6) % grid if grid > 0 else 0.0
-        head = (v.name, v.width, v.front, v.rear, v.wheelbase, v.max_steer, slot.kind,
-                round(lane_y, 3) if math.isfinite(lane_y) else None,
-                tuple(np.round(lane_x, 2)), round(half, 3), phase)
-        h = hashlib.blake2b(repr(head).encode(), digest_size=20)
-        h.update(np.sort(slot_local.reshape(-1, 2), axis=0).tobytes())
+        h = hashlib.blake2b(common or _common(v, slot, frame, lane_y, half), digest_size=20)
+        h.update(repr((tuple(np.round(lane_x, 2)), phase)).encode())
         for g in sorted(local):
             h.update(g)
         return h.digest()
 
 
+def _common(vehicle: VehicleType, slot: Slot, frame: LocalFrame, lane_y: float,
+            half: float) -> bytes:
+    """What a problem's digest and its shape (:func:`shape_key`) both hold: the car, the
+    slot's kind and outline in the local frame (to 1 cm), the lane line (to 1 mm; None where
+    it bends) and the window's size."""
+    outline = np.sort(np.round(frame.points_to_local(slot.polygon), 2).reshape(-1, 2), axis=0)
+    head = (vehicle.name, vehicle.width, vehicle.front, vehicle.rear, vehicle.wheelbase,
+            vehicle.max_steer, slot.kind, round(lane_y, 3) if math.isfinite(lane_y) else None,
+            round(half, 3))
+    return repr(head).encode() + outline.tobytes()
+
+
 def shape_key(vehicle: VehicleType, slot: Slot, frame: LocalFrame, lane_y: float,
-              half: float) -> bytes | None:
+              half: float, common: bytes | None = None) -> bytes | None:
     """What problems that may share a maneuver have in common
     (:mod:`~lotsim.maneuvers.reuse`), or None for a problem that shares with none (a
-    parallel slot, a lane that bends beside the slot): the car, the slot's kind and outline
-    in the local frame (to 1 cm), the lane line (to 1 mm) and the window's size — a
-    digest's head and outline without the stretch of lane a maneuver may begin on, the
+    parallel slot, a lane that bends beside the slot): :func:`_common` (``common`` when the
+    caller has it) — a digest without the stretch of lane a maneuver may begin on, the
     start grid's phase and the geometry around the slot."""
     if kind_of(slot).parks_along or not math.isfinite(lane_y):
         return None
-    outline = np.sort(np.round(frame.points_to_local(slot.polygon), 2).reshape(-1, 2), axis=0)
-    head = (vehicle.name, vehicle.width, vehicle.front, vehicle.rear, vehicle.wheelbase,
-            vehicle.max_steer, slot.kind, round(lane_y, 3), round(half, 3))
-    h = hashlib.blake2b(repr(head).encode(), digest_size=20)
-    h.update(outline.tobytes())
-    return h.digest()
+    return hashlib.blake2b(common or _common(vehicle, slot, frame, lane_y, half),
+                           digest_size=20).digest()
 
 
 def local_geometry(geoms: np.ndarray, frames: Sequence[LocalFrame], owner: np.ndarray

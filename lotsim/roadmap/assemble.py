@@ -261,20 +261,19 @@ def _durations(lot: Lot, maneuvers: dict, leaving: dict, stays: dict, types: dic
                 limit = _path_limit(lot, m)
                 for path in (m, leaving[key]) if both else (m,):
                     todo.setdefault(shape(path, key[0], limit), (path, key[0], limit))
-    def stored(key: tuple) -> bytes:
-        return piece_key(b"duration", types[key[0]], key[1:])
-
-    timed = {}
-    if known is not None:
-        timed = {key: known[stored(key)] for key in todo if stored(key) in known}
-    jobs = [job for key, job in todo.items() if key not in timed]
+    # each shape by its key in ``known``: the type's whole description, not its name
+    stored = ({key: piece_key(b"duration", types[key[0]], key[1:]) for key in todo}
+              if known is not None else {})
+    timed = {key: known[name] for key, name in stored.items() if name in known}
+    jobs = [(key, job) for key, job in todo.items() if key not in timed]
     parts = [jobs[k::8] for k in range(8)] if len(jobs) >= 64 else [jobs]
-    times = fork_map(lambda part: [p.duration(types[v], lim) for p, v, lim in part], parts)
+    times = fork_map(lambda part: [p.duration(types[v], lim) for _, (p, v, lim) in part],
+                     parts)
     for part, ts in zip(parts, times, strict=True):
-        for job, t in zip(part, ts, strict=True):
-            timed[shape(*job)] = t
+        for (key, _), t in zip(part, ts, strict=True):
+            timed[key] = t
             if known is not None:
-                known[stored(shape(*job))] = t
+                known[stored[key]] = t
 
     def duration(path, vname: str, limit: float) -> float:
         return timed[shape(path, vname, limit)]

@@ -19,7 +19,7 @@ from lotsim.roadmap.area_turns import area_turns
 from lotsim.roadmap.lanes import EPS, portal_station, straights
 from lotsim.roadmap.memo import RoadmapMemo, types_key
 from lotsim.roadmap.model import Turn
-from lotsim.roadmap.remembered import lot_key, piece_key, worked_out
+from lotsim.roadmap.remembered import piece_key, worked_out
 from lotsim.roadmap.through import through_chains, through_turn
 
 TURN_SPEEDS = tuple(k / 3.6 for k in (15.0, 12.5, 10.0, 7.5, 5.0, 3.0, 1.5))
@@ -229,10 +229,9 @@ def turns_per_design(lot: Lot, collider: Collider, designs: list,
     (:mod:`~lotsim.roadmap.remembered`)."""
     jobs = [(design, a) for design in designs for a in lot.lanes]
     gates = gate_stations(lot)
-    known = memo.known if memo is not None else None
-    base = lot_key(lot) if known is not None else b""
-    found, taken = worked_out(
-        known, [piece_key(base, "junction", design or lot.design, a.id, sorted(gates.items()))
+    base = memo.lot_key if memo is not None and memo.known is not None else b""
+    found = worked_out(
+        memo, [piece_key(base, "junction", design or lot.design, a.id, sorted(gates.items()))
                 for design, a in jobs], collider,
         lambda k, eye: junction_turns(lot, eye, jobs[k][0], lanes_a=(jobs[k][1],),
                                       gates=gates))
@@ -243,14 +242,11 @@ def turns_per_design(lot: Lot, collider: Collider, designs: list,
     # then each design's turns through short stretches, a stretch a task (a large type's
     # take longest)
     chains = [(k, chain) for k in range(len(designs)) for chain in through_chains(lot, per[k][0])]
-    got, more = worked_out(
-        known, [piece_key(base, "through", designs[k] or lot.design,
+    got = worked_out(
+        memo, [piece_key(base, "through", designs[k] or lot.design,
                           [x.id if hasattr(x, "id") else x for x in chain])
                 for k, chain in chains], collider,
         lambda j, eye: through_turn(lot, eye, designs[chains[j][0]], chains[j][1]))
-    if memo is not None:
-        memo.recalled += taken + more
-        memo.worked += len(jobs) + len(chains) - taken - more
     through: list[list[Turn]] = [[] for _ in designs]
     for (k, _), turns in zip(chains, got, strict=True):
         through[k] += turns

@@ -3,10 +3,11 @@
 
 from __future__ import annotations
 
+import functools
 from typing import TYPE_CHECKING
 
 from lotsim.lot.model import DesignVehicle, Lot
-from lotsim.roadmap.remembered import keep
+from lotsim.roadmap.remembered import keep, lot_key
 
 if TYPE_CHECKING:
     from lotsim.core.workers import Background
@@ -49,6 +50,11 @@ class RoadmapMemo:
         How many pieces were taken from :attr:`known`, and how many worked out.
     """
 
+    @functools.cached_property
+    def lot_key(self) -> bytes:
+        """:func:`~lotsim.roadmap.remembered.lot_key` of the memo's lot, worked out once."""
+        return lot_key(self.lot)
+
     def __init__(self, lot: Lot, known: dict | None = None):
         self.lot = lot
         self.known = known
@@ -74,7 +80,7 @@ class RoadmapMemo:
             for k, version in background.take().items():
                 if keys[k] not in self.plans:
                     self.plans[keys[k]] = version[0]
-                    if keys[k] in pieces and self.known is not None:
+                    if keys[k] in pieces:
                         keep(self.known, pieces[keys[k]], version)
                     self.worked += 1
 

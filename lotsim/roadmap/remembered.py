@@ -71,14 +71,16 @@ def keep(known: dict | None, key: bytes, version: tuple) -> None:
         known[key] = [(box, digest, piece), *known.get(key, ())][:KEEP]
 
 
-def worked_out(known: dict | None, keys: Sequence[bytes],
+def worked_out(memo, keys: Sequence[bytes | None],
                collider: Collider | Sequence[Collider],
-               work: Callable[[int, Collider], object]) -> tuple[list, int]:
+               work: Callable[[int, Collider], object]) -> list:
     """``[work(k, collider) for k in range(len(keys))]`` (``collider``: one for all, or
-    each piece's), each taken from ``known`` (piece key → versions) where a version's box
+    each piece's), each taken from ``memo``'s store (:attr:`RoadmapMemo.known
+    <lotsim.roadmap.memo.RoadmapMemo.known>`: piece key → versions) where a version's box
     holds what it did (:func:`recall`), the others worked out on both cores
-    (:func:`~lotsim.core.workers.fork_map`) and added to ``known``; and how many were
-    taken. Without ``known``, all are worked out."""
+    (:func:`~lotsim.core.workers.fork_map`) and added to it; both counted in ``memo``.
+    Without a memo or a store, all are worked out."""
+    known = memo.known if memo is not None else None
     each = (list(collider) if isinstance(collider, (list, tuple))
             else [collider] * len(keys))
     out: list = [None] * len(keys)
@@ -92,7 +94,10 @@ def worked_out(known: dict | None, keys: Sequence[bytes],
     for k, version in zip(todo, got, strict=True):
         out[k] = version[0]
         keep(known, keys[k], version)
-    return out, len(keys) - len(todo)
+    if memo is not None:
+        memo.recalled += len(keys) - len(todo)
+        memo.worked += len(todo)
+    return out
 
 
 def remembered(memo, key_parts: tuple, collider: Collider,
@@ -104,7 +109,7 @@ def remembered(memo, key_parts: tuple, collider: Collider,
     back: :func:`handed_back`). ``key_parts``: the search's own arguments."""
     if memo.known is None:
         return work(collider)
-    key = piece_key(lot_key(memo.lot), *key_parts)
+    key = piece_key(memo.lot_key, *key_parts)
     got = recall(memo.known, key, collider)
     if got is not MISSING:
         memo.recalled += 1
@@ -125,7 +130,10 @@ def handed_back(memo, work: Callable[[], object]) -> Callable[[], tuple]:
         memo.touched = set()
         out = work()
         added = {k: memo.known[k] for k in memo.touched} if memo.known is not None else {}
-        return out, added, memo.recalled - before[0], memo.worked - before[1]
+        counted = memo.recalled - before[0], memo.worked - before[1]
+        # counted once, by take_back, whether the job ran in a worker or in this process
+        memo.recalled, memo.worked = before
+        return out, added, *counted
 
     return job
 

@@ -31,7 +31,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from lotsim.core.geometry import FloatArray, Segment, advance, sample_segments
-from lotsim.core.workers import Background, fork_map
+from lotsim.core.workers import Background
 from lotsim.lot.build import obstacle_polygons
 from lotsim.lot.clearance import Collider, first_blocked
 from lotsim.lot.model import DesignVehicle, Lane, Lot
@@ -47,8 +47,6 @@ from lotsim.roadmap.multipoint import (
 )
 from lotsim.roadmap.remembered import (
     MISSING,
-    keep,
-    lot_key,
     piece_key,
     recall,
     watched,
@@ -348,20 +346,10 @@ def _dead_end_plans(lot: Lot, per: dict[str, DesignVehicle], bodies: dict[str, t
     planned = memo.plans  # (lane, design) → plan_turnarounds, and the reaching ones
     todo = {key: job for key, job in _turnaround_plans(per, bodies, ends).items()
             if key not in planned}
-    pieces = _plan_keys(memo, todo)
-    for key, job in todo.items():
-        got = recall(memo.known, pieces.get(key), job[2])
-        if got is not MISSING:
-            planned[key] = got
-            memo.recalled += 1
-    todo = {key: job for key, job in todo.items() if key not in planned}
-    got = fork_map(lambda job: watched(lambda eye: plan_turnarounds(*job[:2], eye, *job[3:]),
-                                       job[2], memo.known is not None), list(todo.values()))
-    for key, version in zip(todo, got, strict=True):
-        planned[key] = version[0]
-        if key in pieces:
-            keep(memo.known, pieces[key], version)
-        memo.worked += 1
+    pieces, jobs = _plan_keys(memo, todo), list(todo.values())
+    planned.update(zip(todo, worked_out(
+        memo, [pieces.get(key) for key in todo], [job[2] for job in jobs],
+        lambda k, eye: plan_turnarounds(*jobs[k][:2], eye, *jobs[k][3:])), strict=True))
     reach = {}  # reach key → (lane, back, found, collider, body, radius, arrive, go on)
 
     def reach_key(lane: Lane, back: Lane, design: DesignVehicle) -> tuple:
@@ -451,7 +439,7 @@ def _plan_keys(memo: RoadmapMemo, jobs: dict) -> dict:
     ``jobs`` (empty when ``memo`` keeps none)."""
     if memo.known is None:
         return {}
-    base = lot_key(memo.lot)
+    base = memo.lot_key
     return {key: piece_key(base, "turnaround", lane.id, back.id, body, radius)
             for key, (lane, back, _, body, radius) in jobs.items()}
 
@@ -470,8 +458,7 @@ def _reaching_all(jobs: dict, memo: dict, roads: RoadmapMemo | None = None) -> d
     the first found), so the searches go in rounds, each round's on both cores; each taken
     from ``roads``' store of an earlier preparation where what it read is the same
     (:mod:`~lotsim.roadmap.remembered`)."""
-    known = roads.known if roads is not None else None
-    base = lot_key(roads.lot) if known is not None else b""
+    base = roads.lot_key if roads is not None and roads.known is not None else b""
     wanted: dict[tuple, tuple] = {}  # the searches the jobs need that are not done
 
     def onto(lane, back, starts, hi, collider, body, radius):
@@ -492,13 +479,10 @@ def _reaching_all(jobs: dict, memo: dict, roads: RoadmapMemo | None = None) -> d
         keys = [piece_key(base, "reach", lane.id, back.id, starts, hi, body, radius)
                 for lane, back, starts, hi, _, body, radius in wanted.values()]
         jobs_now = list(wanted.values())
-        found, taken = worked_out(
-            known, keys, [job[4] for job in jobs_now],
-            lambda k, eye, jobs=jobs_now: _reaching_onto(*jobs[k][:4], eye, *jobs[k][5:]))
-        memo.update(zip(wanted, found, strict=True))
-        if roads is not None:
-            roads.recalled += taken
-            roads.worked += len(keys) - taken
+        memo.update(zip(wanted, worked_out(
+            roads, keys, [job[4] for job in jobs_now],
+            lambda k, eye, jobs=jobs_now: _reaching_onto(*jobs[k][:4], eye, *jobs[k][5:])),
+            strict=True))
 
 
 class _Pending(Exception):
