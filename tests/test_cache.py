@@ -260,6 +260,94 @@ def test_an_edited_lot_searches_only_what_the_edit_changed(folder):
     assert not same.lot_graph.from_cache and same.maneuver_planner.stats["remembered"] > 0
 
 
+def _problems(text: str):
+    """The maneuver planner of the lot in ``text`` and its (vehicle, slot, lane) triples."""
+    from lotsim.lot.build import build_lot
+    from lotsim.lot.model import DesignVehicle
+    from lotsim.sim.preparation import maneuver_planner
+
+    sc = scenario_from_text(text + TRAFFIC)
+    lot = build_lot(sc.lot, DesignVehicle.envelope(sc.vehicle_types))
+    planner = maneuver_planner(sc, lot)
+    return planner, [(v, slot, lane) for v in sc.vehicle_types for slot in lot.slots
+                     for lane in planner.lanes_for(slot)]
+
+
+@pytest.mark.parametrize("old, new", [
+    ("count: 14, slot_width", "count: 13, slot_width"),  # a slot fewer at one end
+    ("start: 12, id_prefix: S", "start: 12.01, id_prefix: S"),  # a row moved by 1 cm
+    ("width: 7.0", "width: 7.01"),  # the aisle 1 cm wider
+    ("[72, 0], [72, 22]", "[72, 0], [72, 21.99]"),  # a corner of the wall moved by 1 cm
+    ("x: 3.0, y: 11.0", "x: 9.0, y: 11.0"),  # the entrance further in
+])
+def test_problems_with_the_same_sources_in_a_lot_and_its_edit_are_posed_alike(old, new):
+    """A problem's sources name what it is made from without posing it: where a lot and an
+    edit of it give a slot the same sources, posing the problem in each gives the same
+    digest and the same exact key, whatever the edit was."""
+    from lotsim.maneuvers.problem import exact_key
+
+    edited = LONG_AISLE.replace(old, new, 1)
+    assert edited != LONG_AISLE
+    (a, ta), (b, tb) = _problems(LONG_AISLE), _problems(edited)
+    sa = dict(zip([(v.name, s.id, x.id) for v, s, x in ta], a.problems.sources(ta),
+                  strict=True))
+    same = 0
+    for (v, slot, lane), source in zip(tb, b.problems.sources(tb), strict=True):
+        if sa.get((v.name, slot.id, lane.id)) != source:
+            continue
+        was = a.lot.slot_by_id[slot.id]
+        pa = a.problems.pose(v, was, next(x for x in a.lanes_for(was) if x.id == lane.id))
+        pb = b.problems.pose(v, slot, lane)
+        assert a.problems.digest(pa) == b.problems.digest(pb), slot.id
+        assert exact_key(pa, "any") == exact_key(pb, "any"), slot.id
+        same += 1
+    assert same < len(tb)  # the edit reached some problems
+
+
+def test_an_edited_lot_poses_only_the_problems_its_edit_reached(folder, monkeypatch):
+    """A lot prepared before keeps how it posed each problem, by its sources: prepared again
+    (its prepared entry gone) it poses no problem at all; with one slot fewer at one end of
+    a 120 m aisle it digests again only the problems near that end; and either is prepared
+    as without the cache."""
+    import lotsim.maneuvers.batch
+    from lotsim.maneuvers.problem import LotProblems
+
+    text = LONG_AISLE
+    for old, new in (("[72, 0], [72, 22]", "[122, 0], [122, 22]"), ("[72, 11]]", "[122, 11]]"),
+                     ("count: 14,", "count: 34,"), ("x: 66.0", "x: 116.0")):
+        assert old in text
+        text = text.replace(old, new)
+    monkeypatch.setattr(lotsim.maneuvers.batch, "PARALLEL_FROM", 10**6)  # in this process
+    prepare_lot(scenario_from_text(text + TRAFFIC), remember_from=1)
+    digested, posed = [], []
+    pose, digests = LotProblems.pose, LotProblems.digests
+
+    def counted_pose(self, *triple):
+        posed.append(triple[1].id)
+        return pose(self, *triple)
+
+    def counted_digests(self, triples):
+        digested.extend(slot.id for _, slot, _ in triples)
+        return digests(self, triples)
+
+    monkeypatch.setattr(LotProblems, "pose", counted_pose)
+    monkeypatch.setattr(LotProblems, "digests", counted_digests)
+    next(folder.glob("prepared-*.pickle")).unlink()
+    again = prepare_lot(scenario_from_text(text + TRAFFIC), remember_from=1)
+    assert not again.lot_graph.from_cache
+    assert again.maneuver_planner.stats["remembered"] > 0
+    assert digested == posed == []
+    sc = scenario_from_text(text.replace("count: 34, slot_width", "count: 33, slot_width", 1)
+                            + TRAFFIC)
+    edited = prepare_lot(sc, remember_from=1)
+    assert digested and {int(slot[1:]) for slot in digested} <= set(range(20, 35))
+    monkeypatch.setattr(LotProblems, "pose", pose)
+    monkeypatch.setattr(LotProblems, "digests", digests)
+    for got, lot in ((again, text), (edited, None)):
+        cold = prepare_lot(got.scenario, cache=False)
+        assert _graph(got.lot_graph) == _graph(cold.lot_graph), lot
+
+
 def test_a_maneuver_problem_is_kept_by_everything_its_search_reads():
     """The exact key changes with anything a search reads (here moved by a nanometre), and
     not with the order of the obstacles, which a search only asks about as a set."""

@@ -20,9 +20,10 @@ from lotsim.vehicles.model import VehicleType
 PARALLEL_FROM = 64
 """Fewest problems worth starting worker processes for (fewer are searched in this process
 unless the caller asks for workers)."""
-KNOWN_MOST = 20_000
-"""Most answers :func:`prefetch` keeps in ``known``, most recently used last (under 1 kB
-each); older ones are dropped."""
+KNOWN_MOST = 60_000
+"""Most entries :func:`prefetch` keeps in ``known``, most recently used last (answers under
+1 kB each; how a problem was posed, and its exact key, under 200 bytes); older ones are
+dropped."""
 
 
 def _pool_size(workers: int | None, problems: int) -> int:
@@ -40,49 +41,91 @@ def _pool_size(workers: int | None, problems: int) -> int:
 class _Batch:
     """What the workers of :func:`prefetch` do, on their copy of the planner: key the
     problems of ``triples`` (vehicle, slot, lane), search them, fit their classes' answers
-    to them."""
+    to them. With ``known``, a problem whose sources (:meth:`LotProblems.sources
+    <lotsim.maneuvers.problem.LotProblems.sources>`) it holds is not posed again: its
+    digest, and its exact key in each style, are looked up."""
 
     def __init__(self, planner: ManeuverPlanner, triples: list, known: dict | None) -> None:
         self.planner, self.triples, self.known = planner, triples, known
 
     def digests(self, part: tuple[int, int]) -> list:
-        """The problem digest, frame, lane station and shape of triples ``part[0]`` to
-        ``part[1]`` (excluded), posed in one batch."""
-        return self.planner.problems.digests(self.triples[part[0]:part[1]])
-
-    def searched(self, job: tuple[int, str]) -> tuple:
-        """The problem of triple ``job[0]`` searched in style ``job[1]`` (posed here: it was
-        keyed without being posed whole): (eased, as planned, its exact key, whether
-        ``known`` held it). No exact key (None) when there is no ``known``."""
-        k, st = job
-        planner = self.planner
-        problem = planner.problems.pose(*self.triples[k])
+        """The problem digest, frame, lane station, shape and sources (None without
+        ``known``) of triples ``part[0]`` to ``part[1]`` (excluded), posed in one batch
+        (those ``known`` holds by their sources looked up instead)."""
+        triples = self.triples[part[0]:part[1]]
+        problems = self.planner.problems
         if self.known is None:
+            return [(*got, None) for got in problems.digests(triples)]
+        sources = problems.sources(triples)
+        got = [self.known.get(posed_key(src)) for src in sources]
+        missing = [k for k, g in enumerate(got) if g is None]
+        for k, g in zip(missing, problems.digests([triples[k] for k in missing]),
+                        strict=True):
+            got[k] = g
+        return [(*g, src) for g, src in zip(got, sources, strict=True)]
+
+    def _exact(self, k: int, style: str, source: bytes) -> tuple[bytes, object]:
+        """The exact key of triple ``k``'s problem in ``style`` (looked up by its
+        ``source`` when ``known`` holds it), and the problem when it had to be posed for
+        it (else None)."""
+        exact = self.known.get(exact_key_of(source, style))
+        if exact is not None:
+            return exact, None
+        problem = self.planner.problems.pose(*self.triples[k])
+        return exact_key(problem, style), problem
+
+    def searched(self, job: tuple[int, str, bytes | None]) -> tuple:
+        """The problem of triple ``job[0]`` searched in style ``job[1]`` (posed here: it was
+        keyed without being posed whole; ``job[2]``: its sources): (eased, as planned, its
+        exact key, whether ``known`` held it). No exact key (None) when there is no
+        ``known``."""
+        k, st, source = job
+        planner = self.planner
+        if self.known is None:
+            problem = planner.problems.pose(*self.triples[k])
             return *search_maneuver(problem, st, planner.settings), None, False
-        exact = exact_key(problem, st)
+        exact, problem = self._exact(k, st, source)
         found = self.known.get(exact)
         if found is not None:
             return *found, exact, True
+        problem = problem if problem is not None else planner.problems.pose(*self.triples[k])
         return *search_maneuver(problem, st, planner.settings), exact, False
 
-    def fitted(self, job: tuple[int, str, list[Found]]) -> tuple:
+    def fitted(self, job: tuple[int, str, list[Found], bytes | None]) -> tuple:
         """The first of ``job[2]`` (maneuvers of its class) that fits the problem of triple
         ``job[0]`` in style ``job[1]``, or its own with fewer changes
-        (:func:`~lotsim.maneuvers.reuse.fit_first`), None when none fits; and the key
-        ``known`` keeps that by (None when there is no ``known``), whether it held it."""
-        k, st, offers = job
+        (:func:`~lotsim.maneuvers.reuse.fit_first`), None when none fits; the key
+        ``known`` keeps that by (None when there is no ``known``), whether it held it, and
+        the problem's exact key (``job[3]``: its sources)."""
+        k, st, offers, source = job
         planner = self.planner
-        problem = planner.problems.pose(*self.triples[k])
         if self.known is None:
-            return fit_first(problem, st, offers, planner.settings, planner.fewer), None, False
+            problem = planner.problems.pose(*self.triples[k])
+            return (fit_first(problem, st, offers, planner.settings, planner.fewer), None,
+                    False, None)
         # the problem to the last bit, and the problems the offers were searched for
-        h = hashlib.blake2b(exact_key(problem, st), digest_size=20)
+        exact, problem = self._exact(k, st, source)
+        h = hashlib.blake2b(exact, digest_size=20)
         for found in offers:
             h.update(found.source)
         key = h.digest()
         if key in self.known:
-            return self.known[key], key, True
-        return fit_first(problem, st, offers, planner.settings, planner.fewer), key, False
+            return self.known[key], key, True, exact
+        problem = problem if problem is not None else planner.problems.pose(*self.triples[k])
+        return (fit_first(problem, st, offers, planner.settings, planner.fewer), key, False,
+                exact)
+
+
+def posed_key(source: bytes) -> bytes:
+    """Where ``known`` keeps the digest, frame, lane station and shape of the problem with
+    ``source`` (:meth:`~lotsim.maneuvers.problem.LotProblems.sources`)."""
+    return b"posed " + source
+
+
+def exact_key_of(source: bytes, style: str) -> bytes:
+    """Where ``known`` keeps the exact key (:func:`~lotsim.maneuvers.problem.exact_key`)
+    of the problem with ``source`` in ``style``."""
+    return b"exact " + style.encode() + b" " + source
 
 
 def prefetch(planner: ManeuverPlanner, vehicles: Iterable[VehicleType], *,
@@ -124,15 +167,16 @@ def prefetch(planner: ManeuverPlanner, vehicles: Iterable[VehicleType], *,
     # one set of workers for every step: the searches reuse what keying built in them
     with ForkPool(batch, workers=count) as pool:
         posed = [x for part in pool.map(batch.digests, parts) for x in part]
-        todo: dict[bytes, tuple[int, str]] = {}  # key → (triple, style), first met first
+        # key → (triple, style, its sources), first met first
+        todo: dict[bytes, tuple[int, str, bytes | None]] = {}
         classes: dict[object, list[bytes]] = {}
         for v, slot, lane, st in calls:
             k = at[v.name, slot.id, lane.id]
-            digest, frame, s0, shape = posed[k]
+            digest, frame, s0, shape, source = posed[k]
             n = lanes[slot.id]
             key = planner.pose_key(v, slot, lane, st, digest, frame, s0, lanes=n)
             if not planner.knows(key) and key not in todo:
-                todo[key] = (k, st)
+                todo[key] = (k, st, source)
                 classes.setdefault(key if shape is None else (shape, st, n), []).append(key)
         count_done = _Progress(progress, len(todo))
         extra: dict[bytes, tuple] = {}  # key → (exact key, whether known held it)
@@ -143,18 +187,22 @@ def prefetch(planner: ManeuverPlanner, vehicles: Iterable[VehicleType], *,
             count_done.done += len(keys)  # (the map reported them)
             for key, (_, _, exact, remembered) in zip(keys, got, strict=True):
                 extra[key] = exact, remembered
+                exacts[key] = exact
             return [(hit, raw) for hit, raw, _, _ in got]
 
         fits: dict[bytes, tuple | None] = {}  # what ``known`` is to keep of the fits
+        exacts: dict[bytes, bytes] = {}  # key → its exact key, where ``known`` is kept
 
         def fit(jobs: list) -> list:
-            got = pool.map(batch.fitted, [(*todo[k], offers) for k, offers in jobs], chunk=16)
-            for pair, exact, _ in got:
-                if exact is not None:
-                    fits[exact] = pair
+            got = pool.map(batch.fitted, [(k, st, offers, source) for key, offers in jobs
+                                          for k, st, source in [todo[key]]], chunk=16)
+            for (key, _), (pair, fit_key, _, exact) in zip(jobs, got, strict=True):
+                if fit_key is not None:
+                    fits[fit_key] = pair
+                    exacts[key] = exact
                 if pair is not None:
                     count_done.add()
-            return [pair for pair, _, _ in got]
+            return [pair for pair, _, _, _ in got]
 
         settled = settle(list(classes.values()), search, fit,
                          offer=lambda key, pair: Found.of(pair, extra[key][0]))
@@ -170,6 +218,14 @@ def prefetch(planner: ManeuverPlanner, vehicles: Iterable[VehicleType], *,
         for key, pair in fits.items():
             known.pop(key, None)
             known[key] = pair  # most recently used last
+        # how each problem was posed, by its sources: what an edited lot looks up
+        for source, got in {p[4]: p[:4] for p in posed}.items():
+            known.pop(posed_key(source), None)
+            known[posed_key(source)] = got
+        for key, (_, st, source) in todo.items():
+            if key in exacts:
+                known.pop(exact_key_of(source, st), None)
+                known[exact_key_of(source, st)] = exacts[key]
         for old in list(itertools.islice(known, max(0, len(known) - KNOWN_MOST))):
             del known[old]
 

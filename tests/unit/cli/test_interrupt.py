@@ -167,8 +167,9 @@ def test_ctrl_c_during_a_benchmark_on_two_processes_writes_nothing(tmp_path):
     workers = set(_workers(proc))
     code, out, err = _ctrl_c(proc)
     assert not set(_workers(proc)) & workers  # stopped with lotsim: none outlives it
-    assert code == 130
-    assert err.strip() == "lotsim: interrupted; nothing was written", err
+    assert code == 130 and "Traceback" not in err, err
+    # (on a busy machine the runs' progress may have had time to show first)
+    assert err.strip().splitlines()[-1] == "lotsim: interrupted; nothing was written", err
     assert not (tmp_path / "out").exists()
 
 
