@@ -65,11 +65,20 @@ class LocalFrame:
         return self.poses_to_local(flat)[:, :2].reshape(pts.shape)
 
     def segments_to_world(self, segs: Sequence[Segment]) -> tuple[Segment, ...]:
-        """Each of ``segs`` in world coordinates (their starts moved in one batch)."""
-        starts = self.poses_to_world(np.array([seg.start for seg in segs])).tolist()
-        sign = -1.0 if self.mirror else 1.0
-        return tuple(Segment(tuple(p), seg.distance, sign * seg.curvature, sign * seg.sharpness)
-                     for p, seg in zip(starts, segs, strict=True))
+        """Each of ``segs`` in world coordinates: :meth:`poses_to_world` of their starts, in
+        the same operations on Python floats (a handful of segments: numpy's set-up would
+        cost more than the sums), so the same floats."""
+        sy = -1.0 if self.mirror else 1.0
+        c, s = math.cos(self.heading), math.sin(self.heading)
+        x0, y0, h0 = self.x, self.y, self.heading
+        out = []
+        for seg in segs:
+            lx, ly, th = seg.start
+            ly = sy * ly
+            start = (x0 + c * lx - s * ly, y0 + s * lx + c * ly,
+                     (h0 + sy * th + math.pi) % (2 * math.pi) - math.pi)
+            out.append(Segment(start, seg.distance, sy * seg.curvature, sy * seg.sharpness))
+        return tuple(out)
 
 
 @dataclass(frozen=True, eq=False)
