@@ -5,8 +5,8 @@ from __future__ import annotations
 
 import pytest
 
+from lotsim.design.plot_yaml import read_plot
 from lotsim.errors import ScenarioError, ScenarioErrors
-from lotsim.layout.plot_yaml import read_plot
 
 GOOD = """\
 name: yard

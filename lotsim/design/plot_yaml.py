@@ -1,4 +1,4 @@
-"""A plot file (``docs/layout.md``) → a validated, frozen :class:`~lotsim.layout.plot.PlotSpec`.
+"""A plot file (``docs/layout.md``) → a validated, frozen :class:`~lotsim.design.plot.PlotSpec`.
 
 Read as scenarios are (:mod:`lotsim.io.yamlnodes`): unknown, missing and duplicate keys,
 wrong types and numbers YAML misreads are errors, each reported as
@@ -14,11 +14,7 @@ from shapely.geometry import Point as ShapelyPoint
 from shapely.geometry import Polygon
 from shapely.validation import explain_validity
 
-from lotsim.errors import ErrorCollector, ScenarioError
-from lotsim.io.lot_yaml import MAX_ITEMS
-from lotsim.io.scenario_yaml import name_from_file, parse_vehicle
-from lotsim.io.yamlnodes import YNode, parse_text, read_yaml
-from lotsim.layout.plot import (
+from lotsim.design.plot import (
     ANGLES,
     BAY_LENGTH,
     BAY_WIDTH,
@@ -28,6 +24,10 @@ from lotsim.layout.plot import (
     IslandSpec,
     PlotSpec,
 )
+from lotsim.errors import ErrorCollector, ScenarioError
+from lotsim.io.lot_yaml import MAX_ITEMS
+from lotsim.io.scenario_yaml import name_from_file, parse_vehicle
+from lotsim.io.yamlnodes import YNode, parse_text, read_yaml
 from lotsim.vehicles.catalogue import CATALOGUE, DEFAULT_VEHICLE
 
 TEXT_FILE = "<plot>"

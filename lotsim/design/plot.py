@@ -1,7 +1,7 @@
 """A plot to lay a lot out on, as frozen specs (``docs/layout.md``): its outline, the islands
 to keep clear, its gates, the vehicle types to serve, the bays and aisles a designer allows,
 and the demand the candidates are compared at. Read from YAML by
-:mod:`lotsim.layout.plot_yaml`; laid out by :func:`lotsim.layout.search.lay_out`.
+:mod:`lotsim.design.plot_yaml`; laid out by :func:`lotsim.design.search.lay_out`.
 """
 
 from __future__ import annotations
