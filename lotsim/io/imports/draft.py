@@ -82,6 +82,7 @@ class RowDraft:
     angle_deg: float | None = None
     gap: float = 0.0
     note: str = ""
+    first_number: int = 1
 
 
 @dataclass
@@ -180,10 +181,11 @@ class LotDraft:
                     out.append("    " + comment(r.note))
                 angle = f", angle_deg: {num(r.angle_deg)}" if r.angle_deg is not None else ""
                 gap = f", gap: {num(r.gap)}" if r.gap else ""
+                first = f", first_number: {r.first_number}" if r.first_number != 1 else ""
                 out.append(f"    - {{aisle: {text(r.aisle)}, side: {r.side}, kind: {r.kind}"
                            f"{angle}, count: {r.count}, slot_width: {num(r.slot_width)}, "
                            f"slot_length: {num(r.slot_length)}, start: {num(r.start)}{gap}, "
-                           f"id_prefix: {text(r.id_prefix)}}}")
+                           f"id_prefix: {text(r.id_prefix)}{first}}}")
         if self.slots:
             out.append("  slots:")
             for s in self.slots:
