@@ -55,6 +55,9 @@ SIMPLIFY = 0.3
 """The ring's outline is simplified within this [m]: no leg of a few centimetres."""
 MIN_LEG = 4.0
 """A ring with a leg shorter than this is simplified further [m]."""
+DEAD_END_ROOM = 1.0
+"""A module aisle that ends short of an island ends this much further from it than its
+half-width [m]."""
 GATE_MIN = 7.0
 """A gate aisle is at least this long [m]: room for its entrance and exit."""
 GATE_MAX = 80.0
@@ -122,6 +125,8 @@ class Candidate:
     aisles: list[DrawnAisle]
     rows: list[DrawnRow]
     gates: list[DrawnGate]
+    ringed: bool = False
+    """Whether the ring also runs round each island."""
 
     @property
     def bays(self) -> int:
@@ -135,8 +140,9 @@ class Candidate:
     @property
     def label(self) -> str:
         order = "inner rows first" if self.inner_first else "modules first"
+        ring = ", islands ringed" if self.ringed else ""
         return (f"{self.module.label} modules at {self.orientation_deg:.1f}°, offset "
-                f"{self.offset:.2f} m, {order}")
+                f"{self.offset:.2f} m, {order}{ring}")
 
 
 def modules_of(plot: PlotSpec) -> list[Module]:
@@ -214,9 +220,11 @@ def _rings(region: Polygon) -> list[np.ndarray]:
 
 
 def draw(plot: PlotSpec, module: Module, orientation_deg: float, offset: float,
-         inner_first: bool) -> Candidate | None:
+         inner_first: bool, ring_islands: bool = True) -> Candidate | None:
     """One candidate of ``plot`` (see the module's description); None where the plot has no
-    room for a ring, or a gate's aisle meets none.
+    room for a ring, or a gate's aisle meets none. Without ``ring_islands``, the ring runs
+    round the plot only, and a module aisle that meets an island ends short of it (a dead
+    end, where cars turn round; two-way modules only).
 
     Examples
     --------
@@ -233,8 +241,10 @@ def draw(plot: PlotSpec, module: Module, orientation_deg: float, offset: float,
     islands = [Polygon(frame.to_local(i.polygon)) for i in plot.islands]
     ring_w = plot.circulation_width
     perimeter = plot.bay_length + ring_w / 2 + CLEAR
-    inside = _ring_region(outline, islands, perimeter)
+    inside = _ring_region(outline, islands if ring_islands else [], perimeter)
     if inside is None:
+        return None
+    if not ring_islands and (module.one_way or not islands):
         return None
     aisles: list[DrawnAisle] = []
     legs: list[tuple[Point2, Point2]] = []
@@ -246,6 +256,16 @@ def draw(plot: PlotSpec, module: Module, orientation_deg: float, offset: float,
             aisles.append(DrawnAisle(f"r{k + 1}-{i + 1}", a, b, ring_w, False, "ring"))
     ring_lines = [LineString(leg) for leg in legs]
     ring_strips = unary_union([_strip(a, b, ring_w) for a, b in legs])
+    kept_clear = unary_union([i.buffer(CLEAR) for i in islands]) if islands else None
+    if kept_clear is not None and ring_strips.intersects(kept_clear):
+        return None
+    # where module aisles may run: inside the ring, and short of the islands by the
+    # turnaround room of a dead end (without ring_islands)
+    room_for_modules = inside
+    if not ring_islands:
+        room_for_modules = inside.difference(unary_union(
+            [i.buffer(module.width / 2 + CLEAR + DEAD_END_ROOM, join_style="mitre")
+             for i in islands]))
 
     # module aisles: the parts inside the ring of lines along x, one pitch apart
     p = pitch(module, plot)
@@ -255,19 +275,23 @@ def draw(plot: PlotSpec, module: Module, orientation_deg: float, offset: float,
     y = first
     k = 0
     while y < y1:
-        cut = LineString([(x0 - 1, y), (x1 + 1, y)]).intersection(inside)
+        cut = LineString([(x0 - 1, y), (x1 + 1, y)]).intersection(room_for_modules)
         for seg in sorted(getattr(cut, "geoms", [cut]), key=lambda g: g.bounds):
             if seg.geom_type != "LineString" or seg.length < MIN_MODULE:
                 continue
             (ax, _), (bx, _) = seg.coords[0], seg.coords[-1]
             a, b = (ax, y), (bx, y)
-            if not (_meets_ring(a, ring_lines) and _meets_ring(b, ring_lines)):
+            ends = _meets_ring(a, ring_lines), _meets_ring(b, ring_lines)
+            if ends == (None, None) or (None in ends and (ring_islands or module.one_way)):
                 continue
-            # clear of the ring except where it ends on it
-            trim = module.width / 2 + ring_w / 2 / math.sin(math.radians(MIN_JUNCTION_DEG)) + 0.5
-            if seg.length <= 2 * trim + 1.0:
+            ends = tuple(math.pi / 2 if e is None else e for e in ends)  # a dead end
+            # clear of the ring except where it ends on it: the strip of a ring leg met at
+            # φ reaches ring_w / 2 / sin φ + width / 2 / tan φ along the module's centre line
+            ta, tb = (ring_w / 2 / math.sin(phi) + module.width / 2 / abs(math.tan(phi)) + 0.5
+                      for phi in ends)
+            if seg.length <= ta + tb + 1.0:
                 continue
-            core = _strip((ax + trim, y), (bx - trim, y), module.width + 2 * CLEAR)
+            core = _strip((ax + ta, y), (bx - tb, y), module.width + 2 * CLEAR)
             if core.intersects(ring_strips):
                 continue
             if module.one_way and k % 2 == 1:
@@ -308,7 +332,8 @@ def draw(plot: PlotSpec, module: Module, orientation_deg: float, offset: float,
                 if role == "ring" and _side_is_inner(a, side, inside) != (which == "inner"):
                     continue
                 rows += _pack(plot, a, side, mod, room, things)
-    cand = Candidate(orientation_deg, module, offset, inner_first, aisles, rows, gates)
+    cand = Candidate(orientation_deg, module, offset, inner_first, aisles, rows, gates,
+                     ring_islands and bool(islands))
     return _to_plot(cand, frame)
 
 
@@ -336,16 +361,18 @@ def _ring_region(outline: Polygon, islands: list[Polygon], d: float) -> Polygon 
     return None
 
 
-def _meets_ring(p: Point2, ring_lines: list[LineString]) -> bool:
-    """Whether ``p`` lies on a ring leg at least :data:`MIN_JUNCTION_DEG` from the x axis."""
+def _meets_ring(p: Point2, ring_lines: list[LineString]) -> float | None:
+    """The angle [rad] at which a line along x through ``p`` meets the ring leg ``p`` lies
+    on, where it is at least :data:`MIN_JUNCTION_DEG`; else None."""
     pt = Point(p)
     for line in ring_lines:
         if line.distance(pt) < 1e-6:
             (ax, ay), (bx, by) = line.coords
             ang = abs(math.degrees(math.atan2(by - ay, bx - ax))) % 180
-            if min(ang, 180 - ang) >= MIN_JUNCTION_DEG:
-                return True
-    return False
+            ang = min(ang, 180 - ang)
+            if ang >= MIN_JUNCTION_DEG:
+                return math.radians(ang)
+    return None
 
 
 def _side_is_inner(a: DrawnAisle, side: str, inside: Polygon) -> bool:
@@ -486,4 +513,5 @@ def _to_plot(c: Candidate, frame: _Frame) -> Candidate:
                      [Polygon(frame.to_plot(np.asarray(p.exterior.coords)))
                       for p in r.polygons]) for r in c.rows]
     gates = [DrawnGate(g.id, g.aisle, pose(g.entrance), pose(g.exit)) for g in c.gates]
-    return Candidate(c.orientation_deg, c.module, c.offset, c.inner_first, aisles, rows, gates)
+    return Candidate(c.orientation_deg, c.module, c.offset, c.inner_first, aisles, rows, gates,
+                     c.ringed)

@@ -23,6 +23,7 @@ the best run at the plot's demand, ranked (:func:`lay_out`).
 from __future__ import annotations
 
 import dataclasses
+import itertools
 import math
 import time
 from collections.abc import Callable
@@ -207,23 +208,25 @@ class LayoutResult:
 
 def candidates(plot: PlotSpec, settings: LayoutSettings) -> list[Candidate]:
     """Every candidate of ``plot`` (drawn, not checked), in a fixed order: module kind,
-    orientation, offset, order of rows; a candidate drawn alike by other choices, once."""
+    orientation, offset, order of rows, islands ringed or not; a candidate drawn alike by
+    other choices, once."""
     out = []
     seen: set[tuple] = set()
     for module in modules_of(plot):
         step = pitch(module, plot)
         for theta in orientations(plot, settings.orientations):
-            for i in range(settings.offsets):
-                for inner_first in (False, True):
-                    c = draw(plot, module, theta, step * i / settings.offsets, inner_first)
-                    if c is None or c.bays == 0:
-                        continue
-                    shape = (tuple((a.start, a.end, a.one_way) for a in c.aisles),
-                             tuple(sorted((r.aisle, r.side, r.angle, round(r.start, 6),
-                                           r.count) for r in c.rows)))
-                    if shape not in seen:
-                        seen.add(shape)
-                        out.append(c)
+            for i, inner_first, ringed in itertools.product(
+                    range(settings.offsets), (False, True), (True, False)):
+                c = draw(plot, module, theta, step * i / settings.offsets, inner_first,
+                         ringed)
+                if c is None or c.bays == 0:
+                    continue
+                shape = (tuple((a.start, a.end, a.one_way) for a in c.aisles),
+                         tuple(sorted((r.aisle, r.side, r.angle, round(r.start, 6), r.count)
+                                      for r in c.rows)))
+                if shape not in seen:
+                    seen.add(shape)
+                    out.append(c)
     return out
 
 
