@@ -45,6 +45,9 @@ Point2 = tuple[float, float]
 CLEAR = 0.05
 """Bays, aisles and islands are kept this far apart in the drawing [m], so that the
 scenario's numbers, written to the centimetre, never make them overlap."""
+EPS = 1e-6
+"""Things drawn exactly :data:`CLEAR` apart are clear, whatever the rounding of a turned
+frame [m]."""
 PACK_STEP = 0.25
 """Where a bay does not fit, the next one is tried this much further along the aisle [m]."""
 MIN_MODULE = 12.0
@@ -318,7 +321,7 @@ def draw(plot: PlotSpec, module: Module, orientation_deg: float, offset: float,
 
     strips = [_strip(a.start, a.end, a.width) for a in aisles]
     things = _Things(strips + islands, [a.id for a in aisles] + [""] * len(islands))
-    room = outline.buffer(-CLEAR, join_style="mitre")
+    room = outline.buffer(-(CLEAR - EPS), join_style="mitre")
     rows: list[DrawnRow] = []
     ring90 = Module(90, False, ring_w)
     order = ([("ring", "outer", ring90), ("ring", "inner", ring90), ("module", "", module)]
@@ -415,7 +418,7 @@ def _gate(plot: PlotSpec, gid: str, at: np.ndarray, outline: Polygon,
         return None
     end = best[1]
     width = plot.circulation_width
-    if not outline.covers(LineString([start, end])):
+    if not outline.buffer(1e-6).covers(LineString([start, end])):
         return None
     heading = math.atan2(n[1], n[0])
     right = np.array([n[1], -n[0]])
@@ -443,12 +446,12 @@ class _Things:
     def clear(self, bay: Polygon, aisle: str) -> bool:
         """Whether ``bay`` keeps clear of everything but its own aisle, which it may
         touch (its entry lies on the aisle's edge)."""
-        for i in self.fixed_tree.query(bay, predicate="dwithin", distance=CLEAR):
+        for i in self.fixed_tree.query(bay, predicate="dwithin", distance=CLEAR - EPS):
             if self.owners[i] != aisle or \
                     shapely.area(shapely.intersection(self.fixed[i], bay)) > 1e-6:
                 return False
         return self.bay_tree is None or not len(
-            self.bay_tree.query(bay, predicate="dwithin", distance=CLEAR))
+            self.bay_tree.query(bay, predicate="dwithin", distance=CLEAR - EPS))
 
     def add(self, bays: list[Polygon]) -> None:
         self.bays += bays
@@ -479,7 +482,7 @@ def _pack(plot: PlotSpec, a: DrawnAisle, side: str, mod: Module, room: Polygon,
         bay = Polygon(poly)
         ok = room.covers(bay) and things.clear(bay, a.id)
         if ok and placed and abs(placed[-1][0] + step - s) > 1e-9:
-            ok = placed[-1][1].distance(bay) >= CLEAR
+            ok = placed[-1][1].distance(bay) >= CLEAR - EPS
         if ok:
             placed.append((s, bay))
             s += step
