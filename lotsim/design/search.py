@@ -6,7 +6,9 @@ the best run at the plot's demand, ranked (:func:`lay_out`).
    geometry only and quick.
 2. The candidates are taken in order of bays drawn, most first, and each is *prepared*: its
    scenario is built and every bay's parking maneuver planned for every vehicle type, the
-   lot's graph built, and reachability worked out, as ``lotsim validate`` does. The bays
+   lot's graph built, and reachability worked out, as ``lotsim validate`` does (with the
+   on-disk cache as ``lotsim validate`` uses it: laying the same plot out again loads its
+   candidates' lots). The bays
    some type cannot reach, park in or leave for an exit are dropped and the rest prepared
    again, until every bay is usable (``lotsim validate --strict`` passes). Candidates are
    independent: they are prepared on the worker pool (:func:`lotsim.core.workers.fork_map`),
@@ -298,7 +300,7 @@ def evaluate(plot: PlotSpec, cand: Candidate, index: int, area: float,
                               seconds=time.perf_counter() - clock, **figures)
         try:
             sc = parse_scenario(parse_text(yaml_text, f"{plot.name}.yaml"))
-            prepared = prepare_lot(sc, cache=False)
+            prepared = prepare_lot(sc)
             report = validate_prepared(prepared, f"{plot.name}.yaml")
         except ScenarioError as exc:
             return Evaluation(bays=0, problem=_short(str(exc)),
