@@ -19,7 +19,7 @@ PlotLike = PlotSpec | str | os.PathLike
 
 
 def layout(plot: PlotLike, output: str | os.PathLike | None = None, *, keep: int = 1,
-           settings: LayoutSettings | None = None,
+           settings: LayoutSettings | None = None, pictures: bool = False,
            progress: Callable[[int, int], None] | None = None) -> LayoutResult:
     """Lay a lot out on ``plot``: the layout with the most bays that every vehicle type
     can reach, park in and leave (lotsim's maneuver planner and reachability decide, as
@@ -37,6 +37,9 @@ def layout(plot: PlotLike, output: str | os.PathLike | None = None, *, keep: int
         written whole or not at all. None: nothing is written.
     keep : int, keyword-only
         How many of the best to write (1 to 20).
+    pictures : bool, keyword-only
+        Also draw, beside ``output``, the best lot (``NAME.png``) and the best few
+        candidates side by side with their figures (``NAME-candidates.png``).
     settings : LayoutSettings, optional, keyword-only
         How to search (orientations, offsets, how many candidates are prepared and run at
         most, the planner of the runs, the workers).
@@ -70,6 +73,8 @@ def layout(plot: PlotLike, output: str | os.PathLike | None = None, *, keep: int
     """
     if isinstance(keep, bool) or not isinstance(keep, int) or not 1 <= keep <= 20:
         raise SettingsError("keep", f"expected 1 to 20, found {keep!r}")
+    if pictures and output is None:
+        raise SettingsError("pictures", "are drawn beside the output: give output too")
     paths: list[Path] = []
     if output is not None:
         out = Path(output)
@@ -84,12 +89,25 @@ def layout(plot: PlotLike, output: str | os.PathLike | None = None, *, keep: int
     for path, e in zip(paths, good, strict=False):
         with atomic_write(path, "w", encoding="utf-8") as fh:
             fh.write(e.yaml)
+    if pictures:
+        from lotsim.design.pictures import candidate_strip, figures, lot_picture
+        from lotsim.render.lot_image import save_png
+
+        best = paths[0]
+        save_png(lot_picture(good[0], title=f"{found.plot.name}: {figures(1, good[0])}"),
+                 best.with_suffix(".png"))
+        save_png(candidate_strip(found), best.with_name(f"{best.stem}-candidates.png"))
     return found
 
 
-def layout_files(output: str | os.PathLike, found: LayoutResult, keep: int = 1) -> list[Path]:
-    """The files :func:`layout` wrote for ``output`` and ``keep``, best first."""
+def layout_files(output: str | os.PathLike, found: LayoutResult, keep: int = 1, *,
+                 pictures: bool = False) -> list[Path]:
+    """The files :func:`layout` wrote for ``output``, ``keep`` and ``pictures``, the
+    scenarios best first, then the pictures."""
     out = Path(output)
     good = [e for e in found.ranked if e.ok][:keep]
-    return [out if k == 0 else out.with_name(f"{out.stem}-{k + 1}{out.suffix}")
-            for k in range(len(good))]
+    files = [out if k == 0 else out.with_name(f"{out.stem}-{k + 1}{out.suffix}")
+             for k in range(len(good))]
+    if pictures:
+        files += [out.with_suffix(".png"), out.with_name(f"{out.stem}-candidates.png")]
+    return files

@@ -21,6 +21,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         "it as LOT-2.yaml ... LOT-N.yaml")
     parser.add_argument("--keep", type=int, default=1, metavar="N",
                         help="write the N best layouts (1 to 20; default 1)")
+    parser.add_argument("--pictures", action="store_true",
+                        help="also draw the best lot (LOT.png) and the best candidates side "
+                        "by side with their figures (LOT-candidates.png)")
     parser.add_argument("--show", type=int, default=5, metavar="N",
                         help="list the N best candidates side by side (default 5)")
     parser.add_argument("--orientations", type=int, metavar="N",
@@ -49,14 +52,14 @@ def execute(args: argparse.Namespace) -> int:
     try:
         with ProgressBar("laying out") as bar:
             found = api.layout(args.plot, args.output, keep=args.keep, settings=settings,
-                               progress=bar)
+                               pictures=args.pictures, progress=bar)
     except OSError as exc:
         return cannot_write(exc.filename or args.output, exc)
     plot = found.plot
     print(f"{plot.source}: {plot.name}, {found.best.area:.0f} m²; {found.drawn} candidates "
           f"drawn, {len(found.ranked)} prepared in {found.seconds:.1f} s")
     print(found.table(args.show))
-    files = api.layout_files(args.output, found, args.keep)
+    files = api.layout_files(args.output, found, args.keep, pictures=args.pictures)
     best = found.best
     print(f"wrote {', '.join(str(f) for f in files)}: {best.bays} bays "
           f"({best.bays_per_100m2:.2f} per 100 m², one per {best.area / best.bays:.1f} m²)")

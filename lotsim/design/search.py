@@ -223,13 +223,24 @@ def candidates(plot: PlotSpec, settings: LayoutSettings) -> list[Candidate]:
                          ringed)
                 if c is None or c.bays == 0:
                     continue
-                shape = (tuple((a.start, a.end, a.one_way) for a in c.aisles),
-                         tuple(sorted((r.aisle, r.side, r.angle, round(r.start, 6), r.count)
-                                      for r in c.rows)))
+                shape = _shape(c)
                 if shape not in seen:
                     seen.add(shape)
                     out.append(c)
     return out
+
+
+def _shape(c: Candidate) -> tuple:
+    """What a candidate looks like, whatever choices drew it: its aisles (each way they
+    are driven) and its bays, to the centimetre."""
+    def pt(p) -> tuple[float, float]:
+        return round(p[0], 2) + 0.0, round(p[1], 2) + 0.0
+
+    aisles = sorted((pt(a.start), pt(a.end)) if a.one_way else tuple(sorted((pt(a.start),
+                                                                             pt(a.end))))
+                    for a in c.aisles)
+    bays = sorted(pt(b.centroid.coords[0]) for r in c.rows for b in r.polygons)
+    return tuple(aisles), tuple(bays)
 
 
 def lay_out(plot: PlotSpec, settings: LayoutSettings | None = None, *, keep: int = 1,

@@ -123,13 +123,20 @@ def test_keep_writes_the_next_best_beside_the_best(tmp_path, capsys):
     plot.write_text(SMALL)
     out = tmp_path / "lot.yaml"
     assert main(["layout", str(plot), "-o", str(out), "--keep", "2", "--orientations", "2",
-                 "--offsets", "1", "--prepared", "2"]) == 0
+                 "--offsets", "2", "--prepared", "2", "--pictures"]) == 0
     said = capsys.readouterr().out
     assert "bays" in said and "per 100 m²" in said and "park [s]" in said
     first, second = out.read_text(), (tmp_path / "lot-2.yaml").read_text()
     assert first != second
     for text in (first, second):
         assert lotsim.validate(text).complete
+    # the pictures: the best lot, and the two candidates side by side
+    from PIL import Image
+
+    assert Image.open(tmp_path / "lot.png").size == (1200, 900)
+    assert Image.open(tmp_path / "lot-candidates.png").size == (2 * 600, 450)
+    assert sorted(p.name for p in tmp_path.iterdir()) == [
+        "lot-2.yaml", "lot-candidates.png", "lot.png", "lot.yaml", "small.yaml"]
 
 
 @pytest.mark.parametrize("edit, where", [
@@ -154,6 +161,8 @@ def test_bad_options_are_named():
     with pytest.raises(lotsim.SettingsError, match="orientations"):
         lotsim.LayoutSettings(orientations=0)
     assert main(["layout", "x.yaml", "-o", "lot.txt"]) == 2
+    with pytest.raises(lotsim.SettingsError, match="pictures"):
+        lotsim.layout(SMALL, pictures=True)
 
 
 def test_a_plot_too_small_for_a_ring_says_so():
