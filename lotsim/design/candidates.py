@@ -61,6 +61,9 @@ MIN_LEG = 4.0
 DEAD_END_ROOM = 1.0
 """A module aisle that ends short of an island ends this much further from it than its
 half-width [m]."""
+GATE_INSET = 0.02
+"""A gate's aisle begins this far inside the boundary [m]: written to the centimetre, its
+first point stays inside."""
 GATE_MIN = 7.0
 """A gate aisle is at least this long [m]: room for its entrance and exit."""
 GATE_MAX = 80.0
@@ -130,6 +133,8 @@ class Candidate:
     gates: list[DrawnGate]
     ringed: bool = False
     """Whether the ring also runs round each island."""
+    spine: tuple[str, bool] | None = None
+    """For a spine candidate (:func:`draw_spine`): its gate, and whether it has branches."""
 
     @property
     def bays(self) -> int:
@@ -142,6 +147,12 @@ class Candidate:
 
     @property
     def label(self) -> str:
+        if self.spine is not None:
+            gate, branches = self.spine
+            what = (f", branches from {self.offset:.2f} m, "
+                    f"{'spine rows first' if self.inner_first else 'branches first'}"
+                    if branches else "")
+            return f"a 90° two-way spine from gate {gate}{what}"
         order = "inner rows first" if self.inner_first else "modules first"
         ring = ", islands ringed" if self.ringed else ""
         return (f"{self.module.label} modules at {self.orientation_deg:.1f}°, offset "
@@ -392,15 +403,7 @@ def _gate(plot: PlotSpec, gid: str, at: np.ndarray, outline: Polygon,
           lines: list[tuple[LineString, DrawnAisle]]) -> tuple[DrawnAisle, DrawnGate] | None:
     """The aisle from a gate square to its boundary edge into the lot, to the first aisle
     it meets, with the gate's entrance and exit on it; None when it meets none in reach."""
-    ring = np.asarray(outline.exterior.coords)
-    g = Point(at)
-    k = int(np.argmin([LineString(ring[i:i + 2]).distance(g) for i in range(len(ring) - 1)]))
-    e = ring[k + 1] - ring[k]
-    e = e / np.hypot(*e)
-    n = np.array([-e[1], e[0]])  # left of a counter-clockwise edge is inward
-    if not outline.exterior.is_ccw:
-        n = -n
-    start = np.asarray(outline.exterior.interpolate(outline.exterior.project(g)).coords[0])
+    start, n = _inward(outline, at)
     ray = LineString([start, start + n * GATE_MAX])
     best = None
     for line, _ in lines:
@@ -417,19 +420,125 @@ def _gate(plot: PlotSpec, gid: str, at: np.ndarray, outline: Polygon,
     if best is None:
         return None
     end = best[1]
-    width = plot.circulation_width
     if not outline.buffer(1e-6).covers(LineString([start, end])):
         return None
+    aisle = DrawnAisle(f"gate-{gid}", tuple(start), tuple(end), plot.circulation_width, False,
+                       "gate")
+    return aisle, _gate_poses(plot, gid, aisle.id, start, n)
+
+
+def draw_spine(plot: PlotSpec, gate: int, offset: float, branches: bool,
+               branches_first: bool = True) -> Candidate | None:
+    """A candidate for a plot too small or too narrow for a ring: a two-way *spine* aisle
+    from gate ``gate`` straight in, square to its edge, as far as the plot allows (a dead
+    end, where cars turn round), with bays along both sides; with ``branches``, two-way
+    aisles off it at right angles, one 90° module pitch apart from ``offset`` past the
+    gate's entrance and exit, each as long as the plot allows (dead ends too). The plot's
+    other gates each get an aisle to the first aisle they meet. None where the spine has no
+    room.
+
+    Examples
+    --------
+    >>> from lotsim.design.plot_yaml import read_plot
+    >>> plot = read_plot("boundary: [[0, 0], [24, 0], [24, 30], [0, 30]]\\n"
+    ...                  "gates: [{id: in, at: [12, 0]}]\\n")
+    >>> c = draw_spine(plot, 0, 0.0, False)
+    >>> [a.role for a in c.aisles], c.bays
+    (['gate'], 22)
+    """
+    w = plot.circulation_width
+    outline = Polygon(plot.boundary)
+    islands = [Polygon(i.polygon) for i in plot.islands]
+    blocked = unary_union([i.buffer(CLEAR) for i in islands]) if islands else None
+    g = plot.gates[gate]
+    start, n = _inward(outline, np.asarray(g.at, dtype=float))
+
+    def reach(p0: np.ndarray, u: np.ndarray, first: float) -> float:
+        """How far an aisle from ``p0`` along ``u`` may run, its strip inside the plot and
+        clear of the islands past ``first`` [m]."""
+        top = 2.0 * math.dist(*np.asarray(outline.bounds).reshape(2, 2))
+        lo, hi = first, top
+        def fits(t: float) -> bool:
+            strip = _strip(tuple(p0 + u * first), tuple(p0 + u * t), w)
+            return outline.covers(strip) and (blocked is None or strip.disjoint(blocked))
+        if not fits(first + 0.5):
+            return 0.0
+        while hi - lo > 0.05:
+            mid = (lo + hi) / 2
+            lo, hi = (mid, hi) if fits(mid) else (lo, mid)
+        return lo - DEAD_END_ROOM
+
+    length = reach(start, n, 1.0)
+    if length < GATE_MIN:
+        return None
+    heading = math.atan2(n[1], n[0])
+    aisles = [DrawnAisle(f"gate-{g.id}", tuple(map(float, start)),
+                         tuple(map(float, start + n * length)), w, False, "gate")]
+    gates = [_gate_poses(plot, g.id, aisles[0].id, start, n)]
+    if branches:
+        right = np.array([n[1], -n[0]])
+        step = pitch(Module(90, False, w), plot)
+        s0 = max(v.front for v in plot.vehicle_types) + 1.5 + w / 2 + plot.bay_width + offset
+        k = 0
+        while s0 + k * step + w / 2 <= length - 1.0:
+            at = start + n * (s0 + k * step)
+            for side, u in (("R", right), ("L", -right)):
+                t = reach(at, u, w / 2 + 0.5)
+                if t >= MIN_MODULE + w / 2:
+                    aisles.append(DrawnAisle(f"b{k + 1}{side}", tuple(map(float, at)),
+                                             tuple(map(float, at + u * t)), w, False,
+                                             "module"))
+            k += 1
+    lines = [(LineString([a.start, a.end]), a) for a in aisles]
+    for other in plot.gates[:gate] + plot.gates[gate + 1:]:
+        drawn = _gate(plot, other.id, np.asarray(other.at, dtype=float), outline, lines)
+        if drawn is None:
+            return None
+        aisles.append(drawn[0])
+        gates.append(drawn[1])
+    strips = [_strip(a.start, a.end, a.width) for a in aisles]
+    things = _Things(strips + islands, [a.id for a in aisles] + [""] * len(islands))
+    room = outline.buffer(-(CLEAR - EPS), join_style="mitre")
+    rows: list[DrawnRow] = []
+    spine90 = Module(90, False, w)
+    order = ("module", "gate") if branches_first else ("gate", "module")
+    for role in order:
+        for a in aisles:
+            if a.role == role:
+                for side in ("left", "right"):
+                    rows += _pack(plot, a, side, spine90, room, things)
+    return Candidate(math.degrees(heading) % 180.0, spine90, offset, not branches_first,
+                     aisles, rows, gates, spine=(g.id, branches))
+
+
+def _inward(outline: Polygon, at: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The point :data:`GATE_INSET` inside the boundary from the point of it nearest ``at``,
+    and the unit square to its edge, inward."""
+    ring = np.asarray(outline.exterior.coords)
+    g = Point(at)
+    k = int(np.argmin([LineString(ring[i:i + 2]).distance(g) for i in range(len(ring) - 1)]))
+    e = ring[k + 1] - ring[k]
+    e = e / np.hypot(*e)
+    n = np.array([-e[1], e[0]])  # left of a counter-clockwise edge is inward
+    if not outline.exterior.is_ccw:
+        n = -n
+    start = np.asarray(outline.exterior.interpolate(outline.exterior.project(g)).coords[0])
+    return start + n * GATE_INSET, n
+
+
+def _gate_poses(plot: PlotSpec, gid: str, aisle: str, start: np.ndarray, n: np.ndarray
+                ) -> DrawnGate:
+    """A gate's entrance and exit near the boundary, on the inward and outward lanes of its
+    aisle, which runs from ``start`` along ``n``."""
+    width = plot.circulation_width
     heading = math.atan2(n[1], n[0])
     right = np.array([n[1], -n[0]])
     longest = max(v.front for v in plot.vehicle_types)
     rear = max(v.rear for v in plot.vehicle_types)
     inward = start + n * (rear + 0.5) + right * width / 4
     outward = start + n * (longest + 0.5) - right * width / 4
-    aisle = DrawnAisle(f"gate-{gid}", tuple(start), tuple(end), width, False, "gate")
-    gate = DrawnGate(gid, aisle.id, (*map(float, inward), heading),
+    return DrawnGate(gid, aisle, (*map(float, inward), heading),
                      (*map(float, outward), heading + math.pi))
-    return aisle, gate
 
 
 class _Things:
@@ -517,4 +626,4 @@ def _to_plot(c: Candidate, frame: _Frame) -> Candidate:
                       for p in r.polygons]) for r in c.rows]
     gates = [DrawnGate(g.id, g.aisle, pose(g.entrance), pose(g.exit)) for g in c.gates]
     return Candidate(c.orientation_deg, c.module, c.offset, c.inner_first, aisles, rows, gates,
-                     c.ringed)
+                     c.ringed, c.spine)

@@ -36,7 +36,15 @@ from shapely.geometry import Polygon
 from lotsim import __version__
 from lotsim.core.checks import range_problem
 from lotsim.core.workers import fork_map
-from lotsim.design.candidates import Candidate, draw, modules_of, orientations, pitch
+from lotsim.design.candidates import (
+    Candidate,
+    Module,
+    draw,
+    draw_spine,
+    modules_of,
+    orientations,
+    pitch,
+)
 from lotsim.design.plot import PlotSpec
 from lotsim.errors import ScenarioError, SettingsError
 from lotsim.io.imports.draft import (
@@ -209,9 +217,10 @@ class LayoutResult:
 
 
 def candidates(plot: PlotSpec, settings: LayoutSettings) -> list[Candidate]:
-    """Every candidate of ``plot`` (drawn, not checked), in a fixed order: module kind,
-    orientation, offset, order of rows, islands ringed or not; a candidate drawn alike by
-    other choices, once."""
+    """Every candidate of ``plot`` (drawn, not checked), in a fixed order: ring candidates by
+    module kind, orientation, offset, order of rows, islands ringed or not; then spine
+    candidates by gate, offset of branches, order of rows; a candidate drawn alike by other
+    choices, once."""
     out = []
     seen: set[tuple] = set()
     for module in modules_of(plot):
@@ -227,6 +236,20 @@ def candidates(plot: PlotSpec, settings: LayoutSettings) -> list[Candidate]:
                 if shape not in seen:
                     seen.add(shape)
                     out.append(c)
+    # spines from each gate, for plots too small or too narrow for a ring
+    step = pitch(Module(90, False, plot.circulation_width), plot)
+    for gate in range(len(plot.gates)):
+        for i, branches, first in itertools.product(range(settings.offsets), (False, True),
+                                                    (True, False)):
+            if not branches and (i or not first):
+                continue
+            c = draw_spine(plot, gate, step * i / settings.offsets, branches, first)
+            if c is None or c.bays == 0:
+                continue
+            shape = _shape(c)
+            if shape not in seen:
+                seen.add(shape)
+                out.append(c)
     return out
 
 

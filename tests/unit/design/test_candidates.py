@@ -146,3 +146,21 @@ def test_a_plot_turned_gives_its_bays_turned(orientation, offset):
     a = draw(base, modules_of(base)[0], 0.0, offset, False)
     b = draw(turned, modules_of(turned)[0], orientation, offset, False)
     assert a.bays == b.bays > 0
+
+
+def test_spines_run_square_to_their_gate_s_edge_and_branch_at_right_angles():
+    # a spine runs in from the gate on the west edge, square to it, to 1 m short of the
+    # far side; with branches, aisles at right angles off it
+    plot = read_plot("boundary: [[0, 0], [40, 0], [40, 50], [0, 50]]\n"
+                     "gates: [{id: west, at: [0, 25]}]\nbays: {angles_deg: [90]}\n")
+    drawn = [c for c in candidates(plot, LayoutSettings(orientations=2, offsets=2))
+             if c.spine is not None]
+    assert {c.spine[1] for c in drawn} == {False, True}
+    for c in drawn:
+        spine = next(a for a in c.aisles if a.role == "gate")
+        assert spine.start[1] == pytest.approx(25) == spine.end[1]
+        assert spine.end[0] == pytest.approx(40 - 1.0, abs=0.06)  # the dead end's room
+        for b in (a for a in c.aisles if a.role == "module"):
+            assert b.start[0] == pytest.approx(b.end[0])  # square to the spine
+            assert b.start[1] == pytest.approx(25)        # beginning on its centre line
+        assert _violations(plot, c) == []
