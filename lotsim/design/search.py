@@ -307,8 +307,8 @@ def lay_out(plot: PlotSpec, settings: LayoutSettings | None = None, *, keep: int
     if not good:
         why = "; ".join(sorted({e.problem for e in done if e.problem}))[:400]
         raise ScenarioError(None, f"{plot.source}: no layout of this plot has a usable bay"
-                            + (f" ({why})" if why else " (no room for a ring aisle inside "
-                               "a row of bays, or no gate meets an aisle)"))
+                            + (f" ({why})" if why else " (no room for a ring or a spine "
+                               "aisle with a row of bays, or no gate meets an aisle)"))
     return LayoutResult(plot, settings, tuple(sorted(done, key=Evaluation.rank_key)),
                         len(drawn), time.perf_counter() - clock)
 
