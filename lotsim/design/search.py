@@ -27,6 +27,7 @@ from __future__ import annotations
 import dataclasses
 import itertools
 import math
+import os
 import time
 from collections.abc import Callable
 from dataclasses import dataclass
@@ -314,8 +315,6 @@ def lay_out(plot: PlotSpec, settings: LayoutSettings | None = None, *, keep: int
 
 
 def _cores() -> int:
-    import os
-
     return os.cpu_count() or 1
 
 

@@ -106,8 +106,10 @@ def test_the_shapely_check_of_a_written_lot_can_fail():
 
 def test_the_same_plot_gives_the_same_bytes(tmp_path, monkeypatch):
     monkeypatch.setenv("LOTSIM_CACHE_DIR", "off")  # both worked out, neither remembered
-    plot = tmp_path / "small.yaml"
-    plot.write_text(SMALL)
+    plot = tmp_path / "small.yaml"  # 20 x 24 m: a spine from the gate, 18 bays
+    plot.write_text(SMALL.replace("[[0, 0], [36, 0], [36, 30], [0, 30]]",
+                                  "[[0, 0], [20, 0], [20, 24], [0, 24]]")
+                    .replace("[18, 0]", "[10, 0]"))
     a, b = tmp_path / "a.yaml", tmp_path / "b.yaml"
     assert main(["layout", str(plot), "-o", str(a), "--orientations", "1", "--offsets",
                  "1", "--prepared", "1"]) == 0
@@ -166,9 +168,11 @@ def test_bad_options_are_named():
 
 
 def test_a_plot_too_small_for_a_ring_says_so():
+    # 14 x 12 m: no ring inside a row of bays, and a spine from the gate leaves no room
+    # for a bay beside it
     tiny = SMALL.replace("[[0, 0], [36, 0], [36, 30], [0, 30]]",
-                         "[[0, 0], [36, 0], [36, 12], [0, 12]]")
-    assert read_plot(tiny).boundary[2] == (36.0, 12.0)
+                         "[[0, 0], [14, 0], [14, 12], [0, 12]]").replace("[18, 0]", "[7, 0]")
+    assert read_plot(tiny).boundary[2] == (14.0, 12.0)
     with pytest.raises(lotsim.ScenarioError, match="no layout of this plot"):
         lotsim.layout(tiny, settings=QUICK)
 

@@ -50,7 +50,7 @@ def test_without_layout_a_bare_lot_is_skipped_as_before(tmp_path):
 
 def test_with_layout_a_bare_lot_is_laid_out_round_its_kiosk_from_its_road(tmp_path):
     out = tmp_path / "out"
-    settings = lotsim.LayoutSettings(orientations=1, offsets=1, prepared=2, compared=1)
+    settings = lotsim.LayoutSettings(orientations=1, offsets=1, prepared=1, compared=1)
     report = lotsim.import_osm(_bare_lot(tmp_path), out, layout=True, settings=settings)
     (lot,) = report.lots
     assert lot.written and lot.inferred > 0, lot.reason
