@@ -73,7 +73,7 @@ def _laid_out(lot: ImportedLot, folder: Path, settings: LayoutSettings | None
     header = "".join(line + "\n" for line in text.splitlines() if line.startswith("#"))
     path = folder / f"{plot.name}.yaml"
     with atomic_write(path, "w", encoding="utf-8") as fh:
-        fh.write(header + best.yaml)
+        fh.write(header + best.document())
     aisles = len(load_scenario(best.yaml).lot.aisles)
     return dataclasses.replace(
         lot, inferred=best.bays, aisles=aisles, gates=len(plot.gates), path=path,

@@ -88,7 +88,7 @@ def layout(plot: PlotLike, output: str | os.PathLike | None = None, *, keep: int
     good = [e for e in found.ranked if e.ok]
     for path, e in zip(paths, good, strict=False):
         with atomic_write(path, "w", encoding="utf-8") as fh:
-            fh.write(e.yaml)
+            fh.write(e.document())
     if pictures:
         from lotsim.design.pictures import candidate_strip, figures, lot_picture
         from lotsim.render.lot_image import save_png

@@ -54,6 +54,7 @@ from lotsim.io.imports.draft import (
     GateDraft,
     LotDraft,
     RowDraft,
+    comment,
     num,
     text,
 )
@@ -178,6 +179,20 @@ class Evaluation:
     @property
     def bays_per_100m2(self) -> float:
         return 100.0 * self.bays / self.area if self.area else 0.0
+
+    def document(self) -> str:
+        """The scenario's text as :func:`lotsim.layout` writes it: :attr:`yaml` with the
+        candidate's figures in its header."""
+        head, _, rest = self.yaml.partition("\n")
+        run = ""
+        if self.mean_time_to_park is not None and self.throughput is not None:
+            run = (f"; a run of its demand: {self.parked} of {self.vehicles} cars parked, mean "
+                   f"time to park {self.mean_time_to_park:.1f} s, {self.throughput:.0f} cars "
+                   f"parked per hour, lotsim check {'passed' if self.checked else 'failed'}")
+        figures = comment(f"{self.bays} bays, each usable by every vehicle type "
+                          f"({self.bays_per_100m2:.2f} per 100 m²), aisles "
+                          f"{self.aisle_length:.1f} m{run}.")
+        return f"{head}\n{figures}\n{rest}"
 
     def rank_key(self) -> tuple:
         """Usable bays (most first), then mean time to park (shortest first; not run:
@@ -381,7 +396,7 @@ def scenario_text(plot: PlotSpec, cand: Candidate,
     draft = LotDraft(name=plot.name,
                      description=plot.description or f"A lot laid out on plot {plot.name}.",
                      boundary=list(plot.boundary))
-    draft.header = [f"Laid out by lotsim {__version__} layout from plot {plot.name}: "
+    draft.header = [f"Laid out by lotsim layout (lotsim {__version__}) on plot {plot.name}: "
                     f"{cand.label}."]
     if settings is not None:
         draft.header.append(f"Search: {settings.describe()}.")

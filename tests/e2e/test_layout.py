@@ -79,7 +79,12 @@ def test_the_rectangle_beats_the_hand_count_and_validates_strictly(tmp_path):
     best = found.best
     assert best.bays >= hand_count(100, 60)
     assert best.bays_per_100m2 == pytest.approx(100 * best.bays / 6000)
-    assert out.read_text() == best.yaml
+    assert out.read_text() == best.document()
+    assert out.read_text().splitlines()[1] == (
+        f"# {best.bays} bays, each usable by every vehicle type ({best.bays_per_100m2:.2f} per "
+        f"100 m²), aisles {best.aisle_length:.1f} m; a run of its demand: 30 of 30 cars "
+        f"parked, mean time to park {best.mean_time_to_park:.1f} s, {best.throughput:.0f} "
+        "cars parked per hour, lotsim check passed.")
     report = lotsim.validate(out)
     assert report.complete, report.summary()
     assert len(report.prepared.lot.slots) == best.bays
