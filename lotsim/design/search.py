@@ -93,6 +93,15 @@ class LayoutSettings:
         The cooperative planner of those runs (:data:`lotsim.sim.settings.PLANNERS`).
     workers : int or None
         Worker processes (None: one per core).
+
+    Examples
+    --------
+    >>> LayoutSettings(offsets=2).describe()
+    'orientations 4, offsets 2, prepared 8, compared 4, planner hca'
+    >>> LayoutSettings(orientations=0)
+    Traceback (most recent call last):
+    ...
+    lotsim.errors.SettingsError: orientations: expected 1 to 64, found 0
     """
 
     orientations: int = 4
@@ -236,7 +245,17 @@ def candidates(plot: PlotSpec, settings: LayoutSettings) -> list[Candidate]:
     """Every candidate of ``plot`` (drawn, not checked), in a fixed order: ring candidates by
     module kind, orientation, offset, order of rows, islands ringed or not; then spine
     candidates by gate, offset of branches, order of rows; a candidate drawn alike by other
-    choices, once."""
+    choices, once.
+
+    Examples
+    --------
+    >>> from lotsim.design.plot_yaml import read_plot
+    >>> plot = read_plot("boundary: [[0, 0], [60, 0], [60, 40], [0, 40]]\\n"
+    ...                  "gates: [{id: in, at: [30, 0]}]\\nbays: {angles_deg: [90]}\\n")
+    >>> drawn = candidates(plot, LayoutSettings(orientations=1, offsets=1))
+    >>> [(c.bays, c.spine is not None) for c in drawn]  # (bays drawn, a spine)
+    [(81, False), (30, True), (82, True), (80, True)]
+    """
     out = []
     seen: set[tuple] = set()
     for module in modules_of(plot):
