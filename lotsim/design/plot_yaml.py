@@ -68,6 +68,13 @@ def read_plot(source: str | os.PathLike) -> PlotSpec:
 
 def parse_plot(root: YNode) -> PlotSpec:
     """Validate a composed plot document."""
+    if root.is_mapping:
+        for key, _ in root.node.value:
+            if getattr(key, "value", None) == "lot":  # a scenario given where a plot belongs
+                where = YNode(key, root.file, "lot")
+                raise where.error("expected a plot file (docs/layout.md: boundary, gates, "
+                                  "...), found a scenario's lot section: lotsim layout lays "
+                                  "out a plot, lotsim validate and run read a scenario")
     f = root.fields(required=["boundary", "gates"],
                     optional=["name", "description", "seed", "islands", "vehicle_types",
                               "bays", "aisles", "demand"])

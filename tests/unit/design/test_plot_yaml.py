@@ -89,3 +89,10 @@ def test_a_missing_key_and_a_file_are_named(tmp_path):
         read_plot(path)
     with pytest.raises(ScenarioError, match="cannot read"):
         read_plot(tmp_path / "none.yaml")
+
+
+def test_a_scenario_given_for_a_plot_is_named_as_one():
+    from lotsim.api import EXAMPLE
+
+    with pytest.raises(ScenarioError, match=r"<plot>:4:1: lot: expected a plot file"):
+        read_plot(EXAMPLE)
