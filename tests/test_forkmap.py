@@ -111,3 +111,12 @@ def test_a_fork_pool_maps_on_workers_forked_once_that_keep_what_earlier_maps_bui
         assert pool.map(task.note, [3]) == [9] and task.notes == [3]
     with pytest.raises(ValueError), ForkPool(task, workers=2) as pool:
         pool.map(_Notes().note, [1])  # another task's method
+
+
+def test_a_worker_whose_task_maps_too_takes_its_next_item():
+    # each item's own map works in the worker's process; the worker must then still know
+    # its task for the next item it takes (three items on two workers: one takes two)
+    def inner(x: int) -> int:
+        return sum(fork_map(lambda y: y * y, [x, x + 1]))
+
+    assert fork_map(inner, [1, 2, 3, 4], workers=2) == [5, 13, 25, 41]

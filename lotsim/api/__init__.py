@@ -8,7 +8,8 @@ path, or YAML text (a ``str`` holding a line break).
 The facade's own functions live in topic modules: :mod:`~lotsim.api.scenarios` (preparing
 and validating), :mod:`~lotsim.api.running` (running), :mod:`~lotsim.api.results` (reading,
 writing and checking results), :mod:`~lotsim.api.drawing` (pictures, animations, replays),
-:mod:`~lotsim.api.maneuvers` (one car, one slot) and :mod:`~lotsim.api.benchmarks`. Beside
+:mod:`~lotsim.api.maneuvers` (one car, one slot), :mod:`~lotsim.api.layouts` (laying a lot
+out on a plot) and :mod:`~lotsim.api.benchmarks`. Beside
 them it offers the settings, their choices and the errors the command line needs, from where
 they are defined (:data:`EXPORTS` says where each name lives). Each name is imported on first
 use, so that ``lotsim --help`` does not load the planners.
@@ -44,6 +45,10 @@ EXPORTS: dict[str, tuple[str, ...]] = {
     "lotsim.api.exports": ("export_commonroad", "export_openscenario", "export_sumo"),
     "lotsim.api.imports": ("import_lanelet2", "import_osm"),
     "lotsim.io.imports.report": ("ImportReport", "ImportedLot"),
+    "lotsim.api.layouts": ("layout", "layout_files"),
+    "lotsim.design.search": ("Evaluation", "LayoutResult", "LayoutSettings"),
+    "lotsim.design.plot": ("PlotSpec",),
+    "lotsim.design.plot_yaml": ("read_plot",),
     # scenarios and what they hold
     "lotsim.io.scenario_yaml": ("ScenarioFile", "load_animation", "load_scenario",
                                 "read_scenario"),
@@ -111,6 +116,7 @@ if TYPE_CHECKING:  # for type checkers and editors: the same names, imported eag
         export_sumo,
     )
     from lotsim.api.imports import import_lanelet2, import_osm  # noqa: F401
+    from lotsim.api.layouts import layout, layout_files  # noqa: F401
     from lotsim.api.maneuvers import car, maneuver_case, minslot, plan_maneuver  # noqa: F401
     from lotsim.api.results import check, load_result, write_result  # noqa: F401
     from lotsim.api.running import run  # noqa: F401
@@ -131,6 +137,9 @@ if TYPE_CHECKING:  # for type checkers and editors: the same names, imported eag
         table_text,
         write_outputs,
     )
+    from lotsim.design.plot import PlotSpec  # noqa: F401
+    from lotsim.design.plot_yaml import read_plot  # noqa: F401
+    from lotsim.design.search import Evaluation, LayoutResult, LayoutSettings  # noqa: F401
     from lotsim.errors import (  # noqa: F401
         InfeasibleManeuver,
         LimitExceeded,

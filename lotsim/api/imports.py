@@ -3,20 +3,30 @@ OpenStreetMap extracts and Lanelet2 maps in Autoware's valet-parking convention.
 
 from __future__ import annotations
 
+import dataclasses
 import os
 from collections.abc import Callable, Sequence
+from pathlib import Path
 
-from lotsim.io.imports.report import ImportReport
+from lotsim.design.search import LayoutSettings
+from lotsim.errors import ScenarioError
+from lotsim.io.imports.report import ImportedLot, ImportReport
 
 
 def import_osm(source: str | os.PathLike, folder: str | os.PathLike, *,
-               lots: Sequence[str] | None = None,
+               lots: Sequence[str] | None = None, layout: bool = False,
+               settings: LayoutSettings | None = None,
                progress: Callable[[str], None] | None = None) -> ImportReport:
     """Write each parking lot of an OpenStreetMap file (``.osm`` XML or ``.osm.pbf``) as a
     scenario in ``folder`` (``lotsim import osm``, ``docs/import.md``): the lot's outline,
     its parking aisles, gates where a road reaches them, its mapped spaces or bays laid out
     along the aisles, what is paved, and a default traffic. ``lots`` picks lots by id
     (``way/123``, ``relation/9``, or the number); ``progress`` is told of each lot.
+
+    With ``layout``, a lot that maps no aisles is laid out by :func:`lotsim.layout` (with
+    ``settings``) on its plot — its outline, its islands, buildings and green areas kept
+    clear, gates where roads meet its edge — and the best layout written as its scenario;
+    its plot file is written beside it (``way-123.plot.yaml``), for ``lotsim layout``.
 
     Reading ``.osm.pbf`` needs ``pip install 'lotsim[osm]'``. Returns the
     :class:`~lotsim.io.imports.report.ImportReport`: per lot, written (where) or skipped
@@ -25,7 +35,50 @@ def import_osm(source: str | os.PathLike, folder: str | os.PathLike, *,
     """
     from lotsim.io.imports.osm import import_osm as run
 
-    return run(source, folder, lots=lots, progress=progress)
+    report = run(source, folder, lots=lots, plots=layout, progress=progress)
+    if not layout:
+        return report
+    done = []
+    for lot in report.lots:
+        if lot.plot is not None:
+            lot = _laid_out(lot, Path(folder), settings)
+            if progress is not None:
+                progress(lot.line())
+        done.append(lot)
+    return ImportReport(report.source, tuple(done))
+
+
+def _laid_out(lot: ImportedLot, folder: Path, settings: LayoutSettings | None
+              ) -> ImportedLot:
+    """``lot``, which maps no aisles, laid out on its plot: its plot file and, where a layout
+    has a usable bay, its scenario written."""
+    from lotsim.core.atomic import atomic_write
+    from lotsim.design.plot_yaml import read_plot
+    from lotsim.design.search import lay_out
+    from lotsim.io.imports.osm import NO_AISLE
+    from lotsim.io.scenario_yaml import load_scenario
+
+    plot = lot.plot
+    text = plot.to_yaml()
+    plot_path = folder / f"{plot.name}.plot.yaml"
+    with atomic_write(plot_path, "w", encoding="utf-8") as fh:
+        fh.write(text)
+    try:
+        found = lay_out(read_plot(plot_path), settings)
+    except ScenarioError as exc:
+        why = " ".join(str(exc).split()).removeprefix(f"{plot_path}: ")
+        return dataclasses.replace(lot, reason=f"{NO_AISLE}; lotsim layout found none for its "
+                                               f"plot {plot_path}: {why}")
+    best = found.best
+    header = "".join(line + "\n" for line in text.splitlines() if line.startswith("#"))
+    path = folder / f"{plot.name}.yaml"
+    with atomic_write(path, "w", encoding="utf-8") as fh:
+        fh.write(header + best.document())
+    aisles = len(load_scenario(best.yaml).lot.aisles)
+    return dataclasses.replace(
+        lot, inferred=best.bays, aisles=aisles, gates=len(plot.gates), path=path,
+        reason=f"no parking aisle mapped: laid out by lotsim layout on {plot_path.name} "
+               f"({best.label}; {best.bays_per_100m2:.2f} bays per 100 m²)")
 
 
 def import_lanelet2(source: str | os.PathLike, folder: str | os.PathLike, *,

@@ -27,6 +27,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--lot", metavar="ID", action="append",
                         help="osm: import only this lot: way/123, relation/9, node/5 or the "
                         "number (may be given again)")
+    parser.add_argument("--layout", action="store_true",
+                        help="osm: lay out the lots that map no aisles with lotsim layout "
+                        "(their plots written beside, as NAME.plot.yaml; docs/layout.md)")
     parser.add_argument("--origin", metavar="LAT,LON",
                         help="lanelet2: where local metres start (default: the map's own, from "
                         "Autoware's map_config YAML beside it, else the middle of its nodes)")
@@ -51,13 +54,16 @@ def execute(args: argparse.Namespace) -> int:
     if args.format == "osm" and args.origin:
         return bad("import osm: --origin is for Lanelet2 maps (each OpenStreetMap lot's "
                    "metres start at its own middle)")
+    if args.format == "lanelet2" and args.layout:
+        return bad("import lanelet2: --layout is for OpenStreetMap lots without aisles (a "
+                   "Lanelet2 map draws its lanes)")
     if args.format == "lanelet2" and args.lot:
         return bad("import lanelet2: --lot is for OpenStreetMap files (a Lanelet2 map is "
                    "one lot)")
     try:
         if args.format == "osm":
             report = api.import_osm(args.source, args.output, lots=args.lot,
-                                    progress=progress)
+                                    layout=args.layout, progress=progress)
         else:
             report = api.import_lanelet2(args.source, args.output, progress=progress,
                                          origin=_origin(args.origin) if args.origin else None)

@@ -14,7 +14,7 @@ EXIT_INTERRUPTED = 130
 """Ctrl-C: 128 + SIGINT, as a shell reports it."""
 
 OPTIONS = {"assignment": "--assignment", "start": "--from", "end": "--to",
-           "max_violations": "--max", "path": "-o"}
+           "max_violations": "--max", "path": "-o", "workers": "--jobs"}
 """Setting (:mod:`lotsim.sim.settings`, :mod:`lotsim.api` keyword) → the option that sets it,
 where the two are not named alike."""
 

@@ -14,6 +14,7 @@ from lotsim.cli import (
     check,
     export,
     imports,
+    layout,
     maneuver,
     minslot,
     render,
@@ -25,7 +26,7 @@ from lotsim.cli.output import EXIT_BAD_INPUT
 
 COMMANDS = {"cars": cars, "validate": validate, "minslot": minslot, "maneuver": maneuver,
             "run": run, "render": render, "check": check, "show": show, "bench": bench,
-            "export": export, "import": imports}
+            "export": export, "import": imports, "layout": layout}
 """Command name → its module (``HELP``, ``EXITS``, ``add_arguments``, ``execute``), in the
 order ``lotsim --help`` lists them."""
 

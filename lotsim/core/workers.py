@@ -52,9 +52,13 @@ class ForkPool:
         self.task = task
         self.count = _default_workers() if workers is None else workers
         self.pool = None
+        self._outer: tuple = ()
 
     def __enter__(self) -> ForkPool:
         global _TASK
+        # a pool opened inside a worker's task works in that process; the worker's own
+        # task must outlive it, for the items the worker takes next
+        self._outer = _TASK
         if self.count >= 2 and "fork" in multiprocessing.get_all_start_methods():
             _TASK = (self.task, os.getpid())
             self.pool = multiprocessing.get_context("fork").Pool(
@@ -63,7 +67,7 @@ class ForkPool:
 
     def __exit__(self, *exc: object) -> None:
         global _TASK
-        _TASK = ()
+        _TASK = self._outer
         if self.pool is not None:  # done, or Ctrl-C here: its workers end
             self.pool.terminate()
             self.pool.join()

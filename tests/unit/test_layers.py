@@ -2,7 +2,7 @@
 those only for type checkers included) goes from a layer to itself or to one on its left,
 
     errors <- core <- {lot, vehicles} <- roadmap <- maneuvers <- traffic <- scenario <- sim
-           <- io <- render <- bench <- api <- cli
+           <- io <- render <- bench <- design <- api <- cli
 
 and the independent checker (``lotsim.verify``) imports nothing of lotsim but
 ``lotsim.errors``. A ``_private`` name is not imported from another package."""
@@ -15,7 +15,7 @@ from pathlib import Path
 PACKAGE = Path(__file__).resolve().parents[2] / "lotsim"
 
 ORDER = ["errors", "core", ("lot", "vehicles"), "roadmap", "maneuvers", "traffic", "scenario",
-         "sim", "io", "render", "bench", "api", "cli"]
+         "sim", "io", "render", "bench", "design", "api", "cli"]
 RANK = {name: i for i, layer in enumerate(ORDER)
         for name in (layer if isinstance(layer, tuple) else (layer,))}
 RANK["verify"] = RANK["core"]  # anyone may check a result; it imports only errors

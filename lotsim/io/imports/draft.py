@@ -1,7 +1,9 @@
 """A lot as an importer builds it, written as a scenario YAML a person can read and edit.
 
 An importer fills a :class:`LotDraft` (aisles, rows and single slots, areas, gates, what is
-paved, a default traffic) in local metres and calls :meth:`LotDraft.to_yaml`. The text is
+paved, a default traffic) in local metres and calls :meth:`LotDraft.to_yaml`; for a lot that
+maps no aisles, a :class:`PlotDraft` (outline, islands, gates), written as a plot file for
+``lotsim layout``. The text is
 deterministic: the same draft gives the same bytes (numbers to the centimetre, or the
 hundredth of a degree, in the order the draft holds them), and it says in comments where
 each item came from.
@@ -82,6 +84,7 @@ class RowDraft:
     angle_deg: float | None = None
     gap: float = 0.0
     note: str = ""
+    first_number: int = 1
 
 
 @dataclass
@@ -180,10 +183,11 @@ class LotDraft:
                     out.append("    " + comment(r.note))
                 angle = f", angle_deg: {num(r.angle_deg)}" if r.angle_deg is not None else ""
                 gap = f", gap: {num(r.gap)}" if r.gap else ""
+                first = f", first_number: {r.first_number}" if r.first_number != 1 else ""
                 out.append(f"    - {{aisle: {text(r.aisle)}, side: {r.side}, kind: {r.kind}"
                            f"{angle}, count: {r.count}, slot_width: {num(r.slot_width)}, "
                            f"slot_length: {num(r.slot_length)}, start: {num(r.start)}{gap}, "
-                           f"id_prefix: {text(r.id_prefix)}}}")
+                           f"id_prefix: {text(r.id_prefix)}{first}}}")
         if self.slots:
             out.append("  slots:")
             for s in self.slots:
@@ -248,3 +252,38 @@ def _plain_yaml(data: dict, indent: str) -> list[str]:
         else:
             out.append(f"{indent}{text(key)}: {_scalar(value)}")
     return out
+
+
+@dataclass
+class PlotDraft:
+    """A lot's plot, for a source that maps no aisles: its outline, the islands to keep
+    clear and its gates, in local metres, written as a plot file (``docs/layout.md``) that
+    ``lotsim layout`` lays out. ``header`` lines open the file as comments; ``demand`` is the
+    plot's ``demand`` section as plain data (None: the default)."""
+
+    name: str
+    description: str
+    boundary: list[Point]
+    gates: list[tuple[str, Point, str]] = field(default_factory=list)
+    """(id, point on the boundary, where it came from)."""
+    islands: list[AreaDraft] = field(default_factory=list)
+    header: list[str] = field(default_factory=list)
+    demand: dict | None = None
+
+    def to_yaml(self) -> str:
+        """The plot text, deterministic, ending in a line break."""
+        out = [comment(h) for h in self.header]
+        out += [f"name: {text(self.name)}", f"description: {text(self.description)}",
+                f"boundary: {points(self.boundary)}"]
+        if self.islands:
+            out.append("islands:")
+            out += _areas(self.islands, "  ")
+        out.append("gates:")
+        for gid, (x, y), note in self.gates:
+            if note:
+                out.append("  " + comment(note))
+            out.append(f"  - {{id: {text(gid)}, at: [{num(x)}, {num(y)}]}}")
+        if self.demand is not None:
+            out.append("demand:")
+            out += _plain_yaml(self.demand, "  ")
+        return "\n".join(out) + "\n"

@@ -76,6 +76,7 @@ from lotsim.io.imports.osm_near import (
     lot_outline,
     ring_points,
 )
+from lotsim.io.imports.osm_plot import plot_of
 from lotsim.io.imports.osm_read import OsmData, read_osm
 from lotsim.io.imports.osm_slots import (
     BAY_LENGTH,
@@ -92,7 +93,8 @@ from lotsim.roadmap.assemble import build_graph
 from lotsim.roadmap.lanes import portal_station
 from lotsim.vehicles.catalogue import CATALOGUE, DEFAULT_VEHICLE
 
-NO_AISLE = "no parking aisle mapped; lotsim layout will lay such lots out"
+NO_AISLE = ("no parking aisle mapped; lotsim import osm --layout lays such lots out "
+            "(docs/layout.md)")
 """Why a lot without aisles is not written."""
 STREAM_MAX = 20
 """The default stream brings at most this many cars."""
@@ -107,7 +109,7 @@ _ORDER = {"node": 0, "way": 1, "relation": 2}
 
 
 def import_osm(source: str | os.PathLike, out_dir: str | os.PathLike, *,
-               lots: Sequence[str] | None = None,
+               lots: Sequence[str] | None = None, plots: bool = False,
                progress: Callable[[str], None] | None = None) -> ImportReport:
     """Write one scenario per parking lot of an OpenStreetMap file.
 
@@ -121,6 +123,9 @@ def import_osm(source: str | os.PathLike, out_dir: str | os.PathLike, *,
     lots : sequence of str, optional, keyword-only
         Only these lots: ``way/123``, ``relation/9``, ``node/5`` or a bare number (any
         kind with that id).
+    plots : bool, keyword-only
+        For a lot that maps no aisles, also draw its plot (outline, islands, gates:
+        :mod:`.osm_plot`) into the report (``ImportedLot.plot``), for ``lotsim layout``.
     progress : callable, optional, keyword-only
         Called with a line of text as the file is read and as each lot is done (its
         :meth:`~lotsim.io.imports.report.ImportedLot.line`).
@@ -169,7 +174,7 @@ point, not an area: lotsim needs the lot's outline)
     index = MapIndex.of(data)
     results = []
     for kind, oid, tags in found:
-        lot = _import_lot(kind, oid, tags, data, index, out, Path(source).name)
+        lot = _import_lot(kind, oid, tags, data, index, out, Path(source).name, plots)
         results.append(lot)
         if progress is not None:
             progress(lot.line())
@@ -219,7 +224,7 @@ def _parking(data: OsmData):
 
 # -- one lot -----------------------------------------------------------------------------------
 def _import_lot(kind: str, oid: int, tags: dict[str, str], data: OsmData, index: MapIndex,
-                out: Path, source_name: str) -> ImportedLot:
+                out: Path, source_name: str, plots: bool = False) -> ImportedLot:
     lid = f"{kind}/{oid}"
     capacity = _capacity(tags)
     outline = lot_outline(kind, oid, data)
@@ -238,7 +243,19 @@ def _import_lot(kind: str, oid: int, tags: dict[str, str], data: OsmData, index:
     while True:
         drawn = _Drawn.of(lot, near, kind, oid, tags, splits)
         if drawn is None:
-            return ImportedLot(lid, area, capacity=capacity, reason=NO_AISLE)
+            plot = None
+            if plots:
+                bx, by = lot.exterior.xy
+                error = frame.error_over(np.array(bx), np.array(by))
+                head = [f"OpenStreetMap {kind} {oid} of {source_name}: its plot, for lotsim "
+                        "layout (imported by lotsim import osm --layout, docs/import.md)",
+                        ATTRIBUTION,
+                        "tags: " + ", ".join(f"{k}={v}" for k, v in sorted(tags.items())),
+                        f"projection: {frame.describe()}; x east, y north [m]; distances "
+                        f"within {_small(error)} of the ground's over the lot"]
+                plot = plot_of(f"{kind}-{oid}", _description(kind, oid, tags), lot, near,
+                               oid if kind == "way" else None, head)
+            return ImportedLot(lid, area, capacity=capacity, reason=NO_AISLE, plot=plot)
         outcome = drawn.settle(lot)
         if not isinstance(outcome, int) or outcome in splits:
             break

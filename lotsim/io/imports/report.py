@@ -2,8 +2,10 @@
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
+
+from lotsim.io.imports.draft import PlotDraft
 
 
 @dataclass(frozen=True)
@@ -28,6 +30,8 @@ class ImportedLot:
         Why it was skipped, or a remark on a written lot ("" when there is none).
     projection_error : float
         Bound of the projection's error over the lot [m] (:meth:`LocalFrame.error_over`).
+    plot : PlotDraft or None
+        For a lot that maps no aisles, when asked for: its plot, for ``lotsim layout``.
     """
 
     id: str
@@ -40,6 +44,7 @@ class ImportedLot:
     path: Path | None = None
     reason: str = ""
     projection_error: float = 0.0
+    plot: PlotDraft | None = field(default=None, compare=False, repr=False)
 
     @property
     def written(self) -> bool:

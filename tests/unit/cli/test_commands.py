@@ -204,7 +204,7 @@ def test_each_command_s_help_says_what_it_does_its_arguments_and_exit_codes(caps
     parser = build_parser()
     commands = parser.commands
     assert set(commands) == {"cars", "validate", "minslot", "maneuver", "run", "render",
-                             "check", "show", "bench", "export", "import"}
+                             "check", "show", "bench", "export", "import", "layout"}
     for name, command in commands.items():
         with pytest.raises(SystemExit) as exc:
             main([name, "--help"])

@@ -1,0 +1,125 @@
+"""A plot to lay a lot out on, as frozen specs (``docs/layout.md``): its outline, the islands
+to keep clear, its gates, the vehicle types to serve, the bays and aisles a designer allows,
+and the demand the candidates are compared at. Read from YAML by
+:mod:`lotsim.design.plot_yaml`; laid out by :func:`lotsim.design.search.lay_out`.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+from lotsim.errors import Location
+from lotsim.vehicles.model import VehicleType
+
+Point = tuple[float, float]
+Points = tuple[Point, ...]
+
+ANGLES = (90, 60, 45)
+"""The bay angles a layout may use [degrees]: 90° bays on two-way (or one-way) aisles,
+60° and 45° bays on one-way aisles, leaning the way the aisle runs."""
+
+DEFAULT_WIDTHS: dict[tuple[int, str], float] = {
+    (90, "two-way"): 7.0,
+    (90, "one-way"): 7.0,
+    (60, "one-way"): 5.5,
+    (45, "one-way"): 4.5,
+}
+"""Default aisle widths [m] per bay angle and direction (their sources: ``docs/layout.md``).
+Angled bays are entered one way only, so their aisles are one-way."""
+
+BAY_WIDTH = 2.5
+"""Default bay width [m] (``docs/layout.md``)."""
+BAY_LENGTH = 5.0
+"""Default bay length [m] (``docs/layout.md``)."""
+
+
+def _loc() -> Location | None:
+    return field(default=None, compare=False, repr=False)  # type: ignore[return-value]
+
+
+@dataclass(frozen=True, slots=True)
+class GateSpec:
+    """Where a road meets the plot: a point on its boundary [m]; cars come in and leave
+    there."""
+
+    id: str
+    at: Point
+    where: Location | None = _loc()
+
+
+@dataclass(frozen=True, slots=True)
+class IslandSpec:
+    """A polygon inside the plot that the lot keeps clear (a planted island, a kiosk, a
+    tree): no bay or aisle touches it, and cars do not drive on it."""
+
+    id: str
+    polygon: Points
+    where: Location | None = _loc()
+
+
+@dataclass(frozen=True, slots=True)
+class DemandSpec:
+    """The traffic the candidates are run with and the written lot carries: ``count`` cars
+    arriving at ``rate_per_hour`` (exponential gaps, seeded), each staying ``dwell`` seconds
+    (``(min, max)``, uniform) or for good (None)."""
+
+    count: int = 30
+    rate_per_hour: float = 360.0
+    dwell: tuple[float, float] | None = None
+    where: Location | None = _loc()
+
+
+@dataclass(frozen=True, slots=True)
+class PlotSpec:
+    """Everything a layout is made from.
+
+    Attributes
+    ----------
+    name : str
+        Names the written scenario (a plain file name).
+    boundary : tuple of (x, y)
+        The plot's outline, a simple polygon [m].
+    islands : tuple of IslandSpec
+        What to keep clear inside it.
+    gates : tuple of GateSpec
+        Where roads meet it (at least one).
+    vehicle_types : tuple of VehicleType
+        The types every bay must serve: each must reach it, park in it and leave it.
+    angles : tuple of int
+        The bay angles allowed [degrees], of :data:`ANGLES`.
+    bay_width, bay_length : float
+        The bay's size [m].
+    one_way : bool
+        Whether one-way aisles may be used (the angled modules are one-way).
+    aisle_widths : tuple of ((angle, direction), width)
+        The aisle width for each bay angle and direction [m].
+    circulation_width : float
+        The width of the two-way aisles that join the modules to each other and to the
+        gates [m].
+    demand : DemandSpec
+        The traffic the candidates are compared at.
+    seed : int
+        Seeds the demand's arrivals.
+    """
+
+    name: str
+    boundary: Points
+    gates: tuple[GateSpec, ...]
+    vehicle_types: tuple[VehicleType, ...]
+    islands: tuple[IslandSpec, ...] = ()
+    angles: tuple[int, ...] = ANGLES
+    bay_width: float = BAY_WIDTH
+    bay_length: float = BAY_LENGTH
+    one_way: bool = True
+    aisle_widths: tuple[tuple[tuple[int, str], float], ...] = tuple(DEFAULT_WIDTHS.items())
+    circulation_width: float = DEFAULT_WIDTHS[(90, "two-way")]
+    demand: DemandSpec = DemandSpec()
+    seed: int = 0
+    description: str = ""
+    source: str = "<plot>"
+    vehicle_names: tuple[str, ...] = ()
+    """How each vehicle type was given: a catalogue name, or "" for a definition."""
+
+    def aisle_width(self, angle: int, direction: str) -> float:
+        """The aisle width for bays at ``angle`` [degrees] on a ``direction`` aisle [m]."""
+        return dict(self.aisle_widths)[(angle, direction)]

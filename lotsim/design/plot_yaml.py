@@ -1,0 +1,262 @@
+"""A plot file (``docs/layout.md``) → a validated, frozen :class:`~lotsim.design.plot.PlotSpec`.
+
+Read as scenarios are (:mod:`lotsim.io.yamlnodes`): unknown, missing and duplicate keys,
+wrong types and numbers YAML misreads are errors, each reported as
+``file:line:col: key.path: what was expected, what was found``, every independent one at
+once, in file order.
+"""
+
+from __future__ import annotations
+
+import os
+
+from shapely.geometry import Point as ShapelyPoint
+from shapely.geometry import Polygon
+from shapely.validation import explain_validity
+
+from lotsim.design.plot import (
+    ANGLES,
+    BAY_LENGTH,
+    BAY_WIDTH,
+    DEFAULT_WIDTHS,
+    DemandSpec,
+    GateSpec,
+    IslandSpec,
+    PlotSpec,
+)
+from lotsim.errors import ErrorCollector, ScenarioError
+from lotsim.io.lot_yaml import MAX_ITEMS
+from lotsim.io.scenario_yaml import name_from_file, parse_vehicle
+from lotsim.io.yamlnodes import YNode, parse_text, read_yaml
+from lotsim.vehicles.catalogue import CATALOGUE, DEFAULT_VEHICLE
+
+TEXT_FILE = "<plot>"
+"""The file name errors give for a plot read from text."""
+GATE_TOLERANCE = 0.5
+"""A gate lies on the boundary within this distance [m]."""
+MAX_SPAN = 2000.0
+"""Largest plot, across [m] (as for a scenario's lot)."""
+DIRECTIONS = ("two-way", "one-way")
+
+
+def read_plot(source: str | os.PathLike) -> PlotSpec:
+    """Read and validate a plot file, or plot text (a ``str`` holding a line break; errors
+    then name the file ``<plot>``).
+
+    Raises
+    ------
+    ScenarioError
+        Every problem of the file, located (a :class:`~lotsim.errors.ScenarioErrors` when
+        there are several).
+
+    Examples
+    --------
+    >>> plot = read_plot("boundary: [[0, 0], [40, 0], [40, 30], [0, 30]]\\n"
+    ...                  "gates: [{id: in, at: [20, 0]}]\\n")
+    >>> plot.name, plot.angles, plot.aisle_width(90, "two-way")
+    ('plot', (90, 60, 45), 7.0)
+    >>> read_plot("boundary: [[0, 0], [40, 0], [40, 30]]\\ngates: [{id: in, at: [20, 5]}]\\n")
+    ... # doctest: +ELLIPSIS
+    Traceback (most recent call last):
+    ...
+    lotsim.errors.ScenarioError: <plot>:2:22: gates[0].at: expected a point on the boundary ...
+    """
+    if isinstance(source, str) and "\n" in source:
+        return parse_plot(parse_text(source, TEXT_FILE))
+    return parse_plot(read_yaml(source))
+
+
+def parse_plot(root: YNode) -> PlotSpec:
+    """Validate a composed plot document."""
+    if root.is_mapping:
+        for key, _ in root.node.value:
+            if getattr(key, "value", None) == "lot":  # a scenario given where a plot belongs
+                where = YNode(key, root.file, "lot")
+                raise where.error("expected a plot file (docs/layout.md: boundary, gates, "
+                                  "...), found a scenario's lot section: lotsim layout lays "
+                                  "out a plot, lotsim validate and run read a scenario")
+    f = root.fields(required=["boundary", "gates"],
+                    optional=["name", "description", "seed", "islands", "vehicle_types",
+                              "bays", "aisles", "demand"])
+    errors = ErrorCollector()
+    name = (errors.attempt(lambda: f["name"].file_name(
+        purpose="it names the written scenario"), default="plot")
+            if "name" in f else (name_from_file(root.file) if root.file != TEXT_FILE
+                                 else "plot"))
+    description = (errors.attempt(lambda: f["description"].string(max_len=2000), default="")
+                   if "description" in f else "")
+    seed = (errors.attempt(lambda: f["seed"].integer(min=0, max=2**63 - 1), default=0)
+            if "seed" in f else 0)
+    boundary = errors.attempt(_boundary, f["boundary"])
+    islands = (tuple(i for i in errors.attempt(_islands, f["islands"], boundary, default=())
+                     if i is not None) if "islands" in f else ())
+    gates = errors.attempt(_gates, f["gates"], boundary, default=())
+    types, names = (CATALOGUE[DEFAULT_VEHICLE],), (DEFAULT_VEHICLE,)
+    if "vehicle_types" in f:
+        got = errors.attempt(_vehicle_types, f["vehicle_types"])
+        if got is not None:
+            types, names = got
+    bays = errors.attempt(_bays, f["bays"], default=None) if "bays" in f else None
+    angles, width, length = bays or (ANGLES, BAY_WIDTH, BAY_LENGTH)
+    aisles = errors.attempt(_aisles, f["aisles"], default=None) if "aisles" in f else None
+    one_way, widths, circulation = aisles or (True, dict(DEFAULT_WIDTHS),
+                                              DEFAULT_WIDTHS[(90, "two-way")])
+    if bays is not None and not one_way and not any(a == 90 for a in angles):
+        errors.attempt(_refuse, f["bays"], "expected 90 among angles_deg when aisles.one_way "
+                                           "is false (angled bays need one-way aisles)")
+    demand = errors.attempt(_demand, f["demand"], default=None) if "demand" in f else None
+    errors.check()
+    return PlotSpec(name=name, boundary=boundary, gates=gates, vehicle_types=types,
+                    islands=islands, angles=angles, bay_width=width, bay_length=length,
+                    one_way=one_way, aisle_widths=tuple(sorted(widths.items(),
+                                                               key=lambda kv: (-kv[0][0],
+                                                                               kv[0][1]))),
+                    circulation_width=circulation, demand=demand or DemandSpec(),
+                    seed=seed, description=description, source=root.file,
+                    vehicle_names=names)
+
+
+def _refuse(node: YNode, message: str) -> None:
+    raise node.error(message)
+
+
+def _simple(node: YNode, what: str) -> Polygon:
+    pts = node.points(min_len=3)
+    if len(pts) > MAX_ITEMS:
+        raise node.error(f"expected at most {MAX_ITEMS} points")
+    poly = Polygon(pts)
+    if not poly.is_valid or poly.area <= 0:
+        reason = explain_validity(poly) if poly.area > 0 else "it has no area"
+        raise node.error(f"expected {what} to be a simple polygon, but {reason}")
+    return poly
+
+
+def _boundary(node: YNode):
+    poly = _simple(node, "the boundary")
+    x0, y0, x1, y1 = poly.bounds
+    if max(x1 - x0, y1 - y0) > MAX_SPAN:
+        raise node.error(f"expected a plot at most {MAX_SPAN:g} m across, found "
+                         f"{max(x1 - x0, y1 - y0):.0f} m (is the unit metres?)")
+    return tuple(node.points(min_len=3))
+
+
+def _islands(node: YNode, boundary) -> tuple[IslandSpec | None, ...]:
+    errors = ErrorCollector()
+    seen: set[str] = set()
+    outline = Polygon(boundary) if boundary is not None else None
+
+    def one(k: int, n: YNode) -> IslandSpec:
+        g = n.fields(required=["polygon"], optional=["id"])
+        ident = g["id"].ident() if "id" in g else f"island-{k + 1}"
+        if ident in seen:
+            raise g["id"].error(f"island id {ident!r} is used twice")
+        seen.add(ident)
+        poly = _simple(g["polygon"], "an island")
+        if outline is not None and not outline.contains(poly):
+            raise g["polygon"].error("expected an island inside the boundary")
+        return IslandSpec(ident, tuple(g["polygon"].points(min_len=3)), n.where)
+
+    items = node.items(max_len=MAX_ITEMS)
+    out = tuple(errors.attempt(one, k, n) for k, n in enumerate(items))
+    errors.check()
+    return out
+
+
+def _gates(node: YNode, boundary) -> tuple[GateSpec, ...]:
+    errors = ErrorCollector()
+    seen: set[str] = set()
+    edge = Polygon(boundary).exterior if boundary is not None else None
+
+    def one(n: YNode) -> GateSpec:
+        g = n.fields(required=["id", "at"])
+        ident = g["id"].ident()
+        if ident in seen:
+            raise g["id"].error(f"gate id {ident!r} is used twice")
+        seen.add(ident)
+        at = g["at"].point()
+        if edge is not None:
+            d = edge.distance(ShapelyPoint(at))
+            if d > GATE_TOLERANCE:
+                raise g["at"].error(f"expected a point on the boundary (within "
+                                    f"{GATE_TOLERANCE:g} m), found one {d:.2f} m from it")
+        return GateSpec(ident, at, n.where)
+
+    out = tuple(errors.attempt(one, n) for n in node.items(min_len=1, max_len=100))
+    errors.check()
+    return tuple(g for g in out if g is not None)
+
+
+def _vehicle_types(node: YNode):
+    errors = ErrorCollector()
+    items = node.items(min_len=1, max_len=20)
+    types, names = [], []
+    for n in items:
+        t = errors.attempt(parse_vehicle, n)
+        if t is None:
+            continue
+        if t.name in {v.name for v in types}:
+            errors.attempt(_refuse, n, f"vehicle type {t.name!r} is given twice")
+            continue
+        types.append(t)
+        names.append("" if n.is_mapping else t.name)
+    errors.check()
+    return tuple(types), tuple(names)
+
+
+def _bays(node: YNode):
+    f = node.fields(optional=["angles_deg", "width", "length"])
+    angles = ANGLES
+    if "angles_deg" in f:
+        got = []
+        for n in f["angles_deg"].items(min_len=1, max_len=3):
+            a = n.integer()
+            if a not in ANGLES:
+                raise n.error(f"expected one of {', '.join(map(str, ANGLES))}, found {a}")
+            if a in got:
+                raise n.error(f"angle {a} is given twice")
+            got.append(a)
+        angles = tuple(sorted(got, reverse=True))
+    width = f["width"].number(min=1.5, max=5.0, unit="m") if "width" in f else BAY_WIDTH
+    length = f["length"].number(min=3.0, max=12.0, unit="m") if "length" in f else BAY_LENGTH
+    return angles, width, length
+
+
+def _aisles(node: YNode):
+    f = node.fields(optional=["one_way", "widths", "circulation"])
+    one_way = f["one_way"].boolean() if "one_way" in f else True
+    widths = dict(DEFAULT_WIDTHS)
+    if "widths" in f:
+        per_angle = f["widths"].fields(optional=[str(a) for a in ANGLES])
+        for key, n in per_angle.items():
+            angle = int(key)
+            allowed = DIRECTIONS if angle == 90 else ("one-way",)
+            g = n.fields(optional=list(allowed))
+            for direction, w in g.items():
+                widths[(angle, direction)] = w.number(min=3.0, max=20.0, unit="m")
+    circulation = (f["circulation"].number(min=4.0, max=20.0, unit="m") if "circulation" in f
+                   else widths[(90, "two-way")])
+    return one_way, widths, circulation
+
+
+def _demand(node: YNode) -> DemandSpec:
+    f = node.fields(optional=["count", "rate_per_hour", "dwell"])
+    dwell = None
+    if "dwell" in f:
+        d = f["dwell"]
+        if d.is_sequence:
+            lo, hi = (n.number(positive=True, max=1e7) for n in d.items(min_len=2, max_len=2))
+            if hi < lo:
+                raise d.error(f"expected [min, max] with min <= max, found [{lo:g}, {hi:g}]")
+            dwell = (lo, hi)
+        else:
+            x = d.number(positive=True, max=1e7)
+            dwell = (x, x)
+    base = DemandSpec()
+    return DemandSpec(
+        count=f["count"].integer(min=1, max=1000) if "count" in f else base.count,
+        rate_per_hour=(f["rate_per_hour"].number(positive=True, max=1e5)
+                       if "rate_per_hour" in f else base.rate_per_hour),
+        dwell=dwell, where=node.where)
+
+
+__all__ = ["read_plot", "parse_plot", "ScenarioError"]

@@ -1,0 +1,495 @@
+"""Laying a plot out: candidates drawn, the bays lotsim's planner finds unusable dropped,
+the best run at the plot's demand, ranked (:func:`lay_out`).
+
+1. Every candidate of the plot is drawn (:mod:`lotsim.design.candidates`: each module kind
+   the plot allows, each orientation, each offset, either order of rows); drawing is
+   geometry only and quick.
+2. The candidates are taken in order of bays drawn, most first, and each is *prepared*: its
+   scenario is built and every bay's parking maneuver planned for every vehicle type, the
+   lot's graph built, and reachability worked out, as ``lotsim validate`` does (with the
+   on-disk cache as ``lotsim validate`` uses it: laying the same plot out again loads its
+   candidates' lots). The bays
+   some type cannot reach, park in or leave for an exit are dropped and the rest prepared
+   again, until every bay is usable (``lotsim validate --strict`` passes). Candidates are
+   independent: they are prepared on the worker pool (:func:`lotsim.core.workers.fork_map`),
+   a batch at a time, and the search stops when no candidate left can have more usable
+   bays than the ones it keeps (a candidate never has more usable bays than it has drawn),
+   or after :attr:`LayoutSettings.prepared` candidates.
+3. Each candidate, once every bay left is usable, is run with the plot's demand
+   (:class:`~lotsim.design.plot.DemandSpec`, by the planner of the settings): mean time
+   to park and throughput, and whether ``lotsim check`` passes the run.
+4. Ranked by usable bays, then mean time to park, then throughput, then the order they were
+   drawn in.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import itertools
+import math
+import os
+import time
+from collections.abc import Callable
+from dataclasses import dataclass
+
+from shapely.geometry import Polygon
+
+from lotsim import __version__
+from lotsim.core.checks import range_problem
+from lotsim.core.workers import fork_map
+from lotsim.design.candidates import (
+    Candidate,
+    Module,
+    draw,
+    draw_spine,
+    modules_of,
+    orientations,
+    pitch,
+)
+from lotsim.design.plot import PlotSpec
+from lotsim.errors import ScenarioError, SettingsError
+from lotsim.io.imports.draft import (
+    AisleDraft,
+    AreaDraft,
+    GateDraft,
+    LotDraft,
+    RowDraft,
+    comment,
+    num,
+    text,
+)
+from lotsim.io.result import result_dict
+from lotsim.io.scenario_yaml import parse_scenario
+from lotsim.io.yamlnodes import parse_text
+from lotsim.sim.orders import plan_run
+from lotsim.sim.preparation import prepare_lot
+from lotsim.sim.settings import PLANNERS, RunSettings
+from lotsim.sim.validation import validate_prepared
+from lotsim.verify import check_result
+
+ROUNDS = 4
+"""A candidate is prepared at most this many times while unusable bays are dropped."""
+
+
+@dataclass(frozen=True, slots=True)
+class LayoutSettings:
+    """How :func:`lay_out` searches (each field changes what it may find; the written lot
+    names them).
+
+    Attributes
+    ----------
+    orientations : int
+        Most directions module aisles are tried in: along and square to the boundary's
+        edges, longest edges first.
+    offsets : int
+        Module offsets tried per orientation, spread evenly over one module pitch.
+    prepared : int
+        Most candidates prepared (their bays checked by the maneuver planner) and run at
+        the plot's demand.
+    compared : int
+        The search stops early only once it holds this many candidates (or as many as are
+        written) that no candidate left can beat: the candidates set side by side.
+    planner : str
+        The cooperative planner of those runs (:data:`lotsim.sim.settings.PLANNERS`).
+    workers : int or None
+        Worker processes (None: one per core).
+
+    Examples
+    --------
+    >>> LayoutSettings(offsets=2).describe()
+    'orientations 4, offsets 2, prepared 8, compared 4, planner hca'
+    >>> LayoutSettings(orientations=0)
+    Traceback (most recent call last):
+    ...
+    lotsim.errors.SettingsError: orientations: expected 1 to 64, found 0
+    """
+
+    orientations: int = 4
+    offsets: int = 3
+    prepared: int = 8
+    compared: int = 4
+    planner: str = "hca"
+    workers: int | None = None
+
+    def __post_init__(self) -> None:
+        for name, lo, hi in (("orientations", 1, 64), ("offsets", 1, 32),
+                             ("prepared", 1, 1000), ("compared", 1, 1000)):
+            value = getattr(self, name)
+            problem = range_problem(value, lo, hi, "") if isinstance(value, int) and \
+                not isinstance(value, bool) else f"expected an integer, found {value!r}"
+            if problem:
+                raise SettingsError(name, problem)
+        if self.planner not in PLANNERS:
+            raise SettingsError("planner", f"expected one of {', '.join(PLANNERS)}, found "
+                                           f"{self.planner!r}")
+        if self.workers is not None and not (isinstance(self.workers, int)
+                                             and 1 <= self.workers <= 256):
+            raise SettingsError("workers", f"expected 1 to 256, found {self.workers!r}")
+
+    def describe(self) -> str:
+        return (f"orientations {self.orientations}, offsets {self.offsets}, prepared "
+                f"{self.prepared}, compared {self.compared}, planner {self.planner}")
+
+
+@dataclass(frozen=True, slots=True)
+class Evaluation:
+    """One candidate, prepared (and perhaps run).
+
+    Attributes
+    ----------
+    index : int
+        Its place in the order candidates were drawn.
+    label : str
+        How it was drawn (module kind, orientation, offset, order of rows).
+    drawn : int
+        Bays drawn.
+    bays : int
+        Bays every vehicle type can reach, park in and leave (0 when it failed).
+    aisle_length : float
+        Aisle centre lines in all [m].
+    area : float
+        The plot's area [m²].
+    yaml : str
+        The scenario of its usable bays (``""`` when it failed).
+    problem : str
+        Why it failed (``""`` when it did not).
+    mean_time_to_park : float or None
+        From the run at the plot's demand [s] (None: not run).
+    throughput : float or None
+        Cars parked per hour in that run: those parked over the time from the first
+        arrival to the last parking.
+    parked, vehicles : int
+        Cars parked in that run, of those that came.
+    checked : bool or None
+        Whether ``lotsim check`` passed that run (None: not run).
+    seconds : float
+        Time spent on it.
+    """
+
+    index: int
+    label: str
+    drawn: int
+    bays: int
+    aisle_length: float
+    area: float
+    yaml: str = ""
+    problem: str = ""
+    mean_time_to_park: float | None = None
+    throughput: float | None = None
+    parked: int = 0
+    vehicles: int = 0
+    checked: bool | None = None
+    seconds: float = 0.0
+
+    @property
+    def ok(self) -> bool:
+        return not self.problem and self.bays > 0
+
+    @property
+    def bays_per_100m2(self) -> float:
+        return 100.0 * self.bays / self.area if self.area else 0.0
+
+    def document(self) -> str:
+        """The scenario's text as :func:`lotsim.layout` writes it: :attr:`yaml` with the
+        candidate's figures in its header."""
+        head, _, rest = self.yaml.partition("\n")
+        run = ""
+        if self.mean_time_to_park is not None and self.throughput is not None:
+            run = (f"; a run of its demand: {self.parked} of {self.vehicles} cars parked, mean "
+                   f"time to park {self.mean_time_to_park:.1f} s, {self.throughput:.0f} cars "
+                   f"parked per hour, lotsim check {'passed' if self.checked else 'failed'}")
+        figures = comment(f"{self.bays} bays, each usable by every vehicle type "
+                          f"({self.bays_per_100m2:.2f} per 100 m²), aisles "
+                          f"{self.aisle_length:.1f} m{run}.")
+        return f"{head}\n{figures}\n{rest}"
+
+    def rank_key(self) -> tuple:
+        """Usable bays (most first), then mean time to park (shortest first; not run:
+        last), then throughput (most first), then the order drawn."""
+        t = self.mean_time_to_park if self.mean_time_to_park is not None else math.inf
+        q = self.throughput if self.throughput is not None else -math.inf
+        return (-self.bays, t, -q, self.index)
+
+
+@dataclass(frozen=True, slots=True)
+class LayoutResult:
+    """What :func:`lay_out` found: the candidates it prepared, best first, and how many it
+    drew, with the settings that made them."""
+
+    plot: PlotSpec
+    settings: LayoutSettings
+    ranked: tuple[Evaluation, ...]
+    drawn: int
+    seconds: float
+
+    @property
+    def best(self) -> Evaluation:
+        return self.ranked[0]
+
+    def table(self, most: int = 5) -> str:
+        """The best ``most`` candidates side by side, a line each."""
+        head = (f"{'#':>2}  {'bays':>5}  {'drawn':>5}  {'per 100 m²':>10}  {'aisles [m]':>10}  "
+                f"{'park [s]':>8}  {'cars/h':>7}  layout")
+        lines = [head]
+        for k, e in enumerate(self.ranked[:most]):
+            park = f"{e.mean_time_to_park:8.1f}" if e.mean_time_to_park is not None else \
+                f"{'-':>8}"
+            rate = f"{e.throughput:7.0f}" if e.throughput is not None else f"{'-':>7}"
+            what = e.label if e.ok else f"{e.label}: {e.problem}"
+            lines.append(f"{k + 1:>2}  {e.bays:>5}  {e.drawn:>5}  {e.bays_per_100m2:>10.2f}  "
+                         f"{e.aisle_length:>10.1f}  {park}  {rate}  {what}")
+        return "\n".join(lines)
+
+
+def candidates(plot: PlotSpec, settings: LayoutSettings) -> list[Candidate]:
+    """Every candidate of ``plot`` (drawn, not checked), in a fixed order: ring candidates by
+    module kind, orientation, offset, order of rows, islands ringed or not; then spine
+    candidates by gate, offset of branches, order of rows; a candidate drawn alike by other
+    choices, once.
+
+    Examples
+    --------
+    >>> from lotsim.design.plot_yaml import read_plot
+    >>> plot = read_plot("boundary: [[0, 0], [60, 0], [60, 40], [0, 40]]\\n"
+    ...                  "gates: [{id: in, at: [30, 0]}]\\nbays: {angles_deg: [90]}\\n")
+    >>> drawn = candidates(plot, LayoutSettings(orientations=1, offsets=1))
+    >>> [(c.bays, c.spine is not None) for c in drawn]  # (bays drawn, a spine)
+    [(81, False), (30, True), (82, True), (80, True)]
+    """
+    out = []
+    seen: set[tuple] = set()
+    for module in modules_of(plot):
+        step = pitch(module, plot)
+        for theta in orientations(plot, settings.orientations):
+            for i, inner_first, ringed in itertools.product(
+                    range(settings.offsets), (False, True), (True, False)):
+                c = draw(plot, module, theta, step * i / settings.offsets, inner_first,
+                         ringed)
+                if c is None or c.bays == 0:
+                    continue
+                shape = _shape(c)
+                if shape not in seen:
+                    seen.add(shape)
+                    out.append(c)
+    # spines from each gate, for plots too small or too narrow for a ring
+    step = pitch(Module(90, False, plot.circulation_width), plot)
+    for gate in range(len(plot.gates)):
+        for i, branches, first in itertools.product(range(settings.offsets), (False, True),
+                                                    (True, False)):
+            if not branches and (i or not first):
+                continue
+            c = draw_spine(plot, gate, step * i / settings.offsets, branches, first)
+            if c is None or c.bays == 0:
+                continue
+            shape = _shape(c)
+            if shape not in seen:
+                seen.add(shape)
+                out.append(c)
+    return out
+
+
+def _shape(c: Candidate) -> tuple:
+    """What a candidate looks like, whatever choices drew it: its aisles (each way they
+    are driven) and its bays, to the centimetre."""
+    def pt(p) -> tuple[float, float]:
+        return round(p[0], 2) + 0.0, round(p[1], 2) + 0.0
+
+    aisles = sorted((pt(a.start), pt(a.end)) if a.one_way else tuple(sorted((pt(a.start),
+                                                                             pt(a.end))))
+                    for a in c.aisles)
+    bays = sorted(pt(b.centroid.coords[0]) for r in c.rows for b in r.polygons)
+    return tuple(aisles), tuple(bays)
+
+
+def lay_out(plot: PlotSpec, settings: LayoutSettings | None = None, *, keep: int = 1,
+            progress: Callable[[int, int], None] | None = None) -> LayoutResult:
+    """Lay ``plot`` out (the module's description): the prepared candidates, best first.
+
+    The search stops early when no candidate left can have more usable bays than the
+    best ``keep`` (or :attr:`LayoutSettings.compared`, if more) found.
+    ``progress(done, total)`` is called as candidates are prepared.
+
+    Raises
+    ------
+    ScenarioError
+        When no candidate has a usable bay (the plot is too small or its gates meet no
+        aisle).
+    """
+    settings = settings or LayoutSettings()
+    clock = time.perf_counter()
+    drawn = candidates(plot, settings)
+    order = sorted(range(len(drawn)), key=lambda k: (-drawn[k].bays, k))
+    area = Polygon(plot.boundary).area
+    budget = min(settings.prepared, len(order))
+    done: list[Evaluation] = []
+    workers = settings.workers
+    batch = max(1, workers or _cores())
+    if progress is not None:
+        progress(0, budget)
+    pos = 0
+    enough = max(keep, settings.compared)
+    while pos < budget:
+        best = sorted((e.bays for e in done), reverse=True)
+        if len(best) >= enough and drawn[order[pos]].bays < best[enough - 1]:
+            break  # no candidate left can beat the ones kept
+        picks = order[pos: min(budget, pos + batch)]
+        done += fork_map(lambda k: evaluate(plot, drawn[k], k, area, settings), picks,
+                         workers=workers)
+        pos += len(picks)
+        if progress is not None:
+            progress(len(done), budget if pos < budget else len(done))
+    good = [e for e in done if e.ok]
+    if not good:
+        why = "; ".join(sorted({e.problem for e in done if e.problem}))[:400]
+        raise ScenarioError(None, f"{plot.source}: no layout of this plot has a usable bay"
+                            + (f" ({why})" if why else " (no room for a ring or a spine "
+                               "aisle with a row of bays, or no gate meets an aisle)"))
+    return LayoutResult(plot, settings, tuple(sorted(done, key=Evaluation.rank_key)),
+                        len(drawn), time.perf_counter() - clock)
+
+
+def _cores() -> int:
+    return os.cpu_count() or 1
+
+
+def evaluate(plot: PlotSpec, cand: Candidate, index: int, area: float,
+             settings: LayoutSettings) -> Evaluation:
+    """Prepare ``cand``, dropping its unusable bays until every one left is usable, and run
+    it at the plot's demand (:class:`Evaluation`)."""
+    clock = time.perf_counter()
+    keep: set[tuple[str, str, float]] | None = None
+    figures = dict(index=index, label=cand.label, drawn=cand.bays, area=area,
+                   aisle_length=cand.aisle_length)
+    for _ in range(ROUNDS):
+        yaml_text, ids = scenario_text(plot, cand, keep, settings)
+        if not ids:
+            return Evaluation(bays=0, problem="no bay is usable",
+                              seconds=time.perf_counter() - clock, **figures)
+        try:
+            sc = parse_scenario(parse_text(yaml_text, f"{plot.name}.yaml"))
+            prepared = prepare_lot(sc)
+            report = validate_prepared(prepared, f"{plot.name}.yaml")
+        except ScenarioError as exc:
+            return Evaluation(bays=0, problem=_short(str(exc)),
+                              seconds=time.perf_counter() - clock, **figures)
+        usable = set(ids)
+        for names in report.usable().values():
+            usable &= set(names)
+        if report.complete and usable == set(ids):
+            return _run(sc, prepared, settings,
+                        Evaluation(bays=len(ids), yaml=yaml_text, **figures), clock)
+        keep = {ids[s] for s in usable}
+    return Evaluation(bays=0, problem="its bays did not settle",
+                      seconds=time.perf_counter() - clock, **figures)
+
+
+def _run(sc, prepared, settings: LayoutSettings, e: Evaluation, clock: float) -> Evaluation:
+    """``e`` with the figures of a run of its lot at the plot's demand: mean time to park,
+    cars parked per hour, and whether ``lotsim check`` passes the run."""
+    rr = plan_run(sc, RunSettings(planner=settings.planner), lot_graph=prepared.lot_graph)
+    m = rr.metrics()
+    parked = [v for v in rr.vehicles if v.parked_at is not None]
+    if parked:
+        first = min(v.arrival.time for v in rr.vehicles)
+        span = max(v.parked_at for v in parked) - first
+        rate = 3600.0 * len(parked) / span if span > 0 else 0.0
+    else:
+        rate = 0.0
+    report = check_result(result_dict(rr))
+    return dataclasses.replace(e, mean_time_to_park=float(m["mean_time_to_park"]),
+                               throughput=rate, parked=len(parked),
+                               vehicles=int(m["vehicles"]), checked=report.ok,
+                               seconds=time.perf_counter() - clock)
+
+
+def _short(message: str) -> str:
+    return " ".join(message.split())[:300]
+
+
+def scenario_text(plot: PlotSpec, cand: Candidate,
+                  keep: set[tuple[str, str, float]] | None = None,
+                  settings: LayoutSettings | None = None
+                  ) -> tuple[str, dict[str, tuple[str, str, float]]]:
+    """The scenario of ``cand`` with the bays of ``keep`` (aisle, side, station of the
+    bay's entry; None: all), and each slot id's bay."""
+    draft = LotDraft(name=plot.name,
+                     description=plot.description or f"A lot laid out on plot {plot.name}.",
+                     boundary=list(plot.boundary))
+    draft.header = [f"Laid out by lotsim layout (lotsim {__version__}) on plot {plot.name}: "
+                    f"{cand.label}."]
+    if settings is not None:
+        draft.header.append(f"Search: {settings.describe()}.")
+    for a in cand.aisles:
+        draft.aisles.append(AisleDraft(a.id, [a.start, a.end], a.width, a.one_way))
+    ids: dict[str, tuple[str, str, float]] = {}
+    numbers: dict[tuple[str, str], int] = {}
+    for r in cand.rows:
+        step = _step(plot, r.angle)
+        stations = [round(r.start + k * step, 9) for k in range(r.count)]
+        kept = [s for s in stations if keep is None or (r.aisle, r.side, s) in keep]
+        # unbroken runs of what is kept
+        runs: list[list[float]] = []
+        for s in kept:
+            if runs and abs(runs[-1][-1] + step - s) < 1e-6:
+                runs[-1].append(s)
+            else:
+                runs.append([s])
+        for run in runs:
+            key = (r.aisle, r.side)
+            first = numbers.get(key, 0) + 1
+            prefix = f"{r.aisle}{'L' if r.side == 'left' else 'R'}"
+            kind = "perpendicular" if r.angle == 90 else "angled"
+            draft.rows.append(RowDraft(r.aisle, r.side, kind, len(run), plot.bay_width,
+                                       plot.bay_length, run[0], prefix,
+                                       angle_deg=None if r.angle == 90 else float(r.angle),
+                                       first_number=first))
+            for k, s in enumerate(run):
+                ids[f"{prefix}{first + k}"] = (r.aisle, r.side, s)
+            numbers[key] = first + len(run) - 1
+    for isl in plot.islands:
+        draft.no_go.append(AreaDraft(isl.id, list(isl.polygon)))
+    for g in cand.gates:
+        x, y, h = g.entrance
+        draft.entrances.append(GateDraft(f"{g.id}-in", x, y, math.degrees(h)))
+        x, y, h = g.exit
+        draft.exits.append(GateDraft(f"{g.id}-out", x, y, math.degrees(h)))
+    d = plot.demand
+    stream: dict = {"count": d.count, "rate_per_hour": float(d.rate_per_hour)}
+    if d.dwell is not None:
+        stream["dwell"] = [float(d.dwell[0]), float(d.dwell[1])]
+    draft.traffic = {"stream": stream}
+    out = draft.to_yaml()
+    out = out.replace("vehicle_types: [valet]\n", _vehicle_types(plot) + "\n", 1)
+    out = out.replace("lot:\n", f"seed: {plot.seed}\nlot:\n", 1) if plot.seed else out
+    return out, ids
+
+
+def _step(plot: PlotSpec, angle: int) -> float:
+    return plot.bay_width / math.sin(math.radians(angle))
+
+
+def _vehicle_types(plot: PlotSpec) -> str:
+    """The plot's vehicle types as a scenario writes them: catalogue names as names,
+    definitions in full."""
+    items = []
+    for v, name in zip(plot.vehicle_types, plot.vehicle_names, strict=True):
+        if name:
+            items.append(text(name))
+            continue
+        lim = v.limits
+        fields = [f"name: {text(v.name)}", f"width: {num(v.width, 4)}",
+                  f"front: {num(v.front, 4)}", f"rear: {num(v.rear, 4)}",
+                  f"wheelbase: {num(v.wheelbase, 4)}",
+                  f"max_steer_deg: {num(math.degrees(v.max_steer), 6)}",
+                  f"max_forward_speed_kmh: {num(lim.max_forward_speed * 3.6, 6)}",
+                  f"max_reverse_speed_kmh: {num(lim.max_reverse_speed * 3.6, 6)}",
+                  f"max_accel: {num(lim.max_accel, 6)}", f"max_brake: {num(lim.max_brake, 6)}",
+                  f"max_jerk: {num(lim.max_jerk, 6)}",
+                  f"max_steer_rate_deg: {num(math.degrees(lim.max_steer_rate), 6)}",
+                  f"max_lateral_accel: {num(lim.max_lateral_accel, 6)}"]
+        items.append("{" + ", ".join(fields) + "}")
+    return "vehicle_types:\n" + "\n".join(f"  - {i}" for i in items)
+
+
+__all__ = ["LayoutSettings", "LayoutResult", "Evaluation", "lay_out", "candidates",
+           "scenario_text"]

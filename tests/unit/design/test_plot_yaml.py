@@ -1,0 +1,98 @@
+"""A plot file is read strictly: every bad input is an error naming file:line:col and what
+was expected, and every independent problem is reported at once."""
+
+from __future__ import annotations
+
+import pytest
+
+from lotsim.design.plot_yaml import read_plot
+from lotsim.errors import ScenarioError, ScenarioErrors
+
+GOOD = """\
+name: yard
+boundary: [[0, 0], [60, 0], [60, 40], [0, 40]]
+islands: [{id: tree, polygon: [[20, 20], [24, 20], [24, 24], [20, 24]]}]
+gates: [{id: main, at: [30, 0]}]
+vehicle_types:
+  - valet
+  - {name: van, width: 2.0, front: 4.2, rear: 1.0, wheelbase: 3.3, max_steer_deg: 30}
+bays: {angles_deg: [90, 45], width: 2.4, length: 4.8}
+aisles:
+  one_way: true
+  widths: {90: {two-way: 6.5}, 45: {one-way: 4.0}}
+  circulation: 6.5
+demand: {count: 12, rate_per_hour: 240, dwell: [60, 120]}
+"""
+
+
+def test_a_good_plot_reads_every_key():
+    plot = read_plot(GOOD)
+    assert plot.name == "yard" and len(plot.islands) == 1
+    assert [v.name for v in plot.vehicle_types] == ["valet", "van"]
+    assert plot.vehicle_names == ("valet", "")
+    assert plot.angles == (90, 45) and (plot.bay_width, plot.bay_length) == (2.4, 4.8)
+    assert plot.aisle_width(90, "two-way") == 6.5 and plot.aisle_width(45, "one-way") == 4.0
+    assert plot.aisle_width(60, "one-way") == 5.5  # the default, untouched
+    assert plot.circulation_width == 6.5
+    assert (plot.demand.count, plot.demand.rate_per_hour, plot.demand.dwell) == (12, 240,
+                                                                                (60, 120))
+
+
+def test_defaults():
+    plot = read_plot("boundary: [[0, 0], [60, 0], [60, 40], [0, 40]]\n"
+                     "gates: [{id: g, at: [0, 20]}]\n")
+    assert plot.angles == (90, 60, 45) and plot.one_way
+    assert (plot.bay_width, plot.bay_length) == (2.5, 5.0)
+    assert plot.aisle_width(90, "two-way") == 7.0 and plot.circulation_width == 7.0
+    assert [v.name for v in plot.vehicle_types] == ["valet"]
+
+
+@pytest.mark.parametrize("old, new, where, says", [
+    ("at: [30, 0]", "at: [30, 3]", "4:24: gates[0].at", "on the boundary"),
+    ("[60, 40], [0, 40]]\nislands", "[0, 40], [60, 40]]\nislands", "2:11: boundary",
+     "simple polygon"),
+    ("angles_deg: [90, 45]", "angles_deg: [90, 30]", "8:25: bays.angles_deg[1]",
+     "expected one of 90, 60, 45, found 30"),
+    ("width: 2.4", "width: -2", "8:37: bays.width", "expected a number ≥ 1.5"),
+    ("45: {one-way: 4.0}", "45: {two-way: 4.0}", "11:37: aisles.widths.45.two-way",
+     "unknown key 'two-way'"),
+    ("one_way: true", "one_way: yes", "10:12: aisles.one_way", "true or false"),
+    ("count: 12", "count: 012", "13:17: demand.count", "decimal"),
+    ("name: yard", "name: ../yard", "1:7: name", "letters, digits"),
+    ("circulation: 6.5", "circulaton: 6.5", "12:3: aisles.circulaton",
+     "did you mean 'circulation'"),
+    ("[[20, 20], [24, 20]", "[[70, 20], [74, 20]", "3:31: islands[0].polygon",
+     "inside the boundary"),
+    ("  - valet\n", "  - valet\n  - valet\n", "7:5: vehicle_types[1]", "given twice"),
+])
+def test_a_bad_input_is_located(old, new, where, says):
+    assert old in GOOD
+    with pytest.raises(ScenarioError) as err:
+        read_plot(GOOD.replace(old, new, 1))
+    text = str(err.value)
+    assert text.startswith(f"<plot>:{where}"), text
+    assert says in text, text
+
+
+def test_every_independent_problem_is_reported_in_file_order():
+    bad = GOOD.replace("at: [30, 0]", "at: [30, 3]").replace("width: 2.4", "width: -1")
+    with pytest.raises(ScenarioErrors) as err:
+        read_plot(bad)
+    lines = str(err.value).splitlines()
+    assert [line.split(":")[1] for line in lines] == ["4", "8"]
+
+
+def test_a_missing_key_and_a_file_are_named(tmp_path):
+    path = tmp_path / "p.yaml"
+    path.write_text("boundary: [[0, 0], [60, 0], [60, 40], [0, 40]]\n")
+    with pytest.raises(ScenarioError, match=r"p\.yaml:1:1: missing key 'gates'"):
+        read_plot(path)
+    with pytest.raises(ScenarioError, match="cannot read"):
+        read_plot(tmp_path / "none.yaml")
+
+
+def test_a_scenario_given_for_a_plot_is_named_as_one():
+    from lotsim.api import EXAMPLE
+
+    with pytest.raises(ScenarioError, match=r"<plot>:4:1: lot: expected a plot file"):
+        read_plot(EXAMPLE)
