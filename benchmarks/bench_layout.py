@@ -12,7 +12,7 @@ at the plot's demand, and min / median / max wall time of ``--runs`` runs; for t
 100 x 60 m rectangle also the hand count (two-way 90° double-loaded modules of 2.5 x 5.0 m
 bays on 7 m aisles, a 7 m cross aisle at each end), and for every plot its bays against the
 rule of thumb's range. The counts do not change from run to run or machine to machine; the
-times do (the 2-core machine of docs/layout.md took 26 s for the 1 ha square).
+times do (docs/performance.md gives them for one machine).
 """
 
 from __future__ import annotations

@@ -19,7 +19,8 @@ and each row of the page names that command. Rows:
   ``lotsim run`` of the large lot's 100 cars; 1000 cars arriving at 1200 an hour and
   staying 10-30 minutes, and ``lotsim check`` of their result; the minimum-slot table of
   every catalogue car; ``lotsim validate`` of the lots of an OpenStreetMap extract one
-  after another, two at once and on a local Dask cluster of one and two workers (not in
+  after another, two at once and on a local Dask cluster of one and two workers, and
+  ``lotsim layout`` of the 100 x 60 m example plot and of a 1 ha square, cold (not in
   ``--quick``);
 * the shipped suites (``scenarios/bench/*.yaml``): the wall time of ``lotsim bench`` with
   two workers, and the comparisons they exist for, read from their ``runs.csv``: the
@@ -243,6 +244,28 @@ def minslot_row(page: Page, runs: int) -> None:
     walls = [checked(process(*LOTSIM, *args))[0] for _ in range(runs)]
     page.row("minimum-slot table: 7 cars × 3 widths × 0–10 direction changes",
              "`lotsim " + " ".join(args) + "`", runs, spread(walls) + " s")
+
+
+def layout_rows(page: Page, runs: int, tmp: Path) -> None:
+    """``lotsim layout`` of the 100 x 60 m example plot and of a 1 ha square, cold."""
+    sys.path.insert(0, str(ROOT / "benchmarks"))
+    from bench_layout import HECTARE
+
+    square = tmp / "hectare.yaml"
+    square.write_text(HECTARE, encoding="utf-8")
+    for what, plot, cmd in (
+            ("the 100 × 60 m example plot", "scenarios/plots/rect60x100.yaml",
+             "`LOTSIM_CACHE_DIR=$(mktemp -d) lotsim layout scenarios/plots/rect60x100.yaml "
+             "-o lot.yaml`"),
+            ("a 1 ha square, one gate", str(square),
+             "`python benchmarks/bench_layout.py`'s 1 ha square, as the row above")):
+        walls = []
+        for _ in range(runs):
+            with tempfile.TemporaryDirectory() as cache:
+                walls.append(checked(process(*LOTSIM, "layout", plot, "-o",
+                                             str(tmp / "lot.yaml"),
+                                             env=environment(cache)))[0])
+        page.row(f"lay out {what}, cold", cmd, runs, spread(walls) + " s")
 
 
 # --- the suites -------------------------------------------------------------------------
@@ -497,6 +520,7 @@ def main() -> None:
         minslot_row(page, args.runs)
         if not args.quick:
             many_rows(page, args.runs)
+            layout_rows(page, args.runs, Path(tmp))
         suites = suite_rows(page, args.runs, Path(tmp))
         planners_section(page, suites["head_to_head"])
         priority_section(page, suites["priority"])

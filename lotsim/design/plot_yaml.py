@@ -26,7 +26,7 @@ from lotsim.design.plot import (
 )
 from lotsim.errors import ErrorCollector, ScenarioError
 from lotsim.io.lot_yaml import MAX_ITEMS
-from lotsim.io.scenario_yaml import name_from_file, parse_vehicle
+from lotsim.io.scenario_yaml import name_from_file, parse_dwell, parse_vehicle
 from lotsim.io.yamlnodes import YNode, parse_text, read_yaml
 from lotsim.vehicles.catalogue import CATALOGUE, DEFAULT_VEHICLE
 
@@ -240,17 +240,7 @@ def _aisles(node: YNode):
 
 def _demand(node: YNode) -> DemandSpec:
     f = node.fields(optional=["count", "rate_per_hour", "dwell"])
-    dwell = None
-    if "dwell" in f:
-        d = f["dwell"]
-        if d.is_sequence:
-            lo, hi = (n.number(positive=True, max=1e7) for n in d.items(min_len=2, max_len=2))
-            if hi < lo:
-                raise d.error(f"expected [min, max] with min <= max, found [{lo:g}, {hi:g}]")
-            dwell = (lo, hi)
-        else:
-            x = d.number(positive=True, max=1e7)
-            dwell = (x, x)
+    dwell = parse_dwell(f["dwell"]) if "dwell" in f else None
     base = DemandSpec()
     return DemandSpec(
         count=f["count"].integer(min=1, max=1000) if "count" in f else base.count,

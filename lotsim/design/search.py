@@ -258,19 +258,23 @@ def candidates(plot: PlotSpec, settings: LayoutSettings) -> list[Candidate]:
     """
     out = []
     seen: set[tuple] = set()
+
+    def keep(c: Candidate | None) -> None:
+        """``c`` among the candidates, unless it holds no bay or looks like one kept."""
+        if c is None or c.bays == 0:
+            return
+        shape = _shape(c)
+        if shape not in seen:
+            seen.add(shape)
+            out.append(c)
+
     for module in modules_of(plot):
         step = pitch(module, plot)
         for theta in orientations(plot, settings.orientations):
             for i, inner_first, ringed in itertools.product(
                     range(settings.offsets), (False, True), (True, False)):
-                c = draw(plot, module, theta, step * i / settings.offsets, inner_first,
-                         ringed)
-                if c is None or c.bays == 0:
-                    continue
-                shape = _shape(c)
-                if shape not in seen:
-                    seen.add(shape)
-                    out.append(c)
+                keep(draw(plot, module, theta, step * i / settings.offsets, inner_first,
+                          ringed))
     # spines from each gate, for plots too small or too narrow for a ring
     step = pitch(Module(90, False, plot.circulation_width), plot)
     for gate in range(len(plot.gates)):
@@ -278,13 +282,7 @@ def candidates(plot: PlotSpec, settings: LayoutSettings) -> list[Candidate]:
                                                     (True, False)):
             if not branches and (i or not first):
                 continue
-            c = draw_spine(plot, gate, step * i / settings.offsets, branches, first)
-            if c is None or c.bays == 0:
-                continue
-            shape = _shape(c)
-            if shape not in seen:
-                seen.add(shape)
-                out.append(c)
+            keep(draw_spine(plot, gate, step * i / settings.offsets, branches, first))
     return out
 
 

@@ -339,17 +339,7 @@ def _stream(node: YNode, types: list[str], entrances: list[str]) -> StreamSpec:
         mix = tuple((t, 1.0) for t in types)
     gates = (tuple(n.string(choices=entrances) for n in f["entrances"].items(min_len=1))
              if "entrances" in f else tuple(entrances))
-    dwell = None
-    if "dwell" in f:
-        d = f["dwell"]
-        if d.is_sequence:
-            lo, hi = (n.number(positive=True, max=1e7) for n in d.items(min_len=2, max_len=2))
-            if hi < lo:
-                raise d.error(f"expected [min, max] with min <= max, found [{lo:g}, {hi:g}]")
-            dwell = (lo, hi)
-        else:
-            x = d.number(positive=True, max=1e7)
-            dwell = (x, x)
+    dwell = parse_dwell(f["dwell"]) if "dwell" in f else None
     return StreamSpec(
         count=f["count"].integer(min=1, max=MAX_ITEMS),
         rate=f["rate_per_hour"].number(positive=True, max=1e6) / 3600.0,
@@ -361,6 +351,18 @@ def _stream(node: YNode, types: list[str], entrances: list[str]) -> StreamSpec:
         prefix=f["prefix"].ident() if "prefix" in f else "s",
         where=node.where,
     )
+
+
+def parse_dwell(d: YNode) -> tuple[float, float]:
+    """A stream's ``dwell``: seconds each car stays, one number or ``[min, max]``, as
+    (min, max)."""
+    if d.is_sequence:
+        lo, hi = (n.number(positive=True, max=1e7) for n in d.items(min_len=2, max_len=2))
+        if hi < lo:
+            raise d.error(f"expected [min, max] with min <= max, found [{lo:g}, {hi:g}]")
+        return lo, hi
+    x = d.number(positive=True, max=1e7)
+    return x, x
 
 
 def parse_vehicle(node: YNode) -> VehicleType:
