@@ -116,6 +116,12 @@ class _Batch:
                 exact)
 
 
+def _keep(known: dict, key: bytes, value: object) -> None:
+    """``known[key] = value``, as its most recently used entry (last)."""
+    known.pop(key, None)
+    known[key] = value
+
+
 def posed_key(source: bytes) -> bytes:
     """Where ``known`` keeps the digest, frame, lane station and shape of the problem with
     ``source`` (:meth:`~lotsim.maneuvers.problem.LotProblems.sources`)."""
@@ -179,19 +185,20 @@ def prefetch(planner: ManeuverPlanner, vehicles: Iterable[VehicleType], *,
                 todo[key] = (k, st, source)
                 classes.setdefault(key if shape is None else (shape, st, n), []).append(key)
         count_done = _Progress(progress, len(todo))
-        extra: dict[bytes, tuple] = {}  # key → (exact key, whether known held it)
+        # key → its exact key (where ``known`` is kept), and of those searched, whether
+        # ``known`` held the answer
+        exacts: dict[bytes, bytes] = {}
+        remembered: dict[bytes, bool] = {}
 
         def search(keys: list[bytes]) -> list[tuple]:
             got = pool.map(batch.searched, [todo[k] for k in keys], chunk=8,
                            progress=count_done.part)
             count_done.done += len(keys)  # (the map reported them)
-            for key, (_, _, exact, remembered) in zip(keys, got, strict=True):
-                extra[key] = exact, remembered
-                exacts[key] = exact
+            for key, (_, _, exact, held) in zip(keys, got, strict=True):
+                exacts[key], remembered[key] = exact, held
             return [(hit, raw) for hit, raw, _, _ in got]
 
         fits: dict[bytes, tuple | None] = {}  # what ``known`` is to keep of the fits
-        exacts: dict[bytes, bytes] = {}  # key → its exact key, where ``known`` is kept
 
         def fit(jobs: list) -> list:
             got = pool.map(batch.fitted, [(k, st, offers, source) for key, offers in jobs
@@ -205,27 +212,22 @@ def prefetch(planner: ManeuverPlanner, vehicles: Iterable[VehicleType], *,
             return [pair for pair, _, _, _ in got]
 
         settled = settle(list(classes.values()), search, fit,
-                         offer=lambda key, pair: Found.of(pair, extra[key][0]))
+                         offer=lambda key, pair: Found.of(pair, exacts[key]))
     for key in todo:  # in the order first met
         (hit, raw), searched = settled[key]
         planner.learn(key, hit, raw, searched=searched)
         if known is not None and searched:
-            exact, remembered = extra[key]
-            known.pop(exact, None)
-            known[exact] = hit, raw  # most recently used last
-            planner.stats["remembered"] += remembered
+            _keep(known, exacts[key], (hit, raw))
+            planner.stats["remembered"] += remembered[key]
     if known is not None:
         for key, pair in fits.items():
-            known.pop(key, None)
-            known[key] = pair  # most recently used last
+            _keep(known, key, pair)
         # how each problem was posed, by its sources: what an edited lot looks up
         for source, got in {p[4]: p[:4] for p in posed}.items():
-            known.pop(posed_key(source), None)
-            known[posed_key(source)] = got
+            _keep(known, posed_key(source), got)
         for key, (_, st, source) in todo.items():
             if key in exacts:
-                known.pop(exact_key_of(source, st), None)
-                known[exact_key_of(source, st)] = exacts[key]
+                _keep(known, exact_key_of(source, st), exacts[key])
         for old in list(itertools.islice(known, max(0, len(known) - KNOWN_MOST))):
             del known[old]
 

@@ -212,7 +212,7 @@ class LotProblems:
             lane_y = float(a[1])
             lo = float(a[0])
             s0 = float(lane.starts[i]) - lo
-        half = 2 * vehicle.min_turning_radius + vehicle.length + 1.0
+        half = _half(vehicle)
         if kind_of(slot).parks_along and math.isfinite(lane_y):
             # a parallel slot is left at a shallow heading (about 25°), so the closing
             # straight onto a lane lane_y away reaches some 2 lane_y along it: the window
@@ -307,8 +307,7 @@ class LotProblems:
             return []
         mids = np.array([slot.entry.mean(axis=0) for _, slot, _ in triples])
         halves = np.array([self.head(v, slot, lane)[4] if kind_of(slot).parks_along
-                           else 2 * v.min_turning_radius + v.length + 1.0
-                           for v, slot, lane in triples])
+                           else _half(v) for v, slot, lane in triples])
         reach = halves * math.sqrt(2.0) + 0.01  # the window, turned any way about the slot
         # where along its lane each slot lies (as :meth:`head` finds it), for the stretch
         # of lane its window holds
@@ -335,18 +334,22 @@ class LotProblems:
         inside = shapely.covers(self._region, shapely.points(mids)).tolist()
         wkb = shapely.to_wkb(self._polys).tolist()
         lanes: dict[str, bytes] = {}
+        aisles: dict[str, bytes] = {}
         out = []
         for k, (v, slot, lane) in enumerate(triples):
             got = lanes.get(lane.id)
             if got is None:
                 got = lanes[lane.id] = repr((lane.id, lane.segments)).encode()
             h = hashlib.blake2b(got, digest_size=20)
+            far = aisles.get(slot.aisle)
+            if far is None:  # the far side of the window
+                aisle = self.lot.aisles[slot.aisle]
+                far = aisles[slot.aisle] = repr(aisle.width).encode() + aisle.line.wkb
+            h.update(far)
             # the stretch of lane a maneuver may begin on, as far as the window holds it
             s_mid, half = float(stations[k]), float(halves[k]) + 1.0
             first, last = self._span(lane, s_mid)
             h.update(repr((max(first, s_mid - half), min(last, s_mid + half))).encode())
-            aisle = self.lot.aisles[slot.aisle]  # the far side of the window
-            h.update(repr(aisle.width).encode() + aisle.line.wkb)
             h.update(repr((v, self.margin, self.settings.sweep, slot.id, slot.kind,
                            slot.aisle, slot.width, slot.length, inside[k])).encode())
             h.update(slot.polygon.tobytes())
@@ -379,6 +382,12 @@ class LotProblems:
         for g in sorted(local):
             h.update(g)
         return h.digest()
+
+
+def _half(vehicle: VehicleType) -> float:
+    """Half the size of a problem's square window [m] (a parallel slot's grows with how far
+    its lane is: :meth:`LotProblems.head`)."""
+    return 2 * vehicle.min_turning_radius + vehicle.length + 1.0
 
 
 def _common(vehicle: VehicleType, slot: Slot, frame: LocalFrame, lane_y: float,
