@@ -183,6 +183,34 @@ def test_a_warm_validate_does_not_load_the_graph_library(tmp_path):
     assert said[1].replace(lotsim.core.diskcache.LOADED, "")[:-6] == said[0][:-5]
 
 
+def test_a_lot_from_the_cache_unpickles_its_graph_and_answers_only_when_used(folder):
+    """A warm ``validate`` reads the counts kept with the lot: the graph and the maneuver
+    planner's answers stay bytes until something asks for them, then are what was stored."""
+    import pickle
+
+    import lotsim
+
+    sc = scenario_from_text(ONE_AISLE + TRAFFIC)
+    cold = prepare_lot(sc)
+    warm = prepare_lot(sc)
+    assert lotsim.validate(warm).summary(verbose=True)
+    assert "_graph_packed" in vars(warm.lot_graph)
+    assert "_answers_packed" in vars(warm.maneuver_planner)
+    # passed on unread (to a worker, say), then read
+    again = pickle.loads(pickle.dumps(warm))
+    for lp in (warm, again):
+        planner, mine = lp.maneuver_planner, cold.maneuver_planner
+        v = sc.vehicle_types[0]
+        slot = lp.lot.slots[2]
+        lane = planner.lanes_for(slot)[0]
+        assert planner.solve(v, slot, lane) == mine.solve(v, slot, lane)
+        for name in ("_cache", "_raw", "_posed", "_fitted"):
+            assert getattr(planner, name) == getattr(mine, name)
+        assert "_answers_packed" not in vars(planner)
+        assert _graph(lp.lot_graph) == _graph(cold.lot_graph)
+        assert "_graph_packed" not in vars(lp.lot_graph)
+
+
 @pytest.mark.parametrize("entry", [b"not a pickle", None])
 def test_loading_leaves_the_cycle_collector_as_it_was(tmp_path, entry):
     # the collector is off while an entry is read (a prepared lot is many objects and no

@@ -30,7 +30,6 @@ from __future__ import annotations
 
 import contextlib
 import functools
-import gc
 import hashlib
 import importlib.util
 import os
@@ -40,6 +39,8 @@ import sys
 import tempfile
 from collections.abc import Iterator
 from pathlib import Path
+
+from lotsim.core.packed import no_cycle_collection
 
 try:
     import fcntl
@@ -131,13 +132,8 @@ def load(name: str, folder: Path | None = None) -> object | None:
     path = folder / name
     if not (trusted(folder) and trusted(path)):
         return None
-    collecting = gc.isenabled()
-    # A prepared lot is some 10^5 small objects (a large lot's maneuvers alone are 30 000
-    # path pieces) and no garbage: the cycle collector's passes over them while they are
-    # made would take about as long as loading them
-    gc.disable()
     try:
-        with open(path, "rb") as f:
+        with open(path, "rb") as f, no_cycle_collection():
             value = pickle.load(f)
     except OSError:  # none, or none that can be read
         return None
@@ -145,9 +141,6 @@ def load(name: str, folder: Path | None = None) -> object | None:
         with contextlib.suppress(OSError):
             path.unlink()
         return None
-    finally:
-        if collecting:
-            gc.enable()
     with contextlib.suppress(OSError):  # recently used (a read-only cache is still read)
         os.utime(path)
     return value

@@ -26,6 +26,7 @@ import math
 
 from lotsim.core.geometry import Segment, same_pose
 from lotsim.core.outcome import Outcome, Status
+from lotsim.core.packed import pack, unpack
 from lotsim.errors import InfeasibleManeuver
 from lotsim.lot.kinds import kind_of
 from lotsim.lot.model import Lane, Lot, Slot
@@ -77,6 +78,10 @@ def search_maneuver(problem: ManeuverProblem, style: str, settings: ManeuverSett
     return Outcome.of((eased(checks, local, settings), x0)), raw
 
 
+_ANSWERS = ("_cache", "_raw", "_posed", "_fresh", "_fitted", "_classes")
+"""What a :class:`ManeuverPlanner` has answered, pickled apart from the rest of it."""
+
+
 class ManeuverPlanner:
     """Plans and caches parking maneuvers for one lot.
 
@@ -126,6 +131,27 @@ class ManeuverPlanner:
         self._fresh: set[bytes] = set()  # answered ahead of time, not yet asked for
         self._fitted: set[bytes] = set()  # answered by a maneuver of their class
         self._classes: dict[str, dict] = {}  # vehicle → (shape, lanes) → slots and lanes
+
+    def __getstate__(self) -> dict:
+        # its answers pickled apart: a lot loaded from the cache unpickles them only when a
+        # maneuver is asked for (:meth:`__getattr__`); a planner never asked passes them on
+        # as they came
+        state = {k: v for k, v in self.__dict__.items() if k not in _ANSWERS}
+        if "_answers_packed" not in state:
+            state["_answers_packed"] = pack({k: self.__dict__[k] for k in _ANSWERS})
+        return state
+
+    def __setstate__(self, state: dict) -> None:
+        self.__dict__.update(state)
+
+    def __getattr__(self, name: str):
+        # only for attributes not set: the answers of a planner loaded by pickle
+        packed = self.__dict__.get("_answers_packed")
+        if name not in _ANSWERS or packed is None:
+            raise AttributeError(f"{type(self).__name__!r} object has no attribute {name!r}")
+        self.__dict__.update(unpack(packed))
+        del self._answers_packed
+        return self.__dict__[name]
 
     @property
     def margin(self) -> float:

@@ -46,6 +46,7 @@ from dataclasses import dataclass, field
 from typing import TYPE_CHECKING
 
 from lotsim.core.geometry import Segment
+from lotsim.core.packed import pack, unpack
 from lotsim.lot.model import Lot
 from lotsim.roadmap.reach import Reachability, find_reachability, leavable_edges
 
@@ -120,12 +121,14 @@ class LotGraph:
 
     def __getstate__(self) -> dict:
         # the graph as its plain dicts (nodes, successors, predecessors, each edge's data
-        # dict shared by the two, in their order), not as a networkx object: loading a lot
-        # imports networkx only when the graph itself is asked for (:meth:`__getattr__`)
+        # dict shared by the two, in their order), pickled apart: loading a lot unpickles
+        # them, and imports networkx, only when the graph itself is asked for
+        # (:meth:`__getattr__`); a lot whose graph was never asked for passes them on as
+        # they came
         state = {k: v for k, v in self.__dict__.items() if k != "graph"}
         g = self.__dict__.get("graph")
         if g is not None:
-            state["_graph_dicts"] = (g.graph, g._node, g._succ, g._pred)
+            state["_graph_packed"] = pack((g.graph, g._node, g._succ, g._pred))
         return state
 
     def __setstate__(self, state: dict) -> None:
@@ -133,17 +136,18 @@ class LotGraph:
 
     def __getattr__(self, name: str):
         # only for attributes not set: the graph of a lot loaded by pickle, made on first use
-        dicts = self.__dict__.get("_graph_dicts")
-        if name != "graph" or dicts is None:
+        packed = self.__dict__.get("_graph_packed")
+        if name != "graph" or packed is None:
             raise AttributeError(f"{type(self).__name__!r} object has no attribute {name!r}")
         import networkx as nx
 
+        dicts = unpack(packed)
         g = nx.DiGraph()
         g.graph.update(dicts[0])
         g._node, g._succ, g._pred = dicts[1:]
         g._adj = g._succ
         self.graph = g
-        del self._graph_dicts
+        del self._graph_packed
         return g
 
     def facts(self) -> GraphFacts:
