@@ -22,7 +22,8 @@ EXIT_BROKEN_PIPE = 141
 
 def main(argv: Sequence[str] | None = None) -> int:
     """Run the CLI; returns the exit code."""
-    parser = build_parser()
+    argv = sys.argv[1:] if argv is None else list(argv)
+    parser = build_parser(argv)
     args, extra = parser.parse_known_args(argv)
     if extra:  # the command's usage, not lotsim's
         parser.commands[args.command].error(f"unrecognized arguments: {' '.join(extra)}")

@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import argparse
 import sys
+from collections.abc import Sequence
 
 from lotsim import api
 from lotsim.cli import (
@@ -39,9 +40,14 @@ class Parser(argparse.ArgumentParser):
         self.exit(EXIT_BAD_INPUT, f"{self.prog}: error: {message}\n")
 
 
-def build_parser() -> Parser:
+def build_parser(argv: Sequence[str] | None = None) -> Parser:
     """The whole command line; ``.commands`` maps each command's name to its own parser
-    (for errors in the command's own words)."""
+    (for errors in the command's own words).
+
+    Given the command line ``argv``, only the command it names gets its arguments (every
+    command keeps its name and help for ``lotsim --help``): some commands take their
+    defaults from the library, and a quick command need not import what another needs."""
+    named = _named(argv)
     p = Parser(prog="lotsim", description="Plan many car-like vehicles in a parking lot.",
                epilog="exit codes: 0 ok, 1 incomplete (something could not be planned, "
                "reached or checked), 2 bad input, 130 interrupted; 'lotsim COMMAND --help' "
@@ -53,6 +59,13 @@ def build_parser() -> Parser:
         command = sub.add_parser(name, help=module.HELP,
                                  description=module.HELP[0].upper() + module.HELP[1:],
                                  epilog=f"exit codes: {module.EXITS}")
-        module.add_arguments(command)
+        if argv is None or name == named:
+            module.add_arguments(command)
     p.commands = sub.choices
     return p
+
+
+def _named(argv: Sequence[str] | None) -> str | None:
+    """The command ``argv`` names (its first word that is not an option), if any."""
+    word = next((a for a in argv or () if not a.startswith("-")), None)
+    return word if word in COMMANDS else None
