@@ -234,64 +234,130 @@ class LotProblems:
 
     def window(self, slot: Slot, frame: LocalFrame, half: float) -> Polygon:
         """The square the search may use, cut at the far side of the aisle less the margin."""
-        h = half
+        h, top = half, self._top(slot, frame, half)
+        corners = np.array([[-h, -h, 0], [h, -h, 0], [h, top, 0], [-h, top, 0]], dtype=float)
+        return Polygon(frame.poses_to_world(corners)[:, :2])
+
+    def _top(self, slot: Slot, frame: LocalFrame, half: float) -> float:
+        """The window's top edge (local y): its half size, or the far side of the aisle less
+        the margin where that is nearer."""
         aisle = self.lot.aisles[slot.aisle]
         mid = shapely.Point(slot.entry.mean(axis=0))
         on_line = aisle.line.interpolate(aisle.line.project(mid))
         centre_y = float(frame.points_to_local(np.array([on_line.x, on_line.y]))[1])
-        top = min(h, centre_y + aisle.width / 2 - self.margin)
-        corners = np.array([[-h, -h, 0], [h, -h, 0], [h, top, 0], [-h, top, 0]], dtype=float)
-        return Polygon(frame.poses_to_world(corners)[:, :2])
+        return min(half, centre_y + aisle.width / 2 - self.margin)
 
     def digest(self, p: ManeuverProblem) -> bytes:
         """The car, the slot, the rounded local geometry within the window and where the
-        lane's start grid falls."""
-        # only what reaches the window's edge is cut (the rest would come out as the same
-        # shape, and the key is of normalised shapes)
-        clipped = p.obstacles.copy()
-        cross = ~shapely.contains_properly(p.window, clipped)
-        clipped[cross] = shapely.intersection(clipped[cross], p.window)
-        clipped = np.concatenate([[p.allowed], clipped])
-        local = local_geometry(clipped, [p.frame], np.zeros(len(clipped), dtype=np.int64))
-        return self._hashed(p.vehicle, p.slot, p.frame, p.lane_y, p.lane_x, p.lane_s0,
-                            p.half, local)
+        lane's start grid falls (:meth:`digests` of the problem alone)."""
+        return self.digests([(p.vehicle, p.slot, p.lane)])[0][0]
 
     def digests(self, triples: Sequence[tuple[VehicleType, Slot, Lane]]
                 ) -> list[tuple[bytes, LocalFrame, float, bytes | None]]:
-        """:meth:`digest` of each triple's problem, with its frame, lane station at x = 0
-        and shape (:func:`shape_key`): posed and keyed together, each step one shapely or
-        numpy call over all of them (the same operations on the same shapes as :meth:`pose` and
-        :meth:`digest` make one problem at a time, so the same digests), without the
-        rest of a problem (its obstacle tree), which only a search needs."""
-        heads = [self.head(*t) for t in triples]
+        """The digest of each triple's problem, with its frame, lane station at x = 0 and
+        shape (:func:`shape_key`), without the rest of a problem (its obstacle tree), which
+        only a search needs.
+
+        A digest is worked out in the slot's frame from what meets the window, to the
+        micrometre: the slot, the ground and the neighbours (each taken slot, wall, obstacle
+        and no-go area, grown by the margin). Those are posed there as :meth:`pose` poses
+        them in the world — the ground cut at the window, the neighbours at the slot's
+        lines and the window — and rounded to 1 cm. Problems alike to the micrometre (the
+        bays of a regular row) are posed once, and a digest depends on nothing else: not
+        on where the lot lies, nor on which problems are digested with it. Each step is one
+        shapely or numpy call over all of them."""
         n = len(triples)
-        wins = np.array([self.window(slot, h[0], h[4]) for (_, slot, _), h
-                         in zip(triples, heads, strict=True)], dtype=object)
-        shapely.prepare(wins)
-        shapes = np.array([slot.shape for _, slot, _ in triples], dtype=object)
-        allowed = shapely.intersection(shapely.union(self._region, shapes), wins)
-        # each problem's neighbours (all but its own slot) as (problem, polygon) pairs
-        k, j = self._tree.query(wins)
+        if n == 0:
+            return []
+        heads = [self.head(*t) for t in triples]
+        frames = [h[0] for h in heads]
+        halves = np.array([h[4] for h in heads])
+        tops = np.array([self._top(slot, h[0], h[4]) for (_, slot, _), h
+                         in zip(triples, heads, strict=True)])
+        # what may meet each window: what meets its bounds in the world, a millimetre wider
+        # (touching is decided in the slot's frame, to the micrometre)
+        corners = np.stack([np.column_stack(c) for c in (
+            (-halves, -halves), (halves, -halves), (halves, tops), (-halves, tops))], axis=1)
+        world = _to_world(corners, frames)
+        boxes = shapely.box(*(world.min(axis=1) - 0.001).T, *(world.max(axis=1) + 0.001).T)
+        own = np.arange(n)
+        tops = _micro(tops)
+        wins = shapely.box(-halves, -halves, halves, tops)
+        ground = _local(shapely.intersection(self._region, boxes), frames, own)
+        shapes = _local(np.array([slot.shape for _, slot, _ in triples], dtype=object),
+                        frames, own)
+        k, j = self._tree.query(boxes)
+        k, j = k[np.argsort(k, kind="stable")], j[np.argsort(k, kind="stable")]
         mine = np.array([self._index[slot.id] for _, slot, _ in triples], dtype=np.int64)
         k, j = k[j != mine[k]], j[j != mine[k]]
-        obstacles = self._polys[j]
-        cut = ~shapely.contains_properly(wins[k], obstacles) | shapely.intersects(obstacles,
-                                                                                  shapes[k])
-        obstacles[cut] = shapely.difference(obstacles[cut], shapes[k[cut]])
-        cross = ~shapely.contains_properly(wins[k], obstacles)
-        obstacles[cross] = shapely.intersection(obstacles[cross], wins[k[cross]])
-        owner = np.concatenate([np.arange(n), k])
-        local = local_geometry(np.concatenate([allowed, obstacles]), [h[0] for h in heads],
-                               owner)
-        per: list[list[bytes]] = [[] for _ in range(n)]
-        for g, o in zip(local, owner.tolist(), strict=True):
+        near = _local(self._polys[j], frames, k)
+        meets = shapely.intersects(wins[k], near)
+        k, near = k[meets], near[meets]
+        near_wkb = shapely.to_wkb(near).tolist()
+        at = np.searchsorted(k, np.arange(n + 1)).tolist()
+        ground_wkb = shapely.to_wkb(ground).tolist()
+        shape_wkb = shapely.to_wkb(shapes).tolist()
+        keys, commons = [], []
+        grid = self.settings.start_grid
+        for i, ((v, slot, _), (frame, lane_y, lane_x, s0, half)) in enumerate(
+                zip(triples, heads, strict=True)):
+            outline = _micro(frame.points_to_local(slot.polygon))
+            commons.append(_common(v, slot, outline, lane_y, half))
+            phase = round(s0 % grid, 6) % grid if grid > 0 else 0.0
+            h = hashlib.blake2b(commons[-1], digest_size=20)
+            h.update(repr((v, self.margin, self.settings.sweep, float(halves[i]), float(tops[i]),
+                           round(lane_y, 6) if math.isfinite(lane_y) else None,
+                           tuple(np.round(lane_x, 2)), phase)).encode())
+            h.update(outline.tobytes())
+            h.update(shape_wkb[i])
+            h.update(ground_wkb[i])
+            for g in sorted(near_wkb[at[i]:at[i + 1]]):
+                h.update(g)
+            keys.append(h.digest())
+        first = {}
+        for i, key in enumerate(keys):
+            first.setdefault(key, i)
+        posed = self._posed_locally(list(first.values()), triples, heads, commons, wins,
+                                    ground, shapes, near, at)
+        return [(posed[first[key]], h[0], h[3], shape_key(v, slot, h[1], h[4], c))
+                for key, (v, slot, _), h, c in zip(keys, triples, heads, commons,
+                                                   strict=True)]
+
+    def _posed_locally(self, reps: list[int], triples, heads, commons, wins, ground, shapes,
+                       near, at) -> dict[int, bytes]:
+        """:meth:`digests` of the triples ``reps``, from their windows and what meets each
+        in its frame (``ground``, ``shapes``; ``near[at[i]:at[i + 1]]`` for triple ``i``):
+        those problems posed there and digested."""
+        m = len(reps)
+        r = np.array(reps, dtype=np.int64)
+        wins = wins[r]
+        shapely.prepare(wins)
+        # the slot itself is the car's to fill: no margin to its own lines
+        allowed = shapely.intersection(shapely.union(ground[r], shapes[r]), wins)
+        pick = np.concatenate([np.arange(at[i], at[i + 1]) for i in reps]).astype(np.int64)
+        of = np.repeat(np.arange(m), [at[i + 1] - at[i] for i in reps])
+        obstacles = near[pick].copy()
+        # the margin around neighbours stops at the slot's lines; only what reaches the
+        # window's edge is cut there (as :meth:`pose`, then the window)
+        cut = ~shapely.contains_properly(wins[of], obstacles) | shapely.intersects(
+            obstacles, shapes[r][of])
+        obstacles[cut] = shapely.difference(obstacles[cut], shapes[r][of[cut]])
+        cross = ~shapely.contains_properly(wins[of], obstacles)
+        obstacles[cross] = shapely.intersection(obstacles[cross], wins[of[cross]])
+        # pointwise: a cache key needs rounded coordinates, not a valid polygon (a
+        # neighbour's thin margin strip may self-touch once rounded, and GEOS's default mode
+        # then throws a TopologyException)
+        rounded = shapely.to_wkb(shapely.normalize(shapely.set_precision(
+            np.concatenate([allowed, obstacles]), 0.01, mode="pointwise"))).tolist()
+        per: list[list[bytes]] = [[rounded[q]] for q in range(m)]
+        for g, o in zip(rounded[m:], of.tolist(), strict=True):
             per[o].append(g)
-        common = [_common(v, slot, h[0], h[1], h[4])
-                  for (v, slot, _), h in zip(triples, heads, strict=True)]
-        return [(self._hashed(v, slot, *h, mine_local, c), h[0], h[3],
-                 shape_key(v, slot, h[0], h[1], h[4], c))
-                for (v, slot, _), h, mine_local, c in zip(triples, heads, per, common,
-                                                          strict=True)]
+        out = {}
+        for q, i in enumerate(reps):
+            v, slot, _ = triples[i]
+            _, lane_y, lane_x, s0, half = heads[i]
+            out[i] = self._hashed(v, slot, lane_y, lane_x, s0, half, per[q], commons[i])
+        return out
 
     def sources(self, triples: Sequence[tuple[VehicleType, Slot, Lane]]) -> list[bytes]:
         """What each triple's problem is made from, to the last bit, without posing it: the
@@ -366,18 +432,19 @@ class LotProblems:
     def shape(self, vehicle: VehicleType, slot: Slot, lane: Lane) -> bytes | None:
         """:func:`shape_key` of the problem of ``vehicle`` in ``slot`` from ``lane``."""
         frame, lane_y, _, _, half = self.head(vehicle, slot, lane)
-        return shape_key(vehicle, slot, frame, lane_y, half)
+        outline = _micro(frame.points_to_local(slot.polygon))
+        return shape_key(vehicle, slot, lane_y, half, _common(vehicle, slot, outline, lane_y,
+                                                             half))
 
-    def _hashed(self, v: VehicleType, slot: Slot, frame: LocalFrame, lane_y: float,
-                lane_x: tuple[float, float], s0: float, half: float, local: list[bytes],
-                common: bytes | None = None) -> bytes:
-        """The digest of a problem from its head and its local geometry (:func:`local_geometry`,
-        in any order); ``common``: its :func:`_common` when the caller has it."""
+    def _hashed(self, v: VehicleType, slot: Slot, lane_y: float, lane_x: tuple[float, float],
+                s0: float, half: float, local: list[bytes], common: bytes) -> bytes:
+        """The digest of a problem from its head, its :func:`_common` and its rounded local
+        geometry (in any order)."""
         # where the lane's start grid falls: a closing move runs on along the lane to a
         # grid station, so slots alike but for it do not start on the same offsets
         grid = self.settings.start_grid
         phase = round(s0 % grid, 6) % grid if grid > 0 else 0.0
-        h = hashlib.blake2b(common or _common(v, slot, frame, lane_y, half), digest_size=20)
+        h = hashlib.blake2b(common, digest_size=20)
         h.update(repr((tuple(np.round(lane_x, 2)), phase)).encode())
         for g in sorted(local):
             h.update(g)
@@ -390,49 +457,58 @@ def _half(vehicle: VehicleType) -> float:
     return 2 * vehicle.min_turning_radius + vehicle.length + 1.0
 
 
-def _common(vehicle: VehicleType, slot: Slot, frame: LocalFrame, lane_y: float,
+def _common(vehicle: VehicleType, slot: Slot, outline: FloatArray, lane_y: float,
             half: float) -> bytes:
     """What a problem's digest and its shape (:func:`shape_key`) both hold: the car, the
-    slot's kind and outline in the local frame (to 1 cm), the lane line (to 1 mm; None where
-    it bends) and the window's size."""
-    outline = np.sort(np.round(frame.points_to_local(slot.polygon), 2).reshape(-1, 2), axis=0)
+    slot's kind and ``outline`` (in the local frame) to 1 cm, the lane line (to 1 mm; None
+    where it bends) and the window's size."""
+    outline = np.sort(np.round(outline, 2).reshape(-1, 2) + 0.0, axis=0)
     head = (vehicle.name, vehicle.width, vehicle.front, vehicle.rear, vehicle.wheelbase,
             vehicle.max_steer, slot.kind, round(lane_y, 3) if math.isfinite(lane_y) else None,
             round(half, 3))
     return repr(head).encode() + outline.tobytes()
 
 
-def shape_key(vehicle: VehicleType, slot: Slot, frame: LocalFrame, lane_y: float,
-              half: float, common: bytes | None = None) -> bytes | None:
+def shape_key(vehicle: VehicleType, slot: Slot, lane_y: float, half: float, common: bytes
+              ) -> bytes | None:
     """What problems that may share a maneuver have in common
     (:mod:`~lotsim.maneuvers.reuse`), or None for a problem that shares with none (a
-    parallel slot, a lane that bends beside the slot): :func:`_common` (``common`` when the
-    caller has it) — a digest without the stretch of lane a maneuver may begin on, the
-    start grid's phase and the geometry around the slot."""
+    parallel slot, a lane that bends beside the slot): their :func:`_common` — a digest
+    without the stretch of lane a maneuver may begin on, the start grid's phase and the
+    geometry around the slot."""
     if kind_of(slot).parks_along or not math.isfinite(lane_y):
         return None
-    return hashlib.blake2b(common or _common(vehicle, slot, frame, lane_y, half),
-                           digest_size=20).digest()
+    return hashlib.blake2b(common, digest_size=20).digest()
 
 
-def local_geometry(geoms: np.ndarray, frames: Sequence[LocalFrame], owner: np.ndarray
-                   ) -> list[bytes]:
-    """Rounded (1 cm), normalised WKB of each of ``geoms`` in its frame, ``frames[owner[i]]``
-    for ``geoms[i]`` (the sums of :meth:`LocalFrame.points_to_local`, so the same floats)."""
+def _frames(frames: Sequence[LocalFrame], owner: np.ndarray) -> tuple[np.ndarray, ...]:
+    """Origin, cosine, sine and the sign of local y of ``frames[owner[i]]``, for each i."""
+    return tuple(np.array(v)[owner] for v in zip(*(
+        (f.x, f.y, math.cos(f.heading), math.sin(f.heading), -1.0 if f.mirror else 1.0)
+        for f in frames), strict=True))
+
+
+def _to_world(local: np.ndarray, frames: Sequence[LocalFrame]) -> np.ndarray:
+    """Points ``local[i, ...]`` (in frame ``frames[i]``) in the world."""
+    ox, oy, c, s, sy = (a.reshape((-1,) + (1,) * (local.ndim - 2))
+                        for a in _frames(frames, np.arange(len(frames))))
+    lx, ly = local[..., 0], sy * local[..., 1]
+    return np.stack([ox + c * lx - s * ly, oy + s * lx + c * ly], axis=-1)
+
+
+def _local(geoms: np.ndarray, frames: Sequence[LocalFrame], owner: np.ndarray) -> np.ndarray:
+    """Each of ``geoms`` in its frame, ``frames[owner[i]]`` for ``geoms[i]``, to the
+    micrometre (the sums of :meth:`LocalFrame.points_to_local`, so the same floats)."""
     xy, at = shapely.get_coordinates(geoms, return_index=True)
-    of = owner[at]
-    ox, oy = np.array([f.x for f in frames])[of], np.array([f.y for f in frames])[of]
-    c = np.array([math.cos(f.heading) for f in frames])[of]
-    s = np.array([math.sin(f.heading) for f in frames])[of]
-    sy = np.array([-1.0 if f.mirror else 1.0 for f in frames])[of]
+    ox, oy, c, s, sy = _frames(frames, np.asarray(owner)[at])
     dx, dy = xy[:, 0] - ox, xy[:, 1] - oy
-    local = shapely.set_coordinates(geoms.copy(), np.stack(
-        [c * dx + s * dy, sy * (-s * dx + c * dy)], axis=-1))
-    # pointwise: a cache key needs rounded coordinates, not a valid polygon (a neighbour's
-    # thin margin strip, moved into the local frame, may self-touch, and GEOS's default
-    # mode then throws a TopologyException)
-    local = shapely.normalize(shapely.set_precision(local, 0.01, mode="pointwise"))
-    return list(shapely.to_wkb(local))
+    return shapely.set_coordinates(np.array(geoms, dtype=object), _micro(
+        np.stack([c * dx + s * dy, sy * (-s * dx + c * dy)], axis=-1)))
+
+
+def _micro(xy: FloatArray) -> FloatArray:
+    """``xy`` to the micrometre, -0 as 0 (the same bytes for the same place)."""
+    return np.round(xy, 6) + 0.0
 
 
 def exact_key(p: ManeuverProblem, style: str) -> bytes:

@@ -413,6 +413,68 @@ def test_problems_keyed_together_are_keyed_as_one_at_a_time(shipped_graphs, name
     assert len({d for d, *_ in alone}) > 5  # (not all one problem)
 
 
+ROW_LOT = """\
+name: rows
+vehicle_types: [valet]
+lot:
+  boundary: [{a}, {b}, {c}, {d}]
+  aisles:
+    - {{id: a, centerline: [{m0}, {m1}], width: 7.0}}
+  rows:
+    - {{aisle: a, side: left, kind: perpendicular, count: 40, slot_width: 2.5,
+       slot_length: 5.0, start: 12, id_prefix: N}}
+    - {{aisle: a, side: right, kind: perpendicular, count: 40, slot_width: 2.5,
+       slot_length: 5.0, start: 12, id_prefix: S}}
+  entrances:
+    - {{id: in, x: {ex}, y: {ey}, heading_deg: {eh}}}
+  occupied: [N3, N4, S9]
+traffic:
+  vehicles: [{{id: x, arrival: 0}}]
+"""
+
+
+def _row_lot(turn: bool) -> str:
+    """ROW_LOT as drawn, or moved and turned a quarter ((x, y) → (1000 - y, 2000 + x): exact
+    in floating point)."""
+    def at(x: float, y: float) -> list[float]:
+        return [1000.0 - y, 2000.0 + x] if turn else [float(x), float(y)]
+
+    ex, ey = at(3.0, 11.0)
+    return ROW_LOT.format(a=at(0, 0), b=at(124, 0), c=at(124, 22), d=at(0, 22), m0=at(0, 11),
+                          m1=at(124, 11), ex=ex, ey=ey, eh=90 if turn else 0)
+
+
+def test_a_digest_depends_on_the_problem_alone(monkeypatch):
+    """Digests are worked out in the slot's frame: the lot moved and turned digests every
+    problem alike, whichever problems are digested with it, and problems alike to the
+    micrometre (the bays along a regular row) are posed once."""
+    from lotsim.maneuvers.problem import LotProblems
+    from lotsim.sim.preparation import maneuver_planner
+
+    posed = []
+    locally = LotProblems._posed_locally
+
+    def counted(self, reps, *args):
+        posed.append(len(reps))
+        return locally(self, reps, *args)
+
+    monkeypatch.setattr(LotProblems, "_posed_locally", counted)
+    got = []
+    for turn in (False, True):
+        sc = scenario_from_text(_row_lot(turn))
+        lot = build_lot(sc.lot, DesignVehicle.envelope(sc.vehicle_types))
+        planner = maneuver_planner(sc, lot)
+        triples = [(v, slot, lane) for v in sc.vehicle_types for slot in lot.slots
+                   for lane in planner.lanes_for(slot)]
+        got.append({(slot.id, lane.id): d[0] for (_, slot, lane), d
+                    in zip(triples, planner.problems.digests(triples), strict=True)})
+        assert [d[0] for d in planner.problems.digests(triples[::-1])] == [
+            got[-1][slot.id, lane.id] for _, slot, lane in triples[::-1]]
+    assert got[0] == got[1]
+    assert len(got[0]) == 160 and posed[0] < 80  # 80 bays, each served by two lanes
+    assert 5 < len(set(got[0].values())) <= posed[0]
+
+
 def test_the_settings_are_used():
     narrow = QUICK.replace("width: 7.0", "width: 4.6")
     lot, _ = _lot(narrow)
