@@ -78,6 +78,45 @@ def search_maneuver(problem: ManeuverProblem, style: str, settings: ManeuverSett
     return Outcome.of((eased(checks, local, settings), x0)), raw
 
 
+class _Answer:
+    """A problem's answer (eased or as planned) in its slot's frame, with the frame and the
+    lane station at x = 0: its direction changes and length (the same in any frame), and
+    its maneuver put in the world when first asked for."""
+
+    __slots__ = ("hit", "frame", "s0", "ids", "_value")
+
+    def __init__(self, hit: Answer, frame: LocalFrame, s0: float, *ids: str) -> None:
+        self.hit, self.frame, self.s0, self.ids, self._value = hit, frame, s0, ids, None
+
+    @property
+    def found(self) -> bool:
+        return self.hit.found
+
+    @property
+    def reason(self) -> str:
+        return self.hit.reason
+
+    @property
+    def changes(self) -> int:
+        """Direction changes (as :attr:`Maneuver.changes`)."""
+        g = [s.gear for s in self.hit.value[0]]
+        return sum(1 for a, b in zip(g[:-1], g[1:], strict=True) if a != b)
+
+    @property
+    def length(self) -> float:
+        """Path length [m] (as :attr:`Maneuver.length`)."""
+        return float(sum(s.length for s in self.hit.value[0]))
+
+    @property
+    def value(self) -> Maneuver:
+        if self._value is None:
+            local, x0 = self.hit.value
+            vehicle, slot, lane = self.ids
+            self._value = Maneuver(self.frame.segments_to_world(local), vehicle, slot, lane,
+                                   self.s0 + x0)
+        return self._value
+
+
 _ANSWERS = ("_cache", "_raw", "_posed", "_fresh", "_fitted", "_classes")
 """What a :class:`ManeuverPlanner` has answered, pickled apart from the rest of it."""
 
@@ -131,12 +170,14 @@ class ManeuverPlanner:
         self._fresh: set[bytes] = set()  # answered ahead of time, not yet asked for
         self._fitted: set[bytes] = set()  # answered by a maneuver of their class
         self._classes: dict[str, dict] = {}  # vehicle → (shape, lanes) → slots and lanes
+        self._lanes: dict[str, list[Lane]] = {}  # slot → :meth:`lanes_for` it
 
     def __getstate__(self) -> dict:
         # its answers pickled apart: a lot loaded from the cache unpickles them only when a
         # maneuver is asked for (:meth:`__getattr__`); a planner never asked passes them on
         # as they came
-        state = {k: v for k, v in self.__dict__.items() if k not in _ANSWERS}
+        state = {k: v for k, v in self.__dict__.items() if k not in _ANSWERS and k != "_lanes"}
+        state["_lanes"] = {}  # the lot's own lanes, found again
         if "_answers_packed" not in state:
             state["_answers_packed"] = pack({k: self.__dict__[k] for k in _ANSWERS})
         return state
@@ -165,11 +206,14 @@ class ManeuverPlanner:
     # -- public API ---------------------------------------------------------------------------
     def lanes_for(self, slot: Slot) -> list[Lane]:
         """The lanes a car can park into ``slot`` from: by kind and direction of travel."""
-        mid = slot.entry.mean(axis=0)
-        kind = kind_of(slot)
-        return [lane for lane in self.lot.aisles[slot.aisle].lanes
-                if kind.serves_lane(slot, lane,
-                                    lane.project((float(mid[0]), float(mid[1])))[0])]
+        got = self._lanes.get(slot.id)
+        if got is None:
+            mid = slot.entry.mean(axis=0)
+            kind = kind_of(slot)
+            got = self._lanes[slot.id] = [
+                lane for lane in self.lot.aisles[slot.aisle].lanes
+                if kind.serves_lane(slot, lane, lane.project((float(mid[0]), float(mid[1])))[0])]
+        return list(got)
 
     def solve(self, vehicle: VehicleType, slot: Slot, lane: Lane, *,
               style: str = "any", eased: bool = True) -> Outcome[Maneuver]:
@@ -213,6 +257,14 @@ class ManeuverPlanner:
         """
         if style not in STYLES:
             raise ValueError(f"style must be one of {', '.join(STYLES)}")
+        answer = self._answer(vehicle, slot, lane, style, eased)
+        if not answer.found:
+            return Outcome.failed(answer.hit.status, answer.hit.reason)
+        return Outcome.of(answer.value)
+
+    def _answer(self, vehicle: VehicleType, slot: Slot, lane: Lane, style: str,
+                eased: bool) -> _Answer:
+        """:meth:`solve`'s answer, before its maneuver is put in the world."""
         key, frame, s0 = self._pose(vehicle, slot, lane, style)[:3]
         hit = self._cache.get(key)
         if hit is None:  # this problem's class answered, one problem after another
@@ -226,11 +278,7 @@ class ManeuverPlanner:
             self.stats["reused"] += 1
         if not eased:
             hit = self._raw[key]
-        if not hit.found:
-            return Outcome.failed(hit.status, hit.reason)
-        local, x0 = hit.value
-        segs = frame.segments_to_world(local)
-        return Outcome.of(Maneuver(segs, vehicle.name, slot.id, lane.id, s0 + x0))
+        return _Answer(hit, frame, s0, vehicle.name, slot.id, lane.id)
 
     def plan(self, vehicle: VehicleType, slot: Slot, lane: Lane, *,
              style: str = "any") -> Maneuver:
@@ -318,22 +366,23 @@ class ManeuverPlanner:
         on the worst lane and parks the car on the one pose from every lane — so the car
         can leave towards any of them; each lane's own best when no way of parking serves
         them all."""
-        tried = {st: [self.solve(vehicle, slot, lane, style=st) for lane in lanes]
+        # (each maneuver put in the world only when it is kept: its changes and length are
+        # the same in any frame)
+        tried = {st: [self._answer(vehicle, slot, lane, st, True) for lane in lanes]
                  for st in COMMON_STYLES}
 
-        def cost(results: list[Outcome[Maneuver]]) -> tuple[int, float]:
-            ms = [r.value for r in results]
-            return max(m.changes for m in ms), sum(m.length for m in ms)
+        def cost(results: list[_Answer]) -> tuple[int, float]:
+            return max(r.changes for r in results), sum(r.length for r in results)
 
-        plain = {st: [self.solve(vehicle, slot, lane, style=st, eased=False) for lane in lanes]
+        plain = {st: [self._answer(vehicle, slot, lane, st, False) for lane in lanes]
                  for st in tried}
         # each lane's best as planned (fewest changes, then shortest; nose-in on a tie)
         own = {}
         for k, lane in enumerate(lanes):
             ok = [st for st in tried if tried[st][k].found]
             if ok:
-                own[lane.id] = min(ok, key=lambda x, k=k: (plain[x][k].value.changes,
-                                                            plain[x][k].value.length))
+                own[lane.id] = min(ok, key=lambda x, k=k: (plain[x][k].changes,
+                                                            plain[x][k].length))
         common = [st for st, results in tried.items() if all(r.found for r in results)]
         for st in sorted(common, key=lambda k: cost(tried[k])):
             # an eased path may park a few millimetres off the planned pose (when no two
