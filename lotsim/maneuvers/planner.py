@@ -39,6 +39,7 @@ from lotsim.maneuvers.shuffle import park_across
 from lotsim.maneuvers.strokes import park_along
 from lotsim.maneuvers.validity import Validity
 from lotsim.vehicles.model import VehicleType
+from lotsim.vehicles.motion import Piece, runs
 
 COMMON_STYLES = ("forward", "reverse")
 """The ways of parking tried for a pose shared by a slot's lanes, in the order tried."""
@@ -83,10 +84,12 @@ class _Answer:
     lane station at x = 0: its direction changes and length (the same in any frame), and
     its maneuver put in the world when first asked for."""
 
-    __slots__ = ("hit", "frame", "s0", "ids", "_value")
+    __slots__ = ("hit", "frame", "s0", "ids", "key", "_value")
 
-    def __init__(self, hit: Answer, frame: LocalFrame, s0: float, *ids: str) -> None:
-        self.hit, self.frame, self.s0, self.ids, self._value = hit, frame, s0, ids, None
+    def __init__(self, hit: Answer, frame: LocalFrame, s0: float, key: tuple, *ids: str
+                 ) -> None:
+        self.hit, self.frame, self.s0, self.key, self.ids = hit, frame, s0, key, ids
+        self._value = None
 
     @property
     def found(self) -> bool:
@@ -107,6 +110,24 @@ class _Answer:
         """Path length [m] (as :attr:`Maneuver.length`)."""
         return float(sum(s.length for s in self.hit.value[0]))
 
+    def shortest_run(self, known: dict) -> float:
+        """:meth:`Maneuver.shortest_run` (the same in any frame; ``known``: by answer)."""
+        got = known.get(("run", self.key))
+        if got is None:
+            got = known["run", self.key] = min(
+                sum(p.segment.length for p in run)
+                for run in runs([Piece(sg, math.inf) for sg in self.hit.value[0]]))
+        return got
+
+    def ends_as(self, other: _Answer, known: dict) -> bool:
+        """Whether it parks where ``other`` does (:func:`same_pose`, in the slot's frame;
+        ``known``: by answer)."""
+        got = known.get(("end", self.key, other.key))
+        if got is None:
+            got = known["end", self.key, other.key] = same_pose(self.hit.value[0][-1].end,
+                                                                other.hit.value[0][-1].end)
+        return got
+
     @property
     def value(self) -> Maneuver:
         if self._value is None:
@@ -119,6 +140,8 @@ class _Answer:
 
 _ANSWERS = ("_cache", "_raw", "_posed", "_fresh", "_fitted", "_classes")
 """What a :class:`ManeuverPlanner` has answered, pickled apart from the rest of it."""
+_FOUND_AGAIN = ("_lanes", "_traits")
+"""What a :class:`ManeuverPlanner` works out again rather than pickle (the lot's own lanes)."""
 
 
 class ManeuverPlanner:
@@ -171,13 +194,14 @@ class ManeuverPlanner:
         self._fitted: set[bytes] = set()  # answered by a maneuver of their class
         self._classes: dict[str, dict] = {}  # vehicle → (shape, lanes) → slots and lanes
         self._lanes: dict[str, list[Lane]] = {}  # slot → :meth:`lanes_for` it
+        self._traits: dict[tuple, object] = {}  # what an answer is, in any frame (_Answer)
 
     def __getstate__(self) -> dict:
         # its answers pickled apart: a lot loaded from the cache unpickles them only when a
         # maneuver is asked for (:meth:`__getattr__`); a planner never asked passes them on
         # as they came
-        state = {k: v for k, v in self.__dict__.items() if k not in _ANSWERS and k != "_lanes"}
-        state["_lanes"] = {}  # the lot's own lanes, found again
+        state = {k: v for k, v in self.__dict__.items() if k not in _ANSWERS + _FOUND_AGAIN}
+        state.update({k: {} for k in _FOUND_AGAIN})
         if "_answers_packed" not in state:
             state["_answers_packed"] = pack({k: self.__dict__[k] for k in _ANSWERS})
         return state
@@ -278,7 +302,7 @@ class ManeuverPlanner:
             self.stats["reused"] += 1
         if not eased:
             hit = self._raw[key]
-        return _Answer(hit, frame, s0, vehicle.name, slot.id, lane.id)
+        return _Answer(hit, frame, s0, (key, eased), vehicle.name, slot.id, lane.id)
 
     def plan(self, vehicle: VehicleType, slot: Slot, lane: Lane, *,
              style: str = "any") -> Maneuver:
@@ -388,9 +412,10 @@ class ManeuverPlanner:
             # an eased path may park a few millimetres off the planned pose (when no two
             # straights could take the drift up): drive that lane's path as planned, stopping
             # to steer — and no path that has the car creep from stop to stop
-            found = [r.value if same_pose(r.value.end, q.value.end) else q.value
-                     for r, q in zip(tried[st], plain[st], strict=True)]
-            if min(m.shortest_run() for m in found) >= self.settings.min_stroke:
+            chosen = [r if r.ends_as(q, self._traits) else q
+                      for r, q in zip(tried[st], plain[st], strict=True)]
+            if min(a.shortest_run(self._traits) for a in chosen) >= self.settings.min_stroke:
+                found = [a.value for a in chosen]
                 stays = {lane.id: tried[own[lane.id]][k].value
                          for k, lane in enumerate(lanes) if own[lane.id] != st}
                 return {lane.id: m for lane, m in zip(lanes, found, strict=True)}, stays, ""
