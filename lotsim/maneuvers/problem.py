@@ -12,7 +12,9 @@ of the aisle by the margin (that side is a wall), or inside its own slot. Same g
 same maneuver: a problem's digest is the vehicle type, the rounded geometry inside the
 window around the slot — the search cannot see past the window — and where the lane's
 start grid falls beside the slot (the closing move runs on to a grid station), so
-problems with equal digests have the same answer.
+problems with equal digests have the same answer. It is worked out in the slot's frame,
+from what meets the window there to the micrometre: it does not depend on where the lot
+lies, and the bays of a regular row are posed for it once.
 """
 
 from __future__ import annotations
