@@ -43,6 +43,7 @@ class ProgressBar:
         self._lock = threading.Lock()
         self._stop = threading.Event()
         self._beats: threading.Thread | None = None
+        self._since: tuple[int, float, int] | None = None  # total, when and done at its first news
 
     def _start(self) -> None:
         """Not a terminal: from the first news on, write the status every ``every``
@@ -57,8 +58,7 @@ class ProgressBar:
         if total <= 0:
             return
         frac = done / total
-        spent = time.perf_counter() - self.t0
-        left = f", ~{spent / frac * (1 - frac):.0f} s left" if 0 < frac < 1 else ""
+        left = self._left(done, total)
         now = f" … {what}" if what else ""
         if not self.on:
             self.status = f"{self.label}: {done}/{total}{left}{now}"
@@ -67,6 +67,18 @@ class ProgressBar:
         print(f"\r{self.label} [{bar}] {done}/{total}{left}{now}   ", end="",
               file=self.stream, flush=True)
         self.shown = True
+
+    def _left(self, done: int, total: int) -> str:
+        """``, ~N s left`` at the pace since the first news of this ``total`` (not since the
+        bar was made: a step may start well after it, as the maneuvers of a lot do after
+        its lanes), or nothing before there is a pace to go by."""
+        now = time.perf_counter()
+        if self._since is None or self._since[0] != total or done < self._since[2]:
+            self._since = (total, now, done)
+        _, since, first = self._since
+        if not first < done < total:
+            return ""
+        return f", ~{(now - since) / (done - first) * (total - done):.0f} s left"
 
     def beat(self) -> None:
         """Write the status as a line of its own, with the time spent so far."""

@@ -391,6 +391,30 @@ def test_where_stderr_is_not_a_terminal_long_work_writes_a_line_every_few_second
     assert said.endswith("preparing the lot: done (0 s)\n")
 
 
+def test_the_time_left_goes_by_the_pace_since_the_step_began(monkeypatch):
+    """A step that starts well after its bar (a lot's maneuvers, after its lanes) is timed
+    from its first news: 40 of 100 done in 2 s leaves some 3 s, however long the bar had
+    been up before."""
+    import io
+
+    import lotsim.cli.progress as progress
+
+    clock = [100.0]
+    monkeypatch.setattr(progress.time, "perf_counter", lambda: clock[0])
+    bar = progress.ProgressBar("maneuvers", stream=io.StringIO())
+    clock[0] += 60.0  # the lanes
+    bar(0, 100)
+    assert bar.status == "maneuvers: 0/100"
+    clock[0] += 2.0
+    bar(40, 100)
+    assert bar.status == "maneuvers: 40/100, ~3 s left"
+    clock[0] += 1.0
+    bar(2, 7)  # another step: its own pace
+    clock[0] += 1.0
+    bar(4, 7)
+    assert bar.status == "maneuvers: 4/7, ~2 s left"
+
+
 def test_a_run_on_a_pipe_tells_its_trips_and_the_writing_of_its_result(tmp_path, capsys,
                                                                        monkeypatch):
     import lotsim.cli.progress as progress
