@@ -244,27 +244,6 @@ def test_a_car_that_leaves_an_angled_bay_towards_a_dead_end_turns_round_there():
     assert _turnaround_users(rr, lg) == len(rr.vehicles)
 
 
-def test_no_turn_back_onto_the_aisle_just_left_is_searched_through_the_junction(monkeypatch):
-    """At the large lot's T junctions a car that has just turned into an aisle does not turn
-    back out of it there (the lanes meet before the one it is on begins): no turn through
-    the junction's area is searched for it, and every free slot is still reached and left
-    (the turns between the lanes serve every way through each junction)."""
-    import lotsim.roadmap.junctions
-
-    def refused(*args, **kwargs):
-        raise AssertionError("a turn through the junction's area was searched")
-
-    monkeypatch.setattr(lotsim.roadmap.junctions, "area_turns", refused)
-    sc = load_scenario(LOTS.parent / "large_lot.yaml")
-    lg = prepare_graph(sc, cache=False)
-    assert lg.reachability().ok and not lg.skipped_turns
-    turns = {(d["path"][0].start[:2], d["path"][-1].end[:2])
-             for _, _, d in lg.graph.edges(data=True) if d["kind"] == "turn"}
-    # 13 aisles, two T junctions each; at each, into and out of the aisle both ways: the
-    # fastest clear turn and the tightest
-    assert len(turns) == 26 * 4 * 2
-
-
 def test_a_right_turn_past_a_corner_bay_swings_wide_across_the_junction(lots):
     _, lg = lots["ladder"]
     g, lot = lg.graph, lg.lot
