@@ -77,13 +77,8 @@ def _fillet_between(a, sa0, pa, b, sb0, pb, aisle_a, aisle_b, reach, design,
     (the fastest may start behind the one or end past the other, and the tightest is
     driven at a crawl).
 
-    Where a turn between the lanes has room but none is clear, turns through the
-    junction's area (:func:`~lotsim.roadmap.area_turns.area_turns`) are tried instead.
-
     Returns the turns, a reason string when the aisles meet but no turn is clear,
-    or None when the two straights do not meet or meet too near where ``pa`` begins or
-    ``pb`` ends for a turn between them (a car that has just turned off the one aisle
-    turning back onto it).
+    or None when the two straights do not meet.
     """
     corner = lane_crossing(pa, pb, aisle_a, aisle_b, reach)
     if corner is None:
@@ -131,9 +126,6 @@ def _fillet_between(a, sa0, pa, b, sb0, pb, aisle_a, aisle_b, reach, design,
     found = [clear[k] for k in dict.fromkeys(k for k in picked if k is not None)]
     if found:
         return found
-    if not fits:  # the lanes meet too near where one begins or the other ends to turn there
-        return None
-    # a turn between the lanes has room but touches something: swing wide of it
     wide = area_turns(a, sa0, pa, b, sb0, pb, design, collider, lot_speed)
     if wide:
         return wide
