@@ -189,6 +189,18 @@ def test_an_import_is_byte_for_byte_the_same(imported, tmp_path):
     assert (tmp_path / path.name).read_bytes() == path.read_bytes()
 
 
+def test_the_demo_map_has_the_usable_bays_docs_import_md_gives(imported):
+    """docs/import.md: of the 203 slots, the zoe can use 195 and the altis 181 (8 spots too
+    short for either, 10 more for the altis, 4 it can park in but not leave): what a
+    change to the roadmap or the maneuvers must keep, or say why it does not."""
+    import lotsim
+
+    _, path, _, _ = imported
+    report = lotsim.validate(path)
+    usable = {name: len(ids) for name, ids in report.usable().items()}
+    assert usable == {"altis": 181, "zoe": 195}
+
+
 def test_gates_stand_on_the_open_road_ends_at_the_maps_edge(imported):
     """Four of the map's five road ends without a next lanelet lie at its edge; the fifth
     ends in a court of spots. Each of the four has an entrance and an exit, heading in and
