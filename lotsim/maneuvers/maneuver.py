@@ -8,6 +8,7 @@ forward."""
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -15,6 +16,24 @@ import numpy as np
 from lotsim.core.geometry import FloatArray, Pose, Segment
 from lotsim.vehicles.model import VehicleType
 from lotsim.vehicles.motion import Motion, Piece, runs, timed_path
+
+
+def path_length(segments: Sequence[Segment]) -> float:
+    """Length [m] of a path of ``segments``."""
+    return float(sum(s.length for s in segments))
+
+
+def direction_changes(segments: Sequence[Segment]) -> int:
+    """Direction changes (cusps) along a path of ``segments``."""
+    g = [s.gear for s in segments]
+    return sum(1 for a, b in zip(g[:-1], g[1:], strict=True) if a != b)
+
+
+def shortest_run(segments: Sequence[Segment]) -> float:
+    """The shortest stretch [m] a car drives between two stops on a path of ``segments``:
+    the runs the timing drives without stopping (:func:`~lotsim.vehicles.motion.runs`)."""
+    return min(sum(p.segment.length for p in run)
+               for run in runs([Piece(s, math.inf) for s in segments]))
 
 
 @dataclass(frozen=True)
@@ -54,7 +73,7 @@ class Maneuver:
     @property
     def length(self) -> float:
         """Path length [m]."""
-        return float(sum(s.length for s in self.segments))
+        return path_length(self.segments)
 
     @property
     def gears(self) -> tuple[int, ...]:
@@ -63,8 +82,7 @@ class Maneuver:
     @property
     def changes(self) -> int:
         """Direction changes (cusps) within the maneuver."""
-        g = self.gears
-        return sum(1 for a, b in zip(g[:-1], g[1:], strict=True) if a != b)
+        return direction_changes(self.segments)
 
     @property
     def cusps(self) -> tuple[Pose, ...]:
@@ -116,5 +134,4 @@ class Maneuver:
     def shortest_run(self) -> float:
         """The shortest stretch [m] a car drives between two stops on it: the runs the timing
         drives without stopping (:func:`~lotsim.vehicles.motion.runs`)."""
-        return min(sum(p.segment.length for p in run)
-                   for run in runs([Piece(s, math.inf) for s in self.segments]))
+        return shortest_run(self.segments)

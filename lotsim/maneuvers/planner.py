@@ -31,7 +31,7 @@ from lotsim.errors import InfeasibleManeuver
 from lotsim.lot.kinds import kind_of
 from lotsim.lot.model import Lane, Lot, Slot
 from lotsim.maneuvers.easing import eased
-from lotsim.maneuvers.maneuver import Maneuver
+from lotsim.maneuvers.maneuver import Maneuver, direction_changes, path_length, shortest_run
 from lotsim.maneuvers.problem import LocalFrame, LotProblems, ManeuverProblem
 from lotsim.maneuvers.reuse import fit_first, settle
 from lotsim.maneuvers.settings import STYLES, ManeuverSettings
@@ -39,7 +39,6 @@ from lotsim.maneuvers.shuffle import park_across
 from lotsim.maneuvers.strokes import park_along
 from lotsim.maneuvers.validity import Validity
 from lotsim.vehicles.model import VehicleType
-from lotsim.vehicles.motion import Piece, runs
 
 COMMON_STYLES = ("forward", "reverse")
 """The ways of parking tried for a pose shared by a slot's lanes, in the order tried."""
@@ -102,21 +101,18 @@ class _Answer:
     @property
     def changes(self) -> int:
         """Direction changes (as :attr:`Maneuver.changes`)."""
-        g = [s.gear for s in self.hit.value[0]]
-        return sum(1 for a, b in zip(g[:-1], g[1:], strict=True) if a != b)
+        return direction_changes(self.hit.value[0])
 
     @property
     def length(self) -> float:
         """Path length [m] (as :attr:`Maneuver.length`)."""
-        return float(sum(s.length for s in self.hit.value[0]))
+        return path_length(self.hit.value[0])
 
     def shortest_run(self, known: dict) -> float:
         """:meth:`Maneuver.shortest_run` (the same in any frame; ``known``: by answer)."""
         got = known.get(("run", self.key))
         if got is None:
-            got = known["run", self.key] = min(
-                sum(p.segment.length for p in run)
-                for run in runs([Piece(sg, math.inf) for sg in self.hit.value[0]]))
+            got = known["run", self.key] = shortest_run(self.hit.value[0])
         return got
 
     def ends_as(self, other: _Answer, known: dict) -> bool:

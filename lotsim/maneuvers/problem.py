@@ -289,7 +289,8 @@ class LotProblems:
         shapes = _local(np.array([slot.shape for _, slot, _ in triples], dtype=object),
                         frames, own)
         k, j = self._tree.query(boxes)
-        k, j = k[np.argsort(k, kind="stable")], j[np.argsort(k, kind="stable")]
+        order = np.argsort(k, kind="stable")
+        k, j = k[order], j[order]
         mine = np.array([self._index[slot.id] for _, slot, _ in triples], dtype=np.int64)
         k, j = k[j != mine[k]], j[j != mine[k]]
         near = _local(self._polys[j], frames, k)
@@ -300,16 +301,14 @@ class LotProblems:
         ground_wkb = shapely.to_wkb(ground).tolist()
         shape_wkb = shapely.to_wkb(shapes).tolist()
         keys, commons = [], []
-        grid = self.settings.start_grid
         for i, ((v, slot, _), (frame, lane_y, lane_x, s0, half)) in enumerate(
                 zip(triples, heads, strict=True)):
             outline = _micro(frame.points_to_local(slot.polygon))
             commons.append(_common(v, slot, outline, lane_y, half))
-            phase = round(s0 % grid, 6) % grid if grid > 0 else 0.0
             h = hashlib.blake2b(commons[-1], digest_size=20)
             h.update(repr((v, self.margin, self.settings.sweep, float(halves[i]), float(tops[i]),
                            round(lane_y, 6) if math.isfinite(lane_y) else None,
-                           tuple(np.round(lane_x, 2)), phase)).encode())
+                           self._along(lane_x, s0))).encode())
             h.update(outline.tobytes())
             h.update(shape_wkb[i])
             h.update(ground_wkb[i])
@@ -438,16 +437,20 @@ class LotProblems:
         return shape_key(vehicle, slot, lane_y, half, _common(vehicle, slot, outline, lane_y,
                                                              half))
 
+    def _along(self, lane_x: tuple[float, float], s0: float) -> tuple:
+        """What a digest holds of the lane: the stretch a maneuver may begin on (to 1 cm)
+        and where the lane's start grid falls (a closing move runs on along the lane to a
+        grid station, so slots alike but for it do not start on the same offsets)."""
+        grid = self.settings.start_grid
+        phase = round(s0 % grid, 6) % grid if grid > 0 else 0.0
+        return tuple(np.round(lane_x, 2)), phase
+
     def _hashed(self, v: VehicleType, slot: Slot, lane_y: float, lane_x: tuple[float, float],
                 s0: float, half: float, local: list[bytes], common: bytes) -> bytes:
         """The digest of a problem from its head, its :func:`_common` and its rounded local
         geometry (in any order)."""
-        # where the lane's start grid falls: a closing move runs on along the lane to a
-        # grid station, so slots alike but for it do not start on the same offsets
-        grid = self.settings.start_grid
-        phase = round(s0 % grid, 6) % grid if grid > 0 else 0.0
         h = hashlib.blake2b(common, digest_size=20)
-        h.update(repr((tuple(np.round(lane_x, 2)), phase)).encode())
+        h.update(repr(self._along(lane_x, s0)).encode())
         for g in sorted(local):
             h.update(g)
         return h.digest()
