@@ -280,20 +280,21 @@ class LotProblems:
         # (touching is decided in the slot's frame, to the micrometre)
         corners = np.stack([np.column_stack(c) for c in (
             (-halves, -halves), (halves, -halves), (halves, tops), (-halves, tops))], axis=1)
-        world = _to_world(corners, frames)
+        axes = _frames(frames)
+        world = _to_world(corners, axes)
         boxes = shapely.box(*(world.min(axis=1) - 0.001).T, *(world.max(axis=1) + 0.001).T)
         own = np.arange(n)
         tops = _micro(tops)
         wins = shapely.box(-halves, -halves, halves, tops)
-        ground = _local(shapely.intersection(self._region, boxes), frames, own)
+        ground = _local(shapely.intersection(self._region, boxes), axes, own)
         shapes = _local(np.array([slot.shape for _, slot, _ in triples], dtype=object),
-                        frames, own)
+                        axes, own)
         k, j = self._tree.query(boxes)
         order = np.argsort(k, kind="stable")
         k, j = k[order], j[order]
         mine = np.array([self._index[slot.id] for _, slot, _ in triples], dtype=np.int64)
         k, j = k[j != mine[k]], j[j != mine[k]]
-        near = _local(self._polys[j], frames, k)
+        near = _local(self._polys[j], axes, k)
         meets = shapely.intersects(wins[k], near)
         k, near = k[meets], near[meets]
         near_wkb = shapely.to_wkb(near).tolist()
@@ -486,26 +487,25 @@ def shape_key(vehicle: VehicleType, slot: Slot, lane_y: float, half: float, comm
     return hashlib.blake2b(common, digest_size=20).digest()
 
 
-def _frames(frames: Sequence[LocalFrame], owner: np.ndarray) -> tuple[np.ndarray, ...]:
-    """Origin, cosine, sine and the sign of local y of ``frames[owner[i]]``, for each i."""
-    return tuple(np.array(v)[owner] for v in zip(*(
-        (f.x, f.y, math.cos(f.heading), math.sin(f.heading), -1.0 if f.mirror else 1.0)
-        for f in frames), strict=True))
+def _frames(frames: Sequence[LocalFrame]) -> np.ndarray:
+    """(F, 5): the origin x and y, cosine, sine and sign of local y of each of ``frames``."""
+    return np.array([(f.x, f.y, math.cos(f.heading), math.sin(f.heading),
+                      -1.0 if f.mirror else 1.0) for f in frames]).reshape(-1, 5)
 
 
-def _to_world(local: np.ndarray, frames: Sequence[LocalFrame]) -> np.ndarray:
-    """Points ``local[i, ...]`` (in frame ``frames[i]``) in the world."""
-    ox, oy, c, s, sy = (a.reshape((-1,) + (1,) * (local.ndim - 2))
-                        for a in _frames(frames, np.arange(len(frames))))
+def _to_world(local: np.ndarray, axes: np.ndarray) -> np.ndarray:
+    """Points ``local[i, ...]`` in the world, in frame ``i`` of ``axes`` (:func:`_frames`)."""
+    ox, oy, c, s, sy = (a.reshape((-1,) + (1,) * (local.ndim - 2)) for a in axes.T)
     lx, ly = local[..., 0], sy * local[..., 1]
     return np.stack([ox + c * lx - s * ly, oy + s * lx + c * ly], axis=-1)
 
 
-def _local(geoms: np.ndarray, frames: Sequence[LocalFrame], owner: np.ndarray) -> np.ndarray:
-    """Each of ``geoms`` in its frame, ``frames[owner[i]]`` for ``geoms[i]``, to the
-    micrometre (the sums of :meth:`LocalFrame.points_to_local`, so the same floats)."""
+def _local(geoms: np.ndarray, axes: np.ndarray, owner: np.ndarray) -> np.ndarray:
+    """Each of ``geoms`` in its frame, row ``owner[i]`` of ``axes`` (:func:`_frames`) for
+    ``geoms[i]``, to the micrometre (the sums of :meth:`LocalFrame.points_to_local`, so the
+    same floats)."""
     xy, at = shapely.get_coordinates(geoms, return_index=True)
-    ox, oy, c, s, sy = _frames(frames, np.asarray(owner)[at])
+    ox, oy, c, s, sy = axes[np.asarray(owner)[at]].T
     dx, dy = xy[:, 0] - ox, xy[:, 1] - oy
     return shapely.set_coordinates(np.array(geoms, dtype=object), _micro(
         np.stack([c * dx + s * dy, sy * (-s * dx + c * dy)], axis=-1)))
