@@ -64,6 +64,9 @@ class Maneuver:
 
     @property
     def start(self) -> Pose:
+        of = self._unbuilt()
+        if of is not None:
+            return of.segments[-1].end  # where its first piece, backwards, starts
         return self.segments[0].start
 
     @property
@@ -73,11 +76,15 @@ class Maneuver:
     @property
     def length(self) -> float:
         """Path length [m]."""
+        of = self._unbuilt()
+        if of is not None:
+            return float(sum(abs(s.distance) for s in reversed(of.segments)))
         return path_length(self.segments)
 
     @property
     def gears(self) -> tuple[int, ...]:
-        return tuple(s.gear for s in self.segments)
+        """Each piece's gear: +1 forward, -1 reverse."""
+        return tuple(1 if d >= 0 else -1 for d, _, _ in self.shapes())
 
     @property
     def changes(self) -> int:
@@ -115,9 +122,41 @@ class Maneuver:
         return np.concatenate(parts), np.concatenate(gears)
 
     def reversed(self) -> Maneuver:
-        """The same path driven backwards in time: each piece with the other gear."""
-        segs = tuple(s.backwards() for s in reversed(self.segments))
-        return Maneuver(segs, self.vehicle, self.slot, self.lane, self.station, not self.leaving)
+        """The same path driven backwards in time: each piece with the other gear.
+
+        Its pieces are worked out when first asked for: a lot's ways out are built for
+        every slot, and most are only timed and measured (:meth:`shapes`, :attr:`length`),
+        which read this maneuver's pieces."""
+        out = object.__new__(Maneuver)
+        for name, value in (("vehicle", self.vehicle), ("slot", self.slot),
+                            ("lane", self.lane), ("station", self.station),
+                            ("leaving", not self.leaving), ("_of", self)):
+            object.__setattr__(out, name, value)
+        return out
+
+    def _unbuilt(self) -> Maneuver | None:
+        """The maneuver this one reverses while its own pieces are not built yet, else
+        None: what its start, length and shapes are read from, to the bit as from its
+        pieces."""
+        return None if "segments" in self.__dict__ else self.__dict__.get("_of")
+
+    def __getattr__(self, name: str):
+        # a reversed maneuver's pieces, worked out on first use (:meth:`reversed`)
+        of = self.__dict__.get("_of")
+        if name != "segments" or of is None:
+            raise AttributeError(name)
+        segs = tuple(s.backwards() for s in reversed(of.segments))
+        object.__setattr__(self, "segments", segs)
+        return segs
+
+    def shapes(self) -> tuple[tuple[float, float, float], ...]:
+        """Each piece's (distance, curvature, sharpness): the path's shape, not where it
+        lies (what its timing depends on)."""
+        of = self._unbuilt()
+        if of is not None:
+            return tuple((-s.distance, s.end_curvature, -s.sharpness)
+                         for s in reversed(of.segments))
+        return tuple((s.distance, s.curvature, s.sharpness) for s in self.segments)
 
     def motion(self, vehicle: VehicleType, speed_limit: float = math.inf) -> Motion:
         """The maneuver timed from rest, wheels straight, to rest, wheels straight

@@ -251,8 +251,7 @@ def _durations(lot: Lot, maneuvers: dict, leaving: dict, stays: dict, types: dic
 
     def shape(path, vname: str, limit: float) -> tuple:
         """What the maneuver's time depends on: its pieces' shapes, not where they lie."""
-        return vname, limit, tuple((s.distance, s.curvature, s.sharpness)
-                                   for s in path.segments)
+        return vname, limit, path.shapes()
 
     todo: dict[tuple, tuple] = {}
     for kept, both in ((maneuvers, True), (stays, False)):
@@ -305,7 +304,7 @@ def _link(g: nx.DiGraph, u: int, v: int, kind: str, path, limit: float) -> dict:
     new."""
     if not g.has_edge(u, v):
         g.add_edge(u, v, kind=kind, maneuvers={}, duration={}, length=math.inf,
-                   gear=path.segments[0].gear, path=None, speed_limit=limit,
+                   gear=path.gears[0], path=None, speed_limit=limit,
                    placeholder=False)
     return g.edges[u, v]
 

@@ -8,6 +8,7 @@ sampled poses; and it asks whether the final footprint lies in the slot.
 """
 
 import math
+import pickle
 import re
 
 import numpy as np
@@ -22,6 +23,7 @@ from lotsim.io.scenario_yaml import load_scenario
 from lotsim.lot.build import build_lot
 from lotsim.lot.model import DesignVehicle
 from lotsim.maneuvers.closing import first_clear
+from lotsim.maneuvers.maneuver import Maneuver
 from lotsim.maneuvers.minslot import fewest_changes
 from lotsim.maneuvers.planner import ManeuverPlanner
 from lotsim.maneuvers.settings import ManeuverSettings
@@ -69,6 +71,27 @@ def test_leaving_is_the_parking_path_driven_backwards():
             b, _ = out.sample(0.1)
             assert np.allclose(a[::-1, :2], b[:, :2], atol=1e-7)
             assert np.allclose(wrap_angle(a[::-1, 2] - b[:, 2]), 0.0, atol=1e-7)
+
+
+def test_a_way_out_reads_the_same_before_its_pieces_are_built_and_after():
+    """A reversed maneuver builds its pieces on first use; its start, length, gears and
+    shapes read before then are those of the pieces, to the bit, and so is a copy through
+    pickle."""
+    lg = graph_from_text(QUICK)
+    mans = [m for _, _, d in lg.graph.edges(data=True) if d["kind"] == "park"
+            for m in d["maneuvers"].values()]
+    assert mans
+    for m in mans:
+        built = Maneuver(tuple(s.backwards() for s in reversed(m.segments)), m.vehicle,
+                         m.slot, m.lane, m.station, not m.leaving)
+        for out in (m.reversed(), pickle.loads(pickle.dumps(m.reversed()))):
+            early = (out.start, out.length, out.gears, out.shapes())
+            assert early == (built.start, built.length, built.gears,
+                             tuple((s.distance, s.curvature, s.sharpness)
+                                   for s in built.segments))
+            assert out == built  # now built
+            assert (out.start, out.length, out.gears, out.shapes()) == early
+            assert pickle.loads(pickle.dumps(out)) == built
 
 
 QUICK = """
