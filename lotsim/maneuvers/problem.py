@@ -198,32 +198,63 @@ class LotProblems:
              ) -> tuple[LocalFrame, float, tuple[float, float], float, float]:
         """A problem's frame, lane line (``lane_y``, NaN on a bend), the stretch of it a
         maneuver may begin on (``lane_x``), the lane station at x = 0 and the window's
-        half size."""
-        mid = slot.entry.mean(axis=0)
-        s_mid, _ = lane.project((float(mid[0]), float(mid[1])))
-        i, _ = lane.locate(s_mid)
-        seg = lane.segments[i]
-        heading = lane.pose_at(s_mid)[2]
-        d = np.asarray(slot.center) - mid
-        left = math.cos(heading) * d[1] - math.sin(heading) * d[0] > 0
-        frame = LocalFrame(float(mid[0]), float(mid[1]), heading, left)
-        if seg.curvature != 0.0 or seg.sharpness != 0.0:
-            lane_y, lane_x, s0 = math.nan, (0.0, 0.0), 0.0
-        else:
-            a = frame.poses_to_local(np.array(seg.start))[0]
-            lane_y = float(a[1])
-            lo = float(a[0])
+        half size (:meth:`heads` of the one triple)."""
+        return self.heads([(vehicle, slot, lane)])[0]
+
+    def heads(self, triples: Sequence[tuple[VehicleType, Slot, Lane]]
+              ) -> list[tuple[LocalFrame, float, tuple[float, float], float, float]]:
+        """:meth:`head` of each triple: the slot's entry projected onto the lane a lane at
+        a time (lanes are told apart by their ids), the rest in the sums of a frame's
+        methods (:meth:`LocalFrame.poses_to_local` and the lane's
+        :meth:`~lotsim.lot.model.Lane.pose_at`), so the same floats."""
+        n = len(triples)
+        mids = np.array([slot.entry for _, slot, _ in triples], dtype=float).reshape(
+            n, -1, 2).mean(axis=1)
+        stations = np.empty(n)
+        by_lane: dict[str, list[int]] = {}
+        for k, (_, _, lane) in enumerate(triples):
+            by_lane.setdefault(lane.id, []).append(k)
+        heading = np.empty(n)
+        index = np.empty(n, dtype=np.int64)
+        for at in by_lane.values():
+            lane = triples[at[0]][2]
+            s_mid = shapely.line_locate_point(lane.line, shapely.points(mids[at]))
+            stations[at] = s_mid
+            # Lane.locate and Segment.poses_at's heading, for every station at once
+            starts = lane.starts
+            i = np.clip(np.searchsorted(starts, s_mid, side="right") - 1, 0,
+                        len(lane.segments) - 1)
+            seg = [lane.segments[j] for j in i.tolist()]
+            d = np.minimum(np.maximum(s_mid - starts[i], 0.0), [g.length for g in seg])
+            t0, k, g = (np.array([getattr(x, name) for x in seg], dtype=float)
+                        for name in ("start", "curvature", "sharpness"))
+            heading[at] = np.where(g == 0.0, t0[:, 2] + k * d,
+                                   t0[:, 2] + 1.0 * (k * d + g * d * d / 2))
+            index[at] = i
+        out = []
+        for k, (vehicle, slot, lane) in enumerate(triples):
+            mx, my, t, i = float(mids[k, 0]), float(mids[k, 1]), float(heading[k]), int(index[k])
+            seg = lane.segments[i]
+            cx, cy = slot.center
+            c, s = math.cos(t), math.sin(t)
+            frame = LocalFrame(mx, my, t, c * (cy - my) - s * (cx - mx) > 0)
+            half = _half(vehicle)
+            if seg.curvature != 0.0 or seg.sharpness != 0.0:
+                out.append((frame, math.nan, (0.0, 0.0), 0.0, half))
+                continue
+            sy = -1.0 if frame.mirror else 1.0
+            dx, dy = seg.start[0] - mx, seg.start[1] - my
+            lo, lane_y = c * dx + s * dy, sy * (-s * dx + c * dy)
             s0 = float(lane.starts[i]) - lo
-        half = _half(vehicle)
-        if kind_of(slot).parks_along and math.isfinite(lane_y):
-            # a parallel slot is left at a shallow heading (about 25°), so the closing
-            # straight onto a lane lane_y away reaches some 2 lane_y along it: the window
-            # must hold the car at its end (a fixed window refused roomy aisles)
-            half += 2.0 * abs(lane_y)
-        if math.isfinite(lane_y):
-            first, last = self._span(lane, s_mid)
-            lane_x = (max(lo, -half, first - s0), min(lo + seg.length, half, last - s0))
-        return frame, lane_y, lane_x, s0, half
+            if kind_of(slot).parks_along:
+                # a parallel slot is left at a shallow heading (about 25°), so the closing
+                # straight onto a lane lane_y away reaches some 2 lane_y along it: the
+                # window must hold the car at its end (a fixed window refused roomy aisles)
+                half += 2.0 * abs(lane_y)
+            first, last = self._span(lane, float(stations[k]))
+            out.append((frame, lane_y, (max(lo, -half, first - s0),
+                                        min(lo + seg.length, half, last - s0)), s0, half))
+        return out
 
     def _span(self, lane: Lane, station: float) -> tuple[float, float]:
         """The (first, last) stations of ``lane`` where a maneuver may start nearest
@@ -242,12 +273,31 @@ class LotProblems:
 
     def _top(self, slot: Slot, frame: LocalFrame, half: float) -> float:
         """The window's top edge (local y): its half size, or the far side of the aisle less
-        the margin where that is nearer."""
-        aisle = self.lot.aisles[slot.aisle]
-        mid = shapely.Point(slot.entry.mean(axis=0))
-        on_line = aisle.line.interpolate(aisle.line.project(mid))
-        centre_y = float(frame.points_to_local(np.array([on_line.x, on_line.y]))[1])
-        return min(half, centre_y + aisle.width / 2 - self.margin)
+        the margin where that is nearer (:meth:`_tops` of the one slot)."""
+        return float(self._tops([slot], [frame], np.array([half]))[0])
+
+    def _tops(self, slots: Sequence[Slot], frames: Sequence[LocalFrame], halves: FloatArray
+              ) -> FloatArray:
+        """:meth:`_top` of each slot in its frame with its window's half size: where its
+        entry's middle lies across its aisle, an aisle at a time."""
+        n = len(slots)
+        mids = np.array([slot.entry for slot in slots], dtype=float).reshape(n, -1, 2).mean(
+            axis=1)
+        by_aisle: dict[str, list[int]] = {}
+        for k, slot in enumerate(slots):
+            by_aisle.setdefault(slot.aisle, []).append(k)
+        on_line = np.empty((n, 2))
+        widths = np.empty(n)
+        for aisle_id, at in by_aisle.items():
+            aisle = self.lot.aisles[aisle_id]
+            along = shapely.line_locate_point(aisle.line, shapely.points(mids[at]))
+            on_line[at] = shapely.get_coordinates(shapely.line_interpolate_point(aisle.line,
+                                                                                 along))
+            widths[at] = aisle.width
+        axes = _frames(frames)
+        centre_y = axes[:, 4] * (-axes[:, 3] * (on_line[:, 0] - axes[:, 0])
+                                 + axes[:, 2] * (on_line[:, 1] - axes[:, 1]))
+        return np.minimum(halves, centre_y + widths / 2 - self.margin)
 
     def digest(self, p: ManeuverProblem) -> bytes:
         """The car, the slot, the rounded local geometry within the window and where the
@@ -271,11 +321,10 @@ class LotProblems:
         n = len(triples)
         if n == 0:
             return []
-        heads = [self.head(*t) for t in triples]
+        heads = self.heads(triples)
         frames = [h[0] for h in heads]
         halves = np.array([h[4] for h in heads])
-        tops = np.array([self._top(slot, h[0], h[4]) for (_, slot, _), h
-                         in zip(triples, heads, strict=True)])
+        tops = self._tops([slot for _, slot, _ in triples], frames, halves)
         # what may meet each window: what meets its bounds in the world, a millimetre wider
         # (touching is decided in the slot's frame, to the micrometre)
         corners = np.stack([np.column_stack(c) for c in (
@@ -301,13 +350,18 @@ class LotProblems:
         at = np.searchsorted(k, np.arange(n + 1)).tolist()
         ground_wkb = shapely.to_wkb(ground).tolist()
         shape_wkb = shapely.to_wkb(shapes).tolist()
+        outlines = _micro(_to_local(np.array([slot.polygon for _, slot, _ in triples],
+                                             dtype=float), axes))
+        cars = {v: repr((v, self.margin, self.settings.sweep)).encode()
+                for v, _, _ in triples}
         keys, commons = [], []
-        for i, ((v, slot, _), (frame, lane_y, lane_x, s0, half)) in enumerate(
+        for i, ((v, slot, _), (_, lane_y, lane_x, s0, half)) in enumerate(
                 zip(triples, heads, strict=True)):
-            outline = _micro(frame.points_to_local(slot.polygon))
+            outline = outlines[i]
             commons.append(_common(v, slot, outline, lane_y, half))
             h = hashlib.blake2b(commons[-1], digest_size=20)
-            h.update(repr((v, self.margin, self.settings.sweep, float(halves[i]), float(tops[i]),
+            h.update(cars[v])
+            h.update(repr((float(halves[i]), float(tops[i]),
                            round(lane_y, 6) if math.isfinite(lane_y) else None,
                            self._along(lane_x, s0))).encode())
             h.update(outline.tobytes())
@@ -500,15 +554,21 @@ def _to_world(local: np.ndarray, axes: np.ndarray) -> np.ndarray:
     return np.stack([ox + c * lx - s * ly, oy + s * lx + c * ly], axis=-1)
 
 
+def _to_local(points: np.ndarray, axes: np.ndarray) -> np.ndarray:
+    """Points ``points[i, ...]`` in frame ``i`` of ``axes`` (:func:`_frames`): the sums of
+    :meth:`LocalFrame.points_to_local`, so the same floats."""
+    ox, oy, c, s, sy = (a.reshape((-1,) + (1,) * (points.ndim - 2)) for a in axes.T)
+    dx, dy = points[..., 0] - ox, points[..., 1] - oy
+    return np.stack([c * dx + s * dy, sy * (-s * dx + c * dy)], axis=-1)
+
+
 def _local(geoms: np.ndarray, axes: np.ndarray, owner: np.ndarray) -> np.ndarray:
     """Each of ``geoms`` in its frame, row ``owner[i]`` of ``axes`` (:func:`_frames`) for
     ``geoms[i]``, to the micrometre (the sums of :meth:`LocalFrame.points_to_local`, so the
     same floats)."""
     xy, at = shapely.get_coordinates(geoms, return_index=True)
-    ox, oy, c, s, sy = axes[np.asarray(owner)[at]].T
-    dx, dy = xy[:, 0] - ox, xy[:, 1] - oy
-    return shapely.set_coordinates(np.array(geoms, dtype=object), _micro(
-        np.stack([c * dx + s * dy, sy * (-s * dx + c * dy)], axis=-1)))
+    return shapely.set_coordinates(np.array(geoms, dtype=object),
+                                   _micro(_to_local(xy, axes[np.asarray(owner)[at]])))
 
 
 def _micro(xy: FloatArray) -> FloatArray:

@@ -498,6 +498,60 @@ def test_a_digest_depends_on_the_problem_alone(monkeypatch):
     assert 5 < len(set(got[0].values())) <= posed[0]
 
 
+@pytest.mark.parametrize("name", ["lots/culdesac", "lots/ring", "mixed_lot"])
+def test_a_batch_of_heads_is_each_slots_own_to_the_bit(name):
+    """:meth:`LotProblems.heads` works a lot's frames out a lane at a time; each is the
+    one the lane's own methods give, to the bit: the heading where the slot's entry
+    projects onto the lane, and the lane line and lane station in that frame (on curved
+    lanes and clothoids too)."""
+    from lotsim.maneuvers.problem import LocalFrame
+    from lotsim.sim.preparation import maneuver_planner
+
+    sc = load_scenario(ROOT / "scenarios" / f"{name}.yaml")
+    lot = build_lot(sc.lot, DesignVehicle.envelope(sc.vehicle_types))
+    planner = maneuver_planner(sc, lot)
+    triples = [(sc.vehicle_types[0], slot, lane) for slot in lot.slots
+               for lane in planner.lanes_for(slot)]
+    for (_, slot, lane), (frame, lane_y, lane_x, s0, half) in zip(
+            triples, planner.problems.heads(triples), strict=True):
+        mid = slot.entry.mean(axis=0)
+        station = lane.project((float(mid[0]), float(mid[1])))[0]
+        heading = lane.pose_at(station)[2]
+        assert (frame.x, frame.y, frame.heading) == (float(mid[0]), float(mid[1]), heading)
+        i, _ = lane.locate(station)
+        seg = lane.segments[i]
+        assert not (seg.curvature or seg.sharpness)  # no shipped slot is beside a bend
+        lo, y, _ = LocalFrame(frame.x, frame.y, heading, frame.mirror).poses_to_local(
+            np.array(seg.start))[0]
+        assert lane_y == y and s0 == float(lane.starts[i]) - lo
+        assert lane_x[0] <= lane_x[1] and half >= lane_x[1]
+    assert len(triples) > 10
+
+
+def test_a_head_beside_a_bend_has_the_lanes_heading_there_and_no_lane_line():
+    """:meth:`LotProblems.heads` beside an arc or a clothoid: the frame's heading is the
+    lane's own where the slot's entry projects onto it, to the bit; the lane line is NaN."""
+    from lotsim.core.geometry import Segment
+    from lotsim.lot.model import Lane
+    from lotsim.sim.preparation import maneuver_planner
+
+    sc = load_scenario(ROOT / "scenarios" / "mixed_lot.yaml")
+    lot = build_lot(sc.lot, DesignVehicle.envelope(sc.vehicle_types))
+    planner = maneuver_planner(sc, lot)
+    slot = lot.slots[3]
+    lane = planner.lanes_for(slot)[0]
+    mid = slot.entry.mean(axis=0)
+    start = lane.pose_at(lane.project((float(mid[0]), float(mid[1])))[0] - 6.0)
+    bent = [Lane(f"bent{k}{g}", lane.aisle, (Segment(start, 12.0, k, g),), lane.offset,
+                 lane.with_polyline) for k, g in ((0.02, 0.0), (0.0, 0.004), (0.01, -0.002))]
+    heads = planner.problems.heads([(sc.vehicle_types[0], slot, b) for b in bent])
+    for other, (frame, lane_y, lane_x, s0, _) in zip(bent, heads, strict=True):
+        station = other.project((float(mid[0]), float(mid[1])))[0]
+        assert 0.5 < station < 11.5
+        assert frame.heading == other.pose_at(station)[2]
+        assert math.isnan(lane_y) and (lane_x, s0) == ((0.0, 0.0), 0.0)
+
+
 def test_the_settings_are_used():
     narrow = QUICK.replace("width: 7.0", "width: 4.6")
     lot, _ = _lot(narrow)
