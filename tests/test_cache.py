@@ -487,7 +487,7 @@ def test_a_lot_prepared_again_takes_its_roadmap_and_maneuver_times_from_the_stor
         raise AssertionError("worked out again")
 
     monkeypatch.setattr(Maneuver, "duration", refused)
-    monkeypatch.setattr(junctions, "junction_turns", refused)
+    monkeypatch.setattr(junctions, "_lane_junctions", refused)
     again = prepare_lot(sc, remember_from=1)
     assert not again.lot_graph.from_cache
     assert _graph(again.lot_graph) == _graph(first.lot_graph)

@@ -83,6 +83,32 @@ class Collider:
         h.update(shapely.to_wkb(shapely.normalize(shapely.intersection(self.allowed, area))))
         return h.digest()
 
+    def local_digest(self, frame: tuple[float, float, float],
+                     box: tuple[float, float, float, float]) -> bytes:
+        """A digest of what a check of a body inside ``box`` (x min, y min, x max, y max in
+        ``frame``: origin x, y [m], heading [rad]) reads, seen from ``frame`` to the
+        micrometre: the obstacles and the allowed region cut at the box. Two places of one
+        lot (or two lots) with equal digests hold the same shapes about them, so bodies
+        placed alike in each are found free alike (but at a micrometre's noise). What an
+        obstacle is called is left out."""
+        ox, oy, heading = frame
+        c, s = math.cos(heading), math.sin(heading)
+        x0, y0, x1, y1 = box
+        region = shapely.Polygon([(ox + c * x - s * y, oy + s * x + c * y)
+                                  for x, y in ((x0, y0), (x1, y0), (x1, y1), (x0, y1))])
+        near = self.tree.geometries.take(self.tree.query(region, predicate="intersects"))
+        cut = shapely.intersection(np.append(near, self.allowed), region)
+
+        def seen(xy: FloatArray) -> FloatArray:
+            dx, dy = xy[:, 0] - ox, xy[:, 1] - oy
+            return np.round(np.column_stack([c * dx + s * dy, c * dy - s * dx]), 6) + 0.0
+
+        wkb = shapely.to_wkb(shapely.normalize(shapely.transform(cut, seen))).tolist()
+        h = hashlib.blake2b(wkb[-1], digest_size=20)
+        for g in sorted(wkb[:-1]):
+            h.update(g)
+        return h.digest()
+
     @staticmethod
     def sweeps(footprints: FloatArray) -> FloatArray:
         """Point sets (N-1, 8, 2) of consecutive footprint pairs: their hulls cover the sweep."""

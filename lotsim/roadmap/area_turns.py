@@ -4,6 +4,7 @@ turn between the lanes themselves would touch a corner slot."""
 
 from __future__ import annotations
 
+import hashlib
 import itertools
 import math
 from dataclasses import dataclass
@@ -87,6 +88,26 @@ def area_turns(a, sa0, pa, b, sb0, pb, design, collider: Collider,
     compact = found.first(np.lexsort((found.times, found.used)).tolist())
     return [Turn(a.id, sa0 + float(found.starts[k]), b.id, sb0 + float(found.ends[k]),
                  tuple(found.paths[k]), True) for k in dict.fromkeys((quick, compact))]
+
+
+def candidates_shape(pa: Segment, pb: Segment, design, lot_speed: float,
+                     frame: tuple[float, float, float]) -> bytes:
+    """What a search of :func:`area_turns` from ``pa`` into ``pb`` (no ``via``) tries, in
+    ``frame`` (origin x, y [m], heading [rad]) to the micrometre: the car and every
+    candidate's polyline, corner radius and clothoid sharpness. At two junctions with the
+    same shape, and the same obstacles about them
+    (:meth:`~lotsim.lot.clearance.Collider.local_digest`), the searches try the same
+    paths against the same obstacles."""
+    blocks = _candidate_blocks(_Layout.of(pa, pb, (), ()), pa, pb, design, lot_speed)
+    h = hashlib.blake2b(repr((design, lot_speed)).encode(), digest_size=20)
+    ox, oy, heading = frame
+    c, s = math.cos(heading), math.sin(heading)
+    for pts, *_, r, sharp in blocks:
+        dx, dy = pts[..., 0] - ox, pts[..., 1] - oy
+        local = np.round(np.stack([c * dx + s * dy, c * dy - s * dx], axis=-1), 6) + 0.0
+        h.update(repr((r, sharp, local.shape)).encode())
+        h.update(local.tobytes())
+    return h.digest()
 
 
 @dataclass(frozen=True)
@@ -173,14 +194,15 @@ def _candidate_blocks(lay: _Layout, pa: Segment, pb: Segment, design, lot_speed:
             blocks.append((pts, rough / speed, db[rows] - da[rows], da[rows], db[rows], r,
                            sharp))
 
+    ta, tb = lay.ta[oi], lay.tb[oi]
+    shift_a, shift_b = u != 0.0, w != 0.0
+    drift_a, drift_b = np.arctan2(np.abs(u), la), np.arctan2(np.abs(w), lb)
     for f, speed in _area_designs(design, lot_speed):
         r = f * design.min_radius
         sharp = design.sharpness(speed)
-        pre = np.where(u != 0.0, _approx_tangent(np.arctan2(np.abs(u), la), r, sharp) + 0.05,
-                       0.0)
-        post = np.where(w != 0.0, _approx_tangent(np.arctan2(np.abs(w), lb), r, sharp) + 0.05,
-                        0.0)
-        da, db = lay.ta[oi] - la - pre, lay.tb[oi] + lb + post
+        pre = np.where(shift_a, _approx_tangent(drift_a, r, sharp) + 0.05, 0.0)
+        post = np.where(shift_b, _approx_tangent(drift_b, r, sharp) + 0.05, 0.0)
+        da, db = ta - la - pre, tb + lb + post
         ok = ((da >= -EPS) & (da <= pa.length + EPS) & (db >= -EPS)
               & (db <= pb.length + EPS)
               # the corners' turns must leave room for the drifts' (road designers'
@@ -199,14 +221,14 @@ def _candidate_blocks(lay: _Layout, pa: Segment, pb: Segment, design, lot_speed:
         # other shifted line, drift back (the drift ends before the corner's turn begins, so
         # a wide shift does not sharpen the corner: a big car's way round a corner slot)
         corner = _approx_tangent(lay.bends[0], r, sharp)
-        g1 = np.where(u != 0.0, corner + pre + 0.05, 0.0)
-        g2 = np.where(w != 0.0, corner + post + 0.05, 0.0)
-        da, db = lay.ta[oi] - g1 - la - pre, lay.tb[oi] + g2 + lb + post
-        ok = (((u != 0.0) | (w != 0.0)) & (da >= -EPS) & (da <= pa.length + EPS)
+        g1 = np.where(shift_a, corner + pre + 0.05, 0.0)
+        g2 = np.where(shift_b, corner + post + 0.05, 0.0)
+        da, db = ta - g1 - la - pre, tb + g2 + lb + post
+        ok = ((shift_a | shift_b) & (da >= -EPS) & (da <= pa.length + EPS)
               & (db >= -EPS) & (db <= pb.length + EPS)
               & (2 * pre <= lay.legs[0] * 1.01) & (2 * post <= lay.legs[1] * 1.01))
-        on_a = lay.origins[0] + (lay.ta[oi] - g1 - la)[:, None] * dirs[0]
-        on_b = lay.origins[-1] + (lay.tb[oi] + g2 + lb)[:, None] * dirs[-1]
+        on_a = lay.origins[0] + (ta - g1 - la)[:, None] * dirs[0]
+        on_b = lay.origins[-1] + (tb + g2 + lb)[:, None] * dirs[-1]
         add(ok, [on_a - dirs[0] * pre[:, None], on_a, c_first - dirs[0] * g1[:, None], c_first,
                  c_last + dirs[-1] * g2[:, None], on_b, on_b + dirs[-1] * post[:, None]],
             speed, da, db, r, sharp)

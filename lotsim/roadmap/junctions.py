@@ -7,19 +7,21 @@ junction's area (:mod:`lotsim.roadmap.area_turns`) or through a short stretch of
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
 
 import numpy as np
 import shapely
 
 from lotsim.core.geometry import Segment, cc_turn, sample_segments, wrap_angle
+from lotsim.core.workers import fork_map
 from lotsim.lot.build import SWEEP_STEP
-from lotsim.lot.clearance import Collider
+from lotsim.lot.clearance import Collider, Watched
 from lotsim.lot.model import DesignVehicle, Lot, unit
-from lotsim.roadmap.area_turns import area_turns
+from lotsim.roadmap.area_turns import area_turns, candidates_shape
 from lotsim.roadmap.lanes import EPS, portal_station, straights
 from lotsim.roadmap.memo import RoadmapMemo, types_key
 from lotsim.roadmap.model import Turn
-from lotsim.roadmap.remembered import piece_key, worked_out
+from lotsim.roadmap.remembered import MISSING, keep, piece_key, recall, worked_out
 from lotsim.roadmap.through import through_chains, through_turn
 
 TURN_SPEEDS = tuple(k / 3.6 for k in (15.0, 12.5, 10.0, 7.5, 5.0, 3.0, 1.5))
@@ -126,11 +128,139 @@ def _fillet_between(a, sa0, pa, b, sb0, pb, aisle_a, aisle_b, reach, design,
     found = [clear[k] for k in dict.fromkeys(k for k in picked if k is not None)]
     if found:
         return found
-    wide = area_turns(a, sa0, pa, b, sb0, pb, design, collider, lot_speed)
-    if wide:
-        return wide
-    return (f"turn {a.id} → {b.id} near ({x[0]:.1f}, {x[1]:.1f}) skipped: {reason}"
-            if reason and "touches" in reason else None)
+    frame = (float(x[0]), float(x[1]), pa.start[2])
+    return _Wide(a.id, sa0, pa, b.id, sb0, pb, design, frame,
+                 candidates_shape(pa, pb, design, lot_speed, frame),
+                 f"turn {a.id} → {b.id} near ({x[0]:.1f}, {x[1]:.1f}) skipped: {reason}"
+                 if reason and "touches" in reason else None)
+
+
+@dataclass(frozen=True)
+class _Wide:
+    """A junction turn through the junction's area to search (:func:`area_turns`), where
+    no turn between the lanes is clear: from straight ``pa`` of lane ``a`` (at station
+    ``sa0``) into ``pb`` of lane ``b``, for ``design``. ``frame``: the lanes' crossing and
+    ``pa``'s heading, where ``shape`` (:func:`candidates_shape`) is seen; ``note``: what is
+    said of the junction when none is found."""
+
+    a: str
+    sa0: float
+    pa: Segment
+    b: str
+    sb0: float
+    pb: Segment
+    design: DesignVehicle
+    frame: tuple[float, float, float]
+    shape: bytes
+    note: str | None
+
+
+NOTHING_READ = (math.inf, math.inf, -math.inf, -math.inf)
+"""The box of a search that checked no body (:class:`~lotsim.lot.clearance.Watched`)."""
+
+
+def wide_turns(lot: Lot, wides: list[_Wide], collider: Collider, *, run=fork_map
+               ) -> list[tuple[list[Turn], tuple[float, float, float, float]]]:
+    """The turns :func:`area_turns` finds for each of ``wides``, with the box its checks
+    read (:class:`~lotsim.lot.clearance.Watched`).
+
+    Junctions alike (a regular lot's, most of them) ask the same search: the same
+    candidate paths (:attr:`_Wide.shape`) near the same obstacles. The first of each shape
+    is searched; where it finds nothing, so does each other whose obstacles about it, in
+    the box the first's checks read, are the first's to the micrometre
+    (:meth:`~lotsim.lot.clearance.Collider.local_digest`), without a search (its box: that
+    box about it). The others are searched on their own. Which is first is the order of
+    ``wides``, so the answers are the same on any number of cores (``run``: a map, on
+    forked workers by default)."""
+    lanes = {lane.id: lane for lane in lot.lanes}
+
+    def search(k: int) -> tuple[list[Turn], tuple]:
+        w = wides[k]
+        eye = Watched(collider)
+        turns = area_turns(lanes[w.a], w.sa0, w.pa, lanes[w.b], w.sb0, w.pb, w.design, eye,
+                           lot.speed_limit)
+        return turns, eye.box
+
+    groups: dict[bytes, list[int]] = {}
+    for k, w in enumerate(wides):
+        groups.setdefault(w.shape, []).append(k)
+    out: list = [None] * len(wides)
+    firsts = [ks[0] for ks in groups.values()]
+    for k, got in zip(firsts, run(search, firsts), strict=True):
+        out[k] = got
+    alone = []
+    for first, *others in groups.values():
+        turns, box = out[first]
+        if turns or not others:
+            alone += others
+            continue
+        if box == NOTHING_READ:  # no candidate could be built: none anywhere alike
+            for k in others:
+                out[k] = ([], NOTHING_READ)
+            continue
+        local = _seen_from(wides[first].frame, box)
+        mark = collider.local_digest(wides[first].frame, local)
+        for k in others:
+            if collider.local_digest(wides[k].frame, local) == mark:
+                out[k] = ([], _box_about(wides[k].frame, local))
+            else:
+                alone.append(k)
+    alone.sort()
+    for k, got in zip(alone, run(search, alone), strict=True):
+        out[k] = got
+    return out
+
+
+def _corners(box: tuple[float, float, float, float]) -> list[tuple[float, float]]:
+    x0, y0, x1, y1 = box
+    return [(x0, y0), (x1, y0), (x1, y1), (x0, y1)]
+
+
+def _seen_from(frame: tuple[float, float, float], box: tuple[float, float, float, float]
+               ) -> tuple[float, float, float, float]:
+    """The box, square to ``frame``, holding the world ``box``, a millimetre wider."""
+    ox, oy, heading = frame
+    c, s = math.cos(heading), math.sin(heading)
+    pts = [(c * (x - ox) + s * (y - oy), c * (y - oy) - s * (x - ox)) for x, y in _corners(box)]
+    xs, ys = [p[0] for p in pts], [p[1] for p in pts]
+    return min(xs) - 0.001, min(ys) - 0.001, max(xs) + 0.001, max(ys) + 0.001
+
+
+def _box_about(frame: tuple[float, float, float], local: tuple[float, float, float, float]
+               ) -> tuple[float, float, float, float]:
+    """The world box holding ``local`` (a box in ``frame``)."""
+    ox, oy, heading = frame
+    c, s = math.cos(heading), math.sin(heading)
+    pts = [(ox + c * x - s * y, oy + s * x + c * y) for x, y in _corners(local)]
+    xs, ys = [p[0] for p in pts], [p[1] for p in pts]
+    return min(xs), min(ys), max(xs), max(ys)
+
+
+def _joined(box: tuple, other: tuple) -> tuple[float, float, float, float]:
+    return (min(box[0], other[0]), min(box[1], other[1]), max(box[2], other[2]),
+            max(box[3], other[3]))
+
+
+def _assembled(entries: list, answers) -> tuple[list[Turn], list[str], list[tuple]]:
+    """A lane's junction turns and notes from its ``entries`` (:func:`_lane_junctions`),
+    each :class:`_Wide` answered by the next of ``answers`` (:func:`wide_turns`), with the
+    boxes those read."""
+    turns: list[Turn] = []
+    skipped: list[str] = []
+    boxes = []
+    for entry in entries:
+        if isinstance(entry, _Wide):
+            wide, box = next(answers)
+            boxes.append(box)
+            if wide:
+                turns.extend(wide)
+            elif entry.note:
+                skipped.append(entry.note)
+        elif isinstance(entry, list):
+            turns.extend(entry)
+        else:
+            skipped.append(entry)
+    return turns, skipped, boxes
 
 
 def gate_stations(lot: Lot) -> dict[tuple[str, str], list[float]]:
@@ -147,30 +277,39 @@ def junction_turns(lot: Lot, collider: Collider, design: DesignVehicle | None = 
                    lanes_a=None, gates: dict[tuple[str, str], list[float]] | None = None
                    ) -> tuple[list[Turn], list[str]]:
     """Arcs between lanes of aisles that meet, each swept clear with ``design`` (default
-    the lot's design vehicle): out of ``lanes_a`` (default every lane). ``gates``: the
+    the lot's design vehicle): out of ``lanes_a`` (default every lane); where none between
+    two lanes is clear, through the junction's area (:func:`wide_turns`). ``gates``: the
     lot's :func:`gate_stations`, when the caller has them."""
     design = design or lot.design
-    turns: list[Turn] = []
-    skipped: list[str] = []
-    lanes = lot.lanes
     gates = gate_stations(lot) if gates is None else gates
-    for a in lanes if lanes_a is None else lanes_a:
-        for b in lanes:
-            if a.aisle == b.aisle:
-                continue
-            aisle_a, aisle_b = lot.aisles[a.aisle], lot.aisles[b.aisle]
-            reach = max(aisle_a.width, aisle_b.width) / 2 + 1.0
-            for sa0, pa in straights(a):
-                for sb0, pb in straights(b):
-                    turn = _fillet_between(a, sa0, pa, b, sb0, pb, aisle_a, aisle_b, reach,
-                                           design, collider, lot.speed_limit,
-                                           (tuple(gates.get((a.id, "in"), ())),
-                                            tuple(gates.get((b.id, "out"), ()))))
-                    if isinstance(turn, list):
-                        turns.extend(turn)
-                    elif turn:
-                        skipped.append(turn)
+    entries = [e for a in (lot.lanes if lanes_a is None else lanes_a)
+               for e in _lane_junctions(lot, collider, design, a, gates)]
+    wides = [e for e in entries if isinstance(e, _Wide)]
+    answers = wide_turns(lot, wides, collider, run=lambda fn, items: [fn(k) for k in items])
+    turns, skipped, _ = _assembled(entries, iter(answers))
     return turns, skipped
+
+
+def _lane_junctions(lot: Lot, collider: Collider, design: DesignVehicle, a,
+                    gates: dict[tuple[str, str], list[float]]) -> list:
+    """The turns out of lane ``a`` into each lane of another aisle it meets
+    (:func:`_fillet_between`), in order: for each pair of straights that meet, the turns
+    found, a note of why none is, or the turn through the junction's area to search."""
+    out: list = []
+    for b in lot.lanes:
+        if a.aisle == b.aisle:
+            continue
+        aisle_a, aisle_b = lot.aisles[a.aisle], lot.aisles[b.aisle]
+        reach = max(aisle_a.width, aisle_b.width) / 2 + 1.0
+        for sa0, pa in straights(a):
+            for sb0, pb in straights(b):
+                turn = _fillet_between(a, sa0, pa, b, sb0, pb, aisle_a, aisle_b, reach,
+                                       design, collider, lot.speed_limit,
+                                       (tuple(gates.get((a.id, "in"), ())),
+                                        tuple(gates.get((b.id, "out"), ()))))
+                if turn:
+                    out.append(turn)
+    return out
 
 
 def turns_of(lot: Lot, collider: Collider, designs: dict[str, DesignVehicle] | None,
@@ -227,14 +366,37 @@ def turns_per_design(lot: Lot, collider: Collider, designs: list,
     (:func:`~lotsim.core.workers.fork_map`; the same answers in the same order), each
     taken from ``memo``'s store of an earlier preparation where what it read is the same
     (:mod:`~lotsim.roadmap.remembered`)."""
-    jobs = [(design, a) for design in designs for a in lot.lanes]
+    jobs = [(design or lot.design, a) for design in designs for a in lot.lanes]
     gates = gate_stations(lot)
-    base = memo.lot_key if memo is not None and memo.known is not None else b""
-    found = worked_out(
-        memo, [piece_key(base, "junction", design or lot.design, a.id, sorted(gates.items()))
-                for design, a in jobs], collider,
-        lambda k, eye: junction_turns(lot, eye, jobs[k][0], lanes_a=(jobs[k][1],),
-                                      gates=gates))
+    known = memo.known if memo is not None else None
+    base = memo.lot_key if known is not None else b""
+    keys = [piece_key(base, "junction", design, a.id, sorted(gates.items()))
+            for design, a in jobs]
+    found = [recall(known, key, collider) for key in keys]
+    todo = [k for k, got in enumerate(found) if got is MISSING]
+
+    def lane(k: int) -> tuple[list, tuple | None, bytes | None]:
+        eye = Watched(collider) if known is not None else collider
+        entries = _lane_junctions(lot, eye, *jobs[k], gates)
+        if known is None:
+            return entries, None, None
+        return entries, eye.box, collider.around(eye.box)
+
+    parts = fork_map(lane, todo)
+    answers = iter(wide_turns(lot, [e for entries, _, _ in parts for e in entries
+                                    if isinstance(e, _Wide)], collider))
+    for k, (entries, box, digest) in zip(todo, parts, strict=True):
+        turns, skipped, boxes = _assembled(entries, answers)
+        found[k] = (turns, skipped)
+        if known is not None:
+            if boxes:  # what its turns through the junction's area read, too
+                for other in boxes:
+                    box = _joined(box, other)
+                digest = collider.around(box)
+            keep(known, keys[k], (found[k], box, digest))
+    if memo is not None:
+        memo.recalled += len(keys) - len(todo)
+        memo.worked += len(todo)
     per = []
     for k in range(len(designs)):
         mine = found[k * len(lot.lanes):(k + 1) * len(lot.lanes)]

@@ -248,3 +248,66 @@ def test_roadmap_pieces_remembered_from_an_earlier_lot_are_taken_only_where_unch
     edited, third = graph(doc, known)
     assert edited == plain
     assert third.recalled > 0 and third.worked > 0
+
+
+@pytest.mark.parametrize("lot_name", ["large_lot", "lots/gate_spur"])
+def test_junctions_alike_share_a_search_through_their_area_and_find_what_each_finds(
+        lot_name, monkeypatch):
+    """The turns through a junction's area are searched once per shape of candidates
+    and obstacles about them: the junction turns are those found with every junction
+    searched on its own, in fewer searches (the large lot's junctions are mostly alike;
+    the gate spur's, irregular, some)."""
+    from lotsim.roadmap import junctions
+
+    sc = load_scenario(ROOT / "scenarios" / f"{lot_name}.yaml")
+    lot = build_lot(sc.lot, DesignVehicle.envelope(sc.vehicle_types))
+    collider = lane_collider(lot)
+    searches = []
+    real_search = junctions.area_turns
+
+    def counted(*args, **kwargs):
+        searches.append(args[1:3])
+        return real_search(*args, **kwargs)
+
+    monkeypatch.setattr(junctions, "area_turns", counted)
+    shared = junction_turns(lot, collider)
+    alike = len(searches)
+    searches.clear()
+    each = iter(range(10**6))  # every junction a shape of its own
+    monkeypatch.setattr(junctions, "candidates_shape", lambda *a: next(each).to_bytes(4, "big"))
+    assert junction_turns(lot, collider) == shared
+    assert alike < len(searches)
+    if lot_name == "large_lot":
+        assert len(searches) > 10 * alike
+
+
+def test_obstacles_seen_from_a_place_are_digested_where_they_lie_about_it():
+    """:meth:`Collider.local_digest`: a lot moved and turned holds the same about the
+    same place; an obstacle moved inside the box is seen, one outside it is not."""
+    import shapely
+
+    from lotsim.lot.clearance import Collider
+
+    def collider(shift, turn, extra):
+        def place(g):
+            return shapely.affinity.translate(shapely.affinity.rotate(
+                g, turn, origin=(0, 0), use_radians=True), *shift)
+        obstacles = [("a", shapely.box(2, 1, 4, 3)), ("b", shapely.box(-5, -1, -3, 0)),
+                     ("far", shapely.box(*extra))]
+        return Collider([(k, place(g)) for k, g in obstacles],
+                        place(shapely.box(-20, -20, 20, 20)))
+
+    def frame(shift, turn, x, y, heading):
+        c, s = math.cos(turn), math.sin(turn)
+        return (shift[0] + c * x - s * y, shift[1] + s * x + c * y, heading + turn)
+
+    box = (-6.0, -2.0, 6.0, 4.0)
+    here = collider((0, 0), 0.0, (30, 30, 31, 31)).local_digest((0.5, 0.5, 0.2), box)
+    moved = collider((123.4, -56.7), 1.1, (30, 30, 31, 31))
+    assert moved.local_digest(frame((123.4, -56.7), 1.1, 0.5, 0.5, 0.2), box) == here
+    outside = collider((0, 0), 0.0, (8.5, 8.5, 9.0, 9.0))  # beyond the box, turned 0.2 rad
+    assert outside.local_digest((0.5, 0.5, 0.2), box) == here
+    inside = collider((0, 0), 0.0, (0.0, 3.0, 0.5, 3.5))
+    assert inside.local_digest((0.5, 0.5, 0.2), box) != here
+    assert collider((0, 0), 0.0, (30, 30, 31, 31)).local_digest((0.5, 0.5, 0.2),
+                                                                (-6.0, -2.0, 6.0, 2.0)) != here
