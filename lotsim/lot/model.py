@@ -173,6 +173,26 @@ class Lane:
         x, y, t = self.segments[i].poses_at(d)[0]
         return (float(x), float(y), float(t))
 
+    def poses_at(self, stations: FloatArray) -> list[Pose]:
+        """:meth:`pose_at` of each of ``stations`` [m], the same floats: the stations on a
+        straight or an arc at once."""
+        stations = np.asarray(stations, dtype=float)
+        i = np.clip(np.searchsorted(self.starts, stations, side="right") - 1, 0,
+                    len(self.segments) - 1)
+        lengths = np.array([seg.length for seg in self.segments])
+        d = np.minimum(np.maximum(stations - self.starts[i], 0.0), lengths[i])
+        out: list = [None] * len(stations)
+        for j in np.unique(i).tolist():
+            at = np.flatnonzero(i == j)
+            seg = self.segments[j]
+            if seg.sharpness == 0.0:
+                poses = seg.poses_at(d[at]).tolist()
+            else:  # a clothoid's quadrature depends on the farthest station: one at a time
+                poses = [seg.poses_at(float(x))[0].tolist() for x in d[at]]
+            for k, pose in zip(at.tolist(), poses, strict=True):
+                out[k] = tuple(pose)
+        return out
+
     def curvature_at(self, station: float) -> float:
         """Signed curvature of the lane at ``station`` [1/m] (continuous along it)."""
         i, d = self.locate(station)

@@ -14,7 +14,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 import shapely
 
-from lotsim.core.geometry import Segment, sample_segments, wrap_angle
+from lotsim.core.geometry import Pose, Segment, sample_segments, wrap_angle
 from lotsim.core.workers import fork_map
 from lotsim.lot.build import lane_collider
 from lotsim.lot.kinds import kind_of
@@ -162,11 +162,12 @@ def _lane_network(lot: Lot, attach: dict[str, list[tuple[str, float]]], node_spa
         st = _spaced(np.array(stations[lid]), lane.length, node_spacing)
         net.index[lid] = st
         net.first[lid] = first = g.number_of_nodes()
+        poses = lane.poses_at(st)
         for k, s in enumerate(st):
-            g.add_node(first + k, pose=lane.pose_at(float(s)), kind="lane", lane=lid,
+            g.add_node(first + k, pose=poses[k], kind="lane", lane=lid,
                        station=float(s), curvature=lane.curvature_at(float(s)))
         for k in range(len(st) - 1):
-            seg = _lane_piece(lane, float(st[k]), float(st[k + 1]))
+            seg = _lane_piece(lane, float(st[k]), float(st[k + 1]), poses[k])
             _add_edge(g, lot, first + k, first + k + 1, (seg,), "lane")
     for kind, links in (("turn", tagged), ("turnaround", backs)):
         for t, types in links:
@@ -340,12 +341,16 @@ def _spaced(stations: np.ndarray, length: float, spacing: float) -> np.ndarray:
     return np.concatenate(out)
 
 
-def _lane_piece(lane: Lane, s0: float, s1: float) -> Segment:
+def _lane_piece(lane: Lane, s0: float, s1: float, start: Pose) -> Segment:
+    """The lane between stations ``s0 < s1`` (``start``: its pose at ``s0``,
+    :meth:`~lotsim.lot.model.Lane.pose_at`): :meth:`~lotsim.core.geometry.Segment.piece`
+    of the segment ``s0`` lies on."""
     i, d0 = lane.locate(s0)
     seg = lane.segments[i]
     # A piece ending exactly on the next segment's start still belongs to segment i.
     d1 = min(s1 - float(lane.starts[i]), seg.length)
-    return seg.piece(d0, d1)
+    return Segment(start, seg.gear * (d1 - d0), seg.curvature + seg.sharpness * d0,
+                   seg.sharpness)
 
 
 def _path_limit(lot: Lot, path) -> float:

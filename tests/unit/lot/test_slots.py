@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 import shapely
 
-from conftest import scenario_from_text
+from conftest import ROOT, scenario_from_text
 from lotsim.lot.build import build_lot
 from lotsim.lot.model import DesignVehicle
 
@@ -149,3 +149,29 @@ def test_listed_occupancy():
     lot = lot_from_text(OCC.format(occ="[P1, P7]"))
     assert lot.occupied == {"P1", "P7"}
     assert len(lot.free_slots) == 18
+
+
+@pytest.mark.parametrize("name", ["lots/short_loop", "lots/ring"])
+def test_a_lanes_poses_at_many_stations_are_each_stations_own_to_the_bit(name):
+    """:meth:`Lane.poses_at` takes a segment's stations at once: each pose is the one
+    :meth:`Lane.pose_at` gives, to the bit, on straights, arcs and clothoids, at the lane's
+    ends, its segments' joins and past its ends."""
+    from lotsim.io.scenario_yaml import load_scenario
+
+    sc = load_scenario(ROOT / "scenarios" / f"{name}.yaml")
+    lot = build_lot(sc.lot, DesignVehicle.envelope(sc.vehicle_types))
+    kinds = set()
+    for lane in lot.lanes:
+        kinds |= {(s.curvature != 0.0, s.sharpness != 0.0) for s in lane.segments}
+        stations = np.concatenate([np.linspace(-1.0, lane.length + 1.0, 97), lane.starts,
+                                   [lane.length]])
+        assert lane.poses_at(stations) == [lane.pose_at(float(s)) for s in stations]
+    assert (False, False) in kinds
+    assert any(sharp for _, sharp in kinds) == (name == "lots/short_loop")  # its bends
+    # a long clothoid, turning by 4.5 rad: its quadrature takes more cells farther along
+    from lotsim.core.geometry import Segment
+    from lotsim.lot.model import Lane
+
+    spiral = Lane("spiral", "a", (Segment((1.0, 2.0, 0.3), 30.0, 0.0, 0.01),), 0.0, True)
+    stations = np.linspace(0.0, 30.0, 61)
+    assert spiral.poses_at(stations) == [spiral.pose_at(float(s)) for s in stations]
