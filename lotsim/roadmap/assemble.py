@@ -250,9 +250,14 @@ def _durations(lot: Lot, maneuvers: dict, leaving: dict, stays: dict, types: dic
     (a duration is a function of the shape, the vehicle type and the limit), where those
     timed now are kept."""
 
+    shapes: dict[int, tuple] = {}  # by the path's id: every path is held by the caller
+
     def shape(path, vname: str, limit: float) -> tuple:
         """What the maneuver's time depends on: its pieces' shapes, not where they lie."""
-        return vname, limit, path.shapes()
+        got = shapes.get(id(path))
+        if got is None:
+            got = shapes[id(path)] = path.shapes()
+        return vname, limit, got
 
     todo: dict[tuple, tuple] = {}
     for kept, both in ((maneuvers, True), (stays, False)):

@@ -82,10 +82,12 @@ def lane_links(lg: LotGraph, vehicle: str | None = None
     return ahead, back
 
 
-def lane_reach(lg: LotGraph, vehicle: str | None = None) -> tuple[set[int], set[int]]:
+def lane_reach(lg: LotGraph, vehicle: str | None = None, links: tuple | None = None
+               ) -> tuple[set[int], set[int]]:
     """Lane nodes reachable from an entrance, and lane nodes that reach an exit (any, when
-    the lot has no exits); with ``vehicle``, only by the turns that type can make."""
-    ahead, back = lane_links(lg, vehicle)
+    the lot has no exits); with ``vehicle``, only by the turns that type can make
+    (``links``: its :func:`lane_links`, when the caller has them)."""
+    ahead, back = lane_links(lg, vehicle) if links is None else links
     come = spread(ahead, lg.entrances.values())
     go = spread(back, lg.exits.values()) if lg.exits else set(ahead)
     return come, go
@@ -131,15 +133,17 @@ def maneuver_ranges(lg: LotGraph) -> dict[str, tuple[tuple[float, float], ...]]:
     return out
 
 
-def leavable_edges(lg: LotGraph, vehicle: str | None = None) -> Iterator[tuple[int, int]]:
+def leavable_edges(lg: LotGraph, vehicle: str | None = None, go: set[int] | None = None
+                   ) -> Iterator[tuple[int, int]]:
     """Park edges ``(lane node, slot node)`` a car that will leave again may park by, as
     found slot by slot (some more than once): its maneuver (for ``vehicle``, or for any
     type) parks it on a pose a leave edge of the same type leaves from towards a lane node
     from which an exit can be reached (any, when the lot has no exits). The leave edge need
     not end where the park edge began: a slot parked on one pose from two lanes is left
-    towards either."""
+    towards either. ``go``: the lane nodes that reach an exit (:func:`lane_reach`), when
+    the caller has them."""
     g = lg.graph
-    go = lane_reach(lg, vehicle)[1]
+    go = lane_reach(lg, vehicle)[1] if go is None else go
     for node in lg.slot_nodes.values():
         leaves = [d for _, w, d in g.out_edges(node, data=True)
                   if d["kind"] == "leave" and w in go]
@@ -162,6 +166,15 @@ def find_reachability(lg: LotGraph) -> Reachability:
     g = lg.graph
     free = [s.id for s in lg.lot.free_slots]
     ahead, back = lane_links(lg)
+    # a type's own links are every type's where no turn or turnaround is for some only
+    typed = any(d.get("types") is not None for _, _, d in g.edges(data=True))
+    reaches: dict[str | None, tuple[set[int], set[int]]] = {}
+
+    def reach(vehicle: str | None) -> tuple[set[int], set[int]]:
+        key = vehicle if typed else None
+        if key not in reaches:
+            reaches[key] = lane_reach(lg, key, None if key else (ahead, back))
+        return reaches[key]
 
     def missing(seen: set[int], links) -> list[str]:
         return [sid for sid in free if not any(n in seen for n in links(lg.slot_nodes[sid]))]
@@ -170,7 +183,7 @@ def find_reachability(lg: LotGraph) -> Reachability:
                    for name, node in lg.entrances.items()}
     stranded = {name: missing(spread(back, [node]), g.successors)
                 for name, node in lg.exits.items()}
-    come, go = lane_reach(lg)
+    come, go = reach(None)
     no_way_in = missing(come, g.predecessors)
 
     def parks_to_leave(out: frozenset[tuple[int, int]], seen: set[int], sid: str) -> bool:
@@ -180,13 +193,13 @@ def find_reachability(lg: LotGraph) -> Reachability:
         return any(u in seen and (u, node) in out for u in g.predecessors(node))
 
     # a car leaves from the pose it parked on, by any leave edge from there
-    out = frozenset(leavable_edges(lg))
+    out = frozenset(leavable_edges(lg, go=go))
     no_way_out = [sid for sid in free
                   if sid not in no_way_in and not parks_to_leave(out, come, sid)]
     by_type = {}
     for name in sorted({v for _, _, d in g.edges(data=True) if d["kind"] == "park"
                         for v in d["maneuvers"]}):
-        come, go = lane_reach(lg, name)
+        come, go = reach(name)
         fits = {sid for sid in free if any(
             name in g.edges[u, lg.slot_nodes[sid]]["maneuvers"]
             for u in g.predecessors(lg.slot_nodes[sid]))}
@@ -197,7 +210,7 @@ def find_reachability(lg: LotGraph) -> Reachability:
                        for u in g.predecessors(node))
 
         no_in = [sid for sid in free if sid in fits and not parks_from(come, sid)]
-        out = frozenset(leavable_edges(lg, name))  # only park edges with a maneuver for it
+        out = frozenset(leavable_edges(lg, name, go))  # park edges with a maneuver for it
         no_out = [sid for sid in free if sid in fits and sid not in no_in
                   and not parks_to_leave(out, come, sid)]
         by_type[name] = (no_in, no_out)
