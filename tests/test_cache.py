@@ -470,15 +470,18 @@ def test_an_entry_another_user_owns_is_not_loaded(folder):
     assert not prepare_graph(sc).from_cache
 
 
+@pytest.mark.parametrize("lot", ["long aisle", "mixed_lot"])
 def test_a_lot_prepared_again_takes_its_roadmap_and_maneuver_times_from_the_store(
-        folder, monkeypatch):
+        lot, folder, monkeypatch):
     """A lot prepared before (its prepared entry gone, its stores kept) takes every junction
-    turn, turnaround and maneuver time from what the first preparation kept, and comes out
-    the same."""
+    turn, the types each suits, turnaround and maneuver time from what the first
+    preparation kept, and comes out the same (the mixed lot: junctions, three types)."""
+    from lotsim.io.scenario_yaml import load_scenario
     from lotsim.maneuvers.maneuver import Maneuver
     from lotsim.roadmap import junctions
 
-    sc = scenario_from_text(LONG_AISLE + TRAFFIC)
+    sc = (scenario_from_text(LONG_AISLE + TRAFFIC) if lot == "long aisle"
+          else load_scenario(ROOT / "scenarios" / "mixed_lot.yaml"))
     first = prepare_lot(sc, remember_from=1)
     assert len(list(folder.glob("roadmap-*.pickle"))) == 1
     folder.joinpath(next(folder.glob("prepared-*.pickle"))).unlink()
@@ -488,6 +491,7 @@ def test_a_lot_prepared_again_takes_its_roadmap_and_maneuver_times_from_the_stor
 
     monkeypatch.setattr(Maneuver, "duration", refused)
     monkeypatch.setattr(junctions, "_lane_junctions", refused)
+    monkeypatch.setattr(junctions, "_suited", refused)
     again = prepare_lot(sc, remember_from=1)
     assert not again.lot_graph.from_cache
     assert _graph(again.lot_graph) == _graph(first.lot_graph)

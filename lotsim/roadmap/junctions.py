@@ -339,15 +339,14 @@ def turns_of(lot: Lot, collider: Collider, designs: dict[str, DesignVehicle] | N
                 found.update(dict.fromkeys(turns))
                 for reason in skipped:
                     why.setdefault(reason, []).append(name)
-            # every turn for every type it suits: no tighter than its radius, swept clear
-            tagged: dict[Turn, set[str]] = {}
-            for t in found:
-                poses = sample_segments(t.segments, SWEEP_STEP)[0]
-                bend = max(seg.max_curvature for seg in t.segments)
-                for name, design in designs.items():
-                    if bend <= 1 / design.min_radius + 1e-9 and collider.sweep_hit(
-                            design.footprints(poses)) is None:
-                        tagged.setdefault(t, set()).add(name)
+            # every turn for every type it suits, on both cores, each taken from the
+            # memo's store where what its sweeps read is unchanged
+            turns = list(found)
+            base = memo.lot_key if memo.known is not None else b""
+            kinds = sorted(designs.items())
+            suits = worked_out(memo, [piece_key(base, "suits", t, kinds) for t in turns],
+                               collider, lambda k, eye: _suited(turns[k], designs, eye))
+            tagged = {t: names for t, names in zip(turns, suits, strict=True) if names}
             every = len(designs)
             notes = [reason if len(names) == every else f"{reason} (for {', '.join(names)})"
                      for reason, names in why.items()]
@@ -355,6 +354,16 @@ def turns_of(lot: Lot, collider: Collider, designs: dict[str, DesignVehicle] | N
                            for t, n in tagged.items()], notes)
     turns, skipped = cache[key]
     return list(turns), list(skipped)
+
+
+def _suited(turn: Turn, designs: dict[str, DesignVehicle], collider: Collider) -> set[str]:
+    """The vehicle types (of ``designs``) ``turn`` suits: no tighter than the type's
+    radius, and its swept body clear of ``collider``."""
+    poses = sample_segments(turn.segments, SWEEP_STEP)[0]
+    bend = max(seg.max_curvature for seg in turn.segments)
+    return {name for name, design in designs.items()
+            if bend <= 1 / design.min_radius + 1e-9
+            and collider.sweep_hit(design.footprints(poses)) is None}
 
 
 def turns_per_design(lot: Lot, collider: Collider, designs: list,
