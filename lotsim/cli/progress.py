@@ -49,8 +49,9 @@ class ProgressBar:
         """Not a terminal: from the first news on, write the status every ``every``
         seconds."""
         if not self.on and self._beats is None and not self._stop.is_set():
-            self._beats = threading.Thread(target=self._beat_on, daemon=True)
-            self._beats.start()
+            beats = threading.Thread(target=self._beat_on, daemon=True)
+            beats.start()
+            self._beats = beats  # once started: an interrupt before leaves none to join
 
     def __call__(self, done: int, total: int, what: str = "") -> None:
         """``done`` of ``total``; ``what``: the one being done now, to show beside."""

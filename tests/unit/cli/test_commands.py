@@ -415,6 +415,24 @@ def test_the_time_left_goes_by_the_pace_since_the_step_began(monkeypatch):
     assert bar.status == "maneuvers: 4/7, ~2 s left"
 
 
+def test_a_bar_interrupted_as_its_beat_starts_closes_cleanly(monkeypatch):
+    """Ctrl-C may land while a bar not on a terminal starts the thread that writes its
+    status (seen while ``lotsim render`` wrote a GIF): closing it then raises nothing."""
+    import io
+    import threading
+
+    import lotsim.cli.progress as progress
+
+    def interrupted(self):
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(threading.Thread, "start", interrupted)
+    bar = progress.ProgressBar("frames", stream=io.StringIO())
+    with pytest.raises(KeyboardInterrupt):
+        bar(1, 10)
+    bar.close()
+
+
 def test_a_run_on_a_pipe_tells_its_trips_and_the_writing_of_its_result(tmp_path, capsys,
                                                                        monkeypatch):
     import lotsim.cli.progress as progress
