@@ -101,19 +101,33 @@ class _Batch:
         planner = self.planner
         if self.known is None:
             problem = planner.problems.pose(*self.triples[k])
-            return (fit_first(problem, st, offers, planner.settings, planner.fewer), None,
+            return (fit_first(problem, st, offers, planner.settings, planner.fewer)[0], None,
                     False, None)
-        # the problem to the last bit, and the problems the offers were searched for
+        # the problem to the last bit, and the problems the offers it read were searched for
         exact, problem = self._exact(k, st, source)
-        h = hashlib.blake2b(exact, digest_size=20)
-        for found in offers:
-            h.update(found.source)
-        key = h.digest()
-        if key in self.known:
-            return self.known[key], key, True, exact
+        keys = fit_keys(exact, offers)
+        for key in keys:
+            if key in self.known:
+                return self.known[key], key, True, exact
         problem = problem if problem is not None else planner.problems.pose(*self.triples[k])
-        return (fit_first(problem, st, offers, planner.settings, planner.fewer), key, False,
-                exact)
+        pair, read = fit_first(problem, st, offers, planner.settings, planner.fewer)
+        return pair, keys[read - 1 if pair is not None else -1], False, exact
+
+
+def fit_keys(exact: bytes, offers: list[Found]) -> list[bytes]:
+    """Where ``known`` keeps a fit of the problem with exact key ``exact`` to ``offers``:
+    by the problems the offers up to the one that fits were searched for (a fit reads no
+    offer after it, so it holds when those after change), one key for each offer it may
+    be; and where none fits, by them all (the last key)."""
+    h = hashlib.blake2b(exact, digest_size=20)
+    out = []
+    for found in offers:
+        h.update(found.source)
+        fits = h.copy()
+        fits.update(b" fits")
+        out.append(fits.digest())
+    h.update(b" none")
+    return [*out, h.digest()]
 
 
 def _keep(known: dict, key: bytes, value: object) -> None:

@@ -479,7 +479,7 @@ class ManeuverPlanner:
         settled = settle(
             [list(problems)],
             lambda keys: [search_maneuver(problems[k], style, self.settings) for k in keys],
-            lambda jobs: [fit_first(problems[k], style, offers, self.settings, self.fewer)
+            lambda jobs: [fit_first(problems[k], style, offers, self.settings, self.fewer)[0]
                           for k, offers in jobs])
         for key, ((answer, raw), searched) in settled.items():
             self.learn(key, answer, raw, searched=searched)

@@ -188,16 +188,17 @@ def settle(classes: Sequence[Sequence[Member]],
 
 def fit_first(problem: ManeuverProblem, style: str, offers: Sequence[Found],
               settings: ManeuverSettings, fewer: Callable[[ManeuverProblem, str, int], Pair]
-              ) -> Pair | None:
+              ) -> tuple[Pair | None, int]:
     """The first of ``offers`` that fits ``problem`` (:func:`fitted`); when it has direction
     changes, ``fewer(problem, style, changes)`` (its own search bounded to fewer changes)
-    answers instead if it finds one. None when no offer fits."""
-    for found in offers:
+    answers instead if it finds one. None when no offer fits. With it, how many offers it
+    read: the answer depends on those alone."""
+    for k, found in enumerate(offers):
         pair = fitted(problem, found, settings)
         if pair is None:
             continue
         if found.changes == 0:
-            return pair
+            return pair, k + 1
         own = fewer(problem, style, found.changes)
-        return own if own[0].found else pair
-    return None
+        return (own if own[0].found else pair), k + 1
+    return None, len(offers)

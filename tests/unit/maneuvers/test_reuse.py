@@ -158,3 +158,25 @@ def test_the_rounds_search_every_stride_then_the_first_of_each_run_left():
     assert [m for ms in searched[1:] for m in ms] == sorted(odd)
     assert all(out[m] == ((f"own {m}", "raw"), True) for m in odd)
     assert all(out[m][1] is False for m in members if m % 2 == 0 and m % STRIDE)
+
+
+def test_a_fit_is_kept_by_the_offers_it_read_so_it_holds_when_later_ones_change(monkeypatch):
+    """A fit reads the offers up to the first that fits: ``fit_first`` says how many it
+    read, and ``fit_keys`` keeps it by those alone, so an edit that changes only offers
+    after it finds it kept; a problem no offer fits is kept by them all."""
+    from lotsim.maneuvers import reuse
+    from lotsim.maneuvers.batch import fit_keys
+
+    offers = [Found(0, 5.0 + k, None, None, bytes([k])) for k in range(4)]
+    monkeypatch.setattr(reuse, "fitted", lambda problem, found, settings: (
+        ("pair", found.source) if found.source == bytes([2]) else None))
+    pair, read = reuse.fit_first(None, "any", offers, None, None)
+    assert pair == ("pair", bytes([2])) and read == 3
+    assert reuse.fit_first(None, "any", offers[:2], None, None) == (None, 2)
+    keys = fit_keys(b"exact", offers)
+    later = fit_keys(b"exact", [*offers[:3], Found(0, 9.0, None, None, b"new")])
+    earlier = fit_keys(b"exact", [offers[0], Found(0, 9.0, None, None, b"new"), *offers[2:]])
+    assert len(keys) == 5 and len(set(keys)) == 5
+    assert later[:3] == keys[:3] and later[3:] != keys[3:]  # the fit at the third holds
+    assert earlier[0] == keys[0] and not set(earlier[1:]) & set(keys)
+    assert fit_keys(b"other", offers)[2] != keys[2]
