@@ -129,6 +129,11 @@ class Slot:
     def shape(self) -> Polygon:
         return Polygon(self.polygon)
 
+    def __getstate__(self) -> dict:
+        # without its shape, made again from the corners when asked for (quicker than
+        # pickling it)
+        return {k: v for k, v in self.__dict__.items() if k != "shape"}
+
     def centered_pose(self, front: float, rear: float) -> Pose:
         """Rear-axle pose of a car (``front``, ``rear`` overhangs from the axle [m]) parked
         centred in the slot, facing :attr:`heading`."""

@@ -45,6 +45,10 @@ class LocalFrame:
     heading: float
     mirror: bool
 
+    def __reduce__(self) -> tuple:
+        # by its fields, not by dataclass's slot state (a prepared lot keeps one a problem)
+        return LocalFrame, (self.x, self.y, self.heading, self.mirror)
+
     def poses_to_world(self, p: FloatArray) -> FloatArray:
         p = np.atleast_2d(np.asarray(p, dtype=float))
         sy = -1.0 if self.mirror else 1.0

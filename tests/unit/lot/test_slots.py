@@ -175,3 +175,24 @@ def test_a_lanes_poses_at_many_stations_are_each_stations_own_to_the_bit(name):
     spiral = Lane("spiral", "a", (Segment((1.0, 2.0, 0.3), 30.0, 0.0, 0.01),), 0.0, True)
     stations = np.linspace(0.0, 30.0, 61)
     assert spiral.poses_at(stations) == [spiral.pose_at(float(s)) for s in stations]
+
+
+def test_a_slot_through_pickle_makes_its_shape_again_and_a_frame_comes_back_equal():
+    """A prepared lot is kept without its slots' shapes (made again from the corners when
+    asked for) and a problem's frame by its fields: both come back equal."""
+    import pickle
+
+    from lotsim.maneuvers.problem import LocalFrame
+
+    lot = lot_from_text(LOT.format(row="{aisle: a, side: left, kind: perpendicular, "
+                                       "count: 3, slot_width: 2.5, slot_length: 5.0, "
+                                       "start: 5}"))
+    slot = lot.slots[0]
+    shape = slot.shape
+    back = pickle.loads(pickle.dumps(slot))
+    assert "shape" in slot.__dict__ and b"shape" not in pickle.dumps(slot)
+    assert "shape" not in back.__dict__
+    assert back.shape.equals(shape) and back.id == slot.id
+    assert np.array_equal(back.polygon, slot.polygon)
+    frame = LocalFrame(1.5, -2.0, 0.7, True)
+    assert pickle.loads(pickle.dumps(frame)) == frame
