@@ -446,9 +446,18 @@ class LotProblems:
                                                      shapely.points(mids[at]))
         boxes = shapely.box(mids[:, 0] - reach, mids[:, 1] - reach, mids[:, 0] + reach,
                             mids[:, 1] + reach)
-        near = [[] for _ in range(n)]
-        for k, j in zip(*self._tree.query(boxes).tolist(), strict=True):
-            near[k].append(j)
+        # the neighbours as a set (the tree's order changes with edits elsewhere): each by
+        # the digest of its shape, in the digests' order, all of a triple's in one string
+        wkb = shapely.to_wkb(self._polys).tolist()
+        marks = np.array([hashlib.blake2b(g, digest_size=20).digest() for g in wkb],
+                         dtype="S20")
+        rank = np.argsort(np.argsort(marks, kind="stable"), kind="stable")
+        k, j = self._tree.query(boxes)
+        mine = np.array([self._index[slot.id] for _, slot, _ in triples], dtype=np.int64)
+        k, j = k[j != mine[k]], j[j != mine[k]]
+        order = np.lexsort((rank[j], k))
+        near = marks[j[order]].tobytes()
+        at = (np.searchsorted(k[order], np.arange(n + 1)) * 20).tolist()
         # the region's edges, each ring oriented alike (the interior on one side)
         rings = shapely.get_rings(shapely.normalize(self._region))
         ends = np.concatenate([np.empty((0, 4))] + [
@@ -458,7 +467,7 @@ class LotProblems:
                         .query(boxes).tolist(), strict=True):
             edges[k].append(j)
         inside = shapely.covers(self._region, shapely.points(mids)).tolist()
-        wkb = shapely.to_wkb(self._polys).tolist()
+        cars = {v: repr((v, self.margin, self.settings.sweep)).encode() for v, _, _ in triples}
         lanes: dict[str, bytes] = {}
         aisles: dict[str, bytes] = {}
         out = []
@@ -476,15 +485,13 @@ class LotProblems:
             s_mid, half = float(stations[k]), float(halves[k]) + 1.0
             first, last = self._span(lane, s_mid)
             h.update(repr((max(first, s_mid - half), min(last, s_mid + half))).encode())
-            h.update(repr((v, self.margin, self.settings.sweep, slot.id, slot.kind,
-                           slot.aisle, slot.width, slot.length, inside[k])).encode())
+            h.update(cars[v])
+            h.update(repr((slot.id, slot.kind, slot.aisle, slot.width, slot.length,
+                           inside[k])).encode())
             h.update(slot.polygon.tobytes())
             h.update(slot.entry.tobytes())
-            own = self._index[slot.id]
-            # the neighbours as a set (the tree's order changes with edits elsewhere)
-            for g in sorted(wkb[j] for j in near[k] if j != own):
-                h.update(g)
-            h.update(wkb[own])
+            h.update(near[at[k]:at[k + 1]])
+            h.update(wkb[int(mine[k])])
             h.update(ends[sorted(edges[k])].tobytes())
             out.append(h.digest())
         return out
