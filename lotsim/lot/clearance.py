@@ -141,13 +141,17 @@ class Collider:
         return self.first_hit(self.sweeps(footprints))
 
 
+NOTHING_READ = (math.inf, math.inf, -math.inf, -math.inf)
+"""The :attr:`Watched.box` of checks that checked no body."""
+
+
 class Watched(Collider):
     """``collider``'s checks, noting the box every body checked lies in (:attr:`box`):
     what an answer worked out with it can depend on (:meth:`Collider.around`)."""
 
     def __init__(self, collider: Collider):
         self.__dict__.update(collider.__dict__)
-        self.box = (math.inf, math.inf, -math.inf, -math.inf)
+        self.box = NOTHING_READ
 
     def blocked(self, bodies: FloatArray) -> np.ndarray:
         if len(bodies):

@@ -173,6 +173,15 @@ class Lane:
         i = min(max(i, 0), len(self.segments) - 1)
         return i, min(max(station - float(self.starts[i]), 0.0), self.segments[i].length)
 
+    def locate_all(self, stations: FloatArray) -> tuple[np.ndarray, FloatArray]:
+        """:meth:`locate` of each of ``stations`` [m], at once: segment indices and distances
+        into them."""
+        stations = np.asarray(stations, dtype=float)
+        i = np.clip(np.searchsorted(self.starts, stations, side="right") - 1, 0,
+                    len(self.segments) - 1)
+        lengths = np.array([seg.length for seg in self.segments])
+        return i, np.minimum(np.maximum(stations - self.starts[i], 0.0), lengths[i])
+
     def pose_at(self, station: float) -> Pose:
         i, d = self.locate(station)
         x, y, t = self.segments[i].poses_at(d)[0]
@@ -181,12 +190,8 @@ class Lane:
     def poses_at(self, stations: FloatArray) -> list[Pose]:
         """:meth:`pose_at` of each of ``stations`` [m], the same floats: the stations on a
         straight or an arc at once."""
-        stations = np.asarray(stations, dtype=float)
-        i = np.clip(np.searchsorted(self.starts, stations, side="right") - 1, 0,
-                    len(self.segments) - 1)
-        lengths = np.array([seg.length for seg in self.segments])
-        d = np.minimum(np.maximum(stations - self.starts[i], 0.0), lengths[i])
-        out: list = [None] * len(stations)
+        i, d = self.locate_all(stations)
+        out: list = [None] * len(i)
         for j in np.unique(i).tolist():
             at = np.flatnonzero(i == j)
             seg = self.segments[j]

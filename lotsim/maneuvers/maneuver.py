@@ -78,7 +78,7 @@ class Maneuver:
         """Path length [m]."""
         of = self._unbuilt()
         if of is not None:
-            return float(sum(abs(s.distance) for s in reversed(of.segments)))
+            return path_length(of.segments[::-1])  # each piece as long either way
         return path_length(self.segments)
 
     @property

@@ -208,9 +208,9 @@ class LotProblems:
     def heads(self, triples: Sequence[tuple[VehicleType, Slot, Lane]]
               ) -> list[tuple[LocalFrame, float, tuple[float, float], float, float]]:
         """:meth:`head` of each triple: the slot's entry projected onto the lane a lane at
-        a time (lanes are told apart by their ids), the rest in the sums of a frame's
-        methods (:meth:`LocalFrame.poses_to_local` and the lane's
-        :meth:`~lotsim.lot.model.Lane.pose_at`), so the same floats."""
+        a time (lanes are told apart by their ids) and posed there
+        (:meth:`~lotsim.lot.model.Lane.poses_at`), the rest in the sums of
+        :meth:`LocalFrame.poses_to_local`, so the same floats."""
         n = len(triples)
         mids = np.array([slot.entry for _, slot, _ in triples], dtype=float).reshape(
             n, -1, 2).mean(axis=1)
@@ -224,17 +224,8 @@ class LotProblems:
             lane = triples[at[0]][2]
             s_mid = shapely.line_locate_point(lane.line, shapely.points(mids[at]))
             stations[at] = s_mid
-            # Lane.locate and Segment.poses_at's heading, for every station at once
-            starts = lane.starts
-            i = np.clip(np.searchsorted(starts, s_mid, side="right") - 1, 0,
-                        len(lane.segments) - 1)
-            seg = [lane.segments[j] for j in i.tolist()]
-            d = np.minimum(np.maximum(s_mid - starts[i], 0.0), [g.length for g in seg])
-            t0, k, g = (np.array([getattr(x, name) for x in seg], dtype=float)
-                        for name in ("start", "curvature", "sharpness"))
-            heading[at] = np.where(g == 0.0, t0[:, 2] + k * d,
-                                   t0[:, 2] + 1.0 * (k * d + g * d * d / 2))
-            index[at] = i
+            heading[at] = [pose[2] for pose in lane.poses_at(s_mid)]
+            index[at] = lane.locate_all(s_mid)[0]
         out = []
         for k, (vehicle, slot, lane) in enumerate(triples):
             mx, my, t, i = float(mids[k, 0]), float(mids[k, 1]), float(heading[k]), int(index[k])
@@ -298,9 +289,7 @@ class LotProblems:
             on_line[at] = shapely.get_coordinates(shapely.line_interpolate_point(aisle.line,
                                                                                  along))
             widths[at] = aisle.width
-        axes = _frames(frames)
-        centre_y = axes[:, 4] * (-axes[:, 3] * (on_line[:, 0] - axes[:, 0])
-                                 + axes[:, 2] * (on_line[:, 1] - axes[:, 1]))
+        centre_y = _to_local(on_line, _frames(frames))[:, 1]
         return np.minimum(halves, centre_y + widths / 2 - self.margin)
 
     def digest(self, p: ManeuverProblem) -> bytes:

@@ -163,12 +163,14 @@ def _lane_network(lot: Lot, attach: dict[str, list[tuple[str, float]]], node_spa
         net.index[lid] = st
         net.first[lid] = first = g.number_of_nodes()
         poses = lane.poses_at(st)
+        at, into = (a.tolist() for a in lane.locate_all(st))
         for k, s in enumerate(st):
-            g.add_node(first + k, pose=poses[k], kind="lane", lane=lid,
-                       station=float(s), curvature=lane.curvature_at(float(s)))
+            seg = lane.segments[at[k]]
+            g.add_node(first + k, pose=poses[k], kind="lane", lane=lid, station=float(s),
+                       curvature=float(seg.curvature_at(into[k])))
         for k in range(len(st) - 1):
-            seg = _lane_piece(lane, float(st[k]), float(st[k + 1]), poses[k])
-            _add_edge(g, lot, first + k, first + k + 1, (seg,), "lane")
+            piece = _lane_piece(lane, at[k], into[k], float(st[k + 1]), poses[k])
+            _add_edge(g, lot, first + k, first + k + 1, (piece,), "lane")
     for kind, links in (("turn", tagged), ("turnaround", backs)):
         for t, types in links:
             u, v = net.node_at(t.lane_a, t.station_a), net.node_at(t.lane_b, t.station_b)
@@ -346,11 +348,10 @@ def _spaced(stations: np.ndarray, length: float, spacing: float) -> np.ndarray:
     return np.concatenate(out)
 
 
-def _lane_piece(lane: Lane, s0: float, s1: float, start: Pose) -> Segment:
-    """The lane between stations ``s0 < s1`` (``start``: its pose at ``s0``,
-    :meth:`~lotsim.lot.model.Lane.pose_at`): :meth:`~lotsim.core.geometry.Segment.piece`
-    of the segment ``s0`` lies on."""
-    i, d0 = lane.locate(s0)
+def _lane_piece(lane: Lane, i: int, d0: float, s1: float, start: Pose) -> Segment:
+    """The lane from ``d0`` into its segment ``i`` (where a station ``s0`` lies,
+    :meth:`~lotsim.lot.model.Lane.locate`; ``start``: the lane's pose there) to station
+    ``s1 > s0``: :meth:`~lotsim.core.geometry.Segment.piece` of that segment."""
     seg = lane.segments[i]
     # A piece ending exactly on the next segment's start still belongs to segment i.
     d1 = min(s1 - float(lane.starts[i]), seg.length)

@@ -15,7 +15,7 @@ import shapely
 from lotsim.core.geometry import Segment, cc_turn, sample_segments, wrap_angle
 from lotsim.core.workers import fork_map
 from lotsim.lot.build import SWEEP_STEP
-from lotsim.lot.clearance import Collider, Watched
+from lotsim.lot.clearance import NOTHING_READ, Collider, Watched
 from lotsim.lot.model import DesignVehicle, Lot, unit
 from lotsim.roadmap.area_turns import area_turns, candidates_shape
 from lotsim.roadmap.lanes import EPS, portal_station, straights
@@ -153,10 +153,6 @@ class _Wide:
     frame: tuple[float, float, float]
     shape: bytes
     note: str | None
-
-
-NOTHING_READ = (math.inf, math.inf, -math.inf, -math.inf)
-"""The box of a search that checked no body (:class:`~lotsim.lot.clearance.Watched`)."""
 
 
 def wide_turns(lot: Lot, wides: list[_Wide], collider: Collider, *, run=fork_map
