@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import hashlib
 import math
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -23,11 +23,12 @@ class Hit:
     point: tuple[float, float]  # a point of the offending body [m]
 
 
-def hulls(bodies: FloatArray) -> np.ndarray:
+def hulls(bodies: FloatArray, convex: bool = False) -> np.ndarray:
     """The hull of each body (N, K, 2 points): as it is when a footprint (K = 4, a
-    rectangle's corners in order), else made (:func:`shapely.convex_hull`, three times
+    rectangle's corners in order) or ``convex`` (rings already convex, in order, as
+    :class:`RigidSweeps` places them), else made (:func:`shapely.convex_hull`, three times
     dearer)."""
-    if bodies.shape[1] == 4:
+    if convex or bodies.shape[1] == 4:
         return shapely.polygons(bodies)
     return shapely.convex_hull(shapely.linestrings(bodies))
 
@@ -63,9 +64,10 @@ class Collider:
         self.allowed = allowed
         shapely.prepare(self.allowed)
 
-    def blocked(self, bodies: FloatArray) -> np.ndarray:
-        """Boolean mask of the ``bodies`` (N, K, 2 point sets, taken as hulls) that are not free."""
-        return hulls_blocked(hulls(bodies), self.allowed, self.tree)
+    def blocked(self, bodies: FloatArray, convex: bool = False) -> np.ndarray:
+        """Boolean mask of the ``bodies`` (N, K, 2 point sets, taken as hulls; ``convex``:
+        convex rings already, see :func:`hulls`) that are not free."""
+        return hulls_blocked(hulls(bodies, convex), self.allowed, self.tree)
 
     def around(self, box: tuple[float, float, float, float]) -> bytes:
         """A digest of all that a check of a body lying inside ``box`` (x min, y min, x max,
@@ -153,14 +155,14 @@ class Watched(Collider):
         self.__dict__.update(collider.__dict__)
         self.box = NOTHING_READ
 
-    def blocked(self, bodies: FloatArray) -> np.ndarray:
+    def blocked(self, bodies: FloatArray, convex: bool = False) -> np.ndarray:
         if len(bodies):
             pts = np.asarray(bodies).reshape(-1, 2)
             lo, hi = pts.min(axis=0), pts.max(axis=0)
             x0, y0, x1, y1 = self.box
             self.box = (min(x0, float(lo[0])), min(y0, float(lo[1])),
                         max(x1, float(hi[0])), max(y1, float(hi[1])))
-        return super().blocked(bodies)
+        return super().blocked(bodies, convex)
 
 
 def first_blocked(blocked: Callable[[FloatArray], np.ndarray], prints: FloatArray,
@@ -215,3 +217,104 @@ def first_blocked(blocked: Callable[[FloatArray], np.ndarray], prints: FloatArra
         out[fine[found]] = True
         done[of[np.searchsorted(bad, blocks[owner[found]])]] = True
     return out
+
+
+class RigidSweeps:
+    """A body's sweeps along fixed motions from the origin pose, as :func:`first_blocked`
+    checks them, made once: the hull of each pair of consecutive footprints and of each
+    block of ``block`` pairs, as convex rings in the frame of the motions' start.
+
+    The same motions driven from any pose sweep these rings moved rigidly, so checking them
+    from many poses (a search's states, the strokes of a shuffle) places rings instead of
+    making footprints and hulls again each time: the answers are those of
+    :func:`first_blocked` (but at a rounding's noise in the coordinates).
+
+    Parameters
+    ----------
+    footprints : sequence of (n_r + 1, K, 2) arrays
+        The footprints along each motion ``r`` from the origin pose, in order.
+    block : int
+        Sweeps a block holds (:func:`first_blocked`'s ``block``).
+    """
+
+    def __init__(self, footprints: Sequence[FloatArray], block: int = 4):
+        self.counts = np.array([len(f) - 1 for f in footprints])  # sweeps of each motion
+        fine, coarse, motion, first, last = [], [], [], [], []
+        at = 0
+        for r, prints in enumerate(footprints):
+            n = len(prints) - 1
+            fine += [np.concatenate([prints[i], prints[i + 1]]) for i in range(n)]
+            for a in range(0, n, block):
+                b = min(a + block, n)  # sweeps a..b-1: footprints a..b
+                coarse.append(prints[a:b + 1].reshape(-1, 2))
+                motion.append(r)
+                first.append(at + a)
+                last.append(at + b)
+            at += n
+        self.fine = _convex_rings(fine)
+        self.coarse = _convex_rings(coarse)
+        self.motion = np.array(motion, dtype=int)  # the motion of each block
+        self.first = np.array(first, dtype=int)  # its fine sweeps first .. last - 1
+        self.last = np.array(last, dtype=int)
+        self.start = np.concatenate([[0], np.cumsum(self.counts)[:-1]])  # each motion's first
+
+    def first_blocked(self, blocked: Callable[..., np.ndarray], poses: FloatArray
+                      ) -> np.ndarray:
+        """(P, R) ints: for each pose of ``poses`` (P, 3) and each motion driven from it, the
+        index of its first sweep ``blocked`` (rings (N, K, 2) → (N,) bool, called with
+        ``convex=True``) finds not free, or its count of sweeps when none is."""
+        poses = np.atleast_2d(np.asarray(poses, dtype=float))
+        n_poses, n_blocks = len(poses), len(self.coarse)
+        out = np.tile(self.counts, (n_poses, 1))
+        if not n_poses:
+            return out
+        rings = _placed(np.broadcast_to(self.coarse, (n_poses, *self.coarse.shape)), poses)
+        bad = np.flatnonzero(blocked(rings.reshape(-1, *self.coarse.shape[1:]), convex=True))
+        if not bad.size:
+            return out
+        at, block = np.divmod(bad, n_blocks)
+        run = at * len(self.counts) + self.motion[block]  # in order, blocks in order in each
+        rank = np.arange(len(bad)) - np.searchsorted(run, run)
+        done = np.zeros(n_poses * len(self.counts), dtype=bool)
+        for r in range(int(rank.max()) + 1):
+            now = np.flatnonzero((rank == r) & ~done[run])
+            if not now.size:
+                break
+            size = self.last[block[now]] - self.first[block[now]]
+            owner = np.repeat(now, size)
+            fine = self.first[block[owner]] + np.arange(len(owner)) - np.repeat(
+                np.cumsum(size) - size, size)
+            hit = blocked(_placed(self.fine[fine], poses[at[owner]]), convex=True)
+            found = np.flatnonzero(hit)
+            found = found[np.flatnonzero(np.diff(owner[found], prepend=-1))]  # first of each
+            who = owner[found]
+            out[at[who], self.motion[block[who]]] = (
+                fine[found] - self.start[self.motion[block[who]]])
+            done[run[who]] = True
+        return out
+
+
+def _convex_rings(point_sets: Sequence[FloatArray]) -> FloatArray:
+    """The hull of each point set as a closed ring, all padded to one length with their
+    closing point: (N, K, 2)."""
+    sizes = [len(x) for x in point_sets]
+    hull = shapely.convex_hull(shapely.multipoints(
+        np.concatenate(point_sets), indices=np.repeat(np.arange(len(sizes)), sizes)))
+    xy, of = shapely.get_coordinates(shapely.get_exterior_ring(hull), return_index=True)
+    size = np.bincount(of, minlength=len(point_sets))
+    out = np.empty((len(point_sets), int(size.max()), 2))
+    ends = np.cumsum(size)
+    for i in range(len(point_sets)):
+        ring = xy[ends[i] - size[i]:ends[i]]
+        out[i, :len(ring)] = ring
+        out[i, len(ring):] = ring[-1]
+    return out
+
+
+def _placed(rings: FloatArray, poses: FloatArray) -> FloatArray:
+    """Rings ``rings[i]`` (N, ..., 2, in a pose's frame) placed at ``poses[i]`` (N, 3)."""
+    shape = (-1,) + (1,) * (rings.ndim - 2)
+    c, s = np.cos(poses[:, 2]).reshape(shape), np.sin(poses[:, 2]).reshape(shape)
+    x, y = rings[..., 0], rings[..., 1]
+    return np.stack([poses[:, 0].reshape(shape) + c * x - s * y,
+                     poses[:, 1].reshape(shape) + s * x + c * y], axis=-1)

@@ -65,6 +65,14 @@ class LocalFrame:
         return np.stack([c * dx + s * dy, sy * (-s * dx + c * dy),
                          wrap_angle(sy * (p[:, 2] - self.heading))], axis=-1)
 
+    def points_to_world(self, pts: FloatArray) -> FloatArray:
+        """Local points (..., 2) in the world."""
+        pts = np.asarray(pts, dtype=float)
+        sy = -1.0 if self.mirror else 1.0
+        c, s = math.cos(self.heading), math.sin(self.heading)
+        lx, ly = pts[..., 0], sy * pts[..., 1]
+        return np.stack([self.x + c * lx - s * ly, self.y + s * lx + c * ly], axis=-1)
+
     def points_to_local(self, pts: FloatArray) -> FloatArray:
         pts = np.asarray(pts, dtype=float)
         flat = np.column_stack([pts.reshape(-1, 2), np.zeros(pts.size // 2)])

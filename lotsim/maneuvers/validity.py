@@ -32,9 +32,10 @@ class Validity:
         # (segment, step) → whether a footprint along it is blocked (:meth:`footprints_blocked`)
         self._seen: dict[tuple[Segment, float], bool] = {}
 
-    def bodies_blocked(self, bodies: FloatArray) -> np.ndarray:
-        """(N,) whether each body (N, K, 2 points, taken as their hull) is not free."""
-        return hulls_blocked(hulls(bodies), self.problem.allowed, self.problem.tree)
+    def bodies_blocked(self, bodies: FloatArray, convex: bool = False) -> np.ndarray:
+        """(N,) whether each body (N, K, 2 points, taken as their hull; ``convex``: convex
+        rings already, :func:`~lotsim.lot.clearance.hulls`) is not free."""
+        return hulls_blocked(hulls(bodies, convex), self.problem.allowed, self.problem.tree)
 
     def first_blocked(self, prints: FloatArray, run: np.ndarray, span: int = 2
                       ) -> np.ndarray:
@@ -100,11 +101,15 @@ class Validity:
 
 class LocalChecks:
     """A problem's validity checks as :func:`~lotsim.roadmap.multipoint.plan_onto` asks them,
-    in the problem's local frame: footprints of local poses, and whether bodies are free."""
+    all in the problem's local frame: footprints of local poses, and whether bodies are
+    free."""
 
     def __init__(self, checks: Validity):
         self._p = checks.problem
-        self.blocked = checks.bodies_blocked
+        self._blocked = checks.bodies_blocked
 
     def footprints(self, local_poses: FloatArray) -> FloatArray:
-        return self._p.vehicle.footprints(self._p.frame.poses_to_world(local_poses))
+        return self._p.vehicle.footprints(local_poses)
+
+    def blocked(self, bodies: FloatArray, convex: bool = False) -> np.ndarray:
+        return self._blocked(self._p.frame.points_to_world(bodies), convex)

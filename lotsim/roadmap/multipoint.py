@@ -33,7 +33,7 @@ from collections.abc import Sequence
 import numpy as np
 
 from lotsim.core.geometry import FloatArray, Pose, Segment, advance, sample_segments
-from lotsim.lot.clearance import Collider, first_blocked
+from lotsim.lot.clearance import Collider, RigidSweeps, first_blocked
 from lotsim.lot.model import DesignVehicle
 
 MOVE = 1.0
@@ -140,13 +140,13 @@ class _Search:
         self.moves = [(gear, kappa) for gear in (1, -1) for kappa in (kmax, 0.0, -kmax)]
         n = round(MOVE / STEP)
         s = np.linspace(0.0, MOVE, n + 1)
-        # the footprints of a state's moves: (n + 1) along each, in the order of ``moves``
-        self.along = np.concatenate([g * s for g, _ in self.moves])
-        self.bend = np.repeat([k for _, k in self.moves], n + 1)
-        # the sweeps between them: move m's run is m; none from one move into the next
-        # and, with a state's moves after another's, none from one state's into the next
-        self.run_of = np.where(np.arange(len(self.moves) * (n + 1)) % (n + 1) == n, -1,
-                               np.arange(len(self.moves) * (n + 1)) // (n + 1))
+        # the sweeps of the moves from the origin, (n + 1) footprints along each, placed at
+        # each state checked
+        along = np.concatenate([g * s for g, _ in self.moves])
+        bend = np.repeat([k for _, k in self.moves], n + 1)
+        prints = body.footprints(advance(np.zeros((1, 1, 3)), along[None, :], bend[None, :])
+                                 .reshape(-1, 3))
+        self.sweeps = RigidSweeps(np.split(prints, len(self.moves)))
         self.states: list[tuple[FloatArray, int, float, int, int, Segment | None]] = [
             (to_local(self.origin, np.array(p, dtype=float)), 0, math.nan, 0, -1, None)
             for p in starts]
@@ -221,9 +221,9 @@ class _Search:
     def check(self, sids: list[int]) -> None:
         """For each of states ``sids``, its shortest clear last move (or None) and its
         blocked moves, all checked in one batch."""
-        moves, radius, span = self.moves, self.radius, self.span
+        radius, span = self.radius, self.span
         prints, runs, lasts = [], [], []
-        at = len(sids) * len(moves)  # runs so far: the moves' first (below), then closings
+        at = 0  # runs so far: the closings
         for sid in sids:
             q = self.states[sid][0]
             found = [(sum(x.length for x in segs), segs) for segs in closing_moves(q, span, radius)]
@@ -239,20 +239,17 @@ class _Search:
                 runs.append(np.where(owner[1:] == owner[:-1], owner[1:] + at, -1))
                 runs.append([-1])
                 at += len(found)
+        hit = np.zeros(at, dtype=bool)
+        if prints:
+            of = np.concatenate(runs)[:-1].astype(int)
+            hit[of[first_blocked(self.collider.blocked, np.concatenate(prints), of)]] = True
         # every state's moves in one batch
         qs = np.array([self.states[sid][0] for sid in sids])
-        poses = advance(qs[:, None, :], self.along[None, :], self.bend[None, :]).reshape(-1, 3)
-        prints.insert(0, self.body.footprints(to_world(self.origin, poses)))
-        runs.insert(0, np.where(self.run_of >= 0,
-                                self.run_of + len(moves) * np.arange(len(sids))[:, None],
-                                -1).ravel())
-        of = np.concatenate(runs)[:-1].astype(int)
-        hit = np.zeros(at, dtype=bool)
-        hit[of[first_blocked(self.collider.blocked, np.concatenate(prints), of)]] = True
+        moved = self.sweeps.first_blocked(self.collider.blocked, to_world(self.origin, qs))
+        blocked = moved < self.sweeps.counts
         for i, (sid, (found, first)) in enumerate(zip(sids, lasts, strict=True)):
             last = next((found[k] for k in range(len(found)) if not hit[first + k]), None)
-            self.checked[sid] = (last, set(
-                np.flatnonzero(hit[i * len(moves):(i + 1) * len(moves)]).tolist()))
+            self.checked[sid] = (last, set(np.flatnonzero(blocked[i]).tolist()))
 
 
 def _merged(segs: list[Segment]) -> list[Segment]:

@@ -1,5 +1,6 @@
 """lotsim.lot.clearance on a small hand-built lot: Collider's answers against shapely body by
-body, and the coarse-to-fine first_blocked against checking every body on its own."""
+body, and the coarse-to-fine first_blocked and RigidSweeps against checking every body on its
+own."""
 
 from __future__ import annotations
 
@@ -7,7 +8,8 @@ import numpy as np
 import pytest
 import shapely
 
-from lotsim.lot.clearance import Collider, first_blocked
+from lotsim.core.geometry import advance, rectangle_footprints
+from lotsim.lot.clearance import Collider, RigidSweeps, first_blocked
 
 # a 30 m x 20 m lot holding a parked car (a box) and a pillar (a triangle)
 BOUNDARY = shapely.box(0.0, 0.0, 30.0, 20.0)
@@ -122,3 +124,29 @@ def test_first_blocked_finds_what_checking_every_body_finds(collider, span, bloc
         assert np.array_equal(got, want), (run, bad)
         found += int(want.sum())
     assert found >= 10  # runs blocked part way, not only free ones
+
+
+@pytest.mark.parametrize("block", [1, 3, 4])
+def test_rigid_sweeps_find_the_first_sweep_checking_every_one_finds(collider, block) -> None:
+    # arcs at full lock and a straight, either gear, 1 m and 3 m long, from 150 random poses;
+    # the oracle makes each footprint at its own pose and checks each sweep's hull alone
+    corners = np.array([[-1.0, -0.9], [3.9, -0.9], [3.9, 0.9], [-1.0, 0.9]])
+    motions = [(g * d, k) for g in (1, -1) for k in (0.2, 0.0, -0.2) for d in (1.0, 3.0)]
+    steps = [np.linspace(0.0, d, round(abs(d) / 0.1) + 1) for d, _ in motions]
+    sweeps = RigidSweeps([rectangle_footprints(advance(np.zeros(3), s, k), corners)
+                          for s, (_, k) in zip(steps, motions, strict=True)], block)
+    rng = np.random.default_rng(block)
+    poses = np.column_stack([rng.uniform(-2.0, 32.0, 150), rng.uniform(-2.0, 22.0, 150),
+                             rng.uniform(-np.pi, np.pi, 150)])
+    got = sweeps.first_blocked(collider.blocked, poses)
+    assert got.shape == (150, len(motions))
+    part_way = 0
+    for m, (s, (_, k)) in enumerate(zip(steps, motions, strict=True)):
+        along = advance(np.repeat(poses[:, None, :], len(s), axis=1), s[None, :], k)
+        prints = rectangle_footprints(along.reshape(-1, 3), corners).reshape(150, len(s), 4, 2)
+        for i in range(150):
+            bad = brute_blocked(np.concatenate([prints[i, :-1], prints[i, 1:]], axis=1))
+            want = int(np.argmax(bad)) if bad.any() else len(s) - 1
+            assert got[i, m] == want, (i, m)
+            part_way += 0 < want < len(s) - 1
+    assert part_way >= 20  # sweeps blocked part way along, not only at once or never

@@ -26,3 +26,15 @@ def test_segments_move_into_the_world_as_their_starts_do_to_the_last_bit():
             assert g.start == tuple(w)
             assert (g.distance, g.curvature, g.sharpness) == (s.distance, sign * s.curvature,
                                                               sign * s.sharpness)
+
+
+def test_points_go_into_the_world_where_poses_do_and_come_back() -> None:
+    rng = np.random.default_rng(7)
+    pts = rng.uniform(-10.0, 10.0, (5, 4, 2))
+    for mirror in (False, True):
+        frame = LocalFrame(12.5, -3.0, 2.1, mirror)
+        world = frame.points_to_world(pts)
+        assert world.shape == pts.shape
+        as_poses = frame.poses_to_world(np.column_stack([pts.reshape(-1, 2), np.zeros(20)]))
+        np.testing.assert_allclose(world.reshape(-1, 2), as_poses[:, :2], atol=1e-12)
+        np.testing.assert_allclose(frame.points_to_local(world), pts, atol=1e-12)
