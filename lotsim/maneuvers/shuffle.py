@@ -13,6 +13,7 @@ a multi-point search (:func:`any_way_out`).
 
 from __future__ import annotations
 
+import functools
 import math
 from collections.abc import Callable
 
@@ -20,11 +21,13 @@ import numpy as np
 
 from lotsim.core.geometry import FloatArray, Pose, Segment, advance, wrap_angle
 from lotsim.core.outcome import Outcome, Status
+from lotsim.lot.clearance import RigidSweeps
 from lotsim.lot.model import unit
 from lotsim.maneuvers.closing import closing_segments, closings, first_clear, park_path
 from lotsim.maneuvers.settings import ManeuverSettings
-from lotsim.maneuvers.validity import LocalChecks, Validity
+from lotsim.maneuvers.validity import SWEEP_BLOCK, LocalChecks, Validity
 from lotsim.roadmap.multipoint import plan_onto
+from lotsim.vehicles.model import VehicleType
 
 
 def park_across(checks: Validity, style: str, settings: ManeuverSettings, *,
@@ -224,14 +227,18 @@ def extents(checks: Validity, poses: FloatArray, gear: int, kappa: float, sweep:
     if kappa:
         cap = min(cap, turn_cap / abs(kappa))
     n = max(1, math.ceil(cap / sweep))
-    s = np.linspace(0.0, cap, n + 1)
-    local = advance(poses[:, None, :], gear * s[None, :], kappa)  # (H, n+1, 3)
-    bodies = p.vehicle.footprints(p.frame.poses_to_world(local.reshape(-1, 3)))
-    at = np.arange(len(bodies) - 1)
-    row = np.where(at % (n + 1) != n, at // (n + 1), -1)  # not from one into the next
-    bad = np.append(checks.first_blocked(bodies, row), False).reshape(len(poses), n + 1)[:, :n]
-    first = np.where(bad.any(axis=1), bad.argmax(axis=1), n)
-    return s[first]
+    first = _strokes(p.vehicle, gear, kappa, cap, n).first_blocked(checks.local_blocked, poses)
+    return np.linspace(0.0, cap, n + 1)[first[:, 0]]
+
+
+@functools.lru_cache(maxsize=256)
+def _strokes(vehicle: VehicleType, gear: int, kappa: float, cap: float, n: int
+             ) -> RigidSweeps:
+    """The sweeps of a stroke ``cap`` long in ``gear`` at curvature ``kappa`` from the
+    origin, ``n`` of them, as :meth:`Validity.first_blocked` checks them (a stroke's shape
+    is the same for every problem of a vehicle type: made once)."""
+    along = advance(np.zeros(3), gear * np.linspace(0.0, cap, n + 1), kappa)
+    return RigidSweeps([vehicle.footprints(along)], SWEEP_BLOCK)
 
 
 def way(registry: list[tuple], level: int, m: int) -> list[Segment]:

@@ -37,6 +37,10 @@ class Validity:
         rings already, :func:`~lotsim.lot.clearance.hulls`) is not free."""
         return hulls_blocked(hulls(bodies, convex), self.problem.allowed, self.problem.tree)
 
+    def local_blocked(self, bodies: FloatArray, convex: bool = False) -> np.ndarray:
+        """:meth:`bodies_blocked` of bodies given in the problem's local frame."""
+        return self.bodies_blocked(self.problem.frame.points_to_world(bodies), convex)
+
     def first_blocked(self, prints: FloatArray, run: np.ndarray, span: int = 2
                       ) -> np.ndarray:
         """:func:`~lotsim.lot.clearance.first_blocked` of this problem's bodies, coarse to
@@ -106,10 +110,7 @@ class LocalChecks:
 
     def __init__(self, checks: Validity):
         self._p = checks.problem
-        self._blocked = checks.bodies_blocked
+        self.blocked = checks.local_blocked
 
     def footprints(self, local_poses: FloatArray) -> FloatArray:
         return self._p.vehicle.footprints(local_poses)
-
-    def blocked(self, bodies: FloatArray, convex: bool = False) -> np.ndarray:
-        return self._blocked(self._p.frame.points_to_world(bodies), convex)

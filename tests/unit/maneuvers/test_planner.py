@@ -823,3 +823,38 @@ def test_the_maneuver_picture_shows_which_end_of_the_car_is_its_front():
         px = lambda p: tuple(int(v) for v in np.rint(canvas.to_px(p)))  # noqa: E731
         assert img.getpixel(px(front)) == colour
         assert img.getpixel(px(rear)) != colour
+
+
+def test_a_stroke_runs_clear_as_far_as_its_first_blocked_sweep_checked_alone():
+    """:func:`~lotsim.maneuvers.shuffle.extents` places a stroke's sweeps, made once, at each
+    start; the oracle makes the footprints at every pose along each stroke and checks each
+    sweep on its own (:meth:`Validity.poses_blocked`), in a mirrored frame and an unmirrored
+    one."""
+    from lotsim.core.geometry import advance
+    from lotsim.maneuvers.shuffle import extents
+
+    lot, _ = _lot(QUICK)
+    planner = ManeuverPlanner(lot)
+    rng = np.random.default_rng(3)
+    mirrors = set()
+    slot = lot.slot_by_id["main-left-4"]
+    for lane in planner.lanes_for(slot):  # one each way along the aisle
+        problem = planner.problems.pose(CATALOGUE["valet"], slot, lane)
+        mirrors.add(problem.frame.mirror)
+        checks = Validity(problem)
+        poses = np.column_stack([rng.uniform(-6.0, 6.0, 30), rng.uniform(-3.0, 4.0, 30),
+                                 rng.uniform(-np.pi, np.pi, 30)])
+        kmax = problem.vehicle.max_curvature
+        part_way = 0
+        for gear, kappa, cap in ((1, kmax, 1.2), (-1, -kmax, math.pi), (1, 0.0, math.pi)):
+            got = extents(checks, poses, gear, kappa, 0.1, cap)
+            length = 1.5 * problem.vehicle.length + 2.0
+            length = min(length, cap / abs(kappa)) if kappa else length
+            s = np.linspace(0.0, length, max(1, math.ceil(length / 0.1)) + 1)
+            for pose, e in zip(poses, got, strict=True):
+                bad = checks.poses_blocked(advance(pose, gear * s, kappa))
+                want = s[int(np.argmax(bad))] if bad.any() else s[-1]
+                assert e == want
+                part_way += 0.0 < e < s[-1]
+        assert part_way >= 5
+    assert mirrors == {False, True}
