@@ -83,8 +83,11 @@ class Maneuver:
 
     @property
     def gears(self) -> tuple[int, ...]:
-        """Each piece's gear: +1 forward, -1 reverse."""
-        return tuple(1 if d >= 0 else -1 for d, _, _ in self.shapes())
+        """Each piece's gear: +1 forward, -1 reverse (as :meth:`shapes`' distances give it)."""
+        of = self._unbuilt()
+        if of is not None:
+            return tuple(1 if -s.distance >= 0 else -1 for s in reversed(of.segments))
+        return tuple(1 if s.distance >= 0 else -1 for s in self.segments)
 
     @property
     def changes(self) -> int:
