@@ -64,13 +64,20 @@ class Maneuver:
 
     @property
     def start(self) -> Pose:
-        of = self._unbuilt()
-        if of is not None:
-            return of.segments[-1].end  # where its first piece, backwards, starts
-        return self.segments[0].start
+        d = self.__dict__
+        if "segments" in d:
+            return self.segments[0].start
+        if "_at" in d:
+            frame, local = d["_at"]
+            return frame.segments_to_world(local[:1])[0].start
+        return d["_of"].end  # where its first piece, backwards, starts
 
     @property
     def end(self) -> Pose:
+        d = self.__dict__
+        if "segments" not in d and "_at" in d:
+            frame, local = d["_at"]
+            return frame.segments_to_world(local[-1:])[0].end
         return self.segments[-1].end
 
     @property
@@ -78,16 +85,16 @@ class Maneuver:
         """Path length [m]."""
         of = self._unbuilt()
         if of is not None:
-            return path_length(of.segments[::-1])  # each piece as long either way
-        return path_length(self.segments)
+            return path_length(of._pieces()[0][::-1])  # each piece as long either way
+        return path_length(self._pieces()[0])
 
     @property
     def gears(self) -> tuple[int, ...]:
         """Each piece's gear: +1 forward, -1 reverse (as :meth:`shapes`' distances give it)."""
         of = self._unbuilt()
         if of is not None:
-            return tuple(1 if -s.distance >= 0 else -1 for s in reversed(of.segments))
-        return tuple(1 if s.distance >= 0 else -1 for s in self.segments)
+            return tuple(1 if -s.distance >= 0 else -1 for s in reversed(of._pieces()[0]))
+        return tuple(1 if s.distance >= 0 else -1 for s in self._pieces()[0])
 
     @property
     def changes(self) -> int:
@@ -130,12 +137,20 @@ class Maneuver:
         Its pieces are worked out when first asked for: a lot's ways out are built for
         every slot, and most are only timed and measured (:meth:`shapes`, :attr:`length`),
         which read this maneuver's pieces."""
-        out = object.__new__(Maneuver)
-        for name, value in (("vehicle", self.vehicle), ("slot", self.slot),
-                            ("lane", self.lane), ("station", self.station),
-                            ("leaving", not self.leaving), ("_of", self)):
-            object.__setattr__(out, name, value)
-        return out
+        return _unmade(vehicle=self.vehicle, slot=self.slot, lane=self.lane,
+                       station=self.station, leaving=not self.leaving, _of=self)
+
+    @classmethod
+    def placed(cls, frame, local: Sequence[Segment], vehicle: str, slot: str, lane: str,
+               station: float) -> Maneuver:
+        """The way in whose pieces are ``local`` in ``frame``'s coordinates (a
+        :class:`~lotsim.maneuvers.problem.LocalFrame`), put in the world
+        (``frame.segments_to_world``) when first asked for: a lot's maneuvers are planned
+        in their slots' frames, and most are only timed and measured before they are
+        driven. Its start, end, length, gears and shapes read before then are those of the
+        pieces in the world, to the bit."""
+        return _unmade(vehicle=vehicle, slot=slot, lane=lane, station=station, leaving=False,
+                       _at=(frame, tuple(local)))
 
     def _unbuilt(self) -> Maneuver | None:
         """The maneuver this one reverses while its own pieces are not built yet, else
@@ -143,12 +158,27 @@ class Maneuver:
         pieces."""
         return None if "segments" in self.__dict__ else self.__dict__.get("_of")
 
+    def _pieces(self) -> tuple[Sequence[Segment], float]:
+        """Its pieces as built, or while a placed one's are not, in its frame, with the sign
+        their curvatures and sharpnesses take in the world (-1 in a mirrored frame): the
+        same distances, and the same curvatures but for that sign, to the bit."""
+        d = self.__dict__
+        if "segments" not in d and "_at" in d:
+            frame, local = d["_at"]
+            return local, -1.0 if frame.mirror else 1.0
+        return self.segments, 1.0
+
     def __getattr__(self, name: str):
-        # a reversed maneuver's pieces, worked out on first use (:meth:`reversed`)
-        of = self.__dict__.get("_of")
-        if name != "segments" or of is None:
+        # the pieces of a placed maneuver (:meth:`placed`) or a reversed one
+        # (:meth:`reversed`), worked out on first use
+        d = self.__dict__
+        if name != "segments" or ("_at" not in d and "_of" not in d):
             raise AttributeError(name)
-        segs = tuple(s.backwards() for s in reversed(of.segments))
+        if "_at" in d:
+            frame, local = d["_at"]
+            segs = frame.segments_to_world(local)
+        else:
+            segs = tuple(s.backwards() for s in reversed(d["_of"].segments))
         object.__setattr__(self, "segments", segs)
         return segs
 
@@ -157,9 +187,11 @@ class Maneuver:
         lies (what its timing depends on)."""
         of = self._unbuilt()
         if of is not None:
-            return tuple((-s.distance, s.end_curvature, -s.sharpness)
-                         for s in reversed(of.segments))
-        return tuple((s.distance, s.curvature, s.sharpness) for s in self.segments)
+            pieces, sy = of._pieces()
+            return tuple((-s.distance, sy * s.end_curvature, -(sy * s.sharpness))
+                         for s in reversed(pieces))
+        pieces, sy = self._pieces()
+        return tuple((s.distance, sy * s.curvature, sy * s.sharpness) for s in pieces)
 
     def motion(self, vehicle: VehicleType, speed_limit: float = math.inf) -> Motion:
         """The maneuver timed from rest, wheels straight, to rest, wheels straight
@@ -177,3 +209,12 @@ class Maneuver:
         """The shortest stretch [m] a car drives between two stops on it: the runs the timing
         drives without stopping (:func:`~lotsim.vehicles.motion.runs`)."""
         return shortest_run(self.segments)
+
+
+def _unmade(**fields) -> Maneuver:
+    """A maneuver of ``fields`` whose pieces are worked out on first use
+    (:meth:`Maneuver.placed`, :meth:`Maneuver.reversed`)."""
+    out = object.__new__(Maneuver)
+    for name, value in fields.items():
+        object.__setattr__(out, name, value)
+    return out

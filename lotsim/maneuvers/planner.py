@@ -129,8 +129,7 @@ class _Answer:
         if self._value is None:
             local, x0 = self.hit.value
             vehicle, slot, lane = self.ids
-            self._value = Maneuver(self.frame.segments_to_world(local), vehicle, slot, lane,
-                                   self.s0 + x0)
+            self._value = Maneuver.placed(self.frame, local, vehicle, slot, lane, self.s0 + x0)
         return self._value
 
 

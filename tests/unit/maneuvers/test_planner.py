@@ -94,6 +94,39 @@ def test_a_way_out_reads_the_same_before_its_pieces_are_built_and_after():
             assert pickle.loads(pickle.dumps(out)) == built
 
 
+
+def test_a_placed_way_in_reads_the_same_before_its_pieces_are_put_in_the_world_and_after():
+    """A maneuver planned in its slot's frame is put in the world on first use; its start,
+    end, length, gears and shapes read before then (and its way out's) are those of the
+    pieces put in the world at once, to the bit, in a mirrored frame and an unmirrored one,
+    and so is a copy through pickle."""
+    from lotsim.maneuvers.problem import LocalFrame
+
+    lg = graph_from_text(QUICK)
+    paths = [m.segments for _, _, d in lg.graph.edges(data=True) if d["kind"] == "park"
+             for m in d["maneuvers"].values()]
+    assert paths
+    for mirror in (False, True):
+        frame = LocalFrame(31.5, -7.25, 2.4, mirror)
+        for local in paths:
+            eager = Maneuver(frame.segments_to_world(local), "valet", "s", "l", 4.5)
+            for lazy in (Maneuver.placed(frame, local, "valet", "s", "l", 4.5),
+                         pickle.loads(pickle.dumps(Maneuver.placed(frame, local, "valet",
+                                                                   "s", "l", 4.5)))):
+                back = lazy.reversed()
+                early = (lazy.start, lazy.end, lazy.length, lazy.gears, lazy.shapes(),
+                         back.start, back.length, back.gears, back.shapes())
+                want = eager.reversed()
+                assert early == (eager.start, eager.end, eager.length, eager.gears,
+                                 eager.shapes(), want.start, want.length, want.gears,
+                                 tuple((s.distance, s.curvature, s.sharpness)
+                                       for s in want.segments))
+                assert "segments" not in lazy.__dict__  # nothing above put it in the world
+                assert lazy == eager and back == want  # now put there
+                assert (lazy.start, lazy.end, lazy.length, lazy.gears, lazy.shapes()) == \
+                    early[:5]
+
+
 QUICK = """
     vehicle_types: [valet]
     lot:
