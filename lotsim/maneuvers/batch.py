@@ -116,9 +116,9 @@ class _Batch:
 
 def fit_keys(exact: bytes, offers: list[Found]) -> list[bytes]:
     """Where ``known`` keeps a fit of the problem with exact key ``exact`` to ``offers``:
-    by the problems the offers up to the one that fits were searched for (a fit reads no
-    offer after it, so it holds when those after change), one key for each offer it may
-    be; and where none fits, by them all (the last key)."""
+    by the maneuvers the offers up to the one that fits hold (:attr:`Found.source`; a fit
+    reads no offer after it, so it holds when those after change), one key for each offer
+    it may be; and where none fits, by them all (the last key)."""
     h = hashlib.blake2b(exact, digest_size=20)
     out = []
     for found in offers:
@@ -226,7 +226,7 @@ def prefetch(planner: ManeuverPlanner, vehicles: Iterable[VehicleType], *,
             return [pair for pair, _, _, _ in got]
 
         settled = settle(list(classes.values()), search, fit,
-                         offer=lambda key, pair: Found.of(pair, exacts[key]))
+                         offer=lambda _, pair: Found.of(pair, named=True))
     for key in todo:  # in the order first met
         (hit, raw), searched = settled[key]
         planner.learn(key, hit, raw, searched=searched)

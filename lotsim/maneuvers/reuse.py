@@ -27,6 +27,7 @@ asking.
 
 from __future__ import annotations
 
+import hashlib
 import math
 from collections.abc import Callable, Hashable, Sequence
 from dataclasses import dataclass
@@ -44,7 +45,8 @@ Pair = tuple[Outcome, Outcome]
 @dataclass(frozen=True, slots=True)
 class Found:
     """A maneuver found in a class, offered to its other problems: its direction changes and
-    length (what orders the offers), and the answer eased and as planned."""
+    length (what orders the offers), the answer eased and as planned, and what names it
+    where fits are kept (:func:`answer_key`; None when they are not)."""
 
     changes: int
     length: float
@@ -53,14 +55,23 @@ class Found:
     source: bytes | None = None
 
     @classmethod
-    def of(cls, pair: Pair, source: bytes | None = None) -> Found | None:
-        """The offer of a search's answer (``source``: what names the problem searched,
-        when the caller keeps fits by it), or None when it found none."""
+    def of(cls, pair: Pair, named: bool = False) -> Found | None:
+        """The offer of a search's answer, or None when it found none; ``named``: with its
+        :attr:`source` (:func:`answer_key`), for a caller that keeps fits by it."""
         answer, raw = pair
         if not answer.found:
             return None
         segs = answer.value[0]
-        return cls(changes(segs), sum(s.length for s in segs), answer, raw, source)
+        return cls(changes(segs), sum(s.length for s in segs), answer, raw,
+                   answer_key(pair) if named else None)
+
+
+def answer_key(pair: Pair) -> bytes:
+    """What names a found answer where fits of it are kept: its pieces eased and as
+    planned, and where each begins, to the last bit (all :func:`fitted` reads of it), so a
+    problem searched again that finds the same maneuver leaves the fits of it standing."""
+    answer, raw = pair
+    return hashlib.blake2b(repr((answer.value, raw.value)).encode(), digest_size=20).digest()
 
 
 def changes(segments: Sequence[Segment]) -> int:

@@ -4,12 +4,14 @@ direction changes than the bay's own search finds, and the same answers however 
 asked."""
 
 import dataclasses
+import math
 
 import numpy as np
 import pytest
 import shapely
 
 from conftest import scenario_from_text
+from lotsim.core.geometry import Segment
 from lotsim.lot.build import build_lot
 from lotsim.lot.model import DesignVehicle
 from lotsim.maneuvers.batch import plan_lot
@@ -180,3 +182,23 @@ def test_a_fit_is_kept_by_the_offers_it_read_so_it_holds_when_later_ones_change(
     assert later[:3] == keys[:3] and later[3:] != keys[3:]  # the fit at the third holds
     assert earlier[0] == keys[0] and not set(earlier[1:]) & set(keys)
     assert fit_keys(b"other", offers)[2] != keys[2]
+
+
+def test_an_offer_is_named_by_its_maneuver_alone_to_the_last_bit():
+    """Fits are kept by the maneuvers of the offers they read (``answer_key``): a problem
+    searched again that finds the same maneuver names it alike, so the fits of it stand;
+    a maneuver one bit longer, or begun elsewhere, is named otherwise."""
+    import pickle
+
+    from lotsim.core.outcome import Outcome
+    from lotsim.maneuvers.reuse import answer_key
+
+    segs = (Segment((-3.0, 1.75, 0.0), 4.5, 0.0), Segment((1.5, 1.75, 0.0), 3.2, -0.2))
+    pair = (Outcome.of((segs, -3.0)), Outcome.of((segs, -3.0)))
+    again = pickle.loads(pickle.dumps(pair))  # the same maneuver, found again
+    assert again is not pair and answer_key(again) == answer_key(pair)
+    assert Found.of(pair, named=True).source == answer_key(pair)
+    assert Found.of(pair).source is None
+    longer = (Segment(segs[0].start, math.nextafter(4.5, 5.0), 0.0), segs[1])
+    for other in ((Outcome.of((longer, -3.0)), pair[1]), (pair[0], Outcome.of((segs, -2.5)))):
+        assert answer_key(other) != answer_key(pair)
