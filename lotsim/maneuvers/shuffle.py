@@ -25,9 +25,13 @@ from lotsim.lot.clearance import RigidSweeps
 from lotsim.lot.model import unit
 from lotsim.maneuvers.closing import closing_segments, closings, first_clear, park_path
 from lotsim.maneuvers.settings import ManeuverSettings
-from lotsim.maneuvers.validity import SWEEP_BLOCK, LocalChecks, Validity
+from lotsim.maneuvers.validity import LocalChecks, Validity
 from lotsim.roadmap.multipoint import plan_onto
 from lotsim.vehicles.model import VehicleType
+
+STROKE_BLOCK = 8
+"""Sweeps of a stroke checked first as one hull (:class:`~lotsim.lot.clearance.RigidSweeps`):
+what finds how far a lot's strokes run quickest; the answers are the same for any."""
 
 
 def park_across(checks: Validity, style: str, settings: ManeuverSettings, *,
@@ -235,10 +239,10 @@ def extents(checks: Validity, poses: FloatArray, gear: int, kappa: float, sweep:
 def _strokes(vehicle: VehicleType, gear: int, kappa: float, cap: float, n: int
              ) -> RigidSweeps:
     """The sweeps of a stroke ``cap`` long in ``gear`` at curvature ``kappa`` from the
-    origin, ``n`` of them, as :meth:`Validity.first_blocked` checks them (a stroke's shape
-    is the same for every problem of a vehicle type: made once)."""
+    origin, ``n`` of them, checked first in blocks of :data:`STROKE_BLOCK` (a stroke's
+    shape is the same for every problem of a vehicle type: made once)."""
     along = advance(np.zeros(3), gear * np.linspace(0.0, cap, n + 1), kappa)
-    return RigidSweeps([vehicle.footprints(along)], SWEEP_BLOCK)
+    return RigidSweeps([vehicle.footprints(along)], STROKE_BLOCK)
 
 
 def way(registry: list[tuple], level: int, m: int) -> list[Segment]:
