@@ -187,9 +187,10 @@ def _candidate_blocks(lay: _Layout, pa: Segment, pb: Segment, design, lot_speed:
     c_first, c_last = lay.corners[0], lay.corners[-1]
 
     def add(ok, points, speed, da, db, r, sharp) -> None:
+        # ``points(rows)``: the polylines' vertices of the candidates ``rows``
         rows = np.flatnonzero(ok)
         if len(rows):
-            pts = np.stack([p[rows] for p in points], axis=1)
+            pts = np.stack(points(rows), axis=1)
             rough = np.hypot(*np.diff(pts, axis=1).transpose(2, 0, 1)).sum(axis=1)
             blocks.append((pts, rough / speed, db[rows] - da[rows], da[rows], db[rows], r,
                            sharp))
@@ -197,41 +198,51 @@ def _candidate_blocks(lay: _Layout, pa: Segment, pb: Segment, design, lot_speed:
     ta, tb = lay.ta[oi], lay.tb[oi]
     shift_a, shift_b = u != 0.0, w != 0.0
     drift_a, drift_b = np.arctan2(np.abs(u), la), np.arctan2(np.abs(w), lb)
-    for f, speed in _area_designs(design, lot_speed):
-        r = f * design.min_radius
-        sharp = design.sharpness(speed)
-        pre = np.where(shift_a, _approx_tangent(drift_a, r, sharp) + 0.05, 0.0)
-        post = np.where(shift_b, _approx_tangent(drift_b, r, sharp) + 0.05, 0.0)
-        da, db = ta - la - pre, tb + lb + post
-        ok = ((da >= -EPS) & (da <= pa.length + EPS) & (db >= -EPS)
-              & (db <= pb.length + EPS)
-              # the corners' turns must leave room for the drifts' (road designers'
-              # estimate of the tangents; cc_polyline checks exactly)
-              & (_approx_tangent(lay.first_turn, r, sharp) + pre <= lay.legs[0] * 1.01)
-              & (_approx_tangent(lay.last_turn, r, sharp) + post <= lay.legs[1] * 1.01))
-        if lay.via:  # the corners on the stretch in order, with room for both turns
-            gap = lay.params[1][oi, 0] - lay.params[0][oi, 1]
-            ok &= gap >= float(_approx_tangent(lay.bends[0], r, sharp)
-                               + _approx_tangent(lay.bends[1], r, sharp))
-        add(ok, [a1 - dirs[0] * pre[:, None], a1, *lay.corners, b1,
-                 b1 + dirs[-1] * post[:, None]], speed, da, db, r, sharp)
-        if lay.via:
-            continue
+    # every design (radius, speed) at once, a row each: the same sums element by element
+    designs = _area_designs(design, lot_speed)
+    radii = [f * design.min_radius for f, _ in designs]
+    sharps = [design.sharpness(speed) for _, speed in designs]
+    r, sharp = np.array(radii)[:, None], np.array(sharps)[:, None]
+    pre = np.where(shift_a, _approx_tangent(drift_a, r, sharp) + 0.05, 0.0)
+    post = np.where(shift_b, _approx_tangent(drift_b, r, sharp) + 0.05, 0.0)
+    da, db = ta - la - pre, tb + lb + post
+    ok = ((da >= -EPS) & (da <= pa.length + EPS) & (db >= -EPS) & (db <= pb.length + EPS)
+          # the corners' turns must leave room for the drifts' (road designers' estimate
+          # of the tangents; cc_polyline checks exactly)
+          & (_approx_tangent(lay.first_turn, r, sharp) + pre <= lay.legs[0] * 1.01)
+          & (_approx_tangent(lay.last_turn, r, sharp) + post <= lay.legs[1] * 1.01))
+    if lay.via:  # the corners on the stretch in order, with room for both turns
+        gap = lay.params[1][oi, 0] - lay.params[0][oi, 1]
+        ok &= gap >= (_approx_tangent(lay.bends[0], r, sharp)
+                      + _approx_tangent(lay.bends[1], r, sharp))
+    else:
         # or: drift onto the shifted line, run along it, turn the corner, run along the
-        # other shifted line, drift back (the drift ends before the corner's turn begins, so
-        # a wide shift does not sharpen the corner: a big car's way round a corner slot)
+        # other shifted line, drift back (the drift ends before the corner's turn begins,
+        # so a wide shift does not sharpen the corner: a big car's way round a corner slot)
         corner = _approx_tangent(lay.bends[0], r, sharp)
         g1 = np.where(shift_a, corner + pre + 0.05, 0.0)
         g2 = np.where(shift_b, corner + post + 0.05, 0.0)
-        da, db = ta - g1 - la - pre, tb + g2 + lb + post
-        ok = ((shift_a | shift_b) & (da >= -EPS) & (da <= pa.length + EPS)
-              & (db >= -EPS) & (db <= pb.length + EPS)
-              & (2 * pre <= lay.legs[0] * 1.01) & (2 * post <= lay.legs[1] * 1.01))
-        on_a = lay.origins[0] + (ta - g1 - la)[:, None] * dirs[0]
-        on_b = lay.origins[-1] + (tb + g2 + lb)[:, None] * dirs[-1]
-        add(ok, [on_a - dirs[0] * pre[:, None], on_a, c_first - dirs[0] * g1[:, None], c_first,
-                 c_last + dirs[-1] * g2[:, None], on_b, on_b + dirs[-1] * post[:, None]],
-            speed, da, db, r, sharp)
+        run_a, run_b = ta - g1 - la, tb + g2 + lb
+        da2, db2 = run_a - pre, run_b + post
+        ok2 = ((shift_a | shift_b) & (da2 >= -EPS) & (da2 <= pa.length + EPS)
+               & (db2 >= -EPS) & (db2 <= pb.length + EPS)
+               & (2 * pre <= lay.legs[0] * 1.01) & (2 * post <= lay.legs[1] * 1.01))
+    for k, (_, speed) in enumerate(designs):
+        pk, qk = pre[k], post[k]
+        add(ok[k], lambda i, pk=pk, qk=qk: [
+            a1[i] - dirs[0] * pk[i, None], a1[i], *(c[i] for c in lay.corners), b1[i],
+            b1[i] + dirs[-1] * qk[i, None]], speed, da[k], db[k], radii[k], sharps[k])
+        if lay.via:
+            continue
+
+        def shifted(i, k=k, pk=pk, qk=qk):
+            on_a = lay.origins[0] + run_a[k][i, None] * dirs[0]
+            on_b = lay.origins[-1] + run_b[k][i, None] * dirs[-1]
+            return [on_a - dirs[0] * pk[i, None], on_a, c_first[i] - dirs[0] * g1[k][i, None],
+                    c_first[i], c_last[i] + dirs[-1] * g2[k][i, None], on_b,
+                    on_b + dirs[-1] * qk[i, None]]
+
+        add(ok2[k], shifted, speed, da2[k], db2[k], radii[k], sharps[k])
     return blocks
 
 
