@@ -179,6 +179,11 @@ class LotProblems:
         if lot.pavement is not None:
             self._region = self._region.intersection(lot.pavement)
         self._index = {s.id: k for k, s in enumerate(lot.slots)}
+        self._heads: dict[tuple, tuple] = {}  # (vehicle, slot id, lane id) → its head
+
+    def __getstate__(self) -> dict:
+        # without the heads worked out (made again when asked for)
+        return {**self.__dict__, "_heads": {}}
 
     @property
     def margin(self) -> float:
@@ -218,7 +223,20 @@ class LotProblems:
         """:meth:`head` of each triple: the slot's entry projected onto the lane a lane at
         a time (lanes are told apart by their ids) and posed there
         (:meth:`~lotsim.lot.model.Lane.poses_at`), the rest in the sums of
-        :meth:`LocalFrame.poses_to_local`, so the same floats."""
+        :meth:`LocalFrame.poses_to_local`, so the same floats. Each is worked out once and
+        kept (a problem keyed in a batch is posed whole later, one at a time)."""
+        known = self._heads
+        keys = [(v, slot.id, lane.id) for v, slot, lane in triples]
+        todo = list(dict.fromkeys(k for k in keys if k not in known))
+        if todo:
+            at = {k: i for i, k in enumerate(keys)}
+            known.update(zip(todo, self._made_heads([triples[at[k]] for k in todo]),
+                             strict=True))
+        return [known[k] for k in keys]
+
+    def _made_heads(self, triples: Sequence[tuple[VehicleType, Slot, Lane]]
+                    ) -> list[tuple[LocalFrame, float, tuple[float, float], float, float]]:
+        """:meth:`heads` of ``triples``, worked out."""
         n = len(triples)
         mids = np.array([slot.entry for _, slot, _ in triples], dtype=float).reshape(
             n, -1, 2).mean(axis=1)

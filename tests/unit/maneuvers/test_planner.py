@@ -561,6 +561,33 @@ def test_a_batch_of_heads_is_each_slots_own_to_the_bit(name):
     assert len(triples) > 10
 
 
+
+def test_a_head_is_worked_out_once_and_read_again_as_it_was(monkeypatch):
+    """:meth:`LotProblems.heads` keeps what it works out: asked again (a problem keyed in a
+    batch and posed later on its own), it works nothing out and gives the same values, the
+    same as a fresh set of the lot's problems gives them; a pickled copy keeps none."""
+    from lotsim.maneuvers.problem import LotProblems
+    from lotsim.sim.preparation import maneuver_planner
+
+    sc = load_scenario(ROOT / "scenarios" / "mixed_lot.yaml")
+    lot = build_lot(sc.lot, DesignVehicle.envelope(sc.vehicle_types))
+    planner = maneuver_planner(sc, lot)
+    triples = [(v, slot, lane) for v in sc.vehicle_types for slot in lot.slots
+               for lane in planner.lanes_for(slot)]
+    problems = planner.problems
+    first = problems.heads(triples)
+    fresh = pickle.loads(pickle.dumps(problems))
+    assert not fresh._heads and len(problems._heads) == len(triples)
+    made = []
+    real = LotProblems._made_heads
+    monkeypatch.setattr(LotProblems, "_made_heads",
+                        lambda self, some: made.append(len(some)) or real(self, some))
+    some = triples[::3]
+    assert problems.heads(some) == first[::3] and not made
+    assert [problems.head(*t) for t in some] == first[::3] and not made
+    assert fresh.heads(some) == first[::3] and made == [len(some)]
+
+
 def test_a_head_beside_a_bend_has_the_lanes_heading_there_and_no_lane_line():
     """:meth:`LotProblems.heads` beside an arc or a clothoid: the frame's heading is the
     lane's own where the slot's entry projects onto it, to the bit; the lane line is NaN."""
