@@ -180,10 +180,11 @@ class LotProblems:
             self._region = self._region.intersection(lot.pavement)
         self._index = {s.id: k for k, s in enumerate(lot.slots)}
         self._heads: dict[tuple, tuple] = {}  # (vehicle, slot id, lane id) → its head
+        self._far: dict[tuple, float] = {}  # (slot id, frame) → :meth:`_far_sides`
 
     def __getstate__(self) -> dict:
-        # without the heads worked out (made again when asked for)
-        return {**self.__dict__, "_heads": {}}
+        # without what it worked out for problems (made again when asked for)
+        return {**self.__dict__, "_heads": {}, "_far": {}}
 
     @property
     def margin(self) -> float:
@@ -300,7 +301,21 @@ class LotProblems:
     def _tops(self, slots: Sequence[Slot], frames: Sequence[LocalFrame], halves: FloatArray
               ) -> FloatArray:
         """:meth:`_top` of each slot in its frame with its window's half size: where its
-        entry's middle lies across its aisle, an aisle at a time."""
+        entry's middle lies across its aisle (:meth:`_far_sides`, each worked out once and
+        kept)."""
+        known = self._far
+        keys = [(slot.id, frame) for slot, frame in zip(slots, frames, strict=True)]
+        todo = list(dict.fromkeys(k for k in keys if k not in known))
+        if todo:
+            at = {k: i for i, k in enumerate(keys)}
+            known.update(zip(todo, self._far_sides([slots[at[k]] for k in todo],
+                                                   [frames[at[k]] for k in todo]).tolist(),
+                             strict=True))
+        return np.minimum(halves, np.array([known[k] for k in keys]))
+
+    def _far_sides(self, slots: Sequence[Slot], frames: Sequence[LocalFrame]) -> FloatArray:
+        """The far side of each slot's aisle less the margin (local y in its frame), an
+        aisle at a time."""
         n = len(slots)
         mids = np.array([slot.entry for slot in slots], dtype=float).reshape(n, -1, 2).mean(
             axis=1)
@@ -316,7 +331,7 @@ class LotProblems:
                                                                                  along))
             widths[at] = aisle.width
         centre_y = _to_local(on_line, _frames(frames))[:, 1]
-        return np.minimum(halves, centre_y + widths / 2 - self.margin)
+        return centre_y + widths / 2 - self.margin
 
     def digest(self, p: ManeuverProblem) -> bytes:
         """The car, the slot, the rounded local geometry within the window and where the

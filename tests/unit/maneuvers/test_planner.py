@@ -563,9 +563,10 @@ def test_a_batch_of_heads_is_each_slots_own_to_the_bit(name):
 
 
 def test_a_head_is_worked_out_once_and_read_again_as_it_was(monkeypatch):
-    """:meth:`LotProblems.heads` keeps what it works out: asked again (a problem keyed in a
-    batch and posed later on its own), it works nothing out and gives the same values, the
-    same as a fresh set of the lot's problems gives them; a pickled copy keeps none."""
+    """:meth:`LotProblems.heads` (and the windows' tops) keep what they work out: asked again
+    (a problem keyed in a batch and posed later on its own), they work nothing out and give
+    the same values, the same as a fresh set of the lot's problems gives them; a pickled
+    copy keeps none."""
     from lotsim.maneuvers.problem import LotProblems
     from lotsim.sim.preparation import maneuver_planner
 
@@ -577,7 +578,7 @@ def test_a_head_is_worked_out_once_and_read_again_as_it_was(monkeypatch):
     problems = planner.problems
     first = problems.heads(triples)
     fresh = pickle.loads(pickle.dumps(problems))
-    assert not fresh._heads and len(problems._heads) == len(triples)
+    assert not fresh._heads and not fresh._far and len(problems._heads) == len(triples)
     made = []
     real = LotProblems._made_heads
     monkeypatch.setattr(LotProblems, "_made_heads",
@@ -586,6 +587,14 @@ def test_a_head_is_worked_out_once_and_read_again_as_it_was(monkeypatch):
     assert problems.heads(some) == first[::3] and not made
     assert [problems.head(*t) for t in some] == first[::3] and not made
     assert fresh.heads(some) == first[::3] and made == [len(some)]
+    # and so for how far the window reaches across the aisle
+    slots, frames = [t[1] for t in triples], [h[0] for h in first]
+    halves = np.array([h[4] for h in first])
+    tops = problems._tops(slots, frames, halves)
+    monkeypatch.setattr(LotProblems, "_far_sides", lambda *_: pytest.fail("worked out again"))
+    assert np.array_equal(problems._tops(slots[::2], frames[::2], halves[::2]), tops[::2])
+    monkeypatch.undo()
+    assert np.array_equal(fresh._tops(slots, frames, halves), tops)
 
 
 def test_a_head_beside_a_bend_has_the_lanes_heading_there_and_no_lane_line():
