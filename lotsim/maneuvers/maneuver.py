@@ -10,12 +10,16 @@ from __future__ import annotations
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from lotsim.core.geometry import FloatArray, Pose, Segment
 from lotsim.vehicles.model import VehicleType
 from lotsim.vehicles.motion import Motion, Piece, runs, timed_path
+
+if TYPE_CHECKING:
+    from lotsim.maneuvers.problem import LocalFrame
 
 
 def path_length(segments: Sequence[Segment]) -> float:
@@ -141,10 +145,9 @@ class Maneuver:
                        station=self.station, leaving=not self.leaving, _of=self)
 
     @classmethod
-    def placed(cls, frame, local: Sequence[Segment], vehicle: str, slot: str, lane: str,
-               station: float) -> Maneuver:
-        """The way in whose pieces are ``local`` in ``frame``'s coordinates (a
-        :class:`~lotsim.maneuvers.problem.LocalFrame`), put in the world
+    def placed(cls, frame: LocalFrame, local: Sequence[Segment], vehicle: str, slot: str,
+               lane: str, station: float) -> Maneuver:
+        """The way in whose pieces are ``local`` in ``frame``'s coordinates, put in the world
         (``frame.segments_to_world``) when first asked for: a lot's maneuvers are planned
         in their slots' frames, and most are only timed and measured before they are
         driven. Its start, end, length, gears and shapes read before then are those of the

@@ -91,8 +91,11 @@ def plan_onto(starts: Sequence[Pose], frame: Pose, lo: float, hi: float,
     direction changes. One search serves every start (a tie goes to the earlier).
 
     ``body`` is checked against ``collider`` all the way; no arc is tighter than
-    ``radius`` [m]. All poses are in the world frame. ``ahead``: states whose moves are
-    checked in one batch (:data:`AHEAD`; the paths found are the same for any).
+    ``radius`` [m]. All poses are in the world frame: the frame of ``body.footprints(poses)``
+    and of ``collider.blocked(bodies, convex=False)`` (as a
+    :class:`~lotsim.lot.clearance.Collider` and a design vehicle have them; the moves' sweeps
+    are made once, from the origin, and placed at each state). ``ahead``: states whose
+    moves are checked in one batch (:data:`AHEAD`; the paths found are the same for any).
 
     Examples
     --------
