@@ -21,7 +21,7 @@ from __future__ import annotations
 
 import hashlib
 import math
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -226,14 +226,8 @@ class LotProblems:
         (:meth:`~lotsim.lot.model.Lane.poses_at`), the rest in the sums of
         :meth:`LocalFrame.poses_to_local`, so the same floats. Each is worked out once and
         kept (a problem keyed in a batch is posed whole later, one at a time)."""
-        known = self._heads
-        keys = [(v, slot.id, lane.id) for v, slot, lane in triples]
-        todo = list(dict.fromkeys(k for k in keys if k not in known))
-        if todo:
-            at = {k: i for i, k in enumerate(keys)}
-            known.update(zip(todo, self._made_heads([triples[at[k]] for k in todo]),
-                             strict=True))
-        return [known[k] for k in keys]
+        return _kept(self._heads, [(v, slot.id, lane.id) for v, slot, lane in triples],
+                     lambda at: self._made_heads([triples[k] for k in at]))
 
     def _made_heads(self, triples: Sequence[tuple[VehicleType, Slot, Lane]]
                     ) -> list[tuple[LocalFrame, float, tuple[float, float], float, float]]:
@@ -303,15 +297,11 @@ class LotProblems:
         """:meth:`_top` of each slot in its frame with its window's half size: where its
         entry's middle lies across its aisle (:meth:`_far_sides`, each worked out once and
         kept)."""
-        known = self._far
-        keys = [(slot.id, frame) for slot, frame in zip(slots, frames, strict=True)]
-        todo = list(dict.fromkeys(k for k in keys if k not in known))
-        if todo:
-            at = {k: i for i, k in enumerate(keys)}
-            known.update(zip(todo, self._far_sides([slots[at[k]] for k in todo],
-                                                   [frames[at[k]] for k in todo]).tolist(),
-                             strict=True))
-        return np.minimum(halves, np.array([known[k] for k in keys]))
+        far = _kept(self._far, [(slot.id, frame) for slot, frame in zip(slots, frames,
+                                                                        strict=True)],
+                    lambda at: self._far_sides([slots[k] for k in at],
+                                               [frames[k] for k in at]).tolist())
+        return np.minimum(halves, np.array(far))
 
     def _far_sides(self, slots: Sequence[Slot], frames: Sequence[LocalFrame]) -> FloatArray:
         """The far side of each slot's aisle less the margin (local y in its frame), an
@@ -581,6 +571,18 @@ def shape_key(vehicle: VehicleType, slot: Slot, lane_y: float, half: float, comm
         return None
     return hashlib.blake2b(common, digest_size=20).digest()
 
+
+
+def _kept(known: dict, keys: list, make: Callable[[list[int]], Sequence]) -> list:
+    """The value of each of ``keys`` in ``known``; those missing made first, once each, in
+    one batch: ``make(indices)`` gives the values of the keys at those indices."""
+    at: dict = {}
+    for i, k in enumerate(keys):
+        if k not in known:
+            at.setdefault(k, i)
+    if at:
+        known.update(zip(at, make(list(at.values())), strict=True))
+    return [known[k] for k in keys]
 
 def _frames(frames: Sequence[LocalFrame]) -> np.ndarray:
     """(F, 5): the origin x and y, cosine, sine and sign of local y of each of ``frames``."""

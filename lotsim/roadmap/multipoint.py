@@ -150,8 +150,7 @@ class _Search:
         # each state checked
         along = np.concatenate([g * s for g, _ in self.moves])
         bend = np.repeat([k for _, k in self.moves], n + 1)
-        prints = body.footprints(advance(np.zeros((1, 1, 3)), along[None, :], bend[None, :])
-                                 .reshape(-1, 3))
+        prints = body.footprints(advance(np.zeros(3), along, bend))
         self.sweeps = RigidSweeps(np.split(prints, len(self.moves)), MOVE_BLOCK)
         self.states: list[tuple[FloatArray, int, float, int, int, Segment | None]] = [
             (to_local(self.origin, np.array(p, dtype=float)), 0, math.nan, 0, -1, None)
