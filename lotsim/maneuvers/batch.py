@@ -74,6 +74,26 @@ class _Batch:
         problem = self.planner.problems.pose(*self.triples[k])
         return exact_key(problem, style), problem
 
+    def held(self, k: int, style: str, source: bytes | None) -> tuple | None:
+        """What :meth:`searched` answers for ``(k, style, source)`` when ``known`` holds the
+        problem's exact key and its answer (looked up without posing it), else None."""
+        exact = None if self.known is None else self.known.get(exact_key_of(source, style))
+        found = None if exact is None else self.known.get(exact)
+        return None if found is None else (*found, exact, True)
+
+    def fit_held(self, k: int, style: str, offers: list[Found], source: bytes | None
+                 ) -> tuple | None:
+        """What :meth:`fitted` answers for ``(k, style, offers, source)`` when ``known``
+        holds the problem's exact key and a fit of it to ``offers`` (looked up without
+        posing it), else None."""
+        exact = None if self.known is None else self.known.get(exact_key_of(source, style))
+        if exact is None:
+            return None
+        for key in fit_keys(exact, offers):
+            if key in self.known:
+                return self.known[key], key, True, exact
+        return None
+
     def searched(self, job: tuple[int, str, bytes | None]) -> tuple:
         """The problem of triple ``job[0]`` searched in style ``job[1]`` (posed here: it was
         keyed without being posed whole; ``job[2]``: its sources): (eased, as planned, its
@@ -205,9 +225,13 @@ def prefetch(planner: ManeuverPlanner, vehicles: Iterable[VehicleType], *,
         remembered: dict[bytes, bool] = {}
 
         def search(keys: list[bytes]) -> list[tuple]:
-            got = pool.map(batch.searched, [todo[k] for k in keys], chunk=8,
-                           progress=count_done.part)
-            count_done.done += len(keys)  # (the map reported them)
+            # those ``known`` holds looked up here, the others searched on the workers
+            got = [batch.held(*todo[k]) for k in keys]
+            rest = [k for k, g in enumerate(got) if g is None]
+            for k, g in zip(rest, pool.map(batch.searched, [todo[keys[k]] for k in rest],
+                                           chunk=8, progress=count_done.part), strict=True):
+                got[k] = g
+            count_done.done += len(keys)  # (the map reported its own)
             for key, (_, _, exact, held) in zip(keys, got, strict=True):
                 exacts[key], remembered[key] = exact, held
             return [(hit, raw) for hit, raw, _, _ in got]
@@ -215,8 +239,13 @@ def prefetch(planner: ManeuverPlanner, vehicles: Iterable[VehicleType], *,
         fits: dict[bytes, tuple | None] = {}  # what ``known`` is to keep of the fits
 
         def fit(jobs: list) -> list:
-            got = pool.map(batch.fitted, [(k, st, offers, source) for key, offers in jobs
-                                          for k, st, source in [todo[key]]], chunk=16)
+            asks = [(k, st, offers, source) for key, offers in jobs
+                    for k, st, source in [todo[key]]]
+            got = [batch.fit_held(*ask) for ask in asks]
+            rest = [k for k, g in enumerate(got) if g is None]
+            for k, g in zip(rest, pool.map(batch.fitted, [asks[k] for k in rest], chunk=16),
+                            strict=True):
+                got[k] = g
             for (key, _), (pair, fit_key, _, exact) in zip(jobs, got, strict=True):
                 if fit_key is not None:
                     fits[fit_key] = pair
