@@ -186,7 +186,7 @@ def _planned(args: argparse.Namespace, scenario, settings, budget,
     seen: list[bool] = []  # Ctrl-C, even where a finaliser swallowed its KeyboardInterrupt
     if settings.priority == "arrival":
         with noting_sigint(seen), api.Watchdog(budget, where, then=progress) as dog:
-            with Preparing() as bar:
+            with Preparing() as bar, api.collector_tuned():
                 prepared = api.prepare(scenario, progress=bar)
             with api.collector_tuned():
                 rr = api.run(prepared, settings, progress=dog.progress)
@@ -194,7 +194,7 @@ def _planned(args: argparse.Namespace, scenario, settings, budget,
         bar = ProgressBar("trying orders")
         try:
             with noting_sigint(seen), api.Watchdog(budget, where):
-                with Preparing() as preparing:
+                with Preparing() as preparing, api.collector_tuned():
                     prepared = api.prepare(scenario, progress=preparing)
                 with api.collector_tuned():
                     rr = api.run(prepared, settings,

@@ -49,7 +49,7 @@ def execute(args: argparse.Namespace) -> int:
     worst = EXIT_OK
     for path in args.scenarios:
         try:
-            with Preparing() as bar:
+            with Preparing() as bar, api.collector_tuned():
                 report = api.validate(path, progress=bar)
         except ScenarioError as exc:
             print(located(exc), file=sys.stderr)

@@ -22,8 +22,8 @@ from lotsim.traffic.searchgraph import SearchGraphMemo
 
 RUN_GC_THRESHOLDS = (20_000, 20, 1000)
 """The cycle collector's thresholds in :func:`collector_tuned` (Python's are 700, 10, 10):
-planning makes millions of objects and almost no cycles, so it still collects, in larger
-batches, and seldom scans everything."""
+planning, and preparing a lot, make millions of objects and almost no cycles, so it still
+collects, in larger batches, and seldom scans everything."""
 
 
 @contextmanager
@@ -34,9 +34,11 @@ def collector_tuned() -> Iterator[None]:
 
     A full collection scans every object it tracks: one that fell in a short run of a
     process holding several lots took longer than the run's own work, skewing the
-    planning times runs are compared by. This changes process-wide state, so the library
-    never does it unasked; ``lotsim run`` asks for it. Objects frozen before the block
-    stay frozen (nothing more is frozen then).
+    planning times runs are compared by; preparing a lot kept from the cache and edited
+    spent a tenth of its time in them. This changes process-wide state, so the library
+    never does it unasked; ``lotsim run`` asks for it around preparing the lot and around
+    planning, ``lotsim validate`` around preparing. Objects frozen before the block stay
+    frozen (nothing more is frozen then).
 
     Examples
     --------

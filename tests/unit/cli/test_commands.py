@@ -484,3 +484,30 @@ def test_validate_on_a_dask_cluster_says_the_same(capsys):
     assert capsys.readouterr().out == here
     assert main(["validate", paths[0], "--scheduler", "tcp://127.0.0.1:1"]) == 2
     assert "cannot reach a Dask scheduler" in capsys.readouterr().err
+
+
+def test_validate_and_run_prepare_with_the_collector_tuned_and_leave_it_as_it_was(
+        tmp_path, monkeypatch, capsys):
+    # preparing makes many objects and almost no cycles: the commands ask for larger
+    # batches of collection while they prepare, and put the collector back after
+    import gc
+
+    from lotsim.sim import preparation
+    from lotsim.sim.running import RUN_GC_THRESHOLDS
+
+    seen = []
+    prepare_lot = preparation.prepare_lot
+
+    def spy(*args, **kwargs):
+        seen.append(gc.get_threshold())
+        return prepare_lot(*args, **kwargs)
+
+    monkeypatch.setattr(preparation, "prepare_lot", spy)
+    monkeypatch.setenv("LOTSIM_CACHE_DIR", "off")
+    path = ROOT / "scenarios" / "quickstart.yaml"
+    before = gc.get_threshold()
+    assert before != RUN_GC_THRESHOLDS
+    assert main(["validate", str(path)]) == 0
+    assert main(["run", str(path), "-o", str(tmp_path / "out"), "--no-gif"]) == 0
+    assert seen == [RUN_GC_THRESHOLDS, RUN_GC_THRESHOLDS]
+    assert gc.get_threshold() == before
