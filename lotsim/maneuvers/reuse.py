@@ -29,6 +29,7 @@ from __future__ import annotations
 
 import hashlib
 import math
+import pickle
 from collections.abc import Callable, Hashable, Sequence
 from dataclasses import dataclass
 
@@ -69,9 +70,13 @@ class Found:
 def answer_key(pair: Pair) -> bytes:
     """What names a found answer where fits of it are kept: its pieces eased and as
     planned, and where each begins, to the last bit (all :func:`fitted` reads of it), so a
-    problem searched again that finds the same maneuver leaves the fits of it standing."""
+    problem searched again that finds the same maneuver leaves the fits of it standing.
+    They are read pickled (every float's bits, five times quicker than their text): equal
+    names are equal maneuvers, and a maneuver found again by the same steps is pickled
+    alike."""
     answer, raw = pair
-    return hashlib.blake2b(repr((answer.value, raw.value)).encode(), digest_size=20).digest()
+    blob = pickle.dumps((answer.value, raw.value), protocol=pickle.HIGHEST_PROTOCOL)
+    return hashlib.blake2b(blob, digest_size=20).digest()
 
 
 def changes(segments: Sequence[Segment]) -> int:

@@ -7,7 +7,9 @@ described in :mod:`lotsim.roadmap.model`."""
 
 from __future__ import annotations
 
+import hashlib
 import math
+import pickle
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
@@ -268,8 +270,11 @@ def _durations(lot: Lot, maneuvers: dict, leaving: dict, stays: dict, types: dic
                 limit = _path_limit(lot, m)
                 for path in (m, leaving[key]) if both else (m,):
                     todo.setdefault(shape(path, key[0], limit), (path, key[0], limit))
-    # each shape by its key in ``known``: the type's whole description, not its name
-    stored = ({key: piece_key(b"duration", types[key[0]], key[1:]) for key in todo}
+    # each shape by its key in ``known``: the type's whole description, not its name, and
+    # the limit and shape pickled (every float's bits)
+    named = {name: piece_key(b"duration", v) for name, v in types.items()}
+    stored = ({key: hashlib.blake2b(named[key[0]] + pickle.dumps(key[1:], protocol=5),
+                                    digest_size=20).digest() for key in todo}
               if known is not None else {})
     timed = {key: known[name] for key, name in stored.items() if name in known}
     jobs = [(key, job) for key, job in todo.items() if key not in timed]

@@ -340,7 +340,8 @@ def turns_of(lot: Lot, collider: Collider, designs: dict[str, DesignVehicle] | N
             turns = list(found)
             base = memo.lot_key if memo.known is not None else b""
             kinds = sorted(designs.items())
-            suits = worked_out(memo, [piece_key(base, "suits", t, kinds) for t in turns],
+            suited = piece_key(base, "suits", kinds)  # then each turn's own
+            suits = worked_out(memo, [piece_key(suited, t) for t in turns],
                                collider, lambda k, eye: _suited(turns[k], designs, eye))
             tagged = {t: names for t, names in zip(turns, suits, strict=True) if names}
             every = len(designs)
