@@ -120,3 +120,45 @@ def test_a_worker_whose_task_maps_too_takes_its_next_item():
         return sum(fork_map(lambda y: y * y, [x, x + 1]))
 
     assert fork_map(inner, [1, 2, 3, 4], workers=2) == [5, 13, 25, 41]
+
+
+def test_aside_works_on_another_process_while_this_one_goes_on(tmp_path, monkeypatch):
+    from lotsim.core.workers import Aside
+
+    out = tmp_path / "pid"
+    gate = tmp_path / "go"
+
+    def write() -> None:  # waits for this process to have gone on past the start
+        for _ in range(500):
+            if gate.exists():
+                break
+            time.sleep(0.01)
+        out.write_text(str(os.getpid()))
+
+    with Aside(write):
+        assert not out.exists()  # it has not waited for it
+        gate.write_text("")
+    assert int(out.read_text()) != os.getpid()  # done by then, elsewhere
+    # where a process cannot be had, or would share one core: at once, here
+    monkeypatch.setattr(os, "cpu_count", lambda: 1)
+    with Aside(lambda: out.write_text(str(os.getpid()))):
+        assert int(out.read_text()) == os.getpid()
+
+
+def test_aside_an_error_ends_it_quietly_and_ctrl_c_is_left_here(tmp_path):
+    import signal
+
+    from lotsim.core.workers import Aside
+
+    def fail() -> None:
+        raise ValueError("nobody waits for this")
+
+    Aside(fail).wait()  # nothing raised here
+    seen = tmp_path / "seen"
+
+    def interrupted() -> None:
+        os.kill(os.getpid(), signal.SIGINT)  # Ctrl-C, as the terminal sends it to both
+        seen.write_text("went on")
+
+    Aside(interrupted).wait()
+    assert seen.read_text() == "went on"

@@ -1,7 +1,8 @@
 """The one place lotsim forks: ``[fn(item) for item in items]`` on forked worker processes,
 the same answers in the same order as in this process (:func:`fork_map`); several such maps
-on one set of workers forked once (:class:`ForkPool`); and one background process at the
-lowest priority (:class:`Background`).
+on one set of workers forked once (:class:`ForkPool`); one background process at the
+lowest priority (:class:`Background`); and one task whose answer nobody waits for, such as
+writing a file, done aside (:class:`Aside`).
 
 The workers are forked from this process as it is when the map starts, so ``fn`` and the
 items reach them by reference (nothing but an index goes down a pipe, the answers come back
@@ -13,6 +14,7 @@ or with ``workers=1``, it works in this process.
 
 from __future__ import annotations
 
+import contextlib
 import multiprocessing
 import os
 import signal
@@ -223,3 +225,53 @@ def _background(fn: Callable, items: Sequence, conn, parent: int) -> None:
         pass
     finally:
         conn.close()
+
+
+class Aside:
+    """``fn()`` on a forked process while this one goes on (writing what this process
+    will not read again: a cache entry); :meth:`wait` (or leaving the ``with`` block)
+    waits for it to end. It runs in this process at once where :func:`fork_map` would work
+    in this process (one core, no ``fork``, a process multiprocessing started) or no
+    process can be had. Ctrl-C is left to this process; the forked one finishes what it is
+    doing, which an exception ends quietly.
+
+    Examples
+    --------
+    >>> import pathlib, tempfile
+    >>> path = pathlib.Path(tempfile.mkdtemp()) / "note.txt"
+    >>> with Aside(lambda: path.write_text("written")):
+    ...     pass
+    >>> path.read_text()
+    'written'
+    """
+
+    def __init__(self, fn: Callable[[], object]):
+        self._proc = None
+        if (not multiprocessing.parent_process() and (os.cpu_count() or 1) >= 2
+                and "fork" in multiprocessing.get_all_start_methods()):
+            proc = multiprocessing.get_context("fork").Process(target=_aside, args=(fn,))
+            try:
+                proc.start()
+                self._proc = proc
+                return
+            except OSError:  # no process to be had (a limit): done here
+                pass
+        fn()
+
+    def wait(self) -> None:
+        """Wait for it to be done."""
+        if self._proc is not None:
+            self._proc.join()
+            self._proc = None
+
+    def __enter__(self) -> Aside:
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.wait()
+
+
+def _aside(fn: Callable[[], object]) -> None:
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    with contextlib.suppress(Exception):  # nobody waits for its answer
+        fn()

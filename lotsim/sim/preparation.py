@@ -5,9 +5,11 @@ before."""
 
 from __future__ import annotations
 
+import contextlib
 from dataclasses import dataclass, field
 
 import lotsim.core.diskcache
+from lotsim.core.workers import Aside
 from lotsim.lot.build import build_lot
 from lotsim.lot.model import DesignVehicle, Lot
 from lotsim.maneuvers.batch import plan_lot
@@ -132,21 +134,23 @@ def _prepared(scenario: Scenario, leaves: set[bool], name: str | None, node_spac
         known = _known(known_name)
         planned, infeasible, stays = plan_lot(planner, scenario.vehicle_types, progress=progress,
                                               known=known)
-        if known_name is not None and planner.stats["planned"] > planner.stats["remembered"]:
-            lotsim.core.diskcache.store(known_name, known)  # it learnt something
-        if leaves == {False}:  # no car leaves: each lane's own best only
-            planned, stays = {**planned, **stays}, {}
-        elif leaves == {True}:  # no car stays: where those begin would only be nodes in the way
-            stays = {}
-        lg = build_graph(lot, node_spacing=node_spacing, maneuvers=planned,
-                         vehicles=scenario.vehicle_types, stays=stays, memo=memo)
-        lg.infeasible = infeasible
-        if roads_name is not None and (memo.worked or len(roads) != held):
-            lotsim.core.diskcache.store(roads_name, roads)  # it learnt something
-        if name is not None:
-            lg.reachability()  # every run and validate asks: kept with the lot
-            lg.facts()
-            lotsim.core.diskcache.store(name, (lg, planner))
+        # what it learnt (if anything) written aside while the graph is built
+        learnt = known_name is not None and planner.stats["planned"] > planner.stats["remembered"]
+        with (Aside(lambda: lotsim.core.diskcache.store(known_name, known)) if learnt
+              else contextlib.nullcontext()):
+            if leaves == {False}:  # no car leaves: each lane's own best only
+                planned, stays = {**planned, **stays}, {}
+            elif leaves == {True}:  # no car stays: where those begin would only be nodes in
+                stays = {}  # the way
+            lg = build_graph(lot, node_spacing=node_spacing, maneuvers=planned,
+                             vehicles=scenario.vehicle_types, stays=stays, memo=memo)
+            lg.infeasible = infeasible
+            if roads_name is not None and (memo.worked or len(roads) != held):
+                lotsim.core.diskcache.store(roads_name, roads)  # it learnt something
+            if name is not None:
+                lg.reachability()  # every run and validate asks: kept with the lot
+                lg.facts()
+                lotsim.core.diskcache.store(name, (lg, planner))
         return lg, planner
 
 
