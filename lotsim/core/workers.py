@@ -30,6 +30,12 @@ def _default_workers() -> int:
     return (1 if multiprocessing.parent_process() else os.cpu_count()) or 1
 
 
+def cores() -> int:
+    """How many processes :func:`fork_map` and :class:`ForkPool` share work among by
+    default: the machine's cores, or one in a process multiprocessing started."""
+    return _default_workers()
+
+
 class ForkPool:
     """Worker processes forked once, from this process as it is when the pool opens, each
     holding ``task`` by reference; :meth:`map` calls one of ``task``'s methods on items.

@@ -31,7 +31,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from lotsim.core.geometry import FloatArray, Segment, advance, sample_segments
-from lotsim.core.workers import Background
+from lotsim.core.workers import Background, cores
 from lotsim.lot.build import obstacle_polygons
 from lotsim.lot.clearance import Collider, first_blocked
 from lotsim.lot.model import DesignVehicle, Lane, Lot
@@ -455,32 +455,47 @@ def _reaching_all(jobs: dict, memo: dict, roads: RoadmapMemo | None = None) -> d
     multi-point searches on both cores, each once: ``memo`` holds (and is given) those
     done before, by lane, design and arguments (an earlier build of the lot's graph made
     some). A job's second search waits for its first (whether it is made depends on what
-    the first found), so the searches go in rounds, each round's on both cores; each taken
+    the first found), so the searches go in rounds, each round's on both cores (a round
+    that would leave a core idle makes a second search that may be wanted too); each taken
     from ``roads``' store of an earlier preparation where what it read is the same
     (:mod:`~lotsim.roadmap.remembered`)."""
     base = roads.lot_key if roads is not None and roads.known is not None else b""
     wanted: dict[tuple, tuple] = {}  # the searches the jobs need that are not done
+    spare: dict[tuple, tuple] = {}  # and those they may need next
 
-    def onto(lane, back, starts, hi, collider, body, radius):
+    def onto(lane, back, starts, hi, collider, body, radius, *, maybe=False):
         key = (lane.id, back.id, body, radius, tuple(starts), hi, "onto")
         if key not in memo:
-            wanted[key] = (lane, back, starts, hi, collider, body, radius)
-            raise _Pending
-        return memo[key]
+            (spare if maybe else wanted)[key] = (lane, back, starts, hi, collider, body,
+                                                 radius)
+            if not maybe:
+                raise _Pending
+        return memo.get(key)
 
     while True:
         wanted.clear()
+        spare.clear()
         out = {}
         for key, job in jobs.items():
             with contextlib.suppress(_Pending):
                 out[key] = _reaching_turnarounds(*job, onto=onto)
         if not wanted:
             return out
-        keys = [piece_key(base, "reach", lane.id, back.id, starts, hi, body, radius)
-                for lane, back, starts, hi, _, body, radius in wanted.values()]
-        jobs_now = list(wanted.values())
-        memo.update(zip(wanted, worked_out(
-            roads, keys, [job[4] for job in jobs_now],
+        pieces = {key: piece_key(base, "reach", lane.id, back.id, starts, hi, body, radius)
+                  for key, (lane, back, starts, hi, _, body, radius) in {**wanted,
+                                                                         **spare}.items()}
+        known = roads.known if roads is not None else None
+        held = {key: recall(known, pieces[key], job[4]) for key, job in wanted.items()}
+        todo = {key: wanted[key] for key, got in held.items() if got is MISSING}
+        # a round that leaves a core idle makes the searches the next may want too
+        for key in list(spare)[:max(0, cores() - len(todo)) if todo else 0]:
+            todo.setdefault(key, spare[key])
+        memo.update((key, got) for key, got in held.items() if got is not MISSING)
+        if roads is not None:
+            roads.recalled += len(wanted) - len(held.keys() & todo.keys())
+        jobs_now = list(todo.values())
+        memo.update(zip(todo, worked_out(
+            roads, [pieces[key] for key in todo], [job[4] for job in jobs_now],
             lambda k, eye, jobs=jobs_now: _reaching_onto(*jobs[k][:4], eye, *jobs[k][5:])),
             strict=True))
 
@@ -521,17 +536,22 @@ def _reaching_turnarounds(lane: Lane, back: Lane, found: list[Turnaround],
     hi = min(go_on, seg.length)
     out: list[Turnaround] = []
 
-    def plan(starts) -> None:
+    def plan(starts, **maybe) -> None:
         starts = [st for st in starts if st >= 0 and _on_straight(lane, st)]
-        got = onto(lane, back, starts, hi, collider, body, radius) if starts else None
-        if got is not None:
+        got = onto(lane, back, starts, hi, collider, body, radius, **maybe) if starts else None
+        if got is not None and not maybe:
             out.append(got)
 
+    last = max(arrive, default=-math.inf)
     if all(t.station_b > go_on + EPS for t in found):
-        plan([lane.length - k for k in STARTS])
+        try:
+            plan([lane.length - k for k in STARTS])
+        except _Pending:  # (:func:`_reaching_all`) and the next, if it may be wanted
+            if last > max((t.station_a for t in found), default=-math.inf) + EPS:
+                plan([last], maybe=True)
+            raise
     # a car arriving past every start drives on to the last arrival and turns there
     latest = max((t.station_a for t in [*found, *out]), default=-math.inf)
-    last = max(arrive, default=-math.inf)
     if last > latest + EPS:
         plan([last])
     return out

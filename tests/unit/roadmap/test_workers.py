@@ -311,3 +311,35 @@ def test_obstacles_seen_from_a_place_are_digested_where_they_lie_about_it():
     assert inside.local_digest((0.5, 0.5, 0.2), box) != here
     assert collider((0, 0), 0.0, (30, 30, 31, 31)).local_digest((0.5, 0.5, 0.2),
                                                                 (-6.0, -2.0, 6.0, 2.0)) != here
+
+
+def test_a_round_that_would_leave_a_core_idle_makes_the_next_search_it_may_want(monkeypatch):
+    # a dead end whose cars arrive past where its first turnaround begins wants a second
+    # search, from there: on two cores it is made with the first, in one round, and the
+    # turnarounds found are those found a round each on one core
+    import lotsim.core.workers
+    from lotsim.roadmap import remembered
+
+    sc = load_scenario(LOTS / "ladder.yaml")
+    jobs, rounds = {}, []
+    real_reaching_all, real_worked_out = turnarounds._reaching_all, turnarounds.worked_out
+    monkeypatch.setattr(turnarounds, "_reaching_all", lambda todo, memo, *rest: (
+        jobs.update(todo), real_reaching_all(todo, memo, *rest))[1])
+    prepare_graph(sc, cache=False)
+    monkeypatch.setattr(remembered, "fork_map", lambda fn, items, **kw: [fn(x) for x in items])
+    monkeypatch.setattr(turnarounds, "worked_out", lambda memo, keys, *rest: (
+        rounds.append(len(keys)), real_worked_out(memo, keys, *rest))[1])
+    twice = 0
+    for job in jobs.values():
+        found = {}
+        for cores in (1, 2):
+            monkeypatch.setattr(lotsim.core.workers, "_default_workers", lambda c=cores: c)
+            rounds.clear()
+            found[cores] = real_reaching_all({0: job}, {})
+            if cores == 1:
+                alone = list(rounds)
+        assert found[2] == found[1]
+        if alone == [1, 1]:  # the second search waited for the first
+            twice += 1
+            assert rounds == [2]
+    assert twice
