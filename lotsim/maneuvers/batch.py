@@ -250,8 +250,7 @@ def prefetch(planner: ManeuverPlanner, vehicles: Iterable[VehicleType], *,
                 if fit_key is not None:
                     fits[fit_key] = pair
                     exacts[key] = exact
-                if pair is not None:
-                    count_done.add()
+            count_done.add(sum(pair is not None for pair, *_ in got))
             return [pair for pair, _, _, _ in got]
 
         settled = settle(list(classes.values()), search, fit,
@@ -287,10 +286,10 @@ class _Progress:
         """A search map's answers so far (its own count, from 1)."""
         self.progress(self.done + done, self.total)
 
-    def add(self) -> None:
-        """One more answered."""
-        self.done += 1
-        if self.progress is not None:
+    def add(self, count: int) -> None:
+        """``count`` more answered."""
+        self.done += count
+        if self.progress is not None and count:
             self.progress(self.done, self.total)
 
 

@@ -188,9 +188,11 @@ def settle(classes: Sequence[Sequence[Member]],
         jobs, where = [], []
         for c, members in enumerate(classes):
             for i, m in enumerate(members):
+                if m in out:
+                    continue
                 near = [(f.changes, f.length, j, f) for j, f in offers[c].items()
                         if abs(j - i) <= STRIDE]
-                if m not in out and near:
+                if near:
                     jobs.append((m, [f for *_, f in sorted(near, key=lambda x: x[:3])]))
                     where.append(m)
         for m, pair in zip(where, fit(jobs), strict=True):
