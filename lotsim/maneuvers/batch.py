@@ -250,7 +250,8 @@ def prefetch(planner: ManeuverPlanner, vehicles: Iterable[VehicleType], *,
                 if fit_key is not None:
                     fits[fit_key] = pair
                     exacts[key] = exact
-            count_done.add(sum(pair is not None for pair, *_ in got))
+                if pair is not None:
+                    count_done.add()
             return [pair for pair, _, _, _ in got]
 
         settled = settle(list(classes.values()), search, fit,
@@ -286,10 +287,10 @@ class _Progress:
         """A search map's answers so far (its own count, from 1)."""
         self.progress(self.done + done, self.total)
 
-    def add(self, count: int) -> None:
-        """``count`` more answered."""
-        self.done += count
-        if self.progress is not None and count:
+    def add(self) -> None:
+        """One more answered."""
+        self.done += 1
+        if self.progress is not None:
             self.progress(self.done, self.total)
 
 
