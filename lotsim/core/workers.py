@@ -234,12 +234,12 @@ def _background(fn: Callable, items: Sequence, conn, parent: int) -> None:
 
 
 class Aside:
-    """``fn()`` on a forked process while this one goes on (writing what this process
-    will not read again: a cache entry); :meth:`wait` (or leaving the ``with`` block)
-    waits for it to end. It runs in this process at once where :func:`fork_map` would work
-    in this process (one core, no ``fork``, a process multiprocessing started) or no
-    process can be had. Ctrl-C is left to this process; the forked one finishes what it is
-    doing, which an exception ends quietly.
+    """``fn()`` on a forked process while this one goes on (writing a cache entry, packing
+    what will be written); :meth:`wait` (or leaving the ``with`` block) waits for it to
+    end and returns its answer (pickled back), None when it raised: an exception ends it
+    quietly. It runs in this process at once where :func:`fork_map` would work in this
+    process (one core, no ``fork``, a process multiprocessing started) or no process can
+    be had. Ctrl-C is left to this process; the forked one finishes what it is doing.
 
     Examples
     --------
@@ -249,26 +249,40 @@ class Aside:
     ...     pass
     >>> path.read_text()
     'written'
+    >>> Aside(lambda: 6 * 7).wait(), Aside(lambda: 1 / 0).wait()
+    (42, None)
     """
 
     def __init__(self, fn: Callable[[], object]):
-        self._proc = None
-        if (not multiprocessing.parent_process() and (os.cpu_count() or 1) >= 2
-                and "fork" in multiprocessing.get_all_start_methods()):
-            proc = multiprocessing.get_context("fork").Process(target=_aside, args=(fn,))
+        self._proc = self._conn = None
+        self._answer = None
+        if _default_workers() >= 2 and "fork" in multiprocessing.get_all_start_methods():
+            ctx = multiprocessing.get_context("fork")
+            self._conn, send = ctx.Pipe(duplex=False)
+            proc = ctx.Process(target=_aside, args=(fn, send))
             try:
                 proc.start()
                 self._proc = proc
+                send.close()
                 return
             except OSError:  # no process to be had (a limit): done here
-                pass
-        fn()
+                send.close()
+                self._conn.close()
+                self._conn = None
+        with contextlib.suppress(Exception):
+            self._answer = fn()
 
-    def wait(self) -> None:
-        """Wait for it to be done."""
+    def wait(self) -> object:
+        """Wait for it to be done; its answer (None when it raised)."""
         if self._proc is not None:
+            try:
+                self._answer = self._conn.recv()
+            except (EOFError, OSError):  # it ended without one
+                self._answer = None
+            self._conn.close()
             self._proc.join()
-            self._proc = None
+            self._proc = self._conn = None
+        return self._answer
 
     def __enter__(self) -> Aside:
         return self
@@ -277,7 +291,11 @@ class Aside:
         self.wait()
 
 
-def _aside(fn: Callable[[], object]) -> None:
+def _aside(fn: Callable[[], object], conn) -> None:
     signal.signal(signal.SIGINT, signal.SIG_IGN)
-    with contextlib.suppress(Exception):  # nobody waits for its answer
-        fn()
+    answer = None
+    with contextlib.suppress(Exception):  # ended quietly: no answer
+        answer = fn()
+    with contextlib.suppress(Exception):
+        conn.send(answer)
+    conn.close()

@@ -198,8 +198,23 @@ class ManeuverPlanner:
         state = {k: v for k, v in self.__dict__.items() if k not in _ANSWERS + _FOUND_AGAIN}
         state.update({k: {} for k in _FOUND_AGAIN})
         if "_answers_packed" not in state:
-            state["_answers_packed"] = pack({k: self.__dict__[k] for k in _ANSWERS})
+            state["_answers_packed"] = self.packed_answers()
         return state
+
+    def packed_answers(self) -> bytes:
+        """Its answers as pickling it packs them (:meth:`with_answers_packed`)."""
+        return pack({k: self.__dict__[k] for k in _ANSWERS})
+
+    def with_answers_packed(self, packed: bytes) -> ManeuverPlanner:
+        """It as pickled with its answers packed already (:meth:`packed_answers`, made
+        elsewhere meanwhile): what pickling it writes, without packing them again. The copy
+        reads them when first asked for, as a planner loaded from the cache does."""
+        out = object.__new__(ManeuverPlanner)
+        out.__dict__.update((k, v) for k, v in self.__dict__.items()
+                            if k not in _ANSWERS + _FOUND_AGAIN)
+        out.__dict__.update({k: {} for k in _FOUND_AGAIN})
+        out.__dict__["_answers_packed"] = packed
+        return out
 
     def __setstate__(self, state: dict) -> None:
         self.__dict__.update(state)

@@ -126,10 +126,23 @@ class LotGraph:
         # (:meth:`__getattr__`); a lot whose graph was never asked for passes them on as
         # they came
         state = {k: v for k, v in self.__dict__.items() if k != "graph"}
-        g = self.__dict__.get("graph")
-        if g is not None:
-            state["_graph_packed"] = pack((g.graph, g._node, g._succ, g._pred))
+        if self.__dict__.get("graph") is not None:
+            state["_graph_packed"] = self.packed_graph()
         return state
+
+    def packed_graph(self) -> bytes:
+        """Its graph as pickling it packs it (:meth:`with_graph_packed`)."""
+        g = self.graph
+        return pack((g.graph, g._node, g._succ, g._pred))
+
+    def with_graph_packed(self, packed: bytes) -> LotGraph:
+        """It as pickled with its graph packed already (:meth:`packed_graph`, made elsewhere
+        meanwhile): what pickling it writes, without packing the graph again. The copy
+        reads that graph when first asked for, as a lot loaded from the cache does."""
+        out = object.__new__(LotGraph)
+        out.__dict__.update((k, v) for k, v in self.__dict__.items() if k != "graph")
+        out.__dict__["_graph_packed"] = packed
+        return out
 
     def __setstate__(self, state: dict) -> None:
         self.__dict__.update(state)

@@ -148,9 +148,14 @@ def _prepared(scenario: Scenario, leaves: set[bool], name: str | None, node_spac
             if roads_name is not None and (memo.worked or len(roads) != held):
                 lotsim.core.diskcache.store(roads_name, roads)  # it learnt something
             if name is not None:
-                lg.reachability()  # every run and validate asks: kept with the lot
+                # the graph and the answers packed aside while every run and validate's
+                # questions are answered, kept with the lot
+                packing = Aside(lambda: (lg.packed_graph(), planner.packed_answers()))
+                lg.reachability()
                 lg.facts()
-                lotsim.core.diskcache.store(name, (lg, planner))
+                packed = packing.wait()
+                lotsim.core.diskcache.store(name, (lg, planner) if packed is None else (
+                    lg.with_graph_packed(packed[0]), planner.with_answers_packed(packed[1])))
         return lg, planner
 
 
