@@ -495,3 +495,33 @@ def test_a_lot_prepared_again_takes_its_roadmap_and_maneuver_times_from_the_stor
     again = prepare_lot(sc, remember_from=1)
     assert not again.lot_graph.from_cache
     assert _graph(again.lot_graph) == _graph(first.lot_graph)
+
+
+def test_a_lot_stored_with_its_graph_and_answers_packed_elsewhere_loads_as_one_stored_whole():
+    # the cache stores a prepared lot with its graph and answers packed on another process
+    # meanwhile: it must load as the lot pickled whole does, and leave the lot it copies as
+    # it was
+    import pickle
+
+    from lotsim.sim.preparation import prepare_lot
+
+    sc = scenario_from_text(ONE_AISLE)
+    prepared = prepare_lot(sc, cache=False)
+    lg, planner = prepared.lot_graph, prepared.maneuver_planner
+    lg.reachability()
+    whole = pickle.loads(pickle.dumps((lg, planner)))
+    shells = (lg.with_graph_packed(lg.packed_graph()),
+              planner.with_answers_packed(planner.packed_answers()))
+    assert "graph" not in vars(shells[0]) and "_cache" not in vars(shells[1])
+    parts = pickle.loads(pickle.dumps(shells))
+    assert _graph(parts[0]) == _graph(whole[0]) == _graph(lg)
+    assert parts[0].reachability() == whole[0].reachability()
+    for name in ("_cache", "_raw", "_posed", "_fitted"):
+        assert repr(getattr(parts[1], name)) == repr(getattr(whole[1], name))
+    assert parts[1].stats == whole[1].stats and len(planner._cache) > 0
+    assert "graph" in vars(lg) and "_graph_packed" not in vars(lg)  # the lot as it was
+    assert "_answers_packed" not in vars(planner)
+    slot = lg.lot.slots[0]
+    lane = parts[1].lanes_for(slot)[0]
+    assert repr(parts[1].solve(sc.vehicle_types[0], slot, lane)) == repr(
+        planner.solve(sc.vehicle_types[0], slot, lane))
