@@ -162,3 +162,21 @@ def test_aside_an_error_ends_it_quietly_and_ctrl_c_is_left_here(tmp_path):
 
     Aside(interrupted).wait()
     assert seen.read_text() == "went on"
+
+
+def test_meanwhile_runs_here_while_the_workers_work(tmp_path):
+    # the workers wait for what ``meanwhile`` does in this process: it must come between
+    # handing the items out and collecting the answers (or before a map done here)
+    gate = tmp_path / "gate"
+
+    def waits(x: int) -> tuple[int, bool]:
+        for _ in range(300):
+            if gate.exists():
+                return x, True
+            time.sleep(0.01)
+        return x, False
+
+    for workers in (2, 1):
+        gate.unlink(missing_ok=True)
+        got = fork_map(waits, [1, 2, 3], workers=workers, meanwhile=lambda: gate.write_text(""))
+        assert got == [(1, True), (2, True), (3, True)]

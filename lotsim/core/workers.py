@@ -81,16 +81,23 @@ class ForkPool:
             self.pool.join()
 
     def map(self, method: Callable, items: Sequence, *, chunk: int = 1,
-            progress: Callable[[int, int], None] | None = None) -> list:
+            progress: Callable[[int, int], None] | None = None,
+            meanwhile: Callable[[], object] | None = None) -> list:
         """``[method(item) for item in items]`` for a bound method of the pool's task, the
         items handed out ``chunk`` at a time as workers come free; ``progress(done, total)``
-        is called as answers come (in order)."""
+        is called as answers come (in order). ``meanwhile()`` is called in this process
+        while the workers work (before the map in this process, where it works here)."""
         if getattr(method, "__self__", None) is not self.task:
             raise ValueError("a ForkPool maps methods of its own task")
         if self.pool is None:
+            if meanwhile is not None:
+                meanwhile()
             return _counted(map(method, items), len(items), progress)
         jobs = [(method.__name__, item) for item in items]
-        return _counted(self.pool.imap(_call, jobs, chunksize=chunk), len(items), progress)
+        answers = self.pool.imap(_call, jobs, chunksize=chunk)
+        if meanwhile is not None:
+            meanwhile()
+        return _counted(answers, len(items), progress)
 
 
 def _call(job: tuple[str, object]) -> object:
@@ -110,10 +117,12 @@ class _Indexed:
 
 
 def fork_map(fn: Callable, items: Sequence, *, workers: int | None = None, chunk: int = 1,
-             progress: Callable[[int, int], None] | None = None) -> list:
+             progress: Callable[[int, int], None] | None = None,
+             meanwhile: Callable[[], object] | None = None) -> list:
     """``[fn(item) for item in items]``, on up to ``workers`` forked processes (default: as
     many as the machine has), the items handed out ``chunk`` at a time as workers come free;
-    ``progress(done, total)`` is called as answers come (in order).
+    ``progress(done, total)`` is called as answers come (in order); ``meanwhile()`` is
+    called in this process while they work (:meth:`ForkPool.map`).
 
     Examples
     --------
@@ -123,7 +132,8 @@ def fork_map(fn: Callable, items: Sequence, *, workers: int | None = None, chunk
     task = _Indexed(fn, items)
     count = min(workers or _default_workers(), len(items))
     with ForkPool(task, workers=count) as pool:
-        return pool.map(task.at, range(len(items)), chunk=chunk, progress=progress)
+        return pool.map(task.at, range(len(items)), chunk=chunk, progress=progress,
+                        meanwhile=meanwhile)
 
 
 def _counted(answers: Iterable, total: int, progress: Callable[[int, int], None] | None

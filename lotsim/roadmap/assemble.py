@@ -8,6 +8,7 @@ described in :mod:`lotsim.roadmap.model`."""
 from __future__ import annotations
 
 import hashlib
+import importlib
 import math
 import pickle
 from dataclasses import dataclass
@@ -298,7 +299,8 @@ def junction_backs(lot: Lot, tagged: Tagged, designs: dict[str, DesignVehicle] |
     """:func:`~lotsim.roadmap.junction_multipoints.junction_multipoints` and
     :func:`~lotsim.roadmap.uturns.junction_uturns`; the two at once, on both cores, when
     neither is in ``memo`` for this set of types (each is a function of its arguments: the
-    same answers, kept in the memo as each keeps its own)."""
+    same answers, kept in the memo as each keeps its own), networkx (for the graph next)
+    imported meanwhile."""
     key = types_key(designs)
     if key not in memo.multipoints and key not in memo.uturns:
         # each kept as it keeps its own: what the workers kept went with them, but for the
@@ -307,7 +309,8 @@ def junction_backs(lot: Lot, tagged: Tagged, designs: dict[str, DesignVehicle] |
             lambda job: job(), [
                 handed_back(memo, lambda: junction_multipoints(lot, tagged, designs, exits,
                                                                memo)),
-                handed_back(memo, lambda: junction_uturns(lot, designs, memo))]))
+                handed_back(memo, lambda: junction_uturns(lot, designs, memo))],
+            meanwhile=lambda: importlib.import_module("networkx")))  # the graph's, next
     return (junction_multipoints(lot, tagged, designs, exits, memo),
             junction_uturns(lot, designs, memo))
 
