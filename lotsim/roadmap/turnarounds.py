@@ -373,8 +373,17 @@ def _dead_end_plans(lot: Lot, per: dict[str, DesignVehicle], bodies: dict[str, t
                 why[lane.id, name] = t
             for x in ([] if isinstance(t, str) else t) + more:
                 tagged.setdefault(x, set()).add(name)
-    for t, names in tagged.items():  # and every other type it suits
-        names.update(n for n in per if n not in names and suits(t, per[n], bodies[n]))
+    # and every other type it suits, each check on both cores or taken from the memo's
+    # store where what it read is unchanged
+    checks = [(t, n) for t, names in tagged.items() for n in per if n not in names]
+    base = memo.lot_key if memo.known is not None else b""
+    fits = worked_out(memo, [piece_key(base, "suits", t, per[n]) for t, n in checks],
+                      [bodies[n][0] for _, n in checks],
+                      lambda k, eye: suits(checks[k][0], per[checks[k][1]],
+                                           (eye, bodies[checks[k][1]][1])))
+    for (t, n), ok in zip(checks, fits, strict=True):
+        if ok:
+            tagged[t].add(n)
     return tagged, why
 
 
