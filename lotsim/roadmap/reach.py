@@ -15,7 +15,7 @@ from typing import TYPE_CHECKING
 from lotsim.core.geometry import same_pose
 
 if TYPE_CHECKING:
-    from collections.abc import Iterator
+    from collections.abc import Iterable, Iterator
 
     from lotsim.roadmap.model import LotGraph
 
@@ -142,19 +142,70 @@ def leavable_edges(lg: LotGraph, vehicle: str | None = None, go: set[int] | None
     not end where the park edge began: a slot parked on one pose from two lanes is left
     towards either. ``go``: the lane nodes that reach an exit (:func:`lane_reach`), when
     the caller has them."""
-    g = lg.graph
     go = lane_reach(lg, vehicle)[1] if go is None else go
+    return _leavable(_slot_poses(lg), vehicle, go)
+
+
+def _slot_poses(lg: LotGraph) -> Iterator[tuple[int, list, list]]:
+    """Each slot node with its park edges (lane node, type → the pose its maneuver parks
+    on, whether it is a placeholder) and its leave edges (lane node, type → the pose its
+    maneuver leaves from, whether it is a placeholder), slot by slot."""
+    g = lg.graph
     for node in lg.slot_nodes.values():
-        leaves = [d for _, w, d in g.out_edges(node, data=True)
-                  if d["kind"] == "leave" and w in go]
-        away = [(name, m.start) for d in leaves for name, m in d["maneuvers"].items()
+        parks = [(u, {name: m.end for name, m in d["maneuvers"].items()},
+                  bool(d.get("placeholder")))
+                 for u, _, d in g.in_edges(node, data=True) if d["kind"] == "park"]
+        leaves = [(w, {name: m.start for name, m in d["maneuvers"].items()},
+                   bool(d.get("placeholder")))
+                  for _, w, d in g.out_edges(node, data=True) if d["kind"] == "leave"]
+        yield node, parks, leaves
+
+
+def _leavable(slots: Iterable[tuple[int, list, list]], vehicle: str | None, go: set[int]
+              ) -> Iterator[tuple[int, int]]:
+    """:func:`leavable_edges` of the slots of :func:`_slot_poses`."""
+    for node, parks, leaves in slots:
+        leaves = [x for x in leaves if x[0] in go]
+        away = [(name, pose) for _, starts, _ in leaves for name, pose in starts.items()
                 if vehicle in (None, name)]
-        placeholder = any(d.get("placeholder") for d in leaves)  # no poses: any way out
-        for u, _, d in g.in_edges(node, data=True):
-            if d["kind"] == "park" and ((placeholder and d.get("placeholder")) or any(
-                    same_pose(m.end, pose) for name, m in d["maneuvers"].items()
-                    for who, pose in away if who == name)):
+        placeholder = any(ph for *_, ph in leaves)  # no poses: any way out
+        for u, ends, ph in parks:
+            if (placeholder and ph) or any(
+                    same_pose(ends[who], pose) for who, pose in away if who in ends):
                 yield u, node
+
+
+def _links(lg: LotGraph) -> tuple[dict[int, list[int]], dict[int, list[int]],
+                                  list[tuple[int, int, frozenset[str]]]]:
+    """:func:`lane_links` by the edges every type drives, and the edges only some types
+    drive (from, to, those types), in one pass over the graph."""
+    nodes = lg.graph.nodes
+    ahead: dict[int, list[int]] = {}
+    back: dict[int, list[int]] = {}
+    some = []
+    for u, nbrs in lg.graph.adj.items():
+        if nodes[u]["kind"] == "slot":
+            continue
+        ahead.setdefault(u, [])
+        back.setdefault(u, [])
+        for v, d in nbrs.items():
+            if nodes[v]["kind"] == "slot":
+                continue
+            if d.get("types") is not None:
+                some.append((u, v, d["types"]))
+            else:
+                ahead[u].append(v)
+                back.setdefault(v, []).append(u)
+    return ahead, back, some
+
+
+def _with(links: dict[int, list[int]], more: Iterable[tuple[int, int]]
+          ) -> dict[int, list[int]]:
+    """``links`` (node → next nodes) with the links ``more`` (node, next node) too."""
+    out = dict(links)
+    for u, v in more:
+        out[u] = [*out.get(u, ()), v]
+    return out
 
 
 def find_reachability(lg: LotGraph) -> Reachability:
@@ -165,15 +216,19 @@ def find_reachability(lg: LotGraph) -> Reachability:
     never move, so taken slots are not listed."""
     g = lg.graph
     free = [s.id for s in lg.lot.free_slots]
-    ahead, back = lane_links(lg)
-    # a type's own links are every type's where no turn or turnaround is for some only
-    typed = any(d.get("types") is not None for _, _, d in g.edges(data=True))
+    # the links every type drives, and a type's own turns and turnarounds (its links are
+    # every type's where no turn or turnaround is for some only)
+    every_a, every_b, some = _links(lg)
+    ahead = _with(every_a, ((u, v) for u, v, _ in some))
+    back = _with(every_b, ((v, u) for u, v, _ in some))
     reaches: dict[str | None, tuple[set[int], set[int]]] = {}
 
     def reach(vehicle: str | None) -> tuple[set[int], set[int]]:
-        key = vehicle if typed else None
+        key = vehicle if some else None
         if key not in reaches:
-            reaches[key] = lane_reach(lg, key, None if key else (ahead, back))
+            own = [(u, v) for u, v, types in some if key in types] if key else None
+            reaches[key] = lane_reach(lg, key, (ahead, back) if own is None else (
+                _with(every_a, own), _with(every_b, ((v, u) for u, v in own))))
         return reaches[key]
 
     def missing(seen: set[int], links) -> list[str]:
@@ -193,7 +248,8 @@ def find_reachability(lg: LotGraph) -> Reachability:
         return any(u in seen and (u, node) in out for u in g.predecessors(node))
 
     # a car leaves from the pose it parked on, by any leave edge from there
-    out = frozenset(leavable_edges(lg, go=go))
+    slots = list(_slot_poses(lg))  # each pose read once
+    out = frozenset(_leavable(slots, None, go))
     no_way_out = [sid for sid in free
                   if sid not in no_way_in and not parks_to_leave(out, come, sid)]
     by_type = {}
@@ -210,7 +266,7 @@ def find_reachability(lg: LotGraph) -> Reachability:
                        for u in g.predecessors(node))
 
         no_in = [sid for sid in free if sid in fits and not parks_from(come, sid)]
-        out = frozenset(leavable_edges(lg, name, go))  # park edges with a maneuver for it
+        out = frozenset(_leavable(slots, name, go))  # park edges with a maneuver for it
         no_out = [sid for sid in free if sid in fits and sid not in no_in
                   and not parks_to_leave(out, come, sid)]
         by_type[name] = (no_in, no_out)
