@@ -74,16 +74,31 @@ class Collider:
         y max) reads: the obstacles whose bounds meet the box, with their labels, in the
         tree's order (a hit names the first), and the allowed region within the box. Two
         colliders with equal digests for a box answer every check inside it alike."""
-        h = hashlib.blake2b(self.edge.encode(), digest_size=20)
-        if not box[0] <= box[2] or not box[1] <= box[3]:
-            return h.digest()  # nothing was checked
-        area = shapely.box(*box)
-        at = np.sort(self.tree.query(area))
-        h.update(repr([self.labels[int(i)] for i in at]).encode())
-        for wkb in shapely.to_wkb(self.tree.geometries.take(at)):
-            h.update(wkb)
-        h.update(shapely.to_wkb(shapely.normalize(shapely.intersection(self.allowed, area))))
-        return h.digest()
+        return self.around_many([box])[0]
+
+    def around_many(self, boxes: Sequence[tuple[float, float, float, float]]
+                    ) -> list[bytes]:
+        """:meth:`around` of each of ``boxes``, the shapes of all of them cut at once."""
+        out = [hashlib.blake2b(self.edge.encode(), digest_size=20) for _ in boxes]
+        read = [i for i, b in enumerate(boxes) if b[0] <= b[2] and b[1] <= b[3]]
+        if read:  # (an empty box: nothing was checked)
+            areas = shapely.box(*np.array([boxes[i] for i in read], dtype=float).T)
+            of, at = self.tree.query(areas)
+            order = np.lexsort((at, of))
+            of, at = of[order], at[order]
+            seen = np.unique(at)
+            wkb = dict(zip(seen.tolist(), shapely.to_wkb(self.tree.geometries.take(seen)),
+                           strict=True))
+            cuts = shapely.to_wkb(shapely.normalize(shapely.intersection(self.allowed, areas)))
+            ends = np.searchsorted(of, np.arange(len(read) + 1))
+            for j, i in enumerate(read):
+                mine = at[ends[j]:ends[j + 1]].tolist()
+                h = out[i]
+                h.update(repr([self.labels[k] for k in mine]).encode())
+                for k in mine:
+                    h.update(wkb[k])
+                h.update(cuts[j])
+        return [h.digest() for h in out]
 
     def local_digest(self, frame: tuple[float, float, float],
                      box: tuple[float, float, float, float]) -> bytes:

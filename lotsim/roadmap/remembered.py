@@ -46,10 +46,26 @@ MISSING = object()
 def recall(known: dict | None, key: bytes, collider: Collider) -> object:
     """The piece ``known`` (piece key → versions) holds as ``key`` whose box ``collider``
     holds what it did, else :data:`MISSING`."""
-    for box, digest, piece in (known or {}).get(key, ()):
-        if collider.around(box) == digest:
-            return piece
-    return MISSING
+    return recall_all(known, [key], [collider])[0]
+
+
+def recall_all(known: dict | None, keys: Sequence[bytes | None],
+               colliders: Sequence[Collider]) -> list:
+    """:func:`recall` of each of ``keys`` with its collider, the digests of each
+    collider's boxes made at once (:meth:`~lotsim.lot.clearance.Collider.around_many`)."""
+    versions = [(known or {}).get(key, ()) if key is not None else () for key in keys]
+    boxes: dict[int, list] = {}  # by collider: its boxes, and whose version each is
+    for k, held in enumerate(versions):
+        for v, (box, _, _) in enumerate(held):
+            boxes.setdefault(id(colliders[k]), []).append((k, v, box))
+    digests: dict[tuple[int, int], bytes] = {}
+    for asked in boxes.values():
+        collider = colliders[asked[0][0]]
+        digests.update(zip([(k, v) for k, v, _ in asked],
+                           collider.around_many([box for *_, box in asked]), strict=True))
+    return [next((piece for v, (_, digest, piece) in enumerate(held)
+                  if digests[k, v] == digest), MISSING)
+            for k, held in enumerate(versions)]
 
 
 def watched(work: Callable[[Collider], object], collider: Collider, watch: bool = True
@@ -83,12 +99,8 @@ def worked_out(memo, keys: Sequence[bytes | None],
     known = memo.known if memo is not None else None
     each = (list(collider) if isinstance(collider, (list, tuple))
             else [collider] * len(keys))
-    out: list = [None] * len(keys)
-    todo = []
-    for k, key in enumerate(keys):
-        out[k] = recall(known, key, each[k])
-        if out[k] is MISSING:
-            todo.append(k)
+    out = recall_all(known, keys, each)
+    todo = [k for k, got in enumerate(out) if got is MISSING]
     got = fork_map(lambda k: watched(lambda eye: work(k, eye), each[k], known is not None),
                    todo)
     for k, version in zip(todo, got, strict=True):
