@@ -50,7 +50,7 @@ def execute(args: argparse.Namespace) -> int:
     settings = api.LayoutSettings(orientations=args.orientations, offsets=args.offsets,
                                   prepared=args.prepared, workers=args.jobs)
     try:
-        with ProgressBar("laying out") as bar:
+        with ProgressBar("laying out") as bar, api.collector_tuned():
             found = api.layout(args.plot, args.output, keep=args.keep, settings=settings,
                                pictures=args.pictures, progress=bar)
     except OSError as exc:

@@ -37,8 +37,8 @@ def collector_tuned() -> Iterator[None]:
     planning times runs are compared by; preparing a lot kept from the cache and edited
     spent a tenth of its time in them. This changes process-wide state, so the library
     never does it unasked; ``lotsim run`` asks for it around preparing the lot and around
-    planning, ``lotsim validate`` around preparing. Objects frozen before the block stay
-    frozen (nothing more is frozen then).
+    planning, ``lotsim validate`` and ``lotsim layout`` around preparing. Objects frozen
+    before the block stay frozen (nothing more is frozen then).
 
     Examples
     --------

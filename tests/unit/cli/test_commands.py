@@ -511,3 +511,16 @@ def test_validate_and_run_prepare_with_the_collector_tuned_and_leave_it_as_it_wa
     assert main(["run", str(path), "-o", str(tmp_path / "out"), "--no-gif"]) == 0
     assert seen == [RUN_GC_THRESHOLDS, RUN_GC_THRESHOLDS]
     assert gc.get_threshold() == before
+
+    class Seen(Exception):
+        pass
+
+    def layout(*args, **kwargs):  # laying out prepares lots too
+        seen.append(gc.get_threshold())
+        raise Seen
+
+    monkeypatch.setattr("lotsim.api.layout", layout)
+    plot = ROOT / "scenarios" / "plots" / "rect60x100.yaml"
+    with pytest.raises(Seen):
+        main(["layout", str(plot), "-o", str(tmp_path / "lot.yaml")])
+    assert seen[-1] == RUN_GC_THRESHOLDS and gc.get_threshold() == before
