@@ -64,22 +64,9 @@ def lane_links(lg: LotGraph, vehicle: str | None = None
     """Successors and predecessors of each node in the graph without its slot nodes:
     what a car drives between entering and parking (with ``vehicle``, without the turns
     that type cannot make)."""
-    nodes = lg.graph.nodes
-    ahead: dict[int, list[int]] = {}
-    back: dict[int, list[int]] = {}
-    for u, nbrs in lg.graph.adj.items():
-        if nodes[u]["kind"] == "slot":
-            continue
-        ahead.setdefault(u, [])
-        back.setdefault(u, [])
-        for v, d in nbrs.items():
-            if nodes[v]["kind"] == "slot" or (
-                    vehicle is not None and d.get("types") is not None
-                    and vehicle not in d["types"]):
-                continue
-            ahead[u].append(v)
-            back.setdefault(v, []).append(u)
-    return ahead, back
+    ahead, back, some = _links(lg)
+    own = [(u, v) for u, v, types in some if vehicle is None or vehicle in types]
+    return _with(ahead, own), _with(back, ((v, u) for u, v in own))
 
 
 def lane_reach(lg: LotGraph, vehicle: str | None = None, links: tuple | None = None
