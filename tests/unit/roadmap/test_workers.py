@@ -325,7 +325,8 @@ def test_a_round_that_would_leave_a_core_idle_makes_the_next_search_it_may_want(
     real_reaching_all, real_worked_out = turnarounds._reaching_all, turnarounds.worked_out
     monkeypatch.setattr(turnarounds, "_reaching_all", lambda todo, memo, *rest: (
         jobs.update(todo), real_reaching_all(todo, memo, *rest))[1])
-    prepare_graph(sc, cache=False)
+    lot = build_lot(sc.lot, DesignVehicle.envelope(sc.vehicle_types))
+    assemble.lane_graph(lot, vehicles=sc.vehicle_types)  # (where parking may begin)
     monkeypatch.setattr(remembered, "fork_map", lambda fn, items, **kw: [fn(x) for x in items])
     monkeypatch.setattr(turnarounds, "worked_out", lambda memo, keys, *rest: (
         rounds.append(len(keys)), real_worked_out(memo, keys, *rest))[1])
