@@ -148,12 +148,14 @@ def _prepared(scenario: Scenario, leaves: set[bool], name: str | None, node_spac
             if roads_name is not None and (memo.worked or len(roads) != held):
                 lotsim.core.diskcache.store(roads_name, roads)  # it learnt something
             if name is not None:
-                # the graph and the answers packed aside while every run and validate's
-                # questions are answered, kept with the lot
-                packing = Aside(lambda: (lg.packed_graph(), planner.packed_answers()))
+                # the graph and the answers packed aside (a lot big enough to keep its
+                # answers for) while every run and validate's questions are answered, kept
+                # with the lot
+                packing = Aside(lambda: (lg.packed_graph(), planner.packed_answers())
+                                ) if remember else None
                 lg.reachability()
                 lg.facts()
-                packed = packing.wait()
+                packed = packing.wait() if packing is not None else None
                 lotsim.core.diskcache.store(name, (lg, planner) if packed is None else (
                     lg.with_graph_packed(packed[0]), planner.with_answers_packed(packed[1])))
         return lg, planner
