@@ -180,3 +180,24 @@ def test_meanwhile_runs_here_while_the_workers_work(tmp_path):
         gate.unlink(missing_ok=True)
         got = fork_map(waits, [1, 2, 3], workers=workers, meanwhile=lambda: gate.write_text(""))
         assert got == [(1, True), (2, True), (3, True)]
+
+
+def test_aside_left_by_an_error_or_interrupted_while_it_waits_does_not_hang(tmp_path):
+    # its answer is larger than a pipe holds, so the forked process waits for it to be read:
+    # leaving the block by an error reads it; Ctrl-C while waiting for it ends the process
+    import signal
+    import threading
+
+    from conftest import time_limit
+    from lotsim.core.workers import Aside
+
+    big = b"x" * (1 << 22)
+    with time_limit(20), pytest.raises(ValueError), Aside(lambda: big):
+        raise ValueError("the block failed before it waited")
+    slow = Aside(lambda: (time.sleep(5), big)[1])
+    threading.Timer(0.3, os.kill, (os.getpid(), signal.SIGINT)).start()
+    started = time.perf_counter()
+    with time_limit(20), pytest.raises(KeyboardInterrupt):
+        slow.wait()
+    assert time.perf_counter() - started < 3  # not the 5 s it would take
+    assert slow.wait() is None  # ended: nothing left to wait for

@@ -1,8 +1,8 @@
 """The one place lotsim forks: ``[fn(item) for item in items]`` on forked worker processes,
 the same answers in the same order as in this process (:func:`fork_map`); several such maps
 on one set of workers forked once (:class:`ForkPool`); one background process at the
-lowest priority (:class:`Background`); and one task whose answer nobody waits for, such as
-writing a file, done aside (:class:`Aside`).
+lowest priority (:class:`Background`); and one task done on a forked process while this one
+goes on (:class:`Aside`).
 
 The workers are forked from this process as it is when the map starts, so ``fn`` and the
 items reach them by reference (nothing but an index goes down a pipe, the answers come back
@@ -283,15 +283,20 @@ class Aside:
             self._answer = fn()
 
     def wait(self) -> object:
-        """Wait for it to be done; its answer (None when it raised)."""
+        """Wait for it to be done; its answer (None when it raised). Interrupted while it
+        waits, it ends the forked process (which would wait for its answer to be read)."""
         if self._proc is not None:
             try:
                 self._answer = self._conn.recv()
             except (EOFError, OSError):  # it ended without one
                 self._answer = None
-            self._conn.close()
-            self._proc.join()
-            self._proc = self._conn = None
+            except BaseException:
+                self._proc.terminate()
+                raise
+            finally:
+                self._conn.close()
+                self._proc.join()
+                self._proc = self._conn = None
         return self._answer
 
     def __enter__(self) -> Aside:

@@ -140,8 +140,8 @@ def _prepared(scenario: Scenario, leaves: set[bool], name: str | None, node_spac
               else contextlib.nullcontext()):
             if leaves == {False}:  # no car leaves: each lane's own best only
                 planned, stays = {**planned, **stays}, {}
-            elif leaves == {True}:  # no car stays: where those begin would only be nodes in
-                stays = {}  # the way
+            elif leaves == {True}:
+                stays = {}  # no car stays: where those begin would only be nodes in the way
             lg = build_graph(lot, node_spacing=node_spacing, maneuvers=planned,
                              vehicles=scenario.vehicle_types, stays=stays, memo=memo)
             lg.infeasible = infeasible
@@ -151,11 +151,11 @@ def _prepared(scenario: Scenario, leaves: set[bool], name: str | None, node_spac
                 # the graph and the answers packed aside (a lot big enough to keep its
                 # answers for) while every run and validate's questions are answered, kept
                 # with the lot
-                packing = Aside(lambda: (lg.packed_graph(), planner.packed_answers())
-                                ) if remember else None
-                lg.reachability()
-                lg.facts()
-                packed = packing.wait() if packing is not None else None
+                with (Aside(lambda: (lg.packed_graph(), planner.packed_answers()))
+                      if remember else contextlib.nullcontext()) as packing:
+                    lg.reachability()
+                    lg.facts()
+                    packed = packing.wait() if packing is not None else None
                 lotsim.core.diskcache.store(name, (lg, planner) if packed is None else (
                     lg.with_graph_packed(packed[0]), planner.with_answers_packed(packed[1])))
         return lg, planner
