@@ -49,6 +49,7 @@ from lotsim.roadmap.remembered import (
     MISSING,
     piece_key,
     recall,
+    recall_all,
     watched,
     worked_out,
 )
@@ -494,7 +495,8 @@ def _reaching_all(jobs: dict, memo: dict, roads: RoadmapMemo | None = None) -> d
                   for key, (lane, back, starts, hi, _, body, radius) in {**wanted,
                                                                          **spare}.items()}
         known = roads.known if roads is not None else None
-        held = {key: recall(known, pieces[key], job[4]) for key, job in wanted.items()}
+        held = dict(zip(wanted, recall_all(known, [pieces[key] for key in wanted],
+                                           [job[4] for job in wanted.values()]), strict=True))
         todo = {key: wanted[key] for key, got in held.items() if got is MISSING}
         # a round that leaves a core idle makes the searches the next may want too
         for key in list(spare)[:max(0, cores() - len(todo)) if todo else 0]:
