@@ -68,31 +68,44 @@ class _Batch:
         """The exact key of triple ``k``'s problem in ``style`` (looked up by its
         ``source`` when ``known`` holds it), and the problem when it had to be posed for
         it (else None)."""
-        exact = self.known.get(exact_key_of(source, style))
+        exact = self._exact_held(source, style)
         if exact is not None:
             return exact, None
         problem = self.planner.problems.pose(*self.triples[k])
         return exact_key(problem, style), problem
 
+    def _exact_held(self, source: bytes | None, style: str) -> bytes | None:
+        """The exact key ``known`` holds for the problem with ``source`` in ``style``, or
+        None."""
+        return None if self.known is None else self.known.get(exact_key_of(source, style))
+
+    def _answer_held(self, exact: bytes) -> tuple | None:
+        """:meth:`searched`'s answer when ``known`` holds the search of the problem with
+        exact key ``exact``, else None."""
+        found = self.known.get(exact)
+        return None if found is None else (*found, exact, True)
+
+    def _fit_held(self, exact: bytes, keys: list[bytes]) -> tuple | None:
+        """:meth:`fitted`'s answer when ``known`` holds a fit of the problem with exact key
+        ``exact`` by one of its :func:`fit_keys` ``keys``, else None."""
+        for key in keys:
+            if key in self.known:
+                return self.known[key], key, True, exact
+        return None
+
     def held(self, k: int, style: str, source: bytes | None) -> tuple | None:
         """What :meth:`searched` answers for ``(k, style, source)`` when ``known`` holds the
         problem's exact key and its answer (looked up without posing it), else None."""
-        exact = None if self.known is None else self.known.get(exact_key_of(source, style))
-        found = None if exact is None else self.known.get(exact)
-        return None if found is None else (*found, exact, True)
+        exact = self._exact_held(source, style)
+        return None if exact is None else self._answer_held(exact)
 
     def fit_held(self, k: int, style: str, offers: list[Found], source: bytes | None
                  ) -> tuple | None:
         """What :meth:`fitted` answers for ``(k, style, offers, source)`` when ``known``
         holds the problem's exact key and a fit of it to ``offers`` (looked up without
         posing it), else None."""
-        exact = None if self.known is None else self.known.get(exact_key_of(source, style))
-        if exact is None:
-            return None
-        for key in fit_keys(exact, offers):
-            if key in self.known:
-                return self.known[key], key, True, exact
-        return None
+        exact = self._exact_held(source, style)
+        return None if exact is None else self._fit_held(exact, fit_keys(exact, offers))
 
     def searched(self, job: tuple[int, str, bytes | None]) -> tuple:
         """The problem of triple ``job[0]`` searched in style ``job[1]`` (posed here: it was
@@ -105,9 +118,9 @@ class _Batch:
             problem = planner.problems.pose(*self.triples[k])
             return *search_maneuver(problem, st, planner.settings), None, False
         exact, problem = self._exact(k, st, source)
-        found = self.known.get(exact)
+        found = self._answer_held(exact)
         if found is not None:
-            return *found, exact, True
+            return found
         problem = problem if problem is not None else planner.problems.pose(*self.triples[k])
         return *search_maneuver(problem, st, planner.settings), exact, False
 
@@ -123,12 +136,12 @@ class _Batch:
             problem = planner.problems.pose(*self.triples[k])
             return (fit_first(problem, st, offers, planner.settings, planner.fewer)[0], None,
                     False, None)
-        # the problem to the last bit, and the problems the offers it read were searched for
+        # the problem to the last bit, and the maneuvers of the offers it read
         exact, problem = self._exact(k, st, source)
         keys = fit_keys(exact, offers)
-        for key in keys:
-            if key in self.known:
-                return self.known[key], key, True, exact
+        found = self._fit_held(exact, keys)
+        if found is not None:
+            return found
         problem = problem if problem is not None else planner.problems.pose(*self.triples[k])
         pair, read = fit_first(problem, st, offers, planner.settings, planner.fewer)
         return pair, keys[read - 1 if pair is not None else -1], False, exact

@@ -195,10 +195,15 @@ class ManeuverPlanner:
         # its answers pickled apart: a lot loaded from the cache unpickles them only when a
         # maneuver is asked for (:meth:`__getattr__`); a planner never asked passes them on
         # as they came
-        state = {k: v for k, v in self.__dict__.items() if k not in _ANSWERS + _FOUND_AGAIN}
-        state.update({k: {} for k in _FOUND_AGAIN})
+        state = self._unanswered()
         if "_answers_packed" not in state:
             state["_answers_packed"] = self.packed_answers()
+        return state
+
+    def _unanswered(self) -> dict:
+        """Its attributes but its answers, and what it works out again left empty."""
+        state = {k: v for k, v in self.__dict__.items() if k not in _ANSWERS + _FOUND_AGAIN}
+        state.update({k: {} for k in _FOUND_AGAIN})
         return state
 
     def packed_answers(self) -> bytes:
@@ -210,10 +215,7 @@ class ManeuverPlanner:
         elsewhere meanwhile): what pickling it writes, without packing them again. The copy
         reads them when first asked for, as a planner loaded from the cache does."""
         out = object.__new__(ManeuverPlanner)
-        out.__dict__.update((k, v) for k, v in self.__dict__.items()
-                            if k not in _ANSWERS + _FOUND_AGAIN)
-        out.__dict__.update({k: {} for k in _FOUND_AGAIN})
-        out.__dict__["_answers_packed"] = packed
+        out.__dict__.update(self._unanswered(), _answers_packed=packed)
         return out
 
     def __setstate__(self, state: dict) -> None:

@@ -572,7 +572,6 @@ def shape_key(vehicle: VehicleType, slot: Slot, lane_y: float, half: float, comm
     return hashlib.blake2b(common, digest_size=20).digest()
 
 
-
 def _kept(known: dict, keys: list, make: Callable[[list[int]], Sequence]) -> list:
     """The value of each of ``keys`` in ``known``; those missing made first, once each, in
     one batch: ``make(indices)`` gives the values of the keys at those indices."""
@@ -583,6 +582,7 @@ def _kept(known: dict, keys: list, make: Callable[[list[int]], Sequence]) -> lis
     if at:
         known.update(zip(at, make(list(at.values())), strict=True))
     return [known[k] for k in keys]
+
 
 def _frames(frames: Sequence[LocalFrame]) -> np.ndarray:
     """(F, 5): the origin x and y, cosine, sine and sign of local y of each of ``frames``."""

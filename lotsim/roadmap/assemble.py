@@ -273,10 +273,11 @@ def _durations(lot: Lot, maneuvers: dict, leaving: dict, stays: dict, types: dic
                     todo.setdefault(shape(path, key[0], limit), (path, key[0], limit))
     # each shape by its key in ``known``: the type's whole description, not its name, and
     # the limit and shape pickled (every float's bits)
-    named = {name: piece_key(b"duration", v) for name, v in types.items()}
-    stored = ({key: hashlib.blake2b(named[key[0]] + pickle.dumps(key[1:], protocol=5),
-                                    digest_size=20).digest() for key in todo}
-              if known is not None else {})
+    stored = {}
+    if known is not None:
+        named = {name: piece_key(b"duration", v) for name, v in types.items()}
+        stored = {key: hashlib.blake2b(named[key[0]] + pickle.dumps(key[1:], protocol=5),
+                                       digest_size=20).digest() for key in todo}
     timed = {key: known[name] for key, name in stored.items() if name in known}
     jobs = [(key, job) for key, job in todo.items() if key not in timed]
     parts = [jobs[k::8] for k in range(8)] if len(jobs) >= 64 else [jobs]

@@ -140,8 +140,8 @@ class LotGraph:
         meanwhile): what pickling it writes, without packing the graph again. The copy
         reads that graph when first asked for, as a lot loaded from the cache does."""
         out = object.__new__(LotGraph)
-        out.__dict__.update((k, v) for k, v in self.__dict__.items() if k != "graph")
-        out.__dict__["_graph_packed"] = packed
+        out.__dict__.update({k: v for k, v in self.__dict__.items() if k != "graph"},
+                            _graph_packed=packed)
         return out
 
     def __setstate__(self, state: dict) -> None:
