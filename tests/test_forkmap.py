@@ -195,7 +195,10 @@ def test_aside_left_by_an_error_or_interrupted_while_it_waits_does_not_hang(tmp_
     with time_limit(20), pytest.raises(ValueError), Aside(lambda: big):
         raise ValueError("the block failed before it waited")
     slow = Aside(lambda: (time.sleep(5), big)[1])
-    threading.Timer(0.3, os.kill, (os.getpid(), signal.SIGINT)).start()
+    # Ctrl-C reaches this process's main thread while it waits (sent to the thread itself:
+    # one sent to the process may be taken by another of its threads)
+    threading.Timer(0.3, signal.pthread_kill,
+                    (threading.main_thread().ident, signal.SIGINT)).start()
     started = time.perf_counter()
     with time_limit(20), pytest.raises(KeyboardInterrupt):
         slow.wait()
