@@ -305,7 +305,8 @@ def lay_out(plot: PlotSpec, settings: LayoutSettings | None = None, *, keep: int
 
     The search stops early when no candidate left can have more usable bays than the
     best ``keep`` (or :attr:`LayoutSettings.compared`, if more) found.
-    ``progress(done, total)`` is called as candidates are prepared.
+    ``progress(done, total)`` is called as candidates are prepared; ``total`` is the
+    most that will be, and becomes ``done`` when the search ends.
 
     Raises
     ------
@@ -329,7 +330,9 @@ def lay_out(plot: PlotSpec, settings: LayoutSettings | None = None, *, keep: int
     while pos < budget:
         best = sorted((e.bays for e in done), reverse=True)
         if len(best) >= enough and drawn[order[pos]].bays < best[enough - 1]:
-            break  # no candidate left can beat the ones kept
+            if progress is not None:  # done: no candidate left can beat the ones kept
+                progress(len(done), len(done))
+            break
         picks = order[pos: min(budget, pos + batch)]
         done += fork_map(lambda k: evaluate(plot, drawn[k], k, area, settings), picks,
                          workers=workers)

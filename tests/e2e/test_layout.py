@@ -113,6 +113,18 @@ def test_the_shapely_check_of_a_written_lot_can_fail():
     assert _problems(outline, {}, {}, outside) == [f"{slots[0][0]} leaves the plot"]
 
 
+def test_progress_ends_at_its_total_when_the_search_stops_early():
+    # four may be prepared; the search stops after two, the rest drawing fewer bays
+    calls: list[tuple[int, int]] = []
+    settings = lotsim.LayoutSettings(orientations=1, offsets=1, prepared=4, compared=1)
+    found = lotsim.layout(SMALL, settings=settings,
+                          progress=lambda done, total: calls.append((done, total)))
+    assert len(found.ranked) < 4
+    assert calls[0] == (0, 4)
+    assert calls[-1] == (len(found.ranked), len(found.ranked))
+    assert [d for d, _ in calls] == sorted(d for d, _ in calls)
+
+
 def test_the_same_plot_gives_the_same_bytes(tmp_path, monkeypatch):
     monkeypatch.setenv("LOTSIM_CACHE_DIR", "off")  # both worked out, neither remembered
     plot = tmp_path / "small.yaml"  # 20 x 24 m: a spine from the gate, 18 bays
