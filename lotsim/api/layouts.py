@@ -44,7 +44,8 @@ def layout(plot: PlotLike, output: str | os.PathLike | None = None, *, keep: int
         How to search (orientations, offsets, how many candidates are prepared and run at
         most, the planner of the runs, the workers).
     progress : callable, optional, keyword-only
-        Called as ``progress(done, total)`` as candidates are prepared and run.
+        Called as ``progress(done, total)`` as candidates are prepared and run;
+        ``total`` is the most that will be, and becomes ``done`` when the search ends.
 
     Returns
     -------
