@@ -64,9 +64,7 @@ def lane_links(lg: LotGraph, vehicle: str | None = None
     """Successors and predecessors of each node in the graph without its slot nodes:
     what a car drives between entering and parking (with ``vehicle``, without the turns
     that type cannot make)."""
-    ahead, back, some = _links(lg)
-    own = [(u, v) for u, v, types in some if vehicle is None or vehicle in types]
-    return _with(ahead, own), _with(back, ((v, u) for u, v in own))
+    return _typed(_links(lg), vehicle)
 
 
 def lane_reach(lg: LotGraph, vehicle: str | None = None, links: tuple | None = None
@@ -186,6 +184,15 @@ def _links(lg: LotGraph) -> tuple[dict[int, list[int]], dict[int, list[int]],
     return ahead, back, some
 
 
+def _typed(links: tuple, vehicle: str | None) -> tuple[dict[int, list[int]],
+                                                       dict[int, list[int]]]:
+    """:func:`lane_links` from :func:`_links`' ``links``: the links every type drives and,
+    of the edges only some types drive, those ``vehicle`` drives (all of them for None)."""
+    ahead, back, some = links
+    own = [(u, v) for u, v, types in some if vehicle is None or vehicle in types]
+    return _with(ahead, own), _with(back, ((v, u) for u, v in own))
+
+
 def _with(links: dict[int, list[int]], more: Iterable[tuple[int, int]]
           ) -> dict[int, list[int]]:
     """``links`` (node → next nodes) with the links ``more`` (node, next node) too."""
@@ -205,17 +212,15 @@ def find_reachability(lg: LotGraph) -> Reachability:
     free = [s.id for s in lg.lot.free_slots]
     # the links every type drives, and a type's own turns and turnarounds (its links are
     # every type's where no turn or turnaround is for some only)
-    every_a, every_b, some = _links(lg)
-    ahead = _with(every_a, ((u, v) for u, v, _ in some))
-    back = _with(every_b, ((v, u) for u, v, _ in some))
+    links = _links(lg)
+    ahead, back = _typed(links, None)
     reaches: dict[str | None, tuple[set[int], set[int]]] = {}
 
     def reach(vehicle: str | None) -> tuple[set[int], set[int]]:
-        key = vehicle if some else None
+        key = vehicle if links[2] else None
         if key not in reaches:
-            own = [(u, v) for u, v, types in some if key in types] if key else None
-            reaches[key] = lane_reach(lg, key, (ahead, back) if own is None else (
-                _with(every_a, own), _with(every_b, ((v, u) for u, v in own))))
+            reaches[key] = lane_reach(lg, key, (ahead, back) if key is None
+                                      else _typed(links, key))
         return reaches[key]
 
     def missing(seen: set[int], links) -> list[str]:
