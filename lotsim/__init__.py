@@ -32,12 +32,15 @@ _EXPORTS = {
                    "write_result", "load_result", "import_osm", "import_lanelet2", "layout",
                    "LayoutSettings", "read_plot"),
     "lotsim.sim.preparation": ("PreparedLot",),
+    "lotsim.sim.live": ("Live",),
+    "lotsim.sim.policies": ("ASK", "Ranked", "SlotRequest"),
     "lotsim.sim.validation": ("ValidationReport",),
     "lotsim.verify": ("CheckReport", "Violation"),
     "lotsim.scenario": ("AnimationSpec", "GifSettings", "HtmlSettings", "Scenario"),
     "lotsim.sim.settings": ("GASettings", "RunSettings", "RunTuning"),
     "lotsim.maneuvers.settings": ("MinSlotSettings",),
     "lotsim.errors": ("InfeasibleManeuver", "LimitExceeded", "Location", "LotsimError",
+                      "DecisionError",
                       "ReplayError", "ResultFormatError", "ScenarioError", "ScenarioErrors",
                       "SettingsError"),
 }
@@ -104,6 +107,7 @@ if TYPE_CHECKING:  # for type checkers and editors: the same names, imported eag
         write_result,
     )
     from lotsim.errors import (  # noqa: F401
+        DecisionError,
         InfeasibleManeuver,
         LimitExceeded,
         Location,
@@ -116,6 +120,8 @@ if TYPE_CHECKING:  # for type checkers and editors: the same names, imported eag
     )
     from lotsim.maneuvers.settings import MinSlotSettings  # noqa: F401
     from lotsim.scenario import AnimationSpec, GifSettings, HtmlSettings, Scenario  # noqa: F401
+    from lotsim.sim.live import Live  # noqa: F401
+    from lotsim.sim.policies import ASK, Ranked, SlotRequest  # noqa: F401
     from lotsim.sim.preparation import PreparedLot  # noqa: F401
     from lotsim.sim.settings import GASettings, RunSettings, RunTuning  # noqa: F401
     from lotsim.sim.validation import ValidationReport  # noqa: F401

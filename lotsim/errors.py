@@ -151,3 +151,17 @@ class ReplayError(LotsimError, ValueError):
 
 class InfeasibleManeuver(LotsimError):
     """A vehicle type cannot enter or leave a slot."""
+
+
+class DecisionError(LotsimError, ValueError):
+    """A decision taken from outside a run that the lot cannot honour (a slot-choice
+    policy's answer: a slot that is taken, unknown, or that the car cannot use or reach):
+    ``car: message``."""
+
+    def __init__(self, car: str, message: str):
+        super().__init__(f"car {car!r} {message}")
+        self.car = car
+        self.message = message
+
+    def __reduce__(self):
+        return (type(self), (self.car, self.message))

@@ -71,17 +71,18 @@ class SlotAssigner:
         self._share: dict[tuple[str, str | None], dict[int, float]] = {}
 
     # -- ranking ------------------------------------------------------------------------------
-    def ranked(self, arrival: Arrival, free: Iterable[str], t: float | None = None
-               ) -> list[str]:
+    def ranked(self, arrival: Arrival, free: Iterable[str], t: float | None = None, *,
+               by: str | None = None) -> list[str]:
         """The slots of ``free`` that ``arrival``'s car can park in (and leave again, if it
-        will), best first by the policy at time ``t`` [s] (the arrival's, if None), ties by
-        slot id."""
+        will), best first by the policy ``by`` (the assigner's, if None) at time ``t`` [s]
+        (the arrival's, if None), ties by slot id."""
         leaving = arrival.dwell is not None
         times = self.slot_times(arrival.entrance, arrival.vehicle, leaving)
         usable = [s for s in free if s in times]
-        if self.policy == "shortest":
+        by = by or self.policy
+        if by == "shortest":
             return sorted(usable, key=lambda s: (times[s], s))
-        if self.policy == "priced":
+        if by == "priced":
             price = self.prices(arrival.entrance, arrival.vehicle, leaving,
                                 arrival.time if t is None else t)
             return sorted(usable, key=lambda s: (times[s] + price.get(s, 0.0), s))

@@ -18,9 +18,10 @@ from lotsim.core.outcome import Status
 from lotsim.roadmap.model import LotGraph
 from lotsim.scenario import Scenario
 from lotsim.sim.assignment import SlotAssigner
+from lotsim.sim.policies import ASK, SlotRequest, choices
 from lotsim.sim.results import VehicleRun
 from lotsim.sim.settings import RunSettings
-from lotsim.traffic.demand import Arrival
+from lotsim.traffic.demand import PATIENCE, Arrival
 from lotsim.traffic.heuristic import ReverseResumable
 from lotsim.traffic.plans import Move, Plan, reserve_moves
 from lotsim.traffic.reservation import ReservationTable
@@ -44,31 +45,40 @@ class EventLoop:
         The vehicles, in arrival order.
     progress : callable or None
         Called as ``progress(done, total)`` as trips are dealt with.
+    policy : callable, optional
+        Chooses the slots a car tries, as ``policy(request)`` (a
+        :class:`~lotsim.sim.policies.SlotRequest`): a slot id, slot ids to try in order, or
+        None to wait; without one, ``settings.assignment`` ranks them. :data:`ASK` leaves
+        each choice to the caller (:meth:`decide`), the loop pausing at it.
     """
 
     def __init__(self, scenario: Scenario, lg: LotGraph, settings: RunSettings,
                  traffic: list[Arrival], progress, memo: SearchGraphMemo | None = None,
-                 *, turned_away: dict[str, str] | None = None) -> None:
+                 *, turned_away: dict[str, str] | None = None, policy=None) -> None:
         self.lg = lg
         self.turned_away = turned_away or {}  # vehicle id → why the lot cannot serve it
         self.s = settings
-        self.patience = scenario.traffic.patience
+        self.patience = scenario.traffic.patience if scenario.traffic else PATIENCE
         self.table = ReservationTable()
         self.assigner = SlotAssigner(lg, scenario.vehicle_types, policy=settings.assignment,
                                      tuning=settings.tuning, search=settings.search,
                                      memo=memo)
         self.graphs = self.assigner.graphs
         self.leave = self.assigner.leave
-        types = {t.name: t for t in scenario.vehicle_types}
-        self.vehicles = [VehicleRun(a, types[a.vehicle]) for a in traffic]
-        self.by_id = {v.id: v for v in self.vehicles}
+        self.types = {t.name: t for t in scenario.vehicle_types}
+        self.vehicles: list[VehicleRun] = []
+        self.by_id: dict[str, VehicleRun] = {}
         self.free = {s.id for s in lg.lot.free_slots}
         self.queue: list[int] = []
         self.events: list[tuple[float, int, str, int]] = []
         self.seq = 0
+        self.now = -math.inf  # the time of the event dealt with last [s]
         self.progress = progress
-        self._trips = sum(1 + (v.arrival.dwell is not None) for v in self.vehicles
-                          if v.id not in self.turned_away)
+        self.policy = policy
+        self.pending: tuple[int, float] | None = None  # a car waiting for a decision, when
+        self.answer: tuple[int, object] | None = None  # the caller's to it
+        self.state_of = lambda loop: {}  # the run's state as plain data (set by its Live)
+        self._trips = 0
         self._trips_done = 0
         self._counted: dict[str, int] = {}
         self._exits: dict[str, ReverseResumable] = {}
@@ -79,9 +89,11 @@ class EventLoop:
             pose = slot.centered_pose(parked.front, parked.rear)
             self.table.reserve_standing(f"parked:{sid}", standing_body(parked, pose), -math.inf,
                                         in_slot=True)
-        last = max((a.time for a in traffic), default=0.0)
-        longest = max((a.dwell or 0.0 for a in traffic), default=0.0)
-        self.end_time = last + self.patience + longest + 3600.0
+        self._last: float | None = None  # the latest arrival [s]
+        self._longest = 0.0  # the longest dwell [s]
+        self.end_time = self.patience + 3600.0
+        for a in traffic:
+            self.enter(a)
         if settings.order is None:
             for i, a in enumerate(traffic):
                 self.at(a.time, "arrive", i)
@@ -94,32 +106,56 @@ class EventLoop:
                 batch = first if math.isinf(h) else first + math.floor((a.time - first) / h) * h
                 self.at(batch, "arrive", index[vid])
 
+    def enter(self, a: Arrival) -> int:
+        """Take ``a`` into the run (its arrival event is the caller's to schedule); its
+        index among the run's vehicles."""
+        v = VehicleRun(a, self.types[a.vehicle])
+        self.vehicles.append(v)
+        self.by_id[v.id] = v
+        if v.id not in self.turned_away:
+            self._trips += 1 + (a.dwell is not None)
+        # the run ends an hour after the last car could be done: the last arrival, the
+        # patience and the longest dwell
+        self._last = a.time if self._last is None else max(self._last, a.time)
+        self._longest = max(self._longest, a.dwell or 0.0)
+        self.end_time = self._last + self.patience + self._longest + 3600.0
+        return len(self.vehicles) - 1
+
     def at(self, t: float, kind: str, i: int) -> None:
         self.seq += 1
         heapq.heappush(self.events, (t, self.seq, kind, i))
 
-    def go(self) -> None:
-        """Deal with every event; then every vehicle not done yet ends as it stands."""
-        while self.events:
-            t, _, kind, i = heapq.heappop(self.events)
-            # events come in time order and every search and release starts at its event's
-            # time or later: what ended before is no use to any of them
-            self.table.forget_before(t)
-            v = self.vehicles[i]
-            if v.done:
-                continue
-            if t > self.end_time:
-                # a parked car that has not left yet is still parked (no reason: it is fine),
-                # unless it should have left and could not: it is waiting to get out
-                if v.status == "parked" and v.reason.startswith("could not leave"):
-                    self.finish(v, "waiting", f"{v.reason} when the run ended at "
-                                              f"{self.end_time:.0f} s")
-                elif v.status == "parked":
-                    self.finish(v, "parked")
-                else:
-                    self.finish(v, "waiting", f"the run ended at {self.end_time:.0f} s first")
-                continue
-            getattr(self, f"on_{kind}")(i, v, t)
+    def go(self, until: float = math.inf) -> None:
+        """Deal with every event up to ``until`` [s] (or until a car waits for a decision,
+        :attr:`pending`)."""
+        while self.events and self.pending is None and self.events[0][0] <= until:
+            self.step()
+
+    def step(self) -> None:
+        """Deal with the next event."""
+        t, _, kind, i = heapq.heappop(self.events)
+        self.now = max(self.now, t)
+        # events come in time order and every search and release starts at its event's
+        # time or later: what ended before is no use to any of them
+        self.table.forget_before(t)
+        v = self.vehicles[i]
+        if v.done:
+            return
+        if t > self.end_time:
+            # a parked car that has not left yet is still parked (no reason: it is fine),
+            # unless it should have left and could not: it is waiting to get out
+            if v.status == "parked" and v.reason.startswith("could not leave"):
+                self.finish(v, "waiting", f"{v.reason} when the run ended at "
+                                          f"{self.end_time:.0f} s")
+            elif v.status == "parked":
+                self.finish(v, "parked")
+            else:
+                self.finish(v, "waiting", f"the run ended at {self.end_time:.0f} s first")
+            return
+        getattr(self, f"on_{kind}")(i, v, t)
+
+    def close(self) -> None:
+        """End the run: every vehicle not done yet ends as it stands."""
         for v in self.vehicles:
             if not v.done:
                 unsettled = v.status in ("waiting", "rejected")
@@ -178,10 +214,10 @@ class EventLoop:
             if self.patience == 0:
                 self.on_timeout(i, v, t)
             return
-        # a first look at each of the few best slots (those in jammed aisles last), then a
-        # full search where that ran out
+        tries = self.tries(i, v, t, options)
+        if tries is None:  # the policy chose to wait, or has yet to choose
+            return
         start = self.lg.entrances[v.arrival.entrance]
-        tries = [(sid, True) for sid in self.assigner.first_looks(options, t)]
         while tries:
             sid, first = tries.pop(0)
             goal = self.park_goal(v, sid)
@@ -203,6 +239,63 @@ class EventLoop:
             self.on_timeout(i, v, t)
             return
         self.at(t + self.backoff(v), "retry", i)
+
+    def tries(self, i: int, v: VehicleRun, t: float, options: list[str]
+              ) -> list[tuple[str, bool]] | None:
+        """The slots ``v`` tries at ``t`` [s], each with whether it is a first look (a
+        small budget, then a full search where it ran out): a first look at each of the few
+        best of ``options`` (those in jammed aisles last), or as the policy chooses. None
+        when the car waits: its policy chose to, or (:data:`ASK`) the caller has yet to
+        decide (:attr:`pending`)."""
+        if self.policy is None:
+            return [(sid, True) for sid in self.assigner.first_looks(options, t)]
+        request = self.request(v, t, options)
+        if self.policy == ASK:
+            if self.answer is None or self.answer[0] != i:
+                self.pending = (i, t)
+                return None
+            answer = self.answer[1]
+            self.answer = None
+        else:
+            answer = self.policy(request)
+        picked = choices(answer, request, lambda sid: self.why_not(v, sid))
+        if picked is None:
+            v.reason = "its policy chose to wait"
+            if self.patience == 0:
+                self.on_timeout(i, v, t)
+            else:
+                self.at(t + self.s.retry, "retry", i)
+            return None
+        if len(picked) > 1:  # a ranking: looked at as the run's own are
+            picked = self.assigner.first_looks(picked, t)
+        return [(sid, True) for sid in picked]
+
+    def request(self, v: VehicleRun, t: float, options: list[str]) -> SlotRequest:
+        """What a policy is asked for ``v`` at ``t`` [s], ``options`` its usable free
+        slots, ranked."""
+        a = v.arrival
+        times = self.assigner.slot_times(a.entrance, a.vehicle, a.dwell is not None)
+        return SlotRequest(a.id, a.vehicle, a.entrance, t, a.dwell is not None,
+                           tuple(options), {sid: times[sid] for sid in options},
+                           lambda by: self.assigner.ranked(a, options, t, by=by),
+                           lambda: self.state_of(self))
+
+    def why_not(self, v: VehicleRun, sid: str) -> str:
+        """Why ``v`` cannot take slot ``sid`` now (a policy chose it)."""
+        lot = self.lg.lot
+        if sid not in lot.slot_by_id:
+            return "there is no such slot"
+        if sid in lot.occupied:
+            return "it is occupied (taken when the run began)"
+        if sid not in self.free:
+            holder = next((u.id for u in self.vehicles if u.slot == sid and not u.leaving),
+                          None)
+            return f"it is taken by {holder!r}" if holder else "it is taken"
+        why = self.lg.infeasible.get(v.vehicle.name, {}).get(sid)
+        if why:
+            return f"a {v.vehicle.name!r} cannot use it ({why})"
+        return (f"a {v.vehicle.name!r} cannot reach it from entrance {v.arrival.entrance!r}"
+                + (" and leave it for an exit" if v.arrival.dwell is not None else ""))
 
     def first_look(self, sg: SearchGraph, start: int, slot: int) -> int:
         """The budget of a first look from ``start`` into slot node ``slot``
@@ -326,7 +419,10 @@ class EventLoop:
         for j in list(self.queue):
             if not self.free:
                 break
-            self.on_retry(j, self.vehicles[j], t)
+            if self.policy == ASK:  # one choice at a time: each is the caller's
+                self.at(t, "retry", j)
+            else:
+                self.on_retry(j, self.vehicles[j], t)
 
     # -- WHCA* --------------------------------------------------------------------------------
     def on_replan(self, i: int, v: VehicleRun, t: float) -> None:

@@ -5,19 +5,17 @@ garbage-collector setting a caller may ask for while it runs many cars."""
 from __future__ import annotations
 
 import gc
-import time
 from collections.abc import Iterator
 from contextlib import contextmanager
 
-from lotsim.errors import Location, ScenarioError, SettingsError
+from lotsim.errors import Location, ScenarioError
 from lotsim.roadmap.model import LotGraph
 from lotsim.roadmap.reach import Reachability
 from lotsim.scenario import Scenario
-from lotsim.sim.loop import EventLoop
-from lotsim.sim.preparation import prepare_graph
+from lotsim.sim.preparation import PreparedLot, prepare_graph
 from lotsim.sim.results import RunResult
 from lotsim.sim.settings import RunSettings
-from lotsim.traffic.demand import Arrival, arrivals
+from lotsim.traffic.demand import Arrival
 from lotsim.traffic.searchgraph import SearchGraphMemo
 
 RUN_GC_THRESHOLDS = (20_000, 20, 1000)
@@ -183,22 +181,10 @@ def simulate(scenario: Scenario, settings: RunSettings | None = None, *, lot_gra
     SettingsError
         For an ``order`` that does not hold every vehicle of the traffic once.
     """
-    settings = settings or RunSettings()
+    from lotsim.sim.live import Live
+
     require_traffic(scenario)
     lg = lot_graph or prepare_graph(scenario)
-    seed = scenario.seed if settings.seed is None else settings.seed
-    traffic = arrivals(scenario.traffic, seed)
-    if settings.order is not None and sorted(settings.order) != sorted(a.id for a in traffic):
-        raise SettingsError("order", "expected every vehicle id of the traffic exactly once")
-    check_traffic(lg, traffic)
-    loop = EventLoop(scenario, lg, settings, traffic, progress, memo,
-                     turned_away=turned_away(lg, traffic))
-    tallies = {id(sg.tally): sg.tally for sg in loop.graphs.values()}.values()
-    worked = sum(t.seconds for t in tallies)
-    clock = time.perf_counter()
-    loop.go()
-    took = time.perf_counter() - clock
-    # edge motions and hulls worked out first (in searches, or reserving what they found)
-    worked = sum(t.seconds for t in tallies) - worked
-    return RunResult(scenario, lg, settings, seed, loop.vehicles, took - worked,
-                     motion_time=worked)
+    prepared = (PreparedLot(scenario, lg) if memo is None
+                else PreparedLot(scenario, lg, search_graphs=memo))
+    return Live(prepared, settings, progress=progress).finish()

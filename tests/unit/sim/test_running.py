@@ -261,9 +261,9 @@ def test_a_run_leaves_the_garbage_collector_as_it_found_it(tiny, monkeypatch):
     seen = []
     go = EventLoop.go
 
-    def spy(self):
+    def spy(self, *args):
         seen.append((gc.get_freeze_count(), gc.get_threshold()))
-        go(self)
+        go(self, *args)
 
     monkeypatch.setattr(EventLoop, "go", spy)
     before = (gc.get_freeze_count(), gc.get_threshold())
@@ -279,9 +279,9 @@ def test_collector_tuned_freezes_what_the_process_held_and_restores_it_even_on_a
     seen = []
     go = EventLoop.go
 
-    def spy(self):
+    def spy(self, *args):
         seen.append((gc.get_freeze_count(), gc.get_threshold()))
-        go(self)
+        go(self, *args)
 
     monkeypatch.setattr(EventLoop, "go", spy)
     before = (gc.get_freeze_count(), gc.get_threshold())
@@ -291,7 +291,7 @@ def test_collector_tuned_freezes_what_the_process_held_and_restores_it_even_on_a
     assert seen[0][0] > before[0] and seen[0][1] == RUN_GC_THRESHOLDS
     assert (gc.get_freeze_count(), gc.get_threshold()) == before
 
-    def boom(self):
+    def boom(self, *args):
         raise KeyboardInterrupt
 
     monkeypatch.setattr(EventLoop, "go", boom)

@@ -1,0 +1,309 @@
+"""A run you can step: :class:`Live` holds a run's state and moves it forward, event by
+event, while cars are added as they come and slot choices are taken from outside.
+
+:func:`lotsim.sim.running.simulate` is a loop over it (every car of the scenario's
+traffic added at the start, then :meth:`Live.advance` to the end): the same run, event for
+event.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from collections.abc import Callable
+
+import numpy as np
+import shapely
+
+from lotsim.errors import DecisionError, ScenarioError, SettingsError
+from lotsim.sim.loop import EventLoop
+from lotsim.sim.policies import ASK, SlotRequest
+from lotsim.sim.preparation import PreparedLot
+from lotsim.sim.results import RunResult, VehicleRun
+from lotsim.sim.settings import RunSettings
+from lotsim.traffic.demand import Arrival, arrivals
+
+PHASES = ("coming", "queued", "driving", "parking", "parked", "leaving", "departed",
+          "rejected", "waiting")
+"""Where a car is in its story at an instant (:meth:`Live.state`): not arrived yet, queued
+outside its entrance (taking no space), driving on the lanes (or standing on them), in a
+parking maneuver, parked, in the maneuver out of its slot, gone by an exit, turned away, or
+(when the run has ended) still waiting to get in."""
+
+
+class Live:
+    """A run of a prepared lot that moves forward when asked.
+
+    Parameters
+    ----------
+    prepared : PreparedLot
+        The lot (:func:`lotsim.prepare`).
+    settings : RunSettings, optional
+        How to plan (``RunSettings()`` when not given).
+    policy : callable or ASK, optional, keyword-only
+        Chooses the slots a car tries (:mod:`lotsim.sim.policies`); without one, the
+        ranking of ``settings.assignment``. With :data:`~lotsim.sim.policies.ASK` the run
+        pauses at each choice (:attr:`pending`) until :meth:`decide`.
+    traffic : bool, keyword-only
+        Whether the scenario's own traffic comes (default); without it, only the cars
+        :meth:`add` brings.
+    progress : callable, optional, keyword-only
+        Called as ``progress(done, total)`` as trips are dealt with.
+
+    Raises
+    ------
+    ScenarioError
+        For traffic the lot cannot serve at all (:func:`~lotsim.sim.running.check_traffic`).
+    SettingsError
+        For an ``order`` that does not hold every vehicle of the traffic once.
+
+    Examples
+    --------
+    >>> import lotsim
+    >>> live = lotsim.Live(lotsim.prepare(lotsim.EXAMPLE), traffic=False)
+    >>> live.add("van", "valet", "in", at=5.0)
+    >>> live.advance(12.0)
+    >>> car = live.state()["cars"][0]
+    >>> car["id"], car["phase"], car["slot"]
+    ('van', 'parking', 'N1')
+    >>> result = live.finish()
+    >>> [(v.id, v.status) for v in result.vehicles]
+    [('van', 'parked')]
+    """
+
+    def __init__(self, prepared: PreparedLot, settings: RunSettings | None = None, *,
+                 policy: Callable | str | None = None, traffic: bool = True,
+                 progress=None) -> None:
+        from lotsim.sim.running import check_traffic, turned_away
+
+        if policy is not None and policy != ASK and not callable(policy):
+            raise SettingsError("policy", f"expected a callable or {ASK!r}, found "
+                                          f"{policy!r}")
+        self.prepared = prepared
+        self.settings = settings = settings or RunSettings()
+        scenario = prepared.scenario
+        lg = prepared.lot_graph
+        self.seed = scenario.seed if settings.seed is None else settings.seed
+        cars = (arrivals(scenario.traffic, self.seed)
+                if traffic and scenario.traffic is not None else [])
+        if settings.order is not None and sorted(settings.order) != sorted(a.id for a in cars):
+            raise SettingsError("order", "expected every vehicle id of the traffic exactly once")
+        if cars:
+            check_traffic(lg, cars)
+        self._reach = lg.reachability()
+        self._loop = EventLoop(scenario, lg, settings, cars, progress, prepared.search_graphs,
+                               turned_away=turned_away(lg, cars, self._reach), policy=policy)
+        self._loop.state_of = lambda loop: self.state()
+        self._tallies = {id(sg.tally): sg.tally for sg in self._loop.graphs.values()}.values()
+        self._took = 0.0  # seconds spent dealing with events
+        self._worked = 0.0  # of which working out edge motions first
+        self._result: RunResult | None = None
+        self._aisles = sorted(lg.lot.aisles)
+        self._aisle_shapes = np.array([lg.lot.aisles[a].polygon for a in self._aisles],
+                                      dtype=object)
+
+    # -- the clock ----------------------------------------------------------------------------
+    @property
+    def now(self) -> float:
+        """The time the run has reached [s] (``-inf`` before its first event)."""
+        return self._loop.now
+
+    @property
+    def pending(self) -> SlotRequest | None:
+        """The choice the run waits for (with the :data:`~lotsim.sim.policies.ASK`
+        policy), or None."""
+        if self._loop.pending is None:
+            return None
+        i, t = self._loop.pending
+        v = self._loop.vehicles[i]
+        return self._loop.request(v, t, self._loop.assigner.ranked(v.arrival, self._loop.free,
+                                                                    t))
+
+    @property
+    def done(self) -> bool:
+        """Whether nothing is left to happen (every event dealt with) or the run was
+        finished."""
+        return self._result is not None or (not self._loop.events
+                                            and self._loop.pending is None)
+
+    def advance(self, until: float = math.inf) -> None:
+        """Deal with every event up to ``until`` [s] (all, by default), or until a car
+        waits for a choice (:attr:`pending`); the clock then reads ``until`` (or the
+        choice's time)."""
+        self._open()
+        self._timed(lambda: self._loop.go(until))
+        if self._loop.pending is None and math.isfinite(until):
+            self._loop.now = max(self._loop.now, until)
+
+    def next_decision(self) -> SlotRequest | None:
+        """Go on to the next choice the run waits for (:attr:`pending`), or to the end:
+        None when no choice is left."""
+        self.advance()
+        return self.pending
+
+    def decide(self, answer) -> None:
+        """Answer :attr:`pending`: a slot id, slot ids to try in order, or None to wait
+        (as a policy answers, :mod:`lotsim.sim.policies`).
+
+        Raises
+        ------
+        DecisionError
+            When no choice is pending, or the lot cannot honour this one.
+        """
+        self._open()
+        loop = self._loop
+        if loop.pending is None:
+            raise DecisionError("-", "no car waits for a choice")
+        i, t = loop.pending
+        loop.pending, loop.answer = None, (i, answer)
+        try:
+            self._timed(lambda: loop.on_retry(i, loop.vehicles[i], t))
+        except DecisionError:
+            loop.pending, loop.answer = (i, t), None
+            raise
+
+    # -- cars coming ----------------------------------------------------------------------------
+    def add(self, car: str, vehicle: str, entrance: str, *, at: float | None = None,
+            dwell: float | None = None) -> None:
+        """A car ``car`` of type ``vehicle`` comes to ``entrance`` at time ``at`` [s] (now,
+        if None), to stay ``dwell`` seconds once parked (None: it stays).
+
+        Raises
+        ------
+        SettingsError
+            For a car id already in the run, a type or entrance the lot does not have, a
+            time before now, or a dwell of a lot with no exit.
+        """
+        self._open()
+        loop = self._loop
+        lg = loop.lg
+        at = (self.now if math.isfinite(self.now) else 0.0) if at is None else float(at)
+        if car in loop.by_id:
+            raise SettingsError("car", f"{car!r} is already in the run")
+        if vehicle not in loop.types:
+            raise SettingsError("vehicle", f"expected one of the scenario's vehicle types "
+                                           f"({', '.join(sorted(loop.types))}), found "
+                                           f"{vehicle!r}")
+        if entrance not in lg.entrances:
+            raise SettingsError("entrance", f"expected one of the lot's entrances "
+                                            f"({', '.join(sorted(lg.entrances))}), found "
+                                            f"{entrance!r}")
+        if not math.isfinite(at) or at < max(self.now, 0.0) - 1e-9:
+            raise SettingsError("at", f"expected a time from now ({max(self.now, 0.0):g} s) "
+                                      f"on, found {at:g}")
+        if dwell is not None and not (math.isfinite(dwell) and dwell >= 0):
+            raise SettingsError("dwell", f"expected seconds, at least 0, found {dwell!r}")
+        a = Arrival(car, vehicle, entrance, at, None if dwell is None else float(dwell))
+        from lotsim.sim.running import check_traffic, turned_away
+
+        try:
+            check_traffic(lg, [a], self._reach)
+        except ScenarioError as err:
+            raise SettingsError("car", f"{car!r}: {err.message}") from None
+        loop.turned_away.update(turned_away(lg, [a], self._reach))
+        i = loop.enter(a)
+        loop.at(at, "arrive", i)
+
+    # -- reading it -----------------------------------------------------------------------------
+    def state(self) -> dict:
+        """The run now, as plain data (lists, dicts, numbers and strings).
+
+        ``time`` [s]; ``cars``: each car that has come or will come, with ``id``, ``type``,
+        ``phase`` (:data:`PHASES`), ``slot`` (the one it took, or None), ``pose``
+        ``[x, y, theta]`` [m, rad] and ``speed`` [m/s] while it is in the lot (else None);
+        ``occupancy``: each slot's car (``"occupied"`` for one taken when the run began,
+        None when free); ``queues``: each entrance's cars queued outside, first come
+        first; ``aisles``: the cars whose rear-axle centre is on each aisle."""
+        loop = self._loop
+        t = self.now if math.isfinite(self.now) else 0.0
+        lot = loop.lg.lot
+        cars, queues = [], {g: [] for g in sorted(loop.lg.entrances)}
+        occupancy: dict[str, str | None] = {s.id: ("occupied" if s.id in lot.occupied
+                                                   else None) for s in lot.slots}
+        on = []
+        for v in loop.vehicles:
+            phase, pose, speed = _at(v, t)
+            if phase == "queued":
+                queues[v.arrival.entrance].append(v.id)
+            if v.slot is not None and phase in ("driving", "parking", "parked", "leaving") \
+                    and not (phase == "driving" and v.leaving):
+                occupancy[v.slot] = v.id
+            if pose is not None:
+                on.append((v.id, pose))
+            cars.append({"id": v.id, "type": v.vehicle.name, "phase": phase, "slot": v.slot,
+                         "pose": None if pose is None else [round(float(x), 4) for x in pose],
+                         "speed": None if speed is None else round(float(speed), 4)})
+        aisles: dict[str, list[str]] = {a: [] for a in self._aisles}
+        if on and len(self._aisles):
+            xy = np.array([p[:2] for _, p in on], dtype=float)
+            inside = shapely.contains_xy(self._aisle_shapes[:, None], xy[:, 0], xy[:, 1])
+            for k, name in enumerate(self._aisles):
+                aisles[name] = [on[j][0] for j in np.flatnonzero(inside[k])]
+        return {"time": t, "cars": cars, "occupancy": occupancy, "queues": queues,
+                "aisles": aisles}
+
+    # -- the end --------------------------------------------------------------------------------
+    def finish(self) -> RunResult:
+        """Deal with every event left and end the run: the same :class:`RunResult` as
+        :func:`lotsim.run` gives (a second call gives the same one).
+
+        Raises
+        ------
+        DecisionError
+            When a car still waits for a choice (:attr:`pending`).
+        """
+        if self._result is not None:
+            return self._result
+        self.advance()
+        if self._loop.pending is not None:
+            raise DecisionError(self._loop.vehicles[self._loop.pending[0]].id,
+                                "waits for a choice (Live.decide) before the run can end")
+        self._loop.close()
+        # in arrival order, as the traffic's own cars come (cars added later may arrive
+        # before some of them)
+        cars = sorted(self._loop.vehicles, key=lambda v: (v.arrival.time, v.id))
+        self._result = RunResult(self.prepared.scenario, self.prepared.lot_graph,
+                                 self.settings, self.seed, cars,
+                                 self._took - self._worked, motion_time=self._worked)
+        return self._result
+
+    def _open(self) -> None:
+        if self._result is not None:
+            raise SettingsError("live", "the run has ended (Live.finish)")
+
+    def _timed(self, work: Callable[[], None]) -> None:
+        """Do ``work``, counting its time, and apart the time it spent working out edge
+        motions and hulls first (in searches, or reserving what they found)."""
+        worked = sum(t.seconds for t in self._tallies)
+        clock = time.perf_counter()
+        try:
+            work()
+        finally:
+            self._took += time.perf_counter() - clock
+            self._worked += sum(t.seconds for t in self._tallies) - worked
+
+
+def _at(v: VehicleRun, t: float) -> tuple[str, tuple | None, float | None]:
+    """Where ``v`` is at ``t`` [s]: its phase (:data:`PHASES`), pose and speed (None
+    outside the lot)."""
+    if t < v.arrival.time:
+        return "coming", None, None
+    moves = [m for m in v.moves if m.kind != "outside"]
+    if not moves or t < moves[0].t0:
+        if v.done and v.status in ("rejected", "waiting"):
+            return v.status, None, None
+        return "queued", None, None
+    if t >= moves[-1].t1:
+        m = moves[-1]
+        if v.left_at is not None:
+            return "departed", None, None
+        return ("parked" if v.parked_at is not None and t >= v.parked_at else "driving",
+                m.end_pose, 0.0)
+    m = next(m for m in moves if m.t1 > t)
+    if m.motion is None:
+        pose, speed = m.end_pose, 0.0
+    else:
+        poses, speeds, _, _ = m.motion.at(np.array([t - m.t0]), wheelbase=v.vehicle.wheelbase)
+        pose, speed = tuple(poses[0]), float(speeds[0])
+    phase = {"park": "parking", "leave": "leaving", "parked": "parked"}.get(m.kind, "driving")
+    return phase, pose, speed
