@@ -34,6 +34,7 @@ _EXPORTS = {
     "lotsim.sim.preparation": ("PreparedLot",),
     "lotsim.sim.live": ("Live",),
     "lotsim.sim.policies": ("ASK", "Ranked", "SlotRequest"),
+    "lotsim.traffic.disturbances": ("Disturbances", "Stall"),
     "lotsim.sim.validation": ("ValidationReport",),
     "lotsim.verify": ("CheckReport", "Violation"),
     "lotsim.scenario": ("AnimationSpec", "GifSettings", "HtmlSettings", "Scenario"),
@@ -125,4 +126,5 @@ if TYPE_CHECKING:  # for type checkers and editors: the same names, imported eag
     from lotsim.sim.preparation import PreparedLot  # noqa: F401
     from lotsim.sim.settings import GASettings, RunSettings, RunTuning  # noqa: F401
     from lotsim.sim.validation import ValidationReport  # noqa: F401
+    from lotsim.traffic.disturbances import Disturbances, Stall  # noqa: F401
     from lotsim.verify import CheckReport, Violation  # noqa: F401

@@ -11,6 +11,7 @@ from typing import Any
 from lotsim.core.checks import is_integral, is_real, raise_first, range_problem, set_field, shown
 from lotsim.lot.spec import LotSpec
 from lotsim.traffic.demand import TrafficSpec
+from lotsim.traffic.disturbances import Disturbances
 from lotsim.vehicles.model import VehicleType
 
 
@@ -33,6 +34,9 @@ class Scenario:
     description : str
     traffic : TrafficSpec or None
         The vehicles that come to the lot; None when the scenario only describes a lot.
+    disturbances : Disturbances or None
+        What departs from the plan when the traffic is driven (late starts, slow cars,
+        stalls: :class:`~lotsim.traffic.disturbances.Disturbances`); None: nothing.
 
     A scenario is the problem, not how to draw it: its file's ``animation`` section is read
     apart (:func:`lotsim.io.scenario_yaml.read_scenario`, :class:`lotsim.scenario.AnimationSpec`).
@@ -46,6 +50,7 @@ class Scenario:
     source: str = "<memory>"
     description: str = ""
     traffic: TrafficSpec | None = None
+    disturbances: Disturbances | None = None
 
     def vehicle_type(self, name: str) -> VehicleType:
         """The vehicle type called ``name``; KeyError if the scenario has none."""

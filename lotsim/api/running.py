@@ -16,10 +16,12 @@ from lotsim.errors import SettingsError
 from lotsim.sim.preparation import PreparedLot
 from lotsim.sim.results import RunResult
 from lotsim.sim.settings import RunSettings
+from lotsim.traffic.disturbances import Disturbances
 
 
 def run(scenario_or_prepared: ScenarioLike | PreparedLot, settings: RunSettings | None = None,
-        *, progress=None, **overrides: Any) -> RunResult:
+        *, progress=None, disturbances: Disturbances | None = None,
+        **overrides: Any) -> RunResult:
     """Plan the scenario's traffic: assign slots, plan every vehicle in, and out again.
 
     Parameters
@@ -32,6 +34,12 @@ def run(scenario_or_prepared: ScenarioLike | PreparedLot, settings: RunSettings 
     progress : callable, optional, keyword-only
         Called as ``progress(done, total)``: trips planned, or, with ``priority="ga"``,
         orders the genetic algorithm has tried.
+    disturbances : Disturbances, optional, keyword-only
+        What departs from the plan as the cars drive it (late starts, slow cars, stalls);
+        the scenario's ``disturbances`` section when not given. The run is planned, then
+        driven through them keeping the plan's order at every piece of the lot
+        (:func:`lotsim.sim.execution.execute`): the result's moves are those executed, and
+        its ``execution`` says what was drawn and what it did.
     **overrides
         Fields of :class:`RunSettings` to change: ``planner``, ``assignment``, ``seed``,
         ``window``, ``omega``, ``retry``, ``order``, ``horizon``, ``priority``, ``ga``.
@@ -85,5 +93,14 @@ def run(scenario_or_prepared: ScenarioLike | PreparedLot, settings: RunSettings 
         from lotsim.api.notebook import progress_for
 
         progress = progress_for("planning trips")
-    return plan_run(prepared.scenario, settings, lot_graph=prepared.lot_graph,
-                    progress=progress, memo=prepared.search_graphs)
+    rr = plan_run(prepared.scenario, settings, lot_graph=prepared.lot_graph,
+                  progress=progress, memo=prepared.search_graphs)
+    spec = prepared.scenario.disturbances if disturbances is None else disturbances
+    if spec is not None and not isinstance(spec, Disturbances):
+        raise SettingsError("disturbances", f"expected Disturbances, found "
+                                            f"{type(spec).__name__}")
+    if spec is not None and spec.active:
+        from lotsim.sim.execution import execute
+
+        rr = execute(rr, spec, memo=prepared.search_graphs)
+    return rr

@@ -116,8 +116,11 @@ def result_dict(rr: RunResult, *, progress=None) -> dict:
     # scenario and seed give the same file byte for byte
     metrics = {k: (round(v, 4) if isinstance(v, float) else v) for k, v in rr.metrics().items()
                if not k.startswith("planning_time")}
-    return {"format": FORMAT, "version": VERSION, "lot": doc_lot, "vehicles": vehicles,
-            "metrics": metrics, "settings": settings}
+    doc = {"format": FORMAT, "version": VERSION, "lot": doc_lot, "vehicles": vehicles,
+           "metrics": metrics, "settings": settings}
+    if rr.execution is not None:  # driven through disturbances: what they were, and did
+        doc["disturbances"] = rr.execution.as_dict()
+    return doc
 
 
 def write_json(obj: dict, path: str | Path) -> None:

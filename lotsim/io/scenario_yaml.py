@@ -22,6 +22,13 @@ from lotsim.io.lot_yaml import MAX_ITEMS, parse_lot
 from lotsim.io.yamlnodes import YNode, parse_text, read_yaml
 from lotsim.scenario import AnimationSpec, Scenario
 from lotsim.traffic.demand import PATIENCE, Arrival, StreamSpec, TrafficSpec
+from lotsim.traffic.disturbances import (
+    MAX_LATE,
+    MAX_STALL,
+    MAX_STALL_RATE,
+    Disturbances,
+    Stall,
+)
 from lotsim.vehicles.catalogue import CATALOGUE, DEFAULT_VEHICLE
 from lotsim.vehicles.model import KMH, VehicleLimits, VehicleType
 
@@ -137,7 +144,7 @@ def parse_scenario_file(root: YNode) -> ScenarioFile:
     f = root.fields(
         required=["lot"],
         optional=["name", "description", "seed", "vehicle_types", "parked_vehicle", "traffic",
-                  "animation"],
+                  "disturbances", "animation"],
     )
     errors = ErrorCollector()
     name = (errors.attempt(lambda: f["name"].file_name(
@@ -168,6 +175,11 @@ def parse_scenario_file(root: YNode) -> ScenarioFile:
     names = [n for n in names if n]
     traffic = (errors.attempt(parse_traffic, f["traffic"], names, entrances)
                if "traffic" in f and names else None)  # no type to check it against
+    disturbances = (errors.attempt(parse_disturbances, f["disturbances"], traffic)
+                    if "disturbances" in f else None)
+    if disturbances is not None and "traffic" not in f:
+        errors.attempt(_refuse, f["disturbances"], "disturbances need traffic to disturb: the "
+                                                   "scenario has no 'traffic' section")
     animation = errors.attempt(parse_animation, f["animation"]) if "animation" in f else None
     description = (errors.attempt(lambda: f["description"].string(max_len=2000), default="")
                    if "description" in f else "")
@@ -176,6 +188,7 @@ def parse_scenario_file(root: YNode) -> ScenarioFile:
         name=name,
         lot=lot,
         traffic=traffic,
+        disturbances=disturbances,
         vehicle_types=types,
         parked_vehicle=parked,
         seed=seed,
@@ -351,6 +364,61 @@ def _stream(node: YNode, types: list[str], entrances: list[str]) -> StreamSpec:
         prefix=f["prefix"].ident() if "prefix" in f else "s",
         where=node.where,
     )
+
+
+def parse_disturbances(node: YNode, traffic: TrafficSpec | None) -> Disturbances:
+    """The ``disturbances`` mapping (``docs/scenario.md``); a given stall's car is checked
+    against the traffic's ids."""
+    f = node.fields(optional=["late_starts", "speed", "stalls", "seed"])
+    kw: dict = {}
+    if "late_starts" in f:
+        late = f["late_starts"].fields(required=["probability", "max"])
+        kw["late_probability"] = late["probability"].number(min=0, max=1)
+        kw["late_max"] = late["max"].number(min=0, max=MAX_LATE)
+    if "speed" in f:
+        kw["speed"] = _range(f["speed"], 0.1, 1.0)
+    if "stalls" in f:
+        st = f["stalls"].fields(optional=["rate_per_hour", "duration", "at"])
+        if "rate_per_hour" in st:
+            kw["stall_rate"] = st["rate_per_hour"].number(min=0, max=MAX_STALL_RATE)
+        if "duration" in st:
+            kw["stall_duration"] = _range(st["duration"], 0.0, MAX_STALL)
+        if "at" in st:
+            ids = traffic_ids(traffic) if traffic is not None else set()
+            given = []
+            for n in st["at"].items(min_len=1, max_len=MAX_ITEMS):
+                g = n.fields(required=["car", "time", "duration"])
+                car = g["car"].ident()
+                if car not in ids:
+                    raise g["car"].error(f"expected the id of a car of the traffic, found "
+                                         f"{car!r}")
+                given.append(Stall(car, g["time"].number(min=0, max=1e7),
+                                   g["duration"].number(min=0, max=MAX_STALL)))
+            kw["stalls"] = tuple(given)
+    if "seed" in f:
+        kw["seed"] = f["seed"].integer(min=0, max=2**63 - 1)
+    return Disturbances(**kw)
+
+
+def _range(node: YNode, lo: float, hi: float) -> tuple[float, float]:
+    """One number or ``[low, high]`` within ``lo`` to ``hi``, as (low, high)."""
+    if node.is_sequence:
+        a, b = (n.number(min=lo, max=hi) for n in node.items(min_len=2, max_len=2))
+        if b < a:
+            raise node.error(f"expected [low, high] with low <= high, found [{a:g}, {b:g}]")
+        return a, b
+    x = node.number(min=lo, max=hi)
+    return x, x
+
+
+def traffic_ids(traffic: TrafficSpec) -> set[str]:
+    """Every car id of ``traffic``: those listed and those its stream draws."""
+    ids = {a.id for a in traffic.vehicles}
+    s = traffic.stream
+    if s is not None:
+        width = len(str(s.count)) if s.count >= 10 else 2
+        ids |= {f"{s.prefix}{k + 1:0{width}d}" for k in range(s.count)}
+    return ids
 
 
 def parse_dwell(d: YNode) -> tuple[float, float]:

@@ -4,6 +4,7 @@
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
 
@@ -67,6 +68,10 @@ class RunResult:
     motions and their swept hulls that no earlier run on the lot in this process had (the
     lot's search graphs keep them): a lot's first runs pay it, later ones little; planning
     times leave it out, so that runs are timed alike whatever ran before them."""
+    execution: Any = None
+    """How the run was driven through its disturbances
+    (:class:`lotsim.sim.execution.Execution`), its vehicles' moves being those executed;
+    None for a run as planned."""
 
     def metrics(self) -> dict[str, float]:
         """Counts by status (``served``: parked and departed) and the timing figures of

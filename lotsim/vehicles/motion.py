@@ -384,6 +384,35 @@ class Motion:
         return np.unique(np.concatenate(out)) if out else np.zeros(1)
 
 
+def slowed(motion: Motion, factor: float) -> Motion:
+    """``motion`` driven ``factor`` (0 < factor ≤ 1) times as fast along the same path:
+    every time stretched by ``1 / factor``, so speeds are ``factor``, accelerations
+    ``factor²``, jerks ``factor³`` and steering rates ``factor`` times the original's, each
+    within the same limits.
+
+    Examples
+    --------
+    >>> from lotsim.core.geometry import Segment
+    >>> from lotsim.vehicles.catalogue import get_vehicle
+    >>> valet = get_vehicle("valet")
+    >>> m = timed_path([Piece(Segment((0.0, 0.0, 0.0), 10.0, 0.0, 0.0), 5.0)], valet)
+    >>> half = slowed(m, 0.5)
+    >>> round(half.duration / m.duration, 9), half.end == m.end
+    (2.0, True)
+    """
+    if factor == 1.0:
+        return motion
+    phases: list[Phase] = []
+    for ph in motion.phases:
+        if isinstance(ph, Steering):
+            phases.append(Steering(ph.pose, ph.start, ph.end, ph.duration / factor))
+            continue
+        p = ph.profile
+        phases.append(Stroke(ph.segments, Profile(p.t / factor, p.s, p.v * factor,
+                                                  p.a * factor ** 2)))
+    return Motion(tuple(phases))
+
+
 def runs(pieces: Sequence[Piece]) -> list[list[Piece]]:
     """Consecutive pieces grouped into runs a car drives without stopping: one gear, and
     each piece starting with the curvature the one before ends with."""

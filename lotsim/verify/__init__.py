@@ -111,6 +111,11 @@ slot
 exit
     A ``departed`` vehicle's last pose is within ``EXIT_DISTANCE`` = 0.5 m and
     ``EXIT_HEADING`` = 0.1 rad of an exit's pose.
+stall
+    In a run driven through disturbances (``disturbances.stalls``), a stalled car has
+    samples over the whole stall and stands still throughout it: its pose at the stall's
+    ends and at every sample between the same within ``STILL_TOL`` and ``STILL_TURN``,
+    its speed within ``GEAR_SPEED_TOL`` of 0.
 status, reason, arrival, metrics
     A ``rejected`` vehicle has no samples, a ``parked`` or ``departed`` one has some;
     ``waiting`` and ``rejected`` vehicles give a reason, the others none; no sample

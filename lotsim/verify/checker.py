@@ -9,6 +9,7 @@ from typing import Any
 
 import numpy as np
 
+from lotsim.verify.disturbances import _check_disturbances
 from lotsim.verify.final import _check_final, _check_metrics
 from lotsim.verify.footprints import _check_footprints
 from lotsim.verify.motion import _check_motion
@@ -108,5 +109,8 @@ def _check(data: Any, out: list[Violation], stats: dict[str, Any]) -> None:
     _guard(out, "the footprints", _check_footprints,
            [v for v in vehicles if v.n], lot, out, stats)
     _guard(out, "the final states", _check_final, vehicles, lot, out)
+    if "disturbances" in data:
+        _guard(out, "the disturbances", _check_disturbances, data["disturbances"], vehicles,
+               out)
     if isinstance(data["metrics"], dict) and len(vehicles) == len(raw_vehicles):
         _guard(out, "the metrics", _check_metrics, data["metrics"], vehicles, out)
