@@ -65,6 +65,9 @@ EXPORTS: dict[str, tuple[str, ...]] = {
     "lotsim.sim.maneuver_case": ("ManeuverCase",),
     "lotsim.sim.validation": ("ValidationReport", "id_ranges", "natural"),
     "lotsim.sim.running": ("collector_tuned", "require_traffic"),
+    "lotsim.sim.live": ("Live",),
+    "lotsim.sim.policies": ("ASK", "Ranked", "SlotRequest"),
+    "lotsim.traffic.disturbances": ("Disturbances", "Stall"),
     "lotsim.sim.limits": ("Budget", "Watchdog", "parse_size"),
     "lotsim.verify": ("CheckReport", "Violation"),
     # pictures and plots
@@ -79,7 +82,7 @@ EXPORTS: dict[str, tuple[str, ...]] = {
     # errors
     "lotsim.errors": ("InfeasibleManeuver", "LimitExceeded", "Location", "LotsimError",
                       "ReplayError", "ResultFormatError", "ScenarioError", "ScenarioErrors",
-                      "SettingsError"),
+                      "SettingsError", "DecisionError"),
 }
 """Module → the public names :mod:`lotsim.api` offers from it."""
 
@@ -141,6 +144,7 @@ if TYPE_CHECKING:  # for type checkers and editors: the same names, imported eag
     from lotsim.design.plot_yaml import read_plot  # noqa: F401
     from lotsim.design.search import Evaluation, LayoutResult, LayoutSettings  # noqa: F401
     from lotsim.errors import (  # noqa: F401
+        DecisionError,
         InfeasibleManeuver,
         LimitExceeded,
         Location,
@@ -181,7 +185,9 @@ if TYPE_CHECKING:  # for type checkers and editors: the same names, imported eag
         size_problem,
     )
     from lotsim.sim.limits import Budget, Watchdog, parse_size  # noqa: F401
+    from lotsim.sim.live import Live  # noqa: F401
     from lotsim.sim.maneuver_case import ManeuverCase  # noqa: F401
+    from lotsim.sim.policies import ASK, Ranked, SlotRequest  # noqa: F401
     from lotsim.sim.preparation import PreparedLot  # noqa: F401
     from lotsim.sim.results import RunResult  # noqa: F401
     from lotsim.sim.running import collector_tuned, require_traffic  # noqa: F401
@@ -193,5 +199,6 @@ if TYPE_CHECKING:  # for type checkers and editors: the same names, imported eag
         RunSettings,
     )
     from lotsim.sim.validation import ValidationReport, id_ranges, natural  # noqa: F401
+    from lotsim.traffic.disturbances import Disturbances, Stall  # noqa: F401
     from lotsim.vehicles.catalogue import CATALOGUE  # noqa: F401
     from lotsim.verify import CheckReport, Violation  # noqa: F401

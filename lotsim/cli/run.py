@@ -10,6 +10,7 @@ import sys
 from pathlib import Path
 
 from lotsim import api
+from lotsim.cli import disturb
 from lotsim.cli.output import (
     EXIT_INCOMPLETE,
     EXIT_INTERRUPTED,
@@ -61,6 +62,7 @@ def add_arguments(r: argparse.ArgumentParser) -> None:
     r.add_argument("--time-limit", type=float, default=7200.0, metavar="SECONDS",
                    help="stop, writing nothing, when planning takes or is projected to take "
                    "longer than this (default 7200; 0: no limit)")
+    disturb.add_arguments(r)
     gif = r.add_mutually_exclusive_group()
     gif.add_argument("--gif", metavar="GIF", help="also write an animated GIF of the run "
                      "(default: OUTDIR/run.gif when the scenario has an 'animation' section)")
@@ -85,6 +87,9 @@ def execute(args: argparse.Namespace) -> int:
     scenario_file = api.read_scenario(args.scenario)
     scenario, anim = scenario_file.scenario, scenario_file.animation
     api.require_traffic(scenario)
+    args.disturbances = disturb.disturbances(args, scenario)
+    if isinstance(args.disturbances, str):
+        return bad(args.disturbances)
     out = Path(args.output) if args.output else Path("runs") / scenario.name
     pictures = _pictures(args, out, anim)
     if isinstance(pictures, str):
@@ -189,7 +194,8 @@ def _planned(args: argparse.Namespace, scenario, settings, budget,
             with Preparing() as bar, api.collector_tuned():
                 prepared = api.prepare(scenario, progress=bar)
             with api.collector_tuned():
-                rr = api.run(prepared, settings, progress=dog.progress)
+                rr = api.run(prepared, settings, progress=dog.progress,
+                             disturbances=args.disturbances or api.Disturbances())
     else:  # the watchdog cannot project from trips: orders are tried
         bar = ProgressBar("trying orders")
         try:
@@ -198,7 +204,8 @@ def _planned(args: argparse.Namespace, scenario, settings, budget,
                     prepared = api.prepare(scenario, progress=preparing)
                 with api.collector_tuned():
                     rr = api.run(prepared, settings,
-                                 progress=bar if settings.priority == "ga" else None)
+                                 progress=bar if settings.priority == "ga" else None,
+                                 disturbances=args.disturbances or api.Disturbances())
         finally:
             bar.close()
         found = rr.ordering
@@ -264,6 +271,9 @@ def _summary(args: argparse.Namespace, scenario, rr, m: dict, doc: dict) -> None
           f"{plural(m['expansions'], 'expansion')}; per vehicle median "
           f"{1000 * m['planning_time_median']:.0f} ms, p95 {1000 * m['planning_time_p95']:.0f} ms)"
           f"; and {m['planning_time_motions']:.2f} s working out the edge motions it drove")
+    line = disturb.summary(rr)
+    if line:
+        print(line)
     for v in doc["vehicles"]:
         if v["status"] in ("waiting", "rejected"):
             print(f"  {v['id']}: {v['status']}: {v['reason']}")

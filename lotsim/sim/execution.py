@@ -91,6 +91,9 @@ class Execution:
         Runs slowed below their car's factor to keep a tie with a slower car.
     waited : float
         Seconds cars stood for the order of the plan beyond their plans' waits, in all.
+    planned : dict
+        The plan's :meth:`~lotsim.sim.results.RunResult.trip_figures`, to hold the
+        executed run's against.
     """
 
     spec: Disturbances
@@ -102,6 +105,7 @@ class Execution:
     dropped: int = 0
     slowed: int = 0
     waited: float = 0.0
+    planned: dict = field(default_factory=dict)
 
     def as_dict(self) -> dict:
         """As ``result.json``'s ``disturbances`` holds it (``docs/result.md``)."""
@@ -109,7 +113,8 @@ class Execution:
                 "speed": {k: round(v, 6) for k, v in self.speed.items()},
                 "late": self.late, "stalls": self.stalls,
                 "stalls_moved": self.moved, "stalls_dropped": self.dropped,
-                "runs_slowed": self.slowed, "waited": round(self.waited, 4)}
+                "runs_slowed": self.slowed, "waited": round(self.waited, 4),
+                "planned": {k: round(v, 4) for k, v in self.planned.items()}}
 
 
 def runs_of(v: VehicleRun, car: int) -> list[Run]:
@@ -167,7 +172,7 @@ def execute(rr: RunResult, spec: Disturbances, *, memo: SearchGraphMemo | None =
     _apply(drawn, cars, runs)
     chunks = _chunks(rr, runs, memo)
     src, dst, alpha, beta = _orders(chunks)
-    rec = Execution(spec, seed, drawn.speed, [], [])
+    rec = Execution(spec, seed, drawn.speed, [], [], planned=rr.trip_figures())
     starts = schedule(flat, src, dst, alpha, beta, runs, rec)
     executed = [retimed(v, rs, starts) for v, rs in zip(cars, runs, strict=True)]
     for v, rs in zip(cars, runs, strict=True):
