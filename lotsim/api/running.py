@@ -4,6 +4,7 @@ the JSON document of ``docs/result.md`` and :func:`lotsim.write_result` writes."
 
 from __future__ import annotations
 
+import dataclasses
 from typing import Any
 
 from lotsim.api.scenarios import (
@@ -93,13 +94,15 @@ def run(scenario_or_prepared: ScenarioLike | PreparedLot, settings: RunSettings 
         from lotsim.api.notebook import progress_for
 
         progress = progress_for("planning trips")
-    rr = plan_run(prepared.scenario, settings, lot_graph=prepared.lot_graph,
-                  progress=progress, memo=prepared.search_graphs)
     spec = prepared.scenario.disturbances if disturbances is None else disturbances
     if spec is not None and not isinstance(spec, Disturbances):
         raise SettingsError("disturbances", f"expected Disturbances, found "
                                             f"{type(spec).__name__}")
-    if spec is not None and spec.active:
+    scenario = (prepared.scenario if disturbances is None
+                else dataclasses.replace(prepared.scenario, disturbances=disturbances))
+    rr = plan_run(scenario, settings, lot_graph=prepared.lot_graph,
+                  progress=progress, memo=prepared.search_graphs)
+    if spec is not None and spec.driven:
         from lotsim.sim.execution import execute
 
         rr = execute(rr, spec, memo=prepared.search_graphs)

@@ -118,8 +118,11 @@ def result_dict(rr: RunResult, *, progress=None) -> dict:
                if not k.startswith("planning_time")}
     doc = {"format": FORMAT, "version": VERSION, "lot": doc_lot, "vehicles": vehicles,
            "metrics": metrics, "settings": settings}
-    if rr.execution is not None:  # driven through disturbances: what they were, and did
-        doc["disturbances"] = rr.execution.as_dict()
+    if rr.execution is not None or rr.lot_changes is not None:  # what met the plan
+        spec = rr.scenario.disturbances
+        doc["disturbances"] = {"settings": spec.as_dict() if spec is not None else None,
+                               **(rr.lot_changes.as_dict() if rr.lot_changes else {}),
+                               **(rr.execution.as_dict() if rr.execution else {})}
     return doc
 
 

@@ -29,6 +29,7 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 import shapely
 
+from lotsim.sim.repairs import LotChanges
 from lotsim.sim.results import RunResult, VehicleRun
 from lotsim.traffic.disturbances import Disturbances, Drawn, Stall, draw
 from lotsim.traffic.plans import Move
@@ -171,7 +172,8 @@ def execute(rr: RunResult, spec: Disturbances, *, memo: SearchGraphMemo | None =
     flat = [r for rs in runs for r in rs]
     _apply(drawn, cars, runs)
     chunks = _chunks(rr, runs, memo)
-    src, dst, alpha, beta = _orders(chunks)
+    tree = shapely.STRtree(chunks.geoms)
+    src, dst, alpha, beta = _orders(chunks, tree)
     rec = Execution(spec, seed, drawn.speed, [], [], planned=rr.trip_figures())
     starts = schedule(flat, src, dst, alpha, beta, runs, rec)
     executed = [retimed(v, rs, starts) for v, rs in zip(cars, runs, strict=True)]
@@ -188,10 +190,35 @@ def execute(rr: RunResult, spec: Disturbances, *, memo: SearchGraphMemo | None =
                                        "t1": round(t + st.duration, 6), "at": st.at})
                     t += st.duration
     rec.waited = sum(_stood(v) for v in executed) - sum(_stood(v) for v in cars)
+    changes = (None if rr.lot_changes is None
+               else _changes_driven(rr.lot_changes, chunks, tree, flat, starts, cars))
     out = RunResult(rr.scenario, rr.lot_graph, rr.settings, rr.seed, executed,
-                    rr.planning_time, ordering=rr.ordering, motion_time=rr.motion_time)
+                    rr.planning_time, ordering=rr.ordering, motion_time=rr.motion_time,
+                    lot_changes=changes)
     out.execution = rec
     return out
+
+
+def _changes_driven(changes: LotChanges, ch: _Chunks, tree: shapely.STRtree, flat: list[Run],
+                    starts: dict[int, float], cars: list[VehicleRun]) -> LotChanges:
+    """``changes`` as a run driven late meets them: a closure begins, and a car the plan
+    does not know parks in a bay, once every car planned past that ground before it has
+    passed (cars already in a closed aisle go on, as planned)."""
+    def passed(area, t: float, exempt: set[str]) -> float:
+        idx = tree.query(area, predicate="intersects")
+        idx = idx[(ch.t1[idx] <= t + EPS)]
+        out = t
+        for k in idx:
+            if cars[ch.car[k]].id in exempt:
+                continue
+            r = flat[ch.run[k]]
+            out = max(out, starts[id(r)] + (ch.t1[k] - r.t0) / r.factor)
+        return out
+
+    closures = [replace(c, t0=passed(c.area, c.t0, set(c.inside))) for c in changes.closures]
+    taken = [r if r.body is None else replace(r, t=passed(r.body, r.bay.at, set()))
+             for r in changes.taken]
+    return LotChanges(closures, taken, list(changes.replans))
 
 
 def _apply(drawn: Drawn, cars: list[VehicleRun], runs: list[list[Run]]) -> None:
@@ -262,14 +289,13 @@ def _chunks(rr: RunResult, runs: list[list[Run]], memo: SearchGraphMemo | None) 
                    np.array(car, dtype=int), arr, np.array(run_t0))
 
 
-def _orders(ch: _Chunks) -> tuple[np.ndarray, ...]:
+def _orders(ch: _Chunks, tree: shapely.STRtree) -> tuple[np.ndarray, ...]:
     """For every two chunks of two cars that meet: the run passing first (``src``), the
     one passing after (``dst``), how far into its run the first leaves its chunk
     (``alpha``) and how far into its run the second enters its own (``beta``) [s]."""
     if not len(ch.geoms):
         z = np.zeros(0)
         return z.astype(int), z.astype(int), z, z
-    tree = shapely.STRtree(ch.geoms)
     a, b = tree.query(ch.geoms, predicate="intersects")
     keep = (a < b) & (ch.car[a] != ch.car[b])
     a, b = a[keep], b[keep]

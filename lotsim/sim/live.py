@@ -19,9 +19,11 @@ from lotsim.errors import DecisionError, ScenarioError, SettingsError
 from lotsim.sim.loop import EventLoop
 from lotsim.sim.policies import ASK, SlotRequest
 from lotsim.sim.preparation import PreparedLot
+from lotsim.sim.repairs import LotChanges
 from lotsim.sim.results import RunResult, VehicleRun
 from lotsim.sim.settings import RunSettings
 from lotsim.traffic.demand import Arrival, arrivals
+from lotsim.traffic.disturbances import Closure, TakenBay
 
 PHASES = ("coming", "queued", "driving", "parking", "parked", "leaving", "departed",
           "rejected", "waiting")
@@ -94,6 +96,10 @@ class Live:
         self._loop = EventLoop(scenario, lg, settings, cars, progress, prepared.search_graphs,
                                turned_away=turned_away(lg, cars, self._reach), policy=policy)
         self._loop.state_of = lambda loop: self.state()
+        spec = scenario.disturbances
+        for event in (() if spec is None else (*spec.closures, *spec.taken)):
+            self._check_event(event)
+            self._loop.add_lot_event(event, getattr(event, "start", getattr(event, "at", 0)))
         self._tallies = {id(sg.tally): sg.tally for sg in self._loop.graphs.values()}.values()
         self._took = 0.0  # seconds spent dealing with events
         self._worked = 0.0  # of which working out edge motions first
@@ -204,6 +210,58 @@ class Live:
         i = loop.enter(a)
         loop.at(at, "arrive", i)
 
+    # -- the lot changing -----------------------------------------------------------------------
+    def close(self, kind: str, name: str, until: float, *, at: float | None = None) -> None:
+        """Close the aisle or gate (``kind``) ``name`` from ``at`` (now, if None) until
+        ``until`` [s] (:class:`~lotsim.traffic.disturbances.Closure`): the cars whose plans
+        pass it then are planned again.
+
+        Raises
+        ------
+        SettingsError
+            For something the lot does not have, or a time before now.
+        """
+        self._open()
+        start = self._when(at)
+        event = Closure(kind, name, start, until)
+        self._check_event(event)
+        self._loop.add_lot_event(event, start)
+
+    def take_bay(self, slot: str, *, at: float | None = None) -> None:
+        """A car the plan does not know parks in ``slot`` at ``at`` [s] (now, if None) and
+        stays (:class:`~lotsim.traffic.disturbances.TakenBay`): a car that was to park
+        there is given another slot.
+
+        Raises
+        ------
+        SettingsError
+            For a slot the lot does not have, or a time before now.
+        """
+        self._open()
+        event = TakenBay(slot, self._when(at))
+        self._check_event(event)
+        self._loop.add_lot_event(event, event.at)
+
+    def _when(self, at: float | None) -> float:
+        now = max(self.now, 0.0) if math.isfinite(self.now) else 0.0
+        if at is None:
+            return now
+        if not (isinstance(at, (int, float)) and math.isfinite(at)) or at < now - 1e-9:
+            raise SettingsError("at", f"expected a time from now ({now:g} s) on, found {at!r}")
+        return float(at)
+
+    def _check_event(self, event) -> None:
+        lg = self._loop.lg
+        if isinstance(event, TakenBay):
+            if event.slot not in lg.lot.slot_by_id:
+                raise SettingsError("slot", f"the lot has no slot {event.slot!r}")
+            return
+        names = (sorted(lg.lot.aisles) if event.kind == "aisle"
+                 else sorted({*lg.entrances, *lg.exits}))
+        if event.id not in names:
+            raise SettingsError(event.kind, f"expected one of the lot's {event.kind}s "
+                                            f"({', '.join(names)}), found {event.id!r}")
+
     # -- reading it -----------------------------------------------------------------------------
     def state(self) -> dict:
         """The run now, as plain data (lists, dicts, numbers and strings).
@@ -262,9 +320,13 @@ class Live:
         # in arrival order, as the traffic's own cars come (cars added later may arrive
         # before some of them)
         cars = sorted(self._loop.vehicles, key=lambda v: (v.arrival.time, v.id))
+        loop = self._loop
+        changes = (LotChanges(loop.closures, loop.taken_records, loop.replans)
+                   if loop.lot_events else None)
         self._result = RunResult(self.prepared.scenario, self.prepared.lot_graph,
                                  self.settings, self.seed, cars,
-                                 self._took - self._worked, motion_time=self._worked)
+                                 self._took - self._worked, motion_time=self._worked,
+                                 lot_changes=changes)
         return self._result
 
     def _open(self) -> None:

@@ -17,11 +17,13 @@ from collections import OrderedDict
 from lotsim.core.outcome import Status
 from lotsim.roadmap.model import LotGraph
 from lotsim.scenario import Scenario
+from lotsim.sim import repairs
 from lotsim.sim.assignment import SlotAssigner
 from lotsim.sim.policies import ASK, SlotRequest, choices
 from lotsim.sim.results import VehicleRun
 from lotsim.sim.settings import RunSettings
 from lotsim.traffic.demand import PATIENCE, Arrival
+from lotsim.traffic.disturbances import Closure
 from lotsim.traffic.heuristic import ReverseResumable
 from lotsim.traffic.plans import Move, Plan, reserve_moves
 from lotsim.traffic.reservation import ReservationTable
@@ -78,6 +80,12 @@ class EventLoop:
         self.pending: tuple[int, float] | None = None  # a car waiting for a decision, when
         self.answer: tuple[int, object] | None = None  # the caller's to it
         self.state_of = lambda loop: {}  # the run's state as plain data (set by its Live)
+        self.scenario_parked = scenario.parked_vehicle  # a car in a bay taken from outside
+        self.closures: list = []  # closures met (repairs.ClosureRecord), in time order
+        self.taken_records: list = []  # bays taken from outside (repairs.TakenRecord)
+        self.taken: set[str] = set()  # the slots those took
+        self.replans: list = []  # every repair (repairs.Replan), in time order
+        self.lot_events: list = []  # closures and bays taken, by the index their events hold
         self._trips = 0
         self._trips_done = 0
         self._counted: dict[str, int] = {}
@@ -138,6 +146,12 @@ class EventLoop:
         # events come in time order and every search and release starts at its event's
         # time or later: what ended before is no use to any of them
         self.table.forget_before(t)
+        if kind == "close":
+            self.closures.append(repairs.close(self, self.lot_events[i], t))
+            return
+        if kind == "take":
+            self.taken_records.append(repairs.take(self, self.lot_events[i], t))
+            return
         v = self.vehicles[i]
         if v.done:
             return
@@ -207,8 +221,12 @@ class EventLoop:
         t = max(t, v.arrival.time)  # a booked vehicle is planned before it arrives
         sg = self.graphs[v.vehicle.name]
         options = self.assigner.ranked(v.arrival, self.free, t)
+        full = "the lot is full"
+        if self.closures and options:
+            options = [sid for sid in options if not self.closed_slot(sid, t)]
+            full = "the lot is full" if options else "its free slots are on closed aisles"
         if not options:
-            v.reason = "the lot is full"
+            v.reason = full
             if i not in self.queue:
                 self.queue.append(i)
             if self.patience == 0:
@@ -239,6 +257,28 @@ class EventLoop:
             self.on_timeout(i, v, t)
             return
         self.at(t + self.backoff(v), "retry", i)
+
+    def on_repair(self, i: int, v: VehicleRun, t: float) -> None:
+        """A car that stood where a repair found no way tries again."""
+        if v.moves and v.moves[-1].kind == "wait" and abs(v.moves[-1].t1 - t) < 1e-9:
+            repairs.repair(self, i, v, t, v.reason)
+
+    def add_lot_event(self, event, t: float) -> None:
+        """A closure or a bay taken (:mod:`lotsim.traffic.disturbances`), at ``t`` [s]."""
+        self.lot_events.append(event)
+        self.at(t, "close" if isinstance(event, Closure) else "take", len(self.lot_events) - 1)
+
+    def closed_slot(self, sid: str, t: float) -> bool:
+        """Whether slot ``sid`` is on an aisle closed at ``t`` [s]."""
+        return bool(self.closures) and sid in repairs.closed_slots(self, t)
+
+    def exit_goal(self) -> Goal:
+        """Any of the lot's exits."""
+        return Goal(exits=tuple(self.lg.exits.values()))
+
+    def retry_after(self, v: VehicleRun) -> float:
+        """How long ``v`` waits before it tries again after a failed search [s]."""
+        return self.backoff(v)
 
     def tries(self, i: int, v: VehicleRun, t: float, options: list[str]
               ) -> list[tuple[str, bool]] | None:

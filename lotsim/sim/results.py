@@ -68,6 +68,9 @@ class RunResult:
     motions and their swept hulls that no earlier run on the lot in this process had (the
     lot's search graphs keep them): a lot's first runs pay it, later ones little; planning
     times leave it out, so that runs are timed alike whatever ran before them."""
+    lot_changes: Any = None
+    """The closures and bays taken the run met, and the repairs they took
+    (:class:`lotsim.sim.repairs.LotChanges`); None when the lot stayed as it was."""
     execution: Any = None
     """How the run was driven through its disturbances
     (:class:`lotsim.sim.execution.Execution`), its vehicles' moves being those executed;

@@ -44,6 +44,53 @@ class Stall:
         set_field(self, "duration", float(self.duration))
 
 
+CLOSABLE = ("aisle", "gate")
+"""What a :class:`Closure` may close: an aisle (its whole paved width) or a gate (an
+entrance or exit: the ground a car stands on there)."""
+
+
+@dataclass(frozen=True, slots=True)
+class Closure:
+    """The ``kind`` (:data:`CLOSABLE`) ``id`` is closed from ``start`` to ``end`` [s]: from
+    ``start`` no car enters it (cars already in it, or driving into it then, go on as
+    planned), and those whose plans pass it then are planned again."""
+
+    kind: str
+    id: str
+    start: float
+    end: float
+
+    def __post_init__(self) -> None:
+        checks = [("closures.kind", None if self.kind in CLOSABLE else
+                   f"expected one of {', '.join(CLOSABLE)}, found {self.kind!r}"),
+                  ("closures.id", None if isinstance(self.id, str) and self.id else
+                   f"expected an id, found {self.id!r}"),
+                  ("closures.start", range_problem(self.start, 0, MAX_TIME, " s")),
+                  ("closures.end", range_problem(self.end, 0, MAX_TIME, " s"))]
+        if all(m is None for _, m in checks) and self.end <= self.start:
+            checks.append(("closures.end", f"expected a time after start ({self.start:g} "
+                                           f"s), found {self.end:g}"))
+        raise_first([(k, m) for k, m in checks if m is not None])
+        set_field(self, "start", float(self.start))
+        set_field(self, "end", float(self.end))
+
+
+@dataclass(frozen=True, slots=True)
+class TakenBay:
+    """At time ``at`` [s] a car the plan does not know parks in ``slot`` and stays: a car
+    that was to park there (and has not begun to) is given another."""
+
+    slot: str
+    at: float
+
+    def __post_init__(self) -> None:
+        checks = [("taken.slot", None if isinstance(self.slot, str) and self.slot else
+                   f"expected a slot id, found {self.slot!r}"),
+                  ("taken.at", range_problem(self.at, 0, MAX_TIME, " s"))]
+        raise_first([(k, m) for k, m in checks if m is not None])
+        set_field(self, "at", float(self.at))
+
+
 @dataclass(frozen=True, slots=True)
 class Disturbances:
     """What departs from the plan in a run (all off by default).
@@ -66,6 +113,10 @@ class Disturbances:
         How long a drawn stall lasts: uniform in ``(lo, hi)`` [s].
     stalls : tuple of Stall
         Stalls at given times, besides the drawn ones.
+    closures : tuple of Closure
+        Aisles and gates closed over an interval.
+    taken : tuple of TakenBay
+        Bays taken by cars the plan does not know.
     seed : int or None
         Seed of the generator the random parts are drawn from (None: the run's seed).
 
@@ -85,6 +136,8 @@ class Disturbances:
     stall_rate: float = 0.0
     stall_duration: tuple[float, float] = (30.0, 120.0)
     stalls: tuple[Stall, ...] = ()
+    closures: tuple[Closure, ...] = ()
+    taken: tuple[TakenBay, ...] = ()
     seed: int | None = None
 
     def __post_init__(self) -> None:
@@ -96,19 +149,28 @@ class Disturbances:
         checks += _pair("stall_duration", self.stall_duration, 0.0, MAX_STALL)
         if self.seed is not None:
             checks.append(("seed", range_problem(self.seed, 0, 2**63 - 1, integer=True)))
-        if not isinstance(self.stalls, (tuple, list)) or not all(
-                isinstance(s, Stall) for s in self.stalls):
-            checks.append(("stalls", f"expected a list of Stall, found {self.stalls!r}"))
+        for name, kind in (("stalls", Stall), ("closures", Closure), ("taken", TakenBay)):
+            value = getattr(self, name)
+            if not isinstance(value, (tuple, list)) or not all(
+                    isinstance(x, kind) for x in value):
+                checks.append((name, f"expected a list of {kind.__name__}, found {value!r}"))
         raise_first([(k, m) for k, m in checks if m is not None])
         for name in ("late_probability", "late_max", "stall_rate"):
             set_field(self, name, float(getattr(self, name)))
         set_field(self, "speed", tuple(float(x) for x in self.speed))
         set_field(self, "stall_duration", tuple(float(x) for x in self.stall_duration))
-        set_field(self, "stalls", tuple(self.stalls))
+        for name in ("stalls", "closures", "taken"):
+            set_field(self, name, tuple(getattr(self, name)))
 
     @property
     def active(self) -> bool:
         """Whether anything departs from the plan."""
+        return self.driven or bool(self.closures) or bool(self.taken)
+
+    @property
+    def driven(self) -> bool:
+        """Whether the cars depart from their plans as they drive them (late starts, slow
+        cars, stalls), besides what changes the lot (closures, bays taken)."""
         return ((self.late_probability > 0 and self.late_max > 0) or self.speed != (1.0, 1.0)
                 or self.stall_rate > 0 or bool(self.stalls))
 
@@ -118,7 +180,11 @@ class Disturbances:
                 "speed": list(self.speed), "stall_rate": self.stall_rate,
                 "stall_duration": list(self.stall_duration),
                 "stalls": [{"car": s.car, "at": s.at, "duration": s.duration}
-                           for s in self.stalls], "seed": self.seed}
+                           for s in self.stalls],
+                "closures": [{"kind": c.kind, "id": c.id, "start": c.start, "end": c.end}
+                             for c in self.closures],
+                "taken": [{"slot": b.slot, "at": b.at} for b in self.taken],
+                "seed": self.seed}
 
 
 def _pair(name: str, value, lo: float, hi: float) -> list[tuple[str, str | None]]:

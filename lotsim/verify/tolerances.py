@@ -114,7 +114,7 @@ ends of the stretch, not every instant of it)."""
 RULES = ("internal", "structure", "status", "arrival", "sampling", "sideways", "curvature",
          "heading", "steer", "steer_rate", "gear", "speed", "lateral", "accel", "jerk",
          "overlap", "parked", "obstacle", "boundary", "pavement", "slot", "exit", "reason",
-         "stall", "metrics")
+         "stall", "closure", "taken", "metrics")
 """Every rule tag, in the order violations are listed."""
 
 FloatArray = np.ndarray
