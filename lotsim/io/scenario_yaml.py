@@ -23,11 +23,14 @@ from lotsim.io.yamlnodes import YNode, parse_text, read_yaml
 from lotsim.scenario import AnimationSpec, Scenario
 from lotsim.traffic.demand import PATIENCE, Arrival, StreamSpec, TrafficSpec
 from lotsim.traffic.disturbances import (
+    CLOSABLE,
     MAX_LATE,
     MAX_STALL,
     MAX_STALL_RATE,
+    Closure,
     Disturbances,
     Stall,
+    TakenBay,
 )
 from lotsim.vehicles.catalogue import CATALOGUE, DEFAULT_VEHICLE
 from lotsim.vehicles.model import KMH, VehicleLimits, VehicleType
@@ -369,7 +372,7 @@ def _stream(node: YNode, types: list[str], entrances: list[str]) -> StreamSpec:
 def parse_disturbances(node: YNode, traffic: TrafficSpec | None) -> Disturbances:
     """The ``disturbances`` mapping (``docs/scenario.md``); a given stall's car is checked
     against the traffic's ids."""
-    f = node.fields(optional=["late_starts", "speed", "stalls", "seed"])
+    f = node.fields(optional=["late_starts", "speed", "stalls", "closures", "taken", "seed"])
     kw: dict = {}
     if "late_starts" in f:
         late = f["late_starts"].fields(required=["probability", "max"])
@@ -395,9 +398,32 @@ def parse_disturbances(node: YNode, traffic: TrafficSpec | None) -> Disturbances
                 given.append(Stall(car, g["time"].number(min=0, max=1e7),
                                    g["duration"].number(min=0, max=MAX_STALL)))
             kw["stalls"] = tuple(given)
+    if "closures" in f:
+        kw["closures"] = tuple(_closure(n) for n in f["closures"].items(min_len=1,
+                                                                        max_len=MAX_ITEMS))
+    if "taken" in f:
+        bays = []
+        for n in f["taken"].items(min_len=1, max_len=MAX_ITEMS):
+            b = n.fields(required=["slot", "time"])
+            bays.append(TakenBay(b["slot"].ident(), b["time"].number(min=0, max=1e7),
+                                 where=b["slot"].where))
+        kw["taken"] = tuple(bays)
     if "seed" in f:
         kw["seed"] = f["seed"].integer(min=0, max=2**63 - 1)
     return Disturbances(**kw)
+
+
+def _closure(n: YNode) -> Closure:
+    """``{aisle: ID, from: T0, to: T1}`` or ``{gate: ID, ...}``."""
+    c = n.fields(required=["from", "to"], optional=list(CLOSABLE))
+    kinds = [k for k in CLOSABLE if k in c]
+    if len(kinds) != 1:
+        raise n.error(f"expected one of {' or '.join(CLOSABLE)} (the id of what is closed)")
+    start = c["from"].number(min=0, max=1e7)
+    end = c["to"].number(min=0, max=1e7)
+    if end <= start:
+        raise c["to"].error(f"expected a time after 'from' ({start:g} s), found {end:g}")
+    return Closure(kinds[0], c[kinds[0]].ident(), start, end, where=c[kinds[0]].where)
 
 
 def _range(node: YNode, lo: float, hi: float) -> tuple[float, float]:

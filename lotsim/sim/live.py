@@ -19,7 +19,7 @@ from lotsim.errors import DecisionError, ScenarioError, SettingsError
 from lotsim.sim.loop import EventLoop
 from lotsim.sim.policies import ASK, SlotRequest
 from lotsim.sim.preparation import PreparedLot
-from lotsim.sim.repairs import LotChanges
+from lotsim.sim.repairs import LotChanges, check_lot_events
 from lotsim.sim.results import RunResult, VehicleRun
 from lotsim.sim.settings import RunSettings
 from lotsim.traffic.demand import Arrival, arrivals
@@ -97,8 +97,8 @@ class Live:
                                turned_away=turned_away(lg, cars, self._reach), policy=policy)
         self._loop.state_of = lambda loop: self.state()
         spec = scenario.disturbances
+        check_lot_events(lg, spec)
         for event in (() if spec is None else (*spec.closures, *spec.taken)):
-            self._check_event(event)
             self._loop.add_lot_event(event, getattr(event, "start", getattr(event, "at", 0)))
         self._tallies = {id(sg.tally): sg.tally for sg in self._loop.graphs.values()}.values()
         self._took = 0.0  # seconds spent dealing with events

@@ -148,6 +148,10 @@ class EventLoop:
         self.table.forget_before(t)
         if kind == "close":
             self.closures.append(repairs.close(self, self.lot_events[i], t))
+            self.at(self.lot_events[i].end, "open", i)
+            return
+        if kind == "open":  # the cars queued meanwhile try the slots it gives back
+            self.wake(t)
             return
         if kind == "take":
             self.taken_records.append(repairs.take(self, self.lot_events[i], t))

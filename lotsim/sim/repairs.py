@@ -19,9 +19,10 @@ import shapely
 from shapely.geometry.base import BaseGeometry
 
 from lotsim.core.outcome import Status
+from lotsim.errors import ScenarioError
 from lotsim.roadmap.model import LotGraph
 from lotsim.sim.results import VehicleRun
-from lotsim.traffic.disturbances import Closure, TakenBay
+from lotsim.traffic.disturbances import Closure, Disturbances, TakenBay
 from lotsim.traffic.plans import Move, reserve_moves
 from lotsim.traffic.swept import standing_body
 
@@ -68,6 +69,27 @@ class Replan:
     t: float
     why: str
     outcome: str
+
+
+def check_lot_events(lg: LotGraph, spec: Disturbances | None) -> None:
+    """Refuse closures and bays taken that name what the lot does not have.
+
+    Raises
+    ------
+    ScenarioError
+        Located where the scenario names it.
+    """
+    if spec is None:
+        return
+    for bay in spec.taken:
+        if bay.slot not in lg.lot.slot_by_id:
+            raise ScenarioError(bay.where, f"expected a slot id, found {bay.slot!r}, which no "
+                                           f"slot has")
+    for c in spec.closures:
+        names = (lg.lot.aisles if c.kind == "aisle" else {**lg.entrances, **lg.exits})
+        if c.id not in names:
+            raise ScenarioError(c.where, f"expected one of the lot's {c.kind}s "
+                                         f"({', '.join(sorted(names))}), found {c.id!r}")
 
 
 def closure_area(lg: LotGraph, closure: Closure, vehicles) -> BaseGeometry:

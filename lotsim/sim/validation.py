@@ -12,6 +12,7 @@ from lotsim.lot.model import PAVEMENT_EDGE
 from lotsim.lot.pavement import loose_ends
 from lotsim.roadmap.reach import Reachability
 from lotsim.sim.preparation import PreparedLot
+from lotsim.sim.repairs import check_lot_events
 from lotsim.sim.running import check_traffic, turned_away
 from lotsim.traffic.demand import Arrival, StreamSpec, arrivals
 
@@ -193,6 +194,7 @@ def validate_prepared(prepared: PreparedLot, source: str) -> ValidationReport:
     if scenario.traffic is not None:
         traffic = arrivals(scenario.traffic, scenario.seed)
         check_traffic(lg, traffic + _any_draw(scenario.traffic.stream), reach)
+        check_lot_events(lg, scenario.disturbances)
         # why each type's cars would be turned away (the scenario's own draw, and any car
         # of that type another seed may draw)
         every = traffic + _any_draw(scenario.traffic.stream)

@@ -13,6 +13,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from lotsim.core.checks import raise_first, range_problem, set_field
+from lotsim.errors import Location
 
 MAX_LATE = 3600.0
 """Longest late start [s]."""
@@ -59,6 +60,7 @@ class Closure:
     id: str
     start: float
     end: float
+    where: Location | None = field(default=None, repr=False, compare=False)
 
     def __post_init__(self) -> None:
         checks = [("closures.kind", None if self.kind in CLOSABLE else
@@ -82,6 +84,7 @@ class TakenBay:
 
     slot: str
     at: float
+    where: Location | None = field(default=None, repr=False, compare=False)
 
     def __post_init__(self) -> None:
         checks = [("taken.slot", None if isinstance(self.slot, str) and self.slot else

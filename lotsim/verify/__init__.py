@@ -116,6 +116,13 @@ stall
     samples over the whole stall and stands still throughout it: its pose at the stall's
     ends and at every sample between the same within ``STILL_TOL`` and ``STILL_TURN``,
     its speed within ``GEAR_SPEED_TOL`` of 0.
+closure, taken
+    No car but those listed ``inside`` a closure (``disturbances.closures``) has its
+    footprint, shrunk by ``SHRINK``, on the closed ground between the closure's ``t0`` and
+    ``t1``; no car's footprint meets the car in a bay taken from outside
+    (``disturbances.taken``) from its ``t`` on. Both at the common instants and at every
+    sample, a vehicle that has not departed standing at its last pose after its last
+    sample.
 status, reason, arrival, metrics
     A ``rejected`` vehicle has no samples, a ``parked`` or ``departed`` one has some;
     ``waiting`` and ``rejected`` vehicles give a reason, the others none; no sample
