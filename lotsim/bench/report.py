@@ -30,10 +30,14 @@ _TABLE = (  # (summary key, heading, digits)
     ("planning_median_ms", "planning median [ms]", 1), ("planning_p95_ms", "p95 [ms]", 1),
     ("peak_memory_mb", "peak memory [MB]", 0),
 )
+_DISTURBED = (("median_time_to_park_s", "time to park median [s]", 1),
+              ("p90_time_to_park_s", "p90 [s]", 1), ("standing_per_car_s", "standing/car [s]", 1),
+              ("replans", "replans", 1), ("stalls", "stalls", 1))
 _ORDERED = (("fitness_s", "total time to park [s]", 1), ("evaluations", "evaluations", 0),
             ("order_time_s", "order time [s]", 2))
 _IDENT = (("scenario", "scenario"), ("planner_label", "planner"), ("assignment", "assignment"),
-          ("priority", "priority"), ("rate_per_h", "rate [veh/h]"))
+          ("priority", "priority"), ("rate_per_h", "rate [veh/h]"),
+          ("disturbance", "disturbances"))
 
 
 def _varying(groups: Sequence[dict]) -> tuple[list[tuple[str, str]], list[str]]:
@@ -92,6 +96,8 @@ def summary_markdown(suite: Suite, rows: Sequence[dict], *, where: str = "",
     if fixed:
         lines += ["All runs: " + "; ".join(fixed) + ".", ""]
     extra = _ORDERED if any(p != "arrival" for p in suite.priorities) else ()
+    if any(d is not None for _, d in suite.disturbances):
+        extra = (*extra, *_DISTURBED)
     cols = [*_TABLE, *extra]
     head = [h for _, h in vary] + ["runs", "ok", "solved"] + [h for _, h, _ in cols]
     lines.append("| " + " | ".join(head) + " |")

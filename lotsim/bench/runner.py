@@ -21,6 +21,7 @@ from lotsim.errors import LotsimError, ScenarioError
 from lotsim.io.result import result_dict
 from lotsim.io.scenario_yaml import parse_scenario
 from lotsim.io.yamlnodes import parse_text
+from lotsim.sim.execution import execute
 from lotsim.sim.orders import plan_run
 from lotsim.sim.preparation import prepare_graph
 from lotsim.sim.results import RunResult
@@ -64,7 +65,9 @@ def prepared(sc: SuiteScenario) -> tuple[Scenario, LotGraph, SearchGraphMemo]:
 
 
 def spec_scenario(spec: RunSpec, scenario: Scenario) -> Scenario:
-    """``scenario`` with the spec's stream rate and count."""
+    """``scenario`` with the spec's stream rate and count, and its disturbances (over the
+    scenario's own: a suite's variant ``none`` drives the plan as planned)."""
+    scenario = dataclasses.replace(scenario, disturbances=spec.disturbances)
     stream = scenario.traffic.stream
     if stream is None or (spec.rate_per_hour is None and spec.count is None):
         return scenario
@@ -119,6 +122,8 @@ def run_spec(spec: RunSpec) -> dict:
         row.update(_traffic_columns(scenario))
         clock = time.perf_counter()
         rr, extra = _plan(spec, scenario, lg, memo)
+        if spec.disturbances is not None and spec.disturbances.driven:
+            rr = execute(rr, spec.disturbances, memo=memo)
         report = check_result(result_dict(rr))
         row["wall_time_s"] = time.perf_counter() - clock
         row.update(_result_columns(rr, report, extra))
@@ -142,7 +147,7 @@ def _lost(spec: RunSpec, exc: BaseException) -> dict:
 def _identity(spec: RunSpec) -> dict:
     return {"run": spec.index, "scenario": spec.scenario.name, "planner": spec.planner.planner,
             "window_s": spec.planner.window, "assignment": spec.assignment,
-            "priority": spec.priority, "seed": spec.seed}
+            "priority": spec.priority, "disturbance": spec.disturbance, "seed": spec.seed}
 
 
 def _traffic_columns(scenario: Scenario) -> dict:
@@ -194,6 +199,7 @@ def _result_columns(rr: RunResult, report: Any, extra: dict) -> dict:
         "throughput_per_h": _rate(parked_at),
         "searches": m["searches"],
         "expansions": m["expansions"],
+        **_disturbance_columns(rr),
         "evaluations": extra.get("evaluations"),
         "fitness_s": extra.get("fitness"),
         # the GA's own starting points, planned with the same booking in the same run
@@ -205,6 +211,15 @@ def _result_columns(rr: RunResult, report: Any, extra: dict) -> dict:
         "motions_s": m["planning_time_motions"],
         "order_time_s": extra.get("order_time"),
     }
+
+
+def _disturbance_columns(rr: RunResult) -> dict:
+    """What the run's disturbances did: late starts, stalls, cars planned again, and the
+    seconds the cars stood beyond their plans' waits."""
+    rec, changes = rr.execution, rr.lot_changes
+    return {"late_starts": len(rec.late) if rec else 0, "stalls": len(rec.stalls) if rec else 0,
+            "replans": len(changes.replans) if changes else 0,
+            "stood_more_s": rec.waited if rec else 0.0}
 
 
 def run_suite(suite: Suite, *, jobs: int | None = None, client: Any = None,

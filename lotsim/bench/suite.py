@@ -11,7 +11,13 @@ from typing import Any
 
 from lotsim.errors import SettingsError
 from lotsim.io.file_kinds import refuse_other_kind, top_level
-from lotsim.io.scenario_yaml import MAX_ITEMS, load_scenario, name_from_file
+from lotsim.io.scenario_yaml import (
+    DISTURBANCE_KEYS,
+    MAX_ITEMS,
+    load_scenario,
+    name_from_file,
+    parse_disturbances,
+)
 from lotsim.io.yamlnodes import YNode, read_yaml
 from lotsim.sim.settings import (
     ASSIGNMENTS,
@@ -21,6 +27,7 @@ from lotsim.sim.settings import (
     GASettings,
     RunSettings,
 )
+from lotsim.traffic.disturbances import Disturbances
 
 GA_KEYS = ("population", "generations", "seed")
 MAX_RUNS = 100_000
@@ -75,6 +82,9 @@ class RunSpec:
     seed: int
     ga: tuple[tuple[str, int], ...] = ()
     horizon: float = BOOKING_HORIZON
+    disturbance: str = "none"
+    """The name of the suite's disturbances variant (``none``: driven as planned)."""
+    disturbances: Disturbances | None = None
 
 
 @dataclass(frozen=True, slots=True)
@@ -94,17 +104,19 @@ class Suite:
     ga: tuple[tuple[str, int], ...] = ()
     horizon: float = BOOKING_HORIZON
     """How far ahead booked priorities (shortest_first, ga) know the arrivals [s]."""
+    disturbances: tuple[tuple[str, Disturbances | None], ...] = (("none", None),)
+    """The named disturbances each run is driven through (``none``: as planned)."""
 
     @property
     def size(self) -> int:
         """Number of runs in the grid."""
         rates = len(self.rates_per_hour) if self.rates_per_hour else 1
         return (len(self.scenarios) * len(self.planners) * len(self.assignments)
-                * len(self.priorities) * rates * len(self.seeds))
+                * len(self.priorities) * rates * len(self.disturbances) * len(self.seeds))
 
     def specs(self) -> list[RunSpec]:
         """The grid in its fixed order: scenario, planner, assignment, priority, rate,
-        seed (the last varies fastest)."""
+        disturbances, seed (the last varies fastest)."""
         rates = self.rates_per_hour or (None,)
         out = []
         for sc in self.scenarios:
@@ -112,11 +124,12 @@ class Suite:
                 for asg in self.assignments:
                     for prio in self.priorities:
                         for rate in rates:
-                            for seed in self.seeds:
-                                out.append(RunSpec(len(out), sc, pv, asg, prio, rate,
-                                                   self.count, seed,
-                                                   self.ga if prio == "ga" else (),
-                                                   self.horizon))
+                            for name, dist in self.disturbances:
+                                for seed in self.seeds:
+                                    out.append(RunSpec(len(out), sc, pv, asg, prio, rate,
+                                                       self.count, seed,
+                                                       self.ga if prio == "ga" else (),
+                                                       self.horizon, name, dist))
         return out
 
 
@@ -137,7 +150,7 @@ def parse_suite(root: YNode) -> Suite:
     refuse_other_kind(top_level(root), "suite", root.file)
     f = root.fields(required=["scenarios", "planners", "seeds"],
                     optional=["name", "description", "assignments", "priorities",
-                              "rates_per_hour", "count", "ga", "horizon"])
+                              "rates_per_hour", "count", "ga", "horizon", "disturbances"])
     base = Path(root.file).parent
     if "name" in f:
         name = f["name"].file_name(purpose="it names the output folder runs/bench/NAME")
@@ -179,6 +192,16 @@ def parse_suite(root: YNode) -> Suite:
             raise f["horizon"].error("a booking horizon is given but 'priorities' has no "
                                      "booked order (shortest_first, ga)")
         horizon = _checked(f["horizon"], RunSettings, "horizon", f["horizon"].number())
+    disturbances: tuple[tuple[str, Disturbances | None], ...] = (("none", None),)
+    if "disturbances" in f:
+        read: list[tuple[str, Disturbances | None]] = []
+        for n in _nonempty(f["disturbances"], "disturbances"):
+            name, spec = _disturbance(n)
+            if any(name == k for k, _ in read):
+                raise n.error(f"disturbances {name!r} are given twice: rows could not tell "
+                              "them apart")
+            read.append((name, spec))
+        disturbances = tuple(read)
     suite = Suite(
         name=name,
         description=f["description"].string(max_len=2000) if "description" in f else "",
@@ -192,10 +215,19 @@ def parse_suite(root: YNode) -> Suite:
         seeds=seeds,
         ga=ga,
         horizon=horizon,
+        disturbances=disturbances,
     )
     if suite.size > MAX_RUNS:
         raise root.error(f"the grid has {suite.size} runs; at most {MAX_RUNS}")
     return suite
+
+
+def _disturbance(node: YNode) -> tuple[str, Disturbances | None]:
+    """A named variant of disturbances: ``{name: late, late_starts: {...}, ...}`` (the
+    scenario section's keys, ``docs/scenario.md``); one with nothing else is ``none``."""
+    name = node.fields(required=["name"], optional=DISTURBANCE_KEYS)["name"].ident()
+    spec = parse_disturbances(node, None, also=("name",))
+    return name, (spec if spec.active else None)
 
 
 def _checked(node: YNode, cls: type, name: str, value: Any, **more: Any) -> Any:

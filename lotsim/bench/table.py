@@ -21,15 +21,16 @@ of arrivals are noise."""
 
 COLUMNS = (
     "run", "scenario", "planner", "window_s", "assignment", "priority", "rate_per_h", "count",
-    "seed", "ok", "solved", "violations", "problem", "vehicles", "served", "parked", "departed",
-    "waiting", "rejected", "makespan_s", "mean_time_to_park_s", "max_time_to_park_s",
-    "median_time_to_park_s", "p90_time_to_park_s", "median_time_to_leave_s",
-    "p90_time_to_leave_s", "standing_per_car_s", "standing_outside_per_car_s",
-    "standing_in_per_car_s", "standing_out_per_car_s",
+    "disturbance", "seed", "ok", "solved", "violations", "problem", "vehicles", "served",
+    "parked", "departed", "waiting", "rejected", "makespan_s", "mean_time_to_park_s",
+    "max_time_to_park_s", "median_time_to_park_s", "p90_time_to_park_s",
+    "median_time_to_leave_s", "p90_time_to_leave_s", "standing_per_car_s",
+    "standing_outside_per_car_s", "standing_in_per_car_s", "standing_out_per_car_s",
     "total_waiting_s", "arrival_rate_per_h", "throughput_per_h", "searches", "expansions",
-    "evaluations", "fitness_s", "ga_arrival_fitness_s", "ga_shortest_first_fitness_s",
-    "planning_time_s", "planning_median_ms", "planning_p95_ms", "motions_s", "order_time_s",
-    "wall_time_s", "peak_memory_mb",
+    "late_starts", "stalls", "replans", "stood_more_s", "evaluations", "fitness_s",
+    "ga_arrival_fitness_s", "ga_shortest_first_fitness_s", "planning_time_s",
+    "planning_median_ms", "planning_p95_ms", "motions_s", "order_time_s", "wall_time_s",
+    "peak_memory_mb",
 )
 """Columns of ``runs.csv``, in order (``docs/bench.md`` defines each)."""
 TIMING_COLUMNS = ("planning_time_s", "planning_median_ms", "planning_p95_ms", "motions_s",
@@ -41,7 +42,7 @@ _DIGITS = {"window_s": 3, "rate_per_h": 3, "makespan_s": 3, "mean_time_to_park_s
            "throughput_per_h": 2, "fitness_s": 3, "ga_arrival_fitness_s": 3,
            "ga_shortest_first_fitness_s": 3, "planning_time_s": 4,
            "planning_median_ms": 2, "planning_p95_ms": 2, "motions_s": 4, "order_time_s": 4,
-           "wall_time_s": 3, "peak_memory_mb": 1}
+           "wall_time_s": 3, "peak_memory_mb": 1, "stood_more_s": 3}
 
 
 def _rounded(row: dict) -> dict:
@@ -53,8 +54,9 @@ def _rounded(row: dict) -> dict:
 
 
 _INTS = ("run", "count", "seed", "violations", "vehicles", "served", "parked", "departed",
-         "waiting", "rejected", "searches", "expansions", "evaluations")
-_TEXTS = ("scenario", "planner", "assignment", "priority", "problem")
+         "waiting", "rejected", "searches", "expansions", "evaluations", "late_starts",
+         "stalls", "replans")
+_TEXTS = ("scenario", "planner", "assignment", "priority", "problem", "disturbance")
 
 
 def read_csv(path: str | os.PathLike) -> list[dict]:
@@ -89,14 +91,15 @@ def _cell(value: Any) -> str:
     return str(value)
 
 
-GROUP = ("scenario", "planner_label", "assignment", "priority", "rate_per_h")
+GROUP = ("scenario", "planner_label", "assignment", "priority", "rate_per_h", "disturbance")
 """What a row of the summary is: the grid point less the seed."""
 MEANS = ("vehicles", "parked", "departed", "rejected", "waiting", "mean_time_to_park_s",
          "max_time_to_park_s", "median_time_to_park_s", "p90_time_to_park_s",
          "median_time_to_leave_s", "p90_time_to_leave_s", "standing_per_car_s",
          "standing_outside_per_car_s", "standing_in_per_car_s", "standing_out_per_car_s",
          "total_waiting_s", "makespan_s", "arrival_rate_per_h",
-         "throughput_per_h", "expansions", "evaluations", "fitness_s", "ga_arrival_fitness_s",
+         "throughput_per_h", "expansions", "late_starts", "stalls", "replans", "stood_more_s",
+         "evaluations", "fitness_s", "ga_arrival_fitness_s",
          "ga_shortest_first_fitness_s", "planning_median_ms",
          "planning_p95_ms", "order_time_s", "wall_time_s", "peak_memory_mb")
 
@@ -114,7 +117,8 @@ def aggregate(rows: Sequence[dict]) -> list[dict]:
     seeds (None where no run has a value), ``<name>_min`` and ``<name>_max``."""
     groups: dict[tuple, list[dict]] = {}
     for r in rows:
-        key = (r["scenario"], planner_label(r), r["assignment"], r["priority"], r["rate_per_h"])
+        key = (r["scenario"], planner_label(r), r["assignment"], r["priority"], r["rate_per_h"],
+               r.get("disturbance") or "none")
         groups.setdefault(key, []).append(r)
     out = []
     for key, rs in groups.items():

@@ -369,10 +369,15 @@ def _stream(node: YNode, types: list[str], entrances: list[str]) -> StreamSpec:
     )
 
 
-def parse_disturbances(node: YNode, traffic: TrafficSpec | None) -> Disturbances:
+DISTURBANCE_KEYS = ("late_starts", "speed", "stalls", "closures", "taken", "seed")
+"""The keys of a ``disturbances`` section."""
+
+
+def parse_disturbances(node: YNode, traffic: TrafficSpec | None, *,
+                       also: tuple[str, ...] = ()) -> Disturbances:
     """The ``disturbances`` mapping (``docs/scenario.md``); a given stall's car is checked
-    against the traffic's ids."""
-    f = node.fields(optional=["late_starts", "speed", "stalls", "closures", "taken", "seed"])
+    against the traffic's ids. ``also``: keys the caller reads itself (a suite's name)."""
+    f = node.fields(optional=[*DISTURBANCE_KEYS, *also])
     kw: dict = {}
     if "late_starts" in f:
         late = f["late_starts"].fields(required=["probability", "max"])

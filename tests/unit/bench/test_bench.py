@@ -391,7 +391,8 @@ def test_priority_orders_fill_their_columns(tmp_path):
 
 
 @pytest.mark.parametrize("name, runs", [("valet", 9), ("large_lot_load", 12),
-                                        ("head_to_head", 60), ("real_demand", 48)])
+                                        ("head_to_head", 60), ("real_demand", 48),
+                                        ("faults", 40)])
 def test_the_shipped_suites_are_valid(name, runs):
     suite = bench.load_suite(ROOT / "scenarios" / "bench" / f"{name}.yaml")
     assert suite.size == runs == len(suite.specs())
@@ -466,3 +467,47 @@ def test_the_real_demand_suite_in_small_reports_what_its_cars_paid(tmp_path):
         assert r["standing_per_car_s"] == pytest.approx(parts)
         assert 0 < r["median_time_to_park_s"] <= r["p90_time_to_park_s"]
         assert r["median_time_to_leave_s"] > 0
+
+
+DISTURBED = """\
+name: tiny
+scenarios: [tiny.yaml]
+planners: [hca]
+count: 3
+seeds: [1, 2]
+disturbances:
+  - {name: none}
+  - {name: late, late_starts: {probability: 1, max: 6}}
+  - {name: shut, closures: [{gate: in, from: 0, to: 40}]}
+"""
+
+
+def test_each_disturbances_variant_is_a_row_driven_through_it_and_checked(tmp_path):
+    path = _write(tmp_path, DISTURBED)
+    suite = bench.load_suite(path)
+    assert suite.size == 6
+    assert [(s.disturbance, s.seed) for s in suite.specs()] == [
+        ("none", 1), ("none", 2), ("late", 1), ("late", 2), ("shut", 1), ("shut", 2)]
+    rows = bench.run_suite(suite, jobs=1)
+    by = {(r["disturbance"], r["seed"]): r for r in rows}
+    assert all(r["ok"] and r["violations"] == 0 for r in rows)
+    for seed in (1, 2):
+        none, late, shut = (by[k, seed] for k in ("none", "late", "shut"))
+        assert none["late_starts"] == 0 and none["stood_more_s"] == 0
+        # every start late (probability 1): each car sets off from its gate at least once
+        assert late["late_starts"] >= late["vehicles"] and late["stood_more_s"] > 0
+        assert late["median_time_to_park_s"] > none["median_time_to_park_s"]
+        # the gate shut for 40 s: no car is in before it opens
+        assert shut["mean_time_to_park_s"] > none["mean_time_to_park_s"]
+    csv_rows = list(csv.DictReader(io.StringIO(bench.csv_text(rows))))
+    assert [r["disturbance"] for r in csv_rows] == [r["disturbance"] for r in rows]
+
+
+def test_a_disturbances_variant_is_named_once_and_read_as_a_scenario_section(tmp_path):
+    twice = DISTURBED.replace("{name: shut,", "{name: late,")
+    with pytest.raises(ScenarioError, match="disturbances 'late' are given twice"):
+        bench.load_suite(_write(tmp_path, twice))
+    bad = DISTURBED.replace("probability: 1,", "probability: 3,")
+    with pytest.raises(ScenarioError, match=r"disturbances\[1\].late_starts.probability: "
+                                            r"expected a number ≤ 1"):
+        bench.load_suite(_write(tmp_path, bad))
