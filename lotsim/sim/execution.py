@@ -296,9 +296,14 @@ def _orders(ch: _Chunks, tree: shapely.STRtree) -> tuple[np.ndarray, ...]:
     if not len(ch.geoms):
         z = np.zeros(0)
         return z.astype(int), z.astype(int), z, z
-    a, b = tree.query(ch.geoms, predicate="intersects")
+    # boxes first (cheap), then the exact test only for chunks of two cars: most boxes that
+    # meet are a car's own chunks one after another
+    a, b = tree.query(ch.geoms)
     keep = (a < b) & (ch.car[a] != ch.car[b])
     a, b = a[keep], b[keep]
+    shapely.prepare(ch.geoms)  # each chunk is tested against many
+    meet = shapely.intersects(ch.geoms[a], ch.geoms[b])
+    a, b = a[meet], b[meet]
     a_first = ch.t1[a] <= ch.t0[b] + EPS
     b_first = ch.t1[b] <= ch.t0[a] + EPS
     # no two chunks that meet share a moment (the reservation table saw to it); were some
@@ -322,10 +327,11 @@ def schedule(flat: list[Run], src: np.ndarray, dst: np.ndarray, alpha: np.ndarra
     module says."""
     n = len(flat)
     pos = {id(r): k for k, r in enumerate(flat)}
-    order = np.lexsort((alpha, dst, src))
+    key = src.astype(np.int64) * max(n, 1) + dst
+    order = np.argsort(key, kind="stable")
     src, dst, alpha, beta = src[order], dst[order], alpha[order], beta[order]
-    pairs, cut = (np.unique(np.stack([src, dst], axis=1), axis=0, return_index=True)
-                  if len(src) else (np.zeros((0, 2), int), np.zeros(0, int)))
+    keys, cut = np.unique(key[order], return_index=True)
+    pairs = np.stack([keys // max(n, 1), keys % max(n, 1)], axis=1).astype(int)
     succ: list[list[int]] = [[] for _ in range(n)]
     for e, (s, _) in enumerate(pairs):
         succ[s].append(e)
