@@ -1,7 +1,6 @@
 """lotsim as a Python library: the flat API of ``import lotsim``, its settings' checks, its
-errors, and that it does what the CLI does (docs/python.md runs here as a doctest)."""
+errors, and that it does what the CLI does."""
 
-import doctest
 import importlib
 import shutil
 import subprocess
@@ -231,14 +230,3 @@ def test_lotsim_check_stays_the_function_when_the_checker_module_is_imported():
 
     assert lotsim.check is lotsim.api.check and callable(lotsim.check)
 
-
-def test_docs_python_md_runs(tmp_path, monkeypatch):
-    """The notebook walk-through, run from a folder holding the scenario it loads."""
-    (tmp_path / "scenarios").mkdir()
-    shutil.copy(QUICKSTART, tmp_path / "scenarios" / "quickstart.yaml")
-    shutil.copy(ROOT / "scenarios" / "example.yaml", tmp_path / "scenarios" / "example.yaml")
-    monkeypatch.chdir(tmp_path)
-    failed, attempted = doctest.testfile(str(ROOT / "docs" / "python.md"),
-                                         module_relative=False, verbose=False)
-    assert attempted > 20 and failed == 0
-    assert (tmp_path / "runs" / "quickstart" / "run.gif").stat().st_size > 0
