@@ -38,8 +38,8 @@ _EXPORTS = {
     "lotsim.sim.settings": ("GASettings", "RunSettings", "RunTuning"),
     "lotsim.maneuvers.settings": ("MinSlotSettings",),
     "lotsim.errors": ("InfeasibleManeuver", "LimitExceeded", "Location", "LotsimError",
-                      "ReplayError", "ResultFormatError", "ScenarioError", "ScenarioErrors",
-                      "SettingsError"),
+                      "OutputError", "ReplayError", "ResultFormatError", "ScenarioError",
+                      "ScenarioErrors", "SettingsError"),
 }
 _WHERE = {name: module for module, names in _EXPORTS.items() for name in names}
 __all__ = sorted(_WHERE)
@@ -108,6 +108,7 @@ if TYPE_CHECKING:  # for type checkers and editors: the same names, imported eag
         LimitExceeded,
         Location,
         LotsimError,
+        OutputError,
         ReplayError,
         ResultFormatError,
         ScenarioError,

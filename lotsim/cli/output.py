@@ -56,17 +56,27 @@ def picture_size(text: str) -> tuple[int, int] | str:
     return f"--size: {problem}" if problem else (w, h)
 
 
-def output_problem(opt: str, path: str, suffix: str, made: Path | None = None) -> str | None:
-    """What is wrong with an output file named by option ``opt`` (None if nothing); its
-    folder must exist, unless it is ``made`` (the run's output folder, made by the run)."""
-    p = Path(path)
-    if p.suffix.lower() != suffix:
+def name_problem(opt: str, path: str, suffix: str) -> str | None:
+    """What is wrong with the name of an output file given to option ``opt`` (None if
+    nothing): it must end in ``suffix``. Whether it can be written is for the command's
+    :class:`~lotsim.core.atomic.OutputSet` to find, which makes a missing folder."""
+    if Path(path).suffix.lower() != suffix:
         return f"{opt}: expected a file name ending in {suffix}, found {path!r}"
-    if made is not None and os.path.abspath(p.parent) == os.path.abspath(made):
-        return None
-    if not p.parent.is_dir():
-        return f"{opt}: folder {str(p.parent)!r} does not exist"
     return None
+
+
+def output_problem(opt: str, path: str, suffix: str) -> str | None:
+    """:func:`name_problem`, and the file's folder must exist (for a command that writes
+    its file itself, not through an :class:`~lotsim.core.atomic.OutputSet`)."""
+    problem = name_problem(opt, path, suffix)
+    if problem is None and not Path(path).parent.is_dir():
+        return f"{opt}: folder {str(Path(path).parent)!r} does not exist"
+    return problem
+
+
+def given(opt: str, path: str | os.PathLike) -> str:
+    """An output as the user gave it, for errors: ``-o runs/x``."""
+    return f"{opt} {os.fspath(path)}"
 
 
 def into_folder(path: str, name: str) -> str:

@@ -153,7 +153,7 @@ def test_options_are_checked(tmp_path, capsys):
     assert main(["bench", str(path), "--jobs", "0"]) == 2
     assert "--jobs: expected 1 to 1024" in capsys.readouterr().err
     assert main(["bench", str(path), "-o", str(tmp_path / "file")]) == 2
-    assert "is not a directory" in capsys.readouterr().err
+    assert "is a file, not a folder" in capsys.readouterr().err
     with pytest.raises(SystemExit) as exc:
         main(["bench", str(path), "--jobs", "2", "--scheduler", "tcp://x:1"])
     assert exc.value.code == 2

@@ -514,8 +514,9 @@ def test_render_input_errors(doc, tmp_path, capsys):
     (tmp_path / "r.json").write_text(json.dumps(doc))
     cases.append(([str(tmp_path / "r.json")], "nothing to do"))
     cases.append(([str(tmp_path / "r.json"), "--gif", str(tmp_path / "x.png")], "ending in .gif"))
-    cases.append(([str(tmp_path / "r.json"), "--gif", str(tmp_path / "no" / "x.gif")],
-                  "does not exist"))
+    cases.append(([str(tmp_path / "r.json"), "--gif", str(tmp_path / "r.json" / "x.gif")],
+                  "--gif " + str(tmp_path / "r.json" / "x.gif") + ": '"
+                  + str(tmp_path / "r.json") + "' is a file, not a folder"))
     cases.append(([str(tmp_path / "missing.json"), "--gif", str(tmp_path / "x.gif")],
                   "missing.json"))
     for argv, message in cases:
@@ -559,9 +560,14 @@ def test_a_run_leaves_no_gif_of_an_earlier_run_beside_its_result(tmp_path, capsy
     def interrupted(*args, **kwargs):
         raise KeyboardInterrupt
 
+    # interrupted while its GIF is drawn, a run leaves the folder as it was: the earlier
+    # result beside the file put there, no new result.json without its GIF
+    before = (out / "result.json").read_bytes()
     monkeypatch.setattr("lotsim.api.render_gif", interrupted)
     assert main(["run", str(path), "-o", str(out)]) == 130
-    assert sorted(p.name for p in out.iterdir()) == ["result.json"]
+    assert sorted(p.name for p in out.iterdir()) == ["cars.gif", "result.json"]
+    assert (out / "result.json").read_bytes() == before
+    assert old.read_bytes() == b"GIF89a, an earlier run"
 
 
 def test_a_run_leaves_the_users_own_files_in_its_folder_alone(tmp_path, capsys):

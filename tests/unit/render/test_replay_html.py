@@ -358,7 +358,7 @@ def test_render_html_from_the_command_line(doc, tmp_path, capsys):
     # bad input: a clear message, exit 2, nothing written
     for args, message in (
             (["--html", str(tmp_path / "r.htm")], "--html: expected a file name ending in .html"),
-            (["--html", str(tmp_path / "no" / "r.html")], "does not exist"),
+            (["--html", str(result / "r.html")], "is a file, not a folder"),
             (["--html", str(tmp_path / "x.html"), "--gif", str(tmp_path / "x.html")],
              "expected a file name ending in .gif")):
         assert main(["render", str(result), *args]) == 2
@@ -401,9 +401,10 @@ def test_run_writes_the_replay_the_scenario_asks_for(tmp_path, capsys):
     assert main(["run", str(sc), "-o", str(fresh), "--html", str(fresh / "r.html")]) == 0
     assert sorted(p.name for p in fresh.iterdir()) == [".lotsim-run", "a.gif", "r.html",
                                                        "result.json"]
-    assert main(["run", str(sc), "-o", str(fresh), "--html", str(tmp_path / "no" / "r.html")
-                 ]) == 2
-    assert "--html: folder" in capsys.readouterr().err
+    before = {p.name: p.read_bytes() for p in fresh.iterdir()}
+    assert main(["run", str(sc), "-o", str(fresh), "--html", str(sc / "r.html")]) == 2
+    assert f"--html {sc / 'r.html'}: '{sc}' is a file, not a folder" in capsys.readouterr().err
+    assert {p.name: p.read_bytes() for p in fresh.iterdir()} == before
     sc.write_text(text.replace("html: replay.html", "html: a.gif"))
     assert main(["run", str(sc), "-o", str(out)]) == 2
     assert "ending in .html" in capsys.readouterr().err
