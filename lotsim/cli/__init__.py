@@ -35,7 +35,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     except OutputError as exc:  # an output that cannot be written, found before the work
         return bad(str(exc))
     except SettingsError as exc:  # the library's check of an option: name the option
-        return bad(f"{option(exc.name)}: {exc.message}")
+        return bad(f"{option(exc.name, argv)}: {exc.message}")
     except KeyboardInterrupt:
         print("lotsim: interrupted; nothing was written", file=sys.stderr)
         return EXIT_INTERRUPTED

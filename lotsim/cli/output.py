@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import os
 import sys
+from collections.abc import Sequence
 from pathlib import Path
 
 from lotsim import api
@@ -14,14 +15,25 @@ EXIT_INTERRUPTED = 130
 """Ctrl-C: 128 + SIGINT, as a shell reports it."""
 
 OPTIONS = {"assignment": "--assignment", "start": "--from", "end": "--to",
-           "max_violations": "--max", "path": "-o", "workers": "--jobs"}
+           "max_violations": "--max", "path": "-o", "workers": "--jobs",
+           "car": ("--vehicle", "--car")}
 """Setting (:mod:`lotsim.sim.settings`, :mod:`lotsim.api` keyword) → the option that sets it,
-where the two are not named alike."""
+where the two are not named alike (several: the option and its aliases)."""
 
 
-def option(name: str) -> str:
-    """The option that sets the setting ``name``: ``window`` → ``--window``."""
-    return OPTIONS.get(name, "--" + name.replace("_", "-"))
+def option(name: str, argv: Sequence[str] = ()) -> str:
+    """The option that sets the setting ``name``: ``window`` → ``--window``; of an option
+    and its aliases, the one the command line ``argv`` gave (``car`` → ``--vehicle`` or
+    ``--car``), else the first.
+
+    >>> option("window"), option("car"), option("car", ["minslot", "--car=van"])
+    ('--window', '--vehicle', '--car')
+    """
+    names = OPTIONS.get(name, "--" + name.replace("_", "-"))
+    if isinstance(names, str):
+        return names
+    typed = {a.split("=", 1)[0] for a in argv}
+    return next((n for n in names if n in typed), names[0])
 
 
 def bad(message: str) -> int:
