@@ -68,6 +68,15 @@ class RunResult:
     lot's search graphs keep them): a lot's first runs pay it, later ones little; planning
     times leave it out, so that runs are timed alike whatever ran before them."""
 
+    def __repr__(self) -> str:
+        """One line (the whole story is in :meth:`metrics`, ``.vehicles`` and
+        :func:`~lotsim.io.result.result_dict`): ``<RunResult quickstart: 6 vehicles, 6
+        served, 0 waiting, 0 rejected; planner hca, seed 1>``."""
+        m = self.metrics()
+        return (f"<RunResult {self.scenario.name}: {m['vehicles']} vehicles, {m['served']} "
+                f"served, {m['waiting']} waiting, {m['rejected']} rejected; planner "
+                f"{self.settings.planner}, seed {self.seed}>")
+
     def metrics(self) -> dict[str, float]:
         """Counts by status (``served``: parked and departed) and the timing figures of
         ``docs/result.md``."""

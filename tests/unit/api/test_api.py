@@ -230,3 +230,13 @@ def test_lotsim_check_stays_the_function_when_the_checker_module_is_imported():
 
     assert lotsim.check is lotsim.api.check and callable(lotsim.check)
 
+
+def test_a_run_and_a_prepared_lot_have_a_short_repr():
+    """A plain repr (a notebook cell's last line without the formatters, a debugger) was
+    the whole dataclass: 55 kB for the quickstart's run."""
+    prepared = lotsim.prepare(QUICKSTART)
+    result = lotsim.run(prepared)
+    assert repr(result) == ("<RunResult quickstart: 6 vehicles, 6 served, 0 waiting, "
+                            "0 rejected; planner hca, seed 1>")
+    assert repr(prepared) == ("<PreparedLot quickstart: 20 slots (15 free), 35 nodes, "
+                              "54 edges>")
