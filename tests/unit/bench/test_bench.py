@@ -350,10 +350,13 @@ def test_the_summary_aggregates_over_seeds(local):
 def test_the_plots_are_pngs(local):
     pytest.importorskip("matplotlib")
     _, out, _ = local
-    for name in ("throughput.png", "time_to_park.png"):
+    # where planners tie on what the cars get, the plots of what the planning cost tell
+    # them apart
+    plots = ("throughput.png", "time_to_park.png", "expansions.png", "planning_time.png")
+    for name in plots:
         assert (out / name).read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
-    assert sorted(p.name for p in out.iterdir()) == [
-        "runs.csv", "summary.md", "throughput.png", "time_to_park.png"]
+        assert f"]({name})" in (out / "summary.md").read_text()
+    assert sorted(p.name for p in out.iterdir()) == sorted(["runs.csv", "summary.md", *plots])
 
 
 def test_a_single_rate_is_drawn_as_bars_per_planner(local):
