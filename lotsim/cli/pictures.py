@@ -55,9 +55,10 @@ def save_gif(doc: dict, path, settings, *, shown=None) -> Saved:
         return cannot_write(shown, error), None
     faster = (f" (sped up from {settings.speed:g}× to fit {info.frames} frames)"
               if info.speed > settings.speed * (1 + 1e-9) else "")
+    skipped = f", {info.skipped:.0f} s of quiet run time skipped" if info.skipped else ""
     return EXIT_OK, (f"  wrote {shown}: {info.frames} frames, {info.duration:.1f} s at "
                      f"{info.speed:.3g}× run time{faster}, {info.start:.1f}–{info.end:.1f} s "
-                     f"of the run, {info.bytes / 1e6:.1f} MB")
+                     f"of the run{skipped}, {info.bytes / 1e6:.1f} MB")
 
 
 def save_html(doc: dict, path, settings, *, shown=None) -> Saved:
