@@ -315,9 +315,11 @@ def test_the_page_has_the_gif_s_colour_key(doc, page):
     for label, (x0, y0, x1, y1) in gif.legend_boxes.items():
         parts = dict(key[label])
         # the swatch's main colour is the one the GIF paints in the middle of its swatch
-        # (the slot's outline on its left edge)
+        # (the slot's outline on its left edge; of the several cars' colours of driving and
+        # parked, the first, on the left)
         y = (y0 + y1) // 2
-        want = img[y, x0] if label == "its slot" else img[y, (x0 + x1) // 2]
+        x = {"its slot": x0, "driving": x0 + 2, "parked": x0 + 2}.get(label, (x0 + x1) // 2)
+        want = img[y, x]
         main = hex_rgb(parts["outline" if label == "its slot" else "body"])
         if label == "parked at start":  # the page draws the lot's own colour for them, the
             # GIF the nearest of its palette
