@@ -41,9 +41,8 @@ _EXPORTS = {
     "lotsim.sim.settings": ("GASettings", "RunSettings", "RunTuning"),
     "lotsim.maneuvers.settings": ("MinSlotSettings",),
     "lotsim.errors": ("InfeasibleManeuver", "LimitExceeded", "Location", "LotsimError",
-                      "DecisionError",
-                      "ReplayError", "ResultFormatError", "ScenarioError", "ScenarioErrors",
-                      "SettingsError"),
+                      "DecisionError", "OutputError", "ReplayError", "ResultFormatError",
+                      "ScenarioError", "ScenarioErrors", "SettingsError"),
 }
 _WHERE = {name: module for module, names in _EXPORTS.items() for name in names}
 __all__ = sorted(_WHERE)
@@ -113,6 +112,7 @@ if TYPE_CHECKING:  # for type checkers and editors: the same names, imported eag
         LimitExceeded,
         Location,
         LotsimError,
+        OutputError,
         ReplayError,
         ResultFormatError,
         ScenarioError,

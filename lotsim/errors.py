@@ -10,7 +10,8 @@ A user's mistake is one of these, never a bare ``ValueError``, and the CLI print
   (``window: expected 1 to 600 seconds, found 0``); the CLI names the option instead;
 * :class:`ResultFormatError` — a file that is not a lotsim result at all;
 * :class:`ReplayError` — a result document that cannot be replayed (drawn);
-* :class:`InfeasibleManeuver` — a vehicle type cannot enter or leave a slot (exit 1).
+* :class:`InfeasibleManeuver` — a vehicle type cannot enter or leave a slot (exit 1);
+* :class:`OutputError` — an output file or folder that cannot be written, named as given.
 
 Examples
 --------
@@ -165,3 +166,24 @@ class DecisionError(LotsimError, ValueError):
 
     def __reduce__(self):
         return (type(self), (self.car, self.message))
+
+
+class OutputError(LotsimError):
+    """An output that cannot be written: ``name`` as the user gave it (``-o runs/x``) and
+    why (``cannot make the folder 'runs/x' (Permission denied)``).
+
+    Parameters
+    ----------
+    name : str
+        The output as given (a path, or an option and its path).
+    why : str
+        What stops it being written.
+    """
+
+    def __init__(self, name: str, why: str):
+        self.name = name
+        self.why = why
+        super().__init__(f"{name}: {why}")
+
+    def __reduce__(self):
+        return (type(self), (self.name, self.why))

@@ -76,13 +76,15 @@ EXPORTS: dict[str, tuple[str, ...]] = {
     "lotsim.render.plots": ("MatplotlibMissing", "plot_minslot", "plot_timeline",
                             "require_matplotlib"),
     "lotsim.io.lot_json": ("LotFormatError",),
+    # outputs written as one set
+    "lotsim.core.atomic": ("OutputSet",),
     # benchmark suites
-    "lotsim.bench": ("DaskMissing", "SchedulerUnreachable", "load_suite", "run_suite",
-                     "table_text", "write_outputs"),
+    "lotsim.bench": ("DaskMissing", "PLOTS", "SchedulerUnreachable", "load_suite",
+                     "run_suite", "table_text", "write_outputs"),
     # errors
     "lotsim.errors": ("InfeasibleManeuver", "LimitExceeded", "Location", "LotsimError",
-                      "ReplayError", "ResultFormatError", "ScenarioError", "ScenarioErrors",
-                      "SettingsError", "DecisionError"),
+                      "DecisionError", "OutputError", "ReplayError", "ResultFormatError",
+                      "ScenarioError", "ScenarioErrors", "SettingsError"),
 }
 """Module → the public names :mod:`lotsim.api` offers from it."""
 
@@ -133,6 +135,7 @@ if TYPE_CHECKING:  # for type checkers and editors: the same names, imported eag
         validate_files,
     )
     from lotsim.bench import (  # noqa: F401
+        PLOTS,
         DaskMissing,
         SchedulerUnreachable,
         load_suite,
@@ -140,6 +143,7 @@ if TYPE_CHECKING:  # for type checkers and editors: the same names, imported eag
         table_text,
         write_outputs,
     )
+    from lotsim.core.atomic import OutputSet  # noqa: F401
     from lotsim.design.plot import PlotSpec  # noqa: F401
     from lotsim.design.plot_yaml import read_plot  # noqa: F401
     from lotsim.design.search import Evaluation, LayoutResult, LayoutSettings  # noqa: F401
@@ -149,6 +153,7 @@ if TYPE_CHECKING:  # for type checkers and editors: the same names, imported eag
         LimitExceeded,
         Location,
         LotsimError,
+        OutputError,
         ReplayError,
         ResultFormatError,
         ScenarioError,

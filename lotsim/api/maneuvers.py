@@ -40,8 +40,9 @@ def car(name_or_path: str | os.PathLike) -> VehicleType:
         from lotsim.io.scenario_yaml import load_vehicle
 
         return load_vehicle(p)
-    raise SettingsError("car", f"unknown car {os.fspath(name_or_path)!r}; expected one of "
-                               f"{', '.join(CATALOGUE)} or a vehicle YAML file")
+    raise SettingsError("car", f"unknown vehicle {os.fspath(name_or_path)!r}; expected one "
+                               f"of {', '.join(CATALOGUE)} (lotsim cars lists them) or a "
+                               "vehicle YAML file")
 
 
 def minslot(vehicle: VehicleType | str | os.PathLike, width: float,

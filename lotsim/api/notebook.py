@@ -84,9 +84,21 @@ def report_html(report) -> str:
             + _table(rows, ("vehicle type", "usable free slots")))
 
 
+class _Line:
+    """Plain text for a notebook cell, shown as it is (a ``str`` shows its quotes)."""
+
+    def __init__(self, text: str):
+        self.text = text
+
+    def __repr__(self) -> str:
+        return self.text
+
+
 class NotebookProgress:
     """``progress(done, total)`` as one line in the notebook cell that updates in place
-    (``label 412/2080, ~8 s left``), at most ten times a second."""
+    (``label 412/2080, ~8 s left``), at most ten times a second. The line appears with the
+    first news of work still to do (a lot from the cache shows nothing) and goes when the
+    work is done: the cell keeps its answer, not the progress that led to it."""
 
     def __init__(self, label: str, display=None):
         import time
@@ -94,7 +106,7 @@ class NotebookProgress:
         if display is None:
             from IPython.display import display
         self.label, self._clock, self._t0 = label, time.perf_counter, time.perf_counter()
-        self._handle = display(self._text(0, 0), display_id=True)
+        self._display, self._handle = display, None
         self._last = -1.0
 
     def _text(self, done: int, total: int) -> str:
@@ -106,12 +118,19 @@ class NotebookProgress:
         return f"{self.label} {done}/{total}{left}"
 
     def __call__(self, done: int, total: int) -> None:
+        if done >= total:  # over: the line goes
+            if self._handle is not None:
+                self._handle.update({}, raw=True)
+                self._handle = None
+            return
         now = self._clock()
-        if done < total and now - self._last < 0.1:
+        if now - self._last < 0.1:
             return
         self._last = now
-        if self._handle is not None:
-            self._handle.update(self._text(done, total))
+        if self._handle is None:
+            self._handle = self._display(_Line(self._text(done, total)), display_id=True)
+        else:
+            self._handle.update(_Line(self._text(done, total)))
 
 
 def progress_for(label: str):

@@ -16,7 +16,8 @@ if TYPE_CHECKING:
 
 
 _YLABEL = {"throughput_per_h": "throughput [vehicles/h]",
-           "mean_time_to_park_s": "mean time to park [s]"}
+           "mean_time_to_park_s": "mean time to park [s]",
+           "expansions": "search expansions per run", "planning_time_s": "planning time [s]"}
 
 
 def bench_figure(rows: Sequence[dict], metric: str) -> Figure:

@@ -58,7 +58,14 @@ def _ident(value: Any) -> str:
     return f"{value:g}" if isinstance(value, float) else str(value)
 
 
-PLOTS = ("throughput.png", "time_to_park.png")
+PLOTTED = (("throughput_per_h", "throughput.png", "throughput"),
+           ("mean_time_to_park_s", "time_to_park.png", "time to park"),
+           ("expansions", "expansions.png", "expansions"),
+           ("planning_time_s", "planning_time.png", "planning time"))
+"""Each plot of a suite's outputs: the column of means it draws, its file and its title.
+Planners that tie on what the cars get (throughput, time to park) differ in what the
+planning cost (expansions, planning time)."""
+PLOTS = tuple(name for _, name, _ in PLOTTED)
 """The plots a suite's outputs hold (with matplotlib)."""
 
 
@@ -129,7 +136,7 @@ def summary_markdown(suite: Suite, rows: Sequence[dict], *, where: str = "",
                      f"{r['priority']}, rate {_ident(r['rate_per_h'])}, seed {r['seed']}): "
                      f"{r['problem'] or 'failed'}")
     lines += ["", "## Plots", ""]
-    lines += (["![throughput](throughput.png)", "", "![time to park](time_to_park.png)"]
+    lines += ([line for _, name, title in PLOTTED for line in (f"![{title}]({name})", "")][:-1]
               if plots else ["None: they need matplotlib (`pip install 'lotsim[plot]'`)."])
     lines += ["", "Columns and definitions: `docs/bench.md` in lotsim.", ""]
     return "\n".join(lines)
@@ -181,8 +188,7 @@ def write_outputs(suite: Suite, rows: Sequence[dict], outdir: str | os.PathLike,
         from lotsim.bench.plots import bench_figure
         from lotsim.render.plots import save_figure
 
-        for metric, name in zip(("throughput_per_h", "mean_time_to_park_s"), PLOTS,
-                                strict=True):
+        for metric, name, _ in PLOTTED:
             save_figure(bench_figure(rows, metric), out / name)
             written.append(out / name)
     else:  # the outputs are one set: no plot of an earlier suite run stays beside them

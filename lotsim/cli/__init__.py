@@ -14,7 +14,7 @@ from collections.abc import Sequence
 
 from lotsim.cli.output import EXIT_BAD_INPUT, EXIT_INTERRUPTED, bad, located, option
 from lotsim.cli.parser import COMMANDS, build_parser
-from lotsim.errors import ScenarioError, SettingsError
+from lotsim.errors import OutputError, ScenarioError, SettingsError
 
 EXIT_BROKEN_PIPE = 141
 """stdout closed before the summary was all written (``lotsim ... | head``): 128 + SIGPIPE."""
@@ -32,8 +32,10 @@ def main(argv: Sequence[str] | None = None) -> int:
     except ScenarioError as exc:
         print(located(exc), file=sys.stderr)
         return EXIT_BAD_INPUT
+    except OutputError as exc:  # an output that cannot be written, found before the work
+        return bad(str(exc))
     except SettingsError as exc:  # the library's check of an option: name the option
-        return bad(f"{option(exc.name)}: {exc.message}")
+        return bad(f"{option(exc.name, argv)}: {exc.message}")
     except KeyboardInterrupt:
         print("lotsim: interrupted; nothing was written", file=sys.stderr)
         return EXIT_INTERRUPTED

@@ -8,7 +8,7 @@ import os
 from pathlib import Path
 
 from lotsim import api
-from lotsim.cli.output import EXIT_INCOMPLETE, EXIT_OK, bad, cannot_write
+from lotsim.cli.output import EXIT_INCOMPLETE, EXIT_OK, bad, cannot_write, given
 from lotsim.cli.progress import ProgressBar
 
 HELP = ("run a benchmark suite: scenarios × planners × assignments × priorities × arrival "
@@ -48,34 +48,38 @@ def execute(args: argparse.Namespace) -> int:
         return bad(f"--jobs: expected 1 to {MAX_JOBS}, found {args.jobs}")
     suite = api.load_suite(args.suite)
     out = Path(args.output) if args.output else Path("runs") / "bench" / suite.name
-    if out.exists() and not out.is_dir():
-        return bad(f"-o: {out} exists and is not a directory")
-    try:
-        api.require_matplotlib()
-        plots = True
-    except ImportError:
-        plots = False
-    client, problem = connected(args.scheduler)
-    if problem is not None:
-        return bad(problem)
-    if client is not None:
-        where = f"on the Dask cluster at {args.scheduler}"
-    else:
-        jobs = min(args.jobs or os.cpu_count() or 1, suite.size)
-        where = "in this process" if jobs == 1 else f"on {jobs} local processes"
-    print(f"{suite.name}: {suite.size} run{'s' * (suite.size != 1)} {where}", flush=True)
-    bar = ProgressBar("runs")
-    bar(0, suite.size)
-    try:
-        rows = api.run_suite(suite, jobs=args.jobs, client=client, progress=bar)
-    finally:
-        bar.close()
+    with api.OutputSet() as outputs:  # checked before the runs, written whole or not at all
+        staged = outputs.folder(out, name=given("-o", out) if args.output else str(out))
+        try:
+            api.require_matplotlib()
+            plots = True
+        except ImportError:
+            plots = False
+        client, problem = connected(args.scheduler)
+        if problem is not None:
+            return bad(problem)
         if client is not None:
-            client.close()
-    try:
-        paths = api.write_outputs(suite, rows, out, where=where, plots=plots)
-    except OSError as exc:
-        return cannot_write(out, exc)
+            where = f"on the Dask cluster at {args.scheduler}"
+        else:
+            jobs = min(args.jobs or os.cpu_count() or 1, suite.size)
+            where = "in this process" if jobs == 1 else f"on {jobs} local processes"
+        print(f"{suite.name}: {suite.size} run{'s' * (suite.size != 1)} {where}", flush=True)
+        bar = ProgressBar("runs")
+        bar(0, suite.size)
+        try:
+            with bar:
+                rows = api.run_suite(suite, jobs=args.jobs, client=client, progress=bar)
+        finally:
+            if client is not None:
+                client.close()
+        try:
+            paths = api.write_outputs(suite, rows, staged, where=where, plots=plots)
+        except OSError as exc:
+            return cannot_write(out, exc)
+        if not plots:  # the outputs are one set: no plot of an earlier suite run stays
+            for name in api.PLOTS:
+                outputs.remove(out / name)
+        outputs.commit()
     print(api.table_text(rows))
     failed = [r for r in rows if not r["ok"]]
     for r in failed[:FAILED_LISTED]:
@@ -84,7 +88,7 @@ def execute(args: argparse.Namespace) -> int:
         print(f"  … and {len(failed) - FAILED_LISTED} more failed runs (summary.md lists "
               "them all)")
     for path in paths:
-        print(f"  wrote {path}")
+        print(f"  wrote {out / path.name}")
     if not plots:
         print("  no plots: they need matplotlib (pip install 'lotsim[plot]')")
     return EXIT_INCOMPLETE if failed else EXIT_OK

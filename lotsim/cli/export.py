@@ -6,7 +6,7 @@ import argparse
 import time
 
 from lotsim import api
-from lotsim.cli.output import EXIT_OK, bad
+from lotsim.cli.output import EXIT_OK, bad, cannot_write, given
 from lotsim.errors import LotsimError, SettingsError
 
 HELP = "write a result.json as CommonRoad, SUMO or OpenSCENARIO files (docs/export.md)"
@@ -36,15 +36,26 @@ def execute(args: argparse.Namespace) -> int:
                    f"{', '.join(f'--{name} DIR' for name in FORMATS)}")
     try:
         doc = api.load_result(args.result)
-        for name, folder in asked:
-            start = time.perf_counter()
-            info = getattr(api, f"export_{name}")(doc, folder)
-            print(f"{name}: wrote {folder} ({info.bytes / 1e6:.1f} MB, "
-                  f"{time.perf_counter() - start:.1f} s)")
-    except SettingsError:
-        raise
     except LotsimError as exc:
         return bad(str(exc))
     except OSError as exc:
         return bad(f"{exc.filename or args.result}: {exc.strerror}")
+    said = []
+    with api.OutputSet() as outputs:  # checked before the work, written whole or not at all
+        staged = [(name, folder, outputs.folder(folder, name=given(f"--{name}", folder)))
+                  for name, folder in asked]
+        for name, folder, into in staged:
+            start = time.perf_counter()
+            try:
+                info = getattr(api, f"export_{name}")(doc, into)
+            except SettingsError:
+                raise
+            except LotsimError as exc:
+                return bad(str(exc))
+            except OSError as exc:
+                return cannot_write(given(f"--{name}", folder), exc)
+            said.append(f"{name}: wrote {folder} ({info.bytes / 1e6:.1f} MB, "
+                        f"{time.perf_counter() - start:.1f} s)")
+        outputs.commit()
+    print("\n".join(said))
     return EXIT_OK

@@ -6,7 +6,7 @@ from __future__ import annotations
 import argparse
 
 from lotsim import api
-from lotsim.cli.output import EXIT_OK, bad, cannot_write, output_problem
+from lotsim.cli.output import EXIT_OK, bad, cannot_write, given, name_problem
 from lotsim.cli.progress import ProgressBar
 
 HELP = ("lay a lot out on a plot (outline, islands, gates): the layout with the most usable "
@@ -42,19 +42,23 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def execute(args: argparse.Namespace) -> int:
-    problem = output_problem("-o", args.output, ".yaml")
+    problem = name_problem("-o", args.output, ".yaml")
     if problem:
         return bad(problem)
     if not 1 <= args.show <= 100:
         return bad(f"--show: expected 1 to 100, found {args.show}")
     settings = api.LayoutSettings(orientations=args.orientations, offsets=args.offsets,
                                   prepared=args.prepared, workers=args.jobs)
-    try:
-        with ProgressBar("laying out") as bar, api.collector_tuned():
-            found = api.layout(args.plot, args.output, keep=args.keep, settings=settings,
-                               pictures=args.pictures, progress=bar)
-    except OSError as exc:
-        return cannot_write(exc.filename or args.output, exc)
+    with api.OutputSet() as outputs:  # checked before the search, written whole or not at all
+        # the next best layouts and the pictures go beside it, into the same staging folder
+        staged = outputs.file(args.output, name=given("-o", args.output))
+        try:
+            with ProgressBar("laying out") as bar, api.collector_tuned():
+                found = api.layout(args.plot, staged, keep=args.keep, settings=settings,
+                                   pictures=args.pictures, progress=bar)
+        except OSError as exc:
+            return cannot_write(args.output, exc)
+        outputs.commit()
     plot = found.plot
     print(f"{plot.source}: {plot.name}, {found.best.area:.0f} m²; {found.drawn} candidates "
           f"drawn, {len(found.ranked)} prepared in {found.seconds:.1f} s")

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import os
 import sys
+from collections.abc import Sequence
 from pathlib import Path
 
 from lotsim import api
@@ -14,14 +15,25 @@ EXIT_INTERRUPTED = 130
 """Ctrl-C: 128 + SIGINT, as a shell reports it."""
 
 OPTIONS = {"assignment": "--assignment", "start": "--from", "end": "--to",
-           "max_violations": "--max", "path": "-o", "workers": "--jobs"}
+           "max_violations": "--max", "path": "-o", "workers": "--jobs",
+           "car": ("--vehicle", "--car")}
 """Setting (:mod:`lotsim.sim.settings`, :mod:`lotsim.api` keyword) → the option that sets it,
-where the two are not named alike."""
+where the two are not named alike (several: the option and its aliases)."""
 
 
-def option(name: str) -> str:
-    """The option that sets the setting ``name``: ``window`` → ``--window``."""
-    return OPTIONS.get(name, "--" + name.replace("_", "-"))
+def option(name: str, argv: Sequence[str] = ()) -> str:
+    """The option that sets the setting ``name``: ``window`` → ``--window``; of an option
+    and its aliases, the one the command line ``argv`` gave (``car`` → ``--vehicle`` or
+    ``--car``), else the first.
+
+    >>> option("window"), option("car"), option("car", ["minslot", "--car=van"])
+    ('--window', '--vehicle', '--car')
+    """
+    names = OPTIONS.get(name, "--" + name.replace("_", "-"))
+    if isinstance(names, str):
+        return names
+    typed = {a.split("=", 1)[0] for a in argv}
+    return next((n for n in names if n in typed), names[0])
 
 
 def bad(message: str) -> int:
@@ -56,17 +68,27 @@ def picture_size(text: str) -> tuple[int, int] | str:
     return f"--size: {problem}" if problem else (w, h)
 
 
-def output_problem(opt: str, path: str, suffix: str, made: Path | None = None) -> str | None:
-    """What is wrong with an output file named by option ``opt`` (None if nothing); its
-    folder must exist, unless it is ``made`` (the run's output folder, made by the run)."""
-    p = Path(path)
-    if p.suffix.lower() != suffix:
+def name_problem(opt: str, path: str, suffix: str) -> str | None:
+    """What is wrong with the name of an output file given to option ``opt`` (None if
+    nothing): it must end in ``suffix``. Whether it can be written is for the command's
+    :class:`~lotsim.core.atomic.OutputSet` to find, which makes a missing folder."""
+    if Path(path).suffix.lower() != suffix:
         return f"{opt}: expected a file name ending in {suffix}, found {path!r}"
-    if made is not None and os.path.abspath(p.parent) == os.path.abspath(made):
-        return None
-    if not p.parent.is_dir():
-        return f"{opt}: folder {str(p.parent)!r} does not exist"
     return None
+
+
+def output_problem(opt: str, path: str, suffix: str) -> str | None:
+    """:func:`name_problem`, and the file's folder must exist (for a command that writes
+    its file itself, not through an :class:`~lotsim.core.atomic.OutputSet`)."""
+    problem = name_problem(opt, path, suffix)
+    if problem is None and not Path(path).parent.is_dir():
+        return f"{opt}: folder {str(Path(path).parent)!r} does not exist"
+    return problem
+
+
+def given(opt: str, path: str | os.PathLike) -> str:
+    """An output as the user gave it, for errors: ``-o runs/x``."""
+    return f"{opt} {os.fspath(path)}"
 
 
 def into_folder(path: str, name: str) -> str:

@@ -92,13 +92,15 @@ class ProgressBar:
         while not self._stop.wait(self.every):
             self.beat()
 
-    def close(self) -> None:
+    def close(self, outcome: str = "done") -> None:
+        """Stop; where lines were written, the last says how the work ended (``outcome``:
+        ``done``, ``interrupted``, ``stopped``)."""
         self._stop.set()
         if self._beats is not None:
             self._beats.join()
             self._beats = None
-            if self.lines:  # it wrote while it ran: say that it is over
-                self.status = f"{self.label}: done"
+            if self.lines:  # it wrote while it ran: say that it is over, and how
+                self.status = f"{self.label}: {outcome}"
                 self.beat()
         if self.shown:
             print("\r" + " " * 79 + "\r", end="", file=self.stream, flush=True)
@@ -106,8 +108,8 @@ class ProgressBar:
     def __enter__(self) -> ProgressBar:
         return self
 
-    def __exit__(self, *exc: object) -> None:
-        self.close()
+    def __exit__(self, kind: type[BaseException] | None, *exc: object) -> None:
+        self.close(ended(kind))
 
 
 class Preparing(ProgressBar):
@@ -119,9 +121,9 @@ class Preparing(ProgressBar):
         super().__init__("planning maneuvers")
         self.note("preparing the lot …")
 
-    def close(self) -> None:
+    def close(self, outcome: str = "done") -> None:
         self.label = "preparing the lot"
-        super().close()
+        super().close(outcome)
 
     def note(self, text: str) -> None:
         if self.on:
@@ -138,6 +140,15 @@ class Preparing(ProgressBar):
 
     def __enter__(self) -> Preparing:
         return self
+
+
+def ended(kind: type[BaseException] | None) -> str:
+    """How a piece of work ended, for its last progress line: ``done``, ``interrupted``
+    (Ctrl-C) or ``stopped`` (an error), by the kind of exception that ended it (None:
+    none)."""
+    if kind is None:
+        return "done"
+    return "interrupted" if issubclass(kind, KeyboardInterrupt) else "stopped"
 
 
 @contextlib.contextmanager

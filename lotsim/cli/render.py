@@ -5,16 +5,15 @@ from __future__ import annotations
 
 import argparse
 import os
-import sys
 
 from lotsim import api
 from lotsim.cli.output import (
-    EXIT_INTERRUPTED,
     EXIT_OK,
     bad,
     cannot_write,
+    given,
+    name_problem,
     option,
-    output_problem,
     picture_size,
     sizes,
 )
@@ -121,25 +120,20 @@ def execute(args: argparse.Namespace) -> int:
     if not isinstance(doc.get("lot"), dict) or "drawing" not in doc["lot"]:
         return bad(f"{args.result}: no lot.drawing: written by an older lotsim? run the "
                    "scenario again")
-    done = []
-    for path, write, what in (
-            (args.gif, lambda p: save_gif(doc, p, settings), args.gif),
-            (args.html, lambda p: save_html(doc, p, html), args.html),
-            (args.mp4, lambda p: save_mp4(doc, p, settings), args.mp4),
-            (args.timeline, lambda p: _timeline(doc, p), "the timeline")):
-        if not path:
-            continue
-        try:
-            code = write(path)
-        except KeyboardInterrupt:
-            if done:
-                print(f"lotsim: interrupted; {', '.join(done)} written, {what} not",
-                      file=sys.stderr)
-                return EXIT_INTERRUPTED
-            raise
-        if code != EXIT_OK:
-            return code
-        done.append(path)
+    said = []
+    with api.OutputSet() as outputs:  # checked before drawing, written whole or not at all
+        for opt, path, write, these in (("--gif", args.gif, save_gif, settings),
+                                        ("--html", args.html, save_html, html),
+                                        ("--mp4", args.mp4, save_mp4, settings),
+                                        ("--timeline", args.timeline, _timeline, None)):
+            if path:
+                staged = outputs.file(path, name=given(opt, path))
+                code, line = write(doc, staged, these, shown=path)
+                if code != EXIT_OK:
+                    return code
+                said.append(line)
+        outputs.commit()
+    print("\n".join(said))
     return EXIT_OK
 
 
@@ -149,7 +143,7 @@ def _outputs_problem(args: argparse.Namespace, size: tuple[int, int]) -> str | N
     outputs = (("--gif", args.gif, ".gif"), ("--html", args.html, ".html"),
                ("--mp4", args.mp4, ".mp4"), ("--timeline", args.timeline, ".png"))
     for opt, path, suffix in outputs:
-        problem = path and output_problem(opt, path, suffix)
+        problem = path and name_problem(opt, path, suffix)
         if problem:
             return problem
     given = [path for _, path, _ in outputs if path]
@@ -166,14 +160,13 @@ def _outputs_problem(args: argparse.Namespace, size: tuple[int, int]) -> str | N
     return None
 
 
-def _timeline(doc: dict, path: str) -> int:
+def _timeline(doc: dict, path, _settings=None, *, shown: str) -> tuple[int, str | None]:
     try:
         api.plot_timeline(doc, path)
     except ImportError:
-        return bad("--timeline needs matplotlib: pip install 'lotsim[plot]'")
+        return bad("--timeline needs matplotlib: pip install 'lotsim[plot]'"), None
     except ReplayError as exc:
-        return bad(f"cannot draw this result: {exc}")
+        return bad(f"cannot draw this result: {exc}"), None
     except OSError as exc:
-        return cannot_write(path, exc)
-    print(f"  wrote {path}")
-    return EXIT_OK
+        return cannot_write(shown, exc), None
+    return EXIT_OK, f"  wrote {shown}"

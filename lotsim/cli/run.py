@@ -6,17 +6,16 @@ from __future__ import annotations
 import argparse
 import math
 import os
-import sys
 from pathlib import Path
 
 from lotsim import api
 from lotsim.cli import disturb
 from lotsim.cli.output import (
     EXIT_INCOMPLETE,
-    EXIT_INTERRUPTED,
     EXIT_OK,
     bad,
-    output_problem,
+    given,
+    name_problem,
     plural,
 )
 from lotsim.cli.pictures import save_gif, save_html, save_mp4
@@ -80,10 +79,10 @@ def execute(args: argparse.Namespace) -> int:
     problem = _pointless(args)
     if problem:
         return bad(problem)
-    given = {k: v for k, v in (("window", args.window), ("horizon", args.horizon))
-             if v is not None}
+    given_settings = {k: v for k, v in (("window", args.window), ("horizon", args.horizon))
+                      if v is not None}
     settings = api.RunSettings(planner=args.planner, assignment=args.assign, seed=args.seed,
-                               omega=args.omega, priority=args.priority, **given)
+                               omega=args.omega, priority=args.priority, **given_settings)
     scenario_file = api.read_scenario(args.scenario)
     scenario, anim = scenario_file.scenario, scenario_file.animation
     api.require_traffic(scenario)
@@ -94,28 +93,41 @@ def execute(args: argparse.Namespace) -> int:
     pictures = _pictures(args, out, anim)
     if isinstance(pictures, str):
         return bad(pictures)
-    if out.exists() and not out.is_dir():
-        return bad(f"-o: {out} exists and is not a directory")
     budget = _budget(args)
     if isinstance(budget, str):
         return bad(budget)
-    rr = _plan(args, scenario, settings, budget)
-    with ProgressBar("writing the result") as bar:
-        doc = api.result_dict(rr, progress=bar)
-        out.mkdir(parents=True, exist_ok=True)
+    with api.OutputSet() as outputs:  # every output checked before the planning
+        result_json = outputs.file(out / "result.json",
+                                   name=given("-o", out) if args.output else str(out))
+        staged = {key: (outputs.file(path, name=_named(args, key, path))
+                        if path is not None else None) for key, path in pictures.items()}
+        rr = _plan(args, scenario, settings, budget)
+        with ProgressBar("writing the result") as bar:
+            doc = api.result_dict(rr, progress=bar)
+            api.write_result(doc, result_json)
+        m = rr.metrics()
+        _summary(args, scenario, rr, m, doc)
+        code, said = _draw(doc, pictures, staged, anim)
+        if code != EXIT_OK:
+            return code  # nothing is written: the outputs are one set
         written = [p for p in pictures.values() if p is not None]
-        removed = _remove_earlier(out, written)
-        api.write_result(doc, out / "result.json")
-    m = rr.metrics()
-    _summary(args, scenario, rr, m, doc)
+        removed = _earlier(out, written)
+        for p in removed:
+            outputs.remove(p)
+        _note_written(outputs, out, written)
+        outputs.commit()
     print(f"  wrote {out / 'result.json'}")
     for p in removed:
-        if p not in written:
-            print(f"  removed {p}: it showed an earlier run")
-    code = _draw(doc, pictures, anim, out)
-    if code != EXIT_OK:
-        return code
+        print(f"  removed {p}: it showed an earlier run")
+    for line in said:
+        print(line)
     return EXIT_INCOMPLETE if m["waiting"] else EXIT_OK
+
+
+def _named(args: argparse.Namespace, key: str, path: Path) -> str:
+    """A picture's file as the user named it: the option and its path, or the path the
+    scenario's animation section gave it."""
+    return given(f"--{key}", path) if getattr(args, key) else str(path)
 
 
 def _pointless(args: argparse.Namespace) -> str | None:
@@ -135,13 +147,13 @@ def _pictures(args: argparse.Namespace, out: Path, anim) -> dict[str, Path | Non
     wrong with them."""
     paths: dict[str, Path | None] = {}
     for key in ("gif", "html", "mp4"):
-        given = getattr(args, key)
+        typed = getattr(args, key)
         paths[key] = None
-        if given:
-            problem = output_problem(f"--{key}", given, f".{key}", made=out)
+        if typed:
+            problem = name_problem(f"--{key}", typed, f".{key}")
             if problem:
                 return problem
-            paths[key] = Path(given)
+            paths[key] = Path(typed)
         elif anim is not None and key == "gif" and not args.no_gif:
             paths[key] = out / anim.gif
         elif anim is not None and key != "gif" and getattr(anim, key):
@@ -177,11 +189,8 @@ def _budget(args: argparse.Namespace) -> api.Budget | str:
 
 def _plan(args: argparse.Namespace, scenario, settings, budget) -> api.RunResult:
     """Prepare the lot and run it within ``budget``, showing progress as it goes."""
-    progress = ProgressBar("trips in and out planned")
-    try:
+    with ProgressBar("trips in and out planned") as progress:
         return _planned(args, scenario, settings, budget, progress)
-    finally:
-        progress.close()
 
 
 def _planned(args: argparse.Namespace, scenario, settings, budget,
@@ -197,17 +206,14 @@ def _planned(args: argparse.Namespace, scenario, settings, budget,
                 rr = api.run(prepared, settings, progress=dog.progress,
                              disturbances=args.disturbances or api.Disturbances())
     else:  # the watchdog cannot project from trips: orders are tried
-        bar = ProgressBar("trying orders")
-        try:
-            with noting_sigint(seen), api.Watchdog(budget, where):
-                with Preparing() as preparing, api.collector_tuned():
-                    prepared = api.prepare(scenario, progress=preparing)
-                with api.collector_tuned():
-                    rr = api.run(prepared, settings,
-                                 progress=bar if settings.priority == "ga" else None,
-                                 disturbances=args.disturbances or api.Disturbances())
-        finally:
-            bar.close()
+        with ProgressBar("trying orders") as bar, noting_sigint(seen), \
+                api.Watchdog(budget, where):
+            with Preparing() as preparing, api.collector_tuned():
+                prepared = api.prepare(scenario, progress=preparing)
+            with api.collector_tuned():
+                rr = api.run(prepared, settings,
+                             progress=bar if settings.priority == "ga" else None,
+                             disturbances=args.disturbances or api.Disturbances())
         found = rr.ordering
         extra = (f", arrival order {found['fitness_arrival']:.1f} s, shortest first "
                  f"{found['fitness_shortest_first']:.1f} s ({found['evaluations']} orders "
@@ -224,33 +230,27 @@ MANIFEST = ".lotsim-run"
 a line: the only files a later run removes."""
 
 
-def _remove_earlier(out: Path, written: list[Path]) -> list[Path]:
-    """A run's outputs are one set: no picture an earlier run wrote (the folder's
-    :data:`MANIFEST` lists them) is left beside this result, and one this run writes is
-    removed first, in case it is interrupted before it is done. A file lotsim did not write
-    there is left alone. The files removed."""
+def _earlier(out: Path, written: list[Path]) -> list[Path]:
+    """A run's outputs are one set: the pictures an earlier run wrote into ``out`` (its
+    :data:`MANIFEST` lists them) that this run does not write again, to be removed as this
+    run's files are put in place. A file lotsim did not write there is left alone."""
     try:
         names = (out / MANIFEST).read_text(encoding="utf-8").splitlines()
     except OSError:
         names = []
     earlier = [out / n for n in names if n and "/" not in n and n not in (".", "..")]
-    removed = [p for p in dict.fromkeys([*earlier, *written]) if p.is_file()]
-    for p in removed:
-        p.unlink()
-    _note_written(out, [])
-    return removed
+    again = {os.path.abspath(p) for p in written}
+    return [p for p in dict.fromkeys(earlier) if p.is_file() and os.path.abspath(p) not in again]
 
 
-def _note_written(out: Path, pictures: list[Path]) -> None:
-    """Record the pictures this run wrote into its folder (:data:`MANIFEST`)."""
+def _note_written(outputs, out: Path, pictures: list[Path]) -> None:
+    """Record, in the set of ``outputs``, the pictures this run writes into its folder
+    (:data:`MANIFEST`)."""
     mine = [p.name for p in pictures if p.resolve().parent == out.resolve()]
-    path = out / MANIFEST
     if not mine:
-        path.unlink(missing_ok=True)
+        outputs.remove(out / MANIFEST)
         return
-    tmp = out / f"{MANIFEST}.tmp"
-    tmp.write_text("".join(f"{n}\n" for n in mine), encoding="utf-8")
-    os.replace(tmp, path)  # whole or not at all
+    outputs.file(out / MANIFEST).write_text("".join(f"{n}\n" for n in mine), encoding="utf-8")
 
 
 def _summary(args: argparse.Namespace, scenario, rr, m: dict, doc: dict) -> None:
@@ -286,25 +286,20 @@ def _counts(m: dict) -> str:
             f"departed), {m['waiting']} waiting, {m['rejected']} rejected")
 
 
-def _draw(doc: dict, pictures: dict[str, Path | None], anim, out: Path) -> int:
-    """Write the run's GIF, replay and video after its result.json; the exit code."""
+def _draw(doc: dict, pictures: dict[str, Path | None], staged: dict[str, Path | None],
+          anim) -> tuple[int, list[str]]:
+    """Write the run's GIF, replay and video (to their ``staged`` files); the exit code and
+    the lines that report them."""
     gif_settings = anim.gif_settings() if anim is not None else api.GifSettings()
     html_settings = anim.html_settings() if anim is not None else None
-    done: list[Path] = []
-    for path, write, what in (
-            (pictures["gif"], lambda p: save_gif(doc, p, gif_settings), "the GIF"),
-            (pictures["html"], lambda p: save_html(doc, p, html_settings), "the replay"),
-            (pictures["mp4"], lambda p: save_mp4(doc, p, gif_settings), "the video")):
-        if path is None:
+    said: list[str] = []
+    for key, write, settings in (("gif", save_gif, gif_settings),
+                                 ("html", save_html, html_settings),
+                                 ("mp4", save_mp4, gif_settings)):
+        if staged[key] is None:
             continue
-        try:
-            code = write(path)
-        except KeyboardInterrupt:
-            print(f"lotsim: interrupted; {out / 'result.json'} was written, {what} was not",
-                  file=sys.stderr)
-            return EXIT_INTERRUPTED
+        code, line = write(doc, staged[key], settings, shown=pictures[key])
         if code != EXIT_OK:
-            return code
-        done.append(Path(path))
-        _note_written(out, done)
-    return EXIT_OK
+            return code, said
+        said.append(line)
+    return EXIT_OK, said

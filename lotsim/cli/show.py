@@ -10,8 +10,9 @@ from lotsim.cli.output import (
     EXIT_OK,
     bad,
     cannot_write,
+    given,
     into_folder,
-    output_problem,
+    name_problem,
     picture_size,
     sizes,
 )
@@ -34,15 +35,19 @@ def execute(args: argparse.Namespace) -> int:
     if isinstance(size, str):
         return bad(size)
     args.output = into_folder(args.output, f"{Path(args.scenario).stem}.png")
-    problem = output_problem("-o", args.output, ".png")
+    problem = name_problem("-o", args.output, ".png")
     if problem:
         return bad(problem)
-    # built once, drawn and listed
-    prepared = api.prepare_for_drawing(api.load_scenario(args.scenario), graph=args.graph)
-    try:
-        api.render_lot(prepared, args.output, size=size, graph=args.graph)
-    except OSError as exc:
-        return cannot_write(args.output, exc)
+    scenario = api.load_scenario(args.scenario)
+    with api.OutputSet() as outputs:  # checked before the lot is built
+        staged = outputs.file(args.output, name=given("-o", args.output))
+        # built once, drawn and listed
+        prepared = api.prepare_for_drawing(scenario, graph=args.graph)
+        try:
+            api.render_lot(prepared, staged, size=size, graph=args.graph)
+        except OSError as exc:
+            return cannot_write(args.output, exc)
+        outputs.commit()
     print(f"wrote {args.output}")
     lot = prepared.lot
     print(f"  slots: {api.id_ranges([s.id for s in lot.slots], most=40)}")

@@ -303,6 +303,9 @@ class GifRenderer:
         left out from the last. Swatch boxes go to :attr:`legend_boxes`."""
         w, h = self.settings.size
         car, pale_car = int(self.car_index[0]), int(self.pale_index[0])
+        # each car has its own colour: a swatch of one would say "driving" is that colour
+        cars = [int(i) for i in self.car_index[:3]]
+        pales = [int(i) for i in self.pale_index[:3]]
         colour = {"car": car, "pale": pale_car, "start": at_start, "reversing": car,
                   "slot": car}
         entries: list[tuple[str, str, int]] = [
@@ -324,6 +327,13 @@ class GifRenderer:
             else:
                 box = (x, mid - 5, x + sw, mid + 5)
                 d.rectangle(box, fill=colour, outline=self.ink)
+                several = {car: cars, pale_car: pales}.get(colour, [colour])
+                if label in ("driving", "parked") and len(several) > 1:
+                    step = (sw - 1) / len(several)
+                    for k, c in enumerate(several):
+                        d.rectangle((x + 1 + round(k * step), mid - 4,
+                                     x + round((k + 1) * step) - 1 + (k == len(several) - 1),
+                                     mid + 4), fill=c)
                 if kind == "reversing":
                     d.rectangle((x + 1, mid - 4, x + 4, mid + 4), fill=self.white)
             self.legend_boxes[label] = box
@@ -525,6 +535,8 @@ class GifInfo:
     start: float
     end: float
     bytes: int
+    skipped: float = 0.0
+    """Quiet run time left out (``skip_quiet``) [s]."""
 
 
 def write_gif(
@@ -574,4 +586,4 @@ def write_gif(
                 progress(b, n)
         fh.write(b";")
     return GifInfo(target, n, sum(plan.durations) / 1000.0, plan.speed, plan.start, plan.end,
-                   target.stat().st_size)
+                   target.stat().st_size, sum(b - a for a, b in plan.skips))

@@ -198,6 +198,13 @@ class PreparedLot:
     search_graphs: SearchGraphMemo = field(default_factory=SearchGraphMemo, repr=False,
                                            compare=False)
 
+    def __repr__(self) -> str:
+        """One line: ``<PreparedLot quickstart: 20 slots (15 free), 35 nodes, 54 edges>``."""
+        lot, graph = self.lot, self.lot_graph.graph
+        return (f"<PreparedLot {self.scenario.name}: {len(lot.slots)} slots "
+                f"({len(lot.free_slots)} free), {graph.number_of_nodes()} nodes, "
+                f"{graph.number_of_edges()} edges>")
+
     @property
     def lot(self) -> Lot:
         """The built lot: slots as polygons, aisles, lanes, obstacles, zones."""

@@ -76,6 +76,15 @@ class RunResult:
     (:class:`lotsim.sim.execution.Execution`), its vehicles' moves being those executed;
     None for a run as planned."""
 
+    def __repr__(self) -> str:
+        """One line (the whole story is in :meth:`metrics`, ``.vehicles`` and
+        :func:`~lotsim.io.result.result_dict`): ``<RunResult quickstart: 6 vehicles, 6
+        served, 0 waiting, 0 rejected; planner hca, seed 1>``."""
+        m = self.metrics()
+        return (f"<RunResult {self.scenario.name}: {m['vehicles']} vehicles, {m['served']} "
+                f"served, {m['waiting']} waiting, {m['rejected']} rejected; planner "
+                f"{self.settings.planner}, seed {self.seed}>")
+
     def metrics(self) -> dict[str, float]:
         """Counts by status (``served``: parked and departed) and the timing figures of
         ``docs/result.md``."""

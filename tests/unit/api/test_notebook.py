@@ -64,15 +64,23 @@ def test_long_work_shows_its_progress_in_the_cell():
     shown = []
 
     class Handle:
-        def update(self, text):
-            shown.append(text)
+        def update(self, obj, raw=False):
+            shown.append(obj)
 
-    def display(text, display_id):
-        shown.append(text)
+    def display(obj, display_id):
+        shown.append(obj)
         return Handle()
 
     bar = NotebookProgress("planning trips", display=display)
-    for k in range(1, 6):
+    assert shown == []  # nothing until there is news: a lot from the cache shows nothing
+    bar(1, 5)
+    for k in range(2, 6):
+        bar._last = -1.0  # as if a tenth of a second went by
         bar(k, 5)
-    assert shown[0] == "planning trips …" and shown[-1] == "planning trips 5/5"
+    # shown as text, not as a string's repr with its quotes ('planning trips …' stayed in
+    # the cell); and gone when done
+    assert [repr(s) for s in shown[:-1]] == [f"planning trips {k}/5, ~0 s left"
+                                             for k in range(1, 5)]
+    assert shown[-1] == {}
     assert progress_for("x") is None  # not in a notebook's kernel
+

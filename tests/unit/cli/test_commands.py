@@ -524,3 +524,55 @@ def test_validate_and_run_prepare_with_the_collector_tuned_and_leave_it_as_it_wa
     with pytest.raises(Seen):
         main(["layout", str(plot), "-o", str(tmp_path / "lot.yaml")])
     assert seen[-1] == RUN_GC_THRESHOLDS and gc.get_threshold() == before
+
+
+@pytest.mark.parametrize("command", ["run", "validate", "layout"])
+def test_work_stopped_by_ctrl_c_ends_its_progress_interrupted_not_done(
+        command, tmp_path, capsys, monkeypatch):
+    """Ctrl-C after 120 of 1000 trips ended with 'trips in and out planned: done (11 s)'
+    and then 'interrupted; nothing was written'."""
+    import time
+
+    import lotsim.cli.progress as progress
+
+    monkeypatch.setattr(progress, "PIPE_EVERY", 0.01)
+
+    def stopped(*args, progress=None, **kwargs):
+        progress(120, 1000)
+        time.sleep(0.1)  # long enough for lines of its own
+        raise KeyboardInterrupt
+
+    quickstart = str(next(p for p in SCENARIOS if p.stem == "quickstart"))
+    plot = tmp_path / "plot.yaml"
+    plot.write_text("boundary: [[0, 0], [36, 0], [36, 30], [0, 30]]\n"
+                    "gates: [{id: south, at: [18, 0]}]\n")
+    argv, label, last = {  # the bar's label, and that of its last line
+        "run": (["run", quickstart, "-o", str(tmp_path / "o"), "--no-gif"],
+                "trips in and out planned", "trips in and out planned"),
+        "validate": (["validate", quickstart], "planning maneuvers", "preparing the lot"),
+        "layout": (["layout", str(plot), "-o", str(tmp_path / "lot.yaml")], "laying out",
+                   "laying out"),
+    }[command]
+    monkeypatch.setattr({"run": "lotsim.api.run", "validate": "lotsim.api.validate",
+                         "layout": "lotsim.api.layout"}[command], stopped)
+    assert main(argv) == 130
+    err = capsys.readouterr().err
+    assert re.search(rf"^{label}: 120/1000", err, re.M), err
+    assert re.search(rf"^{last}: interrupted \(\d+ s\)$", err, re.M), err
+    assert f"{last}: done" not in err, err
+    assert err.endswith("lotsim: interrupted; nothing was written\n")
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["plot.yaml"]
+
+
+def test_a_bar_ended_by_an_error_says_stopped():
+    import io
+    import time
+
+    from lotsim.cli.progress import ProgressBar
+
+    stream = io.StringIO()
+    with pytest.raises(MemoryError), ProgressBar("runs", stream=stream, every=0.01) as bar:
+        bar(3, 10)
+        time.sleep(0.05)
+        raise MemoryError
+    assert stream.getvalue().splitlines()[-1].startswith("runs: stopped (")

@@ -45,7 +45,12 @@ def test_vehicle_yaml_file(tmp_path, capsys):
     (["--car", "altis", "--width", "1.5"], "narrower than altis"),
     (["--car", "altis", "--width", "-2"], "positive slot width"),
     (["--car", "altis", "--width", "2.5", "--max-changes", "-1"], "expected 0 to 50"),
-    (["--car", "beetle", "--width", "2.5"], "unknown car 'beetle'"),
+    (["--car", "beetle", "--width", "2.5"], "--car: unknown vehicle 'beetle'"),
+    # the option as typed ('--vehicle van' was answered as '--car: unknown car'), and the
+    # names known
+    (["--vehicle", "van", "--width", "2.5"], "lotsim: --vehicle: unknown vehicle 'van'; "
+     "expected one of msv, zoe, corsa, vw, benz, altis, vclass, valet (lotsim cars lists "
+     "them)"),
 ])
 def test_bad_input_exits_2_with_a_message(capsys, argv, words):
     assert main(["minslot", *argv]) == 2

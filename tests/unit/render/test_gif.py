@@ -252,8 +252,15 @@ def test_the_legend_shows_the_colours_the_cars_are_drawn_in_and_can_be_left_out(
         return img[y0 + 2:y1 - 1, x0 + 5:x1 - 1].reshape(-1, 3)
 
     j = on.colour.index(0)  # a car drawn in the legend's colour
-    assert np.all(inside("driving") == on.vehicle_rgb(j))
-    assert np.all(inside("parked") == on.vehicle_rgb(j, parked=True))
+    # each car has its own colour: "driving" and "parked" show three cars' colours, not one
+    # (a red swatch said "driving" was red)
+    first = [on.colour.index(k) for k in range(3)]
+    x0, y0, x1, y1 = on.legend_boxes["driving"]
+    assert {tuple(c) for c in img[y0 + 2:y1 - 1, x0 + 1:x1 - 1].reshape(-1, 3)} == {
+        on.vehicle_rgb(i) for i in first}
+    x0, y0, x1, y1 = on.legend_boxes["parked"]
+    assert {tuple(c) for c in img[y0 + 2:y1 - 1, x0 + 1:x1 - 1].reshape(-1, 3)} == {
+        on.vehicle_rgb(i, parked=True) for i in first}
     assert np.all(inside("reversing") == on.vehicle_rgb(j))
     x0, y0, x1, y1 = on.legend_boxes["reversing"]
     assert tuple(img[(y0 + y1) // 2, x0 + 2]) == (255, 255, 255)  # its white rear band
@@ -514,8 +521,9 @@ def test_render_input_errors(doc, tmp_path, capsys):
     (tmp_path / "r.json").write_text(json.dumps(doc))
     cases.append(([str(tmp_path / "r.json")], "nothing to do"))
     cases.append(([str(tmp_path / "r.json"), "--gif", str(tmp_path / "x.png")], "ending in .gif"))
-    cases.append(([str(tmp_path / "r.json"), "--gif", str(tmp_path / "no" / "x.gif")],
-                  "does not exist"))
+    cases.append(([str(tmp_path / "r.json"), "--gif", str(tmp_path / "r.json" / "x.gif")],
+                  "--gif " + str(tmp_path / "r.json" / "x.gif") + ": '"
+                  + str(tmp_path / "r.json") + "' is a file, not a folder"))
     cases.append(([str(tmp_path / "missing.json"), "--gif", str(tmp_path / "x.gif")],
                   "missing.json"))
     for argv, message in cases:
@@ -559,9 +567,14 @@ def test_a_run_leaves_no_gif_of_an_earlier_run_beside_its_result(tmp_path, capsy
     def interrupted(*args, **kwargs):
         raise KeyboardInterrupt
 
+    # interrupted while its GIF is drawn, a run leaves the folder as it was: the earlier
+    # result beside the file put there, no new result.json without its GIF
+    before = (out / "result.json").read_bytes()
     monkeypatch.setattr("lotsim.api.render_gif", interrupted)
     assert main(["run", str(path), "-o", str(out)]) == 130
-    assert sorted(p.name for p in out.iterdir()) == ["result.json"]
+    assert sorted(p.name for p in out.iterdir()) == ["cars.gif", "result.json"]
+    assert (out / "result.json").read_bytes() == before
+    assert old.read_bytes() == b"GIF89a, an earlier run"
 
 
 def test_a_run_leaves_the_users_own_files_in_its_folder_alone(tmp_path, capsys):
@@ -576,3 +589,19 @@ def test_a_run_leaves_the_users_own_files_in_its_folder_alone(tmp_path, capsys):
     assert main(["run", str(path), "-o", str(out), "--no-gif"]) == 0
     assert mine.read_text() == "<p>my notes on this lot</p>"
     assert "removed" not in capsys.readouterr().out
+
+
+def test_a_gif_that_skips_quiet_time_says_how_much(doc, tmp_path, capsys):
+    """"12.8 s at 10× run time, 0.0–900.0 s" did not say that quiet time was left out."""
+    result = tmp_path / "r.json"
+    result.write_text(json.dumps(doc))
+    gif = tmp_path / "run.gif"
+    argv = ["render", str(result), "--gif", str(gif), "--size", "320x240", "--speed", "20"]
+    assert main([*argv, "--skip-quiet"]) == 0
+    said = capsys.readouterr().out
+    plan = plan_frames(Replay(doc), GifSettings(size=(320, 240), speed=20, skip_quiet=True))
+    quiet = sum(b - a for a, b in plan.skips)
+    assert quiet >= 1
+    assert f"of the run, {quiet:.0f} s of quiet run time skipped, " in said, said
+    assert main(argv) == 0
+    assert "skipped" not in capsys.readouterr().out

@@ -315,9 +315,11 @@ def test_the_page_has_the_gif_s_colour_key(doc, page):
     for label, (x0, y0, x1, y1) in gif.legend_boxes.items():
         parts = dict(key[label])
         # the swatch's main colour is the one the GIF paints in the middle of its swatch
-        # (the slot's outline on its left edge)
+        # (the slot's outline on its left edge; of the several cars' colours of driving and
+        # parked, the first, on the left)
         y = (y0 + y1) // 2
-        want = img[y, x0] if label == "its slot" else img[y, (x0 + x1) // 2]
+        x = {"its slot": x0, "driving": x0 + 2, "parked": x0 + 2}.get(label, (x0 + x1) // 2)
+        want = img[y, x]
         main = hex_rgb(parts["outline" if label == "its slot" else "body"])
         if label == "parked at start":  # the page draws the lot's own colour for them, the
             # GIF the nearest of its palette
@@ -358,7 +360,7 @@ def test_render_html_from_the_command_line(doc, tmp_path, capsys):
     # bad input: a clear message, exit 2, nothing written
     for args, message in (
             (["--html", str(tmp_path / "r.htm")], "--html: expected a file name ending in .html"),
-            (["--html", str(tmp_path / "no" / "r.html")], "does not exist"),
+            (["--html", str(result / "r.html")], "is a file, not a folder"),
             (["--html", str(tmp_path / "x.html"), "--gif", str(tmp_path / "x.html")],
              "expected a file name ending in .gif")):
         assert main(["render", str(result), *args]) == 2
@@ -401,9 +403,10 @@ def test_run_writes_the_replay_the_scenario_asks_for(tmp_path, capsys):
     assert main(["run", str(sc), "-o", str(fresh), "--html", str(fresh / "r.html")]) == 0
     assert sorted(p.name for p in fresh.iterdir()) == [".lotsim-run", "a.gif", "r.html",
                                                        "result.json"]
-    assert main(["run", str(sc), "-o", str(fresh), "--html", str(tmp_path / "no" / "r.html")
-                 ]) == 2
-    assert "--html: folder" in capsys.readouterr().err
+    before = {p.name: p.read_bytes() for p in fresh.iterdir()}
+    assert main(["run", str(sc), "-o", str(fresh), "--html", str(sc / "r.html")]) == 2
+    assert f"--html {sc / 'r.html'}: '{sc}' is a file, not a folder" in capsys.readouterr().err
+    assert {p.name: p.read_bytes() for p in fresh.iterdir()} == before
     sc.write_text(text.replace("html: replay.html", "html: a.gif"))
     assert main(["run", str(sc), "-o", str(out)]) == 2
     assert "ending in .html" in capsys.readouterr().err
