@@ -65,6 +65,11 @@ INK = (25, 25, 25)
 GLASS = (40, 48, 60)
 WHITE = (255, 255, 255)
 TYRE = (15, 15, 15)
+CLOSED = (205, 70, 40)
+"""Closed ground (an aisle or gate closed over an interval) is hatched and outlined in
+this (a stalled car is ringed in white on ink)."""
+HATCH = 7
+"""Spacing of the closed ground's hatching [px]."""
 LEGEND = (("driving", "car"), ("parked", "pale"), ("parked at start", "start"),
           ("reversing", "reversing"), ("its slot", "slot"))
 """The colour key of a run's pictures, in order (the GIF's footer, the HTML replay's bar):
@@ -255,6 +260,33 @@ class GifRenderer:
                                 [tr.front, tr.width / 2], [-tr.rear, tr.width / 2]]
                                for tr in tracks]).reshape(-1, 4, 2)
         self._wheelbase = np.array([tr.wheelbase for tr in tracks], dtype=float)
+        self._met(doc)
+
+    def _met(self, doc: dict) -> None:
+        """What the run met (``disturbances``): each closure's hatching (a mask) over its
+        interval, each bay taken from outside and its car's body from its time, each
+        vehicle's stalls."""
+        met = doc.get("disturbances") or {}
+        w, h = self.settings.size
+        hatch = Image.new("L", (w, h), 0)
+        dh = ImageDraw.Draw(hatch)
+        for k in range(-h, w, HATCH):
+            dh.line((k, h, k + h, 0), fill=255, width=1)
+        self.closures = []
+        for c in met.get("closures", []):
+            ring = np.rint(self.canvas.to_px(np.asarray(c["polygon"], dtype=float))).astype(int)
+            mask = Image.new("L", (w, h), 0)
+            ImageDraw.Draw(mask).polygon(ring.ravel().tolist(), fill=255)
+            self.closures.append((c["t0"], c["t1"], ImageChops.multiply(mask, hatch),
+                                  np.vstack([ring, ring[:1]]).ravel().tolist(),
+                                  f"{c['kind']} {c['id']} closed"))
+        self.strangers = [(b["t"], np.rint(self.canvas.to_px(np.asarray(b["polygon"],
+                                                                         dtype=float)))
+                           .astype(int).ravel().tolist())
+                          for b in met.get("taken", []) if b.get("polygon")]
+        index = {tr.id: j for j, tr in enumerate(self.replay.tracks)}
+        self.stalls = [(index[st["car"]], st["t0"], st["t1"]) for st in met.get("stalls", [])
+                       if st.get("car") in index]
 
     # -- the fixed picture ---------------------------------------------------------------------
     def _build_palette(self, doc: dict) -> None:
@@ -276,10 +308,11 @@ class GifRenderer:
         pal = list(bg.getpalette() or [])[:3 * BACKGROUND_COLOURS]
         pal += [0] * (3 * BACKGROUND_COLOURS - len(pal))
         colours = [tuple(pal[3 * k: 3 * k + 3]) for k in range(BACKGROUND_COLOURS)]
-        fixed = [INK, GLASS, WHITE, TYRE]
+        fixed = [INK, GLASS, WHITE, TYRE, CLOSED]
         cars = vehicle_palette()
         base = len(colours)
-        self.ink, self.glass, self.white, self.tyre = range(base, base + len(fixed))
+        self.ink, self.glass, self.white, self.tyre, self.closed = range(base,
+                                                                       base + len(fixed))
         self.car_index = np.arange(base + len(fixed), base + len(fixed) + len(cars))
         self.pale_index = self.car_index + len(cars)
         colours += fixed + cars + [pale(c) for c in cars]
@@ -374,6 +407,13 @@ class GifRenderer:
         img = self.background.copy()
         d = ImageDraw.Draw(img)
         canvas = self.canvas
+        for t0, t1, mask, ring, _ in self.closures:
+            if t0 <= t <= t1:
+                img.paste(self.closed, (0, 0), mask)
+                d.line(ring, fill=self.closed, width=2)
+        for t0, ring in self.strangers:
+            if t >= t0:
+                d.polygon(ring, fill=self.tyre, outline=self.ink)
         vis = np.flatnonzero(state["visible"][column])
         phase = state["phase"][column, vis]
         parked_phase = PHASES.index("parked")
@@ -400,6 +440,7 @@ class GifRenderer:
         order = np.concatenate([vis[still], moving])
         if len(order):
             self._paint_cars(d, state, column, order, n_still=int(still.sum()))
+            self._paint_stalled(d, state, column, t, set(vis.tolist()))
             for corner, pixels, mask in self._labels:  # gate names over the cars
                 img.paste(pixels, corner, mask)
         self._paint_header(img, t, skipped)
@@ -433,10 +474,31 @@ class GifRenderer:
             if v[k] < -1e-3:  # reversing: a white band across the rear
                 d.polygon(tail[k].ravel().tolist(), fill=self.white)
 
+    def _paint_stalled(self, d: ImageDraw.ImageDraw, state: dict, column: int, t: float,
+                       visible: set[int]) -> None:
+        """Outline each car stalled at ``t`` [s]."""
+        stalled = np.array(sorted({j for j, t0, t1 in self.stalls
+                                   if t0 <= t <= t1 and j in visible}), dtype=int)
+        if not len(stalled):
+            return
+        x, y, th = (state[k][column, stalled] for k in ("x", "y", "theta"))
+        parts = car_parts(x, y, th, state["steer"][column, stalled], self._body[stalled],
+                          self._wheelbase[stalled])
+        for ring in np.rint(self.canvas.to_px(parts["body"])).astype(int):
+            flat = np.vstack([ring, ring[:1]]).ravel().tolist()
+            d.line(flat, fill=self.ink, width=5)  # a halo that no car's colour hides
+            d.line(flat, fill=self.white, width=2)
+
     def _paint_header(self, img: Image.Image, t: float, skipped: float = 0.0) -> None:
         counts = self.replay.counts(t)
         shown = [k for k in COUNTERS if k != "rejected" or counts[k]]
         text = "   ".join(f"{k} {counts[k]}" for k in shown)
+        stalled = sum(t0 <= t <= t1 for _, t0, t1 in self.stalls)
+        if stalled:
+            text += f"   stalled {stalled}"
+        closed = [what for t0, t1, _, _, what in self.closures if t0 <= t <= t1]
+        if closed:
+            text += "   " + ", ".join(closed)
         if skipped > 0:
             text += f"   >> skipped {_clock(skipped)}"
         x = PAD_PX

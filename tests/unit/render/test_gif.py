@@ -605,3 +605,40 @@ def test_a_gif_that_skips_quiet_time_says_how_much(doc, tmp_path, capsys):
     assert f"of the run, {quiet:.0f} s of quiet run time skipped, " in said, said
     assert main(argv) == 0
     assert "skipped" not in capsys.readouterr().out
+
+
+def test_the_gif_shows_closed_ground_a_taken_bay_and_a_stalled_car():
+    import lotsim
+    from lotsim.render.animation import GifRenderer
+    from lotsim.scenario import GifSettings
+    from lotsim.traffic.disturbances import Closure, Disturbances, Stall, TakenBay
+
+    prepared = lotsim.prepare(lotsim.EXAMPLE)
+    rr = lotsim.run(prepared, disturbances=Disturbances(
+        closures=(Closure("gate", "out", 30.0, 90.0),), taken=(TakenBay("S4", 20.0),),
+        stalls=(Stall("ada", 0.0, 20.0),)))
+    doc = result_dict(rr)
+    settings = GifSettings(size=(480, 320))
+    r = GifRenderer(doc, settings)
+
+    def without(key):  # the same run, drawn as if that had not been met
+        return GifRenderer({**doc, "disturbances": {**doc["disturbances"], key: []}}, settings)
+
+    def count(img, index):
+        return int((np.asarray(img) == index).sum())
+
+    # the closed exit is hatched while it is closed, and only then
+    open_ = without("closures")
+    assert count(r.frame(60.0), r.closed) > count(open_.frame(60.0), open_.closed)
+    assert count(r.frame(10.0), r.closed) == count(open_.frame(10.0), open_.closed)
+    # the stranger's car stands in S4 from 20 s on
+    free = without("taken")
+    assert count(r.frame(25.0), r.tyre) > count(free.frame(25.0), free.tyre)
+    assert count(r.frame(15.0), r.tyre) == count(free.frame(15.0), free.tyre)
+    # the stalled car is ringed in white through its stall
+    (stall,) = doc["disturbances"]["stalls"]
+    mid = (stall["t0"] + stall["t1"]) / 2
+    going = without("stalls")
+    assert count(r.frame(mid), r.white) > count(going.frame(mid), going.white)
+    assert count(r.frame(stall["t1"] + 5), r.white) == \
+        count(going.frame(stall["t1"] + 5), going.white)
