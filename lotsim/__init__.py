@@ -33,8 +33,9 @@ _EXPORTS = {
                    "LayoutSettings", "read_plot"),
     "lotsim.sim.preparation": ("PreparedLot",),
     "lotsim.sim.live": ("Live",),
+    "lotsim.sim.execution": ("execute",),
     "lotsim.sim.policies": ("ASK", "Ranked", "SlotRequest"),
-    "lotsim.traffic.disturbances": ("Disturbances", "Stall"),
+    "lotsim.traffic.disturbances": ("Closure", "Disturbances", "Stall", "TakenBay"),
     "lotsim.sim.validation": ("ValidationReport",),
     "lotsim.verify": ("CheckReport", "Violation"),
     "lotsim.scenario": ("AnimationSpec", "GifSettings", "HtmlSettings", "Scenario"),
@@ -121,10 +122,11 @@ if TYPE_CHECKING:  # for type checkers and editors: the same names, imported eag
     )
     from lotsim.maneuvers.settings import MinSlotSettings  # noqa: F401
     from lotsim.scenario import AnimationSpec, GifSettings, HtmlSettings, Scenario  # noqa: F401
+    from lotsim.sim.execution import execute  # noqa: F401
     from lotsim.sim.live import Live  # noqa: F401
     from lotsim.sim.policies import ASK, Ranked, SlotRequest  # noqa: F401
     from lotsim.sim.preparation import PreparedLot  # noqa: F401
     from lotsim.sim.settings import GASettings, RunSettings, RunTuning  # noqa: F401
     from lotsim.sim.validation import ValidationReport  # noqa: F401
-    from lotsim.traffic.disturbances import Disturbances, Stall  # noqa: F401
+    from lotsim.traffic.disturbances import Closure, Disturbances, Stall, TakenBay  # noqa: F401
     from lotsim.verify import CheckReport, Violation  # noqa: F401

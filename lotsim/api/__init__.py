@@ -66,8 +66,9 @@ EXPORTS: dict[str, tuple[str, ...]] = {
     "lotsim.sim.validation": ("ValidationReport", "id_ranges", "natural"),
     "lotsim.sim.running": ("collector_tuned", "require_traffic"),
     "lotsim.sim.live": ("Live",),
+    "lotsim.sim.execution": ("execute",),
     "lotsim.sim.policies": ("ASK", "Ranked", "SlotRequest"),
-    "lotsim.traffic.disturbances": ("Disturbances", "Stall"),
+    "lotsim.traffic.disturbances": ("Closure", "Disturbances", "Stall", "TakenBay"),
     "lotsim.sim.limits": ("Budget", "Watchdog", "parse_size"),
     "lotsim.verify": ("CheckReport", "Violation"),
     # pictures and plots
@@ -189,6 +190,7 @@ if TYPE_CHECKING:  # for type checkers and editors: the same names, imported eag
         Scenario,
         size_problem,
     )
+    from lotsim.sim.execution import execute  # noqa: F401
     from lotsim.sim.limits import Budget, Watchdog, parse_size  # noqa: F401
     from lotsim.sim.live import Live  # noqa: F401
     from lotsim.sim.maneuver_case import ManeuverCase  # noqa: F401
@@ -204,6 +206,6 @@ if TYPE_CHECKING:  # for type checkers and editors: the same names, imported eag
         RunSettings,
     )
     from lotsim.sim.validation import ValidationReport, id_ranges, natural  # noqa: F401
-    from lotsim.traffic.disturbances import Disturbances, Stall  # noqa: F401
+    from lotsim.traffic.disturbances import Closure, Disturbances, Stall, TakenBay  # noqa: F401
     from lotsim.vehicles.catalogue import CATALOGUE  # noqa: F401
     from lotsim.verify import CheckReport, Violation  # noqa: F401
