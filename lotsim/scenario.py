@@ -60,6 +60,10 @@ class Scenario:
         raise KeyError(name)
 
 
+VIEWS = ("traffic", "lot")
+"""What a GIF's frame holds (:attr:`GifSettings.view`)."""
+VIEW_MARGIN = 6.0
+"""Margin around the ground the cars use in a GIF that shows the traffic [m]."""
 MAX_FPS = 50
 """GIF delays are whole centiseconds and players slow down delays under 2 cs."""
 
@@ -109,6 +113,10 @@ class GifSettings:
         skip says how much run time was skipped.
     legend : bool
         Draw a key of what the cars' colours mean in the footer, right of the scale bar.
+    view : {"traffic", "lot"}
+        What the frame holds: the part of the lot the cars use (every place a car's
+        footprint reaches, a margin of :data:`VIEW_MARGIN` around it, within the lot), so a
+        big lot's traffic in one corner fills the picture; or the whole lot.
     """
 
     fps: float = 20.0
@@ -120,6 +128,7 @@ class GifSettings:
     trail: float = 8.0
     skip_quiet: bool = False
     legend: bool = True
+    view: str = "traffic"
 
     def __post_init__(self) -> None:
         if isinstance(self.size, list):
@@ -157,6 +166,8 @@ class GifSettings:
             out.append(("skip_quiet", f"expected true or false, found {self.skip_quiet!r}"))
         if not isinstance(self.legend, bool):
             out.append(("legend", f"expected true or false, found {self.legend!r}"))
+        if self.view not in VIEWS:
+            out.append(("view", f"expected one of {', '.join(VIEWS)}, found {self.view!r}"))
         return out
 
 
@@ -214,7 +225,7 @@ class AnimationSpec:
         File name of the HTML replay written beside it (None: none).
     mp4 : str or None
         File name of the MP4 video of the GIF's frames written beside it (None: none).
-    fps, speed, size, start, end, max_frames, trail, skip_quiet, legend
+    fps, speed, size, start, end, max_frames, trail, skip_quiet, legend, view
         As :class:`GifSettings` (for the GIF and the video; ``skip_quiet`` also sets the
         replay's toggle); ``None`` for the default.
     """
@@ -231,6 +242,7 @@ class AnimationSpec:
     trail: float | None = None
     skip_quiet: bool | None = None
     legend: bool | None = None
+    view: str | None = None
 
     def gif_settings(self) -> GifSettings:
         """The :class:`GifSettings` this section asks for (defaults where it says nothing).

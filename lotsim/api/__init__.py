@@ -53,6 +53,7 @@ EXPORTS: dict[str, tuple[str, ...]] = {
     "lotsim.io.scenario_yaml": ("ScenarioFile", "load_animation", "load_scenario",
                                 "read_scenario"),
     "lotsim.scenario": ("AnimationSpec", "GifSettings", "HtmlSettings", "MAX_SIZE", "MIN_SIZE",
+                        "VIEWS",
                         "REPLAY_SPEEDS", "Scenario", "size_problem"),
     "lotsim.vehicles.catalogue": ("CATALOGUE",),
     # settings and their choices
@@ -184,6 +185,7 @@ if TYPE_CHECKING:  # for type checkers and editors: the same names, imported eag
         MAX_SIZE,
         MIN_SIZE,
         REPLAY_SPEEDS,
+        VIEWS,
         AnimationSpec,
         GifSettings,
         HtmlSettings,

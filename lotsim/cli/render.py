@@ -58,11 +58,14 @@ def add_arguments(rd: argparse.ArgumentParser) -> None:
                     "says how long was skipped); the replay's toggle starts on either way")
     rd.add_argument("--no-legend", dest="legend", action="store_const", const=False,
                     help="GIF and MP4: no key of the cars' colours in the footer")
+    rd.add_argument("--view", choices=api.VIEWS,
+                    help=f"GIF and MP4: frame the ground the cars use, or the whole lot "
+                    f"({gs.view})")
 
 
 FILM_OPTIONS = (("--fps", "fps"), ("--size", "size"), ("--from", "start"), ("--to", "end"),
                 ("--max-frames", "max_frames"), ("--trail", "trail"),
-                ("--no-legend", "legend"))
+                ("--no-legend", "legend"), ("--view", "view"))
 """Options that only set the GIF's and the video's frames."""
 
 
@@ -102,7 +105,8 @@ def execute(args: argparse.Namespace) -> int:
             start=args.start, end=args.end,
             max_frames=gs.max_frames if args.max_frames is None else args.max_frames,
             trail=gs.trail if args.trail is None else args.trail,
-            skip_quiet=bool(args.skip_quiet), legend=args.legend is None)
+            skip_quiet=bool(args.skip_quiet), legend=args.legend is None,
+            view=gs.view if args.view is None else args.view)
         html = None
         if args.html:  # the replay opens at --speed (checked above to be one it offers)
             html = api.HtmlSettings(**({} if args.speed is None else

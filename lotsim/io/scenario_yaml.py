@@ -20,7 +20,7 @@ from lotsim.errors import ErrorCollector
 from lotsim.io.file_kinds import refuse_other_kind, top_level
 from lotsim.io.lot_yaml import MAX_ITEMS, parse_lot
 from lotsim.io.yamlnodes import YNode, parse_text, read_yaml
-from lotsim.scenario import AnimationSpec, Scenario
+from lotsim.scenario import VIEWS, AnimationSpec, Scenario
 from lotsim.traffic.demand import PATIENCE, Arrival, StreamSpec, TrafficSpec
 from lotsim.traffic.disturbances import (
     CLOSABLE,
@@ -258,7 +258,7 @@ def parse_animation(node: YNode) -> AnimationSpec:
     if node.is_null:
         return AnimationSpec()
     f = node.fields(optional=["gif", "html", "mp4", "fps", "speed", "size", "from", "to",
-                              "max_frames", "trail", "skip_quiet", "legend"])
+                              "max_frames", "trail", "skip_quiet", "legend", "view"])
     names = {}
     for key, default in (("gif", "run.gif"), ("html", None), ("mp4", None)):
         names[key] = (f[key].file_name(purpose="it is written beside result.json",
@@ -281,6 +281,7 @@ def parse_animation(node: YNode) -> AnimationSpec:
         mp4=names["mp4"],
         skip_quiet=f["skip_quiet"].boolean() if "skip_quiet" in f else None,
         legend=f["legend"].boolean() if "legend" in f else None,
+        view=f["view"].string(choices=VIEWS) if "view" in f else None,
         fps=f["fps"].number(min=1, max=50) if "fps" in f else None,
         speed=f["speed"].number(min=0.01, max=10_000) if "speed" in f else None,
         size=size,

@@ -39,7 +39,7 @@ from lotsim.render.lot_image import (
     paint_scale_bar,
 )
 from lotsim.render.replay import COUNTERS, PHASES, Replay, assign_colours
-from lotsim.scenario import GifSettings
+from lotsim.scenario import VIEW_MARGIN, GifSettings
 
 CHUNK = 48
 """Frames encoded at a time: bounds memory to about ``CHUNK`` × width × height × 3 bytes."""
@@ -218,6 +218,24 @@ def car_parts(
             "wheels": np.stack(wheels, axis=1)}
 
 
+def traffic_bounds(tracks, lot: tuple[float, float, float, float]
+                   ) -> tuple[float, float, float, float]:
+    """The box ``(x0, y0, x1, y1)`` [m] holding every footprint of ``tracks`` (each
+    rear-axle position with the car's longest reach from it) and :data:`VIEW_MARGIN`
+    around it, within the lot's box ``lot``; the lot's box when no car moves."""
+    boxes = []
+    for tr in tracks:
+        if len(tr.x):
+            reach = math.hypot(max(tr.front, tr.rear), tr.width / 2) + VIEW_MARGIN
+            boxes.append((float(np.min(tr.x)) - reach, float(np.min(tr.y)) - reach,
+                          float(np.max(tr.x)) + reach, float(np.max(tr.y)) + reach))
+    if not boxes:
+        return lot
+    b = np.array(boxes)
+    return (max(lot[0], b[:, 0].min()), max(lot[1], b[:, 1].min()),
+            min(lot[2], b[:, 2].max()), min(lot[3], b[:, 3].max()))
+
+
 class GifRenderer:
     """Draws frames of one result.
 
@@ -236,6 +254,8 @@ class GifRenderer:
         self.lot = lot_from_json(doc["lot"]["drawing"], root="lot.drawing")
         w, h = settings.size
         bounds = lot_bounds(self.lot)
+        if settings.view == "traffic":
+            bounds = traffic_bounds(self.replay.tracks, bounds)
         self.canvas = LotCanvas(bounds, (w, h),
                                 frame=(PAD_PX, HEADER + PAD_PX // 2, w - PAD_PX, h - FOOTER))
         self._font = font(13)

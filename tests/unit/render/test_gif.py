@@ -642,3 +642,36 @@ def test_the_gif_shows_closed_ground_a_taken_bay_and_a_stalled_car():
     assert count(r.frame(mid), r.white) > count(going.frame(mid), going.white)
     assert count(r.frame(stall["t1"] + 5), r.white) == \
         count(going.frame(stall["t1"] + 5), going.white)
+
+
+def test_the_gif_frames_the_ground_the_cars_use_unless_asked_for_the_whole_lot():
+    import lotsim
+    from lotsim.errors import SettingsError
+    from lotsim.render.animation import GifRenderer, traffic_bounds
+    from lotsim.render.lot_image.canvas import lot_bounds
+    from lotsim.scenario import GifSettings
+
+    prepared = lotsim.prepare("scenarios/mixed_lot.yaml")
+    doc = result_dict(lotsim.run(prepared))
+    traffic = GifRenderer(doc, GifSettings(size=(640, 480)))
+    whole = GifRenderer(doc, GifSettings(size=(640, 480), view="lot"))
+    lot = lot_bounds(whole.lot)
+    box = traffic_bounds(traffic.replay.tracks, lot)
+    assert lot[0] <= box[0] < box[2] <= lot[2] and lot[1] <= box[1] < box[3] <= lot[3]
+    for tr in traffic.replay.tracks:  # every footprint's corners are in the frame
+        c, s = np.cos(tr.theta)[:, None], np.sin(tr.theta)[:, None]
+        along = np.array([tr.front, tr.front, -tr.rear, -tr.rear])
+        side = np.array([1, -1, -1, 1]) * tr.width / 2
+        cx = tr.x[:, None] + along * c - side * s
+        cy = tr.y[:, None] + along * s + side * c
+        assert box[0] - 1e-6 <= cx.min() and cx.max() <= box[2] + 1e-6
+        assert box[1] - 1e-6 <= cy.min() and cy.max() <= box[3] + 1e-6
+    assert traffic.canvas.px(1.0) >= whole.canvas.px(1.0)
+    # the first car alone uses a corner of the lot: it is drawn larger
+    one = {**doc, "vehicles": doc["vehicles"][:1]}
+    assert GifRenderer(one, GifSettings(size=(640, 480))).canvas.px(1.0) > \
+        1.5 * whole.canvas.px(1.0)
+    with pytest.raises(SettingsError, match="view: expected one of traffic, lot, found 'all'"):
+        GifSettings(view="all")
+    with pytest.raises(ScenarioError, match="animation.view"):
+        load_scenario(lotsim.EXAMPLE + "animation: {view: all}\n")
