@@ -215,7 +215,8 @@ def _changes_driven(changes: LotChanges, ch: _Chunks, tree: shapely.STRtree, fla
             out = max(out, starts[id(r)] + (ch.t1[k] - r.t0) / r.factor)
         return out
 
-    closures = [replace(c, t0=passed(c.area, c.t0, set(c.inside))) for c in changes.closures]
+    closures = [replace(c, t0=min(c.t1, passed(c.area, c.t0, set(c.inside))))
+                for c in changes.closures]
     taken = [r if r.body is None else replace(r, t=passed(r.body, r.bay.at, set()))
              for r in changes.taken]
     return LotChanges(closures, taken, list(changes.replans))
