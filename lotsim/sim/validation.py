@@ -12,7 +12,7 @@ from lotsim.lot.model import PAVEMENT_EDGE
 from lotsim.lot.pavement import loose_ends
 from lotsim.roadmap.reach import Reachability
 from lotsim.sim.preparation import PreparedLot
-from lotsim.sim.running import check_traffic, turned_away
+from lotsim.sim.running import check_traffic, turned_away, unfit
 from lotsim.traffic.demand import Arrival, StreamSpec, arrivals
 
 
@@ -63,6 +63,12 @@ class ValidationReport:
                 and not self.turned_away)
 
     @property
+    def verdict(self) -> str:
+        """The summary's heading: ``ok`` for a :attr:`complete` lot, else ``valid but
+        incomplete`` (``lotsim validate --strict`` exits 1 for it)."""
+        return "ok" if self.complete else "valid but incomplete"
+
+    @property
     def warnings(self) -> list[str]:
         """The summary's warnings, without their ``warning:`` tag."""
         return [line.strip()[len("warning: "):] for line in self.summary().splitlines()
@@ -87,12 +93,16 @@ class ValidationReport:
         lg, reach = self.prepared.lot_graph, self.reachability
         scenario = self.prepared.scenario
         lot = lg.lot
+        planner = self.prepared.maneuver_planner
         kinds = ", ".join(f"{k} {n}" for k, n in self.slot_counts.items())
         facts = lg.facts()
         kinds_of = Counter(facts.kinds)
         taken = len(lot.occupied)
+        # slots no type fits are unreached for that reason, given first, not the lanes'
+        unfit_ids = unfit(lg, [v.name for v in scenario.vehicle_types])
+        no_way_in = [sid for sid in reach.no_way_in if sid not in unfit_ids]
         lines = [
-            f"{self.source}: ok — {scenario.name}",
+            f"{self.source}: {self.verdict} — {scenario.name}",
             f"  slots: {len(lot.slots)} ({kinds}); free {len(lot.slots) - taken}, taken {taken}",
             "  vehicle types: "
             + "; ".join(
@@ -110,11 +120,21 @@ class ValidationReport:
         if taken == len(lot.slots) and scenario.traffic is not None:
             lines.append("  warning: no slot is free: every car will be turned away (the lot "
                          "is full)")
+        if planner is not None:
+            for vname, slots in lg.infeasible.items():
+                if not slots:
+                    continue
+                lines.append(f"  warning: {vname} cannot park in {_n(slots, 'slot')}: "
+                             f"{_ids(sorted(slots))}")
+                for why in sorted(set(slots.values()))[:3]:
+                    lines.append(f"    because {why}")
+        for why in self.turned_away.values():
+            lines.append(f"  warning: {why}: its cars in the traffic will be turned away")
         if reach.ok:
             lines.append("  unreachable: none")
-        if reach.no_way_in:
-            lines.append(f"  warning: {len(reach.no_way_in)} free slots cannot be reached from "
-                         f"any entrance: {_ids(reach.no_way_in)}")
+        if no_way_in:
+            lines.append(f"  warning: {_n(no_way_in, 'free slot')} cannot be reached from "
+                         f"any entrance: {_ids(no_way_in)}")
         if reach.no_way_out:
             lines.append(f"  warning: from {len(reach.no_way_out)} free slots no exit can be "
                          f"reached: {_ids(reach.no_way_out)}")
@@ -129,7 +149,8 @@ class ValidationReport:
         # with several gates, what each one serves (every slot may still be served by some)
         if len(reach.unreachable) > 1:
             for name, slots in reach.unreachable.items():
-                if slots and len(slots) > len(reach.no_way_in):
+                slots = [sid for sid in slots if sid not in unfit_ids]
+                if slots and len(slots) > len(no_way_in):
                     lines.append(f"  note: from entrance {name!r}, {len(slots)} free slots "
                                  f"cannot be reached: {_ids(slots)}")
         if len(reach.stranded) > 1:
@@ -143,9 +164,6 @@ class ValidationReport:
                                               if 0 < len(ids) < free else "")
             for name, ids in self.usable().items())
         lines.append(f"  usable free slots per type: {usable}")
-        for why in self.turned_away.values():
-            lines.append(f"  warning: {why}: its cars in the traffic will be turned away")
-        planner = self.prepared.maneuver_planner
         if planner is not None and verbose:
             remembered = planner.stats.get("remembered", 0)
             fitted = planner.stats.get("fitted", 0)
@@ -158,14 +176,6 @@ class ValidationReport:
                          + f" ({planner.stats['reused']} repeats answered from them; "
                          f"margin {planner.margin:g} m)"
                          + (LOADED if lg.from_cache else ""))
-        if planner is not None:
-            for vname, slots in lg.infeasible.items():
-                if not slots:
-                    continue
-                lines.append(f"  warning: {vname} cannot park in {len(slots)} slots: "
-                             f"{_ids(sorted(slots))}")
-                for why in sorted(set(slots.values()))[:3]:
-                    lines.append(f"    because {why}")
         for end in loose_ends(lot.aisles, lot.pavement):
             lines.append(f"  warning: {end}")
         for note in lg.skipped_turns:
