@@ -87,6 +87,57 @@ class ValidationReport:
             out[v.name] = sorted((sid for sid in free if sid not in bad), key=natural)
         return out
 
+    def unusable(self) -> dict[str, dict[str, dict[str, str]]]:
+        """Per vehicle type, the free slots it cannot use, by row, each with why: the
+        answer to "which bays can my van not use, and why?", in full.
+
+        A row is one of the lot's ``rows`` (``lot.rows[2] (aisle A, left)``), or the
+        side of an aisle its single slots open onto (``aisle A, left``); rows in the
+        order of the file, slots in natural order. Why is the first that holds of: the
+        type does not fit (``the car is 5.37 m long, the slot 5.00 m``), no entrance
+        reaches the slot, none of its turns lead there, no exit can be reached from it,
+        it cannot leave it for an exit. A type that can use every free slot maps to
+        ``{}``; taken slots are not listed (cars parked at start never move). These are
+        the free slots :meth:`usable` leaves out (docs/python.md shows both).
+        """
+        lg, reach = self.prepared.lot_graph, self.reachability
+        free = sorted((s.id for s in lg.lot.free_slots), key=natural)
+        row_of = rows_of(self.prepared)
+        out: dict[str, dict[str, dict[str, str]]] = {}
+        for v in self.prepared.scenario.vehicle_types:
+            no_in, no_out = (set(ids) for ids in reach.by_type.get(v.name, ([], [])))
+            misfits = lg.infeasible.get(v.name, {})
+            rows: dict[str, dict[str, str]] = {}
+            for sid in free:
+                why = (misfits.get(sid)
+                       or ("no entrance reaches it" if sid in reach.no_way_in else None)
+                       or ("none of the turns it can make lead there" if sid in no_in
+                           else None)
+                       or ("no exit can be reached from it" if sid in reach.no_way_out
+                           else None)
+                       or ("it can park in it but not leave it for an exit" if sid in no_out
+                           else None))
+                if why is not None:
+                    rows.setdefault(row_of[sid], {})[sid] = why
+            order = list(dict.fromkeys(row_of.values()))
+            out[v.name] = {row: rows[row] for row in order if row in rows}
+        return out
+
+    def unusable_text(self) -> str:
+        """:meth:`unusable` as ``lotsim validate --unusable`` prints it
+        (:func:`unusable_text`)."""
+        return unusable_text(self.as_dict())
+
+    def as_dict(self) -> dict:
+        """What ``lotsim validate --json`` writes of this lot, as plain data: the file,
+        the scenario's name, :attr:`complete`, the slots free, per type the free slots it
+        can use (:meth:`usable`) and those it cannot, by row, with why (:meth:`unusable`),
+        why cars of a type would be turned away, and the summary's warnings."""
+        return {"source": self.source, "scenario": self.name, "complete": self.complete,
+                "free_slots": len(self.prepared.lot.free_slots), "usable": self.usable(),
+                "unusable": self.unusable(), "turned_away": dict(self.turned_away),
+                "warnings": self.warnings}
+
     def summary(self, *, verbose: bool = False) -> str:
         """What ``lotsim validate`` prints for this scenario (``verbose``: also how the
         maneuvers were found: problems searched, repeats, the cache)."""
@@ -124,8 +175,8 @@ class ValidationReport:
             for vname, slots in lg.infeasible.items():
                 if not slots:
                     continue
-                lines.append(f"  warning: {vname} cannot park in {_n(slots, 'slot')}: "
-                             f"{_ids(sorted(slots))}")
+                lines.append(f"  warning: {vname} cannot park in "
+                             f"{_misfits(slots, {s.id for s in lot.free_slots})}")
                 for why in sorted(set(slots.values()))[:3]:
                     lines.append(f"    because {why}")
         for why in self.turned_away.values():
@@ -188,6 +239,40 @@ class ValidationReport:
         return self.summary()
 
 
+def unusable_text(answer: dict) -> str:
+    """A lot's :meth:`ValidationReport.as_dict` as ``lotsim validate --unusable`` prints
+    it: per vehicle type, a line per row and reason naming every free slot it cannot use
+    (runs of numbers as ``N1–N6``)."""
+    free = answer["free_slots"]
+    lines = [f"{answer['source']}: the free slots each vehicle type cannot use, by row, "
+             "and why"]
+    for name, rows in answer["unusable"].items():
+        n = sum(len(slots) for slots in rows.values())
+        if not n:
+            lines.append(f"  {name}: can use every free slot ({free})")
+            continue
+        lines.append(f"  {name}: cannot use {n} of {free} free slots")
+        for row, slots in rows.items():
+            for why in dict.fromkeys(slots.values()):
+                ids = [sid for sid, w in slots.items() if w == why]
+                lines.append(f"    {row}: {id_ranges(ids, most=len(ids))} — {why}")
+    return "\n".join(lines)
+
+
+def rows_of(prepared: PreparedLot) -> dict[str, str]:
+    """Slot id → the row it belongs to, as :meth:`ValidationReport.unusable` names rows:
+    ``lot.rows[2] (aisle A, left)`` for a slot of the file's ``rows``, ``aisle A, left``
+    for a single slot along an aisle."""
+    spec, lot = prepared.scenario.lot, prepared.lot
+    out = {}
+    for k, row in enumerate(spec.rows):
+        prefix = row.id_prefix or f"{row.aisle}-{row.side}-"
+        for n in range(row.count):
+            out[f"{prefix}{row.first_number + n}"] = (f"lot.rows[{k}] (aisle {row.aisle}, "
+                                                      f"{row.side})")
+    return {s.id: out.get(s.id, f"aisle {s.aisle}, {s.side}") for s in lot.slots}
+
+
 def validate_prepared(prepared: PreparedLot, source: str) -> ValidationReport:
     """Check that the scenario's traffic can be served as ``lotsim run`` would (refusing
     what it would refuse) and report on its lot.
@@ -223,6 +308,18 @@ def _any_draw(stream: StreamSpec | None) -> list[Arrival]:
     return [Arrival(f"{stream.prefix}?{name}@{gate}", name, gate, stream.start, dwell,
                     stream.where)
             for name, weight in stream.mix if weight > 0 for gate in stream.entrances]
+
+
+def _misfits(slots: dict[str, str], free: set[str]) -> str:
+    """``"3 free slots (and 1 taken): N1, N3, N4"``: the slots a type cannot park in, the
+    free ones named (a car parked at start never moves), the rest counted."""
+    bad = [sid for sid in slots if sid in free]
+    taken = len(slots) - len(bad)
+    if not bad:
+        return _n(taken, "taken slot")
+    return (_n(bad, "free slot") + (f" (and {taken} taken)" if taken else "")
+            + f": {_ids(bad)}" + (" (all, by row: lotsim validate --unusable)"
+                                  if len(bad) > 12 else ""))
 
 
 def _n(items, what: str) -> str:
