@@ -64,7 +64,7 @@ EXPORTS: dict[str, tuple[str, ...]] = {
     # prepared lots, runs and their limits
     "lotsim.sim.preparation": ("PreparedLot",),
     "lotsim.sim.maneuver_case": ("ManeuverCase",),
-    "lotsim.sim.validation": ("ValidationReport", "id_ranges", "natural"),
+    "lotsim.sim.validation": ("ValidationReport", "id_ranges", "natural", "unusable_text"),
     "lotsim.sim.running": ("collector_tuned", "require_traffic"),
     "lotsim.sim.live": ("Live",),
     "lotsim.sim.execution": ("execute",),
@@ -207,7 +207,12 @@ if TYPE_CHECKING:  # for type checkers and editors: the same names, imported eag
         GASettings,
         RunSettings,
     )
-    from lotsim.sim.validation import ValidationReport, id_ranges, natural  # noqa: F401
+    from lotsim.sim.validation import (  # noqa: F401
+        ValidationReport,
+        id_ranges,
+        natural,
+        unusable_text,
+    )
     from lotsim.traffic.disturbances import Closure, Disturbances, Stall, TakenBay  # noqa: F401
     from lotsim.vehicles.catalogue import CATALOGUE  # noqa: F401
     from lotsim.verify import CheckReport, Violation  # noqa: F401

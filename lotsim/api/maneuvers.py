@@ -90,6 +90,11 @@ def maneuver_case(scenario: ScenarioLike, slot: str, *, vehicle: str | None = No
     vehicle type, the lane and the planner; ``.plan()`` solves it, and
     :func:`render_maneuver` draws the answer. Parameters as :func:`plan_maneuver`.
 
+    Only that slot's maneuvers are planned, on the lot's lanes (where a car can arrive
+    or leave, with the turns and turnarounds kept when the lot was last prepared, when it
+    was); a type wider or longer than the slot is refused at once
+    (:class:`~lotsim.errors.InfeasibleManeuver`).
+
     Examples
     --------
     >>> case = maneuver_case(EXAMPLE, "N3", style="reverse")

@@ -8,7 +8,7 @@ from __future__ import annotations
 import os
 import time
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Any
 
 from lotsim.errors import ScenarioError, SettingsError
@@ -173,6 +173,10 @@ class FileValidation:
         ...``); empty for a valid one.
     seconds : float
         How long preparing and checking it took, where it was done.
+    answer : dict
+        :meth:`ValidationReport.as_dict` of its lot: per vehicle type the free slots it
+        can use and those it cannot, by row, with why (empty for a file that is not a
+        valid scenario).
     """
 
     source: str
@@ -180,6 +184,7 @@ class FileValidation:
     complete: bool
     problems: tuple[str, ...]
     seconds: float
+    answer: dict = field(default_factory=dict)
 
     @property
     def valid(self) -> bool:
@@ -198,7 +203,7 @@ def validate_file(job: tuple[str, bool]) -> FileValidation:
         problems = tuple(str(e) for e in getattr(exc, "errors", (exc,)))
         return FileValidation(path, "", False, problems, time.perf_counter() - clock)
     return FileValidation(path, report.summary(verbose=verbose), report.complete, (),
-                          time.perf_counter() - clock)
+                          time.perf_counter() - clock, report.as_dict())
 
 
 def validate_files(paths: Sequence[str | os.PathLike], *, verbose: bool = False,

@@ -51,9 +51,9 @@ def execute(args: argparse.Namespace) -> int:
     problem = args.output and output_problem("-o", args.output, ".png")
     if problem:
         return bad(problem)
-    case = api.maneuver_case(args.scenario, args.slot, vehicle=args.vehicle, lane=args.lane,
-                             style=args.style, margin=args.margin)
     try:
+        case = api.maneuver_case(args.scenario, args.slot, vehicle=args.vehicle,
+                                 lane=args.lane, style=args.style, margin=args.margin)
         m = case.plan(leave=args.leave)
     except InfeasibleManeuver as exc:
         print(f"lotsim: {exc}", file=sys.stderr)

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import json
 import sys
 
 from lotsim import api
@@ -12,7 +13,9 @@ from lotsim.cli.output import (
     EXIT_INCOMPLETE,
     EXIT_OK,
     bad,
+    cannot_write,
     located,
+    output_problem,
     problem_lines,
 )
 from lotsim.cli.progress import Preparing, ProgressBar
@@ -32,6 +35,12 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--verbose", action="store_true",
                         help="also how the maneuvers were found (problems searched, repeats "
                         "answered from them, whether the lot came from the cache)")
+    parser.add_argument("--unusable", action="store_true",
+                        help="also list, per vehicle type, every free slot it cannot use, "
+                        "by row, with why")
+    parser.add_argument("--json", metavar="FILE.json",
+                        help="write, for each file, per vehicle type the free slots it can "
+                        "use and those it cannot, by row, with why, as JSON")
     where = parser.add_mutually_exclusive_group()
     where.add_argument("--jobs", type=int, metavar="N",
                        help="validate N files at once on local processes, each lot on one "
@@ -44,9 +53,14 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 def execute(args: argparse.Namespace) -> int:
     if args.jobs is not None and not 1 <= args.jobs <= MAX_JOBS:
         return bad(f"--jobs: expected 1 to {MAX_JOBS}, found {args.jobs}")
+    if args.json is not None:
+        problem = output_problem("--json", args.json, ".json")
+        if problem is not None:
+            return bad(problem)
     if args.jobs is not None or args.scheduler is not None:
         return _many(args)
     worst = EXIT_OK
+    answers = []
     for path in args.scenarios:
         try:
             with Preparing() as bar, api.collector_tuned():
@@ -56,9 +70,27 @@ def execute(args: argparse.Namespace) -> int:
             worst = EXIT_BAD_INPUT
             continue
         print(report.summary(verbose=args.verbose))
+        answers.append(report.as_dict())
+        if args.unusable:
+            print(api.unusable_text(answers[-1]))
         if args.strict and not report.complete:
             worst = max(worst, EXIT_INCOMPLETE)
-    return worst
+    return _written(args.json, answers) or worst
+
+
+def _written(path: str | None, answers: list[dict]) -> int:
+    """Write ``--json``'s file (nothing without it): 0, or the exit code of bad input when
+    it cannot be written."""
+    if path is None:
+        return EXIT_OK
+    try:
+        with open(path, "w", encoding="utf-8") as fh:
+            json.dump(answers, fh, indent=1, ensure_ascii=False)
+            fh.write("\n")
+    except OSError as exc:
+        return cannot_write(path, exc)
+    print(f"wrote {path}")
+    return EXIT_OK
 
 
 def _many(args: argparse.Namespace) -> int:
@@ -75,12 +107,16 @@ def _many(args: argparse.Namespace) -> int:
         if client is not None:
             client.close()
     worst = EXIT_OK
+    answers = []
     for f in found:
         if not f.valid:
             print(problem_lines(f.problems), file=sys.stderr)
             worst = EXIT_BAD_INPUT
             continue
         print(f.summary)
+        answers.append(f.answer)
+        if args.unusable:
+            print(api.unusable_text(f.answer))
         if args.strict and not f.complete:
             worst = max(worst, EXIT_INCOMPLETE)
-    return worst
+    return _written(args.json, answers) or worst

@@ -8,6 +8,7 @@ once, in file order.
 
 from __future__ import annotations
 
+import math
 import os
 
 from shapely.geometry import Point as ShapelyPoint
@@ -104,6 +105,9 @@ def parse_plot(root: YNode) -> PlotSpec:
     if bays is not None and not one_way and not any(a == 90 for a in angles):
         errors.attempt(_refuse, f["bays"], "expected 90 among angles_deg when aisles.one_way "
                                            "is false (angled bays need one-way aisles)")
+    if "vehicle_types" in f and ("bays" not in f or bays is not None):
+        for n, v in zip(f["vehicle_types"].items(), types, strict=False):
+            errors.attempt(_fits_bays, n, v, width, length, "bays" in f)
     demand = errors.attempt(_demand, f["demand"], default=None) if "demand" in f else None
     errors.check()
     return PlotSpec(name=name, boundary=boundary, gates=gates, vehicle_types=types,
@@ -114,6 +118,20 @@ def parse_plot(root: YNode) -> PlotSpec:
                     circulation_width=circulation, demand=demand or DemandSpec(),
                     seed=seed, description=description, source=root.file,
                     vehicle_names=names)
+
+
+def _fits_bays(node: YNode, vehicle, width: float, length: float, given: bool) -> None:
+    """Refuse a vehicle type wider or longer than the plot's bays before any layout is
+    searched: no bay of any layout would be usable for it."""
+    which = "" if given else " (the default)"
+    for what, car, bay, key in (("wide", vehicle.width, width, "width"),
+                                ("long", vehicle.length, length, "length")):
+        if car > bay:
+            need = math.ceil(car * 10 - 1e-9) / 10
+            raise node.error(f"vehicle type {vehicle.name!r} is {car:.2f} m {what} and the "
+                             f"plot's bays {bay:.2f} m{which}: no bay of any layout would "
+                             f"be usable for it; it needs bays of at least {car:.2f} m "
+                             f"(bays: {{{key}: {need:g}}})")
 
 
 def _refuse(node: YNode, message: str) -> None:

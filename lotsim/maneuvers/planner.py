@@ -48,6 +48,23 @@ Answer = Outcome[tuple[tuple[Segment, ...], float]]
 where it starts, or why there is none."""
 
 
+def misfit(vehicle: VehicleType, slot: Slot) -> str | None:
+    """Why ``vehicle`` cannot park in ``slot`` whatever the maneuver — wider or longer than
+    it — or None: known before any lane is looked at.
+
+    >>> from lotsim.vehicles import CATALOGUE
+    >>> class Bay:
+    ...     width, length = 2.5, 5.0
+    >>> misfit(CATALOGUE["vclass"], Bay()), misfit(CATALOGUE["valet"], Bay())
+    ('the car is 5.37 m long, the slot 5.00 m', None)
+    """
+    if vehicle.width > slot.width:
+        return f"the car is {vehicle.width:.2f} m wide, the slot {slot.width:.2f} m"
+    if vehicle.length > slot.length:
+        return f"the car is {vehicle.length:.2f} m long, the slot {slot.length:.2f} m"
+    return None
+
+
 def search_maneuver(problem: ManeuverProblem, style: str, settings: ManeuverSettings, *,
                     fewer_than: int | None = None) -> tuple[Answer, Answer]:
     """The parking maneuver of ``problem`` in ``style``, eased
@@ -59,10 +76,8 @@ def search_maneuver(problem: ManeuverProblem, style: str, settings: ManeuverSett
     why = None
     if not math.isfinite(problem.lane_y):
         why = "the lane bends beside the slot"
-    elif v.width > s.width:
-        why = f"the car is {v.width:.2f} m wide, the slot {s.width:.2f} m"
-    elif v.length > s.length:
-        why = f"the car is {v.length:.2f} m long, the slot {s.length:.2f} m"
+    elif misfit(v, s) is not None:
+        why = misfit(v, s)
     elif problem.lane_x[0] > problem.lane_x[1]:
         why = ("no car can reach the lanes beside it (no way along them from an entrance "
                "or to an exit)")

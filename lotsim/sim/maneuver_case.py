@@ -10,12 +10,13 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
 from lotsim.core import checks
-from lotsim.errors import SettingsError
+from lotsim.errors import InfeasibleManeuver, SettingsError
 from lotsim.lot.build import build_lot
 from lotsim.lot.model import DesignVehicle, Lot, Slot
+from lotsim.maneuvers.planner import misfit
 from lotsim.maneuvers.settings import MARGIN, STYLES
 from lotsim.scenario import Scenario
-from lotsim.sim.preparation import maneuver_planner
+from lotsim.sim.preparation import remembered_planner
 from lotsim.sim.validation import id_ranges
 from lotsim.vehicles.model import VehicleType
 
@@ -62,6 +63,9 @@ class ManeuverCase:
         SettingsError
             An unknown slot (with the closest ids), vehicle type, lane or style, or a
             margin outside 0 to 1 m.
+        InfeasibleManeuver
+            When the vehicle type is wider or longer than the slot (before any lane is
+            worked out).
         """
         problem = checks.choice_problem(style, STYLES)
         if problem:
@@ -81,7 +85,10 @@ class ManeuverCase:
             raise SettingsError("slot", f"no slot {slot!r} in {source or scenario.source}"
                                         f"{hint} (its slots: {id_ranges(lot.slot_by_id)}; "
                                         f"lotsim show draws them)")
-        planner = maneuver_planner(scenario, lot, margin=margin)
+        why = misfit(scenario.vehicle_type(vname), chosen)
+        if why is not None:  # said at once: no lane can change it
+            raise InfeasibleManeuver(f"{vname} cannot park in slot {chosen.id!r}: {why}")
+        planner = remembered_planner(scenario, lot, margin=margin)
         lanes = [ln.id for ln in planner.lanes_for(chosen)]
         if lane is not None and lane not in lanes:
             raise SettingsError("lane", f"slot {chosen.id!r} is parked into from "

@@ -220,6 +220,26 @@ class PreparedLot:
         return self.lot_graph.reachability()
 
 
+def remembered_planner(scenario: Scenario, lot: Lot, *, margin: float = MARGIN
+                       ) -> ManeuverPlanner:
+    """:func:`maneuver_planner` for one slot's question (``lotsim maneuver``), its lane
+    graph's turns and turnarounds taken from those kept when the lot was last prepared or
+    asked (by the scenario's name, as :func:`prepare_lot` keeps them for lots of
+    :data:`REMEMBER_FROM` slot-types or more) where what they read is unchanged, and what
+    it works out kept for the next: a question on a large lot prepared before is answered
+    without working out its turns again. The planner is the same as without."""
+    remember = (lotsim.core.diskcache.cache_dir() is not None
+                and len(lot.slots) * len(scenario.vehicle_types) >= REMEMBER_FROM)
+    roads_name = lotsim.core.diskcache.key("roadmap", scenario.name) if remember else None
+    roads = _known(roads_name)
+    held = len(roads or ())
+    memo = RoadmapMemo(lot, roads)
+    planner = maneuver_planner(scenario, lot, margin=margin, memo=memo)
+    if roads_name is not None and (memo.worked or len(roads) != held):
+        lotsim.core.diskcache.store(roads_name, roads)
+    return planner
+
+
 def maneuver_planner(scenario: Scenario, lot: Lot, *, margin: float = MARGIN,
                      memo: RoadmapMemo | None = None) -> ManeuverPlanner:
     """The maneuver planner for ``lot``: clear of the scenario's parked cars, starting only

@@ -5,7 +5,7 @@ garbage-collector setting a caller may ask for while it runs many cars."""
 from __future__ import annotations
 
 import gc
-from collections.abc import Iterator
+from collections.abc import Iterable, Iterator
 from contextlib import contextmanager
 
 from lotsim.errors import Location, ScenarioError
@@ -95,12 +95,25 @@ def turned_away(lg: LotGraph, traffic: list[Arrival], reach: Reachability | None
     return out
 
 
+def unfit(lg: LotGraph, names: Iterable[str]) -> set[str]:
+    """The free slots that none of the vehicle types ``names`` can park in (too short, too
+    narrow, no maneuver found): they are not reached by any car of those types however the
+    lanes run, and the reason is the type's, not the lanes' (``lg.infeasible``). Empty
+    for a graph planned without maneuvers, or for no types."""
+    names = list(names)
+    if not names:
+        return set()
+    return {s.id for s in lg.lot.free_slots
+            if all(s.id in lg.infeasible.get(name, {}) for name in names)}
+
+
 def check_traffic(lg: LotGraph, traffic: list[Arrival], reach: Reachability | None = None
                   ) -> None:
     """Refuse traffic the lot cannot serve at all: an entrance with no route to a free
-    slot, dwell times in a lot with no exit (cars of a type the lot cannot serve are turned
-    away, not refused: :func:`turned_away`). ``reach`` is ``lg.reachability()`` when the
-    caller has it already.
+    slot that its cars fit, dwell times in a lot with no exit (cars of a type the lot
+    cannot serve are turned away with that type's reason, not refused:
+    :func:`turned_away`). ``reach`` is ``lg.reachability()`` when the caller has it
+    already.
 
     Raises
     ------
@@ -110,17 +123,19 @@ def check_traffic(lg: LotGraph, traffic: list[Arrival], reach: Reachability | No
     facts = lg.facts()
     reach = reach or lg.reachability()
     unreachable = reach.unreachable
-    free = len(lg.lot.free_slots)
+    # slots no car of the traffic fits are no question of routes: those cars are turned
+    # away with the reason they do not fit
+    fitting = {s.id for s in lg.lot.free_slots} - unfit(lg, {a.vehicle for a in traffic})
     for gate in sorted({a.entrance for a in traffic}):
         # a full lot is no bad input: its cars are turned away ("the lot is full")
-        if free and len(unreachable[gate]) == free:
+        if fitting and fitting <= set(unreachable[gate]):
             who = next(a for a in traffic if a.entrance == gate)
             raise ScenarioError(who.where, f"no route from entrance {gate!r} to a free slot")
     leaving = [a for a in traffic if a.dwell is not None]
     if leaving and not lg.exits:
         raise ScenarioError(leaving[0].where, "vehicles have dwell times but the lot has no "
                                               "exit to leave by")
-    if leaving and not facts.leavable:
+    if leaving and fitting and not facts.leavable:
         raise ScenarioError(leaving[0].where, "vehicles have dwell times but no slot can "
                                               "be left for an exit along the lanes")
 

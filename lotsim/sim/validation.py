@@ -13,7 +13,7 @@ from lotsim.lot.pavement import loose_ends
 from lotsim.roadmap.reach import Reachability
 from lotsim.sim.preparation import PreparedLot
 from lotsim.sim.repairs import check_lot_events
-from lotsim.sim.running import check_traffic, turned_away
+from lotsim.sim.running import check_traffic, turned_away, unfit
 from lotsim.traffic.demand import Arrival, StreamSpec, arrivals
 
 
@@ -64,6 +64,12 @@ class ValidationReport:
                 and not self.turned_away)
 
     @property
+    def verdict(self) -> str:
+        """The summary's heading: ``ok`` for a :attr:`complete` lot, else ``valid but
+        incomplete`` (``lotsim validate --strict`` exits 1 for it)."""
+        return "ok" if self.complete else "valid but incomplete"
+
+    @property
     def warnings(self) -> list[str]:
         """The summary's warnings, without their ``warning:`` tag."""
         return [line.strip()[len("warning: "):] for line in self.summary().splitlines()
@@ -82,18 +88,73 @@ class ValidationReport:
             out[v.name] = sorted((sid for sid in free if sid not in bad), key=natural)
         return out
 
+    def unusable(self) -> dict[str, dict[str, dict[str, str]]]:
+        """Per vehicle type, the free slots it cannot use, by row, each with why: the
+        answer to "which bays can my van not use, and why?", in full.
+
+        A row is one of the lot's ``rows`` (``lot.rows[2] (aisle A, left)``), or the
+        side of an aisle its single slots open onto (``aisle A, left``); rows in the
+        order of the file, slots in natural order. Why is the first that holds of: the
+        type does not fit (``the car is 5.37 m long, the slot 5.00 m``), no entrance
+        reaches the slot, none of its turns lead there, no exit can be reached from it,
+        it cannot leave it for an exit. A type that can use every free slot maps to
+        ``{}``; taken slots are not listed (cars parked at start never move). These are
+        the free slots :meth:`usable` leaves out (docs/python.md shows both).
+        """
+        lg, reach = self.prepared.lot_graph, self.reachability
+        free = sorted((s.id for s in lg.lot.free_slots), key=natural)
+        row_of = rows_of(self.prepared)
+        out: dict[str, dict[str, dict[str, str]]] = {}
+        for v in self.prepared.scenario.vehicle_types:
+            no_in, no_out = (set(ids) for ids in reach.by_type.get(v.name, ([], [])))
+            misfits = lg.infeasible.get(v.name, {})
+            rows: dict[str, dict[str, str]] = {}
+            for sid in free:
+                why = (misfits.get(sid)
+                       or ("no entrance reaches it" if sid in reach.no_way_in else None)
+                       or ("none of the turns it can make lead there" if sid in no_in
+                           else None)
+                       or ("no exit can be reached from it" if sid in reach.no_way_out
+                           else None)
+                       or ("it can park in it but not leave it for an exit" if sid in no_out
+                           else None))
+                if why is not None:
+                    rows.setdefault(row_of[sid], {})[sid] = why
+            order = list(dict.fromkeys(row_of.values()))
+            out[v.name] = {row: rows[row] for row in order if row in rows}
+        return out
+
+    def unusable_text(self) -> str:
+        """:meth:`unusable` as ``lotsim validate --unusable`` prints it
+        (:func:`unusable_text`)."""
+        return unusable_text(self.as_dict())
+
+    def as_dict(self) -> dict:
+        """What ``lotsim validate --json`` writes of this lot, as plain data: the file,
+        the scenario's name, :attr:`complete`, the slots free, per type the free slots it
+        can use (:meth:`usable`) and those it cannot, by row, with why (:meth:`unusable`),
+        why cars of a type would be turned away, and the summary's warnings."""
+        return {"source": self.source, "scenario": self.name, "complete": self.complete,
+                "free_slots": len(self.prepared.lot.free_slots), "usable": self.usable(),
+                "unusable": self.unusable(), "turned_away": dict(self.turned_away),
+                "warnings": self.warnings}
+
     def summary(self, *, verbose: bool = False) -> str:
         """What ``lotsim validate`` prints for this scenario (``verbose``: also how the
         maneuvers were found: problems searched, repeats, the cache)."""
         lg, reach = self.prepared.lot_graph, self.reachability
         scenario = self.prepared.scenario
         lot = lg.lot
+        planner = self.prepared.maneuver_planner
         kinds = ", ".join(f"{k} {n}" for k, n in self.slot_counts.items())
         facts = lg.facts()
         kinds_of = Counter(facts.kinds)
         taken = len(lot.occupied)
+        # slots no type fits are unreached for that reason, given first, not the lanes'
+        unfit_ids = unfit(lg, [v.name for v in scenario.vehicle_types])
+        no_way_in = [sid for sid in reach.no_way_in if sid not in unfit_ids]
         lines = [
-            f"{self.source}: ok — {scenario.name}",
+            f"{self.source}: {self.verdict} — {scenario.name}",
             f"  slots: {len(lot.slots)} ({kinds}); free {len(lot.slots) - taken}, taken {taken}",
             "  vehicle types: "
             + "; ".join(
@@ -111,11 +172,21 @@ class ValidationReport:
         if taken == len(lot.slots) and scenario.traffic is not None:
             lines.append("  warning: no slot is free: every car will be turned away (the lot "
                          "is full)")
+        if planner is not None:
+            for vname, slots in lg.infeasible.items():
+                if not slots:
+                    continue
+                lines.append(f"  warning: {vname} cannot park in "
+                             f"{_misfits(slots, {s.id for s in lot.free_slots})}")
+                for why in sorted(set(slots.values()))[:3]:
+                    lines.append(f"    because {why}")
+        for why in self.turned_away.values():
+            lines.append(f"  warning: {why}: its cars in the traffic will be turned away")
         if reach.ok:
             lines.append("  unreachable: none")
-        if reach.no_way_in:
-            lines.append(f"  warning: {len(reach.no_way_in)} free slots cannot be reached from "
-                         f"any entrance: {_ids(reach.no_way_in)}")
+        if no_way_in:
+            lines.append(f"  warning: {_n(no_way_in, 'free slot')} cannot be reached from "
+                         f"any entrance: {_ids(no_way_in)}")
         if reach.no_way_out:
             lines.append(f"  warning: from {len(reach.no_way_out)} free slots no exit can be "
                          f"reached: {_ids(reach.no_way_out)}")
@@ -130,7 +201,8 @@ class ValidationReport:
         # with several gates, what each one serves (every slot may still be served by some)
         if len(reach.unreachable) > 1:
             for name, slots in reach.unreachable.items():
-                if slots and len(slots) > len(reach.no_way_in):
+                slots = [sid for sid in slots if sid not in unfit_ids]
+                if slots and len(slots) > len(no_way_in):
                     lines.append(f"  note: from entrance {name!r}, {len(slots)} free slots "
                                  f"cannot be reached: {_ids(slots)}")
         if len(reach.stranded) > 1:
@@ -144,9 +216,6 @@ class ValidationReport:
                                               if 0 < len(ids) < free else "")
             for name, ids in self.usable().items())
         lines.append(f"  usable free slots per type: {usable}")
-        for why in self.turned_away.values():
-            lines.append(f"  warning: {why}: its cars in the traffic will be turned away")
-        planner = self.prepared.maneuver_planner
         if planner is not None and verbose:
             remembered = planner.stats.get("remembered", 0)
             fitted = planner.stats.get("fitted", 0)
@@ -159,14 +228,6 @@ class ValidationReport:
                          + f" ({planner.stats['reused']} repeats answered from them; "
                          f"margin {planner.margin:g} m)"
                          + (LOADED if lg.from_cache else ""))
-        if planner is not None:
-            for vname, slots in lg.infeasible.items():
-                if not slots:
-                    continue
-                lines.append(f"  warning: {vname} cannot park in {len(slots)} slots: "
-                             f"{_ids(sorted(slots))}")
-                for why in sorted(set(slots.values()))[:3]:
-                    lines.append(f"    because {why}")
         for end in loose_ends(lot.aisles, lot.pavement):
             lines.append(f"  warning: {end}")
         for note in lg.skipped_turns:
@@ -177,6 +238,40 @@ class ValidationReport:
 
     def __str__(self) -> str:
         return self.summary()
+
+
+def unusable_text(answer: dict) -> str:
+    """A lot's :meth:`ValidationReport.as_dict` as ``lotsim validate --unusable`` prints
+    it: per vehicle type, a line per row and reason naming every free slot it cannot use
+    (runs of numbers as ``N1–N6``)."""
+    free = answer["free_slots"]
+    lines = [f"{answer['source']}: the free slots each vehicle type cannot use, by row, "
+             "and why"]
+    for name, rows in answer["unusable"].items():
+        n = sum(len(slots) for slots in rows.values())
+        if not n:
+            lines.append(f"  {name}: can use every free slot ({free})")
+            continue
+        lines.append(f"  {name}: cannot use {n} of {free} free slots")
+        for row, slots in rows.items():
+            for why in dict.fromkeys(slots.values()):
+                ids = [sid for sid, w in slots.items() if w == why]
+                lines.append(f"    {row}: {id_ranges(ids, most=len(ids))} — {why}")
+    return "\n".join(lines)
+
+
+def rows_of(prepared: PreparedLot) -> dict[str, str]:
+    """Slot id → the row it belongs to, as :meth:`ValidationReport.unusable` names rows:
+    ``lot.rows[2] (aisle A, left)`` for a slot of the file's ``rows``, ``aisle A, left``
+    for a single slot along an aisle."""
+    spec, lot = prepared.scenario.lot, prepared.lot
+    out = {}
+    for k, row in enumerate(spec.rows):
+        prefix = row.id_prefix or f"{row.aisle}-{row.side}-"
+        for n in range(row.count):
+            out[f"{prefix}{row.first_number + n}"] = (f"lot.rows[{k}] (aisle {row.aisle}, "
+                                                      f"{row.side})")
+    return {s.id: out.get(s.id, f"aisle {s.aisle}, {s.side}") for s in lot.slots}
 
 
 def validate_prepared(prepared: PreparedLot, source: str) -> ValidationReport:
@@ -215,6 +310,18 @@ def _any_draw(stream: StreamSpec | None) -> list[Arrival]:
     return [Arrival(f"{stream.prefix}?{name}@{gate}", name, gate, stream.start, dwell,
                     stream.where)
             for name, weight in stream.mix if weight > 0 for gate in stream.entrances]
+
+
+def _misfits(slots: dict[str, str], free: set[str]) -> str:
+    """``"3 free slots (and 1 taken): N1, N3, N4"``: the slots a type cannot park in, the
+    free ones named (a car parked at start never moves), the rest counted."""
+    bad = [sid for sid in slots if sid in free]
+    taken = len(slots) - len(bad)
+    if not bad:
+        return _n(taken, "taken slot")
+    return (_n(bad, "free slot") + (f" (and {taken} taken)" if taken else "")
+            + f": {_ids(bad)}" + (" (all, by row: lotsim validate --unusable)"
+                                  if len(bad) > 12 else ""))
 
 
 def _n(items, what: str) -> str:

@@ -468,5 +468,5 @@ vehicle_types:
   - {name: limo, width: 2.0, front: 5.5, rear: 1.2, wheelbase: 4.2, max_steer_deg: 30}""")
     warning = next(w for w in validate(text).warnings if w.startswith("limo cannot park"))
     ids = warning.split(": ")[1].split(", ")
-    # N2 before N10 (it read N1, N10, N11, N12, N2)
-    assert ids[:12] == [f"N{k}" for k in range(1, 13)]
+    # the free slots (N1-N5, S1-S4 are taken), N9 before N10 (it read N10, N11, N12, N6)
+    assert ids[:12] == [f"N{k}" for k in range(6, 13)] + [f"S{k}" for k in range(5, 10)]

@@ -229,14 +229,17 @@ def _draft(m: Lanelet2Map, say: Callable[[str], None]) -> tuple[LotDraft, Import
         traffic=TRAFFIC,
     )
     _builds(draft, reasons, design, m.source)
+    if not draft.slots:  # nowhere to park: the lot is written to be drawn and edited
+        draft.traffic = None
     draft.header = _header(m, parts, len(net.connectors), aisles, draft.slots, reasons,
                            dropped_lines)
     draft.description = (f"{m.source.name}: {_n(len(draft.slots), 'slot')} from the map's "
                          f"parking_spot areas, {_n(len(aisles), 'aisle')} from its lanelets.")
     lot = ImportedLot(m.source.stem, float(drawn_map.area), mapped=len(draft.slots),
                       aisles=len(aisles), gates=len(gates_at),
-                      reason=f"{len(reasons)} of {len(m.spots)} parking spots not imported "
-                             "(why: in the file's header)" if reasons else "",
+                      reason=(f"{len(reasons)} of {len(m.spots)} parking spots not imported "
+                              "(why: in the file's header)" if reasons else "")
+                      + ("; no slot: no traffic written" if not draft.slots else ""),
                       projection_error=m.error)
     return draft, lot
 
@@ -256,7 +259,8 @@ def _header(m: Lanelet2Map, parts: list, connectors: int, aisles: list[AisleLayo
         f"dropped: lotsim builds its own turns); {_n(len(m.accesses), 'parking_access area')} "
         "widen the aisles to the spots.",
         f"{_n(len(m.spots), 'parking_spot area')}: {_n(len(slots), 'slot')}; "
-        f"{len(reasons)} not imported" + (" (below, why)." if reasons else "."),
+        f"{len(reasons)} not imported" + (" (below, why)." if reasons else ".")
+        + ("" if slots else " With no slot, no traffic is written."),
         "Gates: an entrance and an exit where each road ends at the map's edge, "
         f"{GATE_IN:g} m in; no gate tags are read.",
     ]

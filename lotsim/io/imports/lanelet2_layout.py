@@ -355,6 +355,8 @@ def written_slots(aisles: list[AisleLayout], ids: list[str], reasons: dict[str, 
     edge within reach and covered by none; a spot that does not is reported."""
     spots = sorted(((s, ids[k]) for k, a in enumerate(aisles) for s in a.slots),
                    key=lambda sa: id_key(sa[0].id))
+    if not spots:  # every spot was dropped before (their reasons are said)
+        return []
     shrink = {s.id: SHRINK for s, _ in spots}
     while True:
         built = [rounded_slot(s, shrink[s.id]) for s, _ in spots]

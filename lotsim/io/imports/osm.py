@@ -86,6 +86,7 @@ from lotsim.io.imports.osm_slots import (
     rows_of,
 )
 from lotsim.io.imports.report import ImportedLot, ImportReport
+from lotsim.io.lot_yaml import MAX_LOT_SIZE
 from lotsim.io.scenario_yaml import read_scenario
 from lotsim.lot.build import LANE_CLEARANCE, build_lot
 from lotsim.lot.model import DesignVehicle, Lot
@@ -239,6 +240,12 @@ def _import_lot(kind: str, oid: int, tags: dict[str, str], data: OsmData, index:
         return ImportedLot(lid, 0.0, capacity=capacity,
                            reason=f"its outline is not a simple polygon: {why}")
     area = float(lot.area)
+    x0, y0, x1, y1 = lot.bounds
+    if max(x1 - x0, y1 - y0) > MAX_LOT_SIZE:  # before laying it out, which would take long
+        return ImportedLot(lid, area, capacity=capacity,
+                           reason=f"the lot is {max(x1 - x0, y1 - y0):,.0f} m across; lotsim "
+                                  f"plans lots of at most {MAX_LOT_SIZE:,.0f} m (are its "
+                                  "nodes' coordinates right?)")
     splits: set[int] = set()
     while True:
         drawn = _Drawn.of(lot, near, kind, oid, tags, splits)

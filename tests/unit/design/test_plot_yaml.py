@@ -16,7 +16,7 @@ gates: [{id: main, at: [30, 0]}]
 vehicle_types:
   - valet
   - {name: van, width: 2.0, front: 4.2, rear: 1.0, wheelbase: 3.3, max_steer_deg: 30}
-bays: {angles_deg: [90, 45], width: 2.4, length: 4.8}
+bays: {angles_deg: [90, 45], width: 2.4, length: 5.3}
 aisles:
   one_way: true
   widths: {90: {two-way: 6.5}, 45: {one-way: 4.0}}
@@ -30,7 +30,7 @@ def test_a_good_plot_reads_every_key():
     assert plot.name == "yard" and len(plot.islands) == 1
     assert [v.name for v in plot.vehicle_types] == ["valet", "van"]
     assert plot.vehicle_names == ("valet", "")
-    assert plot.angles == (90, 45) and (plot.bay_width, plot.bay_length) == (2.4, 4.8)
+    assert plot.angles == (90, 45) and (plot.bay_width, plot.bay_length) == (2.4, 5.3)
     assert plot.aisle_width(90, "two-way") == 6.5 and plot.aisle_width(45, "one-way") == 4.0
     assert plot.aisle_width(60, "one-way") == 5.5  # the default, untouched
     assert plot.circulation_width == 6.5
@@ -64,6 +64,11 @@ def test_defaults():
     ("[[20, 20], [24, 20]", "[[70, 20], [74, 20]", "3:31: islands[0].polygon",
      "inside the boundary"),
     ("  - valet\n", "  - valet\n  - valet\n", "7:5: vehicle_types[1]", "given twice"),
+    # a type the bays cannot hold is told before any layout is searched, with what it needs
+    ("  - valet\n", "  - valet\n  - vclass\n", "7:5: vehicle_types[1]",
+     "vehicle type 'vclass' is 5.37 m long and the plot's bays 5.30 m: no bay of any layout "
+     "would be usable for it; it needs bays of at least 5.37 m (bays: {length: 5.4})"),
+    ("width: 2.4", "width: 1.9", "7:5: vehicle_types[1]", "'van' is 2.00 m wide"),
 ])
 def test_a_bad_input_is_located(old, new, where, says):
     assert old in GOOD
@@ -89,6 +94,15 @@ def test_a_missing_key_and_a_file_are_named(tmp_path):
         read_plot(path)
     with pytest.raises(ScenarioError, match="cannot read"):
         read_plot(tmp_path / "none.yaml")
+
+
+def test_default_bays_too_short_for_a_van_are_said_to_be_the_default():
+    with pytest.raises(ScenarioError, match=r"<plot>:3:24: vehicle_types\[1\]: vehicle type "
+                                            r"'vclass' is 5\.37 m long and the plot's bays "
+                                            r"5\.00 m \(the default\)"):
+        read_plot("boundary: [[0, 0], [60, 0], [60, 40], [0, 40]]\n"
+                  "gates: [{id: g, at: [0, 20]}]\n"
+                  "vehicle_types: [valet, vclass]\n")
 
 
 def test_a_scenario_given_for_a_plot_is_named_as_one():

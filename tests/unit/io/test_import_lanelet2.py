@@ -223,11 +223,12 @@ def test_gates_stand_on_the_open_road_ends_at_the_maps_edge(imported):
 
 
 # -- a small map of our own ----------------------------------------------------------------
-def small_map(path: Path, origin=(48.0, 11.0)) -> Path:
+def small_map(path: Path, origin=(48.0, 11.0), *, spots=None) -> Path:
     """A 40 m road of two lanelets side by side (east on the south half, west on the north
     half, sharing their middle bound), a 1 m access strip along its north edge with four
     2.5 × 5 m spots behind it (two as multipolygons, two as closed ways), and on its south
-    edge a bay and a 7 × 2.5 m kerbside space; both ends open."""
+    edge a bay and a 7 × 2.5 m kerbside space; both ends open. ``spots`` (each a list of
+    corners [m]), when given, are the map's only spots, as closed ways."""
     lat0, lon0 = origin
     la = math.radians(lat0)
     m_r = A * (1 - E2) / (1 - E2 * math.sin(la) ** 2) ** 1.5
@@ -255,7 +256,9 @@ def small_map(path: Path, origin=(48.0, 11.0)) -> Path:
     rels.append((-2, [("way", middle, "left"), ("way", north, "right")],
                  {"type": "lanelet", "subtype": "lane", "speed_limit": "10km/h"}))
     way([(8, 6), (32, 6), (32, 7), (8, 7), (8, 6)], type="area", subtype="parking_access")
-    for k, x in enumerate((10.0, 12.5, 15.0, 17.5)):
+    for corners in spots or ():
+        way([*corners, corners[0]], type="area", subtype="parking_spot")
+    for k, x in enumerate(() if spots is not None else (10.0, 12.5, 15.0, 17.5)):
         corners = [(x, 7), (x + 2.5, 7), (x + 2.5, 12), (x, 12)]
         if k < 2:
             a = way(corners[:3], type="area", subtype="parking_spot")
@@ -264,10 +267,11 @@ def small_map(path: Path, origin=(48.0, 11.0)) -> Path:
                          {"type": "multipolygon", "subtype": "parking_spot"}))
         else:
             way([*corners, corners[0]], type="area", subtype="parking_spot")
-    way([(22, 0), (22, -5), (24.5, -5), (24.5, 0), (22, 0)], type="area",
-        subtype="parking_spot")
-    way([(28, 0), (28, -2.5), (35, -2.5), (35, 0), (28, 0)], type="area",
-        subtype="parking_spot")
+    if spots is None:
+        way([(22, 0), (22, -5), (24.5, -5), (24.5, 0), (22, 0)], type="area",
+            subtype="parking_spot")
+        way([(28, 0), (28, -2.5), (35, -2.5), (35, 0), (28, 0)], type="area",
+            subtype="parking_spot")
     lines = ["<?xml version='1.0' encoding='UTF-8'?>", "<osm version='0.6'>"]
     for (x, y), nid in pts.items():
         lat = lat0 + math.degrees(y / m_r)
@@ -397,3 +401,19 @@ def test_a_broken_map_config_is_an_error(tmp_path):
         """))
     with pytest.raises(LotsimError, match="expected map_config with latitude and longitude"):
         import_lanelet2(src, tmp_path / "out")
+
+
+def test_a_map_whose_every_spot_is_dropped_is_written_without_slots_or_traffic(tmp_path):
+    """One spot 3 m from the road, which no car reaches: the lot is written, with its
+    aisle and gates, the spot's reason and no traffic (there is nowhere to park)."""
+    src = small_map(tmp_path / "far.osm",
+                    spots=[[(22, -3), (22, -8), (24.5, -8), (24.5, -3)]])
+    report = import_lanelet2(src, tmp_path / "out")
+    (lot,) = report.lots
+    assert lot.mapped == 0 and lot.aisles == 1 and lot.gates == 2
+    assert lot.reason.endswith("no slot: no traffic written")
+    text = (tmp_path / "out" / "far.yaml").read_text()
+    assert len(reported(text)) == 1 and "3.00 m away" in text
+    sc = load_scenario(tmp_path / "out" / "far.yaml")
+    assert not sc.lot.slots
+    assert sc.traffic is None

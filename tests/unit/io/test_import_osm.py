@@ -418,6 +418,37 @@ def test_every_real_lot_validates_runs_and_passes_the_checker(tmp_path, wid):
 
 
 # -- bad input ---------------------------------------------------------------------------------
+def test_a_lot_far_too_large_is_skipped_at_once_saying_how_large(tmp_path, monkeypatch):
+    """Way 100 of lots.osm with every distance 1000 times too large (40 × 20 km): told
+    before any aisle or bay is laid out, which on such a lot takes many minutes."""
+    from lotsim.io.imports import osm
+
+    def laid_out(*_args, **_kwargs):
+        raise AssertionError("the lot was laid out before its size was checked")
+
+    monkeypatch.setattr(osm._Drawn, "of", laid_out)
+    m, p = _radii(60.0)
+
+    def node(nid, x, y):
+        return (f'<node id="{nid}" lat="{60 + math.degrees(y / m):.7f}" '
+                f'lon="{25 + math.degrees(x / p):.7f}"/>')
+
+    corners = [(0, 0), (40_000, 0), (40_000, 20_000), (0, 20_000)]
+    path = tmp_path / "huge.osm"
+    path.write_text(
+        '<osm version="0.6">'
+        + "".join(node(k + 1, x, y) for k, (x, y) in enumerate(corners))
+        + node(5, -5_000, 10_000) + node(6, 38_000, 10_000)
+        + '<way id="100">' + "".join(f'<nd ref="{k}"/>' for k in (1, 2, 3, 4, 1))
+        + '<tag k="amenity" v="parking"/></way>'
+        + '<way id="200"><nd ref="5"/><nd ref="6"/><tag k="highway" v="service"/>'
+        + '<tag k="service" v="parking_aisle"/></way></osm>')
+    (lot,) = import_osm(path, tmp_path / "out").lots
+    assert lot.path is None
+    assert re.fullmatch(r"the lot is 40,0\d\d m across; lotsim plans lots of at most 2,000 m "
+                        r"\(are its nodes' coordinates right\?\)", lot.reason), lot.reason
+
+
 def test_a_missing_file_or_a_folder_is_an_error(tmp_path):
     with pytest.raises(LotsimError, match="no such file"):
         import_osm(tmp_path / "nowhere.osm", tmp_path / "out")

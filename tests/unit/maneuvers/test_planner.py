@@ -306,9 +306,9 @@ def test_validate_lists_slots_a_vehicle_type_cannot_use_and_strict_fails():
 
     report = lotsim.validate(QUICK.replace("vehicle_types: [valet]",
                                            "vehicle_types: [valet, vclass]"))
-    assert any(w.startswith("vclass cannot park in 12 slots") for w in report.warnings)
+    assert any(w.startswith("vclass cannot park in 12 free slots") for w in report.warnings)
     assert not any(w.startswith("valet cannot park") for w in report.warnings)
-    assert "warning: vclass cannot park in 12 slots" in report.summary()
+    assert "warning: vclass cannot park in 12 free slots" in report.summary()
     assert not report.complete  # what --strict refuses
 
 
