@@ -86,10 +86,11 @@ class EventLoop:
         self.taken: set[str] = set()  # the slots those took
         self.replans: list = []  # every repair (repairs.Replan), in time order
         self.lot_events: list = []  # closures and bays taken, by the index their events hold
+        self.cut_cache: dict = {}  # what closures cut off (repairs.cut_off), by closures open
         self._trips = 0
         self._trips_done = 0
         self._counted: dict[str, int] = {}
-        self._exits: dict[str, ReverseResumable] = {}
+        self._exits: dict[tuple, ReverseResumable] = {}  # by type and closures open
         self._heuristics: OrderedDict[tuple, ReverseResumable] = OrderedDict()
         parked = scenario.parked_vehicle
         for sid in sorted(lg.lot.occupied):
@@ -227,8 +228,11 @@ class EventLoop:
         options = self.assigner.ranked(v.arrival, self.free, t)
         full = "the lot is full"
         if self.closures and options:
-            options = [sid for sid in options if not self.closed_slot(sid, t)]
-            full = "the lot is full" if options else "its free slots are on closed aisles"
+            away, _ = repairs.cut_off(self, v.vehicle.name, self.lg.entrances[v.arrival.entrance],
+                                      t)
+            options = [sid for sid in options if sid not in away]
+            full = ("the lot is full" if options
+                    else "its free slots are closed off (on or beyond a closed aisle)")
         if not options:
             v.reason = full
             if i not in self.queue:
@@ -271,10 +275,6 @@ class EventLoop:
         """A closure or a bay taken (:mod:`lotsim.traffic.disturbances`), at ``t`` [s]."""
         self.lot_events.append(event)
         self.at(t, "close" if isinstance(event, Closure) else "take", len(self.lot_events) - 1)
-
-    def closed_slot(self, sid: str, t: float) -> bool:
-        """Whether slot ``sid`` is on an aisle closed at ``t`` [s]."""
-        return bool(self.closures) and sid in repairs.closed_slots(self, t)
 
     def exit_goal(self) -> Goal:
         """Any of the lot's exits."""
@@ -359,13 +359,15 @@ class EventLoop:
         ``v``'s searches, expansions and planning time."""
         goal = kw["goal"]
         goals = ({goal.slot: 0.0} if goal.slot is not None else {n: 0.0 for n in goal.exits})
+        # while closures last, the static times go round what they shut
+        active, shut = repairs.shut_at(self, sg.vehicle.name, kw["t0"])
         if key[0] == "exit" and self.s.planner != "ca":
             # one for every way out of a type, its fuse sized by all it has closed so far
-            rra, shared = self._exits.get(key[1]), False
+            rra, shared = self._exits.get((key[1], active)), False
             if rra is None:
-                rra = self._exits[key[1]] = sg.reverse_search(goals)
+                rra = self._exits[key[1], active] = sg.reverse_search(goals, shut=shut)
         else:
-            rra, shared = self.heuristic(sg, goals), True
+            rra, shared = self.heuristic(sg, goals, active, shut), True
         v.seen = len(self.table.releases)
         worked = sg.tally.seconds
         clock = time.perf_counter()
@@ -379,15 +381,17 @@ class EventLoop:
         v.expansions += plan.expansions
         return plan
 
-    def heuristic(self, sg: SearchGraph, goals: dict[int, float]) -> ReverseResumable:
+    def heuristic(self, sg: SearchGraph, goals: dict[int, float], active: tuple = (),
+                  shut: frozenset[int] = frozenset()) -> ReverseResumable:
         """The RRA* towards ``goals`` for ``sg``'s type, kept for the next search there (the
         same slot is searched for again and again: a first look, then a full search, by the
-        car's next try and by the next cars); the ``heuristics_kept`` last used."""
-        key = (sg.vehicle.name, *goals)
+        car's next try and by the next cars); the ``heuristics_kept`` last used. While
+        closures are open (``active``), one that goes round the edges they ``shut``."""
+        key = (sg.vehicle.name, *goals) if not active else (sg.vehicle.name, active, *goals)
         kept = self._heuristics
         rra = kept.get(key)
         if rra is None:
-            rra = kept[key] = sg.reverse_search(goals)
+            rra = kept[key] = sg.reverse_search(goals, shut=shut)
             if len(kept) > self.s.tuning.heuristics_kept:
                 kept.popitem(last=False)
         else:
@@ -434,6 +438,14 @@ class EventLoop:
         if v.depart_at is None or abs(t - v.depart_at) > 1e-9 or v.leaving:
             return  # superseded (a WHCA* replan moved the parking time)
         sg = self.graphs[v.vehicle.name]
+        if self.closures and repairs.cut_off(self, v.vehicle.name, self.lg.slot_nodes[v.slot],
+                                             t)[1]:
+            # every way out is closed: it leaves once the first closure ends
+            reopen = min(r.t1 for r in self.closures if r.t0 <= t < r.t1)
+            v.reason = "could not leave yet (the ways out are closed)"
+            v.depart_at = reopen
+            self.at(reopen, "depart", i)
+            return
         plan = self.plan(v, sg, start=self.lg.slot_nodes[v.slot], t0=t,
                          start_pose=v.parked_pose, goal=Goal(exits=tuple(self.lg.exits.values())),
                          key=("exit", v.vehicle.name))

@@ -223,7 +223,7 @@ def repair(loop: EventLoop, i: int, v: VehicleRun, t: float, why: str) -> None:
     kept = [*v.moves[:k], last]
     sg = loop.graphs[v.vehicle.name]
     v.done = False
-    slots = [] if v.leaving else _slots_for(loop, v, t)
+    slots = [] if v.leaving else _slots_for(loop, v, t, last.node_to)
     in_slot = last.node_to == loop.lg.slot_nodes.get(v.slot)
     for sid in ([None] if v.leaving else slots):
         goal = (loop.exit_goal() if sid is None else loop.park_goal(v, sid))
@@ -267,13 +267,14 @@ def _give_back(loop: EventLoop, v: VehicleRun) -> None:
     v.slot = None if not v.leaving else v.slot
 
 
-def _slots_for(loop: EventLoop, v: VehicleRun, t: float) -> list[str]:
-    """The slots ``v`` tries when planned again: its own while it can still have it, then
-    the free ones it can use, best first."""
+def _slots_for(loop: EventLoop, v: VehicleRun, t: float, start: int) -> list[str]:
+    """The slots ``v`` tries when planned again from node ``start``: its own while it can
+    still have it, then the free ones it can use, best first (none it cannot reach while
+    the closures last)."""
+    away, _ = cut_off(loop, v.vehicle.name, start, t)
     own = [v.slot] if v.slot is not None and v.slot not in loop.taken \
-        and not loop.closed_slot(v.slot, t) else []
-    ranked = [s for s in loop.assigner.ranked(v.arrival, loop.free, t)
-              if not loop.closed_slot(s, t)]
+        and v.slot not in away else []
+    ranked = [s for s in loop.assigner.ranked(v.arrival, loop.free, t) if s not in away]
     return own + loop.assigner.first_looks(ranked, t)
 
 
@@ -285,6 +286,61 @@ def closed_slots(loop: EventLoop, t: float) -> set[str]:
         return set()
     return {s.id for s in loop.lg.lot.slots if s.aisle in aisles}
 
+
+def cut_off(loop: EventLoop, vname: str, start: int, t: float) -> tuple[set[str], bool]:
+    """What a ``vname`` at node ``start`` cannot reach while the closures of ``t`` [s]
+    last, along the lanes that keep clear of the closed ground: the slots (those on a
+    closed aisle among them), and whether every exit. Kept for the run, by the closures
+    open then."""
+    active = tuple(k for k, r in enumerate(loop.closures) if r.t0 <= t < r.t1)
+    if not active:
+        return set(), False
+    key = (active, vname, start)
+    hit = loop.cut_cache.get(key)
+    if hit is None:
+        sg = loop.graphs[vname]
+        shut = _shut_edges(loop, vname, active)
+        seen, todo = {start}, [start]
+        while todo:
+            u = todo.pop()
+            for ei in sg.out.get(u, ()):
+                w = sg.edges[ei].v
+                if w not in seen and ei not in shut:
+                    seen.add(w)
+                    todo.append(w)
+        slots = {sid for sid, n in loop.lg.slot_nodes.items() if n not in seen}
+        hit = loop.cut_cache[key] = (slots | closed_slots(loop, t),
+                                     not any(n in seen for n in loop.lg.exits.values()))
+    return hit
+
+
+def shut_at(loop: EventLoop, vname: str, t: float) -> tuple[tuple[int, ...], frozenset[int]]:
+    """The closures open at ``t`` [s] (indices into the run's) and the edges of ``vname``'s
+    search graph they shut (:func:`_shut_edges`); both empty when none is."""
+    active = tuple(k for k, r in enumerate(loop.closures) if r.t0 <= t < r.t1)
+    if not active:
+        return (), frozenset()
+    return active, frozenset(_shut_edges(loop, vname, active))
+
+
+def _shut_edges(loop: EventLoop, vname: str, active: tuple[int, ...]) -> set[int]:
+    """The edges of ``vname``'s search graph whose path (through its pieces' ends) meets
+    the ground of the closures ``active`` (indices into the run's closures); kept."""
+    key = (active, vname)
+    hit = loop.cut_cache.get(key)
+    if hit is None:
+        sg = loop.graphs[vname]
+        lines = []
+        for e in sg.edges:
+            segs = e.maneuver.segments if e.maneuver is not None else e.data.get("path", ())
+            pts = [seg.start[:2] for seg in segs] + ([segs[-1].end[:2]] if segs else [])
+            if len(pts) < 2:
+                pts = [sg.pose[e.u][:2], sg.pose[e.v][:2]]
+            lines.append(shapely.LineString(pts))
+        area = shapely.union_all([loop.closures[k].area for k in active])
+        meet = shapely.intersects(np.array(lines, dtype=object), area)
+        hit = loop.cut_cache[key] = set(np.flatnonzero(meet).tolist())
+    return hit
 
 @dataclass
 class LotChanges:

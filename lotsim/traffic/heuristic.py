@@ -20,11 +20,14 @@ class ReverseResumable:
     """Reverse Resumable A*: true static time [s] from any node to the goals, computed
     backwards from the goals and resumed only as far as each query needs.
 
-    Slot nodes other than the goals are not passed through.
+    Slot nodes other than the goals are not passed through, nor the edges ``shut`` (edge
+    indices of ``sg``: those a closure blocks while it lasts).
     """
 
-    def __init__(self, sg: SearchGraph, goals: dict[int, float]):
+    def __init__(self, sg: SearchGraph, goals: dict[int, float], *,
+                 shut: frozenset[int] = frozenset()):
         self.sg = sg
+        self.shut = shut
         self.dist: dict[int, float] = {}
         self.best = dict(goals)
         self.heap = [(c, n) for n, c in goals.items()]
@@ -54,14 +57,18 @@ class ReverseResumable:
             return d
         heap, best, goals, passable = self.heap, self.best, self.goals, self.sg.passable
         pop, push, inf = heapq.heappop, heapq.heappush, math.inf
+        shut, sg = self.shut, self.sg
         while heap:
             d, v = pop(heap)
             if v in dist:
                 continue
             dist[v] = d
-            into = passable.get(v)
-            if into is None and v in goals:
-                into = self.sg.back(v)
+            if shut:
+                into = (sg.back_avoiding(v, shut) if v in passable or v in goals else None)
+            else:
+                into = passable.get(v)
+                if into is None and v in goals:
+                    into = sg.back(v)
             if into:
                 for u, w in into:
                     nd = d + w

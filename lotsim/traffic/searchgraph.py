@@ -351,9 +351,16 @@ class SearchGraph:
                                    for ei in self.into[v]]
         return out
 
-    def reverse_search(self, goals: dict[int, float]) -> ReverseResumable:
-        """An RRA* from ``goals`` (node → extra time at it) over this graph's edges."""
-        return ReverseResumable(self, goals)
+    def back_avoiding(self, v: int, shut: frozenset[int]) -> list[tuple[int, float]]:
+        """:meth:`back` less the edges ``shut`` (edge indices)."""
+        return [(self.edges[ei].u, self._static_time[ei]) for ei in self.into[v]
+                if ei not in shut]
+
+    def reverse_search(self, goals: dict[int, float], *, shut: frozenset[int] = frozenset()
+                       ) -> ReverseResumable:
+        """An RRA* from ``goals`` (node → extra time at it) over this graph's edges (less
+        those ``shut``)."""
+        return ReverseResumable(self, goals, shut=shut)
 
     def forward_times(self, source: int) -> dict[int, float]:
         """Static shortest times [s] from ``source`` to every node it reaches (Dijkstra,

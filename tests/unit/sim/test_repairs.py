@@ -133,3 +133,16 @@ def test_the_scenario_names_what_it_closes_and_takes_where_it_says_so():
     with pytest.raises(ScenarioError, match=r"to: expected a time after 'from' \(5 s\)"):
         lotsim.load_scenario(lotsim.EXAMPLE + "disturbances: {closures: [{gate: in, from: 5, "
                                               "to: 1}]}\n")
+
+
+def test_a_car_whose_ways_out_are_all_closed_waits_in_its_slot_without_searching(prepared):
+    plan = lotsim.run(prepared)
+    bob = plan.vehicles[1]
+    rr = lotsim.run(prepared, disturbances=Disturbances(closures=(
+        Closure("gate", "out", bob.depart_at - 1.0, bob.depart_at + 60.0),)))
+    late = rr.vehicles[1]
+    assert lotsim.check(rr).ok and late.status == "departed"
+    leave = next(m for m in late.moves if m.kind == "leave")
+    assert leave.t0 >= bob.depart_at + 60.0 - 1e-9
+    # it asked for no way out while none was open: as many searches as when none closed
+    assert late.searches == bob.searches
