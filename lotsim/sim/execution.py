@@ -39,6 +39,9 @@ from lotsim.vehicles.motion import slowed
 
 EPS = 1e-9
 """Times closer than this are the same instant [s]."""
+AFTER = 1e-3
+"""A closure, or a stranger's car in a bay, that waits for a late car begins this long after
+that car has left [s]: after its last sample there, which is written to the microsecond."""
 MAX_ROUNDS = 10_000
 """Most times :func:`schedule` slows a pair of tied runs or moves a stall before it gives
 up (it never has on the shipped scenarios)."""
@@ -212,7 +215,9 @@ def _changes_driven(changes: LotChanges, ch: _Chunks, tree: shapely.STRtree, fla
             if cars[ch.car[k]].id in exempt:
                 continue
             r = flat[ch.run[k]]
-            out = max(out, starts[id(r)] + (ch.t1[k] - r.t0) / r.factor)
+            left = starts[id(r)] + (ch.t1[k] - r.t0) / r.factor
+            if left > t:  # it begins once that car is gone, a millisecond after its sample
+                out = max(out, left + AFTER)
         return out
 
     closures = [replace(c, t0=min(c.t1, passed(c.area, c.t0, set(c.inside))))

@@ -118,11 +118,11 @@ stall
     its speed within ``GEAR_SPEED_TOL`` of 0.
 closure, taken
     No car but those listed ``inside`` a closure (``disturbances.closures``) has its
-    footprint, shrunk by ``SHRINK``, on the closed ground between the closure's ``t0`` and
-    ``t1``; no car's footprint meets the car in a bay taken from outside
-    (``disturbances.taken``) from its ``t`` on. Both at the common instants and at every
-    sample, a vehicle that has not departed standing at its last pose after its last
-    sample.
+    footprint, shrunk by ``SHRINK``, on the closed ground from the closure's ``t0`` up to
+    its ``t1`` (not at it: a car may come on as it opens); no car's footprint meets the car
+    in a bay taken from outside (``disturbances.taken``) from its ``t`` on. Both at the
+    common instants and at every sample, a vehicle that has not departed standing at its
+    last pose after its last sample.
 status, reason, arrival, metrics
     A ``rejected`` vehicle has no samples, a ``parked`` or ``departed`` one has some;
     ``waiting`` and ``rejected`` vehicles give a reason, the others none; no sample

@@ -75,7 +75,7 @@ def _check_stall(veh: _Vehicle, t0: float, t1: float, out: list[Violation]) -> N
 
 def _check_lot_changes(raw: dict, vehicles: list[_Vehicle], out: list[Violation]) -> None:
     """``closure``: no car but those ``inside`` a closure when it began has its footprint
-    (shrunk by ``SHRINK``) on the closed ground between ``t0`` and ``t1``; ``taken``: no
+    (shrunk by ``SHRINK``) on the closed ground from ``t0`` to (not at) ``t1``; ``taken``: no
     car's footprint meets the car in a bay taken from outside, from its time ``t`` on."""
     for rule, key in (("closure", "closures"), ("taken", "taken")):
         items = raw.get(key, [])
@@ -108,15 +108,16 @@ def _check_lot_changes(raw: dict, vehicles: list[_Vehicle], out: list[Violation]
 
 
 def _first_on(veh: _Vehicle, poly: shapely.Polygon, t0: float, t1: float) -> float | None:
-    """The first instant of ``[t0, t1]`` (the common grid and the samples) at which
+    """The first instant of ``[t0, t1)`` (the common grid and the samples) at which
     ``veh``'s shrunk footprint meets ``poly``, or None. A vehicle that has not departed
     stands at its last pose after its last sample."""
     end = veh.t[-1] if veh.status == "departed" else max(veh.t[-1], min(t1, veh.t[-1] + 1.0))
     lo, hi = max(t0, veh.t[0]), min(t1, end)
-    if lo > hi:
+    if lo > hi or lo >= t1:
         return None
     grid = np.arange(math.ceil(lo / GRID_DT), math.floor(hi / GRID_DT) + 1) * GRID_DT
     ts = np.unique(np.concatenate([[lo, hi], grid, veh.t[(veh.t >= lo) & (veh.t <= hi)]]))
+    ts = ts[ts < t1]  # from t0 up to (not at) t1: a car may come on the ground as it opens
     x = np.interp(ts, veh.t, veh.x)
     y = np.interp(ts, veh.t, veh.y)
     th = np.interp(ts, veh.t, np.unwrap(veh.theta))
