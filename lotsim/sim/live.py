@@ -19,7 +19,7 @@ from lotsim.errors import DecisionError, ScenarioError, SettingsError
 from lotsim.sim.loop import EventLoop
 from lotsim.sim.policies import ASK, SlotRequest
 from lotsim.sim.preparation import PreparedLot
-from lotsim.sim.repairs import LotChanges, check_lot_events
+from lotsim.sim.repairs import LotChanges, check_lot_events, lot_event_problem
 from lotsim.sim.results import RunResult, VehicleRun
 from lotsim.sim.settings import RunSettings
 from lotsim.traffic.demand import Arrival, arrivals
@@ -99,7 +99,7 @@ class Live:
         spec = scenario.disturbances
         check_lot_events(lg, spec)
         for event in (() if spec is None else (*spec.closures, *spec.taken)):
-            self._loop.add_lot_event(event, getattr(event, "start", getattr(event, "at", 0)))
+            self._loop.add_lot_event(event)
         self._tallies = {id(sg.tally): sg.tally for sg in self._loop.graphs.values()}.values()
         self._took = 0.0  # seconds spent dealing with events
         self._worked = 0.0  # of which working out edge motions first
@@ -223,9 +223,7 @@ class Live:
         """
         self._open()
         start = self._when(at)
-        event = Closure(kind, name, start, until)
-        self._check_event(event)
-        self._loop.add_lot_event(event, start)
+        self._add_event(Closure(kind, name, start, until))
 
     def take_bay(self, slot: str, *, at: float | None = None) -> None:
         """A car the plan does not know parks in ``slot`` at ``at`` [s] (now, if None) and
@@ -238,9 +236,7 @@ class Live:
             For a slot the lot does not have, or a time before now.
         """
         self._open()
-        event = TakenBay(slot, self._when(at))
-        self._check_event(event)
-        self._loop.add_lot_event(event, event.at)
+        self._add_event(TakenBay(slot, self._when(at)))
 
     def _when(self, at: float | None) -> float:
         now = max(self.now, 0.0) if math.isfinite(self.now) else 0.0
@@ -250,17 +246,11 @@ class Live:
             raise SettingsError("at", f"expected a time from now ({now:g} s) on, found {at!r}")
         return float(at)
 
-    def _check_event(self, event) -> None:
-        lg = self._loop.lg
-        if isinstance(event, TakenBay):
-            if event.slot not in lg.lot.slot_by_id:
-                raise SettingsError("slot", f"the lot has no slot {event.slot!r}")
-            return
-        names = (sorted(lg.lot.aisles) if event.kind == "aisle"
-                 else sorted({*lg.entrances, *lg.exits}))
-        if event.id not in names:
-            raise SettingsError(event.kind, f"expected one of the lot's {event.kind}s "
-                                            f"({', '.join(names)}), found {event.id!r}")
+    def _add_event(self, event: Closure | TakenBay) -> None:
+        problem = lot_event_problem(self._loop.lg, event)
+        if problem is not None:
+            raise SettingsError(*problem)
+        self._loop.add_lot_event(event)
 
     # -- reading it -----------------------------------------------------------------------------
     def state(self) -> dict:

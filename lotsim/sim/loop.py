@@ -271,18 +271,16 @@ class EventLoop:
         if v.moves and v.moves[-1].kind == "wait" and abs(v.moves[-1].t1 - t) < 1e-9:
             repairs.repair(self, i, v, t, v.reason)
 
-    def add_lot_event(self, event, t: float) -> None:
-        """A closure or a bay taken (:mod:`lotsim.traffic.disturbances`), at ``t`` [s]."""
+    def add_lot_event(self, event) -> None:
+        """A closure or a bay taken (:mod:`lotsim.traffic.disturbances`), at its time."""
         self.lot_events.append(event)
-        self.at(t, "close" if isinstance(event, Closure) else "take", len(self.lot_events) - 1)
+        closes = isinstance(event, Closure)
+        self.at(event.start if closes else event.at, "close" if closes else "take",
+                len(self.lot_events) - 1)
 
     def exit_goal(self) -> Goal:
         """Any of the lot's exits."""
         return Goal(exits=tuple(self.lg.exits.values()))
-
-    def retry_after(self, v: VehicleRun) -> float:
-        """How long ``v`` waits before it tries again after a failed search [s]."""
-        return self.backoff(v)
 
     def tries(self, i: int, v: VehicleRun, t: float, options: list[str]
               ) -> list[tuple[str, bool]] | None:
@@ -447,7 +445,7 @@ class EventLoop:
             self.at(reopen, "depart", i)
             return
         plan = self.plan(v, sg, start=self.lg.slot_nodes[v.slot], t0=t,
-                         start_pose=v.parked_pose, goal=Goal(exits=tuple(self.lg.exits.values())),
+                         start_pose=v.parked_pose, goal=self.exit_goal(),
                          key=("exit", v.vehicle.name))
         if plan.status is not Status.FOUND:
             v.reason = f"could not leave yet ({plan.reason})"
@@ -493,8 +491,7 @@ class EventLoop:
             kept = [*v.moves[:k], last]
         t_end = v.moves[-1].t1
         if k < len(v.moves) - 1 and self.may_be_sooner(v, t_end):
-            goal = (Goal(exits=tuple(self.lg.exits.values())) if v.leaving
-                    else self.park_goal(v, v.slot))
+            goal = self.exit_goal() if v.leaving else self.park_goal(v, v.slot)
             in_slot = last.node_to == self.lg.slot_nodes.get(v.slot)
             plan = self.plan(v, sg, start=last.node_to, t0=last.t1, level=last.level_to,
                              goal=goal, outside=last.kind == "outside",

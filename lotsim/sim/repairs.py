@@ -71,6 +71,21 @@ class Replan:
     outcome: str
 
 
+def lot_event_problem(lg: LotGraph, event: Closure | TakenBay) -> tuple[str, str] | None:
+    """``(key, what is wrong)`` when ``event`` names what the lot does not have (a slot,
+    an aisle, a gate), else None."""
+    if isinstance(event, TakenBay):
+        if event.slot in lg.lot.slot_by_id:
+            return None
+        return "slot", (f"expected a slot id, found {event.slot!r}: the lot has no slot "
+                        f"{event.slot!r}")
+    names = lg.lot.aisles if event.kind == "aisle" else {**lg.entrances, **lg.exits}
+    if event.id in names:
+        return None
+    return event.kind, (f"expected one of the lot's {event.kind}s "
+                        f"({', '.join(sorted(names))}), found {event.id!r}")
+
+
 def check_lot_events(lg: LotGraph, spec: Disturbances | None) -> None:
     """Refuse closures and bays taken that name what the lot does not have.
 
@@ -79,17 +94,10 @@ def check_lot_events(lg: LotGraph, spec: Disturbances | None) -> None:
     ScenarioError
         Located where the scenario names it.
     """
-    if spec is None:
-        return
-    for bay in spec.taken:
-        if bay.slot not in lg.lot.slot_by_id:
-            raise ScenarioError(bay.where, f"expected a slot id, found {bay.slot!r}, which no "
-                                           f"slot has")
-    for c in spec.closures:
-        names = (lg.lot.aisles if c.kind == "aisle" else {**lg.entrances, **lg.exits})
-        if c.id not in names:
-            raise ScenarioError(c.where, f"expected one of the lot's {c.kind}s "
-                                         f"({', '.join(sorted(names))}), found {c.id!r}")
+    for event in () if spec is None else (*spec.taken, *spec.closures):
+        problem = lot_event_problem(lg, event)
+        if problem is not None:
+            raise ScenarioError(event.where, problem[1])
 
 
 def closure_area(lg: LotGraph, closure: Closure, vehicles) -> BaseGeometry:
@@ -144,8 +152,7 @@ def close(loop: EventLoop, closure: Closure, t: float) -> ClosureRecord:
         k = under_way(v, t)
         if k is None or not v.moves:
             continue
-        if entered(v, t) and meets(loop, v, area, t, math.inf, from_move=k) \
-                and _in_it(loop, v, k, t, area):
+        if entered(v, t) and _in_it(loop, v, k, t, area):
             rec.inside.append(v.id)
     loop.table.reserve(f"closed:{closure.kind}:{closure.id}", [(t, closure.end, area)])
     for i, v in enumerate(loop.vehicles):
@@ -248,7 +255,7 @@ def repair(loop: EventLoop, i: int, v: VehicleRun, t: float, why: str) -> None:
         loop.replans.append(Replan(v.id, t, why, "none found: it keeps its plan"))
         return
     loop.table.release(v.id, after=last.t1)
-    wait = loop.retry_after(v)
+    wait = loop.backoff(v)
     stand = Move("wait", last.t1, last.t1 + wait, last.node_to, last.node_to, 0, 0,
                  end_pose=last.end_pose if last.end_pose is not None else sg.pose[last.node_to],
                  steer=last.steer if last.motion is None else float(sg.steer[last.node_to]))
