@@ -98,6 +98,10 @@ def result_dict(rr: RunResult, *, progress=None) -> dict:
             "reason": v.reason,
             "samples": cols,
         })
+        if v.arrival.inside:  # in the lot when it came: where it stood
+            vehicles[-1]["inside"] = ({"slot": v.arrival.slot} if v.arrival.slot is not None
+                                      else {"pose": [round(float(c), 6)
+                                                     for c in v.arrival.pose]})
     if progress is not None:
         progress(len(rr.vehicles), len(rr.vehicles))
     s = rr.settings

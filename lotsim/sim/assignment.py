@@ -69,6 +69,7 @@ class SlotAssigner:
         self._seen: dict[str | None, list[float]] = {}  # entrance (None: out) → times
         self._terms: dict[tuple[str, str, bool], dict[str, dict[str | None, float]]] = {}
         self._share: dict[tuple[str, str | None], dict[int, float]] = {}
+        self.starts: dict[str, int] = {}  # car id → the lane node a car on a lane sets off from
 
     # -- ranking ------------------------------------------------------------------------------
     def ranked(self, arrival: Arrival, free: Iterable[str], t: float | None = None, *,
@@ -77,21 +78,32 @@ class SlotAssigner:
         will), best first by the policy ``by`` (the assigner's, if None) at time ``t`` [s]
         (the arrival's, if None), ties by slot id."""
         leaving = arrival.dwell is not None
-        times = self.slot_times(arrival.entrance, arrival.vehicle, leaving)
+        start = self.origin(arrival)
+        times = self.slot_times(start, arrival.vehicle, leaving)
         usable = [s for s in free if s in times]
         by = by or self.policy
         if by == "shortest":
             return sorted(usable, key=lambda s: (times[s], s))
         if by == "priced":
-            price = self.prices(arrival.entrance, arrival.vehicle, leaving,
+            price = self.prices(start, arrival.vehicle, leaving,
                                 arrival.time if t is None else t)
             return sorted(usable, key=lambda s: (times[s] + price.get(s, 0.0), s))
-        x, y, _ = self.lg.graph.nodes[self.lg.entrances[arrival.entrance]]["pose"]
+        x, y, _ = self.lg.graph.nodes[self.node_of(start)]["pose"]
         slots = self.lg.lot.slot_by_id
         return sorted(usable, key=lambda s: (math.dist((x, y), slots[s].center), s))
 
-    def slot_times(self, gate: str, vname: str, leaving: bool) -> dict[str, float]:
-        """Static time [s] from entrance ``gate`` into each slot a ``vname`` can use and, if
+    def origin(self, arrival: Arrival) -> str | int:
+        """Where ``arrival``'s car sets off for a slot: its entrance, or (a car already on a
+        lane) the lane node it stands at (:attr:`starts`)."""
+        return self.starts.get(arrival.id, arrival.entrance)
+
+    def node_of(self, start: str | int) -> int:
+        """The graph node of ``start``: an entrance's name, or a node."""
+        return start if isinstance(start, int) else self.lg.entrances[start]
+
+    def slot_times(self, gate: str | int, vname: str, leaving: bool) -> dict[str, float]:
+        """Static time [s] from entrance ``gate`` (or from lane node ``gate``) into each
+        slot a ``vname`` can use and, if
         ``leaving``, out of it again (by any way out from the pose it parks on) to the
         nearest exit: a car that will leave counts the way out as well as the way in."""
         key = (gate, vname, leaving)
@@ -100,7 +112,7 @@ class SlotAssigner:
                                 in self.slot_ways(gate, vname, leaving).items()}
         return self._times[key]
 
-    def slot_ways(self, gate: str, vname: str, leaving: bool
+    def slot_ways(self, gate: str | int, vname: str, leaving: bool
                   ) -> dict[str, tuple[float, int, int | None]]:
         """For each slot a ``vname`` from entrance ``gate`` can use, :meth:`slot_times`'s
         time [s] with the park edge and (if ``leaving``) the leave edge of that way, as
@@ -108,7 +120,7 @@ class SlotAssigner:
         key = (gate, vname, leaving)
         if key not in self._ways:
             sg = self.graphs[vname]
-            dist = sg.forward_times(self.lg.entrances[gate])
+            dist = sg.forward_times(self.node_of(gate))
             to_exit = (sg.reverse_search({n: 0.0 for n in self.lg.exits.values()})
                        if leaving else None)
             out: dict[str, tuple[float, int, int | None]] = {}
@@ -138,7 +150,7 @@ class SlotAssigner:
         return {g: (bisect.bisect_right(ts, t) - bisect.bisect_right(ts, t - w)) / w
                 for g, ts in self._seen.items()}
 
-    def prices(self, gate: str, vname: str, leaving: bool, t: float) -> dict[str, float]:
+    def prices(self, gate: str | int, vname: str, leaving: bool, t: float) -> dict[str, float]:
         """The delay [s] a ``vname`` from ``gate`` is expected to cause the other cars by
         parking in each slot (and leaving it again, if ``leaving``), at time ``t`` [s].
 
@@ -159,7 +171,7 @@ class SlotAssigner:
             out[sid] = sum(flows.get(g, 0.0) * c for g, c in by.items())
         return out
 
-    def _price_terms(self, gate: str, vname: str, leaving: bool
+    def _price_terms(self, gate: str | int, vname: str, leaving: bool
                      ) -> dict[str, dict[str | None, float]]:
         """For each slot, :meth:`prices`' sum of ``share × d² / 2`` over the slot's
         maneuvers, by the flow (entrance, or None for the way out) it is multiplied by."""

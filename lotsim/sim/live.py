@@ -169,39 +169,79 @@ class Live:
             raise
 
     # -- cars coming ----------------------------------------------------------------------------
-    def add(self, car: str, vehicle: str, entrance: str, *, at: float | None = None,
-            dwell: float | None = None) -> None:
+    def add(self, car: str, vehicle: str, entrance: str | None = None, *,
+            at: float | None = None, dwell: float | None = None, slot: str | None = None,
+            pose=None) -> None:
         """A car ``car`` of type ``vehicle`` comes to ``entrance`` at time ``at`` [s] (now,
         if None), to stay ``dwell`` seconds once parked (None: it stays).
+
+        Or it is inside the lot already, from now: standing in bay ``slot``, to be called
+        out after ``dwell`` seconds (None: it stays); or standing on a lane at ``pose``
+        ``(x, y, theta)`` [m, rad] (the nearest lane node of about that heading,
+        :func:`~lotsim.sim.inside.lane_node_near`), from where it looks for a slot. Either
+        holds its ground until it moves, where a car queued at a gate takes no space; the
+        cars planned through its ground are planned again.
 
         Raises
         ------
         SettingsError
             For a car id already in the run, a type or entrance the lot does not have, a
-            time before now, or a dwell of a lot with no exit.
+            time before now, a dwell of a lot with no exit; for a car inside the lot, a
+            time other than now, a bay that is not free or that its type cannot use or
+            leave, a pose on no lane, or ground another car stands or drives on now.
         """
         self._open()
         loop = self._loop
         lg = loop.lg
-        at = (self.now if math.isfinite(self.now) else 0.0) if at is None else float(at)
+        now = self.now if math.isfinite(self.now) else 0.0
+        at = now if at is None else float(at)
         if car in loop.by_id:
             raise SettingsError("car", f"{car!r} is already in the run")
         if vehicle not in loop.types:
             raise SettingsError("vehicle", f"expected one of the scenario's vehicle types "
                                            f"({', '.join(sorted(loop.types))}), found "
                                            f"{vehicle!r}")
-        if entrance not in lg.entrances:
+        given = [k for k, x in (("entrance", entrance), ("slot", slot), ("pose", pose))
+                 if x is not None]
+        if len(given) != 1:
+            raise SettingsError("car", f"{car!r}: expected one of entrance, slot or pose "
+                                       f"(where it comes), found "
+                                       f"{' and '.join(given) or 'none'}")
+        if entrance is not None and entrance not in lg.entrances:
             raise SettingsError("entrance", f"expected one of the lot's entrances "
                                             f"({', '.join(sorted(lg.entrances))}), found "
                                             f"{entrance!r}")
         if not math.isfinite(at) or at < max(self.now, 0.0) - 1e-9:
             raise SettingsError("at", f"expected a time from now ({max(self.now, 0.0):g} s) "
                                       f"on, found {at:g}")
+        if entrance is None and abs(at - now) > 1e-9:
+            raise SettingsError("at", f"a car inside the lot is added where it is now "
+                                      f"({now:g} s), found {at:g} (advance first)")
         if dwell is not None and not (math.isfinite(dwell) and dwell >= 0):
             raise SettingsError("dwell", f"expected seconds, at least 0, found {dwell!r}")
-        a = Arrival(car, vehicle, entrance, at, None if dwell is None else float(dwell))
+        if dwell is not None and not lg.exits:
+            raise SettingsError("dwell", f"{car!r} cannot leave: the lot has no exit")
+        dwell = None if dwell is None else float(dwell)
+        if slot is not None and slot not in lg.lot.slot_by_id:
+            raise SettingsError("slot", f"expected a slot id, found {slot!r}: the lot has no "
+                                        f"slot {slot!r}")
+        if pose is not None:
+            pose = self._lane_pose(pose)
+        a = Arrival(car, vehicle, entrance, at, dwell, slot=slot, pose=pose)
+        from lotsim.sim import inside
         from lotsim.sim.running import check_traffic, turned_away
 
+        if a.inside:
+            if pose is not None:
+                loop.assigner.starts[car] = inside.lane_node_near(lg, pose)[0]
+            why = inside.why_not_here(loop, VehicleRun(a, loop.types[vehicle]), at)
+            if why is not None:
+                loop.assigner.starts.pop(car, None)
+                raise SettingsError("slot" if slot is not None else "pose",
+                                    f"{car!r} cannot be there: {why}")
+            i = loop.enter(a)
+            self._timed(lambda: loop.on_arrive(i, loop.vehicles[i], at))
+            return
         try:
             check_traffic(lg, [a], self._reach)
         except ScenarioError as err:
@@ -209,6 +249,22 @@ class Live:
         loop.turned_away.update(turned_away(lg, [a], self._reach))
         i = loop.enter(a)
         loop.at(at, "arrive", i)
+
+    def _lane_pose(self, pose) -> tuple[float, float, float]:
+        """The lane node's pose ``pose`` means (:func:`~lotsim.sim.inside.lane_node_near`).
+        """
+        from lotsim.sim import inside
+
+        try:
+            x, y, th = (float(c) for c in pose)
+        except (TypeError, ValueError):
+            raise SettingsError("pose", f"expected (x, y, theta), found {pose!r}") from None
+        if not all(map(math.isfinite, (x, y, th))):
+            raise SettingsError("pose", f"expected finite numbers, found {pose!r}")
+        node, why = inside.lane_node_near(self._loop.lg, (x, y, th))
+        if node is None:
+            raise SettingsError("pose", f"({x:g}, {y:g}, {th:g}) is on no lane: {why}")
+        return tuple(map(float, self._loop.lg.graph.nodes[node]["pose"]))
 
     # -- the lot changing -----------------------------------------------------------------------
     def close(self, kind: str, name: str, until: float, *, at: float | None = None) -> None:
@@ -312,7 +368,7 @@ class Live:
         cars = sorted(self._loop.vehicles, key=lambda v: (v.arrival.time, v.id))
         loop = self._loop
         changes = (LotChanges(loop.closures, loop.taken_records, loop.replans)
-                   if loop.lot_events else None)
+                   if loop.lot_events or loop.replans else None)
         self._result = RunResult(self.prepared.scenario, self.prepared.lot_graph,
                                  self.settings, self.seed, cars,
                                  self._took - self._worked, motion_time=self._worked,

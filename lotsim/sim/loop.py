@@ -17,7 +17,7 @@ from collections import OrderedDict
 from lotsim.core.outcome import Status
 from lotsim.roadmap.model import LotGraph
 from lotsim.scenario import Scenario
-from lotsim.sim import repairs
+from lotsim.sim import inside, repairs
 from lotsim.sim.assignment import SlotAssigner
 from lotsim.sim.policies import ASK, SlotRequest, choices
 from lotsim.sim.results import VehicleRun
@@ -206,6 +206,9 @@ class EventLoop:
         if v.id in self.turned_away:  # a type the lot cannot serve: turned away at once
             self.finish(v, "rejected", self.turned_away[v.id])
             return
+        if v.arrival.inside:  # in a bay or on a lane: it holds its ground from now
+            inside.place(self, i, v, t)
+            return
         self.assigner.saw(v.arrival.entrance, v.arrival.time)
         if self.patience > 0:
             self.at(v.arrival.time + self.patience, "timeout", i)
@@ -221,15 +224,16 @@ class EventLoop:
         self.finish(v, "rejected", f"waited {self.patience:g} s outside: {why}")
 
     def on_retry(self, i: int, v: VehicleRun, t: float) -> None:
-        if v.moves or v.done:
-            return
+        if v.done or (v.moves and not (v.arrival.inside and v.slot is None)):
+            return  # it is on its way (a car on a lane that has no slot yet looks again)
         t = max(t, v.arrival.time)  # a booked vehicle is planned before it arrives
         sg = self.graphs[v.vehicle.name]
+        start, outside = inside.set_off(self, v, t)
         options = self.assigner.ranked(v.arrival, self.free, t)
-        full = "the lot is full"
+        full = ("the lot is full" if not v.arrival.inside
+                else "no free slot it can reach from where it stands")
         if self.closures and options:
-            away, _ = repairs.cut_off(self, v.vehicle.name, self.lg.entrances[v.arrival.entrance],
-                                      t)
+            away, _ = repairs.cut_off(self, v.vehicle.name, start, t)
             options = [sid for sid in options if sid not in away]
             full = ("the lot is full" if options
                     else "its free slots are closed off (on or beyond a closed aisle)")
@@ -243,25 +247,26 @@ class EventLoop:
         tries = self.tries(i, v, t, options)
         if tries is None:  # the policy chose to wait, or has yet to choose
             return
-        start = self.lg.entrances[v.arrival.entrance]
         while tries:
             sid, first = tries.pop(0)
             goal = self.park_goal(v, sid)
             budget = self.first_look(sg, start, goal.slot) if first else None
-            plan = self.plan(v, sg, start=start, t0=t, goal=goal, outside=True,
+            plan = self.plan(v, sg, start=start, t0=t, goal=goal, outside=outside,
                              key=("slot", sid), budget=budget)
             if plan.status is Status.FOUND:
                 if i in self.queue:
                     self.queue.remove(i)
                 self.free.discard(sid)
                 v.slot = sid
+                if not outside:  # it stood on its lane until now
+                    self.table.release(v.id, after=t)
                 self.commit(i, v, sg, plan)
                 return
             if plan.status is Status.OUT_OF_BUDGET and first:
                 tries.append((sid, False))
                 self.assigner.ran_out(sid, t)
         v.reason = f"no conflict-free route found ({plan.reason})"
-        if self.patience == 0:
+        if self.patience == 0 and not v.arrival.inside:
             self.on_timeout(i, v, t)
             return
         self.at(t + self.backoff(v), "retry", i)
@@ -303,7 +308,7 @@ class EventLoop:
         picked = choices(answer, request, lambda sid: self.why_not(v, sid))
         if picked is None:
             v.reason = "its policy chose to wait"
-            if self.patience == 0:
+            if self.patience == 0 and not v.arrival.inside:
                 self.on_timeout(i, v, t)
             else:
                 self.at(t + self.s.retry, "retry", i)
@@ -316,7 +321,8 @@ class EventLoop:
         """What a policy is asked for ``v`` at ``t`` [s], ``options`` its usable free
         slots, ranked."""
         a = v.arrival
-        times = self.assigner.slot_times(a.entrance, a.vehicle, a.dwell is not None)
+        times = self.assigner.slot_times(self.assigner.origin(a), a.vehicle,
+                                         a.dwell is not None)
         return SlotRequest(a.id, a.vehicle, a.entrance, t, a.dwell is not None,
                            tuple(options), {sid: times[sid] for sid in options},
                            lambda by: self.assigner.ranked(a, options, t, by=by),
@@ -336,7 +342,9 @@ class EventLoop:
         why = self.lg.infeasible.get(v.vehicle.name, {}).get(sid)
         if why:
             return f"a {v.vehicle.name!r} cannot use it ({why})"
-        return (f"a {v.vehicle.name!r} cannot reach it from entrance {v.arrival.entrance!r}"
+        where = (f"entrance {v.arrival.entrance!r}" if not v.arrival.inside
+                 else "where it stands")
+        return (f"a {v.vehicle.name!r} cannot reach it from {where}"
                 + (" and leave it for an exit" if v.arrival.dwell is not None else ""))
 
     def first_look(self, sg: SearchGraph, start: int, slot: int) -> int:
@@ -461,8 +469,10 @@ class EventLoop:
         self.assigner.saw(None, t)
         # the parked stretch until the departure's first move (already reserved until t)
         if plan.moves[0].t0 > v.moves[-1].t1:
-            node = v.moves[-1].node_to
-            v.moves.append(Move("parked", v.moves[-1].t1, plan.moves[0].t0, node, node, 0, 0,
+            node, t0 = v.moves[-1].node_to, v.moves[-1].t1
+            if v.moves[-1].kind == "parked":  # one that stood in its bay when it came
+                t0 = v.moves.pop().t0
+            v.moves.append(Move("parked", t0, plan.moves[0].t0, node, node, 0, 0,
                                 end_pose=v.parked_pose))
         self.commit(i, v, sg, plan)
         self.free.add(v.slot)

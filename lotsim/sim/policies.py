@@ -33,8 +33,10 @@ class SlotRequest:
 
     Attributes
     ----------
-    car, vehicle, entrance : str
-        The car's id, its type's name and the entrance it waits at.
+    car, vehicle : str
+        The car's id and its type's name.
+    entrance : str or None
+        The entrance it waits at (None: it stands inside the lot, on a lane).
     time : float
         When it asks [s].
     leaving : bool
@@ -43,13 +45,14 @@ class SlotRequest:
         The free slots it can park in (and leave again, if it will), best first by the
         run's ``assignment``.
     static_times : mapping of str to float
-        Each of those slots' static time from the entrance [s]: the way in along the lanes
-        and the maneuver, and the way out to the nearest exit for a car that will leave.
+        Each of those slots' static time from the entrance (or where it stands) [s]: the
+        way in along the lanes and the maneuver, and the way out to the nearest exit for a
+        car that will leave.
     """
 
     car: str
     vehicle: str
-    entrance: str
+    entrance: str | None
     time: float
     leaving: bool
     slots: tuple[str, ...]

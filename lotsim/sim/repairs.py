@@ -206,11 +206,17 @@ def _left(v: VehicleRun, t: float) -> bool:
     return leave is not None and leave.t0 < t + EPS
 
 
-def repair(loop: EventLoop, i: int, v: VehicleRun, t: float, why: str) -> None:
+KEPT = "none found: it keeps its plan"
+"""A repair's outcome when a car driving at speed found no other way and no stop: it drives
+its plan on."""
+
+
+def repair(loop: EventLoop, i: int, v: VehicleRun, t: float, why: str) -> Replan | None:
     """Plan ``v`` again from where it is at ``t`` [s]: a car not in the lot yet from its
     gate (its slot chosen anew), one on its way from the end of its move under way (to its
     slot, or another if that one can no longer be had; or to an exit). When no way is
-    found, it stands there and tries again a little later."""
+    found, it stands there and tries again a little later. The repair's record (None when
+    there was nothing to plan)."""
     if not entered(v, t):
         loop.table.release(v.id)
         _give_back(loop, v)
@@ -218,13 +224,15 @@ def repair(loop: EventLoop, i: int, v: VehicleRun, t: float, why: str) -> None:
         v.status, v.done, v.reason = "waiting", False, why
         loop.replans.append(Replan(v.id, t, why, "to choose its slot again at its gate"))
         loop.at(t, "retry", i)
-        return
+        return loop.replans[-1]
     k = under_way(v, t)
+    if k is None and v.moves and v.moves[-1].kind == "wait":
+        k = len(v.moves) - 1  # it stood until now (to try again)
     if k is None:
-        return
+        return None
     last = v.moves[k]
     if last.kind == "parked":
-        return  # it plans its way out when it leaves
+        return None  # it plans its way out when it leaves
     if last.motion is None and last.t0 < t - EPS:
         last = dataclasses.replace(last, t1=t)
     kept = [*v.moves[:k], last]
@@ -249,22 +257,43 @@ def repair(loop: EventLoop, i: int, v: VehicleRun, t: float, why: str) -> None:
             outcome = ("out to an exit" if sid is None else
                        f"to slot {sid!r}" + ("" if sid == old else f" (not {old!r})"))
             loop.replans.append(Replan(v.id, t, why, outcome))
-            return
-    # no way now: it stands where its move under way ends, and tries again
-    if last.level_to != 0:
-        loop.replans.append(Replan(v.id, t, why, "none found: it keeps its plan"))
-        return
-    loop.table.release(v.id, after=last.t1)
+            return loop.replans[-1]
+    # no way now: it stands where its move under way ends (or, driving on, where its plan
+    # first comes to rest), and tries again
     wait = loop.backoff(v)
+    if last.level_to != 0:
+        j = standstill(v, k)
+        if j is None or not _free_to_stand(loop, v, v.moves[j], v.moves[j].t1 + wait):
+            loop.replans.append(Replan(v.id, t, why, KEPT))
+            return loop.replans[-1]
+        last, kept = v.moves[j], v.moves[: j + 1]
+    loop.table.release(v.id, after=last.t1)
     stand = Move("wait", last.t1, last.t1 + wait, last.node_to, last.node_to, 0, 0,
                  end_pose=last.end_pose if last.end_pose is not None else sg.pose[last.node_to],
                  steer=last.steer if last.motion is None else float(sg.steer[last.node_to]))
     v.moves = [*kept, stand]
     v.reason = why
-    reserve_moves(loop.table, v.id, sg, [stand], hold_end=False)
+    # it holds its ground until it moves again (the next try, or a later one)
+    reserve_moves(loop.table, v.id, sg, [stand], hold_end=True)
     loop.replans.append(Replan(v.id, t, why, f"none found: it stands and tries again at "
                                                 f"{stand.t1:.1f} s"))
     loop.at(stand.t1, "repair", i)
+    return loop.replans[-1]
+
+
+def standstill(v: VehicleRun, k: int) -> int | None:
+    """The index of the first of ``v``'s moves from ``k`` on that ends at rest on a lane
+    (not in a slot, nor out of the lot): where a car driving on can next stand; None when
+    its plan has none."""
+    return next((j for j in range(k, len(v.moves)) if v.moves[j].level_to == 0
+                 and v.moves[j].kind in ("drive", "wait")), None)
+
+
+def _free_to_stand(loop: EventLoop, v: VehicleRun, m: Move, until: float) -> bool:
+    """Whether ``v`` can stand where move ``m`` leaves it, from its end to ``until`` [s],
+    as far as the others' reservations go."""
+    body = standing_body(v.vehicle, m.end_pose)
+    return loop.table.is_free([(m.t1, until, body)], ignore=v.id)
 
 
 def _give_back(loop: EventLoop, v: VehicleRun) -> None:

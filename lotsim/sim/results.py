@@ -93,7 +93,7 @@ class RunResult:
             out[v.status] += 1
         out["served"] = out["parked"] + out["departed"]
         out["vehicles"] = len(self.vehicles)
-        park = [v.parked_at - v.arrival.time for v in self.vehicles if v.parked_at is not None]
+        park = _times_to_park(self.vehicles)
         out["mean_time_to_park"] = float(np.mean(park)) if park else 0.0
         out["max_time_to_park"] = float(np.max(park)) if park else 0.0
         out["total_waiting"] = float(sum(m.t1 - m.t0 for v in self.vehicles for m in v.moves
@@ -118,7 +118,7 @@ class RunResult:
         time to leave (the end of the dwell to passing the exit), and the standing per car
         (:func:`standing`) in all and split into queued outside, on the way in and on the
         way out, over every car of the traffic [s]."""
-        park = [v.parked_at - v.arrival.time for v in self.vehicles if v.parked_at is not None]
+        park = _times_to_park(self.vehicles)
         leave = [v.left_at - wanted for v in self.vehicles
                  if v.left_at is not None and (wanted := _wants_to_leave(v)) is not None]
         parts = np.array([standing(v) for v in self.vehicles]).reshape(-1, 3)
@@ -132,6 +132,13 @@ class RunResult:
         for k, where in enumerate(("outside", "in", "out")):
             out[f"standing_{where}_per_car"] = float(total[k] / n)
         return out
+
+
+def _times_to_park(vehicles: list[VehicleRun]) -> list[float]:
+    """From arrival to standing in the slot [s], for each car that parked (not those that
+    stood in their bay when they came)."""
+    return [v.parked_at - v.arrival.time for v in vehicles
+            if v.parked_at is not None and v.arrival.slot is None]
 
 
 def _queued(v: VehicleRun) -> float:

@@ -21,14 +21,26 @@ PATIENCE = 600.0
 @dataclass(frozen=True, slots=True)
 class Arrival:
     """One vehicle: ``id``, its type's name, the entrance it arrives at, the arrival time
-    [s], and how long it stays once parked [s] (None: it stays)."""
+    [s], and how long it stays once parked [s] (None: it stays).
+
+    A car already inside the lot has no entrance (None) but ``slot``, the bay it stands in
+    from ``time`` (to be called out ``dwell`` seconds later), or ``pose``, where it stands
+    on a lane (a roadmap node's ``(x, y, theta)``) from ``time``, holding its space until it
+    sets off for a slot."""
 
     id: str
     vehicle: str
-    entrance: str
+    entrance: str | None
     time: float
     dwell: float | None = None
     where: Location | None = field(default=None, repr=False, compare=False)
+    slot: str | None = None
+    pose: tuple[float, float, float] | None = None
+
+    @property
+    def inside(self) -> bool:
+        """Whether the car is inside the lot when it comes (in a bay, or on a lane)."""
+        return self.entrance is None
 
 
 @dataclass(frozen=True, slots=True)

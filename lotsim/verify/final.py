@@ -15,9 +15,11 @@ from lotsim.verify.tolerances import (
     EXIT_DISTANCE,
     EXIT_HEADING,
     MAKESPAN_TOL,
+    POSE_TOL,
     REST_SPEED,
     SHRINK,
     STATUSES,
+    TIME_TOL,
 )
 
 
@@ -41,6 +43,49 @@ def _check_final(vehicles: list[_Vehicle], lot: _Lot, out: list[Violation]) -> N
             _check_parked(veh, lot, out)
         if status == "departed" and veh.n:
             _check_exit(veh, lot, out)
+        if veh.inside is not None and veh.n:
+            _check_inside(veh, lot, out)
+
+
+def _footprint(veh: _Vehicle, k: int) -> shapely.Polygon:
+    """``veh``'s footprint at its ``k``-th sample, shrunk by :data:`SHRINK`."""
+    x, y, th = veh.x[k], veh.y[k], veh.theta[k]
+    u, w = np.array([math.cos(th), math.sin(th)]), np.array([-math.sin(th), math.cos(th)])
+    a0, a1 = -veh.rear + SHRINK, veh.front - SHRINK
+    b = veh.width / 2 - SHRINK
+    return shapely.Polygon([np.array([x, y]) + u * a + w * c
+                            for a, c in ((a0, -b), (a1, -b), (a1, b), (a0, b))])
+
+
+def _check_inside(veh: _Vehicle, lot: _Lot, out: list[Violation]) -> None:
+    """A car in the lot when it came starts there at its arrival, at rest: within the slot
+    it stood in (free at the start), or at the pose it stood at."""
+    name, t0 = veh.id, veh.t[0]
+    if abs(t0 - veh.arrival) > TIME_TOL:
+        _add(out, "inside", name, t0, f"{name} was in the lot at {veh.arrival:.2f} s but its "
+             f"first sample is at {t0:.2f} s")
+    if abs(veh.v[0]) > REST_SPEED:
+        _add(out, "inside", name, t0, f"{name} stood in the lot when it came but moves at "
+             f"its first sample (v={veh.v[0]:.3f} m/s)")
+    if "slot" in veh.inside:
+        slot = lot.slots.get(veh.inside["slot"])
+        if slot is None:
+            return  # reported when read
+        if slot.occupied:
+            _add(out, "inside", name, t0, f"{name} stood in slot {slot.id}, which was "
+                 f"occupied at start")
+        foot = _footprint(veh, 0)
+        if not shapely.covers(slot.polygon, foot):
+            outside = shapely.area(shapely.difference(foot, slot.polygon))
+            _add(out, "inside", name, t0, f"{name} stood in slot {slot.id} when it came, but "
+                 f"its first footprint is not within it ({outside:.2f} m² outside)")
+        return
+    x, y, th = veh.inside["pose"]
+    off = math.hypot(veh.x[0] - x, veh.y[0] - y)
+    turn = abs(float(_wrap(np.array(veh.theta[0] - th))))
+    if off > POSE_TOL or turn > POSE_TOL:
+        _add(out, "inside", name, t0, f"{name} stood at ({x:.3f}, {y:.3f}, {th:.4f}) when it "
+             f"came, but its first sample is {off:.4f} m and {turn:.4f} rad from there")
 
 
 def _check_parked(veh: _Vehicle, lot: _Lot, out: list[Violation]) -> None:
@@ -55,12 +100,7 @@ def _check_parked(veh: _Vehicle, lot: _Lot, out: list[Violation]) -> None:
         _add(out, "slot", name, t_end,
              f"{name} is parked in slot {slot.id}, which was occupied at start")
     x, y, th = veh.x[-1], veh.y[-1], veh.theta[-1]
-    u, w = np.array([math.cos(th), math.sin(th)]), np.array([-math.sin(th), math.cos(th)])
-    a0, a1 = -veh.rear + SHRINK, veh.front - SHRINK
-    b = veh.width / 2 - SHRINK
-    corners = [np.array([x, y]) + u * a + w * c for a, c in ((a0, -b), (a1, -b), (a1, b),
-                                                               (a0, b))]
-    foot = shapely.Polygon(corners)
+    foot = _footprint(veh, -1)
     if not shapely.covers(slot.polygon, foot):
         outside = shapely.area(shapely.difference(foot, slot.polygon))
         _add(out, "slot", name, t_end,

@@ -154,6 +154,7 @@ class _Vehicle:
     v: FloatArray
     steer: FloatArray
     gear: FloatArray
+    inside: dict | None = None  # where it stood when it came, in the lot: slot or pose
 
     @property
     def n(self) -> int:
@@ -424,9 +425,16 @@ def _parse_vehicle(i: int, raw: Any, lot: _Lot, out: list[Violation]) -> _Vehicl
     if "arrival" in raw and not _is_number(arrival):
         problems.append(f"arrival: expected a number, found {arrival!r}")
     entrance = raw.get("entrance")
+    inside = _inside(raw, lot, problems)
     if "entrance" in raw:
-        if not isinstance(entrance, str):
-            problems.append(f"entrance: expected a string, found {entrance!r}")
+        if entrance is None and inside is not None:
+            pass  # in the lot when it came
+        elif not isinstance(entrance, str):
+            problems.append(f"entrance: expected a string (or null for a car with "
+                            f"'inside'), found {entrance!r}")
+        elif inside is not None:
+            problems.append(f"entrance {entrance!r}: a car inside the lot when it came has "
+                            f"none (null)")
         elif lot.entrances is not None and entrance not in lot.entrances:
             problems.append(f"entrance {entrance!r} is not an entrance of the lot")
     slot = raw.get("slot")
@@ -444,4 +452,22 @@ def _parse_vehicle(i: int, raw: Any, lot: _Lot, out: list[Violation]) -> _Vehicl
     if problems or cols is None:
         return None
     return _Vehicle(i, name, status, slot, reason, float(arrival),
-                    **{key: dims[key] for key in TYPE_NUMBERS}, **cols)
+                    **{key: dims[key] for key in TYPE_NUMBERS}, **cols, inside=inside)
+
+
+def _inside(raw: dict, lot: _Lot, problems: list[str]) -> dict | None:
+    """A vehicle's ``inside`` (where it stood when it came into the run, in the lot): a
+    slot of the lot, or a pose; None when it came by a gate."""
+    if "inside" not in raw:
+        return None
+    got = raw["inside"]
+    if isinstance(got, dict) and set(got) == {"slot"} and isinstance(got["slot"], str):
+        if got["slot"] not in lot.slots:
+            problems.append(f"inside.slot {got['slot']!r} is not a slot of the lot")
+        return {"slot": got["slot"]}
+    if (isinstance(got, dict) and set(got) == {"pose"} and isinstance(got["pose"], list)
+            and len(got["pose"]) == 3 and all(_is_number(c) for c in got["pose"])):
+        return {"pose": tuple(float(c) for c in got["pose"])}
+    problems.append(f"inside: expected {{'slot': id}} or {{'pose': [x, y, theta]}}, found "
+                    f"{got!r}")
+    return None

@@ -102,6 +102,9 @@ EXIT_HEADING = 0.1
 """Largest heading difference to that exit [rad]."""
 REST_SPEED = 1e-3
 """A parked vehicle's last speed is at most this [m/s]."""
+POSE_TOL = 1e-3
+"""How far a car in the lot when it came may start from the pose it stood at [m, rad]
+(the result writes poses to 0.1 mm)."""
 MAKESPAN_TOL = 1e-3
 """Slack on ``metrics.makespan`` [s]."""
 MAX_MAGNITUDE = 1e9
@@ -113,7 +116,8 @@ ends of the stretch, not every instant of it)."""
 
 RULES = ("internal", "structure", "status", "arrival", "sampling", "sideways", "curvature",
          "heading", "steer", "steer_rate", "gear", "speed", "lateral", "accel", "jerk",
-         "overlap", "parked", "obstacle", "boundary", "pavement", "slot", "exit", "reason",
+         "overlap", "parked", "obstacle", "boundary", "pavement", "slot", "inside", "exit",
+         "reason",
          "stall", "closure", "taken", "metrics")
 """Every rule tag, in the order violations are listed."""
 

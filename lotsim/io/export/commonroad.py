@@ -143,8 +143,9 @@ def ks_states(tr: CarTrack, first: int, last: int, dt: float = DT) -> dict[str, 
 
 
 def trips(doc: dict, dt: float = DT) -> list[tuple[Trip, CarTrack, Visit]]:
-    """Each vehicle's trips on the step: in (first sample to parked), out (moved off to
-    last sample), or whole (a car that never stood in its slot). A trip begins at the first
+    """Each vehicle's trips on the step: in (first sample to parked; none for a car that
+    stood in its slot when it came), out (moved off to last sample), or whole (a car that
+    never stood in its slot). A trip begins at the first
     step within its samples, or in the dwell before it; it ends at the last step within its
     samples, or in the dwell after it."""
     vs = visits(doc)
@@ -161,7 +162,8 @@ def trips(doc: dict, dt: float = DT) -> list[tuple[Trip, CarTrack, Visit]]:
                 math.ceil(v.park / dt - 1e-9),
                 last_in if v.leave is None else math.floor(v.leave / dt + 1e-9),
             )
-            spans.append(("in", first_in, max(park_step, first_in)))
+            if not v.in_bay:  # one that stood in its slot when it came has no way in
+                spans.append(("in", first_in, max(park_step, first_in)))
             if v.leave is not None:
                 leave_step = max(math.floor(v.leave / dt + 1e-9), park_step)
                 spans.append(("out", leave_step, max(last_in, leave_step)))

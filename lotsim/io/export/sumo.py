@@ -495,23 +495,22 @@ def _car_trip(
     area_edge: dict[str, str],
     end: float,
 ) -> ET.Element | None:
-    """A car's ``<trip>``: from the lane at its entrance (at its arrival time) to the lane at
-    its exit, with a stop in its slot's parking area until it moved off (or past ``end``
-    when it stays, its trip then ending at the area's edge). ``None`` for a car that neither
+    """A car's ``<trip>``: from the lane at its entrance (at its arrival time; from its
+    space, for a car that stood in its slot when it came) to the lane at its exit, with a
+    stop in its slot's parking area until it moved off (or past ``end`` when it stays, its
+    trip then ending at the area's edge). ``None`` for a car that neither
     parked nor left: SUMO has nowhere to send it."""
     if v.park is None and v.exit is None:
         return None
-    ex, ey, eth = portals.get(v.entrance, (tr.x[0], tr.y[0], tr.theta[0]))
-    src, _, depart_pos, _ = _on_lane(lanes, edges, ex, ey, eth)
-    attrs = {
-        "id": _sumo_id(tr.id),
-        "type": _sumo_id(tr.shape.name),
-        "depart": f"{v.arrival:.2f}",
-        "departLane": "0",
-        "departPos": f"{depart_pos:.4f}",
-        "departSpeed": "0",
-        "from": src,
-    }
+    attrs = {"id": _sumo_id(tr.id), "type": _sumo_id(tr.shape.name),
+             "depart": f"{v.arrival:.2f}"}
+    if v.in_bay:  # it stood in its slot when it came: it departs from its space
+        attrs |= {"departPos": "stop", "from": area_edge[str(v.slot)]}
+    else:
+        ex, ey, eth = portals.get(v.entrance, (tr.x[0], tr.y[0], tr.theta[0]))
+        src, _, depart_pos, _ = _on_lane(lanes, edges, ex, ey, eth)
+        attrs |= {"departLane": "0", "departPos": f"{depart_pos:.4f}", "departSpeed": "0",
+                  "from": src}
     if v.exit is not None:
         ox, oy, oth = portals[v.exit]
         dst, _, arrival_pos, _ = _on_lane(lanes, edges, ox, oy, oth)

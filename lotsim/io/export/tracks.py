@@ -158,6 +158,8 @@ class Visit:
     """Its last sample."""
     exit: str | None
     """The exit it left by (``departed`` vehicles only)."""
+    in_bay: bool = False
+    """It stood in its slot when it came (``inside``), from its first sample."""
 
 
 def tracks(doc: dict) -> list[CarTrack]:
@@ -258,12 +260,13 @@ def visits(doc: dict) -> dict[str, Visit]:
             slot,
             status,
             float(v["arrival"]),
-            str(v.get("entrance", "")),
+            str(v.get("entrance") or ""),
             start,
             park,
             leave,
             end,
             exit_id,
+            "slot" in (v.get("inside") or {}),
         )
     return out
 
