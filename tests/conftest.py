@@ -114,6 +114,30 @@ def mixed_lot_doc(shipped_graphs) -> dict:
     return result_dict(simulate(sc, lot_graph=shipped_graphs["mixed_lot"]))
 
 
+DISTURBED = """disturbances:
+  stalls: {at: [{car: ada, time: 0, duration: 20}]}
+  closures: [{gate: out, from: 30, to: 90}]
+  taken: [{slot: S4, time: 20}]
+"""
+"""A disturbances section for the example scenario (lotsim.EXAMPLE): ada stalls for 20 s
+from the first stop it reaches (about 3.8 s to 23.8 s), the exit closes from 30 s (from
+about 35.4 s, once the car on its ground has gone) to 90 s, and a car the plan does not
+know parks in S4 at 20 s."""
+
+
+@pytest.fixture(scope="session")
+def disturbed_doc() -> dict:
+    """The example scenario driven through :data:`DISTURBED`, as its result document read
+    back from JSON (a stall, a closed gate, a bay taken)."""
+    import json
+
+    import lotsim
+    from lotsim.io.result import result_dict
+
+    rr = lotsim.run(lotsim.prepare(lotsim.EXAMPLE + DISTURBED))
+    return json.loads(json.dumps(result_dict(rr)))
+
+
 def static_times(lg, vehicle, source):
     """Travel time lower bounds along lanes (networkx Dijkstra on length / limit)."""
     g = nx.DiGraph()

@@ -5,7 +5,9 @@ each frame is a copy of it on which Pillow draws, with palette indices, every
 vehicle in the lot as its real footprint at its interpolated pose: wheels (front
 wheels turned by the steer angle), a windscreen, a white bar across the rear
 while reversing, a faint trail, and its target slot outlined in its colour until
-it stands there. A header holds the clock and the counters, a footer the scale.
+it stands there; what the run met (:attr:`Replay.met`): closed ground hatched, the cars in
+bays taken from outside, stalled cars ringed. A header holds the clock and the counters, a
+footer the scale and the key (:data:`LEGEND`, shared with the HTML replay).
 
 Frames go to imageio v3 in chunks of :data:`CHUNK` ("P" frames with one fixed
 palette: no quantising per frame), each chunk as a complete GIF in memory; the
@@ -18,7 +20,7 @@ from __future__ import annotations
 import colorsys
 import math
 import os
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Collection, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -38,7 +40,14 @@ from lotsim.render.lot_image import (
     paint_portals,
     paint_scale_bar,
 )
-from lotsim.render.replay import COUNTERS, PHASES, Replay, assign_colours
+from lotsim.render.replay import (
+    COUNTERS,
+    MET_KINDS,
+    PHASES,
+    MetDisturbances,
+    Replay,
+    assign_colours,
+)
 from lotsim.scenario import VIEW_MARGIN, GifSettings
 
 CHUNK = 48
@@ -70,16 +79,34 @@ CLOSED = (205, 70, 40)
 this (a stalled car is ringed in white on ink)."""
 HATCH = 7
 """Spacing of the closed ground's hatching [px]."""
+KEY_SWATCH, KEY_GAP = 18, 12
+"""Width of a swatch of the key and the gap between its entries [px]."""
 LEGEND = (("driving", "car"), ("parked", "pale"), ("parked at start", "start"),
-          ("reversing", "reversing"), ("its slot", "slot"))
+          ("reversing", "reversing"), ("its slot", "slot"), ("stalled", "stalled"),
+          ("closed", "closed"), ("bay taken", "taken"))
 """The colour key of a run's pictures, in order (the GIF's footer, the HTML replay's bar):
 each label with what its swatch shows: a car in its own colour, in the pale version, a car
-parked at the start, a car with the white rear band, a slot outlined in a car's colour."""
+parked at the start, a car with the white rear band, a slot outlined in a car's colour; and
+what a run met (:data:`~lotsim.render.replay.MET_KINDS`): a car ringed in white on ink
+(stalled), hatched ground (closed), the dark car of a bay taken from outside."""
+LEGEND_CARS = 3
+"""Cars' colours shown side by side in the swatches of cars drawn in their own colour
+(driving, parked, stalled): each car has its own colour, and a swatch of one would say that
+"driving" is that colour."""
 
 
-def legend_entries(parked_at_start: bool) -> list[tuple[str, str]]:
-    """:data:`LEGEND` for a run: "parked at start" only when some car is."""
-    return [(label, kind) for label, kind in LEGEND if kind != "start" or parked_at_start]
+def legend_entries(parked_at_start: bool, met: Collection[str] = ()) -> list[tuple[str, str]]:
+    """:data:`LEGEND` for a run: "parked at start" only when some car is, and what the run
+    met only when it did (``met``: some of :data:`~lotsim.render.replay.MET_KINDS`, as
+    :attr:`MetDisturbances.kinds <lotsim.render.replay.MetDisturbances.kinds>`).
+
+    Examples
+    --------
+    >>> [label for label, _ in legend_entries(False, {"closed"})]
+    ['driving', 'parked', 'reversing', 'its slot', 'closed']
+    """
+    return [(label, kind) for label, kind in LEGEND
+            if (kind != "start" or parked_at_start) and (kind not in MET_KINDS or kind in met)]
 
 
 def vehicle_palette(n: int = VEHICLE_COLOURS) -> list[tuple[int, int, int]]:
@@ -218,11 +245,12 @@ def car_parts(
             "wheels": np.stack(wheels, axis=1)}
 
 
-def traffic_bounds(tracks, lot: tuple[float, float, float, float]
-                   ) -> tuple[float, float, float, float]:
+def traffic_bounds(tracks, lot: tuple[float, float, float, float],
+                   met: MetDisturbances | None = None) -> tuple[float, float, float, float]:
     """The box ``(x0, y0, x1, y1)`` [m] holding every footprint of ``tracks`` (each
-    rear-axle position with the car's longest reach from it) and :data:`VIEW_MARGIN`
-    around it, within the lot's box ``lot``; the lot's box when no car moves."""
+    rear-axle position with the car's longest reach from it), the ground the run closed and
+    the cars in bays taken from outside (``met``), and :data:`VIEW_MARGIN` around it, within
+    the lot's box ``lot``; the lot's box when no car moves."""
     boxes = []
     for tr in tracks:
         if len(tr.x):
@@ -231,6 +259,11 @@ def traffic_bounds(tracks, lot: tuple[float, float, float, float]
                           float(np.max(tr.x)) + reach, float(np.max(tr.y)) + reach))
     if not boxes:
         return lot
+    if met is not None:
+        for poly in [c.polygon for c in met.closures] + [b.polygon for b in met.strangers]:
+            if len(poly):
+                lo, hi = poly.min(axis=0) - VIEW_MARGIN, poly.max(axis=0) + VIEW_MARGIN
+                boxes.append((float(lo[0]), float(lo[1]), float(hi[0]), float(hi[1])))
     b = np.array(boxes)
     return (max(lot[0], b[:, 0].min()), max(lot[1], b[:, 1].min()),
             min(lot[2], b[:, 2].max()), min(lot[3], b[:, 3].max()))
@@ -253,13 +286,21 @@ class GifRenderer:
         self.replay = Replay(doc)
         self.lot = lot_from_json(doc["lot"]["drawing"], root="lot.drawing")
         w, h = settings.size
-        bounds = lot_bounds(self.lot)
-        if settings.view == "traffic":
-            bounds = traffic_bounds(self.replay.tracks, bounds)
-        self.canvas = LotCanvas(bounds, (w, h),
-                                frame=(PAD_PX, HEADER + PAD_PX // 2, w - PAD_PX, h - FOOTER))
         self._font = font(13)
         self._clock_font = font(15)
+        met = self.replay.met
+        bounds = lot_bounds(self.lot)
+        if settings.view == "traffic":
+            bounds = traffic_bounds(self.replay.tracks, bounds, met)
+        # the footer's height: a second line for the key of what the run met when the whole
+        # key does not fit on one
+        self.footer = FOOTER
+        if settings.legend and met.kinds:
+            one_line = legend_entries(len(doc["lot"]["parked"]) > 0, met.kinds)
+            if self._key_width(one_line) > self._key_room():
+                self.footer = 2 * FOOTER
+        self.canvas = LotCanvas(bounds, (w, h), frame=(PAD_PX, HEADER + PAD_PX // 2,
+                                                       w - PAD_PX, h - self.footer))
         self._stamps: dict = {}
         self._build_palette(doc)
         tracks = self.replay.tracks
@@ -280,33 +321,27 @@ class GifRenderer:
                                 [tr.front, tr.width / 2], [-tr.rear, tr.width / 2]]
                                for tr in tracks]).reshape(-1, 4, 2)
         self._wheelbase = np.array([tr.wheelbase for tr in tracks], dtype=float)
-        self._met(doc)
+        self._met()
 
-    def _met(self, doc: dict) -> None:
-        """What the run met (``disturbances``): each closure's hatching (a mask) over its
-        interval, each bay taken from outside and its car's body from its time, each
-        vehicle's stalls."""
-        met = doc.get("disturbances") or {}
+    def _met(self) -> None:
+        """What the run met (:attr:`Replay.met`) in pixels: each closure's hatching (a
+        mask) and outline, each bay taken from outside and its car's body, each stall."""
+        met = self.replay.met
         w, h = self.settings.size
         hatch = Image.new("L", (w, h), 0)
         dh = ImageDraw.Draw(hatch)
         for k in range(-h, w, HATCH):
             dh.line((k, h, k + h, 0), fill=255, width=1)
         self.closures = []
-        for c in met.get("closures", []):
-            ring = np.rint(self.canvas.to_px(np.asarray(c["polygon"], dtype=float))).astype(int)
+        for c in met.closures:
+            ring = np.rint(self.canvas.to_px(c.polygon)).astype(int)
             mask = Image.new("L", (w, h), 0)
             ImageDraw.Draw(mask).polygon(ring.ravel().tolist(), fill=255)
-            self.closures.append((c["t0"], c["t1"], ImageChops.multiply(mask, hatch),
-                                  np.vstack([ring, ring[:1]]).ravel().tolist(),
-                                  f"{c['kind']} {c['id']} closed"))
-        self.strangers = [(b["t"], np.rint(self.canvas.to_px(np.asarray(b["polygon"],
-                                                                         dtype=float)))
-                           .astype(int).ravel().tolist())
-                          for b in met.get("taken", []) if b.get("polygon")]
-        index = {tr.id: j for j, tr in enumerate(self.replay.tracks)}
-        self.stalls = [(index[st["car"]], st["t0"], st["t1"]) for st in met.get("stalls", [])
-                       if st.get("car") in index]
+            self.closures.append((c.t0, c.t1, ImageChops.multiply(mask, hatch),
+                                  np.vstack([ring, ring[:1]]).ravel().tolist(), c.label))
+        self.strangers = [(b.t, np.rint(self.canvas.to_px(b.polygon)).astype(int).ravel()
+                           .tolist()) for b in met.strangers]
+        self.stalls = [(st.vehicle, st.t0, st.t1) for st in met.stalls]
 
     # -- the fixed picture ---------------------------------------------------------------------
     def _build_palette(self, doc: dict) -> None:
@@ -348,50 +383,82 @@ class GifRenderer:
             self._paint_legend(bg, at_start)
         self._labels = self._portal_labels(bg)
 
+    def _key_room(self) -> int:
+        """Pixel width the key's bottom line has: right of the scale bar."""
+        w = self.settings.size[0]
+        return w - PAD_PX - (PAD_PX + min(260, w // 3) + 40)
+
+    def _key_width(self, entries: Sequence[tuple[str, str]]) -> int:
+        widths = [KEY_SWATCH + 4 + int(round(self._font.getlength(label)))
+                  for label, _ in entries]
+        return sum(widths) + KEY_GAP * max(0, len(widths) - 1)
+
     def _paint_legend(self, bg: Image.Image, at_start: int | None) -> None:
         """A key of the cars' colours in the footer, right-aligned, right of the scale bar:
-        a car in its own colour (driving or waiting), in the pale version (parked), a car
-        parked at the start (when there are some), reversing (white rear band) and the
-        slot a car is heading for (outlined in its colour). Entries that do not fit are
-        left out from the last. Swatch boxes go to :attr:`legend_boxes`."""
+        cars in their own colours (driving or waiting), in the pale versions (parked), a
+        car parked at the start (when there are some), reversing (white rear band), the
+        slot a car is heading for (outlined in its colour); and what the run met, when it
+        did: a stalled car (ringed in white on ink), closed ground (hatched), the car in a
+        bay taken from outside. In a footer of two lines (:attr:`footer`) the cars' entries
+        take the upper line, the whole width, and what the run met the lower one. Entries
+        that do not fit are left out from the last. Swatch boxes go to
+        :attr:`legend_boxes`."""
         w, h = self.settings.size
-        car, pale_car = int(self.car_index[0]), int(self.pale_index[0])
-        # each car has its own colour: a swatch of one would say "driving" is that colour
-        cars = [int(i) for i in self.car_index[:3]]
-        pales = [int(i) for i in self.pale_index[:3]]
-        colour = {"car": car, "pale": pale_car, "start": at_start, "reversing": car,
-                  "slot": car}
-        entries: list[tuple[str, str, int]] = [
-            (label, kind if kind in ("reversing", "slot") else "car", colour[kind])
-            for label, kind in legend_entries(at_start is not None)]
-        sw, gap = 18, 12
-        widths = [sw + 4 + int(round(self._font.getlength(label))) for label, _, _ in entries]
-        room = w - PAD_PX - (PAD_PX + min(260, w // 3) + 40)  # right of the scale bar
-        while entries and sum(widths) + gap * (len(widths) - 1) > room:
-            entries.pop()
-            widths.pop()
+        entries = legend_entries(at_start is not None, self.replay.met.kinds)
+        bottom = h - FOOTER // 2 - 1
+        if self.footer > FOOTER:
+            lines = [([e for e in entries if e[1] not in MET_KINDS], bottom - FOOTER,
+                      w - 2 * PAD_PX),
+                     ([e for e in entries if e[1] in MET_KINDS], bottom,
+                      self._key_room())]
+        else:
+            lines = [(entries, bottom, self._key_room())]
         d = ImageDraw.Draw(bg)
-        mid = h - FOOTER // 2 - 1
-        x = w - PAD_PX - (sum(widths) + gap * (len(widths) - 1))
-        for (label, kind, colour), width in zip(entries, widths, strict=True):
-            if kind == "slot":
-                box = (x + 4, mid - 7, x + sw - 4, mid + 7)
-                d.rectangle(box, outline=colour, width=2)
-            else:
-                box = (x, mid - 5, x + sw, mid + 5)
-                d.rectangle(box, fill=colour, outline=self.ink)
-                several = {car: cars, pale_car: pales}.get(colour, [colour])
-                if label in ("driving", "parked") and len(several) > 1:
-                    step = (sw - 1) / len(several)
-                    for k, c in enumerate(several):
-                        d.rectangle((x + 1 + round(k * step), mid - 4,
-                                     x + round((k + 1) * step) - 1 + (k == len(several) - 1),
-                                     mid + 4), fill=c)
-                if kind == "reversing":
-                    d.rectangle((x + 1, mid - 4, x + 4, mid + 4), fill=self.white)
-            self.legend_boxes[label] = box
-            self._stamp(bg, (x + sw + 4, mid), label, self._font)
-            x += width + gap
+        for line, mid, room in lines:
+            while line and self._key_width(line) > room:
+                line = line[:-1]
+            x = w - PAD_PX - self._key_width(line)
+            for label, kind in line:
+                self.legend_boxes[label] = self._paint_swatch(d, x, mid, kind, at_start)
+                self._stamp(bg, (x + KEY_SWATCH + 4, mid), label, self._font)
+                x += KEY_SWATCH + 4 + int(round(self._font.getlength(label))) + KEY_GAP
+
+    def _paint_swatch(self, d: ImageDraw.ImageDraw, x: int, mid: int, kind: str,
+                      at_start: int | None) -> tuple[int, int, int, int]:
+        """One swatch of the key (:data:`LEGEND`'s ``kind``) from ``x``, centred on line
+        ``mid``; returns its box."""
+        sw = KEY_SWATCH
+        car, pale_car = int(self.car_index[0]), int(self.pale_index[0])
+        box = (x, mid - 5, x + sw, mid + 5)
+        if kind == "slot":
+            box = (x + 4, mid - 7, x + sw - 4, mid + 7)
+            d.rectangle(box, outline=car, width=2)
+        elif kind == "closed":
+            x0, y0, x1, y1 = box
+            for c in range(x0 + y0 + 3, x1 + y1, HATCH // 2 + 1):  # lines x + y = c, as the
+                a, b = max(x0, c - y1), min(x1, c - y0)           # ground's, within the box
+                d.line((a, c - a, b, c - b), fill=self.closed, width=1)
+            d.rectangle(box, outline=self.closed, width=2)
+        elif kind == "taken":
+            d.rectangle(box, fill=self.tyre, outline=self.ink)
+        else:
+            fill = {"pale": pale_car, "start": at_start}.get(kind, car)
+            d.rectangle(box, fill=fill, outline=self.ink)
+            several = {"car": self.car_index, "pale": self.pale_index,
+                       "stalled": self.car_index}.get(kind)
+            if several is not None:
+                cols = [int(c) for c in several[:LEGEND_CARS]]
+                step = (sw - 1) / len(cols)
+                for k, c in enumerate(cols):
+                    d.rectangle((x + 1 + round(k * step), mid - 4,
+                                 x + round((k + 1) * step) - 1 + (k == len(cols) - 1),
+                                 mid + 4), fill=c)
+            if kind == "reversing":
+                d.rectangle((x + 1, mid - 4, x + 4, mid + 4), fill=self.white)
+            elif kind == "stalled":  # the ring a stalled car gets: white on an ink halo
+                d.rectangle((x - 1, mid - 6, x + sw + 1, mid + 6), outline=self.ink, width=2)
+                d.rectangle((x + 1, mid - 4, x + sw - 1, mid + 4), outline=self.white, width=1)
+        return box
 
     def _portal_labels(self, bg: Image.Image) -> list[tuple[tuple[int, int], Image.Image,
                                                           Image.Image]]:

@@ -5,7 +5,9 @@ the vehicles' samples as JSON and the viewer's script (``replay.js`` beside this
 it loads nothing else, so it opens from disk, offline, in any current browser. The viewer
 draws every car on a canvas over the lot as the GIF does (:mod:`lotsim.render.animation`:
 its footprint, wheels turned by the steer, windscreen, the white band while reversing, a
-trail, its target slot; the GIF's colours, handed over from the same constants), and offers
+trail, its target slot; the GIF's colours, handed over from the same constants), marks what
+the run met as the GIF does (:attr:`~lotsim.render.replay.Replay.met`: stalled cars ringed,
+closed ground hatched over its interval, the cars in bays taken from outside), and offers
 the GIF's colour key, play and pause, ×1 to ×60, a time slider with a timeline of the
 counters under it, skip to the next event, skip quiet stretches, zoom and pan, and a car's
 details on a click.
@@ -30,6 +32,7 @@ import json
 import math
 import os
 import string
+from collections.abc import Collection
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -38,8 +41,11 @@ import numpy as np
 from lotsim.core.atomic import atomic_write
 from lotsim.render import lot_image as li
 from lotsim.render.animation import (
+    CLOSED,
     GLASS,
+    HATCH,
     INK,
+    LEGEND_CARS,
     REVERSE_BAND,
     TYRE,
     VEHICLE_COLOURS,
@@ -50,7 +56,7 @@ from lotsim.render.animation import (
     vehicle_palette,
 )
 from lotsim.render.lot_svg import lot_svg, rgb
-from lotsim.render.replay import COUNTERS, PHASES, Replay, assign_colours
+from lotsim.render.replay import COUNTERS, PHASES, MetDisturbances, Replay, assign_colours
 from lotsim.scenario import REPLAY_SPEEDS, HtmlSettings
 
 STEER_TOLERANCE = 0.02
@@ -181,8 +187,8 @@ def replay_data(doc: dict, settings: HtmlSettings) -> dict:
 
 
 def _replay_data(doc: dict, settings: HtmlSettings) -> tuple:
-    """:func:`replay_data`, the lot model, the cars parked at start, the lot's bounds, and
-    the samples kept and in the result."""
+    """:func:`replay_data`, the lot model, the cars parked at start, the lot's bounds, the
+    samples kept and in the result, and what the run met."""
     from lotsim.io.lot_json import lot_from_json
 
     replay = Replay(doc)
@@ -242,12 +248,32 @@ def _replay_data(doc: dict, settings: HtmlSettings) -> tuple:
         "colours": {
             "car": [rgb(c) for c in cars], "pale": [rgb(pale(c)) for c in cars],
             "ink": rgb(INK), "glass": rgb(GLASS), "white": rgb(WHITE), "tyre": rgb(TYRE),
+            "closed": rgb(CLOSED),
         },
-        "drawing": {"wheel": list(WHEEL), "reverseBand": REVERSE_BAND},
+        "drawing": {"wheel": list(WHEEL), "reverseBand": REVERSE_BAND, "hatch": HATCH},
+        "met": _met_data(replay.met),
         "events": [round(float(e), 3) for e in replay.events()],
         "quiet": [[round(a, 3), round(b, 3)] for a, b in replay.quiet()],
         "vehicles": vehicles,
-    }, lot, parked, bounds, int(keep.sum()), int(len(keep))
+    }, lot, parked, bounds, int(keep.sum()), int(len(keep)), replay.met
+
+
+def _met_data(met: MetDisturbances) -> dict:
+    """What the run met, as the viewer draws it: closures (``label`` as the GIF's header
+    says it, ``t0`` to ``t1`` [s], ``polygon`` [m]), the cars in bays taken from outside
+    (``slot``, from ``t`` [s], their body's ``polygon``) and stalls (``car``, ``t0`` to
+    ``t1`` [s])."""
+    def poly(p: np.ndarray) -> list:
+        return np.round(p, 3).tolist()
+
+    return {
+        "closures": [{"label": c.label, "t0": round(c.t0, 3), "t1": round(c.t1, 3),
+                      "polygon": poly(c.polygon)} for c in met.closures],
+        "taken": [{"slot": b.slot, "t": round(b.t, 3), "polygon": poly(b.polygon)}
+                  for b in met.strangers],
+        "stalls": [{"car": st.car, "t0": round(st.t0, 3), "t1": round(st.t1, 3)}
+                   for st in met.stalls],
+    }
 
 
 def _json(obj: dict) -> str:
@@ -262,7 +288,7 @@ HELP = ("Drag to pan, wheel to zoom; click a car for its details and path; space
 
 def html_page(doc: dict, settings: HtmlSettings) -> tuple[str, int, int]:
     """The HTML replay of ``doc`` as text, with the samples in the result and kept."""
-    data, lot, parked, bounds, kept, total = _replay_data(doc, settings)
+    data, lot, parked, bounds, kept, total, met = _replay_data(doc, settings)
     svg = lot_svg(lot, parked, bounds)
     title = data["scenario"] or data["name"] or "run"
     page = string.Template(PAGE.read_text(encoding="utf-8")).substitute(
@@ -270,33 +296,55 @@ def html_page(doc: dict, settings: HtmlSettings) -> tuple[str, int, int]:
                        script=VIEWER.read_text(encoding="utf-8").strip(),
                        ink=rgb(INK), page=rgb(li.BACKGROUND),
                        header=rgb((250, 250, 248)),
-                       legend=legend_html(len(parked) > 0),
+                       legend=legend_html(len(parked) > 0, met.kinds),
                        help=HELP.format(tol=settings.tolerance * 100))
     return page, total, kept
 
 
-def legend_html(parked_at_start: bool) -> str:
-    """The colour key of the page's bar: the GIF's entries (:data:`~lotsim.render.animation.
-    LEGEND`) as small SVG swatches in the colours the page draws with, each marked
-    ``class="key" data-key=LABEL``, its parts ``data-part`` (body, band, outline)."""
-    car, ink = rgb(vehicle_palette()[0]), rgb(INK)
+def legend_html(parked_at_start: bool, met: Collection[str] = ()) -> str:
+    """The colour key of the page's bar: the GIF's entries (:func:`~lotsim.render.animation.
+    legend_entries`, with what the run ``met``) as small SVG swatches in the colours the
+    page draws with, each marked ``class="key" data-key=LABEL``, its parts ``data-part``
+    (body, car — one of the cars' colours shown side by side as in the GIF —, band,
+    outline, hatch, ring, halo)."""
+    cars = vehicle_palette()
+    car, ink = rgb(cars[0]), rgb(INK)
 
     def body(fill: str, stroke: str = ink) -> str:
         return (f'<rect data-part="body" x="0.5" y="1.5" width="17" height="9" '
                 f'fill="{fill}" stroke="{stroke}"/>')
 
+    def several(colours: list, x0: float = 1.0, x1: float = 17.0, y0: float = 2.0,
+                y1: float = 10.0) -> str:  # each car has its own colour: a few side by side
+        step = (x1 - x0) / len(colours)
+        return "".join(f'<rect data-part="car" x="{x0 + k * step:.3g}" y="{y0:g}" '
+                       f'width="{step:.3g}" height="{y1 - y0:g}" fill="{rgb(c)}"/>'
+                       for k, c in enumerate(colours))
+
+    hatch = "".join(  # lines x + y = c across the box (1, 1)-(17, 11), as the ground's
+        f'<line data-part="hatch" x1="{max(1, c - 11):g}" y1="{c - max(1, c - 11):g}" '
+        f'x2="{min(17, c - 1):g}" y2="{c - min(17, c - 1):g}" stroke="{rgb(CLOSED)}"/>'
+        for c in range(5, 28, HATCH // 2 + 1))
     swatch = {
-        "car": body(car),
-        "pale": body(rgb(pale(vehicle_palette()[0]))),
+        "car": body(car) + several(cars[:LEGEND_CARS]),
+        "pale": body(rgb(pale(cars[0]))) + several([pale(c) for c in cars[:LEGEND_CARS]]),
         "start": body(rgb(li.PARKED_CAR), rgb(li.PARKED_CAR_EDGE)),
         "reversing": body(car) + (f'<rect data-part="band" x="1" y="2" width="3" height="8" '
                                   f'fill="{rgb(WHITE)}"/>'),
         "slot": (f'<rect data-part="outline" x="5" y="1" width="8" height="10" fill="none" '
                  f'stroke="{car}" stroke-width="2"/>'),
+        "stalled": (body(car) + several(cars[:LEGEND_CARS], 2, 16, 3, 9)
+                    + f'<rect data-part="ring" x="2.5" y="3.5" width="13" height="5" '
+                      f'fill="none" stroke="{rgb(WHITE)}"/>'
+                    + f'<rect data-part="halo" x="1" y="1" width="16" height="10" '
+                      f'fill="none" stroke="{ink}" stroke-width="2"/>'),
+        "closed": (hatch + f'<rect data-part="outline" x="1" y="1" width="16" height="10" '
+                           f'fill="none" stroke="{rgb(CLOSED)}" stroke-width="2"/>'),
+        "taken": body(rgb(TYRE)),
     }
     return "".join(f'<span class="key" data-key="{label}"><svg width="18" height="12" '
                    f'viewBox="0 0 18 12">{swatch[kind]}</svg>{label}</span>'
-                   for label, kind in legend_entries(parked_at_start))
+                   for label, kind in legend_entries(parked_at_start, met))
 
 
 def _escape(text: str) -> str:

@@ -30,6 +30,15 @@
     };
   });
 
+  // what the run met (as lotsim.render.replay.MetDisturbances): closed ground, the cars in
+  // bays taken from outside, and each car's stalls (both ends included)
+  const M = D.met;
+  const byId = new Map(cars.map((c) => [c.id, c]));
+  for (const c of cars) c.stalls = [];
+  for (const st of M.stalls) { const c = byId.get(st.car); if (c) c.stalls.push([st.t0, st.t1]); }
+  const stallAt = (c, t) => c.stalls.find(([a, b]) => a <= t && t <= b) || null;
+  const closedAt = (t) => M.closures.filter((g) => g.t0 <= t && t <= g.t1);
+
   // -- where is everybody (as lotsim.render.replay.Replay) ------------------------------------------
   function phaseAt(c, t) {
     const leaveFrom = isFinite(c.parkedFrom) ? c.parkedUntil : c.gone;
@@ -194,6 +203,39 @@
     }
   }
 
+  function groundPx(polygon) {  // world polygon [[x, y], ...] to flat pixel coordinates
+    const out = [];
+    for (const [x, y] of polygon) out.push(...toPx(x, y));
+    return out;
+  }
+
+  function drawClosed(g) {  // hatched and outlined, as the GIF draws closed ground
+    const pts = groundPx(g.polygon), h = D.drawing.hatch;
+    let x0 = INF, y0 = INF, x1 = -INF, y1 = -INF;
+    for (let k = 0; k < pts.length; k += 2) {
+      x0 = Math.min(x0, pts[k]); x1 = Math.max(x1, pts[k]);
+      y0 = Math.min(y0, pts[k + 1]); y1 = Math.max(y1, pts[k + 1]);
+    }
+    ctx.save();
+    poly(pts); ctx.clip();
+    // lines x + y = c on the screen, h pixels apart, anchored to the ground as it is panned
+    const base = state.ox + state.oy;
+    ctx.beginPath();
+    for (let c = base + Math.ceil((x0 + y0 - base) / h) * h; c <= x1 + y1; c += h) {
+      ctx.moveTo(c - y1, y1); ctx.lineTo(c - y0, y0);
+    }
+    ctx.strokeStyle = C.closed; ctx.lineWidth = 1; ctx.stroke();
+    ctx.restore();
+    poly(pts); ctx.strokeStyle = C.closed; ctx.lineWidth = 2; ctx.stroke();
+  }
+
+  function drawStalled(c, p) {  // ringed in white on an ink halo that no car's colour hides
+    const h = c.w / 2;
+    poly(carPx(c, p, [[-c.rear, -h], [c.front, -h], [c.front, h], [-c.rear, h]]));
+    ctx.strokeStyle = C.ink; ctx.lineWidth = 5; ctx.stroke();
+    ctx.strokeStyle = C.white; ctx.lineWidth = 2; ctx.stroke();
+  }
+
   function pathLine(c, i0, i1, p) {  // samples i0..i1 (and the current pose) as one line
     ctx.beginPath();
     let started = false;
@@ -226,6 +268,12 @@
       if (p.x < x0 - r || p.x > x1 + r || p.y < y0 - r || p.y > y1 + r) continue;
       (ph === "parked" ? still : moving).push([c, p]);
     }
+    for (const g of closedAt(t)) drawClosed(g);
+    for (const b of M.taken) {  // the car the plan does not know, in its bay from its time
+      if (t < b.t) continue;
+      poly(groundPx(b.polygon));
+      ctx.fillStyle = C.tyre; ctx.fill(); ctx.lineWidth = 1; ctx.strokeStyle = C.ink; ctx.stroke();
+    }
     const lw = state.s * 0.25 >= 1.5 ? 2 : 1;
     for (const [c, p] of moving) {  // trails and target slots under every car
       if (D.trail > 0) {
@@ -247,6 +295,7 @@
     }
     for (const [c, p] of still) drawCar(c, p, true);
     for (const [c, p] of moving) drawCar(c, p, false);
+    for (const [c, p] of still.concat(moving)) if (stallAt(c, t)) drawStalled(c, p);
     if (sel) {
       const p = poseAt(sel, t);
       if (p && p.visible) {
@@ -262,8 +311,12 @@
     clock.textContent = clockText(t);
     const n = counts(t);
     const shown = D.counters.filter((k) => k !== "rejected" || n[k]);
-    countsEl.textContent = shown.map((k) => (k === "rejected" ? "turned away" : k) + " " + n[k])
-      .join("   ");
+    const said = shown.map((k) => (k === "rejected" ? "turned away" : k) + " " + n[k]);
+    const stalled = M.stalls.filter((st) => st.t0 <= t && t <= st.t1).length;
+    if (stalled) said.push("stalled " + stalled);  // as the GIF's header
+    const closed = closedAt(t).map((g) => g.label);
+    if (closed.length) said.push(closed.join(", "));
+    countsEl.textContent = said.join("   ");
     if (document.activeElement !== slider) slider.value = t;
     skippedEl.textContent = performance.now() < state.skippedUntil ? state.skippedText : "";
     drawTimelineCursor();
@@ -319,8 +372,10 @@
 
   function panelText(c) {
     const t = state.t, ph = phaseAt(c, t), p = poseAt(c, t);
-    const now = ph || (c.rejectedAt <= t ? "turned away" : c.gone <= t ? "gone"
-      : t < c.arrival ? "not arrived yet" : c.status);
+    const stall = p && p.visible ? stallAt(c, t) : null;
+    const now = stall ? "stalled (" + clockText(stall[0]) + " to " + clockText(stall[1]) + ")"
+      : ph || (c.rejectedAt <= t ? "turned away" : c.gone <= t ? "gone"
+        : t < c.arrival ? "not arrived yet" : c.status);
     const [q, st] = waitedBy(c, t);
     const park = isFinite(c.parkedFrom)
       ? (t >= c.parkedFrom ? (c.parkedFrom - c.arrival).toFixed(1) + " s" : "not yet")
@@ -456,7 +511,8 @@
     }
     const c = carAt(px, py);
     if (c) {
-      tip.textContent = c.id + " \u2014 " + (phaseAt(c, state.t) || c.status);
+      tip.textContent = c.id + " \u2014 " + (stallAt(c, state.t) ? "stalled"
+        : phaseAt(c, state.t) || c.status);
       tip.style.left = px + 12 + "px"; tip.style.top = py + 12 + "px";
       tip.style.display = "block"; view.style.cursor = "pointer";
     } else { tip.style.display = "none"; view.style.cursor = ""; }

@@ -14,6 +14,10 @@ A vehicle's life is cut into phases:
     standing in its slot;
 ``leaving``
     from the end of that stand until it vanishes at an exit.
+
+A run that met disturbances (``result.json``'s ``disturbances``) also has what the
+pictures mark of them (:class:`MetDisturbances`): ground closed over an interval, bays
+taken by cars the plan does not know, and the stalls of its cars.
 """
 
 from __future__ import annotations
@@ -36,6 +40,9 @@ least this long [s], besides its margins."""
 QUIET_MARGIN = 1.0
 """Run time kept at each end of a skipped stretch [s]: the last car stopping, the next
 one starting."""
+MET_KINDS = ("stalled", "closed", "taken")
+"""What the pictures mark of a run's disturbances: cars stalled, ground closed, bays
+taken from outside (:attr:`MetDisturbances.kinds`)."""
 
 
 @dataclass(frozen=True, eq=False)
@@ -97,6 +104,69 @@ class Track:
         return [(t0, t1) for name, t0, t1 in self.phases(end) if name in ("driving", "leaving")]
 
 
+@dataclass(frozen=True, eq=False)
+class ClosedGround:
+    """An aisle or gate closed over ``t0`` to ``t1`` [s], as the run met it."""
+
+    kind: str
+    """``aisle`` or ``gate``."""
+    id: str
+    t0: float
+    t1: float
+    polygon: np.ndarray
+    """The closed ground, (K, 2) [m]."""
+
+    @property
+    def label(self) -> str:
+        """What the pictures' headers say while it is closed (``gate out closed``)."""
+        return f"{self.kind} {self.id} closed"
+
+    def closed_at(self, t: float) -> bool:
+        """Closed at ``t`` [s] (both ends included)."""
+        return self.t0 <= t <= self.t1
+
+
+@dataclass(frozen=True, eq=False)
+class StrangerCar:
+    """The car the plan does not know, standing in bay ``slot`` from ``t`` [s] on."""
+
+    slot: str
+    t: float
+    polygon: np.ndarray
+    """Its body, (4, 2) [m]."""
+
+
+@dataclass(frozen=True)
+class StallSpan:
+    """Vehicle ``vehicle`` (index into :attr:`Replay.tracks`), ``car`` by id, stands
+    stalled from ``t0`` to ``t1`` [s] (both ends included)."""
+
+    vehicle: int
+    car: str
+    t0: float
+    t1: float
+
+    def stalled_at(self, t: float) -> bool:
+        return self.t0 <= t <= self.t1
+
+
+@dataclass(frozen=True, eq=False)
+class MetDisturbances:
+    """What the pictures show of the disturbances a run met: each closure, each bay taken
+    from outside (those refused have no car to draw) and each stall of a vehicle of the
+    run; all empty for a run that met none."""
+
+    closures: tuple[ClosedGround, ...] = ()
+    strangers: tuple[StrangerCar, ...] = ()
+    stalls: tuple[StallSpan, ...] = ()
+
+    @property
+    def kinds(self) -> frozenset[str]:
+        """Which of :data:`MET_KINDS` the run has."""
+        return frozenset(k for k, there in zip(
+            MET_KINDS, (self.stalls, self.closures, self.strangers), strict=True) if there)
+
+
 def _inside(point: tuple[float, float], poly: np.ndarray) -> bool:
     """``point`` inside the convex polygon ``poly`` (either orientation)."""
     p = np.asarray(point, dtype=float)
@@ -141,6 +211,35 @@ class Replay:
                 raise
             raise ReplayError(f"not a lotsim result: {type(exc).__name__}: {exc}") from None
         self.doc = doc
+
+    @cached_property
+    def met(self) -> MetDisturbances:
+        """The disturbances the run met, as the pictures mark them (the result's
+        ``disturbances`` section; empty without one).
+
+        Raises
+        ------
+        ReplayError
+            When that section is not as ``docs/result.md`` describes it.
+        """
+        met = self.doc.get("disturbances") or {}
+        index = {tr.id: j for j, tr in enumerate(self.tracks)}
+        try:
+            closures = tuple(
+                ClosedGround(str(c["kind"]), str(c["id"]), float(c["t0"]), float(c["t1"]),
+                             np.asarray(c["polygon"], dtype=float).reshape(-1, 2))
+                for c in met.get("closures", []))
+            strangers = tuple(
+                StrangerCar(str(b["slot"]), float(b["t"]),
+                            np.asarray(b["polygon"], dtype=float).reshape(-1, 2))
+                for b in met.get("taken", []) if b.get("polygon"))
+            stalls = tuple(StallSpan(index[st["car"]], st["car"], float(st["t0"]),
+                                     float(st["t1"]))
+                           for st in met.get("stalls", []) if st.get("car") in index)
+        except (KeyError, TypeError, ValueError, AttributeError) as exc:
+            raise ReplayError(f"disturbances: not as a lotsim result has them: "
+                              f"{type(exc).__name__}: {exc}") from None
+        return MetDisturbances(closures, strangers, stalls)
 
     @staticmethod
     def _track(v: dict, slots: dict, patience) -> Track:

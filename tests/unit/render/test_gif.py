@@ -348,6 +348,31 @@ def test_replay_states_hit_the_samples_and_turn_the_short_way():
     assert st["steer"][2, 0] == pytest.approx(0.1)
 
 
+def test_the_replay_reads_what_the_run_met_from_the_result(disturbed_doc, doc):
+    from lotsim.errors import ReplayError
+
+    met = Replay(disturbed_doc).met
+    recorded = disturbed_doc["disturbances"]
+    assert met.kinds == {"stalled", "closed", "taken"}
+    (c,), (b,), (st,) = met.closures, met.strangers, met.stalls
+    assert (c.label, c.t0, c.t1) == ("gate out closed", recorded["closures"][0]["t0"], 90.0)
+    assert c.closed_at(c.t0) and c.closed_at(c.t1) and not c.closed_at(c.t1 + 1e-6)
+    assert np.array_equal(c.polygon, recorded["closures"][0]["polygon"])
+    assert (b.slot, b.t) == ("S4", 20.0) and b.polygon.shape == (4, 2)
+    tracks = Replay(disturbed_doc).tracks
+    assert tracks[st.vehicle].id == st.car == "ada"
+    assert (st.t0, st.t1) == (recorded["stalls"][0]["t0"], recorded["stalls"][0]["t1"])
+    # a bay whose taking was refused has no car to draw; a run without the section, nothing
+    refused = {**recorded, "taken": [{**recorded["taken"][0], "polygon": None,
+                                      "refused": "a car was parking in it"}]}
+    assert Replay({**disturbed_doc, "disturbances": refused}).met.kinds == {"stalled",
+                                                                            "closed"}
+    assert Replay(doc).met.kinds == frozenset()
+    broken = {**recorded, "closures": [{"kind": "gate", "id": "out"}]}
+    with pytest.raises(ReplayError, match="disturbances: .*KeyError: 't0'"):
+        _ = Replay({**disturbed_doc, "disturbances": broken}).met
+
+
 def test_counters_account_for_every_vehicle_and_agree_with_the_statuses(doc, street):
     for d in (doc, street):
         r = Replay(d)
@@ -618,7 +643,9 @@ def test_the_gif_shows_closed_ground_a_taken_bay_and_a_stalled_car():
         closures=(Closure("gate", "out", 30.0, 90.0),), taken=(TakenBay("S4", 20.0),),
         stalls=(Stall("ada", 0.0, 20.0),)))
     doc = result_dict(rr)
-    settings = GifSettings(size=(480, 320))
+    # the same picture with and without each: the key and the frame of the traffic follow
+    # what the run met (the key has its own test)
+    settings = GifSettings(size=(480, 320), legend=False, view="lot")
     r = GifRenderer(doc, settings)
 
     def without(key):  # the same run, drawn as if that had not been met
@@ -675,3 +702,68 @@ def test_the_gif_frames_the_ground_the_cars_use_unless_asked_for_the_whole_lot()
         GifSettings(view="all")
     with pytest.raises(ScenarioError, match="animation.view"):
         load_scenario(lotsim.EXAMPLE + "animation: {view: all}\n")
+
+
+def test_the_gif_s_key_names_what_the_run_met_on_a_line_of_its_own(disturbed_doc, doc):
+    from lotsim.render.animation import CLOSED, FOOTER, INK, TYRE, WHITE, legend_entries
+
+    r = GifRenderer(disturbed_doc, GifSettings(size=(800, 600)))
+    img = np.asarray(r.frame(1.0).convert("RGB"))
+    cars = ["driving", "parked", "parked at start", "reversing", "its slot"]
+    met = ["stalled", "closed", "bay taken"]
+    assert list(r.legend_boxes) == cars + met == [
+        label for label, _ in legend_entries(True, {"stalled", "closed", "taken"})]
+    # the whole key does not fit right of the scale bar: what the run met takes the bottom
+    # line, the cars' key the line above it, and the lot ends above both
+    assert r.footer == 2 * FOOTER
+    assert r.canvas.to_px(r.canvas.bounds[:2])[1] <= 600 - 2 * FOOTER
+    upper = {r.legend_boxes[k][3] for k in cars}
+    lower = {r.legend_boxes[k][1] for k in met}
+    assert max(upper) < min(lower) and min(lower) > 600 - FOOTER
+    for label, (x0, y0, x1, y1) in r.legend_boxes.items():
+        assert 0 <= x0 < x1 < 800 and 600 - 2 * FOOTER < y0 < y1 < 600, label
+
+    def box(label):
+        x0, y0, x1, y1 = r.legend_boxes[label]
+        return x0, y0, x1, y1, (y0 + y1) // 2
+
+    x0, y0, x1, y1, mid = box("bay taken")  # the stranger's car: as the frame draws it
+    assert {tuple(c) for c in img[y0 + 1:y1, x0 + 1:x1].reshape(-1, 3)} == {TYRE}
+    x0, y0, x1, y1, mid = box("closed")  # outlined and hatched in the closed ground's colour
+    assert tuple(img[mid, x0]) == CLOSED and tuple(img[y0, (x0 + x1) // 2]) == CLOSED
+    inner = {tuple(c) for c in img[y0 + 2:y1 - 1, x0 + 2:x1 - 1].reshape(-1, 3)}
+    assert CLOSED in inner and len(inner) == 2  # hatching on the footer's ground
+    x0, y0, x1, y1, mid = box("stalled")  # white ring on ink, round cars' own colours
+    assert tuple(img[mid, x0 - 1]) == INK and tuple(img[mid, x0 + 1]) == WHITE
+    stripes = {tuple(c) for c in img[mid - 2:mid + 3, x0 + 3:x1 - 2].reshape(-1, 3)}
+    assert stripes == {r.vehicle_rgb(r.colour.index(k)) for k in range(3)}
+    # a run that met nothing: no such entries, one line
+    plain = GifRenderer(doc, GifSettings(size=(800, 600)))
+    assert list(plain.legend_boxes) == cars and plain.footer == FOOTER
+    # an entry only for what the run met
+    only = {**disturbed_doc, "disturbances": {**disturbed_doc["disturbances"], "stalls": [],
+                                              "taken": []}}
+    assert list(GifRenderer(only, GifSettings(size=(800, 600))).legend_boxes) == cars + [
+        "closed"]
+
+
+def test_the_traffic_s_frame_holds_what_the_run_closed_and_took(disturbed_doc):
+    from lotsim.render.animation import traffic_bounds
+    from lotsim.render.lot_image.canvas import lot_bounds
+    from lotsim.render.replay import MetDisturbances, StrangerCar
+
+    r = GifRenderer(disturbed_doc, GifSettings(size=(640, 480)))
+    lot = lot_bounds(r.lot)
+    tracks = [tr for tr in r.replay.tracks if tr.id == "ada"]  # one car, in one corner
+    corner = np.array([[lot[2] - 2.0, lot[3] - 5.0], [lot[2] - 0.2, lot[3] - 5.0],
+                       [lot[2] - 0.2, lot[3] - 0.2], [lot[2] - 2.0, lot[3] - 0.2]])
+    alone = traffic_bounds(tracks, lot)
+    assert alone[2] < lot[2] - 2.0 or alone[3] < lot[3] - 5.0  # the corner is not in it
+    box = traffic_bounds(tracks, lot, MetDisturbances(strangers=(StrangerCar("X", 5.0,
+                                                                             corner),)))
+    assert box[0] <= alone[0] and box[1] <= alone[1]
+    assert box[2] >= lot[2] - 0.2 and box[3] >= lot[3] - 0.2
+    for c in r.replay.met.closures:  # and the run's own closed ground
+        b = traffic_bounds(tracks, lot, r.replay.met)
+        lo, hi = c.polygon.min(axis=0), c.polygon.max(axis=0)
+        assert b[0] <= lo[0] and b[1] <= lo[1] and hi[0] <= b[2] and hi[1] <= b[3]

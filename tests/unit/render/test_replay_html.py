@@ -8,6 +8,7 @@ independently of the page's own bookkeeping: where the lot is fitted into the wi
 where a car's body is, which colour the GIF gives it.
 """
 
+import base64
 import json
 import math
 import os
@@ -24,7 +25,17 @@ from lotsim.errors import LotsimError, SettingsError
 from lotsim.io.lot_json import lot_from_json
 from lotsim.io.result import result_dict
 from lotsim.io.scenario_yaml import load_scenario
-from lotsim.render.animation import VEHICLE_COLOURS, GifSettings, plan_frames, vehicle_palette
+from lotsim.render.animation import (
+    CLOSED,
+    INK,
+    LEGEND_CARS,
+    TYRE,
+    VEHICLE_COLOURS,
+    WHITE,
+    GifSettings,
+    plan_frames,
+    vehicle_palette,
+)
 from lotsim.render.html import UNITS, replay_data, thin, write_html
 from lotsim.render.lot_image import lot_bounds
 from lotsim.render.replay import Replay, assign_colours
@@ -92,6 +103,10 @@ def body_point(tr, x, y, th, along, across=0.0):
 
 def hex_rgb(h):
     return [int(h[k:k + 2], 16) for k in (1, 3, 5)]
+
+
+def rgb_hex(c):
+    return "#" + bytes(c).hex()
 
 
 # -- in the browser ---------------------------------------------------------------------------
@@ -327,6 +342,16 @@ def test_the_page_has_the_gif_s_colour_key(doc, page):
         else:
             assert main == list(want), label
     assert hex_rgb(dict(key["reversing"])["band"]) == [255, 255, 255]
+    # each car has its own colour: "driving" and "parked" show the GIF's several colours,
+    # side by side, not one (one red swatch said driving cars were red)
+    for label, parked in (("driving", False), ("parked", True)):
+        x0, y0, x1, y1 = gif.legend_boxes[label]
+        shown = [c for part, c in key[label] if part == "car"]
+        assert len(shown) == LEGEND_CARS > 1
+        assert [tuple(hex_rgb(c)) for c in shown] == [
+            gif.vehicle_rgb(gif.colour.index(k), parked=parked) for k in range(LEGEND_CARS)]
+        assert {tuple(c) for c in img[y0 + 2:y1 - 1, x0 + 1:x1 - 1].reshape(-1, 3)} == {
+            tuple(hex_rgb(c)) for c in shown}
     # no car parked at the start, no such entry (as in the GIF)
     bare = json.loads(json.dumps(doc))
     bare["lot"]["parked"] = []
@@ -518,3 +543,183 @@ def test_render_honours_the_options_the_replay_takes_and_refuses_the_others(doc,
         assert main(["render", str(result), *args]) == 2
         assert message in capsys.readouterr().err
     assert not (tmp_path / "a.html").exists() and not (tmp_path / "t.png").exists()
+
+
+# -- what the run met: a stall, a closed gate, a bay taken --------------------------------------
+@pytest.fixture(scope="module")
+def met_pages(disturbed_doc, tmp_path_factory):
+    """The replay of the disturbed example run, and of the same run drawn as if it had not
+    met each of its disturbances (``closures``, ``stalls``, ``taken`` emptied)."""
+    folder = tmp_path_factory.mktemp("met")
+    pages = {"all": folder / "all.html"}
+    write_html(disturbed_doc, pages["all"])
+    for key in ("closures", "stalls", "taken"):
+        pages[key] = folder / f"no-{key}.html"
+        write_html({**disturbed_doc, "disturbances": {**disturbed_doc["disturbances"],
+                                                      key: []}}, pages[key])
+    return pages
+
+
+def drawn(browser, page, t):
+    """The cars' canvas of ``page`` at run time ``t``, seeking as a user does (the slider),
+    as an (H, W, 4) RGBA array read back from the canvas."""
+    from io import BytesIO
+
+    from PIL import Image
+
+    browser.open(page.as_uri())
+    browser.evaluate(f"(() => {{ const s = document.getElementById('slider'); s.value = {t}; "
+                     f"s.dispatchEvent(new Event('input')); }})()")
+    browser.evaluate("new Promise(r => requestAnimationFrame(() => requestAnimationFrame(r)))")
+    assert browser.evaluate("lotsimReplay.time()") == t
+    assert browser.errors() == []
+    url = browser.evaluate("document.getElementById('cars').toDataURL('image/png')")
+    png = base64.b64decode(url.split(",", 1)[1])
+    return np.asarray(Image.open(BytesIO(png)).convert("RGBA")).astype(int)
+
+
+def changed(a, b):
+    """Where two drawings differ: the pixel box (x0, y0, x1, y1) holding every difference,
+    and how many pixels differ (None, 0 when they are the same)."""
+    diff = np.any(a != b, axis=-1)
+    if not diff.any():
+        return None, 0
+    ys, xs = np.nonzero(diff)
+    return (xs.min(), ys.min(), xs.max(), ys.max()), int(diff.sum())
+
+
+def px_box(browser, polygon, pad):
+    """The pixel box of a world polygon in the page's view, ``pad`` pixels wider."""
+    v = browser.evaluate("lotsimReplay.view()")
+    p = np.asarray(polygon, dtype=float)
+    x, y = v["ox"] + p[:, 0] * v["s"], v["oy"] - p[:, 1] * v["s"]
+    return x.min() - pad, y.min() - pad, x.max() + pad, y.max() + pad
+
+
+def within(box, outer):
+    return (outer[0] <= box[0] and outer[1] <= box[1] and box[2] <= outer[2]
+            and box[3] <= outer[3])
+
+
+def counts_text(browser):
+    return browser.evaluate("document.getElementById('counts').textContent")
+
+
+def test_a_closed_gate_is_hatched_while_it_is_closed_and_only_then(browser, met_pages,
+                                                                    disturbed_doc):
+    (closure,) = disturbed_doc["disturbances"]["closures"]
+    t0, t1 = closure["t0"], closure["t1"]
+    assert 30 < t0 < 60 < t1 < 95
+    for t in (30.0, 95.0):  # before it closes and after it opens: as if it never had
+        a, b = drawn(browser, met_pages["all"], t), drawn(browser, met_pages["closures"], t)
+        assert changed(a, b) == (None, 0), t
+        assert "closed" not in counts_text(browser)
+    a = drawn(browser, met_pages["all"], 60.0)
+    assert counts_text(browser).endswith("   gate out closed")  # as the GIF's header
+    box = px_box(browser, closure["polygon"], pad=2)
+    b = drawn(browser, met_pages["closures"], 60.0)
+    where, n = changed(a, b)
+    assert n > 100 and within(where, box)  # drawn on the closed ground and nowhere else
+    # hatched: the closed ground's colour, in lines, with the lot showing between them
+    inside = a[int(box[1]) + 6:int(box[3]) - 6, int(box[0]) + 6:int(box[2]) - 6]
+    red = (np.abs(inside[..., :3] - np.array(CLOSED)).max(axis=-1) < 40) & (inside[..., 3] > 128)
+    assert 0.05 < red.mean() < 0.5
+    assert (inside[..., 3] == 0).mean() > 0.3
+
+
+def test_a_stalled_car_is_ringed_only_through_its_stall(browser, met_pages, disturbed_doc):
+    (stall,) = disturbed_doc["disturbances"]["stalls"]
+    car, t0, t1 = stall["car"], stall["t0"], stall["t1"]
+    mid = round((t0 + t1) / 2, 1)
+    tr = next(tr for tr in Replay(disturbed_doc).tracks if tr.id == car)
+    assert tr.t[0] < t0 - 1 and t1 + 5 < tr.parked_from  # in the lot before and after it
+    for t in (round(t0 - 1, 1), round(t1 + 4, 1)):
+        a, b = drawn(browser, met_pages["all"], t), drawn(browser, met_pages["stalls"], t)
+        assert changed(a, b) == (None, 0), t
+        assert "stalled" not in counts_text(browser)
+        browser.evaluate(f"lotsimReplay.select({json.dumps(car)})")
+        assert "now: driving" in browser.evaluate("lotsimReplay.panel()")
+    a = drawn(browser, met_pages["all"], mid)
+    assert "   stalled 1" in counts_text(browser)
+    browser.evaluate(f"lotsimReplay.select({json.dumps(car)})")
+    assert "now: stalled (00:03.8 to 00:23.8)" in browser.evaluate("lotsimReplay.panel()")
+    pose = browser.evaluate(f"lotsimReplay.pose({json.dumps(car)})")
+    view = browser.evaluate("lotsimReplay.view()")
+    # hovering over it says so
+    cx, cy = body_point(tr, pose["x"], pose["y"], pose["theta"], 0.4)
+    browser.send("Input.dispatchMouseEvent", {"type": "mouseMoved", "button": "none",
+                                              "x": view["ox"] + cx * view["s"],
+                                              "y": view["oy"] - cy * view["s"]})
+    assert browser.evaluate("document.getElementById('tip').textContent") == f"{car} \u2014 stalled"
+    b = drawn(browser, met_pages["stalls"], mid)
+    corners = [body_point(tr, pose["x"], pose["y"], pose["theta"], u, w)
+               for u in (0, 1) for w in (-tr.width / 2, tr.width / 2)]
+    box = px_box(browser, corners, pad=4)
+    where, n = changed(a, b)
+    assert n > 50 and within(where, box)  # a ring round the car, nothing else
+    # white on its outline, in the middle of a long side; its own colour just inside
+    for across, want in ((tr.width / 2, WHITE), (tr.width / 2 - 0.25, None)):
+        wx, wy = body_point(tr, pose["x"], pose["y"], pose["theta"], 0.5, across)
+        x, y = view["ox"] + wx * view["s"], view["oy"] - wy * view["s"]
+        got = a[int(y), int(x), :3]
+        if want is not None:
+            assert tuple(got) == want
+        else:
+            assert tuple(got) == tuple(b[int(y), int(x), :3])
+
+
+def test_a_bay_taken_from_outside_holds_a_dark_car_from_its_time_on(browser, met_pages,
+                                                                     disturbed_doc):
+    (taken,) = disturbed_doc["disturbances"]["taken"]
+    before = drawn(browser, met_pages["all"], round(taken["t"] - 5, 1))
+    assert changed(before, drawn(browser, met_pages["taken"], round(taken["t"] - 5, 1))) == (
+        None, 0)
+    a = drawn(browser, met_pages["all"], 25.0)
+    box = px_box(browser, taken["polygon"], pad=2)
+    where, n = changed(a, drawn(browser, met_pages["taken"], 25.0))
+    assert n > 100 and within(where, box)
+    x = int((box[0] + box[2]) / 2)
+    y = int((box[1] + box[3]) / 2)
+    assert tuple(a[y, x]) == (*TYRE, 255)
+
+
+def test_the_key_names_what_the_run_met_in_the_gif_s_words(browser, met_pages, page, doc,
+                                                           disturbed_doc):
+    from lotsim.render.animation import GifRenderer
+
+    gif = GifRenderer(disturbed_doc, GifSettings(size=(800, 600)))
+    key = page_key(met_pages["all"].read_text())
+    assert [k for k, _ in key] == list(gif.legend_boxes)
+    assert [k for k, _ in key][-3:] == ["stalled", "closed", "bay taken"]
+    parts = {label: p for label, p in key}
+    assert ("ring", rgb_hex(WHITE)) in parts["stalled"] and ("halo", rgb_hex(INK)) in \
+        parts["stalled"]
+    assert ("outline", rgb_hex(CLOSED)) in parts["closed"]
+    assert ("hatch", rgb_hex(CLOSED)) in parts["closed"]
+    assert parts["bay taken"] == [("body", rgb_hex(TYRE))]
+    # an entry for each thing the run met, and only for those
+    assert [k for k, _ in page_key(met_pages["stalls"].read_text())][-2:] == ["closed",
+                                                                           "bay taken"]
+    # in the browser, every entry is shown inside the window
+    browser.open(met_pages["all"].as_uri())
+    shown = browser.evaluate("""Array.from(document.querySelectorAll('#legend .key')).map(e => {
+        const r = e.getBoundingClientRect(); return [e.dataset.key, r.left, r.top, r.right,
+        r.bottom, r.width > 0 && r.height > 0]; })""")
+    assert [s[0] for s in shown] == [k for k, _ in key]
+    for label, left, top, right, bottom, visible in shown:
+        assert visible and 0 <= left < right <= WINDOW[0] and 0 <= top < bottom <= WINDOW[1], label
+
+
+def test_a_run_that_met_nothing_has_no_such_key_entries_or_marks(opened, page, doc):
+    met = {"stalled", "closed", "bay taken"}
+    assert not met & {k for k, _ in page_key(page.read_text())}
+    assert "disturbances" not in doc
+    assert replay_data(doc, HtmlSettings())["met"] == {"closures": [], "taken": [],
+                                                         "stalls": []}
+    keys = opened.evaluate(
+        "Array.from(document.querySelectorAll('#legend .key')).map(e => e.dataset.key)")
+    assert keys and not met & set(keys)
+    for t in (10.0, 40.0, 70.0):
+        opened.evaluate(f"lotsimReplay.setTime({t})")
+        text = opened.evaluate("document.getElementById('counts').textContent")
+        assert "stalled" not in text and "closed" not in text
