@@ -268,7 +268,7 @@ class Live:
 
     # -- the lot changing -----------------------------------------------------------------------
     def close(self, kind: str, name: str, until: float, *, at: float | None = None) -> None:
-        """Close the aisle or gate (``kind``) ``name`` from ``at`` (now, if None) until
+        """Close the aisle, lane or gate (``kind``) ``name`` from ``at`` (now, if None) until
         ``until`` [s] (:class:`~lotsim.traffic.disturbances.Closure`): the cars whose plans
         pass it then are planned again.
 

@@ -79,7 +79,9 @@ def lot_event_problem(lg: LotGraph, event: Closure | TakenBay) -> tuple[str, str
             return None
         return "slot", (f"expected a slot id, found {event.slot!r}: the lot has no slot "
                         f"{event.slot!r}")
-    names = lg.lot.aisles if event.kind == "aisle" else {**lg.entrances, **lg.exits}
+    names = (lg.lot.aisles if event.kind == "aisle" else
+             {lane.id: lane for lane in lg.lot.lanes} if event.kind == "lane" else
+             {**lg.entrances, **lg.exits})
     if event.id in names:
         return None
     return event.kind, (f"expected one of the lot's {event.kind}s "
@@ -101,10 +103,23 @@ def check_lot_events(lg: LotGraph, spec: Disturbances | None) -> None:
 
 
 def closure_area(lg: LotGraph, closure: Closure, vehicles) -> BaseGeometry:
-    """The ground ``closure`` closes: an aisle's polygon, or the ground every one of
-    ``vehicles`` (types) stands on at a gate."""
+    """The ground ``closure`` closes: an aisle's polygon; a lane's side of its aisle (the
+    half right of the centre line in the lane's direction; a one-way aisle's whole width);
+    or the ground every one of ``vehicles`` (types) stands on at a gate."""
     if closure.kind == "aisle":
         return lg.lot.aisles[closure.id].polygon
+    if closure.kind == "lane":
+        lane = next(lane for lane in lg.lot.lanes if lane.id == closure.id)
+        aisle = lg.lot.aisles[lane.aisle]
+        if len(aisle.lanes) == 1:
+            return aisle.polygon
+        # a single-sided buffer lies left of the line for a positive distance
+        reach = 2 * aisle.width
+        half = aisle.line.buffer(-reach if lane.with_polyline else reach, single_sided=True)
+        side = shapely.intersection(half, aisle.polygon)
+        # one polygon, as result.json writes it (its largest piece, should the lane's
+        # strip leave slivers of the aisle's ends)
+        return max(getattr(side, "geoms", [side]), key=lambda g: g.area)
     node = lg.entrances.get(closure.id, lg.exits.get(closure.id))
     pose = lg.graph.nodes[node]["pose"]
     return shapely.union_all([standing_body(t, pose) for t in vehicles])

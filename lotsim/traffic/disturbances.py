@@ -45,9 +45,10 @@ class Stall:
         set_field(self, "duration", float(self.duration))
 
 
-CLOSABLE = ("aisle", "gate")
-"""What a :class:`Closure` may close: an aisle (its whole paved width) or a gate (an
-entrance or exit: the ground a car stands on there)."""
+CLOSABLE = ("aisle", "lane", "gate")
+"""What a :class:`Closure` may close: an aisle (its whole paved width), one lane of a
+two-way aisle (its side of the aisle, the other lane staying open; a one-way aisle's lane
+is the whole aisle), or a gate (an entrance or exit: the ground a car stands on there)."""
 
 
 @dataclass(frozen=True, slots=True)

@@ -1,4 +1,4 @@
-"""lotsim.sim.repairs: aisles and gates closed for a while, bays taken by cars the plan does
+"""lotsim.sim.repairs: aisles, lanes and gates closed for a while, bays taken by cars the plan does
 not know, and the cars planned again for them.
 
 The lot is the example's, checked by eye: one one-way aisle ``main`` along y = 10 m, four
@@ -10,12 +10,17 @@ checker judges every run.
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import pytest
+import shapely
 
 import lotsim
 from lotsim.errors import ScenarioError, SettingsError
 from lotsim.io.result import result_dict
 from lotsim.traffic.disturbances import Closure, Disturbances, TakenBay
+
+ROOT = Path(__file__).resolve().parents[3]
 
 
 @pytest.fixture(scope="module")
@@ -128,7 +133,7 @@ def test_the_scenario_names_what_it_closes_and_takes_where_it_says_so():
                                             r".taken\[0\].slot: expected a slot id, found "
                                             r"'Q9'"):
         lotsim.run(bad)
-    with pytest.raises(ScenarioError, match="expected one of aisle or gate"):
+    with pytest.raises(ScenarioError, match="expected one of aisle or lane or gate"):
         lotsim.load_scenario(lotsim.EXAMPLE + "disturbances: {closures: [{from: 1, to: 2}]}\n")
     with pytest.raises(ScenarioError, match=r"to: expected a time after 'from' \(5 s\)"):
         lotsim.load_scenario(lotsim.EXAMPLE + "disturbances: {closures: [{gate: in, from: 5, "
@@ -146,3 +151,32 @@ def test_a_car_whose_ways_out_are_all_closed_waits_in_its_slot_without_searching
     assert leave.t0 >= bob.depart_at + 60.0 - 1e-9
     # it asked for no way out while none was open: as many searches as when none closed
     assert late.searches == bob.searches
+
+
+def test_a_lane_closed_closes_its_side_of_a_two_way_aisle_only():
+    """scenarios/example.yaml: the two-way aisle ``main`` along y = 10 m, 7 m wide, its
+    lanes ``main>`` (eastbound, south half) and ``main<`` (westbound, north half, the exit's
+    lane); the ten N slots open onto the north half."""
+    prepared = lotsim.prepare(ROOT / "scenarios" / "example.yaml")
+    aisle = prepared.lot_graph.lot.aisles["main"].polygon
+    north = shapely.intersection(aisle, shapely.box(-1, 10.0, 41, 21))
+    spec = Disturbances(closures=(Closure("lane", "main<", 0.0, 120.0),))
+    rr = lotsim.run(prepared, disturbances=spec)
+    doc = result_dict(rr)
+    (closure,) = doc["disturbances"]["closures"]
+    ground = shapely.Polygon(closure["polygon"])
+    assert ground.symmetric_difference(north).area < 1e-6  # that half, not the aisle
+    report = lotsim.check(doc)
+    assert report.ok, report.summary()
+    # no N slot is entered while its side is closed (every maneuver into one sweeps it)
+    assert all(v.parked_at is None or v.slot[0] != "N" or v.parked_at > 120.0
+               for v in rr.vehicles)
+    # the plan made without the closure puts a car on that half during it: the checker,
+    # given the same closure beside it, finds it
+    plain = result_dict(lotsim.run(prepared))
+    plain["disturbances"] = {"closures": [{**closure, "inside": []}]}
+    assert "closure" in {v.rule for v in lotsim.check(plain).violations}
+    live = lotsim.Live(prepared)
+    with pytest.raises(SettingsError, match=r"expected one of the lot's lanes \(main<, "
+                                            r"main>\), found 'main'"):
+        live.close("lane", "main", 9.0)
