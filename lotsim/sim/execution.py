@@ -174,6 +174,7 @@ def execute(rr: RunResult, spec: Disturbances, *, memo: SearchGraphMemo | None =
     drawn = draw(spec, spans, rng)
     flat = [r for rs in runs for r in rs]
     _apply(drawn, cars, runs)
+    _stalled_live(rr, runs)
     chunks = _chunks(rr, runs, memo)
     tree = shapely.STRtree(chunks.geoms)
     src, dst, alpha, beta = _orders(chunks, tree)
@@ -244,6 +245,21 @@ def _apply(drawn: Drawn, cars: list[VehicleRun], runs: list[list[Run]]) -> None:
         if r is not None:
             r.stall += st.duration
             r.stalls.append(st)
+
+
+def _stalled_live(rr: RunResult, runs: list[list[Run]]) -> None:
+    """The stalls of a stepped run (:meth:`lotsim.Live.stall`, planned as waits) kept as
+    stalls when it is driven: the run after each sets off no sooner than the stall's length
+    after the car came to rest there, however late it came."""
+    index = {v.id: c for c, v in enumerate(rr.vehicles)}
+    for st in () if rr.lot_changes is None else rr.lot_changes.stalls:
+        if st.refused:
+            continue
+        rs = runs[index[st.car]]
+        r = next((r for r in rs[1:] if r.t0 >= st.t1 - EPS), None)
+        if r is not None:
+            r.stall += st.duration
+            r.stalls.append(Stall(st.car, st.at, st.duration))
 
 
 def _stop_after(rs: list[Run], t: float) -> Run | None:

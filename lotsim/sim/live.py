@@ -23,7 +23,7 @@ from lotsim.sim.repairs import LotChanges, check_lot_events, lot_event_problem
 from lotsim.sim.results import RunResult, VehicleRun
 from lotsim.sim.settings import RunSettings
 from lotsim.traffic.demand import Arrival, arrivals
-from lotsim.traffic.disturbances import Closure, TakenBay
+from lotsim.traffic.disturbances import MAX_STALL, Closure, TakenBay
 
 PHASES = ("coming", "queued", "driving", "parking", "parked", "leaving", "departed",
           "rejected", "waiting")
@@ -294,6 +294,32 @@ class Live:
         self._open()
         self._add_event(TakenBay(slot, self._when(at)))
 
+    def stall(self, car: str, duration: float, *, at: float | None = None) -> None:
+        """Car ``car`` stalls at ``at`` [s] (now, if None) for ``duration`` seconds
+        (:mod:`lotsim.sim.stalls`): it stops where its plan next brings it to rest on the
+        lanes and stands there that long, then is planned again from there; the cars whose
+        plans pass where it stands are planned round it at once. A stall that cannot be had
+        (the car is not in the lot then, or parked, or the cars coming could not go round
+        it anywhere on its way) is recorded with the reason (the result's
+        ``disturbances.stalls_refused``).
+
+        Raises
+        ------
+        SettingsError
+            For a car not in the run, a duration that is not a positive number of seconds
+            (at most a day), or a time before now.
+        """
+        self._open()
+        loop = self._loop
+        if car not in loop.by_id:
+            raise SettingsError("car", f"expected a car of the run, found {car!r}")
+        if not (isinstance(duration, (int, float)) and 0 < duration <= MAX_STALL):
+            raise SettingsError("duration", f"expected seconds, more than 0 and at most "
+                                            f"{MAX_STALL:g}, found {duration!r}")
+        start = self._when(at)
+        loop.stall_asks.append((loop.vehicles.index(loop.by_id[car]), float(duration)))
+        loop.at(start, "stall", len(loop.stall_asks) - 1)
+
     def _when(self, at: float | None) -> float:
         now = max(self.now, 0.0) if math.isfinite(self.now) else 0.0
         if at is None:
@@ -367,8 +393,8 @@ class Live:
         # before some of them)
         cars = sorted(self._loop.vehicles, key=lambda v: (v.arrival.time, v.id))
         loop = self._loop
-        changes = (LotChanges(loop.closures, loop.taken_records, loop.replans)
-                   if loop.lot_events or loop.replans else None)
+        changes = (LotChanges(loop.closures, loop.taken_records, loop.replans, loop.stalls)
+                   if loop.lot_events or loop.replans or loop.stalls else None)
         self._result = RunResult(self.prepared.scenario, self.prepared.lot_graph,
                                  self.settings, self.seed, cars,
                                  self._took - self._worked, motion_time=self._worked,

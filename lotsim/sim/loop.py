@@ -17,7 +17,7 @@ from collections import OrderedDict
 from lotsim.core.outcome import Status
 from lotsim.roadmap.model import LotGraph
 from lotsim.scenario import Scenario
-from lotsim.sim import inside, repairs
+from lotsim.sim import inside, repairs, stalls
 from lotsim.sim.assignment import SlotAssigner
 from lotsim.sim.policies import ASK, SlotRequest, choices
 from lotsim.sim.results import VehicleRun
@@ -86,6 +86,8 @@ class EventLoop:
         self.taken: set[str] = set()  # the slots those took
         self.replans: list = []  # every repair (repairs.Replan), in time order
         self.lot_events: list = []  # closures and bays taken, by the index their events hold
+        self.stall_asks: list[tuple[int, float]] = []  # (car, duration) of stalls asked for
+        self.stalls: list = []  # what came of them (stalls.StallRecord), in time order
         self.cut_cache: dict = {}  # what closures cut off (repairs.cut_off), by closures open
         self._trips = 0
         self._trips_done = 0
@@ -156,6 +158,10 @@ class EventLoop:
             return
         if kind == "take":
             self.taken_records.append(repairs.take(self, self.lot_events[i], t))
+            return
+        if kind == "stall":  # asked for from outside (Live.stall)
+            car, duration = self.stall_asks[i]
+            self.stalls.append(stalls.stall(self, car, self.vehicles[car], t, duration))
             return
         v = self.vehicles[i]
         if v.done:

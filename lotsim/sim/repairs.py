@@ -287,13 +287,24 @@ def repair(loop: EventLoop, i: int, v: VehicleRun, t: float, why: str) -> Replan
                  end_pose=last.end_pose if last.end_pose is not None else sg.pose[last.node_to],
                  steer=last.steer if last.motion is None else float(sg.steer[last.node_to]))
     v.moves = [*kept, stand]
-    v.reason = why
+    unsettle(v, why)
     # it holds its ground until it moves again (the next try, or a later one)
     reserve_moves(loop.table, v.id, sg, [stand], hold_end=True)
     loop.replans.append(Replan(v.id, t, why, f"none found: it stands and tries again at "
                                                 f"{stand.t1:.1f} s"))
     loop.at(stand.t1, "repair", i)
     return loop.replans[-1]
+
+
+def unsettle(v: VehicleRun, why: str) -> None:
+    """``v`` stands on the lanes with no plan on from there yet (it will be planned again):
+    it has not parked (or, on its way out, not left) yet, whatever its old plan said."""
+    v.done, v.reason = False, why
+    if v.leaving:
+        v.left_at = None
+    else:
+        v.parked_at = v.parked_pose = v.depart_at = None
+        v.status = "waiting"
 
 
 def standstill(v: VehicleRun, k: int) -> int | None:
@@ -401,6 +412,7 @@ class LotChanges:
     closures: list[ClosureRecord]
     taken: list[TakenRecord]
     replans: list[Replan]
+    stalls: list = field(default_factory=list)  # asked for in a stepped run (StallRecord)
 
     def as_dict(self) -> dict:
         """As ``result.json``'s ``disturbances`` holds them (``docs/result.md``)."""
@@ -418,4 +430,8 @@ class LotChanges:
                       for r in self.taken],
             "replans": [{"car": p.car, "t": round(p.t, 6), "why": p.why,
                          "outcome": p.outcome} for p in self.replans],
+            **({"stalls": [r.as_dict() for r in self.stalls if not r.refused],
+                "stalls_refused": [{"car": r.car, "at": round(r.at, 6), "why": r.refused}
+                                   for r in self.stalls if r.refused]}
+               if self.stalls else {}),
         }
