@@ -96,6 +96,9 @@ def why_not_here(loop: EventLoop, v: VehicleRun, t: float) -> str | None:
         return None
     node = loop.assigner.starts[a.id]
     body = standing_body(v.vehicle, sg.pose[node])
+    for r in loop.closures:
+        if r.t0 <= t < r.t1 and r.area.intersects(body):
+            return f"the {r.closure.kind} {r.closure.id!r} is closed there until {r.t1:g} s"
     for u in loop.vehicles:
         if u is v or not u.moves:
             continue

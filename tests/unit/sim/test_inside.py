@@ -185,6 +185,18 @@ def test_a_car_inside_the_lot_is_added_where_it_is_now_and_not_onto_another(prep
             live.add("y", "valet", pose=prepared.lot_graph.graph.nodes[node]["pose"])
 
 
+def test_a_car_is_not_put_on_closed_ground(prepared):
+    live = Live(prepared, traffic=False)
+    live.close("aisle", "main", 60.0)
+    live.advance(1.0)
+    pose = prepared.lot_graph.graph.nodes[4]["pose"]
+    with pytest.raises(SettingsError, match="the aisle 'main' is closed there until 60 s"):
+        live.add("x", "valet", pose=pose)
+    live.advance(60.0)
+    live.add("x", "valet", pose=pose)
+    assert lotsim.check(result_dict(live.finish())).ok
+
+
 def test_the_checker_finds_a_car_that_did_not_start_where_it_stood(prepared):
     live = Live(prepared, traffic=False)
     live.add("kept", "valet", slot="S2", dwell=10.0)
