@@ -28,13 +28,22 @@ from dataclasses import dataclass
 from lotsim.errors import LimitExceeded, Location
 
 WARMUP = 10
-"""Trips (a vehicle's way in, or out) planned before a projection is trusted."""
+"""Trips (a vehicle's way in, or out) planned before a projection is trusted ..."""
+MEMORY_WARMUP = (0.1, 500)
+"""The memory is projected only once this share of a run's trips, or at most this many, are
+planned (and :data:`WARMUP`): its start-up, where the lot's first cars work out the edge
+motions and hulls the later ones reuse, is then behind it."""
 POLL = 0.25
 """Seconds between two looks at memory and clock."""
-DOC_FACTOR = 3.0
+DOC_FACTOR = 2.0
 """A run's peak memory growth (planning, then the result document and its JSON) as a multiple
-of the planner's own growth: measured 2.1 with 200 and 2.65 with 800 vehicles on the large
-lot (``benchmarks/bench_limits.py``)."""
+of the planner's own growth: measured 1.6 with 1000 cars on ``surface364`` and 2.1 to 2.65
+on the large lot (``benchmarks/bench_limits.py``); the projection is within 1.35 times of
+either."""
+GROWTH_POWER = (0.5, 1.0)
+"""The planner's memory grows with the trips planned as a power of them (the run keeps every
+car's moves, while what the lot's first cars work out is reused): the power fitted to what
+the run has shown is held within these bounds."""
 _UNITS = {"": 1, "k": 2**10, "m": 2**20, "g": 2**30, "t": 2**40}
 
 
@@ -142,6 +151,7 @@ class Watchdog:
         self.total = 0
         self.message: str | None = None
         self.first: tuple[float, int, int] | None = None
+        self.seen: list[tuple[float, int, int]] = []  # (clock, trips done, bytes held)
         self._stop = threading.Event()
         self._thread: threading.Thread | None = None
         self._old = None
@@ -167,6 +177,8 @@ class Watchdog:
     def progress(self, done: int, total: int) -> None:
         if self.done == 0 and done > 0:  # the lot is built: projections count from here
             self.first = (time.perf_counter(), resident_memory(), done)
+        if done > self.done:
+            self.seen.append((time.perf_counter(), done, resident_memory()))
         self.done, self.total = done, total
         if self.then is not None:
             self.then(done, total)
@@ -203,22 +215,59 @@ class Watchdog:
         if b.seconds is not None and need[0] > b.seconds:
             return (f"stopped {so_far}: at this pace the run needs about {duration(need[0])}, "
                     f"over the time limit of {duration(b.seconds)} (--time-limit){tail}")
-        if b.memory is not None and need[1] > b.memory:
+        if b.memory is not None and need[1] is not None and need[1] > b.memory:
             return (f"stopped {so_far}: at this pace the run needs about {human(need[1])} of "
                     f"memory, over the budget of {human(b.memory)} ({b.memory_note}){tail}")
         return None
 
-    def projection(self, elapsed: float, rss: int) -> tuple[float, float] | None:
-        """Seconds and peak bytes the whole run will take, extrapolated linearly from the
-        trips planned since the lot was built; None before :data:`WARMUP` trips and
-        two seconds, or once all are done."""
+    def projection(self, elapsed: float, rss: int) -> tuple[float, float | None] | None:
+        """Seconds and peak bytes the whole run will take: the time from the pace of the
+        latter half of the trips planned so far; the memory from the planner's growth since
+        the lot was built, fitted as a power of the trips (:data:`GROWTH_POWER`) over the
+        latter three quarters of them, times :data:`DOC_FACTOR` (None until its start-up is
+        over, :data:`MEMORY_WARMUP`). None before :data:`WARMUP` trips and two seconds, or
+        once all are done."""
         done, total = self.done, self.total
         if self.first is None or done >= total:
             return None
         t1, rss1, done1 = self.first
-        if done - done1 < WARMUP or self.start + elapsed - t1 < 2.0:
+        now = self.start + elapsed
+        if done - done1 < WARMUP or now - t1 < 2.0 or not self.seen:
             return None
-        each = (self.start + elapsed - t1) / (done - done1)
-        grow = max(rss - rss1, 0) / (done - done1)
-        return elapsed + each * (total - done), rss1 + DOC_FACTOR * grow * total
+        seen = self.seen
+        half = next(x for x in seen if x[1] >= (done1 + done) / 2)
+        if half[1] < done and now > half[0]:
+            each = (now - half[0]) / (done - half[1])
+        else:
+            each = (now - t1) / (done - done1)
+        share, most = MEMORY_WARMUP
+        if done - done1 < max(WARMUP, min(share * total, most)):
+            return elapsed + each * (total - done), None
+        planned = rss1 + _growth(seen, rss1, done1, done, total, rss)
+        return elapsed + each * (total - done), rss1 + DOC_FACTOR * (planned - rss1)
 
+
+def _growth(seen: list[tuple[float, int, int]], rss1: int, done1: int, done: int,
+            total: int, rss: int) -> float:
+    """The planner's growth in bytes since the lot was built (``rss1`` bytes, ``done1``
+    trips) once ``total`` trips are planned, from the growth ``seen`` (clock, trips, bytes)
+    over the latter three quarters of the trips planned since, fitted as ``a · n ** c``
+    for ``n`` trips (``c`` within :data:`GROWTH_POWER`; least squares in logs), and at
+    least what it holds now (``rss``)."""
+    import math
+
+    pts = [(math.log(d - done1), math.log(r - rss1)) for _, d, r in seen
+           if d - done1 >= (done - done1) / 4 and r > rss1 and d > done1]
+    now = max(rss - rss1, 0)
+    total -= done1
+    if len(pts) < 3:
+        return now * total / max(done - done1, 1)
+    n = len(pts)
+    mx = sum(x for x, _ in pts) / n
+    my = sum(y for _, y in pts) / n
+    sxx = sum((x - mx) ** 2 for x, _ in pts)
+    c = sum((x - mx) * (y - my) for x, y in pts) / sxx if sxx > 0 else 1.0
+    c = min(max(c, GROWTH_POWER[0]), GROWTH_POWER[1])
+    # through the points' centre, with the power held
+    a = math.exp(my - c * mx)
+    return max(a * total ** c, now)

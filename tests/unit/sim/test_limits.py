@@ -144,8 +144,9 @@ def _dog(memory=None, seconds=None):
 
 
 def test_projections_wait_for_the_warm_up_and_extrapolate_linearly(monkeypatch):
-    """The decision rule on synthetic numbers: measured limits at once, projections only after
-    WARMUP vehicles and two seconds once the lot is built, never once everything is done."""
+    """The decision rule on synthetic numbers: measured limits at once; the time projected
+    after WARMUP trips and two seconds once the lot is built, from the pace of the latter
+    half; never once everything is done."""
     import lotsim.sim.limits as limits
 
     mb = 2**20
@@ -153,26 +154,52 @@ def test_projections_wait_for_the_warm_up_and_extrapolate_linearly(monkeypatch):
     assert "over the budget of 1000 MB" in dog.problem(1.0, 1001 * mb)
     assert "over the time limit of 100 s" in dog.problem(101.0, 10 * mb)
     assert dog.problem(50.0, 10 * mb) is None  # nothing dealt with yet: nothing to project
-    clock = iter([10.0])
-    monkeypatch.setattr(limits.time, "perf_counter", lambda: next(clock))
+    clock = [10.0]
+    monkeypatch.setattr(limits.time, "perf_counter", lambda: clock[0])
     monkeypatch.setattr(limits, "resident_memory", lambda: 100 * mb)
     dog.progress(1, 1000)  # the lot took 10 s and 100 MB to build
+    clock[0] = 12.0
     dog.progress(WARMUP, 1000)
-    assert dog.problem(15.0, 110 * mb) is None  # not yet WARMUP vehicles after the first
+    assert dog.problem(15.0, 110 * mb) is None  # not yet WARMUP trips after the first
+    clock[0] = 15.0
     dog.progress(1 + WARMUP, 1000)
     assert dog.problem(11.0, 110 * mb) is None  # not yet two seconds
-    # 0.5 s and 1 MB a vehicle: 15 + 0.5 * 989 = 509.5 s needed
+    # the latter half: from trip 10 at 12 s to trip 11 at 15 s, 3 s a trip:
+    # 15 + 3 * 989 = 2982 s needed; the memory is not projected yet (start-up)
     err = dog.problem(15.0, 110 * mb)
-    assert "planning 11 of 1000 trips in 15 s" in err and "about 8 min" in err
-    dog.budget = Budget(1000 * mb, 600.0)
-    # memory: 100 MB + DOC_FACTOR * 1 MB * 1000 vehicles
-    need = 100 + limits.DOC_FACTOR * 1000
-    assert dog.problem(15.0, 110 * mb) is None if need <= 1000 else \
-        f"about {limits.human(need * mb)} of memory" in dog.problem(15.0, 110 * mb)
-    dog.budget = Budget(int(need * mb) + mb, 600.0)
-    assert dog.problem(15.0, 110 * mb) is None
+    assert "planning 11 of 1000 trips in 15 s" in err and "about 50 min" in err
+    assert dog.projection(15.0, 110 * mb)[1] is None
     dog.progress(1000, 1000)
     assert dog.problem(15.0, 110 * mb) is None  # done: nothing left to project
+
+
+def test_the_memory_projection_follows_a_growth_that_slows(monkeypatch):
+    """A planner that grows as 2 MB · n^0.7 past the 100 MB of the built lot, n trips after
+    the first (the closed form the fit must recover), over 2000 trips: once the start-up
+    share is planned, the projection is 100 MB + DOC_FACTOR · 2 MB · 1999^0.7, where a
+    straight line from the start would say far more."""
+    import lotsim.sim.limits as limits
+
+    mb = 2**20
+    grown = {"rss": 100 * mb}
+    clock = [0.0]
+    monkeypatch.setattr(limits.time, "perf_counter", lambda: clock[0])
+    monkeypatch.setattr(limits, "resident_memory", lambda: grown["rss"])
+    dog = _dog(memory=None, seconds=None)
+    dog.start = 0.0
+    total = 2000
+    for k in range(1, 401):
+        clock[0] = 10.0 + 0.1 * k
+        grown["rss"] = int(100 * mb + 2 * mb * (k - 1) ** 0.7)
+        dog.progress(k, total)
+        if k == limits.MEMORY_WARMUP[0] * total - 1:  # one short of the share
+            assert dog.projection(clock[0], grown["rss"])[1] is None
+    seconds, peak = dog.projection(clock[0], grown["rss"])
+    want = 100 * mb + limits.DOC_FACTOR * 2 * mb * (total - 1) ** 0.7
+    assert peak == pytest.approx(want, rel=1e-3)
+    assert seconds == pytest.approx(clock[0] + 0.1 * (total - 400), rel=1e-6)
+    line = 100 * mb + limits.DOC_FACTOR * (grown["rss"] - 100 * mb) * total / 399
+    assert line > 1.5 * want
 
 
 def test_the_watchdog_interrupts_the_main_thread_with_a_located_error():
