@@ -42,7 +42,8 @@ EXPORTS: dict[str, tuple[str, ...]] = {
                            "render_mp4"),
     "lotsim.api.maneuvers": ("car", "maneuver_case", "minslot", "plan_maneuver"),
     "lotsim.api.benchmarks": ("connect_scheduler",),
-    "lotsim.api.exports": ("export_commonroad", "export_openscenario", "export_sumo"),
+    "lotsim.api.exports": ("export_commonroad", "export_dxf", "export_openscenario",
+                           "export_sumo"),
     "lotsim.api.imports": ("import_lanelet2", "import_osm"),
     "lotsim.io.imports.report": ("ImportReport", "ImportedLot"),
     "lotsim.api.layouts": ("layout", "layout_files"),
@@ -119,6 +120,7 @@ if TYPE_CHECKING:  # for type checkers and editors: the same names, imported eag
     )
     from lotsim.api.exports import (  # noqa: F401
         export_commonroad,
+        export_dxf,
         export_openscenario,
         export_sumo,
     )
