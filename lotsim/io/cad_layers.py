@@ -99,10 +99,12 @@ LAYERS: tuple[CadLayer, ...] = (
              "bays taken at start: an LWPOLYLINE inside the bay and its two diagonals "
              "(LINEs)", 30),
     CadLayer("island", "C-PRKG-ISLD", "lotsim",
-             "islands and no-go zones: closed LWPOLYLINEs", 3),
+             "islands and no-go zones: closed LWPOLYLINEs, each id a TEXT inside", 3),
     CadLayer("obstacle", "C-PRKG-OBST", "lotsim",
-             "obstacles (buildings, pillars, kiosks): closed LWPOLYLINEs", 9),
-    CadLayer("wall", "C-PRKG-WALL", "lotsim", "walls: closed LWPOLYLINEs", 252),
+             "obstacles (buildings, pillars, kiosks): closed LWPOLYLINEs, each id a TEXT "
+             "inside", 9),
+    CadLayer("wall", "C-PRKG-WALL", "lotsim",
+             "walls: closed LWPOLYLINEs, each id a TEXT inside", 252),
     CadLayer("bump", "C-PRKG-BUMP", "lotsim",
              "speed bumps: an LWPOLYLINE along each and a TEXT of its limit", 30, "DASHED"),
     CadLayer("speed_zone", "C-PRKG-SPED", "lotsim",

@@ -7,7 +7,8 @@ What is drawn, and where it comes from:
 
 * the boundary, the pavement (where not wall to wall), each aisle's centreline as given,
   the outline of all aisles together (their pavement edges) and the areas (islands and
-  no-go zones, obstacles, walls), ring by ring, exactly as lotsim holds them;
+  no-go zones, obstacles, walls), ring by ring, exactly as lotsim holds them, each area's
+  id inside it;
 * every bay as its four corners on the layer of its use, its stripes (every side but the
   entry, a side two bays share drawn once) and its id at its centre, along its length;
   a bay taken at start is crossed;
@@ -275,7 +276,12 @@ def lot_drawing(lot: Lot) -> CadDrawing:
     for corners in lane_arrows(lot):
         polylines.append(Polyline(name["arrow"], corners, True, fill=True))
     for area in lot.areas:
-        outline(area.polygon, name[AREA_LAYERS[area.kind]])
+        layer = name[AREA_LAYERS[area.kind]]
+        outline(area.polygon, layer)
+        p = area.polygon.representative_point()
+        size = min(1.0, 0.3 * min(area.polygon.bounds[2] - area.polygon.bounds[0],
+                                  area.polygon.bounds[3] - area.polygon.bounds[1]))
+        labels.append(Label(layer, area.id, (p.x, p.y), round(max(size, 0.05), 6)))
     for zone in lot.zones:
         if zone.source == "bump" and zone.line is not None:
             line = _xy(zone.line.coords)
