@@ -221,3 +221,16 @@ def test_a_failed_export_leaves_the_file_as_it_was(tmp_path, monkeypatch, capsys
     assert main(["export", str(bad), "--dxf", str(missing)]) == 2
     assert "bad.yaml:" in capsys.readouterr().err
     assert not missing.parent.exists()
+
+
+def test_two_exports_of_a_lot_hold_the_same_entities(tmp_path):
+    need("ezdxf")
+    import lotsim
+
+    def entities(path) -> str:
+        text = path.read_text(encoding="utf-8")
+        return text[text.index("ENTITIES"):text.index("ENDSEC", text.index("ENTITIES"))]
+
+    a = lotsim.export_dxf(SCENARIOS["mixed_lot"], tmp_path / "a.dxf").path
+    b = lotsim.export_dxf(SCENARIOS["mixed_lot"], tmp_path / "b.dxf").path
+    assert entities(a) == entities(b) and len(entities(a)) > 10_000

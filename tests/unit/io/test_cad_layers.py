@@ -1,6 +1,7 @@
 """The CAD layer table is closed and NCS-shaped: every name once, in the standard's
-discipline-major-minor form; one bay layer per use, standard use on ``C-PRKG``; the
-figures of a lot (no CAD package needed) put each thing on its layer."""
+discipline-major-minor form; one bay layer per use, standard use on ``C-PRKG``; the page
+that lists them lists the code's; the figures of a lot (no CAD package needed) put each
+thing on its layer."""
 
 from __future__ import annotations
 
@@ -9,6 +10,7 @@ import re
 import pytest
 from shapely.geometry import Point
 
+from conftest import ROOT
 from lotsim.api import EXAMPLE
 from lotsim.api.exports import lot_of
 from lotsim.io.cad_layers import BAY_LAYERS, BAY_USES, LAYER_NAMES, LAYERS, bay_layer
@@ -67,3 +69,10 @@ def test_every_figure_is_on_a_layer_of_the_table():
     assert used <= set(LAYER_NAMES.values())
     assert sum(p.layer == "C-PRKG" for p in drawing.polylines) == 8
     assert sum(p.layer == LAYER_NAMES["taken"] for p in drawing.polylines) == 2
+
+
+def test_the_table_of_docs_export_md_is_the_code_s():
+    page = (ROOT / "docs" / "export.md").read_text(encoding="utf-8")
+    section = page[page.index("### Layers"):]
+    rows = re.findall(r"^\| [^|]+ \| `([A-Z-]+)` \| (NCS|lotsim) \|", section, re.M)
+    assert rows == [(layer.name, layer.origin) for layer in LAYERS]
