@@ -8,6 +8,7 @@ import sys
 
 from lotsim import api
 from lotsim.cli.output import (
+    EXIT_BAD_INPUT,
     EXIT_INCOMPLETE,
     EXIT_OK,
     bad,
@@ -141,7 +142,7 @@ def _dxf(args: argparse.Namespace) -> int:
         except LotsimError as exc:
             print(problem_lines(getattr(exc, "errors", None) or (str(exc),)),
                   file=sys.stderr)
-            return 2
+            return EXIT_BAD_INPUT
         except OSError as exc:
             return cannot_write(given("-o", output), exc)
         outputs.commit()

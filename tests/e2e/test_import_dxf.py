@@ -16,9 +16,10 @@ from export_runs import need
 from lotsim.api import DxfLayers, LayoutSettings, read_plot
 from lotsim.api.exports import lot_of
 from lotsim.cli import main
+from lotsim.cli.imports import UNITS as COMMAND_UNITS
 from lotsim.design.plot_yaml import GATE_TOLERANCE as PLOT_GATE_TOLERANCE
 from lotsim.design.search import candidates
-from lotsim.io.imports.dxf import GATE_TOLERANCE
+from lotsim.io.imports.dxf import GATE_TOLERANCE, UNITS
 
 FT, MM = 0.3048, 0.001
 TOLERANCE = 1e-3
@@ -106,8 +107,9 @@ def test_a_plot_in_feet_or_millimetres_is_read_in_metres(tmp_path, capsys, insun
     assert drawn and max(c.bays for c in drawn) > 10  # a layout has room for bays
 
 
-def test_the_tolerance_of_a_gate_is_the_plot_file_s():
+def test_the_tolerance_of_a_gate_and_the_units_are_the_plot_file_s_and_the_command_s():
     assert GATE_TOLERANCE == PLOT_GATE_TOLERANCE
+    assert tuple(UNITS) == COMMAND_UNITS
 
 
 def test_layers_named_by_the_user_and_circles_and_arcs_are_read(tmp_path, capsys):

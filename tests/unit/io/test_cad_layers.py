@@ -76,3 +76,14 @@ def test_the_table_of_docs_export_md_is_the_code_s():
     section = page[page.index("### Layers"):]
     rows = re.findall(r"^\| [^|]+ \| `([A-Z-]+)` \| (NCS|lotsim) \|", section, re.M)
     assert rows == [(layer.name, layer.origin) for layer in LAYERS]
+
+
+def test_the_lot_of_a_scenario_is_the_lot_of_its_prepared_lot_and_of_its_run():
+    import lotsim
+
+    prepared = lotsim.prepare(EXAMPLE)
+    shapes = [[s.id, s.polygon.round(6).tolist()] for s in lot_of(EXAMPLE).slots]
+    for source in (prepared, lotsim.run(prepared), lotsim.result_dict(lotsim.run(prepared))):
+        assert [[s.id, s.polygon.round(6).tolist()] for s in lot_of(source).slots] == shapes
+    with pytest.raises(lotsim.SettingsError, match="expected a scenario or a run"):
+        lot_of(3)
