@@ -250,6 +250,14 @@ def outside(boundary, at: XY, offset: float) -> XY:
     return at
 
 
+def number_height(slot: Slot) -> float:
+    """How tall a bay's number is written [m]: a quarter of the bay's width, less where
+    the number would be longer than 85 % of the bay (a letter taken as 0.75 of the height
+    wide)."""
+    fit = 0.85 * slot.length / (0.75 * max(len(slot.id), 1))
+    return round(min(0.25 * min(slot.width, slot.length), fit), 6)
+
+
 def _kmh(limit: float) -> str:
     return f"{limit * 3.6:.0f} km/h"
 
@@ -298,8 +306,7 @@ def lot_drawing(lot: Lot) -> CadDrawing:
         polylines.append(Polyline(bay_layer(use), _xy(slot.polygon), True))
     segments += [Segment(name["stripe"], a, b) for a, b in stripes(lot.slots)]
     for slot in lot.slots:
-        labels.append(Label(name["bay_number"], slot.id, slot.center,
-                            round(0.25 * min(slot.width, slot.length), 6),
+        labels.append(Label(name["bay_number"], slot.id, slot.center, number_height(slot),
                             reading_angle(slot.heading)))
     for slot in lot.slots:
         if slot.id in lot.occupied:

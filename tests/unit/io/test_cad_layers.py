@@ -14,7 +14,13 @@ from conftest import ROOT
 from lotsim.api import EXAMPLE
 from lotsim.api.exports import lot_of
 from lotsim.io.cad_layers import BAY_LAYERS, BAY_USES, LAYER_NAMES, LAYERS, bay_layer
-from lotsim.io.export.cad_drawing import gates, lot_drawing, reading_angle, stripes
+from lotsim.io.export.cad_drawing import (
+    gates,
+    lot_drawing,
+    number_height,
+    reading_angle,
+    stripes,
+)
 
 NCS_NAME = re.compile(r"[A-Z]-[A-Z]{4}(-[A-Z]{4})?")
 """An NCS layer name: discipline, major group, an optional minor group."""
@@ -87,3 +93,12 @@ def test_the_lot_of_a_scenario_is_the_lot_of_its_prepared_lot_and_of_its_run():
         assert [[s.id, s.polygon.round(6).tolist()] for s in lot_of(source).slots] == shapes
     with pytest.raises(lotsim.SettingsError, match="expected a scenario or a run"):
         lot_of(3)
+
+
+def test_a_bay_s_number_fits_along_the_bay_however_long_its_id():
+    import dataclasses
+
+    slot = lot_of(EXAMPLE).slots[0]  # 2.5 x 5.0 m
+    assert number_height(slot) == 0.625  # a quarter of its width
+    long = dataclasses.replace(slot, id="gate-gate-inL10")
+    assert number_height(long) * 0.75 * len(long.id) <= 0.85 * slot.length + 1e-5  # to 1 µm
