@@ -28,9 +28,11 @@ _EXPORTS = {
                    "load_scenario", "minslot", "plan_maneuver", "prepare", "render_gif",
                    "render_html", "render_lot", "render_mp4", "run", "validate",
                    "validate_files",
-                   "export_commonroad", "export_sumo", "export_openscenario", "result_dict",
-                   "write_result", "load_result", "import_osm", "import_lanelet2", "layout",
+                   "export_commonroad", "export_sumo", "export_openscenario", "export_dxf",
+                   "result_dict", "write_result", "load_result", "import_osm",
+                   "import_lanelet2", "import_dxf", "layout",
                    "LayoutSettings", "read_plot"),
+    "lotsim.io.imports.dxf": ("DxfLayers",),
     "lotsim.sim.preparation": ("PreparedLot",),
     "lotsim.sim.live": ("Live",),
     "lotsim.sim.execution": ("execute",),
@@ -85,8 +87,10 @@ if TYPE_CHECKING:  # for type checkers and editors: the same names, imported eag
         car,
         check,
         export_commonroad,
+        export_dxf,
         export_openscenario,
         export_sumo,
+        import_dxf,
         import_lanelet2,
         import_osm,
         layout,
@@ -120,6 +124,7 @@ if TYPE_CHECKING:  # for type checkers and editors: the same names, imported eag
         ScenarioErrors,
         SettingsError,
     )
+    from lotsim.io.imports.dxf import DxfLayers  # noqa: F401
     from lotsim.maneuvers.settings import MinSlotSettings  # noqa: F401
     from lotsim.scenario import AnimationSpec, GifSettings, HtmlSettings, Scenario  # noqa: F401
     from lotsim.sim.execution import execute  # noqa: F401

@@ -19,9 +19,10 @@ from conftest import ROOT
 PAGES = [ROOT / "README.md", *sorted((ROOT / "docs").glob("*.md"))]
 BLOCK = re.compile(r"^```python[ \t]*\n(.*?)^```[ \t]*$", re.S | re.M)
 NEEDS: dict[str, tuple[tuple[str, ...], str]] = {
-    "export.md": (("scenariogeneration", "xmlschema"),
-                  "its example reads the ASAM XSDs of the openscenario extra (pip install "
-                  "'lotsim[openscenario]')"),
+    "export.md": (("scenariogeneration", "xmlschema", "ezdxf"),
+                  "its examples read the ASAM XSDs of the openscenario extra and write DXF "
+                  "(pip install 'lotsim[openscenario,dxf]')"),
+    "import.md": (("ezdxf",), "its example writes and reads DXF (pip install 'lotsim[dxf]')"),
 }
 """A page whose blocks need an optional extra: page name → (its modules, why it skips)."""
 

@@ -42,9 +42,11 @@ EXPORTS: dict[str, tuple[str, ...]] = {
                            "render_mp4"),
     "lotsim.api.maneuvers": ("car", "maneuver_case", "minslot", "plan_maneuver"),
     "lotsim.api.benchmarks": ("connect_scheduler",),
-    "lotsim.api.exports": ("export_commonroad", "export_openscenario", "export_sumo"),
-    "lotsim.api.imports": ("import_lanelet2", "import_osm"),
+    "lotsim.api.exports": ("export_commonroad", "export_dxf", "export_openscenario",
+                           "export_sumo"),
+    "lotsim.api.imports": ("import_dxf", "import_lanelet2", "import_osm"),
     "lotsim.io.imports.report": ("ImportReport", "ImportedLot"),
+    "lotsim.io.imports.dxf": ("DxfImportError", "DxfLayers", "DxfPlot"),
     "lotsim.api.layouts": ("layout", "layout_files"),
     "lotsim.design.search": ("Evaluation", "LayoutResult", "LayoutSettings"),
     "lotsim.design.plot": ("PlotSpec",),
@@ -119,10 +121,11 @@ if TYPE_CHECKING:  # for type checkers and editors: the same names, imported eag
     )
     from lotsim.api.exports import (  # noqa: F401
         export_commonroad,
+        export_dxf,
         export_openscenario,
         export_sumo,
     )
-    from lotsim.api.imports import import_lanelet2, import_osm  # noqa: F401
+    from lotsim.api.imports import import_dxf, import_lanelet2, import_osm  # noqa: F401
     from lotsim.api.layouts import layout, layout_files  # noqa: F401
     from lotsim.api.maneuvers import car, maneuver_case, minslot, plan_maneuver  # noqa: F401
     from lotsim.api.results import check, load_result, write_result  # noqa: F401
@@ -162,6 +165,7 @@ if TYPE_CHECKING:  # for type checkers and editors: the same names, imported eag
         ScenarioErrors,
         SettingsError,
     )
+    from lotsim.io.imports.dxf import DxfImportError, DxfLayers, DxfPlot  # noqa: F401
     from lotsim.io.imports.report import ImportedLot, ImportReport  # noqa: F401
     from lotsim.io.lot_json import LotFormatError  # noqa: F401
     from lotsim.io.result import result_dict  # noqa: F401

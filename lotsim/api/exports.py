@@ -1,14 +1,18 @@
 """A run in other tools' formats (``lotsim export``, ``docs/export.md``): CommonRoad, SUMO
-and OpenSCENARIO. Each format's packages are an optional extra, imported only when its
-export is asked for."""
+and OpenSCENARIO; and a lot, of a scenario or a run, as a DXF drawing for CAD. Each format's
+packages are an optional extra, imported only when its export is asked for."""
 
 from __future__ import annotations
 
 import os
+from typing import Any
 
 from lotsim.api.results import result_document
 from lotsim.core import checks as _checks
 from lotsim.errors import SettingsError
+from lotsim.io.scenario_yaml import load_scenario
+from lotsim.lot.model import Lot
+from lotsim.scenario import Scenario
 from lotsim.sim.results import RunResult
 
 
@@ -64,3 +68,60 @@ def export_openscenario(result: RunResult | dict | str | os.PathLike,
     from lotsim.io.export import write_openscenario as write
 
     return write(result_document(result), folder)
+
+
+LotLike = Any
+"""What :func:`export_dxf` draws the lot of: a scenario (a :class:`~lotsim.scenario.Scenario`,
+a :class:`~lotsim.sim.preparation.PreparedLot`, a scenario file or its YAML text) or a run (a
+:class:`~lotsim.sim.results.RunResult`, its document, or a ``result.json``)."""
+
+
+def lot_of(source: LotLike) -> Lot:
+    """The built lot of a scenario or of a run (:data:`LotLike`): a scenario's lot is built
+    for its vehicle types (as ``lotsim show`` builds it, without planning a maneuver), a
+    run's read back from its ``lot.drawing``."""
+    from lotsim.io.file_kinds import file_kind
+    from lotsim.io.lot_json import lot_from_json
+    from lotsim.lot.build import build_lot
+    from lotsim.lot.model import DesignVehicle
+    from lotsim.sim.preparation import PreparedLot
+
+    if isinstance(source, PreparedLot):
+        return source.lot
+    if isinstance(source, RunResult):
+        return source.lot_graph.lot
+    is_file = isinstance(source, os.PathLike) or (isinstance(source, str)
+                                                  and "\n" not in source)
+    if isinstance(source, dict) or (is_file and file_kind(source) == "result"):
+        lot = result_document(source).get("lot")
+        drawing = lot.get("drawing") if isinstance(lot, dict) else None
+        if drawing is None:
+            raise SettingsError("source", "expected a result document with a lot.drawing "
+                                          "(docs/result.md)")
+        return lot_from_json(drawing, root="lot.drawing")
+    if not isinstance(source, (Scenario, str, os.PathLike)):
+        raise SettingsError("source", f"expected a scenario or a run (a Scenario, "
+                                      f"PreparedLot, RunResult, result dict or a path), "
+                                      f"found {type(source).__name__}")
+    scenario = source if isinstance(source, Scenario) else load_scenario(source)
+    return build_lot(scenario.lot, DesignVehicle.envelope(scenario.vehicle_types))
+
+
+def export_dxf(source: LotLike, path: str | os.PathLike):
+    """Write the lot of a scenario or of a run (:data:`LotLike`) as a DXF drawing for CAD
+    (``lotsim export --dxf``, ``docs/export.md``): its boundary, aisles (centrelines,
+    pavement edges, direction arrows), every bay as a closed polyline on the layer of its
+    use, stripes, bay numbers, islands, obstacles, walls, speed bumps and zones, entrances,
+    exits and gates, and the bays taken at start, each on its named layer
+    (:data:`lotsim.io.cad_layers.LAYERS`), in metres.
+
+    Needs ``pip install 'lotsim[dxf]'``; raises ``ExportUnavailable`` (a
+    :class:`LotsimError`) without it. The file is written whole or not at all (its folder
+    must exist). Returns a ``DxfInfo`` (the path, bays, entities per layer, bytes); the
+    example is ``docs/export.md``'s.
+    """
+    from lotsim.io.export.dxf import write_dxf
+    from lotsim.io.export.tracks import require
+
+    require("ezdxf", "dxf")  # before the lot is built
+    return write_dxf(lot_of(source), path)

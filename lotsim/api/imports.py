@@ -1,5 +1,6 @@
 """Lots from other sources as scenario files (``lotsim import``, ``docs/import.md``):
-OpenStreetMap extracts and Lanelet2 maps in Autoware's valet-parking convention."""
+OpenStreetMap extracts and Lanelet2 maps in Autoware's valet-parking convention; and plots
+drawn in CAD (DXF) as plot files for ``lotsim layout``."""
 
 from __future__ import annotations
 
@@ -10,6 +11,7 @@ from pathlib import Path
 
 from lotsim.design.search import LayoutSettings
 from lotsim.errors import ScenarioError
+from lotsim.io.imports.dxf import DxfLayers, DxfPlot
 from lotsim.io.imports.report import ImportedLot, ImportReport
 
 
@@ -97,3 +99,40 @@ def import_lanelet2(source: str | os.PathLike, folder: str | os.PathLike, *,
     from lotsim.io.imports.lanelet2 import import_lanelet2 as run
 
     return run(source, folder, origin=origin, progress=progress)
+
+
+def import_dxf(source: str | os.PathLike, output: str | os.PathLike, *,
+               layers: DxfLayers | None = None, units: str | None = None) -> DxfPlot:
+    """Read a plot drawn in CAD from a DXF file and write it as a plot file ``output`` for
+    :func:`lotsim.layout` (``lotsim import dxf``, ``docs/import.md``): the one closed
+    outline on the boundary layer, the closed outlines on the island layers, the points
+    where roads meet the boundary on the gate layers and the building entrances on the
+    entrance layers (``layers``, a :class:`~lotsim.io.imports.dxf.DxfLayers`; by default
+    the layers ``lotsim export --dxf`` writes), in metres from the drawing's ``$INSUNITS``
+    (mm, cm, m, in, ft), or from ``units`` when given.
+
+    Needs ``pip install 'lotsim[dxf]'``. Returns a :class:`~lotsim.io.imports.dxf.DxfPlot`
+    (the plot, the units read, the boundary's entity and area, what the layers hold that is
+    not read, the path written).
+
+    Raises
+    ------
+    DxfImportError
+        (a :class:`~lotsim.errors.LotsimError`) Every problem of the drawing, each naming
+        its layer and entity and what was expected; then nothing is written.
+    """
+    from lotsim.core.atomic import atomic_write
+    from lotsim.design.plot_yaml import read_plot
+    from lotsim.io.imports.dxf import DxfImportError, read_dxf_plot
+
+    plot = read_dxf_plot(source, layers=layers or DxfLayers(), units=units)
+    text = plot.draft.to_yaml()
+    try:  # what lotsim layout will read: refused here rather than there
+        read_plot(text)
+    except ScenarioError as exc:
+        raise DxfImportError([f"{source}: the plot read from it is not one lotsim layout "
+                              f"takes: {exc}"]) from None
+    path = Path(output)
+    with atomic_write(path, "w", encoding="utf-8") as fh:
+        fh.write(text)
+    return dataclasses.replace(plot, path=path)

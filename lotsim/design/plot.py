@@ -1,7 +1,7 @@
 """A plot to lay a lot out on, as frozen specs (``docs/layout.md``): its outline, the islands
-to keep clear, its gates, the vehicle types to serve, the bays and aisles a designer allows,
-and the demand the candidates are compared at. Read from YAML by
-:mod:`lotsim.design.plot_yaml`; laid out by :func:`lotsim.design.search.lay_out`.
+to keep clear, its gates, the building entrances it serves, the vehicle types to serve, the
+bays and aisles a designer allows, and the demand the candidates are compared at. Read from
+YAML by :mod:`lotsim.design.plot_yaml`; laid out by :func:`lotsim.design.search.lay_out`.
 """
 
 from __future__ import annotations
@@ -48,6 +48,17 @@ class GateSpec:
 
 
 @dataclass(frozen=True, slots=True)
+class BuildingEntranceSpec:
+    """Where people walk into a building the lot serves: a point [m], in the plot or
+    beside it. Kept with the plot for the accessible route to it; the layout does not yet
+    place bays by it."""
+
+    id: str
+    at: Point
+    where: Location | None = _loc()
+
+
+@dataclass(frozen=True, slots=True)
 class IslandSpec:
     """A polygon inside the plot that the lot keeps clear (a planted island, a kiosk, a
     tree): no bay or aisle touches it, and cars do not drive on it."""
@@ -83,6 +94,8 @@ class PlotSpec:
         What to keep clear inside it.
     gates : tuple of GateSpec
         Where roads meet it (at least one).
+    building_entrances : tuple of BuildingEntranceSpec
+        Where people walk into the buildings it serves (none: not given).
     vehicle_types : tuple of VehicleType
         The types every bay must serve: each must reach it, park in it and leave it.
     angles : tuple of int
@@ -119,6 +132,7 @@ class PlotSpec:
     source: str = "<plot>"
     vehicle_names: tuple[str, ...] = ()
     """How each vehicle type was given: a catalogue name, or "" for a definition."""
+    building_entrances: tuple[BuildingEntranceSpec, ...] = ()
 
     def aisle_width(self, angle: int, direction: str) -> float:
         """The aisle width for bays at ``angle`` [degrees] on a ``direction`` aisle [m]."""

@@ -20,6 +20,7 @@ from lotsim.design.plot import (
     BAY_LENGTH,
     BAY_WIDTH,
     DEFAULT_WIDTHS,
+    BuildingEntranceSpec,
     DemandSpec,
     GateSpec,
     IslandSpec,
@@ -78,7 +79,7 @@ def parse_plot(root: YNode) -> PlotSpec:
                                   "out a plot, lotsim validate and run read a scenario")
     f = root.fields(required=["boundary", "gates"],
                     optional=["name", "description", "seed", "islands", "vehicle_types",
-                              "bays", "aisles", "demand"])
+                              "bays", "aisles", "demand", "building_entrances"])
     errors = ErrorCollector()
     name = (errors.attempt(lambda: f["name"].file_name(
         purpose="it names the written scenario"), default="plot")
@@ -92,6 +93,8 @@ def parse_plot(root: YNode) -> PlotSpec:
     islands = (tuple(i for i in errors.attempt(_islands, f["islands"], boundary, default=())
                      if i is not None) if "islands" in f else ())
     gates = errors.attempt(_gates, f["gates"], boundary, default=())
+    entrances = (errors.attempt(_building_entrances, f["building_entrances"], default=())
+                 if "building_entrances" in f else ())
     types, names = (CATALOGUE[DEFAULT_VEHICLE],), (DEFAULT_VEHICLE,)
     if "vehicle_types" in f:
         got = errors.attempt(_vehicle_types, f["vehicle_types"])
@@ -117,7 +120,7 @@ def parse_plot(root: YNode) -> PlotSpec:
                                                                                kv[0][1]))),
                     circulation_width=circulation, demand=demand or DemandSpec(),
                     seed=seed, description=description, source=root.file,
-                    vehicle_names=names)
+                    vehicle_names=names, building_entrances=entrances)
 
 
 def _fits_bays(node: YNode, vehicle, width: float, length: float, given: bool) -> None:
@@ -202,6 +205,23 @@ def _gates(node: YNode, boundary) -> tuple[GateSpec, ...]:
     out = tuple(errors.attempt(one, n) for n in node.items(min_len=1, max_len=100))
     errors.check()
     return tuple(g for g in out if g is not None)
+
+
+def _building_entrances(node: YNode) -> tuple[BuildingEntranceSpec, ...]:
+    errors = ErrorCollector()
+    seen: set[str] = set()
+
+    def one(n: YNode) -> BuildingEntranceSpec:
+        g = n.fields(required=["id", "at"])
+        ident = g["id"].ident()
+        if ident in seen:
+            raise g["id"].error(f"building entrance id {ident!r} is used twice")
+        seen.add(ident)
+        return BuildingEntranceSpec(ident, g["at"].point(), n.where)
+
+    out = tuple(errors.attempt(one, n) for n in node.items(max_len=100))
+    errors.check()
+    return tuple(e for e in out if e is not None)
 
 
 def _vehicle_types(node: YNode):

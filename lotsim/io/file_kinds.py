@@ -34,8 +34,8 @@ RESULT_FORMAT = "lotsim-result"
 """The ``format`` of a ``result.json`` (``docs/result.md``)."""
 
 READERS = {
-    "scenario": "scenarios are read by lotsim run, validate, show and maneuver "
-                "(docs/scenario.md)",
+    "scenario": "scenarios are read by lotsim run, validate, show and maneuver, and "
+                "lotsim export --dxf draws their lot (docs/scenario.md)",
     "result": "results are read by lotsim check and lotsim render",
     "suite": "suites are read by lotsim bench (docs/bench.md)",
 }

@@ -1,5 +1,6 @@
 """The exports' shared parts, with no third-party package: visits and resampling of the
-README's run, and ``lotsim export``'s errors (a missing extra, no format, not a result)."""
+README's run, and ``lotsim export``'s errors (a missing extra, no format, not a result, a
+scenario where a run is needed)."""
 
 from __future__ import annotations
 
@@ -7,6 +8,7 @@ import sys
 
 import numpy as np
 
+from conftest import ROOT
 from export_runs import result_path
 from lotsim.api import load_result
 from lotsim.cli import main
@@ -44,3 +46,17 @@ def test_export_names_the_missing_extra_and_exits_2(tmp_path, capsys, monkeypatc
     assert main(["export", path]) == 2
     assert "at least one of --commonroad DIR" in capsys.readouterr().err
     assert main(["export", str(tmp_path), "--commonroad", str(tmp_path / "cr")]) == 2
+
+
+def test_dxf_export_names_its_extra_and_takes_a_scenario_alone(tmp_path, capsys, monkeypatch):
+    monkeypatch.setitem(sys.modules, "ezdxf", None)  # as if not installed
+    scenario = str(ROOT / "scenarios" / "example.yaml")
+    target = tmp_path / "out" / "lot.dxf"
+    assert main(["export", scenario, "--dxf", str(target)]) == 2
+    err = capsys.readouterr().err
+    assert "the dxf export needs the ezdxf package: pip install 'lotsim[dxf]'" in err
+    assert "Traceback" not in err and not target.parent.exists()
+    assert main(["export", scenario, "--dxf", str(tmp_path / "lot.dwg")]) == 2
+    assert "--dxf: expected a file name ending in .dxf" in capsys.readouterr().err
+    assert main(["export", scenario, "--dxf", str(target), "--sumo", str(tmp_path)]) == 2
+    assert "this is a lotsim scenario, not a result" in capsys.readouterr().err

@@ -47,9 +47,9 @@ def text(value: str) -> str:
     return json.dumps(value, ensure_ascii=False)
 
 
-def points(pts: Sequence[Point]) -> str:
-    """``[[x, y], ...]`` in one flow line."""
-    return "[" + ", ".join(f"[{num(x)}, {num(y)}]" for x, y in pts) + "]"
+def points(pts: Sequence[Point], places: int = 2) -> str:
+    """``[[x, y], ...]`` in one flow line, to ``places`` decimals."""
+    return "[" + ", ".join(f"[{num(x, places)}, {num(y, places)}]" for x, y in pts) + "]"
 
 
 def comment(line: str) -> str:
@@ -217,12 +217,12 @@ class LotDraft:
         return "\n".join(out) + "\n"
 
 
-def _areas(items: Sequence[AreaDraft], indent: str) -> list[str]:
+def _areas(items: Sequence[AreaDraft], indent: str, places: int = 2) -> list[str]:
     out = []
     for a in items:
         if a.note:
             out.append(indent + comment(a.note))
-        out.append(f"{indent}- {{id: {text(a.id)}, polygon: {points(a.polygon)}}}")
+        out.append(f"{indent}- {{id: {text(a.id)}, polygon: {points(a.polygon, places)}}}")
     return out
 
 
@@ -269,20 +269,30 @@ class PlotDraft:
     islands: list[AreaDraft] = field(default_factory=list)
     header: list[str] = field(default_factory=list)
     demand: dict | None = None
+    building_entrances: list[tuple[str, Point, str]] = field(default_factory=list)
+    """(id, point, where it came from)."""
+    places: int = 2
+    """Decimals of the coordinates written: 2 (the centimetre) for a map's plot, 3 (the
+    millimetre) for a CAD drawing's."""
 
     def to_yaml(self) -> str:
         """The plot text, deterministic, ending in a line break."""
         out = [comment(h) for h in self.header]
         out += [f"name: {text(self.name)}", f"description: {text(self.description)}",
-                f"boundary: {points(self.boundary)}"]
+                f"boundary: {points(self.boundary, self.places)}"]
         if self.islands:
             out.append("islands:")
-            out += _areas(self.islands, "  ")
-        out.append("gates:")
-        for gid, (x, y), note in self.gates:
-            if note:
-                out.append("  " + comment(note))
-            out.append(f"  - {{id: {text(gid)}, at: [{num(x)}, {num(y)}]}}")
+            out += _areas(self.islands, "  ", self.places)
+        for key, items in (("gates", self.gates),
+                           ("building_entrances", self.building_entrances)):
+            if not items and key != "gates":
+                continue
+            out.append(f"{key}:")
+            for ident, (x, y), note in items:
+                if note:
+                    out.append("  " + comment(note))
+                out.append(f"  - {{id: {text(ident)}, at: [{num(x, self.places)}, "
+                           f"{num(y, self.places)}]}}")
         if self.demand is not None:
             out.append("demand:")
             out += _plain_yaml(self.demand, "  ")

@@ -22,6 +22,7 @@ aisles:
   widths: {90: {two-way: 6.5}, 45: {one-way: 4.0}}
   circulation: 6.5
 demand: {count: 12, rate_per_hour: 240, dwell: [60, 120]}
+building_entrances: [{id: lobby, at: [30, 45]}, {id: side, at: [65, 20]}]
 """
 
 
@@ -36,6 +37,8 @@ def test_a_good_plot_reads_every_key():
     assert plot.circulation_width == 6.5
     assert (plot.demand.count, plot.demand.rate_per_hour, plot.demand.dwell) == (12, 240,
                                                                                 (60, 120))
+    assert [(e.id, e.at) for e in plot.building_entrances] == [("lobby", (30, 45)),
+                                                                ("side", (65, 20))]
 
 
 def test_defaults():
@@ -45,6 +48,7 @@ def test_defaults():
     assert (plot.bay_width, plot.bay_length) == (2.5, 5.0)
     assert plot.aisle_width(90, "two-way") == 7.0 and plot.circulation_width == 7.0
     assert [v.name for v in plot.vehicle_types] == ["valet"]
+    assert plot.building_entrances == ()
 
 
 @pytest.mark.parametrize("old, new, where, says", [
@@ -69,6 +73,9 @@ def test_defaults():
      "vehicle type 'vclass' is 5.37 m long and the plot's bays 5.30 m: no bay of any layout "
      "would be usable for it; it needs bays of at least 5.37 m (bays: {length: 5.4})"),
     ("width: 2.4", "width: 1.9", "7:5: vehicle_types[1]", "'van' is 2.00 m wide"),
+    ("{id: side,", "{id: lobby,", "14:54: building_entrances[1].id",
+     "building entrance id 'lobby' is used twice"),
+    ("at: [65, 20]", "at: 65", "14:64: building_entrances[1].at", "expected a list"),
 ])
 def test_a_bad_input_is_located(old, new, where, says):
     assert old in GOOD

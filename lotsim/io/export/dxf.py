@@ -1,0 +1,112 @@
+"""A built lot as a DXF drawing for CAD (``lotsim export --dxf``, ``docs/export.md``).
+
+The figures of :func:`~lotsim.io.export.cad_drawing.lot_drawing` become model-space
+entities, each on its layer of :data:`~lotsim.io.cad_layers.LAYERS` with the layer's
+colour and linetype (``BYLAYER``): LWPOLYLINE, LINE, POINT, TEXT, and a solid HATCH under
+each arrow. The drawing is DXF R2010 (AutoCAD 2010 and later read it), in metres:
+``$INSUNITS`` 6, ``$MEASUREMENT`` 1 (metric), decimal lengths to the millimetre. Its
+initial view shows the whole lot. Coordinates are lotsim's own, unrounded.
+
+Needs ``ezdxf`` (``pip install 'lotsim[dxf]'``), imported when a drawing is written.
+The file is written whole or not at all (:func:`~lotsim.core.atomic.atomic_write`).
+"""
+
+from __future__ import annotations
+
+import io
+import os
+from collections import Counter
+from dataclasses import dataclass
+from pathlib import Path
+
+from lotsim.core.atomic import atomic_write
+from lotsim.io.cad_layers import LAYERS
+from lotsim.io.export.cad_drawing import CadDrawing, lot_drawing
+from lotsim.io.export.tracks import require
+from lotsim.lot.model import Lot
+
+DXF_VERSION = "R2010"
+"""The DXF version written."""
+METRES = 6
+"""``$INSUNITS`` of metres."""
+BYLAYER = 256
+"""The colour index that takes the layer's colour."""
+
+
+@dataclass(frozen=True, slots=True)
+class DxfInfo:
+    """What :func:`write_dxf` wrote."""
+
+    path: Path
+    bays: int
+    entities: tuple[tuple[str, int], ...]
+    """Entities written on each layer, in the order of :data:`~lotsim.io.cad_layers.LAYERS`
+    (layers with none left out)."""
+    bytes: int
+
+
+def dxf_document(drawing: CadDrawing):
+    """The ezdxf document of ``drawing`` (module docstring)."""
+    ezdxf = require("ezdxf", "dxf")
+    from ezdxf.enums import TextEntityAlignment
+
+    doc = ezdxf.new(DXF_VERSION, setup=True)
+    doc.header["$INSUNITS"] = METRES
+    doc.header["$MEASUREMENT"] = 1
+    doc.header["$LUNITS"] = 2  # decimal
+    doc.header["$LUPREC"] = 3  # to the millimetre
+    for layer in LAYERS:
+        doc.layers.add(layer.name, color=layer.color, linetype=layer.linetype)
+    msp = doc.modelspace()
+    for p in drawing.polylines:
+        msp.add_lwpolyline(p.points, format="xy", close=p.closed,
+                           dxfattribs={"layer": p.layer})
+        if p.fill:
+            hatch = msp.add_hatch(color=BYLAYER, dxfattribs={"layer": p.layer})
+            hatch.paths.add_polyline_path(p.points, is_closed=True)
+    for s in drawing.segments:
+        msp.add_line(s.start, s.end, dxfattribs={"layer": s.layer})
+    for m in drawing.marks:
+        msp.add_point(m.at, dxfattribs={"layer": m.layer})
+    for t in drawing.labels:
+        msp.add_text(t.text, height=t.height, rotation=t.rotation,
+                     dxfattribs={"layer": t.layer}).set_placement(
+            t.at, align=TextEntityAlignment.MIDDLE_CENTER)
+    x0, y0, x1, y1 = drawing.bounds
+    doc.set_modelspace_vport(height=max(y1 - y0, (x1 - x0) * 0.75, 1.0) * 1.1,
+                             center=((x0 + x1) / 2, (y0 + y1) / 2))
+    return doc
+
+
+def write_dxf(lot: Lot, path: str | os.PathLike) -> DxfInfo:
+    """Write ``lot`` as a DXF drawing at ``path`` (module docstring).
+
+    Parameters
+    ----------
+    lot : Lot
+        A built lot (a scenario's, or a result's ``lot.drawing`` read back).
+    path : path-like
+        The file to write; its folder must exist.
+
+    Returns
+    -------
+    DxfInfo
+
+    Raises
+    ------
+    ExportUnavailable
+        Without ``ezdxf`` (``pip install 'lotsim[dxf]'``).
+    """
+    drawing = lot_drawing(lot)
+    doc = dxf_document(drawing)
+    text = io.StringIO()
+    doc.write(text)
+    data = doc.encode(text.getvalue())
+    target = Path(path)
+    with atomic_write(target, "wb") as fh:
+        fh.write(data)
+    counts = Counter(e.dxf.layer for e in doc.modelspace())
+    order = [layer.name for layer in LAYERS]
+    return DxfInfo(path=target, bays=len(lot.slots),
+                   entities=tuple((n, counts[n]) for n in order if counts[n]),
+                   bytes=len(data))
