@@ -9,10 +9,9 @@ it stands there; what the run met (:attr:`Replay.met`): closed ground hatched, t
 bays taken from outside, stalled cars ringed. A header holds the clock and the counters, a
 footer the scale and the key (:data:`LEGEND`, shared with the HTML replay).
 
-Frames go to imageio v3 in chunks of :data:`CHUNK` ("P" frames with one fixed
-palette: no quantising per frame), each chunk as a complete GIF in memory; the
-chunks' frame blocks are spliced into one file, so memory does not grow with the
-length of the run. The file is written under a temporary name and renamed.
+Frames are drawn in chunks of :data:`CHUNK` and written chunk by chunk, each chunk's frames
+spliced into the one file (:mod:`lotsim.render.gif_file`), so memory does not grow with the
+length of the run.
 """
 
 from __future__ import annotations
@@ -20,16 +19,18 @@ from __future__ import annotations
 import colorsys
 import math
 import os
-from collections.abc import Callable, Collection, Sequence
+from collections.abc import Callable, Collection, Iterator, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
-import imageio.v3 as iio
 import numpy as np
 from PIL import Image, ImageChops, ImageDraw
 
-from lotsim.core.atomic import atomic_write
 from lotsim.errors import SettingsError
+
+# re-exported: the GIF splitting, as the tests and users take it
+from lotsim.render.gif_file import split_gif as split_gif
+from lotsim.render.gif_file import write_gif_chunks
 from lotsim.render.lot_image import (
     PAD_PX,
     PARKED_CAR,
@@ -628,49 +629,18 @@ class GifRenderer:
                                            skipped[k] if skipped is not None else 0.0))
         return out
 
+    def chunks(self, plan: FramePlan, chunk: int = CHUNK
+               ) -> Iterator[tuple[int, int, np.ndarray]]:
+        """The frames of ``plan`` (:meth:`frames`) ``chunk`` at a time: ``(a, b, frames)``,
+        frames ``a`` to ``b - 1`` of the plan."""
+        n = len(plan.times)
+        for a in range(0, n, chunk):
+            b = min(n, a + chunk)
+            yield a, b, (self.frames(plan.times[a:b]) if plan.skipped is None
+                         else self.frames(plan.times[a:b], plan.skipped[a:b]))
+
 
 # -- writing -----------------------------------------------------------------------------------
-def _skip_sub_blocks(data: bytes, pos: int) -> int:
-    while True:
-        n = data[pos]
-        pos += 1
-        if n == 0:
-            return pos
-        pos += n
-
-
-def split_gif(data: bytes) -> tuple[bytes, bytes, bytes]:
-    """Cut a GIF into (screen: logical screen descriptor and global colour table,
-    preamble: the extensions before the first frame, frames: every frame's blocks,
-    without the trailer)."""
-    if data[:6] not in (b"GIF87a", b"GIF89a"):
-        raise ValueError("not a GIF")
-    flags = data[10]
-    pos = 13 + (3 * 2 ** ((flags & 7) + 1) if flags & 0x80 else 0)
-    screen_end = pos
-    first = None
-    while True:
-        tag = data[pos]
-        if tag == 0x3B:  # trailer
-            break
-        if tag == 0x21:  # extension: label, then sub-blocks
-            label = data[pos + 1]
-            if first is None and label == 0xF9:
-                first = pos
-            pos = _skip_sub_blocks(data, pos + 2)
-        elif tag == 0x2C:  # image: descriptor, local table, LZW code size, sub-blocks
-            if first is None:
-                first = pos
-            fl = data[pos + 9]
-            pos += 10 + (3 * 2 ** ((fl & 7) + 1) if fl & 0x80 else 0)
-            pos = _skip_sub_blocks(data, pos + 1)
-        else:
-            raise ValueError(f"unexpected GIF block 0x{tag:02x} at byte {pos}")
-    if first is None:
-        first = pos
-    return data[6:screen_end], data[screen_end:first], data[first:pos]
-
-
 @dataclass(frozen=True)
 class GifInfo:
     """What :func:`write_gif` wrote."""
@@ -713,26 +683,13 @@ def write_gif(
     plan = plan_frames(renderer.replay, settings)
     target = Path(path)
     n = len(plan.times)
-    with atomic_write(target) as fh:
-        screen = None
-        for a in range(0, n, chunk):
-            b = min(n, a + chunk)
-            frames = (renderer.frames(plan.times[a:b]) if plan.skipped is None
-                      else renderer.frames(plan.times[a:b], plan.skipped[a:b]))
-            # one frame takes one duration, not a list (Pillow 13 writes a lone frame as a
-            # still image and refuses a list)
-            duration = plan.durations[a:b] if b - a > 1 else plan.durations[a]
-            data = iio.imwrite("<bytes>", frames, extension=".gif", mode="P",
-                               palette=renderer.palette, loop=0, duration=duration)
-            scr, pre, body = split_gif(data)
-            if screen is None:
-                screen = scr
-                fh.write(data[:6] + scr + pre)
-            elif scr != screen:
-                raise RuntimeError("GIF chunks came out with different colour tables")
-            fh.write(body)
-            if progress is not None:
+
+    def chunks() -> Iterator[tuple[np.ndarray, list[int]]]:
+        for a, b, frames in renderer.chunks(plan, chunk):
+            yield frames, plan.durations[a:b]
+            if progress is not None:  # the writer asks for the next chunk once this is in
                 progress(b, n)
-        fh.write(b";")
+
+    write_gif_chunks(target, chunks(), renderer.palette)
     return GifInfo(target, n, sum(plan.durations) / 1000.0, plan.speed, plan.start, plan.end,
                    target.stat().st_size, sum(b - a for a, b in plan.skips))
