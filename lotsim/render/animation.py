@@ -7,29 +7,49 @@ wheels turned by the steer angle), a windscreen, a white bar across the rear
 while reversing, a faint trail, and its target slot outlined in its colour until
 it stands there; what the run met (:attr:`Replay.met`): closed ground hatched, the cars in
 bays taken from outside, stalled cars ringed. A header holds the clock and the counters, a
-footer the scale and the key (:data:`LEGEND`, shared with the HTML replay).
+footer the scale and the key (:mod:`lotsim.render.colour_key`: the colours and the key,
+:data:`~lotsim.render.colour_key.LEGEND`, shared with the HTML replay).
 
-Frames go to imageio v3 in chunks of :data:`CHUNK` ("P" frames with one fixed
-palette: no quantising per frame), each chunk as a complete GIF in memory; the
-chunks' frame blocks are spliced into one file, so memory does not grow with the
-length of the run. The file is written under a temporary name and renamed.
+Frames are drawn in chunks of :data:`CHUNK` and written chunk by chunk, each chunk's frames
+spliced into the one file (:mod:`lotsim.render.gif_file`), so memory does not grow with the
+length of the run.
 """
 
 from __future__ import annotations
 
-import colorsys
 import math
 import os
-from collections.abc import Callable, Collection, Sequence
+from collections.abc import Callable, Iterator, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
-import imageio.v3 as iio
 import numpy as np
 from PIL import Image, ImageChops, ImageDraw
 
-from lotsim.core.atomic import atomic_write
 from lotsim.errors import SettingsError
+from lotsim.render.colour_key import (
+    CLOSED,
+    GLASS,
+    HATCH,
+    INK,
+    TYRE,
+    VEHICLE_COLOURS,
+    WHITE,
+    KeyInks,
+    key_room,
+    key_width,
+    legend_entries,
+    paint_key,
+    pale,
+    scale_bar_width,
+    vehicle_palette,
+)
+
+# re-exported: the key's entries and the GIF splitting, as the tests and users take them
+from lotsim.render.colour_key import LEGEND as LEGEND
+from lotsim.render.colour_key import LEGEND_CARS as LEGEND_CARS
+from lotsim.render.gif_file import split_gif as split_gif
+from lotsim.render.gif_file import write_gif_chunks
 from lotsim.render.lot_image import (
     PAD_PX,
     PARKED_CAR,
@@ -42,7 +62,6 @@ from lotsim.render.lot_image import (
 )
 from lotsim.render.replay import (
     COUNTERS,
-    MET_KINDS,
     PHASES,
     MetDisturbances,
     Replay,
@@ -52,12 +71,6 @@ from lotsim.scenario import VIEW_MARGIN, GifSettings
 
 CHUNK = 48
 """Frames encoded at a time: bounds memory to about ``CHUNK`` × width × height × 3 bytes."""
-VEHICLE_COLOURS = 16
-"""Distinct vehicle colours (each also in a pale version, for parked cars and trails).
-
-The palette is kept short on purpose: given a palette, Pillow's GIF writer matches it to
-each frame colour by colour in Python, at a cost that grows with the cube of its length:
-with a palette of some 90 colours that matching costs more than drawing the frame."""
 HEADER = 26
 """Pixel height of the clock and counters band."""
 FOOTER = 22
@@ -70,66 +83,6 @@ REVERSE_BAND = 0.45
 """Depth of the white band drawn across the rear of a reversing car [m]."""
 
 HEADER_BG = (250, 250, 248)
-INK = (25, 25, 25)
-GLASS = (40, 48, 60)
-WHITE = (255, 255, 255)
-TYRE = (15, 15, 15)
-CLOSED = (205, 70, 40)
-"""Closed ground (an aisle or gate closed over an interval) is hatched and outlined in
-this (a stalled car is ringed in white on ink)."""
-HATCH = 7
-"""Spacing of the closed ground's hatching [px]."""
-KEY_SWATCH, KEY_GAP = 18, 12
-"""Width of a swatch of the key and the gap between its entries [px]."""
-LEGEND = (("driving", "car"), ("parked", "pale"), ("parked at start", "start"),
-          ("reversing", "reversing"), ("its slot", "slot"), ("stalled", "stalled"),
-          ("closed", "closed"), ("bay taken", "taken"))
-"""The colour key of a run's pictures, in order (the GIF's footer, the HTML replay's bar):
-each label with what its swatch shows: a car in its own colour, in the pale version, a car
-parked at the start, a car with the white rear band, a slot outlined in a car's colour; and
-what a run met (:data:`~lotsim.render.replay.MET_KINDS`): a car ringed in white on ink
-(stalled), hatched ground (closed), the dark car of a bay taken from outside."""
-LEGEND_CARS = 3
-"""Cars' colours shown side by side in the swatches of cars drawn in their own colour
-(driving, parked, stalled): each car has its own colour, and a swatch of one would say that
-"driving" is that colour."""
-
-
-def legend_entries(parked_at_start: bool, met: Collection[str] = ()) -> list[tuple[str, str]]:
-    """:data:`LEGEND` for a run: "parked at start" only when some car is, and what the run
-    met only when it did (``met``: some of :data:`~lotsim.render.replay.MET_KINDS`, as
-    :attr:`MetDisturbances.kinds <lotsim.render.replay.MetDisturbances.kinds>`).
-
-    Examples
-    --------
-    >>> [label for label, _ in legend_entries(False, {"closed"})]
-    ['driving', 'parked', 'reversing', 'its slot', 'closed']
-    """
-    return [(label, kind) for label, kind in LEGEND
-            if (kind != "start" or parked_at_start) and (kind not in MET_KINDS or kind in met)]
-
-
-def vehicle_palette(n: int = VEHICLE_COLOURS) -> list[tuple[int, int, int]]:
-    """``n`` saturated colours, consecutive ones far apart in hue and brightness, none
-    close to the asphalt grey or the blue of cars parked at start (hue ~0.59)."""
-    out: list[tuple[int, int, int]] = []
-    k = 0
-    while len(out) < n:
-        hue = (k * 0.618034 + 0.02) % 1.0
-        k += 1
-        if 0.53 < hue < 0.66:
-            continue
-        m = len(out)
-        sat = (1.0, 0.8, 0.9)[m % 3]
-        val = (1.0, 0.85, 0.95, 0.75)[(m // 3) % 4]
-        r, g, b = colorsys.hsv_to_rgb(hue, sat, val)
-        out.append((int(r * 255), int(g * 255), int(b * 255)))
-    return out
-
-
-def pale(c: tuple[int, int, int], amount: float = 0.55) -> tuple[int, int, int]:
-    """``c`` mixed with white."""
-    return tuple(int(round(v + (255 - v) * amount)) for v in c)  # type: ignore[return-value]
 
 
 @dataclass(frozen=True)
@@ -297,7 +250,7 @@ class GifRenderer:
         self.footer = FOOTER
         if settings.legend and met.kinds:
             one_line = legend_entries(len(doc["lot"]["parked"]) > 0, met.kinds)
-            if self._key_width(one_line) > self._key_room():
+            if key_width(one_line, self._font) > key_room(w):
                 self.footer = 2 * FOOTER
         self.canvas = LotCanvas(bounds, (w, h), frame=(PAD_PX, HEADER + PAD_PX // 2,
                                                        w - PAD_PX, h - self.footer))
@@ -354,7 +307,7 @@ class GifRenderer:
         d = ImageDraw.Draw(img)
         d.rectangle((0, 0, w, HEADER - 1), fill=HEADER_BG)
         d.line((0, HEADER - 1, w, HEADER - 1), fill=(200, 200, 200))
-        paint_scale_bar(img, canvas, PAD_PX, h - 6, min(260, w // 3))
+        paint_scale_bar(img, canvas, PAD_PX, h - 6, scale_bar_width(w))
         body = np.all(np.asarray(img) == np.array(PARKED_CAR), axis=2)
         bg = img.quantize(colors=BACKGROUND_COLOURS, method=Image.Quantize.MEDIANCUT,
                           dither=Image.Dither.NONE)
@@ -383,82 +336,16 @@ class GifRenderer:
             self._paint_legend(bg, at_start)
         self._labels = self._portal_labels(bg)
 
-    def _key_room(self) -> int:
-        """Pixel width the key's bottom line has: right of the scale bar."""
-        w = self.settings.size[0]
-        return w - PAD_PX - (PAD_PX + min(260, w // 3) + 40)
-
-    def _key_width(self, entries: Sequence[tuple[str, str]]) -> int:
-        widths = [KEY_SWATCH + 4 + int(round(self._font.getlength(label)))
-                  for label, _ in entries]
-        return sum(widths) + KEY_GAP * max(0, len(widths) - 1)
-
     def _paint_legend(self, bg: Image.Image, at_start: int | None) -> None:
-        """A key of the cars' colours in the footer, right-aligned, right of the scale bar:
-        cars in their own colours (driving or waiting), in the pale versions (parked), a
-        car parked at the start (when there are some), reversing (white rear band), the
-        slot a car is heading for (outlined in its colour); and what the run met, when it
-        did: a stalled car (ringed in white on ink), closed ground (hatched), the car in a
-        bay taken from outside. In a footer of two lines (:attr:`footer`) the cars' entries
-        take the upper line, the whole width, and what the run met the lower one. Entries
-        that do not fit are left out from the last. Swatch boxes go to
-        :attr:`legend_boxes`."""
-        w, h = self.settings.size
+        """The key (:func:`~lotsim.render.colour_key.paint_key`) in the footer, on one
+        line or, in a footer of two (:attr:`footer`), on two; its swatch boxes go to
+        :attr:`legend_boxes`. ``at_start``: the colour of cars parked at the start."""
         entries = legend_entries(at_start is not None, self.replay.met.kinds)
-        bottom = h - FOOTER // 2 - 1
-        if self.footer > FOOTER:
-            lines = [([e for e in entries if e[1] not in MET_KINDS], bottom - FOOTER,
-                      w - 2 * PAD_PX),
-                     ([e for e in entries if e[1] in MET_KINDS], bottom,
-                      self._key_room())]
-        else:
-            lines = [(entries, bottom, self._key_room())]
-        d = ImageDraw.Draw(bg)
-        for line, mid, room in lines:
-            while line and self._key_width(line) > room:
-                line = line[:-1]
-            x = w - PAD_PX - self._key_width(line)
-            for label, kind in line:
-                self.legend_boxes[label] = self._paint_swatch(d, x, mid, kind, at_start)
-                self._stamp(bg, (x + KEY_SWATCH + 4, mid), label, self._font)
-                x += KEY_SWATCH + 4 + int(round(self._font.getlength(label))) + KEY_GAP
-
-    def _paint_swatch(self, d: ImageDraw.ImageDraw, x: int, mid: int, kind: str,
-                      at_start: int | None) -> tuple[int, int, int, int]:
-        """One swatch of the key (:data:`LEGEND`'s ``kind``) from ``x``, centred on line
-        ``mid``; returns its box."""
-        sw = KEY_SWATCH
-        car, pale_car = int(self.car_index[0]), int(self.pale_index[0])
-        box = (x, mid - 5, x + sw, mid + 5)
-        if kind == "slot":
-            box = (x + 4, mid - 7, x + sw - 4, mid + 7)
-            d.rectangle(box, outline=car, width=2)
-        elif kind == "closed":
-            x0, y0, x1, y1 = box
-            for c in range(x0 + y0 + 3, x1 + y1, HATCH // 2 + 1):  # lines x + y = c, as the
-                a, b = max(x0, c - y1), min(x1, c - y0)           # ground's, within the box
-                d.line((a, c - a, b, c - b), fill=self.closed, width=1)
-            d.rectangle(box, outline=self.closed, width=2)
-        elif kind == "taken":
-            d.rectangle(box, fill=self.tyre, outline=self.ink)
-        else:
-            fill = {"pale": pale_car, "start": at_start}.get(kind, car)
-            d.rectangle(box, fill=fill, outline=self.ink)
-            several = {"car": self.car_index, "pale": self.pale_index,
-                       "stalled": self.car_index}.get(kind)
-            if several is not None:
-                cols = [int(c) for c in several[:LEGEND_CARS]]
-                step = (sw - 1) / len(cols)
-                for k, c in enumerate(cols):
-                    d.rectangle((x + 1 + round(k * step), mid - 4,
-                                 x + round((k + 1) * step) - 1 + (k == len(cols) - 1),
-                                 mid + 4), fill=c)
-            if kind == "reversing":
-                d.rectangle((x + 1, mid - 4, x + 4, mid + 4), fill=self.white)
-            elif kind == "stalled":  # the ring a stalled car gets: white on an ink halo
-                d.rectangle((x - 1, mid - 6, x + sw + 1, mid + 6), outline=self.ink, width=2)
-                d.rectangle((x + 1, mid - 4, x + sw - 1, mid + 4), outline=self.white, width=1)
-        return box
+        inks = KeyInks(self.ink, self.white, self.tyre, self.closed,
+                       tuple(int(c) for c in self.car_index),
+                       tuple(int(c) for c in self.pale_index), at_start)
+        self.legend_boxes = paint_key(bg, entries, inks, font=self._font, stamp=self._stamp,
+                                      line_height=FOOTER, two_lines=self.footer > FOOTER)
 
     def _portal_labels(self, bg: Image.Image) -> list[tuple[tuple[int, int], Image.Image,
                                                           Image.Image]]:
@@ -628,49 +515,18 @@ class GifRenderer:
                                            skipped[k] if skipped is not None else 0.0))
         return out
 
+    def chunks(self, plan: FramePlan, chunk: int = CHUNK
+               ) -> Iterator[tuple[int, int, np.ndarray]]:
+        """The frames of ``plan`` (:meth:`frames`) ``chunk`` at a time: ``(a, b, frames)``,
+        frames ``a`` to ``b - 1`` of the plan."""
+        n = len(plan.times)
+        for a in range(0, n, chunk):
+            b = min(n, a + chunk)
+            yield a, b, (self.frames(plan.times[a:b]) if plan.skipped is None
+                         else self.frames(plan.times[a:b], plan.skipped[a:b]))
+
 
 # -- writing -----------------------------------------------------------------------------------
-def _skip_sub_blocks(data: bytes, pos: int) -> int:
-    while True:
-        n = data[pos]
-        pos += 1
-        if n == 0:
-            return pos
-        pos += n
-
-
-def split_gif(data: bytes) -> tuple[bytes, bytes, bytes]:
-    """Cut a GIF into (screen: logical screen descriptor and global colour table,
-    preamble: the extensions before the first frame, frames: every frame's blocks,
-    without the trailer)."""
-    if data[:6] not in (b"GIF87a", b"GIF89a"):
-        raise ValueError("not a GIF")
-    flags = data[10]
-    pos = 13 + (3 * 2 ** ((flags & 7) + 1) if flags & 0x80 else 0)
-    screen_end = pos
-    first = None
-    while True:
-        tag = data[pos]
-        if tag == 0x3B:  # trailer
-            break
-        if tag == 0x21:  # extension: label, then sub-blocks
-            label = data[pos + 1]
-            if first is None and label == 0xF9:
-                first = pos
-            pos = _skip_sub_blocks(data, pos + 2)
-        elif tag == 0x2C:  # image: descriptor, local table, LZW code size, sub-blocks
-            if first is None:
-                first = pos
-            fl = data[pos + 9]
-            pos += 10 + (3 * 2 ** ((fl & 7) + 1) if fl & 0x80 else 0)
-            pos = _skip_sub_blocks(data, pos + 1)
-        else:
-            raise ValueError(f"unexpected GIF block 0x{tag:02x} at byte {pos}")
-    if first is None:
-        first = pos
-    return data[6:screen_end], data[screen_end:first], data[first:pos]
-
-
 @dataclass(frozen=True)
 class GifInfo:
     """What :func:`write_gif` wrote."""
@@ -713,26 +569,13 @@ def write_gif(
     plan = plan_frames(renderer.replay, settings)
     target = Path(path)
     n = len(plan.times)
-    with atomic_write(target) as fh:
-        screen = None
-        for a in range(0, n, chunk):
-            b = min(n, a + chunk)
-            frames = (renderer.frames(plan.times[a:b]) if plan.skipped is None
-                      else renderer.frames(plan.times[a:b], plan.skipped[a:b]))
-            # one frame takes one duration, not a list (Pillow 13 writes a lone frame as a
-            # still image and refuses a list)
-            duration = plan.durations[a:b] if b - a > 1 else plan.durations[a]
-            data = iio.imwrite("<bytes>", frames, extension=".gif", mode="P",
-                               palette=renderer.palette, loop=0, duration=duration)
-            scr, pre, body = split_gif(data)
-            if screen is None:
-                screen = scr
-                fh.write(data[:6] + scr + pre)
-            elif scr != screen:
-                raise RuntimeError("GIF chunks came out with different colour tables")
-            fh.write(body)
-            if progress is not None:
+
+    def chunks() -> Iterator[tuple[np.ndarray, list[int]]]:
+        for a, b, frames in renderer.chunks(plan, chunk):
+            yield frames, plan.durations[a:b]
+            if progress is not None:  # the writer asks for the next chunk once this is in
                 progress(b, n)
-        fh.write(b";")
+
+    write_gif_chunks(target, chunks(), renderer.palette)
     return GifInfo(target, n, sum(plan.durations) / 1000.0, plan.speed, plan.start, plan.end,
                    target.stat().st_size, sum(b - a for a, b in plan.skips))

@@ -5,12 +5,12 @@ the vehicles' samples as JSON and the viewer's script (``replay.js`` beside this
 it loads nothing else, so it opens from disk, offline, in any current browser. The viewer
 draws every car on a canvas over the lot as the GIF does (:mod:`lotsim.render.animation`:
 its footprint, wheels turned by the steer, windscreen, the white band while reversing, a
-trail, its target slot; the GIF's colours, handed over from the same constants), marks what
-the run met as the GIF does (:attr:`~lotsim.render.replay.Replay.met`: stalled cars ringed,
-closed ground hatched over its interval, the cars in bays taken from outside), and offers
-the GIF's colour key, play and pause, ×1 to ×60, a time slider with a timeline of the
-counters under it, skip to the next event, skip quiet stretches, zoom and pan, and a car's
-details on a click.
+trail, its target slot; the GIF's colours, handed over from the same constants of
+:mod:`lotsim.render.colour_key`), marks what the run met as the GIF does
+(:attr:`~lotsim.render.replay.Replay.met`: stalled cars ringed, closed ground hatched over
+its interval, the cars in bays taken from outside), and offers the GIF's colour key, play
+and pause, ×1 to ×60, a time slider with a timeline of the counters under it, skip to the
+next event, skip quiet stretches, zoom and pan, and a car's details on a click.
 
 **Keeping the file small.** A result samples a moving car every 0.05 s. Here a sample is
 left out wherever linear interpolation in time between the samples kept on either side
@@ -40,16 +40,15 @@ import numpy as np
 
 from lotsim.core.atomic import atomic_write
 from lotsim.render import lot_image as li
-from lotsim.render.animation import (
+from lotsim.render.animation import REVERSE_BAND, WHEEL
+from lotsim.render.colour_key import (
     CLOSED,
     GLASS,
     HATCH,
     INK,
     LEGEND_CARS,
-    REVERSE_BAND,
     TYRE,
     VEHICLE_COLOURS,
-    WHEEL,
     WHITE,
     legend_entries,
     pale,
@@ -302,7 +301,7 @@ def html_page(doc: dict, settings: HtmlSettings) -> tuple[str, int, int]:
 
 
 def legend_html(parked_at_start: bool, met: Collection[str] = ()) -> str:
-    """The colour key of the page's bar: the GIF's entries (:func:`~lotsim.render.animation.
+    """The colour key of the page's bar: the GIF's entries (:func:`~lotsim.render.colour_key.
     legend_entries`, with what the run ``met``) as small SVG swatches in the colours the
     page draws with, each marked ``class="key" data-key=LABEL``, its parts ``data-part``
     (body, car — one of the cars' colours shown side by side as in the GIF —, band,

@@ -171,7 +171,7 @@ def timeline_figure(doc: dict, *, colours: Sequence[RGB] | None = None) -> Figur
 
     Bars show each phase of :data:`lotsim.render.replay.PHASES`: waiting outside in light grey,
     driving and leaving in the vehicle's colour, standing parked in a pale version of it
-    (:func:`lotsim.render.animation.pale`). A small tick marks each arrival and a red ×
+    (:func:`lotsim.render.colour_key.pale`). A small tick marks each arrival and a red ×
     each vehicle turned away. Time runs in seconds, or in minutes for runs longer than
     :data:`MINUTES_AFTER`.
 
@@ -182,7 +182,7 @@ def timeline_figure(doc: dict, *, colours: Sequence[RGB] | None = None) -> Figur
     colours : sequence of (r, g, b), optional
         One colour (0–255) per vehicle of ``doc["vehicles"]``; by default the colours the
         GIF draws them in (:func:`lotsim.render.replay.assign_colours` over
-        :func:`lotsim.render.animation.vehicle_palette`).
+        :func:`lotsim.render.colour_key.vehicle_palette`).
 
     Returns
     -------
@@ -197,7 +197,7 @@ def timeline_figure(doc: dict, *, colours: Sequence[RGB] | None = None) -> Figur
     ValueError
         ``colours`` does not hold one colour per vehicle.
     """
-    from lotsim.render.animation import pale, vehicle_palette
+    from lotsim.render.colour_key import pale, vehicle_palette
 
     replay = Replay(doc)
     tracks = replay.tracks

@@ -20,7 +20,7 @@ from pathlib import Path
 import numpy as np
 
 from lotsim.errors import LotsimError, SettingsError
-from lotsim.render.animation import CHUNK, GifRenderer, plan_frames
+from lotsim.render.animation import GifRenderer, plan_frames
 from lotsim.scenario import GifSettings
 
 CRF = 16
@@ -94,10 +94,7 @@ def write_mp4(doc: dict, path: str | os.PathLike, settings: GifSettings | None =
             ffmpeg_log_level="error")
         writer.send(None)  # start ffmpeg
         try:
-            for a in range(0, n, CHUNK):
-                b = min(n, a + CHUNK)
-                frames = (renderer.frames(plan.times[a:b]) if plan.skipped is None
-                          else renderer.frames(plan.times[a:b], plan.skipped[a:b]))
+            for _, b, frames in renderer.chunks(plan):
                 for frame in frames:
                     writer.send(np.ascontiguousarray(palette[frame]))
                 if progress is not None:
