@@ -84,6 +84,8 @@ class ReservationTable:
         self._store = EntryStore()
         # blocked_standing's bodies: id → [the body, entries tested up to, those it meets]
         self._standing: dict[int, list] = {}
+        # the entries standing in slots (not filed in the grid), by the grid's cells
+        self._in_slots: dict[tuple[int, int], list[int]] = {}
         self.releases: list[tuple[float, str, bool]] = []
         """Every :meth:`release` that dropped or cut something, in order: the time from
         which it freed space [s], whose it was, and whether all it freed stood in a slot
@@ -365,13 +367,21 @@ class ReservationTable:
         nobody's ever does): a car may stand on ``body`` from a time on, for ever (parked),
         if and only if that time is past this. Bodies standing in slots count too."""
         st = self._store
-        n = st.n
         skip = st.skip(ignore)
-        x0, y0, x1, y1 = body.bounds
-        bx = st.box[:n]
-        sel = (st.alive[:n] & (st.owner[:n] != skip)
-               & (bx[:, 0] <= x1) & (bx[:, 2] >= x0) & (bx[:, 1] <= y1) & (bx[:, 3] >= y0))
-        cand = np.flatnonzero(sel)
+        bounds = body.bounds
+        x0, y0, x1, y1 = bounds
+        cells = cells_of(bounds)
+        # every live entry that may meet it: those filed in its cells (the grid holds every
+        # live entry not standing in a slot), and those standing in a slot there
+        found = self._grid.filed(cells, self._grid.forgot, NEVER)
+        for cell in cells:
+            ids = self._in_slots.get(cell)
+            if ids:
+                found.update(ids)
+        rows, who = st.rows, st.who
+        cand = np.array(sorted(i for i in found if (r := rows[i]) is not None
+                               and who[i] != skip and r[2] <= x1 and r[4] >= x0
+                               and r[3] <= y1 and r[5] >= y0), dtype=np.int64)
         if cand.size == 0:
             return -math.inf
         hit = shapely.intersects(st.geom[cand], body)
@@ -397,6 +407,12 @@ class ReservationTable:
         if bounds is None:
             bounds = geom.bounds
         i = self._store.add(oid, t0, t1, geom, in_slot, bounds)
-        if in_slot:
-            return  # found by taken_until's scan of the whole store only
+        if in_slot:  # found by taken_until only, by its cells
+            rows = self._store.rows
+            for cell in cells_of(bounds) if cells is None else cells:
+                ids = self._in_slots.setdefault(cell, [])
+                if len(ids) > 8 and rows[ids[0]] is None:  # dropped ones let go
+                    ids[:] = [k for k in ids if rows[k] is not None]
+                ids.append(i)
+            return
         self._grid.file(i, t0, t1, cells_of(bounds) if cells is None else cells)
