@@ -278,11 +278,13 @@ def _header(m: Lanelet2Map, parts: list, connectors: int, aisles: list[AisleLayo
         f"{GATE_IN:g} m in; no gate tags are read.",
         *remarks,
     ]
-    angled = sorted((f"P{s.id}" for a in aisles for s in a.slots if s.kind == "angled"),
-                    key=id_key)
-    if angled:
-        header.append(f"Angled spots written as perpendicular slots (the writer gives no angle; "
-                      f"lotsim takes a free slot's from its shape): {', '.join(angled)}.")
+    written = {s.id for s in slots}
+    skewed = sorted((f"P{s.id}" for a in aisles for s in a.slots
+                     if s.skewed and f"P{s.id}" in written), key=id_key)
+    if skewed:
+        header.append("Spots drawn as parallelograms (angled bays painted along the aisle), "
+                      "each written as the largest rectangle along its long sides inside it, "
+                      f"its front corner on the painted entry: {', '.join(skewed)}.")
     header += [f"spot {sid} not imported: {why}" for sid, why in
                sorted(reasons.items(), key=lambda kv: id_key(kv[0]))]
     if dropped_lines:

@@ -13,6 +13,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 import shapely
+from osm_xml import road_with_bays, write_osm
 from shapely.geometry import Point, Polygon, box
 
 import lotsim
@@ -25,69 +26,6 @@ DATA = Path(__file__).resolve().parents[2] / "data" / "lanelet2"
 MAP = DATA / "autonomoustuff_parking_lot.osm"
 ORIGIN = (37.380811523812845, -121.90840595108715)  # the map's map_config yaml
 
-A, F = 6378137.0, 1 / 298.257223563  # WGS84
-E2 = F * (2 - F)
-
-
-def write_lanelet2(path: Path, ways, relations, origin=(48.0, 11.0)) -> Path:
-    """A Lanelet2 OSM XML file: ``ways`` as (id, points [m], tags), ``relations`` as (id,
-    [(way id, role)], tags); metres east and north of ``origin`` turned into degrees by the
-    ellipsoid's meridian and prime-vertical radii there."""
-    lat0, lon0 = origin
-    la = math.radians(lat0)
-    m_r = A * (1 - E2) / (1 - E2 * math.sin(la) ** 2) ** 1.5
-    n_r = A / math.sqrt(1 - E2 * math.sin(la) ** 2)
-    nodes: dict[tuple[float, float], int] = {}
-    lines = ["<?xml version='1.0' encoding='UTF-8'?>", "<osm version='0.6'>"]
-    body = []
-    for wid, pts, tags in ways:
-        body.append(f"  <way id='{wid}'>")
-        for x, y in pts:
-            key = (round(x, 6), round(y, 6))
-            nodes.setdefault(key, -(len(nodes) + 1))
-            body.append(f"    <nd ref='{nodes[key]}' />")
-        body += [f"    <tag k='{k}' v='{v}' />" for k, v in tags.items()]
-        body.append("  </way>")
-    for rid, members, tags in relations:
-        body.append(f"  <relation id='{rid}'>")
-        body += [f"    <member type='way' ref='{w}' role='{role}' />" for w, role in members]
-        body += [f"    <tag k='{k}' v='{v}' />" for k, v in tags.items()]
-        body.append("  </relation>")
-    for (x, y), nid in nodes.items():
-        lat = lat0 + math.degrees(y / m_r)
-        lon = lon0 + math.degrees(x / (n_r * math.cos(la)))
-        lines.append(f"  <node id='{nid}' lat='{lat:.11f}' lon='{lon:.11f}' />")
-    path.write_text("\n".join(lines + body + ["</osm>"]) + "\n")
-    return path
-
-
-def road_with_bays(ways, relations, width: float, *, x0=0.0, y0=0.0, length=40.0,
-                   bays=8, first_id=1000):
-    """A two-way road ``width`` wide from (x0, y0) east ``length`` m (two lanelets side by
-    side sharing their middle bound, both ends open), a 1 m access strip along its north
-    edge and ``bays`` 2.5 × 5 m spots behind it."""
-    def way(pts, **tags):
-        wid = -(first_id + len(ways))
-        ways.append((wid, [(x0 + x, y0 + y) for x, y in pts], tags))
-        return wid
-
-    south = way([(0, 0), (length, 0)], type="line_thin", subtype="solid")
-    middle = way([(0, width / 2), (length, width / 2)], type="line_thin", subtype="dashed")
-    north = way([(0, width), (length, width)], type="line_thin", subtype="solid")
-    n = len(relations)
-    relations.append((-(first_id + n + 1), [(middle, "left"), (south, "right")],
-                      {"type": "lanelet", "subtype": "lane"}))
-    relations.append((-(first_id + n + 2), [(middle, "left"), (north, "right")],
-                      {"type": "lanelet", "subtype": "lane"}))
-    start = (length - 2.5 * bays) / 2
-    way([(start - 2, width), (length - start + 2, width), (length - start + 2, width + 1),
-         (start - 2, width + 1), (start - 2, width)], type="area", subtype="parking_access")
-    for k in range(bays):
-        x = start + 2.5 * k
-        way([(x, width + 1), (x + 2.5, width + 1), (x + 2.5, width + 6), (x, width + 6),
-             (x, width + 1)], type="area", subtype="parking_spot")
-
-
 def slit_map(path: Path) -> Path:
     """A 40 m two-way road 4.8 m wide with eight bays: its aisle is 5.64 m wide, so past
     each end the ground its two lanes sweep lies 1.04 m apart, and the outline grown 0.5 m
@@ -95,7 +33,7 @@ def slit_map(path: Path) -> Path:
     the gate's mouth."""
     ways, relations = [], []
     road_with_bays(ways, relations, 4.8)
-    return write_lanelet2(path, ways, relations)
+    return write_osm(path, ways, relations)
 
 
 def written(path: Path):
@@ -191,7 +129,7 @@ def test_a_road_off_the_lots_ground_is_dropped_and_named(tmp_path):
     ways, relations = [], []
     road_with_bays(ways, relations, 6.0)
     road_with_bays(ways, relations, 6.0, y0=30.0, length=20.0, bays=2, first_id=2000)
-    src = write_lanelet2(tmp_path / "two.osm", ways, relations)
+    src = write_osm(tmp_path / "two.osm", ways, relations)
     report = import_lanelet2(src, tmp_path / "out")
     (lot,) = report.lots
     assert lot.written and lot.mapped == 8 and lot.aisles == 1
