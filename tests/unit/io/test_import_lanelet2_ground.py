@@ -189,3 +189,16 @@ def test_lotsim_import_takes_an_origin_that_used_to_refuse_the_map(tmp_path, cap
     out = capsys.readouterr()
     assert code == 0, out.err
     assert "1 of 1 lots written" in out.out
+
+
+def test_a_map_with_no_parking_spot_is_written_without_slots_and_says_so(tmp_path):
+    """A road and nothing to park in: written with its aisle and gates, no traffic, and
+    the import's line says only that."""
+    ways, relations = [], []
+    road_with_bays(ways, relations, 6.0, bays=0)
+    src = write_osm(tmp_path / "road.osm", ways, relations)
+    (lot,) = import_lanelet2(src, tmp_path / "out").lots
+    assert lot.written and (lot.mapped, lot.aisles, lot.gates) == (0, 1, 2)
+    assert lot.reason == "no slot: no traffic written"
+    sc = read_scenario(tmp_path / "out" / "road.yaml").scenario
+    assert not sc.lot.slots and sc.traffic is None
