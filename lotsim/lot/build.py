@@ -332,6 +332,11 @@ def _single_slot(spec: SlotSpec, aisles: dict[str, Aisle]) -> Slot:
     return _free_slot(spec, aisles)
 
 
+ANGLE_TOL = math.radians(1.0)
+"""A free-standing angled slot's ``angle_deg`` and the angle its heading makes with its aisle
+agree within this [rad]."""
+
+
 def _free_slot(spec: SlotSpec, aisles: dict[str, Aisle]) -> Slot:
     """A slot placed by centre and heading; its entry is the side that opens onto an aisle."""
     c = np.asarray(spec.center, dtype=float)
@@ -343,9 +348,8 @@ def _free_slot(spec: SlotSpec, aisles: dict[str, Aisle]) -> Slot:
     candidates = KINDS[spec.kind].entry_sides(rr, fr, fl, rl)
     best = None
     for edge in candidates:
-        mid = Point(edge.mean(axis=0))
         for aisle in aisles.values():
-            gap = aisle.polygon.distance(mid)
+            gap = KINDS[spec.kind].entry_gap(edge, aisle.polygon)
             if best is None or gap < best[0]:
                 best = (gap, edge, aisle)
     assert best is not None
@@ -365,6 +369,12 @@ def _free_slot(spec: SlotSpec, aisles: dict[str, Aisle]) -> Slot:
     away = c - on_line
     side = "left" if u[0] * away[1] - u[1] * away[0] > 0 else "right"
     angle = math.acos(min(1.0, abs(float(np.dot(d, u)))))
+    if KINDS[spec.kind].fixed_angle is None and abs(angle - spec.angle) > ANGLE_TOL:
+        raise ScenarioError(
+            spec.where,
+            f"slot {spec.id!r}: angle_deg is {math.degrees(spec.angle):g}, but its heading "
+            f"makes {math.degrees(angle):.1f}° with aisle {aisle.id!r}, which it opens onto",
+        )
     return Slot(
         id=spec.id, kind=spec.kind, polygon=ccw(np.array([rr, fr, fl, rl])), entry=edge,
         heading=float(wrap_angle(spec.heading)), aisle=aisle.id, side=side, station=station,

@@ -24,7 +24,7 @@ import math
 from typing import Protocol
 
 import numpy as np
-from shapely.geometry import Polygon
+from shapely.geometry import LineString, Point, Polygon
 
 from lotsim.core.geometry import FloatArray
 
@@ -108,6 +108,11 @@ class SlotKind:
         nearest an aisle is), from its corners as a car parked nose-in sees them."""
         return [np.array([rear_left, rear_right])]
 
+    def entry_gap(self, entry: FloatArray, aisle: Polygon) -> float:
+        """How far the entry side ``entry`` of a slot placed by centre and heading lies from
+        the ``aisle``'s ground [m] (lotsim's rule wants it within 0.3 m): its middle."""
+        return float(aisle.distance(Point(entry.mean(axis=0))))
+
     # -- serving lanes ----------------------------------------------------------------------
     def serves(self, slot: _SlotLike, lane_heading: float) -> bool:
         """Whether a car on a lane heading ``lane_heading`` [rad] beside ``slot`` can begin
@@ -148,6 +153,12 @@ class Angled(SlotKind):
     name = "angled"
     entry_gear = 1
     fixed_angle = None
+
+    def entry_gap(self, entry: FloatArray, aisle: Polygon) -> float:
+        """Its nearer end: the entry of a bay at an angle slants away from the aisle, its
+        front corner on the aisle's edge and its back corner ``width·cos α`` behind, as in
+        an angled row."""
+        return float(aisle.distance(LineString(entry)))
 
 
 class Parallel(SlotKind):

@@ -90,7 +90,7 @@ class RowDraft:
 @dataclass
 class SlotDraft:
     """A free-standing slot: its centre [m] and the heading of a car that drove in forward
-    [degrees]."""
+    [degrees]; an angled one also its angle to the aisle it opens onto [degrees]."""
 
     id: str
     kind: str
@@ -99,6 +99,11 @@ class SlotDraft:
     center: Point
     heading_deg: float
     note: str = ""
+    angle_deg: float | None = None
+
+    def __post_init__(self) -> None:
+        if (self.kind == "angled") != (self.angle_deg is not None):
+            raise ValueError(f"slot {self.id}: an angled slot, and only one, has an angle")
 
 
 @dataclass
@@ -193,8 +198,10 @@ class LotDraft:
             for s in self.slots:
                 if s.note:
                     out.append("    " + comment(s.note))
-                out.append(f"    - {{id: {text(s.id)}, kind: {s.kind}, width: {num(s.width)}, "
-                           f"length: {num(s.length)}, center: {points([s.center])[1:-1]}, "
+                angle = f", angle_deg: {num(s.angle_deg)}" if s.angle_deg is not None else ""
+                out.append(f"    - {{id: {text(s.id)}, kind: {s.kind}{angle}, "
+                           f"width: {num(s.width)}, length: {num(s.length)}, "
+                           f"center: {points([s.center])[1:-1]}, "
                            f"heading_deg: {num(s.heading_deg)}}}")
         for key, items in (("walls", self.walls), ("obstacles", self.obstacles),
                            ("no_go", self.no_go)):

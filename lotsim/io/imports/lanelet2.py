@@ -47,7 +47,14 @@ from lotsim.io.imports.lanelet2_layout import (
     legs_of,
     written_slots,
 )
-from lotsim.io.imports.lanelet2_lines import Bends, drivable, end_on, extend_to
+from lotsim.io.imports.lanelet2_lines import (
+    Bends,
+    as_written,
+    drivable,
+    end_on,
+    extend_to,
+    inside_part,
+)
 from lotsim.io.imports.lanelet2_map import Lanelet, Lanelet2Map, id_key, read_lanelet2
 from lotsim.io.imports.lanelet2_roads import carriageways, network
 from lotsim.io.imports.lanelet2_spots import fit_spot
@@ -192,16 +199,20 @@ def _draft(m: Lanelet2Map, say: Callable[[str], None]) -> tuple[LotDraft, Import
             if kind == "open" and _at_edge(aisle, e, parking):
                 aisle.line = drivable(extend_to(aisle.line, e, boundary, 0.02), needs[a])
                 gates_at.append((a, e))
-    for aisle, bend in zip(aisles, bends, strict=True):
-        reasons.update(beside_bends(aisle, bend))
-    if not gates_at:
-        raise ScenarioError(None, f"{m.source}: no road of the map ends at its edge: the lot "
-                                  "has nowhere for cars to come in")
     ids = []
     for k, r in enumerate(of_road):
         first = of_road.index(r)
         ids.append(f"L{roads[r].road.lanelets[0]}" + (f"-{k - first + 1}"
                                                        if of_road.count(r) > 1 else ""))
+    kept, remarks = _inside(aisles, ids, boundary, reasons)
+    gates_at = [(kept.index(a), e) for a, e in gates_at if a in kept]
+    aisles, ids, bends, needs = ([xs[k] for k in kept] for xs in (aisles, ids, bends, needs))
+    for aisle, bend in zip(aisles, bends, strict=True):
+        reasons.update(beside_bends(aisle, bend))
+    if not gates_at:
+        raise ScenarioError(None, f"{m.source}: no road of the map ends at its edge"
+                                  + (" inside the lot's boundary" if remarks else "")
+                                  + ": the lot has nowhere for cars to come in")
     slots = written_slots(aisles, ids, reasons, boundary)
     drawn_map = unary_union([ground, spot_ground])
     blocks, dropped_lines = blocking(m, ground, spot_ground)
@@ -232,20 +243,22 @@ def _draft(m: Lanelet2Map, say: Callable[[str], None]) -> tuple[LotDraft, Import
     if not draft.slots:  # nowhere to park: the lot is written to be drawn and edited
         draft.traffic = None
     draft.header = _header(m, parts, len(net.connectors), aisles, draft.slots, reasons,
-                           dropped_lines)
+                           dropped_lines, remarks)
     draft.description = (f"{m.source.name}: {_n(len(draft.slots), 'slot')} from the map's "
                          f"parking_spot areas, {_n(len(aisles), 'aisle')} from its lanelets.")
     lot = ImportedLot(m.source.stem, float(drawn_map.area), mapped=len(draft.slots),
                       aisles=len(aisles), gates=len(gates_at),
-                      reason=(f"{len(reasons)} of {len(m.spots)} parking spots not imported "
-                              "(why: in the file's header)" if reasons else "")
-                      + ("; no slot: no traffic written" if not draft.slots else ""),
+                      reason="; ".join(
+                          remarks + ([f"{len(reasons)} of {len(m.spots)} parking spots not "
+                                      "imported (why: in the file's header)"] if reasons else [])
+                          + (["no slot: no traffic written"] if not draft.slots else [])),
                       projection_error=m.error)
     return draft, lot
 
 
 def _header(m: Lanelet2Map, parts: list, connectors: int, aisles: list[AisleLayout],
-            slots: list[SlotDraft], reasons: dict[str, str], dropped_lines: str) -> list[str]:
+            slots: list[SlotDraft], reasons: dict[str, str], dropped_lines: str,
+            remarks: list[str]) -> list[str]:
     """The scenario's opening comments: the source, the projection and its error, what
     became of the map's lanelets and spots (each spot not imported, with why), the gates'
     rule, what of the map was dropped."""
@@ -263,17 +276,55 @@ def _header(m: Lanelet2Map, parts: list, connectors: int, aisles: list[AisleLayo
         + ("" if slots else " With no slot, no traffic is written."),
         "Gates: an entrance and an exit where each road ends at the map's edge, "
         f"{GATE_IN:g} m in; no gate tags are read.",
+        *remarks,
     ]
-    angled = sorted((f"P{s.id}" for a in aisles for s in a.slots if s.kind == "angled"),
-                    key=id_key)
-    if angled:
-        header.append(f"Angled spots written as perpendicular slots (the writer gives no angle; "
-                      f"lotsim takes a free slot's from its shape): {', '.join(angled)}.")
+    written = {s.id for s in slots}
+    skewed = sorted((f"P{s.id}" for a in aisles for s in a.slots
+                     if s.skewed and f"P{s.id}" in written), key=id_key)
+    if skewed:
+        header.append("Spots drawn as parallelograms (angled bays painted along the aisle), "
+                      "each written as the largest rectangle along its long sides inside it, "
+                      f"its front corner on the painted entry: {', '.join(skewed)}.")
     header += [f"spot {sid} not imported: {why}" for sid, why in
                sorted(reasons.items(), key=lambda kv: id_key(kv[0]))]
     if dropped_lines:
         header.append(dropped_lines)
     return header
+
+
+INSET = 0.02
+"""An aisle's centre line that leaves the lot's boundary is cut back to this inside it [m]."""
+LEAST_AISLE = 1.0
+"""An aisle with no piece this long inside the lot's boundary is dropped [m]."""
+
+
+def _inside(aisles: list[AisleLayout], ids: list[str], boundary: Polygon,
+            reasons: dict[str, str]) -> tuple[list[int], list[str]]:
+    """Keep every aisle's centre line inside the lot's boundary as the scenario writes both
+    (to the centimetre): a line that leaves it is cut back to its longest piece inside
+    (:data:`INSET` in), an aisle with no piece of :data:`LEAST_AISLE` inside is dropped and
+    its spots reported. The aisles kept (their indices), and a remark on each cut or drop."""
+    written = Polygon(as_written(ring(boundary)))
+    kept, remarks = [], []
+    for k, aisle in enumerate(aisles):
+        line = inside_part(aisle.line, written, INSET, LEAST_AISLE)
+        if line is None:
+            remarks.append(f"aisle {ids[k]} dropped: its lanelets lie outside the lot's "
+                           "boundary (the drawn ground it holds)")
+            for spot in aisle.slots:
+                reasons[spot.id] = f"it opens onto aisle {ids[k]}, dropped"
+            aisle.slots = []
+            if k + 1 < len(aisles) and aisles[k + 1].ends[0][0] == "corner":
+                aisles[k + 1].ends[0] = ("cut", None)  # no L with the aisle dropped
+            continue
+        if line is not aisle.line:
+            lost = LineString(aisle.line).length - LineString(line).length
+            by = f"{lost:.2f} m" if lost >= 0.005 else "under 1 cm"
+            remarks.append(f"aisle {ids[k]} cut back by {by}: its centre line left the lot's "
+                           "boundary")
+            aisle.line = line
+        kept.append(k)
+    return kept, remarks
 
 
 def _builds(draft: LotDraft, reasons: dict[str, str], design: DesignVehicle,

@@ -22,9 +22,22 @@ from lotsim.io.imports.lanelet2_map import Lanelet2Map
 
 BOUNDARY_GROW = 0.5
 """The boundary is the drawn ground grown by this [m]."""
+BOUNDARY_CLOSE = 0.5
+"""The grown outline is closed by this [m] (grown by it, then shrunk by it): a slit or notch
+narrower than twice this, which no car could use, is filled; elsewhere the outline keeps
+its place."""
+
+
 def boundary_of(drawn) -> Polygon:
-    """A simple polygon holding everything drawn: its outline grown, holes filled."""
-    grown = drawn.buffer(BOUNDARY_GROW, join_style="mitre", mitre_limit=2.0)
+    """A simple polygon holding everything drawn: its outline grown by
+    :data:`BOUNDARY_GROW` and closed by :data:`BOUNDARY_CLOSE`, holes filled.
+
+    Without the close, ground drawn a little more than twice the growth apart (the sweeps
+    of a two-way aisle's lanes past its end, 1 m apart) leaves a slit of a few centimetres
+    in the outline, and an aisle carried on to the edge can end inside it."""
+    grown = drawn.buffer(BOUNDARY_GROW + BOUNDARY_CLOSE, join_style="mitre",
+                         mitre_limit=2.0).buffer(-BOUNDARY_CLOSE, join_style="mitre",
+                                                 mitre_limit=2.0)
     parts = getattr(grown, "geoms", [grown])
     outer = max(parts, key=lambda p: p.area)
     shell = Polygon(outer.exterior)

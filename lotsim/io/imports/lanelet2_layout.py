@@ -73,6 +73,13 @@ class Facing:
     mid: float
     near: float
 
+    @property
+    def reach(self) -> float:
+        """The distance [m] the aisle's edge must come within :data:`ENTRY_REACH` of: the
+        entry's middle; an angled spot's nearer end (its entry slants away from the aisle,
+        as in an angled row, or it lies inside a parallelogram whose entry side does)."""
+        return self.near if self.spot.kind == "angled" else self.mid
+
 
 @dataclass
 class AisleLayout:
@@ -201,7 +208,7 @@ def fit(aisle: AisleLayout) -> dict[str, str]:
         for side in (1, -1):
             items = [f for f in aisle.facing if stretch[f.leg] == k and f.side == side]
             if items:
-                score[side] = _counts([(f.mid - ENTRY_REACH + MARGIN, f.near - MARGIN)
+                score[side] = _counts([(f.reach - ENTRY_REACH + MARGIN, f.near - MARGIN)
                                        for f in items], size)
             else:
                 free = np.full(size, -np.inf)
@@ -234,10 +241,10 @@ def fit(aisle: AisleLayout) -> dict[str, str]:
             reasons[f.spot.id] = (
                 f"its entry lies {f.mid:.2f} m from the road's centre line, inside the "
                 f"{width:.2f} m aisle whose edge reaches more of the entries there")
-        elif f.mid - edge > ENTRY_REACH - MARGIN + 1e-9:
+        elif f.reach - edge > ENTRY_REACH - MARGIN + 1e-9:
             reasons[f.spot.id] = (
-                f"its entry lies {f.mid:.2f} m from the road's centre line, "
-                f"{f.mid - edge:.2f} m beyond the edge of the {width:.2f} m aisle, which "
+                f"its entry lies {f.reach:.2f} m from the road's centre line, "
+                f"{f.reach - edge:.2f} m beyond the edge of the {width:.2f} m aisle, which "
                 "reaches more of the entries there")
         else:
             aisle.slots.append(f.spot)
@@ -335,16 +342,16 @@ def rounded_slot(spot: Spot, shrink: float) -> tuple[SlotDraft, Polygon]:
     """The slot of ``spot`` as written (to the centimetre and the hundredth of a degree),
     ``shrink`` [m] in from the sides it shares with its neighbours (a bay's long sides, a
     kerbside space's ends) and :data:`SHRINK` from the others, and the rectangle lotsim
-    will build from those numbers. An angled spot is written as a perpendicular slot (the
-    scenario writer gives no angle yet; lotsim takes a free slot's angle from its shape)."""
+    will build from those numbers; an angled spot with its angle to its aisle."""
     cx, cy = (round(float(v), 2) for v in spot.center)
     heading = round(math.degrees(spot.heading), 2)
     across, along = (SHRINK, shrink) if spot.parallel else (shrink, SHRINK)
     # to the centimetre below: a spot a hair under 2.5 m is 2.5 m less the rim, not 2.47
     width = math.floor(round((spot.width - 2 * across) * 100, 2)) / 100
     length = math.floor(round((spot.length - 2 * along) * 100, 2)) / 100
-    kind = "parallel" if spot.kind == "parallel" else "perpendicular"
-    draft = SlotDraft(f"P{spot.id}", kind, width, length, (cx, cy), heading)
+    angle = round(spot.angle, 2) if spot.kind == "angled" else None
+    draft = SlotDraft(f"P{spot.id}", spot.kind, width, length, (cx, cy), heading,
+                      angle_deg=angle)
     return draft, rectangle((cx, cy), math.radians(heading), width, length)
 
 
@@ -382,10 +389,14 @@ def written_slots(aisles: list[AisleLayout], ids: list[str], reasons: dict[str, 
         d = np.array([math.cos(math.radians(draft.heading_deg)),
                       math.sin(math.radians(draft.heading_deg))])
         n = np.array([-d[1], d[0]])
-        # the entry's middle: the back of a bay, either long side of a kerbside space
-        ends = ([c + n * draft.width / 2, c - n * draft.width / 2] if spot.parallel
-                else [c - d * draft.length / 2])
-        gap = min(sh.distance(shapely.Point(p)) for sh in shapes for p in ends)
+        # lotsim's reach: the middle of the entry (the back of a bay, either long side of a
+        # kerbside space); the whole entry of an angled bay, whose nearer end counts
+        back = c - d * draft.length / 2
+        entries = ([shapely.Point(c + n * draft.width / 2), shapely.Point(c - n * draft.width / 2)]
+                   if spot.parallel else
+                   [LineString([back - n * draft.width / 2, back + n * draft.width / 2])]
+                   if spot.kind == "angled" else [shapely.Point(back)])
+        gap = min(sh.distance(e) for sh in shapes for e in entries)
         if covered:
             reasons[spot.id] = f"aisle {covered[0]} covers part of it"
         elif gap > ENTRY_REACH - 1e-3:

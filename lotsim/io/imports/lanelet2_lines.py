@@ -1,7 +1,8 @@
 """Centre lines of the imported aisles as lotsim builds them: how it rounds their corners
 (:class:`Bends`: the lanes, the clothoids' sharpness, the ground a car sweeps), corners it
 could not round merged (:func:`drivable`), ends put on another aisle's centre line
-(:func:`end_on`) or carried on to the lot's edge (:func:`extend_to`).
+(:func:`end_on`) or carried on to the lot's edge (:func:`extend_to`), and kept inside the
+lot's boundary as written (:func:`inside_part`).
 """
 
 from __future__ import annotations
@@ -57,15 +58,40 @@ def extend_to(line: FloatArray, end: int, boundary: Polygon, inset: float) -> Fl
     base, tip = pts[-2], pts[-1]
     d = unit(tip - base)
     ray = LineString([tip, tip + d * 50.0])
-    hit = ray.intersection(boundary.exterior)
-    cands = [np.asarray(g.coords[0]) for g in getattr(hit, "geoms", [hit])
-             if not g.is_empty and g.geom_type == "Point"]
+    # every point where the ray meets the outline, also where it runs along an edge
+    cands = list(shapely.get_coordinates(ray.intersection(boundary.exterior)))
     if cands:
         q = min(cands, key=lambda q: float(np.hypot(*(q - tip))))
         far = q - d * inset
         if float(np.dot(far - tip, d)) > 0:
             pts = np.vstack([pts[:-1], far])
     return pts if end == 1 else pts[::-1]
+
+
+def as_written(points) -> FloatArray:
+    """``points`` [m] as a scenario writes them: to the centimetre."""
+    return np.array([(round(float(x), 2), round(float(y), 2)) for x, y in points])
+
+
+def inside_part(line: FloatArray, area: Polygon, inset: float,
+                least: float) -> FloatArray | None:
+    """``line`` as lotsim will read it, inside ``area`` (a polygon to the centimetre, as
+    written): the line itself when it lies inside as written, else its longest piece
+    ``inset`` metres or more inside ``area`` (further in until the piece, written, lies
+    inside); None when no piece of ``least`` metres [m] does."""
+    cover = area.buffer(1e-6)
+    if cover.covers(LineString(as_written(line))):
+        return line
+    for k in range(8):
+        part = LineString(line).intersection(area.buffer(-inset * 2 ** k, join_style="mitre"))
+        pieces = [g for g in shapely.get_parts(part)
+                  if g.geom_type == "LineString" and g.length >= least]
+        if not pieces:
+            return None
+        piece = np.asarray(max(pieces, key=lambda g: g.length).coords)
+        if cover.covers(LineString(as_written(piece))):
+            return piece
+    return None
 
 
 @dataclass(frozen=True)

@@ -2,7 +2,8 @@
 side a car enters by.
 
 A spot is drawn as a four-cornered area; :func:`fit_spot` takes the rectangle it is (centre,
-long axis, width across, length along: the means of its opposite sides) and finds its
+long axis, width across, length along: the means of its opposite sides; inside a
+parallelogram, the largest along its long sides, :mod:`.spot_shape`) and finds its
 entry: the side that lies along the drivable ground the map draws in front of it (its
 ``parking_access`` area or a lanelet), the one with most of its length within
 :data:`ENTRY_TOL` of it. A short side there is a bay entered head- or tail-first; a long
@@ -20,6 +21,7 @@ from shapely.geometry import LineString, Polygon
 
 from lotsim.core.geometry import FloatArray
 from lotsim.io.imports.lanelet2_map import MapArea
+from lotsim.io.imports.spot_shape import spot_shape
 
 ENTRY_TOL = 0.1
 """A side lies along the drivable ground where it is within this of it [m]."""
@@ -52,6 +54,9 @@ class Spot:
         The slot kind, once the aisle it opens onto is known (:func:`kind_of`).
     angle : float
         The angle between its long side and that aisle [degrees].
+    skewed : bool
+        Its outline is a parallelogram (:mod:`.spot_shape`): the rectangle lies inside it,
+        its front entry corner on the outline's entry side.
     """
 
     id: str
@@ -66,6 +71,7 @@ class Spot:
     reason: str = ""
     kind: str = "perpendicular"
     angle: float = 90.0
+    skewed: bool = False
 
     @property
     def rectangle(self) -> Polygon:
@@ -124,14 +130,8 @@ def fit_spot(area: MapArea, ground) -> Spot:
     c = corners(area.polygon)
     sides = [(c[i], c[(i + 1) % 4]) for i in range(4)]
     lengths = np.array([float(np.hypot(*(b - a))) for a, b in sides])
-    long_pair = 0 if lengths[0] + lengths[2] >= lengths[1] + lengths[3] else 1
-    s1 = sides[long_pair][1] - sides[long_pair][0]
-    s2 = sides[long_pair + 2][0] - sides[long_pair + 2][1]  # the opposite side, same way
-    u = s1 + s2
-    u = u / float(np.hypot(*u))
-    length = float(lengths[long_pair] + lengths[long_pair + 2]) / 2
-    width = float(lengths[1 - long_pair] + lengths[3 - long_pair]) / 2
-    center = c.mean(axis=0)
+    shape = spot_shape(c)
+    long_pair, u, center = shape.long_pair, shape.axis, shape.center
     near = ground.buffer(ENTRY_TOL)
     share = np.array([LineString([a, b]).intersection(near).length / max(lengths[i], 1e-9)
                       for i, (a, b) in enumerate(sides)])
@@ -156,5 +156,5 @@ def fit_spot(area: MapArea, ground) -> Spot:
                   f"{gap:.2f} m away" if gap > 0.005 else
                   "no side of it lies along the mapped drivable ground (lanelets, "
                   "parking_access areas): it touches it only at a corner")
-    return Spot(area.id, area.polygon, center, heading, width, length,
-                np.array([a, b]), out, parallel, reason)
+    return Spot(area.id, area.polygon, center, heading, shape.width, shape.length,
+                np.array([a, b]), out, parallel, reason, skewed=shape.skew > 0)

@@ -230,13 +230,16 @@ class NearLot:
         name = f" {tags['name']!r}" if "name" in tags else ""
         return f"highway={tags.get('highway')} way {wid}{name}"
 
-    def spaces(self, lot: Polygon) -> list[tuple[int, Polygon]]:
+    def spaces(self, lot: Polygon) -> list[tuple[int, Polygon, str]]:
+        """The mapped spaces whose centre lies in the lot: way id, outline [m] and its
+        ``parking:orientation`` tag ("" without one)."""
         out = []
         for wid, refs in self._spaces:
             if all(n in self.xy for n in refs):
                 poly = Polygon(self.xy_of(refs))
                 if poly.is_valid and lot.buffer(1.0).contains(poly.centroid):
-                    out.append((wid, poly))
+                    tags = self.data.ways[wid].tags
+                    out.append((wid, poly, tags.get("parking:orientation", "")))
         return out
 
     def areas(self, lot: Polygon, chains: list[Chain], own: int | None

@@ -2,12 +2,13 @@
 inferred along its aisles.
 
 A mapped space becomes a free-standing slot (its centre and the heading of a car that
-drove in) of the kind its long side's angle to the nearest aisle says: perpendicular at
-60° to 90°, parallel at 0° to 30°; between (angled) it is written as the nearer of the two,
-since a free-standing angled slot needs its angle written, which imported slots do not
-carry. A space whose entry lies within :data:`SNAP` of the aisle's edge is moved onto it
-(lotsim wants it within 0.3 m); a space still off every aisle, on an aisle, an island or
-another space, or smaller than the scenario's car, is dropped.
+drove in) of the kind its long side's angle to the nearest aisle says (:func:`kind_at`):
+perpendicular at 75° to 90°, parallel at 0° to 30°, angled between, at its angle; a space
+drawn as a parallelogram (an angled bay painted along its aisle) is the rectangle inside it
+(:mod:`.spot_shape`). A space whose entry (an angled bay's: its nearer end) lies within
+:data:`SNAP` of the aisle's edge is moved onto it (lotsim wants it within 0.3 m); a space
+still off every aisle, on an aisle, an island or another space, or smaller than the
+scenario's car, is dropped.
 
 Without mapped spaces, perpendicular bays of :data:`BAY_WIDTH` × :data:`BAY_LENGTH` are
 laid side by side along both sides of each straight leg of each aisle at least
@@ -26,11 +27,13 @@ from dataclasses import dataclass
 import numpy as np
 import shapely
 from shapely.affinity import translate
-from shapely.geometry import Point, Polygon
+from shapely.geometry import LineString, Point, Polygon
 from shapely.ops import unary_union
 
+from lotsim.core.geometry import FloatArray
 from lotsim.io.imports.draft import RowDraft, SlotDraft
 from lotsim.io.imports.osm_chains import Chain
+from lotsim.io.imports.spot_shape import spot_shape
 
 BAY_WIDTH = 2.5
 """Width of an inferred bay [m] (the common 2.5 m; lotsim's example lots use it)."""
@@ -48,6 +51,14 @@ PARKING_AISLE = 5.0
 """Bays are laid along aisles at least this wide [m]: cars back into 2.5 x 5.0 m bays from
 a 5 m aisle (on lotsim's one-aisle cul-de-sac, every bay but the one at the closed end is
 usable at 5.0 m; at 4.5 m two more are not)."""
+RIM = 0.01
+"""An angled slot is drawn this much inside its mapped long sides [m], so that neighbours
+that share them do not overlap once written to the centimetre."""
+PARALLEL_DEG = 30.0
+"""A mapped space whose long side lies within this of its aisle's direction is parallel
+[degrees]."""
+SQUARE_DEG = 75.0
+"""One at this or more to its aisle is perpendicular; between, angled [degrees]."""
 _SHIFTS = np.arange(0.0, BAY_WIDTH - 1e-9, 0.25)
 
 
@@ -147,15 +158,16 @@ def rows_of(bays: list[Bay]) -> tuple[list[RowDraft], dict[str, Bay]]:
 
 
 # -- mapped spaces ----------------------------------------------------------------------------
-def mapped_slots(spaces: list[tuple[int, Polygon]], chains: list[Chain], lot: Polygon,
+def mapped_slots(spaces: list[tuple[int, Polygon, str]], chains: list[Chain], lot: Polygon,
                  blocked: list[Polygon], car: tuple[float, float], notes: list[str]
                  ) -> list[tuple[SlotDraft, Polygon]]:
-    """Free-standing slots from mapped spaces (way id, outline), with their outlines; those
-    narrower or shorter than ``car`` (width, length [m]) are dropped."""
+    """Free-standing slots from mapped spaces (way id, outline, ``parking:orientation``),
+    with their outlines; those narrower or shorter than ``car`` (width, length [m]) are
+    dropped."""
     aisles = unary_union([c.polygon for c in chains])
     out: list[tuple[SlotDraft, Polygon]] = []
-    for wid, outline in spaces:
-        got = _mapped_slot(wid, outline, chains)
+    for wid, outline, orientation in spaces:
+        got = _mapped_slot(wid, outline, chains, orientation)
         if isinstance(got, str):
             notes.append(f"parking_space way {wid} dropped: {got}")
             continue
@@ -177,18 +189,49 @@ def mapped_slots(spaces: list[tuple[int, Polygon]], chains: list[Chain], lot: Po
     return out
 
 
-def _mapped_slot(wid: int, outline: Polygon, chains: list[Chain]
-                 ) -> tuple[SlotDraft, Polygon] | str:
+def _rectangle(outline: Polygon) -> tuple[Polygon, FloatArray, float, float, bool] | str:
+    """The rectangle of a mapped space (:mod:`.spot_shape`): a four-cornered parallelogram's
+    inside it, else the smallest enclosing the outline; its long axis, width and length
+    [m], and whether the outline is a parallelogram."""
     rect = outline.minimum_rotated_rectangle
     if not isinstance(rect, Polygon) or rect.area < 1.0:
         return "its outline has no area"
+    ring = np.asarray(shapely.simplify(outline, 0.02).exterior.coords)[:-1]
+    shape = spot_shape(ring) if len(ring) == 4 else None
+    if shape is not None and shape.skew > 0:
+        d = shape.axis
+        n = np.array([-d[1], d[0]])
+        hl, hw = shape.length / 2, shape.width / 2
+        c = shape.center
+        rect = Polygon([c - hl * d - hw * n, c + hl * d - hw * n, c + hl * d + hw * n,
+                        c - hl * d + hw * n])
+        return rect, d, shape.width, shape.length, True
     corners = np.asarray(rect.exterior.coords)[:4]
     sides = np.diff(np.vstack([corners, corners[:1]]), axis=0)
     lengths = np.hypot(*sides.T)
     k = int(np.argmax(lengths[:2]))
-    length, width = float(lengths[k]), float(lengths[1 - k])
-    axis = sides[k] / length
-    centre = corners.mean(axis=0)
+    return rect, sides[k] / lengths[k], float(lengths[1 - k]), float(lengths[k]), False
+
+
+def kind_at(angle: float, orientation: str) -> str:
+    """The kind of a mapped space whose long side makes ``angle`` [degrees] with its aisle:
+    parallel to :data:`PARALLEL_DEG`, perpendicular from :data:`SQUARE_DEG`, angled between;
+    tagged ``parking:orientation=diagonal``, angled from 5° to 85°.
+
+    >>> kind_at(90, ""), kind_at(60, ""), kind_at(80, ""), kind_at(80, "diagonal")
+    ('perpendicular', 'angled', 'perpendicular', 'angled')
+    """
+    low, high = (5.0, 85.0) if orientation == "diagonal" else (PARALLEL_DEG, SQUARE_DEG)
+    return "parallel" if angle <= low else "perpendicular" if angle >= high else "angled"
+
+
+def _mapped_slot(wid: int, outline: Polygon, chains: list[Chain], orientation: str = ""
+                 ) -> tuple[SlotDraft, Polygon] | str:
+    got = _rectangle(outline)
+    if isinstance(got, str):
+        return got
+    rect, axis, width, length, skewed = got
+    centre = np.asarray(rect.centroid.coords[0])
     chain = min(chains, key=lambda c: (c.polygon.distance(rect), c.id))
     line = chain.line
     s = line.project(Point(centre))
@@ -198,9 +241,8 @@ def _mapped_slot(wid: int, outline: Polygon, chains: list[Chain]
     on = np.array(line.interpolate(s).coords[0])
     away = centre - on
     angle = math.degrees(math.acos(min(1.0, abs(float(np.dot(axis, u))))))
-    across = angle >= 45
-    kind = "perpendicular" if across else "parallel"
-    if across:
+    kind = kind_at(angle, orientation)
+    if kind != "parallel":
         d = axis if np.dot(axis, away) > 0 else -axis  # from the entry into the bay
         heading = d
     else:
@@ -209,22 +251,38 @@ def _mapped_slot(wid: int, outline: Polygon, chains: list[Chain]
         right = float(u[0] * away[1] - u[1] * away[0]) < 0
         along = axis if np.dot(axis, u) > 0 else -axis
         heading = along if (right or chain.one_way) else -along
-    depth = length if across else width
-    entry_mid = centre - d * depth / 2
-    reach = chain.line.distance(Point(entry_mid))
+    depth = width if kind == "parallel" else length
+    across = np.array([-d[1], d[0]]) * (width if kind != "parallel" else length) / 2
+    ends = [centre - d * depth / 2 + across, centre - d * depth / 2 - across]
+    # lotsim's reach: the entry's middle; an angled bay's nearer end (its front corner)
+    mid = centre - d * depth / 2
+    entry = min(ends, key=lambda p: line.distance(Point(p))) if kind == "angled" else mid
+    reach = line.distance(Point(entry))
     ratio = max(abs(float(np.dot(d, np.array([-u[1], u[0]])))), 0.5)
     shift = (chain.width / 2 + 0.05 - reach) / ratio
+    if kind == "angled" and reach <= chain.width / 2 + ENTRY_GAP - 0.05:
+        # its front corner, a point, needs only keep off the aisle against rounding
+        shift = max(chain.width / 2 + CLEARANCE - reach, 0.0) / ratio
     if abs(shift) > SNAP:
         return f"its entry is {abs(shift):.1f} m from aisle {chain.id}'s edge"
     centre = centre + d * shift
-    entry_mid = centre - d * depth / 2
-    if chain.polygon.distance(Point(entry_mid)) > ENTRY_GAP:
+    opening = (LineString([p + d * shift for p in ends]) if kind == "angled"
+               else Point(mid + d * shift))
+    if chain.polygon.distance(opening) > ENTRY_GAP:
         return f"its entry does not open onto aisle {chain.id}"
     poly = translate(rect, *(d * shift))
+    told = [f"at {angle:.0f}° to the aisle"] if kind == "angled" or orientation == "diagonal" \
+        else []
+    if skewed:
+        told.append("a parallelogram: the rectangle inside it")
+    if orientation == "diagonal" and kind != "angled":
+        told.append(f"tagged parking:orientation=diagonal, drawn {kind}")
+    if kind == "angled":  # neighbours share long sides that slant across the centimetres
+        width = math.floor(round((width - 2 * RIM) * 100, 2)) / 100
     slot = SlotDraft(id=f"w{wid}", kind=kind, width=round(width, 2), length=round(length, 2),
                      center=(float(centre[0]), float(centre[1])),
                      heading_deg=math.degrees(math.atan2(heading[1], heading[0])),
-                     note=f"parking_space way {wid}" + (
-                         f" (at {angle:.0f}° to the aisle, written {kind})"
-                         if 30 < angle < 60 else ""))
+                     angle_deg=round(angle, 2) if kind == "angled" else None,
+                     note=f"parking_space way {wid}" + (f" ({'; '.join(told)})" if told
+                                                        else ""))
     return slot, poly

@@ -7,6 +7,7 @@ import pytest
 import shapely
 
 from conftest import ROOT, scenario_from_text
+from lotsim.errors import ScenarioError
 from lotsim.lot.build import build_lot
 from lotsim.lot.model import DesignVehicle
 
@@ -115,6 +116,69 @@ def test_free_standing_slot_finds_its_aisle():
     assert slot.aisle == "a" and slot.side == "right"
     assert same_corners(slot.entry, [(18.75, -3), (21.25, -3)])
     assert slot.station == pytest.approx(20.0)
+
+
+@pytest.mark.parametrize("deg, side", [(45, "left"), (60, "left"), (60, "right")])
+def test_a_free_standing_angled_slot_is_the_angled_rows_slot_at_its_place(deg, side):
+    """Placed by the centre and heading of a row's angled slot, a free-standing one is that
+    slot: its entry slants away from the aisle (front corner on the edge, back corner
+    width·cos α behind, here 0.88 or 0.63 m), so it opens onto the aisle by its nearer end."""
+    (row,) = slots_of(f"{{aisle: a, side: {side}, kind: angled, angle_deg: {deg}, count: 1, "
+                      "slot_width: 2.5, slot_length: 5.0, start: 20.0}")
+    lot = lot_from_text(f"""
+        lot:
+          boundary: [[-5, -20], [60, -20], [60, 20], [-5, 20]]
+          aisles:
+            - {{id: a, centerline: [[0, 0], [50, 0]], width: 6.0}}
+          slots:
+            - {{id: X, kind: angled, angle_deg: {deg}, width: 2.5, length: 5.0,
+               center: [{row.center[0]!r}, {row.center[1]!r}],
+               heading_deg: {math.degrees(row.heading)!r}}}
+          entrances:
+            - {{id: in, x: 1.0, y: -1.5, heading_deg: 0}}
+        """)
+    free = lot.slot_by_id["X"]
+    assert (free.aisle, free.side, free.kind) == ("a", side, "angled")
+    assert free.angle == pytest.approx(math.radians(deg))
+    assert free.heading == pytest.approx(row.heading)
+    assert free.station == pytest.approx(row.station)
+    assert same_corners(free.entry, row.entry) and same_corners(free.polygon, row.polygon)
+
+
+def test_a_free_standing_angled_slot_whose_angle_its_heading_belies_is_refused():
+    with pytest.raises(ScenarioError, match=r"slot 'X': angle_deg is 60, but its heading "
+                                            r"makes 45.0° with aisle 'a'"):
+        lot_from_text("""
+            lot:
+              boundary: [[-5, -20], [60, -20], [60, 20], [-5, 20]]
+              aisles:
+                - {id: a, centerline: [[0, 0], [50, 0]], width: 6.0}
+              slots:
+                - {id: X, kind: angled, angle_deg: 60, width: 2.5, length: 5.0,
+                   center: [22.65, 5.65], heading_deg: 45}
+              entrances:
+                - {id: in, x: 1.0, y: -1.5, heading_deg: 0}
+            """)
+
+
+def test_a_free_standing_angled_slot_recessed_past_reach_opens_onto_no_aisle():
+    """0.3 m of reach counts from the entry's nearer end: 0.35 m off, it is refused."""
+    c, s = math.cos(math.radians(45)), math.sin(math.radians(45))
+    front = np.array([20.0, 3.35])  # the nearer corner, 0.35 m off the edge at y = 3
+    d, n = np.array([c, s]), np.array([-s, c])
+    center = [float(v) for v in front + n * 1.25 + d * 2.5]
+    with pytest.raises(ScenarioError, match="opens onto no aisle: its entry side is 0.35 m"):
+        lot_from_text(f"""
+            lot:
+              boundary: [[-5, -20], [60, -20], [60, 20], [-5, 20]]
+              aisles:
+                - {{id: a, centerline: [[0, 0], [50, 0]], width: 6.0}}
+              slots:
+                - {{id: X, kind: angled, angle_deg: 45, width: 2.5, length: 5.0,
+                   center: [{center[0]!r}, {center[1]!r}], heading_deg: 45}}
+              entrances:
+                - {{id: in, x: 1.0, y: -1.5, heading_deg: 0}}
+            """)
 
 
 OCC = """
