@@ -88,7 +88,7 @@ def why_not_here(loop: EventLoop, v: VehicleRun, t: float) -> str | None:
     sg = loop.graphs[v.vehicle.name]
     if a.slot is not None:
         if a.slot not in loop.free or a.slot in loop.lg.infeasible.get(v.vehicle.name, {}):
-            return f"slot {a.slot!r}: {loop.why_not(v, a.slot)}"
+            return f"slot {a.slot!r}: {loop.why_not(v, a.slot, t)}"
         if bay_pose(sg, loop.lg.slot_nodes[a.slot], loop.leave[v.vehicle.name],
                     a.dwell is not None) is None:
             return (f"slot {a.slot!r}: a {v.vehicle.name!r} has no way "

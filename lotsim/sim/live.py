@@ -8,6 +8,7 @@ event.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import time
 from collections.abc import Callable
@@ -117,13 +118,9 @@ class Live:
     @property
     def pending(self) -> SlotRequest | None:
         """The choice the run waits for (with the :data:`~lotsim.sim.policies.ASK`
-        policy), or None."""
-        if self._loop.pending is None:
-            return None
-        i, t = self._loop.pending
-        v = self._loop.vehicles[i]
-        return self._loop.request(v, t, self._loop.assigner.ranked(v.arrival, self._loop.free,
-                                                                    t))
+        policy), or None: the request the car was asked, its slots those :meth:`decide`
+        accepts (free, usable by its type, and not cut off by a closure)."""
+        return None if self._loop.pending is None else self._loop.asked
 
     @property
     def done(self) -> bool:
@@ -339,8 +336,11 @@ class Live:
         """The run now, as plain data (lists, dicts, numbers and strings).
 
         ``time`` [s]; ``cars``: each car that has come or will come, with ``id``, ``type``,
-        ``phase`` (:data:`PHASES`), ``slot`` (the one it took, or None), ``pose``
-        ``[x, y, theta]`` [m, rad] and ``speed`` [m/s] while it is in the lot (else None);
+        ``entrance`` (None for a car that was inside the lot when it came), ``arrival``
+        (when it came [s]), ``phase`` (:data:`PHASES`), ``slot`` (the one it took, or None),
+        ``parked_at`` (when it came to stand in its slot [s], once it has; else None),
+        ``pose`` ``[x, y, theta]`` [m, rad] and ``speed`` [m/s] while it is in the lot (else
+        None);
         ``occupancy``: each slot's car (``"occupied"`` for one taken when the run began,
         None when free); ``queues``: each entrance's cars queued outside, first come
         first; ``aisles``: the cars whose rear-axle centre is on each aisle."""
@@ -360,7 +360,10 @@ class Live:
                 occupancy[v.slot] = v.id
             if pose is not None:
                 on.append((v.id, pose))
-            cars.append({"id": v.id, "type": v.vehicle.name, "phase": phase, "slot": v.slot,
+            parked = v.parked_at if v.parked_at is not None and v.parked_at <= t else None
+            cars.append({"id": v.id, "type": v.vehicle.name, "entrance": v.arrival.entrance,
+                         "arrival": v.arrival.time, "phase": phase, "slot": v.slot,
+                         "parked_at": parked,
                          "pose": None if pose is None else [round(float(x), 4) for x in pose],
                          "speed": None if speed is None else round(float(speed), 4)})
         aisles: dict[str, list[str]] = {a: [] for a in self._aisles}
@@ -400,6 +403,32 @@ class Live:
                                  self._took - self._worked, motion_time=self._worked,
                                  lot_changes=changes)
         return self._result
+
+    def snapshot(self) -> RunResult:
+        """The run so far as a :class:`RunResult`, without ending it: each car as planned
+        up to now, for a picture of the run at :attr:`now` (its plans after that may still
+        change, and the cars still to come or to choose have no moves yet). The cars are
+        copies: stepping the run on does not change the snapshot.
+
+        Examples
+        --------
+        >>> import lotsim
+        >>> live = lotsim.Live(lotsim.prepare(lotsim.EXAMPLE))
+        >>> live.advance(4.0)
+        >>> [(v.id, v.slot) for v in live.snapshot().vehicles]
+        [('ada', 'N1'), ('bob', 'N3'), ('cy', None)]
+        """
+        if self._result is not None:
+            return self._result
+        loop = self._loop
+        cars = sorted((dataclasses.replace(v, moves=list(v.moves)) for v in loop.vehicles),
+                      key=lambda v: (v.arrival.time, v.id))
+        changes = (LotChanges(list(loop.closures), list(loop.taken_records),
+                              list(loop.replans), list(loop.stalls))
+                   if loop.lot_events or loop.replans or loop.stalls else None)
+        return RunResult(self.prepared.scenario, self.prepared.lot_graph, self.settings,
+                         self.seed, cars, self._took - self._worked,
+                         motion_time=self._worked, lot_changes=changes)
 
     def _open(self) -> None:
         if self._result is not None:

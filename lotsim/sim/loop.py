@@ -79,6 +79,7 @@ class EventLoop:
         self.policy = policy
         self.pending: tuple[int, float] | None = None  # a car waiting for a decision, when
         self.answer: tuple[int, object] | None = None  # the caller's to it
+        self.asked: SlotRequest | None = None  # what the pending car was asked
         self.state_of = lambda loop: {}  # the run's state as plain data (set by its Live)
         self.scenario_parked = scenario.parked_vehicle  # a car in a bay taken from outside
         self.closures: list = []  # closures met (repairs.ClosureRecord), in time order
@@ -305,13 +306,13 @@ class EventLoop:
         request = self.request(v, t, options)
         if self.policy == ASK:
             if self.answer is None or self.answer[0] != i:
-                self.pending = (i, t)
+                self.pending, self.asked = (i, t), request
                 return None
             answer = self.answer[1]
             self.answer = None
         else:
             answer = self.policy(request)
-        picked = choices(answer, request, lambda sid: self.why_not(v, sid))
+        picked = choices(answer, request, lambda sid: self.why_not(v, sid, t))
         if picked is None:
             v.reason = "its policy chose to wait"
             if self.patience == 0 and not v.arrival.inside:
@@ -334,8 +335,8 @@ class EventLoop:
                            lambda by: self.assigner.ranked(a, options, t, by=by),
                            lambda: self.state_of(self))
 
-    def why_not(self, v: VehicleRun, sid: str) -> str:
-        """Why ``v`` cannot take slot ``sid`` now (a policy chose it)."""
+    def why_not(self, v: VehicleRun, sid: str, t: float) -> str:
+        """Why ``v`` cannot take slot ``sid`` at ``t`` [s] (a policy chose it)."""
         lot = self.lg.lot
         if sid not in lot.slot_by_id:
             return "there is no such slot"
@@ -348,6 +349,10 @@ class EventLoop:
         why = self.lg.infeasible.get(v.vehicle.name, {}).get(sid)
         if why:
             return f"a {v.vehicle.name!r} cannot use it ({why})"
+        if self.closures and not v.arrival.inside:
+            gate = self.lg.entrances[v.arrival.entrance]
+            if sid in repairs.cut_off(self, v.vehicle.name, gate, t)[0]:
+                return "it is closed off now (on or beyond a closed aisle, lane or gate)"
         where = (f"entrance {v.arrival.entrance!r}" if not v.arrival.inside
                  else "where it stands")
         return (f"a {v.vehicle.name!r} cannot reach it from {where}"

@@ -10,6 +10,7 @@ go; a policy's choices with what each car got; a refused choice with the lot's s
 from __future__ import annotations
 
 import math
+from pathlib import Path
 
 import pytest
 import shapely
@@ -20,6 +21,7 @@ from lotsim.io.result import result_dict
 from lotsim.sim.live import Live
 from lotsim.sim.policies import ASK, Ranked
 
+ROOT = Path(__file__).resolve().parents[3]
 TRAFFIC = """\
 traffic:
   vehicles:
@@ -165,6 +167,24 @@ def test_the_state_says_where_each_car_is_and_what_each_aisle_and_gate_holds(pre
         assert shapely.Polygon(slots[by[f"c{k}"]["slot"]].polygon).contains(
             shapely.Point(x, y))
     assert state["aisles"] == {"main": []}
+    # where and when each came, and when each came to stand in its slot
+    assert [(by[f"c{k}"]["entrance"], by[f"c{k}"]["arrival"]) for k in range(7)] == \
+        [("in", 60.0 * k) for k in range(7)]
+    parked = [by[f"c{k}"]["parked_at"] for k in range(6)]
+    assert all(60.0 * k < parked[k] < 60.0 * (k + 1) for k in range(6))
+    assert by["c6"]["parked_at"] is None
+    rr = live.finish()
+    assert parked == [v.parked_at for v in rr.vehicles[:6]]
+
+
+def test_a_car_has_no_parking_time_before_it_stands_in_its_slot(prepared):
+    live = Live(prepared, traffic=False)
+    live.add("van", "valet", "in", at=0.0)
+    live.advance(1.0)
+    assert live.state()["cars"][0]["parked_at"] is None
+    parked_at = live.snapshot().vehicles[0].parked_at  # planned, not reached
+    live.advance(parked_at)
+    assert live.state()["cars"][0]["parked_at"] == parked_at
 
 
 def test_a_car_on_its_way_is_on_the_aisle_at_the_pose_and_speed_its_plan_gives(prepared):
@@ -210,3 +230,42 @@ def test_a_car_added_while_the_run_goes_takes_its_place_in_arrival_order(prepare
     assert [v.id for v in rr.vehicles] == ["ada", "bob", "early", "cy", "dee", "eve"]
     early = rr.vehicles[2]
     assert early.status == "departed" and lotsim.check(rr).ok
+
+
+def test_a_snapshot_is_the_run_so_far_and_stays_as_it_was_taken(prepared):
+    live = Live(prepared)
+    live.advance(4.0)
+    shot = live.snapshot()
+    before = _doc(shot)
+    assert [(v.id, v.status) for v in shot.vehicles] == \
+        [("ada", "parked"), ("bob", "parked"), ("cy", "waiting"), ("dee", "waiting"),
+         ("eve", "waiting")]
+    assert not shot.vehicles[2].moves  # cy comes at 6 s
+    rr = live.finish()
+    assert _doc(shot) == before  # stepping on left it as it was
+    # ada's plan was whole by then; bob's was still to leave
+    assert shot.vehicles[0].moves == rr.vehicles[0].moves
+    assert shot.vehicles[1].moves == rr.vehicles[1].moves[:len(shot.vehicles[1].moves)]
+    assert len(rr.vehicles[1].moves) > len(shot.vehicles[1].moves)
+    assert live.snapshot() is rr
+
+
+def test_the_choice_asked_for_leaves_out_the_slots_a_closure_cuts_off():
+    prepared = lotsim.prepare(ROOT / "scenarios" / "mixed_lot.yaml")
+    live = Live(prepared, policy=ASK)
+    live.close("aisle", "south", 3600.0)  # the parallel bays L1-L6 lie along it
+    first = live.next_decision()  # asked at 0 s, before the closure came
+    assert "L1" in first.slots
+    live.decide(first.slots[0])
+    request = live.next_decision()
+    assert request.slots and not [s for s in request.slots if s.startswith("L")]
+    with pytest.raises(DecisionError, match=r"cannot take slot 'L1': it is closed off now"):
+        live.decide("L1")
+    assert live.pending == request
+    live.decide(request.slots[0])
+    while (more := live.next_decision()) is not None:
+        assert not [s for s in more.slots if s.startswith("L")] or more.time >= 3600.0
+        live.decide(more.slots[0])
+    rr = live.finish()
+    got = {v.id: v.slot for v in rr.vehicles}
+    assert got[request.car] == request.slots[0] and lotsim.check(rr).ok
