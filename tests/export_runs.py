@@ -58,13 +58,14 @@ def result_path(name: str) -> Path:
     return lotsim.write_result(result, folder / "result.json")
 
 
-def need(module: str):
-    """Import ``module`` for an export oracle: skip without it, unless
-    ``LOTSIM_REQUIRE_EXPORTS=1`` (set by ``.ci/run``), where its absence fails."""
+def need(module: str, extra: str = "export"):
+    """Import ``module`` of the optional ``extra`` (an export oracle's, or ``learn`` for the
+    learning environments): skip without it, unless ``LOTSIM_REQUIRE_EXPORTS=1`` (set by
+    ``.ci/run``), where its absence fails."""
     if os.environ.get("LOTSIM_REQUIRE_EXPORTS") == "1":
         import importlib
 
         return importlib.import_module(module)
     return pytest.importorskip(
-        module, reason=f"{module} is not installed (pip install 'lotsim[export]')"
+        module, reason=f"{module} is not installed (pip install 'lotsim[{extra}]')"
     )

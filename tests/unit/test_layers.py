@@ -2,20 +2,24 @@
 those only for type checkers included) goes from a layer to itself or to one on its left,
 
     errors <- core <- {lot, vehicles} <- roadmap <- maneuvers <- traffic <- scenario <- sim
-           <- io <- render <- bench <- design <- api <- cli
+           <- io <- render <- bench <- design <- envs <- api <- cli
 
 and the independent checker (``lotsim.verify``) imports nothing of lotsim but
-``lotsim.errors``. A ``_private`` name is not imported from another package."""
+``lotsim.errors``. A ``_private`` name is not imported from another package. Gymnasium and
+PettingZoo (the ``learn`` extra) are imported by ``lotsim.envs`` alone, so that ``import
+lotsim`` works without them."""
 
 from __future__ import annotations
 
 import ast
+import subprocess
+import sys
 from pathlib import Path
 
 PACKAGE = Path(__file__).resolve().parents[2] / "lotsim"
 
 ORDER = ["errors", "core", ("lot", "vehicles"), "roadmap", "maneuvers", "traffic", "scenario",
-         "sim", "io", "render", "bench", "design", "api", "cli"]
+         "sim", "io", "render", "bench", "design", "envs", "api", "cli"]
 RANK = {name: i for i, layer in enumerate(ORDER)
         for name in (layer if isinstance(layer, tuple) else (layer,))}
 RANK["verify"] = RANK["core"]  # anyone may check a result; it imports only errors
@@ -119,3 +123,51 @@ def test_the_rule_reads_a_wrong_import():
     assert against_layers(found) == ["lotsim.roadmap.x:3 imports lotsim.sim (roadmap -> sim)",
                                      "lotsim.roadmap.x:5 imports lotsim.cli (roadmap -> cli)"]
     assert against_layers([("lotsim.sim.x", 1, "lotsim.roadmap.model", [])]) == []
+
+
+LEARN = ("gymnasium", "pettingzoo")
+
+
+def outside_imports(source: str) -> set[str]:
+    """The top-level names of the modules ``source`` imports (absolute imports)."""
+    out = set()
+    for node in ast.walk(ast.parse(source)):
+        if isinstance(node, ast.Import):
+            out |= {a.name.split(".")[0] for a in node.names}
+        elif isinstance(node, ast.ImportFrom) and not node.level and node.module:
+            out.add(node.module.split(".")[0])
+    return out
+
+
+def test_only_the_learning_environments_import_gymnasium_and_pettingzoo():
+    wrong = [f"{module_of(p)} imports {name}" for p in sorted(PACKAGE.rglob("*.py"))
+             if module_of(p).split(".")[:2] != ["lotsim", "envs"]
+             for name in sorted(outside_imports(p.read_text()) & set(LEARN))]
+    assert not wrong, "\n".join(wrong)
+    assert outside_imports("import gymnasium.spaces\nfrom pettingzoo import ParallelEnv\n"
+                           "from . import x\n") == set(LEARN)
+    envs = set().union(*(outside_imports(p.read_text())
+                         for p in (PACKAGE / "envs").glob("*.py")))
+    assert set(LEARN) <= envs
+
+
+def test_lotsim_imports_without_the_learn_extra_and_its_environments_say_what_is_missing():
+    # gymnasium and pettingzoo made unimportable in a fresh interpreter
+    blocker = ("import sys\n"
+               "class Block:\n"
+               "    def find_spec(self, name, path=None, target=None):\n"
+               f"        if name.split('.')[0] in {LEARN!r}:\n"
+               "            raise ImportError(f'No module named {name!r}')\n"
+               "sys.meta_path.insert(0, Block())\n"
+               "import lotsim, lotsim.api, lotsim.cli\n"
+               "print(lotsim.Live.__name__, lotsim.run.__name__)\n"
+               "try:\n"
+               "    import lotsim.envs\n"
+               "except ImportError as err:\n"
+               "    print(type(err).__name__, err)\n")
+    done = subprocess.run([sys.executable, "-c", blocker], capture_output=True, text=True,
+                          cwd=PACKAGE.parent, timeout=120)
+    assert done.returncode == 0, done.stderr
+    assert done.stdout.splitlines() == [
+        "Live run", "LearnUnavailable lotsim.envs needs gymnasium and pettingzoo: pip install "
+                    "'lotsim[learn]'"]
