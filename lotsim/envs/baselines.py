@@ -27,6 +27,8 @@ from collections.abc import Callable, Iterable
 
 import numpy as np
 
+from lotsim.errors import SettingsError
+
 Policy = Callable[[dict, dict], int]
 """A policy: the action for an observation and its info."""
 
@@ -40,21 +42,30 @@ def _wait(observation, info: dict) -> int:
     return len(_mask(observation, info)) - 1
 
 
+def _best(observation, info: dict, by: str) -> int:
+    if "best" not in info:
+        return _wait(observation, info)
+    if by not in info["best"]:
+        raise SettingsError("rankings", f"the {by} baseline reads info['best'][{by!r}]: "
+                                        f"keep {by!r} in the environment's rankings")
+    return info["best"][by]
+
+
 def shortest(observation: dict, info: dict) -> int:
     """The free slot of least static time (the way in, the maneuver, and the way out for a
     car that will leave), ties by slot id."""
-    return info["best"]["shortest"] if "best" in info else _wait(observation, info)
+    return _best(observation, info, "shortest")
 
 
 def nearest(observation: dict, info: dict) -> int:
     """The free slot nearest the car's gate in a straight line."""
-    return info["best"]["nearest"] if "best" in info else _wait(observation, info)
+    return _best(observation, info, "nearest")
 
 
 def priced(observation: dict, info: dict) -> int:
     """The free slot of least static time plus the delay its maneuvers are expected to
     cause the cars passing it (:meth:`lotsim.sim.assignment.SlotAssigner.prices`)."""
-    return info["best"]["priced"] if "best" in info else _wait(observation, info)
+    return _best(observation, info, "priced")
 
 
 def random_slot(seed: int = 0) -> Policy:

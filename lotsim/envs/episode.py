@@ -19,6 +19,7 @@ numpy only. What an episode gives the learner:
 from __future__ import annotations
 
 import dataclasses
+import functools
 import math
 import os
 from dataclasses import dataclass
@@ -77,6 +78,10 @@ class OperatorSettings:
         :class:`~lotsim.errors.DecisionError` naming them is raised.
     refused_cost : float
         Minutes an action refused costs, at least 0.
+    rankings : tuple of str
+        The run's rankings whose best slot ``info["best"]`` gives (of
+        :data:`~lotsim.sim.settings.ASSIGNMENTS`; all by default): each costs a step some
+        time (``priced`` the most), and a learner that reads none can leave them out.
     """
 
     horizon: float | None = None
@@ -86,6 +91,7 @@ class OperatorSettings:
     rejected_cost: float = 10.0
     refused: str = "wait"
     refused_cost: float = 1.0
+    rankings: tuple[str, ...] = ASSIGNMENTS
 
     def __post_init__(self) -> None:
         checks = [("horizon", None if self.horizon is None
@@ -96,7 +102,14 @@ class OperatorSettings:
                   ("rejected_cost", range_problem(self.rejected_cost, 0, 1e9, " minutes")),
                   ("refused", choice_problem(self.refused, REFUSED)),
                   ("refused_cost", range_problem(self.refused_cost, 0, 1e9, " minutes"))]
+        if isinstance(self.rankings, str) or not all(isinstance(r, str)
+                                                      for r in self.rankings):
+            checks.append(("rankings", f"expected a sequence of {', '.join(ASSIGNMENTS)}, "
+                                       f"found {self.rankings!r}"))
+        else:
+            checks += [("rankings", choice_problem(r, ASSIGNMENTS)) for r in self.rankings]
         raise_first([(k, m) for k, m in checks if m is not None])
+        set_field(self, "rankings", tuple(dict.fromkeys(self.rankings)))
         for name in ("time_cap", "rejected_cost", "refused_cost"):
             set_field(self, name, float(getattr(self, name)))
         if self.horizon is not None:
@@ -197,8 +210,13 @@ class LotIndex:
         """The action that waits: the last."""
         return len(self.slots)
 
+    @functools.cached_property
+    def _position(self) -> dict[str, int]:
+        return {sid: k for k, sid in enumerate(self.slots)}
+
     def slot_of(self, sid: str) -> int:
-        return self.slots.index(sid)
+        """The index of slot ``sid``."""
+        return self._position[sid]
 
     def sizes(self) -> dict[str, int]:
         """Each feature's length (:func:`features`)."""
@@ -383,9 +401,10 @@ class Episode:
         waits for a choice, its ``car``, ``vehicle``, ``entrance`` and the ``time`` [s],
         ``static_times`` (each slot's [s], ``inf`` for one it cannot take now, ``float64``)
         and ``best``: the best slot's index by each of the run's rankings
-        (:data:`~lotsim.sim.settings.ASSIGNMENTS`); ``refused`` when the last action was
-        (what and why); ``metrics`` once the run has ended (its counts and times to park,
-        :meth:`~lotsim.sim.results.RunResult.metrics` without the planning times)."""
+        (:data:`~lotsim.sim.settings.ASSIGNMENTS`, those of ``rules.rankings``);
+        ``refused`` when the last action was (what and why); ``metrics`` once the run has
+        ended (its counts and times to park, :meth:`~lotsim.sim.results.RunResult.metrics`
+        without the planning times)."""
         out: dict = {"action_mask": mask(self.index, None if self.done else self.request)}
         r = self.request
         if r is not None and not self.done:
@@ -394,7 +413,8 @@ class Episode:
                 times[self.index.slot_of(sid)] = tt
             out.update(car=r.car, vehicle=r.vehicle, entrance=r.entrance, time=r.time,
                        static_times=times,
-                       best={by: self.index.slot_of(r.ranked(by)[0]) for by in ASSIGNMENTS})
+                       best={by: self.index.slot_of(r.ranked(by)[0])
+                             for by in self.rules.rankings})
         if refused is not None:
             out["refused"] = refused
         if self._result is not None:

@@ -285,3 +285,28 @@ def test_the_random_baseline_takes_free_slots_and_the_returns_are_reproducible(l
     b = baselines.mean_return(env, baselines.random_slot(0), seeds=[1, 2])
     assert a == b < 0
     assert baselines.shortest(obs, {"action_mask": np.array([0, 1])}) == 1  # no car: waits
+
+
+def test_the_readme_s_example_of_the_environment_runs_as_written():
+    from test_docs_code import shown_blocks
+
+    (code,) = [c for _, c in shown_blocks(ROOT / "README.md") if "ParkingOperator" in c]
+    namespace: dict = {}
+    exec(compile(code, "README.md", "exec"), namespace)
+    assert namespace["reward"] <= 0 and not namespace["terminated"]
+    assert namespace["info"]["action_mask"].dtype == np.int8
+
+
+def test_info_holds_the_best_slot_of_the_rankings_asked_for(lots):
+    env = lotsim.envs.ParkingOperatorEnv(lots["quickstart"], rankings=["shortest", "shortest"])
+    assert env.operator.rankings == ("shortest",)
+    obs, info = env.reset()
+    assert info["best"] == {"shortest": 0}
+    with pytest.raises(SettingsError, match=r"the nearest baseline reads "
+                                            r"info\['best'\]\['nearest'\]"):
+        baselines.nearest(obs, info)
+    with pytest.raises(SettingsError, match="rankings: expected one of nearest, shortest, "
+                                            "priced, found 'cheapest'"):
+        lotsim.envs.ParkingOperatorEnv(lots["quickstart"], rankings=("cheapest",))
+    with pytest.raises(SettingsError, match="rankings: expected a sequence"):
+        lotsim.envs.ParkingOperatorEnv(lots["quickstart"], rankings="shortest")
