@@ -10,7 +10,16 @@ import importlib.util
 import os
 
 LEARN = ("gymnasium", "pettingzoo")
-MISSING = [m for m in LEARN if importlib.util.find_spec(m) is None]
+
+
+def _missing(module: str) -> bool:
+    try:
+        return importlib.util.find_spec(module) is None
+    except (ImportError, ValueError):
+        return True
+
+
+MISSING = [m for m in LEARN if _missing(m)]
 
 collect_ignore_glob = (["lotsim/envs/*.py"]
                        if MISSING and os.environ.get("LOTSIM_REQUIRE_EXPORTS") != "1" else [])
