@@ -42,7 +42,7 @@ def frame(episode: Episode, size: tuple[int, int]) -> np.ndarray:
     from lotsim.io.result import result_dict
     from lotsim.render.animation import GifRenderer
 
-    doc = result_dict(episode.live.snapshot() if not episode.done else episode.result())
+    doc = result_dict(episode.live.snapshot())  # the result itself once the run has ended
     renderer = GifRenderer(doc, GifSettings(size=size, view="lot"))
     t = episode.live.now
     return np.asarray(renderer.frame(max(t, 0.0)).convert("RGB"), dtype=np.uint8)

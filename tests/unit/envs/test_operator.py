@@ -251,6 +251,13 @@ def test_a_frame_shows_the_lot_as_it_is_now(lots):
         env.step(baselines.shortest(obs, env.episode.info()))
     later = env.render()
     assert (later != first).any()  # cars have come and moved
+    _play(env, baselines.shortest, 1)
+    assert env.render().shape == (240, 320, 3)  # the run's end
+    short = lotsim.envs.ParkingOperatorEnv(lots["quickstart"], render_mode="rgb_array",
+                                           horizon=5.0)
+    _play(short, baselines.shortest, 1)
+    assert short.render().shape == (320, 480, 3)  # the default size
+    assert short.episode.live.done is False  # a truncated episode is drawn, not carried on
     plain = lotsim.envs.ParkingOperatorEnv(lots["quickstart"])
     plain.reset()
     assert plain.render() is None
