@@ -10,7 +10,7 @@ Run with (the ``learn`` extra installed)::
 For each lot and each baseline (:data:`lotsim.envs.baselines.BASELINES`: shortest,
 nearest, priced, random) it plays the episodes of seeds 0 to N-1 with the default settings
 and prints, as a Markdown table, the mean return (minus the car-minutes getting parked, and
-10 minutes for each car not served) with the lowest and highest, and the mean of the cars
+10 minutes for each car that never parked) with the lowest and highest, and the mean of the cars
 served and of the mean time to park [s] over those episodes. Every episode's run is checked
 (``lotsim.check``). The quickstart lot's six cars are listed, so its seeds change nothing
 but the random baseline's draws, whose generator goes on from one episode to the next.

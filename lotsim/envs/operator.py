@@ -88,9 +88,9 @@ class ParkingOperatorEnv(gymnasium.Env):
     Minus the minutes each car took from its arrival to standing in its slot, given at the
     step in which it came to stand there, and minus ``rejected_cost`` minutes (10) for each
     car that never parked, at the step it was turned away (or the last). An episode's
-    return is so minus the traffic's car-minutes getting parked (``metrics()["parked"] +
-    ["departed"]`` times ``["mean_time_to_park"]``, over 60) and ``rejected_cost`` for each
-    car not served. Waiting costs through the time to park it adds. An action the lot cannot
+    return is so minus the traffic's car-minutes getting parked (the cars that parked times
+    ``metrics()["mean_time_to_park"]``, over 60) and ``rejected_cost`` for each car that
+    never parked. Waiting costs through the time to park it adds. An action the lot cannot
     honour (a masked slot) costs ``refused_cost`` minutes (1) more and the car waits;
     ``info["refused"]`` names the slot and why (``refused="raise"`` raises
     :class:`~lotsim.errors.DecisionError` instead).
