@@ -187,6 +187,15 @@ def test_streams_alike_draw_different_cars_and_a_list_of_one_is_the_single_strea
     assert [c.time for c in arrivals(own.traffic, 0) if c.id.startswith("b")] == a
 
 
+def test_the_example_day_has_commuters_shoppers_and_evening_visitors():
+    sc = scenario_from_text((ROOT / "scenarios" / "day.yaml").read_text(), "day.yaml")
+    assert len(sc.traffic.streams) >= 2
+    cars = arrivals(sc.traffic, sc.seed)
+    by = {s.prefix: [a for a in cars if a.id.startswith(s.prefix)] for s in sc.traffic.streams}
+    assert all(by.values()) and sum(map(len, by.values())) == len(cars)
+    assert len({a.id for a in cars}) == len(cars)
+
+
 # -- the stream at a constant rate, as it always was --------------------------------------------
 
 def today(stream: dict, types: list[str], gates: list[str], seed: int) -> list[tuple]:
