@@ -1,10 +1,14 @@
 """The ``traffic`` section's streams, rate profiles and dwell laws: each bad input is a
 ScenarioError at its line and column saying what was expected, and what runs validates."""
 
+import re
+from pathlib import Path
+
 import pytest
 
 import lotsim
-from conftest import ONE_AISLE, position
+from conftest import ONE_AISLE, ROOT, position
+from lotsim.cli import main
 from lotsim.traffic.demand import (
     HistogramDwell,
     LognormalDwell,
@@ -163,3 +167,29 @@ def test_every_problem_of_the_streams_is_reported_at_once(tmp_path):
         "traffic.streams[0].dwell.lognormal.sigma", "traffic.streams[1].dwell.histogram.weights",
         "traffic.streams[2].rate_per_hour[1]"], lines
 
+
+PAGE = ROOT / "docs" / "scenario.md"
+
+
+def _day_section() -> str:
+    return PAGE.read_text().split("## A day of traffic", 1)[1].split("\n## ", 1)[0]
+
+
+def test_the_scenario_page_shows_the_days_traffic_as_shipped():
+    shown = re.search(r"```yaml\n(.*?)```", _day_section(), re.S).group(1)
+    shipped = (ROOT / "scenarios" / "day.yaml").read_text()
+    assert shown == "traffic:" + shipped.split("\ntraffic:", 1)[1]
+
+
+def test_the_scenario_page_shows_what_validate_says_of_a_day_with_mistakes(
+        tmp_path, monkeypatch, capsys):
+    said = re.search(r"\n```\n(lotsim: .*?)```", _day_section(), re.S).group(1)
+    text = (ROOT / "scenarios" / "day.yaml").read_text()
+    for old, new in (("[10, 15, 25, 40,", "[10, 15, 25, -40,"), ("sigma: 0.5", "sigma: five"),
+                     ("weights: [4, 3, 2, 1]", "weights: [4, 3, 2]")):
+        assert text.count(old) == 1
+        text = text.replace(old, new)
+    monkeypatch.chdir(tmp_path)
+    Path("day.yaml").write_text(text)
+    assert main(["validate", "day.yaml"]) == 2
+    assert capsys.readouterr().err == said
