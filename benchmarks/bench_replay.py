@@ -56,7 +56,7 @@ from lotsim.scenario import HtmlSettings  # noqa: E402
 from lotsim.sim.preparation import prepare_graph  # noqa: E402
 from lotsim.sim.running import simulate  # noqa: E402
 from lotsim.sim.settings import RunSettings  # noqa: E402
-from lotsim.traffic.demand import StreamSpec, TrafficSpec  # noqa: E402
+from lotsim.traffic.demand import StreamSpec, TrafficSpec, UniformDwell  # noqa: E402
 
 
 def make_result(cars: int) -> Path:
@@ -67,8 +67,8 @@ def make_result(cars: int) -> Path:
     sc = load_scenario(ROOT / "scenarios" / "large_lot.yaml")
     lg = prepare_graph(sc)
     stream = StreamSpec(count=cars, rate=1200 / 3600, mix=((sc.vehicle_types[0].name, 1.0),),
-                        entrances=tuple(lg.entrances), dwell=(600.0, 1800.0), seed=11)
-    sc = dataclasses.replace(sc, traffic=TrafficSpec(stream=stream, patience=900.0))
+                        entrances=tuple(lg.entrances), dwell=UniformDwell(600.0, 1800.0), seed=11)
+    sc = dataclasses.replace(sc, traffic=TrafficSpec(streams=(stream,), patience=900.0))
     t = time.perf_counter()
     rr = simulate(sc, RunSettings(planner="hca"), lot_graph=lg)
     print(f"planned {cars} cars in {time.perf_counter() - t:.0f} s")

@@ -41,7 +41,7 @@ from lotsim.io.scenario_yaml import load_scenario  # noqa: E402
 from lotsim.sim.preparation import prepare_graph  # noqa: E402
 from lotsim.sim.running import collector_tuned, simulate  # noqa: E402
 from lotsim.sim.settings import RunSettings  # noqa: E402
-from lotsim.traffic.demand import StreamSpec, TrafficSpec  # noqa: E402
+from lotsim.traffic.demand import StreamSpec, TrafficSpec, UniformDwell  # noqa: E402
 from lotsim.verify import check_result  # noqa: E402
 
 
@@ -56,7 +56,7 @@ def case(sc, lg, count: int, rate: float, dwell, planner: str, *, check: bool = 
     write the result document there."""
     stream = StreamSpec(count=count, rate=rate / 3600, mix=((sc.vehicle_types[0].name, 1.0),),
                         entrances=tuple(lg.entrances), dwell=dwell, seed=11)
-    sc = dataclasses.replace(sc, traffic=TrafficSpec(stream=stream, patience=900.0))
+    sc = dataclasses.replace(sc, traffic=TrafficSpec(streams=(stream,), patience=900.0))
     t, cpu = time.perf_counter(), time.process_time()
     with collector_tuned():
         rr = simulate(sc, RunSettings(planner=planner), lot_graph=lg)
@@ -113,7 +113,7 @@ def main() -> None:
     print(f"  HCA* / CA*: {base['planning_time'] / hca['planning_time']:.1f}x faster, "
           f"{base['expansions'] / max(1, hca['expansions']):.1f}x fewer expansions")
     if not args.quick:
-        big = case(sc, lg, 1000, 1200, (600.0, 1800.0), "hca")
+        big = case(sc, lg, 1000, 1200, UniformDwell(600.0, 1800.0), "hca")
         show("1000 cars with departures, HCA*", big, 30.0, memory=400.0)
 
 

@@ -95,7 +95,7 @@ def one_case(slots: int, cars: int) -> dict:
     from lotsim.sim.preparation import prepare_graph
     from lotsim.sim.running import collector_tuned, simulate
     from lotsim.sim.settings import RunSettings
-    from lotsim.traffic.demand import StreamSpec, TrafficSpec
+    from lotsim.traffic.demand import StreamSpec, TrafficSpec, UniformDwell
     from lotsim.verify import check_result
 
     sc = parse_scenario(parse_text(grid_lot(*LOTS[slots]), f"grid-{slots}.yaml"))
@@ -103,8 +103,8 @@ def one_case(slots: int, cars: int) -> dict:
     lg = prepare_graph(sc)
     prepared = time.perf_counter() - t
     stream = StreamSpec(count=cars, rate=rate(slots) / 3600, mix=(("valet", 1.0),),
-                        entrances=tuple(lg.entrances), dwell=DWELL, seed=11)
-    sc = dataclasses.replace(sc, traffic=TrafficSpec(stream=stream, patience=900.0))
+                        entrances=tuple(lg.entrances), dwell=UniformDwell(*DWELL), seed=11)
+    sc = dataclasses.replace(sc, traffic=TrafficSpec(streams=(stream,), patience=900.0))
     with collector_tuned():
         rr = simulate(sc, RunSettings(planner="hca"), lot_graph=lg)
     m = rr.metrics()

@@ -42,7 +42,7 @@ def prepared_case() -> lotsim.PreparedLot:
     sc = p.scenario
     stream = StreamSpec(count=100, rate=600 / 3600, mix=((sc.vehicle_types[0].name, 1.0),),
                         entrances=tuple(p.lot_graph.entrances), seed=11)
-    sc = dataclasses.replace(sc, traffic=TrafficSpec(stream=stream, patience=900.0))
+    sc = dataclasses.replace(sc, traffic=TrafficSpec(streams=(stream,), patience=900.0))
     return dataclasses.replace(p, scenario=sc)
 
 

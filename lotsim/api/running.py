@@ -79,15 +79,16 @@ def run(scenario_or_prepared: ScenarioLike | PreparedLot, settings: RunSettings 
                 else prepare(scenario_or_prepared))
     traffic = prepared.scenario.traffic
     if settings.seed is not None and traffic is not None:
-        stream = traffic.stream
-        if stream is None:
+        if not traffic.streams:
             raise SettingsError("seed", "seeds the traffic stream, and this scenario has "
                                         "none (its vehicles are listed): it would change "
                                         "nothing")
-        if stream.seed is not None:
-            raise SettingsError("seed", f"the scenario's stream has its own seed "
-                                        f"({stream.seed}, {stream.where}): it would change "
-                                        f"nothing")
+        if all(s.seed is not None for s in traffic.streams):
+            stream = traffic.streams[0]
+            own = ("stream has its own seed" if len(traffic.streams) == 1
+                   else "streams each have their own seed, the first")
+            raise SettingsError("seed", f"the scenario's {own} ({stream.seed}, "
+                                        f"{stream.where}): it would change nothing")
     from lotsim.sim.orders import plan_run
 
     if progress is None:  # in a notebook, the cell shows it

@@ -15,7 +15,7 @@ from collections.abc import Callable, Iterator, Sequence
 from contextlib import contextmanager
 from typing import TYPE_CHECKING, Any
 
-from lotsim.bench.suite import RunSpec, Suite, SuiteScenario
+from lotsim.bench.suite import RunSpec, Suite, SuiteScenario, one_stream
 from lotsim.bench.table import _rounded
 from lotsim.errors import LotsimError, ScenarioError
 from lotsim.io.result import result_dict
@@ -68,7 +68,7 @@ def spec_scenario(spec: RunSpec, scenario: Scenario) -> Scenario:
     """``scenario`` with the spec's stream rate and count, and its disturbances (over the
     scenario's own: a suite's variant ``none`` drives the plan as planned)."""
     scenario = dataclasses.replace(scenario, disturbances=spec.disturbances)
-    stream = scenario.traffic.stream
+    stream = one_stream(scenario)
     if stream is None or (spec.rate_per_hour is None and spec.count is None):
         return scenario
     new = {}
@@ -77,7 +77,7 @@ def spec_scenario(spec: RunSpec, scenario: Scenario) -> Scenario:
     if spec.count is not None:
         new["count"] = spec.count
     traffic = dataclasses.replace(scenario.traffic,
-                                  stream=dataclasses.replace(stream, **new))
+                                  streams=(dataclasses.replace(stream, **new),))
     return dataclasses.replace(scenario, traffic=traffic)
 
 
@@ -151,7 +151,7 @@ def _identity(spec: RunSpec) -> dict:
 
 
 def _traffic_columns(scenario: Scenario) -> dict:
-    stream = scenario.traffic.stream
+    stream = one_stream(scenario)
     return {"rate_per_h": None if stream is None else stream.rate * 3600.0,
             "count": None if stream is None else stream.count}
 

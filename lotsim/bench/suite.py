@@ -19,6 +19,7 @@ from lotsim.io.scenario_yaml import (
     parse_disturbances,
 )
 from lotsim.io.yamlnodes import YNode, read_yaml
+from lotsim.scenario import Scenario
 from lotsim.sim.settings import (
     ASSIGNMENTS,
     BOOKING_HORIZON,
@@ -27,6 +28,7 @@ from lotsim.sim.settings import (
     GASettings,
     RunSettings,
 )
+from lotsim.traffic.demand import StreamSpec
 from lotsim.traffic.disturbances import Disturbances
 
 GA_KEYS = ("population", "generations", "seed")
@@ -259,6 +261,13 @@ def _unique(node: YNode, read: Callable[[YNode], Any], what: str) -> list:
     return out
 
 
+def one_stream(scenario: Scenario) -> StreamSpec | None:
+    """The scenario's traffic stream when it has one only, at a constant rate: the stream
+    whose rate and count a suite may replace (None otherwise)."""
+    streams = scenario.traffic.streams if scenario.traffic is not None else ()
+    return streams[0] if len(streams) == 1 and streams[0].constant else None
+
+
 def _suite_scenario(node: YNode, base: Path, *, override: str | None) -> SuiteScenario:
     given = node.string(max_len=1000)
     path = base / given
@@ -267,10 +276,13 @@ def _suite_scenario(node: YNode, base: Path, *, override: str | None) -> SuiteSc
     scenario = load_scenario(path)
     if scenario.traffic is None:
         raise node.error(f"{given} has no 'traffic' section to run")
-    stream = scenario.traffic.stream
+    stream = one_stream(scenario)
     if override is not None and stream is None:
-        raise node.error(f"{given} lists its vehicles one by one and has no traffic stream, "
-                         f"so '{override}' cannot apply to it")
+        how = ("lists its vehicles one by one and has no traffic stream"
+               if not scenario.traffic.streams else
+               "has a stream whose rate is a profile over the day" if
+               len(scenario.traffic.streams) == 1 else "has several traffic streams")
+        raise node.error(f"{given} {how}, so '{override}' cannot apply to it")
     return SuiteScenario(
         name=scenario.name, file=str(path), text=path.read_text(encoding="utf-8"),
         stream_rate=None if stream is None else stream.rate * 3600.0,

@@ -196,7 +196,7 @@ def _plan(args: argparse.Namespace, scenario, settings, budget) -> api.RunResult
 def _planned(args: argparse.Namespace, scenario, settings, budget,
              progress: ProgressBar) -> api.RunResult:
     traffic = scenario.traffic
-    where = traffic.stream.where if traffic.stream is not None else traffic.where
+    where = traffic.streams[0].where if traffic.streams else traffic.where
     seen: list[bool] = []  # Ctrl-C, even where a finaliser swallowed its KeyboardInterrupt
     if settings.priority == "arrival":
         with noting_sigint(seen), api.Watchdog(budget, where, then=progress) as dog:

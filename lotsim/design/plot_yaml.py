@@ -28,7 +28,8 @@ from lotsim.design.plot import (
 )
 from lotsim.errors import ErrorCollector, ScenarioError
 from lotsim.io.lot_yaml import MAX_ITEMS
-from lotsim.io.scenario_yaml import name_from_file, parse_dwell, parse_vehicle
+from lotsim.io.scenario_yaml import name_from_file, parse_vehicle
+from lotsim.io.traffic_yaml import parse_dwell
 from lotsim.io.yamlnodes import YNode, parse_text, read_yaml
 from lotsim.vehicles.catalogue import CATALOGUE, DEFAULT_VEHICLE
 

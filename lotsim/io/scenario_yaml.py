@@ -19,9 +19,10 @@ import yaml
 from lotsim.errors import ErrorCollector
 from lotsim.io.file_kinds import refuse_other_kind, top_level
 from lotsim.io.lot_yaml import MAX_ITEMS, parse_lot
+from lotsim.io.traffic_yaml import parse_traffic, traffic_ids
 from lotsim.io.yamlnodes import YNode, parse_text, read_yaml
 from lotsim.scenario import VIEWS, AnimationSpec, Scenario
-from lotsim.traffic.demand import PATIENCE, Arrival, StreamSpec, TrafficSpec
+from lotsim.traffic.demand import TrafficSpec
 from lotsim.traffic.disturbances import (
     CLOSABLE,
     MAX_LATE,
@@ -178,7 +179,8 @@ def parse_scenario_file(root: YNode) -> ScenarioFile:
     names = [n for n in names if n]
     traffic = (errors.attempt(parse_traffic, f["traffic"], names, entrances)
                if "traffic" in f and names else None)  # no type to check it against
-    disturbances = (errors.attempt(parse_disturbances, f["disturbances"], traffic)
+    disturbances = (errors.attempt(lambda: parse_disturbances(f["disturbances"], traffic,
+                                                              seed=seed))
                     if "disturbances" in f else None)
     if disturbances is not None and "traffic" not in f:
         errors.attempt(_refuse, f["disturbances"], "disturbances need traffic to disturb: the "
@@ -292,92 +294,15 @@ def parse_animation(node: YNode) -> AnimationSpec:
     )
 
 
-def parse_traffic(node: YNode, types: list[str], entrances: list[str]) -> TrafficSpec:
-    """Validate the ``traffic`` mapping against the scenario's vehicle types and entrances."""
-    f = node.fields(optional=["vehicles", "stream", "patience"])
-    if "vehicles" not in f and "stream" not in f:
-        raise node.error("expected 'vehicles' (a list), 'stream' (a mapping) or both")
-    if not entrances:
-        raise node.error("traffic needs an entrance: the lot has none")
-
-    def vehicle_type(n: YNode) -> str:
-        name = n.string()
-        if name not in types:
-            raise n.error(f"expected a vehicle type of this scenario ({', '.join(types)}), "
-                          f"found {name!r}")
-        return name
-
-    def entrance(n: YNode) -> str:
-        return n.string(choices=entrances)
-
-    seen: dict[str, YNode] = {}
-
-    def arrival(n: YNode) -> Arrival:
-        v = n.fields(required=["id", "arrival"], optional=["type", "entrance", "dwell"])
-        ident = v["id"].ident()
-        if ident in seen:
-            raise v["id"].error(f"vehicle id {ident!r} is used twice")
-        seen[ident] = v["id"]
-        return Arrival(
-            id=ident,
-            vehicle=vehicle_type(v["type"]) if "type" in v else types[0],
-            entrance=entrance(v["entrance"]) if "entrance" in v else entrances[0],
-            time=v["arrival"].number(min=0, max=1e7),
-            dwell=v["dwell"].number(positive=True, max=1e7) if "dwell" in v else None,
-            where=n.where,
-        )
-
-    errors = ErrorCollector()  # each car, the stream and the patience on their own
-    items = (errors.attempt(lambda: f["vehicles"].items(min_len=1, max_len=MAX_ITEMS),
-                            default=[]) if "vehicles" in f else [])
-    vehicles = [errors.attempt(arrival, n) for n in items]
-    stream = errors.attempt(_stream, f["stream"], types, entrances) if "stream" in f else None
-    patience = (errors.attempt(lambda: f["patience"].number(min=0, max=1e7), default=PATIENCE)
-                if "patience" in f else PATIENCE)
-    if stream is not None:
-        for ident, n in seen.items():
-            if ident.startswith(stream.prefix) and ident[len(stream.prefix):].isdigit():
-                errors.attempt(_refuse, n, f"vehicle id {ident!r} may clash with the stream's "
-                               f"ids ({stream.prefix}01, ...); pick another id or stream prefix")
-    errors.check()
-    return TrafficSpec(vehicles=tuple(vehicles), stream=stream, patience=patience,
-                       where=node.where)
-
-
-def _stream(node: YNode, types: list[str], entrances: list[str]) -> StreamSpec:
-    f = node.fields(required=["count", "rate_per_hour"],
-                    optional=["mix", "entrances", "start", "dwell", "seed", "prefix"])
-    if "mix" in f:
-        m = f["mix"].fields(optional=types)
-        if not m:
-            raise f["mix"].error("expected at least one vehicle type with a weight")
-        mix = tuple((k, n.number(positive=True, max=1e6)) for k, n in m.items())
-    else:
-        mix = tuple((t, 1.0) for t in types)
-    gates = (tuple(n.string(choices=entrances) for n in f["entrances"].items(min_len=1))
-             if "entrances" in f else tuple(entrances))
-    dwell = parse_dwell(f["dwell"]) if "dwell" in f else None
-    return StreamSpec(
-        count=f["count"].integer(min=1, max=MAX_ITEMS),
-        rate=f["rate_per_hour"].number(positive=True, max=1e6) / 3600.0,
-        mix=mix,
-        entrances=gates,
-        start=f["start"].number(min=0, max=1e7) if "start" in f else 0.0,
-        dwell=dwell,
-        seed=f["seed"].integer(min=0, max=2**63 - 1) if "seed" in f else None,
-        prefix=f["prefix"].ident() if "prefix" in f else "s",
-        where=node.where,
-    )
-
-
 DISTURBANCE_KEYS = ("late_starts", "speed", "stalls", "closures", "taken", "seed")
 """The keys of a ``disturbances`` section."""
 
 
 def parse_disturbances(node: YNode, traffic: TrafficSpec | None, *,
-                       also: tuple[str, ...] = ()) -> Disturbances:
+                       also: tuple[str, ...] = (), seed: int = 0) -> Disturbances:
     """The ``disturbances`` mapping (``docs/scenario.md``); a given stall's car is checked
-    against the traffic's ids. ``also``: keys the caller reads itself (a suite's name)."""
+    against the traffic's ids (its streams drawn with ``seed``). ``also``: keys the caller
+    reads itself (a suite's name)."""
     f = node.fields(optional=[*DISTURBANCE_KEYS, *also])
     kw: dict = {}
     if "late_starts" in f:
@@ -393,7 +318,7 @@ def parse_disturbances(node: YNode, traffic: TrafficSpec | None, *,
         if "duration" in st:
             kw["stall_duration"] = _range(st["duration"], 0.0, MAX_STALL)
         if "at" in st:
-            ids = traffic_ids(traffic) if traffic is not None else set()
+            ids = traffic_ids(traffic, seed) if traffic is not None else set()
             given = []
             for n in st["at"].items(min_len=1, max_len=MAX_ITEMS):
                 g = n.fields(required=["car", "time", "duration"])
@@ -440,28 +365,6 @@ def _range(node: YNode, lo: float, hi: float) -> tuple[float, float]:
             raise node.error(f"expected [low, high] with low <= high, found [{a:g}, {b:g}]")
         return a, b
     x = node.number(min=lo, max=hi)
-    return x, x
-
-
-def traffic_ids(traffic: TrafficSpec) -> set[str]:
-    """Every car id of ``traffic``: those listed and those its stream draws."""
-    ids = {a.id for a in traffic.vehicles}
-    s = traffic.stream
-    if s is not None:
-        width = len(str(s.count)) if s.count >= 10 else 2
-        ids |= {f"{s.prefix}{k + 1:0{width}d}" for k in range(s.count)}
-    return ids
-
-
-def parse_dwell(d: YNode) -> tuple[float, float]:
-    """A stream's ``dwell``: seconds each car stays, one number or ``[min, max]``, as
-    (min, max)."""
-    if d.is_sequence:
-        lo, hi = (n.number(positive=True, max=1e7) for n in d.items(min_len=2, max_len=2))
-        if hi < lo:
-            raise d.error(f"expected [min, max] with min <= max, found [{lo:g}, {hi:g}]")
-        return lo, hi
-    x = d.number(positive=True, max=1e7)
     return x, x
 
 

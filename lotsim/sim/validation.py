@@ -288,11 +288,11 @@ def validate_prepared(prepared: PreparedLot, source: str) -> ValidationReport:
     away: dict[str, str] = {}
     if scenario.traffic is not None:
         traffic = arrivals(scenario.traffic, scenario.seed)
-        check_traffic(lg, traffic + _any_draw(scenario.traffic.stream), reach)
+        every = traffic + [a for s in scenario.traffic.streams for a in _any_draw(s)]
+        check_traffic(lg, every, reach)
         check_lot_events(lg, scenario.disturbances)
         # why each type's cars would be turned away (the scenario's own draw, and any car
         # of that type another seed may draw)
-        every = traffic + _any_draw(scenario.traffic.stream)
         ids = turned_away(lg, every, reach)
         for a in every:
             if a.id in ids:
@@ -300,13 +300,11 @@ def validate_prepared(prepared: PreparedLot, source: str) -> ValidationReport:
     return ValidationReport(source, prepared, reach, away)
 
 
-def _any_draw(stream: StreamSpec | None) -> list[Arrival]:
+def _any_draw(stream: StreamSpec) -> list[Arrival]:
     """A vehicle of each type and at each entrance the stream may draw: ``run --seed``
     draws other vehicles than the scenario's seed, and must not be refused for a type or
     an entrance that ``validate`` let pass."""
-    if stream is None:
-        return []
-    dwell = None if stream.dwell is None else stream.dwell[0]
+    dwell = None if stream.dwell is None else stream.dwell.least
     return [Arrival(f"{stream.prefix}?{name}@{gate}", name, gate, stream.start, dwell,
                     stream.where)
             for name, weight in stream.mix if weight > 0 for gate in stream.entrances]

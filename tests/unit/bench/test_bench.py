@@ -202,10 +202,11 @@ def test_rows_agree_with_a_direct_run(local):
     scenario = load_scenario(path.parent / "tiny.yaml")
     lg = prepare_graph(scenario)
     for r in (rows[0], rows[-1]):
-        stream = dataclasses.replace(scenario.traffic.stream,
+        stream = dataclasses.replace(scenario.traffic.streams[0],
                                      rate=float(r["rate_per_h"]) / 3600, count=3)
         sc = dataclasses.replace(scenario,
-                                 traffic=dataclasses.replace(scenario.traffic, stream=stream))
+                                 traffic=dataclasses.replace(scenario.traffic,
+                                                                     streams=(stream,)))
         rr = simulate(sc, RunSettings(planner=r["planner"], assignment=r["assignment"],
                                  seed=int(r["seed"])), lot_graph=lg)
         m = rr.metrics()

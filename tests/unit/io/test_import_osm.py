@@ -282,7 +282,7 @@ def test_slots_no_gate_leads_to_are_counted_and_left_out_of_the_stream(hand):
     sc, lot = _built(out / "way-198.yaml")
     apart = [s for s in lot.slots if abs(s.center[1] - 10) < 10]  # along y = 30 (here 10)
     assert apart and f"{len(apart)} of {len(lot.slots)} slots cannot be reached" in i.reason
-    assert sc.traffic.stream.count == 20
+    assert sc.traffic.streams[0].count == 20
 
 
 # -- choosing lots, determinism, XML and PBF ---------------------------------------------------

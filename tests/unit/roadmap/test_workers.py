@@ -127,7 +127,7 @@ def test_junction_multipoints_and_uturns_found_at_once_are_those_found_one_after
 
 
 def test_a_memo_serves_only_its_own_lot():
-    sc = load_scenario(SCENARIOS[0])
+    sc = load_scenario(next(p for p in SCENARIOS if p.stem == "example"))
     lots = [build_lot(sc.lot, DesignVehicle.envelope(sc.vehicle_types)) for _ in range(2)]
     memo = RoadmapMemo(lots[0])
     assemble.build_graph(lots[0], memo=memo)

@@ -173,8 +173,8 @@ def test_a_priced_run_at_real_demand_serves_every_car_checks_and_repeats(gate_sp
     from lotsim.sim.settings import RunSettings
 
     sc, lg = gate_spur
-    stream = dataclasses.replace(sc.traffic.stream, count=30, rate=350 / 3600)
-    sc = dataclasses.replace(sc, traffic=dataclasses.replace(sc.traffic, stream=stream))
+    stream = dataclasses.replace(sc.traffic.streams[0], count=30, rate=350 / 3600)
+    sc = dataclasses.replace(sc, traffic=dataclasses.replace(sc.traffic, streams=(stream,)))
     runs = [simulate(sc, RunSettings(seed=1, assignment="priced"), lot_graph=lg)
             for _ in range(2)]
     assert runs[0].metrics()["served"] == 30

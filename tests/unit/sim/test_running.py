@@ -25,7 +25,7 @@ from lotsim.sim.preparation import PreparedLot, prepare_graph
 from lotsim.sim.results import STATUSES, RunResult
 from lotsim.sim.running import RUN_GC_THRESHOLDS, collector_tuned, simulate
 from lotsim.sim.settings import RunSettings
-from lotsim.traffic.demand import Arrival, StreamSpec, TrafficSpec, arrivals
+from lotsim.traffic.demand import Arrival, StreamSpec, TrafficSpec, UniformDwell, arrivals
 from lotsim.traffic.plans import Plan
 
 TINY = """\
@@ -55,7 +55,8 @@ def tiny():
 
 def _with(sc, vehicles=(), *, patience=60.0, stream=None):
     return dataclasses.replace(sc, traffic=TrafficSpec(vehicles=tuple(vehicles),
-                                                       stream=stream, patience=patience))
+                                                       streams=(stream,) if stream else (),
+                                                       patience=patience))
 
 
 def _cars(*times, dwell=None):
@@ -213,7 +214,7 @@ def test_a_car_that_can_never_leave_ends_waiting_with_its_reason_and_run_exits_1
 def test_a_seeded_stream_runs_the_same_twice_and_its_seed_draws_its_arrivals(tiny):
     sc, lg = tiny
     stream = StreamSpec(count=4, rate=240.0, mix=(("valet", 1.0),), entrances=("in",),
-                        dwell=(10.0, 20.0))
+                        dwell=UniformDwell(10.0, 20.0))
     sc = _with(sc, stream=stream, patience=60)
     a, b = (result_dict(simulate(sc, lot_graph=lg)) for _ in range(2))
     assert a["vehicles"] == b["vehicles"] and a["settings"] == b["settings"]
