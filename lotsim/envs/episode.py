@@ -185,7 +185,7 @@ def seeds_traffic(prepared: PreparedLot) -> bool:
     """Whether the run's seed draws the scenario's traffic: it has a stream without a seed
     of its own (listed cars are the same whatever the seed)."""
     traffic = prepared.scenario.traffic
-    return traffic is not None and traffic.stream is not None and traffic.stream.seed is None
+    return traffic is not None and any(s.seed is None for s in traffic.streams)
 
 
 @dataclass(frozen=True)
