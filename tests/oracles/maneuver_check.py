@@ -14,18 +14,25 @@ STEP = 0.05
 
 
 def parked_bodies(slots, vehicles):
-    """Polygons of cars of each type parked centred in ``slots``, nose along the slot."""
-    out = []
+    """Polygons of cars of each type parked centred in ``slots``, nose along the slot
+    (either way round), slot by slot; a parallel slot is taken whole."""
+    bays = [s for s in slots if s.kind != "parallel"]
+    centres = np.array([s.center for s in bays], dtype=float).reshape(-1, 2)
+    headings = np.array([[s.heading, s.heading + math.pi] for s in bays]).reshape(-1)
+    ahead = np.column_stack([np.cos(headings), np.sin(headings)])
+    bodies = []  # per type: a body for each bay and way round, in the order of ``bays``
+    for v in vehicles:
+        axles = np.repeat(centres, 2, axis=0) - ahead * (v.front - v.rear) / 2
+        poses = np.column_stack([axles, headings]) if len(bays) else np.empty((0, 3))
+        bodies.append(shapely.polygons(v.footprints(poses)) if len(bays) else [])
+    out, k = [], 0
     for s in slots:
         if s.kind == "parallel":
             out.append(s.shape)
             continue
-        c = np.asarray(s.center)
-        for v in vehicles:
-            for h in (s.heading, s.heading + math.pi):
-                k = np.array([math.cos(h), math.sin(h)])
-                axle = c - k * (v.front - v.rear) / 2
-                out.append(shapely.Polygon(v.footprints([[*axle, h]])[0]))
+        for b in bodies:
+            out += [b[2 * k], b[2 * k + 1]]
+        k += 1
     return out
 
 
@@ -55,11 +62,11 @@ def check_maneuver(lot, m, vehicle, cars, *, clearance=0.05):
     if not shapely.covers(lot.boundary, bodies).all():
         problems.append("leaves the lot")
     tree = shapely.STRtree(cars)
-    hit = tree.query(bodies, predicate="intersects")
-    if hit.size:
-        problems.append(f"touches a parked car at sample {hit[0][0]}")
     near = tree.query(bodies, predicate="dwithin", distance=clearance)
-    if near.size:
+    if near.size:  # (a body that touches a car is also within the clearance of it)
+        hit = tree.query(bodies, predicate="intersects")
+        if hit.size:
+            problems.append(f"touches a parked car at sample {hit[0][0]}")
         problems.append(f"passes within {clearance} m of a parked car")
     areas = [a.polygon for a in lot.areas]
     if areas and shapely.STRtree(areas).query(bodies, predicate="dwithin", distance=clearance).size:

@@ -4,7 +4,8 @@ or a clean ``path:line:col:`` error — never another exception, a hang, or a wr
 Two fuzzers share the mutations:
 
 * reading: each mutant is read and built as ``lotsim validate`` does, without planning
-  maneuvers (that is what takes seconds; the slow profile plans them for a sample);
+  maneuvers (that is what takes seconds; the slow profile plans them for a sample), each
+  distinct lot built once (most valid mutants changed only the traffic or the animation);
   :data:`QUICK` mutants by default, :data:`SLOW` with ``pytest -m slow``;
 * running: each mutant goes through ``lotsim run`` itself, which must exit 0 or 1 with a
   result.json that passes ``lotsim check`` (and a whole GIF when one is asked for), or exit
@@ -88,12 +89,21 @@ def mutate(text: str, rng: np.random.Generator) -> str:
     return "\n".join(lines)
 
 
-def outcome(path, *, maneuvers: bool = False) -> str:
-    """``ok`` or ``error``; raises AssertionError for anything a user must never see."""
+def outcome(path, *, maneuvers: bool = False, built: set | None = None) -> str:
+    """``ok`` or ``error``; raises AssertionError for anything a user must never see.
+
+    ``built`` holds the lots (with their vehicle types) built so far: a mutant that changed
+    only what building does not read (its traffic, its animation) is read, and its lot not
+    built a second time, since building is a function of these alone (what the on-disk
+    cache keys a prepared lot by)."""
     try:
         with time_limit(LIMIT):
             sc = load_scenario(path)
-            lg = prepare_graph(sc, maneuvers=maneuvers)
+            seen = repr((sc.lot, sc.vehicle_types))
+            if maneuvers or built is None or seen not in built:
+                lg = prepare_graph(sc, maneuvers=maneuvers)
+                if built is not None:
+                    built.add(seen)
             if maneuvers and sc.traffic is not None:
                 check_traffic(lg, arrivals(sc.traffic, sc.seed))
     except ScenarioError as exc:
@@ -107,6 +117,7 @@ def outcome(path, *, maneuvers: bool = False) -> str:
 def _fuzz(tmp_path, count: int, seed: int, *, maneuvers_every: int = 0) -> dict:
     texts = {name: (ROOT / "scenarios" / name).read_text() for name in FILES}
     seen = {"ok": 0, "error": 0}
+    built: set = set()
     for k in range(count):
         name = FILES[k % len(FILES)]
         text = mutate(texts[name], np.random.default_rng([seed, k]))  # as in _fuzz_run
@@ -114,7 +125,7 @@ def _fuzz(tmp_path, count: int, seed: int, *, maneuvers_every: int = 0) -> dict:
         path.write_text(text, encoding="utf-8", errors="surrogatepass")
         try:
             full = maneuvers_every and k % maneuvers_every == 0
-            seen[outcome(path, maneuvers=bool(full))] += 1
+            seen[outcome(path, maneuvers=bool(full), built=built)] += 1
         except BaseException as exc:
             raise AssertionError(f"mutant {k} of {name} (kept at {path}): "
                                  f"{type(exc).__name__}: {exc}") from exc

@@ -306,12 +306,18 @@ def test_validate_says_how_many_free_slots_each_type_can_use_and_which(capsys):
 
 
 def test_import_writes_the_lots_and_says_what_became_of_each(tmp_path, capsys):
+    # a few lots of the file, picked by id: two written and three skipped, each for its own
+    # reason (what becomes of every lot of the file: tests/unit/io/test_import_osm.py)
     source = ROOT / "tests" / "data" / "osm" / "lots.osm"
     out = tmp_path / "lots"
-    assert main(["import", "osm", str(source), "-o", str(out)]) == 0
+    picked = ["way/100", "way/110", "way/140", "way/160", "node/1500"]
+    assert main(["import", "osm", str(source), "-o", str(out),
+                 *[arg for lot in picked for arg in ("--lot", lot)]]) == 0
     said = capsys.readouterr().out.splitlines()
     written = sorted(p.name for p in out.glob("*.yaml"))
-    assert said[-1] == f"{len(written)} of {len(said) - 1} lots written" and written
+    assert written == ["way-100.yaml", "way-110.yaml"]
+    assert said[-1] == f"{len(written)} of {len(said) - 1} lots written" == "2 of 5 lots written"
+    assert sorted(line.split(":")[0] for line in said[:-1]) == sorted(picked)
     for name in written:  # each written lot has its line, naming its file
         assert any(f"written {out / name}" in line for line in said)
     # a lot picked that is not in the file, a missing file: bad input, nothing written

@@ -444,12 +444,17 @@ def test_the_readme_s_main_gif_shows_cars_moving_not_an_empty_lot(mixed_lot_doc)
 
 
 def test_render_writes_what_run_gif_wrote(tmp_path, capsys):
+    # quickstart, its animation section asking for speed 2 (as it does) at a small size
+    path = tmp_path / "s.yaml"
+    path.write_text(BARE + "\nanimation: {speed: 2, size: [320, 240]}\n")
     out = tmp_path / "run"
-    assert main(["run", str(QUICKSTART), "-o", str(out), "--gif", str(tmp_path / "a.gif")]) == 0
+    assert main(["run", str(path), "-o", str(out), "--gif", str(tmp_path / "a.gif")]) == 0
     assert "a.gif" in capsys.readouterr().out
-    # quickstart's animation section asks for speed 2: run --gif takes it, render is told
+    # run --gif takes the animation section, render is told
     assert main(["render", str(out / "result.json"), "--gif", str(tmp_path / "b.gif"),
-                 "--speed", "2"]) == 0
+                 "--speed", "2", "--size", "320x240"]) == 0
+    with Image.open(tmp_path / "a.gif") as im:
+        assert im.size == (320, 240)
     assert (tmp_path / "a.gif").read_bytes() == (tmp_path / "b.gif").read_bytes()
     assert not list(tmp_path.glob(".*"))
 

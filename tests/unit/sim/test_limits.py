@@ -242,12 +242,18 @@ def test_a_scenario_without_a_name_is_named_after_its_file_safely(tmp_path, monk
 
 
 def test_a_run_writes_only_inside_its_output_folder(tmp_path, monkeypatch):
-    """Every file a run of a shipped scenario with an animation creates is in -o OUTDIR."""
+    """Every file a run of a shipped scenario with an animation creates is in -o OUTDIR
+    (quickstart, its animation section drawing a small GIF)."""
     work = tmp_path / "work"
     work.mkdir()
     monkeypatch.chdir(work)
+    text = (ROOT / "scenarios" / "quickstart.yaml").read_text()
+    assert "\nanimation: {speed: 2}" in text
+    scenario = tmp_path / "quickstart.yaml"
+    scenario.write_text(text.replace("\nanimation: {speed: 2}",
+                                     "\nanimation: {speed: 2, size: [160, 120]}"))
     before = {p for p in tmp_path.rglob("*")}
-    assert main(["run", str(ROOT / "scenarios" / "quickstart.yaml"), "-o", "out"]) == 0
+    assert main(["run", str(scenario), "-o", "out"]) == 0
     created = {p for p in tmp_path.rglob("*")} - before
     assert created == {work / "out", work / "out" / "result.json", work / "out" / "run.gif",
                        work / "out" / ".lotsim-run"}  # the pictures a run wrote there
