@@ -22,6 +22,7 @@ import lotsim
 from lotsim.errors import SettingsError
 from lotsim.io.result import result_dict
 from lotsim.sim.live import Live
+from oracles.sampled import footprints
 
 QUICKSTART = Path(__file__).resolve().parents[3] / "scenarios" / "quickstart.yaml"
 
@@ -29,20 +30,6 @@ QUICKSTART = Path(__file__).resolve().parents[3] / "scenarios" / "quickstart.yam
 @pytest.fixture(scope="module")
 def prepared():
     return lotsim.prepare(lotsim.EXAMPLE.split("traffic:")[0])
-
-
-def _footprints(car: dict) -> np.ndarray:
-    """The car's footprint polygons at its samples, from the result's numbers alone."""
-    s, ty = car["samples"], car["type"]
-    x, y, th = (np.asarray(s[k]) for k in ("x", "y", "theta"))
-    u = np.stack([np.cos(th), np.sin(th)], axis=1)
-    w = np.stack([-np.sin(th), np.cos(th)], axis=1)
-    c = np.stack([x, y], axis=1)
-    corners = [c + u * a + w * b for a, b in ((-ty["rear"], -ty["width"] / 2),
-                                              (ty["front"], -ty["width"] / 2),
-                                              (ty["front"], ty["width"] / 2),
-                                              (-ty["rear"], ty["width"] / 2))]
-    return shapely.polygons(np.stack(corners, axis=1))
 
 
 def _car(doc: dict, car: str) -> dict:
@@ -64,7 +51,7 @@ def test_a_car_in_a_bay_stands_there_until_called_out_then_leaves_by_an_exit(pre
                                                                 "departed")
     t = np.asarray(car["samples"]["t"])
     slot = shapely.Polygon(next(s for s in doc["lot"]["slots"] if s["id"] == "S2")["polygon"])
-    feet = _footprints(car)
+    feet = footprints(car)
     standing = t <= 30.0 + 1e-9
     # in the bay from the start to its call, out of it by the end
     assert t[0] == 0.0 and shapely.covers(slot.buffer(1e-6), feet[standing]).all()
@@ -116,7 +103,7 @@ def test_a_car_put_on_a_lane_holds_its_ground_or_is_turned_away_and_nothing_meet
         body = _body(pose, ada["type"])
         t = np.asarray(ada["samples"]["t"])
         stood = (t >= 0.5) & (t <= _standing_until(stander))
-        assert not shapely.intersects(_footprints(ada)[stood], body).any()
+        assert not shapely.intersects(footprints(ada)[stood], body).any()
         replans = doc.get("disturbances", {}).get("replans", [])
         mended += [(r["car"], r["why"]) for r in replans] == [
             ("ada", "'stander' stands in its way")]
@@ -125,7 +112,7 @@ def test_a_car_put_on_a_lane_holds_its_ground_or_is_turned_away_and_nothing_meet
 
 def _body(pose, vtype: dict) -> shapely.Polygon:
     """A car of ``vtype`` (as the result writes it) standing at ``pose``."""
-    return _footprints({"samples": {"x": [pose[0]], "y": [pose[1]], "theta": [pose[2]]},
+    return footprints({"samples": {"x": [pose[0]], "y": [pose[1]], "theta": [pose[2]]},
                         "type": vtype})[0]
 
 

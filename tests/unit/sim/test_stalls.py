@@ -21,6 +21,7 @@ import lotsim
 from lotsim.errors import SettingsError
 from lotsim.io.result import result_dict
 from lotsim.sim.live import Live
+from oracles.sampled import footprints
 
 QUICKSTART = Path(__file__).resolve().parents[3] / "scenarios" / "quickstart.yaml"
 
@@ -41,19 +42,6 @@ def _stalled(prepared, car: str = "cy", at: float = 12.0, duration: float = 30.0
     return live.finish()
 
 
-def _feet(car: dict) -> np.ndarray:
-    s, ty = car["samples"], car["type"]
-    x, y, th = (np.asarray(s[k]) for k in ("x", "y", "theta"))
-    u = np.stack([np.cos(th), np.sin(th)], axis=1)
-    w = np.stack([-np.sin(th), np.cos(th)], axis=1)
-    c = np.stack([x, y], axis=1)
-    corners = [c + u * a + w * b for a, b in ((-ty["rear"], -ty["width"] / 2),
-                                              (ty["front"], -ty["width"] / 2),
-                                              (ty["front"], ty["width"] / 2),
-                                              (-ty["rear"], ty["width"] / 2))]
-    return shapely.polygons(np.stack(corners, axis=1))
-
-
 def test_a_stalled_car_stands_at_its_next_rest_for_the_stall_and_the_others_go_round(
         prepared):
     doc = result_dict(_stalled(prepared))
@@ -72,13 +60,13 @@ def test_a_stalled_car_stands_at_its_next_rest_for_the_stall_and_the_others_go_r
     assert cy["status"] == "parked" and t[-1] > st["t1"]  # it went on and parked
     # every car planned over where it stood was planned again, and none meets that ground
     # while it stands
-    ground = _feet(cy)[np.flatnonzero(during)[0]]
+    ground = footprints(cy)[np.flatnonzero(during)[0]]
     for other in doc["vehicles"]:
         if other["id"] == "cy" or not other["samples"]["t"]:
             continue
         to = np.asarray(other["samples"]["t"])
         near = (to >= st["t0"]) & (to <= st["t1"])
-        assert not shapely.intersects(_feet(other)[near], ground).any(), other["id"]
+        assert not shapely.intersects(footprints(other)[near], ground).any(), other["id"]
     assert {r["car"] for r in doc["disturbances"]["replans"]
             if r["why"] == "'cy' stalled in its way"} == {"dee"}
 
