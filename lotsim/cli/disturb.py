@@ -18,6 +18,9 @@ def add_arguments(r: argparse.ArgumentParser) -> None:
                    "(at most 1) as fast as planned, e.g. 0.8,1")
     g.add_argument("--stalls", metavar="RATE[,LO,HI]", help="RATE stalls an hour over the "
                    "lot, each LO to HI seconds long (default 30,120), e.g. 10,60,60")
+    g.add_argument("--repair-after", metavar="SECONDS", help="plan again a car held up on "
+                   "the lanes this long past its plan, when a sooner way is found (default "
+                   "30; 'never': it waits its turn)")
     g.add_argument("--disturbance-seed", type=int, metavar="N",
                    help="seed of what is drawn (default the run's)")
     g.add_argument("--no-disturbances", action="store_true",
@@ -38,11 +41,11 @@ def _numbers(option: str, text: str, counts: tuple[int, ...]) -> list[float] | s
 def disturbances(args: argparse.Namespace, scenario) -> api.Disturbances | None | str:
     """The disturbances the run is driven through (None: as planned), or what is wrong
     with the options."""
-    given = [args.late, args.speed, args.stalls, args.disturbance_seed]
+    given = [args.late, args.speed, args.stalls, args.repair_after, args.disturbance_seed]
     if args.no_disturbances:
         if any(x is not None for x in given):
             return ("--no-disturbances: drives the plan as planned; it cannot go with "
-                    "--late, --speed, --stalls or --disturbance-seed")
+                    "--late, --speed, --stalls, --repair-after or --disturbance-seed")
         return None
     spec = scenario.disturbances or api.Disturbances()
     kw: dict = {}
@@ -63,6 +66,12 @@ def disturbances(args: argparse.Namespace, scenario) -> api.Disturbances | None 
         kw["stall_rate"] = xs[0]
         if len(xs) == 3:
             kw["stall_duration"] = (xs[1], xs[2])
+    if args.repair_after is not None:
+        text = args.repair_after.strip()
+        try:
+            kw["repair_after"] = None if text == "never" else float(text)
+        except ValueError:
+            return f"--repair-after: expected seconds or never, found {text!r}"
     if args.disturbance_seed is not None:
         kw["seed"] = args.disturbance_seed
     try:
@@ -70,6 +79,7 @@ def disturbances(args: argparse.Namespace, scenario) -> api.Disturbances | None 
     except api.SettingsError as err:
         option = {"late_probability": "--late", "late_max": "--late", "speed": "--speed",
                   "stall_rate": "--stalls", "stall_duration": "--stalls",
+                  "repair_after": "--repair-after",
                   "seed": "--disturbance-seed"}.get(err.name, err.name)
         return f"{option}: {err.message}"
     return spec if spec.active else None
@@ -81,6 +91,8 @@ def summary(rr) -> str | None:
     if rec is None:
         return None
     parts = [f"{len(rec.late)} late starts", f"{len(rec.stalls)} stalls"]
+    if rec.repaired:
+        parts.append(f"{rec.repaired} cars held up planned again")
     if rec.moved:
         parts.append(f"{rec.moved} taken at the car's next stop")
     if rec.slowed:

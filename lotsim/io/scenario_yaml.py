@@ -294,7 +294,8 @@ def parse_animation(node: YNode) -> AnimationSpec:
     )
 
 
-DISTURBANCE_KEYS = ("late_starts", "speed", "stalls", "closures", "taken", "seed")
+DISTURBANCE_KEYS = ("late_starts", "speed", "stalls", "closures", "taken", "repair_after",
+                    "seed")
 """The keys of a ``disturbances`` section."""
 
 
@@ -339,9 +340,21 @@ def parse_disturbances(node: YNode, traffic: TrafficSpec | None, *,
             bays.append(TakenBay(b["slot"].ident(), b["time"].number(min=0, max=1e7),
                                  where=b["slot"].where))
         kw["taken"] = tuple(bays)
+    if "repair_after" in f:
+        kw["repair_after"] = _repair_after(f["repair_after"])
     if "seed" in f:
         kw["seed"] = f["seed"].integer(min=0, max=2**63 - 1)
     return Disturbances(**kw)
+
+
+def _repair_after(n: YNode) -> float | None:
+    """``repair_after``: seconds, or ``never`` (None)."""
+    if n.is_null or isinstance(n.node, yaml.ScalarNode) and n.node.value == "never":
+        return None
+    if isinstance(n.node, yaml.ScalarNode) and n.node.tag.endswith((":int", ":float")):
+        return n.number(min=1, max=MAX_LATE)
+    raise n.error(f"expected seconds (1 to {MAX_LATE:g}) or never, found "
+                  f"{getattr(n.node, 'value', '…')!r}")
 
 
 def _closure(n: YNode) -> Closure:

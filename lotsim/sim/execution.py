@@ -29,8 +29,10 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 import shapely
 
+from lotsim.sim import rerouting
 from lotsim.sim.repairs import LotChanges
 from lotsim.sim.results import RunResult, VehicleRun
+from lotsim.sim.standstills import Driven, Run, runs_of, stop_after
 from lotsim.traffic.disturbances import Disturbances, Drawn, Stall, draw
 from lotsim.traffic.plans import Move
 from lotsim.traffic.searchgraph import SearchGraphMemo, search_graph
@@ -45,29 +47,6 @@ that car has left [s]: after its last sample there, which is written to the micr
 MAX_ROUNDS = 10_000
 """Most times :func:`schedule` slows a pair of tied runs or moves a stall before it gives
 up (it never has on the shipped scenarios)."""
-
-
-@dataclass
-class Run:
-    """What one car drives from one standstill to the next: its moves ``first`` to
-    ``last`` (indices into the car's moves), planned from ``t0`` to ``t1`` [s]."""
-
-    car: int
-    index: int  # among the car's runs
-    first: int
-    last: int
-    t0: float
-    t1: float
-    factor: float = 1.0  # speed factor it is driven with
-    late: float = 0.0  # its start comes this late [s]
-    stall: float = 0.0  # the car stands this long more before it [s]
-    stalls: list[Stall] = field(default_factory=list)
-    in_slot: bool = False  # it sets off from a slot (a stall does not stop it there)
-
-    @property
-    def duration(self) -> float:
-        """Its executed duration [s]."""
-        return (self.t1 - self.t0) / self.factor
 
 
 @dataclass
@@ -86,6 +65,10 @@ class Execution:
     stalls : list of dict
         Each stall honoured: ``car``, ``t0``, ``t1`` (the car stood still throughout) and
         ``at`` (when it was to happen).
+    repaired : int
+        Cars planned again from where they stood, their wait for the plan's order grown
+        past :attr:`~lotsim.traffic.disturbances.Disturbances.repair_after` (each a
+        repair in the result's ``replans``).
     moved : int
         Stalls taken at the car's next standstill, since the one they fell at tied it to a
         car passing it both ways.
@@ -105,6 +88,7 @@ class Execution:
     speed: dict[str, float]
     late: list[dict]
     stalls: list[dict]
+    repaired: int = 0
     moved: int = 0
     dropped: int = 0
     slowed: int = 0
@@ -115,33 +99,10 @@ class Execution:
         """As ``result.json``'s ``disturbances`` holds it (``docs/result.md``)."""
         return {"settings": self.spec.as_dict(), "seed": self.seed,
                 "speed": {k: round(v, 6) for k, v in self.speed.items()},
-                "late": self.late, "stalls": self.stalls,
+                "late": self.late, "stalls": self.stalls, "repaired": self.repaired,
                 "stalls_moved": self.moved, "stalls_dropped": self.dropped,
                 "runs_slowed": self.slowed, "waited": round(self.waited, 4),
                 "planned": {k: round(v, 4) for k, v in self.planned.items()}}
-
-
-def runs_of(v: VehicleRun, car: int) -> list[Run]:
-    """``v``'s plan cut at every standstill. The first run begins where the car first
-    stands in the lot: a car that waits inside its gate before it drives holds its space
-    from then."""
-    out: list[Run] = []
-    moves = v.moves
-    head = None  # the first of the waits inside the gate before the first run
-    for k, m in enumerate(moves):
-        if m.motion is None:
-            if not out and m.kind == "wait" and head is None:
-                head = k
-            continue
-        prev = moves[k - 1] if k else None
-        if not out:
-            first = k if head is None else head
-            out.append(Run(car, 0, first, k, moves[first].t0, m.t1))
-        elif prev.motion is None or m.level_from == 0:
-            out.append(Run(car, len(out), k, k, m.t0, m.t1, in_slot=prev.kind == "parked"))
-        else:
-            out[-1].last, out[-1].t1 = k, m.t1
-    return out
 
 
 def execute(rr: RunResult, spec: Disturbances, *, memo: SearchGraphMemo | None = None
@@ -172,35 +133,56 @@ def execute(rr: RunResult, spec: Disturbances, *, memo: SearchGraphMemo | None =
         ends = [r.t1 for r in rs if not r.in_slot] or [math.nan]
         spans.append((v.id, len(rs), rs[0].t0 if rs else math.nan, max(ends)))
     drawn = draw(spec, spans, rng)
-    flat = [r for rs in runs for r in rs]
     _apply(drawn, cars, runs)
     _stalled_live(rr, runs)
-    chunks = _chunks(rr, runs, memo)
-    tree = shapely.STRtree(chunks.geoms)
-    src, dst, alpha, beta = _orders(chunks, tree)
     rec = Execution(spec, seed, drawn.speed, [], [], planned=rr.trip_figures())
-    starts = schedule(flat, src, dst, alpha, beta, runs, rec)
-    executed = [retimed(v, rs, starts) for v, rs in zip(cars, runs, strict=True)]
-    for v, rs in zip(cars, runs, strict=True):
+    driven = _drive(rr, cars, runs, rr.lot_changes, memo, rec)
+    replans = [] if rr.lot_changes is None else list(rr.lot_changes.replans)
+    if spec.repair_after is not None:
+        driven = rerouting.repair_waits(
+            driven, spec.repair_after, replans,
+            lambda plan, rs, changes: _drive(rr, plan, rs, changes, memo, rec),
+            rerouting.Context(rr, memo, drawn.speed))
+        rec.repaired = driven.repaired
+        rec.dropped += driven.stalls_dropped
+    for v, rs in zip(driven.executed, driven.runs, strict=True):
         for r in rs:
-            s = starts[id(r)]
-            if r.late > 0:
-                rec.late.append({"car": v.id, "t": round(s, 6), "by": round(r.late, 6)})
+            s = driven.starts[id(r)]
+            if r.late_by > 0:
+                rec.late.append({"car": v.id, "t": round(s, 6), "by": round(r.late_by, 6)})
             if r.stalls:  # from where it came to rest, one stall after the other
                 before = rs[r.index - 1]
-                t = starts[id(before)] + before.duration
+                t = driven.starts[id(before)] + before.duration
                 for st in r.stalls:
                     rec.stalls.append({"car": v.id, "t0": round(t, 6),
                                        "t1": round(t + st.duration, 6), "at": st.at})
                     t += st.duration
-    rec.waited = sum(_stood(v) for v in executed) - sum(_stood(v) for v in cars)
-    changes = (None if rr.lot_changes is None
-               else _changes_driven(rr.lot_changes, chunks, tree, flat, starts, cars))
-    out = RunResult(rr.scenario, rr.lot_graph, rr.settings, rr.seed, executed,
+    rec.waited = sum(_stood(v) for v in driven.executed) - sum(_stood(v) for v in cars)
+    changes = driven.changes
+    if changes is None and len(replans):
+        changes = LotChanges([], [], [])
+    if changes is not None:
+        changes = replace(changes, replans=sorted(replans, key=lambda p: p.t))
+    out = RunResult(rr.scenario, rr.lot_graph, rr.settings, rr.seed, driven.executed,
                     rr.planning_time, ordering=rr.ordering, motion_time=rr.motion_time,
                     lot_changes=changes)
     out.execution = rec
     return out
+
+
+def _drive(rr: RunResult, cars: list[VehicleRun], runs: list[list[Run]],
+           changes: LotChanges | None, memo: SearchGraphMemo | None, rec: Execution) -> Driven:
+    """Drive ``cars``' plans, cut into ``runs``, keeping every order they pass the lot's
+    pieces in."""
+    flat = [r for rs in runs for r in rs]
+    chunks = _chunks(rr, cars, runs, memo)
+    tree = shapely.STRtree(chunks.geoms)
+    src, dst, alpha, beta = _orders(chunks, tree)
+    starts = schedule(flat, src, dst, alpha, beta, runs, rec)
+    executed = [retimed(v, rs, starts) for v, rs in zip(cars, runs, strict=True)]
+    met = (None if changes is None
+           else _changes_driven(changes, chunks, tree, flat, starts, cars))
+    return Driven(cars, runs, starts, executed, met)
 
 
 def _changes_driven(changes: LotChanges, ch: _Chunks, tree: shapely.STRtree, flat: list[Run],
@@ -236,12 +218,12 @@ def _apply(drawn: Drawn, cars: list[VehicleRun], runs: list[list[Run]]) -> None:
         lates = drawn.late.get(v.id, [])
         for r, late in zip(rs, lates, strict=False):
             r.factor = drawn.speed.get(v.id, 1.0)
-            r.late = late
+            r.late = r.late_by = late
     for st in drawn.stalls:
         c = index.get(st.car)
         if c is None:
             continue
-        r = _stop_after(runs[c], st.at)
+        r = stop_after(runs[c], st.at)
         if r is not None:
             r.stall += st.duration
             r.stalls.append(st)
@@ -262,13 +244,6 @@ def _stalled_live(rr: RunResult, runs: list[list[Run]]) -> None:
             r.stalls.append(Stall(st.car, st.at, st.duration))
 
 
-def _stop_after(rs: list[Run], t: float) -> Run | None:
-    """The run that sets off from the first standstill on the lanes at or after ``t`` [s]
-    (by the plan): not the car's first (it sets off from its gate) nor one out of its
-    slot."""
-    return next((r for r in rs[1:] if not r.in_slot and rs[r.index - 1].t1 >= t - EPS), None)
-
-
 @dataclass
 class _Chunks:
     t0: np.ndarray
@@ -279,14 +254,17 @@ class _Chunks:
     run_t0: np.ndarray  # by flat run index
 
 
-def _chunks(rr: RunResult, runs: list[list[Run]], memo: SearchGraphMemo | None) -> _Chunks:
-    """Every chunk the plan's moves sweep, in plan time, with its run and car."""
+def _chunks(rr: RunResult, cars: list[VehicleRun], runs: list[list[Run]],
+            memo: SearchGraphMemo | None) -> _Chunks:
+    """Every chunk the plan's moves sweep, in plan time, with its run and car (a move
+    driven slower than its edge's motion, in a plan driven before, sweeps the same hulls
+    over times stretched alike)."""
     lg = rr.lot_graph
     graphs = {}
     t0, t1, run, car, geoms = [], [], [], [], []
     flat_index = 0
     run_t0 = []
-    for c, (v, rs) in enumerate(zip(rr.vehicles, runs, strict=True)):
+    for c, (v, rs) in enumerate(zip(cars, runs, strict=True)):
         name = v.vehicle.name
         if name not in graphs and rs:
             graphs[name] = search_graph(lg, v.vehicle, memo, settings=rr.settings.search)
@@ -296,8 +274,14 @@ def _chunks(rr: RunResult, runs: list[list[Run]], memo: SearchGraphMemo | None) 
                 if m.motion is None:  # waiting inside its gate
                     rows = [((0.0, m.t1 - m.t0), standing_body(v.vehicle, m.end_pose))]
                 else:
-                    sw = graphs[name].motion(m.edge, m.level_from, m.level_to).swept
-                    rows = zip(sw.rows, sw.geoms, strict=True)
+                    em = graphs[name].motion(m.edge, m.level_from, m.level_to)
+                    sw = em.swept
+                    stretch = (m.t1 - m.t0) / em.duration if em.duration > 0 else 1.0
+                    if abs(stretch - 1.0) < 1e-9:  # driven as its edge's motion
+                        rows = zip(sw.rows, sw.geoms, strict=True)
+                    else:
+                        rows = (((a * stretch, b * stretch), g)
+                                for (a, b, *_), g in zip(sw.rows, sw.geoms, strict=True))
                 for (a, b, *_), g in rows:
                     t0.append(m.t0 + a)
                     t1.append(m.t0 + b)

@@ -95,12 +95,7 @@ class EventLoop:
         self._counted: dict[str, int] = {}
         self._exits: dict[tuple, ReverseResumable] = {}  # by type and closures open
         self._heuristics: OrderedDict[tuple, ReverseResumable] = OrderedDict()
-        parked = scenario.parked_vehicle
-        for sid in sorted(lg.lot.occupied):
-            slot = lg.lot.slot_by_id[sid]
-            pose = slot.centered_pose(parked.front, parked.rear)
-            self.table.reserve_standing(f"parked:{sid}", standing_body(parked, pose), -math.inf,
-                                        in_slot=True)
+        self.reserve_parked()
         self._last: float | None = None  # the latest arrival [s]
         self._longest = 0.0  # the longest dwell [s]
         self.end_time = self.patience + 3600.0
@@ -117,6 +112,15 @@ class EventLoop:
                 a = traffic[index[vid]]
                 batch = first if math.isinf(h) else first + math.floor((a.time - first) / h) * h
                 self.at(batch, "arrive", index[vid])
+
+    def reserve_parked(self) -> None:
+        """Hold the cars parked in the lot's occupied slots, from the start for ever."""
+        parked = self.scenario_parked
+        for sid in sorted(self.lg.lot.occupied):
+            slot = self.lg.lot.slot_by_id[sid]
+            pose = slot.centered_pose(parked.front, parked.rear)
+            self.table.reserve_standing(f"parked:{sid}", standing_body(parked, pose), -math.inf,
+                                        in_slot=True)
 
     def enter(self, a: Arrival) -> int:
         """Take ``a`` into the run (its arrival event is the caller's to schedule); its

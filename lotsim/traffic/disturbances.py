@@ -23,6 +23,9 @@ MAX_STALL_RATE = 3600.0
 """Most stalls an hour."""
 MAX_TIME = 1e9
 """Latest time a disturbance may be set at [s]."""
+REPAIR_AFTER = 30.0
+"""How long a car held up on the lanes waits past its plan before it is planned again, by
+default [s] (:attr:`Disturbances.repair_after`)."""
 
 
 @dataclass(frozen=True, slots=True)
@@ -121,6 +124,11 @@ class Disturbances:
         Aisles and gates closed over an interval.
     taken : tuple of TakenBay
         Bays taken by cars the plan does not know.
+    repair_after : float or None
+        A car at rest on the lanes that has waited this long [s] past the moment its plan
+        had it set off (held up by the cars the plan has pass before it) is planned again
+        from where it stands, and takes the new way when it brings it to its slot, or out,
+        sooner (:mod:`lotsim.sim.rerouting`); 1 to 3600, or None: it always waits its turn.
     seed : int or None
         Seed of the generator the random parts are drawn from (None: the run's seed).
 
@@ -142,6 +150,7 @@ class Disturbances:
     stalls: tuple[Stall, ...] = ()
     closures: tuple[Closure, ...] = ()
     taken: tuple[TakenBay, ...] = ()
+    repair_after: float | None = REPAIR_AFTER
     seed: int | None = None
 
     def __post_init__(self) -> None:
@@ -153,6 +162,9 @@ class Disturbances:
         checks += _pair("stall_duration", self.stall_duration, 0.0, MAX_STALL)
         if self.seed is not None:
             checks.append(("seed", range_problem(self.seed, 0, 2**63 - 1, integer=True)))
+        if self.repair_after is not None:
+            checks.append(("repair_after", range_problem(self.repair_after, 1, MAX_LATE,
+                                                         " seconds")))
         for name, kind in (("stalls", Stall), ("closures", Closure), ("taken", TakenBay)):
             value = getattr(self, name)
             if not isinstance(value, (tuple, list)) or not all(
@@ -161,6 +173,8 @@ class Disturbances:
         raise_first([(k, m) for k, m in checks if m is not None])
         for name in ("late_probability", "late_max", "stall_rate"):
             set_field(self, name, float(getattr(self, name)))
+        if self.repair_after is not None:
+            set_field(self, "repair_after", float(self.repair_after))
         set_field(self, "speed", tuple(float(x) for x in self.speed))
         set_field(self, "stall_duration", tuple(float(x) for x in self.stall_duration))
         for name in ("stalls", "closures", "taken"):
@@ -188,7 +202,7 @@ class Disturbances:
                 "closures": [{"kind": c.kind, "id": c.id, "start": c.start, "end": c.end}
                              for c in self.closures],
                 "taken": [{"slot": b.slot, "at": b.at} for b in self.taken],
-                "seed": self.seed}
+                "repair_after": self.repair_after, "seed": self.seed}
 
 
 def _pair(name: str, value, lo: float, hi: float) -> list[tuple[str, str | None]]:

@@ -52,12 +52,14 @@ def test_a_bad_section_is_told_at_its_line_and_column(section, key, token, words
 def test_run_drives_the_plan_through_the_options_and_check_verifies_it(tmp_path, capsys):
     out = tmp_path / "o"
     code = main(["run", "scenarios/mixed_lot.yaml", "-o", str(out), "--no-gif",
-                 "--late", "0.2,4", "--stalls", "20,40,40", "--disturbance-seed", "5"])
+                 "--late", "0.2,4", "--stalls", "20,40,40", "--repair-after", "12",
+                 "--disturbance-seed", "5"])
     assert code == 0
     said = capsys.readouterr().out
     doc = json.loads((out / "result.json").read_text())
     rec = doc["disturbances"]
     assert rec["seed"] == 5 and rec["settings"]["stall_rate"] == 20.0
+    assert rec["settings"]["repair_after"] == 12.0 and rec["repaired"] >= 0
     assert rec["stalls"] and all(s["t1"] - s["t0"] == pytest.approx(40.0)
                                  for s in rec["stalls"])
     assert f"{len(rec['late'])} late starts, {len(rec['stalls'])} stalls" in said
@@ -81,6 +83,8 @@ def test_no_disturbances_drives_the_scenarios_own_as_planned(tmp_path):
     (["--late", "2,5"], "--late: expected 0 to 1, found 2"),
     (["--speed", "0,1"], "--speed: expected 0.1 to 1, found 0"),
     (["--stalls", "5,9"], "--stalls: expected 1 or 3 numbers"),
+    (["--repair-after", "soon"], "--repair-after: expected seconds or never, found 'soon'"),
+    (["--repair-after", "0"], "--repair-after: expected 1 to 3600 seconds, found 0"),
     (["--no-disturbances", "--late", "0.1,2"], "--no-disturbances: drives the plan as "
                                                "planned; it cannot go with --late"),
 ])
