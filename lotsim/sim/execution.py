@@ -141,7 +141,8 @@ def execute(rr: RunResult, spec: Disturbances, *, memo: SearchGraphMemo | None =
     if spec.repair_after is not None:
         driven = rerouting.repair_waits(
             driven, spec.repair_after, replans,
-            lambda plan, rs, changes: _drive(rr, plan, rs, changes, memo, rec),
+            lambda plan, rs, before, c: _drive(rr, plan, rs, before.changes, memo, rec,
+                                               before, c),
             rerouting.Context(rr, memo, drawn.speed))
         rec.repaired = driven.repaired
         rec.dropped += driven.stalls_dropped
@@ -171,18 +172,23 @@ def execute(rr: RunResult, spec: Disturbances, *, memo: SearchGraphMemo | None =
 
 
 def _drive(rr: RunResult, cars: list[VehicleRun], runs: list[list[Run]],
-           changes: LotChanges | None, memo: SearchGraphMemo | None, rec: Execution) -> Driven:
+           changes: LotChanges | None, memo: SearchGraphMemo | None, rec: Execution,
+           before: Driven | None = None, changed: int = -1) -> Driven:
     """Drive ``cars``' plans, cut into ``runs``, keeping every order they pass the lot's
-    pieces in."""
+    pieces in. ``before``: the drive whose executed cars are these, but for car
+    ``changed``'s (planned again): the chunks of the others that meet are those that met
+    there (the same hulls, at other times), and only the changed car's are looked for."""
     flat = [r for rs in runs for r in rs]
     chunks = _chunks(rr, cars, runs, memo)
     tree = shapely.STRtree(chunks.geoms)
-    src, dst, alpha, beta = _orders(chunks, tree)
+    a, b = (_meeting(chunks, tree) if before is None or before.chunks is None
+            else _meeting_again(chunks, tree, before.chunks, before.meets, changed))
+    src, dst, alpha, beta = _orders(chunks, a, b)
     starts = schedule(flat, src, dst, alpha, beta, runs, rec)
     executed = [retimed(v, rs, starts) for v, rs in zip(cars, runs, strict=True)]
     met = (None if changes is None
            else _changes_driven(changes, chunks, tree, flat, starts, cars))
-    return Driven(cars, runs, starts, executed, met)
+    return Driven(cars, runs, starts, executed, met, chunks=chunks, meets=(a, b))
 
 
 def _changes_driven(changes: LotChanges, ch: _Chunks, tree: shapely.STRtree, flat: list[Run],
@@ -295,13 +301,11 @@ def _chunks(rr: RunResult, cars: list[VehicleRun], runs: list[list[Run]],
                    np.array(car, dtype=int), arr, np.array(run_t0))
 
 
-def _orders(ch: _Chunks, tree: shapely.STRtree) -> tuple[np.ndarray, ...]:
-    """For every two chunks of two cars that meet: the run passing first (``src``), the
-    one passing after (``dst``), how far into its run the first leaves its chunk
-    (``alpha``) and how far into its run the second enters its own (``beta``) [s]."""
+def _meeting(ch: _Chunks, tree: shapely.STRtree) -> tuple[np.ndarray, np.ndarray]:
+    """Every two chunks of two cars that meet, as index arrays."""
     if not len(ch.geoms):
-        z = np.zeros(0)
-        return z.astype(int), z.astype(int), z, z
+        z = np.zeros(0, dtype=int)
+        return z, z
     # boxes first (cheap), then the exact test only for chunks of two cars: most boxes that
     # meet are a car's own chunks one after another
     a, b = tree.query(ch.geoms)
@@ -309,7 +313,48 @@ def _orders(ch: _Chunks, tree: shapely.STRtree) -> tuple[np.ndarray, ...]:
     a, b = a[keep], b[keep]
     shapely.prepare(ch.geoms)  # each chunk is tested against many
     meet = shapely.intersects(ch.geoms[a], ch.geoms[b])
-    a, b = a[meet], b[meet]
+    return a[meet], b[meet]
+
+
+def _meeting_again(ch: _Chunks, tree: shapely.STRtree, old: _Chunks,
+                   meets: tuple[np.ndarray, np.ndarray], changed: int
+                   ) -> tuple[np.ndarray, np.ndarray]:
+    """:func:`_meeting` of ``ch``, whose cars' chunks are ``old``'s but for car
+    ``changed``'s: the others' pairs carried over, the changed car's looked for."""
+    n_cars = int(max(ch.car.max(initial=-1), old.car.max(initial=-1))) + 1
+    count_new = np.bincount(ch.car, minlength=n_cars)
+    count_old = np.bincount(old.car, minlength=n_cars)
+    same = np.ones(n_cars, dtype=bool)
+    same[changed] = False
+    if not np.array_equal(count_new[same], count_old[same]):
+        return _meeting(ch, tree)  # (never so far: a car's chunks are its plan's)
+    off_new = np.concatenate([[0], np.cumsum(count_new)[:-1]])
+    off_old = np.concatenate([[0], np.cumsum(count_old)[:-1]])
+    a, b = meets
+    keep = (old.car[a] != changed) & (old.car[b] != changed)
+    a, b = a[keep], b[keep]
+    a = a - off_old[old.car[a]] + off_new[old.car[a]]
+    b = b - off_old[old.car[b]] + off_new[old.car[b]]
+    mine = np.flatnonzero(ch.car == changed)
+    if len(mine):
+        i, j = tree.query(ch.geoms[mine])
+        i = mine[i]
+        other = ch.car[j] != changed
+        i, j = i[other], j[other]
+        shapely.prepare(ch.geoms)
+        meet = shapely.intersects(ch.geoms[i], ch.geoms[j])
+        a = np.concatenate([a, i[meet]])
+        b = np.concatenate([b, j[meet]])
+    return a, b
+
+
+def _orders(ch: _Chunks, a: np.ndarray, b: np.ndarray) -> tuple[np.ndarray, ...]:
+    """For every two chunks ``a``, ``b`` of two cars that meet: the run passing first
+    (``src``), the one passing after (``dst``), how far into its run the first leaves its
+    chunk (``alpha``) and how far into its run the second enters its own (``beta``) [s]."""
+    if not len(a):
+        z = np.zeros(0)
+        return z.astype(int), z.astype(int), z, z
     a_first = ch.t1[a] <= ch.t0[b] + EPS
     b_first = ch.t1[b] <= ch.t0[a] + EPS
     # no two chunks that meet share a moment (the reservation table saw to it); were some

@@ -49,12 +49,11 @@ NONE_FOUND = "none found: it waits its turn"
 
 
 def repair_waits(driven: Driven, after: float, replans: list[Replan],
-                 drive: Callable[[list[VehicleRun], list[list[Run]], LotChanges | None],
-                                 Driven],
+                 drive: Callable[[list[VehicleRun], list[list[Run]], Driven, int], Driven],
                  context: Context) -> Driven:
     """``driven`` with every wait longer than ``after`` [s] repaired where a sooner way
     was found, earliest first; each attempt appended to ``replans``. ``drive`` drives a
-    plan again."""
+    plan again: the cars as a drive executed them, but for one planned again."""
     tried: set[tuple[str, int]] = set()
     dropped: list = []
     done = 0
@@ -77,7 +76,7 @@ def repair_waits(driven: Driven, after: float, replans: list[Replan],
         runs = [_carried(runs_of(u, k), driven.runs[k], k == c, j, t_rest,
                          context.speed.get(v.id, 1.0), dropped)
                 for k, u in enumerate(plan)]
-        driven = drive(plan, runs, driven.changes)
+        driven = drive(plan, runs, driven, c)
         done += 1
     return dataclasses.replace(driven, repaired=done, stalls_dropped=len(dropped))
 

@@ -6,6 +6,7 @@ its disturbances (:mod:`lotsim.sim.execution`), and a plan so driven
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from typing import Any
 
 from lotsim.sim.repairs import LotChanges
 from lotsim.sim.results import VehicleRun
@@ -82,5 +83,7 @@ class Driven:
     starts: dict[int, float]
     executed: list[VehicleRun]
     changes: LotChanges | None
+    chunks: Any = None  # what the plan's moves sweep (execution._Chunks)
+    meets: Any = None  # the pairs of chunks of two cars that meet, as index arrays
     repaired: int = 0  # cars planned again on their way (lotsim.sim.rerouting)
     stalls_dropped: int = 0  # stalls those cars' new ways had no place of rest for
