@@ -10,6 +10,7 @@ from dataclasses import dataclass, field
 from lotsim.core.diskcache import LOADED
 from lotsim.lot.model import PAVEMENT_EDGE
 from lotsim.lot.pavement import loose_ends
+from lotsim.lot.uses import USES, refused_bays
 from lotsim.roadmap.reach import Reachability
 from lotsim.sim.preparation import PreparedLot
 from lotsim.sim.repairs import check_lot_events
@@ -57,10 +58,26 @@ class ValidationReport:
         return self.prepared.infeasible
 
     @property
+    def refused(self) -> dict[str, dict[str, str]]:
+        """Vehicle type → bay id → why the scenario's rule of uses keeps the type out of the
+        bay (an accessible bay and a type not marked so, ...): part of :attr:`infeasible`,
+        by design, not a fault of the layout."""
+        return refused_bays(self.prepared.lot.slots, self.prepared.scenario.vehicle_types)
+
+    @property
+    def misfits(self) -> dict[str, dict[str, str]]:
+        """:attr:`infeasible` without :attr:`refused`: the bays a type may use but cannot
+        park in."""
+        refused = self.refused
+        return {name: {sid: why for sid, why in slots.items()
+                       if sid not in refused.get(name, {})}
+                for name, slots in self.infeasible.items()}
+
+    @property
     def complete(self) -> bool:
-        """Every free slot and exit can be reached and every type can park in every slot:
-        what ``lotsim validate --strict`` requires."""
-        return (self.reachability.ok and not any(self.infeasible.values())
+        """Every free slot and exit can be reached and every type can park in every slot
+        its use lets it use: what ``lotsim validate --strict`` requires."""
+        return (self.reachability.ok and not any(self.misfits.values())
                 and not self.turned_away)
 
     @property
@@ -172,8 +189,16 @@ class ValidationReport:
         if taken == len(lot.slots) and scenario.traffic is not None:
             lines.append("  warning: no slot is free: every car will be turned away (the lot "
                          "is full)")
+        free_ids = {s.id for s in lot.free_slots}
+        for vname, slots in self.refused.items():
+            bays = [sid for sid in slots if sid in free_ids]
+            if bays:
+                uses = ", ".join(dict.fromkeys(USES[lot.slot_by_id[sid].use].label
+                                               for sid in sorted(bays, key=natural)))
+                lines.append(f"  note: {vname} may not use {_n(bays, 'free bay')} by their "
+                             f"use ({uses}): {_ids(bays)}")
         if planner is not None:
-            for vname, slots in lg.infeasible.items():
+            for vname, slots in self.misfits.items():
                 if not slots:
                     continue
                 lines.append(f"  warning: {vname} cannot park in "
