@@ -12,6 +12,7 @@ from lotsim.lot.model import PAVEMENT_EDGE
 from lotsim.lot.pavement import loose_ends
 from lotsim.lot.uses import USES, refused_bays
 from lotsim.roadmap.reach import Reachability
+from lotsim.sim.bays import BayReport, bay_report, bay_schedule, schedule_csv
 from lotsim.sim.preparation import PreparedLot
 from lotsim.sim.repairs import check_lot_events
 from lotsim.sim.running import check_traffic, turned_away, unfit
@@ -56,6 +57,24 @@ class ValidationReport:
     def infeasible(self) -> dict[str, dict[str, str]]:
         """Vehicle type → slot id → why that type cannot park there."""
         return self.prepared.infeasible
+
+    @property
+    def bays(self) -> BayReport:
+        """The lot's bays by use, checked against its standard (``lot.standard``, ADA 2010
+        by default), with each accessible bay's walk to the nearest building entrance
+        (:func:`~lotsim.sim.bays.bay_report`)."""
+        spec = self.prepared.scenario.lot
+        return bay_report(self.prepared.lot, spec.standard,
+                          [(b.id, b.point) for b in spec.building_entrances])
+
+    def schedule(self) -> list[dict]:
+        """The lot's bay schedule: a line per row, use and size
+        (:func:`~lotsim.sim.bays.bay_schedule`)."""
+        return bay_schedule(self.prepared.lot, rows_of(self.prepared))
+
+    def schedule_csv(self) -> str:
+        """:meth:`schedule` as the CSV ``lotsim validate --schedule`` writes."""
+        return schedule_csv(self.schedule(), lambda ids: id_ranges(ids, most=len(ids)))
 
     @property
     def refused(self) -> dict[str, dict[str, str]]:
@@ -150,11 +169,12 @@ class ValidationReport:
         """What ``lotsim validate --json`` writes of this lot, as plain data: the file,
         the scenario's name, :attr:`complete`, the slots free, per type the free slots it
         can use (:meth:`usable`) and those it cannot, by row, with why (:meth:`unusable`),
-        why cars of a type would be turned away, and the summary's warnings."""
+        why cars of a type would be turned away, the bays by use and their standard's
+        check (:attr:`bays`), and the summary's warnings."""
         return {"source": self.source, "scenario": self.name, "complete": self.complete,
                 "free_slots": len(self.prepared.lot.free_slots), "usable": self.usable(),
                 "unusable": self.unusable(), "turned_away": dict(self.turned_away),
-                "warnings": self.warnings}
+                "bays": self.bays.as_dict(), "warnings": self.warnings}
 
     def summary(self, *, verbose: bool = False) -> str:
         """What ``lotsim validate`` prints for this scenario (``verbose``: also how the
@@ -173,6 +193,7 @@ class ValidationReport:
         lines = [
             f"{self.source}: {self.verdict} — {scenario.name}",
             f"  slots: {len(lot.slots)} ({kinds}); free {len(lot.slots) - taken}, taken {taken}",
+            *self.bays.lines(),
             "  vehicle types: "
             + "; ".join(
                 f"{v.name} (L {v.length:.2f} m, W {v.width:.2f} m, "
