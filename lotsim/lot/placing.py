@@ -170,14 +170,19 @@ def _row_slots(row: RowSpec, index: int, aisles: dict[str, Aisle]
         return out, beside
     for k in range(0, row.count, 2):
         pair = out[k:k + 2]
-        at = row.start + k * pitch + (k + 1) // 2 * step + k // 2 * row.gap + pitch
-        what = f"the access aisle after slot {pair[0].id!r} of lot.rows[{index}]"
+        at = row.start + k * pitch + (k + 1) // 2 * step + k // 2 * row.gap
+        what = f"slot {pair[0].id!r} of lot.rows[{index}]"
         origin, u, n, heading = _slot_frame(
-            aisle, row.side, at, at + rules.frontage(wide, row.slot_length, row.angle),
-            row.where, what)
-        poly, _, _ = rules.place(origin, u, n, heading, at, wide, row.slot_length, row.angle,
-                                 toward_traffic=row.side == "right" or aisle.one_way)
-        beside.append(AccessAisle(f"access-{pair[0].id}", ccw(poly),
+            aisle, row.side, at, at + rules.frontage(row.slot_width, row.slot_length,
+                                                     row.angle), row.where, what)
+        poly, _, _ = rules.place(origin, u, n, heading, at, row.slot_width, row.slot_length,
+                                 row.angle, toward_traffic=row.side == "right" or aisle.one_way)
+        # between this bay's far long side and the near long side of the next (as it
+        # stands, or would): in an angled row the bays' ends are staggered, so is the aisle
+        a, b, along = poly[0], poly[1], poly[3] - poly[0]
+        nxt = b + (pitch + step) * u
+        beside.append(AccessAisle(f"access-{pair[0].id}",
+                                  ccw(np.array([a, a + along, nxt + along, nxt])),
                                   tuple(s.id for s in pair), wide, row.where))
     return out, beside
 
