@@ -163,3 +163,27 @@ def test_a_schedule_that_cannot_be_written_is_bad_input(tmp_path, capsys):
                  ]) == 2
     assert "--schedule" in capsys.readouterr().err
     assert main(["validate", str(STOREFRONT), "--schedule", str(tmp_path / "x.txt")]) == 2
+
+
+def bays_section() -> str:
+    page = (ROOT / "docs" / "scenario.md").read_text(encoding="utf-8")
+    return page.split("## Bays by use", 1)[1].split("\n## ", 1)[0]
+
+
+def test_the_scenario_page_shows_the_storefront_as_shipped():
+    shown = bays_section().split("```yaml\n", 1)[1].split("```", 1)[0]
+    assert shown == STOREFRONT.read_text(encoding="utf-8")
+
+
+def test_the_scenario_page_shows_what_validate_says_of_an_aisle_on_a_bay(
+        tmp_path, monkeypatch, capsys):
+    said = bays_section().split("\n```\nlotsim: ", 1)[1].split("\n```", 1)[0]
+    text = STOREFRONT.read_text(encoding="utf-8")
+    for old, new in (("count: 2, slot_width: 2.5", "count: 3, slot_width: 2.5"),
+                     ("start: 15.0, id_prefix: V", "start: 17.1, id_prefix: V")):
+        assert text.count(old) == 1
+        text = text.replace(old, new)
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "lot.yaml").write_text(text, encoding="utf-8")
+    assert main(["validate", "lot.yaml"]) == 2
+    assert capsys.readouterr().err == f"lotsim: {said}\n"
