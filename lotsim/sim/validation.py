@@ -193,7 +193,6 @@ class ValidationReport:
         lines = [
             f"{self.source}: {self.verdict} — {scenario.name}",
             f"  slots: {len(lot.slots)} ({kinds}); free {len(lot.slots) - taken}, taken {taken}",
-            *self.bays.lines(),
             "  vehicle types: "
             + "; ".join(
                 f"{v.name} (L {v.length:.2f} m, W {v.width:.2f} m, "
@@ -206,6 +205,7 @@ class ValidationReport:
             f"{_n(kinds_of['turnaround'], 'turnaround')})",
             f"  entrances: {', '.join(lg.entrances) or 'none'}; "
             f"exits: {', '.join(lg.exits) or 'none (vehicles cannot leave)'}",
+            *self.bays.lines(),
         ]
         if taken == len(lot.slots) and scenario.traffic is not None:
             lines.append("  warning: no slot is free: every car will be turned away (the lot "
