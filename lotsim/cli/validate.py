@@ -19,7 +19,7 @@ from lotsim.cli.output import (
     problem_lines,
 )
 from lotsim.cli.progress import Preparing, ProgressBar
-from lotsim.errors import ScenarioError
+from lotsim.errors import OutputError, ScenarioError
 
 HELP = "check scenario files and summarise each lot"
 EXITS = ("0 every file is a valid scenario; 1 with --strict, a free slot or exit cannot be "
@@ -41,6 +41,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--json", metavar="FILE.json",
                         help="write, for each file, per vehicle type the free slots it can "
                         "use and those it cannot, by row, with why, as JSON")
+    parser.add_argument("--schedule", metavar="FILE.csv",
+                        help="write the bay schedule of the (one) scenario: a line per row, "
+                        "use and size, with the count, the bays, length and width [m], "
+                        "angle [°] and the access aisles, as CSV")
     where = parser.add_mutually_exclusive_group()
     where.add_argument("--jobs", type=int, metavar="N",
                        help="validate N files at once on local processes, each lot on one "
@@ -57,6 +61,13 @@ def execute(args: argparse.Namespace) -> int:
         problem = output_problem("--json", args.json, ".json")
         if problem is not None:
             return bad(problem)
+    if args.schedule is not None:
+        problem = output_problem("--schedule", args.schedule, ".csv")
+        if problem is not None:
+            return bad(problem)
+        if len(args.scenarios) != 1 or args.jobs is not None or args.scheduler is not None:
+            return bad("--schedule: expected one scenario, validated here (no --jobs or "
+                       "--scheduler)")
     if args.jobs is not None or args.scheduler is not None:
         return _many(args)
     worst = EXIT_OK
@@ -75,7 +86,26 @@ def execute(args: argparse.Namespace) -> int:
             print(api.unusable_text(answers[-1]))
         if args.strict and not report.complete:
             worst = max(worst, EXIT_INCOMPLETE)
+        if args.schedule is not None:
+            written = _schedule(args.schedule, report.schedule_csv())
+            if written:
+                return written
     return _written(args.json, answers) or worst
+
+
+def _schedule(path: str, text: str) -> int:
+    """Write the bay schedule whole or not at all: 0, or the exit code of bad input."""
+    try:
+        with api.OutputSet() as outputs:
+            staged = outputs.file(path, name=f"--schedule {path}")
+            staged.write_text(text, encoding="utf-8")
+            outputs.commit()
+    except OutputError as exc:
+        return bad(str(exc))
+    except OSError as exc:
+        return cannot_write(path, exc)
+    print(f"wrote {path}")
+    return EXIT_OK
 
 
 def _written(path: str | None, answers: list[dict]) -> int:

@@ -23,6 +23,8 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+from lotsim.lot.uses import STANDARD, USES
+
 
 @dataclass(frozen=True, slots=True)
 class CadLayer:
@@ -53,20 +55,15 @@ class CadLayer:
     linetype: str = "Continuous"
 
 
-STANDARD = "standard"
-"""The use of every bay of today's lots."""
+_BAY_LAYER_NAMES = {STANDARD: ("C-PRKG", "NCS"), "compact": ("C-PRKG-CMPT", "lotsim"),
+                    "accessible": ("C-PRKG-ACCS", "lotsim"),
+                    "van_accessible": ("C-PRKG-ACCV", "lotsim"),
+                    "ev": ("C-PRKG-EVCH", "lotsim"), "motorcycle": ("C-PRKG-MCYC", "lotsim")}
 
-BAY_USES: tuple[tuple[str, str, str], ...] = (
-    (STANDARD, "C-PRKG", "NCS"),
-    ("compact", "C-PRKG-CMPT", "lotsim"),
-    ("accessible", "C-PRKG-ACCS", "lotsim"),
-    ("van_accessible", "C-PRKG-ACCV", "lotsim"),
-    ("ev", "C-PRKG-EVCH", "lotsim"),
-    ("motorcycle", "C-PRKG-MCYC", "lotsim"),
-)
-"""Each use of bay → the layer its bays are drawn on, and whose name that is. Every bay of
-today's lots is of standard use; the others are the layers bays of those uses go on when a
-lot has them."""
+BAY_USES: tuple[tuple[str, str, str], ...] = tuple(
+    (use, *_BAY_LAYER_NAMES[use]) for use in USES)
+"""Each use of bay (:data:`lotsim.lot.uses.USES`, in its order) → the layer its bays are
+drawn on, and whose name that is."""
 
 BAY_LAYERS: dict[str, str] = {use: name for use, name, _ in BAY_USES}
 """Use of bay → its layer (:data:`BAY_USES`)."""
@@ -87,9 +84,12 @@ LAYERS: tuple[CadLayer, ...] = (
     CadLayer("arrow", "C-PRKG-ARRW", "lotsim",
              "each lane's direction arrows: closed LWPOLYLINEs filled by a solid HATCH", 8),
     *(CadLayer(f"bay:{use}", name, origin,
-               f"each bay of {use.replace('_', '-')} use, a closed LWPOLYLINE of its four "
+               f"each bay of {USES[use].label} use, a closed LWPOLYLINE of its four "
                f"corners", _BAY_COLORS[use])
       for use, name, origin in BAY_USES),
+    CadLayer("access_aisle", "C-PRKG-ACCA", "lotsim",
+             "the access aisles beside accessible bays: closed LWPOLYLINEs hatched by a "
+             "HATCH of parallel lines", 5),
     CadLayer("stripe", "C-PRKG-STRP", "NCS",
              "the painted lines of the bays (every side but the entry, each drawn once): "
              "LINEs", 7),

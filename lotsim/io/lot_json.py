@@ -37,8 +37,19 @@ from shapely.geometry import LineString, MultiPolygon, Polygon
 
 from lotsim.core.geometry import FloatArray, Segment
 from lotsim.errors import LotsimError
-from lotsim.lot.model import Aisle, Area, DesignVehicle, Lane, Lot, Portal, Slot, SpeedZone
+from lotsim.lot.model import (
+    AccessAisle,
+    Aisle,
+    Area,
+    DesignVehicle,
+    Lane,
+    Lot,
+    Portal,
+    Slot,
+    SpeedZone,
+)
 from lotsim.lot.spec import SIDES, SLOT_KINDS
+from lotsim.lot.uses import STANDARD, USES
 
 FORMAT = "lotsim-lot"
 VERSION = 1
@@ -117,7 +128,10 @@ def lot_to_json(lot: Lot) -> dict[str, Any]:
         "occupied": sorted(lot.occupied),
         "speed_limit": _round(lot.speed_limit),
         "design": {k: _round(getattr(lot.design, k)) for k in _DESIGN_KEYS},
-    } | ({} if lot.pavement is None else {"pavement": _geometry_json(lot.pavement)})
+    } | ({} if lot.pavement is None else {"pavement": _geometry_json(lot.pavement)}) | (
+        {"access_aisles": [{"id": a.id, "polygon": _points_json(a.polygon),
+                            "slots": list(a.slots), "width": _round(a.width)}
+                           for a in lot.access_aisles]} if lot.access_aisles else {})
 
 
 def _round(x: float) -> float:
@@ -161,7 +175,8 @@ def _slot_json(s: Slot) -> dict[str, Any]:
     return {"id": s.id, "kind": s.kind, "polygon": _points_json(s.polygon),
             "entry": _points_json(s.entry), "heading": _round(s.heading), "aisle": s.aisle,
             "side": s.side, "station": _round(s.station), "angle": _round(s.angle),
-            "width": _round(s.width), "length": _round(s.length)}
+            "width": _round(s.width), "length": _round(s.length)} | (
+        {} if s.use == STANDARD else {"use": s.use})
 
 
 def _portal_json(p: Portal) -> dict[str, Any]:
@@ -211,7 +226,9 @@ def lot_from_json(d: Any, *, root: str = "drawing") -> Lot:
         if type(d[key]) is not type(want) or d[key] != want:
             raise LotFormatError(f"{root}.{key}: expected {want!r}, found {_found(d[key])}")
     raw_pavement = d.get("pavement")  # optional: absent, the lot is paved wall to wall
-    d = _object({k: v for k, v in d.items() if k != "pavement"}, root, _TOP_KEYS)
+    raw_access = d.get("access_aisles", [])  # optional: absent, the lot has none
+    d = _object({k: v for k, v in d.items() if k not in ("pavement", "access_aisles")}, root,
+                _TOP_KEYS)
     geoms: list[tuple[str, Any]] = []  # checked for validity at once, at the end
 
     def geometry(value: Any, path: str) -> Polygon | MultiPolygon:
@@ -250,6 +267,7 @@ def lot_from_json(d: Any, *, root: str = "drawing") -> Lot:
     design = _object(d["design"], f"{root}.design", _DESIGN_KEYS)
     design_vehicle = DesignVehicle(*(_number(design, k, f"{root}.design") for k in _DESIGN_KEYS))
     pavement = None if raw_pavement is None else geometry(raw_pavement, f"{root}.pavement")
+    access = _access_aisles(raw_access, f"{root}.access_aisles", {s.id for s in slots})
     valid = shapely.is_valid(np.array([g for _, g in geoms], dtype=object))
     if not valid.all():
         path, g = geoms[int(np.argmin(valid))]
@@ -258,7 +276,23 @@ def lot_from_json(d: Any, *, root: str = "drawing") -> Lot:
     return Lot(boundary=boundary, aisles=aisles, slots=slots, areas=tuple(areas),
                zones=tuple(zones), entrances=entrances, exits=exits, occupied=occupied,
                speed_limit=_number(d, "speed_limit", root), design=design_vehicle,
-               pavement=pavement)
+               pavement=pavement, access_aisles=access)
+
+
+def _access_aisles(raw: Any, path: str, slot_ids: set[str]) -> tuple[AccessAisle, ...]:
+    out = []
+    for i, item in enumerate(_list(raw, path)):
+        p = f"{path}[{i}]"
+        o = _object(item, p, ("id", "polygon", "slots", "width"))
+        served = _list(o["slots"], f"{p}.slots")
+        for k, sid in enumerate(served):
+            if sid not in slot_ids:
+                raise LotFormatError(f"{p}.slots[{k}]: expected the id of a slot, found "
+                                     f"{_found(sid)}")
+        out.append(AccessAisle(_str(o, "id", p), _array(o["polygon"], f"{p}.polygon", (4, 2),
+                                                        what="a list of 4 [x, y] points"),
+                               tuple(served), _number(o, "width", p)))
+    return tuple(out)
 
 
 def _aisle(raw: Any, path: str, geometry: Callable[[Any, str], Any]) -> Aisle:
@@ -300,7 +334,10 @@ def _corners(value: Any, path: str, n: int) -> tuple[float, ...]:
 
 
 def _slots(raws: list, path: str, aisles: dict[str, Aisle]) -> tuple[Slot, ...]:
-    objs = [_object(raw, f"{path}[{i}]", _SLOT_KEYS) for i, raw in enumerate(raws)]
+    # a bay's use is written only when it is not standard
+    uses = [raw.get("use", STANDARD) if isinstance(raw, dict) else STANDARD for raw in raws]
+    objs = [_object({k: v for k, v in raw.items() if k != "use"} if isinstance(raw, dict)
+                    else raw, f"{path}[{i}]", _SLOT_KEYS) for i, raw in enumerate(raws)]
     # every polygon and entry converted in one numpy call each; only a bad one costs a loop
     polygons = _stacked(objs, path, "polygon", (4, 2), "a list of 4 [x, y] points")
     entries = _stacked(objs, path, "entry", (2, 2), "a list of 2 [x, y] points")
@@ -321,6 +358,7 @@ def _slots(raws: list, path: str, aisles: dict[str, Aisle]) -> tuple[Slot, ...]:
             side=_choice(o, "side", p, SIDES), station=_number(o, "station", p),
             angle=_number(o, "angle", p), width=_number(o, "width", p),
             length=_number(o, "length", p),
+            use=_choice({"use": uses[i]}, "use", p, tuple(USES)),
         ))
     return tuple(out)
 

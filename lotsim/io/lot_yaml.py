@@ -16,15 +16,19 @@ from lotsim.lot.spec import (
     SLOT_KINDS,
     AisleSpec,
     AreaSpec,
+    BuildingEntranceSpec,
     LotSpec,
     OccupancySpec,
     PavementSpec,
     PortalSpec,
+    Requirement,
     RowSpec,
     SlotSpec,
     SpeedBumpSpec,
     SpeedZoneSpec,
+    StandardSpec,
 )
+from lotsim.lot.uses import ADA_2010, STANDARD, USES
 from lotsim.vehicles.model import KMH
 
 MAX_ITEMS = 100_000
@@ -60,6 +64,8 @@ def parse_lot(node: YNode) -> LotSpec:
             "exits",
             "occupied",
             "paved",
+            "building_entrances",
+            "standard",
         ],
     )
 
@@ -93,6 +99,8 @@ def parse_lot(node: YNode) -> LotSpec:
         occupancy=one("occupied", _occupancy, OccupancySpec()),
         speed_limit=one("speed_limit_kmh", speed, 20 * KMH),
         paved=one("paved", _pavement, None),
+        building_entrances=each("building_entrances", _building_entrance),
+        standard=one("standard", _standard, None),
     )
     errors.check()
     spec = LotSpec(**parts, where=node.where, boundary_where=f["boundary"].where)
@@ -133,7 +141,7 @@ def _check_size(f: dict[str, YNode], spec: LotSpec) -> None:
 
 def _check_unique_ids(f: dict[str, YNode], spec: LotSpec) -> None:
     for key, items in (("aisles", spec.aisles), ("entrances", spec.entrances),
-                       ("exits", spec.exits)):
+                       ("exits", spec.exits), ("building_entrances", spec.building_entrances)):
         seen: set[str] = set()
         for item in items:
             if item.id in seen:
@@ -184,7 +192,8 @@ def _kind_angle(f: dict[str, YNode], node: YNode) -> float:
 def _row(node: YNode) -> RowSpec:
     f = node.fields(
         required=["aisle", "side", "kind", "count", "slot_width", "slot_length", "start"],
-        optional=["angle_deg", "gap", "id_prefix", "first_number"],
+        optional=["angle_deg", "gap", "id_prefix", "first_number", "use",
+                  "access_aisle_width"],
     )
     angle = _kind_angle(f, node)
     return RowSpec(
@@ -201,13 +210,15 @@ def _row(node: YNode) -> RowSpec:
         first_number=f["first_number"].integer(min=0) if "first_number" in f else 1,
         where=node.where,
         angle_where=f["angle_deg"].where if "angle_deg" in f else None,
+        **_use(f),
     )
 
 
 def _slot(node: YNode) -> SlotSpec:
     f = node.fields(
         required=["id", "kind", "width", "length"],
-        optional=["angle_deg", "aisle", "side", "at", "center", "heading_deg"],
+        optional=["angle_deg", "aisle", "side", "at", "center", "heading_deg", "use",
+                  "access_aisle_width", "access_side"],
     )
     along = [k for k in ("aisle", "side", "at") if k in f]
     free = [k for k in ("center", "heading_deg") if k in f]
@@ -228,7 +239,13 @@ def _slot(node: YNode) -> SlotSpec:
         length=f["length"].number(positive=True, max=50, unit="m"),
         angle=angle,
         where=node.where,
+        **_use(f),
     )
+    if "access_side" in f:
+        if not USES[common["use"]].accessible:
+            raise f["access_side"].error("access_side is for accessible and van-accessible "
+                                         "bays, which carry an access aisle")
+        common["access_side"] = f["access_side"].string(choices=SIDES)
     if along:
         return SlotSpec(
             **common,
@@ -241,6 +258,47 @@ def _slot(node: YNode) -> SlotSpec:
         center=f["center"].point(),
         heading=math.radians(f["heading_deg"].number(min=-360, max=360)),
     )
+
+
+def _use(f: dict[str, YNode]) -> dict:
+    """A row's or slot's ``use`` (:data:`~lotsim.lot.uses.USES`) and the width of its
+    access aisle, if given."""
+    use = f["use"].string(choices=list(USES)) if "use" in f else STANDARD
+    out: dict = {"use": use}
+    if "access_aisle_width" in f:
+        node = f["access_aisle_width"]
+        if not USES[use].accessible:
+            raise node.error(f"access_aisle_width is for accessible and van-accessible bays; "
+                             f"this one's use is {use}")
+        out["access_aisle_width"] = node.number(positive=True, max=20, unit="m")
+    return out
+
+
+def _building_entrance(node: YNode) -> BuildingEntranceSpec:
+    f = node.fields(required=["id", "x", "y"])
+    return BuildingEntranceSpec(id=f["id"].ident(), point=(f["x"].number(), f["y"].number()),
+                                where=node.where)
+
+
+def _standard(node: YNode) -> StandardSpec:
+    """``standard: ADA 2010`` (built in), or ``{name: ..., require: {USE: {count: N} or
+    {share: S}, ...}}``: a table the user states."""
+    if not node.is_mapping:
+        name = node.string(choices=[ADA_2010])
+        return StandardSpec(name, where=node.where)
+    f = node.fields(required=["name", "require"])
+    name = f["name"].string(max_len=100)
+    rows = f["require"].fields(optional=list(USES))
+    if not rows:
+        raise f["require"].error(f"expected at least one use of bay: {', '.join(USES)}")
+    out = []
+    for use, n in rows.items():
+        g = n.fields(optional=["count", "share"])
+        if len(g) != 1:
+            raise n.error("expected one of count (bays) or share (of all bays, 0 to 1)")
+        out.append(Requirement(use, count=g["count"].integer(min=0, max=MAX_ITEMS))
+                   if "count" in g else Requirement(use, share=g["share"].number(min=0, max=1)))
+    return StandardSpec(name, tuple(out), where=node.where)
 
 
 def _area(node: YNode, kind: str) -> AreaSpec:

@@ -13,6 +13,7 @@ import shapely
 from lotsim import __version__
 from lotsim.core.atomic import atomic_write
 from lotsim.io.lot_json import lot_to_json
+from lotsim.lot.uses import STANDARD
 from lotsim.sim.results import RunResult, VehicleRun
 from lotsim.vehicles.motion import Trajectory
 
@@ -53,7 +54,8 @@ def result_dict(rr: RunResult, *, progress=None) -> dict:
         "name": rr.scenario.name,
         "boundary": _ring(lot.boundary),
         "slots": [{"id": s.id, "kind": s.kind, "polygon": np.round(s.polygon, 4).tolist(),
-                   "occupied": s.id in lot.occupied} for s in lot.slots],
+                   "occupied": s.id in lot.occupied} | (
+                       {} if s.use == STANDARD else {"use": s.use}) for s in lot.slots],
         "obstacles": [_ring(a.polygon) for a in lot.areas],
         "parked": [np.round(parked.footprints(
             np.array([s.centered_pose(parked.front, parked.rear)]))[0], 4).tolist()
@@ -67,6 +69,9 @@ def result_dict(rr: RunResult, *, progress=None) -> dict:
     }
     if lot.pavement is not None:
         doc_lot["paved"] = _rings(lot.pavement)
+    if lot.access_aisles:  # ground no car parks or drives on
+        doc_lot["access_aisles"] = [{"id": a.id, "polygon": np.round(a.polygon, 4).tolist()}
+                                    for a in lot.access_aisles]
     vehicles = []
     for k, v in enumerate(rr.vehicles):
         if progress is not None:
@@ -90,7 +95,8 @@ def result_dict(rr: RunResult, *, progress=None) -> dict:
                      "max_reverse_speed": round(lim.max_reverse_speed, 6),
                      "max_accel": lim.max_accel, "max_brake": lim.max_brake,
                      "max_jerk": lim.max_jerk, "max_steer_rate": round(lim.max_steer_rate, 9),
-                     "max_lateral_accel": lim.max_lateral_accel},
+                     "max_lateral_accel": lim.max_lateral_accel} | (
+                         {"marks": sorted(t.marks)} if t.marks else {}),
             "arrival": v.arrival.time,
             "entrance": v.arrival.entrance,
             "slot": v.slot,

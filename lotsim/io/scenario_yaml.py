@@ -21,6 +21,7 @@ from lotsim.io.file_kinds import refuse_other_kind, top_level
 from lotsim.io.lot_yaml import MAX_ITEMS, parse_lot
 from lotsim.io.traffic_yaml import parse_traffic, traffic_ids
 from lotsim.io.yamlnodes import YNode, parse_text, read_yaml
+from lotsim.lot.uses import MARKS
 from lotsim.scenario import VIEWS, AnimationSpec, Scenario
 from lotsim.traffic.demand import TrafficSpec
 from lotsim.traffic.disturbances import (
@@ -386,7 +387,7 @@ def parse_vehicle(node: YNode) -> VehicleType:
     if not node.is_mapping:
         name = node.string(choices=list(CATALOGUE))
         return CATALOGUE[name]
-    f = node.fields(required=_VEHICLE_KEYS, optional=list(_LIMIT_KEYS))
+    f = node.fields(required=_VEHICLE_KEYS, optional=[*_LIMIT_KEYS, *MARKS])
     limits = {
         attr: f[key].number(positive=True) * scale
         for key, (attr, scale) in _LIMIT_KEYS.items()
@@ -403,4 +404,5 @@ def parse_vehicle(node: YNode) -> VehicleType:
                                      unit="deg", least=10)
         ),
         limits=VehicleLimits(**limits),
+        marks=frozenset(m for m in MARKS if m in f and f[m].boolean()),
     )

@@ -1,4 +1,5 @@
-"""LotSpec → Lot: slot polygons, aisle lanes, areas, zones, and every geometric check.
+"""LotSpec → Lot: aisle lanes, areas, zones, and every geometric check (the bays are placed
+by :mod:`lotsim.lot.placing`).
 
 Each problem is a :class:`~lotsim.errors.ScenarioError` located at the spec
 item it comes from: overlapping slots, slots on an aisle or obstacle or outside
@@ -18,12 +19,12 @@ from shapely.geometry.base import BaseGeometry
 from shapely.ops import unary_union
 
 from lotsim.core.corners import corner_sharpness
-from lotsim.core.geometry import FloatArray, cc_polyline, ccw, wrap_angle
+from lotsim.core.geometry import FloatArray, cc_polyline, wrap_angle
 from lotsim.errors import ScenarioError
 from lotsim.lot.clearance import Collider
-from lotsim.lot.kinds import KINDS
 from lotsim.lot.model import (
     PAVEMENT_EDGE,
+    AccessAisle,
     Aisle,
     Area,
     DesignVehicle,
@@ -33,10 +34,10 @@ from lotsim.lot.model import (
     Slot,
     SpeedZone,
     edge_of,
-    unit,
 )
 from lotsim.lot.pavement import HEAL, pave
-from lotsim.lot.spec import AisleSpec, LotSpec, OccupancySpec, RowSpec, SlotSpec
+from lotsim.lot.placing import place_slots
+from lotsim.lot.spec import AisleSpec, LotSpec, OccupancySpec
 
 LANE_CLEARANCE = 0.15
 """Free space each side of the widest vehicle within its lane [m]."""
@@ -69,14 +70,15 @@ def build_lot(spec: LotSpec, design: DesignVehicle) -> Lot:
         Area(a.id, a.kind, _polygon(a.polygon, a.where, f"{a.kind} {a.id!r}"), a.where)
         for a in spec.areas
     )
-    slots = _build_slots(spec, aisles)
+    slots, access = place_slots(spec, aisles)
     _check_slots(slots, aisles, areas, boundary)
+    _check_access_aisles(access, slots, aisles, areas, boundary)
     pavement = None
     if spec.paved is not None:
         paved = [_polygon(a.polygon, a.where, f"paved area {a.id!r}") for a in spec.paved.areas]
         pavement = pave(spec.paved, boundary, aisles, slots, paved)
     ground = boundary if pavement is None else pavement
-    collider = Collider(obstacle_polygons(areas, slots),
+    collider = Collider(obstacle_polygons(areas, slots, access),
                         drivable_region(boundary, aisles, design, ground), edge=edge_of(pavement))
     aisles = {k: _fit_lanes(a, design, collider) for k, a in aisles.items()}
     zones = tuple(
@@ -102,6 +104,7 @@ def build_lot(spec: LotSpec, design: DesignVehicle) -> Lot:
         speed_limit=spec.speed_limit,
         design=design,
         pavement=pavement,
+        access_aisles=access,
     )
     return lot
 
@@ -116,18 +119,20 @@ def _polygon(points, where, what: str) -> Polygon:
 
 
 def obstacle_polygons(
-    areas: tuple[Area, ...], slots: tuple[Slot, ...]
+    areas: tuple[Area, ...], slots: tuple[Slot, ...], access: tuple[AccessAisle, ...] = ()
 ) -> list[tuple[str, Polygon]]:
-    """What a vehicle driving on the lanes must not touch, labelled for messages."""
+    """What a vehicle driving on the lanes must not touch, labelled for messages: the
+    areas, the slots and the access aisles (ground no car drives on)."""
     out = [(f"{a.kind.replace('_', '-')} {a.id!r}", a.polygon) for a in areas]
     out += [(f"slot {s.id!r}", s.shape) for s in slots]
+    out += [(f"access aisle {a.id!r}", a.shape) for a in access]
     return out
 
 
 def lane_collider(lot: Lot) -> Collider:
     """A validity checker for driving on ``lot``'s lanes: slots count as occupied."""
     return Collider(
-        obstacle_polygons(lot.areas, lot.slots),
+        obstacle_polygons(lot.areas, lot.slots, lot.access_aisles),
         drivable_region(lot.boundary, lot.aisles, lot.design, lot.ground),
         edge=lot.edge,
     )
@@ -250,151 +255,6 @@ def _build_aisle(spec: AisleSpec, design: DesignVehicle, boundary: Polygon,
                  else ())
 
 
-# -- slots -------------------------------------------------------------------------------------
-def _slot_frame(
-    aisle: Aisle, side: str, s0: float, s1: float, where, what: str
-) -> tuple[FloatArray, FloatArray, FloatArray, float]:
-    """Origin of station 0 on the aisle edge, along-aisle unit u, outward unit n, leg heading.
-
-    The entry of a slot spans stations ``s0..s1``; it must lie on one straight
-    part of the centreline (not on a bend).
-    """
-    start, heading, lo, hi = aisle.legs
-    total = float(start[-1] + np.hypot(*(aisle.centerline[-1] - aisle.centerline[-2])))
-    for i in range(len(start)):
-        if lo[i] - 1e-9 <= s0 and s1 <= hi[i] + 1e-9:
-            u = unit(float(heading[i]))
-            left = np.array([-u[1], u[0]])
-            n = left if side == "left" else -left
-            origin = aisle.centerline[i] + (0 - start[i]) * u + n * aisle.width / 2
-            return origin, u, n, float(heading[i])
-    if s1 > total + 1e-9:
-        raise ScenarioError(
-            where,
-            f"{what} runs to station {s1:.2f} m, past the end of aisle {aisle.id!r} "
-            f"({total:.2f} m long)",
-        )
-    raise ScenarioError(
-        where,
-        f"{what} spans stations {s0:.2f}..{s1:.2f} m of aisle {aisle.id!r}, which are not on "
-        f"one straight part of it (a slot's entry must not sit on a bend)",
-    )
-
-
-def _slot_on_aisle(
-    sid: str, kind: str, angle: float, width: float, length: float,
-    aisle: Aisle, side: str, station: float, where, what: str,
-) -> Slot:
-    """One slot whose entry begins at aisle ``station`` (its lowest station) [m]."""
-    rules = KINDS[kind]
-    along = rules.frontage(width, length, angle)
-    origin, u, n, heading = _slot_frame(aisle, side, station, station + along, where, what)
-    poly, entry, into = rules.place(origin, u, n, heading, station, width, length, angle,
-                                    toward_traffic=side == "right" or aisle.one_way)
-    return Slot(
-        id=sid, kind=kind, polygon=ccw(poly), entry=entry,
-        heading=float(wrap_angle(into)), aisle=aisle.id, side=side,
-        station=station + along / 2, angle=angle, width=width, length=length, where=where,
-    )
-
-
-def _row_slots(row: RowSpec, index: int, aisles: dict[str, Aisle]) -> list[Slot]:
-    aisle = _aisle_ref(aisles, row.aisle, row.where)
-    pitch = KINDS[row.kind].pitch(row.slot_width, row.slot_length, row.angle) + row.gap
-    prefix = row.id_prefix or f"{row.aisle}-{row.side}-"
-    out = []
-    for k in range(row.count):
-        sid = f"{prefix}{row.first_number + k}"
-        out.append(
-            _slot_on_aisle(
-                sid, row.kind, row.angle, row.slot_width, row.slot_length, aisle, row.side,
-                row.start + k * pitch, row.where, f"slot {sid!r} of lot.rows[{index}]",
-            )
-        )
-    return out
-
-
-def _aisle_ref(aisles: dict[str, Aisle], name: str, where) -> Aisle:
-    if name not in aisles:
-        raise ScenarioError(
-            where, f"expected the id of an aisle ({', '.join(aisles)}), found {name!r}"
-        )
-    return aisles[name]
-
-
-def _single_slot(spec: SlotSpec, aisles: dict[str, Aisle]) -> Slot:
-    if spec.aisle is not None:
-        aisle = _aisle_ref(aisles, spec.aisle, spec.where)
-        return _slot_on_aisle(
-            spec.id, spec.kind, spec.angle, spec.width, spec.length, aisle, spec.side or "left",
-            spec.at or 0.0, spec.where, f"slot {spec.id!r}",
-        )
-    return _free_slot(spec, aisles)
-
-
-ANGLE_TOL = math.radians(1.0)
-"""A free-standing angled slot's ``angle_deg`` and the angle its heading makes with its aisle
-agree within this [rad]."""
-
-
-def _free_slot(spec: SlotSpec, aisles: dict[str, Aisle]) -> Slot:
-    """A slot placed by centre and heading; its entry is the side that opens onto an aisle."""
-    c = np.asarray(spec.center, dtype=float)
-    d = unit(spec.heading)
-    n = np.array([-d[1], d[0]])
-    hl, hw = spec.length / 2, spec.width / 2
-    rr, fr = c - hl * d - hw * n, c + hl * d - hw * n
-    fl, rl = c + hl * d + hw * n, c - hl * d + hw * n
-    candidates = KINDS[spec.kind].entry_sides(rr, fr, fl, rl)
-    best = None
-    for edge in candidates:
-        for aisle in aisles.values():
-            gap = KINDS[spec.kind].entry_gap(edge, aisle.polygon)
-            if best is None or gap < best[0]:
-                best = (gap, edge, aisle)
-    assert best is not None
-    gap, edge, aisle = best
-    if gap > 0.3:
-        raise ScenarioError(
-            spec.where,
-            f"slot {spec.id!r} opens onto no aisle: its entry side is {gap:.2f} m from the "
-            f"nearest aisle {aisle.id!r}",
-        )
-    mid = edge.mean(axis=0)
-    station = float(aisle.line.project(Point(mid)))
-    start, heading, _, _ = aisle.legs
-    leg = int(np.clip(np.searchsorted(start, station, side="right") - 1, 0, len(start) - 1))
-    u = unit(float(heading[leg]))
-    on_line = np.asarray(aisle.line.interpolate(station).coords[0])
-    away = c - on_line
-    side = "left" if u[0] * away[1] - u[1] * away[0] > 0 else "right"
-    angle = math.acos(min(1.0, abs(float(np.dot(d, u)))))
-    if KINDS[spec.kind].fixed_angle is None and abs(angle - spec.angle) > ANGLE_TOL:
-        raise ScenarioError(
-            spec.where,
-            f"slot {spec.id!r}: angle_deg is {math.degrees(spec.angle):g}, but its heading "
-            f"makes {math.degrees(angle):.1f}° with aisle {aisle.id!r}, which it opens onto",
-        )
-    return Slot(
-        id=spec.id, kind=spec.kind, polygon=ccw(np.array([rr, fr, fl, rl])), entry=edge,
-        heading=float(wrap_angle(spec.heading)), aisle=aisle.id, side=side, station=station,
-        angle=angle, width=spec.width, length=spec.length, where=spec.where,
-    )
-
-
-def _build_slots(spec: LotSpec, aisles: dict[str, Aisle]) -> tuple[Slot, ...]:
-    slots: list[Slot] = []
-    for i, row in enumerate(spec.rows):
-        slots.extend(_row_slots(row, i, aisles))
-    slots.extend(_single_slot(s, aisles) for s in spec.slots)
-    seen: dict[str, Slot] = {}
-    for s in slots:
-        if s.id in seen:
-            raise ScenarioError(s.where, f"slot id {s.id!r} is used twice")
-        seen[s.id] = s
-    return tuple(slots)
-
-
 def _check_slots(
     slots: tuple[Slot, ...], aisles: dict[str, Aisle], areas: tuple[Area, ...], boundary: Polygon
 ) -> None:
@@ -431,6 +291,34 @@ def _check_slots(
             raise ScenarioError(
                 b.where, f"slot {b.id!r} overlaps slot {a.id!r} by {float(area[k]):.2f} m²"
             )
+
+
+def _check_access_aisles(
+    access: tuple[AccessAisle, ...], slots: tuple[Slot, ...], aisles: dict[str, Aisle],
+    areas: tuple[Area, ...], boundary: Polygon,
+) -> None:
+    """Each access aisle lies within the boundary and overlaps no aisle of the vehicular
+    way, no area, no bay and no other access aisle (ADA 2010 §502.3.4: an access aisle
+    does not overlap the vehicular way); a problem is located at the row or slot whose bay
+    it serves."""
+    if not access:
+        return
+    inside = boundary.buffer(1e-6)
+    others: list[tuple[str, BaseGeometry]] = [(f"aisle {a.id!r} (the vehicular way)",
+                                               a.polygon) for a in aisles.values()]
+    others += [(f"{a.kind.replace('_', '-')} {a.id!r}", a.polygon) for a in areas]
+    others += [(f"slot {s.id!r}", s.shape) for s in slots]
+    for k, a in enumerate(access):
+        what = f"the access aisle of slot{'s' if len(a.slots) > 1 else ''} " \
+               f"{', '.join(map(repr, a.slots))}"
+        if not inside.covers(a.shape):
+            raise ScenarioError(a.where, f"{what} lies partly outside the lot boundary")
+        for label, geom in [*others, *((f"the access aisle {b.id!r}", b.shape)
+                                       for b in access[:k])]:
+            overlap = a.shape.intersection(geom).area
+            if overlap > AREA_TOL:
+                raise ScenarioError(a.where, f"{what} overlaps {label} by {overlap:.2f} m²: "
+                                             f"leave room beside the bay for it")
 
 
 def _occupancy(spec: OccupancySpec, slots: tuple[Slot, ...]) -> frozenset[str]:

@@ -25,6 +25,7 @@ from lotsim.core.geometry import (
 )
 from lotsim.errors import Location
 from lotsim.lot.kinds import KINDS
+from lotsim.lot.uses import STANDARD, USES
 
 
 @dataclass(frozen=True, slots=True)
@@ -105,6 +106,9 @@ class Slot:
         Angle between the aisle direction and the slot's long axis [rad].
     width, length : float
         [m]
+    use : str
+        What the bay is for (:data:`~lotsim.lot.uses.USES`): ``standard`` unless the
+        scenario names another.
     """
 
     id: str
@@ -119,6 +123,7 @@ class Slot:
     width: float
     length: float
     where: Location | None = field(default=None, repr=False)
+    use: str = STANDARD
 
     @property
     def center(self) -> tuple[float, float]:
@@ -141,6 +146,36 @@ class Slot:
         shift = (front - rear) / 2
         return (cx - shift * math.cos(self.heading), cy - shift * math.sin(self.heading),
                 self.heading)
+
+
+@dataclass(frozen=True, eq=False)
+class AccessAisle:
+    """The access aisle beside one or two accessible bays (ADA 2010 §502.3): ground no car
+    parks or drives on.
+
+    Attributes
+    ----------
+    id : str
+    polygon : ndarray, shape (4, 2)
+        Corners, counter-clockwise, to the centrelines of its markings [m].
+    slots : tuple of str
+        The bays it serves (two bays may share one).
+    width : float
+        Across, to the markings' centrelines [m].
+    """
+
+    id: str
+    polygon: FloatArray
+    slots: tuple[str, ...]
+    width: float
+    where: Location | None = field(default=None, repr=False)
+
+    @cached_property
+    def shape(self) -> Polygon:
+        return Polygon(self.polygon)
+
+    def __getstate__(self) -> dict:
+        return {k: v for k, v in self.__dict__.items() if k != "shape"}
 
 
 @dataclass(frozen=True, eq=False)
@@ -331,6 +366,7 @@ class Lot:
     speed_limit: float
     design: DesignVehicle
     pavement: BaseGeometry | None = None  # None: paved wall to wall
+    access_aisles: tuple[AccessAisle, ...] = ()
 
     @property
     def ground(self) -> BaseGeometry:
@@ -353,6 +389,13 @@ class Lot:
     @property
     def lanes(self) -> tuple[Lane, ...]:
         return tuple(lane for a in self.aisles.values() for lane in a.lanes)
+
+    def use_counts(self) -> dict[str, int]:
+        """Number of bays of each use (:data:`~lotsim.lot.uses.USES`, in its order)."""
+        out = dict.fromkeys(USES, 0)
+        for s in self.slots:
+            out[s.use] += 1
+        return out
 
     def slot_counts(self) -> dict[str, int]:
         """Number of slots of each kind."""

@@ -9,11 +9,13 @@ turns them into geometry.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
 
 from lotsim.core.geometry import Pose
 from lotsim.errors import Location
 from lotsim.lot.kinds import KINDS
+from lotsim.lot.uses import STANDARD
 
 Point = tuple[float, float]
 Points = tuple[Point, ...]
@@ -68,6 +70,8 @@ class RowSpec:
     first_number: int = 1
     where: Location | None = _loc()
     angle_where: Location | None = _loc()
+    use: str = STANDARD
+    access_aisle_width: float | None = None
 
 
 @dataclass(frozen=True, slots=True)
@@ -88,6 +92,9 @@ class SlotSpec:
     center: Point | None = None
     heading: float | None = None
     where: Location | None = _loc()
+    use: str = STANDARD
+    access_aisle_width: float | None = None
+    access_side: str = "right"
 
 
 @dataclass(frozen=True, slots=True)
@@ -157,6 +164,42 @@ class OccupancySpec:
 
 
 @dataclass(frozen=True, slots=True)
+class BuildingEntranceSpec:
+    """A door of a building the lot serves, at ``point`` [m]: what the walking distances
+    of the accessible bays are measured to."""
+
+    id: str
+    point: Point
+    where: Location | None = _loc()
+
+
+@dataclass(frozen=True, slots=True)
+class Requirement:
+    """What a standard asks of one use of bay: at least ``count`` bays, or at least the
+    ``share`` (0 to 1, rounded up) of the facility's bays."""
+
+    use: str
+    count: int | None = None
+    share: float | None = None
+
+    def least(self, total: int) -> int:
+        """The bays of the use asked of a facility of ``total`` bays."""
+        if self.count is not None:
+            return self.count
+        return math.ceil(round((self.share or 0.0) * total, 9))
+
+
+@dataclass(frozen=True, slots=True)
+class StandardSpec:
+    """The standard a lot's bays by use are counted against: the built-in ADA 2010 Table
+    208.2 (``requirements`` empty), or a table the scenario states."""
+
+    name: str
+    requirements: tuple[Requirement, ...] = ()
+    where: Location | None = _loc()
+
+
+@dataclass(frozen=True, slots=True)
 class LotSpec:
     """Everything the scenario says about the lot."""
 
@@ -174,3 +217,5 @@ class LotSpec:
     paved: PavementSpec | None = None  # None: all the ground inside the boundary
     where: Location | None = _loc()
     boundary_where: Location | None = _loc()
+    building_entrances: tuple[BuildingEntranceSpec, ...] = ()
+    standard: StandardSpec | None = None  # None: the built-in one (ADA 2010)

@@ -170,6 +170,10 @@ class LotProblems:
         polys = [kind_of(s).taken(s, width, margin) for s in lot.slots]
         polys += [a.polygon.buffer(margin, join_style="mitre") if margin else a.polygon
                   for a in lot.areas]
+        # an access aisle is ground no car parks or drives on (its own bays' cars come up to
+        # its markings: the slot itself is cut out of what a problem keeps out of)
+        polys += [a.shape.buffer(margin, join_style="mitre") if margin else a.shape
+                  for a in lot.access_aisles]
         self._polys = np.array(polys, dtype=object)
         self._tree = shapely.STRtree(self._polys)
         # the margin keeps the car off the lot's walls; the pavement's edge is a kerb or a

@@ -98,7 +98,8 @@ def turnaround_collider(lot: Lot, design: DesignVehicle | None = None, margin: f
     d = design or lot.design
     grown = dataclasses.replace(d, width=d.width + 2 * margin, front=d.front + margin,
                                 rear=d.rear + margin)
-    return Collider(obstacle_polygons(lot.areas, lot.slots), lot.ground, edge=lot.edge), grown
+    return (Collider(obstacle_polygons(lot.areas, lot.slots, lot.access_aisles), lot.ground,
+                     edge=lot.edge), grown)
 
 
 def turnaround_clear(t: Turnaround, collider: Collider, body: DesignVehicle) -> bool:

@@ -12,6 +12,7 @@ import lotsim.core.diskcache
 from lotsim.core.workers import Aside
 from lotsim.lot.build import build_lot
 from lotsim.lot.model import DesignVehicle, Lot
+from lotsim.lot.uses import refused_bays
 from lotsim.maneuvers.batch import plan_lot
 from lotsim.maneuvers.planner import ManeuverPlanner
 from lotsim.maneuvers.settings import MARGIN
@@ -79,8 +80,9 @@ def prepare_lot(scenario: Scenario, *, node_spacing: float = 4.0, maneuvers: boo
     """
     if not maneuvers:
         lot = build_lot(scenario.lot, DesignVehicle.envelope(scenario.vehicle_types))
-        return PreparedLot(scenario, build_graph(lot, node_spacing=node_spacing,
-                                                 vehicles=scenario.vehicle_types))
+        lg = build_graph(lot, node_spacing=node_spacing, vehicles=scenario.vehicle_types)
+        lg.infeasible = refused_bays(lot.slots, scenario.vehicle_types)
+        return PreparedLot(scenario, lg)
     leaves = ({a.dwell is not None for a in arrivals(scenario.traffic, scenario.seed)}
               if scenario.traffic is not None else {True})
     if not cache:
@@ -134,6 +136,7 @@ def _prepared(scenario: Scenario, leaves: set[bool], name: str | None, node_spac
         known = _known(known_name)
         planned, infeasible, stays = plan_lot(planner, scenario.vehicle_types, progress=progress,
                                               known=known)
+        planned, infeasible, stays = _by_use(lot, scenario, planned, infeasible, stays)
         # what it learnt (if anything) written aside while the graph is built
         learnt = known_name is not None and planner.stats["planned"] > planner.stats["remembered"]
         with (Aside(lambda: lotsim.core.diskcache.store(known_name, known)) if learnt
@@ -159,6 +162,23 @@ def _prepared(scenario: Scenario, leaves: set[bool], name: str | None, node_spac
                 lotsim.core.diskcache.store(name, (lg, planner) if packed is None else (
                     lg.with_graph_packed(packed[0]), planner.with_answers_packed(packed[1])))
         return lg, planner
+
+
+def _by_use(lot: Lot, scenario: Scenario, planned: dict, infeasible: dict[str, dict[str, str]],
+            stays: dict) -> tuple[dict, dict[str, dict[str, str]], dict]:
+    """The maneuvers and the slots each type cannot use, with the bays the scenario's rule
+    keeps a type out of (:func:`~lotsim.lot.uses.refused_bays`) taken out of the first and
+    put in the second, with the rule's reason: a type has no way into a bay it may not
+    use, so no policy can send it there."""
+    refused = refused_bays(lot.slots, scenario.vehicle_types)
+    if not any(refused.values()):
+        return planned, infeasible, stays
+    out = {name: {**bays, **refused.get(name, {})} for name, bays in infeasible.items()}
+
+    def kept(maneuvers: dict) -> dict:
+        return {k: m for k, m in maneuvers.items() if k[1] not in refused.get(k[0], {})}
+
+    return kept(planned), out, kept(stays)
 
 
 def _known(name: str | None) -> dict | None:

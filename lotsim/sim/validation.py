@@ -10,7 +10,9 @@ from dataclasses import dataclass, field
 from lotsim.core.diskcache import LOADED
 from lotsim.lot.model import PAVEMENT_EDGE
 from lotsim.lot.pavement import loose_ends
+from lotsim.lot.uses import USES, refused_bays
 from lotsim.roadmap.reach import Reachability
+from lotsim.sim.bays import BayReport, bay_report, bay_schedule, schedule_csv
 from lotsim.sim.preparation import PreparedLot
 from lotsim.sim.repairs import check_lot_events
 from lotsim.sim.running import check_traffic, turned_away, unfit
@@ -57,10 +59,44 @@ class ValidationReport:
         return self.prepared.infeasible
 
     @property
+    def bays(self) -> BayReport:
+        """The lot's bays by use, checked against its standard (``lot.standard``, ADA 2010
+        by default), with each accessible bay's walk to the nearest building entrance
+        (:func:`~lotsim.sim.bays.bay_report`)."""
+        spec = self.prepared.scenario.lot
+        return bay_report(self.prepared.lot, spec.standard,
+                          [(b.id, b.point) for b in spec.building_entrances])
+
+    def schedule(self) -> list[dict]:
+        """The lot's bay schedule: a line per row, use and size
+        (:func:`~lotsim.sim.bays.bay_schedule`)."""
+        return bay_schedule(self.prepared.lot, rows_of(self.prepared))
+
+    def schedule_csv(self) -> str:
+        """:meth:`schedule` as the CSV ``lotsim validate --schedule`` writes."""
+        return schedule_csv(self.schedule(), lambda ids: id_ranges(ids, most=len(ids)))
+
+    @property
+    def refused(self) -> dict[str, dict[str, str]]:
+        """Vehicle type → bay id → why the scenario's rule of uses keeps the type out of the
+        bay (an accessible bay and a type not marked so, ...): part of :attr:`infeasible`,
+        by design, not a fault of the layout."""
+        return refused_bays(self.prepared.lot.slots, self.prepared.scenario.vehicle_types)
+
+    @property
+    def misfits(self) -> dict[str, dict[str, str]]:
+        """:attr:`infeasible` without :attr:`refused`: the bays a type may use but cannot
+        park in."""
+        refused = self.refused
+        return {name: {sid: why for sid, why in slots.items()
+                       if sid not in refused.get(name, {})}
+                for name, slots in self.infeasible.items()}
+
+    @property
     def complete(self) -> bool:
-        """Every free slot and exit can be reached and every type can park in every slot:
-        what ``lotsim validate --strict`` requires."""
-        return (self.reachability.ok and not any(self.infeasible.values())
+        """Every free slot and exit can be reached and every type can park in every slot
+        its use lets it use: what ``lotsim validate --strict`` requires."""
+        return (self.reachability.ok and not any(self.misfits.values())
                 and not self.turned_away)
 
     @property
@@ -133,11 +169,12 @@ class ValidationReport:
         """What ``lotsim validate --json`` writes of this lot, as plain data: the file,
         the scenario's name, :attr:`complete`, the slots free, per type the free slots it
         can use (:meth:`usable`) and those it cannot, by row, with why (:meth:`unusable`),
-        why cars of a type would be turned away, and the summary's warnings."""
+        why cars of a type would be turned away, the bays by use and their standard's
+        check (:attr:`bays`), and the summary's warnings."""
         return {"source": self.source, "scenario": self.name, "complete": self.complete,
                 "free_slots": len(self.prepared.lot.free_slots), "usable": self.usable(),
                 "unusable": self.unusable(), "turned_away": dict(self.turned_away),
-                "warnings": self.warnings}
+                "bays": self.bays.as_dict(), "warnings": self.warnings}
 
     def summary(self, *, verbose: bool = False) -> str:
         """What ``lotsim validate`` prints for this scenario (``verbose``: also how the
@@ -168,12 +205,21 @@ class ValidationReport:
             f"{_n(kinds_of['turnaround'], 'turnaround')})",
             f"  entrances: {', '.join(lg.entrances) or 'none'}; "
             f"exits: {', '.join(lg.exits) or 'none (vehicles cannot leave)'}",
+            *self.bays.lines(),
         ]
         if taken == len(lot.slots) and scenario.traffic is not None:
             lines.append("  warning: no slot is free: every car will be turned away (the lot "
                          "is full)")
+        free_ids = {s.id for s in lot.free_slots}
+        for vname, slots in self.refused.items():
+            bays = [sid for sid in slots if sid in free_ids]
+            if bays:
+                uses = ", ".join(dict.fromkeys(USES[lot.slot_by_id[sid].use].label
+                                               for sid in sorted(bays, key=natural)))
+                lines.append(f"  note: {vname} may not use {_n(bays, 'free bay')} by their "
+                             f"use ({uses}): {_ids(bays)}")
         if planner is not None:
-            for vname, slots in lg.infeasible.items():
+            for vname, slots in self.misfits.items():
                 if not slots:
                     continue
                 lines.append(f"  warning: {vname} cannot park in "

@@ -75,6 +75,10 @@ class VehicleType:
     max_steer : float
         Maximum road-wheel steering angle [rad], 0 < max_steer < pi/2.
     limits : VehicleLimits
+    marks : frozenset of str
+        What the type is marked as in its scenario (``accessible``, ``ev``,
+        ``motorcycle``): the bays of which uses it may park in
+        (:data:`lotsim.lot.uses.USES`). Unmarked by default.
 
     Examples
     --------
@@ -93,6 +97,7 @@ class VehicleType:
     wheelbase: float
     max_steer: float
     limits: VehicleLimits = field(default_factory=VehicleLimits)
+    marks: frozenset[str] = frozenset()
 
     def __post_init__(self) -> None:
         for key in ("width", "front", "wheelbase", "max_steer"):

@@ -93,14 +93,15 @@ jerk
     digit written); about ``4 · V_ROUND / h²``, 0.08 m/s³ at 0.05 s and 0.5 m/s³ at
     0.02 s. For a speed with a continuous acceleration and a bounded jerk,
     ``2 · v[t₀, t₁, t₂]`` is a weighted mean of the jerk over ``[t₀, t₂]``.
-overlap, parked, obstacle, boundary, pavement
+overlap, parked, obstacle, access_aisle, boundary, pavement
     Footprints shrunk by ``SHRINK`` = 1 cm on every side are compared at the common
     instants ``k · GRID_DT`` (0.05 s) from the earliest to the latest sample, poses
     interpolated linearly between samples (heading the short way). A vehicle is present
     from its first to its last sample; a ``departed`` one is gone afterwards, any other
     stays at its last pose to the end. No two present footprints intersect (touching
     shrunk rectangles count: the true ones then overlap by 2 cm), none intersects a car
-    parked at start (``parked``) or an obstacle (``obstacle``), each is covered by the
+    parked at start (``parked``), an obstacle (``obstacle``) or an access aisle beside an
+    accessible bay (``access_aisle``, ``lot.access_aisles``), each is covered by the
     lot boundary (``boundary``) and, where the lot says what is paved (``lot.paved``), by
     the pavement (``pavement``). Each pair is reported once, at its first instant.
 slot
@@ -108,6 +109,12 @@ slot
     footprint (shrunk) lies within that slot, and it is at rest (``|v| ≤ REST_SPEED``).
     A vehicle holds its slot at every instant its shrunk footprint lies within it, and a
     ``parked`` one from its last sample to the end; no two vehicles hold one slot at once.
+bay_use
+    A ``parked`` or ``departed`` vehicle's slot is one its type may use
+    (``docs/scenario.md``): an accessible or van-accessible bay takes only a type whose
+    ``type.marks`` hold ``accessible``, an EV bay ``ev``, a motorcycle bay
+    ``motorcycle``; a compact bay only a type no longer (``front + rear``) and no wider
+    than the bay (its longer side, and its area over that).
 exit
     A ``departed`` vehicle's last pose is within ``EXIT_DISTANCE`` = 0.5 m and
     ``EXIT_HEADING`` = 0.1 rad of an exit's pose.

@@ -12,6 +12,8 @@ from lotsim.verify.motion import _wrap
 from lotsim.verify.reading import _is_number, _Lot, _Vehicle
 from lotsim.verify.report import Violation, _add
 from lotsim.verify.tolerances import (
+    BAY_USES,
+    BODY_TOL,
     EXIT_DISTANCE,
     EXIT_HEADING,
     MAKESPAN_TOL,
@@ -39,12 +41,33 @@ def _check_final(vehicles: list[_Vehicle], lot: _Lot, out: list[Violation]) -> N
             _add(out, "status", name, None, f"{name} is {status} but has no samples")
         if veh.slot is not None and veh.slot not in lot.slots:
             _add(out, "slot", name, None, f"{name}: slot {veh.slot!r} is not a slot of the lot")
+        if status in ("parked", "departed") and veh.slot in lot.slots:
+            _check_bay_use(veh, lot.slots[veh.slot], out)
         if status == "parked" and veh.n:
             _check_parked(veh, lot, out)
         if status == "departed" and veh.n:
             _check_exit(veh, lot, out)
         if veh.inside is not None and veh.n:
             _check_inside(veh, lot, out)
+
+
+def _check_bay_use(veh: _Vehicle, slot, out: list[Violation]) -> None:
+    """No car parks in a bay its type may not use: a bay of a marked use (accessible,
+    van-accessible, EV, motorcycle) takes only types marked so, a compact bay only a type
+    no longer and no wider than itself."""
+    need = BAY_USES[slot.use]
+    if need is not None and need not in veh.marks:
+        _add(out, "bay_use", veh.id, None, f"{veh.id} parks in {slot.use.replace('_', '-')} "
+             f"bay {slot.id} but its type is not marked {need}")
+    if slot.use == "compact":
+        ring = np.asarray(slot.polygon.exterior.coords)[:4]
+        sides = np.hypot(*np.diff(np.vstack([ring, ring[:1]]), axis=0).T)
+        length = float(max(sides[0], sides[1]))
+        width = float(slot.polygon.area) / length
+        body = veh.front + veh.rear
+        if body > length + BODY_TOL or veh.width > width + BODY_TOL:
+            _add(out, "bay_use", veh.id, None, f"{veh.id} ({body:.2f} × {veh.width:.2f} m) "
+                 f"parks in compact bay {slot.id} of {length:.2f} × {width:.2f} m")
 
 
 def _footprint(veh: _Vehicle, k: int) -> shapely.Polygon:

@@ -1,5 +1,5 @@
-"""The rules on footprints over the common instants: overlap, parked, obstacle, boundary,
-and no two vehicles holding one slot at once."""
+"""The rules on footprints over the common instants: overlap, parked, obstacle,
+access_aisle, boundary, and no two vehicles holding one slot at once."""
 
 from __future__ import annotations
 
@@ -430,6 +430,7 @@ def _check_footprints(vehicles: list[_Vehicle], lot: _Lot, out: list[Violation],
     # with the cars parked at start and the obstacles
     env = [("parked", i, p) for i, p in enumerate(lot.parked)]
     env += [("obstacle", i, p) for i, p in enumerate(lot.obstacles)]
+    env += [("access_aisle", i, p) for i, (_, p) in enumerate(lot.access_aisles)]
     if env:
         polys = np.array([p for _, _, p in env], dtype=object)
         item, q_env = _near_polygons(items, polys)
@@ -443,7 +444,8 @@ def _check_footprints(vehicles: list[_Vehicle], lot: _Lot, out: list[Violation],
             foot = items.polygons(np.array([it]), inset=0.0)[0]
             area = shapely.area(shapely.intersection(foot, poly))
             what = (f"the car parked at start lot.parked[{j}]" if kind == "parked"
-                    else f"obstacle lot.obstacles[{j}]")
+                    else f"access aisle {lot.access_aisles[j][0]} (lot.access_aisles[{j}])"
+                    if kind == "access_aisle" else f"obstacle lot.obstacles[{j}]")
             name = ids[items.veh[it]]
             _add(out, kind, name, k * GRID_DT,
                  f"{name} overlaps {what} at t={k * GRID_DT:.2f} s ({area:.2f} m²)")

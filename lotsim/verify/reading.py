@@ -16,8 +16,10 @@ import shapely
 from lotsim.errors import ResultFormatError
 from lotsim.verify.report import Violation, _add
 from lotsim.verify.tolerances import (
+    BAY_USES,
     FORMAT,
     LOT_KEYS,
+    MARKS,
     MAX_MAGNITUDE,
     SAMPLE_KEYS,
     SHRINK,
@@ -112,6 +114,7 @@ class _Slot:
     id: str
     polygon: shapely.Polygon
     occupied: bool
+    use: str = "standard"
 
 
 @dataclass(slots=True)
@@ -120,6 +123,7 @@ class _Lot:
     paved: shapely.MultiPolygon | None = None  # None: all inside the boundary is paved
     slots: dict[str, _Slot] = field(default_factory=dict)
     obstacles: list[shapely.Polygon] = field(default_factory=list)
+    access_aisles: list[tuple[str, shapely.Polygon]] = field(default_factory=list)
     parked: list[shapely.Polygon] = field(default_factory=list)
     speed_limit: float = math.inf
     zones: list[tuple[str, shapely.Polygon, float]] = field(default_factory=list)
@@ -155,6 +159,7 @@ class _Vehicle:
     steer: FloatArray
     gear: FloatArray
     inside: dict | None = None  # where it stood when it came, in the lot: slot or pose
+    marks: frozenset[str] = frozenset()  # what its type is marked as (accessible, ev, ...)
 
     @property
     def n(self) -> int:
@@ -279,9 +284,14 @@ def _parse_lot(raw: Any, out: list[Violation]) -> _Lot:
                  f"{where}: kind {s.get('kind')!r} is not one of {', '.join(SLOT_KINDS)}")
         if not isinstance(s.get("occupied"), bool):
             _add(out, "structure", None, None, f"{where}: 'occupied' must be true or false")
+        use = s.get("use", "standard")
+        if use not in BAY_USES:
+            _add(out, "structure", None, None,
+                 f"{where}: use {use!r} is not one of {', '.join(BAY_USES)}")
         poly = _polygon(s.get("polygon"), f"{where}.polygon", out)
         if poly is not None:
-            lot.slots[sid] = _Slot(sid, poly, s.get("occupied") is True)
+            lot.slots[sid] = _Slot(sid, poly, s.get("occupied") is True,
+                                   use if use in BAY_USES else "standard")
         occupied += s.get("occupied") is True
 
     for key in ("obstacles", "parked"):
@@ -296,6 +306,20 @@ def _parse_lot(raw: Any, out: list[Violation]) -> _Lot:
         if key == "parked" and len(polys) != occupied:
             _add(out, "structure", None, None,
                  f"lot.parked holds {len(polys)} cars but {occupied} slots are occupied")
+
+    aisles = raw.get("access_aisles", [])  # optional: a lot without accessible bays
+    if not isinstance(aisles, list):
+        _add(out, "structure", None, None, "lot.access_aisles: expected a list")
+        aisles = []
+    for i, a in enumerate(aisles):
+        where = f"lot.access_aisles[{i}]"
+        if not (isinstance(a, dict) and isinstance(a.get("id"), str)):
+            _add(out, "structure", None, None, f"{where}: expected {{\"id\": ..., "
+                 f"\"polygon\": [[x, y], ...]}}")
+            continue
+        poly = _polygon(a.get("polygon"), f"{where}.polygon", out)
+        if poly is not None:
+            lot.access_aisles.append((a["id"], poly))
 
     if "speed_limit" in raw:
         if _is_number(raw["speed_limit"]) and raw["speed_limit"] > 0:
@@ -419,6 +443,10 @@ def _parse_vehicle(i: int, raw: Any, lot: _Lot, out: list[Violation]) -> _Vehicl
             for key in TYPE_NUMBERS[3:]:
                 if key != "max_steer" and dims[key] <= 0:
                     problems.append(f"type.{key} must be positive")
+        marks = vtype.get("marks", [])
+        if not (isinstance(marks, list) and all(m in MARKS for m in marks)):
+            problems.append(f"type.marks: expected a list of {', '.join(MARKS)}, found "
+                            f"{marks!r}")
     elif "type" in raw:
         problems.append(f"type: expected an object, found {_kind(vtype)}")
     arrival = raw.get("arrival")
@@ -452,7 +480,8 @@ def _parse_vehicle(i: int, raw: Any, lot: _Lot, out: list[Violation]) -> _Vehicl
     if problems or cols is None:
         return None
     return _Vehicle(i, name, status, slot, reason, float(arrival),
-                    **{key: dims[key] for key in TYPE_NUMBERS}, **cols, inside=inside)
+                    **{key: dims[key] for key in TYPE_NUMBERS}, **cols, inside=inside,
+                    marks=frozenset(vtype.get("marks", [])))
 
 
 def _inside(raw: dict, lot: _Lot, problems: list[str]) -> dict | None:

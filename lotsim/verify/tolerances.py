@@ -17,6 +17,15 @@ TYPE_NUMBERS = ("width", "front", "rear", "wheelbase", "max_steer", "max_forward
 SAMPLE_KEYS = ("t", "x", "y", "theta", "v", "steer", "gear")
 STATUSES = ("parked", "departed", "waiting", "rejected")
 SLOT_KINDS = ("perpendicular", "parallel", "angled")
+BAY_USES = {"standard": None, "compact": None, "accessible": "accessible",
+            "van_accessible": "accessible", "ev": "ev", "motorcycle": "motorcycle"}
+"""Each use of bay → the mark a vehicle type needs to park in it (None: any type may; a
+compact bay takes a type no longer and no wider than itself), as ``docs/scenario.md``
+states the rule."""
+MARKS = ("accessible", "ev", "motorcycle")
+"""What a vehicle type may be marked as."""
+BODY_TOL = 1e-6
+"""Slack on a body's length and width against a compact bay's [m]."""
 
 MAX_DT = 0.05
 """Longest interval between samples of a moving vehicle [s]."""
@@ -116,8 +125,8 @@ ends of the stretch, not every instant of it)."""
 
 RULES = ("internal", "structure", "status", "arrival", "sampling", "sideways", "curvature",
          "heading", "steer", "steer_rate", "gear", "speed", "lateral", "accel", "jerk",
-         "overlap", "parked", "obstacle", "boundary", "pavement", "slot", "inside", "exit",
-         "reason",
+         "overlap", "parked", "obstacle", "access_aisle", "boundary", "pavement", "slot",
+         "bay_use", "inside", "exit", "reason",
          "stall", "closure", "taken", "metrics")
 """Every rule tag, in the order violations are listed."""
 

@@ -234,3 +234,29 @@ def test_two_exports_of_a_lot_hold_the_same_entities(tmp_path):
     a = lotsim.export_dxf(SCENARIOS["mixed_lot"], tmp_path / "a.dxf").path
     b = lotsim.export_dxf(SCENARIOS["mixed_lot"], tmp_path / "b.dxf").path
     assert entities(a) == entities(b) and len(entities(a)) > 10_000
+
+
+USE_LAYERS = {"standard": "C-PRKG", "compact": "C-PRKG-CMPT", "accessible": "C-PRKG-ACCS",
+              "van_accessible": "C-PRKG-ACCV", "ev": "C-PRKG-EVCH", "motorcycle": "C-PRKG-MCYC"}
+"""docs/export.md's layer of each use of bay, as the page gives them."""
+
+
+def test_a_lot_of_several_uses_has_each_bay_on_its_use_s_layer(tmp_path):
+    source = ROOT / "scenarios" / "lots" / "storefront.yaml"
+    doc = export(source, tmp_path)
+    assert not doc.audit().has_errors
+    lot = lot_of(source)
+    uses = {s.use for s in lot.slots}
+    assert len(uses) >= 4
+    for use, layer in USE_LAYERS.items():
+        drawn = [polygon(e) for e in polylines(doc, layer)]
+        mine = [s for s in lot.slots if s.use == use]
+        assert len(drawn) == len(mine), use
+        for slot in mine:
+            assert min(far(p, slot.shape) for p in drawn) <= TOLERANCE, slot.id
+    aisles = [polygon(e) for e in polylines(doc, "C-PRKG-ACCA")]
+    assert len(aisles) == len(lot.access_aisles) == 2
+    for a in lot.access_aisles:
+        assert min(far(p, a.shape) for p in aisles) <= TOLERANCE, a.id
+    hatches = list(doc.modelspace().query('HATCH[layer=="C-PRKG-ACCA"]'))
+    assert len(hatches) == 2 and all(h.dxf.solid_fill == 0 for h in hatches)

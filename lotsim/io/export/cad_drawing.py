@@ -9,9 +9,10 @@ What is drawn, and where it comes from:
   the outline of all aisles together (their pavement edges) and the areas (islands and
   no-go zones, obstacles, walls), ring by ring, exactly as lotsim holds them, each area's
   id inside it;
-* every bay as its four corners on the layer of its use, its stripes (every side but the
-  entry, a side two bays share drawn once) and its id at its centre, along its length;
-  a bay taken at start is crossed;
+* every bay as its four corners on the layer of its use (:data:`lotsim.lot.uses.USES`),
+  its stripes (every side but the entry, a side two bays share drawn once) and its id at
+  its centre, along its length; a bay taken at start is crossed; each access aisle as its
+  four corners, hatched, on a layer of its own;
 * each lane's direction arrows, spaced along it as ``lotsim show`` spaces them, and an
   arrow at each entrance and exit, the way cars go;
 * speed bumps as lines and speed zones as outlines, each with its limit;
@@ -30,7 +31,7 @@ import shapely
 from shapely.geometry import LineString, Point
 from shapely.geometry.base import BaseGeometry
 
-from lotsim.io.cad_layers import LAYER_NAMES, STANDARD, bay_layer
+from lotsim.io.cad_layers import LAYER_NAMES, bay_layer
 from lotsim.lot.model import Lot, Portal, Slot
 
 XY = tuple[float, float]
@@ -48,12 +49,14 @@ AREA_LAYERS = {"no_go": "island", "obstacle": "obstacle", "wall": "wall"}
 
 @dataclass(frozen=True, slots=True)
 class Polyline:
-    """An LWPOLYLINE: its vertices [m], closed or not; ``fill``: filled solid (a HATCH)."""
+    """An LWPOLYLINE: its vertices [m], closed or not; ``fill``: filled solid (a HATCH);
+    ``hatch``: hatched with parallel lines (a HATCH of a line pattern)."""
 
     layer: str
     points: tuple[XY, ...]
     closed: bool
     fill: bool = False
+    hatch: bool = False
 
 
 @dataclass(frozen=True, slots=True)
@@ -301,9 +304,11 @@ def lot_drawing(lot: Lot) -> CadDrawing:
             outline(zone.polygon, name["speed_zone"])
             p = zone.polygon.representative_point()
             labels.append(Label(name["speed_zone"], _kmh(zone.limit), (p.x, p.y), 1.0))
-    use = STANDARD  # every bay of lotsim's lots is of standard use (cad_layers.BAY_USES)
     for slot in lot.slots:
-        polylines.append(Polyline(bay_layer(use), _xy(slot.polygon), True))
+        polylines.append(Polyline(bay_layer(slot.use), _xy(slot.polygon), True))
+    for aisle in lot.access_aisles:
+        polylines.append(Polyline(name["access_aisle"], _xy(aisle.polygon), True,
+                                  hatch=True))
     segments += [Segment(name["stripe"], a, b) for a, b in stripes(lot.slots)]
     for slot in lot.slots:
         labels.append(Label(name["bay_number"], slot.id, slot.center, number_height(slot),

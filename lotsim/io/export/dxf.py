@@ -2,8 +2,9 @@
 
 The figures of :func:`~lotsim.io.export.cad_drawing.lot_drawing` become model-space
 entities, each on its layer of :data:`~lotsim.io.cad_layers.LAYERS` with the layer's
-colour and linetype (``BYLAYER``): LWPOLYLINE, LINE, POINT, TEXT, and a solid HATCH under
-each arrow. The drawing is DXF R2010 (AutoCAD 2010 and later read it), in metres:
+colour and linetype (``BYLAYER``): LWPOLYLINE, LINE, POINT, TEXT, a solid HATCH under
+each arrow and a HATCH of lines over each access aisle. The drawing is DXF R2010
+(AutoCAD 2010 and later read it), in metres:
 ``$INSUNITS`` 6, ``$MEASUREMENT`` 1 (metric), decimal lengths to the millimetre. Its
 initial view shows the whole lot. Coordinates are lotsim's own, unrounded.
 
@@ -31,6 +32,11 @@ METRES = 6
 """``$INSUNITS`` of metres."""
 BYLAYER = 256
 """The colour index that takes the layer's colour."""
+HATCH_PATTERN = "ANSI31"
+"""The pattern of a hatched figure (an access aisle): lines at 45°."""
+HATCH_SCALE = 0.4 / 3.175
+"""Its scale: ANSI31's lines are 3.175 drawing units apart, so at this scale 0.4 m, about
+as far apart as the painted lines of an access aisle."""
 
 
 @dataclass(frozen=True, slots=True)
@@ -63,6 +69,10 @@ def dxf_document(drawing: CadDrawing):
                            dxfattribs={"layer": p.layer})
         if p.fill:
             hatch = msp.add_hatch(color=BYLAYER, dxfattribs={"layer": p.layer})
+            hatch.paths.add_polyline_path(p.points, is_closed=True)
+        if p.hatch:
+            hatch = msp.add_hatch(color=BYLAYER, dxfattribs={"layer": p.layer})
+            hatch.set_pattern_fill(HATCH_PATTERN, scale=HATCH_SCALE)
             hatch.paths.add_polyline_path(p.points, is_closed=True)
     for s in drawing.segments:
         msp.add_line(s.start, s.end, dxfattribs={"layer": s.layer})

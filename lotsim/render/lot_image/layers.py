@@ -20,6 +20,7 @@ from lotsim.render.lot_image.canvas import (
     triangle_polygon,
 )
 from lotsim.render.lot_image.theme import (
+    ACCESS_AISLE,
     ARROW,
     ARROW_EDGE,
     ASPHALT,
@@ -160,6 +161,11 @@ def paint_lot(
         fill_geometry(img, canvas, aisle.polygon, ASPHALT)
     for s in lot.slots:
         draw.polygon(_flat(canvas.to_px(np.asarray(s.polygon, dtype=float))), fill=SLOT_PAVING)
+    # access aisles: ground no car parks or drives on, hatched in the accessible blue
+    access = [a.shape for a in getattr(lot, "access_aisles", ())]
+    _hatch(img, canvas, access, ACCESS_AISLE)
+    for g in access:
+        fill_geometry(img, canvas, g, (0, 0, 0, 0), outline=ACCESS_AISLE, width=1)
     for z in lot.zones:
         tint = ZONE_TINT if z.source == "zone" else BUMP_REACH_TINT
         fill_geometry(img, canvas, z.polygon.intersection(lot.boundary), tint)

@@ -35,6 +35,8 @@ OBSTACLE: Color = (72, 70, 66)
 OBSTACLE_EDGE: Color = (15, 15, 15)
 NO_GO_TINT: tuple[int, int, int, int] = (235, 80, 80, 60)
 NO_GO_HATCH: Color = (200, 30, 30)
+ACCESS_AISLE: Color = (40, 110, 220)
+"""The hatching of an access aisle beside an accessible bay (the blue of its marking)."""
 ZONE_TINT: tuple[int, int, int, int] = (255, 150, 0, 55)
 BUMP_REACH_TINT: tuple[int, int, int, int] = (255, 220, 0, 35)
 BUMP_YELLOW: Color = (255, 205, 0)

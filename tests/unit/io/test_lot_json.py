@@ -14,7 +14,7 @@ import numpy as np
 import pytest
 from shapely.geometry import MultiPolygon, Polygon, box
 
-from conftest import SCENARIOS, scenario_from_text
+from conftest import ROOT, SCENARIOS, scenario_from_text
 from lotsim.core.geometry import wrap_angle
 from lotsim.io.lot_json import LotFormatError, lot_from_json, lot_to_json
 from lotsim.io.result import result_dict
@@ -318,3 +318,22 @@ def test_random_damage_raises_lot_format_error_or_nothing(shipped):
             refused += 1
             assert str(exc).startswith("drawing"), str(exc)
     assert refused > 200
+
+
+def test_bays_by_use_and_access_aisles_come_back_as_written():
+    sc = load_scenario(ROOT / "scenarios" / "lots" / "storefront.yaml")
+    lot = build_lot(sc.lot, DesignVehicle.envelope(sc.vehicle_types))
+    d = json.loads(json.dumps(lot_to_json(lot)))
+    back = lot_from_json(d)
+    assert [s.use for s in back.slots] == [s.use for s in lot.slots]
+    assert {s.use for s in back.slots} > {"standard", "accessible"}
+    assert [(a.id, a.slots) for a in back.access_aisles] == \
+        [(a.id, a.slots) for a in lot.access_aisles]
+    for a, b in zip(back.access_aisles, lot.access_aisles, strict=True):
+        assert a.shape.symmetric_difference(b.shape).area < 1e-9
+    # a standard bay is written without its use, as every lot before uses was
+    assert all("use" not in s for s in d["slots"] if s["id"].startswith("N"))
+    bad = copy.deepcopy(d)
+    bad["slots"][0]["use"] = "valet"
+    with pytest.raises(LotFormatError, match=r"drawing.slots\[0\].use"):
+        lot_from_json(bad)

@@ -1,0 +1,203 @@
+"""A lot's bays by use, counted against a standard (:func:`bay_report`), and its bay
+schedule (:func:`bay_schedule`): what ``lotsim validate`` reports for a lot designer.
+
+The built-in standard is the 2010 ADA Standards for Accessible Design, Table 208.2 (the
+accessible spaces a facility of so many spaces needs) and §208.2.4 (one in six of those, or
+fraction of six, van-accessible), counted per facility: a scenario's lot is one facility.
+Every bay counts toward the total but motorcycle bays; accessible bays count toward it too,
+and a van-accessible bay is an accessible one. Another standard is a table the scenario
+states (``lot.standard``: a count or a share of the total per use).
+"""
+
+from __future__ import annotations
+
+import csv
+import io
+import math
+from collections.abc import Iterable
+from dataclasses import dataclass
+
+from lotsim.lot.model import Lot
+from lotsim.lot.spec import Requirement, StandardSpec
+from lotsim.lot.uses import ADA_2010, USES, ada_accessible, ada_van
+
+
+@dataclass(frozen=True, slots=True)
+class UseCheck:
+    """What a standard asks of one use of bay, and what the lot holds.
+
+    Attributes
+    ----------
+    use : str
+        The use (``accessible`` counts the van-accessible bays too).
+    required, found : int
+        Bays asked for and bays the lot has.
+    rule : str
+        Where the number comes from (``Table 208.2``, ``a share of 10 %``).
+    """
+
+    use: str
+    required: int
+    found: int
+    rule: str
+
+    @property
+    def met(self) -> bool:
+        return self.found >= self.required
+
+    @property
+    def short(self) -> int:
+        """How many bays are missing (0 when met)."""
+        return max(self.required - self.found, 0)
+
+    def as_dict(self) -> dict:
+        return {"use": self.use, "required": self.required, "found": self.found,
+                "met": self.met, "short": self.short, "rule": self.rule}
+
+
+@dataclass(frozen=True, slots=True)
+class Walk:
+    """An accessible bay's walking distance to the nearest building entrance, taken as the
+    straight line from the bay's centre to the entrance [m] (the path over the pavement is
+    at least as long)."""
+
+    slot: str
+    entrance: str
+    distance: float
+
+
+@dataclass(frozen=True, slots=True)
+class BayReport:
+    """A lot's bays by use and the standard's check of them.
+
+    Attributes
+    ----------
+    by_use : dict
+        Use → bays of it, every use listed (:data:`~lotsim.lot.uses.USES`, in order).
+    total : int
+        The bays counted toward the standard's total (all but motorcycle bays).
+    standard : str
+        The standard's name (``ADA 2010``, or the one the scenario states).
+    checks : tuple of UseCheck
+    walks : tuple of Walk
+        One per accessible or van-accessible bay when the lot names building entrances.
+    """
+
+    by_use: dict[str, int]
+    total: int
+    standard: str
+    checks: tuple[UseCheck, ...]
+    walks: tuple[Walk, ...] = ()
+
+    @property
+    def met(self) -> bool:
+        """Every count the standard asks for is met."""
+        return all(c.met for c in self.checks)
+
+    def as_dict(self) -> dict:
+        return {"by_use": dict(self.by_use), "total": self.total, "standard": self.standard,
+                "met": self.met, "checks": [c.as_dict() for c in self.checks],
+                "walks": [{"slot": w.slot, "entrance": w.entrance,
+                           "distance": round(w.distance, 2), "straight_line": True}
+                          for w in self.walks]}
+
+    def lines(self) -> list[str]:
+        """The report as ``lotsim validate`` prints it (indented lines)."""
+        uses = ", ".join(f"{USES[u].label} {n}" for u, n in self.by_use.items() if n)
+        out = [f"  bays by use: {uses or 'none'}"]
+        if not self.total:
+            return out
+        parts = []
+        for c in self.checks:
+            verdict = "met" if c.met else f"not met, {c.short} short"
+            parts.append(f"{USES[c.use].label} {c.found} of {c.required} required "
+                         f"({c.rule}): {verdict}")
+        head = "met" if self.met else "not met"
+        out.append(f"  {self.standard} for {self.total} bays: {head} — " + "; ".join(parts))
+        for w in self.walks:
+            out.append(f"    {w.slot}: {w.distance:.1f} m to {w.entrance} (straight line)")
+        return out
+
+
+def bay_report(lot: Lot, standard: StandardSpec | None = None,
+               entrances: Iterable[tuple[str, tuple[float, float]]] = ()) -> BayReport:
+    """``lot``'s bays by use, checked against ``standard`` (None: ADA 2010), with each
+    accessible bay's walk to the nearest of ``entrances`` (``(id, (x, y))``).
+
+    Examples
+    --------
+    >>> from types import SimpleNamespace as NS
+    >>> lot = NS(slots=[NS(id=f"P{k}", use="standard", center=(k, 0.0)) for k in range(30)]
+    ...         + [NS(id="H1", use="accessible", center=(0.0, 5.0))])
+    >>> r = bay_report(lot, entrances=[("door", (0.0, 9.0))])
+    >>> r.total, [(c.use, c.required, c.found, c.met) for c in r.checks], r.walks[0].distance
+    (31, [('accessible', 2, 1, False), ('van_accessible', 1, 0, False)], 4.0)
+    """
+    by_use = dict.fromkeys(USES, 0)
+    for s in lot.slots:
+        by_use[s.use] += 1
+    total = sum(n for u, n in by_use.items() if u != "motorcycle")
+    accessible = by_use["accessible"] + by_use["van_accessible"]
+    if standard is None or not standard.requirements:
+        need = ada_accessible(total)
+        checks = (UseCheck("accessible", need, accessible, "Table 208.2"),
+                  UseCheck("van_accessible", ada_van(need), by_use["van_accessible"],
+                           "§208.2.4, 1 in 6"))
+        name = ADA_2010
+    else:
+        checks = tuple(_check(r, total, by_use) for r in standard.requirements)
+        name = standard.name
+    doors = list(entrances)
+    walks = []
+    if doors:
+        for s in lot.slots:
+            if USES[s.use].accessible:
+                door, d = min(((n, math.dist(s.center, p)) for n, p in doors),
+                              key=lambda nd: nd[1])
+                walks.append(Walk(s.id, door, d))
+    return BayReport(by_use, total, name, checks, tuple(walks))
+
+
+def _check(req: Requirement, total: int, by_use: dict[str, int]) -> UseCheck:
+    found = by_use[req.use] + (by_use["van_accessible"] if req.use == "accessible" else 0)
+    rule = f"{req.count} bays" if req.count is not None else f"{req.share:.0%} of the total"
+    return UseCheck(req.use, req.least(total), found, rule)
+
+
+SCHEDULE_COLUMNS = ("row", "use", "kind", "count", "bays", "length_m", "width_m",
+                    "angle_deg", "access_aisles")
+"""The columns of a bay schedule (:func:`bay_schedule`)."""
+
+
+def bay_schedule(lot: Lot, rows: dict[str, str]) -> list[dict]:
+    """The lot's bay schedule: a line per row, use and size (``rows``: slot id → its row,
+    as :func:`lotsim.sim.validation.rows_of` names them), in the lot's order of bays, with
+    how many bays, their ids, length and width [m], angle to the aisle [°] and the access
+    aisles beside them."""
+    served = {}
+    for a in lot.access_aisles:
+        for sid in a.slots:
+            served.setdefault(sid, a.id)
+    out: dict[tuple, dict] = {}
+    for s in lot.slots:
+        key = (rows[s.id], s.use, s.kind, round(s.length, 3), round(s.width, 3),
+               round(math.degrees(s.angle), 1))
+        line = out.setdefault(key, {"row": key[0], "use": s.use, "kind": s.kind, "count": 0,
+                                    "bays": [], "length_m": key[3], "width_m": key[4],
+                                    "angle_deg": key[5], "access_aisles": set()})
+        line["count"] += 1
+        line["bays"].append(s.id)
+        if s.id in served:
+            line["access_aisles"].add(served[s.id])
+    return [{**line, "access_aisles": len(line["access_aisles"])} for line in out.values()]
+
+
+def schedule_csv(lines: list[dict], ids) -> str:
+    """A bay schedule as CSV text; ``ids(list)`` writes a line's bay ids (runs as
+    ``N1–N6``)."""
+    text = io.StringIO()
+    w = csv.writer(text, lineterminator="\n")
+    w.writerow(SCHEDULE_COLUMNS)
+    for line in lines:
+        w.writerow([ids(line["bays"]) if k == "bays" else line[k] for k in SCHEDULE_COLUMNS])
+    return text.getvalue()
