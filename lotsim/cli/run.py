@@ -22,6 +22,10 @@ from lotsim.cli.pictures import save_gif, save_html, save_mp4
 from lotsim.cli.progress import Preparing, ProgressBar, noting_sigint
 
 HELP = "plan a scenario's traffic and write OUTDIR/result.json"
+RESULT_NAMES = ("result.json", "result.json.gz")
+"""The result's file, and its compact form's (``--compact``)."""
+BIG_RESULT = 50e6
+"""A result.json over this many bytes is told it could be written compact."""
 EXITS = ("0 every car was served or rejected; 1 a car is still waiting when the run "
          "ends; 2 bad input, or a memory or time limit stopped the run (nothing written); "
          "130 interrupted")
@@ -55,6 +59,9 @@ def add_arguments(r: argparse.ArgumentParser) -> None:
     r.add_argument("--horizon", type=float,
                    help="with --priority shortest_first/ga: how far ahead arrivals are "
                    f"booked [s] ({rs.horizon:g}; inf: all)")
+    r.add_argument("--compact", action="store_true",
+                   help="write the result compressed, as OUTDIR/result.json.gz (a long "
+                        "run's; lotsim check, render and export read it as result.json)")
     r.add_argument("--memory-limit", metavar="SIZE", help="stop, writing nothing, when the "
                    "run holds or is projected to need more memory than this, e.g. 4G "
                    "(default 80%% of the memory available)")
@@ -96,8 +103,9 @@ def execute(args: argparse.Namespace) -> int:
     budget = _budget(args)
     if isinstance(budget, str):
         return bad(budget)
+    name, other = RESULT_NAMES[::-1] if args.compact else RESULT_NAMES
     with api.OutputSet() as outputs:  # every output checked before the planning
-        result_json = outputs.file(out / "result.json",
+        result_json = outputs.file(out / name,
                                    name=given("-o", out) if args.output else str(out))
         staged = {key: (outputs.file(path, name=_named(args, key, path))
                         if path is not None else None) for key, path in pictures.items()}
@@ -111,12 +119,16 @@ def execute(args: argparse.Namespace) -> int:
         if code != EXIT_OK:
             return code  # nothing is written: the outputs are one set
         written = [p for p in pictures.values() if p is not None]
-        removed = _earlier(out, written)
+        # the other form of the result, from an earlier run, would show that run
+        removed = _earlier(out, written) + [p for p in [out / other] if p.is_file()]
         for p in removed:
             outputs.remove(p)
         _note_written(outputs, out, written)
         outputs.commit()
-    print(f"  wrote {out / 'result.json'}")
+    size = result_json_size(out / name)
+    print(f"  wrote {out / name}" + (f" ({size / 1e6:.0f} MB: --compact writes it as "
+                                     f"{RESULT_NAMES[1]}, several times smaller)"
+                                     if not args.compact and size > BIG_RESULT else ""))
     for p in removed:
         print(f"  removed {p}: it showed an earlier run")
     for line in said:
@@ -303,3 +315,11 @@ def _draw(doc: dict, pictures: dict[str, Path | None], staged: dict[str, Path | 
             return code, said
         said.append(line)
     return EXIT_OK, said
+
+
+def result_json_size(path: Path) -> int:
+    """The size of the result written at ``path`` [bytes] (0 when it cannot be read)."""
+    try:
+        return path.stat().st_size
+    except OSError:
+        return 0

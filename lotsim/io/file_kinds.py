@@ -17,8 +17,10 @@ None
 
 from __future__ import annotations
 
+import gzip
 import json
 import os
+import zlib
 from collections.abc import Mapping
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
@@ -83,7 +85,13 @@ def top_level(root: YNode) -> dict[str, str | None]:
 
 def json_kind(raw: bytes) -> str | None:
     """The kind of a file's bytes when they are a JSON object (quick: a ``result.json``
-    runs to megabytes, too slow to compose as YAML only to learn what it is)."""
+    runs to megabytes, too slow to compose as YAML only to learn what it is); a result in
+    its compact form (gzip) too."""
+    if raw[:2] == b"\x1f\x8b":
+        try:
+            raw = gzip.decompress(raw)
+        except (OSError, EOFError, zlib.error):
+            return None
     if raw.lstrip()[:1] != b"{":
         return None
     try:

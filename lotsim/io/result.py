@@ -3,6 +3,8 @@
 from __future__ import annotations
 
 import dataclasses
+import gzip
+import io
 import json
 import math
 from pathlib import Path
@@ -136,10 +138,25 @@ def result_dict(rr: RunResult, *, progress=None) -> dict:
     return doc
 
 
+COMPACT_SUFFIX = ".gz"
+"""A result file whose name ends so is written gzip-compressed (:func:`write_json`): the
+compact form of a long run's result, which every reader of results reads as it reads
+``result.json``."""
+
+
 def write_json(obj: dict, path: str | Path) -> None:
     """Write ``obj`` as JSON to ``path`` atomically: a temporary file in the same directory,
-    renamed over the target; nothing is left behind on failure."""
-    with atomic_write(path, "w", encoding="utf-8") as fh:
+    renamed over the target; nothing is left behind on failure. A path ending in ``.gz``
+    (:data:`COMPACT_SUFFIX`) is written gzip-compressed, with no time or name in its
+    header, so that the same document gives the same bytes."""
+    if not str(path).endswith(COMPACT_SUFFIX):
+        with atomic_write(path, "w", encoding="utf-8") as fh:
+            json.dump(obj, fh, separators=(",", ":"), allow_nan=False)
+            fh.write("\n")
+        return
+    with atomic_write(path, "wb") as raw, \
+            gzip.GzipFile(filename="", mode="wb", fileobj=raw, mtime=0) as gz, \
+            io.TextIOWrapper(gz, encoding="utf-8") as fh:
         json.dump(obj, fh, separators=(",", ":"), allow_nan=False)
         fh.write("\n")
 

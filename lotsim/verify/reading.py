@@ -3,9 +3,11 @@
 
 from __future__ import annotations
 
+import gzip
 import json
 import math
 import os
+import zlib
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -33,9 +35,12 @@ from lotsim.verify.tolerances import (
     Pose,
 )
 
+GZIP_MAGIC = b"\x1f\x8b"
+"""The first two bytes of a gzip file: a result in its compact form."""
+
 
 def read_result(path: str | os.PathLike[str], *, packed: bool = False) -> dict:
-    """Read a ``result.json``.
+    """Read a ``result.json``, or its compact form (gzip-compressed, ``result.json.gz``).
 
     Parameters
     ----------
@@ -72,6 +77,11 @@ def read_result(path: str | os.PathLike[str], *, packed: bool = False) -> dict:
         raw = Path(path).read_bytes()
     except OSError as exc:
         raise ResultFormatError(f"{name}: cannot read it ({exc.strerror or exc})") from None
+    if raw[:2] == GZIP_MAGIC:  # the compact form (``result.json.gz``)
+        try:
+            raw = gzip.decompress(raw)
+        except (OSError, EOFError, zlib.error) as exc:
+            raise ResultFormatError(f"{name}: not a whole gzip file ({exc})") from None
     try:
         data = json.loads(raw, object_hook=_packed if packed else None)
     except json.JSONDecodeError as exc:
