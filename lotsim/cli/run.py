@@ -24,6 +24,9 @@ from lotsim.cli.progress import Preparing, ProgressBar, noting_sigint
 HELP = "plan a scenario's traffic and write OUTDIR/result.json"
 RESULT_NAMES = ("result.json", "result.json.gz")
 """The result's file, and its compact form's (``--compact``)."""
+HOURLY_FROM = 3
+"""A run whose cars came over this many hours of its clock or more is also told hour by
+hour."""
 BIG_RESULT = 50e6
 """A result.json over this many bytes is told it could be written compact."""
 EXITS = ("0 every car was served or rejected; 1 a car is still waiting when the run "
@@ -286,6 +289,15 @@ def _summary(args: argparse.Namespace, scenario, rr, m: dict, doc: dict) -> None
     line = disturb.summary(rr)
     if line:
         print(line)
+    hours = rr.hourly()
+    if len(hours) >= HOURLY_FROM:
+        print("  by the hour the cars came (cars, parked; time to park median / p90; "
+              "standing per car):")
+        for h in hours:
+            print(f"    {h['hour']:02d}–{h['hour'] + 1:02d} h: {h['arrivals']:4d} cars, "
+                  f"{h['parked']:4d} parked; {h['median_time_to_park']:6.1f} / "
+                  f"{h['p90_time_to_park']:6.1f} s; {h['standing_per_car']:6.1f} s"
+                  + (f"; {h['rejected']} rejected" if h["rejected"] else ""))
     for v in doc["vehicles"]:
         if v["status"] in ("waiting", "rejected"):
             print(f"  {v['id']}: {v['status']}: {v['reason']}")

@@ -144,6 +144,11 @@ compact form of a long run's result, which every reader of results reads as it r
 ``result.json``."""
 
 
+COMPACT_LEVEL = 6
+"""gzip's level for the compact form: within 1 % of its smallest (level 9) at two thirds of
+the time."""
+
+
 def write_json(obj: dict, path: str | Path) -> None:
     """Write ``obj`` as JSON to ``path`` atomically: a temporary file in the same directory,
     renamed over the target; nothing is left behind on failure. A path ending in ``.gz``
@@ -155,7 +160,8 @@ def write_json(obj: dict, path: str | Path) -> None:
             fh.write("\n")
         return
     with atomic_write(path, "wb") as raw, \
-            gzip.GzipFile(filename="", mode="wb", fileobj=raw, mtime=0) as gz, \
+            gzip.GzipFile(filename="", mode="wb", fileobj=raw, mtime=0,
+                          compresslevel=COMPACT_LEVEL) as gz, \
             io.TextIOWrapper(gz, encoding="utf-8") as fh:
         json.dump(obj, fh, separators=(",", ":"), allow_nan=False)
         fh.write("\n")

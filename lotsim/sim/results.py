@@ -134,6 +134,40 @@ class RunResult:
         return out
 
 
+    def hourly(self) -> list[dict[str, float]]:
+        """The run hour by hour of its clock, each car counted in the hour it arrived
+        (``[h·3600, (h+1)·3600)`` s; a day's clock that starts at midnight gives hours of
+        the day), from the first arrival's hour to the last's: ``hour``, ``arrivals``,
+        ``parked`` (those that came to stand in a slot), ``rejected``, ``median`` and
+        ``p90_time_to_park`` [s] and ``standing_per_car`` [s] (:func:`standing`, over the
+        hour's cars). An hour no car arrived in has zeros.
+
+        Examples
+        --------
+        >>> import lotsim
+        >>> [(h["hour"], h["arrivals"]) for h in lotsim.run(lotsim.EXAMPLE).hourly()]
+        [(0, 3)]
+        """
+        by: dict[int, list[VehicleRun]] = {}
+        for v in self.vehicles:
+            by.setdefault(int(np.floor(v.arrival.time / 3600.0)), []).append(v)
+        if not by:
+            return []
+        out = []
+        for hour in range(min(by), max(by) + 1):
+            cars = by.get(hour, [])
+            park = _times_to_park(cars)
+            out.append({
+                "hour": hour, "arrivals": len(cars),
+                "parked": sum(v.parked_at is not None and v.arrival.slot is None for v in cars),
+                "rejected": sum(v.status == "rejected" for v in cars),
+                "median_time_to_park": float(np.median(park)) if park else 0.0,
+                "p90_time_to_park": float(np.percentile(park, 90)) if park else 0.0,
+                "standing_per_car": (float(sum(sum(standing(v)) for v in cars) / len(cars))
+                                     if cars else 0.0)})
+        return out
+
+
 def _times_to_park(vehicles: list[VehicleRun]) -> list[float]:
     """From arrival to standing in the slot [s], for each car that parked (not those that
     stood in their bay when they came)."""

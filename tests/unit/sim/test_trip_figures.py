@@ -81,3 +81,29 @@ def test_the_figures_of_a_run_are_its_cars(culdesac_run):
         assert outside + way_in <= v.parked_at - v.arrival.time + 1e-9
         if v.left_at is not None:
             assert way_out <= v.left_at - v.parked_at - v.arrival.dwell + 1e-9
+
+
+def test_each_car_counts_in_the_hour_it_came_and_an_empty_hour_reads_zero():
+    from lotsim.sim.results import RunResult
+
+    # three cars in hour 1 (3600–7200 s), none in hour 2, one in hour 3; one of hour 1's
+    # turned away (it never parks)
+    cars = [car(3700, None, [move("drive", 3700, 3720), move("park", 3720, 3730)], 3730),
+            car(4000, None, [move("outside", 4000, 4010), move("drive", 4010, 4050),
+                             move("park", 4050, 4060)], 4060),
+            car(7100, None, [], None),
+            car(11000, None, [move("drive", 11000, 11005), move("park", 11005, 11010)],
+                11010)]
+    cars[2].status = "rejected"
+    rr = RunResult.__new__(RunResult)
+    rr.vehicles = cars
+    hours = rr.hourly()
+    assert [h["hour"] for h in hours] == [1, 2, 3]
+    one, two, three = hours
+    assert (one["arrivals"], one["parked"], one["rejected"]) == (3, 2, 1)
+    assert one["median_time_to_park"] == pytest.approx(np.median([30, 60]))
+    assert one["standing_per_car"] == pytest.approx(10 / 3)  # the one queued outside
+    assert two == {"hour": 2, "arrivals": 0, "parked": 0, "rejected": 0,
+                   "median_time_to_park": 0.0, "p90_time_to_park": 0.0,
+                   "standing_per_car": 0.0}
+    assert three["p90_time_to_park"] == pytest.approx(10.0)
