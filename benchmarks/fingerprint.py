@@ -19,6 +19,7 @@ Preparation runs with the on-disk cache off, so every lot is planned afresh.
 
 from __future__ import annotations
 
+import argparse
 import dataclasses
 import enum
 import hashlib
@@ -96,8 +97,15 @@ def result_digest(path: Path) -> tuple[str, str]:
 
 
 def main(argv: list[str]) -> int:
-    if argv[:1] == ["--compare"]:
-        a, b = (json.loads(Path(p).read_text()) for p in argv[1:3])
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--compare", nargs=2, metavar=("A.json", "B.json"),
+                    help="compare two fingerprint files; exit 1 when any part differs")
+    ap.add_argument("out", nargs="?", metavar="OUT.json", help="where to write them")
+    ap.add_argument("scenarios", nargs="*", metavar="SCENARIO",
+                    help="default: every scenario in scenarios/ and scenarios/lots/")
+    args = ap.parse_args(argv)
+    if args.compare:
+        a, b = (json.loads(Path(p).read_text()) for p in args.compare)
         bad = 0
         for name in sorted(set(a) | set(b)):
             for part in ("graph", "result", "settings"):
@@ -106,8 +114,10 @@ def main(argv: list[str]) -> int:
                 bad += not same
                 print(f"{'same' if same else 'DIFFERENT':9s} {part:6s} {name}")
         return 1 if bad else 0
-    out = Path(argv[0])
-    paths = [Path(p) for p in argv[1:]] or sorted(
+    if args.out is None:
+        ap.error("give OUT.json (or --compare A.json B.json)")
+    out = Path(args.out)
+    paths = [Path(p) for p in args.scenarios] or sorted(
         [*ROOT.glob("scenarios/*.yaml"), *ROOT.glob("scenarios/lots/*.yaml")])
     prints = {}
     for p in paths:
