@@ -11,7 +11,9 @@ A user's mistake is one of these, never a bare ``ValueError``, and the CLI print
 * :class:`ResultFormatError` — a file that is not a lotsim result at all;
 * :class:`ReplayError` — a result document that cannot be replayed (drawn);
 * :class:`InfeasibleManeuver` — a vehicle type cannot enter or leave a slot (exit 1);
-* :class:`OutputError` — an output file or folder that cannot be written, named as given.
+* :class:`OutputError` — an output file or folder that cannot be written, named as given;
+* :class:`ReuseMismatch` — with the reuse check on (``LOTSIM_VERIFY_REUSE=1``), a piece of
+  work recalled from a store that differs from the same work done afresh.
 
 Examples
 --------
@@ -187,3 +189,30 @@ class OutputError(LotsimError):
 
     def __reduce__(self):
         return (type(self), (self.name, self.why))
+
+
+class ReuseMismatch(LotsimError):
+    """A piece of work recalled from one of lotsim's stores (the on-disk cache, the roadmap
+    store, the maneuver answers, a search graph) that differs from the same work done
+    afresh: the store's key for it misses something the work reads. Raised only with the
+    reuse check on (:class:`lotsim.core.reusecheck.ReuseCheck`).
+
+    Parameters
+    ----------
+    store : str
+        The store (``roadmap``, ``maneuver answers``, ...).
+    key : str
+        The recalled piece's key in that store, as text.
+    what : str
+        Where the recalled piece and the fresh one first differ, and how.
+    """
+
+    def __init__(self, store: str, key: str, what: str):
+        self.store = store
+        self.key = key
+        self.what = what
+        super().__init__(f"{store}: the piece recalled as {key} differs from the same work "
+                         f"done afresh: {what}")
+
+    def __reduce__(self):
+        return (type(self), (self.store, self.key, self.what))

@@ -10,6 +10,7 @@ import multiprocessing
 import os
 from collections.abc import Callable, Iterable
 
+from lotsim.core.reusecheck import ReuseCheck
 from lotsim.core.workers import ForkPool
 from lotsim.maneuvers.maneuver import Maneuver
 from lotsim.maneuvers.planner import ManeuverPlanner, search_maneuver
@@ -147,6 +148,23 @@ class _Batch:
         return pair, keys[read - 1 if pair is not None else -1], False, exact
 
 
+    def afresh(self, job: tuple[int, str, list[Found] | None, bool]) -> tuple:
+        """The problem of triple ``job[0]`` posed afresh, its exact key in style
+        ``job[1]``, and (with ``job[3]``) its own search's answer (``job[2]`` None), or its
+        fit to the offers ``job[2]`` with the key ``known`` keeps that by (None without
+        ``job[3]``): what the reuse check compares with what ``known`` held."""
+        k, st, offers, answer = job
+        planner = self.planner
+        problem = planner.problems.pose(*self.triples[k])
+        exact = exact_key(problem, st)
+        if not answer:
+            return exact, None
+        if offers is None:
+            return exact, search_maneuver(problem, st, planner.settings)
+        pair, read = fit_first(problem, st, offers, planner.settings, planner.fewer)
+        return exact, (pair, fit_keys(exact, offers)[read - 1 if pair is not None else -1])
+
+
 def fit_keys(exact: bytes, offers: list[Found]) -> list[bytes]:
     """Where ``known`` keeps a fit of the problem with exact key ``exact`` to ``offers``:
     by the maneuvers the offers up to the one that fits hold (:attr:`Found.source`; a fit
@@ -184,7 +202,8 @@ def exact_key_of(source: bytes, style: str) -> bytes:
 def prefetch(planner: ManeuverPlanner, vehicles: Iterable[VehicleType], *,
              style: str = "any", shared: bool = True, workers: int | None = None,
              progress: Callable[[int, int], None] | None = None,
-             known: dict[bytes, tuple] | None = None) -> None:
+             known: dict[bytes, tuple] | None = None, check: ReuseCheck | None = None
+             ) -> None:
     """Answer every distinct problem :meth:`ManeuverPlanner.solve_lanes` will meet for
     ``vehicles`` in every slot, on ``workers`` processes (default: as many as the machine
     has, for a lot with :data:`PARALLEL_FROM` problems or more), so that it then only looks
@@ -204,7 +223,8 @@ def prefetch(planner: ManeuverPlanner, vehicles: Iterable[VehicleType], *,
     a problem it holds is not searched again, and those searched now are added to it, most
     recently used last, at most :data:`KNOWN_MOST`. A search reads nothing but its problem
     (to the last bit of every float) and the settings, so the answers are the same with it
-    as without.
+    as without. With a reuse check (``check``, :class:`~lotsim.core.reusecheck.ReuseCheck`),
+    everything taken from ``known`` is worked out again and compared (:func:`_verified`).
     """
     lanes = {slot.id: len(planner.lanes_for(slot)) for slot in planner.lot.slots}
     calls = [(v, slot, lane, st) for v in vehicles for slot in planner.lot.slots
@@ -236,6 +256,7 @@ def prefetch(planner: ManeuverPlanner, vehicles: Iterable[VehicleType], *,
         # ``known`` held the answer
         exacts: dict[bytes, bytes] = {}
         remembered: dict[bytes, bool] = {}
+        recalled: dict[bytes, list] = {}  # the searches and fits ``known`` answered
 
         def search(keys: list[bytes]) -> list[tuple]:
             # those ``known`` holds looked up here, the others searched on the workers
@@ -245,8 +266,10 @@ def prefetch(planner: ManeuverPlanner, vehicles: Iterable[VehicleType], *,
                                            chunk=8, progress=count_done.part), strict=True):
                 got[k] = g
             count_done.done += len(keys)  # (the map reported its own)
-            for key, (_, _, exact, held) in zip(keys, got, strict=True):
+            for key, (hit, raw, exact, held) in zip(keys, got, strict=True):
                 exacts[key], remembered[key] = exact, held
+                if held:
+                    recalled.setdefault(key, []).append((None, exact, (hit, raw)))
             return [(hit, raw) for hit, raw, _, _ in got]
 
         fits: dict[bytes, tuple | None] = {}  # what ``known`` is to keep of the fits
@@ -259,7 +282,9 @@ def prefetch(planner: ManeuverPlanner, vehicles: Iterable[VehicleType], *,
             for k, g in zip(rest, pool.map(batch.fitted, [asks[k] for k in rest], chunk=16),
                             strict=True):
                 got[k] = g
-            for (key, _), (pair, fit_key, _, exact) in zip(jobs, got, strict=True):
+            for (key, offers), (pair, fit_key, held, exact) in zip(jobs, got, strict=True):
+                if held:
+                    recalled.setdefault(key, []).append((offers, fit_key, (pair, fit_key)))
                 if fit_key is not None:
                     fits[fit_key] = pair
                     exacts[key] = exact
@@ -269,6 +294,8 @@ def prefetch(planner: ManeuverPlanner, vehicles: Iterable[VehicleType], *,
 
         settled = settle(list(classes.values()), search, fit,
                          offer=lambda _, pair: Found.of(pair, named=True))
+        if check is not None and known is not None:
+            _verified(check, pool, batch, known, posed, todo, exacts, recalled)
     for key in todo:  # in the order first met
         (hit, raw), searched = settled[key]
         planner.learn(key, hit, raw, searched=searched)
@@ -286,6 +313,33 @@ def prefetch(planner: ManeuverPlanner, vehicles: Iterable[VehicleType], *,
                 _keep(known, exact_key_of(source, st), exacts[key])
         for old in list(itertools.islice(known, max(0, len(known) - KNOWN_MOST))):
             del known[old]
+
+
+def _verified(check: ReuseCheck, pool: ForkPool, batch: _Batch, known: dict, posed: list,
+              todo: dict, exacts: dict, recalled: dict) -> None:
+    """The reuse check of :func:`prefetch`: what ``known`` held and the batch took from it
+    — how problems were posed (``posed``: digest, frame, station, shape and sources of each
+    triple), their exact keys (``exacts``), their searches and fits (``recalled``: key →
+    (offers or None for a search, the key ``known`` held it by, what it held)) — worked out
+    again, posed afresh on the workers, and compared."""
+    again = [k for k, p in enumerate(posed) if posed_key(p[4]) in known]
+    fresh = batch.planner.problems.digests([batch.triples[k] for k in again])
+    for k, got in zip(again, fresh, strict=True):
+        check.compare("maneuver problems posed", posed_key(posed[k][4]), posed[k][:4], got)
+    # each problem whose exact key was looked up, once, and each answer taken from known
+    asks = [(key, None) for key in todo if key in exacts
+            and exact_key_of(todo[key][2], todo[key][1]) in known]
+    asks += [(key, held) for key in todo for held in recalled.get(key, ())]
+    jobs = [(todo[key][0], todo[key][1], held[0] if held else None, held is not None)
+            for key, held in asks]
+    for (key, held), (exact, answer) in zip(asks, pool.map(batch.afresh, jobs, chunk=8),
+                                            strict=True):
+        _, st, source = todo[key]
+        if held is None:
+            check.compare("maneuver exact keys", exact_key_of(source, st), exacts[key], exact)
+        else:
+            check.compare("maneuver fits" if held[0] is not None else "maneuver answers",
+                          held[1], held[2], answer)
 
 
 class _Progress:
@@ -310,7 +364,7 @@ class _Progress:
 def plan_lot(planner: ManeuverPlanner, vehicles: Iterable[VehicleType], *,
              style: str = "any", workers: int | None = None,
              progress: Callable[[int, int], None] | None = None,
-             known: dict[bytes, tuple] | None = None
+             known: dict[bytes, tuple] | None = None, check: ReuseCheck | None = None
              ) -> tuple[dict[tuple[str, str, str], Maneuver], dict[str, dict[str, str]],
                         dict[tuple[str, str, str], Maneuver]]:
     """Maneuvers for every slot, vehicle type and lane of a lot, searched on ``workers``
@@ -328,10 +382,12 @@ def plan_lot(planner: ManeuverPlanner, vehicles: Iterable[VehicleType], *,
         :meth:`ManeuverPlanner.solve_lanes`).
 
     ``progress(done, total)`` is called as the distinct problems are searched; ``known``:
-    answers found before, and kept (:func:`prefetch`).
+    answers found before, and kept (:func:`prefetch`); ``check``: the reuse check of what
+    is taken from ``known`` (:func:`prefetch`).
     """
     vehicles = list(vehicles)
-    prefetch(planner, vehicles, style=style, workers=workers, progress=progress, known=known)
+    prefetch(planner, vehicles, style=style, workers=workers, progress=progress, known=known,
+             check=check)
     maneuvers: dict[tuple[str, str, str], Maneuver] = {}
     stays: dict[tuple[str, str, str], Maneuver] = {}
     infeasible: dict[str, dict[str, str]] = {}

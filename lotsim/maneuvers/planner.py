@@ -531,6 +531,11 @@ class ManeuverPlanner:
         self._posed[(vehicle.name, slot.id, lane.id, style)] = (key, frame, s0)
         return key
 
+    def answers(self) -> tuple[dict[bytes, Answer], dict[bytes, Answer]]:
+        """Every answer it holds, eased and as planned, by cache key (:meth:`key`), in the
+        order learnt: what two planners of one lot are compared by."""
+        return self._cache, self._raw
+
     def knows(self, key: bytes) -> bool:
         """Whether the answer of the problem with cache ``key`` is known."""
         return key in self._cache

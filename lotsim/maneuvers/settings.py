@@ -8,7 +8,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-from lotsim.core.checks import raise_first, range_problem
+from lotsim.core.checks import is_real, raise_first, range_problem, shown
 
 MARGIN = 0.1
 """Default clearance of a parking maneuver to parked cars, walls and the aisle's far side
@@ -83,7 +83,7 @@ class ManeuverSettings:
     >>> ManeuverSettings(probe=0.0)
     Traceback (most recent call last):
       ...
-    ValueError: probe must be positive, got 0.0
+    lotsim.errors.SettingsError: probe: expected a positive number, found 0
     """
 
     margin: float = MARGIN
@@ -105,22 +105,25 @@ class ManeuverSettings:
     way_out_budget: int = 1500
 
     def __post_init__(self) -> None:
-        if not 0.0 <= self.margin <= 1.0:
-            raise ValueError(f"margin must be 0 to 1 m, got {self.margin!r}")
-        if not 0 <= self.max_changes <= 50:
-            raise ValueError(f"max_changes must be 0 to 50, got {self.max_changes!r}")
+        problems = [("margin", range_problem(self.margin, 0.0, 1.0, " m")),
+                    ("max_changes", range_problem(self.max_changes, 0, 50, integer=True))]
         for key in ("probe", "sweep", "parallel_heading_step", "candidates", "rough",
                     "way_out_budget"):
-            if not getattr(self, key) > 0:
-                raise ValueError(f"{key} must be positive, got {getattr(self, key)!r}")
+            value = getattr(self, key)
+            problems.append((key, None if is_real(value) and value > 0
+                             else f"expected a positive number, found {shown(value)}"))
         for key in ("first_turn", "min_stroke", "parallel_extra", "ease_drift", "start_grid",
                     "approach", "creep"):
-            if not getattr(self, key) >= 0:
-                raise ValueError(f"{key} must be zero or more, got {getattr(self, key)!r}")
+            value = getattr(self, key)
+            problems.append((key, None if is_real(value) and value >= 0
+                             else f"expected zero or more, found {shown(value)}"))
         if not self.closing_radii or min(self.closing_radii) < 1.0:
-            raise ValueError("closing_radii must be multiples of at least 1")
+            problems.append(("closing_radii", "expected multiples of at least 1, found "
+                             f"{self.closing_radii!r}"))
         if any(r <= 0 for r in self.ease_ramps):
-            raise ValueError("ease_ramps must be positive")
+            problems.append(("ease_ramps", f"expected positive lengths, found "
+                             f"{self.ease_ramps!r}"))
+        raise_first([(k, m) for k, m in problems if m is not None])
 
 
 # -- the minimum-slot table ---------------------------------------------------------------------

@@ -21,7 +21,14 @@ from lotsim.roadmap.area_turns import area_turns, candidates_shape
 from lotsim.roadmap.lanes import EPS, portal_station, straights
 from lotsim.roadmap.memo import RoadmapMemo, types_key
 from lotsim.roadmap.model import Turn
-from lotsim.roadmap.remembered import MISSING, keep, piece_key, recall, worked_out
+from lotsim.roadmap.remembered import (
+    MISSING,
+    keep,
+    piece_key,
+    recall,
+    verified,
+    worked_out,
+)
 from lotsim.roadmap.through import through_chains, through_turn
 
 TURN_SPEEDS = tuple(k / 3.6 for k in (15.0, 12.5, 10.0, 7.5, 5.0, 3.0, 1.5))
@@ -353,6 +360,17 @@ def turns_of(lot: Lot, collider: Collider, designs: dict[str, DesignVehicle] | N
     return list(turns), list(skipped)
 
 
+def _lane_turns(lot: Lot, collider: Collider, job: tuple, gates: dict
+                ) -> tuple[list[Turn], list[str]]:
+    """The junction turns out of one lane for one design (``job``: the design and the
+    lane) and their notes, worked out alone: what :func:`turns_per_design` keeps of it."""
+    entries = _lane_junctions(lot, collider, *job, gates)
+    answers = iter(wide_turns(lot, [e for e in entries if isinstance(e, _Wide)], collider,
+                              run=lambda fn, items: [fn(x) for x in items]))
+    turns, skipped, _ = _assembled(entries, answers)
+    return turns, skipped
+
+
 def _suited(turn: Turn, designs: dict[str, DesignVehicle], collider: Collider) -> set[str]:
     """The vehicle types (of ``designs``) ``turn`` suits: no tighter than the type's
     radius, and its swept body clear of ``collider``."""
@@ -388,6 +406,7 @@ def turns_per_design(lot: Lot, collider: Collider, designs: list,
             return entries, None, None
         return entries, eye.box, collider.around(eye.box)
 
+    verified(memo, keys, found, lambda k: _lane_turns(lot, collider, jobs[k], gates))
     parts = fork_map(lane, todo)
     answers = iter(wide_turns(lot, [e for entries, _, _ in parts for e in entries
                                     if isinstance(e, _Wide)], collider))

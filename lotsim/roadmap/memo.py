@@ -10,6 +10,7 @@ from lotsim.lot.model import DesignVehicle, Lot
 from lotsim.roadmap.remembered import keep, lot_key
 
 if TYPE_CHECKING:
+    from lotsim.core.reusecheck import ReuseCheck
     from lotsim.core.workers import Background
 
 
@@ -48,6 +49,9 @@ class RoadmapMemo:
         worked out now are added. None: none kept.
     recalled, worked : int
         How many pieces were taken from :attr:`known`, and how many worked out.
+    reuse_check : ReuseCheck or None
+        The reuse check (:class:`~lotsim.core.reusecheck.ReuseCheck`): every piece taken
+        from :attr:`known` is also worked out again and compared. None: none.
     """
 
     @functools.cached_property
@@ -55,9 +59,11 @@ class RoadmapMemo:
         """:func:`~lotsim.roadmap.remembered.lot_key` of the memo's lot, worked out once."""
         return lot_key(self.lot)
 
-    def __init__(self, lot: Lot, known: dict | None = None):
+    def __init__(self, lot: Lot, known: dict | None = None, *,
+                 reuse_check: ReuseCheck | None = None):
         self.lot = lot
         self.known = known
+        self.reuse_check = reuse_check
         self.recalled = self.worked = 0
         self.touched: set[bytes] = set()  # keys added to known (by a forked worker)
         self.turns: dict = {}

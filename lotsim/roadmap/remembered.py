@@ -9,6 +9,12 @@ the digest of what the collider holds inside it (:meth:`~lotsim.lot.clearance.Co
 A later preparation takes the piece when its key is the same and the collider's digest of
 that box is too: every check the piece made would come out the same, so the piece would.
 The answers are the same with the store as without it.
+
+With a reuse check (:attr:`RoadmapMemo.reuse_check
+<lotsim.roadmap.memo.RoadmapMemo.reuse_check>`,
+:class:`~lotsim.core.reusecheck.ReuseCheck`), every piece recalled is worked out again
+and compared with what was recalled (:func:`verified`); the store and the counts are the
+same as without.
 """
 
 from __future__ import annotations
@@ -41,6 +47,22 @@ def piece_key(base: bytes, *parts: object) -> bytes:
 
 MISSING = object()
 """What :func:`recall` answers for a piece it does not hold."""
+STORE = "roadmap"
+"""The roadmap store's name in a reuse check's counts and messages."""
+
+
+def verified(memo, keys: Sequence[bytes | None], got: Sequence,
+             work: Callable[[int], object]) -> None:
+    """With ``memo``'s reuse check (none: nothing), each piece of ``got`` recalled from its
+    store (not :data:`MISSING`) worked out again, ``work(k)`` on both cores
+    (:func:`~lotsim.core.workers.fork_map`), and compared with what was recalled as
+    ``keys[k]``."""
+    check = getattr(memo, "reuse_check", None)
+    if check is None:
+        return
+    again = [k for k, piece in enumerate(got) if piece is not MISSING]
+    for k, fresh in zip(again, fork_map(work, again), strict=True):
+        check.compare(STORE, keys[k], got[k], fresh)
 
 
 def recall(known: dict | None, key: bytes, collider: Collider) -> object:
@@ -100,6 +122,7 @@ def worked_out(memo, keys: Sequence[bytes | None],
     each = (list(collider) if isinstance(collider, (list, tuple))
             else [collider] * len(keys))
     out = recall_all(known, keys, each)
+    verified(memo, keys, out, lambda k: work(k, each[k]))
     todo = [k for k, got in enumerate(out) if got is MISSING]
     got = fork_map(lambda k: watched(lambda eye: work(k, eye), each[k], known is not None),
                    todo)
@@ -125,6 +148,8 @@ def remembered(memo, key_parts: tuple, collider: Collider,
     got = recall(memo.known, key, collider)
     if got is not MISSING:
         memo.recalled += 1
+        if memo.reuse_check is not None:
+            memo.reuse_check.compare(STORE, key, got, work(collider))
         return got
     version = watched(work, collider)
     keep(memo.known, key, version)
@@ -139,24 +164,33 @@ def handed_back(memo, work: Callable[[], object]) -> Callable[[], tuple]:
 
     def job() -> tuple:
         before = (memo.recalled, memo.worked)
+        checked = memo.reuse_check.counted() if memo.reuse_check is not None else None
+        kept = len(memo.reuse_check.mismatches) if memo.reuse_check is not None else 0
         memo.touched = set()
         out = work()
         added = {k: memo.known[k] for k in memo.touched} if memo.known is not None else {}
         counted = memo.recalled - before[0], memo.worked - before[1]
         # counted once, by take_back, whether the job ran in a worker or in this process
         memo.recalled, memo.worked = before
-        return out, added, *counted
+        if memo.reuse_check is None:
+            return out, added, *counted, None
+        now, found = memo.reuse_check.counted(), memo.reuse_check.mismatches[kept:]
+        memo.reuse_check.counts = checked
+        del memo.reuse_check.mismatches[kept:]
+        return out, added, *counted, (checked, now, found)
 
     return job
 
 
 def take_back(memo, answer: tuple) -> object:
     """The answer of a :func:`handed_back` job, its additions put into ``memo``."""
-    out, added, recalled, worked = answer
+    out, added, recalled, worked, checked = answer
     if memo.known is not None:
         memo.known.update(added)
     memo.recalled += recalled
     memo.worked += worked
+    if checked is not None:
+        memo.reuse_check.add(*checked)
     return out
 
 

@@ -47,9 +47,11 @@ from lotsim.roadmap.multipoint import (
 )
 from lotsim.roadmap.remembered import (
     MISSING,
+    STORE,
     piece_key,
     recall,
     recall_all,
+    verified,
     watched,
     worked_out,
 )
@@ -436,6 +438,9 @@ def plan_turnarounds_ahead(memo: RoadmapMemo, vehicles=()) -> Background:
             if got is not MISSING:
                 memo.plans[key] = got
                 memo.recalled += 1
+                if memo.reuse_check is not None:
+                    memo.reuse_check.compare(STORE, pieces[key], got,
+                                       plan_turnarounds(*args[:2], args[2], *args[3:]))
     keys = [key for key in jobs if key not in memo.plans]
     watch = memo.known is not None
     ahead = Background(lambda key: watched(
@@ -498,6 +503,10 @@ def _reaching_all(jobs: dict, memo: dict, roads: RoadmapMemo | None = None) -> d
         known = roads.known if roads is not None else None
         held = dict(zip(wanted, recall_all(known, [pieces[key] for key in wanted],
                                            [job[4] for job in wanted.values()]), strict=True))
+        asked = list(wanted.values())
+        verified(roads, [pieces[key] for key in held], list(held.values()),
+                 lambda k, asked=asked: _reaching_onto(*asked[k][:4], asked[k][4],
+                                                       *asked[k][5:]))
         todo = {key: wanted[key] for key, got in held.items() if got is MISSING}
         # a round that leaves a core idle makes the searches the next may want too
         for key in list(spare)[:max(0, cores() - len(todo)) if todo else 0]:

@@ -9,6 +9,7 @@ import contextlib
 from dataclasses import dataclass, field
 
 import lotsim.core.diskcache
+from lotsim.core.reusecheck import ReuseCheck
 from lotsim.core.workers import Aside
 from lotsim.lot.build import build_lot
 from lotsim.lot.model import DesignVehicle, Lot
@@ -44,7 +45,8 @@ def prepare_graph(scenario: Scenario, *, node_spacing: float = 4.0, maneuvers: b
 
 def prepare_lot(scenario: Scenario, *, node_spacing: float = 4.0, maneuvers: bool = True,
                 margin: float = MARGIN, cache: bool = True, progress=None,
-                remember_from: int = REMEMBER_FROM) -> PreparedLot:
+                remember_from: int = REMEMBER_FROM, check: ReuseCheck | None = None
+                ) -> PreparedLot:
     """Build the scenario's lot for its vehicle types, plan every slot's parking maneuver
     for every type, and build the lot's drivable graph through them; with the maneuver
     planner they came from (``PreparedLot.maneuver_planner``, None with
@@ -73,22 +75,30 @@ def prepare_lot(scenario: Scenario, *, node_spacing: float = 4.0, maneuvers: boo
     ``progress(done, total)`` is called as the maneuvers' distinct problems are searched
     (not when the lot comes from the cache).
 
+    With a reuse check (``check``; by default one when ``LOTSIM_VERIFY_REUSE=1``:
+    :meth:`ReuseCheck.from_environment <lotsim.core.reusecheck.ReuseCheck.from_environment>`),
+    everything recalled — the prepared lot from the cache, the roadmap's pieces, the
+    maneuver answers, and later the search graphs the runs on it share — is worked out
+    again and compared (docs/caching.md); the prepared lot is the same as without.
+
     Raises
     ------
     ScenarioError
         When the layout does not hold together (overlaps, narrow aisles, ...).
     """
+    check = ReuseCheck.from_environment() if check is None else check
+    graphs = SearchGraphMemo(check)
     if not maneuvers:
         lot = build_lot(scenario.lot, DesignVehicle.envelope(scenario.vehicle_types))
         lg = build_graph(lot, node_spacing=node_spacing, vehicles=scenario.vehicle_types)
         lg.infeasible = refused_bays(lot.slots, scenario.vehicle_types)
-        return PreparedLot(scenario, lg)
+        return PreparedLot(scenario, lg, search_graphs=graphs)
     leaves = ({a.dwell is not None for a in arrivals(scenario.traffic, scenario.seed)}
               if scenario.traffic is not None else {True})
     if not cache:
         lg, planner = _prepared(scenario, leaves, None, node_spacing, margin, progress,
-                                remember_from)
-        return PreparedLot(scenario, lg, planner)
+                                remember_from, check)
+        return PreparedLot(scenario, lg, planner, graphs)
     name = lotsim.core.diskcache.key("prepared", scenario.lot, scenario.vehicle_types,
                                      scenario.parked_vehicle, sorted(leaves), node_spacing,
                                      margin)
@@ -99,8 +109,37 @@ def prepare_lot(scenario: Scenario, *, node_spacing: float = 4.0, maneuvers: boo
             got = _cached(name)
             if got is None:
                 got = _prepared(scenario, leaves, name, node_spacing, margin, progress,
-                                remember_from)
-    return PreparedLot(scenario, *got)
+                                remember_from, check)
+            elif check is not None:
+                _verify_cached(check, name, got, scenario, leaves, node_spacing, margin)
+    elif check is not None:
+        _verify_cached(check, name, got, scenario, leaves, node_spacing, margin)
+    return PreparedLot(scenario, *got, graphs)
+
+
+CACHE_STORE = "prepared lots"
+"""The on-disk cache of prepared lots, as a reuse check names it."""
+
+
+def _verify_cached(check: ReuseCheck, name: str, got: tuple[LotGraph, ManeuverPlanner],
+                   scenario: Scenario, leaves: set[bool], node_spacing: float,
+                   margin: float) -> None:
+    """The reuse check of a prepared lot loaded from the cache as ``name``: the lot
+    prepared again from scratch (no cache, no stores) and compared with it
+    (:func:`prepared_parts`)."""
+    fresh = _prepared(scenario, leaves, None, node_spacing, margin, None, REMEMBER_FROM, None)
+    check.compare(CACHE_STORE, name, prepared_parts(*got), prepared_parts(*fresh))
+
+
+def prepared_parts(lg: LotGraph, planner: ManeuverPlanner) -> dict:
+    """What a prepared lot is, for comparing two: every node and edge of the graph with
+    its data, in the graph's order; the entrances, exits, slot nodes, attachments, skipped
+    turns and the slots each type cannot use; and the maneuver planner's answers."""
+    g = lg.graph
+    return {"nodes": list(g.nodes(data=True)), "edges": list(g.edges(data=True)),
+            "entrances": lg.entrances, "exits": lg.exits, "slot nodes": lg.slot_nodes,
+            "attachments": lg.attachments, "skipped turns": lg.skipped_turns,
+            "infeasible": lg.infeasible, "answers": planner.answers()}
 
 
 def _cached(name: str) -> tuple[LotGraph, ManeuverPlanner] | None:
@@ -113,7 +152,7 @@ def _cached(name: str) -> tuple[LotGraph, ManeuverPlanner] | None:
 
 
 def _prepared(scenario: Scenario, leaves: set[bool], name: str | None, node_spacing: float,
-              margin: float, progress, remember_from: int
+              margin: float, progress, remember_from: int, check: ReuseCheck | None
               ) -> tuple[LotGraph, ManeuverPlanner]:
     """:func:`prepare_lot` a lot not in the cache, and store it there (the lot graph and
     the maneuver planner) as ``name`` (when not None)."""
@@ -127,7 +166,7 @@ def _prepared(scenario: Scenario, leaves: set[bool], name: str | None, node_spac
     roads = _known(roads_name)
     held = len(roads or ())
     # what the lanes' graph works out, for the graph through slots
-    memo = RoadmapMemo(lot, roads)
+    memo = RoadmapMemo(lot, roads, reuse_check=check)
     # the dead ends' turnarounds, planned in time no other step wants (the graphs need them)
     with plan_turnarounds_ahead(memo, scenario.vehicle_types):
         planner = maneuver_planner(scenario, lot, margin=margin, memo=memo)
@@ -135,7 +174,7 @@ def _prepared(scenario: Scenario, leaves: set[bool], name: str | None, node_spac
                       if remember else None)
         known = _known(known_name)
         planned, infeasible, stays = plan_lot(planner, scenario.vehicle_types, progress=progress,
-                                              known=known)
+                                              known=known, check=check)
         planned, infeasible, stays = _by_use(lot, scenario, planned, infeasible, stays)
         # what it learnt (if anything) written aside while the graph is built
         learnt = known_name is not None and planner.stats["planned"] > planner.stats["remembered"]
@@ -240,20 +279,23 @@ class PreparedLot:
         return self.lot_graph.reachability()
 
 
-def remembered_planner(scenario: Scenario, lot: Lot, *, margin: float = MARGIN
-                       ) -> ManeuverPlanner:
+def remembered_planner(scenario: Scenario, lot: Lot, *, margin: float = MARGIN,
+                       check: ReuseCheck | None = None) -> ManeuverPlanner:
     """:func:`maneuver_planner` for one slot's question (``lotsim maneuver``), its lane
     graph's turns and turnarounds taken from those kept when the lot was last prepared or
     asked (by the scenario's name, as :func:`prepare_lot` keeps them for lots of
     :data:`REMEMBER_FROM` slot-types or more) where what they read is unchanged, and what
     it works out kept for the next: a question on a large lot prepared before is answered
-    without working out its turns again. The planner is the same as without."""
+    without working out its turns again. The planner is the same as without. ``check``:
+    the reuse check of the turns taken from the store (by default one when
+    ``LOTSIM_VERIFY_REUSE=1``)."""
     remember = (lotsim.core.diskcache.cache_dir() is not None
                 and len(lot.slots) * len(scenario.vehicle_types) >= REMEMBER_FROM)
     roads_name = lotsim.core.diskcache.key("roadmap", scenario.name) if remember else None
     roads = _known(roads_name)
     held = len(roads or ())
-    memo = RoadmapMemo(lot, roads)
+    check = ReuseCheck.from_environment() if check is None else check
+    memo = RoadmapMemo(lot, roads, reuse_check=check)
     planner = maneuver_planner(scenario, lot, margin=margin, memo=memo)
     if roads_name is not None and (memo.worked or len(roads) != held):
         lotsim.core.diskcache.store(roads_name, roads)

@@ -24,6 +24,7 @@ from dataclasses import dataclass
 import numpy as np
 from shapely.geometry.base import BaseGeometry
 
+from lotsim.core.reusecheck import ReuseCheck, difference
 from lotsim.maneuvers.maneuver import Maneuver
 from lotsim.roadmap.model import LotGraph
 from lotsim.traffic.grid import Cells, cells_of
@@ -428,6 +429,10 @@ class SearchGraphMemo:
     again, and plan the same. A memo serves one lot graph (another is refused), lives in
     its process and is not pickled (a copy starts empty).
 
+    With a reuse check (``check``, :class:`~lotsim.core.reusecheck.ReuseCheck`), a graph
+    handed out again is compared with one made afresh: its edges, their static times and
+    every edge motion (and swept hulls) worked out so far (:func:`same_graph`).
+
     Examples
     --------
     >>> memo = SearchGraphMemo()
@@ -435,11 +440,12 @@ class SearchGraphMemo:
     0
     """
 
-    __slots__ = ("_lot_graph", "_graphs")
+    __slots__ = ("_lot_graph", "_graphs", "check")
 
-    def __init__(self) -> None:
+    def __init__(self, check: ReuseCheck | None = None) -> None:
         self._lot_graph: LotGraph | None = None
         self._graphs: dict[tuple[VehicleType, SearchSettings], SearchGraph] = {}
+        self.check = check
 
     def __len__(self) -> int:
         return len(self._graphs)
@@ -458,7 +464,30 @@ class SearchGraphMemo:
         sg = self._graphs.get(key)
         if sg is None:
             sg = self._graphs[key] = SearchGraph(lg, vehicle, settings=settings)
+        elif self.check is not None:
+            self.check.compare("search graphs", (vehicle.name, settings), sg,
+                               SearchGraph(lg, vehicle, settings=settings), differ=same_graph)
         return sg
+
+
+def same_graph(held: SearchGraph, fresh: SearchGraph) -> str | None:
+    """Where search graph ``held`` (made earlier, driven since) differs from ``fresh``
+    (the same lot, type and settings, made now), or None: their edges and static times, and
+    each edge motion ``held`` has worked out — its motion, duration and end, and its swept
+    hulls where ``held`` has swept it — worked out again in ``fresh``."""
+    got = difference((held.edges, held._static_time, held.pose),
+                     (fresh.edges, fresh._static_time, fresh.pose))
+    if got is not None:
+        return f"edges: {got}"
+    for (ei, a, b), em in held._motions.items():
+        again = fresh.motion(ei, a, b)
+        parts = [(x.motion, x.duration, x.end) if x is not None else None for x in (em, again)]
+        if em is not None and again is not None and em._swept is not None:
+            parts = [(*parts[0], em._swept), (*parts[1], again.swept)]
+        got = difference(*parts)
+        if got is not None:
+            return f"edge {ei} from speed level {a} to {b}: {got}"
+    return None
 
 
 def search_graph(lg: LotGraph, vehicle: VehicleType, memo: SearchGraphMemo | None = None, *,

@@ -18,7 +18,7 @@ import shapely
 from conftest import ROOT, SCENARIOS, graph_from_text, scenario_from_text
 from lotsim.cli import main
 from lotsim.core.geometry import wrap_angle
-from lotsim.errors import InfeasibleManeuver
+from lotsim.errors import InfeasibleManeuver, SettingsError
 from lotsim.io.scenario_yaml import load_scenario
 from lotsim.lot.build import build_lot
 from lotsim.lot.model import DesignVehicle
@@ -411,9 +411,14 @@ def test_the_maneuver_picture_keeps_title_and_key_off_the_lot_and_marks_both_end
 # -- the planner's seams: settings, results with a status, a frozen problem ------------------
 def test_settings_check_themselves():
     for bad in ({"margin": -0.1}, {"margin": 2.0}, {"max_changes": -1}, {"probe": 0.0},
-                {"candidates": 0}, {"closing_radii": (0.5,)}, {"ease_ramps": (1.0, -1.0)}):
-        with pytest.raises(ValueError):
+                {"candidates": 0}, {"closing_radii": (0.5,)}, {"ease_ramps": (1.0, -1.0)},
+                {"creep": -0.1}, {"max_changes": 2.5}):
+        with pytest.raises(SettingsError) as caught:
             ManeuverSettings(**bad)
+        (field,) = bad
+        assert caught.value.name == field and str(caught.value).startswith(f"{field}: ")
+    assert str(pytest.raises(SettingsError, ManeuverSettings, margin=2.0).value) == (
+        "margin: expected 0 to 1 m, found 2")
     planner = ManeuverPlanner(_lot(QUICK)[0], margin=0.2, max_changes=3)
     assert (planner.settings.margin, planner.settings.max_changes) == (0.2, 3)
 

@@ -325,7 +325,7 @@ def test_runs_on_a_lot_are_timed_alike_whatever_ran_before_them(tiny):
     assert result_dict(first) == result_dict(second)  # the same plans
     assert first.motion_time > 0 and second.motion_time < first.motion_time / 10
     for rr in (first, second):
-        assert rr.planning_time >= 0
+        assert rr.planning_time > 0  # every car's search took some time
         assert rr.metrics()["planning_time_motions"] == rr.motion_time
         assert sum(v.planning_time for v in rr.vehicles) <= rr.planning_time + 1e-9
     fresh = simulate(sc, RunSettings(), lot_graph=lg, memo=SearchGraphMemo())
