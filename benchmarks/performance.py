@@ -32,7 +32,9 @@ and each row of the page names that command. Rows:
   700 arrivals an hour with each slot choice;
 * runs that meet the real world (``scenarios/bench/faults.yaml``, run once, not in
   ``--quick``): the two 364-bay lots at 350 arrivals an hour driven through late starts,
-  stalls and a closed aisle, against the same runs driven as planned.
+  stalls and a closed aisle, against the same runs driven as planned;
+* the learning environment's decisions per second (``benchmarks/bench_envs.py``, when the
+  ``learn`` extra is installed).
 
 For each figure the page gives how many values it is made of and their spread (min /
 median / max): repeated runs of a timing, or the seeds (and scenarios, assignments) of a
@@ -499,6 +501,28 @@ def faults_rows(page: Page, tmp: Path) -> None:
                      f"{sum(r['violations'] for r in g)}")
 
 
+def envs_rows(page: Page, runs: int) -> None:
+    """The learning environment's decisions per second (``benchmarks/bench_envs.py``),
+    when the ``learn`` extra is installed."""
+    rounds = max(runs, 2)
+    cmd = [sys.executable, "benchmarks/bench_envs.py", "--rounds", str(rounds)]
+    proc = subprocess.run(cmd, cwd=ROOT, capture_output=True, text=True)
+    table = [line for line in proc.stdout.splitlines() if line.startswith("|")]
+    if proc.returncode != 0 or len(table) < 3:
+        print(f"learning environments: not measured ({proc.stderr.strip()[-200:]})",
+              flush=True)
+        return
+    page.section("Learning environments",
+                 f"`python benchmarks/bench_envs.py --rounds {rounds}` (the `learn` extra): "
+                 "decisions per CPU second of `lotsim/ParkingOperator-v0` stepped by the "
+                 "shortest and the random baselines and without its rankings, and of the "
+                 "bare stepped run (`lotsim.Live(policy=lotsim.ASK)`) making the same "
+                 f"choices; median of {rounds} rounds (min–max) over the episodes of seeds "
+                 "0, 1, 2 (docs/learning.md).", table[0])
+    for line in table[2:]:
+        page.row(*[c.strip() for c in line.strip("|").split("|")])
+
+
 # --- the page -------------------------------------------------------------------------
 
 def machine() -> list[str]:
@@ -585,6 +609,7 @@ def main() -> None:
         if not args.quick:
             real_demand_rows(page, Path(tmp))
             faults_rows(page, Path(tmp))
+        envs_rows(page, args.runs)
     write(page, Path(args.output), args, time.perf_counter() - started)
 
 
