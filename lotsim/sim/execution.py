@@ -164,9 +164,12 @@ def execute(rr: RunResult, spec: Disturbances, *, memo: SearchGraphMemo | None =
         changes = LotChanges([], [], [])
     if changes is not None:
         changes = replace(changes, replans=sorted(replans, key=lambda p: p.t))
+    # the searches of the repairs are counted in their cars' planning, and the run's
+    repairing = (sum(v.planning_time for v in driven.executed)
+                 - sum(v.planning_time for v in cars))
     out = RunResult(rr.scenario, rr.lot_graph, rr.settings, rr.seed, driven.executed,
-                    rr.planning_time, ordering=rr.ordering, motion_time=rr.motion_time,
-                    lot_changes=changes)
+                    rr.planning_time + repairing, ordering=rr.ordering,
+                    motion_time=rr.motion_time, lot_changes=changes)
     out.execution = rec
     return out
 

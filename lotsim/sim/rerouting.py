@@ -25,20 +25,22 @@ from collections.abc import Callable
 from typing import TYPE_CHECKING
 
 from lotsim.core.outcome import Status
+from lotsim.sim.loop import EventLoop
 from lotsim.sim.repairs import LotChanges, Replan
 from lotsim.sim.results import RunResult, VehicleRun
 from lotsim.sim.standstills import Driven, Run, runs_of, stop_after
 from lotsim.traffic.plans import Move
+from lotsim.traffic.reservation import ReservationTable
 from lotsim.traffic.swept import standing_body
 
 if TYPE_CHECKING:  # the driver is the caller; these are its types
-    from lotsim.traffic.reservation import ReservationTable
     from lotsim.traffic.searchgraph import SearchGraph, SearchGraphMemo
 
 EPS = 1e-9
 """Times closer than this are the same instant [s]."""
 MAX_REPAIRS = 500
-"""Most long waits a run's driving plans again; the rest wait their turn (counted)."""
+"""Most long waits a run's driving tries to repair; the cars of any later ones wait their
+turn."""
 POSE_TOL = 1e-6
 """A car's slot pose after a new way in is the one its way out leaves from, within this
 [m, rad]."""
@@ -91,12 +93,9 @@ class Context:
     speed: dict[str, float]
     loops: list = dataclasses.field(default_factory=list)  # the one loop searched in
 
-    def loop(self):
+    def loop(self) -> EventLoop:
         """An event loop of the run's lot and settings, with an empty reservation table
         (made once: its slot assigner's tables are the lot's)."""
-        from lotsim.sim.loop import EventLoop  # the loop's searches, on a table of its own
-        from lotsim.traffic.reservation import ReservationTable
-
         if not self.loops:
             rr = self.planned
             self.loops.append(EventLoop(rr.scenario, rr.lot_graph, rr.settings, [], None,
@@ -245,7 +244,7 @@ def _reserve_driven(table: ReservationTable, u: VehicleRun, sg: SearchGraph,
                                in_slot=last.node_to in slots)
 
 
-def _hold_changes(loop, changes: LotChanges | None) -> None:
+def _hold_changes(loop: EventLoop, changes: LotChanges | None) -> None:
     """Hold the closures and the bays taken from outside, as the drive met them."""
     if changes is None:
         return
