@@ -1,13 +1,16 @@
 """What pytest collects from the package itself (its doctests, ``--doctest-modules``):
 ``lotsim.envs`` needs the ``learn`` extra (gymnasium and pettingzoo), and without it its
 modules are left out, as the header of the run says; ``LOTSIM_REQUIRE_EXPORTS=1`` (set by
-``.ci/run``) keeps them in, so that a missing extra fails. The test suite's own fixtures
-are in ``tests/conftest.py``."""
+``.ci/run``) keeps them in, so that a missing extra fails. lotsim works in each test's own
+process (:func:`one_core_each`) but in the tests marked ``cores``. The test suite's own
+fixtures are in ``tests/conftest.py``."""
 
 from __future__ import annotations
 
 import importlib.util
 import os
+
+import pytest
 
 LEARN = ("gymnasium", "pettingzoo")
 
@@ -30,3 +33,17 @@ def pytest_report_header(config):
         return (f"lotsim.envs' doctests left out: {', '.join(MISSING)} not installed "
                 f"(pip install 'lotsim[learn]')")
     return None
+
+
+@pytest.fixture(autouse=True)
+def one_core_each(request, monkeypatch):
+    """lotsim's default number of worker processes is one (as in a worker of the bench):
+    pytest-xdist already keeps every core busy with a test each, and work shared out over
+    forked workers on a busy machine costs more processor time than it saves (forking, each
+    worker building the lot's trees again), where the answers are the same on any number of
+    workers. Tests marked ``cores`` keep the machine's cores (those of lotsim's workers
+    themselves); a test may still ask for workers, ``workers=2``."""
+    if request.node.get_closest_marker("cores") is None:
+        import lotsim.core.workers
+
+        monkeypatch.setattr(lotsim.core.workers, "_default_workers", lambda: 1)
