@@ -7,6 +7,7 @@ fixtures are in ``tests/conftest.py``."""
 
 from __future__ import annotations
 
+import gc
 import importlib.util
 import os
 
@@ -26,6 +27,18 @@ MISSING = [m for m in LEARN if _missing(m)]
 
 collect_ignore_glob = (["lotsim/envs/*.py"]
                        if MISSING and os.environ.get("LOTSIM_REQUIRE_EXPORTS") != "1" else [])
+
+
+SUITE_GC_THRESHOLDS = (10_000, 20, 20)
+"""The cycle collector's thresholds in the suite's processes (Python's are 700, 10, 10):
+the tests prepare and plan lots, making millions of objects and almost no cycles, as
+lotsim.sim.running.RUN_GC_THRESHOLDS says of ``lotsim run``; the collections come in
+larger batches (a few per cent of the suite's time). Nothing is frozen, so that the tests
+of lotsim's own tuning (collector_tuned) see the collector as a user's process has it."""
+
+
+def pytest_configure(config):
+    gc.set_threshold(*SUITE_GC_THRESHOLDS)
 
 
 def pytest_report_header(config):
