@@ -146,7 +146,7 @@ def import_at(tmp_path: Path, dlat: float, dlon: float):
     return report.lots[0], out / "autonomoustuff_parking_lot.yaml"
 
 
-@pytest.fixture(scope="module")
+@pytest.fixture(scope="session")  # once a process, however pytest-xdist splits the module
 def at_its_origin(tmp_path_factory):
     lot, path = import_at(tmp_path_factory.mktemp("l2"), 0.0, 0.0)
     return lot, {s.id for s in read_scenario(path).scenario.lot.slots}
