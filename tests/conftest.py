@@ -97,9 +97,17 @@ def position(text: str, needle: str, nth: int = 0) -> tuple[int, int]:
 
 @pytest.fixture(scope="session")
 def shipped_graphs() -> dict[str, LotGraph]:
+    """Every shipped scenario's lot, prepared (by name, in SCENARIOS' order). Each of
+    pytest-xdist's workers starts at its own place in the list: two workers that want them
+    at once each prepare different lots and load the other's from the session's cache,
+    rather than one waiting for each lot the other is preparing."""
     from lotsim.io.scenario_yaml import load_scenario
 
-    return {p.stem: prepare_graph(load_scenario(p)) for p in SCENARIOS}
+    worker = int(os.environ.get("PYTEST_XDIST_WORKER", "gw0")[2:] or 0)
+    start = worker * len(SCENARIOS) // int(os.environ.get("PYTEST_XDIST_WORKER_COUNT", 1))
+    prepared = {p.stem: prepare_graph(load_scenario(p))
+                for p in SCENARIOS[start:] + SCENARIOS[:start]}
+    return {p.stem: prepared[p.stem] for p in SCENARIOS}
 
 
 @pytest.fixture(scope="session")

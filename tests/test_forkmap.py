@@ -7,6 +7,8 @@ import pytest
 
 from lotsim.core.workers import ForkPool, fork_map
 
+pytestmark = pytest.mark.cores  # lotsim's workers on the machine's cores
+
 
 def test_answers_in_order_whatever_finishes_first():
     # the first items take longest, so the workers finish them last

@@ -65,8 +65,8 @@ def layout(plot: PlotLike, output: str | os.PathLike | None = None, *, keep: int
     Examples
     --------
     >>> import lotsim
-    >>> plot = ("boundary: [[0, 0], [34, 0], [34, 30], [0, 30]]\\n"
-    ...         "gates: [{id: in, at: [17, 0]}]\\nbays: {angles_deg: [90]}\\n"
+    >>> plot = ("boundary: [[0, 0], [20, 0], [20, 24], [0, 24]]\\n"
+    ...         "gates: [{id: in, at: [10, 0]}]\\nbays: {angles_deg: [90]}\\n"
     ...         "demand: {count: 3}\\n")
     >>> found = lotsim.layout(plot, settings=lotsim.LayoutSettings(offsets=1, prepared=1))
     >>> found.best.bays > 0, found.best.checked

@@ -187,7 +187,7 @@ class Background:
     def __init__(self, fn: Callable, items: Sequence):
         self.answers: dict[int, object] = {}
         self._conn = self._proc = None
-        if (not items or multiprocessing.parent_process() or (os.cpu_count() or 1) < 2
+        if (not items or _default_workers() < 2
                 or "fork" not in multiprocessing.get_all_start_methods()):
             return
         ctx = multiprocessing.get_context("fork")

@@ -6,12 +6,10 @@ from __future__ import annotations
 
 import hashlib
 import itertools
-import multiprocessing
-import os
 from collections.abc import Callable, Iterable
 
 from lotsim.core.reusecheck import ReuseCheck
-from lotsim.core.workers import ForkPool
+from lotsim.core.workers import ForkPool, cores
 from lotsim.maneuvers.maneuver import Maneuver
 from lotsim.maneuvers.planner import ManeuverPlanner, search_maneuver
 from lotsim.maneuvers.problem import exact_key
@@ -35,8 +33,7 @@ def _pool_size(workers: int | None, problems: int) -> int:
         return max(1, min(workers, problems))
     if problems < PARALLEL_FROM:
         return 1
-    count = (1 if multiprocessing.parent_process() else os.cpu_count()) or 1
-    return min(count, max(1, problems // 16))
+    return min(cores(), max(1, problems // 16))
 
 
 class _Batch:

@@ -127,6 +127,7 @@ def test_progress_ends_at_its_total_when_the_search_stops_early():
     assert [d for d, _ in calls] == sorted(d for d, _ in calls)
 
 
+@pytest.mark.cores  # on the machine's cores, and on one (--jobs 1)
 def test_the_same_plot_gives_the_same_bytes(tmp_path, monkeypatch):
     monkeypatch.setenv("LOTSIM_CACHE_DIR", "off")  # both worked out, neither remembered
     plot = tmp_path / "small.yaml"  # 20 x 24 m: a spine from the gate, 18 bays

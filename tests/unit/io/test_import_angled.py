@@ -122,7 +122,7 @@ def lanelet2_map(path: Path):
     return write_osm(path, ways, relations), rects, painted
 
 
-@pytest.fixture(scope="module")
+@pytest.fixture(scope="session")  # once a process, however pytest-xdist splits the module
 def lanelet2_lot(tmp_path_factory):
     tmp = tmp_path_factory.mktemp("angled-l2")
     src, rects, painted = lanelet2_map(tmp / "angled.osm")
@@ -169,7 +169,7 @@ def osm_lot(path: Path):
     return write_osm(path, ways, [], origin=(60.0, 25.0)), rects, painted
 
 
-@pytest.fixture(scope="module")
+@pytest.fixture(scope="session")  # once a process, however pytest-xdist splits the module
 def osm_imported(tmp_path_factory):
     tmp = tmp_path_factory.mktemp("angled-osm")
     src, rects, painted = osm_lot(tmp / "angled.osm")

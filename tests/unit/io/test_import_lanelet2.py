@@ -85,7 +85,7 @@ def slot_shape(s) -> Polygon:
                     c - hl * d + hw * n])
 
 
-@pytest.fixture(scope="module")
+@pytest.fixture(scope="session")  # once a process, however pytest-xdist splits the module
 def imported(tmp_path_factory):
     out = tmp_path_factory.mktemp("l2")
     report = import_lanelet2(MAP, out)
@@ -292,7 +292,7 @@ def small_map(path: Path, origin=(48.0, 11.0), *, spots=None) -> Path:
     return path
 
 
-@pytest.fixture(scope="module")
+@pytest.fixture(scope="session")  # once a process, however pytest-xdist splits the module
 def small(tmp_path_factory):
     from lotsim.sim.preparation import prepare_graph
 

@@ -146,17 +146,21 @@ def import_at(tmp_path: Path, dlat: float, dlon: float):
     return report.lots[0], out / "autonomoustuff_parking_lot.yaml"
 
 
-@pytest.fixture(scope="module")
+@pytest.fixture(scope="session")  # once a process, however pytest-xdist splits the module
 def at_its_origin(tmp_path_factory):
     lot, path = import_at(tmp_path_factory.mktemp("l2"), 0.0, 0.0)
     return lot, {s.id for s in read_scenario(path).scenario.lot.slots}
 
 
 STEPS = (-0.0001, 0.0, 0.0001)  # about 11 m of latitude, 9 m of longitude
+SLIT = {(-0.0001, 0.0), (-0.0001, 0.0001), (0.0001, 0.0001)}
+"""The origins at which an outline grown without the close kept a slit: the default suite
+imports the map there; the other five steps run with -m slow."""
 
 
-@pytest.mark.parametrize("dlat, dlon", [(a, b) for a, b in itertools.product(STEPS, STEPS)
-                                        if (a, b) != (0.0, 0.0)])
+@pytest.mark.parametrize("dlat, dlon", [
+    pytest.param(a, b, marks=() if (a, b) in SLIT else pytest.mark.slow)
+    for a, b in itertools.product(STEPS, STEPS) if (a, b) != (0.0, 0.0)])
 def test_the_shipped_map_imports_the_same_near_its_own_origin(tmp_path, at_its_origin,
                                                               dlat, dlon):
     """The origin moves the numbers by centimetres' worth of rounding, not the lot: the

@@ -64,14 +64,14 @@ def _origin(text: str) -> LocalFrame:
     return LocalFrame(float(m.group(1)), float(m.group(2)))
 
 
-@pytest.fixture(scope="module")
+@pytest.fixture(scope="session")  # once a process, however pytest-xdist splits the module
 def hand(tmp_path_factory):
     out = tmp_path_factory.mktemp("hand")
     report = import_osm(LOTS, out)
     return report, {lot.id: lot for lot in report.lots}, out
 
 
-@pytest.fixture(scope="module")
+@pytest.fixture(scope="session")  # once a process, however pytest-xdist splits the module
 def real(tmp_path_factory):
     pytest.importorskip("osmium")
     out = tmp_path_factory.mktemp("real")

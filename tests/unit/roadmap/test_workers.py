@@ -20,6 +20,8 @@ from lotsim.sim.preparation import prepare_graph
 
 LOTS = ROOT / "scenarios" / "lots"
 
+pytestmark = pytest.mark.cores  # lotsim's workers on the machine's cores
+
 
 def _one_by_one(lot, collider, design):
     """A design's junction turns and turns through short stretches, found in one go."""
