@@ -207,7 +207,7 @@ class RouteReport:
     def line(self) -> str:
         """The route's line in ``lotsim validate``'s summary."""
         if not self.passed:
-            return f"route {self.id} ({self.vehicle}): FAIL: {self.reason}"
+            return f"route {self.id} ({self.vehicle}): fails: {self.reason}"
         x, y = self.clearance_at or (math.nan, math.nan)
         return (f"route {self.id} ({self.vehicle}): pass, {self.length:.1f} m, "
                 f"{self.changes} direction change{'s' * (self.changes != 1)}, envelope "
