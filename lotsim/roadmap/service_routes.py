@@ -313,6 +313,9 @@ def plan_route(lot: Lot, route: RouteSpec, settings: RouteSettings | None = None
         targets = sorted(targets, key=lambda t: math.dist(here[:2], t[0][:2]))
         found = None
         for frame, lo, hi in targets:
+            found = _straight_onto(here, frame, lo, hi, collider, body, settings.step)
+            if found is not None:
+                break
             found = plan_onto([here], frame, lo, hi, collider, body, v.min_turning_radius,
                               max_changes=settings.max_changes, budget=settings.budget)
             if found is not None:
@@ -322,8 +325,9 @@ def plan_route(lot: Lot, route: RouteSpec, settings: RouteSettings | None = None
                           Status.NO_PATH)
         segments += found[1]
         names.append(place.name)
-        end = found[1][-1].end
-        here = (float(end[0]), float(end[1]), float(end[2]))
+        if found[1]:
+            end = found[1][-1].end
+            here = (float(end[0]), float(end[1]), float(end[2]))
     poses, _ = sample_segments(segments, settings.step)
     prints = v.footprints(poses)
     envelope = sweep_envelope(prints)
@@ -331,6 +335,27 @@ def plan_route(lot: Lot, route: RouteSpec, settings: RouteSettings | None = None
     clearance, at, what = _clearance(envelope, obstacles, edge, collider.edge)
     return RouteReport(route.id, v.name, Status.FOUND, "", tuple(segments), poses, envelope,
                        clearance, at, what, tuple(names))
+
+
+def _straight_onto(here: Pose, frame: Pose, lo: float, hi: float, collider: Collider,
+                   body: DesignVehicle, step: float) -> tuple[int, tuple[Segment, ...]] | None:
+    """A straight drive forward from ``here`` onto the stretch, when ``here`` lies on its
+    line at its heading before it and the way is clear; else None. (The multi-point
+    search lands by a last arc, so it does not find the plain straight.)"""
+    c, s = math.cos(frame[2]), math.sin(frame[2])
+    dx, dy = here[0] - frame[0], here[1] - frame[1]
+    along, across = c * dx + s * dy, -s * dx + c * dy
+    if abs(across) > 1e-6 or abs(math.remainder(here[2] - frame[2], 2 * math.pi)) > 1e-6:
+        return None
+    if along > hi:
+        return None
+    seg = Segment(here, max(lo, along) - along, 0.0)
+    if seg.length < 1e-9:
+        return 0, ()
+    poses, _ = sample_segments([seg], step)
+    if collider.sweep_hit(body.footprints(poses)) is not None:
+        return None
+    return 0, (seg,)
 
 
 def sweep_envelope(footprints: FloatArray) -> BaseGeometry:
