@@ -10,6 +10,7 @@ from typing import Any
 
 from lotsim.core.checks import is_integral, is_real, raise_first, range_problem, set_field, shown
 from lotsim.lot.spec import LotSpec
+from lotsim.roadmap.service_routes import RouteSpec
 from lotsim.traffic.demand import TrafficSpec
 from lotsim.traffic.disturbances import Disturbances
 from lotsim.vehicles.model import VehicleType
@@ -37,6 +38,10 @@ class Scenario:
     disturbances : Disturbances or None
         What departs from the plan when the traffic is driven (late starts, slow cars,
         stalls: :class:`~lotsim.traffic.disturbances.Disturbances`); None: nothing.
+    routes : tuple of RouteSpec
+        The service vehicles' routes the lot must carry
+        (:class:`~lotsim.roadmap.service_routes.RouteSpec`), checked by ``lotsim
+        validate``; they take no part in a run.
 
     A scenario is the problem, not how to draw it: its file's ``animation`` section is read
     apart (:func:`lotsim.io.scenario_yaml.read_scenario`, :class:`lotsim.scenario.AnimationSpec`).
@@ -51,6 +56,7 @@ class Scenario:
     description: str = ""
     traffic: TrafficSpec | None = None
     disturbances: Disturbances | None = None
+    routes: tuple[RouteSpec, ...] = ()
 
     def vehicle_type(self, name: str) -> VehicleType:
         """The vehicle type called ``name``; KeyError if the scenario has none."""

@@ -19,6 +19,7 @@ import yaml
 from lotsim.errors import ErrorCollector
 from lotsim.io.file_kinds import refuse_other_kind, top_level
 from lotsim.io.lot_yaml import MAX_ITEMS, parse_lot
+from lotsim.io.routes_yaml import parse_routes
 from lotsim.io.traffic_yaml import parse_traffic, traffic_ids
 from lotsim.io.yamlnodes import YNode, parse_text, read_yaml
 from lotsim.lot.uses import MARKS
@@ -149,7 +150,7 @@ def parse_scenario_file(root: YNode) -> ScenarioFile:
     f = root.fields(
         required=["lot"],
         optional=["name", "description", "seed", "vehicle_types", "parked_vehicle", "traffic",
-                  "disturbances", "animation"],
+                  "disturbances", "animation", "routes"],
     )
     errors = ErrorCollector()
     name = (errors.attempt(lambda: f["name"].file_name(
@@ -187,6 +188,8 @@ def parse_scenario_file(root: YNode) -> ScenarioFile:
         errors.attempt(_refuse, f["disturbances"], "disturbances need traffic to disturb: the "
                                                    "scenario has no 'traffic' section")
     animation = errors.attempt(parse_animation, f["animation"]) if "animation" in f else None
+    routes = (errors.attempt(parse_routes, f["routes"], lot, default=())
+              if "routes" in f and lot is not None else ())
     description = (errors.attempt(lambda: f["description"].string(max_len=2000), default="")
                    if "description" in f else "")
     errors.check()
@@ -200,6 +203,7 @@ def parse_scenario_file(root: YNode) -> ScenarioFile:
         seed=seed,
         source=root.file,
         description=description,
+        routes=routes,
     )
     return ScenarioFile(scenario, animation)
 

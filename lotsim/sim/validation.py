@@ -12,6 +12,7 @@ from lotsim.lot.model import PAVEMENT_EDGE
 from lotsim.lot.pavement import loose_ends
 from lotsim.lot.uses import USES, refused_bays
 from lotsim.roadmap.reach import Reachability
+from lotsim.roadmap.service_routes import RouteReport, RouteSettings, plan_routes
 from lotsim.sim.bays import BayReport, bay_report, bay_schedule, schedule_csv
 from lotsim.sim.preparation import PreparedLot
 from lotsim.sim.repairs import check_lot_events
@@ -37,12 +38,16 @@ class ValidationReport:
     turned_away : dict
         Vehicle type → why ``lotsim run`` turns away its cars of the traffic (a type that
         fits no free slot, reaches none, or can leave none for an exit).
+    routes : tuple of RouteReport
+        The scenario's service routes as planned, in its order
+        (:func:`~lotsim.roadmap.service_routes.plan_route`).
     """
 
     source: str
     prepared: PreparedLot
     reachability: Reachability
     turned_away: dict[str, str] = field(default_factory=dict)
+    routes: tuple[RouteReport, ...] = ()
 
     @property
     def name(self) -> str:
@@ -95,9 +100,10 @@ class ValidationReport:
     @property
     def complete(self) -> bool:
         """Every free slot and exit can be reached and every type can park in every slot
-        its use lets it use: what ``lotsim validate --strict`` requires."""
+        its use lets it use, and every service route passes: what ``lotsim validate
+        --strict`` requires."""
         return (self.reachability.ok and not any(self.misfits.values())
-                and not self.turned_away)
+                and not self.turned_away and all(r.passed for r in self.routes))
 
     @property
     def verdict(self) -> str:
@@ -170,11 +176,13 @@ class ValidationReport:
         the scenario's name, :attr:`complete`, the slots free, per type the free slots it
         can use (:meth:`usable`) and those it cannot, by row, with why (:meth:`unusable`),
         why cars of a type would be turned away, the bays by use and their standard's
-        check (:attr:`bays`), and the summary's warnings."""
+        check (:attr:`bays`), the service routes (:attr:`routes`, each envelope as WKT),
+        and the summary's warnings."""
         return {"source": self.source, "scenario": self.name, "complete": self.complete,
                 "free_slots": len(self.prepared.lot.free_slots), "usable": self.usable(),
                 "unusable": self.unusable(), "turned_away": dict(self.turned_away),
-                "bays": self.bays.as_dict(), "warnings": self.warnings}
+                "bays": self.bays.as_dict(),
+                "routes": [r.to_json() for r in self.routes], "warnings": self.warnings}
 
     def summary(self, *, verbose: bool = False) -> str:
         """What ``lotsim validate`` prints for this scenario (``verbose``: also how the
@@ -274,6 +282,8 @@ class ValidationReport:
                          + f" ({planner.stats['reused']} repeats answered from them; "
                          f"margin {planner.margin:g} m)"
                          + (LOADED if lg.from_cache else ""))
+        for r in self.routes:
+            lines.append(f"  {r.line()}" if r.passed else f"  warning: {r.line()}")
         for end in loose_ends(lot.aisles, lot.pavement):
             lines.append(f"  warning: {end}")
         for note in lg.skipped_turns:
@@ -320,9 +330,11 @@ def rows_of(prepared: PreparedLot) -> dict[str, str]:
     return {s.id: out.get(s.id, f"aisle {s.aisle}, {s.side}") for s in lot.slots}
 
 
-def validate_prepared(prepared: PreparedLot, source: str) -> ValidationReport:
+def validate_prepared(prepared: PreparedLot, source: str,
+                      routes: RouteSettings | None = None) -> ValidationReport:
     """Check that the scenario's traffic can be served as ``lotsim run`` would (refusing
-    what it would refuse) and report on its lot.
+    what it would refuse) and report on its lot, and plan its service routes (with
+    ``routes``, default :class:`~lotsim.roadmap.service_routes.RouteSettings`).
 
     Raises
     ------
@@ -343,7 +355,8 @@ def validate_prepared(prepared: PreparedLot, source: str) -> ValidationReport:
         for a in every:
             if a.id in ids:
                 away.setdefault(a.vehicle, ids[a.id])
-    return ValidationReport(source, prepared, reach, away)
+    planned = plan_routes(prepared.lot, scenario.routes, routes)
+    return ValidationReport(source, prepared, reach, away, planned)
 
 
 def _any_draw(stream: StreamSpec) -> list[Arrival]:
