@@ -501,11 +501,16 @@ def faults_rows(page: Page, tmp: Path) -> None:
                      f"{sum(r['violations'] for r in g)}")
 
 
+ENV_LOTS = ("quickstart", "surface364", "large_lot")
+"""The lots the learning environment is timed on."""
+
+
 def envs_rows(page: Page, runs: int) -> None:
     """The learning environment's decisions per second (``benchmarks/bench_envs.py``),
     when the ``learn`` extra is installed."""
     rounds = max(runs, 2)
-    cmd = [sys.executable, "benchmarks/bench_envs.py", "--rounds", str(rounds)]
+    cmd = [sys.executable, "benchmarks/bench_envs.py", "--rounds", str(rounds), "--lots",
+           *ENV_LOTS]
     proc = subprocess.run(cmd, cwd=ROOT, capture_output=True, text=True)
     table = [line for line in proc.stdout.splitlines() if line.startswith("|")]
     if proc.returncode != 0 or len(table) < 3:
@@ -513,7 +518,8 @@ def envs_rows(page: Page, runs: int) -> None:
               flush=True)
         return
     page.section("Learning environments",
-                 f"`python benchmarks/bench_envs.py --rounds {rounds}` (the `learn` extra): "
+                 f"`python benchmarks/bench_envs.py --rounds {rounds} --lots "
+                 f"{' '.join(ENV_LOTS)}` (the `learn` extra): "
                  "decisions per CPU second of `lotsim/ParkingOperator-v0` stepped by the "
                  "shortest and the random baselines and without its rankings, and of the "
                  "bare stepped run (`lotsim.Live(policy=lotsim.ASK)`) making the same "
