@@ -39,7 +39,7 @@ EXPORTS: dict[str, tuple[str, ...]] = {
     "lotsim.io.result": ("result_dict",),
     "lotsim.api.results": ("check", "load_result", "write_result"),
     "lotsim.api.drawing": ("render_gif", "render_html", "render_lot", "render_maneuver",
-                           "render_mp4"),
+                           "render_mp4", "render_routes"),
     "lotsim.api.maneuvers": ("car", "maneuver_case", "minslot", "plan_maneuver"),
     "lotsim.api.benchmarks": ("connect_scheduler",),
     "lotsim.api.exports": ("export_commonroad", "export_dxf", "export_openscenario",
@@ -65,6 +65,7 @@ EXPORTS: dict[str, tuple[str, ...]] = {
     "lotsim.maneuvers.slot_table": ("MinSlotTable", "check_slot_width"),
     # prepared lots, runs and their limits
     "lotsim.sim.preparation": ("PreparedLot",),
+    "lotsim.roadmap.service_routes": ("RouteReport", "RouteSettings", "plan_routes"),
     "lotsim.sim.maneuver_case": ("ManeuverCase",),
     "lotsim.sim.validation": ("ValidationReport", "id_ranges", "natural", "unusable_text"),
     "lotsim.sim.running": ("collector_tuned", "require_traffic"),
@@ -118,6 +119,7 @@ if TYPE_CHECKING:  # for type checkers and editors: the same names, imported eag
         render_lot,
         render_maneuver,
         render_mp4,
+        render_routes,
     )
     from lotsim.api.exports import (  # noqa: F401
         export_commonroad,
@@ -185,6 +187,11 @@ if TYPE_CHECKING:  # for type checkers and editors: the same names, imported eag
         require_matplotlib,
     )
     from lotsim.render.video import VideoUnavailable, require_ffmpeg  # noqa: F401
+    from lotsim.roadmap.service_routes import (  # noqa: F401
+        RouteReport,
+        RouteSettings,
+        plan_routes,
+    )
     from lotsim.scenario import (  # noqa: F401
         MAX_SIZE,
         MIN_SIZE,

@@ -1,10 +1,12 @@
 """Pictures of runs and lots: a run as an animated GIF (:func:`render_gif`), an interactive
-replay (:func:`render_html`) or a video (:func:`render_mp4`); a lot (:func:`render_lot`);
-one slot's maneuver (:func:`render_maneuver`)."""
+replay (:func:`render_html`) or a video (:func:`render_mp4`); a lot (:func:`render_lot`),
+with its service routes (:func:`render_routes`); one slot's maneuver
+(:func:`render_maneuver`)."""
 
 from __future__ import annotations
 
 import os
+from collections.abc import Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -30,6 +32,7 @@ if TYPE_CHECKING:
     from lotsim.render.animation import GifInfo
     from lotsim.render.html import HtmlInfo
     from lotsim.render.video import VideoInfo
+    from lotsim.roadmap.service_routes import RouteReport, RouteSettings
     from lotsim.sim.maneuver_case import ManeuverCase
 
 
@@ -208,6 +211,65 @@ def render_lot(scenario: ScenarioLike | PreparedLot, path: str | os.PathLike | N
 
     img = draw_lot(lg, size=size, show_graph=graph, parked_vehicle=sc.parked_vehicle,
                    title=sc.name)
+    if path is not None:
+        Path(path).parent.mkdir(parents=True, exist_ok=True)
+        save_png(img, path)
+    return img
+
+
+def render_routes(scenario: ScenarioLike | PreparedLot, path: str | os.PathLike | None = None,
+                  *, size: tuple[int, int] = (1200, 900), graph: bool = False,
+                  reports: Sequence[RouteReport] | None = None,
+                  settings: RouteSettings | None = None) -> Image.Image:
+    """A picture of the lot with the scenario's service routes over it (``lotsim show
+    --routes``): each route's swept envelope filled in its colour and outlined, its path
+    (the rear-axle line, blue forward and orange in reverse), a ring at its tightest
+    clearance with the value, and a legend naming each route and whether it passes
+    (:mod:`lotsim.render.route_image`).
+
+    Parameters
+    ----------
+    scenario : PreparedLot, Scenario, path or YAML text
+        A scenario with a ``routes`` section (docs/scenario.md).
+    path : str or path-like, optional
+        Also write the picture there as PNG (atomically; its folder is made if need be).
+    size, graph : keyword-only
+        As :func:`render_lot`.
+    reports : sequence of RouteReport, optional, keyword-only
+        The routes as planned already (``ValidationReport.routes``); planned here otherwise.
+    settings : RouteSettings, optional, keyword-only
+        How they are planned, when they are planned here.
+
+    Raises
+    ------
+    SettingsError
+        For a scenario without routes, or a size out of range.
+
+    Examples
+    --------
+    >>> import lotsim
+    >>> storefront = Path(lotsim.__file__).parents[1] / "scenarios/lots/storefront.yaml"
+    >>> render_routes(storefront, size=(400, 300)).size
+    (400, 300)
+    """
+    problem = size_problem(size)
+    if problem:
+        raise SettingsError("size", problem)
+    _suffix(path, ".png")
+    prepared = prepare_for_drawing(scenario, graph=graph)
+    sc = prepared.scenario
+    if not sc.routes:
+        raise SettingsError("routes", f"scenario {sc.name!r} has no routes to draw (a "
+                                      f"'routes' section: docs/scenario.md)")
+    if reports is None:
+        from lotsim.roadmap.service_routes import plan_routes
+
+        reports = plan_routes(prepared.lot, sc.routes, settings)
+    from lotsim.render.lot_image import save_png
+    from lotsim.render.route_image import draw_routes
+
+    img = draw_routes(prepared.lot_graph, reports, size=size, show_graph=graph,
+                      parked_vehicle=sc.parked_vehicle, title=sc.name)
     if path is not None:
         Path(path).parent.mkdir(parents=True, exist_ok=True)
         save_png(img, path)

@@ -80,6 +80,11 @@ def lot_of(source: LotLike) -> Lot:
     """The built lot of a scenario or of a run (:data:`LotLike`): a scenario's lot is built
     for its vehicle types (as ``lotsim show`` builds it, without planning a maneuver), a
     run's read back from its ``lot.drawing``."""
+    return _scenario_and_lot(source)[1]
+
+
+def _scenario_and_lot(source: LotLike) -> tuple[Scenario | None, Lot]:
+    """:func:`lot_of`, and the scenario it is of (None for a run's)."""
     from lotsim.io.file_kinds import file_kind
     from lotsim.io.lot_json import lot_from_json
     from lotsim.lot.build import build_lot
@@ -87,9 +92,9 @@ def lot_of(source: LotLike) -> Lot:
     from lotsim.sim.preparation import PreparedLot
 
     if isinstance(source, PreparedLot):
-        return source.lot
+        return source.scenario, source.lot
     if isinstance(source, RunResult):
-        return source.lot_graph.lot
+        return None, source.lot_graph.lot
     is_file = isinstance(source, os.PathLike) or (isinstance(source, str)
                                                   and "\n" not in source)
     if isinstance(source, dict) or (is_file and file_kind(source) == "result"):
@@ -98,13 +103,13 @@ def lot_of(source: LotLike) -> Lot:
         if drawing is None:
             raise SettingsError("source", "expected a result document with a lot.drawing "
                                           "(docs/result.md)")
-        return lot_from_json(drawing, root="lot.drawing")
+        return None, lot_from_json(drawing, root="lot.drawing")
     if not isinstance(source, (Scenario, str, os.PathLike)):
         raise SettingsError("source", f"expected a scenario or a run (a Scenario, "
                                       f"PreparedLot, RunResult, result dict or a path), "
                                       f"found {type(source).__name__}")
     scenario = source if isinstance(source, Scenario) else load_scenario(source)
-    return build_lot(scenario.lot, DesignVehicle.envelope(scenario.vehicle_types))
+    return scenario, build_lot(scenario.lot, DesignVehicle.envelope(scenario.vehicle_types))
 
 
 def export_dxf(source: LotLike, path: str | os.PathLike):
@@ -113,7 +118,9 @@ def export_dxf(source: LotLike, path: str | os.PathLike):
     pavement edges, direction arrows), every bay as a closed polyline on the layer of its
     use, stripes, bay numbers, islands, obstacles, walls, speed bumps and zones, entrances,
     exits and gates, and the bays taken at start, each on its named layer
-    (:data:`lotsim.io.cad_layers.LAYERS`), in metres.
+    (:data:`lotsim.io.cad_layers.LAYERS`), in metres. A scenario's service routes (its
+    ``routes`` section) are planned and drawn too: each swept envelope and path on layers
+    of their own (a run's lot is drawn without them: a result holds no routes).
 
     Needs ``pip install 'lotsim[dxf]'``; raises ``ExportUnavailable`` (a
     :class:`LotsimError`) without it. The file is written whole or not at all (its folder
@@ -124,4 +131,10 @@ def export_dxf(source: LotLike, path: str | os.PathLike):
     from lotsim.io.export.tracks import require
 
     require("ezdxf", "dxf")  # before the lot is built
-    return write_dxf(lot_of(source), path)
+    scenario, lot = _scenario_and_lot(source)
+    reports = ()
+    if scenario is not None and scenario.routes:  # planned only when there are some
+        from lotsim.roadmap.service_routes import plan_routes
+
+        reports = plan_routes(lot, scenario.routes)
+    return write_dxf(lot, path, routes=reports)

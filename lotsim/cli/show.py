@@ -1,4 +1,6 @@
-"""``lotsim show``: draw a scenario's lot to a PNG, and list its slots and lanes."""
+"""``lotsim show``: draw a scenario's lot to a PNG, and list its slots and lanes; with
+``--routes``, its service routes over it (each route's line as ``lotsim validate`` says
+it)."""
 
 from __future__ import annotations
 
@@ -26,6 +28,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("-o", "--output", default="lot.png",
                         help="PNG to write (default lot.png); a folder gets SCENARIO.png in it")
     parser.add_argument("--graph", action="store_true", help="draw the lot graph too")
+    parser.add_argument("--routes", action="store_true",
+                        help="draw the scenario's service routes too: each swept envelope, "
+                        "path and tightest clearance, and whether it passes")
     parser.add_argument("--size", default="1200x900",
                         help=f"image size WxH in pixels, {sizes()} (1200x900)")
 
@@ -39,12 +44,21 @@ def execute(args: argparse.Namespace) -> int:
     if problem:
         return bad(problem)
     scenario = api.load_scenario(args.scenario)
+    if args.routes and not scenario.routes:
+        return bad(f"{args.scenario}: --routes: the scenario has no routes to draw (a "
+                   "'routes' section: docs/scenario.md)")
+    reports = ()
     with api.OutputSet() as outputs:  # checked before the lot is built
         staged = outputs.file(args.output, name=given("-o", args.output))
         # built once, drawn and listed
         prepared = api.prepare_for_drawing(scenario, graph=args.graph)
         try:
-            api.render_lot(prepared, staged, size=size, graph=args.graph)
+            if args.routes:
+                reports = api.plan_routes(prepared.lot, scenario.routes)
+                api.render_routes(prepared, staged, size=size, graph=args.graph,
+                                  reports=reports)
+            else:
+                api.render_lot(prepared, staged, size=size, graph=args.graph)
         except OSError as exc:
             return cannot_write(args.output, exc)
         outputs.commit()
@@ -52,6 +66,8 @@ def execute(args: argparse.Namespace) -> int:
     lot = prepared.lot
     print(f"  slots: {api.id_ranges([s.id for s in lot.slots], most=40)}")
     print(f"  lanes: {', '.join(sorted((ln.id for ln in lot.lanes), key=api.natural))}")
+    for r in reports:
+        print(f"  {r.line()}")
     drawn = api.slot_labels_drawn(prepared.lot_graph, size, show_graph=args.graph)
     if drawn < len(lot.slots):  # say where they can all be read, if anywhere
         print(f"  slot ids drawn: {drawn} of {len(lot.slots)} at {size[0]}x{size[1]} "

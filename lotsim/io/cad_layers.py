@@ -118,6 +118,12 @@ LAYERS: tuple[CadLayer, ...] = (
              "gates: a POINT where a road meets the boundary, and its name as TEXT (written "
              "where the lanes of the entrances and exits cross the boundary; read as a "
              "plot's gates)", 4),
+    CadLayer("route_envelope", "C-PRKG-ENVL", "lotsim",
+             "each service route's swept envelope (the scenario's routes): closed "
+             "LWPOLYLINEs, its exterior and any holes, and the route's id as TEXT inside", 6),
+    CadLayer("route_path", "C-PRKG-ROUT", "lotsim",
+             "each service route's path, the line of the vehicle's rear-axle centre: an "
+             "LWPOLYLINE per stroke, a reverse stroke DASHED", 4),
     CadLayer("building_entrance", "C-BLDG-ENTR", "lotsim",
              "building entrances: POINTs (read into a plot; a lot has none to write)", 5),
 )

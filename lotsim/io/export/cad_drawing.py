@@ -18,12 +18,17 @@ What is drawn, and where it comes from:
 * speed bumps as lines and speed zones as outlines, each with its limit;
 * gates: where the lane of an entrance (followed back) or of an exit (followed on) crosses
   the boundary; crossings closer than :data:`GATE_MERGE` are one gate, on the boundary
-  nearest their middle, named after its first entrance (else its first exit).
+  nearest their middle, named after its first entrance (else its first exit);
+* the scenario's service routes, when given their reports
+  (:func:`~lotsim.roadmap.service_routes.plan_routes`): each swept envelope ring by ring,
+  exactly as planned, with the route's id inside it, and its path (the rear-axle line) a
+  polyline per stroke, reverse strokes dashed; a failed route draws what its report holds.
 """
 
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -31,8 +36,10 @@ import shapely
 from shapely.geometry import LineString, Point
 from shapely.geometry.base import BaseGeometry
 
+from lotsim.core.geometry import sample_segments
 from lotsim.io.cad_layers import LAYER_NAMES, bay_layer
 from lotsim.lot.model import Lot, Portal, Slot
+from lotsim.roadmap.service_routes import RouteReport
 
 XY = tuple[float, float]
 
@@ -43,6 +50,8 @@ PORTAL_SIZE = 3.0
 """Length of the arrow drawn at an entrance or exit [m] (as ``lotsim show`` draws it)."""
 TAKEN_INSET = 0.3
 """How far inside its bay the outline of a taken bay is drawn [m]."""
+PATH_STEP = 0.1
+"""Spacing of a route path's vertices along its arcs [m] (a straight keeps its two ends)."""
 AREA_LAYERS = {"no_go": "island", "obstacle": "obstacle", "wall": "wall"}
 """Kind of area → what layer it is drawn on (:data:`~lotsim.io.cad_layers.LAYER_NAMES`)."""
 
@@ -50,13 +59,17 @@ AREA_LAYERS = {"no_go": "island", "obstacle": "obstacle", "wall": "wall"}
 @dataclass(frozen=True, slots=True)
 class Polyline:
     """An LWPOLYLINE: its vertices [m], closed or not; ``fill``: filled solid (a HATCH);
-    ``hatch``: hatched with parallel lines (a HATCH of a line pattern)."""
+    ``hatch``: hatched with parallel lines (a HATCH of a line pattern); ``linetype``: its
+    own, else "" (the layer's); ``of``: the id of what it draws (a route's), written as its
+    extended data under :data:`~lotsim.io.export.dxf.APPID`, else ""."""
 
     layer: str
     points: tuple[XY, ...]
     closed: bool
     fill: bool = False
     hatch: bool = False
+    linetype: str = ""
+    of: str = ""
 
 
 @dataclass(frozen=True, slots=True)
@@ -265,8 +278,40 @@ def _kmh(limit: float) -> str:
     return f"{limit * 3.6:.0f} km/h"
 
 
-def lot_drawing(lot: Lot) -> CadDrawing:
-    """Every figure of ``lot`` on its layer (module docstring)."""
+def route_figures(reports: Sequence[RouteReport]) -> tuple[list[Polyline], list[Label]]:
+    """The envelopes and paths of service routes, and each route's id inside its envelope
+    (module docstring)."""
+    name = LAYER_NAMES
+    polylines, labels = [], []
+    for r in reports:
+        if r.envelope is not None and not r.envelope.is_empty:
+            polylines += [Polyline(name["route_envelope"], ring, True, of=r.id)
+                          for ring in rings(r.envelope)]
+            p = r.envelope.representative_point()
+            labels.append(Label(name["route_envelope"], r.id, (p.x, p.y), 1.0))
+        strokes: list[list] = []
+        for seg in r.segments:
+            if seg.length < 1e-9:
+                continue
+            if strokes and strokes[-1][0].gear == seg.gear:
+                strokes[-1].append(seg)
+            else:
+                strokes.append([seg])
+        for stroke in strokes:
+            straight = all(s.curvature == 0.0 and s.sharpness == 0.0 for s in stroke)
+            step = max(s.length for s in stroke) if straight else PATH_STEP
+            poses, _ = sample_segments(stroke, step)
+            keep = np.concatenate([[True], np.any(np.abs(np.diff(poses[:, :2], axis=0))
+                                                  > 1e-9, axis=1)])
+            polylines.append(Polyline(name["route_path"], _xy(poses[keep]), False,
+                                      linetype="DASHED" if stroke[0].gear < 0 else "",
+                                      of=r.id))
+    return polylines, labels
+
+
+def lot_drawing(lot: Lot, routes: Sequence[RouteReport] = ()) -> CadDrawing:
+    """Every figure of ``lot`` on its layer, and of its service routes' ``routes`` (their
+    reports) (module docstring)."""
     name = LAYER_NAMES
     polylines: list[Polyline] = []
     segments: list[Segment] = []
@@ -337,6 +382,9 @@ def lot_drawing(lot: Lot) -> CadDrawing:
     for gate, at in gates(lot):
         marks.append(Mark(name["gate"], at))
         labels.append(Label(name["gate"], gate, outside(lot.boundary, at, 2.0), 1.0))
+    more_lines, more_labels = route_figures(routes)
+    polylines += more_lines
+    labels += more_labels
     x0, y0, x1, y1 = lot.boundary.bounds
     return CadDrawing(tuple(polylines), tuple(segments), tuple(marks), tuple(labels),
                       (float(x0), float(y0), float(x1), float(y1)))

@@ -2,8 +2,9 @@
 
 The figures of :func:`~lotsim.io.export.cad_drawing.lot_drawing` become model-space
 entities, each on its layer of :data:`~lotsim.io.cad_layers.LAYERS` with the layer's
-colour and linetype (``BYLAYER``): LWPOLYLINE, LINE, POINT, TEXT, a solid HATCH under
-each arrow and a HATCH of lines over each access aisle. The drawing is DXF R2010
+colour and linetype (``BYLAYER``; a reverse stroke of a route's path ``DASHED``; a route's
+figures carry its id as extended data, :data:`APPID`): LWPOLYLINE, LINE, POINT, TEXT,
+a solid HATCH under each arrow and a HATCH of lines over each access aisle. The drawing is DXF R2010
 (AutoCAD 2010 and later read it), in metres:
 ``$INSUNITS`` 6, ``$MEASUREMENT`` 1 (metric), decimal lengths to the millimetre. Its
 initial view shows the whole lot. Coordinates are lotsim's own, unrounded.
@@ -17,6 +18,7 @@ from __future__ import annotations
 import io
 import os
 from collections import Counter
+from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -25,6 +27,7 @@ from lotsim.io.cad_layers import LAYERS
 from lotsim.io.export.cad_drawing import CadDrawing, lot_drawing
 from lotsim.io.export.tracks import require
 from lotsim.lot.model import Lot
+from lotsim.roadmap.service_routes import RouteReport
 
 DXF_VERSION = "R2010"
 """The DXF version written."""
@@ -32,6 +35,9 @@ METRES = 6
 """``$INSUNITS`` of metres."""
 BYLAYER = 256
 """The colour index that takes the layer's colour."""
+APPID = "LOTSIM"
+"""The application name of lotsim's extended data: a route's envelope and path carry the
+route's id (group code 1000)."""
 HATCH_PATTERN = "ANSI31"
 """The pattern of a hatched figure (an access aisle): lines at 45°."""
 HATCH_SCALE = 0.4 / 3.175
@@ -63,10 +69,13 @@ def dxf_document(drawing: CadDrawing):
     doc.header["$LUPREC"] = 3  # to the millimetre
     for layer in LAYERS:
         doc.layers.add(layer.name, color=layer.color, linetype=layer.linetype)
+    doc.appids.add(APPID)
     msp = doc.modelspace()
     for p in drawing.polylines:
-        msp.add_lwpolyline(p.points, format="xy", close=p.closed,
-                           dxfattribs={"layer": p.layer})
+        attribs = {"layer": p.layer} | ({"linetype": p.linetype} if p.linetype else {})
+        line = msp.add_lwpolyline(p.points, format="xy", close=p.closed, dxfattribs=attribs)
+        if p.of:
+            line.set_xdata(APPID, [(1000, p.of)])
         if p.fill:
             hatch = msp.add_hatch(color=BYLAYER, dxfattribs={"layer": p.layer})
             hatch.paths.add_polyline_path(p.points, is_closed=True)
@@ -88,8 +97,10 @@ def dxf_document(drawing: CadDrawing):
     return doc
 
 
-def write_dxf(lot: Lot, path: str | os.PathLike) -> DxfInfo:
-    """Write ``lot`` as a DXF drawing at ``path`` (module docstring).
+def write_dxf(lot: Lot, path: str | os.PathLike, *, routes: Sequence[RouteReport] = ()
+              ) -> DxfInfo:
+    """Write ``lot`` as a DXF drawing at ``path`` (module docstring), with the envelopes and
+    paths of its service routes' ``routes`` (their reports).
 
     Parameters
     ----------
@@ -97,6 +108,9 @@ def write_dxf(lot: Lot, path: str | os.PathLike) -> DxfInfo:
         A built lot (a scenario's, or a result's ``lot.drawing`` read back).
     path : path-like
         The file to write; its folder must exist.
+    routes : sequence of RouteReport, keyword-only
+        The scenario's service routes as planned
+        (:func:`~lotsim.roadmap.service_routes.plan_routes`), drawn on their layers.
 
     Returns
     -------
@@ -107,7 +121,7 @@ def write_dxf(lot: Lot, path: str | os.PathLike) -> DxfInfo:
     ExportUnavailable
         Without ``ezdxf`` (``pip install 'lotsim[dxf]'``).
     """
-    drawing = lot_drawing(lot)
+    drawing = lot_drawing(lot, routes)
     doc = dxf_document(drawing)
     text = io.StringIO()
     doc.write(text)

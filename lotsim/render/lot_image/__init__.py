@@ -18,6 +18,7 @@ from __future__ import annotations
 import os
 from collections.abc import Sequence
 from dataclasses import dataclass
+from typing import Protocol
 
 from PIL import Image, ImageDraw
 
@@ -36,7 +37,7 @@ from lotsim.render.lot_image.layers import (
     paint_lot,
     paint_portals,
 )
-from lotsim.render.lot_image.legend import _grid, _Legend, _legend_entries
+from lotsim.render.lot_image.legend import _Entry, _grid, _Legend, _legend_entries
 from lotsim.render.lot_image.legend import paint_scale_bar as paint_scale_bar
 
 # re-exported: the names other modules and the tests take from here
@@ -73,6 +74,20 @@ from lotsim.render.lot_image.theme import text_size as text_size
 
 
 # -- public API --------------------------------------------------------------------------------
+class Overlay(Protocol):
+    """What a picture draws over the lot, and names in its legend (the service routes of
+    ``lotsim show --routes``, :mod:`lotsim.render.route_image`)."""
+
+    def bounds(self) -> tuple[float, float, float, float] | None:
+        """The world rectangle [m] it needs beyond the lot's, or None."""
+
+    def entries(self) -> list[_Entry]:
+        """Its rows of the legend, after the lot's."""
+
+    def paint(self, img: Image.Image, canvas: LotCanvas) -> None:
+        """Draw it over the lot (under its labels, entrances and exits)."""
+
+
 @dataclass(frozen=True)
 class Layout:
     """Where the lot, the title and the legend go in an image."""
@@ -147,6 +162,7 @@ def lot_layout(
     show_graph: bool = False,
     title: str | None = None,
     legend: bool = True,
+    overlay: Overlay | None = None,
 ) -> Layout:
     """The layout :func:`draw_lot` uses with the same arguments; ``.canvas`` maps
     world points to the pixels of that image."""
@@ -157,8 +173,16 @@ def lot_layout(
         na = len(lot.aisles)
         summary = (f"{n} slot{'s' * (n != 1)}, {len(lot.occupied)} taken, "
                    f"{na} aisle{'s' * (na != 1)}")
-        box = _Legend(_legend_entries(lot_graph, lot, show_graph), summary)
-    return plan_layout(lot_bounds(lot), size, title=title, legend=box)
+        entries = _legend_entries(lot_graph, lot, show_graph)
+        if overlay is not None:
+            entries += overlay.entries()
+        box = _Legend(entries, summary)
+    bounds = lot_bounds(lot)
+    more = overlay.bounds() if overlay is not None else None
+    if more is not None:
+        bounds = (min(bounds[0], more[0]), min(bounds[1], more[1]),
+                  max(bounds[2], more[2]), max(bounds[3], more[3]))
+    return plan_layout(bounds, size, title=title, legend=box)
 
 
 def slot_labels_drawn(lot_graph, size: tuple[int, int], *, show_graph: bool = False
@@ -180,6 +204,7 @@ def draw_lot(
     title: str | None = None,
     legend: bool = True,
     grid: float | None = None,
+    overlay: Overlay | None = None,
 ) -> Image.Image:
     """Draw a built lot as an RGB image.
 
@@ -202,6 +227,9 @@ def draw_lot(
         Draw the legend box with the scale bar.
     grid : float or None
         Spacing of a faint coordinate grid [m]; ``None`` draws none.
+    overlay : Overlay or None
+        Drawn over the lot, its rows added to the legend, the picture widened to hold it
+        (the service routes: :func:`lotsim.render.route_image.draw_routes`).
 
     Returns
     -------
@@ -210,12 +238,15 @@ def draw_lot(
     lot = getattr(lot_graph, "lot", lot_graph)
     if show_graph and not hasattr(lot_graph, "graph"):
         raise TypeError("show_graph needs a LotGraph, not a bare Lot")
-    layout = lot_layout(lot_graph, size=size, show_graph=show_graph, title=title, legend=legend)
+    layout = lot_layout(lot_graph, size=size, show_graph=show_graph, title=title, legend=legend,
+                        overlay=overlay)
     canvas, box = layout.canvas, layout.legend
     img = canvas.new_image()
     paint_lot(img, canvas, lot, parked_vehicle=parked_vehicle, labels=False)
     if show_graph:
         paint_graph(img, canvas, lot_graph)
+    if overlay is not None:  # under the labels and the entrances: they stay readable
+        overlay.paint(img, canvas)
     if labels:
         paint_labels(img, canvas, lot, slot_shift=0.3 if show_graph else 0.0)
     paint_portals(img, canvas, lot, labels=labels)
