@@ -42,6 +42,10 @@ class Scenario:
         The service vehicles' routes the lot must carry
         (:class:`~lotsim.roadmap.service_routes.RouteSpec`), checked by ``lotsim
         validate``; they take no part in a run.
+    units : str
+        The length unit its file was written in (``"m"`` or ``"ft"``): every length above
+        is in metres whatever it is; ``units`` says only how lotsim reports lengths back to
+        the file's author (``lotsim validate``'s summary and schedule, the DXF export).
 
     A scenario is the problem, not how to draw it: its file's ``animation`` section is read
     apart (:func:`lotsim.io.scenario_yaml.read_scenario`, :class:`lotsim.scenario.AnimationSpec`).
@@ -57,6 +61,7 @@ class Scenario:
     traffic: TrafficSpec | None = None
     disturbances: Disturbances | None = None
     routes: tuple[RouteSpec, ...] = ()
+    units: str = "m"
 
     def vehicle_type(self, name: str) -> VehicleType:
         """The vehicle type called ``name``; KeyError if the scenario has none."""

@@ -30,7 +30,7 @@ from lotsim.errors import ErrorCollector, ScenarioError
 from lotsim.io.lot_yaml import MAX_ITEMS
 from lotsim.io.scenario_yaml import name_from_file, parse_vehicle
 from lotsim.io.traffic_yaml import parse_dwell
-from lotsim.io.yamlnodes import YNode, parse_text, read_yaml
+from lotsim.io.yamlnodes import YNode, parse_text, read_yaml, shown_length, units_of
 from lotsim.vehicles.catalogue import CATALOGUE, DEFAULT_VEHICLE
 
 TEXT_FILE = "<plot>"
@@ -78,8 +78,9 @@ def parse_plot(root: YNode) -> PlotSpec:
                 raise where.error("expected a plot file (docs/layout.md: boundary, gates, "
                                   "...), found a scenario's lot section: lotsim layout lays "
                                   "out a plot, lotsim validate and run read a scenario")
+    root = units_of(root)
     f = root.fields(required=["boundary", "gates"],
-                    optional=["name", "description", "seed", "islands", "vehicle_types",
+                    optional=["units", "name", "description", "seed", "islands", "vehicle_types",
                               "bays", "aisles", "demand", "building_entrances"])
     errors = ErrorCollector()
     name = (errors.attempt(lambda: f["name"].file_name(
@@ -157,8 +158,10 @@ def _boundary(node: YNode):
     poly = _simple(node, "the boundary")
     x0, y0, x1, y1 = poly.bounds
     if max(x1 - x0, y1 - y0) > MAX_SPAN:
-        raise node.error(f"expected a plot at most {MAX_SPAN:g} m across, found "
-                         f"{max(x1 - x0, y1 - y0):.0f} m (is the unit metres?)")
+        u = node.units
+        raise node.error(f"expected a plot at most {shown_length(MAX_SPAN, u)} across, found "
+                         f"{shown_length(max(x1 - x0, y1 - y0), u, '.0f')} "
+                         f"(is the unit {'metres' if u == 'm' else 'feet'}?)")
     return tuple(node.points(min_len=3))
 
 
@@ -199,8 +202,10 @@ def _gates(node: YNode, boundary) -> tuple[GateSpec, ...]:
         if edge is not None:
             d = edge.distance(ShapelyPoint(at))
             if d > GATE_TOLERANCE:
+                u = g["at"].units
                 raise g["at"].error(f"expected a point on the boundary (within "
-                                    f"{GATE_TOLERANCE:g} m), found one {d:.2f} m from it")
+                                    f"{shown_length(GATE_TOLERANCE, u)}), found one "
+                                    f"{shown_length(d, u, '.2f')} from it")
         return GateSpec(ident, at, n.where)
 
     out = tuple(errors.attempt(one, n) for n in node.items(min_len=1, max_len=100))
@@ -255,8 +260,8 @@ def _bays(node: YNode):
                 raise n.error(f"angle {a} is given twice")
             got.append(a)
         angles = tuple(sorted(got, reverse=True))
-    width = f["width"].number(min=1.5, max=5.0, unit="m") if "width" in f else BAY_WIDTH
-    length = f["length"].number(min=3.0, max=12.0, unit="m") if "length" in f else BAY_LENGTH
+    width = f["width"].length(min=1.5, max=5.0) if "width" in f else BAY_WIDTH
+    length = f["length"].length(min=3.0, max=12.0) if "length" in f else BAY_LENGTH
     return angles, width, length
 
 
@@ -271,8 +276,8 @@ def _aisles(node: YNode):
             allowed = DIRECTIONS if angle == 90 else ("one-way",)
             g = n.fields(optional=list(allowed))
             for direction, w in g.items():
-                widths[(angle, direction)] = w.number(min=3.0, max=20.0, unit="m")
-    circulation = (f["circulation"].number(min=4.0, max=20.0, unit="m") if "circulation" in f
+                widths[(angle, direction)] = w.length(min=3.0, max=20.0)
+    circulation = (f["circulation"].length(min=4.0, max=20.0) if "circulation" in f
                    else widths[(90, "two-way")])
     return one_way, widths, circulation
 

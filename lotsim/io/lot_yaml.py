@@ -9,7 +9,7 @@ import itertools
 import math
 
 from lotsim.errors import ErrorCollector, ScenarioError
-from lotsim.io.yamlnodes import YNode
+from lotsim.io.yamlnodes import YNode, shown_length
 from lotsim.lot.kinds import KINDS
 from lotsim.lot.spec import (
     SIDES,
@@ -123,14 +123,18 @@ def _check_size(f: dict[str, YNode], spec: LotSpec) -> None:
     xs, ys = zip(*spec.boundary, strict=True)
     size = max(max(xs) - min(xs), max(ys) - min(ys))
     if size > MAX_LOT_SIZE:
-        raise f["boundary"].error(f"the lot is {size:,.0f} m across; lotsim plans lots of at "
-                                  f"most {MAX_LOT_SIZE:,.0f} m (is the unit metres?)")
+        u = f["boundary"].units
+        raise f["boundary"].error(f"the lot is {shown_length(size, u, ',.0f')} across; lotsim "
+                                  f"plans lots of at most {shown_length(MAX_LOT_SIZE, u, ',.0f')}"
+                                  f" (is the unit {'metres' if u == 'm' else 'feet'}?)")
     total = 0.0
     for a in spec.aisles:
         total += sum(math.dist(p, q) for p, q in itertools.pairwise(a.centerline))
         if total > MAX_AISLE_LENGTH:
-            raise ScenarioError(a.where, f"the aisles are {total:,.0f} m long up to here; lotsim "
-                                f"plans lots with at most {MAX_AISLE_LENGTH:,.0f} m of aisle")
+            u = f["aisles"].units
+            raise ScenarioError(a.where, f"the aisles are {shown_length(total, u, ',.0f')} long "
+                                f"up to here; lotsim plans lots with at most "
+                                f"{shown_length(MAX_AISLE_LENGTH, u, ',.0f')} of aisle")
     slots = len(spec.slots)
     for r in spec.rows:
         slots += r.count
@@ -163,9 +167,9 @@ def _aisle(node: YNode) -> AisleSpec:
     return AisleSpec(
         id=f["id"].ident(),
         centerline=line,
-        width=f["width"].number(positive=True, max=100, unit="m"),
+        width=f["width"].length(positive=True, max=100),
         one_way=direction == "one-way",
-        bend_radius=f["bend_radius"].number(positive=True) if "bend_radius" in f else None,
+        bend_radius=f["bend_radius"].length(positive=True) if "bend_radius" in f else None,
         where=node.where,
     )
 
@@ -202,10 +206,10 @@ def _row(node: YNode) -> RowSpec:
         kind=f["kind"].string(),
         angle=angle,
         count=f["count"].integer(min=1, max=MAX_ITEMS),
-        slot_width=f["slot_width"].number(positive=True, max=50, unit="m"),
-        slot_length=f["slot_length"].number(positive=True, max=50, unit="m"),
-        start=f["start"].number(min=0),
-        gap=f["gap"].number(min=0) if "gap" in f else 0.0,
+        slot_width=f["slot_width"].length(positive=True, max=50),
+        slot_length=f["slot_length"].length(positive=True, max=50),
+        start=f["start"].length(min=0),
+        gap=f["gap"].length(min=0) if "gap" in f else 0.0,
         id_prefix=f["id_prefix"].string(max_len=40) if "id_prefix" in f else "",
         first_number=f["first_number"].integer(min=0) if "first_number" in f else 1,
         where=node.where,
@@ -235,8 +239,8 @@ def _slot(node: YNode) -> SlotSpec:
     common = dict(
         id=f["id"].ident(),
         kind=f["kind"].string(),
-        width=f["width"].number(positive=True, max=50, unit="m"),
-        length=f["length"].number(positive=True, max=50, unit="m"),
+        width=f["width"].length(positive=True, max=50),
+        length=f["length"].length(positive=True, max=50),
         angle=angle,
         where=node.where,
         **_use(f),
@@ -251,7 +255,7 @@ def _slot(node: YNode) -> SlotSpec:
             **common,
             aisle=f["aisle"].ident(),
             side=f["side"].string(choices=SIDES),
-            at=f["at"].number(min=0),
+            at=f["at"].length(min=0),
         )
     return SlotSpec(
         **common,
@@ -270,13 +274,13 @@ def _use(f: dict[str, YNode]) -> dict:
         if not USES[use].accessible:
             raise node.error(f"access_aisle_width is for accessible and van-accessible bays; "
                              f"this one's use is {use}")
-        out["access_aisle_width"] = node.number(positive=True, max=20, unit="m")
+        out["access_aisle_width"] = node.length(positive=True, max=20)
     return out
 
 
 def _building_entrance(node: YNode) -> BuildingEntranceSpec:
     f = node.fields(required=["id", "x", "y"])
-    return BuildingEntranceSpec(id=f["id"].ident(), point=(f["x"].number(), f["y"].number()),
+    return BuildingEntranceSpec(id=f["id"].ident(), point=(f["x"].length(), f["y"].length()),
                                 where=node.where)
 
 
@@ -317,7 +321,7 @@ def _pavement(node: YNode) -> PavementSpec:
                          "(aisles: false): list them under areas")
     return PavementSpec(
         aisles=aisles,
-        corner_radius=f["corner_radius"].number(min=0, max=50) if "corner_radius" in f else 3.0,
+        corner_radius=f["corner_radius"].length(min=0, max=50) if "corner_radius" in f else 3.0,
         areas=areas, where=node.where)
 
 
@@ -328,7 +332,7 @@ def _bump(node: YNode) -> SpeedBumpSpec:
         id=f["id"].ident() if "id" in f else f"bump@{node.where.line}",
         line=line,
         limit=speed(f["limit_kmh"]) if "limit_kmh" in f else 10 * KMH,
-        reach=f["reach"].number(min=0, max=100) if "reach" in f else 5.0,
+        reach=f["reach"].length(min=0, max=100) if "reach" in f else 5.0,
         where=node.where,
     )
 
@@ -348,8 +352,8 @@ def _portal(node: YNode) -> PortalSpec:
     return PortalSpec(
         id=f["id"].ident(),
         pose=(
-            f["x"].number(),
-            f["y"].number(),
+            f["x"].length(),
+            f["y"].length(),
             math.radians(f["heading_deg"].number(min=-360, max=360)),
         ),
         where=node.where,

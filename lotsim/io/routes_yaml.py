@@ -63,7 +63,7 @@ def _route(node: YNode, lot: LotSpec) -> RouteSpec:
 
 def _pose(node: YNode) -> tuple[float, float, float]:
     f = node.fields(required=["x", "y", "heading_deg"])
-    return (f["x"].number(), f["y"].number(),
+    return (f["x"].length(), f["y"].length(),
             math.radians(f["heading_deg"].number(min=-360, max=360)))
 
 
@@ -88,7 +88,7 @@ def _goal(node: YNode, lot: LotSpec, exits: list[str]) -> RoutePlace:
         if not doors:
             raise f["building_entrance"].error("the lot has no building_entrances")
         door = f["building_entrance"].string(choices=list(doors))
-        within = (f["within"].number(min=0, max=200, unit="m") if "within" in f
+        within = (f["within"].length(min=0, max=200) if "within" in f
                   else DEFAULT_WITHIN)
         x, y = doors[door]
         return RoutePlace("building_entrance", door, point=(float(x), float(y)),

@@ -21,7 +21,7 @@ from lotsim.io.file_kinds import refuse_other_kind, top_level
 from lotsim.io.lot_yaml import MAX_ITEMS, parse_lot
 from lotsim.io.routes_yaml import parse_routes
 from lotsim.io.traffic_yaml import parse_traffic, traffic_ids
-from lotsim.io.yamlnodes import YNode, parse_text, read_yaml
+from lotsim.io.yamlnodes import YNode, parse_text, read_yaml, units_of
 from lotsim.lot.uses import MARKS
 from lotsim.scenario import VIEWS, AnimationSpec, Scenario
 from lotsim.traffic.demand import TrafficSpec
@@ -48,6 +48,9 @@ _LIMIT_KEYS = {
     "max_steer_rate_deg": ("max_steer_rate", math.pi / 180),
     "max_lateral_accel": ("max_lateral_accel", 1.0),
 }
+_PER_LENGTH = frozenset({"max_accel", "max_brake", "max_jerk", "max_lateral_accel"})
+"""Limits measured in the file's length unit per second² (or ³ for the jerk): ft/s² in a
+file in feet. The speeds name their unit (km/h) and keep it."""
 
 
 TEXT_FILE = "<scenario>"
@@ -147,10 +150,11 @@ def parse_scenario_file(root: YNode) -> ScenarioFile:
     problems of their own.
     """
     refuse_other_kind(top_level(root), "scenario", root.file)
+    root = units_of(root)
     f = root.fields(
         required=["lot"],
-        optional=["name", "description", "seed", "vehicle_types", "parked_vehicle", "traffic",
-                  "disturbances", "animation", "routes"],
+        optional=["units", "name", "description", "seed", "vehicle_types", "parked_vehicle",
+                  "traffic", "disturbances", "animation", "routes"],
     )
     errors = ErrorCollector()
     name = (errors.attempt(lambda: f["name"].file_name(
@@ -204,6 +208,7 @@ def parse_scenario_file(root: YNode) -> ScenarioFile:
         source=root.file,
         description=description,
         routes=routes,
+        units=root.units,
     )
     return ScenarioFile(scenario, animation)
 
@@ -393,16 +398,17 @@ def parse_vehicle(node: YNode) -> VehicleType:
         return CATALOGUE[name]
     f = node.fields(required=_VEHICLE_KEYS, optional=[*_LIMIT_KEYS, *MARKS])
     limits = {
-        attr: f[key].number(positive=True) * scale
+        attr: (f[key].length(positive=True) if key in _PER_LENGTH
+               else f[key].number(positive=True) * scale)
         for key, (attr, scale) in _LIMIT_KEYS.items()
         if key in f
     }
     return VehicleType(
         name=f["name"].ident(),
-        width=f["width"].number(positive=True, max=10, unit="m"),
-        front=f["front"].number(positive=True, max=30, unit="m"),
-        rear=f["rear"].number(min=0, max=30, unit="m"),
-        wheelbase=f["wheelbase"].number(positive=True, max=30, unit="m"),
+        width=f["width"].length(positive=True, max=10),
+        front=f["front"].length(positive=True, max=30),
+        rear=f["rear"].length(min=0, max=30),
+        wheelbase=f["wheelbase"].length(positive=True, max=30),
         max_steer=math.radians(
             f["max_steer_deg"].number(min=0, max=90, open_min=True, open_max=True,
                                      unit="deg", least=10)

@@ -33,6 +33,10 @@ _MAX_DEPTH = 64
 _FILE_NAME = re.compile(r"[A-Za-z0-9][A-Za-z0-9_.-]{0,99}")
 COORD_LIMIT = 1e6
 """Largest coordinate a point may have [m]: a lot is not a continent."""
+FOOT = 0.3048
+"""The international foot [m], exactly."""
+LENGTH_UNITS = {"m": 1.0, "ft": FOOT}
+"""The length units a file may state (``units: ft``) and their size [m]."""
 
 
 class _ComposeLoader(yaml.SafeLoader):
@@ -65,14 +69,24 @@ def describe(node: yaml.Node) -> str:
 
 
 class YNode:
-    """A YAML node with its file position and key path, read through typed accessors."""
+    """A YAML node with its file position and key path, read through typed accessors.
 
-    __slots__ = ("node", "file", "key")
+    ``units`` is the length unit of the file it came from (``"m"`` or ``"ft"``, a key of
+    :data:`LENGTH_UNITS`): :meth:`length`, :meth:`point` and :meth:`points` read in it and
+    return metres; :meth:`number` reads a number as written.
+    """
 
-    def __init__(self, node: yaml.Node, file: str, key: str = ""):
+    __slots__ = ("node", "file", "key", "units")
+
+    def __init__(self, node: yaml.Node, file: str, key: str = "", units: str = "m"):
         self.node = node
         self.file = file
         self.key = key
+        self.units = units
+
+    def in_units(self, units: str) -> YNode:
+        """This node, its lengths read in ``units`` (a key of :data:`LENGTH_UNITS`)."""
+        return YNode(self.node, self.file, self.key, units)
 
     # -- position -----------------------------------------------------------------------------
     @property
@@ -89,7 +103,7 @@ class YNode:
         return self.error(f"expected {what}, found {describe(self.node)}")
 
     def _child(self, node: yaml.Node, key: str) -> YNode:
-        return YNode(node, self.file, key)
+        return YNode(node, self.file, key, self.units)
 
     # -- containers ---------------------------------------------------------------------------
     @property
@@ -172,9 +186,10 @@ class YNode:
     ) -> float:
         """Read a finite decimal number, optionally within bounds.
 
-        ``unit`` ("m" or "deg") says what the number measures, for a hint where a value
-        out of bounds is plausible in another unit: a length over ``max`` that would fit
-        in millimetres or centimetres; an angle in degrees under ``least`` that is a
+        ``unit`` ("m", "ft" or "deg") says what the number measures, for a hint where a
+        value out of bounds is plausible in another unit: a length over ``max`` that would
+        fit in millimetres or centimetres (in inches, for feet; a bound is then shown
+        with its unit); an angle in degrees under ``least`` that is a
         plausible angle in radians (refused: no car steers 0.52°).
         """
         if not isinstance(self.node, yaml.ScalarNode):
@@ -203,19 +218,53 @@ class YNode:
             raise self.error(f"expected a finite {what[2:]}, found {raw!r}")
         if positive and not value > 0:
             raise self.error(f"expected a positive {what[2:]}, found {raw}")
+        shown = f" {unit}" if unit == "ft" else ""  # metric messages stay as they were
         if min is not None and (value < min or (open_min and value == min)):
             op = ">" if open_min else "≥"
-            raise self.error(f"expected {what} {op} {min:g}, found {raw}")
+            raise self.error(f"expected {what} {op} {min:g}{shown}, found {raw}")
         if max is not None and (value > max or (open_max and value == max)):
             op = "<" if open_max else "≤"
-            raise self.error(f"expected {what} {op} {max:g}, found {raw}"
-                             + (_metres_hint(value, max) if unit == "m" else ""))
+            raise self.error(f"expected {what} {op} {max:g}{shown}, found {raw}"
+                             + (_metres_hint(value, max) if unit == "m" else "")
+                             + (_feet_hint(value, max) if unit == "ft" else ""))
         if unit == "deg" and least is not None and 0 < value < least <= 90 \
                 and value <= math.pi / 2:
             deg = math.degrees(value)
             raise self.error(f"expected degrees, found {raw}, which looks like radians "
                              f"({deg:.1f}°): write {deg:.0f}")
         return value
+
+    def length(
+        self,
+        *,
+        positive: bool = False,
+        min: float | None = None,
+        max: float | None = None,
+        open_min: bool = False,
+        open_max: bool = False,
+    ) -> float:
+        """Read a length in the file's unit → [m] (:func:`to_metres`); the bounds are in
+        metres, and an error states them in the file's unit (``expected a number ≤ 164.042
+        ft, found 2000``).
+
+        Examples
+        --------
+        >>> node = parse_text("10", "f.yaml")
+        >>> node.length(max=50), round(node.in_units("ft").length(max=50), 6)
+        (10.0, 3.048)
+        >>> parse_text("2000", "f.yaml").in_units("ft").length(max=50)
+        Traceback (most recent call last):
+        lotsim.errors.ScenarioError: f.yaml:1:1: expected a number ≤ 164.042 ft, found 2000
+        """
+        scale = LENGTH_UNITS[self.units]
+        if scale == 1.0:
+            return self.number(positive=positive, min=min, max=max, open_min=open_min,
+                               open_max=open_max, unit="m")
+        value = self.number(positive=positive,
+                            min=None if min is None else min / scale,
+                            max=None if max is None else max / scale,
+                            open_min=open_min, open_max=open_max, unit=self.units)
+        return to_metres(value, self.units)
 
     def integer(self, *, min: int | None = None, max: int | None = None) -> int:
         """Read a decimal integer, optionally within bounds."""
@@ -292,13 +341,14 @@ class YNode:
         return node.value.lower() == "true"
 
     def point(self) -> tuple[float, float]:
-        """Read ``[x, y]`` [m]."""
+        """Read ``[x, y]`` in the file's unit → [m]."""
         x, y = self.items(min_len=2, max_len=2)
-        return (x.number(min=-COORD_LIMIT, max=COORD_LIMIT),
-                y.number(min=-COORD_LIMIT, max=COORD_LIMIT))
+        return (x.length(min=-COORD_LIMIT, max=COORD_LIMIT),
+                y.length(min=-COORD_LIMIT, max=COORD_LIMIT))
 
     def points(self, *, min_len: int) -> tuple[tuple[float, float], ...]:
-        """Read a list of at least ``min_len`` points ``[[x, y], ...]`` [m]."""
+        """Read a list of at least ``min_len`` points ``[[x, y], ...]`` in the file's
+        unit → [m]."""
         return tuple(p.point() for p in self.items(min_len=min_len))
 
 
@@ -309,6 +359,56 @@ def _metres_hint(value: float, most: float) -> str:
             return (f" (in {name}? lotsim's lengths are metres: {value:g} {name[:1]}m is "
                     f"{value / factor:g} m)")
     return ""
+
+
+def _feet_hint(value: float, most: float) -> str:
+    """A hint for a length too long in feet that is plausible in inches."""
+    if value / 12 <= most:
+        return (f" (in inches? this file's lengths are feet (units: ft): {value:g} in is "
+                f"{value / 12:g} ft)")
+    return ""
+
+
+def to_metres(value: float, units: str) -> float:
+    """A length in ``units`` → [m], rounded to the nanometre.
+
+    The foot is exactly 0.3048 m, so a length in feet with ``k`` decimals is one in
+    metres with at most ``k + 4``: rounding takes away only the float's error in the
+    product, and a metric length written in feet with enough digits reads back as the
+    very same number (a lot drawn in feet is the lot drawn in metres, bit for bit).
+
+    >>> to_metres(9, "ft"), to_metres(3 / 0.3048, "ft"), 3 / 0.3048 * 0.3048
+    (2.7432, 3.0, 3.0000000000000004)
+    """
+    scale = LENGTH_UNITS[units]
+    return float(value) if scale == 1.0 else round(value * scale, 9)
+
+
+def shown_length(metres: float, units: str, spec: str = "g") -> str:
+    """A length [m] as a person reads it in ``units``: ``shown_length(3.048, "ft")`` is
+    ``'10 ft'``."""
+    return f"{metres / LENGTH_UNITS[units]:{spec}} {units}"
+
+
+def units_of(root: YNode) -> YNode:
+    """``root`` with its lengths read in the unit its top-level ``units`` key states
+    (``m``, the default, or ``ft``); the caller reads ``units`` as one of its keys.
+
+    Examples
+    --------
+    >>> units_of(parse_text("units: ft\\nx: 1\\n", "f.yaml")).units
+    'ft'
+    >>> units_of(parse_text("units: yd\\n", "f.yaml"))  # doctest: +ELLIPSIS
+    Traceback (most recent call last):
+    lotsim.errors.ScenarioError: f.yaml:1:8: units: expected one of m, ft, found 'yd'
+    """
+    if not root.is_mapping:
+        return root
+    for knode, vnode in root.node.value:
+        if getattr(knode, "value", None) == "units":
+            units = YNode(vnode, root.file, "units").string(choices=list(LENGTH_UNITS))
+            return root.in_units(units)
+    return root
 
 
 def _with_point(raw: str) -> str:

@@ -1,0 +1,166 @@
+"""A file in feet (``units: ft``) is the same lot as the file in metres: every length the
+file gives is read in feet, and nothing else is.
+
+The feet files are made here from shipped metric files by converting exactly the keys
+docs/scenario.md and docs/layout.md list as lengths, so a length lotsim failed to convert,
+or a number it converted that is not a length (a time, a rate, a count, an angle, a
+playback speed), makes the two differ.
+"""
+
+from __future__ import annotations
+
+import os
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+import yaml
+from shapely.geometry import Polygon
+
+from conftest import ROOT
+from lotsim.api import prepare
+from lotsim.design.plot_yaml import read_plot
+from lotsim.io.scenario_yaml import load_scenario
+
+FOOT = 0.3048
+
+LENGTHS = {"width", "length", "slot_width", "slot_length", "start", "gap", "at",
+           "access_aisle_width", "bend_radius", "reach", "corner_radius", "x", "y", "within",
+           "front", "rear", "wheelbase", "circulation", "two-way", "one-way"}
+"""Keys whose number is a length [m], in the sections below (docs/scenario.md, layout.md)."""
+POINTS = {"boundary", "centerline", "polygon", "line", "center", "at"}
+"""Keys whose value is a point or a list of points [m]."""
+PER_LENGTH = {"max_accel", "max_brake", "max_lateral_accel", "max_jerk"}
+"""Keys in the file's length unit per second² (³): ft/s² in feet."""
+SECTIONS = {"lot", "vehicle_types", "routes", "boundary", "islands", "gates", "bays",
+            "aisles", "building_entrances"}
+"""Top-level sections that hold lengths; the others (traffic, disturbances, animation,
+demand) hold none, though some of their keys share a length's name (a stream's
+``start``, the animation's ``speed``)."""
+
+
+def _feet(x):
+    return x / FOOT
+
+
+def _points(v):
+    if isinstance(v[0], list):
+        return [_points(p) for p in v]
+    return [_feet(c) for c in v]
+
+
+def to_feet(doc: dict) -> dict:
+    """The same document in feet: ``units: ft`` and every length divided by 0.3048."""
+    def walk(v):
+        if isinstance(v, dict):
+            out = {}
+            for k, x in v.items():
+                if k in POINTS and isinstance(x, list):
+                    out[k] = _points(x)
+                elif (k in LENGTHS and isinstance(x, int | float)
+                      and not isinstance(x, bool)) or k in PER_LENGTH:
+                    out[k] = _feet(x)
+                else:
+                    out[k] = walk(x)
+            return out
+        if isinstance(v, list):
+            return [walk(x) for x in v]
+        return v
+
+    out = {"units": "ft"}
+    for k, v in doc.items():
+        if k == "boundary":
+            out[k] = _points(v)
+        else:
+            out[k] = walk(v) if k in SECTIONS else v
+    return out
+
+
+def _write(path, doc):
+    path.parent.mkdir(parents=True, exist_ok=True)
+    path.write_text(yaml.safe_dump(doc, sort_keys=False))
+    return path
+
+
+def _same_lot(a, b):
+    la, lb = prepare(a, cache=False).lot, prepare(b, cache=False).lot
+    assert la.boundary.equals_exact(lb.boundary, 1e-6)
+    assert [s.id for s in la.slots] == [s.id for s in lb.slots]
+    for sa, sb in zip(la.slots, lb.slots, strict=True):
+        assert np.allclose(sa.polygon, sb.polygon, atol=1e-6), sa.id
+        assert (sa.use, sa.kind) == (sb.use, sb.kind)
+    assert la.aisles.keys() == lb.aisles.keys()
+    for k in la.aisles:
+        assert la.aisles[k].polygon.equals_exact(lb.aisles[k].polygon, 1e-6), k
+        assert abs(la.aisles[k].width - lb.aisles[k].width) < 1e-9
+    for xa, xb in zip(la.areas, lb.areas, strict=True):
+        assert xa.polygon.equals_exact(xb.polygon, 1e-6)
+    assert len(la.access_aisles) == len(lb.access_aisles)
+    for xa, xb in zip(la.access_aisles, lb.access_aisles, strict=True):
+        assert Polygon(xa.polygon).equals_exact(Polygon(xb.polygon), 1e-6)
+    if la.pavement is not None or lb.pavement is not None:
+        assert la.pavement.symmetric_difference(lb.pavement).area < 1e-6
+
+
+def _run(path, out):
+    env = {**os.environ, "LOTSIM_CACHE_DIR": "off"}
+    proc = subprocess.run([sys.executable, "-m", "lotsim", "run", str(path), "-o", str(out),
+                           "--no-gif"], env=env, capture_output=True, text=True, timeout=600)
+    assert proc.returncode == 0, proc.stderr
+    return (out / "result.json").read_bytes()
+
+
+@pytest.mark.parametrize("name", ["example.yaml", "lots/storefront.yaml"])
+def test_a_scenario_in_feet_is_the_same_lot_and_run(tmp_path, name):
+    doc = yaml.safe_load((ROOT / "scenarios" / name).read_text())
+    doc.setdefault("name", "same")
+    if name == "example.yaml":  # lengths the shipped files leave out
+        doc["lot"]["paved"] = {"corner_radius": 2.5}
+    else:
+        row = next(r for r in doc["lot"]["rows"] if r.get("use") == "van_accessible")
+        row["access_aisle_width"] = 2.6
+    metric = _write(tmp_path / "m" / "s.yaml", doc)
+    feet = _write(tmp_path / "ft" / "s.yaml", to_feet(doc))
+    sm, sf = load_scenario(metric), load_scenario(feet)
+    assert sf.units == "ft" and sm.units == "m"
+    for vm, vf in zip(sm.vehicle_types, sf.vehicle_types, strict=True):
+        for k in ("width", "front", "rear", "wheelbase", "max_steer"):
+            assert getattr(vm, k) == pytest.approx(getattr(vf, k), abs=1e-12), k
+        for k in ("max_accel", "max_brake", "max_jerk", "max_lateral_accel",
+                  "max_forward_speed", "max_reverse_speed", "max_steer_rate"):
+            assert getattr(vm.limits, k) == pytest.approx(getattr(vf.limits, k), abs=1e-12)
+    assert sm.traffic == sf.traffic and sm.disturbances == sf.disturbances
+    for rm, rf in zip(sm.routes, sf.routes, strict=True):
+        assert rm.goal.within == pytest.approx(rf.goal.within, abs=1e-9)
+    _same_lot(sm, sf)
+    # lengths in feet are read to the nanometre, so the run is the metric one, byte for byte
+    assert _run(metric, tmp_path / "out-m") == _run(feet, tmp_path / "out-ft")
+
+
+def test_a_plot_in_feet_is_the_same_plot(tmp_path):
+    doc = yaml.safe_load((ROOT / "scenarios" / "plots" / "island.yaml").read_text())
+    doc.update(bays={"angles_deg": [90, 60], "width": 2.6, "length": 5.4},
+               aisles={"one_way": True, "widths": {90: {"two-way": 7.2}, 60: {"one-way": 5.0}},
+                       "circulation": 7.0},
+               building_entrances=[{"id": "door", "at": doc["gates"][0]["at"]}],
+               vehicle_types=["valet", {"name": "van", "width": 2.0, "front": 4.2, "rear": 1.0,
+                                        "wheelbase": 3.3, "max_steer_deg": 30,
+                                        "max_accel": 2.0}])
+    metric = read_plot(_write(tmp_path / "m" / "p.yaml", doc))
+    feet = read_plot(_write(tmp_path / "ft" / "p.yaml", to_feet(doc)))
+    assert np.allclose(metric.boundary, feet.boundary, atol=1e-6)
+    for a, b in zip(metric.islands, feet.islands, strict=True):
+        assert np.allclose(a.polygon, b.polygon, atol=1e-6)
+    for a, b in zip(metric.gates + metric.building_entrances,
+                    feet.gates + feet.building_entrances, strict=True):
+        assert np.allclose(a.at, b.at, atol=1e-6)
+    assert (metric.angles, metric.one_way, metric.demand) == (feet.angles, feet.one_way,
+                                                             feet.demand)
+    for x in ("bay_width", "bay_length", "circulation_width"):
+        assert getattr(metric, x) == pytest.approx(getattr(feet, x), abs=1e-9), x
+    assert [k for k, _ in metric.aisle_widths] == [k for k, _ in feet.aisle_widths]
+    assert np.allclose([w for _, w in metric.aisle_widths], [w for _, w in feet.aisle_widths])
+    for vm, vf in zip(metric.vehicle_types, feet.vehicle_types, strict=True):
+        assert vm.length == pytest.approx(vf.length) and vm.width == pytest.approx(vf.width)
+        assert vm.limits.max_accel == pytest.approx(vf.limits.max_accel)
