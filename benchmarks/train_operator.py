@@ -12,7 +12,7 @@ stable-baselines3)::
 
 Run with::
 
-    python benchmarks/train_operator.py                      # mixed_lot, 24576 steps, seed 0
+    python benchmarks/train_operator.py                      # mixed_lot, 49152 steps, seed 0
     python benchmarks/train_operator.py --steps 4096 --lot quickstart
 
 It trains ``MaskablePPO`` on ``gymnasium.make("lotsim/ParkingOperator-v0", scenario=LOT)``
@@ -107,8 +107,8 @@ def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--lot", default="mixed_lot", help="a shipped scenario's name "
                                                       "(default: mixed_lot)")
-    ap.add_argument("--steps", type=int, default=24576,
-                    help="environment steps (slot decisions) to train for (default 24576)")
+    ap.add_argument("--steps", type=int, default=49152,
+                    help="environment steps (slot decisions) to train for (default 49152)")
     ap.add_argument("--seed", type=int, default=0, help="torch, numpy and env seed")
     ap.add_argument("--eval-seeds", type=int, nargs=2, default=(100, 110),
                     metavar=("FIRST", "END"), help="evaluate on seeds FIRST to END-1 "
