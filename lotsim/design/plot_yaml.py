@@ -15,6 +15,7 @@ from shapely.geometry import Point as ShapelyPoint
 from shapely.geometry import Polygon
 from shapely.validation import explain_validity
 
+from lotsim.core.units import shown_length
 from lotsim.design.plot import (
     ANGLES,
     BAY_LENGTH,
@@ -30,7 +31,7 @@ from lotsim.errors import ErrorCollector, ScenarioError
 from lotsim.io.lot_yaml import MAX_ITEMS
 from lotsim.io.scenario_yaml import name_from_file, parse_vehicle
 from lotsim.io.traffic_yaml import parse_dwell
-from lotsim.io.yamlnodes import YNode, parse_text, read_yaml, shown_length, units_of
+from lotsim.io.yamlnodes import YNode, parse_text, read_yaml, units_of
 from lotsim.vehicles.catalogue import CATALOGUE, DEFAULT_VEHICLE
 
 TEXT_FILE = "<plot>"

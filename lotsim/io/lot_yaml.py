@@ -8,8 +8,9 @@ from __future__ import annotations
 import itertools
 import math
 
+from lotsim.core.units import shown_length
 from lotsim.errors import ErrorCollector, ScenarioError
-from lotsim.io.yamlnodes import YNode, shown_length
+from lotsim.io.yamlnodes import YNode
 from lotsim.lot.kinds import KINDS
 from lotsim.lot.spec import (
     SIDES,

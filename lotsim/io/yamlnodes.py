@@ -19,6 +19,7 @@ from pathlib import Path
 
 import yaml
 
+from lotsim.core.units import LENGTH_UNITS
 from lotsim.errors import Location, ScenarioError
 
 _STR = "tag:yaml.org,2002:str"
@@ -33,10 +34,6 @@ _MAX_DEPTH = 64
 _FILE_NAME = re.compile(r"[A-Za-z0-9][A-Za-z0-9_.-]{0,99}")
 COORD_LIMIT = 1e6
 """Largest coordinate a point may have [m]: a lot is not a continent."""
-FOOT = 0.3048
-"""The international foot [m], exactly."""
-LENGTH_UNITS = {"m": 1.0, "ft": FOOT}
-"""The length units a file may state (``units: ft``) and their size [m]."""
 
 
 class _ComposeLoader(yaml.SafeLoader):
@@ -382,12 +379,6 @@ def to_metres(value: float, units: str) -> float:
     """
     scale = LENGTH_UNITS[units]
     return float(value) if scale == 1.0 else round(value * scale, 9)
-
-
-def shown_length(metres: float, units: str, spec: str = "g") -> str:
-    """A length [m] as a person reads it in ``units``: ``shown_length(3.048, "ft")`` is
-    ``'10 ft'``."""
-    return f"{metres / LENGTH_UNITS[units]:{spec}} {units}"
 
 
 def units_of(root: YNode) -> YNode:

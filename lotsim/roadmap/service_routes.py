@@ -28,6 +28,7 @@ from shapely.geometry.base import BaseGeometry
 from lotsim.core.checks import raise_first, range_problem
 from lotsim.core.geometry import FloatArray, Pose, Segment, sample_segments
 from lotsim.core.outcome import Status
+from lotsim.core.units import in_units, shown_area, shown_length
 from lotsim.errors import Location
 from lotsim.lot.build import obstacle_polygons
 from lotsim.lot.clearance import Collider
@@ -204,14 +205,17 @@ class RouteReport:
         """The envelope's area [m²] (0 when it fails)."""
         return 0.0 if self.envelope is None else float(self.envelope.area)
 
-    def line(self) -> str:
-        """The route's line in ``lotsim validate``'s summary."""
+    def line(self, units: str = "m") -> str:
+        """The route's line in ``lotsim validate``'s summary, lengths and the point in
+        ``units`` (the scenario file's)."""
         if not self.passed:
             return f"route {self.id} ({self.vehicle}): fails: {self.reason}"
-        x, y = self.clearance_at or (math.nan, math.nan)
-        return (f"route {self.id} ({self.vehicle}): pass, {self.length:.1f} m, "
+        x, y = (in_units(c, units) for c in (self.clearance_at or (math.nan, math.nan)))
+        return (f"route {self.id} ({self.vehicle}): pass, "
+                f"{shown_length(self.length, units, '.1f')}, "
                 f"{self.changes} direction change{'s' * (self.changes != 1)}, envelope "
-                f"{self.area:.1f} m², tightest clearance {self.clearance:.2f} m to "
+                f"{shown_area(self.area, units)}, tightest clearance "
+                f"{shown_length(self.clearance, units, '.2f')} to "
                 f"{self.clearance_to} at ({x:.1f}, {y:.1f})")
 
     def to_json(self) -> dict:

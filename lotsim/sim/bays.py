@@ -17,6 +17,7 @@ import math
 from collections.abc import Iterable
 from dataclasses import dataclass
 
+from lotsim.core.units import in_units, shown_length
 from lotsim.lot.model import Lot
 from lotsim.lot.spec import Requirement, StandardSpec
 from lotsim.lot.uses import ADA_2010, USES, ada_accessible, ada_van
@@ -101,8 +102,9 @@ class BayReport:
                            "distance": round(w.distance, 2), "straight_line": True}
                           for w in self.walks]}
 
-    def lines(self) -> list[str]:
-        """The report as ``lotsim validate`` prints it (indented lines)."""
+    def lines(self, units: str = "m") -> list[str]:
+        """The report as ``lotsim validate`` prints it (indented lines), lengths in
+        ``units`` (the scenario file's)."""
         uses = ", ".join(f"{USES[u].label} {n}" for u, n in self.by_use.items() if n)
         out = [f"  bays by use: {uses or 'none'}"]
         if not self.total:
@@ -115,7 +117,8 @@ class BayReport:
         head = "met" if self.met else "not met"
         out.append(f"  {self.standard} for {self.total} bays: {head} — " + "; ".join(parts))
         for w in self.walks:
-            out.append(f"    {w.slot}: {w.distance:.1f} m to {w.entrance} (straight line)")
+            out.append(f"    {w.slot}: {shown_length(w.distance, units, '.1f')} to "
+                       f"{w.entrance} (straight line)")
         return out
 
 
@@ -167,6 +170,8 @@ def _check(req: Requirement, total: int, by_use: dict[str, int]) -> UseCheck:
 SCHEDULE_COLUMNS = ("row", "use", "kind", "count", "bays", "length_m", "width_m",
                     "angle_deg", "access_aisles")
 """The columns of a bay schedule (:func:`bay_schedule`)."""
+LENGTHS = ("length_m", "width_m")
+"""Its columns of lengths, written in the scenario file's unit."""
 
 
 def bay_schedule(lot: Lot, rows: dict[str, str]) -> list[dict]:
@@ -192,12 +197,16 @@ def bay_schedule(lot: Lot, rows: dict[str, str]) -> list[dict]:
     return [{**line, "access_aisles": len(line["access_aisles"])} for line in out.values()]
 
 
-def schedule_csv(lines: list[dict], ids) -> str:
+def schedule_csv(lines: list[dict], ids, units: str = "m") -> str:
     """A bay schedule as CSV text; ``ids(list)`` writes a line's bay ids (runs as
-    ``N1–N6``)."""
+    ``N1–N6``); lengths in ``units`` (the scenario file's), named in their columns
+    (``length_ft``)."""
     text = io.StringIO()
     w = csv.writer(text, lineterminator="\n")
-    w.writerow(SCHEDULE_COLUMNS)
+    w.writerow([k.replace("_m", f"_{units}") if k in LENGTHS else k
+                for k in SCHEDULE_COLUMNS])
     for line in lines:
-        w.writerow([ids(line["bays"]) if k == "bays" else line[k] for k in SCHEDULE_COLUMNS])
+        w.writerow([ids(line["bays"]) if k == "bays" else
+                    round(in_units(line[k], units), 3) if k in LENGTHS else line[k]
+                    for k in SCHEDULE_COLUMNS])
     return text.getvalue()

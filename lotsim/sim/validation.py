@@ -8,6 +8,7 @@ from collections.abc import Iterable
 from dataclasses import dataclass, field
 
 from lotsim.core.diskcache import LOADED
+from lotsim.core.units import shown_length
 from lotsim.lot.model import PAVEMENT_EDGE
 from lotsim.lot.pavement import loose_ends
 from lotsim.lot.uses import USES, refused_bays
@@ -79,7 +80,8 @@ class ValidationReport:
 
     def schedule_csv(self) -> str:
         """:meth:`schedule` as the CSV ``lotsim validate --schedule`` writes."""
-        return schedule_csv(self.schedule(), lambda ids: id_ranges(ids, most=len(ids)))
+        return schedule_csv(self.schedule(), lambda ids: id_ranges(ids, most=len(ids)),
+                            self.prepared.scenario.units)
 
     @property
     def refused(self) -> dict[str, dict[str, str]]:
@@ -198,13 +200,15 @@ class ValidationReport:
         # slots no type fits are unreached for that reason, given first, not the lanes'
         unfit_ids = unfit(lg, [v.name for v in scenario.vehicle_types])
         no_way_in = [sid for sid in reach.no_way_in if sid not in unfit_ids]
+        u = scenario.units  # lengths as the scenario file gives them
         lines = [
             f"{self.source}: {self.verdict} — {scenario.name}",
             f"  slots: {len(lot.slots)} ({kinds}); free {len(lot.slots) - taken}, taken {taken}",
             "  vehicle types: "
             + "; ".join(
-                f"{v.name} (L {v.length:.2f} m, W {v.width:.2f} m, "
-                f"R {v.min_turning_radius:.2f} m)"
+                f"{v.name} (L {shown_length(v.length, u, '.2f')}, "
+                f"W {shown_length(v.width, u, '.2f')}, "
+                f"R {shown_length(v.min_turning_radius, u, '.2f')})"
                 for v in scenario.vehicle_types
             ),
             f"  aisles: {len(lot.aisles)}, lanes: {len(lot.lanes)}, "
@@ -213,7 +217,7 @@ class ValidationReport:
             f"{_n(kinds_of['turnaround'], 'turnaround')})",
             f"  entrances: {', '.join(lg.entrances) or 'none'}; "
             f"exits: {', '.join(lg.exits) or 'none (vehicles cannot leave)'}",
-            *self.bays.lines(),
+            *self.bays.lines(u),
         ]
         if taken == len(lot.slots) and scenario.traffic is not None:
             lines.append("  warning: no slot is free: every car will be turned away (the lot "
@@ -283,7 +287,7 @@ class ValidationReport:
                          f"margin {planner.margin:g} m)"
                          + (LOADED if lg.from_cache else ""))
         for r in self.routes:
-            lines.append(f"  {r.line()}" if r.passed else f"  warning: {r.line()}")
+            lines.append(f"  {r.line(u)}" if r.passed else f"  warning: {r.line(u)}")
         for end in loose_ends(lot.aisles, lot.pavement):
             lines.append(f"  warning: {end}")
         for note in lg.skipped_turns:

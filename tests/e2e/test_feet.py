@@ -164,3 +164,36 @@ def test_a_plot_in_feet_is_the_same_plot(tmp_path):
     for vm, vf in zip(metric.vehicle_types, feet.vehicle_types, strict=True):
         assert vm.length == pytest.approx(vf.length) and vm.width == pytest.approx(vf.width)
         assert vm.limits.max_accel == pytest.approx(vf.limits.max_accel)
+
+
+def test_validate_reports_a_feet_scenarios_lengths_in_feet(tmp_path):
+    import csv
+    import io
+    import re
+
+    from lotsim.api import validate
+
+    doc = yaml.safe_load((ROOT / "scenarios/lots/storefront.yaml").read_text())
+    metric = validate(_write(tmp_path / "m" / "s.yaml", doc))
+    feet = validate(_write(tmp_path / "ft" / "s.yaml", to_feet(doc)))
+    # every length of the metric summary, divided by the foot, is the feet summary's
+    m_text, f_text = metric.summary(), feet.summary()
+    pattern = r"(\d+\.\d+) (m²|m)\b"
+    m_found = re.findall(pattern, m_text)
+    f_found = re.findall(r"(\d+\.\d+) (ft²|ft)\b", f_text)
+    assert m_found and len(m_found) == len(f_found)
+    for (a, ua), (b, ub) in zip(m_found, f_found, strict=True):
+        scale = FOOT ** 2 if ua == "m²" else FOOT
+        assert ub == ("ft²" if ua == "m²" else "ft")
+        # each is rounded to its last digit: the two may differ by both roundings
+        da, db = len(a.split(".")[1]), len(b.split(".")[1])
+        assert float(b) == pytest.approx(float(a) / scale,
+                                         abs=0.5 * 10 ** -da / scale + 0.5 * 10 ** -db + 1e-9)
+    assert " m," not in f_text and " m)" not in f_text
+    # the schedule's lengths in feet, and its columns named so
+    rows_m = list(csv.DictReader(io.StringIO(metric.schedule_csv())))
+    rows_f = list(csv.DictReader(io.StringIO(feet.schedule_csv())))
+    assert "length_ft" in rows_f[0] and "length_m" not in rows_f[0]
+    for a, b in zip(rows_m, rows_f, strict=True):
+        assert float(b["length_ft"]) == pytest.approx(float(a["length_m"]) / FOOT, abs=1e-3)
+        assert float(b["width_ft"]) == pytest.approx(float(a["width_m"]) / FOOT, abs=1e-3)
