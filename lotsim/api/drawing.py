@@ -201,20 +201,12 @@ def render_lot(scenario: ScenarioLike | PreparedLot, path: str | os.PathLike | N
     >>> render_lot(EXAMPLE, size=(400, 300)).size
     (400, 300)
     """
-    problem = size_problem(size)
-    if problem:
-        raise SettingsError("size", problem)
-    _suffix(path, ".png")
-    prepared = prepare_for_drawing(scenario, graph=graph)
+    prepared = _lot_to_draw(scenario, path, size, graph)
     sc, lg = prepared.scenario, prepared.lot_graph
-    from lotsim.render.lot_image import draw_lot, save_png
+    from lotsim.render.lot_image import draw_lot
 
-    img = draw_lot(lg, size=size, show_graph=graph, parked_vehicle=sc.parked_vehicle,
-                   title=sc.name)
-    if path is not None:
-        Path(path).parent.mkdir(parents=True, exist_ok=True)
-        save_png(img, path)
-    return img
+    return _saved(draw_lot(lg, size=size, show_graph=graph,
+                           parked_vehicle=sc.parked_vehicle, title=sc.name), path)
 
 
 def render_routes(scenario: ScenarioLike | PreparedLot, path: str | os.PathLike | None = None,
@@ -252,11 +244,7 @@ def render_routes(scenario: ScenarioLike | PreparedLot, path: str | os.PathLike 
     >>> render_routes(storefront, size=(400, 300)).size
     (400, 300)
     """
-    problem = size_problem(size)
-    if problem:
-        raise SettingsError("size", problem)
-    _suffix(path, ".png")
-    prepared = prepare_for_drawing(scenario, graph=graph)
+    prepared = _lot_to_draw(scenario, path, size, graph)
     sc = prepared.scenario
     if not sc.routes:
         raise SettingsError("routes", f"scenario {sc.name!r} has no routes to draw (a "
@@ -265,11 +253,27 @@ def render_routes(scenario: ScenarioLike | PreparedLot, path: str | os.PathLike 
         from lotsim.roadmap.service_routes import plan_routes
 
         reports = plan_routes(prepared.lot, sc.routes, settings)
-    from lotsim.render.lot_image import save_png
     from lotsim.render.route_image import draw_routes
 
-    img = draw_routes(prepared.lot_graph, reports, size=size, show_graph=graph,
-                      parked_vehicle=sc.parked_vehicle, title=sc.name)
+    return _saved(draw_routes(prepared.lot_graph, reports, size=size, show_graph=graph,
+                              parked_vehicle=sc.parked_vehicle, title=sc.name), path)
+
+
+def _lot_to_draw(scenario: ScenarioLike | PreparedLot, path: str | os.PathLike | None,
+                 size: tuple[int, int], graph: bool) -> PreparedLot:
+    """The lot a picture of ``scenario`` is drawn from, once its size and file name are
+    found fit (:func:`render_lot`, :func:`render_routes`)."""
+    problem = size_problem(size)
+    if problem:
+        raise SettingsError("size", problem)
+    _suffix(path, ".png")
+    return prepare_for_drawing(scenario, graph=graph)
+
+
+def _saved(img: Image.Image, path: str | os.PathLike | None) -> Image.Image:
+    """``img``, also written to ``path`` as PNG when one is given (its folder made)."""
+    from lotsim.render.lot_image import save_png
+
     if path is not None:
         Path(path).parent.mkdir(parents=True, exist_ok=True)
         save_png(img, path)

@@ -32,7 +32,7 @@ import shapely
 from lotsim.sim import rerouting
 from lotsim.sim.repairs import LotChanges
 from lotsim.sim.results import RunResult, VehicleRun
-from lotsim.sim.standstills import Driven, Run, runs_of, stop_after
+from lotsim.sim.standstills import Driven, Run, runs_of, stop_after, stretch
 from lotsim.traffic.disturbances import Disturbances, Drawn, Stall, draw
 from lotsim.traffic.plans import Move
 from lotsim.traffic.searchgraph import SearchGraphMemo, search_graph
@@ -285,11 +285,11 @@ def _chunks(rr: RunResult, cars: list[VehicleRun], runs: list[list[Run]],
                 else:
                     em = graphs[name].motion(m.edge, m.level_from, m.level_to)
                     sw = em.swept
-                    stretch = (m.t1 - m.t0) / em.duration if em.duration > 0 else 1.0
-                    if abs(stretch - 1.0) < 1e-9:  # driven as its edge's motion
+                    k = stretch(em, m)
+                    if k == 1.0:  # driven as its edge's motion
                         rows = zip(sw.rows, sw.geoms, strict=True)
                     else:
-                        rows = (((a * stretch, b * stretch), g)
+                        rows = (((a * k, b * k), g)
                                 for (a, b, *_), g in zip(sw.rows, sw.geoms, strict=True))
                 for (a, b, *_), g in rows:
                     t0.append(m.t0 + a)

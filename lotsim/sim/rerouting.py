@@ -28,7 +28,7 @@ from lotsim.core.outcome import Status
 from lotsim.sim.loop import EventLoop
 from lotsim.sim.repairs import LotChanges, Replan
 from lotsim.sim.results import RunResult, VehicleRun
-from lotsim.sim.standstills import Driven, Run, runs_of, stop_after
+from lotsim.sim.standstills import Driven, Run, runs_of, stop_after, stretch
 from lotsim.traffic.plans import Move
 from lotsim.traffic.reservation import ReservationTable
 from lotsim.traffic.swept import standing_body
@@ -231,11 +231,11 @@ def _reserve_driven(table: ReservationTable, u: VehicleRun, sg: SearchGraph,
                                    in_slot=m.node_to in slots)
             continue
         em = sg.motion(m.edge, m.level_from, m.level_to)
-        stretch = (m.t1 - m.t0) / em.duration if em.duration > 0 else 1.0
-        if abs(stretch - 1.0) < 1e-9:
+        k = stretch(em, m)
+        if k == 1.0:
             table.reserve(u.id, em.swept, offset=m.t0)
         else:
-            table.reserve(u.id, [(m.t0 + a * stretch, m.t0 + b * stretch, g) for (a, b, *_), g
+            table.reserve(u.id, [(m.t0 + a * k, m.t0 + b * k, g) for (a, b, *_), g
                                  in zip(em.swept.rows, em.swept.geoms, strict=True)])
     last = u.moves[-1] if u.moves else None
     if u.left_at is None and last is not None and last.end_pose is not None \

@@ -87,3 +87,11 @@ class Driven:
     meets: Any = None  # the pairs of chunks of two cars that meet, as index arrays
     repaired: int = 0  # cars planned again on their way (lotsim.sim.rerouting)
     stalls_dropped: int = 0  # stalls those cars' new ways had no place of rest for
+
+
+def stretch(em, m) -> float:
+    """How much slower move ``m`` was driven than its edge's motion ``em`` (1.0: as the
+    motion, to within a nanosecond a second): a plan driven before holds retimed moves,
+    which sweep the same hulls over times stretched alike."""
+    k = (m.t1 - m.t0) / em.duration if em.duration > 0 else 1.0
+    return 1.0 if abs(k - 1.0) < 1e-9 else k
