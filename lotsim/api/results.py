@@ -110,10 +110,14 @@ def check(result: RunResult | dict | str | os.PathLike, *, max_violations: int =
     return check_result(result_document(result), max_violations=int(max_violations))
 
 
-def write_result(result: RunResult | dict, path: str | os.PathLike) -> Path:
+def write_result(result: RunResult | dict, path: str | os.PathLike, *,
+                 progress=None) -> Path:
     """Write a run, or its document (:func:`~lotsim.io.result.result_dict`), to ``path`` as
-    ``result.json``: atomically (nothing half-written), its folder made if need be; byte
-    for byte what ``lotsim run`` writes for the same scenario and seed.
+    ``result.json`` (compressed when ``path`` ends in ``.gz``): atomically (nothing
+    half-written), its folder made if need be; byte for byte what ``lotsim run`` writes for
+    the same scenario and seed. A run is written one car at a time (a car's samples are let
+    go once written: a day's cars would hold gigabytes as one document), with
+    ``progress(done, total)`` called as each car is.
 
     Examples
     --------
@@ -123,8 +127,11 @@ def write_result(result: RunResult | dict, path: str | os.PathLike) -> Path:
     >>> write_result(doc, f"{tempfile.mkdtemp()}/out/result.json").name
     'result.json'
     """
-    from lotsim.io.result import write_json
+    from lotsim.io.result import write_json, write_run
 
     Path(path).parent.mkdir(parents=True, exist_ok=True)
-    write_json(result_document(result), path)
+    if isinstance(result, _results.RunResult):
+        write_run(result, path, progress=progress)
+    else:
+        write_json(result_document(result), path)
     return Path(path)

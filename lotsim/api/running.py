@@ -34,7 +34,9 @@ def run(scenario_or_prepared: ScenarioLike | PreparedLot, settings: RunSettings 
         How to plan (the defaults of ``lotsim run`` when not given).
     progress : callable, optional, keyword-only
         Called as ``progress(done, total)``: trips planned, or, with ``priority="ga"``,
-        orders the genetic algorithm has tried.
+        orders the genetic algorithm has tried. A callback that takes a third argument is
+        given, with the trips, the run's clock as a time of day and the cars served so far
+        (``"08:42, 512 served"``).
     disturbances : Disturbances, optional, keyword-only
         What departs from the plan as the cars drive it (late starts, slow cars, stalls);
         the scenario's ``disturbances`` section when not given. The run is planned, then

@@ -113,12 +113,16 @@ def execute(args: argparse.Namespace) -> int:
         staged = {key: (outputs.file(path, name=_named(args, key, path))
                         if path is not None else None) for key, path in pictures.items()}
         rr = _plan(args, scenario, settings, budget)
+        drawn = any(p is not None for p in pictures.values())
         with ProgressBar("writing the result") as bar:
-            doc = api.result_dict(rr, progress=bar)
-            api.write_result(doc, result_json)
+            if drawn:  # the pictures are drawn from the document
+                doc = api.result_dict(rr, progress=bar)
+                api.write_result(doc, result_json)
+            else:  # car by car, never the whole document at once
+                api.write_result(rr, result_json, progress=bar)
         m = rr.metrics()
-        _summary(args, scenario, rr, m, doc)
-        code, said = _draw(doc, pictures, staged, anim)
+        _summary(args, scenario, rr, m)
+        code, said = _draw(doc, pictures, staged, anim) if drawn else (EXIT_OK, [])
         if code != EXIT_OK:
             return code  # nothing is written: the outputs are one set
         written = [p for p in pictures.values() if p is not None]
@@ -268,7 +272,7 @@ def _note_written(outputs, out: Path, pictures: list[Path]) -> None:
     outputs.file(out / MANIFEST).write_text("".join(f"{n}\n" for n in mine), encoding="utf-8")
 
 
-def _summary(args: argparse.Namespace, scenario, rr, m: dict, doc: dict) -> None:
+def _summary(args: argparse.Namespace, scenario, rr, m: dict) -> None:
     """The run on one screen: what became of the vehicles, how long they took, what the
     planning cost (``m``: the run's metrics), and why any car did not park."""
     print(f"{scenario.name}: {m['vehicles']} vehicles, planner {args.planner}, "
@@ -298,9 +302,9 @@ def _summary(args: argparse.Namespace, scenario, rr, m: dict, doc: dict) -> None
                   f"{h['parked']:4d} parked; {h['median_time_to_park']:6.1f} / "
                   f"{h['p90_time_to_park']:6.1f} s; {h['standing_per_car']:6.1f} s"
                   + (f"; {h['rejected']} rejected" if h["rejected"] else ""))
-    for v in doc["vehicles"]:
-        if v["status"] in ("waiting", "rejected"):
-            print(f"  {v['id']}: {v['status']}: {v['reason']}")
+    for v in rr.vehicles:
+        if v.status in ("waiting", "rejected"):
+            print(f"  {v.id}: {v.status}: {v.reason}")
 
 
 def _counts(m: dict) -> str:

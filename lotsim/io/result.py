@@ -2,12 +2,15 @@
 
 from __future__ import annotations
 
+import contextlib
 import dataclasses
 import gzip
 import io
 import json
 import math
+from collections.abc import Iterator
 from pathlib import Path
+from typing import IO
 
 import numpy as np
 import shapely
@@ -41,7 +44,21 @@ def _rings(geom) -> list[list[list[list[float]]]]:
 
 def result_dict(rr: RunResult, *, progress=None) -> dict:
     """The JSON document of a run; ``progress(done, total)`` is called as each vehicle's
-    motion is sampled (a thousand cars take seconds)."""
+    motion is sampled (a thousand cars take seconds). A long run is better written by
+    :func:`write_run`, which never holds more than one car's samples."""
+    vehicles = []
+    for k, v in enumerate(rr.vehicles):
+        if progress is not None:
+            progress(k, len(rr.vehicles))
+        vehicles.append(vehicle_doc(v))
+    if progress is not None:
+        progress(len(rr.vehicles), len(rr.vehicles))
+    return {"format": FORMAT, "version": VERSION, "lot": lot_doc(rr), "vehicles": vehicles,
+            **tail_doc(rr)}
+
+
+def lot_doc(rr: RunResult) -> dict:
+    """The lot of a run's document (its ``lot``)."""
     lg = rr.lot_graph
     lot = lg.lot
     parked = rr.scenario.parked_vehicle
@@ -74,44 +91,48 @@ def result_dict(rr: RunResult, *, progress=None) -> dict:
     if lot.access_aisles:  # ground no car parks or drives on
         doc_lot["access_aisles"] = [{"id": a.id, "polygon": np.round(a.polygon, 4).tolist()}
                                     for a in lot.access_aisles]
-    vehicles = []
-    for k, v in enumerate(rr.vehicles):
-        if progress is not None:
-            progress(k, len(rr.vehicles))
-        t = v.vehicle
-        lim = t.limits
-        tr = samples(v)
-        cols = {"t": [], "x": [], "y": [], "theta": [], "v": [], "steer": [], "gear": []}
-        if tr is not None:
-            cols = {
-                "t": np.round(tr.t, 6).tolist(), "x": np.round(tr.x, 4).tolist(),
-                "y": np.round(tr.y, 4).tolist(), "theta": np.round(tr.theta, 6).tolist(),
-                "v": np.round(tr.v, 4).tolist(), "steer": np.round(tr.steer, 6).tolist(),
-                "gear": tr.gear.astype(int).tolist(),
-            }
-        vehicles.append({
-            "id": v.id,
-            "type": {"name": t.name, "width": t.width, "front": t.front, "rear": t.rear,
-                     "wheelbase": t.wheelbase, "max_steer": round(t.max_steer, 9),
-                     "max_forward_speed": round(lim.max_forward_speed, 6),
-                     "max_reverse_speed": round(lim.max_reverse_speed, 6),
-                     "max_accel": lim.max_accel, "max_brake": lim.max_brake,
-                     "max_jerk": lim.max_jerk, "max_steer_rate": round(lim.max_steer_rate, 9),
-                     "max_lateral_accel": lim.max_lateral_accel} | (
-                         {"marks": sorted(t.marks)} if t.marks else {}),
-            "arrival": v.arrival.time,
-            "entrance": v.arrival.entrance,
-            "slot": v.slot,
-            "status": v.status,
-            "reason": v.reason,
-            "samples": cols,
-        })
-        if v.arrival.inside:  # in the lot when it came: where it stood
-            vehicles[-1]["inside"] = ({"slot": v.arrival.slot} if v.arrival.slot is not None
-                                      else {"pose": [round(float(c), 6)
-                                                     for c in v.arrival.pose]})
-    if progress is not None:
-        progress(len(rr.vehicles), len(rr.vehicles))
+    return doc_lot
+
+
+def vehicle_doc(v: VehicleRun) -> dict:
+    """One vehicle of a run's document (an item of its ``vehicles``), with its samples."""
+    t = v.vehicle
+    lim = t.limits
+    tr = samples(v)
+    cols = {"t": [], "x": [], "y": [], "theta": [], "v": [], "steer": [], "gear": []}
+    if tr is not None:
+        cols = {
+            "t": np.round(tr.t, 6).tolist(), "x": np.round(tr.x, 4).tolist(),
+            "y": np.round(tr.y, 4).tolist(), "theta": np.round(tr.theta, 6).tolist(),
+            "v": np.round(tr.v, 4).tolist(), "steer": np.round(tr.steer, 6).tolist(),
+            "gear": tr.gear.astype(int).tolist(),
+        }
+    doc = {
+        "id": v.id,
+        "type": {"name": t.name, "width": t.width, "front": t.front, "rear": t.rear,
+                 "wheelbase": t.wheelbase, "max_steer": round(t.max_steer, 9),
+                 "max_forward_speed": round(lim.max_forward_speed, 6),
+                 "max_reverse_speed": round(lim.max_reverse_speed, 6),
+                 "max_accel": lim.max_accel, "max_brake": lim.max_brake,
+                 "max_jerk": lim.max_jerk, "max_steer_rate": round(lim.max_steer_rate, 9),
+                 "max_lateral_accel": lim.max_lateral_accel} | (
+                     {"marks": sorted(t.marks)} if t.marks else {}),
+        "arrival": v.arrival.time,
+        "entrance": v.arrival.entrance,
+        "slot": v.slot,
+        "status": v.status,
+        "reason": v.reason,
+        "samples": cols,
+    }
+    if v.arrival.inside:  # in the lot when it came: where it stood
+        doc["inside"] = ({"slot": v.arrival.slot} if v.arrival.slot is not None
+                         else {"pose": [round(float(c), 6) for c in v.arrival.pose]})
+    return doc
+
+
+def tail_doc(rr: RunResult) -> dict:
+    """What a run's document holds after its vehicles: ``metrics``, ``settings`` and, when
+    something met the plan, ``disturbances``."""
     s = rr.settings
     settings = {"planner": s.planner, "assignment": s.assignment, "seed": rr.seed,
                 "dt": SAMPLE_DT, "omega": s.omega, "lotsim_version": __version__,
@@ -128,14 +149,38 @@ def result_dict(rr: RunResult, *, progress=None) -> dict:
     # scenario and seed give the same file byte for byte
     metrics = {k: (round(v, 4) if isinstance(v, float) else v) for k, v in rr.metrics().items()
                if not k.startswith("planning_time")}
-    doc = {"format": FORMAT, "version": VERSION, "lot": doc_lot, "vehicles": vehicles,
-           "metrics": metrics, "settings": settings}
+    doc = {"metrics": metrics, "settings": settings}
     if rr.execution is not None or rr.lot_changes is not None:  # what met the plan
         spec = rr.scenario.disturbances
         doc["disturbances"] = {"settings": spec.as_dict() if spec is not None else None,
                                **(rr.lot_changes.as_dict() if rr.lot_changes else {}),
                                **(rr.execution.as_dict() if rr.execution else {})}
     return doc
+
+
+def write_run(rr: RunResult, path: str | Path, *, progress=None) -> None:
+    """Write a run's document to ``path`` as :func:`write_json` writes
+    :func:`result_dict`'s, byte for byte, but one vehicle at a time: a car's samples are
+    made, written and let go before the next car's (a day's cars hold gigabytes as one
+    document). Atomically, and compressed for a ``.gz`` path, as :func:`write_json`;
+    ``progress(done, total)`` as :func:`result_dict`'s."""
+    with _json_file(path) as fh:
+        fh.write(f'{{"format":{_dumps(FORMAT)},"version":{_dumps(VERSION)},'
+                 f'"lot":{_dumps(lot_doc(rr))},"vehicles":[')
+        n = len(rr.vehicles)
+        for k, v in enumerate(rr.vehicles):
+            if progress is not None:
+                progress(k, n)
+            fh.write(("," if k else "") + _dumps(vehicle_doc(v)))
+        if progress is not None:
+            progress(n, n)
+        tail = _dumps(tail_doc(rr))
+        fh.write("]," + tail[1:] + "\n")  # the tail's keys, after the vehicles'
+
+
+def _dumps(obj: object) -> str:
+    """``obj`` as :func:`write_json` writes it."""
+    return json.dumps(obj, separators=(",", ":"), allow_nan=False)
 
 
 COMPACT_SUFFIX = ".gz"
@@ -154,17 +199,24 @@ def write_json(obj: dict, path: str | Path) -> None:
     renamed over the target; nothing is left behind on failure. A path ending in ``.gz``
     (:data:`COMPACT_SUFFIX`) is written gzip-compressed, with no time or name in its
     header, so that the same document gives the same bytes."""
+    with _json_file(path) as fh:
+        json.dump(obj, fh, separators=(",", ":"), allow_nan=False)
+        fh.write("\n")
+
+
+@contextlib.contextmanager
+def _json_file(path: str | Path) -> Iterator[IO[str]]:
+    """A text file to write JSON into, put at ``path`` when the block ends well (nothing
+    otherwise): plain, or gzip-compressed for a ``.gz`` path, with no time in its header."""
     if not str(path).endswith(COMPACT_SUFFIX):
         with atomic_write(path, "w", encoding="utf-8") as fh:
-            json.dump(obj, fh, separators=(",", ":"), allow_nan=False)
-            fh.write("\n")
+            yield fh
         return
     with atomic_write(path, "wb") as raw, \
             gzip.GzipFile(filename="", mode="wb", fileobj=raw, mtime=0,
                           compresslevel=COMPACT_LEVEL) as gz, \
             io.TextIOWrapper(gz, encoding="utf-8") as fh:
-        json.dump(obj, fh, separators=(",", ":"), allow_nan=False)
-        fh.write("\n")
+        yield fh
 
 
 def samples(v: VehicleRun, *, dt: float = SAMPLE_DT) -> Trajectory | None:

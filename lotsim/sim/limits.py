@@ -17,6 +17,7 @@ need :data:`WARMUP` trips and two seconds of planning before they count.
 from __future__ import annotations
 
 import _thread
+import inspect
 import os
 import re
 import signal
@@ -133,6 +134,19 @@ class Budget:
                    memory_note=f"80 % of the {human(free)} available; --memory-limit")
 
 
+def takes_three(progress) -> bool:
+    """Whether a progress callback takes a third positional argument (what is being done,
+    as text), besides ``done`` and ``total``."""
+    if progress is None:
+        return False
+    try:
+        params = inspect.signature(progress).parameters.values()
+    except (TypeError, ValueError):  # (a builtin without a signature: two, as documented)
+        return False
+    positional = [p for p in params if p.kind in (p.POSITIONAL_ONLY, p.POSITIONAL_OR_KEYWORD)]
+    return len(positional) >= 3 or any(p.kind is p.VAR_POSITIONAL for p in params)
+
+
 class Watchdog:
     """Watch a run's memory and time against ``budget``; a context manager.
 
@@ -147,6 +161,7 @@ class Watchdog:
         self.budget = budget
         self.where = where
         self.then = then
+        self._then_says = takes_three(then)  # it shows what is being done too
         self.done = 0
         self.total = 0
         self.message: str | None = None
@@ -174,13 +189,15 @@ class Watchdog:
             self._thread.join()
             signal.signal(signal.SIGUSR1, self._old)
 
-    def progress(self, done: int, total: int) -> None:
+    def progress(self, done: int, total: int, what: str = "") -> None:
         if self.done == 0 and done > 0:  # the lot is built: projections count from here
             self.first = (time.perf_counter(), resident_memory(), done)
         if done > self.done:
             self.seen.append((time.perf_counter(), done, resident_memory()))
         self.done, self.total = done, total
-        if self.then is not None:
+        if self._then_says:
+            self.then(done, total, what)
+        elif self.then is not None:
             self.then(done, total)
 
     def _raise(self, signum, frame) -> None:

@@ -51,7 +51,8 @@ class Live:
         Whether the scenario's own traffic comes (default); without it, only the cars
         :meth:`add` brings.
     progress : callable, optional, keyword-only
-        Called as ``progress(done, total)`` as trips are dealt with.
+        Called as ``progress(done, total)`` as trips are dealt with (with a third argument,
+        if it takes one: the run's clock and the cars served, as text).
 
     Raises
     ------

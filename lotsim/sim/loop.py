@@ -19,6 +19,7 @@ from lotsim.roadmap.model import LotGraph
 from lotsim.scenario import Scenario
 from lotsim.sim import inside, repairs, stalls
 from lotsim.sim.assignment import SlotAssigner
+from lotsim.sim.limits import takes_three
 from lotsim.sim.policies import ASK, SlotRequest, choices
 from lotsim.sim.results import VehicleRun
 from lotsim.sim.settings import RunSettings
@@ -30,6 +31,24 @@ from lotsim.traffic.reservation import ReservationTable
 from lotsim.traffic.search import Goal, SearchRequest, search
 from lotsim.traffic.searchgraph import SearchGraph, SearchGraphMemo
 from lotsim.traffic.swept import standing_body
+
+
+def clock_line(now: float, served: int) -> str:
+    """A run's clock as a time of day (its clock starts at midnight; past the first day,
+    ``day N``) and the cars served so far (come to stand in their slot): ``"08:42, 512
+    served"``, ``"day 2 07:05, 3120 served"``.
+
+    Examples
+    --------
+    >>> clock_line(31_330.0, 512)
+    '08:42, 512 served'
+    >>> clock_line(86_400.0 + 25_500.0, 3120)
+    'day 2 07:05, 3120 served'
+    """
+    minutes = int(max(now, 0.0) // 60.0)
+    day, minutes = divmod(minutes, 24 * 60)
+    clock = f"{minutes // 60:02d}:{minutes % 60:02d}"
+    return f"{f'day {day + 1} ' if day else ''}{clock}, {served} served"
 
 
 class EventLoop:
@@ -46,7 +65,9 @@ class EventLoop:
     traffic : list of Arrival
         The vehicles, in arrival order.
     progress : callable or None
-        Called as ``progress(done, total)`` as trips are dealt with.
+        Called as ``progress(done, total)`` as trips are dealt with; one that takes a third
+        argument is given the run's clock and the cars served so far as text
+        (:func:`clock_line`: ``"08:42, 512 served"``).
     policy : callable, optional
         Chooses the slots a car tries, as ``policy(request)`` (a
         :class:`~lotsim.sim.policies.SlotRequest`): a slot id, slot ids to try in order, or
@@ -76,6 +97,8 @@ class EventLoop:
         self.seq = 0
         self.now = -math.inf  # the time of the event dealt with last [s]
         self.progress = progress
+        self._says_clock = takes_three(progress)
+        self.served = 0  # cars that came to stand in their slot
         self.policy = policy
         self.pending: tuple[int, float] | None = None  # a car waiting for a decision, when
         self.answer: tuple[int, object] | None = None  # the caller's to it
@@ -209,7 +232,9 @@ class EventLoop:
         if more > 0:
             self._counted[v.arrival.id] = trips
             self._trips_done += more
-            if self.progress is not None:
+            if self._says_clock:
+                self.progress(self._trips_done, self._trips, clock_line(self.now, self.served))
+            elif self.progress is not None:
                 self.progress(self._trips_done, self._trips)
 
     # -- arriving -----------------------------------------------------------------------------
@@ -431,6 +456,7 @@ class EventLoop:
         if exit_:
             v.left_at = t_end
         else:
+            self.served += v.parked_at is None
             v.parked_at = t_end
             v.parked_pose = plan.moves[-1].end_pose
             v.status, v.reason = "parked", ""
