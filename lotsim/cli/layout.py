@@ -66,5 +66,6 @@ def execute(args: argparse.Namespace) -> int:
     files = api.layout_files(args.output, found, args.keep, pictures=args.pictures)
     best = found.best
     print(f"wrote {', '.join(str(f) for f in files)}: {best.bays} bays "
-          f"({best.bays_per_100m2:.2f} per 100 m², one per {best.area / best.bays:.1f} m²)")
+          f"({best.bays_per_100m2:.2f} per 100 m², one per {best.area / best.bays:.1f} m²)"
+          + (f"; by use: {best.uses_text()}" if best.by_use else ""))
     return EXIT_OK

@@ -103,7 +103,8 @@ class DrawnAisle:
 
 @dataclass
 class DrawnRow:
-    """An unbroken run of equal bays along one side of an aisle."""
+    """An unbroken run of equal bays along one side of an aisle; ``size`` (width, length
+    [m]) is that of compact bays, None the plot's bays."""
 
     aisle: str
     side: str
@@ -111,6 +112,7 @@ class DrawnRow:
     start: float
     count: int
     polygons: list[Polygon] = field(default_factory=list)
+    size: tuple[float, float] | None = None
 
 
 @dataclass
@@ -342,6 +344,7 @@ def draw(plot: PlotSpec, module: Module, orientation_deg: float, offset: float,
     order = ([("ring", "outer", ring90), ("ring", "inner", ring90), ("module", "", module)]
              if inner_first else
              [("ring", "outer", ring90), ("module", "", module), ("ring", "inner", ring90)])
+    sides = []
     for role, which, mod in order:
         for a in aisles:
             if a.role != role:
@@ -349,7 +352,9 @@ def draw(plot: PlotSpec, module: Module, orientation_deg: float, offset: float,
             for side in ("left", "right"):
                 if role == "ring" and _side_is_inner(a, side, inside) != (which == "inner"):
                     continue
+                sides.append((a, side, mod))
                 rows += _pack(plot, a, side, mod, room, things)
+    rows += _compact_rows(plot, sides, room, things, rows)
     cand = Candidate(orientation_deg, module, offset, inner_first, aisles, rows, gates,
                      ring_islands and bool(islands))
     return _to_plot(cand, frame)
@@ -506,11 +511,11 @@ def draw_spine(plot: PlotSpec, gate: int, offset: float, branches: bool,
     rows: list[DrawnRow] = []
     spine90 = Module(90, False, w)
     order = ("module", "gate") if branches_first else ("gate", "module")
-    for role in order:
-        for a in aisles:
-            if a.role == role:
-                for side in ("left", "right"):
-                    rows += _pack(plot, a, side, spine90, room, things)
+    sides = [(a, side, spine90) for role in order for a in aisles if a.role == role
+             for side in ("left", "right")]
+    for a, side, mod in sides:
+        rows += _pack(plot, a, side, mod, room, things)
+    rows += _compact_rows(plot, sides, room, things, rows)
     return Candidate(math.degrees(heading) % 180.0, spine90, offset, not branches_first,
                      aisles, rows, gates, spine=(g.id, branches))
 
@@ -547,39 +552,71 @@ def _gate_poses(plot: PlotSpec, gid: str, aisle: str, start: np.ndarray, n: np.n
 
 class _Things:
     """What bays keep :data:`CLEAR` from: aisle strips (by aisle id), islands (id ``""``)
-    and the bays kept so far."""
+    and the bays kept so far (each with its aisle and side)."""
 
     def __init__(self, shapes: list[Polygon], owners: list[str]):
         self.fixed = shapes
         self.owners = owners
         self.fixed_tree = shapely.STRtree(shapes)
         self.bays: list[Polygon] = []
+        self.bay_sides: list[tuple[str, str]] = []
         self.bay_tree = None
 
-    def clear(self, bay: Polygon, aisle: str) -> bool:
+    def clear(self, bay: Polygon, aisle: str, beside: tuple[str, str] | None = None) -> bool:
         """Whether ``bay`` keeps clear of everything but its own aisle, which it may
-        touch (its entry lies on the aisle's edge)."""
+        touch (its entry lies on the aisle's edge), and, with ``beside`` (aisle, side), the
+        bays along that side, which it may touch as neighbours in a row do."""
         for i in self.fixed_tree.query(bay, predicate="dwithin", distance=CLEAR - EPS):
             if self.owners[i] != aisle or \
                     shapely.area(shapely.intersection(self.fixed[i], bay)) > 1e-6:
                 return False
-        return self.bay_tree is None or not len(
-            self.bay_tree.query(bay, predicate="dwithin", distance=CLEAR - EPS))
+        if self.bay_tree is None:
+            return True
+        for i in self.bay_tree.query(bay, predicate="dwithin", distance=CLEAR - EPS):
+            if beside is None or self.bay_sides[i] != beside or \
+                    shapely.area(shapely.intersection(self.bays[i], bay)) > 1e-6:
+                return False
+        return True
 
-    def add(self, bays: list[Polygon]) -> None:
+    def add(self, bays: list[Polygon], side: tuple[str, str] = ("", "")) -> None:
         self.bays += bays
+        self.bay_sides += [side] * len(bays)
         if self.bays:
             self.bay_tree = shapely.STRtree(self.bays)
 
 
+def _compact_rows(plot: PlotSpec, sides: list[tuple[DrawnAisle, str, Module]],
+                  room: Polygon, things: _Things, rows: list[DrawnRow]) -> list[DrawnRow]:
+    """Compact bays (``plot.uses.compact``) packed, side by side in the order the full
+    bays were, into what those left: a row's leftover length at its end, a stretch where
+    a full bay did not fit; none where the plot asks for none."""
+    size = plot.uses.compact
+    if size is None:
+        return []
+    full: dict[tuple[str, str], list[float]] = {}
+    for r in rows:
+        step = KINDS["perpendicular" if r.angle == 90 else "angled"].pitch(
+            plot.bay_width, plot.bay_length, math.radians(r.angle))
+        full.setdefault((r.aisle, r.side), []).append(r.start + r.count * step)
+    # tried first: right after each row of full bays, touching it as a neighbour does
+    return [r for a, side, mod in sides
+            for r in _pack(plot, a, side, mod, room, things, size,
+                           seeds=full.get((a.id, side), []))]
+
+
 def _pack(plot: PlotSpec, a: DrawnAisle, side: str, mod: Module, room: Polygon,
-          things: _Things) -> list[DrawnRow]:
-    """Bays packed along one side of aisle ``a`` from its first end (module docstring);
-    ``things`` gains them."""
+          things: _Things, size: tuple[float, float] | None = None,
+          seeds: list[float] = ()) -> list[DrawnRow]:
+    """Bays packed along one side of aisle ``a`` from its first end (module docstring),
+    of the plot's size or of ``size`` (width, length [m]: compact bays, which may touch the
+    bays along the same side, and are tried at the stations of ``seeds`` too); ``things``
+    gains them."""
     kind = KINDS["perpendicular" if mod.angle == 90 else "angled"]
     angle = math.radians(mod.angle)
-    along = kind.frontage(plot.bay_width, plot.bay_length, angle)
-    step = kind.pitch(plot.bay_width, plot.bay_length, angle)
+    bay_w, bay_l = size or (plot.bay_width, plot.bay_length)
+    beside = (a.id, side) if size is not None else None
+    along = kind.frontage(bay_w, bay_l, angle)
+    step = kind.pitch(bay_w, bay_l, angle)
     p0, p1 = np.asarray(a.start, dtype=float), np.asarray(a.end, dtype=float)
     length = float(np.hypot(*(p1 - p0)))
     u = (p1 - p0) / length
@@ -590,17 +627,18 @@ def _pack(plot: PlotSpec, a: DrawnAisle, side: str, mod: Module, room: Polygon,
     placed: list[tuple[float, Polygon]] = []
     s = 0.0
     while s + along <= length + 1e-9:
-        poly, _, _ = kind.place(origin, u, n, heading, s, plot.bay_width, plot.bay_length,
-                                angle, toward_traffic=side == "right" or a.one_way)
+        poly, _, _ = kind.place(origin, u, n, heading, s, bay_w, bay_l, angle,
+                                toward_traffic=side == "right" or a.one_way)
         bay = Polygon(poly)
-        ok = room.covers(bay) and things.clear(bay, a.id)
+        ok = room.covers(bay) and things.clear(bay, a.id, beside)
         if ok and placed and abs(placed[-1][0] + step - s) > 1e-9:
             ok = placed[-1][1].distance(bay) >= CLEAR - EPS
         if ok:
             placed.append((s, bay))
             s += step
         else:
-            s += PACK_STEP
+            later = [t for t in seeds if s + 1e-9 < t < s + PACK_STEP - 1e-9]
+            s = min(later) if later else s + PACK_STEP
     rows: list[DrawnRow] = []
     for s, bay in placed:
         last = rows[-1] if rows else None
@@ -608,8 +646,8 @@ def _pack(plot: PlotSpec, a: DrawnAisle, side: str, mod: Module, room: Polygon,
             last.count += 1
             last.polygons.append(bay)
         else:
-            rows.append(DrawnRow(a.id, side, mod.angle, s, 1, [bay]))
-    things.add([b for _, b in placed])
+            rows.append(DrawnRow(a.id, side, mod.angle, s, 1, [bay], size))
+    things.add([b for _, b in placed], (a.id, side))
     return rows
 
 
@@ -627,7 +665,7 @@ def _to_plot(c: Candidate, frame: _Frame) -> Candidate:
               for a in c.aisles]
     rows = [DrawnRow(r.aisle, r.side, r.angle, r.start, r.count,
                      [Polygon(frame.to_plot(np.asarray(p.exterior.coords)))
-                      for p in r.polygons]) for r in c.rows]
+                      for p in r.polygons], r.size) for r in c.rows]
     gates = [DrawnGate(g.id, g.aisle, pose(g.entrance), pose(g.exit)) for g in c.gates]
     return Candidate(c.orientation_deg, c.module, c.offset, c.inner_first, aisles, rows, gates,
                      c.ringed, c.spine)

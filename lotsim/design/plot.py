@@ -6,6 +6,7 @@ YAML by :mod:`lotsim.design.plot_yaml`; laid out by :func:`lotsim.design.search.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
 
 from lotsim.errors import Location
@@ -50,8 +51,8 @@ class GateSpec:
 @dataclass(frozen=True, slots=True)
 class BuildingEntranceSpec:
     """Where people walk into a building the lot serves: a point [m], in the plot or
-    beside it. Kept with the plot for the accessible route to it; the layout does not yet
-    place bays by it."""
+    beside it. The layout puts the accessible and EV bays nearest it (:class:`UsesSpec`),
+    and the lot it writes names it for the walks ``lotsim validate`` reports."""
 
     id: str
     at: Point
@@ -66,6 +67,60 @@ class IslandSpec:
     id: str
     polygon: Points
     where: Location | None = _loc()
+
+
+@dataclass(frozen=True, slots=True)
+class UsesSpec:
+    """The bays by use a plot asks its layouts for (``docs/layout.md``, ``uses``).
+
+    Attributes
+    ----------
+    accessible : int or None
+        Accessible bays in all, the van-accessible ones among them; None: as many as ADA
+        2010 Table 208.2 asks for the layout's total (:func:`lotsim.lot.uses.ada_accessible`).
+    van_accessible : int or None
+        How many of those are van-accessible; None: one in six, or fraction of six
+        (ADA 2010 §208.2.4, :func:`lotsim.lot.uses.ada_van`).
+    ev : int
+        EV bays, when :attr:`ev_share` is None.
+    ev_share : float or None
+        EV bays as a share of the layout's total, 0 to 1, rounded up.
+    compact : (width, length) or None
+        The size of the compact bays laid where a full bay does not fit [m]; None: none.
+
+    Examples
+    --------
+    >>> UsesSpec().asked, UsesSpec(ev=2).asked
+    (False, True)
+    >>> UsesSpec(ev_share=0.1).ev_count(95)
+    10
+    """
+
+    accessible: int | None = 0
+    van_accessible: int | None = None
+    ev: int = 0
+    ev_share: float | None = None
+    compact: tuple[float, float] | None = None
+    where: Location | None = _loc()
+
+    @property
+    def asked(self) -> bool:
+        """Whether the plot asks for any bay but standard ones."""
+        return self.accessible != 0 or self.ev_wanted or self.compact is not None
+
+    @property
+    def ev_wanted(self) -> bool:
+        return bool(self.ev) or bool(self.ev_share)
+
+    @property
+    def accessible_wanted(self) -> bool:
+        return self.accessible != 0
+
+    def ev_count(self, total: int) -> int:
+        """EV bays for a layout of ``total`` bays."""
+        if self.ev_share is None:
+            return self.ev
+        return math.ceil(self.ev_share * total - 1e-9)
 
 
 @dataclass(frozen=True, slots=True)
@@ -111,6 +166,8 @@ class PlotSpec:
         gates [m].
     demand : DemandSpec
         The traffic the candidates are compared at.
+    uses : UsesSpec
+        The bays by use asked for (none: standard bays only).
     seed : int
         Seeds the demand's arrivals.
     """
@@ -133,6 +190,7 @@ class PlotSpec:
     vehicle_names: tuple[str, ...] = ()
     """How each vehicle type was given: a catalogue name, or "" for a definition."""
     building_entrances: tuple[BuildingEntranceSpec, ...] = ()
+    uses: UsesSpec = UsesSpec()
 
     def aisle_width(self, angle: int, direction: str) -> float:
         """The aisle width for bays at ``angle`` [degrees] on a ``direction`` aisle [m]."""

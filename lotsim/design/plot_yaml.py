@@ -26,12 +26,14 @@ from lotsim.design.plot import (
     GateSpec,
     IslandSpec,
     PlotSpec,
+    UsesSpec,
 )
 from lotsim.errors import ErrorCollector, ScenarioError
 from lotsim.io.lot_yaml import MAX_ITEMS
 from lotsim.io.scenario_yaml import name_from_file, parse_vehicle
 from lotsim.io.traffic_yaml import parse_dwell
 from lotsim.io.yamlnodes import YNode, parse_text, read_yaml, units_of
+from lotsim.lot.uses import USES
 from lotsim.vehicles.catalogue import CATALOGUE, DEFAULT_VEHICLE
 
 TEXT_FILE = "<plot>"
@@ -41,6 +43,10 @@ GATE_TOLERANCE = 0.5
 MAX_SPAN = 2000.0
 """Largest plot, across [m] (as for a scenario's lot)."""
 DIRECTIONS = ("two-way", "one-way")
+BY_STANDARD = "ada_2010"
+"""``uses.accessible`` for as many accessible bays as ADA 2010 Table 208.2 asks."""
+MAX_USE_COUNT = 1000
+"""Most accessible or EV bays a plot may ask for."""
 
 
 def read_plot(source: str | os.PathLike) -> PlotSpec:
@@ -82,7 +88,7 @@ def parse_plot(root: YNode) -> PlotSpec:
     root = units_of(root)
     f = root.fields(required=["boundary", "gates"],
                     optional=["units", "name", "description", "seed", "islands", "vehicle_types",
-                              "bays", "aisles", "demand", "building_entrances"])
+                              "bays", "aisles", "demand", "building_entrances", "uses"])
     errors = ErrorCollector()
     name = (errors.attempt(lambda: f["name"].file_name(
         purpose="it names the written scenario"), default="plot")
@@ -115,6 +121,8 @@ def parse_plot(root: YNode) -> PlotSpec:
         for n, v in zip(f["vehicle_types"].items(), types, strict=False):
             errors.attempt(_fits_bays, n, v, width, length, "bays" in f)
     demand = errors.attempt(_demand, f["demand"], default=None) if "demand" in f else None
+    uses = (errors.attempt(_uses, f["uses"], types, width, length, entrances,
+                           default=None) if "uses" in f else None)
     errors.check()
     return PlotSpec(name=name, boundary=boundary, gates=gates, vehicle_types=types,
                     islands=islands, angles=angles, bay_width=width, bay_length=length,
@@ -123,7 +131,8 @@ def parse_plot(root: YNode) -> PlotSpec:
                                                                                kv[0][1]))),
                     circulation_width=circulation, demand=demand or DemandSpec(),
                     seed=seed, description=description, source=root.file,
-                    vehicle_names=names, building_entrances=entrances)
+                    vehicle_names=names, building_entrances=entrances,
+                    uses=uses or UsesSpec())
 
 
 def _fits_bays(node: YNode, vehicle, width: float, length: float, given: bool) -> None:
@@ -281,6 +290,105 @@ def _aisles(node: YNode):
     circulation = (f["circulation"].length(min=4.0, max=20.0) if "circulation" in f
                    else widths[(90, "two-way")])
     return one_way, widths, circulation
+
+
+def _uses(node: YNode, types, width: float, length: float, entrances) -> UsesSpec:
+    """The ``uses`` section: each bad value an error at its place, every one at once; a use
+    no vehicle type of the plot may park in, or one the plot's bays are too narrow for, is
+    refused at once (no layout could verify its bays)."""
+    f = node.fields(optional=["accessible", "van_accessible", "ev", "compact"])
+    errors = ErrorCollector()
+    marked = {m: [v.name for v in types if m in v.marks] for m in ("accessible", "ev")}
+
+    def needs(key: str, mark: str) -> None:
+        if not marked[mark]:
+            raise f[key].error(f"no vehicle type of the plot is marked {mark}: true, so no "
+                               f"car could park in these bays and no layout could check "
+                               f"them: add one to vehicle_types (a definition with "
+                               f"{mark}: true)")
+        if not entrances:
+            raise f[key].error("the plot names no building_entrances: the layout puts "
+                               "these bays nearest one")
+
+    def accessible() -> int | None:
+        n = f["accessible"]
+        value = _count(n, f"{BY_STANDARD} (as ADA 2010 Table 208.2 asks) or a count")
+        if value == 0:
+            return 0
+        needs("accessible", "accessible")
+        problem = USES["accessible"].size_problem(width, None)
+        if problem is not None:
+            raise n.error(f"{problem}: the plot's bays are too narrow (bays: {{width: 2.44}}"
+                          f" or more)")
+        return value
+
+    failed = -1  # accessible is wrong already: said once, not again for van_accessible
+    got = errors.attempt(accessible, default=failed) if "accessible" in f else 0
+
+    def van() -> int:
+        n = f["van_accessible"]
+        value = n.integer(min=0, max=MAX_USE_COUNT)
+        if got == failed:
+            return value
+        if got == 0 and value:
+            raise n.error("expected van-accessible bays only among accessible ones: give "
+                          "uses.accessible too")
+        if got is not None and value > got:
+            raise n.error(f"expected at most the {got} accessible bays asked for (a "
+                          f"van-accessible bay is one of them), found {value}")
+        return value
+
+    vans = errors.attempt(van, default=None) if "van_accessible" in f else None
+
+    def ev() -> tuple[int, float | None]:
+        n = f["ev"]
+        raw = n.node.value if not n.is_mapping and not n.is_sequence else None
+        if isinstance(raw, str) and n.node.tag.endswith(":str") and raw.strip().endswith("%"):
+            try:
+                share = float(raw.strip()[:-1])
+            except ValueError:
+                share = math.nan
+            if not 0 <= share <= 100:
+                raise n.error(f"expected a share of 0% to 100% (\"10%\"), found {raw!r}")
+            if share:
+                needs("ev", "ev")
+            return 0, share / 100
+        value = _count(n, 'a count or a share of the total ("10%")', word=None)
+        if value:
+            needs("ev", "ev")
+        return value, None
+
+    ev_count, ev_share = errors.attempt(ev, default=(0, None)) if "ev" in f else (0, None)
+    compact = (errors.attempt(_compact, f["compact"], types, width, length, default=None)
+               if "compact" in f else None)
+    errors.check()
+    return UsesSpec(accessible=got, van_accessible=vans, ev=ev_count, ev_share=ev_share,
+                    compact=compact, where=node.where)
+
+
+def _count(node: YNode, what: str, word: str | None = BY_STANDARD) -> int | None:
+    """A count of bays, or (``word``) None for as many as the standard asks."""
+    if word is not None and node.node.tag.endswith(":str") and node.node.value == word:
+        return None
+    if not node.node.tag.endswith(":int"):
+        raise node.error(f"expected {what}, found {node.node.value!r}")
+    return node.integer(min=0, max=MAX_USE_COUNT)
+
+
+def _compact(node: YNode, types, width: float, length: float) -> tuple[float, float]:
+    f = node.fields(required=["width", "length"])
+    w = f["width"].length(min=1.5, max=5.0)
+    ln = f["length"].length(min=3.0, max=12.0)
+    if w > width + 1e-9 or ln > length + 1e-9 or (w >= width - 1e-9 and ln >= length - 1e-9):
+        raise node.error(f"expected a compact bay smaller than the plot's bays ({width:g} × "
+                         f"{length:g} m), found {w:g} × {ln:g} m")
+    fits = [v.name for v in types if v.width <= w + 1e-9 and v.length <= ln + 1e-9]
+    if not fits:
+        sizes = ", ".join(f"{v.name} {v.length:.2f} × {v.width:.2f} m" for v in types)
+        raise node.error(f"no vehicle type of the plot fits a compact bay of {ln:g} × {w:g} "
+                         f"m ({sizes}), so no car could park in one: add a smaller type to "
+                         f"vehicle_types (zoe, corsa) or give a larger compact bay")
+    return w, ln
 
 
 def _demand(node: YNode) -> DemandSpec:

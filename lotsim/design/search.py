@@ -37,6 +37,7 @@ from shapely.geometry import Polygon
 from lotsim import __version__
 from lotsim.core.checks import range_problem
 from lotsim.core.workers import fork_map
+from lotsim.design.allocation import Allocation, Key, Stretch, allocate, stretches
 from lotsim.design.candidates import (
     Candidate,
     Module,
@@ -61,6 +62,7 @@ from lotsim.io.imports.draft import (
 from lotsim.io.result import result_dict
 from lotsim.io.scenario_yaml import parse_scenario
 from lotsim.io.yamlnodes import parse_text
+from lotsim.lot.uses import MARKS, USES
 from lotsim.sim.orders import plan_run
 from lotsim.sim.preparation import prepare_lot
 from lotsim.sim.settings import PLANNERS, RunSettings
@@ -164,6 +166,14 @@ class Evaluation:
         Whether ``lotsim check`` passed that run (None: not run).
     seconds : float
         Time spent on it.
+    by_use : tuple of (use, bays)
+        Its bays by use, every use (:data:`~lotsim.lot.uses.USES`), as ``lotsim validate``
+        counts them; () where the plot asks for no uses.
+    met : bool or None
+        Whether its bays meet ADA 2010 (Table 208.2 and §208.2.4) as ``lotsim validate``
+        checks them; None where the plot asks for no accessible bays.
+    short : tuple of (use, bays)
+        The bays by use asked for that it has no room for.
     """
 
     index: int
@@ -180,6 +190,9 @@ class Evaluation:
     vehicles: int = 0
     checked: bool | None = None
     seconds: float = 0.0
+    by_use: tuple[tuple[str, int], ...] = ()
+    met: bool | None = None
+    short: tuple[tuple[str, int], ...] = ()
 
     @property
     def ok(self) -> bool:
@@ -201,14 +214,29 @@ class Evaluation:
         figures = comment(f"{self.bays} bays, each usable by every vehicle type "
                           f"({self.bays_per_100m2:.2f} per 100 m²), aisles "
                           f"{self.aisle_length:.1f} m{run}.")
+        if self.by_use:
+            figures += "\n" + comment(f"Bays by use: {self.uses_text()}.")
         return f"{head}\n{figures}\n{rest}"
 
+    def uses_text(self) -> str:
+        """Its bays by use in words: ``standard 90, accessible 4, van-accessible 1, EV 10;
+        ADA 2010 met``."""
+        parts = ", ".join(f"{USES[u].label} {n}" for u, n in self.by_use if n) or "none"
+        if self.met is not None:
+            parts += f"; ADA 2010 {'met' if self.met else 'not met'}"
+        if self.short:
+            parts += "; no room for " + ", ".join(f"{n} {USES[u].label}" for u, n in
+                                                  self.short)
+        return parts
+
     def rank_key(self) -> tuple:
-        """Usable bays (most first), then mean time to park (shortest first; not run:
-        last), then throughput (most first), then the order drawn."""
+        """Whether its bays meet ADA 2010 where the plot asks for accessible bays (those
+        that do first), then usable bays as laid out, access aisles and all (most first),
+        then mean time to park (shortest first; not run: last), then throughput (most
+        first), then the order drawn."""
         t = self.mean_time_to_park if self.mean_time_to_park is not None else math.inf
         q = self.throughput if self.throughput is not None else -math.inf
-        return (-self.bays, t, -q, self.index)
+        return (self.met is False, -self.bays, t, -q, self.index)
 
 
 @dataclass(frozen=True, slots=True)
@@ -227,18 +255,49 @@ class LayoutResult:
         return self.ranked[0]
 
     def table(self, most: int = 5) -> str:
-        """The best ``most`` candidates side by side, a line each."""
-        head = (f"{'#':>2}  {'bays':>5}  {'drawn':>5}  {'per 100 m²':>10}  {'aisles [m]':>10}  "
-                f"{'park [s]':>8}  {'cars/h':>7}  layout")
+        """The best ``most`` candidates side by side, a line each: where the plot asks for
+        uses, with the bays of each use asked for, and whether ADA 2010 is met (``yes``,
+        ``no``; ``-``: no accessible bays asked for)."""
+        asked = _columns(self.plot)
+        uses = "".join(f"  {title:>{len(title)}}" for _, title in asked)
+        head = (f"{'#':>2}  {'bays':>5}  {'drawn':>5}{uses}  {'ADA':>3}  {'per 100 m²':>10}  "
+                f"{'aisles [m]':>10}  {'park [s]':>8}  {'cars/h':>7}  layout")
         lines = [head]
         for k, e in enumerate(self.ranked[:most]):
             park = f"{e.mean_time_to_park:8.1f}" if e.mean_time_to_park is not None else \
                 f"{'-':>8}"
             rate = f"{e.throughput:7.0f}" if e.throughput is not None else f"{'-':>7}"
             what = e.label if e.ok else f"{e.label}: {e.problem}"
-            lines.append(f"{k + 1:>2}  {e.bays:>5}  {e.drawn:>5}  {e.bays_per_100m2:>10.2f}  "
-                         f"{e.aisle_length:>10.1f}  {park}  {rate}  {what}")
+            counts = dict(e.by_use)
+            cells = "".join(f"  {_use_cell(counts, u, e.ok):>{len(title)}}"
+                            for u, title in asked)
+            ada = "-" if e.met is None or not e.ok else ("yes" if e.met else "no")
+            lines.append(f"{k + 1:>2}  {e.bays:>5}  {e.drawn:>5}{cells}  {ada:>3}  "
+                         f"{e.bays_per_100m2:>10.2f}  {e.aisle_length:>10.1f}  {park}  "
+                         f"{rate}  {what}")
         return "\n".join(lines)
+
+
+def _columns(plot: PlotSpec) -> list[tuple[str, str]]:
+    """The table's columns of bays by use for ``plot``: (use, title), those it asks for."""
+    u = plot.uses
+    out = []
+    if u.accessible_wanted:
+        out += [("accessible", "access."), ("van_accessible", "van")]
+    if u.ev_wanted:
+        out.append(("ev", "EV"))
+    if u.compact is not None:
+        out.append(("compact", "compact"))
+    return out
+
+
+def _use_cell(counts: dict[str, int], use: str, ok: bool) -> str:
+    """A candidate's bays of ``use``; accessible ones with the van-accessible among them, as
+    the standard counts them."""
+    if not ok:
+        return "-"
+    n = counts.get(use, 0)
+    return str(n + counts.get("van_accessible", 0) if use == "accessible" else n)
 
 
 def candidates(plot: PlotSpec, settings: LayoutSettings) -> list[Candidate]:
@@ -328,7 +387,8 @@ def lay_out(plot: PlotSpec, settings: LayoutSettings | None = None, *, keep: int
     pos = 0
     enough = max(keep, settings.compared)
     while pos < budget:
-        best = sorted((e.bays for e in done), reverse=True)
+        # a candidate that misses the standard asked for ranks below every one that meets it
+        best = sorted((e.bays for e in done if e.met is not False), reverse=True)
         if len(best) >= enough and drawn[order[pos]].bays < best[enough - 1]:
             if progress is not None:  # done: no candidate left can beat the ones kept
                 progress(len(done), len(done))
@@ -355,10 +415,11 @@ def _cores() -> int:
 
 def evaluate(plot: PlotSpec, cand: Candidate, index: int, area: float,
              settings: LayoutSettings) -> Evaluation:
-    """Prepare ``cand``, dropping its unusable bays until every one left is usable, and run
-    it at the plot's demand (:class:`Evaluation`)."""
+    """Prepare ``cand``, dropping its unusable bays until every one left is usable, allot
+    the bays by use the plot asks for (:func:`~lotsim.design.allocation.allocate`) and
+    settle them likewise, and run it at the plot's demand (:class:`Evaluation`)."""
     clock = time.perf_counter()
-    keep: set[tuple[str, str, float]] | None = None
+    keep: set[Key] | None = None
     figures = dict(index=index, label=cand.label, drawn=cand.bays, area=area,
                    aisle_length=cand.aisle_length)
     for _ in range(ROUNDS):
@@ -367,21 +428,83 @@ def evaluate(plot: PlotSpec, cand: Candidate, index: int, area: float,
             return Evaluation(bays=0, problem="no bay is usable",
                               seconds=time.perf_counter() - clock, **figures)
         try:
-            sc = parse_scenario(parse_text(yaml_text, f"{plot.name}.yaml"))
-            prepared = prepare_lot(sc)
-            report = validate_prepared(prepared, f"{plot.name}.yaml")
+            sc, prepared, report = _prepare(plot, yaml_text)
         except ScenarioError as exc:
             return Evaluation(bays=0, problem=_short(str(exc)),
                               seconds=time.perf_counter() - clock, **figures)
-        usable = set(ids)
-        for names in report.usable().values():
-            usable &= set(names)
+        usable = _usable(report)
         if report.complete and usable == set(ids):
+            if plot.uses.accessible_wanted or plot.uses.ev_wanted:
+                return _allot(plot, cand, set(ids.values()), settings, figures, clock)
             return _run(sc, prepared, settings,
-                        Evaluation(bays=len(ids), yaml=yaml_text, **figures), clock)
+                        Evaluation(bays=len(ids), yaml=yaml_text, **figures,
+                                   **_use_figures(plot, report)), clock)
         keep = {ids[s] for s in usable}
     return Evaluation(bays=0, problem="its bays did not settle",
                       seconds=time.perf_counter() - clock, **figures)
+
+
+def _allot(plot: PlotSpec, cand: Candidate, keep: set[Key], settings: LayoutSettings,
+           figures: dict, clock: float) -> Evaluation:
+    """``cand``'s usable bays ``keep`` with the accessible and EV bays the plot asks for,
+    prepared until every bay is usable: a bay unusable beside the access aisles is dropped,
+    an accessible group unusable where it stands is allotted elsewhere."""
+    barred: set[Key] = set()
+    for _ in range(ROUNDS):
+        alloc = allocate(plot, stretches(plot, cand.rows, keep), barred=barred)
+        yaml_text, ids = scenario_text(plot, cand, keep, settings, allocation=alloc)
+        if not ids:
+            return Evaluation(bays=0, problem="no bay is usable",
+                              seconds=time.perf_counter() - clock, **figures)
+        try:
+            sc, prepared, report = _prepare(plot, yaml_text)
+        except ScenarioError as exc:
+            return Evaluation(bays=0, problem=_short(str(exc)),
+                              seconds=time.perf_counter() - clock, **figures)
+        usable = _usable(report)
+        if report.complete and usable == set(ids):
+            return _run(sc, prepared, settings,
+                        Evaluation(bays=len(ids), yaml=yaml_text, **figures,
+                                   **_use_figures(plot, report, alloc)), clock)
+        for sid in set(ids) - usable:
+            key = ids[sid]
+            if key in alloc.groups:
+                barred |= set(alloc.groups[key])
+            else:
+                keep.discard(key)
+    return Evaluation(bays=0, problem="its bays by use did not settle",
+                      seconds=time.perf_counter() - clock, **figures)
+
+
+def _prepare(plot: PlotSpec, yaml_text: str):
+    sc = parse_scenario(parse_text(yaml_text, f"{plot.name}.yaml"))
+    prepared = prepare_lot(sc)
+    return sc, prepared, validate_prepared(prepared, f"{plot.name}.yaml")
+
+
+def _usable(report) -> set[str]:
+    """The bays usable by every vehicle type the scenario's rule of uses lets park in them
+    (at least one): each such type can reach it, park in it and leave it."""
+    per_type = {name: set(ids) for name, ids in report.usable().items()}
+    refused = report.refused
+    out = set()
+    for s in report.prepared.lot.slots:
+        allowed = [name for name in per_type if s.id not in refused.get(name, {})]
+        if allowed and all(s.id in per_type[name] for name in allowed):
+            out.add(s.id)
+    return out
+
+
+def _use_figures(plot: PlotSpec, report, alloc: Allocation | None = None) -> dict:
+    """An evaluation's bays by use, as ``lotsim validate`` counts them, and whether they
+    meet ADA 2010 (where the plot asks for accessible bays); nothing for a plot that asks
+    for no uses."""
+    if not plot.uses.asked:
+        return {}
+    bays = report.bays
+    return dict(by_use=tuple(bays.by_use.items()),
+                met=bays.met if plot.uses.accessible_wanted else None,
+                short=tuple(alloc.short.items()) if alloc is not None else ())
 
 
 def _run(sc, prepared, settings: LayoutSettings, e: Evaluation, clock: float) -> Evaluation:
@@ -409,10 +532,12 @@ def _short(message: str) -> str:
 
 def scenario_text(plot: PlotSpec, cand: Candidate,
                   keep: set[tuple[str, str, float]] | None = None,
-                  settings: LayoutSettings | None = None
+                  settings: LayoutSettings | None = None, *,
+                  allocation: Allocation | None = None
                   ) -> tuple[str, dict[str, tuple[str, str, float]]]:
     """The scenario of ``cand`` with the bays of ``keep`` (aisle, side, station of the
-    bay's entry; None: all), and each slot id's bay."""
+    bay's entry; None: all), or those of ``allocation`` with their uses, and each slot id's
+    bay (for an accessible bay, the first drawn bay its group stands on)."""
     draft = LotDraft(name=plot.name,
                      description=plot.description or f"A lot laid out on plot {plot.name}.",
                      boundary=list(plot.boundary))
@@ -424,29 +549,22 @@ def scenario_text(plot: PlotSpec, cand: Candidate,
         draft.aisles.append(AisleDraft(a.id, [a.start, a.end], a.width, a.one_way))
     ids: dict[str, tuple[str, str, float]] = {}
     numbers: dict[tuple[str, str], int] = {}
-    for r in cand.rows:
-        step = _step(plot, r.angle)
-        stations = [round(r.start + k * step, 9) for k in range(r.count)]
-        kept = [s for s in stations if keep is None or (r.aisle, r.side, s) in keep]
-        # unbroken runs of what is kept
-        runs: list[list[float]] = []
-        for s in kept:
-            if runs and abs(runs[-1][-1] + step - s) < 1e-6:
-                runs[-1].append(s)
-            else:
-                runs.append([s])
-        for run in runs:
-            key = (r.aisle, r.side)
-            first = numbers.get(key, 0) + 1
-            prefix = f"{r.aisle}{'L' if r.side == 'left' else 'R'}"
-            kind = "perpendicular" if r.angle == 90 else "angled"
-            draft.rows.append(RowDraft(r.aisle, r.side, kind, len(run), plot.bay_width,
-                                       plot.bay_length, run[0], prefix,
-                                       angle_deg=None if r.angle == 90 else float(r.angle),
-                                       first_number=first))
-            for k, s in enumerate(run):
-                ids[f"{prefix}{first + k}"] = (r.aisle, r.side, s)
-            numbers[key] = first + len(run) - 1
+    runs: list[Stretch] = (list(allocation.stretches) if allocation is not None
+                           else stretches(plot, cand.rows, keep))
+    for run in runs:
+        key = (run.aisle, run.side)
+        first = numbers.get(key, 0) + 1
+        prefix = f"{run.aisle}{'L' if run.side == 'left' else 'R'}"
+        kind = "perpendicular" if run.angle == 90 else "angled"
+        draft.rows.append(RowDraft(run.aisle, run.side, kind, run.count, run.width,
+                                   run.length, run.start, prefix,
+                                   angle_deg=None if run.angle == 90 else float(run.angle),
+                                   first_number=first, use=run.use))
+        for k in range(run.count):
+            ids[f"{prefix}{first + k}"] = run.places[k][0]
+        numbers[key] = first + run.count - 1
+    if plot.uses.asked:
+        draft.building_entrances = [(e.id, e.at) for e in plot.building_entrances]
     for isl in plot.islands:
         draft.no_go.append(AreaDraft(isl.id, list(isl.polygon)))
     for g in cand.gates:
@@ -465,13 +583,9 @@ def scenario_text(plot: PlotSpec, cand: Candidate,
     return out, ids
 
 
-def _step(plot: PlotSpec, angle: int) -> float:
-    return plot.bay_width / math.sin(math.radians(angle))
-
-
 def _vehicle_types(plot: PlotSpec) -> str:
     """The plot's vehicle types as a scenario writes them: catalogue names as names,
-    definitions in full."""
+    definitions in full, with their marks (``accessible: true``, ...)."""
     items = []
     for v, name in zip(plot.vehicle_types, plot.vehicle_names, strict=True):
         if name:
@@ -488,6 +602,7 @@ def _vehicle_types(plot: PlotSpec) -> str:
                   f"max_jerk: {num(lim.max_jerk, 6)}",
                   f"max_steer_rate_deg: {num(math.degrees(lim.max_steer_rate), 6)}",
                   f"max_lateral_accel: {num(lim.max_lateral_accel, 6)}"]
+        fields += [f"{mark}: true" for mark in MARKS if mark in v.marks]
         items.append("{" + ", ".join(fields) + "}")
     return "vehicle_types:\n" + "\n".join(f"  - {i}" for i in items)
 

@@ -228,3 +228,29 @@ def test_random_plots_lay_out_into_lots_that_validate_strictly(tmp_path, seed):
     report = lotsim.validate(tmp_path / "lot.yaml")
     assert report.complete and len(report.prepared.lot.slots) == found.best.bays
     assert _slots_are_clear(report.prepared.scenario) == []
+
+
+@pytest.mark.slow
+def test_a_plot_with_uses_lays_out_into_a_lot_validate_counts_alike(tmp_path):
+    from unit.design.test_allocation import table_208_2
+
+    out = tmp_path / "shop.yaml"
+    settings = lotsim.LayoutSettings(orientations=1, offsets=1, prepared=2, compared=1)
+    found = lotsim.layout(PLOTS / "storefront_plot.yaml", out, settings=settings)
+    best = found.best
+    report = lotsim.validate(out)
+    assert report.complete, report.summary()
+    bays = report.bays
+    # the counts the layout reports are the counts lotsim validate finds in the lot written
+    assert dict(best.by_use) == bays.by_use and best.met is True and bays.met
+    total = len(report.prepared.lot.slots)
+    assert total == best.bays
+    accessible = bays.by_use["accessible"] + bays.by_use["van_accessible"]
+    assert accessible >= table_208_2(total)
+    assert bays.by_use["van_accessible"] >= math.ceil(table_208_2(total) / 6)
+    assert bays.by_use["ev"] == math.ceil(0.1 * total)
+    assert len(bays.walks) == accessible  # each accessible bay's walk to the shop door
+    assert _slots_are_clear(report.prepared.scenario) == []
+    result = lotsim.run(report.prepared)
+    assert lotsim.check(result).ok  # no car on an access aisle; none in a bay its use bars
+    assert "ADA" in found.table() and " yes " in found.table()

@@ -85,6 +85,8 @@ class RowDraft:
     gap: float = 0.0
     note: str = ""
     first_number: int = 1
+    use: str = "standard"
+    """What its bays are for (``docs/scenario.md``, bays by use)."""
 
 
 @dataclass
@@ -154,6 +156,8 @@ class LotDraft:
     exits: list[GateDraft] = field(default_factory=list)
     occupied: list[str] = field(default_factory=list)
     traffic: dict | None = None
+    building_entrances: list[tuple[str, Point]] = field(default_factory=list)
+    """(id, point): the doors of the buildings the lot serves."""
 
     @property
     def slot_count(self) -> int:
@@ -189,10 +193,11 @@ class LotDraft:
                 angle = f", angle_deg: {num(r.angle_deg)}" if r.angle_deg is not None else ""
                 gap = f", gap: {num(r.gap)}" if r.gap else ""
                 first = f", first_number: {r.first_number}" if r.first_number != 1 else ""
+                use = f", use: {r.use}" if r.use != "standard" else ""
                 out.append(f"    - {{aisle: {text(r.aisle)}, side: {r.side}, kind: {r.kind}"
                            f"{angle}, count: {r.count}, slot_width: {num(r.slot_width)}, "
                            f"slot_length: {num(r.slot_length)}, start: {num(r.start)}{gap}, "
-                           f"id_prefix: {text(r.id_prefix)}{first}}}")
+                           f"id_prefix: {text(r.id_prefix)}{first}{use}}}")
         if self.slots:
             out.append("  slots:")
             for s in self.slots:
@@ -216,6 +221,10 @@ class LotDraft:
                         out.append("    " + comment(g.note))
                     out.append(f"    - {{id: {text(g.id)}, x: {num(g.x)}, y: {num(g.y)}, "
                                f"heading_deg: {num(g.heading_deg)}}}")
+        if self.building_entrances:
+            out.append("  building_entrances:")
+            for ident, (x, y) in self.building_entrances:
+                out.append(f"    - {{id: {text(ident)}, x: {num(x)}, y: {num(y)}}}")
         if self.occupied:
             out.append("  occupied: [" + ", ".join(text(s) for s in self.occupied) + "]")
         if self.traffic is not None:

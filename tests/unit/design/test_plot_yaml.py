@@ -117,3 +117,76 @@ def test_a_scenario_given_for_a_plot_is_named_as_one():
 
     with pytest.raises(ScenarioError, match=r"<plot>:4:1: lot: expected a plot file"):
         read_plot(EXAMPLE)
+
+
+USES = """\
+boundary: [[0, 0], [60, 0], [60, 40], [0, 40]]
+gates: [{id: main, at: [30, 0]}]
+building_entrances: [{id: door, at: [22, 41]}]
+vehicle_types:
+  - valet
+  - {name: badge, width: 1.8, front: 3.7, rear: 1.0, wheelbase: 2.7, max_steer_deg: 33,
+     accessible: true}
+  - {name: hatch, width: 1.77, front: 3.43, rear: 0.66, wheelbase: 2.59, max_steer_deg: 33,
+     ev: true}
+uses:
+  accessible: ada_2010
+  van_accessible: 2
+  ev: 10%
+  compact: {width: 2.3, length: 4.6}
+"""
+
+
+def test_uses_read_every_key():
+    u = read_plot(USES).uses
+    assert (u.accessible, u.van_accessible, u.ev_share, u.compact) == (None, 2, 0.1,
+                                                                       (2.3, 4.6))
+    assert u.ev_count(81) == 9 and u.asked
+    stated = read_plot(USES.replace("ada_2010", "5").replace("10%", "3")).uses
+    assert (stated.accessible, stated.ev, stated.ev_share) == (5, 3, None)
+    assert not read_plot(GOOD).uses.asked
+
+
+@pytest.mark.parametrize("old, new, where, says", [
+    ("accessible: ada_2010", "accessible: ADA 2010", "11:15: uses.accessible",
+     "expected ada_2010 (as ADA 2010 Table 208.2 asks) or a count, found 'ADA 2010'"),
+    ("accessible: ada_2010", "accessible: -3", "11:15: uses.accessible", "≥ 0"),
+    ("accessible: ada_2010", "accessible: 1", "12:19: uses.van_accessible",
+     "expected at most the 1 accessible bays asked for"),
+    ("van_accessible: 2", "van_accessible: 2.5", "12:19: uses.van_accessible",
+     "an integer"),
+    ("ev: 10%", "ev: 150%", "13:7: uses.ev", "a share of 0% to 100%"),
+    ("ev: 10%", "ev: ten", "13:7: uses.ev", 'a count or a share of the total ("10%")'),
+    ("ev: 10%", "ev: yes", "13:7: uses.ev", "a count or a share"),
+    ("width: 2.3", "width: 2.6", "14:12: uses.compact",
+     "a compact bay smaller than the plot's bays (2.5 × 5 m), found 2.6 × 4.6 m"),
+    ("length: 4.6", "length: 4.0", "14:12: uses.compact",
+     "no vehicle type of the plot fits a compact bay of 4 × 2.3 m"),
+    ("compact: {width: 2.3, length: 4.6}", "compact: {width: 2.3}", "14:12: uses.compact",
+     "missing key 'length'"),
+    ("  ev: 10%\n", "  ev: 10%\n  motorcycle: 2\n", "14:3: uses.motorcycle",
+     "unknown key 'motorcycle'"),
+    ("accessible: true}", "accessible: false}", "11:15: uses.accessible",
+     "no vehicle type of the plot is marked accessible: true"),
+    ("ev: true}", "ev: false}", "13:7: uses.ev", "no vehicle type of the plot is marked ev"),
+    ("building_entrances: [{id: door, at: [22, 41]}]\n", "", "10:15: uses.accessible",
+     "the plot names no building_entrances"),
+    ("gates: [{id: main, at: [30, 0]}]\n",
+     "gates: [{id: main, at: [30, 0]}]\nbays: {width: 2.4}\n", "12:15: uses.accessible",
+     "an accessible bay is at least 2.44 m wide"),
+])
+def test_a_bad_use_is_located(old, new, where, says):
+    assert old in USES
+    with pytest.raises(ScenarioError) as err:
+        read_plot(USES.replace(old, new, 1))
+    text = str(err.value)
+    assert text.startswith(f"<plot>:{where}"), text
+    assert says in text, text
+
+
+def test_every_bad_use_is_reported_at_once_in_file_order():
+    bad = USES.replace("ada_2010", "many").replace("10%", "-1")
+    with pytest.raises(ScenarioErrors) as err:
+        read_plot(bad)
+    assert [line.split(":")[1:3] for line in str(err.value).splitlines()] == [
+        ["11", "15"], ["13", "7"]]
