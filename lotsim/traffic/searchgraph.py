@@ -19,6 +19,7 @@ from __future__ import annotations
 import heapq
 import math
 import time
+from collections import deque
 from dataclasses import dataclass
 
 import numpy as np
@@ -38,14 +39,59 @@ AT_REST = ("park", "leave", "turnaround")
 """Edges driven from rest to rest (multi-stroke: the car stops at every cusp)."""
 
 
+KEPT_HULLS = 250_000
+"""Swept hulls a :class:`SearchGraph` keeps at most (a hull with its row and cells takes
+0.3 to 1.3 kB): past it, those not asked for since it was last full are let go, and worked
+out again if asked for (the same hulls: a pure function of the motion). A day of 3000 cars
+on a 364-bay lot asks for some 150 000 per type, and keeps them all; a run of several days
+holds no more. (A bound well under what a run asks for costs it more time working them
+out again than it saves: most hulls are asked for again within the hour.)"""
+
+
 class Tally:
     """Seconds spent working out what a search graph keeps (edge motions and their swept
-    hulls), so that a search's time can be told from the graph's first-use work."""
+    hulls), so that a search's time can be told from the graph's first-use work; and the
+    swept hulls kept, at most ``most`` (:data:`KEPT_HULLS`), the least used let go first.
 
-    __slots__ = ("seconds",)
+    The hulls are kept by the edge motions worked out together (a group, see
+    :meth:`SearchGraph.variants`), oldest first. Past ``most``, each group in turn is let
+    go unless one of its motions was asked for since the last pass, which instead puts it
+    last (a second chance, the clock algorithm), until three quarters of ``most`` are
+    left.
+    """
 
-    def __init__(self) -> None:
+    __slots__ = ("seconds", "most", "hulls", "_groups", "let_go")
+
+    def __init__(self, most: int = KEPT_HULLS) -> None:
         self.seconds = 0.0
+        self.most = most
+        self.hulls = 0
+        """Hulls kept now."""
+        self._groups: deque[list[EdgeMotion]] = deque()
+        self.let_go = 0
+        """Hulls let go so far (each may have been worked out again since)."""
+
+    def keep(self, group: list[EdgeMotion]) -> None:
+        """``group``'s hulls are kept from now (its motions' hulls worked out together)."""
+        self._groups.append(group)
+        self.hulls += sum(len(em._swept) for em in group)
+        if self.hulls > self.most:
+            self._let_go()
+
+    def _let_go(self) -> None:
+        groups, target = self._groups, 3 * self.most // 4
+        while self.hulls > target and len(groups) > 1:
+            group = groups.popleft()
+            if any(em._asked for em in group):  # asked for since the last pass: kept
+                for em in group:
+                    em._asked = False
+                groups.append(group)
+                continue
+            for em in group:
+                n = len(em._swept)
+                self.hulls -= n
+                self.let_go += n
+                em._swept = None
 
 
 class EdgeMotion:
@@ -53,10 +99,10 @@ class EdgeMotion:
     and the hulls it sweeps (in its own time; worked out when first asked for: a search
     needs them only where someone else comes near the edge — and then for every speed
     the edge is driven to from the same start speed, so those are worked out together,
-    see :meth:`SearchGraph.variants`)."""
+    see :meth:`SearchGraph.variants`; kept while they are asked for, see :class:`Tally`)."""
 
     __slots__ = ("motion", "duration", "end", "_vehicle", "_settings", "_swept", "group",
-                 "_tally")
+                 "_tally", "_asked")
 
     def __init__(self, motion: Motion, vehicle: VehicleType, settings: SearchSettings,
                  tally: Tally | None = None):
@@ -68,22 +114,33 @@ class EdgeMotion:
         self._swept: Swept | None = None
         self.group: list[EdgeMotion] = [self]
         self._tally = tally
+        self._asked = False
 
     @property
     def swept(self) -> Swept:
         """The hulls it sweeps, chunk by chunk (the graph's settings' ``chunk`` and
         ``sample``), in its own time."""
-        if self._swept is None:
-            clock = time.perf_counter()
-            todo = [em for em in self.group if em._swept is None]
-            s = self._settings
-            for em, sw in zip(todo, swept_motions([em.motion for em in todo], self._vehicle,
-                                                  chunk=s.chunk, sample=s.sample),
-                              strict=True):
-                em._swept = sw
-            if self._tally is not None:
-                self._tally.seconds += time.perf_counter() - clock
-        return self._swept
+        sw = self._swept
+        if sw is None:
+            sw = self._work_out()
+        self._asked = True
+        return sw
+
+    def _work_out(self) -> Swept:
+        """Work out the hulls of every motion of its group not kept now."""
+        clock = time.perf_counter()
+        todo = [em for em in self.group if em._swept is None]
+        s = self._settings
+        for em, sw in zip(todo, swept_motions([em.motion for em in todo], self._vehicle,
+                                              chunk=s.chunk, sample=s.sample),
+                          strict=True):
+            em._swept = sw
+            em._asked = True  # (asked for now: not let go before it is used)
+        mine = self._swept
+        if self._tally is not None:
+            self._tally.keep(todo)
+            self._tally.seconds += time.perf_counter() - clock
+        return mine
 
 
 @dataclass(frozen=True, slots=True)
@@ -107,7 +164,8 @@ class Edge:
 class SearchGraph:
     """The lot graph seen by one vehicle type: edges, speed levels, timed motions.
 
-    Motions and their swept hulls are computed on first use and kept.
+    Motions and their swept hulls are computed on first use and kept (the hulls while they
+    are used: at most ``kept_hulls``).
 
     Parameters
     ----------
@@ -117,6 +175,9 @@ class SearchGraph:
         The search's tuning (default ``SearchSettings()``): the graph's speed levels,
         express edges and swept hulls follow it, and every search on the graph reads the
         rest of it from :attr:`settings`.
+    kept_hulls : int, optional
+        Swept hulls kept at most (:data:`KEPT_HULLS`; :class:`Tally`): the memory the graph
+        holds, not its answers (a hull let go is worked out again, the same).
 
     Notes
     -----
@@ -130,7 +191,7 @@ class SearchGraph:
     """
 
     def __init__(self, lg: LotGraph, vehicle: VehicleType, *,
-                 settings: SearchSettings | None = None):
+                 settings: SearchSettings | None = None, kept_hulls: int = KEPT_HULLS):
         self.lg = lg
         self.vehicle = vehicle
         self.settings = settings = settings or SearchSettings()
@@ -176,7 +237,7 @@ class SearchGraph:
                       for n in g.nodes}
         self.slot_nodes = set(lg.slot_nodes.values())
         self._motions: dict[tuple[int, int, int], EdgeMotion | None] = {}
-        self.tally = Tally()
+        self.tally = Tally(kept_hulls)
         """Seconds spent so far working out edge motions and their hulls (kept for every
         later search on the graph)."""
         self._paths: dict[int, tuple] = {}
@@ -440,18 +501,24 @@ class SearchGraphMemo:
     0
     """
 
-    __slots__ = ("_lot_graph", "_graphs", "check")
+    __slots__ = ("_lot_graph", "_graphs", "check", "kept_hulls")
 
-    def __init__(self, check: ReuseCheck | None = None) -> None:
+    def __init__(self, check: ReuseCheck | None = None, *,
+                 kept_hulls: int = KEPT_HULLS) -> None:
         self._lot_graph: LotGraph | None = None
         self._graphs: dict[tuple[VehicleType, SearchSettings], SearchGraph] = {}
         self.check = check
+        self.kept_hulls = kept_hulls
+        """Swept hulls each graph keeps at most (:class:`SearchGraph`'s ``kept_hulls``)."""
 
     def __len__(self) -> int:
         return len(self._graphs)
 
     def __reduce__(self):
-        return (SearchGraphMemo, ())
+        return (SearchGraphMemo, (None,), {"kept_hulls": self.kept_hulls})
+
+    def __setstate__(self, state: dict) -> None:
+        self.kept_hulls = state["kept_hulls"]
 
     def graph(self, lg: LotGraph, vehicle: VehicleType, settings: SearchSettings
               ) -> SearchGraph:
@@ -463,7 +530,8 @@ class SearchGraphMemo:
         key = (vehicle, settings)
         sg = self._graphs.get(key)
         if sg is None:
-            sg = self._graphs[key] = SearchGraph(lg, vehicle, settings=settings)
+            sg = self._graphs[key] = SearchGraph(lg, vehicle, settings=settings,
+                                                 kept_hulls=self.kept_hulls)
         elif self.check is not None:
             self.check.compare("search graphs", (vehicle.name, settings), sg,
                                SearchGraph(lg, vehicle, settings=settings), differ=same_graph)
