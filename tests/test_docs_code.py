@@ -53,7 +53,7 @@ def shown_blocks(page: Path) -> list[tuple[int, str]]:
 def test_the_pages_with_python_have_blocks_found():
     found = {p.name for p in PAGES if blocks(p)}
     assert {"README.md", "python.md", "layout.md", "export.md", "learning.md"} <= found
-    assert [p.name for p in PAGES if shown_blocks(p)] == ["README.md", "learning.md"]
+    assert [p.name for p in PAGES if shown_blocks(p)] == ["README.md", "bench.md", "learning.md"]
     text = "```python\nrun = 1\n```\n```python no-run\nshown = 2\n```\n"
     assert [m.group(1) for m in BLOCK.finditer(text)] == ["run = 1\n"]
     assert [m.group(1) for m in SHOWN.finditer(text)] == ["shown = 2\n"]

@@ -35,7 +35,7 @@ EXPORTS: dict[str, tuple[str, ...]] = {
     "lotsim.api.scenarios": ("EXAMPLE", "FileValidation", "ScenarioLike", "prepare",
                              "prepare_for_drawing", "validate", "validate_files"),
     "lotsim.api.running": ("run",),
-    "lotsim.sim.results": ("RunResult",),
+    "lotsim.sim.results": ("HOURLY_FROM", "RunResult"),
     "lotsim.io.result": ("result_dict",),
     "lotsim.api.results": ("check", "load_result", "write_result"),
     "lotsim.api.drawing": ("render_gif", "render_html", "render_lot", "render_maneuver",
@@ -84,8 +84,8 @@ EXPORTS: dict[str, tuple[str, ...]] = {
     # outputs written as one set
     "lotsim.core.atomic": ("OutputSet",),
     # benchmark suites
-    "lotsim.bench": ("DaskMissing", "PLOTS", "SchedulerUnreachable", "load_suite",
-                     "run_suite", "table_text", "write_outputs"),
+    "lotsim.bench": ("DaskMissing", "PLOTS", "SchedulerUnreachable", "hour_rows",
+                     "hours_text", "load_suite", "run_suite", "table_text", "write_outputs"),
     # errors
     "lotsim.errors": ("InfeasibleManeuver", "LimitExceeded", "Location", "LotsimError",
                       "DecisionError", "OutputError", "ReplayError", "ResultFormatError",
@@ -145,6 +145,8 @@ if TYPE_CHECKING:  # for type checkers and editors: the same names, imported eag
         PLOTS,
         DaskMissing,
         SchedulerUnreachable,
+        hour_rows,
+        hours_text,
         load_suite,
         run_suite,
         table_text,
@@ -209,7 +211,7 @@ if TYPE_CHECKING:  # for type checkers and editors: the same names, imported eag
     from lotsim.sim.maneuver_case import ManeuverCase  # noqa: F401
     from lotsim.sim.policies import ASK, Ranked, SlotRequest  # noqa: F401
     from lotsim.sim.preparation import PreparedLot  # noqa: F401
-    from lotsim.sim.results import RunResult  # noqa: F401
+    from lotsim.sim.results import HOURLY_FROM, RunResult  # noqa: F401
     from lotsim.sim.running import collector_tuned, require_traffic  # noqa: F401
     from lotsim.sim.settings import (  # noqa: F401
         ASSIGNMENTS,

@@ -1,7 +1,7 @@
 """Benchmark suites (``lotsim bench``): reaching a Dask cluster to run one on
 (:func:`connect_scheduler`); reading, running and reporting a suite are
-:mod:`lotsim.bench`'s (``load_suite``, ``run_suite``, ``table_text``, ``write_outputs``),
-offered by :mod:`lotsim.api`."""
+:mod:`lotsim.bench`'s (``load_suite``, ``run_suite``, ``table_text``, ``hour_rows``,
+``hours_text``, ``write_outputs``), offered by :mod:`lotsim.api`."""
 
 from __future__ import annotations
 

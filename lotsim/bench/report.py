@@ -1,5 +1,6 @@
 """What a suite run writes and prints: ``summary.md`` (:func:`summary_markdown`), the
-terminal table (:func:`table_text`), and every output (:func:`write_outputs`)."""
+terminal table (:func:`table_text`) and its tables by hour (:func:`hours_text`), and every
+output (:func:`write_outputs`)."""
 
 from __future__ import annotations
 
@@ -14,12 +15,16 @@ from lotsim.bench.table import (
     SATURATED,
     _num,
     aggregate,
+    aggregate_hours,
     csv_text,
     ga_gains,
+    hour_rows,
+    hours_csv_text,
     planner_label,
     saturation,
 )
 from lotsim.core.atomic import atomic_write
+from lotsim.sim.results import HOURLY_FROM
 
 _TABLE = (  # (summary key, heading, digits)
     ("parked", "parked", 1), ("departed", "departed", 1), ("rejected", "rejected", 1),
@@ -170,17 +175,72 @@ def table_text(rows: Sequence[dict]) -> str:
     return "\n".join(out)
 
 
+def hours_text(hours: Sequence[dict]) -> str:
+    """For each row of the terminal table whose runs' cars came over :data:`HOURLY_FROM`
+    hours of the clock or more (one run is enough), a table by the hour the cars came,
+    pooled over the seeds (:func:`~lotsim.bench.table.aggregate_hours`): the cars, the
+    median and 90th percentile of the time to park and the standing per car [s], each the
+    mean over the seeds with the smallest and the largest seed's figure in brackets where
+    they differ (``–``: no car of that hour parked, or came). ``""`` when no row's traffic
+    is that long. ``hours``: the rows of ``hours.csv``
+    (:func:`~lotsim.bench.table.hour_rows` of the rows :func:`run_suite` returns, or
+    :func:`~lotsim.bench.table.read_hours_csv`).
+
+    Examples
+    --------
+    >>> hours_text([])
+    ''
+    """
+    groups = aggregate_hours(hours)
+    if not groups:
+        return ""
+    vary, _ = _varying(groups)
+    out = []
+    for g in groups:
+        if g["longest"] < HOURLY_FROM:
+            continue
+        seeds = "1 seed" if g["runs"] == 1 else f"means over {g['runs']} seeds (min–max)"
+        out.append(f"  {', '.join(_ident(g[k]) for k, _ in vary)}: by the hour the cars "
+                   f"came, {seeds}")
+        head = ["hour", "cars", "park median s", "park p90 s", "standing/car s"]
+        body = [[f"{h['hour']:02d}–{h['hour'] + 1:02d} h", _spread(h, "cars", 1, 0)]
+                + [_spread(h, k, 1, 1) for k in ("median_time_to_park_s", "p90_time_to_park_s",
+                                                  "standing_per_car_s")]
+                for h in g["by_hour"]]
+        widths = [max(len(x) for x in col) for col in zip(head, *body, strict=True)]
+        for cells in [head, *body]:
+            out.append("    " + "  ".join(c.ljust(w) if i == 0 else c.rjust(w) for i, (c, w)
+                                          in enumerate(zip(cells, widths, strict=True)))
+                       .rstrip())
+    return "\n".join(out)
+
+
+def _spread(h: dict, name: str, nd: int, nd_ends: int) -> str:
+    """``mean (min–max)`` of a pooled figure, the mean alone where the runs agree or there
+    is one; ``–`` where no run had one."""
+    mean, lo, hi = h[name], h[f"{name}_min"], h[f"{name}_max"]
+    if mean is None:
+        return "–"
+    if lo == hi:
+        return f"{mean:.{nd_ends}f}"
+    return f"{mean:.{nd}f} ({lo:.{nd_ends}f}–{hi:.{nd_ends}f})"
+
+
 def write_outputs(suite: Suite, rows: Sequence[dict], outdir: str | os.PathLike, *,
                   where: str = "", plots: bool = True) -> list[Path]:
-    """Write ``runs.csv``, ``summary.md`` and (with matplotlib and ``plots``)
-    ``throughput.png`` and ``time_to_park.png`` to ``outdir``, each atomically; returns
-    the paths written."""
+    """Write ``runs.csv``, ``hours.csv`` (each run's ``hours``: none for rows that hold
+    none, as those :func:`~lotsim.bench.table.read_csv` reads), ``summary.md`` and (with
+    matplotlib and ``plots``) the :data:`PLOTS` to ``outdir``, each atomically; returns the
+    paths written."""
     out = Path(outdir)
     out.mkdir(parents=True, exist_ok=True)
     written = []
     with atomic_write(out / "runs.csv", "w", encoding="utf-8") as fh:
         fh.write(csv_text(rows))
     written.append(out / "runs.csv")
+    with atomic_write(out / "hours.csv", "w", encoding="utf-8") as fh:
+        fh.write(hours_csv_text(hour_rows(rows)))
+    written.append(out / "hours.csv")
     with atomic_write(out / "summary.md", "w", encoding="utf-8") as fh:
         fh.write(summary_markdown(suite, rows, where=where, plots=plots))
     written.append(out / "summary.md")

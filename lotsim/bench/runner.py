@@ -16,7 +16,7 @@ from contextlib import contextmanager
 from typing import TYPE_CHECKING, Any
 
 from lotsim.bench.suite import RunSpec, Suite, SuiteScenario, one_stream
-from lotsim.bench.table import _rounded
+from lotsim.bench.table import _rounded, hour_figures
 from lotsim.errors import LotsimError, ScenarioError
 from lotsim.io.result import result_dict
 from lotsim.io.scenario_yaml import parse_scenario
@@ -108,7 +108,10 @@ def peak_memory_mb() -> float:
 
 
 def run_spec(spec: RunSpec) -> dict:
-    """Plan one grid point, check the result, and return its row (keys :data:`COLUMNS`).
+    """Plan one grid point, check the result, and return its row: the keys :data:`COLUMNS`
+    and ``hours``, the run hour by hour (:meth:`RunResult.hourly`, keyed by
+    :data:`~lotsim.bench.table.HOUR_FIGURES`; empty for a run that crashed). The row is
+    plain data, a few hundred bytes an hour: what a worker sends back, not the result.
 
     A run that raises is a failed row (``ok`` false, the exception in ``problem``) so that
     one broken run does not lose a sweep; a :class:`ScenarioError` (the lot does not build,
@@ -116,6 +119,7 @@ def run_spec(spec: RunSpec) -> dict:
     (exceptions with extra arguments do not survive pickling between processes).
     """
     row = _identity(spec)
+    hours: list[dict] = []
     try:
         scenario, lg, memo = prepared(spec.scenario)
         scenario = spec_scenario(spec, scenario)
@@ -127,12 +131,14 @@ def run_spec(spec: RunSpec) -> dict:
         report = check_result(result_dict(rr))
         row["wall_time_s"] = time.perf_counter() - clock
         row.update(_result_columns(rr, report, extra))
+        hours = hour_figures(rr.hourly())
     except ScenarioError as exc:
         return {"bad_input": str(exc)}
     except Exception as exc:  # a crash is a failed run, recorded with its cause
         row.update(_crash(exc))
+        hours = []
     row["peak_memory_mb"] = peak_memory_mb()
-    return _rounded(row)
+    return {**_rounded(row), "hours": hours}
 
 
 def _crash(exc: BaseException) -> dict:
@@ -141,7 +147,7 @@ def _crash(exc: BaseException) -> dict:
 
 def _lost(spec: RunSpec, exc: BaseException) -> dict:
     """The row of a run whose worker died (killed, out of memory, lost by the cluster)."""
-    return _rounded({**_identity(spec), **_crash(exc)})
+    return {**_rounded({**_identity(spec), **_crash(exc)}), "hours": []}
 
 
 def _identity(spec: RunSpec) -> dict:
@@ -224,7 +230,9 @@ def _disturbance_columns(rr: RunResult) -> dict:
 
 def run_suite(suite: Suite, *, jobs: int | None = None, client: Any = None,
               progress: Callable[[int, int], None] | None = None) -> list[dict]:
-    """Run every grid point and return the rows in grid order.
+    """Run every grid point and return the rows in grid order (each as :func:`run_spec`
+    returns it: the columns of ``runs.csv`` and the run's ``hours``, the rows of
+    ``hours.csv`` by :func:`~lotsim.bench.table.hour_rows`).
 
     Parameters
     ----------

@@ -1,6 +1,8 @@
 """The rows of a sweep: the columns of ``runs.csv`` (written by :func:`csv_text`, read back
 by :func:`read_csv`), and their means over seeds (:func:`aggregate`), with what they say
-of the GA and of saturation."""
+of the GA and of saturation; each run's hours, the rows of ``hours.csv`` (:func:`hour_rows`,
+written by :func:`hours_csv_text`, read back by :func:`read_hours_csv`), pooled over seeds
+by :func:`aggregate_hours`."""
 
 from __future__ import annotations
 
@@ -46,7 +48,18 @@ DIGITS = {"window_s": 3, "rate_per_h": 3, "makespan_s": 3, "mean_time_to_park_s"
            "ga_shortest_first_fitness_s": 3, "planning_time_s": 4,
            "planning_median_ms": 2, "planning_p95_ms": 2, "motions_s": 4, "order_time_s": 4,
            "wall_time_s": 3, "peak_memory_mb": 1, "stood_more_s": 3}
-"""Decimal places of each column of numbers that are not counts: one precision a column."""
+"""Decimal places of each column of numbers that are not counts: one precision a column
+(``hours.csv``'s figures of the same names too)."""
+RUN_KEYS = ("run", "scenario", "planner", "window_s", "assignment", "priority", "rate_per_h",
+            "count", "disturbance", "seed")
+"""The columns of ``runs.csv`` that say which run a row is: its place in the grid and the
+grid point."""
+HOUR_FIGURES = ("hour", "arrivals", "parked", "rejected", "median_time_to_park_s",
+                "p90_time_to_park_s", "standing_per_car_s")
+"""What ``hours.csv`` holds for an hour of a run: :meth:`lotsim.sim.results.RunResult.hourly`,
+its times named as ``runs.csv`` names them [s]."""
+HOURS_COLUMNS = (*RUN_KEYS, *HOUR_FIGURES)
+"""Columns of ``hours.csv``, in order: one row per run and hour of its clock."""
 
 
 def _rounded(row: dict) -> dict:
@@ -61,17 +74,29 @@ _INTS = ("run", "count", "seed", "violations", "vehicles", "served", "parked", "
          "waiting", "rejected", "searches", "expansions", "evaluations", "late_starts",
          "stalls", "replans")
 _TEXTS = ("scenario", "planner", "assignment", "priority", "problem", "disturbance")
+_HOUR_INTS = ("run", "count", "seed", "hour", "arrivals", "parked", "rejected")
 
 
 def read_csv(path: str | os.PathLike) -> list[dict]:
     """The rows of a ``runs.csv``, typed as :func:`run_suite` returns them (to tabulate or
-    plot a sweep again without running it)."""
+    plot a sweep again without running it; they hold no ``hours``: see
+    :func:`read_hours_csv`)."""
+    return _read(path, COLUMNS, _INTS)
+
+
+def read_hours_csv(path: str | os.PathLike) -> list[dict]:
+    """The rows of an ``hours.csv``, typed as :func:`hour_rows` gives them (to pool or print
+    a sweep's hours again without running it: :func:`aggregate_hours`)."""
+    return _read(path, HOURS_COLUMNS, _HOUR_INTS)
+
+
+def _read(path: str | os.PathLike, columns: Sequence[str], ints: Sequence[str]) -> list[dict]:
     with open(path, newline="", encoding="utf-8") as fh:
         raw = list(csv.DictReader(fh))
     rows = []
     for r in raw:
         row: dict[str, Any] = {}
-        for k in COLUMNS:
+        for k in columns:
             v = r.get(k, "")
             if k in _TEXTS:
                 row[k] = v
@@ -80,7 +105,7 @@ def read_csv(path: str | os.PathLike) -> list[dict]:
             elif v == "":
                 row[k] = None
             else:
-                row[k] = int(v) if k in _INTS else float(v)
+                row[k] = int(v) if k in ints else float(v)
         rows.append(row)
     return rows
 
@@ -203,9 +228,82 @@ def _num(value: float | None, nd: int) -> str:
 
 def csv_text(rows: Sequence[dict]) -> str:
     """``runs.csv``: a header of :data:`COLUMNS`, one line per run."""
+    return _csv(rows, COLUMNS)
+
+
+def hours_csv_text(hours: Sequence[dict]) -> str:
+    """``hours.csv``: a header of :data:`HOURS_COLUMNS`, one line per run and hour
+    (``hours``: :func:`hour_rows`)."""
+    return _csv(hours, HOURS_COLUMNS)
+
+
+def _csv(rows: Sequence[dict], columns: Sequence[str]) -> str:
     buf = io.StringIO()
     w = csv.writer(buf, lineterminator="\n")
-    w.writerow(COLUMNS)
+    w.writerow(columns)
     for r in rows:
-        w.writerow([_cell(r.get(k)) for k in COLUMNS])
+        w.writerow([_cell(r.get(k)) for k in columns])
     return buf.getvalue()
+
+
+def hour_figures(hourly: Sequence[dict]) -> list[dict]:
+    """A run's :meth:`~lotsim.sim.results.RunResult.hourly` keyed by :data:`HOUR_FIGURES`,
+    rounded as ``runs.csv`` rounds the same figures: what a run's row holds as ``hours``."""
+    out = []
+    for h in hourly:
+        row = {k: h[k.removesuffix("_s")] for k in HOUR_FIGURES}
+        for k in HOUR_FIGURES:
+            if k in DIGITS:
+                row[k] = round(float(row[k]), DIGITS[k])
+        out.append(row)
+    return out
+
+
+def hour_rows(rows: Sequence[dict]) -> list[dict]:
+    """The rows of ``hours.csv`` (keys :data:`HOURS_COLUMNS`): for each run of ``rows`` (as
+    :func:`run_suite` returns them), in grid order, one row per hour of its ``hours``. A run
+    that crashed, or whose worker died, has none."""
+    return [{**{k: r.get(k) for k in RUN_KEYS}, **h} for r in rows for h in r.get("hours", ())]
+
+
+def aggregate_hours(hours: Sequence[dict]) -> list[dict]:
+    """The hours of each :data:`GROUP` (in grid order) pooled over its seeds: ``hours``
+    (:func:`hour_rows`, or :func:`read_hours_csv`) give one dict per group with the
+    :data:`GROUP` keys, ``runs`` (how many runs gave hours), ``longest`` (the most hours
+    one run spans) and ``by_hour``: for each hour from the group's first to its last, a dict
+    of ``hour`` and, for ``cars`` (arrivals), ``median_time_to_park_s``,
+    ``p90_time_to_park_s`` and ``standing_per_car_s``, the mean over the runs,
+    ``<name>_min`` and ``<name>_max``. Cars are counted over every run (none in an hour
+    outside a run's span); the times to park over the runs that parked a car that hour and
+    the standing over those that had one come, None where no run did."""
+    groups: dict[tuple, dict[int, list[dict]]] = {}
+    for h in hours:
+        key = (h["scenario"], planner_label(h), h["assignment"], h["priority"], h["rate_per_h"],
+               h.get("disturbance") or "none")
+        groups.setdefault(key, {}).setdefault(h["run"], []).append(h)
+    out = []
+    for key, runs in groups.items():
+        by_run = {run: {h["hour"]: h for h in hs} for run, hs in runs.items()}
+        first = min(min(hs) for hs in by_run.values())
+        last = max(max(hs) for hs in by_run.values())
+        table = []
+        for hour in range(first, last + 1):
+            rows = [hs.get(hour) for hs in by_run.values()]
+            line: dict[str, Any] = {"hour": hour}
+            _pool(line, "cars", [r["arrivals"] if r else 0 for r in rows])
+            for k in ("median_time_to_park_s", "p90_time_to_park_s"):
+                _pool(line, k, [r[k] for r in rows if r and r["parked"]])
+            _pool(line, "standing_per_car_s",
+                  [r["standing_per_car_s"] for r in rows if r and r["arrivals"]])
+            table.append(line)
+        out.append({**dict(zip(GROUP, key, strict=True)), "runs": len(by_run),
+                    "longest": max(max(hs) - min(hs) + 1 for hs in by_run.values()),
+                    "by_hour": table})
+    return out
+
+
+def _pool(line: dict, name: str, values: Sequence[float]) -> None:
+    vals = [float(v) for v in values if v is not None]
+    line[name] = float(np.mean(vals)) if vals else None
+    line[f"{name}_min"] = min(vals) if vals else None
+    line[f"{name}_max"] = max(vals) if vals else None

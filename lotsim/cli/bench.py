@@ -23,7 +23,7 @@ FAILED_LISTED = 10
 def add_arguments(b: argparse.ArgumentParser) -> None:
     b.add_argument("suite", metavar="SUITE", help="suite YAML file (docs/bench.md)")
     b.add_argument("-o", "--output", metavar="OUTDIR",
-                   help="directory for runs.csv, summary.md and the plots "
+                   help="directory for runs.csv, hours.csv, summary.md and the plots "
                    "(default runs/bench/<suite name>)")
     where = b.add_mutually_exclusive_group()
     where.add_argument("--jobs", type=int, metavar="N", help="local worker processes "
@@ -81,6 +81,9 @@ def execute(args: argparse.Namespace) -> int:
                 outputs.remove(out / name)
         outputs.commit()
     print(api.table_text(rows))
+    by_hour = api.hours_text(api.hour_rows(rows))
+    if by_hour:  # traffic over a few hours: the day hour by hour
+        print(by_hour)
     failed = [r for r in rows if not r["ok"]]
     for r in failed[:FAILED_LISTED]:
         print(f"  run {r['run']} failed (seed {r['seed']}): {r['problem']}")

@@ -24,9 +24,6 @@ from lotsim.cli.progress import Preparing, ProgressBar, noting_sigint
 HELP = "plan a scenario's traffic and write OUTDIR/result.json"
 RESULT_NAMES = ("result.json", "result.json.gz")
 """The result's file, and its compact form's (``--compact``)."""
-HOURLY_FROM = 3
-"""A run whose cars came over this many hours of its clock or more is also told hour by
-hour."""
 BIG_RESULT = 50e6
 """A result.json over this many bytes is told it could be written compact."""
 EXITS = ("0 every car was served or rejected; 1 a car is still waiting when the run "
@@ -294,7 +291,7 @@ def _summary(args: argparse.Namespace, scenario, rr, m: dict) -> None:
     if line:
         print(line)
     hours = rr.hourly()
-    if len(hours) >= HOURLY_FROM:
+    if len(hours) >= api.HOURLY_FROM:
         print("  by the hour the cars came (cars, parked; time to park median / p90; "
               "standing per car):")
         for h in hours:

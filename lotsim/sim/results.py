@@ -18,6 +18,10 @@ from lotsim.vehicles.model import VehicleType
 STATUSES = ("parked", "departed", "waiting", "rejected")
 """What became of a vehicle when the run ended: it parked (and stays), it parked and left
 again, it is still waiting (to get in or out), or it was turned away after its patience."""
+HOURLY_FROM = 3
+"""Traffic whose cars came over this many hours of the run's clock or more is also told hour
+by hour (:meth:`RunResult.hourly`): ``lotsim run`` prints the run's hours, ``lotsim bench``
+a table by hour for each row of its table."""
 
 
 @dataclass

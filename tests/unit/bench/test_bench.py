@@ -223,6 +223,8 @@ def test_a_process_pool_gives_the_same_table(local):
     rows = bench.run_suite(bench.load_suite(path), jobs=2)
     assert _without_timings(bench.csv_text(rows)) == _without_timings((out / "runs.csv")
                                                                       .read_text())
+    # the workers send each run's hours back with its row
+    assert bench.hours_csv_text(bench.hour_rows(rows)) == (out / "hours.csv").read_text()
 
 
 def _dies(spec):
@@ -254,6 +256,9 @@ def test_a_dask_cluster_gives_the_same_table(local, tmp_path, monkeypatch):
     assert [r["ok"] for r in rows] == ["true", "false"]
     assert rows[1]["problem"] == "crash: RuntimeError: worker lost"
     assert rows[1]["planner"] == "ca" and rows[1]["seed"] == "1"
+    # the cluster's workers send each run's hours back with its row; a lost run has none
+    assert (tmp_path / "dask" / "hours.csv").read_text() == (out / "hours.csv").read_text()
+    assert {r["run"] for r in _rows(tmp_path / "lost" / "hours.csv")} == {"0"}
 
 
 def test_an_unreachable_scheduler_is_one_line_and_exit_2(local, tmp_path, capsys,
@@ -315,6 +320,8 @@ def test_a_run_that_crashes_is_a_failed_row(tmp_path, monkeypatch):
     rows = bench.run_suite(bench.load_suite(path), jobs=1)
     assert [r["ok"] for r in rows] == [True, False]
     assert rows[1]["problem"] == "crash: RuntimeError: the planner fell over"
+    assert rows[0]["hours"][0]["arrivals"] == 3 and rows[1]["hours"] == []
+    assert {h["run"] for h in bench.hour_rows(rows)} == {0}
 
 
 def test_a_lot_that_does_not_build_is_bad_input(tmp_path, capsys, monkeypatch):
@@ -357,7 +364,8 @@ def test_the_plots_are_pngs(local):
     for name in plots:
         assert (out / name).read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
         assert f"]({name})" in (out / "summary.md").read_text()
-    assert sorted(p.name for p in out.iterdir()) == sorted(["runs.csv", "summary.md", *plots])
+    assert sorted(p.name for p in out.iterdir()) == sorted(["runs.csv", "hours.csv",
+                                                            "summary.md", *plots])
 
 
 def test_a_single_rate_is_drawn_as_bars_per_planner(local):
@@ -412,7 +420,7 @@ def test_priority_orders_fill_their_columns(tmp_path):
 
 @pytest.mark.parametrize("name, runs", [("valet", 9), ("large_lot_load", 12),
                                         ("head_to_head", 60), ("real_demand", 48),
-                                        ("faults", 40)])
+                                        ("faults", 40), ("day_hours", 6)])
 def test_the_shipped_suites_are_valid(name, runs):
     suite = bench.load_suite(ROOT / "scenarios" / "bench" / f"{name}.yaml")
     assert suite.size == runs == len(suite.specs())
@@ -447,7 +455,7 @@ def test_without_plots_the_summary_links_no_missing_picture(local, tmp_path, cap
     assert "no plots: they need matplotlib" in capsys.readouterr().out
     text = (out / "summary.md").read_text()
     assert "need matplotlib" in text and not re.findall(r"!\[[^]]*\]\(([^)]+)\)", text)
-    assert sorted(p.name for p in out.iterdir()) == ["runs.csv", "summary.md"]
+    assert sorted(p.name for p in out.iterdir()) == ["hours.csv", "runs.csv", "summary.md"]
     # with them, every picture linked is there
     _, out, _ = local
     links = re.findall(r"!\[[^]]*\]\(([^)]+)\)", (out / "summary.md").read_text())
