@@ -150,6 +150,18 @@ class SpaceTimeGrid:
                 found.update(log[bisect.bisect_left(log, seen):])
         return found
 
+    def renumber(self, new: Sequence[int]) -> None:
+        """Entry ``i`` is entry ``new[i]`` from now, or gone where that is -1 (the store made
+        compact, :meth:`~lotsim.traffic.store.EntryStore.compact`; ids keep their order)."""
+        for by_bucket in self.by_cell.values():
+            for k, ids in by_bucket.items():
+                by_bucket[k] = [j for i in ids if (j := new[i]) >= 0]
+        for cells in (self.long_cells, self.log):
+            for cell, ids in cells.items():
+                cells[cell] = [j for i in ids if (j := new[i]) >= 0]
+        self.long_ends = [(t1, j) for t1, i in self.long_ends if (j := new[i]) >= 0]
+        heapq.heapify(self.long_ends)
+
     def forget_before(self, t: float, rows: Sequence[tuple[float, ...] | None],
                       forget: Callable[[int], None]) -> None:
         """Drop the time buckets before ``t``'s [s], and call ``forget(i)`` for every entry

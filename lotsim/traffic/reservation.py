@@ -15,6 +15,7 @@ tested exactly with shapely in one batch.
 
 from __future__ import annotations
 
+import heapq
 import math
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
@@ -38,6 +39,9 @@ from lotsim.traffic.grid import EPS, NEVER, Cells, SpaceTimeGrid, cells_of
 from lotsim.traffic.store import EntryStore
 from lotsim.traffic.swept import Interval, Swept
 
+COMPACT_FROM = 50_000
+"""Dropped entries past which :meth:`ReservationTable.forget_before` makes the table
+compact, when they are also as many as the live ones (changes no answer)."""
 FEW_ENTRIES = 512
 """Candidate entries up to which :meth:`ReservationTable.nearby` filters them in Python
 (changes no answer)."""
@@ -63,6 +67,9 @@ class ReservationTable:
         Candidate pairs (entries) up to which queries filter them in Python loops, more
         with numpy: the same answers either way (numpy's fixed cost per call is more than
         the work of a few).
+    compact_from : int, keyword-only
+        Dropped entries past which the table is made compact (:meth:`compact`): the same
+        answers.
 
     Examples
     --------
@@ -76,16 +83,21 @@ class ReservationTable:
     """
 
     def __init__(self, bucket: float = 1.0, *, few_pairs: int = FEW_PAIRS,
-                 few_entries: int = FEW_ENTRIES):
+                 few_entries: int = FEW_ENTRIES, compact_from: int = COMPACT_FROM):
         self._grid = SpaceTimeGrid(bucket)
         self.bucket = bucket
         self.few_pairs = few_pairs
         self.few_entries = few_entries
+        self.compact_from = compact_from
+        self.compactions = 0
+        """How many times the table was made compact (:meth:`compact`)."""
         self._store = EntryStore()
         # blocked_standing's bodies: id → [the body, entries tested up to, those it meets]
         self._standing: dict[int, list] = {}
         # the entries standing in slots (not filed in the grid), by the grid's cells
         self._in_slots: dict[tuple[int, int], list[int]] = {}
+        # heap of (t1, id) of those standing in slots whose end is known
+        self._slot_ends: list[tuple[float, int]] = []
         self.releases: list[tuple[float, str, bool]] = []
         """Every :meth:`release` that dropped or cut something, in order: the time from
         which it freed space [s], whose it was, and whether all it freed stood in a slot
@@ -138,6 +150,8 @@ class ReservationTable:
                 if t1 > after:
                     st.cut(i, after)
                     freed.append(i)
+                    if st.in_slot[i]:
+                        heapq.heappush(self._slot_ends, (after, i))
                 keep.append(i)
         st.by_owner[oid] = keep
         if freed:
@@ -160,6 +174,42 @@ class ReservationTable:
         whole.)
         """
         self._grid.forget_before(t, self._store.rows, self._store.forget)
+        st = self._store
+        ends, rows = self._slot_ends, st.rows
+        while ends and ends[0][0] + EPS < t:
+            _, i = heapq.heappop(ends)
+            if rows[i] is not None and rows[i][1] + EPS < t:  # (not cut later still)
+                st.forget(i)
+        if st.dead >= max(self.compact_from, st.n - st.dead):
+            self.compact()
+
+    def compact(self) -> None:
+        """Let go of the entries dropped or forgotten (a day's cars leave hundreds of
+        thousands behind): the live ones are numbered again in the order they were made, so
+        every query meets the same entries in the same order as before, and the table's
+        memory follows what it holds, not what it has held. Called by :meth:`forget_before`
+        once the dropped are :data:`COMPACT_FROM` and as many as the live; the caller holds
+        no ids of the table's (a :class:`~lotsim.traffic.candidates.Near` from before is
+        stale)."""
+        st = self._store
+        n = st.n
+        new = st.compact()
+        self.compactions += 1
+        self._grid.renumber(new)
+        for cell, ids in self._in_slots.items():
+            self._in_slots[cell] = [j for i in ids if (j := new[i]) >= 0]
+        self._slot_ends = [(t1, j) for t1, i in self._slot_ends if (j := new[i]) >= 0]
+        heapq.heapify(self._slot_ends)
+        # a standing body's entries tested up to (old) id ``seen``: the live ones before it
+        before = [0] * (n + 1)
+        k = 0
+        for i, j in enumerate(new):
+            before[i] = k
+            k += j >= 0
+        before[n] = k
+        for kept in self._standing.values():
+            kept[1] = before[kept[1]]
+            kept[2] = [j for i in kept[2] if (j := new[i]) >= 0]
 
     # -- asking -------------------------------------------------------------------------------
     def first_conflict(self, intervals: Sequence[Interval] | Swept, *, offset: float = 0.0,
@@ -408,6 +458,8 @@ class ReservationTable:
             bounds = geom.bounds
         i = self._store.add(oid, t0, t1, geom, in_slot, bounds)
         if in_slot:  # found by taken_until only, by its cells
+            if not math.isinf(t1):
+                heapq.heappush(self._slot_ends, (t1, i))
             rows = self._store.rows
             for cell in cells_of(bounds) if cells is None else cells:
                 ids = self._in_slots.setdefault(cell, [])

@@ -51,6 +51,8 @@ class EntryStore:
         """Owner id → name."""
         self.by_owner: dict[int, list[int]] = {}
         """Owner id → its entries not yet dropped by a release."""
+        self.dead = 0
+        """Entries dropped since the store was last made compact (:meth:`compact`)."""
 
     # -- owners -------------------------------------------------------------------------------
     def owner_id(self, owner: str) -> int:
@@ -95,8 +97,39 @@ class EntryStore:
 
     def drop(self, i: int) -> None:
         """Entry ``i`` is released: no query meets it again."""
+        if self.rows[i] is not None:
+            self.dead += 1
         self.alive[i] = False
         self.rows[i] = None
+
+    def compact(self) -> list[int]:
+        """Let the dropped entries go: the live ones are numbered again from 0 in the order
+        they were made (ids keep their order), the columns hold them alone. Returns each old
+        id's new one (-1: dropped), for whoever holds ids to number theirs again."""
+        rows = self.rows
+        new: list[int] = []
+        k = 0
+        for r in rows:
+            if r is None:
+                new.append(-1)
+            else:
+                new.append(k)
+                k += 1
+        keep = np.fromiter((i for i, j in enumerate(new) if j >= 0), dtype=np.int64, count=k)
+        cap = max(1024, 2 * k)
+        for name in ("owner", "t", "box", "alive", "in_slot", "geom"):
+            old = getattr(self, name)
+            fresh = (np.empty if name == "geom" else np.zeros)((cap,) + old.shape[1:],
+                                                              dtype=old.dtype)
+            fresh[:k] = old[keep]
+            setattr(self, name, fresh)
+        self.who = [self.who[i] for i in keep.tolist()]
+        self.rows = [rows[i] for i in keep.tolist()]
+        self.by_owner = {o: [new[i] for i in ids if new[i] >= 0]
+                         for o, ids in self.by_owner.items()}
+        self.n = k
+        self.dead = 0
+        return new
 
     def forget(self, i: int) -> None:
         """Entry ``i`` is over for every query to come: dropped, and its body let go."""
