@@ -1,21 +1,29 @@
 """What a CAD program shows of lotsim's DXF export, and how long the export and the drawing
 take: the lot of ``scenarios/mixed_lot.yaml`` exported to DXF, read back and drawn by
 ezdxf's own drawing add-on (``ezdxf.addons.drawing``, its matplotlib backend), written as
-``docs/img/dxf-mixed-lot.png`` (the picture of ``docs/export.md``).
+``docs/img/dxf-mixed-lot.png`` (a picture of ``docs/export.md``).
 
 Run with::
 
     pip install -e '.[dxf,plot]'
-    python benchmarks/dxf_picture.py            # or: SCENARIO [PNG]
+    python benchmarks/dxf_picture.py            # or: SCENARIO [PNG] [--units m|ft]
+
+``docs/export.md``'s other picture is the storefront lot drawn in feet, its service routes
+and bays by use on their layers::
+
+    python benchmarks/dxf_picture.py scenarios/lots/storefront.yaml \
+        docs/img/dxf-storefront.png --units ft
 
 It prints the entities on each layer, the time the export took (building the lot from the
 scenario included) and the time ezdxf took to read and draw the file, each the best of
 three. The picture is the same for the same lot (matplotlib's ``Agg`` backend, a fixed
-size and resolution, no date in the file).
+size and resolution, a fixed seed, no date in the file).
 """
 
 from __future__ import annotations
 
+import argparse
+import random
 import sys
 import tempfile
 import time
@@ -29,7 +37,9 @@ import lotsim  # noqa: E402
 SIZE = (12.0, 6.6)
 """The figure's size [inches]."""
 DPI = 100
-"""Its resolution: 1200 x 660 pixels."""
+"""Its resolution [dots per inch]."""
+SEED = 0
+"""The seed of the jiggle ezdxf gives a hatch pattern (an access aisle's lines)."""
 
 
 def draw(dxf: Path, png: Path) -> None:
@@ -44,6 +54,7 @@ def draw(dxf: Path, png: Path) -> None:
     from ezdxf.addons.drawing.matplotlib import MatplotlibBackend
 
     doc = ezdxf.readfile(dxf)
+    random.seed(SEED)  # ezdxf moves a hatch pattern's origin by a random hair
     fig = plt.figure(figsize=SIZE)
     ax = fig.add_axes((0, 0, 1, 1))
     config = Configuration(background_policy=BackgroundPolicy.WHITE)
@@ -65,12 +76,19 @@ def best_of(n: int, work) -> tuple[float, object]:
 
 
 def main(argv: list[str]) -> int:
-    scenario = Path(argv[0]) if argv else ROOT / "scenarios" / "mixed_lot.yaml"
-    png = Path(argv[1]) if len(argv) > 1 else ROOT / "docs" / "img" / "dxf-mixed-lot.png"
+    parser = argparse.ArgumentParser(description="draw a scenario's DXF as ezdxf does")
+    parser.add_argument("scenario", nargs="?", type=Path,
+                        default=ROOT / "scenarios" / "mixed_lot.yaml")
+    parser.add_argument("png", nargs="?", type=Path,
+                        default=ROOT / "docs" / "img" / "dxf-mixed-lot.png")
+    parser.add_argument("--units", choices=("m", "ft"),
+                        help="the drawing's units (default: the scenario's)")
+    args = parser.parse_args(argv)
+    scenario, png = args.scenario, args.png
     dxf = Path(tempfile.mkdtemp()) / f"{scenario.stem}.dxf"
-    export_s, info = best_of(3, lambda: lotsim.export_dxf(scenario, dxf))
+    export_s, info = best_of(3, lambda: lotsim.export_dxf(scenario, dxf, units=args.units))
     draw_s, _ = best_of(3, lambda: draw(dxf, png))
-    print(f"{scenario}: {info.bays} bays, {info.bytes / 1e3:.0f} kB of DXF")
+    print(f"{scenario}: {info.bays} bays, {info.bytes / 1e3:.0f} kB of DXF in {info.units}")
     for layer, count in info.entities:
         print(f"  {layer:<12} {count:5d} entities")
     print(f"export {export_s:.2f} s, ezdxf reading and drawing it {draw_s:.2f} s "

@@ -112,24 +112,30 @@ def _scenario_and_lot(source: LotLike) -> tuple[Scenario | None, Lot]:
     return scenario, build_lot(scenario.lot, DesignVehicle.envelope(scenario.vehicle_types))
 
 
-def export_dxf(source: LotLike, path: str | os.PathLike):
+def export_dxf(source: LotLike, path: str | os.PathLike, *, units: str | None = None):
     """Write the lot of a scenario or of a run (:data:`LotLike`) as a DXF drawing for CAD
     (``lotsim export --dxf``, ``docs/export.md``): its boundary, aisles (centrelines,
     pavement edges, direction arrows), every bay as a closed polyline on the layer of its
     use, stripes, bay numbers, islands, obstacles, walls, speed bumps and zones, entrances,
     exits and gates, and the bays taken at start, each on its named layer
-    (:data:`lotsim.io.cad_layers.LAYERS`), in metres. A scenario's service routes (its
-    ``routes`` section) are planned and drawn too: each swept envelope and path on layers
-    of their own (a run's lot is drawn without them: a result holds no routes).
+    (:data:`lotsim.io.cad_layers.LAYERS`). A scenario's service routes (its ``routes``
+    section) are planned and drawn too: each swept envelope and path on layers of their own
+    (a run's lot is drawn without them: a result holds no routes).
+
+    The drawing is in ``units``, ``m`` or ``ft`` (``lotsim export --dxf-units``); by
+    default in the scenario's own (``units: ft`` draws in feet), and a run's lot, whose
+    result is in metres, in metres.
 
     Needs ``pip install 'lotsim[dxf]'``; raises ``ExportUnavailable`` (a
     :class:`LotsimError`) without it. The file is written whole or not at all (its folder
-    must exist). Returns a ``DxfInfo`` (the path, bays, entities per layer, bytes); the
-    example is ``docs/export.md``'s.
+    must exist). Returns a ``DxfInfo`` (the path, bays, entities per layer, bytes, units);
+    the example is ``docs/export.md``'s.
     """
-    from lotsim.io.export.dxf import write_dxf
+    from lotsim.io.export.dxf import drawing_units, write_dxf
     from lotsim.io.export.tracks import require
 
+    if units is not None:
+        drawing_units(units)
     require("ezdxf", "dxf")  # before the lot is built
     scenario, lot = _scenario_and_lot(source)
     reports = ()
@@ -137,4 +143,6 @@ def export_dxf(source: LotLike, path: str | os.PathLike):
         from lotsim.roadmap.service_routes import plan_routes
 
         reports = plan_routes(lot, scenario.routes)
-    return write_dxf(lot, path, routes=reports)
+    if units is None:
+        units = scenario.units if scenario is not None else "m"
+    return write_dxf(lot, path, routes=reports, units=units)

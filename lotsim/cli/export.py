@@ -17,6 +17,8 @@ EXITS = ("0 written; 2 bad input, a result that cannot be exported, or the forma
 
 FORMATS = ("commonroad", "sumo", "openscenario")
 """The formats of a run, each an option ``--<name> DIR`` and an ``api.export_<name>``."""
+DXF_UNITS = ("m", "ft")
+"""The units ``--dxf-units`` takes (:data:`lotsim.io.export.dxf.DRAWING_UNITS`)."""
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -32,13 +34,17 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         "trajectory per car) on an OpenDRIVE lot with a parking space per "
                         "slot (pip install 'lotsim[openscenario]')")
     parser.add_argument("--dxf", metavar="LOT.dxf", help="the lot as a DXF drawing in "
-                        "metres, each kind of thing on its named layer: boundary, aisles, "
-                        "bays, stripes, bay numbers, islands, gates (pip install "
-                        "'lotsim[dxf]')")
+                        "the scenario's units (a result's in metres), each kind of thing on "
+                        "its named layer: boundary, aisles, bays, stripes, bay numbers, "
+                        "islands, gates (pip install 'lotsim[dxf]')")
+    parser.add_argument("--dxf-units", choices=DXF_UNITS, help="--dxf: draw in metres or "
+                        "feet, whatever the scenario's units")
 
 
 def execute(args: argparse.Namespace) -> int:
     asked = [(name, getattr(args, name)) for name in FORMATS if getattr(args, name)]
+    if args.dxf_units and not args.dxf:
+        return bad("export: --dxf-units is for the drawing of --dxf LOT.dxf")
     if not asked and not args.dxf:
         return bad(f"export: give at least one of "
                    f"{', '.join(f'--{name} DIR' for name in FORMATS)} or --dxf LOT.dxf")
@@ -64,14 +70,16 @@ def execute(args: argparse.Namespace) -> int:
         for name, target, into in staged:
             start = time.perf_counter()
             try:
-                info = getattr(api, f"export_{name}")(source, into)
+                info = (api.export_dxf(source, into, units=args.dxf_units) if name == "dxf"
+                        else getattr(api, f"export_{name}")(source, into))
             except SettingsError:
                 raise
             except LotsimError as exc:
                 return bad(str(exc))
             except OSError as exc:
                 return cannot_write(given(f"--{name}", target), exc)
-            what = (f"{info.bays} bays, {info.bytes / 1e3:.0f} kB" if name == "dxf"
+            what = (f"{info.bays} bays, {info.bytes / 1e3:.0f} kB, in "
+                    f"{'feet' if info.units == 'ft' else 'metres'}" if name == "dxf"
                     else f"{info.bytes / 1e6:.1f} MB")
             said.append(f"{name}: wrote {target} ({what}, "
                         f"{time.perf_counter() - start:.1f} s)")

@@ -195,13 +195,13 @@ def test_a_failed_export_leaves_the_file_as_it_was(tmp_path, monkeypatch, capsys
     target.write_text("an earlier drawing")
     real = dxf.dxf_document
 
-    def unwritable(drawing):  # fails while the file is being written
-        doc = real(drawing)
+    def unwritable(drawing, **units):  # fails while the file is being written
+        doc = real(drawing, **units)
         doc.encode = lambda text: None
         return doc
 
-    def unfinished(drawing):  # fails half-way through the drawing
-        doc = real(drawing)
+    def unfinished(drawing, **units):  # fails half-way through the drawing
+        doc = real(drawing, **units)
         doc.write = lambda stream: (stream.write("0\nSECTION\n"), 1 / 0)
         return doc
 

@@ -1,8 +1,9 @@
 """DXF import: a plot drawn by ezdxf here (not by lotsim's writer), in feet and in
 millimetres, is read into a plot file whose boundary, islands, gates and building entrances
-are the drawing's within a millimetre, and lotsim layout lays it out; a shipped scenario's
-lot exported to DXF comes back as its boundary, island and gate; every bad drawing is one
-clear error naming its layer and entity, with nothing written."""
+are the drawing's within a millimetre, and lotsim layout lays it out; the plot file is in
+feet for a drawing in feet or inches, else in metres; a shipped scenario's lot exported to
+DXF comes back as its boundary, island and gate; every bad drawing is one clear error naming
+its layer and entity, with nothing written."""
 
 from __future__ import annotations
 
@@ -105,6 +106,19 @@ def test_a_plot_in_feet_or_millimetres_is_read_in_metres(tmp_path, capsys, insun
     plot = check_plot(tmp_path / "site.yaml")
     drawn = candidates(plot, LayoutSettings(orientations=1, offsets=1))
     assert drawn and max(c.bays for c in drawn) > 10  # a layout has room for bays
+
+
+@pytest.mark.parametrize(("insunits", "unit", "written"),
+                         [(1, 0.0254, "ft"), (2, FT, "ft"), (4, MM, "m"), (5, 0.01, "m"),
+                          (6, 1.0, "m")], ids=["in", "ft", "mm", "cm", "m"])
+def test_the_plot_file_is_in_feet_for_a_drawing_in_feet_or_inches(tmp_path, capsys, insunits,
+                                                                  unit, written):
+    plot_drawing(tmp_path / "site.dxf", insunits=insunits, unit=unit)
+    assert run([tmp_path / "site.dxf", "-o", tmp_path / "site.yaml"], capsys)[0] == 0
+    text = (tmp_path / "site.yaml").read_text()
+    assert f"\nunits: {written}\n" in text
+    assert ("[132, 100]" if written == "ft" else "[40.234, 30.48]") in text  # a corner
+    check_plot(tmp_path / "site.yaml")
 
 
 def test_the_tolerance_of_a_gate_and_the_units_are_the_plot_file_s_and_the_command_s():

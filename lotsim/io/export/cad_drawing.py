@@ -1,7 +1,7 @@
 """A built lot as the plain figures a CAD drawing holds, layer by layer
 (:data:`~lotsim.io.cad_layers.LAYERS`): polylines, lines, points and texts in the lot's
-metres. :mod:`lotsim.io.export.dxf` writes them as DXF entities; nothing here needs a CAD
-package.
+metres (:func:`scaled` gives them in another unit). :mod:`lotsim.io.export.dxf` writes them
+as DXF entities; nothing here needs a CAD package.
 
 What is drawn, and where it comes from:
 
@@ -29,7 +29,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 import shapely
@@ -388,3 +388,29 @@ def lot_drawing(lot: Lot, routes: Sequence[RouteReport] = ()) -> CadDrawing:
     x0, y0, x1, y1 = lot.boundary.bounds
     return CadDrawing(tuple(polylines), tuple(segments), tuple(marks), tuple(labels),
                       (float(x0), float(y0), float(x1), float(y1)))
+
+
+def scaled(drawing: CadDrawing, factor: float) -> CadDrawing:
+    """``drawing`` with every coordinate and length times ``factor``: its points, its texts'
+    heights and its bounds, so that the drawing in another unit (``1 / 0.3048`` for feet)
+    looks the same on paper. Angles and what each figure is stay as they are.
+
+    >>> d = CadDrawing((), (Segment("S", (0.0, 0.0), (3.048, 0.0)),), (),
+    ...                (Label("T", "A1", (0.3048, 0.0), 0.6096),), (0.0, 0.0, 3.048, 1.0))
+    >>> f = scaled(d, 1 / 0.3048)
+    >>> [round(v, 9) for v in (*f.segments[0].end, f.labels[0].height, f.bounds[2])]
+    [10.0, 0.0, 2.0, 10.0]
+    """
+    def xy(p: XY) -> XY:
+        return (p[0] * factor, p[1] * factor)
+
+    x0, y0, x1, y1 = drawing.bounds
+    return CadDrawing(
+        polylines=tuple(replace(p, points=tuple(map(xy, p.points)))
+                        for p in drawing.polylines),
+        segments=tuple(replace(s, start=xy(s.start), end=xy(s.end))
+                       for s in drawing.segments),
+        marks=tuple(replace(m, at=xy(m.at)) for m in drawing.marks),
+        labels=tuple(replace(t, at=xy(t.at), height=t.height * factor)
+                     for t in drawing.labels),
+        bounds=(x0 * factor, y0 * factor, x1 * factor, y1 * factor))

@@ -5,9 +5,12 @@ entities, each on its layer of :data:`~lotsim.io.cad_layers.LAYERS` with the lay
 colour and linetype (``BYLAYER``; a reverse stroke of a route's path ``DASHED``; a route's
 figures carry its id as extended data, :data:`APPID`): LWPOLYLINE, LINE, POINT, TEXT,
 a solid HATCH under each arrow and a HATCH of lines over each access aisle. The drawing is DXF R2010
-(AutoCAD 2010 and later read it), in metres:
-``$INSUNITS`` 6, ``$MEASUREMENT`` 1 (metric), decimal lengths to the millimetre. Its
-initial view shows the whole lot. Coordinates are lotsim's own, unrounded.
+(AutoCAD 2010 and later read it), in metres or in feet (:data:`DRAWING_UNITS`): in metres
+``$INSUNITS`` 6, ``$MEASUREMENT`` 1 (metric), decimal lengths to the millimetre, in lotsim's
+own coordinates, unrounded; in feet ``$INSUNITS`` 2, ``$MEASUREMENT`` 0 (imperial), decimal
+lengths to the thousandth of a foot, every coordinate and length (texts' heights, arrows,
+the hatch's spacing, the linetypes' dashes through ``$LTSCALE``) divided by 0.3048 m, so
+the drawing looks on paper as the one in metres does. Its initial view shows the whole lot.
 
 Needs ``ezdxf`` (``pip install 'lotsim[dxf]'``), imported when a drawing is written.
 The file is written whole or not at all (:func:`~lotsim.core.atomic.atomic_write`).
@@ -23,8 +26,10 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from lotsim.core.atomic import atomic_write
+from lotsim.core.units import LENGTH_UNITS
+from lotsim.errors import SettingsError
 from lotsim.io.cad_layers import LAYERS
-from lotsim.io.export.cad_drawing import CadDrawing, lot_drawing
+from lotsim.io.export.cad_drawing import CadDrawing, lot_drawing, scaled
 from lotsim.io.export.tracks import require
 from lotsim.lot.model import Lot
 from lotsim.roadmap.service_routes import RouteReport
@@ -33,6 +38,12 @@ DXF_VERSION = "R2010"
 """The DXF version written."""
 METRES = 6
 """``$INSUNITS`` of metres."""
+FEET = 2
+"""``$INSUNITS`` of feet."""
+DRAWING_UNITS = {"m": (METRES, 1, 3), "ft": (FEET, 0, 3)}
+"""The units a drawing is written in (of :data:`~lotsim.core.units.LENGTH_UNITS`) → their
+``$INSUNITS``, ``$MEASUREMENT`` (1 metric, 0 imperial) and ``$LUPREC`` (decimals shown: the
+millimetre, the thousandth of a foot)."""
 BYLAYER = 256
 """The colour index that takes the layer's colour."""
 APPID = "LOTSIM"
@@ -40,9 +51,13 @@ APPID = "LOTSIM"
 route's id (group code 1000)."""
 HATCH_PATTERN = "ANSI31"
 """The pattern of a hatched figure (an access aisle): lines at 45°."""
-HATCH_SCALE = 0.4 / 3.175
-"""Its scale: ANSI31's lines are 3.175 drawing units apart, so at this scale 0.4 m, about
-as far apart as the painted lines of an access aisle."""
+HATCH_SPACING = 0.4
+"""How far apart its lines are [m]: about as far as the painted lines of an access aisle."""
+PATTERN_SPACING = {1: 3.175, 0: 0.125}
+"""How far apart ANSI31's lines are at scale 1 [drawing units], by ``$MEASUREMENT``: the
+ISO pattern's (metric) and the imperial one's, as CAD programs and ezdxf scale them."""
+HATCH_SCALE = HATCH_SPACING / PATTERN_SPACING[1]
+"""The pattern's scale in a drawing in metres: lines :data:`HATCH_SPACING` apart."""
 
 
 @dataclass(frozen=True, slots=True)
@@ -55,18 +70,36 @@ class DxfInfo:
     """Entities written on each layer, in the order of :data:`~lotsim.io.cad_layers.LAYERS`
     (layers with none left out)."""
     bytes: int
+    units: str = "m"
+    """The drawing's units (:data:`DRAWING_UNITS`)."""
 
 
-def dxf_document(drawing: CadDrawing):
-    """The ezdxf document of ``drawing`` (module docstring)."""
+def drawing_units(units: str) -> str:
+    """``units`` checked: one of :data:`DRAWING_UNITS`, else a :class:`SettingsError`."""
+    if units not in DRAWING_UNITS:
+        raise SettingsError("units", f"expected one of {', '.join(DRAWING_UNITS)}, found "
+                                     f"{units!r}")
+    return units
+
+
+def dxf_document(drawing: CadDrawing, *, units: str = "m"):
+    """The ezdxf document of ``drawing`` (its figures in metres), written in ``units``
+    (module docstring)."""
     ezdxf = require("ezdxf", "dxf")
     from ezdxf.enums import TextEntityAlignment
 
+    code, measurement, places = DRAWING_UNITS[drawing_units(units)]
+    size = LENGTH_UNITS[units]  # [m] per drawing unit
+    if units != "m":  # a metric drawing keeps lotsim's own numbers, not a product with 1
+        drawing = scaled(drawing, 1.0 / size)
+    hatch_scale = HATCH_SPACING / size / PATTERN_SPACING[measurement]
     doc = ezdxf.new(DXF_VERSION, setup=True)
-    doc.header["$INSUNITS"] = METRES
-    doc.header["$MEASUREMENT"] = 1
+    doc.header["$INSUNITS"] = code
+    doc.header["$MEASUREMENT"] = measurement
     doc.header["$LUNITS"] = 2  # decimal
-    doc.header["$LUPREC"] = 3  # to the millimetre
+    doc.header["$LUPREC"] = places
+    if units != "m":  # the linetypes' dashes as long on paper as in metres
+        doc.header["$LTSCALE"] = 1.0 / size
     for layer in LAYERS:
         doc.layers.add(layer.name, color=layer.color, linetype=layer.linetype)
     doc.appids.add(APPID)
@@ -81,7 +114,7 @@ def dxf_document(drawing: CadDrawing):
             hatch.paths.add_polyline_path(p.points, is_closed=True)
         if p.hatch:
             hatch = msp.add_hatch(color=BYLAYER, dxfattribs={"layer": p.layer})
-            hatch.set_pattern_fill(HATCH_PATTERN, scale=HATCH_SCALE)
+            hatch.set_pattern_fill(HATCH_PATTERN, scale=hatch_scale)
             hatch.paths.add_polyline_path(p.points, is_closed=True)
     for s in drawing.segments:
         msp.add_line(s.start, s.end, dxfattribs={"layer": s.layer})
@@ -97,10 +130,10 @@ def dxf_document(drawing: CadDrawing):
     return doc
 
 
-def write_dxf(lot: Lot, path: str | os.PathLike, *, routes: Sequence[RouteReport] = ()
-              ) -> DxfInfo:
-    """Write ``lot`` as a DXF drawing at ``path`` (module docstring), with the envelopes and
-    paths of its service routes' ``routes`` (their reports).
+def write_dxf(lot: Lot, path: str | os.PathLike, *, routes: Sequence[RouteReport] = (),
+              units: str = "m") -> DxfInfo:
+    """Write ``lot`` as a DXF drawing at ``path`` in ``units`` (module docstring), with the
+    envelopes and paths of its service routes' ``routes`` (their reports).
 
     Parameters
     ----------
@@ -111,6 +144,8 @@ def write_dxf(lot: Lot, path: str | os.PathLike, *, routes: Sequence[RouteReport
     routes : sequence of RouteReport, keyword-only
         The scenario's service routes as planned
         (:func:`~lotsim.roadmap.service_routes.plan_routes`), drawn on their layers.
+    units : str, keyword-only
+        The drawing's units, ``m`` or ``ft`` (:data:`DRAWING_UNITS`).
 
     Returns
     -------
@@ -120,9 +155,12 @@ def write_dxf(lot: Lot, path: str | os.PathLike, *, routes: Sequence[RouteReport
     ------
     ExportUnavailable
         Without ``ezdxf`` (``pip install 'lotsim[dxf]'``).
+    SettingsError
+        ``units`` neither ``m`` nor ``ft``.
     """
+    drawing_units(units)
     drawing = lot_drawing(lot, routes)
-    doc = dxf_document(drawing)
+    doc = dxf_document(drawing, units=units)
     text = io.StringIO()
     doc.write(text)
     data = doc.encode(text.getvalue())
@@ -133,4 +171,4 @@ def write_dxf(lot: Lot, path: str | os.PathLike, *, routes: Sequence[RouteReport
     order = [layer.name for layer in LAYERS]
     return DxfInfo(path=target, bays=len(lot.slots),
                    entities=tuple((n, counts[n]) for n in order if counts[n]),
-                   bytes=len(data))
+                   bytes=len(data), units=units)

@@ -17,6 +17,8 @@ import re
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 
+from lotsim.core.units import LENGTH_UNITS
+
 Point = tuple[float, float]
 
 _PLAIN = re.compile(r"[A-Za-z_][A-Za-z0-9_.-]*")
@@ -289,16 +291,37 @@ class PlotDraft:
     """(id, point, where it came from)."""
     places: int = 2
     """Decimals of the coordinates written: 2 (the centimetre) for a map's plot, 3 (the
-    millimetre) for a CAD drawing's."""
+    millimetre, or the thousandth of a foot) for a CAD drawing's."""
+    units: str | None = None
+    """The unit the file states (``units: ft``, of :data:`~lotsim.core.units.LENGTH_UNITS`)
+    and writes its coordinates in; None: metres, unstated. The draft holds metres either
+    way."""
 
     def to_yaml(self) -> str:
-        """The plot text, deterministic, ending in a line break."""
+        """The plot text, deterministic, ending in a line break.
+
+        >>> print(PlotDraft("p", "", [(0, 0), (3.048, 0), (3.048, 3.048)],
+        ...                 units="ft").to_yaml(), end="")
+        units: ft
+        name: p
+        description: ""
+        boundary: [[0, 0], [10, 0], [10, 10]]
+        gates:
+        """
+        k = 1.0 / LENGTH_UNITS[self.units or "m"]
+
+        def pts(ring: Sequence[Point]) -> str:
+            return points([(x * k, y * k) for x, y in ring], self.places)
+
         out = [comment(h) for h in self.header]
+        if self.units is not None:
+            out.append(f"units: {self.units}")
         out += [f"name: {text(self.name)}", f"description: {text(self.description)}",
-                f"boundary: {points(self.boundary, self.places)}"]
+                f"boundary: {pts(self.boundary)}"]
         if self.islands:
             out.append("islands:")
-            out += _areas(self.islands, "  ", self.places)
+            out += _areas([AreaDraft(a.id, [(x * k, y * k) for x, y in a.polygon], a.note)
+                           for a in self.islands], "  ", self.places)
         for key, items in (("gates", self.gates),
                            ("building_entrances", self.building_entrances)):
             if not items and key != "gates":
@@ -307,8 +330,8 @@ class PlotDraft:
             for ident, (x, y), note in items:
                 if note:
                     out.append("  " + comment(note))
-                out.append(f"  - {{id: {text(ident)}, at: [{num(x, self.places)}, "
-                           f"{num(y, self.places)}]}}")
+                out.append(f"  - {{id: {text(ident)}, at: [{num(x * k, self.places)}, "
+                           f"{num(y * k, self.places)}]}}")
         if self.demand is not None:
             out.append("demand:")
             out += _plain_yaml(self.demand, "  ")

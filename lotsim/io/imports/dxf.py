@@ -16,12 +16,14 @@ What is read, from model space (layer names as CAD compares them, ignoring case)
   near each as gates are (else ``entrance-1``, ...).
 
 Coordinates are the drawing's, times its units in metres: ``$INSUNITS`` 4 (mm), 5 (cm),
-6 (m), 1 (in) or 2 (ft), or the units the user gives, which win. A drawing without units
-(``$INSUNITS`` 0, or none), or in units lotsim does not read, is an error that asks for
-them. So is everything a plot file cannot hold: no closed outline on the boundary layer,
-several, a boundary that crosses itself, an island outside it or open, a gate off the
-boundary, none at all. Every problem is found and said at once, each naming its layer and
-its entity (``LWPOLYLINE #2B``) and what was expected; nothing is written.
+6 (m), 1 (in) or 2 (ft), or the units the user gives, which win; the plot file states its
+unit as the drawing's (``units: ft`` for a drawing in feet or inches, :data:`FILE_UNITS`)
+and gives its lengths in it. A drawing without units (``$INSUNITS`` 0, or none), or in
+units lotsim does not read, is an error that asks for them. So is everything a plot file
+cannot hold: no closed outline on the boundary layer, several, a boundary that crosses
+itself, an island outside it or open, a gate off the boundary, none at all. Every problem
+is found and said at once, each naming its layer and its entity (``LWPOLYLINE #2B``) and
+what was expected; nothing is written.
 
 Needs ``ezdxf`` (``pip install 'lotsim[dxf]'``).
 """
@@ -38,6 +40,7 @@ import numpy as np
 from shapely.geometry import Point, Polygon
 from shapely.validation import explain_validity
 
+from lotsim.core.units import LENGTH_UNITS
 from lotsim.errors import LotsimError
 from lotsim.io.cad_layers import LAYER_NAMES
 from lotsim.io.imports.draft import AreaDraft, PlotDraft
@@ -68,7 +71,11 @@ FLATTEN = 0.01
 MAX_SPAN = 2000.0
 """Largest plot, across [m], as a plot file allows."""
 PLACES = 3
-"""Decimals of the metres written: the millimetre."""
+"""Decimals of the lengths written: the millimetre, or the thousandth of a foot."""
+FILE_UNITS = {"mm": "m", "cm": "m", "m": "m", "in": "ft", "ft": "ft"}
+"""The drawing's units → the unit the plot file states and gives its lengths in
+(:data:`~lotsim.core.units.LENGTH_UNITS`): feet for a drawing in feet or inches, else
+metres."""
 
 OUTLINES = ("LWPOLYLINE", "POLYLINE", "CIRCLE", "ELLIPSE", "SPLINE")
 """Entities that may draw a closed outline."""
@@ -106,7 +113,8 @@ class DxfPlot:
     Attributes
     ----------
     draft : PlotDraft
-        The plot, in metres, ready to be written.
+        The plot, in metres, ready to be written: in feet (``units: ft``) for a drawing in
+        feet or inches, else in metres (``units: m``; :data:`FILE_UNITS`).
     units : str
         The drawing's units (of :data:`UNITS`), and ``scale`` their length [m].
     units_from : str
@@ -442,8 +450,11 @@ def read_dxf_plot(source: str | os.PathLike, *, layers: DxfLayers = DxfLayers(),
     entrance_names = _named(r, layers.entrances, entrance_marks,
                             lambda k, at: f"entrance-{k + 1}")
 
-    def xy(at) -> tuple[float, float]:
-        return (round(float(at[0]), PLACES), round(float(at[1]), PLACES))
+    size = LENGTH_UNITS[FILE_UNITS[unit]]  # the plot file's unit [m]
+
+    def xy(at) -> tuple[float, float]:  # to the file's thousandth of its unit
+        return (round(float(at[0]) / size, PLACES) * size,
+                round(float(at[1]) / size, PLACES) * size)
 
     def ring(pts) -> list[tuple[float, float]]:  # to the millimetre, no point twice running
         out: list[tuple[float, float]] = []
@@ -456,7 +467,7 @@ def read_dxf_plot(source: str | os.PathLike, *, layers: DxfLayers = DxfLayers(),
         return f"{entity_name(e)} on layer {e.dxf.layer}"
 
     header = [f"Read from {path.name} by lotsim import dxf, drawn in {unit} ({units_from}); "
-              f"in metres here.",
+              f"in {'feet' if FILE_UNITS[unit] == 'ft' else 'metres'} here.",
               f"Boundary: {boundary} on layer {layers.boundary}."]
     if r.ignored:
         header.append(f"Not read: {', '.join(r.ignored)}.")
@@ -470,7 +481,7 @@ def read_dxf_plot(source: str | os.PathLike, *, layers: DxfLayers = DxfLayers(),
         header=header,
         building_entrances=[(n, xy(at), note(e)) for n, (e, at)
                             in zip(entrance_names, entrance_marks, strict=True)],
-        places=PLACES)
+        places=PLACES, units=FILE_UNITS[unit])
     return DxfPlot(draft=draft, units=unit, scale=scale, units_from=units_from,
                    boundary=boundary, area=float(outline.area), ignored=tuple(r.ignored))
 
