@@ -33,6 +33,8 @@ and each row of the page names that command. Rows:
 * runs that meet the real world (``scenarios/bench/faults.yaml``, run once, not in
   ``--quick``): the two 364-bay lots at 350 arrivals an hour driven through late starts,
   stalls and a closed aisle, against the same runs driven as planned;
+* a day at a real lot (``benchmarks/bench_day.py``, not in ``--quick``): 3000 cars over 12
+  hours through the 364-bay one-gate lot, its figures against their targets;
 * the learning environment's decisions per second (``benchmarks/bench_envs.py``, when the
   ``learn`` extra is installed).
 
@@ -501,6 +503,29 @@ def faults_rows(page: Page, tmp: Path) -> None:
                      f"{sum(r['violations'] for r in g)}")
 
 
+def day_rows(page: Page, runs: int, tmp: Path) -> None:
+    """A day at a real lot against its targets (``benchmarks/bench_day.py``)."""
+    sys.path.insert(0, str(ROOT / "benchmarks"))
+    import bench_day
+
+    count, rate = 3000, 250.0
+    days = [bench_day.day(count, rate, tmp, per_car=k == 0) for k in range(runs)]
+    page.section("A day at a real lot",
+                 f"`python benchmarks/bench_day.py --repeat {runs}`: {count} cars over "
+                 f"{count / rate:.0f} h at {rate:g} an hour through `scenarios/lots/"
+                 f"{bench_day.LOT}.yaml` (364 bays, a little over half taken, one gate), "
+                 "each staying a lognormal 20 minutes (median; spread 0.8, 5 min to 4 h), "
+                 "`lotsim run --compact --no-gif` with the default limits on the lot "
+                 "prepared before, in a process of its own, and `lotsim check` of its "
+                 "result. *Late / early per car*: the last full hour's mean planning per "
+                 "car over the second hour's, from one run.",
+                 "| figure | runs | min / median / max | target |")
+    for name, (target, unit, _) in bench_day.TARGETS.items():
+        xs = [d[name] for d in days if name in d]
+        page.row(name, len(xs), spread(xs) + (f" {unit}" if unit else ""),
+                 f"≤ {target:g} {unit}".rstrip())
+
+
 ENV_LOTS = ("quickstart", "surface364", "large_lot")
 """The lots the learning environment is timed on."""
 
@@ -615,6 +640,7 @@ def main() -> None:
         if not args.quick:
             real_demand_rows(page, Path(tmp))
             faults_rows(page, Path(tmp))
+            day_rows(page, args.runs, Path(tmp))
         envs_rows(page, args.runs)
     write(page, Path(args.output), args, time.perf_counter() - started)
 
