@@ -35,7 +35,7 @@ def import_osm(source: str | os.PathLike, folder: str | os.PathLike, *,
     (why), with its figures. Raises :class:`~lotsim.errors.LotsimError` on a file that is
     not OpenStreetMap.
     """
-    from lotsim.io.imports.osm import import_osm as run
+    from lotsim.io.imports.osm import osm_scenarios as run
 
     report = run(source, folder, lots=lots, plots=layout, progress=progress)
     if not layout:

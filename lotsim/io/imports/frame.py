@@ -6,7 +6,7 @@ points are turned into Earth-centred coordinates on the ellipsoid and rotated in
 plane that touches it at the origin (east, north; the height above the plane is dropped).
 Distances in the plane differ from those along the ground by the height dropped, about
 ``d² / 2R`` at ``d`` metres from the origin, which shortens a chord of length ``L`` there by
-at most about ``L · (d / R)² / 2`` (:meth:`LocalFrame.error_over` says it for a lot: under a
+at most about ``L · (d / R)² / 2`` (:meth:`TangentPlane.error_over` says it for a lot: under a
 millimetre for lots under 2 km across).
 """
 
@@ -35,10 +35,10 @@ def _ecef(lat: FloatArray, lon: FloatArray) -> FloatArray:
 
 
 @dataclass(frozen=True)
-class LocalFrame:
+class TangentPlane:
     """The tangent plane at ``(lat0, lon0)`` [degrees]: x east, y north [m].
 
-    >>> f = LocalFrame(60.0, 25.0)
+    >>> f = TangentPlane(60.0, 25.0)
     >>> x, y = f.to_local([60.0, 60.001], [25.0, 25.0])
     >>> round(float(x[1]), 6), round(float(y[1]), 3)     # 0.001° of latitude, north
     (0.0, 111.412)

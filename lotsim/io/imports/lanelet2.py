@@ -2,7 +2,7 @@
 :func:`import_lanelet2`.
 
 The map (:mod:`.lanelet2_map`) is read with the standard library and projected into a local
-east-north plane (:class:`~lotsim.io.imports.frame.LocalFrame`). Its lanelets become roads
+east-north plane (:class:`~lotsim.io.imports.frame.TangentPlane`). Its lanelets become roads
 (:mod:`.lanelet2_roads`), the roads aisles widened over the ``parking_access`` ground to the
 spots' entries (:mod:`.lanelet2_layout`), its ``parking_spot`` areas free-standing slots
 (:mod:`.lanelet2_spots`); open road ends at the map's edge become gates. What is paved is

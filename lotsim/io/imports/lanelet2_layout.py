@@ -26,10 +26,10 @@ from shapely.geometry import LineString, Point, Polygon
 
 from lotsim.core.geometry import FloatArray
 from lotsim.io.imports.draft import SlotDraft
-from lotsim.io.imports.lanelet2_lines import Bends, crossing, drivable, turn_angles, unit
+from lotsim.io.imports.lanelet2_lines import Bends, crossing, drivable, normalised, turn_angles
 from lotsim.io.imports.lanelet2_map import id_key
 from lotsim.io.imports.lanelet2_roads import Road
-from lotsim.io.imports.lanelet2_spots import Spot, kind_of, rectangle
+from lotsim.io.imports.lanelet2_spots import Spot, classified, rectangle
 
 ENTRY_REACH = 0.3
 """A slot's entry must lie within this of its aisle [m] (lotsim's rule)."""
@@ -149,12 +149,12 @@ def assign(spots: list[Spot], aisles: list[AisleLayout]) -> dict[str, str]:
         aisle = aisles[best[1]]
         base = aisle.base
         j = _leg_faced(base, mid, spot.outward)
-        u = unit(base[j + 1] - base[j])
+        u = normalised(base[j + 1] - base[j])
         n = np.array([-u[1], u[0]])
         ya, ym, yb = (float(np.dot(p - base[j], n)) for p in (spot.entry[0], mid,
                                                               spot.entry[1]))
         side = 1 if ym > 0 else -1
-        spot = kind_of(spot, math.atan2(u[1], u[0]))
+        spot = classified(spot, math.atan2(u[1], u[0]))
         aisle.facing.append(Facing(spot, j, side, abs(ym), min(side * ya, side * yb)))
     return reasons
 

@@ -21,7 +21,7 @@ from lotsim.lot.clearance import Collider
 from lotsim.lot.model import DesignVehicle
 
 
-def unit(v: FloatArray) -> FloatArray:
+def normalised(v: FloatArray) -> FloatArray:
     return v / float(np.hypot(*v))
 
 
@@ -37,7 +37,7 @@ def end_on(line: FloatArray, end: int, host: FloatArray) -> FloatArray:
     pts = line if end == 1 else line[::-1]
     target = LineString(host)
     base, tip = pts[-2], pts[-1]
-    d = unit(tip - base)
+    d = normalised(tip - base)
     ray = LineString([base, tip + d * 60.0])
     hit = ray.intersection(target)
     cands = [np.asarray(g.coords[0]) for g in getattr(hit, "geoms", [hit])
@@ -56,7 +56,7 @@ def extend_to(line: FloatArray, end: int, boundary: Polygon, inset: float) -> Fl
     """``line`` with its end ``end`` carried on to ``inset`` metres inside ``boundary``."""
     pts = line if end == 1 else line[::-1]
     base, tip = pts[-2], pts[-1]
-    d = unit(tip - base)
+    d = normalised(tip - base)
     ray = LineString([tip, tip + d * 50.0])
     # every point where the ray meets the outline, also where it runs along an edge
     cands = list(shapely.get_coordinates(ray.intersection(boundary.exterior)))

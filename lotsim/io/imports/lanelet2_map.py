@@ -23,7 +23,7 @@ from shapely.geometry import Polygon
 
 from lotsim.core.geometry import FloatArray
 from lotsim.errors import Location, ScenarioError
-from lotsim.io.imports.frame import LocalFrame
+from lotsim.io.imports.frame import TangentPlane
 
 AREA_KINDS = ("parking_spot", "parking_access")
 """The ``subtype`` values of the areas the importer reads as spots and as access ground."""
@@ -88,7 +88,7 @@ class Lanelet2Map:
 
     Attributes
     ----------
-    frame : LocalFrame
+    frame : TangentPlane
         The local plane its points are in.
     origin_source : str
         Where the frame's origin comes from (given, the map's ``map_config``, the centroid).
@@ -101,7 +101,7 @@ class Lanelet2Map:
     """
 
     source: Path
-    frame: LocalFrame
+    frame: TangentPlane
     origin_source: str
     error: float
     points: FloatArray
@@ -271,24 +271,24 @@ def _coord(e: _Element, key: str, limit: float, path: Path) -> float:
 
 
 def _frame(path: Path, origin: tuple[float, float] | None, lat: FloatArray,
-           lon: FloatArray) -> tuple[LocalFrame, str]:
+           lon: FloatArray) -> tuple[TangentPlane, str]:
     """The local frame and a line saying where its origin comes from."""
     if origin is not None:
         la, lo = (float(v) for v in origin)
         if not (abs(la) <= 90 and abs(lo) <= 180):
             raise ScenarioError(None, f"origin ({la}, {lo}): expected lat within ±90 and lon "
                                       "within ±180 degrees")
-        return LocalFrame(la, lo), "origin given"
+        return TangentPlane(la, lo), "origin given"
     config = path.with_suffix(".yaml")
     if config.is_file():
         la, lo = _map_config(config)
-        return LocalFrame(la, lo), f"origin from the map's {config.name} (map_config)"
+        return TangentPlane(la, lo), f"origin from the map's {config.name} (map_config)"
     # the mean of the nodes' unit vectors: right across the date line too
     la, lo = np.radians(lat), np.radians(lon)
     v = np.array([np.cos(la) * np.cos(lo), np.cos(la) * np.sin(lo), np.sin(la)]).mean(axis=1)
     c_lat = math.degrees(math.atan2(v[2], math.hypot(v[0], v[1])))
     c_lon = math.degrees(math.atan2(v[1], v[0]))
-    return LocalFrame(c_lat, c_lon), "origin at the centroid of the map's nodes"
+    return TangentPlane(c_lat, c_lon), "origin at the centroid of the map's nodes"
 
 
 def _map_config(config: Path) -> tuple[float, float]:

@@ -51,7 +51,7 @@ class Spot:
     reason : str
         Why the spot opens onto nothing ("" when it opens onto the ground).
     kind : str
-        The slot kind, once the aisle it opens onto is known (:func:`kind_of`).
+        The slot kind, once the aisle it opens onto is known (:func:`classified`).
     angle : float
         The angle between its long side and that aisle [degrees].
     skewed : bool
@@ -88,7 +88,7 @@ ANGLED_DEG = 15.0
 aisle is angled [degrees]."""
 
 
-def kind_of(spot: Spot, along: float) -> Spot:
+def classified(spot: Spot, along: float) -> Spot:
     """``spot`` with its kind and angle against an aisle heading ``along`` [rad] beside it:
     parallel (entered by a long side; a car in it faces the way the traffic beside it runs,
     right-hand traffic), else perpendicular, or angled when its long side is more than

@@ -1,8 +1,8 @@
-"""OpenStreetMap lots as scenarios: :func:`import_osm` (``lotsim import osm FILE -o DIR``).
+"""OpenStreetMap lots as scenarios: :func:`osm_scenarios` (``lotsim import osm FILE -o DIR``).
 
 Every ``amenity=parking`` object of the file is a lot. An area (a closed way, or a
 multipolygon relation of one outer ring and inner rings, the islands) becomes one scenario
-``<out_dir>/<kind>-<id>.yaml`` in local metres (:class:`~lotsim.io.imports.frame.LocalFrame`
+``<out_dir>/<kind>-<id>.yaml`` in local metres (:class:`~lotsim.io.imports.frame.TangentPlane`
 at the lot's centroid); a lot mapped as a point, an open way, a lot the extract clips (a
 member way or node missing), and a lot with no parking aisle are reported, with the reason,
 and not written.
@@ -50,7 +50,7 @@ from shapely.ops import unary_union
 from lotsim.core.atomic import atomic_write
 from lotsim.errors import LotsimError, ScenarioError, SettingsError
 from lotsim.io.imports.draft import AisleDraft, AreaDraft, GateDraft, LotDraft
-from lotsim.io.imports.frame import LocalFrame
+from lotsim.io.imports.frame import TangentPlane
 from lotsim.io.imports.osm_aisles import (
     CLIP_GROW,
     ONE_WAY_WIDTH,
@@ -109,7 +109,7 @@ _KINDS = {"n": "node", "w": "way", "r": "relation"}
 _ORDER = {"node": 0, "way": 1, "relation": 2}
 
 
-def import_osm(source: str | os.PathLike, out_dir: str | os.PathLike, *,
+def osm_scenarios(source: str | os.PathLike, out_dir: str | os.PathLike, *,
                lots: Sequence[str] | None = None, plots: bool = False,
                progress: Callable[[str], None] | None = None) -> ImportReport:
     """Write one scenario per parking lot of an OpenStreetMap file.
@@ -151,7 +151,7 @@ def import_osm(source: str | os.PathLike, out_dir: str | os.PathLike, *,
     >>> _ = (d / "one.osm").write_text(
     ...     '<osm version="0.6"><node id="1" lat="60.1" lon="24.9">'
     ...     '<tag k="amenity" v="parking"/></node></osm>')
-    >>> print(import_osm(d / "one.osm", d / "out").text())
+    >>> print(osm_scenarios(d / "one.osm", d / "out").text())
     node/1: 0 m², slots 0 mapped / 0 inferred, capacity -, 0 aisles, 0 gates: skipped (a \
 point, not an area: lotsim needs the lot's outline)
     0 of 1 lots written
@@ -518,7 +518,7 @@ def _remarks(capacity: int | None, n_slots: int, drawn: _Drawn, serving: _Servin
     return "; ".join(out)
 
 
-def _header(kind: str, oid: int, tags: dict[str, str], source_name: str, frame: LocalFrame,
+def _header(kind: str, oid: int, tags: dict[str, str], source_name: str, frame: TangentPlane,
             error: float, drawn: _Drawn, capacity: int | None) -> list[str]:
     chains, spaces, n_slots = drawn.chains, drawn.spaces, drawn.draft.slot_count
     lines = [f"OpenStreetMap {kind} {oid} of {source_name}, imported by lotsim import osm "

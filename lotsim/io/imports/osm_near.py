@@ -21,7 +21,7 @@ from shapely.geometry.base import BaseGeometry
 from shapely.ops import unary_union
 
 from lotsim.io.imports.draft import AreaDraft
-from lotsim.io.imports.frame import LocalFrame
+from lotsim.io.imports.frame import TangentPlane
 from lotsim.io.imports.osm_aisles import aisle_ways
 from lotsim.io.imports.osm_chains import Chain
 from lotsim.io.imports.osm_gates import is_road
@@ -164,19 +164,19 @@ def lot_outline(kind: str, oid: int, data: OsmData) -> tuple[list[int], list[lis
     return outers[0], inners
 
 
-def frame_at_centroid(data: OsmData, ring: list[int]) -> LocalFrame:
+def frame_at_centroid(data: OsmData, ring: list[int]) -> TangentPlane:
     """The tangent plane at the centroid of the ring, to 10⁻⁷ degree."""
     lat = np.array([data.nodes[n][0] for n in ring], dtype=float) / E7
     lon = np.array([data.nodes[n][1] for n in ring], dtype=float) / E7
     k = math.cos(math.radians(float(lat.mean())))
     c = Polygon(np.column_stack([lon * k, lat])).centroid
-    return LocalFrame(round(c.y, 7), round(c.x / k, 7))
+    return TangentPlane(round(c.y, 7), round(c.x / k, 7))
 
 
 class NearLot:
     """What lies near one lot, in its local metres."""
 
-    def __init__(self, data: OsmData, index: MapIndex, frame: LocalFrame, ring: list[int],
+    def __init__(self, data: OsmData, index: MapIndex, frame: TangentPlane, ring: list[int],
                  inners: list[list[int]]):
         self.data, self.index, self.frame = data, index, frame
         lat = [data.nodes[n][0] for n in ring]

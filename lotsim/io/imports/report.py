@@ -29,7 +29,7 @@ class ImportedLot:
     reason : str
         Why it was skipped, or a remark on a written lot ("" when there is none).
     projection_error : float
-        Bound of the projection's error over the lot [m] (:meth:`LocalFrame.error_over`).
+        Bound of the projection's error over the lot [m] (:meth:`TangentPlane.error_over`).
     plot : PlotDraft or None
         For a lot that maps no aisles, when asked for: its plot, for ``lotsim layout``.
     """

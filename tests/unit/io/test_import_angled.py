@@ -20,7 +20,7 @@ from shapely.geometry import Polygon
 
 import lotsim
 from lotsim.io.imports.lanelet2 import import_lanelet2
-from lotsim.io.imports.osm import import_osm
+from lotsim.io.imports.osm import osm_scenarios
 from lotsim.io.scenario_yaml import read_scenario
 
 ROWS = {"north-45": (45, 10.0), "north-60": (60, 32.0)}  # rectangles: angle, first x
@@ -173,7 +173,7 @@ def osm_lot(path: Path):
 def osm_imported(tmp_path_factory):
     tmp = tmp_path_factory.mktemp("angled-osm")
     src, rects, painted = osm_lot(tmp / "angled.osm")
-    report = import_osm(src, tmp / "out")
+    report = osm_scenarios(src, tmp / "out")
     return report, tmp / "out" / "way-1.yaml", rects, painted
 
 
@@ -207,7 +207,7 @@ def test_a_space_tagged_diagonal_but_drawn_square_is_written_perpendicular_and_s
             (4, [(20, 13.5), (22.5, 13.5), (22.5, 18.5), (20, 18.5), (20, 13.5)],
              {"amenity": "parking_space", "parking:orientation": "diagonal"})]
     src = write_osm(tmp_path / "square.osm", ways, [], origin=(60.0, 25.0))
-    import_osm(src, tmp_path / "out")
+    osm_scenarios(src, tmp_path / "out")
     text = (tmp_path / "out" / "way-1.yaml").read_text()
     assert ("# parking_space way 4 (at 90° to the aisle; tagged "
             "parking:orientation=diagonal, drawn perpendicular)") in text

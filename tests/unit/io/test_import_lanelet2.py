@@ -168,11 +168,11 @@ def test_the_projection_is_the_tangent_plane_at_the_maps_origin(imported):
 
 
 def test_the_closed_form_and_the_frame_agree_to_a_micrometre():
-    from lotsim.io.imports.frame import LocalFrame
+    from lotsim.io.imports.frame import TangentPlane
 
     lat = ORIGIN[0] + np.array([-0.0008, 0.0, 0.0011])
     lon = ORIGIN[1] + np.array([0.0012, -0.0009, 0.0])
-    x, y = LocalFrame(*ORIGIN).to_local(lat, lon)
+    x, y = TangentPlane(*ORIGIN).to_local(lat, lon)
     ex, ny = enu(lat, lon, *ORIGIN)
     assert np.allclose(x, ex, atol=1e-6) and np.allclose(y, ny, atol=1e-6)
     # and the first-order closed form (meridian and prime-vertical radii) to a centimetre

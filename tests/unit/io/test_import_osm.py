@@ -20,8 +20,8 @@ from shapely.geometry import LineString, Point, Polygon, box
 from shapely.ops import unary_union
 
 from lotsim.errors import LotsimError, ScenarioError, SettingsError
-from lotsim.io.imports.frame import WGS84_A, WGS84_F, LocalFrame
-from lotsim.io.imports.osm import NO_AISLE, import_osm
+from lotsim.io.imports.frame import WGS84_A, WGS84_F, TangentPlane
+from lotsim.io.imports.osm import NO_AISLE, osm_scenarios
 from lotsim.io.scenario_yaml import load_scenario, read_scenario
 from lotsim.lot.build import build_lot
 from lotsim.lot.model import DesignVehicle
@@ -58,16 +58,16 @@ def _built(path: Path):
     return sc, build_lot(sc.lot, DesignVehicle.envelope(sc.vehicle_types))
 
 
-def _origin(text: str) -> LocalFrame:
+def _origin(text: str) -> TangentPlane:
     m = re.search(r"at lat (-?[0-9.]+), lon (-?[0-9.]+)", text)
     assert m, "the header names the projection's origin"
-    return LocalFrame(float(m.group(1)), float(m.group(2)))
+    return TangentPlane(float(m.group(1)), float(m.group(2)))
 
 
 @pytest.fixture(scope="session")  # once a process, however pytest-xdist splits the module
 def hand(tmp_path_factory):
     out = tmp_path_factory.mktemp("hand")
-    report = import_osm(LOTS, out)
+    report = osm_scenarios(LOTS, out)
     return report, {lot.id: lot for lot in report.lots}, out
 
 
@@ -75,7 +75,7 @@ def hand(tmp_path_factory):
 def real(tmp_path_factory):
     pytest.importorskip("osmium")
     out = tmp_path_factory.mktemp("real")
-    report = import_osm(PBF, out)
+    report = osm_scenarios(PBF, out)
     return report, {lot.id: lot for lot in report.lots}, out
 
 
@@ -83,7 +83,7 @@ def real(tmp_path_factory):
 @pytest.mark.parametrize("lat", [0.0, 45.0, 60.5, -33.9])
 def test_a_thousandth_of_a_degree_is_the_ellipsoids_radius_times_the_angle(lat):
     m, p = _radii(lat)
-    f = LocalFrame(lat, 25.0)
+    f = TangentPlane(lat, 25.0)
     x, y = f.to_local([lat + 0.001, lat], [25.0, 25.001])
     # over ~100 m the chord and the arc differ by less than a micrometre
     assert y[0] == pytest.approx(m * math.radians(0.001), abs=1e-3)
@@ -291,15 +291,15 @@ def test_slots_no_gate_leads_to_are_counted_and_left_out_of_the_stream(hand):
                                                            ["way/100", "relation/1"]),
     (["1500"], ["node/1500"])])
 def test_lots_are_picked_by_id(tmp_path, ids, expected):
-    report = import_osm(LOTS, tmp_path, lots=ids)
+    report = osm_scenarios(LOTS, tmp_path, lots=ids)
     assert [lot.id for lot in report.lots] == expected
 
 
 def test_a_bad_or_missing_lot_id_is_an_error(tmp_path):
     with pytest.raises(SettingsError, match="expected way/ID"):
-        import_osm(LOTS, tmp_path, lots=["parking 5"])
+        osm_scenarios(LOTS, tmp_path, lots=["parking 5"])
     with pytest.raises(LotsimError, match="no amenity=parking lot way/5"):
-        import_osm(LOTS, tmp_path, lots=["way/5"])
+        osm_scenarios(LOTS, tmp_path, lots=["way/5"])
 
 
 def _convert(source: Path, target: Path) -> None:
@@ -326,7 +326,7 @@ def test_xml_and_pbf_give_the_same_scenarios(request, tmp_path, kind):
     source, other = (LOTS, "lots.osm.pbf") if kind == "hand" else (PBF, "test.osm")
     copy = tmp_path / other
     _convert(source, copy)
-    second = import_osm(copy, tmp_path / "out")
+    second = osm_scenarios(copy, tmp_path / "out")
     assert [(x.id, x.area, x.inferred, x.mapped, x.gates, x.reason) for x in first.lots] == \
         [(x.id, x.area, x.inferred, x.mapped, x.gates, x.reason) for x in second.lots]
     names = sorted(p.name for p in out.iterdir())
@@ -405,7 +405,7 @@ def test_every_real_lot_validates_runs_and_passes_the_checker(tmp_path, wid):
     from lotsim.io.result import result_dict
     from lotsim.verify import check_result
 
-    (lot,) = import_osm(PBF, tmp_path, lots=[wid]).written
+    (lot,) = osm_scenarios(PBF, tmp_path, lots=[wid]).written
     doc = result_dict(run(validate(lot.path).prepared))
     verdict = check_result(doc)
     assert verdict.ok, [v.message for v in verdict.violations[:5]]
@@ -437,7 +437,7 @@ def test_a_lot_far_too_large_is_skipped_at_once_saying_how_large(tmp_path, monke
         + '<tag k="amenity" v="parking"/></way>'
         + '<way id="200"><nd ref="5"/><nd ref="6"/><tag k="highway" v="service"/>'
         + '<tag k="service" v="parking_aisle"/></way></osm>')
-    (lot,) = import_osm(path, tmp_path / "out").lots
+    (lot,) = osm_scenarios(path, tmp_path / "out").lots
     assert lot.path is None
     assert re.fullmatch(r"the lot is 40,0\d\d m across; lotsim plans lots of at most 2,000 m "
                         r"\(are its nodes' coordinates right\?\)", lot.reason), lot.reason
@@ -445,9 +445,9 @@ def test_a_lot_far_too_large_is_skipped_at_once_saying_how_large(tmp_path, monke
 
 def test_a_missing_file_or_a_folder_is_an_error(tmp_path):
     with pytest.raises(LotsimError, match="no such file"):
-        import_osm(tmp_path / "nowhere.osm", tmp_path / "out")
+        osm_scenarios(tmp_path / "nowhere.osm", tmp_path / "out")
     with pytest.raises(LotsimError, match="is a folder"):
-        import_osm(tmp_path, tmp_path / "out")
+        osm_scenarios(tmp_path, tmp_path / "out")
     assert not (tmp_path / "out").exists()  # nothing written
 
 
@@ -463,14 +463,14 @@ def test_what_is_not_osm_is_an_error(tmp_path, text, match):
     path = tmp_path / "bad.osm"
     path.write_text(text)
     with pytest.raises(LotsimError, match=match):
-        import_osm(path, tmp_path / "out")
+        osm_scenarios(path, tmp_path / "out")
 
 
 def test_broken_xml_is_located_at_its_line_and_column(tmp_path):
     path = tmp_path / "broken.osm"
     path.write_text('<osm version="0.6">\n  <node id="1" lat="60" lon="25">\n</osm>\n')
     with pytest.raises(ScenarioError, match="not well-formed XML") as err:
-        import_osm(path, tmp_path / "out")
+        osm_scenarios(path, tmp_path / "out")
     assert (err.value.where.file, err.value.where.line) == (str(path), 3)
     assert err.value.where.col == 3
 
@@ -478,17 +478,17 @@ def test_broken_xml_is_located_at_its_line_and_column(tmp_path):
 def test_compressed_xml_is_read_and_a_broken_stream_is_an_error(tmp_path):
     packed = tmp_path / "lots.osm.bz2"
     packed.write_bytes(bz2.compress(LOTS.read_bytes()))
-    report = import_osm(packed, tmp_path / "out", lots=["way/100"])
+    report = osm_scenarios(packed, tmp_path / "out", lots=["way/100"])
     assert report.lots[0].inferred == 30
     packed.write_bytes(bz2.compress(LOTS.read_bytes())[:200])
     with pytest.raises(LotsimError, match="cannot read it"):
-        import_osm(packed, tmp_path / "out")
+        osm_scenarios(packed, tmp_path / "out")
 
 
 def test_pbf_without_pyosmium_says_how_to_get_it(tmp_path, monkeypatch):
     monkeypatch.setitem(sys.modules, "osmium", None)  # import osmium raises ImportError
     with pytest.raises(LotsimError, match=r"pip install 'lotsim\[osm\]'"):
-        import_osm(PBF, tmp_path / "out")
+        osm_scenarios(PBF, tmp_path / "out")
 
 
 def test_a_truncated_pbf_is_an_error(tmp_path):
@@ -496,7 +496,7 @@ def test_a_truncated_pbf_is_an_error(tmp_path):
     path = tmp_path / "cut.osm.pbf"
     path.write_bytes(PBF.read_bytes()[:5000])
     with pytest.raises(LotsimError, match="not a readable OSM PBF file"):
-        import_osm(path, tmp_path / "out")
+        osm_scenarios(path, tmp_path / "out")
 
 
 def test_what_is_written_reads_back_as_the_same_scenario(hand):
