@@ -120,12 +120,12 @@ class RunResult:
         """What a lot's traffic costs its cars, for benchmarks (``docs/bench.md``): median
         and 90th percentile of the time to park (arrival to standing in the slot) and of the
         time to leave (the end of the dwell to passing the exit), and the standing per car
-        (:func:`standing`) in all and split into queued outside, on the way in and on the
+        (:func:`standing_times`) in all and split into queued outside, on the way in and on the
         way out, over every car of the traffic [s]."""
         park = _times_to_park(self.vehicles)
         leave = [v.left_at - wanted for v in self.vehicles
                  if v.left_at is not None and (wanted := _wants_to_leave(v)) is not None]
-        parts = np.array([standing(v) for v in self.vehicles]).reshape(-1, 3)
+        parts = np.array([standing_times(v) for v in self.vehicles]).reshape(-1, 3)
         n = max(len(self.vehicles), 1)
         out = {}
         for name, xs in (("time_to_park", park), ("time_to_leave", leave)):
@@ -143,7 +143,7 @@ class RunResult:
         (``[h·3600, (h+1)·3600)`` s; a day's clock that starts at midnight gives hours of
         the day), from the first arrival's hour to the last's: ``hour``, ``arrivals``,
         ``parked`` (those that came to stand in a slot), ``rejected``, ``median`` and
-        ``p90_time_to_park`` [s] and ``standing_per_car`` [s] (:func:`standing`, over the
+        ``p90_time_to_park`` [s] and ``standing_per_car`` [s] (:func:`standing_times`, over the
         hour's cars). An hour no car arrived in has zeros.
 
         Examples
@@ -167,7 +167,7 @@ class RunResult:
                 "rejected": sum(v.status == "rejected" for v in cars),
                 "median_time_to_park": float(np.median(park)) if park else 0.0,
                 "p90_time_to_park": float(np.percentile(park, 90)) if park else 0.0,
-                "standing_per_car": (float(sum(sum(standing(v)) for v in cars) / len(cars))
+                "standing_per_car": (float(sum(sum(standing_times(v)) for v in cars) / len(cars))
                                      if cars else 0.0)})
         return out
 
@@ -195,7 +195,7 @@ def _wants_to_leave(v: VehicleRun) -> float | None:
     return v.parked_at + v.arrival.dwell
 
 
-def standing(v: VehicleRun) -> tuple[float, float, float]:
+def standing_times(v: VehicleRun) -> tuple[float, float, float]:
     """The time ``v`` stood still when it wanted to move [s]: queued outside (before the
     plan that brought it in, or until it was turned away), standing on the way in (its
     waits before it parked), and on the way out (from the end of its dwell to the first

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from conftest import ROOT
-from lotsim.sim.results import VehicleRun, standing
+from lotsim.sim.results import VehicleRun, standing_times
 from lotsim.traffic.demand import Arrival
 from lotsim.traffic.plans import Move
 from lotsim.vehicles.catalogue import CATALOGUE
@@ -31,7 +31,7 @@ def test_standing_is_split_into_outside_the_way_in_and_the_way_out():
     moves = [move("drive", 13, 20), move("wait", 20, 22), move("drive", 22, 25),
              move("park", 25, 30), move("parked", 30, 134), move("leave", 134, 140),
              move("wait", 140, 145), move("drive", 145, 150)]
-    assert standing(car(10, 100, moves, parked_at=30, left_at=150)) == (3, 2, 4 + 5)
+    assert standing_times(car(10, 100, moves, parked_at=30, left_at=150)) == (3, 2, 4 + 5)
 
 
 def test_a_wait_in_the_slot_before_leaving_is_counted_once():
@@ -39,18 +39,18 @@ def test_a_wait_in_the_slot_before_leaving_is_counted_once():
     moves = [move("drive", 10, 25), move("park", 25, 30), move("parked", 30, 130),
              move("wait", 130, 140), move("leave", 140, 146), move("wait", 146, 149),
              move("drive", 149, 155)]
-    assert standing(car(10, 100, moves, parked_at=30, left_at=155)) == (0, 0, 10 + 3)
+    assert standing_times(car(10, 100, moves, parked_at=30, left_at=155)) == (0, 0, 10 + 3)
 
 
 def test_a_car_that_never_got_out_stood_from_the_end_of_its_dwell_to_the_end():
     moves = [move("drive", 0, 10), move("park", 10, 15), move("parked", 15, 400)]
-    assert standing(car(0, 60, moves, parked_at=15)) == (0, 0, 400 - 75)
+    assert standing_times(car(0, 60, moves, parked_at=15)) == (0, 0, 400 - 75)
 
 
 def test_a_car_rejected_after_waiting_stood_outside_for_it():
     v = car(5, None, [], parked_at=None)
     v.waited_outside = 600.0
-    assert standing(v) == (600, 0, 0)
+    assert standing_times(v) == (600, 0, 0)
 
 
 @pytest.fixture(scope="module")
@@ -77,7 +77,7 @@ def test_the_figures_of_a_run_are_its_cars(culdesac_run):
     waited = rr.metrics()["total_waiting"] / len(rr.vehicles)
     assert f["standing_per_car"] >= waited - 1e-9
     for v in rr.vehicles:  # nobody stands longer than its trips take
-        outside, way_in, way_out = standing(v)
+        outside, way_in, way_out = standing_times(v)
         assert outside + way_in <= v.parked_at - v.arrival.time + 1e-9
         if v.left_at is not None:
             assert way_out <= v.left_at - v.parked_at - v.arrival.dwell + 1e-9
