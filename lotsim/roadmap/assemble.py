@@ -251,7 +251,7 @@ def _durations(lot: Lot, maneuvers: dict, leaving: dict, stays: dict, types: dic
                known: dict | None = None):
     """``duration(path, type name, speed limit)`` [s] of each of ``maneuvers`` (and its
     reverse in ``leaving``) and ``stays`` for the vehicle types in ``types``: a lot's
-    maneuvers repeat a few shapes, each timed once, on both cores, or taken from ``known``
+    maneuvers repeat a few shapes, each timed once, on the workers, or taken from ``known``
     (a duration is a function of the shape, the vehicle type and the limit), where those
     timed now are kept."""
 
@@ -298,7 +298,7 @@ def _durations(lot: Lot, maneuvers: dict, leaving: dict, stays: dict, types: dic
 def junction_backs(lot: Lot, tagged: Tagged, designs: dict[str, DesignVehicle] | None,
                    exits: dict[str, float], memo: RoadmapMemo) -> tuple[Tagged, Tagged]:
     """:func:`~lotsim.roadmap.junction_multipoints.junction_multipoints` and
-    :func:`~lotsim.roadmap.uturns.junction_uturns`; the two at once, on both cores, when
+    :func:`~lotsim.roadmap.uturns.junction_uturns`; the two at once, on the workers, when
     neither is in ``memo`` for this set of types (each is a function of its arguments: the
     same answers, kept in the memo as each keeps its own), networkx (for the graph next)
     imported meanwhile."""

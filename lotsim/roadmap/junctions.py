@@ -342,7 +342,7 @@ def turns_of(lot: Lot, collider: Collider, designs: dict[str, DesignVehicle] | N
                 found.update(dict.fromkeys(turns))
                 for reason in skipped:
                     why.setdefault(reason, []).append(name)
-            # every turn for every type it suits, on both cores, each taken from the
+            # every turn for every type it suits, on the workers, each taken from the
             # memo's store where what its sweeps read is unchanged
             turns = list(found)
             base = memo.lot_key if memo.known is not None else b""
@@ -386,7 +386,7 @@ def turns_per_design(lot: Lot, collider: Collider, designs: list,
     """:func:`junction_turns` and the turns through short stretches
     (:func:`~lotsim.roadmap.through.through_turn`) for each of ``designs`` (None: the
     lot's design vehicle), as each would find them on its own: the junction turns out of
-    each lane, then each design's turns through short stretches, on both cores
+    each lane, then each design's turns through short stretches, on the workers
     (:func:`~lotsim.core.workers.fork_map`; the same answers in the same order), each
     taken from ``memo``'s store of an earlier preparation where what it read is the same
     (:mod:`~lotsim.roadmap.remembered`)."""

@@ -54,7 +54,7 @@ STORE = "roadmap"
 def verified(memo, keys: Sequence[bytes | None], got: Sequence,
              work: Callable[[int], object]) -> None:
     """With ``memo``'s reuse check (none: nothing), each piece of ``got`` recalled from its
-    store (not :data:`MISSING`) worked out again, ``work(k)`` on both cores
+    store (not :data:`MISSING`) worked out again, ``work(k)`` on the workers
     (:func:`~lotsim.core.workers.fork_map`), and compared with what was recalled as
     ``keys[k]``."""
     check = getattr(memo, "reuse_check", None)
@@ -115,7 +115,7 @@ def worked_out(memo, keys: Sequence[bytes | None],
     """``[work(k, collider) for k in range(len(keys))]`` (``collider``: one for all, or
     each piece's), each taken from ``memo``'s store (:attr:`RoadmapMemo.known
     <lotsim.roadmap.memo.RoadmapMemo.known>`: piece key → versions) where a version's box
-    holds what it did (:func:`recall`), the others worked out on both cores
+    holds what it did (:func:`recall`), the others worked out on the workers
     (:func:`~lotsim.core.workers.fork_map`) and added to it; both counted in ``memo``.
     Without a memo or a store, all are worked out."""
     known = memo.known if memo is not None else None

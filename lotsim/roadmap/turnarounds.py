@@ -377,7 +377,7 @@ def _dead_end_plans(lot: Lot, per: dict[str, DesignVehicle], bodies: dict[str, t
                 why[lane.id, name] = t
             for x in ([] if isinstance(t, str) else t) + more:
                 tagged.setdefault(x, set()).add(name)
-    # and every other type it suits, each check on both cores or taken from the memo's
+    # and every other type it suits, each check on the workers or taken from the memo's
     # store where what it read is unchanged
     checks = [(t, n) for t, names in tagged.items() for n in per if n not in names]
     base = memo.lot_key if memo.known is not None else b""
@@ -468,10 +468,10 @@ def fits_a_slot(lot: Lot, design: DesignVehicle) -> bool:
 
 def _reaching_all(jobs: dict, memo: dict, roads: RoadmapMemo | None = None) -> dict:
     """:func:`_reaching_turnarounds` of each of ``jobs`` (key → its arguments), by key; its
-    multi-point searches on both cores, each once: ``memo`` holds (and is given) those
+    multi-point searches on the workers, each once: ``memo`` holds (and is given) those
     done before, by lane, design and arguments (an earlier build of the lot's graph made
     some). A job's second search waits for its first (whether it is made depends on what
-    the first found), so the searches go in rounds, each round's on both cores (a round
+    the first found), so the searches go in rounds, each round's on the workers (a round
     that would leave a core idle makes a second search that may be wanted too); each taken
     from ``roads``' store of an earlier preparation where what it read is the same
     (:mod:`~lotsim.roadmap.remembered`)."""
