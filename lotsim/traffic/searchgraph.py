@@ -135,7 +135,7 @@ class EdgeMotion:
                                               chunk=s.chunk, sample=s.sample),
                           strict=True):
             em._swept = sw
-            em._asked = True  # (asked for now: not let go before it is used)
+        self._asked = True  # (asked for now: not let go before it is used)
         mine = self._swept
         if self._tally is not None:
             self._tally.keep(todo)
