@@ -15,7 +15,7 @@ POINTS = {"boundary", "centerline", "polygon", "line", "center", "at"}
 PER_LENGTH = {"max_accel", "max_brake", "max_lateral_accel", "max_jerk"}
 """Keys in the file's length unit per second² (³): ft/s² in feet."""
 SECTIONS = {"lot", "vehicle_types", "routes", "boundary", "islands", "gates", "bays",
-            "aisles", "building_entrances"}
+            "aisles", "building_entrances", "uses"}
 """Top-level sections that hold lengths; the others (traffic, disturbances, animation,
 demand) hold none, though some of their keys share a length's name (a stream's
 ``start``, the animation's ``speed``)."""

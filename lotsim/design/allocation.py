@@ -2,26 +2,29 @@
 become accessible, van-accessible and EV bays (:func:`allocate`).
 
 A candidate's bays, once every one is usable, stand in *stretches*: unbroken runs of equal
-bays along one side of an aisle (:func:`stretches`). Uses are then allotted by the
-straight line from each bay's centre to the nearest building entrance of the plot, as
-``lotsim validate`` measures the walk:
+bays along one side of an aisle (:func:`stretches`). Uses are then allotted by the walk to
+the nearest building entrance of the plot:
 
 * **Accessible and van-accessible bays** go in *groups* on 90° stretches of full-size
   bays: two bays sharing one access aisle between them (ADA 2010 §502.3), or one with its
   own after it. A group takes the place of as many standard bays as its bays and aisle
   span (three 2.5 m bays for two accessible bays and a 1.52 m aisle, or two with a van
   bay's 2.44 m aisle), so access aisles cost bays. Each group in turn goes where its
-  farthest bay is nearest the entrance, van-accessible groups first. So a group stands
-  within its own span of the standard bay nearest the entrance when it was placed, and no
-  standard bay left on a 90° stretch is nearer the entrance than an accessible bay by more
-  than the span of a group.
+  farthest bay's walk is least, van-accessible groups first. The walk is the one ``lotsim
+  validate`` reports (:func:`~lotsim.lot.walks.shortest_walk`): from the middle of the
+  bay's side on its access aisle, over the plot less its drawn bays and islands, across
+  the bay and its aisle. Places are walked in order of their straight lines, which no walk
+  is shorter than, until the next straight line is no shorter than the best walk found:
+  so the place found is the best of all, unless :data:`SHORTLIST` places were walked
+  first (then the best of those).
 * **As the standard requires** (``uses.accessible: ada_2010``): the fewest accessible bays
   that meet ADA 2010 Table 208.2 for the total the layout holds *with* its groups (which is
   less than the total without them), one in six of them van-accessible (§208.2.4), or
   one more where that pairs the odd van-accessible bay with the odd accessible one (two
   van bays share one aisle, where a van bay and an accessible bay would need one each).
-* **EV bays**: the standard bays left nearest the entrance (EV bays are full-size, so they
-  cost nothing), a count or a share of the layout's total.
+* **EV bays**: the standard bays left nearest the entrance in a straight line from their
+  centres (EV bays are full-size, so they cost nothing), a count or a share of the
+  layout's total.
 * **Compact bays** are drawn with the candidate (:mod:`lotsim.design.candidates`), not
   allotted here.
 
@@ -35,9 +38,12 @@ import math
 from dataclasses import dataclass, field
 
 import numpy as np
+import shapely
+from shapely.geometry import Polygon
 
 from lotsim.design.plot import PlotSpec
 from lotsim.lot.uses import STANDARD, USES, ada_accessible, ada_van
+from lotsim.lot.walks import shortest_walk, walking_ground
 
 Key = tuple[str, str, float]
 """A drawn bay: its aisle, side and the station of its entry [m]."""
@@ -49,7 +55,8 @@ class Stretch:
     """Bays written as one row of the scenario: ``count`` bays of ``use``, ``width`` by
     ``length`` [m] at ``angle`` [degrees] to aisle ``aisle``, on ``side``, the first entry at
     station ``start`` [m]. ``places`` are the drawn bays each stands on (for an accessible
-    group: every bay of the group's span), ``centres`` the drawn bays' centres [m]."""
+    group: every bay of the group's span), ``centres`` the drawn bays' centres and
+    ``shapes`` their polygons [m]."""
 
     aisle: str
     side: str
@@ -61,6 +68,7 @@ class Stretch:
     count: int
     places: tuple[tuple[Key, ...], ...]
     centres: tuple[Point2, ...] = field(default=(), compare=False)
+    shapes: tuple[Polygon, ...] = field(default=(), compare=False)
 
     @property
     def pitch(self) -> float:
@@ -94,7 +102,7 @@ def stretches(plot: PlotSpec, rows, keep: set[Key] | None) -> list[Stretch]:
     for r in rows:
         width, length = r.size or (plot.bay_width, plot.bay_length)
         step = width / math.sin(math.radians(r.angle))
-        runs: list[list[tuple[float, Point2]]] = []
+        runs: list[list[tuple[float, Point2, Polygon]]] = []
         for k in range(r.count):
             s = round(r.start + k * step, 9)
             if keep is not None and (r.aisle, r.side, s) not in keep:
@@ -103,13 +111,13 @@ def stretches(plot: PlotSpec, rows, keep: set[Key] | None) -> list[Stretch]:
             if not runs or (runs[-1] and abs(runs[-1][-1][0] + step - s) > 1e-6):
                 runs.append([])
             c = r.polygons[k].centroid
-            runs[-1].append((s, (float(c.x), float(c.y))))
+            runs[-1].append((s, (float(c.x), float(c.y)), r.polygons[k]))
         for run in runs:
             if run:
                 out.append(Stretch(r.aisle, r.side, r.angle, width, length,
                                    "compact" if r.size else STANDARD, run[0][0], len(run),
-                                   tuple(((r.aisle, r.side, s),) for s, _ in run),
-                                   tuple(c for _, c in run)))
+                                   tuple(((r.aisle, r.side, s),) for s, _, _ in run),
+                                   tuple(c for _, c, _ in run), tuple(p for _, _, p in run)))
     return out
 
 
@@ -145,12 +153,7 @@ def allocate(plot: PlotSpec, runs: list[Stretch], *, barred: set[Key] = frozense
     (11, {})
     """
     uses = plot.uses
-    doors = np.asarray([e.at for e in plot.building_entrances], dtype=float).reshape(-1, 2)
-
-    def walk(c) -> float:
-        if not len(doors):
-            return 0.0
-        return float(np.min(np.hypot(doors[:, 0] - c[0], doors[:, 1] - c[1])))
+    walk = _Walks(plot, runs)
 
     drawn = sum(s.count for s in runs)
     if uses.accessible is None:
@@ -182,7 +185,7 @@ def allocate(plot: PlotSpec, runs: list[Stretch], *, barred: set[Key] = frozense
     short = {u: want[u] - n for u, n in zip(("accessible", "van_accessible"), placed,
                                             strict=True) if n < want[u]}
     ev = uses.ev_count(total)
-    out, got_ev = _electric(carved, ev, walk)
+    out, got_ev = _electric(carved, ev, walk.straight)
     if got_ev < ev:
         short["ev"] = ev - got_ev
     return Allocation(tuple(out), groups, short)
@@ -208,26 +211,24 @@ def _carve(runs: list[Stretch], accessible: int, van: int | None, walk, barred
     taken: list[list[int | None]] = [[None] * s.count for s in runs]
     placed: list[tuple[int, int, int, str, int]] = []  # stretch, first bay, span, use, bays
     for g, (use, bays) in enumerate(wanted):
-        best = None
+        free = []  # each place the group may stand, by its straight lines
         for i, s in enumerate(runs):
             if s.angle != 90 or s.use != STANDARD or s.count < 2:
                 continue
             if USES[use].size_problem(s.width, None) is not None:
                 continue
             k = math.ceil(group_span(use, s.width, bays) / s.pitch - 1e-9)
-            u = _along(s)
             for j in range(s.count - k + 1):
                 if any(taken[i][j + t] is not None or s.places[j + t][0] in barred
                        for t in range(k)):
                     continue
-                c0 = np.asarray(s.centres[j])
-                far = [walk(c0 + u * d) for d in _offsets(use, s.width, bays)]
-                score = (max(far), sum(far), i, j)
-                if best is None or score < best[0]:
-                    best = (score, i, j, k)
+                far = [walk.straight(p) for p, _ in _group(s, j, use, bays)]
+                free.append(((max(far), sum(far), i, j), k))
+        best = _nearest(free, lambda i, j, use=use, bays=bays:
+                        walk.group(runs[i], (i, j), use, bays))
         if best is None:
             continue  # no room for this group: the layout says how many are short
-        _, i, j, k = best
+        i, j, k = best
         for t in range(k):
             taken[i][j + t] = g
         placed.append((i, j, k, use, bays))
@@ -263,6 +264,82 @@ def _carve(runs: list[Stretch], accessible: int, van: int | None, walk, barred
     return out, groups
 
 
+SHORTLIST = 24
+"""The most places a group's walks are worked out for: past them, a group goes to the best
+of those (the places taken in order of the straight line)."""
+
+
+def _nearest(free: list, walks) -> tuple[int, int, int] | None:
+    """The place of ``free`` (``((straight, sum, i, j), k)``) whose group's farthest walk
+    is least, by ``walks(i, j)`` (the walks of its bays): places taken in order of their
+    straight lines, which no walk is shorter than, until the next one's straight line is
+    no shorter than the best walk found, or :data:`SHORTLIST` places."""
+    best = None
+    for (straight, _, i, j), k in sorted(free)[:SHORTLIST]:
+        if best is not None and straight >= best[0][0]:
+            break
+        far = walks(i, j)
+        score = (max(far), sum(far), i, j)
+        if best is None or score < best[0]:
+            best = (score, i, j, k)
+    return None if best is None else best[1:]
+
+
+class _Walks:
+    """The walks of one candidate's bays to the plot's building entrances, as ``lotsim
+    validate`` measures them (:func:`~lotsim.lot.walks.shortest_walk`): over the plot
+    less its drawn bays and islands, from the middle of a bay's side on its access aisle,
+    across the bay and the aisle themselves. Remembered per place for one
+    :func:`allocate`."""
+
+    def __init__(self, plot: PlotSpec, runs: list[Stretch]) -> None:
+        self.doors = [tuple(map(float, e.at)) for e in plot.building_entrances]
+        shapes = [p for s in runs for p in s.shapes]
+        self.ground = (walking_ground(Polygon(plot.boundary), shapes,
+                                      [Polygon(i.polygon) for i in plot.islands])
+                       if self.doors else None)
+        self.memo: dict[tuple, list[float]] = {}
+
+    def straight(self, p) -> float:
+        """The straight line from ``p`` to the nearest entrance [m] (0: none)."""
+        return min((math.dist(p, d) for d in self.doors), default=0.0)
+
+    def group(self, s: Stretch, at: tuple[int, int], use: str, bays: int) -> list[float]:
+        """The walks of a group of ``bays`` of ``use`` whose first bay stands on drawn bay
+        ``at[1]`` of ``s`` [m]."""
+        key = (at, use, bays)
+        if key not in self.memo:
+            if self.ground is None or not s.shapes:
+                self.memo[key] = [self.straight(p) for p, _ in _group(s, at[1], use, bays)]
+            else:
+                self.memo[key] = [min(shortest_walk(self.ground, p, d, opened=own).length
+                                      for d in self.doors)
+                                  for p, own in _group(s, at[1], use, bays)]
+        return self.memo[key]
+
+
+def _group(s: Stretch, j: int, use: str, bays: int) -> list[tuple[Point2, Polygon | None]]:
+    """Per bay of a group whose first bay stands on drawn bay ``j`` of the 90° stretch
+    ``s``: where its walk starts (the middle of its side on the access aisle) and the
+    ground of the bay and its aisle (None without the drawn bays' shapes)."""
+    u = _along(s)
+    c0 = np.asarray(s.centres[j])
+    aisle = USES[use].least_aisle(s.width)
+    half = s.width / 2
+    starts = [c0 + u * half, c0 + u * (half + aisle)][:bays]
+    if not s.shapes:
+        return [(tuple(map(float, p)), None) for p in starts]
+    corners = np.asarray(s.shapes[j].exterior.coords)[:-1]
+    along = (corners - c0) @ u  # -half or +half
+    first = Polygon(corners)
+    between = Polygon(corners + np.outer(half + (along + half) * aisle / s.width - along, u))
+    out = [(tuple(map(float, starts[0])), shapely.union(first, between))]
+    if bays == 2:
+        second = Polygon(corners + np.outer(np.full(4, s.width + aisle), u))
+        out.append((tuple(map(float, starts[1])), shapely.union(second, between)))
+    return out
+
+
 def _offsets(use: str, width: float, bays: int) -> list[float]:
     """How far along the aisle each bay of a group stands from its first [m]: the second of
     a pair beyond the access aisle they share."""
@@ -278,7 +355,8 @@ def _along(s: Stretch) -> np.ndarray:
 def _part(s: Stretch, first: int, count: int, use: str) -> Stretch:
     return Stretch(s.aisle, s.side, s.angle, s.width, s.length, use,
                    round(s.start + first * s.pitch, 9), count,
-                   s.places[first:first + count], s.centres[first:first + count])
+                   s.places[first:first + count], s.centres[first:first + count],
+                   s.shapes[first:first + count])
 
 
 def _electric(runs: list[Stretch], count: int, walk) -> tuple[list[Stretch], int]:

@@ -191,6 +191,9 @@ class PlotSpec:
     """How each vehicle type was given: a catalogue name, or "" for a definition."""
     building_entrances: tuple[BuildingEntranceSpec, ...] = ()
     uses: UsesSpec = UsesSpec()
+    units: str = "m"
+    """The unit the plot file gives its lengths in (``units: ft``); its layouts are written
+    in it. The spec holds metres either way."""
 
     def aisle_width(self, angle: int, direction: str) -> float:
         """The aisle width for bays at ``angle`` [degrees] on a ``direction`` aisle [m]."""

@@ -132,7 +132,7 @@ def parse_plot(root: YNode) -> PlotSpec:
                     circulation_width=circulation, demand=demand or DemandSpec(),
                     seed=seed, description=description, source=root.file,
                     vehicle_names=names, building_entrances=entrances,
-                    uses=uses or UsesSpec())
+                    uses=uses or UsesSpec(), units=root.units)
 
 
 def _fits_bays(node: YNode, vehicle, width: float, length: float, given: bool) -> None:

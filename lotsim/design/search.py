@@ -36,6 +36,7 @@ from shapely.geometry import Polygon
 
 from lotsim import __version__
 from lotsim.core.checks import range_problem
+from lotsim.core.units import LENGTH_UNITS
 from lotsim.core.workers import fork_map
 from lotsim.design.allocation import Allocation, Key, Stretch, allocate, stretches
 from lotsim.design.candidates import (
@@ -540,7 +541,9 @@ def scenario_text(plot: PlotSpec, cand: Candidate,
     bay (for an accessible bay, the first drawn bay its group stands on)."""
     draft = LotDraft(name=plot.name,
                      description=plot.description or f"A lot laid out on plot {plot.name}.",
-                     boundary=list(plot.boundary))
+                     boundary=list(plot.boundary),
+                     units=None if plot.units == "m" else plot.units,
+                     places=2 if plot.units == "m" else 4)
     draft.header = [f"Laid out by lotsim layout (lotsim {__version__}) on plot {plot.name}: "
                     f"{cand.label}."]
     if settings is not None:
@@ -592,16 +595,18 @@ def _vehicle_types(plot: PlotSpec) -> str:
             items.append(text(name))
             continue
         lim = v.limits
-        fields = [f"name: {text(v.name)}", f"width: {num(v.width, 4)}",
-                  f"front: {num(v.front, 4)}", f"rear: {num(v.rear, 4)}",
-                  f"wheelbase: {num(v.wheelbase, 4)}",
+        k = 1.0 / LENGTH_UNITS[plot.units]  # lengths, and accelerations per length
+        fields = [f"name: {text(v.name)}", f"width: {num(v.width * k, 6)}",
+                  f"front: {num(v.front * k, 6)}", f"rear: {num(v.rear * k, 6)}",
+                  f"wheelbase: {num(v.wheelbase * k, 6)}",
                   f"max_steer_deg: {num(math.degrees(v.max_steer), 6)}",
                   f"max_forward_speed_kmh: {num(lim.max_forward_speed * 3.6, 6)}",
                   f"max_reverse_speed_kmh: {num(lim.max_reverse_speed * 3.6, 6)}",
-                  f"max_accel: {num(lim.max_accel, 6)}", f"max_brake: {num(lim.max_brake, 6)}",
-                  f"max_jerk: {num(lim.max_jerk, 6)}",
+                  f"max_accel: {num(lim.max_accel * k, 6)}",
+                  f"max_brake: {num(lim.max_brake * k, 6)}",
+                  f"max_jerk: {num(lim.max_jerk * k, 6)}",
                   f"max_steer_rate_deg: {num(math.degrees(lim.max_steer_rate), 6)}",
-                  f"max_lateral_accel: {num(lim.max_lateral_accel, 6)}"]
+                  f"max_lateral_accel: {num(lim.max_lateral_accel * k, 6)}"]
         fields += [f"{mark}: true" for mark in MARKS if mark in v.marks]
         items.append("{" + ", ".join(fields) + "}")
     return "vehicle_types:\n" + "\n".join(f"  - {i}" for i in items)

@@ -15,12 +15,16 @@ import csv
 import io
 import math
 from collections.abc import Iterable
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
+import numpy as np
+
+from lotsim.core.geometry import FloatArray
 from lotsim.core.units import in_units, shown_length
 from lotsim.lot.model import Lot
 from lotsim.lot.spec import Requirement, StandardSpec
 from lotsim.lot.uses import ADA_2010, USES, ada_accessible, ada_van
+from lotsim.lot.walks import shortest_walk, walk_start, walking_ground
 
 
 @dataclass(frozen=True, slots=True)
@@ -58,13 +62,28 @@ class UseCheck:
 
 @dataclass(frozen=True, slots=True)
 class Walk:
-    """An accessible bay's walking distance to the nearest building entrance, taken as the
-    straight line from the bay's centre to the entrance [m] (the path over the pavement is
-    at least as long)."""
+    """An accessible bay's walk to the nearest building entrance [m]: from the middle of the
+    bay's side that opens onto its access aisle (the side opening onto the driving aisle for
+    a bay without one) over the paved ground, round the other bays, islands, obstacles and
+    buildings (:func:`~lotsim.lot.walks.shortest_walk`).
+
+    Attributes
+    ----------
+    slot, entrance : str
+    distance : float
+        The walk's length [m] (``inf``: no way on foot).
+    straight : float
+        The straight line from the same start to the entrance [m]: at most ``distance``.
+    path : ndarray, shape (N, 2)
+        The walk's corners, from the start to the entrance [m].
+    """
 
     slot: str
     entrance: str
     distance: float
+    straight: float = math.nan
+    path: FloatArray = field(default_factory=lambda: np.zeros((0, 2)), compare=False,
+                             repr=False)
 
 
 @dataclass(frozen=True, slots=True)
@@ -99,8 +118,9 @@ class BayReport:
         return {"by_use": dict(self.by_use), "total": self.total, "standard": self.standard,
                 "met": self.met, "checks": [c.as_dict() for c in self.checks],
                 "walks": [{"slot": w.slot, "entrance": w.entrance,
-                           "distance": round(w.distance, 2), "straight_line": True}
-                          for w in self.walks]}
+                           "distance": round(w.distance, 2) if math.isfinite(w.distance)
+                           else None, "straight": round(w.straight, 2),
+                           "over": "pavement"} for w in self.walks]}
 
     def lines(self, units: str = "m") -> list[str]:
         """The report as ``lotsim validate`` prints it (indented lines), lengths in
@@ -117,24 +137,30 @@ class BayReport:
         head = "met" if self.met else "not met"
         out.append(f"  {self.standard} for {self.total} bays: {head} — " + "; ".join(parts))
         for w in self.walks:
-            out.append(f"    {w.slot}: {shown_length(w.distance, units, '.1f')} to "
-                       f"{w.entrance} (straight line)")
+            straight = shown_length(w.straight, units, '.1f')
+            if math.isfinite(w.distance):
+                out.append(f"    {w.slot}: {shown_length(w.distance, units, '.1f')} walk to "
+                           f"{w.entrance} over the pavement (straight line {straight})")
+            else:
+                out.append(f"    {w.slot}: no walk to {w.entrance} over the pavement "
+                           f"(straight line {straight})")
         return out
 
 
 def bay_report(lot: Lot, standard: StandardSpec | None = None,
                entrances: Iterable[tuple[str, tuple[float, float]]] = ()) -> BayReport:
     """``lot``'s bays by use, checked against ``standard`` (None: ADA 2010), with each
-    accessible bay's walk to the nearest of ``entrances`` (``(id, (x, y))``).
+    accessible bay's walk to the nearest of ``entrances`` (``(id, (x, y))``,
+    :func:`bay_walks`).
 
     Examples
     --------
     >>> from types import SimpleNamespace as NS
-    >>> lot = NS(slots=[NS(id=f"P{k}", use="standard", center=(k, 0.0)) for k in range(30)]
-    ...         + [NS(id="H1", use="accessible", center=(0.0, 5.0))])
-    >>> r = bay_report(lot, entrances=[("door", (0.0, 9.0))])
-    >>> r.total, [(c.use, c.required, c.found, c.met) for c in r.checks], r.walks[0].distance
-    (31, [('accessible', 2, 1, False), ('van_accessible', 1, 0, False)], 4.0)
+    >>> lot = NS(slots=[NS(id=f"P{k}", use="standard") for k in range(30)]
+    ...         + [NS(id="H1", use="accessible")])
+    >>> r = bay_report(lot)
+    >>> r.total, [(c.use, c.required, c.found, c.met) for c in r.checks], r.walks
+    (31, [('accessible', 2, 1, False), ('van_accessible', 1, 0, False)], ())
     """
     by_use = dict.fromkeys(USES, 0)
     for s in lot.slots:
@@ -150,15 +176,27 @@ def bay_report(lot: Lot, standard: StandardSpec | None = None,
     else:
         checks = tuple(_check(r, total, by_use) for r in standard.requirements)
         name = standard.name
-    doors = list(entrances)
-    walks = []
-    if doors:
-        for s in lot.slots:
-            if USES[s.use].accessible:
-                door, d = min(((n, math.dist(s.center, p)) for n, p in doors),
-                              key=lambda nd: nd[1])
-                walks.append(Walk(s.id, door, d))
+    walks = bay_walks(lot, entrances)
     return BayReport(by_use, total, name, checks, tuple(walks))
+
+
+def bay_walks(lot: Lot, entrances: Iterable[tuple[str, tuple[float, float]]]
+              ) -> tuple[Walk, ...]:
+    """Each accessible bay's walk over ``lot``'s paved ground to the nearest of
+    ``entrances`` (``(id, (x, y))``), by the length walked (:class:`Walk`)."""
+    doors = list(entrances)
+    bays = [s for s in lot.slots if USES[s.use].accessible]
+    if not doors or not bays:
+        return ()
+    ground = walking_ground(lot.ground, [s.polygon for s in lot.slots],
+                            [a.polygon for a in lot.areas])
+    out = []
+    for s in bays:
+        start = walk_start(s, [a.polygon for a in lot.access_aisles if s.id in a.slots])
+        best = min(((shortest_walk(ground, start, p, opened=s.shape), n) for n, p in doors),
+                   key=lambda wn: (wn[0].length, wn[0].straight))
+        out.append(Walk(s.id, best[1], best[0].length, best[0].straight, best[0].points))
+    return tuple(out)
 
 
 def _check(req: Requirement, total: int, by_use: dict[str, int]) -> UseCheck:

@@ -117,20 +117,30 @@ def test_validate_keeps_each_type_out_of_the_bays_it_may_not_use():
     assert report.complete  # keeping types out of bays is the rule, not a fault
 
 
-def test_the_counts_meet_ada_and_the_walks_are_straight_lines():
-    bays = api.validate(STOREFRONT).bays
+def test_the_counts_meet_ada_and_the_walks_go_over_the_pavement():
+    report = api.validate(STOREFRONT)
+    bays = report.bays
     total = sum(r["count"] for r in RAW["lot"]["rows"])
     assert bays.total == total == 21
     checks = {c.use: c for c in bays.checks}
     assert (checks["accessible"].required, checks["accessible"].found) == (1, 3)
     assert (checks["van_accessible"].required, checks["van_accessible"].found) == (1, 1)
     assert bays.met
-    door = RAW["lot"]["building_entrances"][0]
-    lot = api.validate(STOREFRONT).prepared.lot
+    door = (RAW["lot"]["building_entrances"][0]["x"], RAW["lot"]["building_entrances"][0]["y"])
+    lot = report.prepared.lot
     for w in bays.walks:
-        c = lot.slot_by_id[w.slot].shape.centroid
-        assert w.distance == pytest.approx(math.dist((c.x, c.y), (door["x"], door["y"])))
+        # from the middle of the bay's side on its access aisle (shapely: the side the two
+        # share), and nothing in the way of the door from there: the straight line
+        slot, aisle = lot.slot_by_id[w.slot], next(a for a in lot.access_aisles
+                                                  if w.slot in a.slots)
+        shared = slot.shape.intersection(aisle.shape)
+        assert shared.length == pytest.approx(5.0)
+        assert shared.centroid.distance(shapely.Point(w.path[0])) < 1e-9
+        assert w.distance == pytest.approx(math.dist(w.path[0], door))
+        assert w.straight == pytest.approx(w.distance)
     assert {w.slot for w in bays.walks} == {"H1", "H2", "V1"}
+    lines = "\n".join(bays.lines())
+    assert "walk to shop_door over the pavement (straight line" in lines
 
 
 def test_a_stated_table_not_met_says_by_how_many():

@@ -145,3 +145,40 @@ def test_validate_reports_a_feet_scenarios_lengths_in_feet(tmp_path):
     for a, b in zip(rows_m, rows_f, strict=True):
         assert float(b["length_ft"]) == pytest.approx(float(a["length_m"]) / FOOT, abs=1e-3)
         assert float(b["width_ft"]) == pytest.approx(float(a["width_m"]) / FOOT, abs=1e-3)
+
+
+def test_a_plot_in_feet_is_laid_out_in_feet(tmp_path):
+    # the same candidate of the shipped storefront plot and of its feet copy, written as
+    # lotsim layout writes it: the feet one states units: ft and reads back as the same lot
+    from lotsim.design.allocation import allocate, stretches
+    from lotsim.design.search import LayoutSettings, candidates, scenario_text
+    from lotsim.io.scenario_yaml import read_scenario
+
+    doc = yaml.safe_load((ROOT / "scenarios" / "plots" / "storefront_plot.yaml").read_text())
+    settings = LayoutSettings(orientations=1, offsets=1)
+    texts = []
+    for plot in (read_plot(_write(tmp_path / "m" / "p.yaml", doc)),
+                 read_plot(_write(tmp_path / "ft" / "p.yaml", to_feet(doc)))):
+        cand = max(candidates(plot, settings), key=lambda c: c.bays)
+        alloc = allocate(plot, stretches(plot, cand.rows, None))
+        texts.append(scenario_text(plot, cand, settings, allocation=alloc)[0])
+    drawn = {a.id: (a.start, a.end) for a in cand.aisles}
+    metric, feet = texts
+    assert "units:" not in metric
+    assert [ln for ln in feet.splitlines() if not ln.startswith("#")][0] == "units: ft"
+    assert "slot_width: 8.2021," in feet  # 2.5 m
+    m, f = tmp_path / "m" / "lot.yaml", tmp_path / "ft" / "lot.yaml"
+    m.write_text(metric)
+    f.write_text(feet)
+    assert read_scenario(f).scenario.units == "ft"
+    la, lb = prepare(m, cache=False).lot, prepare(f, cache=False).lot
+    assert [(s.id, s.use) for s in la.slots] == [(s.id, s.use) for s in lb.slots]
+    for sa, sb in zip(la.slots, lb.slots, strict=True):
+        assert np.allclose(sa.polygon, sb.polygon, atol=1e-3), sa.id
+    for k in la.aisles:  # as drawn; the metric file rounds them to the centimetre
+        assert np.allclose(lb.aisles[k].centerline, drawn[k], atol=1e-3), k
+        assert np.allclose(la.aisles[k].centerline, drawn[k], atol=5e-3), k
+    for xa, xb in zip(la.access_aisles, lb.access_aisles, strict=True):
+        assert np.allclose(xa.polygon, xb.polygon, atol=1e-3)
+    for pa, pb in zip(la.entrances + la.exits, lb.entrances + lb.exits, strict=True):
+        assert np.allclose(pa.pose, pb.pose, atol=1e-3)

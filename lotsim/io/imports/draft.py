@@ -160,6 +160,11 @@ class LotDraft:
     traffic: dict | None = None
     building_entrances: list[tuple[str, Point]] = field(default_factory=list)
     """(id, point): the doors of the buildings the lot serves."""
+    units: str | None = None
+    """The unit the file states (``units: ft``, of :data:`~lotsim.core.units.LENGTH_UNITS`)
+    and writes its lengths in; None: metres, unstated. The draft holds metres either way."""
+    places: int = 2
+    """Decimals of the lengths written (2, the centimetre, in metres)."""
 
     @property
     def slot_count(self) -> int:
@@ -167,11 +172,37 @@ class LotDraft:
         return sum(r.count for r in self.rows) + len(self.slots)
 
     def to_yaml(self) -> str:
-        """The scenario text (``docs/scenario.md``), deterministic, ending in a line break."""
+        """The scenario text (``docs/scenario.md``), deterministic, ending in a line break,
+        its lengths in :attr:`units`.
+
+        >>> d = LotDraft("p", "", [(0, 0), (3.048, 0), (3.048, 3.048)], units="ft")
+        >>> for line in d.to_yaml().splitlines()[:6]:
+        ...     print(line)
+        units: ft
+        name: p
+        description: ""
+        vehicle_types: [valet]
+        lot:
+          boundary: [[0, 0], [10, 0], [10, 10]]
+        """
+        k = 1.0 / LENGTH_UNITS[self.units or "m"]
+
+        def n(value: float) -> str:
+            return num(value * k, self.places)
+
+        def pts(ring: Sequence[Point]) -> str:
+            return points([(x * k, y * k) for x, y in ring], self.places)
+
+        def areas(items: Sequence[AreaDraft], indent: str) -> list[str]:
+            return _areas([AreaDraft(a.id, [(x * k, y * k) for x, y in a.polygon], a.note)
+                           for a in items], indent, self.places)
+
         out = [comment(h) for h in self.header]
+        if self.units is not None:
+            out.append(f"units: {self.units}")
         out += [f"name: {text(self.name)}", f"description: {text(self.description)}",
                 "vehicle_types: [" + ", ".join(text(v) for v in self.vehicle_types) + "]",
-                "lot:", f"  boundary: {points(self.boundary)}"]
+                "lot:", f"  boundary: {pts(self.boundary)}"]
         if self.speed_limit_kmh is not None:
             out.append(f"  speed_limit_kmh: {num(self.speed_limit_kmh)}")
         if self.paved is not None:
@@ -179,26 +210,26 @@ class LotDraft:
             out.append(f"    aisles: {'true' if self.paved_aisles else 'false'}")
             if self.paved:
                 out.append("    areas:")
-                out += _areas(self.paved, "      ")
+                out += areas(self.paved, "      ")
         out.append("  aisles:")
         for a in self.aisles:
             if a.note:
                 out.append("    " + comment(a.note))
-            out.append(f"    - {{id: {text(a.id)}, width: {num(a.width)}, direction: "
+            out.append(f"    - {{id: {text(a.id)}, width: {n(a.width)}, direction: "
                        f"{'one-way' if a.one_way else 'two-way'},")
-            out.append(f"       centerline: {points(a.centerline)}}}")
+            out.append(f"       centerline: {pts(a.centerline)}}}")
         if self.rows:
             out.append("  rows:")
             for r in self.rows:
                 if r.note:
                     out.append("    " + comment(r.note))
                 angle = f", angle_deg: {num(r.angle_deg)}" if r.angle_deg is not None else ""
-                gap = f", gap: {num(r.gap)}" if r.gap else ""
+                gap = f", gap: {n(r.gap)}" if r.gap else ""
                 first = f", first_number: {r.first_number}" if r.first_number != 1 else ""
                 use = f", use: {r.use}" if r.use != "standard" else ""
                 out.append(f"    - {{aisle: {text(r.aisle)}, side: {r.side}, kind: {r.kind}"
-                           f"{angle}, count: {r.count}, slot_width: {num(r.slot_width)}, "
-                           f"slot_length: {num(r.slot_length)}, start: {num(r.start)}{gap}, "
+                           f"{angle}, count: {r.count}, slot_width: {n(r.slot_width)}, "
+                           f"slot_length: {n(r.slot_length)}, start: {n(r.start)}{gap}, "
                            f"id_prefix: {text(r.id_prefix)}{first}{use}}}")
         if self.slots:
             out.append("  slots:")
@@ -207,26 +238,26 @@ class LotDraft:
                     out.append("    " + comment(s.note))
                 angle = f", angle_deg: {num(s.angle_deg)}" if s.angle_deg is not None else ""
                 out.append(f"    - {{id: {text(s.id)}, kind: {s.kind}{angle}, "
-                           f"width: {num(s.width)}, length: {num(s.length)}, "
-                           f"center: {points([s.center])[1:-1]}, "
+                           f"width: {n(s.width)}, length: {n(s.length)}, "
+                           f"center: {pts([s.center])[1:-1]}, "
                            f"heading_deg: {num(s.heading_deg)}}}")
         for key, items in (("walls", self.walls), ("obstacles", self.obstacles),
                            ("no_go", self.no_go)):
             if items:
                 out.append(f"  {key}:")
-                out += _areas(items, "    ")
+                out += areas(items, "    ")
         for key, gates in (("entrances", self.entrances), ("exits", self.exits)):
             if gates:
                 out.append(f"  {key}:")
                 for g in gates:
                     if g.note:
                         out.append("    " + comment(g.note))
-                    out.append(f"    - {{id: {text(g.id)}, x: {num(g.x)}, y: {num(g.y)}, "
+                    out.append(f"    - {{id: {text(g.id)}, x: {n(g.x)}, y: {n(g.y)}, "
                                f"heading_deg: {num(g.heading_deg)}}}")
         if self.building_entrances:
             out.append("  building_entrances:")
             for ident, (x, y) in self.building_entrances:
-                out.append(f"    - {{id: {text(ident)}, x: {num(x)}, y: {num(y)}}}")
+                out.append(f"    - {{id: {text(ident)}, x: {n(x)}, y: {n(y)}}}")
         if self.occupied:
             out.append("  occupied: [" + ", ".join(text(s) for s in self.occupied) + "]")
         if self.traffic is not None:

@@ -27,6 +27,7 @@ from lotsim.io.scenario_yaml import parse_scenario
 from lotsim.io.yamlnodes import parse_text
 from lotsim.lot.build import build_lot
 from lotsim.lot.model import DesignVehicle
+from lotsim.sim.bays import bay_walks
 
 TYPES = """\
 vehicle_types:
@@ -123,8 +124,9 @@ def test_access_aisles_cost_bays_and_the_total_says_so():
 
 
 def test_accessible_bays_are_nearest_the_door_within_a_group_s_span():
-    # stated property (lotsim.design.allocation): no standard bay on a 90° row is nearer
-    # the door than an accessible bay by more than the span of a group (three 2.5 m bays)
+    # on this open plot (the door just beyond its edge, the rows hardly in the way), placing
+    # by the walk over the pavement keeps the straight lines' property: no standard bay on a
+    # 90° row is nearer the door than an accessible bay by more than the span of a group
     for _, _, _, lot in _laid("uses: {accessible: 6, ev: 4}\n"):
         acc = [_walk(s) for s in lot.slots if s.use in ("accessible", "van_accessible")]
         std = [_walk(s) for s in lot.slots if s.use == "standard"]
@@ -238,3 +240,29 @@ def test_the_ranking_puts_the_standard_met_first_then_the_bays_laid_out():
     assert plain.splitlines()[0].split()[:4] == ["#", "bays", "drawn", "ADA"]
     assert plain.splitlines()[1].split()[3] == "-"
 
+
+
+@pytest.mark.parametrize("door", ["[22, 20]", "[45, 28]"])
+def test_a_group_stands_where_its_walk_is_least_and_validate_walks_it_so(door):
+    # against every place the group could stand, walked the allocator's way; and the walks
+    # lotsim validate reports for the bays placed are those the allocator ranked them by
+    from lotsim.design.allocation import _Walks
+    text = PLOT.replace("[22, 41]", door)
+    for plot, alloc, _, lot in _laid("uses: {accessible: 2, van_accessible: 0}\n", text):
+        cand_runs = None
+        for cand in candidates(plot, LayoutSettings(orientations=2, offsets=1)):
+            runs = stretches(plot, cand.rows, None)
+            if allocate(plot, runs) == alloc:
+                cand_runs = runs
+                break
+        assert cand_runs is not None
+        walks = _Walks(plot, cand_runs)
+        k = math.ceil(group_span("accessible", 2.5, 2) / 2.5 - 1e-9)
+        every = [max(walks.group(s, (i, j), "accessible", 2))
+                 for i, s in enumerate(cand_runs) if s.angle == 90 and s.count >= k
+                 for j in range(s.count - k + 1)]
+        doors = [(e.id, e.at) for e in plot.building_entrances]
+        reported = [w.distance for w in bay_walks(lot, doors)]
+        assert len(reported) == 2
+        assert max(reported) == pytest.approx(min(every), abs=1e-3)
+        assert len({round(w, 6) for w in every}) > 1  # the places differ
