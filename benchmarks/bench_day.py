@@ -86,8 +86,11 @@ def _process(cmd: list[str]) -> tuple[float, float, str]:
 
 def _per_car(path: str, queue: mp.Queue) -> None:
     import lotsim
+    from lotsim import api
 
-    rr = lotsim.run(lotsim.prepare(path))
+    prepared = lotsim.prepare(path)
+    with api.collector_tuned():  # as lotsim run plans
+        rr = lotsim.run(prepared)
     queue.put([(v.arrival.time, v.planning_time) for v in rr.vehicles])
 
 

@@ -43,9 +43,9 @@ KEPT_HULLS = 250_000
 """Swept hulls a :class:`SearchGraph` keeps at most (a hull with its row and cells takes
 0.3 to 1.3 kB): past it, those not asked for since it was last full are let go, and worked
 out again if asked for (the same hulls: a pure function of the motion). A day of 3000 cars
-on a 364-bay lot asks for some 150 000 per type, and keeps them all; a run of several days
-holds no more. (A bound well under what a run asks for costs it more time working them
-out again than it saves: most hulls are asked for again within the hour.)"""
+on a 364-bay lot asks for some 150 000 per type and keeps them all; however long a run, a
+graph holds no more than this. (A bound well under what a run asks for costs it more time
+working them out again than it saves: most hulls are asked for again within the hour.)"""
 
 
 class Tally:
