@@ -1,11 +1,13 @@
 """The runs the export tests read: the README's main run (``scenarios/mixed_lot.yaml``),
 ``scenarios/lots/ladder.yaml`` and a stepped run of the quickstart lot with cars that are
-inside the lot when they come (:func:`inside_run`), each planned once per test process and
-written as ``result.json`` into a folder removed at exit."""
+inside the lot when they come (:func:`inside_run`), each planned once for the test session
+(by whichever of pytest-xdist's workers asks first, the others waiting for it and reading its
+file) and written as ``result.json`` into the session's folder, removed at exit."""
 
 from __future__ import annotations
 
 import atexit
+import fcntl
 import functools
 import os
 import shutil
@@ -49,13 +51,25 @@ def _type(live) -> str:
 
 @functools.cache
 def result_path(name: str) -> Path:
-    """``result.json`` of the run ``name`` (planned on first use)."""
+    """``result.json`` of the run ``name``, planned on first use in the session: the runs
+    are the same in every process, so one plans it and the others read its file."""
     import lotsim
 
-    folder = Path(tempfile.mkdtemp(prefix=f"lotsim-export-{name}-"))
-    atexit.register(shutil.rmtree, folder, True)
-    result = inside_run(RUNS[name]) if name == "inside" else lotsim.run(RUNS[name])
-    return lotsim.write_result(result, folder / "result.json")
+    shared = os.environ.get("LOTSIM_TEST_SESSION_CACHE")  # tests/conftest.py's
+    if shared is None:  # this module imported on its own
+        shared = tempfile.mkdtemp(prefix="lotsim-export-runs-")
+        atexit.register(shutil.rmtree, shared, True)
+    runs = Path(shared) / "export-runs"
+    runs.mkdir(exist_ok=True)
+    path = runs / name / "result.json"
+    with open(runs / f".{name}.lock", "wb") as lock:
+        fcntl.flock(lock, fcntl.LOCK_EX)  # another process planning it: wait, then read it
+        if not path.exists():
+            folder = Path(tempfile.mkdtemp(prefix=f".{name}-", dir=runs))
+            result = inside_run(RUNS[name]) if name == "inside" else lotsim.run(RUNS[name])
+            lotsim.write_result(result, folder / "result.json")
+            os.replace(folder, path.parent)  # whole or not at all
+    return path
 
 
 def need(module: str, extra: str = "export"):

@@ -23,6 +23,8 @@ from feet_files import FOOT, to_feet
 from lotsim.api import prepare
 from lotsim.design.plot_yaml import read_plot
 from lotsim.io.scenario_yaml import load_scenario
+from lotsim.lot.build import build_lot
+from lotsim.lot.model import DesignVehicle
 
 
 def _write(path, doc):
@@ -32,7 +34,8 @@ def _write(path, doc):
 
 
 def _same_lot(a, b):
-    la, lb = prepare(a, cache=False).lot, prepare(b, cache=False).lot
+    # the lot as preparing it builds it (for the envelope of its types), before any maneuver
+    la, lb = (build_lot(x.lot, DesignVehicle.envelope(x.vehicle_types)) for x in (a, b))
     assert la.boundary.equals_exact(lb.boundary, 1e-6)
     assert [s.id for s in la.slots] == [s.id for s in lb.slots]
     for sa, sb in zip(la.slots, lb.slots, strict=True):
@@ -59,8 +62,9 @@ def _run(path, out):
     return (out / "result.json").read_bytes()
 
 
-@pytest.mark.parametrize("name", ["example.yaml", "lots/storefront.yaml"])
-def test_a_scenario_in_feet_is_the_same_lot_and_run(tmp_path, name):
+def _both(folder, name):
+    """The shipped scenario ``name`` with lengths it leaves out, written in metres and in
+    feet under ``folder``: the two files."""
     doc = yaml.safe_load((ROOT / "scenarios" / name).read_text())
     doc.setdefault("name", "same")
     if name == "example.yaml":  # lengths the shipped files leave out
@@ -68,8 +72,15 @@ def test_a_scenario_in_feet_is_the_same_lot_and_run(tmp_path, name):
     else:
         row = next(r for r in doc["lot"]["rows"] if r.get("use") == "van_accessible")
         row["access_aisle_width"] = 2.6
-    metric = _write(tmp_path / "m" / "s.yaml", doc)
-    feet = _write(tmp_path / "ft" / "s.yaml", to_feet(doc))
+    return _write(folder / "m" / "s.yaml", doc), _write(folder / "ft" / "s.yaml", to_feet(doc))
+
+
+NAMES = ["example.yaml", "lots/storefront.yaml"]
+
+
+@pytest.mark.parametrize("name", NAMES)
+def test_a_scenario_in_feet_is_the_same_lot(tmp_path, name):
+    metric, feet = _both(tmp_path, name)
     sm, sf = load_scenario(metric), load_scenario(feet)
     assert sf.units == "ft" and sm.units == "m"
     for vm, vf in zip(sm.vehicle_types, sf.vehicle_types, strict=True):
@@ -82,6 +93,12 @@ def test_a_scenario_in_feet_is_the_same_lot_and_run(tmp_path, name):
     for rm, rf in zip(sm.routes, sf.routes, strict=True):
         assert rm.goal.within == pytest.approx(rf.goal.within, abs=1e-9)
     _same_lot(sm, sf)
+
+
+# the storefront's run as well (its van-accessible row's access aisles): -m slow
+@pytest.mark.parametrize("name", [NAMES[0], pytest.param(NAMES[1], marks=pytest.mark.slow)])
+def test_a_scenario_in_feet_is_the_same_run(tmp_path, name):
+    metric, feet = _both(tmp_path, name)
     # lengths in feet are read to the nanometre, so the run is the metric one, byte for byte
     assert _run(metric, tmp_path / "out-m") == _run(feet, tmp_path / "out-ft")
 

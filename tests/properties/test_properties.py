@@ -23,9 +23,10 @@ T); the same properties hold, and the slow profile prints how much of such lots 
 (free slots reachable and left again, and usable by each type; junction turns dropped; dead
 ends with no turnaround).
 
-Two profiles: ``lotsim-fast``, the default test, runs a few small lots (derandomized: the same
-ones every time, some 10 s); ``lotsim-slow`` runs many larger lots with more cars (some six
-minutes), left out like every ``slow`` test unless asked for with ``pytest -m slow``: with
+Two profiles: ``lotsim-fast`` runs a few small lots (derandomized: the same ones every time,
+some 10 s), in the default run for the first strategy; ``lotsim-slow`` runs many larger lots
+with more cars (some six minutes), left out like every ``slow`` test unless asked for with
+``pytest -m slow`` (as are the few small real-style lots of the fast profile): with
 ``-s`` it prints how many of each kind of aisle, row, angle and obstacle it drew, how the
 cars ended and why lotsim refused a lot, if it did.
 """
@@ -548,6 +549,10 @@ def test_random_lots_and_traffic_pass_the_independent_check():
 # parked in and left by it (measured on 40 drawn lots: 99.6 %, 1095 of 1099, since tiny
 # lots are turned in by multi-point turns; what is left is four corner bays for a 5 m van).
 USABLE = 0.97
+# by default, lots drawn by the first strategy pass the checks (the test above) and every free
+# bay of the shipped real-style lots is reached, parked in and left (tests/e2e/test_real_lots.py);
+# the few small real-style lots drawn here, and the many larger ones below: -m slow
+@pytest.mark.slow
 def test_random_real_style_lots_pass_the_independent_check():
     _run_profile("lotsim-fast", SMALL, networks, most_refused=1.0, max_examples=3)
     assert SEEN["drawn"] > SEEN["refused"]

@@ -189,6 +189,10 @@ def test_an_import_is_byte_for_byte_the_same(imported, tmp_path):
     assert (tmp_path / path.name).read_bytes() == path.read_bytes()
 
 
+# the whole 203-bay map prepared for both types (some 20 s): -m slow, beside the map's other
+# whole-lot checks (tests/e2e/test_import_lanelet2.py); the small map's bays are checked
+# usable by default (test_every_bay_of_the_small_map_is_reachable_and_usable)
+@pytest.mark.slow
 def test_the_demo_map_has_the_usable_bays_docs_import_md_gives(imported):
     """docs/import.md: of the 203 slots, the zoe can use 195 and the altis 181 (8 spots too
     short for either, 10 more for the altis, 4 it can park in but not leave): what a

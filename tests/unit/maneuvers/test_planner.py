@@ -32,7 +32,10 @@ from lotsim.vehicles import CATALOGUE
 from oracles.maneuver_check import check_maneuver, parked_bodies
 
 
-@pytest.mark.parametrize("path", SCENARIOS, ids=lambda p: p.stem)
+# the large lot's 1040 bays are the other lots' perpendicular rows over again: -m slow
+@pytest.mark.parametrize("path", [
+    pytest.param(p, marks=pytest.mark.slow) if p.stem == "large_lot" else p for p in SCENARIOS
+], ids=lambda p: p.stem)
 def test_every_maneuver_of_every_shipped_slot_passes_the_independent_check(path, shipped_graphs):
     lg = shipped_graphs[path.stem]
     scenario = load_scenario(path)
