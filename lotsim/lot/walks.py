@@ -19,7 +19,6 @@ import math
 from collections.abc import Iterable
 from dataclasses import dataclass
 
-import networkx as nx
 import numpy as np
 import shapely
 from shapely.geometry import LineString, Point
@@ -158,6 +157,8 @@ def shortest_walk(wg: WalkingGround, start: Point2, entrance: Point2, *,
     lines = shapely.linestrings(np.stack([nodes[new[:, 0]], nodes[new[:, 1]]], axis=1))
     edges = np.concatenate([wg.seen, new[shapely.covered_by(lines, tolerant)]])
     lengths = np.hypot(*(nodes[edges[:, 0]] - nodes[edges[:, 1]]).T)
+    import networkx as nx  # (here: a lot from the cache is validated without the library)
+
     graph = nx.Graph()
     graph.add_weighted_edges_from(zip(edges[:, 0].tolist(), edges[:, 1].tolist(),
                                       lengths.tolist(), strict=True))
