@@ -425,14 +425,10 @@ def evaluate(plot: PlotSpec, cand: Candidate, index: int, area: float,
                    aisle_length=cand.aisle_length)
     for _ in range(ROUNDS):
         yaml_text, ids = scenario_text(plot, cand, keep, settings)
-        if not ids:
-            return Evaluation(bays=0, problem="no bay is usable",
-                              seconds=time.perf_counter() - clock, **figures)
-        try:
-            sc, prepared, report = _prepare(plot, yaml_text)
-        except ScenarioError as exc:
-            return Evaluation(bays=0, problem=_short(str(exc)),
-                              seconds=time.perf_counter() - clock, **figures)
+        got = _prepared_text(plot, yaml_text, ids, figures, clock)
+        if isinstance(got, Evaluation):
+            return got
+        sc, prepared, report = got
         usable = _usable(report)
         if report.complete and usable == set(ids):
             if plot.uses.accessible_wanted or plot.uses.ev_wanted:
@@ -445,6 +441,19 @@ def evaluate(plot: PlotSpec, cand: Candidate, index: int, area: float,
                       seconds=time.perf_counter() - clock, **figures)
 
 
+def _prepared_text(plot: PlotSpec, yaml_text: str, ids: dict, figures: dict, clock: float):
+    """A candidate's scenario text prepared, ``(scenario, prepared, report)``, or the
+    :class:`Evaluation` of why it cannot be: no bay in it, or a scenario lotsim refuses."""
+    if not ids:
+        return Evaluation(bays=0, problem="no bay is usable",
+                          seconds=time.perf_counter() - clock, **figures)
+    try:
+        return _prepare(plot, yaml_text)
+    except ScenarioError as exc:
+        return Evaluation(bays=0, problem=_short(str(exc)),
+                          seconds=time.perf_counter() - clock, **figures)
+
+
 def _allot(plot: PlotSpec, cand: Candidate, keep: set[Key], settings: LayoutSettings,
            figures: dict, clock: float) -> Evaluation:
     """``cand``'s usable bays ``keep`` with the accessible and EV bays the plot asks for,
@@ -454,14 +463,10 @@ def _allot(plot: PlotSpec, cand: Candidate, keep: set[Key], settings: LayoutSett
     for _ in range(ROUNDS):
         alloc = allocate(plot, stretches(plot, cand.rows, keep), barred=barred)
         yaml_text, ids = scenario_text(plot, cand, keep, settings, allocation=alloc)
-        if not ids:
-            return Evaluation(bays=0, problem="no bay is usable",
-                              seconds=time.perf_counter() - clock, **figures)
-        try:
-            sc, prepared, report = _prepare(plot, yaml_text)
-        except ScenarioError as exc:
-            return Evaluation(bays=0, problem=_short(str(exc)),
-                              seconds=time.perf_counter() - clock, **figures)
+        got = _prepared_text(plot, yaml_text, ids, figures, clock)
+        if isinstance(got, Evaluation):
+            return got
+        sc, prepared, report = got
         usable = _usable(report)
         if report.complete and usable == set(ids):
             return _run(sc, prepared, settings,
