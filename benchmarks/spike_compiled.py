@@ -187,10 +187,11 @@ def _blocked(srows, erows, trows, since, until, xy, hs, hn, es, en, lo, hi, unde
     if m < 2:
         return m
     order = np.argsort(lo[:m])
-    a0, z0 = lo[order[0]], hi[order[0]]
+    sl, sh = lo[:m][order], hi[:m][order]  # (copies: the union is written over lo, hi)
+    a0, z0 = sl[0], sh[0]
     n = 0
     for q in range(1, m):
-        a, z = lo[order[q]], hi[order[q]]
+        a, z = sl[q], sh[q]
         if a <= z0:
             z0 = max(z0, z)
         else:
