@@ -28,6 +28,9 @@ SAMPLE_DT = 0.05
 """Interval of the samples of a moving vehicle in a result [s] (its ``settings.dt``):
 fine enough that the pose interpolated between two samples stays within millimetres of
 the planned path, which is what ``lotsim check`` verifies."""
+SAMPLE_DECIMALS = {"t": 6, "x": 4, "y": 4, "theta": 6, "v": 4, "steer": 6, "gear": 0}
+"""The decimals each column of a vehicle's samples is written to (1 µs, 0.1 mm, 1 µrad,
+0.1 mm/s, 1 µrad; the gear a whole number)."""
 
 
 def _ring(poly: shapely.Polygon) -> list[list[float]]:
@@ -99,14 +102,11 @@ def vehicle_doc(v: VehicleRun) -> dict:
     t = v.vehicle
     lim = t.limits
     tr = samples(v)
-    cols = {"t": [], "x": [], "y": [], "theta": [], "v": [], "steer": [], "gear": []}
+    cols: dict[str, list] = {key: [] for key in SAMPLE_DECIMALS}
     if tr is not None:
-        cols = {
-            "t": np.round(tr.t, 6).tolist(), "x": np.round(tr.x, 4).tolist(),
-            "y": np.round(tr.y, 4).tolist(), "theta": np.round(tr.theta, 6).tolist(),
-            "v": np.round(tr.v, 4).tolist(), "steer": np.round(tr.steer, 6).tolist(),
-            "gear": tr.gear.astype(int).tolist(),
-        }
+        cols = {key: (np.round(getattr(tr, key), k).tolist() if k else
+                      getattr(tr, key).astype(int).tolist())
+                for key, k in SAMPLE_DECIMALS.items()}
     doc = {
         "id": v.id,
         "type": {"name": t.name, "width": t.width, "front": t.front, "rear": t.rear,
@@ -168,10 +168,12 @@ def write_run(rr: RunResult, path: str | Path, *, progress=None) -> None:
         fh.write(f'{{"format":{_dumps(FORMAT)},"version":{_dumps(VERSION)},'
                  f'"lot":{_dumps(lot_doc(rr))},"vehicles":[')
         n = len(rr.vehicles)
+        compact = str(path).endswith(COMPACT_SUFFIX)
         for k, v in enumerate(rr.vehicles):
             if progress is not None:
                 progress(k, n)
-            fh.write(("," if k else "") + _dumps(vehicle_doc(v)))
+            doc = vehicle_doc(v)
+            fh.write(("," if k else "") + _dumps(compact_vehicle(doc) if compact else doc))
         if progress is not None:
             progress(n, n)
         tail = _dumps(tail_doc(rr))
@@ -199,9 +201,42 @@ def write_json(obj: dict, path: str | Path) -> None:
     renamed over the target; nothing is left behind on failure. A path ending in ``.gz``
     (:data:`COMPACT_SUFFIX`) is written gzip-compressed, with no time or name in its
     header, so that the same document gives the same bytes."""
+    if str(path).endswith(COMPACT_SUFFIX) and isinstance(obj.get("vehicles"), list):
+        obj = obj | {"vehicles": [compact_vehicle(v) for v in obj["vehicles"]]}
     with _json_file(path) as fh:
         json.dump(obj, fh, separators=(",", ":"), allow_nan=False)
         fh.write("\n")
+
+
+SAMPLE_DIFFERENCES = 2
+"""How many times the compact form differences each column's whole numbers: a moving car's
+positions and clock change smoothly, so their second differences are small numbers that
+repeat, which gzip then packs some three times tighter than the decimals themselves."""
+
+
+def compact_vehicle(doc: dict) -> dict:
+    """A vehicle of a run's document (:func:`vehicle_doc`) with its samples as the compact
+    form writes them (docs/result.md): each column as whole numbers of its last decimal
+    (:data:`SAMPLE_DECIMALS`) differenced :data:`SAMPLE_DIFFERENCES` times, each time with
+    a zero before the first, and the ``encoding`` saying so. The numbers are those of the
+    plain document: ``value = n / 10**decimals`` after summing up as many times.
+
+    Examples
+    --------
+    >>> compact_vehicle({"id": "v1", "samples": {"t": [0.0, 0.05, 0.1], "x": [1.0, 1.1, 1.25],
+    ...     "y": [0.0, 0.0, 0.0], "theta": [0.0, 0.0, 0.0], "v": [2.0, 2.0, 3.0],
+    ...     "steer": [0.0, 0.0, 0.0], "gear": [1, 1, 1]}})["samples"]["x"]
+    [10000, -9000, 500]
+    """
+    cols = doc["samples"]
+    out: dict[str, object] = {"encoding": {"decimals": SAMPLE_DECIMALS,
+                                           "differences": SAMPLE_DIFFERENCES}}
+    for key, k in SAMPLE_DECIMALS.items():
+        n = np.rint(np.asarray(cols[key], dtype=float) * 10.0 ** k).astype(np.int64)
+        for _ in range(SAMPLE_DIFFERENCES):
+            n = np.diff(n, prepend=0)
+        out[key] = n.tolist()
+    return doc | {"samples": out}
 
 
 @contextlib.contextmanager

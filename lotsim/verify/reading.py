@@ -40,7 +40,8 @@ GZIP_MAGIC = b"\x1f\x8b"
 
 
 def read_result(path: str | os.PathLike[str], *, packed: bool = False) -> dict:
-    """Read a ``result.json``, or its compact form (gzip-compressed, ``result.json.gz``).
+    """Read a ``result.json``, or its compact form (``result.json.gz``: gzip-compressed,
+    each vehicle's samples encoded as whole numbers, read back to the same numbers).
 
     Parameters
     ----------
@@ -83,7 +84,9 @@ def read_result(path: str | os.PathLike[str], *, packed: bool = False) -> dict:
         except (OSError, EOFError, zlib.error) as exc:
             raise ResultFormatError(f"{name}: not a whole gzip file ({exc})") from None
     try:
-        data = json.loads(raw, object_hook=_packed if packed else None)
+        data = json.loads(raw, object_hook=_packed if packed else _decoded)
+    except _EncodingProblem as exc:
+        raise ResultFormatError(f"{name}: a vehicle's samples: {exc}") from None
     except json.JSONDecodeError as exc:
         raise ResultFormatError(
             f"{name}: not JSON (line {exc.lineno}, column {exc.colno}: {exc.msg})") from None
@@ -95,11 +98,63 @@ def read_result(path: str | os.PathLike[str], *, packed: bool = False) -> dict:
     return data
 
 
+ENCODING_KEYS = ("decimals", "differences")
+"""The keys of a vehicle's ``samples.encoding`` in a result's compact form."""
+
+
+class _EncodingProblem(ValueError):
+    """A vehicle's samples say they are encoded but cannot be decoded: why."""
+
+
+def _decoded(obj: dict, *, arrays: bool = False) -> dict:
+    """A JSON object as read; the samples of the compact form (``"encoding"`` beside the
+    columns: whole numbers of each column's last decimal, differenced ``differences``
+    times) decoded to the numbers of the plain form: lists of floats (of whole numbers for
+    a column of no decimals), or float arrays with ``arrays``. Raises
+    :class:`_EncodingProblem` for an encoding it cannot decode."""
+    if "encoding" not in obj or not all(key in obj for key in SAMPLE_KEYS):
+        return obj
+    enc = obj.pop("encoding")
+    if not (isinstance(enc, dict) and sorted(enc) == sorted(ENCODING_KEYS)
+            and isinstance(enc["decimals"], dict)
+            and sorted(enc["decimals"]) == sorted(SAMPLE_KEYS)):
+        raise _EncodingProblem(f"'encoding' must be an object of {list(ENCODING_KEYS)}, "
+                               f"'decimals' naming each of {list(SAMPLE_KEYS)}")
+    times = enc["differences"]
+    if type(times) is not int or not 0 <= times <= 3:
+        raise _EncodingProblem(f"'differences' must be 0 to 3, not {times!r}")
+    for key in SAMPLE_KEYS:
+        k, col = enc["decimals"][key], obj[key]
+        if type(k) is not int or not 0 <= k <= 9:
+            raise _EncodingProblem(f"the decimals of '{key}' must be 0 to 9, not {k!r}")
+        if not (isinstance(col, list)
+                and all(type(n) is int and abs(n) <= MAX_WHOLE for n in col)):
+            raise _EncodingProblem(f"'{key}' must be a list of whole numbers of at most "
+                                   f"{MAX_WHOLE} in size")
+        if not col:
+            continue
+        n = np.array(col, dtype=np.int64)
+        check = n.astype(float)
+        for _ in range(times):
+            n, check = np.cumsum(n), np.cumsum(check)
+        if np.abs(n - check).max() > 1e-9 * np.abs(check).max() + 1:
+            raise _EncodingProblem(f"'{key}' sums beyond the range of whole numbers")
+        obj[key] = n / 10.0 ** k if arrays else (n / 10.0 ** k).tolist() if k else n.tolist()
+    return obj
+
+
+MAX_WHOLE = 2 ** 53
+"""The largest whole number, in size, of an encoded sample column (a float holds each one
+exactly)."""
+
+
 def _packed(obj: dict) -> dict:
-    """A JSON object as read, with its sample columns as float arrays when it has all of
-    :data:`SAMPLE_KEYS` (the lists of numbers among them, as :func:`_samples` makes them):
-    each object is handed over as soon as it is read, so a vehicle's lists are let go
-    before the next vehicle is read."""
+    """A JSON object as read, decoded (:func:`_decoded`), with its sample columns as float
+    arrays when it has all of :data:`SAMPLE_KEYS` (the lists of numbers among them, as
+    :func:`_samples` makes them): each object is handed over as soon as it is read, so a
+    vehicle's lists are let go before the next vehicle is read."""
+    if "encoding" in obj:
+        return _decoded(obj, arrays=True)
     if all(key in obj for key in SAMPLE_KEYS):
         for key in SAMPLE_KEYS:
             col = obj[key]
