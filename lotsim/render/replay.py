@@ -27,8 +27,10 @@ from dataclasses import dataclass
 from functools import cached_property
 
 import numpy as np
+import shapely
 
 from lotsim.errors import ReplayError
+from lotsim.io.visits import Visit, visits
 
 PHASES = ("outside", "driving", "parked", "leaving")
 """Phases of a vehicle's life, in order."""
@@ -167,30 +169,6 @@ class MetDisturbances:
             MET_KINDS, (self.stalls, self.closures, self.strangers), strict=True) if there)
 
 
-def _inside(point: tuple[float, float], poly: np.ndarray) -> bool:
-    """``point`` inside the convex polygon ``poly`` (either orientation)."""
-    p = np.asarray(point, dtype=float)
-    a = poly
-    b = np.roll(poly, -1, axis=0)
-    cross = (b[:, 0] - a[:, 0]) * (p[1] - a[:, 1]) - (b[:, 1] - a[:, 1]) * (p[0] - a[:, 0])
-    return bool(np.all(cross >= -1e-9) or np.all(cross <= 1e-9))
-
-
-def _stand_in_slot(t, x, y, th, v, front, rear, poly) -> tuple[float, float] | None:
-    """The longest stretch between two samples in which the vehicle stands still with its
-    body centre in the slot polygon ``poly``; None if there is none."""
-    if poly is None or len(t) < 2:
-        return None
-    still = (v[:-1] == 0) & (v[1:] == 0) & (x[:-1] == x[1:]) & (y[:-1] == y[1:])
-    best = None
-    shift = (front - rear) / 2
-    for i in np.flatnonzero(still):
-        c = (x[i] + shift * math.cos(th[i]), y[i] + shift * math.sin(th[i]))
-        if _inside(c, poly) and (best is None or t[i + 1] - t[i] > best[1] - best[0]):
-            best = (float(t[i]), float(t[i + 1]))
-    return best
-
-
 class Replay:
     """The vehicles of a result document, ready to be asked where they are.
 
@@ -202,11 +180,9 @@ class Replay:
 
     def __init__(self, doc: dict):
         try:
-            lot = doc["lot"]
-            slots = {s["id"]: np.asarray(s["polygon"], dtype=float) for s in lot["slots"]}
-            patience = doc.get("settings", {}).get("patience")
-            self.tracks = [self._track(v, slots, patience) for v in doc["vehicles"]]
-        except (KeyError, TypeError, ValueError, IndexError) as exc:
+            vs = visits(doc)
+            self.tracks = [self._track(v, vs[str(v["id"])]) for v in doc["vehicles"]]
+        except (KeyError, TypeError, ValueError, IndexError, shapely.errors.ShapelyError) as exc:
             if isinstance(exc, ReplayError):
                 raise
             raise ReplayError(f"not a lotsim result: {type(exc).__name__}: {exc}") from None
@@ -242,7 +218,7 @@ class Replay:
         return MetDisturbances(closures, strangers, stalls)
 
     @staticmethod
-    def _track(v: dict, slots: dict, patience) -> Track:
+    def _track(v: dict, visit: Visit) -> Track:
         s = v["samples"]
         cols = {k: np.asarray(s[k], dtype=float) for k in ("t", "x", "y", "theta", "v", "steer")}
         gear = np.asarray(s["gear"], dtype=np.int8)
@@ -251,28 +227,19 @@ class Replay:
             raise ReplayError(f"vehicle {v['id']!r}: sample arrays of different lengths")
         typ = v["type"]
         t, status = cols["t"], v["status"]
-        inf = math.inf
-        entered = float(t[0]) if n else inf
-        parked_from = parked_until = gone = rejected_at = inf
-        if status == "parked" and n:
-            parked_from = float(t[-1])
-        elif status == "departed" and n:
-            gone = float(t[-1])
-            stand = _stand_in_slot(t, cols["x"], cols["y"], cols["theta"], cols["v"],
-                                   float(typ["front"]), float(typ["rear"]),
-                                   slots.get(v["slot"]))
-            if stand is not None:
-                parked_from, parked_until = stand
-        elif status == "rejected":
-            rejected_at = float(v["arrival"]) + (float(patience) if patience is not None
-                                                 else 0.0)
+
+        def known(time: float | None) -> float:
+            return math.inf if time is None else time
+
         return Track(
             id=str(v["id"]), type_name=str(typ["name"]), width=float(typ["width"]),
             front=float(typ["front"]), rear=float(typ["rear"]),
             wheelbase=float(typ["wheelbase"]), arrival=float(v["arrival"]), status=status,
             slot=v["slot"], t=t, x=cols["x"], y=cols["y"], theta=cols["theta"], v=cols["v"],
-            steer=cols["steer"], gear=gear, entered=entered, parked_from=parked_from,
-            parked_until=parked_until, gone=gone, rejected_at=rejected_at,
+            steer=cols["steer"], gear=gear, entered=known(visit.start),
+            parked_from=known(visit.park), parked_until=known(visit.leave),
+            gone=known(visit.end if status == "departed" else None),
+            rejected_at=known(visit.rejected),
         )
 
     # -- time span -----------------------------------------------------------------------------

@@ -2,12 +2,8 @@
 
 A :class:`CarTrack` is one vehicle's samples as numpy arrays (rear-axle centre pose, signed
 speed, road-wheel steer, gear; ``docs/result.md``) with the dimensions of its type. A
-:class:`Visit` says when it came, when it stood in its slot and when it left:
-
-* ``park`` is when it came to rest in its slot for its dwell and ``leave`` when it moved off
-  again (``None`` for a car that stays to the end of the run);
-* the dwell is the longest stretch of samples at rest at one pose whose centre lies inside
-  the car's slot.
+:class:`~lotsim.io.visits.Visit` (:func:`~lotsim.io.visits.visits`, the replay's reader
+too) says when it came, when it stood in its slot and when it left.
 
 :func:`resample` puts a track on a uniform clock (the CommonRoad step) by the same linear
 interpolation that ``docs/result.md`` defines between samples (heading the short way round),
@@ -34,14 +30,11 @@ from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
-import shapely
 
 from lotsim.core.geometry import FloatArray
 from lotsim.errors import LotsimError
-
-POSE_TOLERANCE = 2e-4
-"""Two samples at rest closer than this [m, rad] stand at one pose (the file's rounding:
-0.1 mm, 1 µrad)."""
+from lotsim.io.visits import Visit as Visit  # the one reader of a car's visit
+from lotsim.io.visits import visits as visits
 
 
 class ExportError(LotsimError, ValueError):
@@ -138,30 +131,6 @@ class CarTrack:
         return len(self.t)
 
 
-@dataclass(frozen=True, slots=True)
-class Visit:
-    """A vehicle's story in times [s]: see the module's docstring."""
-
-    vehicle: str
-    slot: str | None
-    status: str
-    arrival: float
-    """When it arrived at its entrance (it may wait outside before its first sample)."""
-    entrance: str
-    start: float | None
-    """Its first sample (None: it never entered)."""
-    park: float | None
-    """It came to rest in its slot (None: it never stood in it)."""
-    leave: float | None
-    """It moved off from its slot (None: it stayed)."""
-    end: float | None
-    """Its last sample."""
-    exit: str | None
-    """The exit it left by (``departed`` vehicles only)."""
-    in_bay: bool = False
-    """It stood in its slot when it came (``inside``), from its first sample."""
-
-
 def tracks(doc: dict) -> list[CarTrack]:
     """Every vehicle with samples, in the file's (arrival) order."""
     out = []
@@ -199,76 +168,6 @@ def offset_line(points, d: float) -> np.ndarray:
     cos_half = np.ones(len(p))
     cos_half[1:-1] = np.einsum("ij,ij->i", normals[1:-1], n[:-1])
     return p + d * normals / cos_half[:, None]
-
-
-def _rest_runs(tr: CarTrack) -> list[tuple[int, int]]:
-    """Index ranges ``[i, j]`` of consecutive samples at rest at one pose."""
-    rest = (tr.v == 0) & (tr.gear == 0)
-    runs, i, n = [], 0, len(tr)
-    while i < n:
-        if not rest[i]:
-            i += 1
-            continue
-        j = i
-        while (
-            j + 1 < n
-            and rest[j + 1]
-            and abs(tr.x[j + 1] - tr.x[i]) <= POSE_TOLERANCE
-            and abs(tr.y[j + 1] - tr.y[i]) <= POSE_TOLERANCE
-            and abs(tr.theta[j + 1] - tr.theta[i]) <= POSE_TOLERANCE
-        ):
-            j += 1
-        runs.append((i, j))
-        i = j + 1
-    return runs
-
-
-def visits(doc: dict) -> dict[str, Visit]:
-    """Each vehicle's :class:`Visit`, by id (every vehicle, those without samples too)."""
-    slots = {s["id"]: shapely.Polygon(s["polygon"]) for s in doc["lot"]["slots"]}
-    by_id = {tr.id: tr for tr in tracks(doc)}
-    exits = doc["lot"].get("exits", [])
-    out = {}
-    for v in doc["vehicles"]:
-        vid, slot, status = str(v["id"]), v.get("slot"), str(v["status"])
-        tr = by_id.get(vid)
-        start = end = park = leave = None
-        exit_id = None
-        if tr is not None:
-            start, end = float(tr.t[0]), float(tr.t[-1])
-            poly = slots.get(slot)
-            if poly is not None:
-                cx, cy = forward(tr.x, tr.y, tr.theta, tr.shape.wheelbase / 2)
-                inside = shapely.contains_xy(poly, cx, cy)
-                best = None
-                for i, j in _rest_runs(tr):
-                    if not inside[i]:
-                        continue
-                    stays = j == len(tr) - 1 and status != "departed"
-                    span = math.inf if stays else tr.t[j] - tr.t[i]
-                    if best is None or span > best[2]:
-                        best = (i, j, span)
-                if best is not None:
-                    i, j, span = best
-                    park = float(tr.t[i])
-                    leave = None if span == math.inf else float(tr.t[j])
-            if status == "departed" and exits:
-                d = [math.hypot(e["pose"][0] - tr.x[-1], e["pose"][1] - tr.y[-1]) for e in exits]
-                exit_id = str(exits[int(np.argmin(d))]["id"])
-        out[vid] = Visit(
-            vid,
-            slot,
-            status,
-            float(v["arrival"]),
-            str(v.get("entrance") or ""),
-            start,
-            park,
-            leave,
-            end,
-            exit_id,
-            "slot" in (v.get("inside") or {}),
-        )
-    return out
 
 
 def resample(tr: CarTrack, times: FloatArray) -> dict[str, FloatArray]:

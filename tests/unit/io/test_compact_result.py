@@ -63,9 +63,11 @@ def test_a_cut_compact_result_is_told_in_a_line(doc, tmp_path):
 
 @pytest.mark.parametrize("change, told", [
     (lambda s: s["encoding"].pop("differences"), "'encoding' must be an object of"),
-    (lambda s: s["encoding"]["decimals"].pop("x"), "'encoding' must be an object of .*, 'decimals' naming each of"),
+    (lambda s: s["encoding"]["decimals"].pop("x"),
+     "'encoding' must be an object of .*, 'decimals' naming each of"),
     (lambda s: s["encoding"].update(differences=7), "'differences' must be 0 to 3, not 7"),
-    (lambda s: s["encoding"]["decimals"].update(t=1.5), "the decimals of 't' must be 0 to 9, not 1.5"),
+    (lambda s: s["encoding"]["decimals"].update(t=1.5),
+     "the decimals of 't' must be 0 to 9, not 1.5"),
     (lambda s: s["x"].__setitem__(1, 0.5), "'x' must be a list of whole numbers"),
     (lambda s: s["y"].__setitem__(0, 10 ** 20), "'y' must be a list of whole numbers"),
     (lambda s: s["v"].extend([2 ** 53] * 2000), "'v' sums beyond the range"),

@@ -31,7 +31,8 @@ def _vehicle(vid, arrival, status, slot, t=(), x=(), v=()):
     n = len(t)
     return {"id": vid, "type": CAR, "arrival": arrival, "status": status, "slot": slot,
             "samples": {"t": list(t), "x": list(x), "y": [1.25] * n, "theta": [0.0] * n,
-                        "v": list(v), "steer": [0.0] * n, "gear": [1] * n}}
+                        "v": list(v), "steer": [0.0] * n,
+                        "gear": [int(speed != 0) for speed in v]}}  # at rest: gear 0
 
 
 def _doc(vehicles, patience=None):
