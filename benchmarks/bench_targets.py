@@ -23,7 +23,7 @@ Rows (the other benchmark scripts do the work; this one calls them and lines the
   instant at a time (:mod:`oracles.reference_footprints`, a shapely polygon per vehicle per
   instant) on the result's first ``--ref-cars`` cars, against the whole check of the same
   cars; the two must find the same.
-* WHCA* (10 s window) against HCA* on the jammed lot (``bench_validate.whca_row``), on every
+* WHCA* (10 s window) against HCA* on the congested lot (``bench_validate.whca_row``), on every
   shipped scenario with traffic, and on every shipped suite (each scenario and load of the
   suite, its first seed, arrival order): the ratio of planning times is the figure, each
   planner's best of three runs taken in turn (most cases plan in well under a second), with
@@ -173,7 +173,7 @@ def check_rows(path: Path, ref_cars: int) -> None:
 def whca_rows(quick: bool) -> None:
     jam = bench_validate.whca_row()
     ratio = jam["WHCA* 10 s"]["planning_time"] / jam["HCA*"]["planning_time"]
-    row("WHCA* on the jammed lot", "≤ 2x HCA*", f"{ratio:.2f}x HCA*",
+    row("WHCA* on the congested lot", "≤ 2x HCA*", f"{ratio:.2f}x HCA*",
         f"HCA* {jam['HCA*']['planning_time']:.1f} s")
     worst: list[tuple[float, str]] = []
     for name, specs in whca_cases(quick):

@@ -3,14 +3,14 @@
 Run with::
 
     python benchmarks/bench_validate.py            # all rows (a few minutes)
-    python benchmarks/bench_validate.py --quick    # the large lot and the jammed lot only
+    python benchmarks/bench_validate.py --quick    # the large lot and the congested lot only
 
 Rows (each ``lotsim validate`` is a whole process, as a user runs it):
 
 * ``validate`` of the large lot (1040 slots) and of the 364-bay surface lot (four types),
   with an empty cache (cold: the lot is planned) and again (warm: it is loaded from the
   on-disk cache, :mod:`lotsim.core.diskcache`); the ratio cold / warm is what the cache buys;
-* a jammed lot (18 cars into 15 free bays of a one-aisle T lot, each staying 30–35 s):
+* a congested lot (18 cars into 15 free bays of a one-aisle T lot, each staying 30–35 s):
   WHCA* planning time against HCA*'s for the same traffic, measured in the same run (the
   target is at most 2×), with WHCA* searching every replan as the baseline of what
   skipping replans that cannot end sooner buys.
@@ -37,8 +37,8 @@ import lotsim.sim.running  # noqa: E402
 from lotsim.io.scenario_yaml import parse_scenario  # noqa: E402
 from lotsim.io.yamlnodes import parse_text  # noqa: E402
 
-JAMMED = """\
-name: jammed
+CONGESTED = """\
+name: congested
 seed: 76263
 vehicle_types: [msv, valet, altis]
 lot:
@@ -95,9 +95,9 @@ def validate_rows(paths: list[Path]) -> None:
 
 
 def whca_row() -> dict[str, dict]:
-    """Plan the jammed lot with HCA*, WHCA* and WHCA* searching every replan; print a line
+    """Plan the congested lot with HCA*, WHCA* and WHCA* searching every replan; print a line
     each and the ratios; the metrics by name."""
-    sc = parse_scenario(parse_text(JAMMED, "jammed.yaml"))
+    sc = parse_scenario(parse_text(CONGESTED, "congested.yaml"))
     lg = lotsim.sim.preparation.prepare_graph(sc, cache=False)
     rows = {}
     for name, planner, skip in (("HCA*", "hca", True), ("WHCA* 10 s", "whca", True),
@@ -108,7 +108,7 @@ def whca_row() -> dict[str, dict]:
         with lotsim.sim.running.collector_tuned():
             m = lotsim.sim.running.simulate(sc, settings, lot_graph=copy.deepcopy(lg)).metrics()
         rows[name] = m
-        print(f"jammed lot, {name:<20} planning {m['planning_time']:6.1f} s, "
+        print(f"congested lot, {name:<20} planning {m['planning_time']:6.1f} s, "
               f"{m['searches']:4d} searches, {m['expansions']:7d} expansions; mean time to "
               f"park {m['mean_time_to_park']:.1f} s; departed {m['departed']}/{m['vehicles']}")
     hca, whca, full = (rows[k]["planning_time"] for k in rows)
@@ -119,7 +119,7 @@ def whca_row() -> dict[str, dict]:
 
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--quick", action="store_true", help="the large lot and the jammed lot")
+    ap.add_argument("--quick", action="store_true", help="the large lot and the congested lot")
     args = ap.parse_args()
     lots = [ROOT / "scenarios" / "large_lot.yaml"]
     if not args.quick:

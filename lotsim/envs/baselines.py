@@ -6,7 +6,7 @@ and the mean return of a policy over seeds.
 (:data:`~lotsim.sim.settings.ASSIGNMENTS`), which the environment gives in ``info["best"]``:
 ``shortest`` plays what ``lotsim.run(prepared, assignment="shortest")`` plays, to the byte
 on the quickstart and mixed lots (the tests check it), as long as a car finds its way to
-its best slot in its first look: where that look runs out in a busy aisle, a run's own
+its best slot in its probe: where that probe runs out in a busy aisle, a run's own
 ranking goes on to look at the next best slots, where the operator's car asks again.
 ``random_slot(seed)`` takes one of the free slots the car can use at random. Each waits
 when no car asks (``info`` without a car). They serve the PettingZoo agents as they are: the

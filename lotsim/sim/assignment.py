@@ -7,7 +7,7 @@ nearest exit), ``priced`` by that time plus the delay the car's maneuvers are ex
 cause the cars that pass the slot (:meth:`SlotAssigner.prices`: the slots at a lot's
 throat, which every car passes, cost the more the busier the gate). A car then looks
 first at a few of them (:class:`~lotsim.sim.settings.RunTuning`): its best, then the
-best in each other aisle, those in aisles where a look just ran out last. The event loop
+best in each other aisle, those in aisles where a probe just ran out last. The event loop
 (:mod:`lotsim.sim.loop`) and the shortest-first planning order
 (:func:`lotsim.sim.orders.shortest_first`) share one :class:`SlotAssigner`'s timings.
 """
@@ -42,8 +42,8 @@ class SlotAssigner:
     policy : {"nearest", "shortest", "priced"}
         How slots are ranked.
     tuning : RunTuning
-        How many slots a car first looks at, their budgets, how long an aisle where a
-        look ran out stays jammed, and over how long a ``priced`` ranking sees the flows.
+        How many slots a car probes, their budgets, how long an aisle where a probe
+        ran out stays congested, and over how long a ``priced`` ranking sees the flows.
 
     Attributes
     ----------
@@ -65,7 +65,7 @@ class SlotAssigner:
         self.leave = {t.name: lot_graph.leavable(t.name) for t in vehicle_types}
         self._times: dict[tuple[str, str, bool], dict[str, float]] = {}
         self._ways: dict[tuple[str, str, bool], dict[str, tuple[float, int, int | None]]] = {}
-        self._jammed: dict[str, float] = {}  # aisle → when a first look there last ran out
+        self._congested: dict[str, float] = {}  # aisle → when a probe there last ran out
         self._seen: dict[str | None, list[float]] = {}  # entrance (None: out) → times
         self._terms: dict[tuple[str, str, bool], dict[str, dict[str | None, float]]] = {}
         self._share: dict[tuple[str, str | None], dict[int, float]] = {}
@@ -232,32 +232,32 @@ class SlotAssigner:
                                 if n not in sg.slot_nodes}
         return self._share[key]
 
-    # -- the first looks ----------------------------------------------------------------------
-    def first_looks(self, ranked: list[str], t: float) -> list[str]:
-        """The slots of ``ranked`` a car looks at first at time ``t`` [s]: the few best
-        (:meth:`few`), those in jammed aisles (:meth:`unjammed_first`) after the others."""
-        return self.few(self.unjammed_first(ranked, t))
+    # -- the probes ---------------------------------------------------------------------------
+    def probes(self, ranked: list[str], t: float) -> list[str]:
+        """The slots of ``ranked`` a car probes at time ``t`` [s]: the few best
+        (:meth:`few`), those in congested aisles (:meth:`uncongested_first`) after the others."""
+        return self.few(self.uncongested_first(ranked, t))
 
-    def look_budget(self, static: float) -> int:
-        """Expansions of a first look into a slot ``static`` seconds of static time from the
-        car: ``first_look_rate`` a second, at least ``first_look``."""
+    def probe_budget(self, static: float) -> int:
+        """Expansions of a probe into a slot ``static`` seconds of static time from the
+        car: ``probe_rate`` a second, at least ``probe_floor``."""
         tuning = self.tuning
         if math.isinf(static):
-            return tuning.first_look
-        return max(tuning.first_look, round(tuning.first_look_rate * static))
+            return tuning.probe_floor
+        return max(tuning.probe_floor, round(tuning.probe_rate * static))
 
     def ran_out(self, sid: str, t: float) -> None:
-        """A first look into slot ``sid`` ran out at ``t`` [s]: its aisle is jammed for
-        ``jammed_for`` seconds."""
-        self._jammed[self.lg.lot.slot_by_id[sid].aisle] = t
+        """A probe into slot ``sid`` ran out at ``t`` [s]: its aisle is congested for
+        ``congested_for`` seconds."""
+        self._congested[self.lg.lot.slot_by_id[sid].aisle] = t
 
-    def unjammed_first(self, options: list[str], t: float) -> list[str]:
-        """``options`` (a ranked slot list) with the slots in aisles jammed at ``t`` [s] (a
-        first look there ran out less than ``jammed_for`` before) moved after the others,
+    def uncongested_first(self, options: list[str], t: float) -> list[str]:
+        """``options`` (a ranked slot list) with the slots in aisles congested at ``t`` [s]
+        (a probe there ran out less than ``congested_for`` before) moved after the others,
         each part in rank order."""
         slots = self.lg.lot.slot_by_id
-        late = {aisle for aisle, when in self._jammed.items()
-                if t - when < self.tuning.jammed_for}
+        late = {aisle for aisle, when in self._congested.items()
+                if t - when < self.tuning.congested_for}
         if not late:
             return options
         return ([sid for sid in options if slots[sid].aisle not in late]
@@ -265,10 +265,10 @@ class SlotAssigner:
 
     def few(self, options: list[str]) -> list[str]:
         """The best of ``options`` (a ranked slot list), then the best in each other aisle,
-        then the next best, ``first_looks`` in all: when the best cannot be reached in time
+        then the next best, ``probes`` in all: when the best cannot be reached in time
         (its aisle is busy with cars parking), its neighbours seldom can, and another aisle
         often can."""
-        n = self.tuning.first_looks
+        n = self.tuning.probes
         slots = self.lg.lot.slot_by_id
         out, seen = [], set()
         for sid in options:

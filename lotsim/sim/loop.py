@@ -286,7 +286,7 @@ class EventLoop:
         while tries:
             sid, first = tries.pop(0)
             goal = self.park_goal(v, sid)
-            budget = self.first_look(sg, start, goal.slot) if first else None
+            budget = self.probe_budget(sg, start, goal.slot) if first else None
             plan = self.plan(v, sg, start=start, t0=t, goal=goal, outside=outside,
                              key=("slot", sid), budget=budget)
             if plan.status is Status.FOUND:
@@ -325,13 +325,13 @@ class EventLoop:
 
     def tries(self, i: int, v: VehicleRun, t: float, options: list[str]
               ) -> list[tuple[str, bool]] | None:
-        """The slots ``v`` tries at ``t`` [s], each with whether it is a first look (a
-        small budget, then a full search where it ran out): a first look at each of the few
-        best of ``options`` (those in jammed aisles last), or as the policy chooses. None
+        """The slots ``v`` tries at ``t`` [s], each with whether it is a probe (a small
+        budget, then a full search where it ran out): a probe of each of the few best of
+        ``options`` (those in congested aisles last), or as the policy chooses. None
         when the car waits: its policy chose to, or (:data:`ASK`) the caller has yet to
         decide (:attr:`pending`)."""
         if self.policy is None:
-            return [(sid, True) for sid in self.assigner.first_looks(options, t)]
+            return [(sid, True) for sid in self.assigner.probes(options, t)]
         request = self.request(v, t, options)
         if self.policy == ASK:
             if self.answer is None or self.answer[0] != i:
@@ -350,7 +350,7 @@ class EventLoop:
                 self.at(t + self.s.retry, "retry", i)
             return None
         if len(picked) > 1:  # a ranking: looked at as the run's own are
-            picked = self.assigner.first_looks(picked, t)
+            picked = self.assigner.probes(picked, t)
         return [(sid, True) for sid in picked]
 
     def request(self, v: VehicleRun, t: float, options: list[str]) -> SlotRequest:
@@ -387,10 +387,10 @@ class EventLoop:
         return (f"a {v.vehicle.name!r} cannot reach it from {where}"
                 + (" and leave it for an exit" if v.arrival.dwell is not None else ""))
 
-    def first_look(self, sg: SearchGraph, start: int, slot: int) -> int:
-        """The budget of a first look from ``start`` into slot node ``slot``
-        (:meth:`SlotAssigner.look_budget`), from the RRA* the search asks anyway."""
-        return self.assigner.look_budget(self.heuristic(sg, {slot: 0.0})(start))
+    def probe_budget(self, sg: SearchGraph, start: int, slot: int) -> int:
+        """The budget of a probe from ``start`` into slot node ``slot``
+        (:meth:`SlotAssigner.probe_budget`), from the RRA* the search asks anyway."""
+        return self.assigner.probe_budget(self.heuristic(sg, {slot: 0.0})(start))
 
     def park_goal(self, v: VehicleRun, sid: str) -> Goal:
         """Slot ``sid``, entered from where ``v`` can later leave if it will."""
@@ -430,7 +430,7 @@ class EventLoop:
     def heuristic(self, sg: SearchGraph, goals: dict[int, float], active: tuple = (),
                   shut: frozenset[int] = frozenset()) -> ReverseResumable:
         """The RRA* towards ``goals`` for ``sg``'s type, kept for the next search there (the
-        same slot is searched for again and again: a first look, then a full search, by the
+        same slot is searched for again and again: a probe, then a full search, by the
         car's next try and by the next cars); the ``heuristics_kept`` last used. While
         closures are open (``active``), one that goes round the edges they ``shut``."""
         key = (sg.vehicle.name, *goals) if not active else (sg.vehicle.name, active, *goals)

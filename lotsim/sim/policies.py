@@ -2,8 +2,8 @@
 again after waiting.
 
 A policy is any callable taking a :class:`SlotRequest` and returning a slot id (the car
-tries that slot), a sequence of slot ids (a ranking: the car looks first at the few best
-of it, as :class:`~lotsim.sim.settings.RunTuning` says, then searches fully where a look
+tries that slot), a sequence of slot ids (a ranking: the car first probes the few best
+of it, as :class:`~lotsim.sim.settings.RunTuning` says, then searches fully where a probe
 ran out), or None (the car waits outside and asks again ``settings.retry`` seconds later,
 within its patience). The rankings of :data:`~lotsim.sim.settings.ASSIGNMENTS` are
 policies of that kind (:class:`Ranked`): a run without a policy of its own uses

@@ -337,7 +337,7 @@ def _slots_for(loop: EventLoop, v: VehicleRun, t: float, start: int) -> list[str
     own = [v.slot] if v.slot is not None and v.slot not in loop.taken \
         and v.slot not in away else []
     ranked = [s for s in loop.assigner.ranked(v.arrival, loop.free, t) if s not in away]
-    return own + loop.assigner.first_looks(ranked, t)
+    return own + loop.assigner.probes(ranked, t)
 
 
 def closed_slots(loop: EventLoop, t: float) -> set[str]:

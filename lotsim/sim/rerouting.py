@@ -7,7 +7,7 @@ operator would not leave it there: once it has stood
 :attr:`~lotsim.traffic.disturbances.Disturbances.repair_after` seconds past the moment
 its plan had it set off, it is planned again from where it stands, against where every
 other car is as driven, the lot's closures and the bays taken from outside (a search like
-any of the run's, with a first look's budget). The new way is taken when it brings the
+any of the run's, with a probe's budget). The new way is taken when it brings the
 car to its slot, or out of the lot, sooner than waiting its turn would; the plan, with
 that car's new way in it, is then driven again (still in the order of every car's pass,
 so a car slower than planned stays safe), and the next long wait looked for. Each
@@ -185,7 +185,7 @@ def _plan_again(driven: Driven, c: int, stop: int, t_star: float, context: Conte
     else:
         goal, key = loop.exit_goal(), ("exit", v.vehicle.name)
         goals = {n: 0.0 for n in goal.exits}
-    budget = loop.assigner.look_budget(loop.heuristic(sg, goals)(rest.node_to))
+    budget = loop.assigner.probe_budget(loop.heuristic(sg, goals)(rest.node_to))
     plan = loop.plan(me, sg, start=rest.node_to, t0=t_star, level=0, goal=goal, key=key,
                      budget=budget)
     v.searches += me.searches

@@ -58,27 +58,27 @@ class RunTuning:
     """How a run spends its searches on the slots a car could take; every field can change
     which slot a car gets and when it parks, so a result's ``settings`` hold them all.
 
-    A car first *looks* at each of its few best slots with a small budget of expansions,
-    then searches fully where a look ran out: a slot it can reach without a long wait is
-    found within the look, so the car does not queue behind cars parking in its best slot's
+    A car first *probes* each of its few best slots with a small budget of expansions,
+    then searches fully where a probe ran out: a slot it can reach without a long wait is
+    found within the probe, so the car does not queue behind cars parking in its best slot's
     aisle while a slot in another aisle is free to reach.
 
     Attributes
     ----------
-    first_looks : int
-        Slots a car first looks at, 1 to 1000: its best, then the best in each other aisle,
+    probes : int
+        Slots a car probes, 1 to 1000: its best, then the best in each other aisle,
         then the next best (when the best cannot be reached in time its aisle is busy, and
         its neighbours seldom can be).
-    first_look : int
-        Fewest expansions a first look gets, 1 to 10**9.
-    first_look_rate : float
-        Expansions a first look gets per second of the slot's static time from the
-        entrance (at least ``first_look``), at least 0: a far slot gets a budget as long as
+    probe_floor : int
+        Fewest expansions a probe gets, 1 to 10**9.
+    probe_rate : float
+        Expansions a probe gets per second of the slot's static time from the
+        entrance (at least ``probe_floor``), at least 0: a far slot gets a budget as long as
         its way.
-    jammed_for : float
-        How long an aisle counts as jammed after a first look into it ran out [s], at least
+    congested_for : float
+        How long an aisle counts as congested after a probe into it ran out [s], at least
         0 (0: never): meanwhile the next cars look first at their best slots in the other
-        aisles, where a look seldom runs out, and at its slots only after those.
+        aisles, where a probe seldom runs out, and at its slots only after those.
     heuristics_kept : int
         Reverse searches towards a slot a run keeps for the next searches there, at least
         0: memory against time (a kept one answers as a new one would, so no plan changes).
@@ -91,19 +91,19 @@ class RunTuning:
         seen over this many seconds before the car (1 to 86 400 [s]).
     """
 
-    first_looks: int = 3
-    first_look: int = 400
-    first_look_rate: float = 8.0
-    jammed_for: float = 5.0
+    probes: int = 3
+    probe_floor: int = 400
+    probe_rate: float = 8.0
+    congested_for: float = 5.0
     heuristics_kept: int = 16
     skip_fruitless: bool = True
     flow_window: float = 600.0
 
     def __post_init__(self) -> None:
-        checks = [("first_looks", range_problem(self.first_looks, 1, 1000, integer=True)),
-                  ("first_look", range_problem(self.first_look, 1, MAX_BUDGET, integer=True)),
-                  ("first_look_rate", range_problem(self.first_look_rate, 0, MAX_BUDGET)),
-                  ("jammed_for", range_problem(self.jammed_for, 0, MAX_WINDOW * 6,
+        checks = [("probes", range_problem(self.probes, 1, 1000, integer=True)),
+                  ("probe_floor", range_problem(self.probe_floor, 1, MAX_BUDGET, integer=True)),
+                  ("probe_rate", range_problem(self.probe_rate, 0, MAX_BUDGET)),
+                  ("congested_for", range_problem(self.congested_for, 0, MAX_WINDOW * 6,
                                                " seconds")),
                   ("heuristics_kept", range_problem(self.heuristics_kept, 0, 100_000,
                                                     integer=True)),
@@ -112,7 +112,7 @@ class RunTuning:
             checks.append(("skip_fruitless", f"expected true or false, found "
                                              f"{self.skip_fruitless!r}"))
         raise_first([(k, m) for k, m in checks if m is not None])
-        for name in ("first_look_rate", "jammed_for", "flow_window"):
+        for name in ("probe_rate", "congested_for", "flow_window"):
             set_field(self, name, float(getattr(self, name)))
 
 

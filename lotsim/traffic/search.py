@@ -108,7 +108,7 @@ class SearchRequest:
         The parked pose, when ``start`` is a slot: only the leave maneuver that begins
         there is driven, and waiting there holds this footprint.
     budget : int or None
-        Blow the fuse after this many expansions at the latest (a first look).
+        Blow the fuse after this many expansions at the latest (a probe).
     """
 
     owner: str

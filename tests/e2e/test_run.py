@@ -388,7 +388,7 @@ def test_a_car_speeds_up_across_closely_spaced_nodes():
     table, goal = ReservationTable(), Goal(exits=(n - 1,))
     plan = search(sg, table, SearchRequest(owner="x", start=0, t0=0.0, goal=goal))
     assert plan.status is Status.FOUND
-    # a first look with a budget smaller than the search needs blows the fuse there
+    # a probe with a budget smaller than the search needs blows the fuse there
     look = search(sg, table, SearchRequest(owner="x", start=0, t0=0.0, goal=goal,
                                            budget=plan.expansions - 2))
     assert look.status is Status.OUT_OF_BUDGET and look.expansions == plan.expansions - 1

@@ -66,10 +66,10 @@ def test_a_car_setting_off_microseconds_before_a_sample_instant_stands_until_the
 
 
 def test_the_settings_section_records_the_sampling_and_every_tuning_value(small):
-    tuning = RunTuning(first_looks=2, jammed_for=0.0, skip_fruitless=False)
+    tuning = RunTuning(probes=2, congested_for=0.0, skip_fruitless=False)
     doc = result_dict(_run(small, Arrival("x", "valet", "in", 0.0),
                            settings=RunSettings(tuning=tuning)))
     assert doc["settings"]["dt"] == SAMPLE_DT
     assert doc["settings"]["tuning"] == {
-        "first_looks": 2, "first_look": 400, "first_look_rate": 8.0, "jammed_for": 0.0,
+        "probes": 2, "probe_floor": 400, "probe_rate": 8.0, "congested_for": 0.0,
         "heuristics_kept": 16, "skip_fruitless": False, "flow_window": 600.0}

@@ -102,7 +102,7 @@ def test_a_run_projected_past_its_time_limit_stops_early_and_writes_nothing(tmp_
 
 
 def test_a_run_over_its_memory_limit_stops_and_writes_nothing(tmp_path, capsys):
-    # enough cars that planning outlasts the watchdog's first look (POLL), however quick
+    # enough cars that planning outlasts the watchdog's first check (POLL), however quick
     # (with 20, a warm process planned them all before it looked); it stops at that look
     text = ONE_AISLE + STREAM.replace("COUNT", "400")
     path = _write(tmp_path, text)

@@ -1,4 +1,4 @@
-"""lotsim.sim.loop: the event loop's first looks, with a stand-in search where the real one
+"""lotsim.sim.loop: the event loop's probes, with a stand-in search where the real one
 would take too long to run out."""
 
 import pytest
@@ -18,18 +18,18 @@ def large(shipped_graphs):
     return load_scenario(ROOT / "scenarios" / "large_lot.yaml"), shipped_graphs["large_lot"]
 
 
-@pytest.mark.parametrize("jammed_for", [5.0, 12.0])
-def test_after_a_first_look_runs_out_the_next_cars_look_at_other_aisles_first_for_a_while(
-        large, monkeypatch, jammed_for):
-    """Every first look runs out (a stand-in search): the next car, within ``jammed_for``,
-    looks first at the best slot outside the aisles those looks were in, and at its own
+@pytest.mark.parametrize("congested_for", [5.0, 12.0])
+def test_after_a_probe_runs_out_the_next_cars_probe_other_aisles_first_for_a_while(
+        large, monkeypatch, congested_for):
+    """Every probe runs out (a stand-in search): the next car, within ``congested_for``,
+    probes first the best slot outside the aisles those probes were in, and at its own
     best again once the span is over."""
     sc, lg = large
     car, gate = sc.vehicle_types[0].name, next(iter(lg.entrances))
     cars = [Arrival(f"c{k}", car, gate, 0.0) for k in range(3)]
-    settings = RunSettings(tuning=RunTuning(jammed_for=jammed_for))
+    settings = RunSettings(tuning=RunTuning(congested_for=congested_for))
     loop = EventLoop(sc, lg, settings, cars, None)
-    looks: list[tuple[str, str, float]] = []  # (car, slot, start time) of each first look
+    looks: list[tuple[str, str, float]] = []  # (car, slot, start time) of each probe
     slot_of = {node: sid for sid, node in lg.slot_nodes.items()}
 
     def runs_out(sg, table, ask, **kw):
@@ -46,19 +46,19 @@ def test_after_a_first_look_runs_out_the_next_cars_look_at_other_aisles_first_fo
     first = [sid for who, sid, _ in looks if who == "c0"]
     assert first == assigner.few(ranked) and len({aisle[s] for s in first}) == 3
     assert all(v.reason.startswith("no conflict-free route") for v in loop.vehicles[:1])
-    jammed = {aisle[s] for s in first}
-    loop.on_retry(1, loop.vehicles[1], jammed_for - 0.5)
+    congested = {aisle[s] for s in first}
+    loop.on_retry(1, loop.vehicles[1], congested_for - 0.5)
     second = [sid for who, sid, _ in looks if who == "c1"]
-    assert second[0] == next(s for s in ranked if aisle[s] not in jammed)
-    assert not jammed & {aisle[s] for s in second}
-    # jammed_for after c0's looks their aisles are free again; c1's are still jammed
-    loop.on_retry(2, loop.vehicles[2], jammed_for)
+    assert second[0] == next(s for s in ranked if aisle[s] not in congested)
+    assert not congested & {aisle[s] for s in second}
+    # congested_for after c0's probes their aisles are free again; c1's are still congested
+    loop.on_retry(2, loop.vehicles[2], congested_for)
     third = [sid for who, sid, _ in looks if who == "c2"]
     assert third == assigner.few([s for s in ranked if aisle[s] not in {aisle[x] for x in second}])
     assert third[0] == ranked[0]
 
 
-def test_a_first_look_is_budgeted_by_the_static_time_its_reverse_search_reads(large):
+def test_a_probe_is_budgeted_by_the_static_time_its_reverse_search_reads(large):
     # the loop reads the slot's static time off the RRA* the search asks anyway: the same
     # time as the forward search from the gate that ranks the slots
     sc, lg = large
@@ -66,8 +66,8 @@ def test_a_first_look_is_budgeted_by_the_static_time_its_reverse_search_reads(la
     car, gate = sc.vehicle_types[0].name, next(iter(lg.entrances))
     times = loop.assigner.slot_times(gate, car, False)
     for sid in (min(times, key=times.get), max(times, key=times.get)):
-        budget = loop.first_look(loop.graphs[car], lg.entrances[gate], lg.slot_nodes[sid])
-        assert budget == loop.assigner.look_budget(times[sid])
+        budget = loop.probe_budget(loop.graphs[car], lg.entrances[gate], lg.slot_nodes[sid])
+        assert budget == loop.assigner.probe_budget(times[sid])
 
 
 def test_a_run_keeps_at_most_heuristics_kept_reverse_searches(large):
@@ -77,5 +77,5 @@ def test_a_run_keeps_at_most_heuristics_kept_reverse_searches(large):
     sg = loop.graphs[car]
     nodes = sorted(lg.slot_nodes.values())[:5]
     for node in nodes:
-        loop.first_look(sg, lg.entrances[gate], node)
+        loop.probe_budget(sg, lg.entrances[gate], node)
     assert [key[1] for key in loop._heuristics] == nodes[-2:]  # the last two asked

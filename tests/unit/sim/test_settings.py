@@ -9,12 +9,12 @@ from lotsim.sim.settings import GASettings, RunSettings, RunTuning
 
 
 @pytest.mark.parametrize(("field", "value", "words"), [
-    ("first_looks", 0, "expected 1 to 1000, found 0"),
-    ("first_looks", 2.5, "expected an integer"),
-    ("first_look", 0, "expected 1 to"),
-    ("first_look_rate", -1.0, "expected 0 to"),
-    ("first_look_rate", float("nan"), "found nan"),
-    ("jammed_for", -0.5, "seconds, found -0.5"),
+    ("probes", 0, "expected 1 to 1000, found 0"),
+    ("probes", 2.5, "expected an integer"),
+    ("probe_floor", 0, "expected 1 to"),
+    ("probe_rate", -1.0, "expected 0 to"),
+    ("probe_rate", float("nan"), "found nan"),
+    ("congested_for", -0.5, "seconds, found -0.5"),
     ("heuristics_kept", -1, "expected 0 to"),
     ("skip_fruitless", "yes", "expected true or false"),
     ("flow_window", 0, "expected 1 to 86400 seconds, found 0"),
@@ -26,11 +26,11 @@ def test_a_tuning_value_out_of_range_is_refused_by_name(field, value, words):
 
 
 def test_tuning_is_a_run_setting_normalised_and_checked_like_the_others():
-    tuning = RunTuning(jammed_for=10, first_look_rate=4)
-    assert isinstance(tuning.jammed_for, float) and isinstance(tuning.first_look_rate, float)
+    tuning = RunTuning(congested_for=10, probe_rate=4)
+    assert isinstance(tuning.congested_for, float) and isinstance(tuning.probe_rate, float)
     assert RunSettings(tuning=tuning).tuning is tuning
     with pytest.raises(SettingsError, match="expected RunTuning"):
-        RunSettings(tuning={"jammed_for": 10})
+        RunSettings(tuning={"congested_for": 10})
     prepared = lotsim.prepare(lotsim.EXAMPLE)
     with pytest.raises(SettingsError, match="did you mean 'tuning'"):
         lotsim.run(prepared, tunning=tuning)
