@@ -50,7 +50,7 @@ def add_arguments(r: argparse.ArgumentParser) -> None:
     r.add_argument("--window", type=float,
                    help=f"with --planner whca: the window [s] ({rs.window:g})")
     r.add_argument("--omega", type=float, default=rs.omega,
-                   help=f"search fuse: expansions allowed per reverse-search node "
+                   help=f"expansion limit: expansions allowed per reverse-search node "
                    f"({rs.omega:g})")
     r.add_argument("--priority", choices=api.PRIORITIES,
                    default=rs.priority, help=f"planning order (default {rs.priority}): "

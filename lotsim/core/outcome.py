@@ -32,7 +32,7 @@ class Status(Enum):
     INFEASIBLE = "infeasible"
     """What was asked cannot be done (the car does not fit, every way is blocked)."""
     OUT_OF_BUDGET = "out of budget"
-    """It stopped at its budget (expansions, the fuse) before finding or ruling out."""
+    """It stopped at its budget (expansions: the expansion limit) before finding or ruling out."""
     NO_PATH = "no path"
     """It searched everything it may and found no way."""
 

@@ -408,7 +408,7 @@ class EventLoop:
         # while closures last, the static times go round what they shut
         active, shut = repairs.shut_at(self, sg.vehicle.name, kw["t0"])
         if key[0] == "exit" and self.s.planner != "ca":
-            # one for every way out of a type, its fuse sized by all it has closed so far
+            # one for every way out of a type, its expansion limit sized by all it has closed so far
             rra, shared = self._exits.get((key[1], active)), False
             if rra is None:
                 rra = self._exits[key[1], active] = sg.reverse_search(goals, shut=shut)

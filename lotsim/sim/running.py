@@ -163,7 +163,7 @@ def simulate(scenario: Scenario, settings: RunSettings | None = None, *, lot_gra
     or in ``settings.order`` when the traffic is booked in advance, each against
     the reservations of those before it. A vehicle that finds no
     free slot queues at its entrance and gets the next slot freed; one whose
-    search fails (fuse, no path) waits outside and tries again. After the
+    search fails (expansion limit, no path) waits outside and tries again. After the
     traffic's patience it is turned away, with the reason. Nothing is dropped:
     every vehicle ends parked, departed, waiting or rejected.
 

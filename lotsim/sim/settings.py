@@ -185,7 +185,7 @@ class RunSettings:
         WHCA*: the vehicle replans every ``window / 2`` seconds while it drives and keeps
         the new plan when it arrives sooner, 1 to 600 [s].
     omega : float
-        The search fuse factor, at least 1.
+        The expansion limit's factor, at least 1.
     retry : float
         Wait before a vehicle whose search failed tries again [s], positive; it doubles
         with each failure in a row, up to a minute.

@@ -2,7 +2,7 @@
 Resumable A* (RRA*, Silver 2005) run backwards from the goals over a
 :class:`~lotsim.traffic.searchgraph.SearchGraph`'s edges, each at its static time (its
 length at its speed limit, a maneuver's or turnaround's duration), and resumed only as
-far as each question needs. A search also sizes its fuse by how many nodes its reverse
+far as each question needs. A search also sizes its expansion limit by how many nodes its reverse
 search closed.
 """
 

@@ -12,9 +12,9 @@ from lotsim.traffic.searchgraph import SearchGraph
 from lotsim.traffic.swept import standing_body
 from lotsim.vehicles.motion import Motion
 
-REASONS = {Status.OUT_OF_BUDGET: "fuse", Status.NO_PATH: "no path"}
-"""Why a search found nothing, by how it ended: its fuse blew (its budget of expansions
-ran out), or every way within its horizon was searched."""
+REASONS = {Status.OUT_OF_BUDGET: "expansion limit", Status.NO_PATH: "no path"}
+"""Why a search found nothing, by how it ended: it reached its expansion limit (its budget
+of expansions ran out), or every way within its horizon was searched."""
 
 
 @dataclass(frozen=True, slots=True)
@@ -43,13 +43,13 @@ class Move:
 @dataclass
 class Plan:
     """A search's answer: how it ended (:class:`~lotsim.core.outcome.Status`: ``FOUND``,
-    ``OUT_OF_BUDGET`` when its fuse blew, ``NO_PATH``), the moves (when found) and how many
-    states it expanded.
+    ``OUT_OF_BUDGET`` when it reached its expansion limit, ``NO_PATH``), the moves (when
+    found) and how many states it expanded.
 
     Examples
     --------
     >>> Plan(Status.OUT_OF_BUDGET, expansions=20001).reason
-    'fuse'
+    'expansion limit'
     """
 
     status: Status

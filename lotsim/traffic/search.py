@@ -35,10 +35,10 @@ Heuristics: CA* uses the straight-line distance at top speed; HCA* the true
 static time to the goal, from a Reverse Resumable A* (RRA*, Silver 2005) run
 backwards from the goal and resumed on demand (:mod:`~lotsim.traffic.heuristic`). WHCA*
 (in :func:`lotsim.sim.running.simulate`) searches like HCA* and replans every half window as
-it drives, keeping the new plan when it arrives sooner. The fuse (after the modelling-contest
-paper "Path planning for automatic parking of unmanned vehicles", 2022) stops a search that
-expands more than ``omega`` times the nodes its reverse search closed; the search then ends
-:attr:`~lotsim.core.outcome.Status.OUT_OF_BUDGET`.
+it drives, keeping the new plan when it arrives sooner. The expansion limit (the fuse of the
+modelling-contest paper "Path planning for automatic parking of unmanned vehicles", 2022)
+stops a search that expands more than ``omega`` times the nodes its reverse search closed;
+the search then ends :attr:`~lotsim.core.outcome.Status.OUT_OF_BUDGET`.
 
 The graph (:mod:`~lotsim.traffic.searchgraph`) and the tuning
 (:class:`~lotsim.traffic.settings.SearchSettings`, the graph's) are the search's inputs
@@ -108,7 +108,7 @@ class SearchRequest:
         The parked pose, when ``start`` is a slot: only the leave maneuver that begins
         there is driven, and waiting there holds this footprint.
     budget : int or None
-        Blow the fuse after this many expansions at the latest (a probe).
+        Stop at the expansion limit after this many expansions at the latest (a probe).
     """
 
     owner: str
@@ -137,20 +137,21 @@ def search(sg: SearchGraph, table: ReservationTable, request: SearchRequest, *,
         Whose way, from where and when, to what goal.
     planner : {"ca", "hca", "whca"}
     heuristic : ReverseResumable, optional
-        The RRA* towards the goal (made here if not given); also sizes the fuse.
+        The RRA* towards the goal (made here if not given); also sizes the expansion limit.
     shared : bool
-        ``heuristic`` serves other searches too: the fuse is sized by what a new one would
-        have closed to answer ``start`` (:meth:`ReverseResumable.closed_at`), not by all it
-        has closed for them, so a search blows its fuse where it would with its own.
+        ``heuristic`` serves other searches too: the expansion limit is sized by what a new
+        one would have closed to answer ``start`` (:meth:`ReverseResumable.closed_at`), not
+        by all it has closed for them, so a search reaches its expansion limit where it
+        would with its own.
     omega : float
-        The fuse factor: a search stops after expanding ``omega`` times the nodes its
-        reverse search closed (at least ``settings.min_budget``).
+        The expansion limit's factor: a search stops after expanding ``omega`` times the
+        nodes its reverse search closed (at least ``settings.min_budget``).
 
     Returns
     -------
     Plan
-        ``FOUND`` with the moves; ``OUT_OF_BUDGET`` (the fuse blew) or ``NO_PATH`` with
-        none.
+        ``FOUND`` with the moves; ``OUT_OF_BUDGET`` (the expansion limit was reached) or
+        ``NO_PATH`` with none.
     """
     if planner not in PLANNERS:
         raise ValueError(f"unknown planner {planner!r}; expected one of {PLANNERS}")
@@ -158,10 +159,10 @@ def search(sg: SearchGraph, table: ReservationTable, request: SearchRequest, *,
     if rra(request.start) == math.inf:
         return Plan(Status.NO_PATH)
     h = _straight_line_time(sg, request.goal) if planner == "ca" else rra
-    # (CA*'s reverse search still runs, for the fuse and to prune dead ends)
+    # (CA*'s reverse search still runs, for the expansion limit and to prune dead ends)
     state = _SpaceTimeSearch(sg, table, request, rra, h)
     state.push(request.start, request.level, request.t0, request.outside, -1, None)
-    return state.run(_fuse(sg, request, rra, shared, omega))
+    return state.run(_expansion_limit(sg, request, rra, shared, omega))
 
 
 def _straight_line_time(sg: SearchGraph, goal: Goal) -> Callable[[int], float]:
@@ -177,19 +178,19 @@ def _straight_line_time(sg: SearchGraph, goal: Goal) -> Callable[[int], float]:
     return h
 
 
-def _fuse(sg: SearchGraph, request: SearchRequest, rra: ReverseResumable, shared: bool,
+def _expansion_limit(sg: SearchGraph, request: SearchRequest, rra: ReverseResumable, shared: bool,
           omega: float) -> float:
     """How many expansions a search may make: ``omega`` times the nodes its reverse search
     closed (for a shared one, those a new one would have closed to answer the start), at
     least ``settings.min_budget``, at most ``request.budget``."""
     min_budget = sg.settings.min_budget
     sized_by = rra.closed
-    if shared and omega * sized_by > min_budget:  # (otherwise the fuse is the same either way)
+    if shared and omega * sized_by > min_budget:  # (otherwise the limit is the same either way)
         sized_by = rra.closed_at(request.start)
-    fuse = max(min_budget, omega * sized_by)
+    limit = max(min_budget, omega * sized_by)
     if request.budget is not None:
-        fuse = min(fuse, request.budget)
-    return fuse
+        limit = min(limit, request.budget)
+    return limit
 
 
 class _SpaceTimeSearch:
@@ -229,8 +230,8 @@ class _SpaceTimeSearch:
         self.gathered: dict = {}  # what the table holds near each edge, by time buckets
         self.push = _opener(self)
 
-    def run(self, fuse: float) -> Plan:
-        """Expand states, best first, until the goal, the fuse or nothing left."""
+    def run(self, limit: float) -> Plan:
+        """Expand states, best first, until the goal, the expansion limit or nothing left."""
         heap, states, closed, passed = self.heap, self.states, self.closed, self.passed
         goal, end, passing = self.request.goal, self.end, self.passing
         exits = set(goal.exits)
@@ -260,7 +261,7 @@ class _SpaceTimeSearch:
                     continue
                 passed[node, lvl] = t
             expansions += 1
-            if expansions > fuse:
+            if expansions > limit:
                 return Plan(Status.OUT_OF_BUDGET, expansions=expansions)
             if t > end:
                 continue

@@ -1,5 +1,5 @@
 """How the cooperative space-time search plans: :class:`SearchSettings`, the tuning that
-can change a plan (speed levels, swept-volume chunks, the heuristic's weight, the fuse's
+can change a plan (speed levels, swept-volume chunks, the heuristic's weight, the expansion limit's
 floor, ...), one frozen object passed to the search graph and through it to every search on
 it, so that a graph and the searches on it cannot disagree.
 
@@ -27,7 +27,7 @@ from lotsim.vehicles.model import KMH
 PLANNERS = ("ca", "hca", "whca")
 """Cooperative A* variants (:func:`lotsim.traffic.search.search`)."""
 OMEGA = 10.0
-"""Fuse: a search stops after expanding ``OMEGA`` × its reverse search's closed nodes."""
+"""Expansion limit: a search stops after expanding ``OMEGA`` × its reverse search's closed nodes."""
 
 
 def _positive_problem(value: object, unit: str, hi: float | None = None) -> str | None:
@@ -63,8 +63,8 @@ class SearchSettings:
         Weight of the heuristic (weighted A*: plans within this factor of the best the
         heuristic allows), 1 to 10.
     min_budget : int
-        A search may always expand at least this many states before the fuse blows, 0 to
-        10**9.
+        A search may always expand at least this many states before it reaches the
+        expansion limit, 0 to 10**9.
     passing : float
         A vehicle passing a node at a speed level within this long [s] after an earlier
         state of the search passed it at that level is taken for that state, 0 to 60.

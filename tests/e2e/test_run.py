@@ -1,5 +1,5 @@
 """lotsim run: every result passes the independent checker; queues, rejections, assignment,
-determinism, the fuse, and the errors a user can make."""
+determinism, the expansion limit, and the errors a user can make."""
 
 import dataclasses
 import json
@@ -37,7 +37,7 @@ def small():
 
 def test_a_reverse_search_asked_many_things_answers_each_as_a_new_one_would(small):
     # the static times, and how many nodes a new one closes to answer (what sizes a
-    # search's fuse), whatever the kept one was asked before
+    # search's expansion limit), whatever the kept one was asked before
     sc, lg = small
     sg = SearchGraph(lg, sc.vehicle_types[0])
     nodes = sorted(sg.pose)
@@ -69,8 +69,8 @@ def _checked(rr):
 
 
 # the large lot's whole run (100 cars, a minute of planning) only under -m slow; by default
-# its first 12 cars (a queue, a blown fuse and a second choice among them): the same lot
-# and the same code paths; the day's (some 300 cars) the first 8 of each of its streams:
+# its first 12 cars (a queue, an expansion limit reached and a second choice among them): the
+# same lot and the same code paths; the day's (some 300 cars) the first 8 of each of its streams:
 # commuters in the morning, shoppers from 09:00, diners in the evening
 _SHORTENED = {"large_lot": 12, "day": 8}
 
@@ -263,12 +263,13 @@ def test_same_scenario_and_seed_give_the_same_file_byte_for_byte(tmp_path, shipp
         v["arrival"] for v in json.loads(outs[0])["vehicles"]]
 
 
-def test_a_blown_fuse_makes_the_vehicle_wait_then_leaves_it_rejected_with_the_reason(small):
+def test_an_expansion_limit_reached_makes_the_car_wait_then_leaves_it_rejected_saying_so(
+        small):
     sc, lg = small
     rr = _run(sc, lg, [Arrival("x", "valet", "in", 0.0)], patience=20.0, omega=1.0,
               search=SearchSettings(min_budget=3))
     v = rr.vehicles[0]
-    assert v.status == "rejected" and "fuse" in v.reason
+    assert v.status == "rejected" and "expansion limit" in v.reason
     assert v.searches >= 3  # it tried again while it waited
     _checked(rr)
 
@@ -388,7 +389,7 @@ def test_a_car_speeds_up_across_closely_spaced_nodes():
     table, goal = ReservationTable(), Goal(exits=(n - 1,))
     plan = search(sg, table, SearchRequest(owner="x", start=0, t0=0.0, goal=goal))
     assert plan.status is Status.FOUND
-    # a probe with a budget smaller than the search needs blows the fuse there
+    # a probe with a budget smaller than the search needs reaches the expansion limit there
     look = search(sg, table, SearchRequest(owner="x", start=0, t0=0.0, goal=goal,
                                            budget=plan.expansions - 2))
     assert look.status is Status.OUT_OF_BUDGET and look.expansions == plan.expansions - 1

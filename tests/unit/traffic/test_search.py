@@ -81,27 +81,28 @@ def test_a_way_blocked_for_ever_is_no_path_after_a_few_expansions():
     assert plan.expansions <= 10
 
 
-def test_the_fuse_blows_after_omega_times_the_reverse_search_and_a_long_wait_fits():
-    # a car waiting 100 s for its way is found in a few expansions, within a fuse of 4
-    # times the reverse search's 2 nodes; a smaller budget still blows it, then
+def test_the_expansion_limit_is_omega_times_the_reverse_search_and_a_long_wait_fits():
+    # a car waiting 100 s for its way is found in a few expansions, within an expansion
+    # limit of 4 times the reverse search's 2 nodes; a smaller budget still reaches it, then
     sg = _lane([0.0, 30.0], SearchSettings(min_budget=0))
     table = ReservationTable()
     table.reserve("other", [(0.0, 100.0, box(15.0, -3.0, 15.5, 3.0))])
     ask = SearchRequest(owner="me", start=0, t0=0.0, goal=Goal(exits=(1,)))
     plan = search(sg, table, ask, omega=4)
     assert plan.status is Status.FOUND and plan.moves[0].t1 > 90
-    blown = search(sg, table, ask, omega=0.5)
-    assert blown.status is Status.OUT_OF_BUDGET and not blown.found and blown.reason == "fuse"
+    stopped = search(sg, table, ask, omega=0.5)
+    assert stopped.status is Status.OUT_OF_BUDGET and not stopped.found
+    assert stopped.reason == "expansion limit"
     look = search(sg, table, dataclasses.replace(ask, budget=1))
     assert look.status is Status.OUT_OF_BUDGET and look.expansions == 2
     # the same search with the default floor of expansions finds it
     assert search(_lane([0.0, 30.0]), table, ask, omega=0.5).found
 
 
-def test_a_reverse_search_kept_from_other_searches_sizes_the_fuse_as_a_new_one():
+def test_a_reverse_search_kept_from_other_searches_sizes_the_expansion_limit_as_a_new_one():
     # the RRA* from the exit has closed all 4 nodes for an earlier search from node 0; a
-    # search from node 1 with it, shared, blows its fuse (omega 0.5) where one with a new
-    # RRA* (3 nodes closed to reach node 1) does, not a step later
+    # search from node 1 with it, shared, reaches its expansion limit (omega 0.5) where one
+    # with a new RRA* (3 nodes closed to reach node 1) does, not a step later
     sg = _lane([0.0, 10.0, 20.0, 30.0], SearchSettings(min_budget=0))
     table = ReservationTable()
     table.reserve("other", [(0.0, 100.0, box(25.0, -3.0, 25.5, 3.0))])
