@@ -6,10 +6,10 @@ one, 1.5 m).
 ``CROSS`` (60 × 60 m)::
 
          b< | b>                   two two-way aisles crossing at (30, 30):
-            |                      a along y = 30, b along x = 30; three bays
-    --------+--[N1 N2 N3]----      north of a's east arm, x 40-47.5
-     a<     |                      gate in at the west end of a>, out on a<
-     a>     |
+            |[N1 N2 N3]            a along y = 30, b along x = 30; three bays
+    --------+-------------         north of a's east arm from the corner,
+     a<     |                      x 33.5-41; gate in at the west end of a>,
+     a>     |                      out on a<
 
 ``TEE`` (50 × 30 m): a 6 m spur from the south (x = 25) meets a 6 m aisle along y = 15 at
 a T; three bays south of the aisle on each side of the spur, the inner ones at its corners
@@ -45,7 +45,7 @@ lot:
     - {id: b, centerline: [[30, 0], [30, 60]], width: 7.0}
   rows:
     - {aisle: a, side: left, kind: perpendicular, count: 3, slot_width: 2.5,
-       slot_length: 5.0, start: 40, id_prefix: N}
+       slot_length: 5.0, start: 33.5, id_prefix: N}
   entrances:
     - {id: in, x: 2, y: 28.25, heading_deg: 0}
   exits:
