@@ -99,7 +99,7 @@ class Trajectory:
         return (self.t, self.x, self.y, self.theta, self.v, self.steer, self.gear)
 
 
-def standing(pose: Pose, t0: float, duration: float, *, dt: float = DT) -> Trajectory:
+def standing_still(pose: Pose, t0: float, duration: float, *, dt: float = DT) -> Trajectory:
     """A vehicle standing still at ``pose`` from ``t0`` for ``duration`` seconds."""
     n = max(1, math.ceil(duration / dt - 1e-9))
     t = np.linspace(t0, t0 + duration, n + 1)
@@ -564,7 +564,7 @@ def drive(pieces: Sequence[Piece], vehicle: VehicleType, *, t0: float = 0.0,
     motion = timed_path(pieces, vehicle)
     if not motion.phases:
         first = pieces[0].segment.start if pieces else (0.0, 0.0, 0.0)
-        return standing(first, t0, 0.0, dt=dt)
+        return standing_still(first, t0, 0.0, dt=dt)
     return sampled(motion, vehicle, t0, motion.times(dt))
 
 

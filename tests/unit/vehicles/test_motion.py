@@ -9,7 +9,7 @@ from conftest import scenario_from_text
 from lotsim.core.geometry import Segment, wrap_angle
 from lotsim.sim.preparation import prepare_lot
 from lotsim.vehicles import CATALOGUE, KMH
-from lotsim.vehicles.motion import Piece, drive, speed_cap, standing, timed_path
+from lotsim.vehicles.motion import Piece, drive, speed_cap, standing_still, timed_path
 
 CAR = CATALOGUE["valet"]
 LIM = CAR.limits
@@ -161,7 +161,7 @@ def test_a_planned_maneuver_is_driven_on_its_exact_path():
 
 
 def test_standing_then_driving_joins_seamlessly():
-    wait = standing((1.0, 2.0, 0.5), 0.0, 3.0)
+    wait = standing_still((1.0, 2.0, 0.5), 0.0, 3.0)
     go = drive([Piece(Segment((1.0, 2.0, 0.5), 5.0, 0.0))], CAR, t0=3.0)
     tr = wait.then(go)
     assert np.all(np.diff(tr.t) > 0)
