@@ -84,6 +84,62 @@ class GraphFacts:
     """Some slot can be left for an exit along the lanes (:meth:`LotGraph.leavable`)."""
 
 
+class PackedGraph:
+    """A lot graph's networkx graph, kept packed (:func:`pack_graph`) by a lot loaded from
+    pickle and unpacked by :func:`unpack_graph` when first read, then kept as the lot's own
+    attribute (as :func:`functools.cached_property` keeps a value): a lot whose graph is
+    never read (a warm ``lotsim validate``) neither unpacks it nor imports networkx."""
+
+    def __set_name__(self, owner: type, name: str) -> None:
+        self.name = name
+
+    def __get__(self, obj: object, owner: type | None = None) -> nx.DiGraph:
+        if obj is None:  # (no default for the dataclass field)
+            raise AttributeError(self.name)
+        held = obj.__dict__
+        if "_graph_packed" not in held:
+            raise AttributeError(f"{type(obj).__name__!r} object has no graph")
+        held[self.name] = graph = unpack_graph(held.pop("_graph_packed"))
+        return graph
+
+
+def pack_graph(g: nx.DiGraph) -> bytes:
+    """``g`` packed (:func:`~lotsim.core.packed.pack`) as its graph attributes, its nodes
+    with their data and its edges with theirs, the edges in an order that adds each node's
+    successors and its predecessors in the order ``g`` holds them (a topological order of
+    those two orders): :func:`unpack_graph` makes it again through networkx's public API
+    with every node, successor and predecessor in the same order, so that whatever walks
+    the graph walks it as it walked ``g``."""
+    from graphlib import TopologicalSorter
+
+    order: TopologicalSorter = TopologicalSorter()
+    for u, nbrs in g.adj.items():
+        prev = None
+        for v in nbrs:
+            order.add((u, v), *(() if prev is None else (prev,)))
+            prev = (u, v)
+    for v, nbrs in g.pred.items():
+        prev = None
+        for u in nbrs:
+            if prev is not None:
+                order.add((u, v), prev)
+            prev = (u, v)
+    edges = [(u, v, g.adj[u][v]) for u, v in order.static_order()]
+    return pack((g.graph, list(g.nodes(data=True)), edges))
+
+
+def unpack_graph(packed: bytes) -> nx.DiGraph:
+    """The graph :func:`pack_graph` packed, made through networkx's public API."""
+    import networkx as nx
+
+    attrs, nodes, edges = unpack(packed)
+    g = nx.DiGraph()
+    g.graph.update(attrs)
+    g.add_nodes_from(nodes)
+    g.add_edges_from(edges)
+    return g
+
+
 @dataclass
 class LotGraph:
     """A lot with its drivable graph.
@@ -108,7 +164,7 @@ class LotGraph:
     """
 
     lot: Lot
-    graph: nx.DiGraph
+    graph: nx.DiGraph = PackedGraph()  # type: ignore[assignment]
     entrances: dict[str, int]
     exits: dict[str, int]
     slot_nodes: dict[str, int]
@@ -120,20 +176,17 @@ class LotGraph:
     _facts: GraphFacts | None = field(default=None, repr=False, compare=False)
 
     def __getstate__(self) -> dict:
-        # the graph as its plain dicts (nodes, successors, predecessors, each edge's data
-        # dict shared by the two, in their order), pickled apart: loading a lot unpickles
-        # them, and imports networkx, only when the graph itself is asked for
-        # (:meth:`__getattr__`); a lot whose graph was never asked for passes them on as
-        # they came
+        # the graph packed apart (:meth:`packed_graph`): loading a lot unpacks it, and
+        # imports networkx, only when the graph itself is asked for (:class:`PackedGraph`);
+        # a lot whose graph was never asked for passes it on as it came
         state = {k: v for k, v in self.__dict__.items() if k != "graph"}
-        if self.__dict__.get("graph") is not None:
+        if "graph" in self.__dict__:
             state["_graph_packed"] = self.packed_graph()
         return state
 
     def packed_graph(self) -> bytes:
         """Its graph as pickling it packs it (:meth:`with_graph_packed`)."""
-        g = self.graph
-        return pack((g.graph, g._node, g._succ, g._pred))
+        return pack_graph(self.graph)
 
     def with_graph_packed(self, packed: bytes) -> LotGraph:
         """It as pickled with its graph packed already (:meth:`packed_graph`, made elsewhere
@@ -146,22 +199,6 @@ class LotGraph:
 
     def __setstate__(self, state: dict) -> None:
         self.__dict__.update(state)
-
-    def __getattr__(self, name: str):
-        # only for attributes not set: the graph of a lot loaded by pickle, made on first use
-        packed = self.__dict__.get("_graph_packed")
-        if name != "graph" or packed is None:
-            raise AttributeError(f"{type(self).__name__!r} object has no attribute {name!r}")
-        import networkx as nx
-
-        dicts = unpack(packed)
-        g = nx.DiGraph()
-        g.graph.update(dicts[0])
-        g._node, g._succ, g._pred = dicts[1:]
-        g._adj = g._succ
-        self.graph = g
-        del self._graph_packed
-        return g
 
     def facts(self) -> GraphFacts:
         """The graph's counts and what traffic is checked against (worked out once and
