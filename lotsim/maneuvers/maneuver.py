@@ -15,6 +15,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from lotsim.core.geometry import FloatArray, Pose, Segment
+from lotsim.core.lazy import LoadedBy
 from lotsim.vehicles.model import VehicleType
 from lotsim.vehicles.motion import Motion, Piece, runs, timed_path
 
@@ -59,7 +60,7 @@ class Maneuver:
         False for the way in, True for the way out.
     """
 
-    segments: tuple[Segment, ...]
+    segments: tuple[Segment, ...] = LoadedBy("load_segments")  # type: ignore[assignment]
     vehicle: str
     slot: str
     lane: str
@@ -171,19 +172,18 @@ class Maneuver:
             return local, -1.0 if frame.mirror else 1.0
         return self.segments, 1.0
 
-    def __getattr__(self, name: str):
-        # the pieces of a placed maneuver (:meth:`placed`) or a reversed one
-        # (:meth:`reversed`), worked out on first use
+    def load_segments(self) -> None:
+        """Work out the pieces of a placed maneuver (:meth:`placed`) or a reversed one
+        (:meth:`reversed`) if they are not yet: what reading :attr:`segments` does first."""
         d = self.__dict__
-        if name != "segments" or ("_at" not in d and "_of" not in d):
-            raise AttributeError(name)
+        if "segments" in d or ("_at" not in d and "_of" not in d):
+            return
         if "_at" in d:
             frame, local = d["_at"]
             segs = frame.segments_to_world(local)
         else:
             segs = tuple(s.backwards() for s in reversed(d["_of"].segments))
         object.__setattr__(self, "segments", segs)
-        return segs
 
     def shapes(self) -> tuple[tuple[float, float, float], ...]:
         """Each piece's (distance, curvature, sharpness): the path's shape, not where it

@@ -25,6 +25,7 @@ import hashlib
 import math
 
 from lotsim.core.geometry import Segment, same_pose
+from lotsim.core.lazy import LoadedBy
 from lotsim.core.outcome import Outcome, Status
 from lotsim.core.packed import pack, unpack
 from lotsim.errors import InfeasibleManeuver
@@ -183,6 +184,14 @@ class ManeuverPlanner:
     with a status and the maneuver or the reason instead of raising.
     """
 
+    # its answers: unpacked from a pickled planner's when first read (:meth:`load_answers`)
+    _cache = LoadedBy("load_answers")
+    _raw = LoadedBy("load_answers")
+    _posed = LoadedBy("load_answers")
+    _fresh = LoadedBy("load_answers")
+    _fitted = LoadedBy("load_answers")
+    _classes = LoadedBy("load_answers")
+
     def __init__(self, lot: Lot, *, settings: ManeuverSettings | None = None,
                  margin: float | None = None, parked_width: float | None = None,
                  max_changes: int | None = None,
@@ -208,7 +217,7 @@ class ManeuverPlanner:
 
     def __getstate__(self) -> dict:
         # its answers pickled apart: a lot loaded from the cache unpickles them only when a
-        # maneuver is asked for (:meth:`__getattr__`); a planner never asked passes them on
+        # maneuver is asked for (:meth:`load_answers`); a planner never asked passes them on
         # as they came
         state = self._unanswered()
         if "_answers_packed" not in state:
@@ -236,14 +245,12 @@ class ManeuverPlanner:
     def __setstate__(self, state: dict) -> None:
         self.__dict__.update(state)
 
-    def __getattr__(self, name: str):
-        # only for attributes not set: the answers of a planner loaded by pickle
-        packed = self.__dict__.get("_answers_packed")
-        if name not in _ANSWERS or packed is None:
-            raise AttributeError(f"{type(self).__name__!r} object has no attribute {name!r}")
-        self.__dict__.update(unpack(packed))
-        del self._answers_packed
-        return self.__dict__[name]
+    def load_answers(self) -> None:
+        """Unpack the answers of a planner loaded from pickle, if they are still packed:
+        what reading any of them does first."""
+        packed = self.__dict__.pop("_answers_packed", None)
+        if packed is not None:
+            self.__dict__.update(unpack(packed))
 
     @property
     def margin(self) -> float:

@@ -46,6 +46,7 @@ from dataclasses import dataclass, field
 from typing import TYPE_CHECKING
 
 from lotsim.core.geometry import Segment
+from lotsim.core.lazy import LoadedBy
 from lotsim.core.packed import pack, unpack
 from lotsim.lot.model import Lot
 from lotsim.roadmap.reach import Reachability, find_reachability, leavable_edges
@@ -82,25 +83,6 @@ class GraphFacts:
     """The vehicle types with a parking maneuver into some slot."""
     leavable: bool
     """Some slot can be left for an exit along the lanes (:meth:`LotGraph.leavable`)."""
-
-
-class PackedGraph:
-    """A lot graph's networkx graph, kept packed (:func:`pack_graph`) by a lot loaded from
-    pickle and unpacked by :func:`unpack_graph` when first read, then kept as the lot's own
-    attribute (as :func:`functools.cached_property` keeps a value): a lot whose graph is
-    never read (a warm ``lotsim validate``) neither unpacks it nor imports networkx."""
-
-    def __set_name__(self, owner: type, name: str) -> None:
-        self.name = name
-
-    def __get__(self, obj: object, owner: type | None = None) -> nx.DiGraph:
-        if obj is None:  # (no default for the dataclass field)
-            raise AttributeError(self.name)
-        held = obj.__dict__
-        if "_graph_packed" not in held:
-            raise AttributeError(f"{type(obj).__name__!r} object has no graph")
-        held[self.name] = graph = unpack_graph(held.pop("_graph_packed"))
-        return graph
 
 
 def pack_graph(g: nx.DiGraph) -> bytes:
@@ -164,7 +146,7 @@ class LotGraph:
     """
 
     lot: Lot
-    graph: nx.DiGraph = PackedGraph()  # type: ignore[assignment]
+    graph: nx.DiGraph = LoadedBy("load_graph")  # type: ignore[assignment]
     entrances: dict[str, int]
     exits: dict[str, int]
     slot_nodes: dict[str, int]
@@ -177,7 +159,7 @@ class LotGraph:
 
     def __getstate__(self) -> dict:
         # the graph packed apart (:meth:`packed_graph`): loading a lot unpacks it, and
-        # imports networkx, only when the graph itself is asked for (:class:`PackedGraph`);
+        # imports networkx, only when the graph itself is read (:meth:`load_graph`);
         # a lot whose graph was never asked for passes it on as it came
         state = {k: v for k, v in self.__dict__.items() if k != "graph"}
         if "graph" in self.__dict__:
@@ -199,6 +181,13 @@ class LotGraph:
 
     def __setstate__(self, state: dict) -> None:
         self.__dict__.update(state)
+
+    def load_graph(self) -> None:
+        """Unpack the graph of a lot loaded from pickle (:func:`unpack_graph`), if it is
+        still packed: what reading :attr:`graph` does first."""
+        packed = self.__dict__.pop("_graph_packed", None)
+        if packed is not None:
+            self.graph = unpack_graph(packed)
 
     def facts(self) -> GraphFacts:
         """The graph's counts and what traffic is checked against (worked out once and

@@ -68,5 +68,5 @@ def test_a_pickled_lot_unpacks_its_graph_when_it_is_read():
 
 def test_a_lot_graph_without_one_says_so():
     lg = object.__new__(LotGraph)
-    with pytest.raises(AttributeError, match="'LotGraph' object has no graph"):
+    with pytest.raises(AttributeError, match="'LotGraph' object has no attribute 'graph'"):
         lg.graph  # noqa: B018
