@@ -105,3 +105,24 @@ def test_a_problem_in_each_section_is_reported_at_once():
 def test_every_setting_has_a_key_in_a_scenario_file(cls):
     assert sorted(name for name, _ in KEYS[cls].values()) == sorted(
         f.name for f in dataclasses.fields(cls))
+
+
+def test_the_page_shows_every_key_with_its_default():
+    """docs/scenario.md's block of the two sections: read as a scenario's, it gives the
+    default settings, and it names every key there is."""
+    import re
+
+    import yaml
+
+    from conftest import ROOT
+    from lotsim.roadmap.settings import GROUPS
+
+    page = (ROOT / "docs" / "scenario.md").read_text()
+    block = next(b for b in re.findall(r"```yaml\n(.*?)```", page, re.S)
+                 if b.startswith("roadmap:"))
+    sc = scenario_from_text(LOT + block)
+    assert sc.roadmap == RoadmapSettings() and sc.maneuvers == ManeuverSettings()
+    shown = yaml.safe_load(block)
+    for group, cls in GROUPS.items():
+        assert sorted(shown["roadmap"][group]) == sorted(KEYS[cls])
+    assert sorted(shown["maneuvers"]) == sorted(KEYS[ManeuverSettings])
