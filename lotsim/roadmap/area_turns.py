@@ -17,11 +17,7 @@ from lotsim.lot.clearance import Collider
 from lotsim.lot.model import unit
 from lotsim.roadmap.lanes import EPS
 from lotsim.roadmap.model import Turn
-from lotsim.roadmap.settings import AreaTurnSettings
-
-DEFAULT = AreaTurnSettings()
-"""The candidates tried when the caller gives no :class:`AreaTurnSettings`: the sideways
-shifts of the corner, the drifts' lengths, the corner's radii and design speeds."""
+from lotsim.roadmap.settings import DEFAULTS, AreaTurnSettings
 
 
 def _approx_tangent(deflection, radius: float, sharpness: float):
@@ -51,7 +47,7 @@ def _area_designs(design, lot_speed: float, settings: AreaTurnSettings
 def area_turns(a, sa0, pa, b, sb0, pb, design, collider: Collider,
                 lot_speed: float, via: tuple[Segment, ...] = (),
                 shifts: tuple[float, ...] = (), *,
-                settings: AreaTurnSettings = DEFAULT) -> list[Turn]:
+                settings: AreaTurnSettings = DEFAULTS.area_turns) -> list[Turn]:
     """Turns from ``pa`` into ``pb`` that use the junction's whole area, as a driver does
     where the turn between the lanes themselves touches a corner slot: drift sideways from
     the lane (wide of the corner, across the oncoming lane where need be), turn, drift back
@@ -82,7 +78,7 @@ def area_turns(a, sa0, pa, b, sb0, pb, design, collider: Collider,
 
 def candidates_shape(pa: Segment, pb: Segment, design, lot_speed: float,
                      frame: tuple[float, float, float], *,
-                     settings: AreaTurnSettings = DEFAULT) -> bytes:
+                     settings: AreaTurnSettings = DEFAULTS.area_turns) -> bytes:
     """What a search of :func:`area_turns` from ``pa`` into ``pb`` (no ``via``) tries, in
     ``frame`` (origin x, y [m], heading [rad]) to the micrometre: the car and every
     candidate's polyline, corner radius and clothoid sharpness. At two junctions with the
@@ -131,7 +127,7 @@ class _Layout:
 
     @classmethod
     def of(cls, pa: Segment, pb: Segment, via: tuple[Segment, ...],
-           shifts: tuple[float, ...], settings: AreaTurnSettings = DEFAULT) -> _Layout:
+           shifts: tuple[float, ...], settings: AreaTurnSettings = DEFAULTS.area_turns) -> _Layout:
         lines = (pa, *via, pb)
         dirs = np.array([unit(seg.start[2]) for seg in lines])  # (L, 2)
         normals = np.column_stack([-dirs[:, 1], dirs[:, 0]])
@@ -170,7 +166,7 @@ class _Layout:
 
 
 def _candidate_blocks(lay: _Layout, pa: Segment, pb: Segment, design, lot_speed: float,
-                      settings: AreaTurnSettings = DEFAULT) -> list[tuple]:
+                      settings: AreaTurnSettings = DEFAULTS.area_turns) -> list[tuple]:
     """The candidate area turns with room on both lanes, a block per design and shape:
     (points (M, P, 2) of their polylines, rough time [s], lane used [m], start along ``pa``
     [m], end along ``pb`` [m], corner radius [m], clothoid sharpness)."""

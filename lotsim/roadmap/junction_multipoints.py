@@ -11,13 +11,13 @@ from lotsim.roadmap.lanes import EPS, along, straights
 from lotsim.roadmap.memo import RoadmapMemo, types_key
 from lotsim.roadmap.model import Turn
 from lotsim.roadmap.remembered import plan_onto_remembered
-from lotsim.roadmap.settings import RoadmapSettings
+from lotsim.roadmap.settings import DEFAULTS, RoadmapSettings
 from lotsim.roadmap.turnarounds import Turnaround, fits_a_slot, suits, turnaround_collider
 
 
 def junction_multipoints(lot: Lot, tagged: list[tuple[Turn, frozenset | None]],
                          designs: dict[str, DesignVehicle] | None, exits: dict[str, float],
-                         memo: RoadmapMemo, *, settings: RoadmapSettings | None = None
+                         memo: RoadmapMemo, *, settings: RoadmapSettings = DEFAULTS
                          ) -> list[tuple[Turnaround, frozenset | None]]:
     """Multi-point turns between lanes of aisles that meet, where no turn joins them for
     some vehicle type (``tagged``: the junction turns, each with the types that can drive
@@ -35,8 +35,7 @@ def junction_multipoints(lot: Lot, tagged: list[tuple[Turn, frozenset | None]],
     :attr:`~lotsim.roadmap.settings.MultipointSettings.junction_room` of lane before the
     crossing on the lane it leaves and after it on the lane it joins (where a lane begins
     or ends at the crossing, a car comes from or goes on to another turn instead);
-    ``settings`` (None: the defaults) tune the search and its clearance."""
-    settings = RoadmapSettings() if settings is None else settings
+    ``settings`` tune the search and its clearance."""
     key = types_key(designs)
     cache = memo.check(lot, settings).multipoints
     if key in cache:

@@ -30,14 +30,8 @@ from lotsim.roadmap.remembered import (
     verified,
     worked_out,
 )
-from lotsim.roadmap.settings import RoadmapSettings
+from lotsim.roadmap.settings import DEFAULTS, RoadmapSettings
 from lotsim.roadmap.through import through_chains, through_turn
-
-DEFAULT = RoadmapSettings()
-"""The tuning when the caller gives none: the design speeds junction turns try are its
-:attr:`~lotsim.roadmap.settings.TurnSettings.speeds` (the fastest and the tightest turn
-that are clear of everything are built), the turns through a junction's area its
-:class:`~lotsim.roadmap.settings.AreaTurnSettings`."""
 
 
 def _turn_designs(design, lot_speed: float, speeds: tuple[float, ...]
@@ -81,7 +75,7 @@ def lane_crossing(pa: Segment, pb: Segment, aisle_a, aisle_b, reach: float
 def _fillet_between(a, sa0, pa, b, sb0, pb, aisle_a, aisle_b, reach, design,
                     collider: Collider, lot_speed: float,
                     gates: tuple[tuple[float, ...], tuple[float, ...]] = ((), ()), *,
-                    settings: RoadmapSettings = DEFAULT) -> Outcome[list[Turn]]:
+                    settings: RoadmapSettings = DEFAULTS) -> Outcome[list[Turn]]:
     """The turns from straight ``pa`` of lane ``a`` into straight ``pb`` of lane ``b``: the
     fastest that is clear and, when it is another, the tightest that is clear (the shortest
     tangent: it starts later and ends sooner, so it can reach a node the wide one passes
@@ -180,7 +174,7 @@ class _Wide:
 
 
 def wide_turns(lot: Lot, wides: list[_Wide], collider: Collider, *, run=fork_map,
-               settings: RoadmapSettings = DEFAULT
+               settings: RoadmapSettings = DEFAULTS
                ) -> list[tuple[list[Turn], tuple[float, float, float, float]]]:
     """The turns :func:`area_turns` finds for each of ``wides``, with the box its checks
     read (:class:`~lotsim.lot.clearance.Watched`).
@@ -296,7 +290,7 @@ def gate_stations(lot: Lot) -> dict[tuple[str, str], list[float]]:
 
 def junction_turns(lot: Lot, collider: Collider, design: DesignVehicle | None = None, *,
                    lanes_a=None, gates: dict[tuple[str, str], list[float]] | None = None,
-                   settings: RoadmapSettings = DEFAULT) -> tuple[list[Turn], list[str]]:
+                   settings: RoadmapSettings = DEFAULTS) -> tuple[list[Turn], list[str]]:
     """Arcs between lanes of aisles that meet, each swept clear with ``design`` (default
     the lot's design vehicle): out of ``lanes_a`` (default every lane); where none between
     two lanes is clear, through the junction's area (:func:`wide_turns`). ``gates``: the
@@ -315,7 +309,7 @@ def junction_turns(lot: Lot, collider: Collider, design: DesignVehicle | None = 
 
 def _lane_junctions(lot: Lot, collider: Collider, design: DesignVehicle, a,
                     gates: dict[tuple[str, str], list[float]],
-                    settings: RoadmapSettings = DEFAULT) -> list:
+                    settings: RoadmapSettings = DEFAULTS) -> list:
     """The turns out of lane ``a`` into each lane of another aisle it meets
     (:func:`_fillet_between`), in order: for each pair of straights that meet, the turns
     found, a note of why none is, or the turn through the junction's area to search."""
@@ -342,7 +336,7 @@ def _lane_junctions(lot: Lot, collider: Collider, design: DesignVehicle, a,
 
 
 def turns_of(lot: Lot, collider: Collider, designs: dict[str, DesignVehicle] | None,
-             memo: RoadmapMemo, *, settings: RoadmapSettings = DEFAULT
+             memo: RoadmapMemo, *, settings: RoadmapSettings = DEFAULTS
              ) -> tuple[list[tuple[Turn, frozenset | None]], list[str]]:
     """The lot's junction turns (:func:`junction_turns`, and the turns through short
     stretches of lane, :mod:`lotsim.roadmap.through`), each with the vehicle types that can
@@ -388,7 +382,7 @@ def turns_of(lot: Lot, collider: Collider, designs: dict[str, DesignVehicle] | N
 
 
 def _lane_turns(lot: Lot, collider: Collider, job: tuple, gates: dict,
-                settings: RoadmapSettings = DEFAULT) -> tuple[list[Turn], list[str]]:
+                settings: RoadmapSettings = DEFAULTS) -> tuple[list[Turn], list[str]]:
     """The junction turns out of one lane for one design (``job``: the design and the
     lane) and their notes, worked out alone: what :func:`turns_per_design` keeps of it."""
     entries = _lane_junctions(lot, collider, *job, gates, settings)
@@ -410,7 +404,7 @@ def _suited(turn: Turn, designs: dict[str, DesignVehicle], collider: Collider) -
 
 
 def turns_per_design(lot: Lot, collider: Collider, designs: list,
-                     memo: RoadmapMemo | None = None, *, settings: RoadmapSettings = DEFAULT
+                     memo: RoadmapMemo | None = None, *, settings: RoadmapSettings = DEFAULTS
                      ) -> list[tuple[list[Turn], list[str]]]:
     """:func:`junction_turns` and the turns through short stretches
     (:func:`~lotsim.roadmap.through.through_turn`) for each of ``designs`` (None: the

@@ -40,7 +40,7 @@ from lotsim.core.geometry import FloatArray, Pose, Segment, advance, sample_segm
 from lotsim.core.outcome import Outcome, Status
 from lotsim.lot.clearance import Collider, RigidSweeps, first_blocked
 from lotsim.lot.model import DesignVehicle
-from lotsim.roadmap.settings import MultipointSettings
+from lotsim.roadmap.settings import DEFAULTS, MultipointSettings
 
 AHEAD = 8
 """States whose moves are checked at once: the one expanded and those nearest the top of the
@@ -49,14 +49,11 @@ state, and what the search finds is the same)."""
 MOVE_BLOCK = 5
 """Sweeps of a move checked first as one hull (a move's ten in two blocks: what checks a
 lot's moves quickest; the answers are the same for any)."""
-DEFAULT = MultipointSettings()
-"""The search's tuning when the caller gives none (:class:`MultipointSettings`: the move,
-the grid, the prices, the expansion limit, the last moves' radii)."""
 
 
 def plan_onto(starts: Sequence[Pose], frame: Pose, lo: float, hi: float,
               collider: Collider, body: DesignVehicle, radius: float, *,
-              settings: MultipointSettings = DEFAULT, max_changes: int | None = None,
+              settings: MultipointSettings = DEFAULTS.multipoint, max_changes: int | None = None,
               budget: int | None = None, ahead: int = AHEAD
               ) -> Outcome[tuple[int, tuple[Segment, ...]]]:
     """The cheapest multi-point path found from any of ``starts`` onto the line through
@@ -289,7 +286,7 @@ def _mirror(segs: list[Segment]) -> list[Segment]:
 
 
 def closing_moves(q: FloatArray, lane_length: float, radius: float, *,
-                  settings: MultipointSettings = DEFAULT) -> list[list[Segment]]:
+                  settings: MultipointSettings = DEFAULTS.multipoint) -> list[list[Segment]]:
     """Last moves from local pose ``q`` onto the line y = 0 heading +x, driven forward: a
     straight, a left arc, a straight along the lane to a grid station, or (from above the
     line, heading along it or down) an S of two arcs and a straight; shortest first. The

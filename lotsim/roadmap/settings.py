@@ -326,6 +326,11 @@ class RoadmapSettings:
                   for name, cls in GROUPS.items()])
 
 
+DEFAULTS = RoadmapSettings()
+"""The roadmap's settings when a caller gives none: the values lotsim has always made its
+graphs with (each function's default is this, or its group)."""
+
+
 def as_settings(value: Any, cls: type, name: str) -> Any:
     """``value`` when it is a ``cls`` (None: the defaults); else a
     :class:`~lotsim.errors.SettingsError` naming ``name``."""

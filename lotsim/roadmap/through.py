@@ -9,13 +9,10 @@ from lotsim.lot.model import DesignVehicle, Lot
 from lotsim.roadmap.area_turns import area_turns
 from lotsim.roadmap.lanes import EPS, straight_at
 from lotsim.roadmap.model import Turn
-from lotsim.roadmap.settings import RoadmapSettings
-
-DEFAULT = RoadmapSettings()
-"""The tuning when the caller gives none."""
+from lotsim.roadmap.settings import DEFAULTS, RoadmapSettings
 
 
-def through_chains(lot: Lot, turns: list[Turn], *, settings: RoadmapSettings = DEFAULT
+def through_chains(lot: Lot, turns: list[Turn], *, settings: RoadmapSettings = DEFAULTS
                    ) -> list[tuple]:
     """The short stretches of lane to turn through: where a turn into lane ``c`` ends past
     where a turn out of it begins, by less than
@@ -52,7 +49,7 @@ def through_chains(lot: Lot, turns: list[Turn], *, settings: RoadmapSettings = D
 
 
 def through_turn(lot: Lot, collider: Collider, design: DesignVehicle | None,
-                 chain: tuple, *, settings: RoadmapSettings = DEFAULT) -> list[Turn]:
+                 chain: tuple, *, settings: RoadmapSettings = DEFAULTS) -> list[Turn]:
     """The turns through one of :func:`through_chains`: from the first lane into the last
     along the stretch (:func:`~lotsim.roadmap.area_turns.area_turns` with ``via``, shifted
     as the area turns are), swept clear with ``design`` (default the lot's design

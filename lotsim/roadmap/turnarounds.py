@@ -56,13 +56,7 @@ from lotsim.roadmap.remembered import (
     watched,
     worked_out,
 )
-from lotsim.roadmap.settings import RoadmapSettings
-
-DEFAULT = RoadmapSettings()
-"""The roadmap's tuning when the caller gives none: the margin, strokes, probes, starts and
-dead-end length of the turnarounds are its
-:class:`~lotsim.roadmap.settings.TurnaroundSettings`, their last moves and the multi-point
-search its :class:`~lotsim.roadmap.settings.MultipointSettings`."""
+from lotsim.roadmap.settings import DEFAULTS, RoadmapSettings
 
 
 @dataclass(frozen=True, slots=True)
@@ -86,7 +80,7 @@ class Turnaround:
 
 
 def turnaround_collider(lot: Lot, design: DesignVehicle | None = None,
-                        margin: float = DEFAULT.turnarounds.margin
+                        margin: float = DEFAULTS.turnarounds.margin
                         ) -> tuple[Collider, DesignVehicle]:
     """A checker for turnarounds on ``lot``: every slot, area and the ground it may drive on
     (no gates beyond aisle ends: a car turns back inside the lot), and ``design`` (default
@@ -100,7 +94,7 @@ def turnaround_collider(lot: Lot, design: DesignVehicle | None = None,
 
 
 def turnaround_clear(t: Turnaround, collider: Collider, body: DesignVehicle, *,
-                     step: float = DEFAULT.turnarounds.step) -> bool:
+                     step: float = DEFAULTS.turnarounds.step) -> bool:
     """Whether ``body`` (see :func:`turnaround_collider`) drives turnaround ``t`` clear of
     everything ``collider`` holds (hulls of footprints ``step`` apart [m],
     :attr:`~lotsim.roadmap.settings.TurnaroundSettings.step`)."""
@@ -109,7 +103,7 @@ def turnaround_clear(t: Turnaround, collider: Collider, body: DesignVehicle, *,
 
 def plan_turnaround(lane: Lane, back: Lane, collider: Collider, body: DesignVehicle,
                     radius: float, *, starts: tuple[float, ...] = (),
-                    settings: RoadmapSettings = DEFAULT) -> Outcome[Turnaround]:
+                    settings: RoadmapSettings = DEFAULTS) -> Outcome[Turnaround]:
     """A turnaround from the end of ``lane`` onto ``back`` (the opposite lane of the aisle,
     straight where it begins), for a car whose outline is ``body`` and whose tightest arc
     has ``radius`` [m], beginning
@@ -160,7 +154,7 @@ def plan_turnaround(lane: Lane, back: Lane, collider: Collider, body: DesignVehi
 
 
 def plan_turnarounds(lane: Lane, back: Lane, collider: Collider, body: DesignVehicle,
-                     radius: float, *, settings: RoadmapSettings = DEFAULT
+                     radius: float, *, settings: RoadmapSettings = DEFAULTS
                      ) -> Outcome[list[Turnaround]]:
     """The best turnaround at the end of ``lane`` (:func:`plan_turnaround`) and, when that
     begins before the lane's last stretch, the best one that begins last: a car that parks
@@ -240,7 +234,7 @@ def _extent(frame: FloatArray, pose: FloatArray, gear: int, kappa: float, cap: f
 
 
 def _first_clear(frame: FloatArray, options: list[list[list[Segment]]], collider: Collider,
-                 body: DesignVehicle, step: float = DEFAULT.turnarounds.step
+                 body: DesignVehicle, step: float = DEFAULTS.turnarounds.step
                  ) -> list[int | None]:
     """For each list of paths (local, in ``frame``) in ``options``, the index of the first
     not :func:`_blocked`, or None: the first paths of all checked in one batch, then the
@@ -278,14 +272,14 @@ def _blocked_each(frame: FloatArray, paths: list[list[Segment]], collider: Colli
 
 
 def _blocked(frame: FloatArray, segs: list[Segment], collider: Collider,
-             body: DesignVehicle, step: float = DEFAULT.turnarounds.step) -> bool:
+             body: DesignVehicle, step: float = DEFAULTS.turnarounds.step) -> bool:
     return _blocked_each(frame, [segs], collider, body, step)[0]
 
 
 def dead_end_turnarounds(lot: Lot, turns: list[Turn], joins: list[tuple[str, str]],
                          exits: dict[str, float], designs: dict[str, DesignVehicle] | None,
                          stops: dict[str, float], multis: list[Turnaround], memo: RoadmapMemo,
-                         *, settings: RoadmapSettings = DEFAULT
+                         *, settings: RoadmapSettings = DEFAULTS
                          ) -> tuple[list[tuple[Turnaround, frozenset | None]], list[str]]:
     """Turnarounds at the dead ends of two-way aisles, each with the vehicle types that can
     drive it (None: every type), and a note for each dead end where none fits (naming the
@@ -428,7 +422,7 @@ def _turnaround_plans(per: dict[str, DesignVehicle], bodies: dict[str, tuple],
 
 
 def plan_turnarounds_ahead(memo: RoadmapMemo, vehicles=(), *,
-                           settings: RoadmapSettings = DEFAULT) -> Background:
+                           settings: RoadmapSettings = DEFAULTS) -> Background:
     """Begin planning the turnaround at the end of every lane of a two-way aisle of the
     memo's lot (for ``vehicles``' designs, as :func:`~lotsim.roadmap.assemble.build_graph`
     will want them), on a background process that takes only CPU time nothing else wants
@@ -478,7 +472,7 @@ def fits_a_slot(lot: Lot, design: DesignVehicle) -> bool:
 
 
 def _reaching_all(jobs: dict, memo: dict, roads: RoadmapMemo | None = None, *,
-                  settings: RoadmapSettings = DEFAULT) -> dict:
+                  settings: RoadmapSettings = DEFAULTS) -> dict:
     """:func:`_reaching_turnarounds` of each of ``jobs`` (key → its arguments), by key; its
     multi-point searches on the workers, each once: ``memo`` holds (and is given) those
     done before, by lane, design and arguments (an earlier build of the lot's graph made
@@ -541,7 +535,7 @@ class _Pending(Exception):
 
 def _reaching_onto(lane: Lane, back: Lane, starts: list[float], hi: float,
                    collider: Collider, body: DesignVehicle, radius: float, *,
-                   settings: RoadmapSettings = DEFAULT) -> Outcome[Turnaround]:
+                   settings: RoadmapSettings = DEFAULTS) -> Outcome[Turnaround]:
     """A turnaround from ``lane`` (from the first of ``starts`` that has one, [m]) onto the
     straight beginning ``back``, landing at or before ``hi`` along it
     (:func:`~lotsim.roadmap.multipoint.plan_onto` with ``settings.multipoint``), or why
@@ -558,7 +552,7 @@ def _reaching_onto(lane: Lane, back: Lane, starts: list[float], hi: float,
 def _reaching_turnarounds(lane: Lane, back: Lane, found: list[Turnaround],
                           collider: Collider, body: DesignVehicle, radius: float,
                           arrive, go_on: float, *, onto=_reaching_onto,
-                          settings: RoadmapSettings = DEFAULT) -> list[Turnaround]:
+                          settings: RoadmapSettings = DEFAULTS) -> list[Turnaround]:
     """Turnarounds from ``lane`` onto ``back`` by multi-point search
     (:func:`~lotsim.roadmap.multipoint.plan_onto`) that land at or before ``go_on`` (the last
     station ``back`` can be left from), where those ``found`` leave a car stranded: one from
@@ -600,7 +594,7 @@ def _on_straight(lane: Lane, station: float) -> bool:
 
 
 def suits(t: Turnaround, design: DesignVehicle, checks: tuple[Collider, DesignVehicle], *,
-          step: float = DEFAULT.turnarounds.step) -> bool:
+          step: float = DEFAULTS.turnarounds.step) -> bool:
     """Whether a car of ``design`` can drive ``t``: no tighter than its radius, and clear
     (``checks``: collider and grown body, :func:`turnaround_collider`; footprints ``step``
     apart [m])."""

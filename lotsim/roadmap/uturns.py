@@ -13,7 +13,7 @@ from lotsim.roadmap.lanes import EPS, along, straight_at, straights
 from lotsim.roadmap.memo import RoadmapMemo, types_key
 from lotsim.roadmap.multipoint import segment_to_world, to_local
 from lotsim.roadmap.remembered import plan_onto_remembered
-from lotsim.roadmap.settings import RoadmapSettings
+from lotsim.roadmap.settings import DEFAULTS, RoadmapSettings
 from lotsim.roadmap.turnarounds import (
     Turnaround,
     fits_a_slot,
@@ -24,7 +24,7 @@ from lotsim.roadmap.turnarounds import (
 
 
 def junction_uturns(lot: Lot, designs: dict[str, DesignVehicle] | None, memo: RoadmapMemo,
-                    *, settings: RoadmapSettings | None = None
+                    *, settings: RoadmapSettings = DEFAULTS
                     ) -> list[tuple[Turnaround, frozenset | None]]:
     """U-turns at junctions: from a lane of a two-way aisle, where another aisle crosses
     or meets it, back onto its opposite lane, in a few strokes that use the other aisle's
@@ -34,15 +34,14 @@ def junction_uturns(lot: Lot, designs: dict[str, DesignVehicle] | None, memo: Ro
     crossing and lands within
     :attr:`~lotsim.roadmap.settings.MultipointSettings.uturn_land` of it; it needs
     :attr:`~lotsim.roadmap.settings.MultipointSettings.junction_room` of lane before the
-    crossing on the lane it leaves and past it on the one it joins (``settings``, None:
-    the defaults). Each is tagged with the vehicle types it suits (None: all);
-    only types that fit a slot are planned for, largest first.
+    crossing on the lane it leaves and past it on the one it joins (all ``settings``'). Each
+    is tagged with the vehicle types it suits (None: all); only types that fit a slot are
+    planned for, largest first.
 
     Junctions of one shape share a plan: one found at a junction is moved onto the next
     (the same place relative to the crossing) and kept when it lands on that junction's
     opposite lane and is clear there, so a lot of many alike junctions plans a few.
     Worked out once per set of types and kept in ``memo``."""
-    settings = RoadmapSettings() if settings is None else settings
     key = types_key(designs)
     cache = memo.check(lot, settings).uturns
     if key in cache:

@@ -86,7 +86,7 @@ def test_turnarounds_searched_in_rounds_on_two_workers_are_those_searched_one_by
     assert len(searched) >= 8 and len(set(searched)) == len(searched)
     # a second build whose cars arrive elsewhere on a lane searches only from there
     ends = [job for job in jobs.values() if any(
-        (job[0].id, len(starts)) == (lane, len(turnarounds.DEFAULT.turnarounds.starts))
+        (job[0].id, len(starts)) == (lane, len(turnarounds.DEFAULTS.turnarounds.starts))
         for lane, _, _, starts, _ in searched)]
     assert ends
     for job in ends:
