@@ -42,7 +42,9 @@ _EXPORTS = {
     "lotsim.verify": ("CheckReport", "Violation"),
     "lotsim.scenario": ("AnimationSpec", "GifSettings", "HtmlSettings", "Scenario"),
     "lotsim.sim.settings": ("GASettings", "RunSettings", "RunTuning"),
-    "lotsim.maneuvers.settings": ("MinSlotSettings",),
+    "lotsim.maneuvers.settings": ("ManeuverSettings", "MinSlotSettings"),
+    "lotsim.roadmap.settings": ("AreaTurnSettings", "MultipointSettings", "RoadmapSettings",
+                                "TurnSettings", "TurnaroundSettings"),
     "lotsim.errors": ("InfeasibleManeuver", "LimitExceeded", "Location", "LotsimError",
                       "DecisionError", "OutputError", "ReplayError", "ResultFormatError",
                       "ScenarioError", "ScenarioErrors", "SettingsError"),
@@ -125,7 +127,14 @@ if TYPE_CHECKING:  # for type checkers and editors: the same names, imported eag
         SettingsError,
     )
     from lotsim.io.imports.dxf import DxfLayers  # noqa: F401
-    from lotsim.maneuvers.settings import MinSlotSettings  # noqa: F401
+    from lotsim.maneuvers.settings import ManeuverSettings, MinSlotSettings  # noqa: F401
+    from lotsim.roadmap.settings import (  # noqa: F401
+        AreaTurnSettings,
+        MultipointSettings,
+        RoadmapSettings,
+        TurnaroundSettings,
+        TurnSettings,
+    )
     from lotsim.scenario import AnimationSpec, GifSettings, HtmlSettings, Scenario  # noqa: F401
     from lotsim.sim.execution import execute  # noqa: F401
     from lotsim.sim.live import Live  # noqa: F401

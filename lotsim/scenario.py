@@ -1,16 +1,19 @@
 """A scenario: what its file holds. :class:`Scenario` is the lot layout, the vehicle types
-that use it, the traffic and a seed; :class:`AnimationSpec` is the file's ``animation``
-section, how ``lotsim run`` draws the run (:class:`GifSettings`, :class:`HtmlSettings`)."""
+that use it, the traffic, a seed and how its lot is prepared (the roadmap's and the parking
+maneuvers' settings); :class:`AnimationSpec` is the file's ``animation`` section, how
+``lotsim run`` draws the run (:class:`GifSettings`, :class:`HtmlSettings`)."""
 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, fields
+from dataclasses import dataclass, field, fields
 from typing import Any
 
 from lotsim.core.checks import is_integral, is_real, raise_first, range_problem, set_field, shown
 from lotsim.lot.spec import LotSpec
+from lotsim.maneuvers.settings import ManeuverSettings
 from lotsim.roadmap.service_routes import RouteSpec
+from lotsim.roadmap.settings import RoadmapSettings
 from lotsim.traffic.demand import TrafficSpec
 from lotsim.traffic.disturbances import Disturbances
 from lotsim.vehicles.model import VehicleType
@@ -46,6 +49,14 @@ class Scenario:
         The length unit its file was written in (``"m"`` or ``"ft"``): every length above
         is in metres whatever it is; ``units`` says only how lotsim reports lengths back to
         the file's author (``lotsim validate``'s summary and schedule, the DXF export).
+    roadmap : RoadmapSettings
+        How the lot's drivable graph is made (:mod:`lotsim.roadmap.settings`: junction
+        turns' design speeds, turns through a junction's area, the multi-point search, the
+        turnarounds); the file's ``roadmap`` section.
+    maneuvers : ManeuverSettings
+        How the parking maneuvers are planned
+        (:class:`~lotsim.maneuvers.settings.ManeuverSettings`: clearance, direction
+        changes, probes, easing); the file's ``maneuvers`` section.
 
     A scenario is the problem, not how to draw it: its file's ``animation`` section is read
     apart (:func:`lotsim.io.scenario_yaml.read_scenario`, :class:`lotsim.scenario.AnimationSpec`).
@@ -62,6 +73,15 @@ class Scenario:
     disturbances: Disturbances | None = None
     routes: tuple[RouteSpec, ...] = ()
     units: str = "m"
+    roadmap: RoadmapSettings = field(default_factory=RoadmapSettings)
+    maneuvers: ManeuverSettings = field(default_factory=ManeuverSettings)
+
+    def __post_init__(self) -> None:
+        for name, cls in (("roadmap", RoadmapSettings), ("maneuvers", ManeuverSettings)):
+            value = getattr(self, name)
+            if not isinstance(value, cls):
+                raise_first([(name, f"expected {cls.__name__}, found "
+                                    f"{type(value).__name__}")])
 
     def vehicle_type(self, name: str) -> VehicleType:
         """The vehicle type called ``name``; KeyError if the scenario has none."""

@@ -61,7 +61,9 @@ EXPORTS: dict[str, tuple[str, ...]] = {
     # settings and their choices
     "lotsim.sim.settings": ("ASSIGNMENTS", "GASettings", "PLANNERS", "PRIORITIES",
                             "RunSettings"),
-    "lotsim.maneuvers.settings": ("MARGIN", "MinSlotSettings", "STYLES"),
+    "lotsim.maneuvers.settings": ("MARGIN", "ManeuverSettings", "MinSlotSettings", "STYLES"),
+    "lotsim.roadmap.settings": ("AreaTurnSettings", "MultipointSettings", "RoadmapSettings",
+                                "TurnSettings", "TurnaroundSettings"),
     "lotsim.maneuvers.slot_table": ("MinSlotTable", "check_slot_width"),
     # prepared lots, runs and their limits
     "lotsim.sim.preparation": ("PreparedLot",),
@@ -179,7 +181,12 @@ if TYPE_CHECKING:  # for type checkers and editors: the same names, imported eag
         load_scenario,
         read_scenario,
     )
-    from lotsim.maneuvers.settings import MARGIN, STYLES, MinSlotSettings  # noqa: F401
+    from lotsim.maneuvers.settings import (  # noqa: F401
+        MARGIN,
+        STYLES,
+        ManeuverSettings,
+        MinSlotSettings,
+    )
     from lotsim.maneuvers.slot_table import MinSlotTable, check_slot_width  # noqa: F401
     from lotsim.render.lot_image import slot_labels_drawn  # noqa: F401
     from lotsim.render.plots import (  # noqa: F401
@@ -193,6 +200,13 @@ if TYPE_CHECKING:  # for type checkers and editors: the same names, imported eag
         RouteReport,
         RouteSettings,
         plan_routes,
+    )
+    from lotsim.roadmap.settings import (  # noqa: F401
+        AreaTurnSettings,
+        MultipointSettings,
+        RoadmapSettings,
+        TurnaroundSettings,
+        TurnSettings,
     )
     from lotsim.scenario import (  # noqa: F401
         MAX_SIZE,

@@ -13,10 +13,11 @@ from lotsim.api.scenarios import (
     ScenarioLike,
     scenario_of,
     source_of,
+    with_settings,
 )
 from lotsim.core import checks as _checks
 from lotsim.errors import SettingsError
-from lotsim.maneuvers.settings import MARGIN, MinSlotSettings
+from lotsim.maneuvers.settings import ManeuverSettings, MinSlotSettings
 from lotsim.maneuvers.slot_table import MinSlotTable, min_slot_table
 from lotsim.sim.maneuver_case import ManeuverCase
 
@@ -84,8 +85,8 @@ def minslot(vehicle: VehicleType | str | os.PathLike, width: float,
 
 
 def maneuver_case(scenario: ScenarioLike, slot: str, *, vehicle: str | None = None,
-                  lane: str | None = None, style: str = "any", margin: float = MARGIN
-                  ) -> ManeuverCase:
+                  lane: str | None = None, style: str = "any", margin: float | None = None,
+                  maneuvers: ManeuverSettings | None = None) -> ManeuverCase:
     """The checked problem :func:`plan_maneuver` solves: the lot built, the slot, the
     vehicle type, the lane and the planner; ``.plan()`` solves it, and
     :func:`render_maneuver` draws the answer. Parameters as :func:`plan_maneuver`.
@@ -101,13 +102,15 @@ def maneuver_case(scenario: ScenarioLike, slot: str, *, vehicle: str | None = No
     >>> case.slot.id, case.vehicle.name, case.plan().strokes()[0][0]
     ('N3', 'valet', -1)
     """
-    return ManeuverCase.build(scenario_of(scenario), slot, vehicle=vehicle, lane=lane,
-                              style=style, margin=margin, source=source_of(scenario))
+    sc = with_settings(scenario_of(scenario), maneuvers=maneuvers)
+    return ManeuverCase.build(sc, slot, vehicle=vehicle, lane=lane, style=style,
+                              margin=margin, source=source_of(scenario))
 
 
 def plan_maneuver(scenario: ScenarioLike, slot: str, *, vehicle: str | None = None,
                   lane: str | None = None, style: str = "any", leave: bool = False,
-                  margin: float = MARGIN) -> Maneuver:
+                  margin: float | None = None, maneuvers: ManeuverSettings | None = None
+                  ) -> Maneuver:
     """One slot's parking (or leaving) maneuver (``lotsim maneuver``): fewest direction
     changes, then shortest, clear of the parked cars, walls and the aisle's far side.
 
@@ -124,8 +127,11 @@ def plan_maneuver(scenario: ScenarioLike, slot: str, *, vehicle: str | None = No
         Nose-in, backed in, or the better.
     leave : bool, keyword-only
         The way out instead of the way in.
-    margin : float, keyword-only
-        Clearance kept [m], 0 to 1.
+    margin : float, optional, keyword-only
+        Clearance kept [m], 0 to 1; default the maneuver settings'.
+    maneuvers : ManeuverSettings, optional, keyword-only
+        The maneuver planner's tuning; default the scenario's (its file's ``maneuvers``
+        section).
 
     Returns
     -------
@@ -151,5 +157,5 @@ def plan_maneuver(scenario: ScenarioLike, slot: str, *, vehicle: str | None = No
     lotsim.errors.SettingsError: slot: no slot 'N9' in <scenario> (its slots: N1–N4, S1–S4; ...
     """
     case = maneuver_case(scenario, slot, vehicle=vehicle, lane=lane, style=style,
-                         margin=margin)
+                         margin=margin, maneuvers=maneuvers)
     return case.plan(leave=leave)

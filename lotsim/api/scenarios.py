@@ -5,6 +5,7 @@ validate`` reports (:func:`validate`). Reading a scenario is :mod:`lotsim.io.sce
 
 from __future__ import annotations
 
+import dataclasses
 import os
 import time
 from collections.abc import Callable, Sequence
@@ -13,6 +14,8 @@ from typing import Any
 
 from lotsim.errors import ScenarioError, SettingsError
 from lotsim.io.scenario_yaml import load_scenario
+from lotsim.maneuvers.settings import ManeuverSettings
+from lotsim.roadmap.settings import RoadmapSettings, as_settings
 from lotsim.scenario import Scenario
 from lotsim.sim import preparation
 from lotsim.sim.preparation import PreparedLot
@@ -67,16 +70,44 @@ def source_of(scenario: ScenarioLike | PreparedLot) -> str:
     return scenario_of(scenario).source
 
 
-def prepare(scenario: ScenarioLike, *, cache: bool = True, progress=None) -> PreparedLot:
+def with_settings(scenario: Scenario, *, roadmap: RoadmapSettings | None = None,
+                  maneuvers: ManeuverSettings | None = None) -> Scenario:
+    """``scenario`` with ``roadmap`` and ``maneuvers`` in place of its own settings (None:
+    its own), each checked to be what it says (:class:`~lotsim.errors.SettingsError`).
+
+    >>> sc = with_settings(load_scenario(EXAMPLE), maneuvers=ManeuverSettings(margin=0.2))
+    >>> sc.maneuvers.margin, sc.roadmap == RoadmapSettings()
+    (0.2, True)
+    """
+    changes = {}
+    if roadmap is not None:
+        changes["roadmap"] = as_settings(roadmap, RoadmapSettings, "roadmap")
+    if maneuvers is not None:
+        changes["maneuvers"] = as_settings(maneuvers, ManeuverSettings, "maneuvers")
+    return dataclasses.replace(scenario, **changes) if changes else scenario
+
+
+def prepare(scenario: ScenarioLike, *, roadmap: RoadmapSettings | None = None,
+            maneuvers: ManeuverSettings | None = None, cache: bool = True,
+            progress=None) -> PreparedLot:
     """Build the scenario's lot for its vehicle types, plan every slot's maneuvers and the
     drivable graph through them, once, for any number of runs.
 
     Parameters
     ----------
     scenario : Scenario, path or YAML text
+    roadmap : RoadmapSettings, optional, keyword-only
+        How the drivable graph is made (junction turns' design speeds, turns through a
+        junction's area, the multi-point search, turnarounds); default the scenario's
+        (its file's ``roadmap`` section).
+    maneuvers : ManeuverSettings, optional, keyword-only
+        How the parking maneuvers are planned (clearance, direction changes, probes,
+        easing); default the scenario's (its file's ``maneuvers`` section). Both are kept in
+        the prepared lot's scenario, and a run's ``result.json`` writes them.
     cache : bool, keyword-only
-        Load a lot prepared before (same lot, vehicle types and lotsim) from the on-disk
-        cache (``LOTSIM_CACHE_DIR``; ``off`` turns it off) and store a new one there.
+        Load a lot prepared before (same lot, vehicle types, settings and lotsim) from the
+        on-disk cache (``LOTSIM_CACHE_DIR``; ``off`` turns it off) and store a new one
+        there.
     progress : callable, optional, keyword-only
         Called as ``progress(done, total)`` as the maneuvers' distinct problems are searched
         (the longest part of preparing a large lot; not called for a lot from the cache).
@@ -90,14 +121,18 @@ def prepare(scenario: ScenarioLike, *, cache: bool = True, progress=None) -> Pre
     ------
     ScenarioError
         When the layout does not hold together (overlaps, narrow aisles, ...).
+    SettingsError
+        When ``roadmap`` or ``maneuvers`` is not a settings object of its kind.
 
     Examples
     --------
     >>> prepared = prepare(EXAMPLE)
     >>> len(prepared.lot.free_slots), prepared.infeasible
     (6, {'valet': {}})
+    >>> prepare(EXAMPLE, maneuvers=ManeuverSettings(margin=0.15)).scenario.maneuvers.margin
+    0.15
     """
-    sc = scenario_of(scenario)
+    sc = with_settings(scenario_of(scenario), roadmap=roadmap, maneuvers=maneuvers)
     if progress is None:  # in a notebook, the cell shows it
         from lotsim.api.notebook import progress_for
 

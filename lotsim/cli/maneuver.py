@@ -34,8 +34,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="nose-in (forward), backed in (reverse) or the better (any)")
     parser.add_argument("--leave", action="store_true",
                         help="the way out instead of the way in")
-    parser.add_argument("--margin", type=float, default=api.MARGIN,
-                        help=f"safety margin [m] ({api.MARGIN:g})")
+    parser.add_argument("--margin", type=float, default=None,
+                        help=f"safety margin [m] (default the scenario's maneuvers.margin, "
+                             f"{api.MARGIN:g} unless it says)")
     parser.add_argument("-o", "--output", help="PNG to write; a folder gets "
                         "SCENARIO-SLOT.png in it")
     parser.add_argument("--size", default="900x700",

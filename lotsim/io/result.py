@@ -145,6 +145,9 @@ def tail_doc(rr: RunResult) -> dict:
         settings["horizon"] = s.horizon if math.isfinite(s.horizon) else None
     settings["tuning"] = dataclasses.asdict(s.tuning)
     settings["search"] = dataclasses.asdict(s.search)
+    # how the lot was prepared: its drivable graph and its parking maneuvers
+    settings["roadmap"] = dataclasses.asdict(rr.scenario.roadmap)
+    settings["maneuvers"] = dataclasses.asdict(rr.scenario.maneuvers)
     # wall-clock timings differ run to run: they are printed, not written, so that the same
     # scenario and seed give the same file byte for byte
     metrics = {k: (round(v, 4) if isinstance(v, float) else v) for k, v in rr.metrics().items()

@@ -20,9 +20,12 @@ from lotsim.errors import ErrorCollector
 from lotsim.io.file_kinds import refuse_other_kind, top_level
 from lotsim.io.lot_yaml import MAX_ITEMS, parse_lot
 from lotsim.io.routes_yaml import parse_routes
+from lotsim.io.settings_yaml import parse_maneuvers, parse_roadmap
 from lotsim.io.traffic_yaml import parse_traffic, traffic_ids
 from lotsim.io.yamlnodes import YNode, parse_text, read_yaml, units_of
 from lotsim.lot.uses import MARKS
+from lotsim.maneuvers.settings import ManeuverSettings
+from lotsim.roadmap.settings import RoadmapSettings
 from lotsim.scenario import VIEWS, AnimationSpec, Scenario
 from lotsim.traffic.demand import TrafficSpec
 from lotsim.traffic.disturbances import (
@@ -154,7 +157,7 @@ def parse_scenario_file(root: YNode) -> ScenarioFile:
     f = root.fields(
         required=["lot"],
         optional=["units", "name", "description", "seed", "vehicle_types", "parked_vehicle",
-                  "traffic", "disturbances", "animation", "routes"],
+                  "traffic", "disturbances", "animation", "routes", "roadmap", "maneuvers"],
     )
     errors = ErrorCollector()
     name = (errors.attempt(lambda: f["name"].file_name(
@@ -196,6 +199,10 @@ def parse_scenario_file(root: YNode) -> ScenarioFile:
               if "routes" in f and lot is not None else ())
     description = (errors.attempt(lambda: f["description"].string(max_len=2000), default="")
                    if "description" in f else "")
+    roadmap = (errors.attempt(parse_roadmap, f["roadmap"]) if "roadmap" in f
+               else RoadmapSettings())
+    maneuvers = (errors.attempt(parse_maneuvers, f["maneuvers"]) if "maneuvers" in f
+                 else ManeuverSettings())
     errors.check()
     scenario = Scenario(
         name=name,
@@ -209,6 +216,8 @@ def parse_scenario_file(root: YNode) -> ScenarioFile:
         description=description,
         routes=routes,
         units=root.units,
+        roadmap=roadmap,
+        maneuvers=maneuvers,
     )
     return ScenarioFile(scenario, animation)
 

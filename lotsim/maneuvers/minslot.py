@@ -20,6 +20,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from lotsim.core.geometry import FloatArray, Segment, advance
+from lotsim.errors import SettingsError
 from lotsim.vehicles.model import VehicleType
 
 NO_SOLUTION = -1
@@ -302,7 +303,7 @@ def min_slot_lengths(
     [(0, 6.06), (1, 5.59)]
     """
     if max_changes < 0:
-        raise ValueError("max_changes must be zero or more")
+        raise SettingsError("max_changes", f"expected zero or more, found {max_changes}")
     if width < vehicle.width:
         return [MinSlotRow(g, None, None) for g in range(max_changes + 1)]
     unsolved = max_changes + 1

@@ -24,11 +24,12 @@ import dataclasses
 import hashlib
 import math
 
+from lotsim.core.checks import choice_problem
 from lotsim.core.geometry import Segment, same_pose
 from lotsim.core.lazy import LoadedBy
 from lotsim.core.outcome import Outcome, Status
 from lotsim.core.packed import pack, unpack
-from lotsim.errors import InfeasibleManeuver
+from lotsim.errors import InfeasibleManeuver, SettingsError
 from lotsim.lot.kinds import kind_of
 from lotsim.lot.model import Lane, Lot, Slot
 from lotsim.maneuvers.easing import eased
@@ -196,7 +197,10 @@ class ManeuverPlanner:
                  margin: float | None = None, parked_width: float | None = None,
                  max_changes: int | None = None,
                  lane_ranges: dict[str, tuple] | None = None):
-        settings = settings or ManeuverSettings()
+        settings = ManeuverSettings() if settings is None else settings
+        if not isinstance(settings, ManeuverSettings):
+            raise SettingsError("settings", f"expected ManeuverSettings, found "
+                                            f"{type(settings).__name__}")
         changes = {k: v for k, v in (("margin", margin), ("max_changes", max_changes))
                    if v is not None}
         if changes:
@@ -313,8 +317,9 @@ class ManeuverPlanner:
         >>> planner.solve(CATALOGUE["vclass"], slot, planner.lanes_for(slot)[0]).reason
         'the car is 5.37 m long, the slot 5.00 m'
         """
-        if style not in STYLES:
-            raise ValueError(f"style must be one of {', '.join(STYLES)}")
+        problem = choice_problem(style, STYLES)
+        if problem:
+            raise SettingsError("style", problem)
         answer = self._answer(vehicle, slot, lane, style, eased)
         if not answer.found:
             return Outcome.failed(answer.hit.status, answer.hit.reason)

@@ -8,7 +8,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-from lotsim.core.checks import is_real, raise_first, range_problem, shown
+from lotsim.core.checks import is_real, raise_first, range_problem, set_field, shown
 
 MARGIN = 0.1
 """Default clearance of a parking maneuver to parked cars, walls and the aisle's far side
@@ -21,7 +21,10 @@ better one."""
 # -- one car into one slot --------------------------------------------------------------------
 @dataclass(frozen=True, slots=True)
 class ManeuverSettings:
-    """The maneuver planner's tuning, checked on construction.
+    """The maneuver planner's tuning, checked on construction
+    (:class:`~lotsim.errors.SettingsError`); a scenario's ``maneuvers`` section sets it
+    (``docs/scenario.md``), the prepared lot's cache key holds it and ``result.json``
+    writes it.
 
     Attributes
     ----------
@@ -105,6 +108,9 @@ class ManeuverSettings:
     way_out_budget: int = 1500
 
     def __post_init__(self) -> None:
+        for key in ("closing_radii", "ease_ramps"):  # a list kept as a tuple: hashable
+            if isinstance(getattr(self, key), list):
+                set_field(self, key, tuple(getattr(self, key)))
         problems = [("margin", range_problem(self.margin, 0.0, 1.0, " m")),
                     ("max_changes", range_problem(self.max_changes, 0, 50, integer=True))]
         for key in ("probe", "sweep", "parallel_heading_step", "candidates", "rough",
@@ -117,12 +123,14 @@ class ManeuverSettings:
             value = getattr(self, key)
             problems.append((key, None if is_real(value) and value >= 0
                              else f"expected zero or more, found {shown(value)}"))
-        if not self.closing_radii or min(self.closing_radii) < 1.0:
+        radii, ramps = self.closing_radii, self.ease_ramps
+        if not (isinstance(radii, tuple) and radii and all(is_real(r) for r in radii)
+                and min(radii) >= 1.0 and max(radii) < math.inf):
             problems.append(("closing_radii", "expected multiples of at least 1, found "
-                             f"{self.closing_radii!r}"))
-        if any(r <= 0 for r in self.ease_ramps):
-            problems.append(("ease_ramps", f"expected positive lengths, found "
-                             f"{self.ease_ramps!r}"))
+                             f"{radii!r}"))
+        if not (isinstance(ramps, tuple) and all(is_real(r) and 0 < r < math.inf
+                                                 for r in ramps)):
+            problems.append(("ease_ramps", f"expected positive lengths, found {ramps!r}"))
         raise_first([(k, m) for k, m in problems if m is not None])
 
 

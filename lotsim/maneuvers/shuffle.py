@@ -101,9 +101,9 @@ def any_way_out(checks: Validity, style: str, heading_in: float, settings: Maneu
     found = plan_onto(roots, (0.0, p.lane_y, 0.0), p.lane_x[0], p.lane_x[1], local, local,
                       p.vehicle.min_turning_radius, max_changes=settings.max_changes,
                       budget=settings.way_out_budget)
-    if found is None:
+    if not found.found:
         return Outcome.failed(Status.NO_PATH, "no multi-point way out within the budget")
-    return Outcome.of(list(found[1]))
+    return Outcome.of(list(found.value[1]))
 
 
 def shuffle(checks: Validity, root: Pose, gear0: int, settings: ManeuverSettings, *,

@@ -7,4 +7,5 @@ turns (:mod:`~lotsim.roadmap.junctions`, :mod:`~lotsim.roadmap.area_turns`,
 (:mod:`~lotsim.roadmap.junction_multipoints`), U-turns (:mod:`~lotsim.roadmap.uturns`), the
 multi-point search they share (:mod:`~lotsim.roadmap.multipoint`), and the memo a caller
 passes to reuse what one build of a lot's graph worked out in the next
-(:mod:`~lotsim.roadmap.memo`)."""
+(:mod:`~lotsim.roadmap.memo`); what tunes all of them is
+:class:`~lotsim.roadmap.settings.RoadmapSettings` (:mod:`~lotsim.roadmap.settings`)."""

@@ -17,24 +17,7 @@ from lotsim.lot.clearance import Collider
 from lotsim.lot.model import unit
 from lotsim.roadmap.lanes import EPS
 from lotsim.roadmap.model import Turn
-
-AREA_SHIFTS = (0.0, 1.0, -1.0, 2.0, -2.0, 3.0, -3.0, 4.0)
-"""Sideways shifts [m] of the corner of a junction turn that uses the junction's area, from
-each lane's line (positive: to the lane's left, across the oncoming lane)."""
-
-
-AREA_LEADS = (1.5, 3.0, 4.5, 6.0, 9.0, 12.0)
-"""Lengths [m] of the drift from a lane to the shifted corner's line, and back."""
-
-
-AREA_RADII = (1.0, 1.5)
-"""Multiples of the design radius the corner of such a turn tries."""
-
-
-AREA_SPEEDS = (5.0 / 3.6, 3.0 / 3.6, 1.5 / 3.6)
-"""Design speeds [m/s] such a turn tries below the fastest its arc allows: a slower turn has
-shorter clothoids (the wheels turn at the same rate over less path), so it fits a tighter
-corner."""
+from lotsim.roadmap.settings import DEFAULTS, AreaTurnSettings
 
 
 def _approx_tangent(deflection, radius: float, sharpness: float):
@@ -50,25 +33,28 @@ def _approx_tangent(deflection, radius: float, sharpness: float):
     return np.where(d > 1e-12, out, 0.0)
 
 
-def _area_designs(design, lot_speed: float) -> list[tuple[float, float]]:
+def _area_designs(design, lot_speed: float, settings: AreaTurnSettings
+                  ) -> list[tuple[float, float]]:
     """(radius multiple, design speed [m/s]) of the junction-area turns to try."""
     out = []
-    for f in AREA_RADII:
+    for f in settings.radii:
         top = min(lot_speed, math.sqrt(design.max_lateral_accel * f * design.min_radius))
-        out += [(f, v) for v in sorted({top, *(v for v in AREA_SPEEDS if v < top)},
+        out += [(f, v) for v in sorted({top, *(v for v in settings.speeds if v < top)},
                                        reverse=True)]
     return out
 
 
 def area_turns(a, sa0, pa, b, sb0, pb, design, collider: Collider,
                 lot_speed: float, via: tuple[Segment, ...] = (),
-                shifts: tuple[float, ...] = ()) -> list[Turn]:
+                shifts: tuple[float, ...] = (), *,
+                settings: AreaTurnSettings = DEFAULTS.area_turns) -> list[Turn]:
     """Turns from ``pa`` into ``pb`` that use the junction's whole area, as a driver does
     where the turn between the lanes themselves touches a corner slot: drift sideways from
     the lane (wide of the corner, across the oncoming lane where need be), turn, drift back
-    onto the other lane. Each line is shifted sideways by :data:`AREA_SHIFTS` (positive:
-    to the lane's left), the drifts take :data:`AREA_LEADS`, the corners' arcs
-    :data:`AREA_RADII`; every corner is continuous-curvature, sized for the arc's speed.
+    onto the other lane. Each line is shifted sideways by ``settings.shifts`` (positive:
+    to the lane's left), the drifts take ``settings.leads``, the corners' arcs
+    ``settings.radii`` (:class:`~lotsim.roadmap.settings.AreaTurnSettings`); every corner
+    is continuous-curvature, sized for the arc's speed.
     With ``via`` (a lane's straight between two junctions close together) the path runs
     along that straight, shifted by ``shifts``, from one turn into the next without
     drifting back to its lane between them.
@@ -77,8 +63,8 @@ def area_turns(a, sa0, pa, b, sb0, pb, design, collider: Collider,
     the most compact clear one (the least lane used before and after: it starts latest and
     ends soonest, so it fits between two turns close together); none when none is clear.
     """
-    lay = _Layout.of(pa, pb, via, shifts)
-    blocks = _candidate_blocks(lay, pa, pb, design, lot_speed)
+    lay = _Layout.of(pa, pb, via, shifts, settings)
+    blocks = _candidate_blocks(lay, pa, pb, design, lot_speed, settings)
     if not blocks:
         return []
     found = _Candidates(blocks, design, collider)
@@ -91,14 +77,16 @@ def area_turns(a, sa0, pa, b, sb0, pb, design, collider: Collider,
 
 
 def candidates_shape(pa: Segment, pb: Segment, design, lot_speed: float,
-                     frame: tuple[float, float, float]) -> bytes:
+                     frame: tuple[float, float, float], *,
+                     settings: AreaTurnSettings = DEFAULTS.area_turns) -> bytes:
     """What a search of :func:`area_turns` from ``pa`` into ``pb`` (no ``via``) tries, in
     ``frame`` (origin x, y [m], heading [rad]) to the micrometre: the car and every
     candidate's polyline, corner radius and clothoid sharpness. At two junctions with the
     same shape, and the same obstacles about them
     (:meth:`~lotsim.lot.clearance.Collider.local_digest`), the searches try the same
     paths against the same obstacles."""
-    blocks = _candidate_blocks(_Layout.of(pa, pb, (), ()), pa, pb, design, lot_speed)
+    blocks = _candidate_blocks(_Layout.of(pa, pb, (), (), settings), pa, pb, design,
+                               lot_speed, settings)
     h = hashlib.blake2b(repr((design, lot_speed)).encode(), digest_size=20)
     ox, oy, heading = frame
     c, s = math.cos(heading), math.sin(heading)
@@ -113,7 +101,8 @@ def candidates_shape(pa: Segment, pb: Segment, design, lot_speed: float,
 @dataclass(frozen=True)
 class _Layout:
     """The lines of an area turn (``pa``, the stretches ``via``, ``pb``) and, for every
-    sideways shift of them and every pair of drift lengths (:data:`AREA_LEADS`), the
+    sideways shift of them and every pair of drift lengths
+    (:attr:`~lotsim.roadmap.settings.AreaTurnSettings.leads`), the
     corners where the shifted lines meet and where the drifts leave and rejoin the lanes:
     arrays over the candidates, ``oi`` each one's shift."""
 
@@ -138,14 +127,14 @@ class _Layout:
 
     @classmethod
     def of(cls, pa: Segment, pb: Segment, via: tuple[Segment, ...],
-           shifts: tuple[float, ...]) -> _Layout:
+           shifts: tuple[float, ...], settings: AreaTurnSettings = DEFAULTS.area_turns) -> _Layout:
         lines = (pa, *via, pb)
         dirs = np.array([unit(seg.start[2]) for seg in lines])  # (L, 2)
         normals = np.column_stack([-dirs[:, 1], dirs[:, 0]])
         origins = np.array([seg.start[:2] for seg in lines])
         heads = np.array([seg.start[2] for seg in lines])
         bends = np.abs(np.asarray(wrap_angle(np.diff(heads)), dtype=float))  # (L-1,)
-        grids = [AREA_SHIFTS, *([shifts or (0.0,)] * len(via)), AREA_SHIFTS]
+        grids = [settings.shifts, *([shifts or (0.0,)] * len(via)), settings.shifts]
         offs = np.array(list(itertools.product(*grids)))  # (N, L)
         if not via:
             offs = offs[np.any(offs != 0.0, axis=1)]  # (0, 0) is the plain turn, already tried
@@ -160,7 +149,7 @@ class _Layout:
             params.append(ts)
         ta, tb = params[0][:, 0], params[-1][:, 1]
         # leads (la, lb) for every shift: index arrays over (N × leads²)
-        leads = np.array(list(itertools.product(AREA_LEADS, AREA_LEADS)))
+        leads = np.array(list(itertools.product(settings.leads, settings.leads)))
         n_off, n_lead = len(offs), len(leads)
         oi = np.repeat(np.arange(n_off), n_lead)
         la, lb = np.tile(leads[:, 0], n_off), np.tile(leads[:, 1], n_off)
@@ -176,8 +165,8 @@ class _Layout:
                    corners_n, first_turn, last_turn, [np.hypot(la, u), np.hypot(lb, w)])
 
 
-def _candidate_blocks(lay: _Layout, pa: Segment, pb: Segment, design, lot_speed: float
-                      ) -> list[tuple]:
+def _candidate_blocks(lay: _Layout, pa: Segment, pb: Segment, design, lot_speed: float,
+                      settings: AreaTurnSettings = DEFAULTS.area_turns) -> list[tuple]:
     """The candidate area turns with room on both lanes, a block per design and shape:
     (points (M, P, 2) of their polylines, rough time [s], lane used [m], start along ``pa``
     [m], end along ``pb`` [m], corner radius [m], clothoid sharpness)."""
@@ -199,7 +188,7 @@ def _candidate_blocks(lay: _Layout, pa: Segment, pb: Segment, design, lot_speed:
     shift_a, shift_b = u != 0.0, w != 0.0
     drift_a, drift_b = np.arctan2(np.abs(u), la), np.arctan2(np.abs(w), lb)
     # every design (radius, speed) at once, a row each: the same sums element by element
-    designs = _area_designs(design, lot_speed)
+    designs = _area_designs(design, lot_speed, settings)
     radii = [f * design.min_radius for f, _ in designs]
     sharps = [design.sharpness(speed) for _, speed in designs]
     r, sharp = np.array(radii)[:, None], np.array(sharps)[:, None]

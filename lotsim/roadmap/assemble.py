@@ -28,6 +28,7 @@ from lotsim.roadmap.lanes import EPS, lane_serves, portal_station
 from lotsim.roadmap.memo import RoadmapMemo, designs_of, types_key
 from lotsim.roadmap.model import LotGraph, Turn
 from lotsim.roadmap.remembered import handed_back, piece_key, take_back
+from lotsim.roadmap.settings import RoadmapSettings, as_settings
 from lotsim.roadmap.turnarounds import Turnaround, dead_end_turnarounds
 from lotsim.roadmap.uturns import junction_uturns
 
@@ -39,7 +40,8 @@ Tagged = list[tuple[Turn | Turnaround, "frozenset | None"]]
 
 
 def build_graph(lot: Lot, *, node_spacing: float = 4.0, maneuvers=None,
-                vehicles=(), stays=None, memo: RoadmapMemo | None = None) -> LotGraph:
+                vehicles=(), stays=None, memo: RoadmapMemo | None = None,
+                settings: RoadmapSettings | None = None) -> LotGraph:
     """Build the drivable graph of ``lot``.
 
     Parameters
@@ -58,18 +60,29 @@ def build_graph(lot: Lot, *, node_spacing: float = 4.0, maneuvers=None,
         Like ``maneuvers``: each lane's own best maneuver where the one in ``maneuvers``
         parks the other way round, for cars that will not leave (a park edge's ``stays``).
     memo : RoadmapMemo or None, keyword-only
-        What an earlier build of ``lot``'s graph worked out (turns, turnarounds); it takes
-        what this one works out. The graph is the same without it.
+        What an earlier build of ``lot``'s graph with the same settings worked out (turns,
+        turnarounds); it takes what this one works out. The graph is the same without it.
+    settings : RoadmapSettings or None, keyword-only
+        The roadmap's tuning (:mod:`lotsim.roadmap.settings`; None: the defaults): the
+        design speeds of junction turns, the turns through a junction's area, the
+        multi-point search, the turnarounds.
 
     Returns
     -------
     LotGraph
+
+    Raises
+    ------
+    SettingsError
+        When ``settings`` is not a :class:`~lotsim.roadmap.settings.RoadmapSettings`, or
+        ``memo`` is another lot's or was made with other settings.
     """
+    settings = as_settings(settings, RoadmapSettings, "settings")
     stays = {} if maneuvers is None else (stays or {})
     attach = (_attachments(lot) if maneuvers is None
               else _maneuver_attachments(lot, [*maneuvers.items(), *stays.items()]))
-    memo = memo or RoadmapMemo(lot)
-    net = _lane_network(lot, attach, node_spacing, vehicles, memo)
+    memo = memo or RoadmapMemo(lot, settings=settings)
+    net = _lane_network(lot, attach, node_spacing, vehicles, memo, settings)
     slot_nodes, attachments = _add_slots(lot, net, attach if maneuvers is None else None)
     if maneuvers is not None:
         _add_maneuvers(lot, net, slot_nodes, attachments, maneuvers, stays, vehicles,
@@ -79,14 +92,16 @@ def build_graph(lot: Lot, *, node_spacing: float = 4.0, maneuvers=None,
 
 
 def lane_graph(lot: Lot, *, node_spacing: float = 4.0, vehicles=(),
-               memo: RoadmapMemo | None = None) -> LotGraph:
+               memo: RoadmapMemo | None = None, settings: RoadmapSettings | None = None
+               ) -> LotGraph:
     """The lanes of ``lot``'s graph without its slots: the nodes, lane edges, turns,
     turnarounds and joins that :func:`build_graph` makes without maneuvers (the same nodes,
     numbered alike), with no slot node or placeholder link. Enough to find where a parking
     maneuver may begin (:func:`~lotsim.roadmap.reach.maneuver_ranges`) before any is
-    planned."""
+    planned. ``settings`` as :func:`build_graph`'s."""
+    settings = as_settings(settings, RoadmapSettings, "settings")
     net = _lane_network(lot, _attachments(lot), node_spacing, vehicles,
-                        memo or RoadmapMemo(lot))
+                        memo or RoadmapMemo(lot, settings=settings), settings)
     return LotGraph(lot, net.graph, net.entrances, net.exits, {}, {}, net.skipped)
 
 
@@ -108,14 +123,14 @@ class _Network:
 
 
 def _turns_and_backs(lot: Lot, attach: dict[str, list[tuple[str, float]]], vehicles,
-                     memo: RoadmapMemo) -> tuple[Tagged, Tagged, list[tuple[str, str]],
-                                                 list[str]]:
+                     memo: RoadmapMemo, settings: RoadmapSettings
+                     ) -> tuple[Tagged, Tagged, list[tuple[str, str]], list[str]]:
     """The junction turns and the turnarounds (at dead ends, multi-point junction turns,
     U-turns) of ``lot``, each with the types that can drive it, for more types first (two
     that join the same nodes keep the one more can drive); the lane joins; the notes of
     turns and turnarounds skipped. ``attach``: where cars park and unpark on each lane."""
     designs = designs_of(vehicles)
-    tagged, skipped = turns_of(lot, lane_collider(lot), designs, memo)
+    tagged, skipped = turns_of(lot, lane_collider(lot), designs, memo, settings=settings)
     tagged.sort(key=lambda c: -len(designs or ()) if c[1] is None else -len(c[1]))
     turns = [t for t, _ in tagged]
     joins = _joins(lot)
@@ -123,25 +138,25 @@ def _turns_and_backs(lot: Lot, attach: dict[str, list[tuple[str, float]]], vehic
     for p in lot.exits:
         lid, st = portal_station(lot, p)
         exits[lid] = max(exits.get(lid, -math.inf), st)
-    multis, uturns = junction_backs(lot, tagged, designs, exits, memo)
+    multis, uturns = junction_backs(lot, tagged, designs, exits, memo, settings=settings)
     stops: dict[str, float] = {}  # per lane, the last station a car parks or unparks at
     for links in attach.values():
         for lid, st in links:
             stops[lid] = max(stops.get(lid, -math.inf), st)
     backs, no_back = dead_end_turnarounds(lot, turns, joins, exits, designs, stops,
-                                          [t for t, _ in multis], memo)
+                                          [t for t, _ in multis], memo, settings=settings)
     backs += multis + uturns
     backs.sort(key=lambda c: -len(designs or ()) if c[1] is None else -len(c[1]))
     return tagged, backs, joins, skipped + no_back
 
 
 def _lane_network(lot: Lot, attach: dict[str, list[tuple[str, float]]], node_spacing: float,
-                  vehicles, memo: RoadmapMemo) -> _Network:
+                  vehicles, memo: RoadmapMemo, settings: RoadmapSettings) -> _Network:
     """The lanes cut into nodes no more than ``node_spacing`` apart and wherever a turn,
     turnaround, gate, speed zone or (``attach``) parking maneuver begins or ends, with the
     lane edges, turns, turnarounds and joins between them, and the gates' nodes."""
-    memo.check(lot)
-    tagged, backs, joins, skipped = _turns_and_backs(lot, attach, vehicles, memo)
+    memo.check(lot, settings)
+    tagged, backs, joins, skipped = _turns_and_backs(lot, attach, vehicles, memo, settings)
     lanes = {lane.id: lane for lane in lot.lanes}
     stations: dict[str, list[float]] = {lid: [0.0, lane.length] for lid, lane in lanes.items()}
     for lid, lane in lanes.items():
@@ -296,12 +311,14 @@ def _durations(lot: Lot, maneuvers: dict, leaving: dict, stays: dict, types: dic
 
 
 def junction_backs(lot: Lot, tagged: Tagged, designs: dict[str, DesignVehicle] | None,
-                   exits: dict[str, float], memo: RoadmapMemo) -> tuple[Tagged, Tagged]:
+                   exits: dict[str, float], memo: RoadmapMemo, *,
+                   settings: RoadmapSettings | None = None) -> tuple[Tagged, Tagged]:
     """:func:`~lotsim.roadmap.junction_multipoints.junction_multipoints` and
     :func:`~lotsim.roadmap.uturns.junction_uturns`; the two at once, on the workers, when
     neither is in ``memo`` for this set of types (each is a function of its arguments: the
     same answers, kept in the memo as each keeps its own), networkx (for the graph next)
     imported meanwhile."""
+    settings = as_settings(settings, RoadmapSettings, "settings")
     key = types_key(designs)
     if key not in memo.multipoints and key not in memo.uturns:
         # each kept as it keeps its own: what the workers kept went with them, but for the
@@ -309,11 +326,12 @@ def junction_backs(lot: Lot, tagged: Tagged, designs: dict[str, DesignVehicle] |
         memo.multipoints[key], memo.uturns[key] = (take_back(memo, got) for got in fork_map(
             lambda job: job(), [
                 handed_back(memo, lambda: junction_multipoints(lot, tagged, designs, exits,
-                                                               memo)),
-                handed_back(memo, lambda: junction_uturns(lot, designs, memo))],
+                                                               memo, settings=settings)),
+                handed_back(memo, lambda: junction_uturns(lot, designs, memo,
+                                                          settings=settings))],
             meanwhile=lambda: importlib.import_module("networkx")))  # the graph's, next
-    return (junction_multipoints(lot, tagged, designs, exits, memo),
-            junction_uturns(lot, designs, memo))
+    return (junction_multipoints(lot, tagged, designs, exits, memo, settings=settings),
+            junction_uturns(lot, designs, memo, settings=settings))
 
 
 def _link(g: nx.DiGraph, u: int, v: int, kind: str, path, limit: float) -> dict:

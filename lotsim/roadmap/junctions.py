@@ -13,6 +13,7 @@ import numpy as np
 import shapely
 
 from lotsim.core.geometry import Segment, cc_turn, sample_segments, wrap_angle
+from lotsim.core.outcome import Outcome, Status
 from lotsim.core.workers import fork_map
 from lotsim.lot.build import SWEEP_STEP
 from lotsim.lot.clearance import NOTHING_READ, Collider, Watched
@@ -29,22 +30,20 @@ from lotsim.roadmap.remembered import (
     verified,
     worked_out,
 )
+from lotsim.roadmap.settings import DEFAULTS, RoadmapSettings
 from lotsim.roadmap.through import through_chains, through_turn
 
-TURN_SPEEDS = tuple(k / 3.6 for k in (15.0, 12.5, 10.0, 7.5, 5.0, 3.0, 1.5))
-"""Design speeds junction turns try, fastest first [m/s]: a turn for speed ``v`` has an arc
-of radius ``max(R, v² / a_lat)`` (or 2 R or 3 R, when wider) and clothoids every type can
-steer at ``v``; the fastest and the tightest that are clear of everything are built."""
 
-
-def _turn_designs(design, lot_speed: float) -> list[tuple[float, float]]:
+def _turn_designs(design, lot_speed: float, speeds: tuple[float, ...]
+                  ) -> list[tuple[float, float]]:
     """(design speed [m/s], arc radius [m]) of the junction turns to try, fastest first,
     tightest first at each speed: the tightest arc the speed allows, and twice and three
     times the design radius (a wide arc clears a corner that a tight one's body sweeps
-    over)."""
+    over). ``speeds``: the design speeds, fastest first; those above ``lot_speed`` are
+    left out but for the slowest."""
     out = []
-    for speed in TURN_SPEEDS:
-        if speed > lot_speed + 1e-9 and speed != TURN_SPEEDS[-1]:
+    for speed in speeds:
+        if speed > lot_speed + 1e-9 and speed != speeds[-1]:
             continue
         least = max(design.min_radius, speed * speed / design.max_lateral_accel)
         for r in sorted({least, 2 * design.min_radius, 3 * design.min_radius}):
@@ -75,8 +74,8 @@ def lane_crossing(pa: Segment, pb: Segment, aisle_a, aisle_b, reach: float
 
 def _fillet_between(a, sa0, pa, b, sb0, pb, aisle_a, aisle_b, reach, design,
                     collider: Collider, lot_speed: float,
-                    gates: tuple[tuple[float, ...], tuple[float, ...]] = ((), ())
-                    ) -> list[Turn] | str | None:
+                    gates: tuple[tuple[float, ...], tuple[float, ...]] = ((), ()), *,
+                    settings: RoadmapSettings = DEFAULTS) -> Outcome[list[Turn]]:
     """The turns from straight ``pa`` of lane ``a`` into straight ``pb`` of lane ``b``: the
     fastest that is clear and, when it is another, the tightest that is clear (the shortest
     tangent: it starts later and ends sooner, so it can reach a node the wide one passes
@@ -86,16 +85,18 @@ def _fillet_between(a, sa0, pa, b, sb0, pb, aisle_a, aisle_b, reach, design,
     (the fastest may start behind the one or end past the other, and the tightest is
     driven at a crawl).
 
-    Returns the turns, a reason string when the aisles meet but no turn is clear,
-    or None when the two straights do not meet.
+    Returns an :class:`~lotsim.core.outcome.Outcome`: the turns; ``infeasible`` when the
+    two straights do not meet; ``no path`` when they meet but no turn between them has
+    room or is clear, with the reason (then a turn through the junction's area is
+    searched: :func:`_wide_between`).
     """
     corner = lane_crossing(pa, pb, aisle_a, aisle_b, reach)
     if corner is None:
-        return None
+        return Outcome.failed(Status.INFEASIBLE, "the lanes' straights do not meet")
     delta, t, s, x = corner
     reason = None
     fits = []  # (speed, radius, tangent) of the turns with room on both lanes
-    for speed, r in _turn_designs(design, lot_speed):
+    for speed, r in _turn_designs(design, lot_speed, settings.turns.speeds):
         _, tangent = cc_turn(delta, 1 / r, design.sharpness(speed))
         da, db = t - tangent, s + tangent  # distances into pa and pb
         if -EPS <= da <= pa.length + EPS and -EPS <= db <= pb.length + EPS:
@@ -134,12 +135,22 @@ def _fillet_between(a, sa0, pa, b, sb0, pb, aisle_a, aisle_b, reach, design,
                            None))
     found = [clear[k] for k in dict.fromkeys(k for k in picked if k is not None)]
     if found:
-        return found
+        return Outcome.of(found)
+    return Outcome.failed(Status.NO_PATH, reason or "no turn design")
+
+
+def _wide_between(a, sa0, pa, b, sb0, pb, aisle_a, aisle_b, reach, design,
+                  lot_speed: float, reason: str, settings: RoadmapSettings) -> _Wide:
+    """The turn through the junction's area to search from straight ``pa`` of lane ``a``
+    into ``pb`` of lane ``b``, where :func:`_fillet_between` found none between them for
+    ``reason`` (said of the junction when it touches something and none is found)."""
+    _, _, _, x = lane_crossing(pa, pb, aisle_a, aisle_b, reach)
     frame = (float(x[0]), float(x[1]), pa.start[2])
     return _Wide(a.id, sa0, pa, b.id, sb0, pb, design, frame,
-                 candidates_shape(pa, pb, design, lot_speed, frame),
+                 candidates_shape(pa, pb, design, lot_speed, frame,
+                                  settings=settings.area_turns),
                  f"turn {a.id} → {b.id} near ({x[0]:.1f}, {x[1]:.1f}) skipped: {reason}"
-                 if reason and "touches" in reason else None)
+                 if "touches" in reason else None)
 
 
 @dataclass(frozen=True)
@@ -162,7 +173,8 @@ class _Wide:
     note: str | None
 
 
-def wide_turns(lot: Lot, wides: list[_Wide], collider: Collider, *, run=fork_map
+def wide_turns(lot: Lot, wides: list[_Wide], collider: Collider, *, run=fork_map,
+               settings: RoadmapSettings = DEFAULTS
                ) -> list[tuple[list[Turn], tuple[float, float, float, float]]]:
     """The turns :func:`area_turns` finds for each of ``wides``, with the box its checks
     read (:class:`~lotsim.lot.clearance.Watched`).
@@ -181,7 +193,7 @@ def wide_turns(lot: Lot, wides: list[_Wide], collider: Collider, *, run=fork_map
         w = wides[k]
         eye = Watched(collider)
         turns = area_turns(lanes[w.a], w.sa0, w.pa, lanes[w.b], w.sb0, w.pb, w.design, eye,
-                           lot.speed_limit)
+                           lot.speed_limit, settings=settings.area_turns)
         return turns, eye.box
 
     groups: dict[bytes, list[int]] = {}
@@ -277,24 +289,27 @@ def gate_stations(lot: Lot) -> dict[tuple[str, str], list[float]]:
 
 
 def junction_turns(lot: Lot, collider: Collider, design: DesignVehicle | None = None, *,
-                   lanes_a=None, gates: dict[tuple[str, str], list[float]] | None = None
-                   ) -> tuple[list[Turn], list[str]]:
+                   lanes_a=None, gates: dict[tuple[str, str], list[float]] | None = None,
+                   settings: RoadmapSettings = DEFAULTS) -> tuple[list[Turn], list[str]]:
     """Arcs between lanes of aisles that meet, each swept clear with ``design`` (default
     the lot's design vehicle): out of ``lanes_a`` (default every lane); where none between
     two lanes is clear, through the junction's area (:func:`wide_turns`). ``gates``: the
-    lot's :func:`gate_stations`, when the caller has them."""
+    lot's :func:`gate_stations`, when the caller has them; ``settings``: the design speeds
+    and the area turns' candidates."""
     design = design or lot.design
     gates = gate_stations(lot) if gates is None else gates
     entries = [e for a in (lot.lanes if lanes_a is None else lanes_a)
-               for e in _lane_junctions(lot, collider, design, a, gates)]
+               for e in _lane_junctions(lot, collider, design, a, gates, settings)]
     wides = [e for e in entries if isinstance(e, _Wide)]
-    answers = wide_turns(lot, wides, collider, run=lambda fn, items: [fn(k) for k in items])
+    answers = wide_turns(lot, wides, collider, run=lambda fn, items: [fn(k) for k in items],
+                         settings=settings)
     turns, skipped, _ = _assembled(entries, iter(answers))
     return turns, skipped
 
 
 def _lane_junctions(lot: Lot, collider: Collider, design: DesignVehicle, a,
-                    gates: dict[tuple[str, str], list[float]]) -> list:
+                    gates: dict[tuple[str, str], list[float]],
+                    settings: RoadmapSettings = DEFAULTS) -> list:
     """The turns out of lane ``a`` into each lane of another aisle it meets
     (:func:`_fillet_between`), in order: for each pair of straights that meet, the turns
     found, a note of why none is, or the turn through the junction's area to search."""
@@ -309,14 +324,20 @@ def _lane_junctions(lot: Lot, collider: Collider, design: DesignVehicle, a,
                 turn = _fillet_between(a, sa0, pa, b, sb0, pb, aisle_a, aisle_b, reach,
                                        design, collider, lot.speed_limit,
                                        (tuple(gates.get((a.id, "in"), ())),
-                                        tuple(gates.get((b.id, "out"), ()))))
-                if turn:
-                    out.append(turn)
+                                        tuple(gates.get((b.id, "out"), ()))),
+                                       settings=settings)
+                if turn.found:
+                    out.append(turn.value)
+                elif turn.status is Status.NO_PATH:
+                    out.append(_wide_between(a, sa0, pa, b, sb0, pb, aisle_a, aisle_b,
+                                             reach, design, lot.speed_limit, turn.reason,
+                                             settings))
     return out
 
 
 def turns_of(lot: Lot, collider: Collider, designs: dict[str, DesignVehicle] | None,
-             memo: RoadmapMemo) -> tuple[list[tuple[Turn, frozenset | None]], list[str]]:
+             memo: RoadmapMemo, *, settings: RoadmapSettings = DEFAULTS
+             ) -> tuple[list[tuple[Turn, frozenset | None]], list[str]]:
     """The lot's junction turns (:func:`junction_turns`, and the turns through short
     stretches of lane, :mod:`lotsim.roadmap.through`), each with the vehicle types that can
     drive it (None: every type), and the reasons of those skipped; worked out once per set
@@ -328,10 +349,10 @@ def turns_of(lot: Lot, collider: Collider, designs: dict[str, DesignVehicle] | N
     the lot's design vehicle (the envelope), for every type.
     """
     key = types_key(designs)
-    cache = memo.check(lot).turns
+    cache = memo.check(lot, settings).turns
     if key not in cache:
         per = turns_per_design(lot, collider, list(designs.values()) if designs else [None],
-                               memo)
+                               memo, settings=settings)
         if not designs:
             turns, skipped = per[0]
             cache[key] = ([(t, None) for t in turns], skipped)
@@ -360,13 +381,14 @@ def turns_of(lot: Lot, collider: Collider, designs: dict[str, DesignVehicle] | N
     return list(turns), list(skipped)
 
 
-def _lane_turns(lot: Lot, collider: Collider, job: tuple, gates: dict
-                ) -> tuple[list[Turn], list[str]]:
+def _lane_turns(lot: Lot, collider: Collider, job: tuple, gates: dict,
+                settings: RoadmapSettings = DEFAULTS) -> tuple[list[Turn], list[str]]:
     """The junction turns out of one lane for one design (``job``: the design and the
     lane) and their notes, worked out alone: what :func:`turns_per_design` keeps of it."""
-    entries = _lane_junctions(lot, collider, *job, gates)
+    entries = _lane_junctions(lot, collider, *job, gates, settings)
     answers = iter(wide_turns(lot, [e for e in entries if isinstance(e, _Wide)], collider,
-                              run=lambda fn, items: [fn(x) for x in items]))
+                              run=lambda fn, items: [fn(x) for x in items],
+                              settings=settings))
     turns, skipped, _ = _assembled(entries, answers)
     return turns, skipped
 
@@ -382,7 +404,8 @@ def _suited(turn: Turn, designs: dict[str, DesignVehicle], collider: Collider) -
 
 
 def turns_per_design(lot: Lot, collider: Collider, designs: list,
-                     memo: RoadmapMemo | None = None) -> list[tuple[list[Turn], list[str]]]:
+                     memo: RoadmapMemo | None = None, *, settings: RoadmapSettings = DEFAULTS
+                     ) -> list[tuple[list[Turn], list[str]]]:
     """:func:`junction_turns` and the turns through short stretches
     (:func:`~lotsim.roadmap.through.through_turn`) for each of ``designs`` (None: the
     lot's design vehicle), as each would find them on its own: the junction turns out of
@@ -392,6 +415,8 @@ def turns_per_design(lot: Lot, collider: Collider, designs: list,
     (:mod:`~lotsim.roadmap.remembered`)."""
     jobs = [(design or lot.design, a) for design in designs for a in lot.lanes]
     gates = gate_stations(lot)
+    if memo is not None:
+        memo.check(lot, settings)
     known = memo.known if memo is not None else None
     base = memo.lot_key if known is not None else b""
     keys = [piece_key(base, "junction", design, a.id, sorted(gates.items()))
@@ -401,15 +426,15 @@ def turns_per_design(lot: Lot, collider: Collider, designs: list,
 
     def lane(k: int) -> tuple[list, tuple | None, bytes | None]:
         eye = Watched(collider) if known is not None else collider
-        entries = _lane_junctions(lot, eye, *jobs[k], gates)
+        entries = _lane_junctions(lot, eye, *jobs[k], gates, settings)
         if known is None:
             return entries, None, None
         return entries, eye.box, collider.around(eye.box)
 
-    verified(memo, keys, found, lambda k: _lane_turns(lot, collider, jobs[k], gates))
+    verified(memo, keys, found, lambda k: _lane_turns(lot, collider, jobs[k], gates, settings))
     parts = fork_map(lane, todo)
     answers = iter(wide_turns(lot, [e for entries, _, _ in parts for e in entries
-                                    if isinstance(e, _Wide)], collider))
+                                    if isinstance(e, _Wide)], collider, settings=settings))
     for k, (entries, box, digest) in zip(todo, parts, strict=True):
         turns, skipped, boxes = _assembled(entries, answers)
         found[k] = (turns, skipped)
@@ -428,12 +453,14 @@ def turns_per_design(lot: Lot, collider: Collider, designs: list,
         per.append(([t for turns, _ in mine for t in turns], [r for _, why in mine for r in why]))
     # then each design's turns through short stretches, a stretch a task (a large type's
     # take longest)
-    chains = [(k, chain) for k in range(len(designs)) for chain in through_chains(lot, per[k][0])]
+    chains = [(k, chain) for k in range(len(designs))
+              for chain in through_chains(lot, per[k][0], settings=settings)]
     got = worked_out(
         memo, [piece_key(base, "through", designs[k] or lot.design,
                           [x.id if hasattr(x, "id") else x for x in chain])
                 for k, chain in chains], collider,
-        lambda j, eye: through_turn(lot, eye, designs[chains[j][0]], chains[j][1]))
+        lambda j, eye: through_turn(lot, eye, designs[chains[j][0]], chains[j][1],
+                                    settings=settings))
     through: list[list[Turn]] = [[] for _ in designs]
     for (k, _), turns in zip(chains, got, strict=True):
         through[k] += turns

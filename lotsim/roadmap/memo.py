@@ -6,8 +6,10 @@ from __future__ import annotations
 import functools
 from typing import TYPE_CHECKING
 
+from lotsim.errors import SettingsError
 from lotsim.lot.model import DesignVehicle, Lot
 from lotsim.roadmap.remembered import keep, lot_key
+from lotsim.roadmap.settings import RoadmapSettings
 
 if TYPE_CHECKING:
     from lotsim.core.reusecheck import ReuseCheck
@@ -15,7 +17,8 @@ if TYPE_CHECKING:
 
 
 class RoadmapMemo:
-    """The answers building ``lot``'s graph works out, for the next build of the same lot.
+    """The answers building ``lot``'s graph with ``settings`` works out, for the next build
+    of the same lot with the same settings.
 
     Preparing a lot builds its graph twice (the lanes alone, for where each slot's maneuver
     may begin, then the graph through the maneuvers); the junction turns, the multi-point
@@ -29,6 +32,9 @@ class RoadmapMemo:
     ----------
     lot : Lot
         The lot the answers are for (a build of another lot refuses the memo).
+    settings : RoadmapSettings
+        The roadmap's tuning the answers were worked out with (a build with other settings
+        refuses the memo); part of every piece's key in :attr:`known`.
     turns : dict
         :func:`types_key` → the junction turns with the types each suits, and the notes of
         those skipped (:func:`~lotsim.roadmap.junctions.turns_of`).
@@ -56,12 +62,15 @@ class RoadmapMemo:
 
     @functools.cached_property
     def lot_key(self) -> bytes:
-        """:func:`~lotsim.roadmap.remembered.lot_key` of the memo's lot, worked out once."""
-        return lot_key(self.lot)
+        """:func:`~lotsim.roadmap.remembered.lot_key` of the memo's lot and settings, worked
+        out once."""
+        return lot_key(self.lot, self.settings)
 
     def __init__(self, lot: Lot, known: dict | None = None, *,
+                 settings: RoadmapSettings | None = None,
                  reuse_check: ReuseCheck | None = None):
         self.lot = lot
+        self.settings = RoadmapSettings() if settings is None else settings
         self.known = known
         self.reuse_check = reuse_check
         self.recalled = self.worked = 0
@@ -73,10 +82,14 @@ class RoadmapMemo:
         self.plans: dict = {}
         self.ahead: tuple[list, Background] | None = None
 
-    def check(self, lot: Lot) -> RoadmapMemo:
-        """This memo, when it is ``lot``'s (a memo holds one lot's answers)."""
+    def check(self, lot: Lot, settings: RoadmapSettings | None = None) -> RoadmapMemo:
+        """This memo, when it is ``lot``'s and ``settings``' (a memo holds the answers of one
+        lot, worked out with one tuning; None: the defaults)."""
         if lot is not self.lot:
-            raise ValueError("a RoadmapMemo serves the one lot it was made for")
+            raise SettingsError("memo", "a RoadmapMemo serves the one lot it was made for")
+        if (RoadmapSettings() if settings is None else settings) != self.settings:
+            raise SettingsError("memo", "a RoadmapMemo serves the roadmap settings it was "
+                                        "made with")
         return self
 
     def take_ahead(self) -> None:

@@ -9,7 +9,7 @@ Montemerlo and Diebel, 2008):
 * states are continuous poses, one kept per cell of an (x, y, heading) grid;
 * a move is a short arc at full left lock, a straight or an arc at full right lock,
   forward or in reverse, and is kept only if the body's sweep over it touches nothing
-  (hulls of footprints :data:`STEP` apart, as everywhere in lotsim);
+  (hulls of footprints :attr:`~MultipointSettings.step` apart, as everywhere in lotsim);
 * from every state the search tries to finish at once with the turnaround planner's last
   move (:func:`closing_moves`: a straight, one arc and a straight along
   the lane, or an S of two wide arcs), left-handed or mirrored;
@@ -17,8 +17,12 @@ Montemerlo and Diebel, 2008):
   (each is a stop to turn the wheels: :func:`lotsim.vehicles.motion.timed_path`), so the
   fewest strokes win; the heuristic is the larger of the straight-line distance to the
   stretch of lane it may land on and the full-lock arc that turns the car to the lane's
-  heading, neither of which overestimates, weighted by :data:`WEIGHT` (a path found costs
-  at most that much more than the cheapest, and is found far sooner).
+  heading, neither of which overestimates, weighted by
+  :attr:`~MultipointSettings.weight` (a path found costs at most that much more than the
+  cheapest, and is found far sooner).
+
+The move, the grid, the prices, the expansion limit and the last moves' radii are a
+:class:`~lotsim.roadmap.settings.MultipointSettings` the caller passes.
 
 Everything is checked for ``body`` (a design vehicle grown by the safety margin, as
 :func:`lotsim.roadmap.turnarounds.turnaround_collider` makes it) against ``collider``.
@@ -33,32 +37,11 @@ from collections.abc import Sequence
 import numpy as np
 
 from lotsim.core.geometry import FloatArray, Pose, Segment, advance, sample_segments
+from lotsim.core.outcome import Outcome, Status
 from lotsim.lot.clearance import Collider, RigidSweeps, first_blocked
 from lotsim.lot.model import DesignVehicle
+from lotsim.roadmap.settings import DEFAULTS, MultipointSettings
 
-MOVE = 1.0
-"""Length of one search move [m]."""
-STEP = 0.1
-"""Spacing of the footprints whose hulls cover a move when checking it [m]."""
-CELL = 0.5
-"""Side of the grid cells [m] in which the search keeps one state."""
-HEADINGS = 48
-"""Heading bins of the grid (7.5° each)."""
-CUSP = 4.0
-"""Price of a change of direction, in metres of path: a stop, the wheels turned at rest."""
-STEER = 1.5
-"""Price of a change of steering between moves in one direction [m]: a stop to steer."""
-REVERSE = 1.2
-"""Cost of a metre driven in reverse, per metre driven forward."""
-MAX_CHANGES = 8
-"""Most direction changes a path may have."""
-BUDGET = 3000
-"""Most states a search expands."""
-WEIGHT = 1.5
-"""The heuristic's weight: a path found is at most this much dearer than the cheapest."""
-IMPROVE = 300
-"""Once a path is found, how many more states the search expands looking for a cheaper
-one."""
 AHEAD = 8
 """States whose moves are checked at once: the one expanded and those nearest the top of the
 search's heap (most are expanded soon after; checking several in one batch costs less a
@@ -66,36 +49,30 @@ state, and what the search finds is the same)."""
 MOVE_BLOCK = 5
 """Sweeps of a move checked first as one hull (a move's ten in two blocks: what checks a
 lot's moves quickest; the answers are the same for any)."""
-CLOSING_RADII = (1.0, 1.25, 1.5, 2.0)
-"""The last move's arc tries these multiples of the design radius."""
-
-S_RADII = (2.0, 3.0, 4.0, 6.0)
-"""A last move that is an S (a right arc, then a left arc onto the lane) tries these multiples
-of the design radius: it moves a car that has turned round but stands beside the lane (in a
-narrow aisle the full-lock strokes turn it round in place, off its lane) across, at a
-heading shallow enough to keep its nose out of the bays."""
-
-GRID = 0.5
-"""Turnarounds end on lane stations that are multiples of this [m], at least ``GRID`` past
-where the last arc meets the lane."""
 
 
 def plan_onto(starts: Sequence[Pose], frame: Pose, lo: float, hi: float,
               collider: Collider, body: DesignVehicle, radius: float, *,
-              max_changes: int = MAX_CHANGES, budget: int = BUDGET, ahead: int = AHEAD
-              ) -> tuple[int, tuple[Segment, ...]] | None:
+              settings: MultipointSettings = DEFAULTS.multipoint, max_changes: int | None = None,
+              budget: int | None = None, ahead: int = AHEAD
+              ) -> Outcome[tuple[int, tuple[Segment, ...]]]:
     """The cheapest multi-point path found from any of ``starts`` onto the line through
     ``frame`` (heading along it), landing between ``lo`` and ``hi`` metres along it and
-    ending there heading along it, driven forward at the end, as ``(index of its start,
-    segments)``; None when none is found within ``budget`` states and ``max_changes``
-    direction changes. One search serves every start (a tie goes to the earlier).
+    ending there heading along it, driven forward at the end: an
+    :class:`~lotsim.core.outcome.Outcome` holding ``(index of its start, segments)``, or
+    why there is none: ``infeasible`` (no stretch to land on), ``out of budget`` (the
+    search stopped at ``budget`` states), ``no path`` (every state within ``max_changes``
+    direction changes searched). One search serves every start (a tie goes to the
+    earlier).
 
     ``body`` is checked against ``collider`` all the way; no arc is tighter than
     ``radius`` [m]. All poses are in the world frame: the frame of ``body.footprints(poses)``
     and of ``collider.blocked(bodies, convex=False)`` (as a
     :class:`~lotsim.lot.clearance.Collider` and a design vehicle have them; the moves' sweeps
-    are made once, from the origin, and placed at each state). ``ahead``: states whose
-    moves are checked in one batch (:data:`AHEAD`; the paths found are the same for any).
+    are made once, from the origin, and placed at each state). ``settings``: the search's
+    tuning; ``max_changes`` and ``budget`` (states expanded), when given, replace its
+    ``max_changes`` and ``expansion_limit``. ``ahead``: states whose moves are checked in
+    one batch (:data:`AHEAD`; the paths found are the same for any).
 
     Examples
     --------
@@ -107,18 +84,25 @@ def plan_onto(starts: Sequence[Pose], frame: Pose, lo: float, hi: float,
     >>> from lotsim.lot.clearance import Collider
     >>> lot = box(4, -12, 10, 0).union(box(0, 0, 16, 6))
     >>> car = DesignVehicle(1.9, 3.6, 0.9, 5.0, 0.15, 2.0)
-    >>> _, path = plan_onto([(8.5, -8.0, math.pi / 2)], (0.0, 1.5, 0.0), 9.0, 11.5,
-    ...                     Collider([], lot), car, 5.0)
+    >>> found = plan_onto([(8.5, -8.0, math.pi / 2)], (0.0, 1.5, 0.0), 9.0, 11.5,
+    ...                   Collider([], lot), car, 5.0)
+    >>> _, path = found.value
     >>> end = path[-1].end
     >>> round(end[1], 6), round(end[2], 6), 9.0 <= end[0] <= 11.5
     (1.5, 0.0, True)
     """
-    search = _Search(starts, frame, lo, hi, collider, body, radius, ahead)
+    max_changes = settings.max_changes if max_changes is None else max_changes
+    budget = settings.expansion_limit if budget is None else budget
+    search = _Search(starts, frame, lo, hi, collider, body, radius, ahead, settings)
     if search.span < 0:
-        return None
+        return Outcome.failed(Status.INFEASIBLE, "no stretch of lane to land on")
     best = search.run(max_changes, budget)
     if best is None:
-        return None
+        if search.expanded >= budget:
+            return Outcome.failed(Status.OUT_OF_BUDGET,
+                                  f"no multi-point path within {budget} states")
+        return Outcome.failed(Status.NO_PATH, f"no multi-point path with up to "
+                                              f"{max_changes} direction changes")
     _, sid, tail = best
     states = search.states
     segs: list[Segment] = []
@@ -126,7 +110,8 @@ def plan_onto(starts: Sequence[Pose], frame: Pose, lo: float, hi: float,
         segs.append(states[sid][5])
         sid = states[sid][4]
     segs.reverse()
-    return sid, tuple(segment_to_world(search.origin, x) for x in _merged([*segs, *tail]))
+    return Outcome.of((sid, tuple(segment_to_world(search.origin, x)
+                                  for x in _merged([*segs, *tail]))))
 
 
 class _Search:
@@ -137,15 +122,19 @@ class _Search:
     the first ``len(starts)`` are the starts."""
 
     def __init__(self, starts: Sequence[Pose], frame: Pose, lo: float, hi: float,
-                 collider: Collider, body: DesignVehicle, radius: float, ahead: int):
+                 collider: Collider, body: DesignVehicle, radius: float, ahead: int,
+                 settings: MultipointSettings):
+        self.settings = settings
+        self.expanded = 0  # states expanded so far
         self.origin = np.array(frame, dtype=float)
         self.origin[:2] += lo * np.array([math.cos(frame[2]), math.sin(frame[2])])
         self.span = hi - lo
         self.collider, self.body, self.radius, self.ahead = collider, body, radius, ahead
         kmax = 1.0 / radius
         self.moves = [(gear, kappa) for gear in (1, -1) for kappa in (kmax, 0.0, -kmax)]
-        n = round(MOVE / STEP)
-        s = np.linspace(0.0, MOVE, n + 1)
+        move = settings.move
+        n = round(move / settings.step)
+        s = np.linspace(0.0, move, n + 1)
         # the sweeps of the moves from the origin, (n + 1) footprints along each, placed at
         # each state checked
         along = np.concatenate([g * s for g, _ in self.moves])
@@ -156,7 +145,7 @@ class _Search:
             (to_local(self.origin, np.array(p, dtype=float)), 0, math.nan, 0, -1, None)
             for p in starts]
         self.cost = [0.0] * len(self.states)
-        self.heap = [(WEIGHT * self.h(x[0]), k) for k, x in enumerate(self.states)]
+        self.heap = [(settings.weight * self.h(x[0]), k) for k, x in enumerate(self.states)]
         heapq.heapify(self.heap)
         self.closed: set[tuple[int, int, int]] = set()
         # what expanding a state checks (its shortest clear last move, its blocked moves),
@@ -170,10 +159,10 @@ class _Search:
         return max(math.hypot(max(-q[0], 0.0, q[0] - self.span), q[1]),
                    self.radius * abs(math.remainder(q[2], 2 * math.pi)))
 
-    @staticmethod
-    def cell(q: FloatArray) -> tuple[int, int, int]:
-        return (round(q[0] / CELL), round(q[1] / CELL),
-                round(q[2] / (2 * math.pi / HEADINGS)) % HEADINGS)
+    def cell(self, q: FloatArray) -> tuple[int, int, int]:
+        cell, headings = self.settings.cell, self.settings.headings
+        return (round(q[0] / cell), round(q[1] / cell),
+                round(q[2] / (2 * math.pi / headings)) % headings)
 
     def cell_of(self, sid: int) -> tuple[int, int, int]:
         """:meth:`cell` of state ``sid``, worked out once (a state near the top of the heap
@@ -188,11 +177,14 @@ class _Search:
         """The cheapest path found: (its cost, the state it leaves from, its last move)."""
         states, cost, heap, closed, moves = (self.states, self.cost, self.heap, self.closed,
                                              self.moves)
+        tune = self.settings
+        move, cusp, steer, reverse, weight = (tune.move, tune.cusp, tune.steer, tune.reverse,
+                                              tune.weight)
         best: tuple[float, int, list[Segment]] | None = None
         expanded = found_at = 0
         while heap and expanded < budget:
             f, sid = heapq.heappop(heap)
-            if best is not None and (f >= best[0] or expanded >= found_at + IMPROVE):
+            if best is not None and (f >= best[0] or expanded >= found_at + tune.improve):
                 break
             q, gear, kappa, changes, _, _ = states[sid]
             key = self.cell_of(sid)
@@ -200,6 +192,7 @@ class _Search:
                 continue
             closed.add(key)
             expanded += 1
+            self.expanded = expanded
             if sid not in self.checked:
                 ahead = [k for _, k in sorted(heap[:2 * self.ahead])
                          if k not in self.checked
@@ -207,14 +200,14 @@ class _Search:
                 self.check([sid, *ahead])
             last, hit = self.checked.pop(sid)
             if last is not None:
-                extra = (CUSP if gear < 0 else 0.0) + last[0]
+                extra = (cusp if gear < 0 else 0.0) + last[0]
                 if changes + (gear < 0) <= max_changes and (
                         best is None or cost[sid] + extra < best[0]):
                     if best is None:
                         found_at = expanded
                     best = (cost[sid] + extra, sid, last[1])
             ends = advance(np.repeat(q[None, :], len(moves), axis=0),
-                           np.array([g * MOVE for g, _ in moves]),
+                           np.array([g * move for g, _ in moves]),
                            np.array([k for _, k in moves]))
             for m, (g, k) in enumerate(moves):
                 if m in hit:
@@ -222,14 +215,14 @@ class _Search:
                 turn = gear != 0 and g != gear
                 if changes + turn > max_changes:
                     continue
-                c = cost[sid] + MOVE * (1.0 if g > 0 else REVERSE) + (CUSP if turn else 0.0) + (
-                    STEER if not turn and gear != 0 and k != kappa else 0.0)
+                c = cost[sid] + move * (1.0 if g > 0 else reverse) + (cusp if turn else 0.0) + (
+                    steer if not turn and gear != 0 and k != kappa else 0.0)
                 end = ends[m]
                 end[2] %= 2 * math.pi
                 states.append((end, g, k, changes + turn, sid,
-                               Segment(tuple(map(float, q)), g * MOVE, k)))
+                               Segment(tuple(map(float, q)), g * move, k)))
                 cost.append(c)
-                heapq.heappush(heap, (c + WEIGHT * self.h(end), len(states) - 1))
+                heapq.heappush(heap, (c + weight * self.h(end), len(states) - 1))
         return best
 
     def check(self, sids: list[int]) -> None:
@@ -240,13 +233,15 @@ class _Search:
         at = 0  # runs so far: the closings
         for sid in sids:
             q = self.states[sid][0]
-            found = [(sum(x.length for x in segs), segs) for segs in closing_moves(q, span, radius)]
+            found = [(sum(x.length for x in segs), segs)
+                     for segs in closing_moves(q, span, radius, settings=self.settings)]
             found += [(sum(x.length for x in segs), _mirror(segs))
-                      for segs in closing_moves(_mirror_pose(q), span, radius)]
+                      for segs in closing_moves(_mirror_pose(q), span, radius,
+                                                settings=self.settings)]
             found.sort(key=lambda c: c[0])
             lasts.append((found, at))
             if found:  # the last moves, shortest first: one run each
-                sampled = [sample_segments(segs, STEP)[0] for _, segs in found]
+                sampled = [sample_segments(segs, self.settings.step)[0] for _, segs in found]
                 owner = np.repeat(np.arange(len(sampled)), [len(x) for x in sampled])
                 prints.append(self.body.footprints(to_world(self.origin,
                                                             np.concatenate(sampled))))
@@ -290,15 +285,19 @@ def _mirror(segs: list[Segment]) -> list[Segment]:
                     -x.sharpness) for x in segs]
 
 
-def closing_moves(q: FloatArray, lane_length: float, radius: float) -> list[list[Segment]]:
+def closing_moves(q: FloatArray, lane_length: float, radius: float, *,
+                  settings: MultipointSettings = DEFAULTS.multipoint) -> list[list[Segment]]:
     """Last moves from local pose ``q`` onto the line y = 0 heading +x, driven forward: a
     straight, a left arc, a straight along the lane to a grid station, or (from above the
-    line, heading along it or down) an S of two arcs and a straight; shortest first."""
+    line, heading along it or down) an S of two arcs and a straight; shortest first. The
+    arcs try ``settings``' :attr:`~MultipointSettings.closing_radii` and
+    :attr:`~MultipointSettings.s_radii` times ``radius``; the lane's stations are its
+    :attr:`~MultipointSettings.grid`."""
     x, y, th = (float(v) for v in q)
     out = []
     if math.pi < th < 2 * math.pi - 1e-9:
         sin, cos = math.sin(th), math.cos(th)
-        for f in CLOSING_RADII:
+        for f in settings.closing_radii:
             r = f * radius
             d = (r * (1 - cos) - y) / sin  # straight before the arc (sin < 0)
             if d < -1e-9:
@@ -307,10 +306,10 @@ def closing_moves(q: FloatArray, lane_length: float, radius: float) -> list[list
             segs = [Segment(p, max(d, 0.0), 0.0)] if d > 1e-9 else []
             p = segs[-1].end if segs else p
             segs.append(Segment(p, (2 * math.pi - th) * r, 1.0 / r))
-            out += _onto_lane(segs, lane_length)
+            out += _onto_lane(segs, lane_length, settings.grid)
     if 1.5 * math.pi < th <= 2 * math.pi + 1e-9 and y > 1e-6:
-        for f in S_RADII:
-            out += _onto_lane(_s_curve(x, y, th, f * radius), lane_length)
+        for f in settings.s_radii:
+            out += _onto_lane(_s_curve(x, y, th, f * radius), lane_length, settings.grid)
     return [segs for _, segs in sorted(out, key=lambda c: c[0])]
 
 
@@ -332,13 +331,15 @@ def _s_curve(x: float, y: float, th: float, r: float) -> list[Segment]:
     return [a, Segment(a.end, second * r, 1.0 / r)]
 
 
-def _onto_lane(segs: list[Segment], lane_length: float) -> list[tuple[float, list[Segment]]]:
+def _onto_lane(segs: list[Segment], lane_length: float, grid: float
+               ) -> list[tuple[float, list[Segment]]]:
     """``segs``, which end on the line y = 0 heading +x, and a straight along it to the next
-    grid station :data:`GRID` or more ahead (with their length), if that is on the lane."""
+    station that is a multiple of ``grid`` [m], ``grid`` or more ahead (with their length),
+    if that is on the lane."""
     if not segs:
         return []
     end_x = segs[-1].end[0]
-    target = math.ceil((end_x + GRID) / GRID - 1e-9) * GRID
+    target = math.ceil((end_x + grid) / grid - 1e-9) * grid
     if end_x < -1e-9 or target > lane_length + 1e-9:
         return []
     segs = [*segs, Segment((segs[-1].end[0], 0.0, 0.0), target - end_x, 0.0)]

@@ -26,17 +26,20 @@ from lotsim.core.workers import fork_map
 from lotsim.lot.clearance import Collider, Watched
 from lotsim.lot.model import Lot
 from lotsim.roadmap.multipoint import plan_onto
+from lotsim.roadmap.settings import MultipointSettings, RoadmapSettings
 
 KEEP = 3
 """Most versions of one piece a store keeps (most recent first)."""
 
 
-def lot_key(lot: Lot) -> bytes:
-    """What every piece of ``lot``'s roadmap reads of the lot besides its collisions: the
-    lanes, the aisles, the speed limit and the design vehicle."""
+def lot_key(lot: Lot, settings: RoadmapSettings | None = None) -> bytes:
+    """What every piece of ``lot``'s roadmap reads besides its collisions: the lot's lanes,
+    aisles, speed limit and design vehicle, and the roadmap's ``settings`` (None: the
+    defaults)."""
     aisles = [(a.id, a.centerline.tolist(), a.width, a.one_way) for a in lot.aisles.values()]
     lanes = [(lane.id, lane.aisle, lane.segments) for lane in lot.lanes]
-    return hashlib.blake2b(repr((lot.speed_limit, lot.design, aisles, lanes)).encode(),
+    tuning = RoadmapSettings() if settings is None else settings
+    return hashlib.blake2b(repr((lot.speed_limit, lot.design, aisles, lanes, tuning)).encode(),
                            digest_size=20).digest()
 
 
@@ -196,13 +199,18 @@ def take_back(memo, answer: tuple) -> object:
 
 def plan_onto_remembered(memo, what: str, a, sa0: float, pa, b, sb0: float, pb,
                          starts: list[float], lo: float, hi: float,
-                         checks: tuple[Collider, object], radius: float):
+                         checks: tuple[Collider, object], radius: float, *,
+                         settings: MultipointSettings | None = None):
     """:func:`~lotsim.roadmap.multipoint.plan_onto` from the stations ``starts`` of
     straight ``pa`` (of lane ``a``, starting at station ``sa0``) onto straight ``pb`` (of
     lane ``b``) between ``lo`` and ``hi`` along it, ``checks`` (collider and body) and
-    ``radius``: a search of ``what`` (a junction's multi-point turn, a U-turn), taken from
-    ``memo``'s store where what it read is unchanged (:func:`remembered`)."""
+    ``radius``, tuned by ``settings`` (None: the defaults): a search of ``what`` (a
+    junction's multi-point turn, a U-turn), taken from ``memo``'s store where what it read
+    is unchanged (:func:`remembered`; the memo's key holds its roadmap settings). Its
+    :class:`~lotsim.core.outcome.Outcome`."""
     collider, body = checks
+    search = MultipointSettings() if settings is None else settings
     return remembered(memo, (what, a.id, sa0, b.id, sb0, starts, lo, hi, body, radius),
                       collider, lambda eye: plan_onto(list(pa.poses_at(starts)), pb.start,
-                                                      lo, hi, eye, body, radius))
+                                                      lo, hi, eye, body, radius,
+                                                      settings=search))

@@ -320,8 +320,9 @@ def plan_route(lot: Lot, route: RouteSpec, settings: RouteSettings | None = None
             found = _straight_onto(here, frame, lo, hi, collider, body, settings.step)
             if found is not None:
                 break
-            found = plan_onto([here], frame, lo, hi, collider, body, v.min_turning_radius,
-                              max_changes=settings.max_changes, budget=settings.budget)
+            onto = plan_onto([here], frame, lo, hi, collider, body, v.min_turning_radius,
+                             max_changes=settings.max_changes, budget=settings.budget)
+            found = onto.value
             if found is not None:
                 break
         if found is None:

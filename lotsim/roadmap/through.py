@@ -6,19 +6,19 @@ from __future__ import annotations
 
 from lotsim.lot.clearance import Collider
 from lotsim.lot.model import DesignVehicle, Lot
-from lotsim.roadmap.area_turns import AREA_SHIFTS, area_turns
+from lotsim.roadmap.area_turns import area_turns
 from lotsim.roadmap.lanes import EPS, straight_at
 from lotsim.roadmap.model import Turn
-
-THROUGH_OVERLAP = 15.0
-"""Longest stretch of lane [m] by which a turn into it may overrun the start of a turn out of
-it for the two to be joined into one turn through the stretch."""
+from lotsim.roadmap.settings import DEFAULTS, RoadmapSettings
 
 
-def through_chains(lot: Lot, turns: list[Turn]) -> list[tuple]:
+def through_chains(lot: Lot, turns: list[Turn], *, settings: RoadmapSettings = DEFAULTS
+                   ) -> list[tuple]:
     """The short stretches of lane to turn through: where a turn into lane ``c`` ends past
-    where a turn out of it begins (two junctions close together, one turn swinging wide)
-    and no turn joins the two outer lanes already, none back onto the lane it came from.
+    where a turn out of it begins, by less than
+    :attr:`~lotsim.roadmap.settings.TurnSettings.through_overlap` (two junctions close
+    together, one turn swinging wide) and no turn joins the two outer lanes already, none
+    back onto the lane it came from.
     For each, the first lane, the start station and straight of it the turn leaves from,
     the last lane and its straight likewise, and the stretch's straight."""
     lanes = {lane.id: lane for lane in lot.lanes}
@@ -28,12 +28,13 @@ def through_chains(lot: Lot, turns: list[Turn]) -> list[tuple]:
     joined = {(tn.lane_a, tn.lane_b) for tn in turns}
     done = set()
     out = []
+    most = settings.turns.through_overlap
     for t2 in turns:
         for t1 in into.get(t2.lane_a, ()):
             chain = (t1.lane_a, t2.lane_a, t2.lane_b)
             overlap = t1.station_b - t2.station_a
             if (t1.lane_a == t2.lane_b or chain[::2] in joined or chain in done
-                    or not (t1.wide or t2.wide) or not EPS < overlap < THROUGH_OVERLAP):
+                    or not (t1.wide or t2.wide) or not EPS < overlap < most):
                 continue
             done.add(chain)
             a, c, b = lanes[t1.lane_a], lanes[t2.lane_a], lanes[t2.lane_b]
@@ -48,10 +49,12 @@ def through_chains(lot: Lot, turns: list[Turn]) -> list[tuple]:
 
 
 def through_turn(lot: Lot, collider: Collider, design: DesignVehicle | None,
-                 chain: tuple) -> list[Turn]:
+                 chain: tuple, *, settings: RoadmapSettings = DEFAULTS) -> list[Turn]:
     """The turns through one of :func:`through_chains`: from the first lane into the last
-    along the stretch (:func:`~lotsim.roadmap.area_turns.area_turns` with ``via``), swept
-    clear with ``design`` (default the lot's design vehicle)."""
+    along the stretch (:func:`~lotsim.roadmap.area_turns.area_turns` with ``via``, shifted
+    as the area turns are), swept clear with ``design`` (default the lot's design
+    vehicle)."""
     a, sa0, pa, b, sb0, pb, pc = chain
+    area = settings.area_turns
     return area_turns(a, sa0, pa, b, sb0, pb, design or lot.design, collider,
-                      lot.speed_limit, via=(pc,), shifts=AREA_SHIFTS)
+                      lot.speed_limit, via=(pc,), shifts=area.shifts, settings=area)

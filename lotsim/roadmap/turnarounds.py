@@ -31,6 +31,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from lotsim.core.geometry import FloatArray, Segment, advance, sample_segments
+from lotsim.core.outcome import Outcome, Status
 from lotsim.core.workers import Background, cores
 from lotsim.lot.build import obstacle_polygons
 from lotsim.lot.clearance import Collider, first_blocked
@@ -55,21 +56,7 @@ from lotsim.roadmap.remembered import (
     watched,
     worked_out,
 )
-
-MARGIN = 0.1
-"""Clearance kept to slots, walls and the boundary during a turnaround [m]: the safety margin of
-the 2022 modelling-contest paper on unmanned-car parking path planning."""
-MAX_CHANGES = 8
-"""Most direction changes a turnaround may have."""
-PROBE = 0.25
-"""Spacing of the places along each stroke where the last move onto the lane is tried [m]."""
-STEP = 0.1
-"""Spacing of the footprints whose hulls cover a stroke when checking it [m]."""
-STARTS = (0.0, 2.0, 4.0, 6.0)
-"""How far before a lane's end a turnaround may begin [m]: a driver who knows the street
-ends starts turning before it does, where the first forward stroke has room."""
-MIN_STROKE = 0.3
-"""Shorter strokes are not worth a stop [m]."""
+from lotsim.roadmap.settings import DEFAULTS, RoadmapSettings
 
 
 @dataclass(frozen=True, slots=True)
@@ -92,11 +79,13 @@ class Turnaround:
         return sum(1 for a, b in zip(gears[:-1], gears[1:], strict=True) if a != b)
 
 
-def turnaround_collider(lot: Lot, design: DesignVehicle | None = None, margin: float = MARGIN
+def turnaround_collider(lot: Lot, design: DesignVehicle | None = None,
+                        margin: float = DEFAULTS.turnarounds.margin
                         ) -> tuple[Collider, DesignVehicle]:
     """A checker for turnarounds on ``lot``: every slot, area and the ground it may drive on
     (no gates beyond aisle ends: a car turns back inside the lot), and ``design`` (default
-    the lot's design vehicle) grown by ``margin``."""
+    the lot's design vehicle) grown by ``margin`` [m]
+    (:attr:`~lotsim.roadmap.settings.TurnaroundSettings.margin`)."""
     d = design or lot.design
     grown = dataclasses.replace(d, width=d.width + 2 * margin, front=d.front + margin,
                                 rear=d.rear + margin)
@@ -104,18 +93,24 @@ def turnaround_collider(lot: Lot, design: DesignVehicle | None = None, margin: f
                      edge=lot.edge), grown)
 
 
-def turnaround_clear(t: Turnaround, collider: Collider, body: DesignVehicle) -> bool:
+def turnaround_clear(t: Turnaround, collider: Collider, body: DesignVehicle, *,
+                     step: float = DEFAULTS.turnarounds.step) -> bool:
     """Whether ``body`` (see :func:`turnaround_collider`) drives turnaround ``t`` clear of
-    everything ``collider`` holds (hulls of footprints :data:`STEP` apart)."""
-    return not _blocked(np.zeros(3), list(t.segments), collider, body)  # world = local
+    everything ``collider`` holds (hulls of footprints ``step`` apart [m],
+    :attr:`~lotsim.roadmap.settings.TurnaroundSettings.step`)."""
+    return not _blocked(np.zeros(3), list(t.segments), collider, body, step)  # world = local
 
 
 def plan_turnaround(lane: Lane, back: Lane, collider: Collider, body: DesignVehicle,
-                    radius: float, *, starts: tuple[float, ...] = ()) -> Turnaround | str:
+                    radius: float, *, starts: tuple[float, ...] = (),
+                    settings: RoadmapSettings = DEFAULTS) -> Outcome[Turnaround]:
     """A turnaround from the end of ``lane`` onto ``back`` (the opposite lane of the aisle,
     straight where it begins), for a car whose outline is ``body`` and whose tightest arc
-    has ``radius`` [m], beginning :data:`STARTS` (or ``starts``) metres before the lane's
-    end; or why there is none.
+    has ``radius`` [m], beginning
+    :attr:`~lotsim.roadmap.settings.TurnaroundSettings.starts` (or ``starts``) metres before
+    the lane's end: an :class:`~lotsim.core.outcome.Outcome` holding it, or why
+    there is none (``infeasible``: the lanes do not allow one; ``no path``: none within the
+    direction changes and clearance of ``settings.turnarounds``).
 
     Examples
     --------
@@ -127,75 +122,85 @@ def plan_turnaround(lane: Lane, back: Lane, collider: Collider, body: DesignVehi
     >>> car = DesignVehicle(1.8, 3.7, 1.0, 4.97, 0.15, 2.0)
     >>> east = Lane("e", "a", (Segment((0.0, 2.25, 0.0), 36.0, 0.0),), 2.25, True)
     >>> west = Lane("w", "a", (Segment((36.0, 6.75, math.pi), 36.0, 0.0),), 2.25, False)
-    >>> t = plan_turnaround(east, west, Collider([], street), car, 4.97)
+    >>> t = plan_turnaround(east, west, Collider([], street), car, 4.97).value
     >>> t.changes, t.lane_b, t.station_a
     (2, 'w', 30.0)
     """
     seg = back.segments[0]
     if seg.curvature != 0.0 or seg.sharpness != 0.0:
-        return "the opposite lane bends where it begins"
+        return Outcome.failed(Status.INFEASIBLE, "the opposite lane bends where it begins")
+    tune = settings.turnarounds
     frame = np.array(seg.start)  # local frame: the opposite lane runs along +x from 0
     found = []
-    for back_off in starts or STARTS:
+    for back_off in starts or tune.starts:
         station = lane.length - back_off
         i, _ = lane.locate(max(station, 0.0))
         if station < 0 or lane.segments[i].curvature or lane.segments[i].sharpness:
             break  # the lane bends (or ends) there: start no further back
         start = to_local(frame, np.array(lane.pose_at(station)))
         if start[1] <= 0.0:
-            return "the opposite lane is not on the left"
+            return Outcome.failed(Status.INFEASIBLE, "the opposite lane is not on the left")
         start[2] = math.pi  # heading the other way, up to rounding
-        best = _multipoint(frame, start, seg.length, collider, body, radius)
+        best = _multipoint(frame, start, seg.length, collider, body, radius, settings)
         if best is not None:
             found.append((best[0], best[1], station, best[2]))
     if not found:
-        return (f"no multi-point turn with up to {MAX_CHANGES} direction changes keeping "
-                f"{MARGIN:g} m clear")
+        return Outcome.failed(Status.NO_PATH, f"no multi-point turn with up to "
+                                              f"{tune.max_changes} direction changes keeping "
+                                              f"{tune.margin:g} m clear")
     _, _, station, local = min(found, key=lambda c: c[:3])
     segs = tuple(segment_to_world(frame, x) for x in local)
-    return Turnaround(lane.id, station, back.id, float(local[-1].end[0]), segs)
+    return Outcome.of(Turnaround(lane.id, station, back.id, float(local[-1].end[0]), segs))
 
 
 def plan_turnarounds(lane: Lane, back: Lane, collider: Collider, body: DesignVehicle,
-                     radius: float) -> list[Turnaround] | str:
+                     radius: float, *, settings: RoadmapSettings = DEFAULTS
+                     ) -> Outcome[list[Turnaround]]:
     """The best turnaround at the end of ``lane`` (:func:`plan_turnaround`) and, when that
     begins before the lane's last stretch, the best one that begins last: a car that parks
-    or comes out of a slot past the first's start must still be able to turn."""
-    best = plan_turnaround(lane, back, collider, body, radius)
-    if isinstance(best, str):
-        return best
-    out = [best]
-    for k in range(len(STARTS)):
-        if lane.length - STARTS[k] <= best.station_a + 1e-9:
+    or comes out of a slot past the first's start must still be able to turn. An
+    :class:`~lotsim.core.outcome.Outcome` holding them, or the first's reason."""
+    best = plan_turnaround(lane, back, collider, body, radius, settings=settings)
+    if not best.found:
+        return Outcome.failed(best.status, best.reason)
+    out = [best.value]
+    starts = settings.turnarounds.starts
+    for k in range(len(starts)):
+        if lane.length - starts[k] <= best.value.station_a + 1e-9:
             break
-        last = plan_turnaround(lane, back, collider, body, radius, starts=STARTS[k : k + 1])
-        if not isinstance(last, str):
-            out.append(last)
+        last = plan_turnaround(lane, back, collider, body, radius, starts=starts[k : k + 1],
+                               settings=settings)
+        if last.found:
+            out.append(last.value)
             break
-    return out
+    return Outcome.of(out)
 
 
 def _multipoint(frame: FloatArray, start: FloatArray, lane_length: float, collider: Collider,
-                body: DesignVehicle, radius: float) -> tuple[int, float, list[Segment]] | None:
+                body: DesignVehicle, radius: float, settings: RoadmapSettings
+                ) -> tuple[int, float, list[Segment]] | None:
     """The fewest-changes, then shortest, turnaround from local ``start`` onto the line
     y = 0 heading +x (local frame ``frame``), as ``(changes, length, segments)``."""
+    tune = settings.turnarounds
     kmax = 1.0 / radius
     pose, done = start, []  # strokes so far
     best = None
-    for k in range(MAX_CHANGES + 1):
+    for k in range(tune.max_changes + 1):
         gear = 1 if k % 2 == 0 else -1
         kappa = gear * kmax  # forward at left lock, reverse at right lock: turning left
         left = 2 * math.pi - pose[2]  # heading still to turn
-        extent = _extent(frame, pose, gear, kappa, min(left, math.pi / 2) / kmax, collider, body)
-        probes = np.unique(np.append(np.arange(0.0, extent, PROBE), extent)) if gear > 0 \
+        extent = _extent(frame, pose, gear, kappa, min(left, math.pi / 2) / kmax, collider, body,
+                         tune.step)
+        probes = np.unique(np.append(np.arange(0.0, extent, tune.probe), extent)) if gear > 0 \
             else np.array([extent])
         poses = advance(pose, gear * probes, kappa) if len(probes) else np.zeros((0, 3))
         changes = k + (1 if gear < 0 else 0)
         order = sorted(zip(poses, probes, strict=True), key=lambda c: c[1])
-        options = [closing_moves(q, lane_length, radius) for q, _ in order]
+        options = [closing_moves(q, lane_length, radius, settings=settings.multipoint)
+                   for q, _ in order]
         # the shortest clear closing from each pose is enough
         for (_, s), paths, clear in zip(order, options,
-                                        _first_clear(frame, options, collider, body),
+                                        _first_clear(frame, options, collider, body, tune.step),
                                         strict=True):
             if clear is None:
                 continue
@@ -206,9 +211,9 @@ def _multipoint(frame: FloatArray, start: FloatArray, lane_length: float, collid
                 best = (changes, length, segs)
         if best is not None and best[0] <= changes:
             break
-        if left <= 1e-6 or extent < MIN_STROKE and k > 0:
+        if left <= 1e-6 or extent < tune.min_stroke and k > 0:
             break
-        if extent < MIN_STROKE:
+        if extent < tune.min_stroke:
             continue  # no room ahead at the lane's end: begin by reversing
         stroke = Segment(tuple(map(float, pose)), gear * float(extent), kappa)
         done.append(stroke)
@@ -217,9 +222,9 @@ def _multipoint(frame: FloatArray, start: FloatArray, lane_length: float, collid
 
 
 def _extent(frame: FloatArray, pose: FloatArray, gear: int, kappa: float, cap: float,
-            collider: Collider, body: DesignVehicle) -> float:
-    """How far a stroke from local ``pose`` runs clear, to :data:`STEP` [m]."""
-    n = max(1, math.ceil(cap / STEP))
+            collider: Collider, body: DesignVehicle, step: float) -> float:
+    """How far a stroke from local ``pose`` runs clear, to ``step`` [m]."""
+    n = max(1, math.ceil(cap / step))
     s = np.linspace(0.0, cap, n + 1)
     local = advance(pose, gear * s, kappa)
     bad = first_blocked(collider.blocked, body.footprints(to_world(frame, local)),
@@ -229,7 +234,8 @@ def _extent(frame: FloatArray, pose: FloatArray, gear: int, kappa: float, cap: f
 
 
 def _first_clear(frame: FloatArray, options: list[list[list[Segment]]], collider: Collider,
-                 body: DesignVehicle) -> list[int | None]:
+                 body: DesignVehicle, step: float = DEFAULTS.turnarounds.step
+                 ) -> list[int | None]:
     """For each list of paths (local, in ``frame``) in ``options``, the index of the first
     not :func:`_blocked`, or None: the first paths of all checked in one batch, then the
     second paths of those whose first was blocked, and so on."""
@@ -237,7 +243,7 @@ def _first_clear(frame: FloatArray, options: list[list[list[Segment]]], collider
     todo = [i for i, paths in enumerate(options) if paths]
     k = 0
     while todo:
-        hit = _blocked_each(frame, [options[i][k] for i in todo], collider, body)
+        hit = _blocked_each(frame, [options[i][k] for i in todo], collider, body, step)
         for i, blocked in zip(todo, hit, strict=True):
             if not blocked:
                 out[i] = k
@@ -247,12 +253,12 @@ def _first_clear(frame: FloatArray, options: list[list[list[Segment]]], collider
 
 
 def _blocked_each(frame: FloatArray, paths: list[list[Segment]], collider: Collider,
-                  body: DesignVehicle) -> list[bool]:
+                  body: DesignVehicle, step: float) -> list[bool]:
     """Whether each of ``paths`` (local, in ``frame``) touches anything: the hulls of its
-    consecutive footprints :data:`STEP` apart, a path a run of its own in
+    consecutive footprints ``step`` apart [m], a path a run of its own in
     :func:`~lotsim.lot.clearance.first_blocked` (so checking them together tests the same
     bodies as one by one); a path that is a point, its footprint."""
-    sampled = [sample_segments(segs, STEP)[0] for segs in paths]
+    sampled = [sample_segments(segs, step)[0] for segs in paths]
     sizes = [len(x) for x in sampled]
     owner = np.repeat(np.arange(len(paths)), sizes)
     run = np.where(owner[1:] == owner[:-1], owner[1:], -1)
@@ -266,29 +272,22 @@ def _blocked_each(frame: FloatArray, paths: list[list[Segment]], collider: Colli
 
 
 def _blocked(frame: FloatArray, segs: list[Segment], collider: Collider,
-             body: DesignVehicle) -> bool:
-    return _blocked_each(frame, [segs], collider, body)[0]
-
-
-
-
-
-DEAD_END = 15.0
-"""A lane whose last turn off it begins more than this before its end [m], and which does
-not continue as another, ends in a dead end: a car turns round there (a turnaround); so
-does one a car parks or unparks on past its last turn (:func:`dead_end_turnarounds`)."""
+             body: DesignVehicle, step: float = DEFAULTS.turnarounds.step) -> bool:
+    return _blocked_each(frame, [segs], collider, body, step)[0]
 
 
 def dead_end_turnarounds(lot: Lot, turns: list[Turn], joins: list[tuple[str, str]],
                          exits: dict[str, float], designs: dict[str, DesignVehicle] | None,
-                         stops: dict[str, float], multis: list[Turnaround], memo: RoadmapMemo
+                         stops: dict[str, float], multis: list[Turnaround], memo: RoadmapMemo,
+                         *, settings: RoadmapSettings = DEFAULTS
                          ) -> tuple[list[tuple[Turnaround, frozenset | None]], list[str]]:
     """Turnarounds at the dead ends of two-way aisles, each with the vehicle types that can
     drive it (None: every type), and a note for each dead end where none fits (naming the
     types, when only some have none); each planned once per lot, lane and type.
 
     A lane that does not continue as another ends in a dead end when its last turn off it
-    begins more than :data:`DEAD_END` before its end and it leads to no exit past that turn,
+    begins more than :attr:`~lotsim.roadmap.settings.TurnaroundSettings.dead_end` before
+    its end and it leads to no exit past that turn,
     or when a car parks or unparks on it past its last turn and exit (``stops``: lane → the
     last such station; a corner bay): a car there could not get on otherwise. ``exits`` maps a
     lane to its last exit's station.
@@ -304,14 +303,15 @@ def dead_end_turnarounds(lot: Lot, turns: list[Turn], joins: list[tuple[str, str
     car unparking onto it: ``stops``), one is also looked for by multi-point search
     (:func:`_reaching_turnarounds`).
     """
-    last = {lane.id: exits.get(lane.id, -math.inf) + DEAD_END for lane in lot.lanes}
+    dead_end = settings.turnarounds.dead_end
+    last = {lane.id: exits.get(lane.id, -math.inf) + dead_end for lane in lot.lanes}
     turned = {lane.id: exits.get(lane.id, -math.inf) for lane in lot.lanes}  # last way off
     for t in turns:
         last[t.lane_a] = max(last[t.lane_a], t.station_a)
         turned[t.lane_a] = max(turned[t.lane_a], t.station_a)
     joined = {a for a, _ in joins}
     ends = [(lane, back) for lane, back in two_way_lanes(lot)
-            if lane.id not in joined and (last[lane.id] < lane.length - DEAD_END
+            if lane.id not in joined and (last[lane.id] < lane.length - dead_end
                                           or stops.get(lane.id, -math.inf) > turned[lane.id])]
     # where a car arrives on each lane, and the last place it can leave each lane from
     arrive: dict[str, set[float]] = {}
@@ -325,11 +325,12 @@ def dead_end_turnarounds(lot: Lot, turns: list[Turn], joins: list[tuple[str, str
     key = (types_key(designs),
            tuple((lane.id, tuple(sorted(arrive.get(lane.id, ()))), go_on[back.id])
                  for lane, back in ends))
-    cache = memo.check(lot).turnarounds
+    cache = memo.check(lot, settings).turnarounds
     if key not in cache:
         per = designs or {"": lot.design}
-        bodies = {name: turnaround_collider(lot, design) for name, design in per.items()}
-        tagged, why = _dead_end_plans(lot, per, bodies, ends, arrive, go_on, memo)
+        bodies = {name: turnaround_collider(lot, design, settings.turnarounds.margin)
+                  for name, design in per.items()}
+        tagged, why = _dead_end_plans(lot, per, bodies, ends, arrive, go_on, memo, settings)
         cache[key] = ([(t, None if len(n) == len(per) else frozenset(n))
                        for t, n in tagged.items()], _dead_end_notes(per, ends, tagged, why))
     found, notes = cache[key]
@@ -338,7 +339,7 @@ def dead_end_turnarounds(lot: Lot, turns: list[Turn], joins: list[tuple[str, str
 
 def _dead_end_plans(lot: Lot, per: dict[str, DesignVehicle], bodies: dict[str, tuple],
                     ends: list[tuple[Lane, Lane]], arrive: dict[str, set[float]],
-                    go_on: dict[str, float], memo: RoadmapMemo
+                    go_on: dict[str, float], memo: RoadmapMemo, settings: RoadmapSettings
                     ) -> tuple[dict[Turnaround, set[str]], dict[tuple[str, str], str]]:
     """The turnarounds of :func:`dead_end_turnarounds`' ``ends``, each with the types of
     ``per`` it suits, and why a lane has none for a type ((lane, type) → reason): the
@@ -353,7 +354,8 @@ def _dead_end_plans(lot: Lot, per: dict[str, DesignVehicle], bodies: dict[str, t
     pieces, jobs = _plan_keys(memo, todo), list(todo.values())
     planned.update(zip(todo, worked_out(
         memo, [pieces.get(key) for key in todo], [job[2] for job in jobs],
-        lambda k, eye: plan_turnarounds(*jobs[k][:2], eye, *jobs[k][3:])), strict=True))
+        lambda k, eye: plan_turnarounds(*jobs[k][:2], eye, *jobs[k][3:], settings=settings)),
+        strict=True))
     reach = {}  # reach key → (lane, back, found, collider, body, radius, arrive, go on)
 
     def reach_key(lane: Lane, back: Lane, design: DesignVehicle) -> tuple:
@@ -366,16 +368,16 @@ def _dead_end_plans(lot: Lot, per: dict[str, DesignVehicle], bodies: dict[str, t
             t = planned[lane.id, design]
             if reach_key(lane, back, design) not in planned and fits_a_slot(lot, design):
                 reach[reach_key(lane, back, design)] = (
-                    lane, back, [] if isinstance(t, str) else t, *bodies[name],
+                    lane, back, t.value or [], *bodies[name],
                     design.min_radius, arrive.get(lane.id, ()), go_on[back.id])
-    planned.update(_reaching_all(reach, planned, memo))
+    planned.update(_reaching_all(reach, planned, memo, settings=settings))
     for name, design in per.items():
         for lane, back in ends:
             t = planned[lane.id, design]
             more = planned.get(reach_key(lane, back, design), [])
-            if isinstance(t, str) and not more:
-                why[lane.id, name] = t
-            for x in ([] if isinstance(t, str) else t) + more:
+            if not t.found and not more:
+                why[lane.id, name] = t.reason
+            for x in (t.value or []) + more:
                 tagged.setdefault(x, set()).add(name)
     # and every other type it suits, each check on the workers or taken from the memo's
     # store where what it read is unchanged
@@ -384,7 +386,8 @@ def _dead_end_plans(lot: Lot, per: dict[str, DesignVehicle], bodies: dict[str, t
     fits = worked_out(memo, [piece_key(base, "suits", t, per[n]) for t, n in checks],
                       [bodies[n][0] for _, n in checks],
                       lambda k, eye: suits(checks[k][0], per[checks[k][1]],
-                                           (eye, bodies[checks[k][1]][1])))
+                                           (eye, bodies[checks[k][1]][1]),
+                                           step=settings.turnarounds.step))
     for (t, n), ok in zip(checks, fits, strict=True):
         if ok:
             tagged[t].add(n)
@@ -418,7 +421,8 @@ def _turnaround_plans(per: dict[str, DesignVehicle], bodies: dict[str, tuple],
             for name in per for lane, back in ends}
 
 
-def plan_turnarounds_ahead(memo: RoadmapMemo, vehicles=()) -> Background:
+def plan_turnarounds_ahead(memo: RoadmapMemo, vehicles=(), *,
+                           settings: RoadmapSettings = DEFAULTS) -> Background:
     """Begin planning the turnaround at the end of every lane of a two-way aisle of the
     memo's lot (for ``vehicles``' designs, as :func:`~lotsim.roadmap.assemble.build_graph`
     will want them), on a background process that takes only CPU time nothing else wants
@@ -427,9 +431,10 @@ def plan_turnarounds_ahead(memo: RoadmapMemo, vehicles=()) -> Background:
     that memo. Each plan is a function of its arguments alone, so the graph is the same with
     it as without; one it has not finished is planned when needed, as without. Close it (or
     use it as a context manager) when the lot is built."""
-    lot = memo.lot
+    lot = memo.check(memo.lot, settings).lot
     per = designs_of(vehicles) or {"": lot.design}
-    bodies = {name: turnaround_collider(lot, design) for name, design in per.items()}
+    bodies = {name: turnaround_collider(lot, design, settings.turnarounds.margin)
+              for name, design in per.items()}
     jobs = _turnaround_plans(per, bodies, two_way_lanes(lot))
     pieces = _plan_keys(memo, jobs)
     for key, args in jobs.items():  # those an earlier preparation planned, where unchanged
@@ -439,13 +444,13 @@ def plan_turnarounds_ahead(memo: RoadmapMemo, vehicles=()) -> Background:
                 memo.plans[key] = got
                 memo.recalled += 1
                 if memo.reuse_check is not None:
-                    memo.reuse_check.compare(STORE, pieces[key], got,
-                                       plan_turnarounds(*args[:2], args[2], *args[3:]))
+                    memo.reuse_check.compare(STORE, pieces[key], got, plan_turnarounds(
+                        *args[:2], args[2], *args[3:], settings=settings))
     keys = [key for key in jobs if key not in memo.plans]
     watch = memo.known is not None
     ahead = Background(lambda key: watched(
-        lambda eye: plan_turnarounds(*jobs[key][:2], eye, *jobs[key][3:]), jobs[key][2],
-        watch), keys)
+        lambda eye: plan_turnarounds(*jobs[key][:2], eye, *jobs[key][3:], settings=settings),
+        jobs[key][2], watch), keys)
     memo.ahead = (keys, ahead, pieces)
     return ahead
 
@@ -466,7 +471,8 @@ def fits_a_slot(lot: Lot, design: DesignVehicle) -> bool:
                for s in lot.slots)
 
 
-def _reaching_all(jobs: dict, memo: dict, roads: RoadmapMemo | None = None) -> dict:
+def _reaching_all(jobs: dict, memo: dict, roads: RoadmapMemo | None = None, *,
+                  settings: RoadmapSettings = DEFAULTS) -> dict:
     """:func:`_reaching_turnarounds` of each of ``jobs`` (key → its arguments), by key; its
     multi-point searches on the workers, each once: ``memo`` holds (and is given) those
     done before, by lane, design and arguments (an earlier build of the lot's graph made
@@ -474,7 +480,8 @@ def _reaching_all(jobs: dict, memo: dict, roads: RoadmapMemo | None = None) -> d
     the first found), so the searches go in rounds, each round's on the workers (a round
     that would leave a core idle makes a second search that may be wanted too); each taken
     from ``roads``' store of an earlier preparation where what it read is the same
-    (:mod:`~lotsim.roadmap.remembered`)."""
+    (:mod:`~lotsim.roadmap.remembered`). ``settings``: the multi-point search's tuning and
+    the turnarounds' starts."""
     base = roads.lot_key if roads is not None and roads.known is not None else b""
     wanted: dict[tuple, tuple] = {}  # the searches the jobs need that are not done
     spare: dict[tuple, tuple] = {}  # and those they may need next
@@ -494,7 +501,7 @@ def _reaching_all(jobs: dict, memo: dict, roads: RoadmapMemo | None = None) -> d
         out = {}
         for key, job in jobs.items():
             with contextlib.suppress(_Pending):
-                out[key] = _reaching_turnarounds(*job, onto=onto)
+                out[key] = _reaching_turnarounds(*job, onto=onto, settings=settings)
         if not wanted:
             return out
         pieces = {key: piece_key(base, "reach", lane.id, back.id, starts, hi, body, radius)
@@ -506,7 +513,7 @@ def _reaching_all(jobs: dict, memo: dict, roads: RoadmapMemo | None = None) -> d
         asked = list(wanted.values())
         verified(roads, [pieces[key] for key in held], list(held.values()),
                  lambda k, asked=asked: _reaching_onto(*asked[k][:4], asked[k][4],
-                                                       *asked[k][5:]))
+                                                       *asked[k][5:], settings=settings))
         todo = {key: wanted[key] for key, got in held.items() if got is MISSING}
         # a round that leaves a core idle makes the searches the next may want too
         for key in list(spare)[:max(0, cores() - len(todo)) if todo else 0]:
@@ -517,7 +524,8 @@ def _reaching_all(jobs: dict, memo: dict, roads: RoadmapMemo | None = None) -> d
         jobs_now = list(todo.values())
         memo.update(zip(todo, worked_out(
             roads, [pieces[key] for key in todo], [job[4] for job in jobs_now],
-            lambda k, eye, jobs=jobs_now: _reaching_onto(*jobs[k][:4], eye, *jobs[k][5:])),
+            lambda k, eye, jobs=jobs_now: _reaching_onto(*jobs[k][:4], eye, *jobs[k][5:],
+                                                         settings=settings)),
             strict=True))
 
 
@@ -526,23 +534,25 @@ class _Pending(Exception):
 
 
 def _reaching_onto(lane: Lane, back: Lane, starts: list[float], hi: float,
-                   collider: Collider, body: DesignVehicle, radius: float
-                   ) -> Turnaround | None:
+                   collider: Collider, body: DesignVehicle, radius: float, *,
+                   settings: RoadmapSettings = DEFAULTS) -> Outcome[Turnaround]:
     """A turnaround from ``lane`` (from the first of ``starts`` that has one, [m]) onto the
     straight beginning ``back``, landing at or before ``hi`` along it
-    (:func:`~lotsim.roadmap.multipoint.plan_onto`), or None."""
+    (:func:`~lotsim.roadmap.multipoint.plan_onto` with ``settings.multipoint``), or why
+    there is none."""
     seg = back.segments[0]
     got = plan_onto([lane.pose_at(st) for st in starts], seg.start, 0.0, hi, collider, body,
-                    radius)
-    if got is None:
-        return None
-    k, segs = got
-    return Turnaround(lane.id, starts[k], back.id, along(seg, segs[-1].end), segs)
+                    radius, settings=settings.multipoint)
+    if not got.found:
+        return Outcome.failed(got.status, got.reason)
+    k, segs = got.value
+    return Outcome.of(Turnaround(lane.id, starts[k], back.id, along(seg, segs[-1].end), segs))
 
 
 def _reaching_turnarounds(lane: Lane, back: Lane, found: list[Turnaround],
                           collider: Collider, body: DesignVehicle, radius: float,
-                          arrive, go_on: float, *, onto=_reaching_onto) -> list[Turnaround]:
+                          arrive, go_on: float, *, onto=_reaching_onto,
+                          settings: RoadmapSettings = DEFAULTS) -> list[Turnaround]:
     """Turnarounds from ``lane`` onto ``back`` by multi-point search
     (:func:`~lotsim.roadmap.multipoint.plan_onto`) that land at or before ``go_on`` (the last
     station ``back`` can be left from), where those ``found`` leave a car stranded: one from
@@ -560,13 +570,13 @@ def _reaching_turnarounds(lane: Lane, back: Lane, found: list[Turnaround],
     def plan(starts, **maybe) -> None:
         starts = [st for st in starts if st >= 0 and _on_straight(lane, st)]
         got = onto(lane, back, starts, hi, collider, body, radius, **maybe) if starts else None
-        if got is not None and not maybe:
-            out.append(got)
+        if got is not None and got.found and not maybe:
+            out.append(got.value)
 
     last = max(arrive, default=-math.inf)
     if all(t.station_b > go_on + EPS for t in found):
         try:
-            plan([lane.length - k for k in STARTS])
+            plan([lane.length - k for k in settings.turnarounds.starts])
         except _Pending:  # (:func:`_reaching_all`) and the next, if it may be wanted
             if last > max((t.station_a for t in found), default=-math.inf) + EPS:
                 plan([last], maybe=True)
@@ -583,9 +593,10 @@ def _on_straight(lane: Lane, station: float) -> bool:
     return seg.curvature == 0.0 and seg.sharpness == 0.0
 
 
-def suits(t: Turnaround, design: DesignVehicle, checks: tuple[Collider, DesignVehicle]
-           ) -> bool:
+def suits(t: Turnaround, design: DesignVehicle, checks: tuple[Collider, DesignVehicle], *,
+          step: float = DEFAULTS.turnarounds.step) -> bool:
     """Whether a car of ``design`` can drive ``t``: no tighter than its radius, and clear
-    (``checks``: collider and grown body, :func:`turnaround_collider`)."""
+    (``checks``: collider and grown body, :func:`turnaround_collider`; footprints ``step``
+    apart [m])."""
     bend = max(seg.max_curvature for seg in t.segments)
-    return bend <= 1 / design.min_radius + 1e-9 and turnaround_clear(t, *checks)
+    return bend <= 1 / design.min_radius + 1e-9 and turnaround_clear(t, *checks, step=step)

@@ -8,12 +8,12 @@ import numpy as np
 from lotsim.core.geometry import Segment, wrap_angle
 from lotsim.lot.clearance import Collider
 from lotsim.lot.model import DesignVehicle, Lane, Lot
-from lotsim.roadmap.junction_multipoints import MULTI_ROOM, MULTI_STARTS
 from lotsim.roadmap.junctions import lane_crossing
 from lotsim.roadmap.lanes import EPS, along, straight_at, straights
 from lotsim.roadmap.memo import RoadmapMemo, types_key
 from lotsim.roadmap.multipoint import segment_to_world, to_local
 from lotsim.roadmap.remembered import plan_onto_remembered
+from lotsim.roadmap.settings import DEFAULTS, RoadmapSettings
 from lotsim.roadmap.turnarounds import (
     Turnaround,
     fits_a_slot,
@@ -22,32 +22,34 @@ from lotsim.roadmap.turnarounds import (
     turnaround_collider,
 )
 
-UTURN_LAND = (2.0, 8.0)
-"""Where a U-turn at a junction (:func:`junction_uturns`) may land on the opposite lane:
-from this much before the crossing to this much past it [m]."""
 
-
-def junction_uturns(lot: Lot, designs: dict[str, DesignVehicle] | None, memo: RoadmapMemo
+def junction_uturns(lot: Lot, designs: dict[str, DesignVehicle] | None, memo: RoadmapMemo,
+                    *, settings: RoadmapSettings = DEFAULTS
                     ) -> list[tuple[Turnaround, frozenset | None]]:
     """U-turns at junctions: from a lane of a two-way aisle, where another aisle crosses
     or meets it, back onto its opposite lane, in a few strokes that use the other aisle's
     mouth (:func:`~lotsim.roadmap.multipoint.plan_onto`) — how a driver turns back whose way
     is blocked, or who leaves the way they came. Each begins at or up to 6 m
-    (:data:`MULTI_STARTS`) before the crossing and lands within :data:`UTURN_LAND` of it;
-    it needs :data:`MULTI_ROOM` of lane before the crossing on the lane it leaves and past
-    it on the one it joins. Each is tagged with the vehicle types it suits (None: all);
-    only types that fit a slot are planned for, largest first.
+    (:attr:`~lotsim.roadmap.settings.MultipointSettings.junction_starts`) before the
+    crossing and lands within
+    :attr:`~lotsim.roadmap.settings.MultipointSettings.uturn_land` of it; it needs
+    :attr:`~lotsim.roadmap.settings.MultipointSettings.junction_room` of lane before the
+    crossing on the lane it leaves and past it on the one it joins (all ``settings``'). Each
+    is tagged with the vehicle types it suits (None: all); only types that fit a slot are
+    planned for, largest first.
 
     Junctions of one shape share a plan: one found at a junction is moved onto the next
     (the same place relative to the crossing) and kept when it lands on that junction's
     opposite lane and is clear there, so a lot of many alike junctions plans a few.
     Worked out once per set of types and kept in ``memo``."""
     key = types_key(designs)
-    cache = memo.check(lot).uturns
+    cache = memo.check(lot, settings).uturns
     if key in cache:
         return list(cache[key])
+    search, step = settings.multipoint, settings.turnarounds.step
     per = designs or {"": lot.design}
-    bodies = {name: turnaround_collider(lot, design) for name, design in per.items()}
+    bodies = {name: turnaround_collider(lot, design, settings.turnarounds.margin)
+              for name, design in per.items()}
     parks = sorted((n for n, d in per.items() if fits_a_slot(lot, d)),
                    key=lambda n: (-per[n].min_radius, -(per[n].front + per[n].rear), n))
     known: list[tuple[str, tuple[Segment, ...]]] = []  # (type, path relative to a crossing)
@@ -60,40 +62,43 @@ def junction_uturns(lot: Lot, designs: dict[str, DesignVehicle] | None, memo: Ro
                 ta = along(pa, x)
                 sb, _ = back.project((float(x[0]), float(x[1])))
                 got = straight_at(back, sb)
-                if got is None or sa0 + ta < MULTI_ROOM:
+                if got is None or sa0 + ta < search.junction_room:
                     continue
                 sb0, pb = got
                 tb = sb - sb0
-                lo, hi = max(tb - UTURN_LAND[0], 0.0), min(tb + UTURN_LAND[1], pb.length)
-                if hi - tb < MULTI_ROOM:
+                lo = max(tb - search.uturn_land[0], 0.0)
+                hi = min(tb + search.uturn_land[1], pb.length)
+                if hi - tb < search.junction_room:
                     continue
                 frame = np.array(pa.start, dtype=float)
                 frame[:2] = x
                 end = min(ta, pa.length)
                 mine: list[Turnaround] = []
                 for name in parks:
-                    fitting = [t for t in mine if suits(t, per[name], bodies[name])]
+                    fitting = [t for t in mine
+                               if suits(t, per[name], bodies[name], step=step)]
                     if fitting:  # one planned for a larger type here serves this one
                         found[fitting[0]].add(name)
                         continue
                     t = _moved_uturn(known, name, frame, a, sa0, pa, end, back, sb0, pb,
-                                     lo, hi, bodies[name])
+                                     lo, hi, bodies[name], step)
                     if t is None:
-                        starts = sorted({max(end - k, 0.0) for k in MULTI_STARTS},
+                        starts = sorted({max(end - k, 0.0) for k in search.junction_starts},
                                         reverse=True)
                         plan = plan_onto_remembered(memo, "uturn", a, sa0, pa, back, sb0, pb,
                                                     starts, lo, hi, bodies[name],
-                                                    per[name].min_radius)
-                        if plan is None:
+                                                    per[name].min_radius, settings=search)
+                        if not plan.found:
                             continue
-                        k, segs = plan
+                        k, segs = plan.value
                         t = Turnaround(a.id, sa0 + starts[k], back.id,
                                        sb0 + along(pb, segs[-1].end), segs)
                         known.append((name, tuple(_segment_to_local(frame, g) for g in segs)))
                     found.setdefault(t, set()).add(name)
                     mine.append(t)
     for t, names in found.items():  # and every other type it suits
-        names.update(n for n in per if n not in names and suits(t, per[n], bodies[n]))
+        names.update(n for n in per
+                     if n not in names and suits(t, per[n], bodies[n], step=step))
     out = [(t, None if len(n) == len(per) else frozenset(n)) for t, n in found.items()]
     cache[key] = out
     return list(out)
@@ -119,7 +124,7 @@ def _crossings(lot: Lot, lane: Lane) -> list[tuple[float, Segment, np.ndarray]]:
 
 def _moved_uturn(known, name: str, frame: np.ndarray, a: Lane, sa0: float, pa: Segment,
                  end: float, back: Lane, sb0: float, pb: Segment, lo: float, hi: float,
-                 checks: tuple[Collider, DesignVehicle]) -> Turnaround | None:
+                 checks: tuple[Collider, DesignVehicle], step: float) -> Turnaround | None:
     """The first U-turn found earlier for type ``name`` (``known``: paths relative to
     their crossing) that, moved to the crossing ``frame``, begins on straight ``pa`` at
     most at ``end``, lands on ``pb``'s line heading along it between ``lo`` and ``hi``,
@@ -138,7 +143,7 @@ def _moved_uturn(known, name: str, frame: np.ndarray, a: Lane, sa0: float, pa: S
                 or not lo - EPS <= at <= hi + EPS):
             continue
         t = Turnaround(a.id, sa0 + start, back.id, sb0 + at, segs)
-        if turnaround_clear(t, *checks):
+        if turnaround_clear(t, *checks, step=step):
             return t
     return None
 

@@ -14,7 +14,7 @@ from lotsim.errors import InfeasibleManeuver, SettingsError
 from lotsim.lot.build import build_lot
 from lotsim.lot.model import DesignVehicle, Lot, Slot
 from lotsim.maneuvers.planner import misfit
-from lotsim.maneuvers.settings import MARGIN, STYLES
+from lotsim.maneuvers.settings import STYLES
 from lotsim.scenario import Scenario
 from lotsim.sim.preparation import remembered_planner
 from lotsim.sim.validation import id_ranges
@@ -38,7 +38,8 @@ class ManeuverCase:
     vehicle : VehicleType
     slot : Slot
     planner : ManeuverPlanner
-        The planner with the scenario's margin and parked cars.
+        The planner with the scenario's maneuver settings (and the margin asked for) and
+        parked cars.
     lane : str or None
         The lane to start from (None: the best of the slot's lanes).
     style : {"any", "forward", "reverse"}
@@ -54,7 +55,7 @@ class ManeuverCase:
 
     @classmethod
     def build(cls, scenario: Scenario, slot: str, *, vehicle: str | None = None,
-              lane: str | None = None, style: str = "any", margin: float = MARGIN,
+              lane: str | None = None, style: str = "any", margin: float | None = None,
               source: str | None = None) -> ManeuverCase:
         """The case of slot ``slot`` in ``scenario`` (``source`` names it in messages).
 
@@ -70,7 +71,7 @@ class ManeuverCase:
         problem = checks.choice_problem(style, STYLES)
         if problem:
             raise SettingsError("style", problem)
-        if not (checks.is_real(margin) and 0.0 <= margin <= 1.0):
+        if margin is not None and not (checks.is_real(margin) and 0.0 <= margin <= 1.0):
             raise SettingsError("margin", f"expected 0 to 1 m, found {checks.shown(margin)}")
         names = [v.name for v in scenario.vehicle_types]
         vname = vehicle or names[0]

@@ -6,6 +6,7 @@ before."""
 from __future__ import annotations
 
 import contextlib
+import dataclasses
 from dataclasses import dataclass, field
 
 import lotsim.core.diskcache
@@ -16,7 +17,6 @@ from lotsim.lot.model import DesignVehicle, Lot
 from lotsim.lot.uses import refused_bays
 from lotsim.maneuvers.batch import plan_lot
 from lotsim.maneuvers.planner import ManeuverPlanner
-from lotsim.maneuvers.settings import MARGIN
 from lotsim.roadmap.assemble import build_graph, lane_graph
 from lotsim.roadmap.memo import RoadmapMemo
 from lotsim.roadmap.model import LotGraph
@@ -33,7 +33,7 @@ reading and writing them would take)."""
 
 
 def prepare_graph(scenario: Scenario, *, node_spacing: float = 4.0, maneuvers: bool = True,
-            margin: float = MARGIN, cache: bool = True, progress=None,
+            margin: float | None = None, cache: bool = True, progress=None,
             remember_from: int = REMEMBER_FROM) -> LotGraph:
     """The lot graph of :func:`prepare_lot`: the scenario's lot built for its vehicle
     types, every slot's parking maneuver planned for every type, and the lot's drivable
@@ -44,13 +44,17 @@ def prepare_graph(scenario: Scenario, *, node_spacing: float = 4.0, maneuvers: b
 
 
 def prepare_lot(scenario: Scenario, *, node_spacing: float = 4.0, maneuvers: bool = True,
-                margin: float = MARGIN, cache: bool = True, progress=None,
+                margin: float | None = None, cache: bool = True, progress=None,
                 remember_from: int = REMEMBER_FROM, check: ReuseCheck | None = None
                 ) -> PreparedLot:
     """Build the scenario's lot for its vehicle types, plan every slot's parking maneuver
     for every type, and build the lot's drivable graph through them; with the maneuver
     planner they came from (``PreparedLot.maneuver_planner``, None with
     ``maneuvers=False``).
+
+    The graph is made with the scenario's roadmap settings (``scenario.roadmap``) and the
+    maneuvers with its maneuver settings (``scenario.maneuvers``); ``margin``, when given,
+    replaces their clearance (and the prepared lot's scenario says so).
 
     The slots a type cannot use are in ``LotGraph.infeasible`` (type → slot → reason).
     A slot served by two lanes is parked on one pose from both, so that a car can leave
@@ -62,13 +66,13 @@ def prepare_lot(scenario: Scenario, *, node_spacing: float = 4.0, maneuvers: boo
     traffic, the shared pose.
     With ``maneuvers=False`` slots hang off placeholder links (quick, for pictures).
 
-    With ``cache`` (the default), a lot prepared before — same lot, vehicle types and
-    settings, same lotsim — is loaded from the on-disk cache instead (:mod:`lotsim.core.diskcache`;
-    ``LOTSIM_CACHE_DIR=off`` turns it off), and a new one is stored there;
-    ``LotGraph.from_cache`` says which; a process that asks for a lot another is preparing
-    waits for it and loads it (:func:`lotsim.core.diskcache.making`). A new one also reads and adds
-    to the answers to the maneuver problems searched before in lots of the scenario's name,
-    keyed by each problem's exact geometry
+    With ``cache`` (the default), a lot prepared before — same lot, vehicle types, roadmap
+    and maneuver settings, same lotsim — is loaded from the on-disk cache instead
+    (:mod:`lotsim.core.diskcache`; ``LOTSIM_CACHE_DIR=off`` turns it off), and a new one
+    is stored there; ``LotGraph.from_cache`` says which; a process that asks for a lot
+    another is preparing waits for it and loads it (:func:`lotsim.core.diskcache.making`).
+    A new one also reads and adds to the answers to the maneuver problems searched before
+    in lots of the scenario's name, keyed by each problem's exact geometry
     (:func:`~lotsim.maneuvers.batch.prefetch`; lots of ``remember_from``
     slot-types or more): an edited lot searches only the problems its edit changed, and the
     answers are the same.
@@ -85,35 +89,41 @@ def prepare_lot(scenario: Scenario, *, node_spacing: float = 4.0, maneuvers: boo
     ------
     ScenarioError
         When the layout does not hold together (overlaps, narrow aisles, ...).
+    SettingsError
+        When ``margin`` is out of range.
     """
+    if margin is not None:
+        scenario = dataclasses.replace(scenario, maneuvers=dataclasses.replace(
+            scenario.maneuvers, margin=margin))
     check = ReuseCheck.from_environment() if check is None else check
     graphs = SearchGraphMemo(check)
     if not maneuvers:
         lot = build_lot(scenario.lot, DesignVehicle.envelope(scenario.vehicle_types))
-        lg = build_graph(lot, node_spacing=node_spacing, vehicles=scenario.vehicle_types)
+        lg = build_graph(lot, node_spacing=node_spacing, vehicles=scenario.vehicle_types,
+                         settings=scenario.roadmap)
         lg.infeasible = refused_bays(lot.slots, scenario.vehicle_types)
         return PreparedLot(scenario, lg, search_graphs=graphs)
     leaves = ({a.dwell is not None for a in arrivals(scenario.traffic, scenario.seed)}
               if scenario.traffic is not None else {True})
     if not cache:
-        lg, planner = _prepared(scenario, leaves, None, node_spacing, margin, progress,
+        lg, planner = _prepared(scenario, leaves, None, node_spacing, progress,
                                 remember_from, check)
         return PreparedLot(scenario, lg, planner, graphs)
     name = lotsim.core.diskcache.key("prepared", scenario.lot, scenario.vehicle_types,
                                      scenario.parked_vehicle, sorted(leaves), node_spacing,
-                                     margin)
+                                     scenario.maneuvers, scenario.roadmap)
     got = _cached(name)
     if got is None:
         with lotsim.core.diskcache.making(name):
             # another process may have made it while this one waited for the lock
             got = _cached(name)
             if got is None:
-                got = _prepared(scenario, leaves, name, node_spacing, margin, progress,
+                got = _prepared(scenario, leaves, name, node_spacing, progress,
                                 remember_from, check)
             elif check is not None:
-                _verify_cached(check, name, got, scenario, leaves, node_spacing, margin)
+                _verify_cached(check, name, got, scenario, leaves, node_spacing)
     elif check is not None:
-        _verify_cached(check, name, got, scenario, leaves, node_spacing, margin)
+        _verify_cached(check, name, got, scenario, leaves, node_spacing)
     return PreparedLot(scenario, *got, graphs)
 
 
@@ -122,12 +132,11 @@ CACHE_STORE = "prepared lots"
 
 
 def _verify_cached(check: ReuseCheck, name: str, got: tuple[LotGraph, ManeuverPlanner],
-                   scenario: Scenario, leaves: set[bool], node_spacing: float,
-                   margin: float) -> None:
+                   scenario: Scenario, leaves: set[bool], node_spacing: float) -> None:
     """The reuse check of a prepared lot loaded from the cache as ``name``: the lot
     prepared again from scratch (no cache, no stores) and compared with it
     (:func:`prepared_parts`)."""
-    fresh = _prepared(scenario, leaves, None, node_spacing, margin, None, REMEMBER_FROM, None)
+    fresh = _prepared(scenario, leaves, None, node_spacing, None, REMEMBER_FROM, None)
     check.compare(CACHE_STORE, name, prepared_parts(*got), prepared_parts(*fresh))
 
 
@@ -152,7 +161,7 @@ def _cached(name: str) -> tuple[LotGraph, ManeuverPlanner] | None:
 
 
 def _prepared(scenario: Scenario, leaves: set[bool], name: str | None, node_spacing: float,
-              margin: float, progress, remember_from: int, check: ReuseCheck | None
+              progress, remember_from: int, check: ReuseCheck | None
               ) -> tuple[LotGraph, ManeuverPlanner]:
     """:func:`prepare_lot` a lot not in the cache, and store it there (the lot graph and
     the maneuver planner) as ``name`` (when not None)."""
@@ -162,14 +171,14 @@ def _prepared(scenario: Scenario, leaves: set[bool], name: str | None, node_spac
     # the pieces of this lot's roadmap (and below, its maneuvers) as prepared before (by its
     # name), whatever has changed since: an edited lot works out again only what its edit
     # touched
-    roads_name = lotsim.core.diskcache.key("roadmap", scenario.name) if remember else None
+    roads_name = _roads_name(scenario) if remember else None
     roads = _known(roads_name)
     held = len(roads or ())
     # what the lanes' graph works out, for the graph through slots
-    memo = RoadmapMemo(lot, roads, reuse_check=check)
+    memo = RoadmapMemo(lot, roads, settings=scenario.roadmap, reuse_check=check)
     # the dead ends' turnarounds, planned in time no other step wants (the graphs need them)
-    with plan_turnarounds_ahead(memo, scenario.vehicle_types):
-        planner = maneuver_planner(scenario, lot, margin=margin, memo=memo)
+    with plan_turnarounds_ahead(memo, scenario.vehicle_types, settings=scenario.roadmap):
+        planner = maneuver_planner(scenario, lot, memo=memo)
         known_name = (lotsim.core.diskcache.key("maneuvers", scenario.name, planner.settings)
                       if remember else None)
         known = _known(known_name)
@@ -185,7 +194,8 @@ def _prepared(scenario: Scenario, leaves: set[bool], name: str | None, node_spac
             elif leaves == {True}:
                 stays = {}  # no car stays: where those begin would only be nodes in the way
             lg = build_graph(lot, node_spacing=node_spacing, maneuvers=planned,
-                             vehicles=scenario.vehicle_types, stays=stays, memo=memo)
+                             vehicles=scenario.vehicle_types, stays=stays, memo=memo,
+                             settings=scenario.roadmap)
             lg.infeasible = infeasible
             if roads_name is not None and (memo.worked or len(roads) != held):
                 lotsim.core.diskcache.store(roads_name, roads)  # it learnt something
@@ -218,6 +228,12 @@ def _by_use(lot: Lot, scenario: Scenario, planned: dict, infeasible: dict[str, d
         return {k: m for k, m in maneuvers.items() if k[1] not in refused.get(k[0], {})}
 
     return kept(planned), out, kept(stays)
+
+
+def _roads_name(scenario: Scenario) -> str:
+    """The on-disk name of the store of roadmap pieces for lots of the scenario's name and
+    roadmap settings (:mod:`~lotsim.roadmap.remembered`)."""
+    return lotsim.core.diskcache.key("roadmap", scenario.name, scenario.roadmap)
 
 
 def _known(name: str | None) -> dict | None:
@@ -279,37 +295,41 @@ class PreparedLot:
         return self.lot_graph.reachability()
 
 
-def remembered_planner(scenario: Scenario, lot: Lot, *, margin: float = MARGIN,
+def remembered_planner(scenario: Scenario, lot: Lot, *, margin: float | None = None,
                        check: ReuseCheck | None = None) -> ManeuverPlanner:
     """:func:`maneuver_planner` for one slot's question (``lotsim maneuver``), its lane
     graph's turns and turnarounds taken from those kept when the lot was last prepared or
     asked (by the scenario's name, as :func:`prepare_lot` keeps them for lots of
     :data:`REMEMBER_FROM` slot-types or more) where what they read is unchanged, and what
     it works out kept for the next: a question on a large lot prepared before is answered
-    without working out its turns again. The planner is the same as without. ``check``:
-    the reuse check of the turns taken from the store (by default one when
-    ``LOTSIM_VERIFY_REUSE=1``)."""
+    without working out its turns again. The planner is the same as without. ``margin``,
+    when given, replaces the scenario's maneuver clearance. ``check``: the reuse check of
+    the turns taken from the store (by default one when ``LOTSIM_VERIFY_REUSE=1``)."""
     remember = (lotsim.core.diskcache.cache_dir() is not None
                 and len(lot.slots) * len(scenario.vehicle_types) >= REMEMBER_FROM)
-    roads_name = lotsim.core.diskcache.key("roadmap", scenario.name) if remember else None
+    roads_name = _roads_name(scenario) if remember else None
     roads = _known(roads_name)
     held = len(roads or ())
     check = ReuseCheck.from_environment() if check is None else check
-    memo = RoadmapMemo(lot, roads, reuse_check=check)
+    memo = RoadmapMemo(lot, roads, settings=scenario.roadmap, reuse_check=check)
     planner = maneuver_planner(scenario, lot, margin=margin, memo=memo)
     if roads_name is not None and (memo.worked or len(roads) != held):
         lotsim.core.diskcache.store(roads_name, roads)
     return planner
 
 
-def maneuver_planner(scenario: Scenario, lot: Lot, *, margin: float = MARGIN,
+def maneuver_planner(scenario: Scenario, lot: Lot, *, margin: float | None = None,
                      memo: RoadmapMemo | None = None) -> ManeuverPlanner:
-    """The maneuver planner for ``lot``: clear of the scenario's parked cars, starting only
-    where a car can arrive from an entrance or leave for an exit (along lanes: the ranges
-    of the lot's lane graph, :func:`~lotsim.roadmap.reach.maneuver_ranges`; ``memo`` keeps
-    what that graph works out for the graph through the maneuvers)."""
-    lanes = lane_graph(lot, vehicles=scenario.vehicle_types, memo=memo)
-    return ManeuverPlanner(lot, margin=margin, parked_width=scenario.parked_vehicle.width,
+    """The maneuver planner for ``lot``, tuned by the scenario's maneuver settings
+    (``margin``, when given, replaces their clearance): clear of the scenario's parked
+    cars, starting only where a car can arrive from an entrance or leave for an exit (along
+    lanes: the ranges of the lot's lane graph, made with the scenario's roadmap settings,
+    :func:`~lotsim.roadmap.reach.maneuver_ranges`; ``memo`` keeps what that graph works
+    out for the graph through the maneuvers)."""
+    lanes = lane_graph(lot, vehicles=scenario.vehicle_types, memo=memo,
+                       settings=scenario.roadmap)
+    return ManeuverPlanner(lot, settings=scenario.maneuvers, margin=margin,
+                           parked_width=scenario.parked_vehicle.width,
                            lane_ranges=maneuver_ranges(lanes))
 
 

@@ -65,8 +65,8 @@ def test_a_multi_point_path_lands_on_the_lane_within_its_stretch_clear_of_everyt
     and every footprint along it lies inside the lot (shapely, 1 cm apart)."""
     lot = box(4, -12, 10, 0).union(box(0, 0, 16, 6))
     found = plan_onto([start], frame, lo, hi, Collider([], lot), CAR, 5.0)
-    assert found is not None
-    path = found[1]
+    assert found.found, found.reason
+    path = found.value[1]
     pose = np.array(start)
     poses = []
     for seg in path:
@@ -108,15 +108,17 @@ def test_checking_states_ahead_in_one_batch_finds_what_checking_one_at_a_time_do
                     for obstacles in ([], posts((1.0, 5.0), (15.0, 5.5)),
                                       posts((0.5, 0.5), (15.5, 5.5), (12.5, 0.4)) + kerb)
                     for start, frame, lo, hi in problems]
-    assert sum(x is not None for x in found[1]) == 7  # the posts leave two unreachable
+    assert sum(x.found for x in found[1]) == 7  # the posts leave two unreachable
     assert found[ahead] == found[1]
 
 
-def test_a_multi_point_path_is_none_when_the_lane_cannot_be_reached():
-    """A car facing a wall it cannot turn in front of, with the lane behind the wall."""
+def test_a_multi_point_path_is_not_found_when_the_lane_cannot_be_reached():
+    """A car facing a wall it cannot turn in front of, with the lane behind the wall: the
+    outcome says so, with a reason, and holds no path."""
     lot = box(0, 0, 6, 6)
-    assert plan_onto([(3.0, 1.0, math.pi / 2)], (0.0, 20.0, 0.0), 0.0, 10.0,
-                     Collider([], lot), CAR, 5.0, budget=500) is None
+    got = plan_onto([(3.0, 1.0, math.pi / 2)], (0.0, 20.0, 0.0), 0.0, 10.0,
+                    Collider([], lot), CAR, 5.0, budget=500)
+    assert not got.found and got.value is None and got.reason
 
 
 TINY_TEE = """

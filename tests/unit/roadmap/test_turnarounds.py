@@ -31,7 +31,7 @@ def street():
     lanes = {lane.id: lane for lane in lot.lanes}
     found = plan_turnarounds(lanes["e>"], lanes["e<"], *turnaround_collider(lot),
                              lot.design.min_radius)
-    return lot, found
+    return lot, found.value
 
 
 def test_the_turnaround_ends_on_the_opposite_lane_heading_back(street):
@@ -83,7 +83,7 @@ def test_a_street_narrower_than_the_car_is_long_has_no_turnaround():
     west = Lane("w", "a", (Segment((36.0, 3.375, math.pi), 36.0, 0.0),), 1.125, False)
     assert car.front + car.rear > 4.5
     got = plan_turnarounds(east, west, Collider([], box(0, 0, 40, 4.5)), car, 4.97)
-    assert isinstance(got, str) and "no multi-point turn" in got
+    assert not got.found and "no multi-point turn" in got.reason
 
 
 def _turnarounds(lot):

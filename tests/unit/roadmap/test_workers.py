@@ -69,9 +69,9 @@ def test_turnarounds_searched_in_rounds_on_two_workers_are_those_searched_one_by
     real_fork_map, real_reaching_all = remembered.fork_map, turnarounds._reaching_all
     real_onto = turnarounds._reaching_onto
 
-    def recording(lane, back, starts, hi, collider, body, radius):
+    def recording(lane, back, starts, hi, collider, body, radius, **tuned):
         searched.append((lane.id, back.id, body, tuple(starts), hi))
-        return real_onto(lane, back, starts, hi, collider, body, radius)
+        return real_onto(lane, back, starts, hi, collider, body, radius, **tuned)
 
     def backs(lg):
         return sorted((u, v, d["path"]) for u, v, d in lg.graph.edges(data=True)
@@ -80,13 +80,13 @@ def test_turnarounds_searched_in_rounds_on_two_workers_are_those_searched_one_by
     # the searches in this process, to count them
     monkeypatch.setattr(remembered, "fork_map", lambda fn, items, **kw: [fn(x) for x in items])
     monkeypatch.setattr(turnarounds, "_reaching_onto", recording)
-    monkeypatch.setattr(turnarounds, "_reaching_all", lambda todo, memo, *rest: (
-        jobs.update(todo), real_reaching_all(todo, memo, *rest))[1])
+    monkeypatch.setattr(turnarounds, "_reaching_all", lambda todo, memo, *rest, **tuned: (
+        jobs.update(todo), real_reaching_all(todo, memo, *rest, **tuned))[1])
     found = backs(prepare_graph(sc, cache=False))
     assert len(searched) >= 8 and len(set(searched)) == len(searched)
     # a second build whose cars arrive elsewhere on a lane searches only from there
     ends = [job for job in jobs.values() if any(
-        (job[0].id, len(starts)) == (lane, len(turnarounds.STARTS))
+        (job[0].id, len(starts)) == (lane, len(turnarounds.DEFAULTS.turnarounds.starts))
         for lane, _, _, starts, _ in searched)]
     assert ends
     for job in ends:
@@ -98,8 +98,8 @@ def test_turnarounds_searched_in_rounds_on_two_workers_are_those_searched_one_by
     monkeypatch.setattr(remembered, "fork_map", real_fork_map)  # on two workers
     monkeypatch.setattr(turnarounds, "_reaching_onto", real_onto)
     assert backs(prepare_graph(sc, cache=False)) == found
-    monkeypatch.setattr(turnarounds, "_reaching_all", lambda todo, memo, *rest: {
-        key: turnarounds._reaching_turnarounds(*job) for key, job in todo.items()})
+    monkeypatch.setattr(turnarounds, "_reaching_all", lambda todo, memo, *rest, **tuned: {
+        key: turnarounds._reaching_turnarounds(*job, **tuned) for key, job in todo.items()})
     assert backs(prepare_graph(sc, cache=False)) == found
 
 
@@ -276,7 +276,8 @@ def test_junctions_alike_share_a_search_through_their_area_and_find_what_each_fi
     alike = len(searches)
     searches.clear()
     each = iter(range(10**6))  # every junction a shape of its own
-    monkeypatch.setattr(junctions, "candidates_shape", lambda *a: next(each).to_bytes(4, "big"))
+    monkeypatch.setattr(junctions, "candidates_shape",
+                        lambda *a, **kw: next(each).to_bytes(4, "big"))
     assert junction_turns(lot, collider) == shared
     assert alike < len(searches)
     if lot_name == "large_lot":
@@ -325,8 +326,8 @@ def test_a_round_that_would_leave_a_core_idle_makes_the_next_search_it_may_want(
     sc = load_scenario(LOTS / "ladder.yaml")
     jobs, rounds = {}, []
     real_reaching_all, real_worked_out = turnarounds._reaching_all, turnarounds.worked_out
-    monkeypatch.setattr(turnarounds, "_reaching_all", lambda todo, memo, *rest: (
-        jobs.update(todo), real_reaching_all(todo, memo, *rest))[1])
+    monkeypatch.setattr(turnarounds, "_reaching_all", lambda todo, memo, *rest, **tuned: (
+        jobs.update(todo), real_reaching_all(todo, memo, *rest, **tuned))[1])
     lot = build_lot(sc.lot, DesignVehicle.envelope(sc.vehicle_types))
     assemble.lane_graph(lot, vehicles=sc.vehicle_types)  # (where parking may begin)
     monkeypatch.setattr(remembered, "fork_map", lambda fn, items, **kw: [fn(x) for x in items])

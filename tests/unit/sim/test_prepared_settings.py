@@ -1,0 +1,86 @@
+"""A prepared lot is made with its scenario's roadmap and maneuver settings, cached under
+them, and a run's result.json says which they were, in numbers that make them again."""
+
+from __future__ import annotations
+
+import json
+
+import pytest
+
+import lotsim
+import lotsim.api
+from lotsim.api.scenarios import EXAMPLE
+from lotsim.errors import SettingsError
+from lotsim.io.result import result_dict
+from lotsim.io.scenario_yaml import load_scenario
+from lotsim.maneuvers.settings import ManeuverSettings
+from lotsim.roadmap.settings import (
+    GROUPS,
+    MultipointSettings,
+    RoadmapSettings,
+    TurnaroundSettings,
+)
+from lotsim.sim.preparation import prepare_lot
+
+WIDER = RoadmapSettings(turnarounds=TurnaroundSettings(margin=0.25),
+                        multipoint=MultipointSettings(expansion_limit=2000))
+
+
+@pytest.fixture
+def folder(tmp_path, monkeypatch):
+    where = tmp_path / "cache"
+    monkeypatch.setenv("LOTSIM_CACHE_DIR", str(where))
+    return where
+
+
+def _maneuvers(prepared) -> dict:
+    g = prepared.lot_graph.graph
+    return {(u, v): {k: m.segments for k, m in d["maneuvers"].items()}
+            for u, v, d in g.edges(data=True) if d["kind"] == "park"}
+
+
+def test_a_lot_prepared_with_other_settings_is_prepared_again_not_loaded(folder):
+    sc = load_scenario(EXAMPLE)
+    assert not prepare_lot(sc).lot_graph.from_cache
+    assert prepare_lot(sc).lot_graph.from_cache
+    assert not lotsim.prepare(sc, roadmap=WIDER).lot_graph.from_cache
+    assert lotsim.prepare(sc, roadmap=WIDER).lot_graph.from_cache
+    assert not lotsim.prepare(sc, maneuvers=ManeuverSettings(margin=0.2)).lot_graph.from_cache
+    # the margin given to prepare_lot and the same margin in the settings are one lot
+    assert prepare_lot(sc, margin=0.2).lot_graph.from_cache
+    assert not lotsim.prepare(sc, maneuvers=ManeuverSettings(max_changes=4)).lot_graph.from_cache
+
+
+def test_the_scenarios_maneuver_settings_plan_its_maneuvers():
+    sc = load_scenario(EXAMPLE)
+    plain = prepare_lot(sc, cache=False)
+    wide = lotsim.prepare(sc, maneuvers=ManeuverSettings(margin=0.3), cache=False)
+    assert wide.maneuver_planner.settings.margin == 0.3
+    assert plain.maneuver_planner.settings == ManeuverSettings()
+    assert _maneuvers(wide) != _maneuvers(plain)
+    case = lotsim.api.maneuver_case(sc, "N3", maneuvers=ManeuverSettings(margin=0.3))
+    assert case.planner.margin == 0.3
+    assert lotsim.api.maneuver_case(sc, "N3", maneuvers=ManeuverSettings(margin=0.3),
+                                    margin=0.2).planner.margin == 0.2
+
+
+def test_prepare_refuses_settings_of_another_kind():
+    with pytest.raises(SettingsError, match="roadmap: expected RoadmapSettings"):
+        lotsim.prepare(EXAMPLE, roadmap=ManeuverSettings(), cache=False)
+    with pytest.raises(SettingsError, match="maneuvers: expected ManeuverSettings"):
+        lotsim.prepare(EXAMPLE, maneuvers={"margin": 0.2}, cache=False)
+
+
+def test_result_json_writes_the_settings_the_lot_was_prepared_with_and_they_make_them_again():
+    text = EXAMPLE + ("roadmap:\n  turnarounds: {margin: 0.25}\n"
+                      "  multipoint: {expansion_limit: 2000}\n"
+                      "maneuvers: {margin: 0.2, ease_ramps: [2.0, 1.0]}\n")
+    prepared = lotsim.prepare(text, cache=False)
+    doc = json.loads(json.dumps(result_dict(lotsim.run(prepared))))
+    written = doc["settings"]
+    assert written["roadmap"]["turnarounds"]["margin"] == 0.25
+    assert written["maneuvers"]["margin"] == 0.2
+    again = RoadmapSettings(**{name: GROUPS[name](**values)
+                               for name, values in written["roadmap"].items()})
+    assert again == WIDER == prepared.scenario.roadmap
+    assert ManeuverSettings(**written["maneuvers"]) == prepared.scenario.maneuvers
