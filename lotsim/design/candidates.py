@@ -412,7 +412,7 @@ def _gate(plot: PlotSpec, gid: str, at: np.ndarray, outline: Polygon,
           lines: list[tuple[LineString, DrawnAisle]]) -> tuple[DrawnAisle, DrawnGate] | None:
     """The aisle from a gate square to its boundary edge into the lot, to the first aisle
     it meets, with the gate's entrance and exit on it; None when it meets none in reach."""
-    start, n = _inward(outline, at)
+    start, n = _inward(outline, at, plot.circulation_width)
     ray = LineString([start, start + n * GATE_MAX])
     best = None
     for line, _ in lines:
@@ -460,7 +460,7 @@ def draw_spine(plot: PlotSpec, gate: int, offset: float, branches: bool,
     islands = [Polygon(i.polygon) for i in plot.islands]
     blocked = unary_union([i.buffer(CLEAR) for i in islands]) if islands else None
     g = plot.gates[gate]
-    start, n = _inward(outline, np.asarray(g.at, dtype=float))
+    start, n = _inward(outline, np.asarray(g.at, dtype=float), w)
 
     def reach(p0: np.ndarray, u: np.ndarray, first: float) -> float:
         """How far an aisle from ``p0`` along ``u`` may run, its strip inside the plot and
@@ -520,18 +520,25 @@ def draw_spine(plot: PlotSpec, gate: int, offset: float, branches: bool,
                      aisles, rows, gates, spine=(g.id, branches))
 
 
-def _inward(outline: Polygon, at: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """The point :data:`GATE_INSET` inside the boundary from the point of it nearest ``at``,
-    and the unit square to its edge, inward."""
+def _inward(outline: Polygon, at: np.ndarray, width: float) -> tuple[np.ndarray, np.ndarray]:
+    """Where a gate's aisle of ``width`` [m] begins: :data:`GATE_INSET` inside the boundary
+    from the point of it nearest ``at``, moved along that edge, where the gate lies near one
+    of its ends, until the aisle's mouth lies on the edge with :data:`CLEAR` to spare (at
+    most half the width and that: the mouth still takes the gate in); and the unit square
+    to the edge, inward."""
     ring = np.asarray(outline.exterior.coords)
     g = Point(at)
     k = int(np.argmin([LineString(ring[i:i + 2]).distance(g) for i in range(len(ring) - 1)]))
     e = ring[k + 1] - ring[k]
-    e = e / np.hypot(*e)
+    span = float(np.hypot(*e))
+    e = e / span
     n = np.array([-e[1], e[0]])  # left of a counter-clockwise edge is inward
     if not outline.exterior.is_ccw:
         n = -n
-    start = np.asarray(outline.exterior.interpolate(outline.exterior.project(g)).coords[0])
+    s = float(np.dot(np.asarray(at, dtype=float) - ring[k], e))
+    room = width / 2 + CLEAR
+    s = min(max(s, room), span - room) if span >= 2 * room else span / 2
+    start = ring[k] + e * s
     return start + n * GATE_INSET, n
 
 

@@ -10,7 +10,7 @@ import math
 import numpy as np
 import pytest
 import shapely
-from shapely.geometry import LineString, Polygon
+from shapely.geometry import LineString, Point, Polygon
 
 from conftest import ROOT
 from lotsim.design.candidates import CLEAR, draw, modules_of, orientations, pitch
@@ -174,6 +174,22 @@ def test_spines_run_square_to_their_gate_s_edge_and_branch_at_right_angles():
             assert b.start[0] == pytest.approx(b.end[0])  # square to the spine
             assert b.start[1] == pytest.approx(25)        # beginning on its centre line
         assert _violations(plot, c) == []
+
+
+@pytest.mark.parametrize("x", [0.0, 1.0, 2.0, 3.0])
+def test_a_gate_at_a_plot_s_corner_gets_candidates_whose_mouth_takes_it_in(x):
+    plot = read_plot("boundary: [[0, 0], [100, 0], [100, 60], [0, 60]]\n"
+                     f"gates: [{{id: south, at: [{x}, 0]}}]\nbays: {{angles_deg: [90]}}\n")
+    drawn = candidates(plot, LayoutSettings(orientations=2, offsets=1))
+    assert drawn and max(c.bays for c in drawn) > 150
+    for c in drawn:
+        assert _violations(plot, c) == [], c.label
+        gate = next(a for a in c.aisles if a.id == "gate-south")
+        mouth = LineString([(gate.start[0] - gate.width / 2, 0.0),
+                            (gate.start[0] + gate.width / 2, 0.0)])
+        assert mouth.distance(Point(x, 0.0)) <= 0.06  # the gate lies in the aisle's mouth
+        strip = LineString([gate.start, gate.end]).buffer(gate.width / 2, cap_style="flat")
+        assert Polygon(plot.boundary).buffer(1e-6).covers(strip)
 
 
 def _random_plots(seed: int, count: int):
