@@ -4,7 +4,11 @@ the best run at the plot's demand, ranked (:func:`lay_out`).
 1. Every candidate of the plot is drawn (:mod:`lotsim.design.candidates`: each module kind
    the plot allows, each orientation, each offset, either order of rows); drawing is
    geometry only and quick.
-2. The candidates are taken in order of bays drawn, most first, and each is *prepared*: its
+2. The candidates are taken in order of the bays their circulation serves, judged roughly
+   from their aisles before any maneuver is planned
+   (:func:`~lotsim.design.circulation.circulation`: the bays along aisles a gate leads to,
+   where every junction has room for its turns), most first, then of bays drawn, and each
+   is *prepared*: its
    scenario is built and every bay's parking maneuver planned for every vehicle type, the
    lot's graph built, and reachability worked out, as ``lotsim validate`` does (with the
    on-disk cache as ``lotsim validate`` uses it: laying the same plot out again loads its
@@ -12,14 +16,15 @@ the best run at the plot's demand, ranked (:func:`lay_out`).
    some type cannot reach, park in or leave for an exit are dropped and the rest prepared
    again, until every bay is usable (``lotsim validate --strict`` passes). Candidates are
    independent: they are prepared on the worker pool (:func:`lotsim.core.workers.fork_map`),
-   a batch at a time, and the search stops when no candidate left can have more usable
-   bays than the ones it keeps (a candidate never has more usable bays than it has drawn),
-   or after :attr:`LayoutSettings.prepared` candidates.
+   a batch at a time, and the search stops when no candidate left is judged to serve more
+   bays than the ones it keeps have usable (:attr:`LayoutSettings.compared`), or after
+   :attr:`LayoutSettings.prepared` candidates.
 3. Each candidate, once every bay left is usable, is run with the plot's demand
    (:class:`~lotsim.design.plot.DemandSpec`, by the planner of the settings): mean time
    to park and throughput, and whether ``lotsim check`` passes the run.
-4. Ranked by usable bays, then mean time to park, then throughput, then the order they were
-   drawn in.
+4. Ranked by usable bays, then the length of their dead ends (a loop before a dead end of
+   as many bays), then mean time to park, then throughput, then the order they were drawn
+   in.
 """
 
 from __future__ import annotations
@@ -48,6 +53,7 @@ from lotsim.design.candidates import (
     orientations,
     pitch,
 )
+from lotsim.design.circulation import circulation
 from lotsim.design.plot import PlotSpec
 from lotsim.errors import ScenarioError, SettingsError
 from lotsim.io.imports.draft import (
@@ -90,8 +96,10 @@ class LayoutSettings:
         Most candidates prepared (their bays checked by the maneuver planner) and run at
         the plot's demand.
     compared : int
-        The search stops early only once it holds this many candidates (or as many as are
-        written) that no candidate left can beat: the candidates set side by side.
+        The search stops early once no candidate left is judged to beat this many
+        candidates it holds (or as many as are written; or all it holds with a usable bay,
+        when fewer): a candidate's circulation serves fewer bays than they have usable.
+        The candidates set side by side.
     planner : str
         The cooperative planner of those runs (:data:`lotsim.sim.settings.PLANNERS`).
     workers : int or None
@@ -175,6 +183,11 @@ class Evaluation:
         checks them; None where the plot asks for no accessible bays.
     short : tuple of (use, bays)
         The bays by use asked for that it has no room for.
+    served : int
+        The bays its circulation was judged to serve before it was prepared
+        (:func:`~lotsim.design.circulation.circulation`).
+    dead_end_length : float
+        Aisle a car comes back along after a dead end, in all [m].
     """
 
     index: int
@@ -194,6 +207,8 @@ class Evaluation:
     by_use: tuple[tuple[str, int], ...] = ()
     met: bool | None = None
     short: tuple[tuple[str, int], ...] = ()
+    served: int = 0
+    dead_end_length: float = 0.0
 
     @property
     def ok(self) -> bool:
@@ -233,11 +248,13 @@ class Evaluation:
     def rank_key(self) -> tuple:
         """Whether its bays meet ADA 2010 where the plot asks for accessible bays (those
         that do first), then usable bays as laid out, access aisles and all (most first),
-        then mean time to park (shortest first; not run: last), then throughput (most
-        first), then the order drawn."""
+        then dead-end length (shortest first: a loop before a dead end of as many bays, to
+        the decimetre), then mean time to park (shortest first; not run: last), then
+        throughput (most first), then the order drawn."""
         t = self.mean_time_to_park if self.mean_time_to_park is not None else math.inf
         q = self.throughput if self.throughput is not None else -math.inf
-        return (self.met is False, -self.bays, t, -q, self.index)
+        return (self.met is False, -self.bays, round(self.dead_end_length, 1), t, -q,
+                self.index)
 
 
 @dataclass(frozen=True, slots=True)
@@ -262,7 +279,7 @@ class LayoutResult:
         asked = _columns(self.plot)
         uses = "".join(f"  {title:>{len(title)}}" for _, title in asked)
         head = (f"{'#':>2}  {'bays':>5}  {'drawn':>5}{uses}  {'ADA':>3}  {'per 100 m²':>10}  "
-                f"{'aisles [m]':>10}  {'park [s]':>8}  {'cars/h':>7}  layout")
+                f"{'aisles [m]':>10}  {'dead ends':>9}  {'park [s]':>8}  {'cars/h':>7}  layout")
         lines = [head]
         for k, e in enumerate(self.ranked[:most]):
             park = f"{e.mean_time_to_park:8.1f}" if e.mean_time_to_park is not None else \
@@ -274,7 +291,8 @@ class LayoutResult:
                             for u, title in asked)
             ada = "-" if e.met is None or not e.ok else ("yes" if e.met else "no")
             lines.append(f"{k + 1:>2}  {e.bays:>5}  {e.drawn:>5}{cells}  {ada:>3}  "
-                         f"{e.bays_per_100m2:>10.2f}  {e.aisle_length:>10.1f}  {park}  "
+                         f"{e.bays_per_100m2:>10.2f}  {e.aisle_length:>10.1f}  "
+                         f"{e.dead_end_length:>9.1f}  {park}  "
                          f"{rate}  {what}")
         return "\n".join(lines)
 
@@ -363,8 +381,9 @@ def lay_out(plot: PlotSpec, settings: LayoutSettings | None = None, *, keep: int
             progress: Callable[[int, int], None] | None = None) -> LayoutResult:
     """Lay ``plot`` out (the module's description): the prepared candidates, best first.
 
-    The search stops early when no candidate left can have more usable bays than the
-    best ``keep`` (or :attr:`LayoutSettings.compared`, if more) found.
+    The search stops early when no candidate left is judged to serve more bays than the
+    best ``keep`` (or :attr:`LayoutSettings.compared`, if more) found have usable (or the
+    last of those found, when fewer hold a usable bay).
     ``progress(done, total)`` is called as candidates are prepared; ``total`` is the
     most that will be, and becomes ``done`` when the search ends.
 
@@ -377,7 +396,8 @@ def lay_out(plot: PlotSpec, settings: LayoutSettings | None = None, *, keep: int
     settings = settings or LayoutSettings()
     clock = time.perf_counter()
     drawn = candidates(plot, settings)
-    order = sorted(range(len(drawn)), key=lambda k: (-drawn[k].bays, k))
+    judged = [circulation(plot, c) for c in drawn]
+    order = sorted(range(len(drawn)), key=lambda k: (-judged[k].served, -drawn[k].bays, k))
     area = Polygon(plot.boundary).area
     budget = min(settings.prepared, len(order))
     done: list[Evaluation] = []
@@ -389,14 +409,18 @@ def lay_out(plot: PlotSpec, settings: LayoutSettings | None = None, *, keep: int
     enough = max(keep, settings.compared)
     while pos < budget:
         # a candidate that misses the standard asked for ranks below every one that meets it
-        best = sorted((e.bays for e in done if e.met is not False), reverse=True)
-        if len(best) >= enough and drawn[order[pos]].bays < best[enough - 1]:
-            if progress is not None:  # done: no candidate left can beat the ones kept
+        # the ones kept: the best `enough`, or as many as hold a usable bay
+        best = sorted((e.bays for e in done if e.met is not False and e.ok), reverse=True)
+        if best and judged[order[pos]].served < best[min(enough, len(best)) - 1]:
+            if progress is not None:  # done: no candidate left is judged to beat them
                 progress(len(done), len(done))
             break
         picks = order[pos: min(budget, pos + batch)]
-        done += fork_map(lambda k: evaluate(plot, drawn[k], k, area, settings), picks,
-                         workers=workers)
+        done += [dataclasses.replace(e, served=judged[k].served,
+                                     dead_end_length=judged[k].dead_end_length)
+                 for k, e in zip(picks, fork_map(
+                     lambda k: evaluate(plot, drawn[k], k, area, settings), picks,
+                     workers=workers), strict=True)]
         pos += len(picks)
         if progress is not None:
             progress(len(done), budget if pos < budget else len(done))
