@@ -15,7 +15,7 @@ from shapely.geometry import Point as ShapelyPoint
 from shapely.geometry import Polygon
 from shapely.validation import explain_validity
 
-from lotsim.core.units import shown_length
+from lotsim.core.units import in_units, shown_length
 from lotsim.design.plot import (
     ANGLES,
     BAY_LENGTH,
@@ -120,6 +120,8 @@ def parse_plot(root: YNode) -> PlotSpec:
     if "vehicle_types" in f and ("bays" not in f or bays is not None):
         for n, v in zip(f["vehicle_types"].items(), types, strict=False):
             errors.attempt(_fits_bays, n, v, width, length, "bays" in f)
+    elif "vehicle_types" not in f and bays is not None:
+        errors.attempt(_default_fits_bays, f["bays"], types[0], width, length)
     demand = errors.attempt(_demand, f["demand"], default=None) if "demand" in f else None
     uses = (errors.attempt(_uses, f["uses"], types, width, length, entrances,
                            default=None) if "uses" in f else None)
@@ -147,6 +149,21 @@ def _fits_bays(node: YNode, vehicle, width: float, length: float, given: bool) -
                              f"plot's bays {bay:.2f} m{which}: no bay of any layout would "
                              f"be usable for it; it needs bays of at least {car:.2f} m "
                              f"(bays: {{{key}: {need:g}}})")
+
+
+def _default_fits_bays(node: YNode, vehicle, width: float, length: float) -> None:
+    """Refuse bays too small for the default vehicle type (the plot names none) at its
+    ``bays`` section, before any layout is searched, with the size they need."""
+    for what, car, bay, key in (("wide", vehicle.width, width, "width"),
+                                ("long", vehicle.length, length, "length")):
+        if car > bay:
+            need = math.ceil(in_units(car, node.units) * 10 - 1e-9) / 10
+            shown = shown_length(car, node.units, ".2f")
+            raise node.error(f"expected bays at least {shown} {what} for the default vehicle "
+                             f"type {vehicle.name!r} (the plot names no vehicle_types), found "
+                             f"{shown_length(bay, node.units, '.2f')}: no bay of any layout "
+                             f"would be usable for it; give bays: {{{key}: {need:g}}}, or "
+                             f"vehicle_types that fit")
 
 
 def _refuse(node: YNode, message: str) -> None:

@@ -112,6 +112,34 @@ def test_default_bays_too_short_for_a_van_are_said_to_be_the_default():
                   "vehicle_types: [valet, vclass]\n")
 
 
+@pytest.mark.parametrize("units, bays, where, says", [
+    # the valet car (the default type) is 4.9 m long and 1.8 m wide (seed 004's valet car)
+    ("m", "{length: 4.5}", "3:7", "at least 4.90 m long for the default vehicle type 'valet'"
+     " (the plot names no vehicle_types), found 4.50 m: no bay of any layout would be "
+     "usable for it; give bays: {length: 4.9}"),
+    ("m", "{width: 1.7, length: 6}", "3:7", "at least 1.80 m wide for the default vehicle "
+     "type 'valet' (the plot names no vehicle_types), found 1.70 m: no bay of any layout "
+     "would be usable for it; give bays: {width: 1.8}, or vehicle_types that fit"),
+    # 4.9 m is 16.076 ft: a bay of 16.1 ft holds it
+    ("ft", "{length: 15}", "3:7", "at least 16.08 ft long for the default vehicle type "
+     "'valet' (the plot names no vehicle_types), found 15.00 ft: no bay of any layout would "
+     "be usable for it; give bays: {length: 16.1}"),
+])
+def test_bays_too_small_for_the_default_type_are_refused_at_once(units, bays, where, says):
+    side = 200 if units == "ft" else 60
+    text = (f"boundary: [[0, 0], [{side}, 0], [{side}, {side}], [0, {side}]]\n"
+            f"gates: [{{id: g, at: [0, 20]}}]\nbays: {bays}\n")
+    if units == "ft":
+        text = "units: ft\n" + text
+        where = "4:7"
+    with pytest.raises(ScenarioError) as err:
+        read_plot(text)
+    message = str(err.value)
+    assert message.startswith(f"<plot>:{where}: bays: expected bays "), message
+    assert says in message, message
+    read_plot(text.replace(bays, "{length: 4.9}" if units == "m" else "{length: 16.1}"))
+
+
 def test_a_scenario_given_for_a_plot_is_named_as_one():
     from lotsim.api import EXAMPLE
 
