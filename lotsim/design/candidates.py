@@ -141,6 +141,8 @@ class Candidate:
     """Whether the ring also runs round each island."""
     spine: tuple[str, bool] | None = None
     """For a spine candidate (:func:`draw_spine`): its gate, and whether it has branches."""
+    along: tuple[int, ...] = ()
+    """The boundary's edges the ring runs beside, with no perimeter row (:func:`draw`)."""
 
     @property
     def bays(self) -> int:
@@ -161,6 +163,8 @@ class Candidate:
             return f"a 90° two-way spine from gate {gate}{what}"
         order = "inner rows first" if self.inner_first else "modules first"
         ring = ", islands ringed" if self.ringed else ""
+        if self.along:
+            ring += ", the ring along the gates' edges"
         return (f"{self.module.label} modules at {self.orientation_deg:.1f}°, offset "
                 f"{self.offset:.2f} m, {order}{ring}")
 
@@ -240,11 +244,15 @@ def _rings(region: Polygon) -> list[np.ndarray]:
 
 
 def draw(plot: PlotSpec, module: Module, orientation_deg: float, offset: float,
-         inner_first: bool, ring_islands: bool = True) -> Candidate | None:
+         inner_first: bool, ring_islands: bool = True, along: tuple[int, ...] = ()
+         ) -> Candidate | None:
     """One candidate of ``plot`` (see the module's description); None where the plot has no
     room for a ring, or a gate's aisle meets none. Without ``ring_islands``, the ring runs
     round the plot only, and a module aisle that meets an island ends short of it (a dead
-    end, where cars turn round; two-way modules only).
+    end, where cars turn round; two-way modules only). Along the boundary's edges
+    ``along`` (their indices: edge ``k`` runs from point ``k`` to the next), the ring runs
+    beside the boundary, with no perimeter row, and a gate on such an edge opens straight
+    onto the ring (:func:`_gate_on_ring`).
 
     Examples
     --------
@@ -261,7 +269,8 @@ def draw(plot: PlotSpec, module: Module, orientation_deg: float, offset: float,
     islands = [Polygon(frame.to_local(i.polygon)) for i in plot.islands]
     ring_w = plot.circulation_width
     perimeter = plot.bay_length + ring_w / 2 + CLEAR
-    inside = _ring_region(outline, islands if ring_islands else [], perimeter)
+    inside = _ring_region(outline, islands if ring_islands else [], perimeter, along,
+                          ring_w / 2 + CLEAR)
     if inside is None:
         return None
     if not ring_islands and (module.one_way or not islands):
@@ -328,6 +337,12 @@ def draw(plot: PlotSpec, module: Module, orientation_deg: float, offset: float,
     local_gates = frame.to_local([g.at for g in plot.gates])
     lines = [(LineString([a.start, a.end]), a) for a in aisles]
     for g, at in zip(plot.gates, local_gates, strict=True):
+        if edge_of(outline, at) in along:
+            gate = _gate_on_ring(plot, g.id, at, aisles)
+            if gate is None:
+                return None
+            gates.append(gate)
+            continue
         drawn = _gate(plot, g.id, at, outline, lines)
         if drawn is None:
             return None
@@ -356,14 +371,29 @@ def draw(plot: PlotSpec, module: Module, orientation_deg: float, offset: float,
                 rows += _pack(plot, a, side, mod, room, things)
     rows += _compact_rows(plot, sides, room, things, rows)
     cand = Candidate(orientation_deg, module, offset, inner_first, aisles, rows, gates,
-                     ring_islands and bool(islands))
+                     ring_islands and bool(islands), along=tuple(along))
     return _to_plot(cand, frame)
 
 
-def _ring_region(outline: Polygon, islands: list[Polygon], d: float) -> Polygon | None:
-    """The inside of the ring aisle: the outline shrunk by ``d``, less the islands grown by
-    ``d``; its largest part, simplified so that no leg is very short."""
-    inner = outline.buffer(-d, join_style="mitre")
+def _ring_region(outline: Polygon, islands: list[Polygon], d: float,
+                 along: tuple[int, ...] = (), near: float = 0.0) -> Polygon | None:
+    """The inside of the ring aisle: the outline shrunk by ``d`` (by ``near`` along the
+    edges ``along``), less the islands grown by ``d``; its largest part, simplified so that
+    no leg is very short."""
+    if along:
+        inner = outline.buffer(-near, join_style="mitre")
+        pts = np.asarray(outline.exterior.coords)[:-1]
+        turn = 1.0 if outline.exterior.is_ccw else -1.0
+        for k in range(len(pts)):
+            if k in along:
+                continue
+            a, b = pts[k], pts[(k + 1) % len(pts)]
+            u = (b - a) / np.hypot(*(b - a))
+            n = turn * np.array([-u[1], u[0]])  # inward
+            inner = inner.difference(Polygon([a - u * d, b + u * d, b + u * d + n * d,
+                                              a - u * d + n * d]))
+    else:
+        inner = outline.buffer(-d, join_style="mitre")
     for isl in islands:
         inner = inner.difference(isl.buffer(d, join_style="mitre"))
     if inner.is_empty:
@@ -434,6 +464,67 @@ def _gate(plot: PlotSpec, gid: str, at: np.ndarray, outline: Polygon,
     aisle = DrawnAisle(f"gate-{gid}", tuple(start), tuple(end), plot.circulation_width, False,
                        "gate")
     return aisle, _gate_poses(plot, gid, aisle.id, start, n)
+
+
+def gate_edges(plot: PlotSpec) -> tuple[int, ...]:
+    """The boundary's edges a ring may run beside so that the gates open straight onto it:
+    each gate's edge, and the edge beyond the nearer corner of a gate closer to it than a
+    perimeter row and half the ring (its aisle would meet the ring at that corner)."""
+    outline = Polygon(plot.boundary)
+    pts = np.asarray(plot.boundary, dtype=float)
+    reach = plot.bay_length + plot.circulation_width / 2 + CLEAR
+    out: set[int] = set()
+    for g in plot.gates:
+        k = edge_of(outline, g.at)
+        a, b = pts[k], pts[(k + 1) % len(pts)]
+        s = float(np.dot(np.asarray(g.at) - a, (b - a) / np.hypot(*(b - a))))
+        out.add(k)
+        if s < reach:
+            out.add((k - 1) % len(pts))
+        if np.hypot(*(b - a)) - s < reach:
+            out.add((k + 1) % len(pts))
+    return tuple(sorted(out))
+
+
+def edge_of(outline: Polygon, at) -> int:
+    """The index of the boundary's edge nearest the point ``at`` (edge ``k`` runs from
+    point ``k`` to the next)."""
+    ring = np.asarray(outline.exterior.coords)
+    g = Point(at)
+    return int(np.argmin([LineString(ring[i:i + 2]).distance(g) for i in range(len(ring) - 1)]))
+
+
+def _gate_on_ring(plot: PlotSpec, gid: str, at: np.ndarray, aisles: list[DrawnAisle]
+                  ) -> DrawnGate | None:
+    """A gate that opens straight onto the ring leg running beside its edge: its entrance
+    on the leg's lane nearer the boundary, heading the way that lane runs, and its exit on
+    the other lane, heading the other way, both abeam of the gate (moved along the leg, at
+    most half its width and :data:`CLEAR`, where the gate lies beyond the leg's end); None
+    where no leg runs beside it."""
+    w = plot.circulation_width
+    g = np.asarray(at, dtype=float)
+    for a in aisles:
+        if a.role != "ring":
+            continue
+        p0, p1 = np.asarray(a.start, dtype=float), np.asarray(a.end, dtype=float)
+        length = float(np.hypot(*(p1 - p0)))
+        u = (p1 - p0) / length
+        s = float(np.dot(g - p0, u))
+        off = float(u[0] * (g - p0)[1] - u[1] * (g - p0)[0])  # > 0: the gate is left of it
+        if abs(abs(off) - (w / 2 + CLEAR)) > 0.5 or not -(w / 2 + CLEAR) - EPS <= s <= \
+                length + w / 2 + CLEAR + EPS:
+            continue
+        s = min(max(s, 0.0), length)
+        heading = math.atan2(u[1], u[0])
+        if off > 0:  # the lane nearer the gate runs against the leg
+            heading += math.pi
+        side = math.copysign(w / 4, off)
+        left = np.array([-u[1], u[0]])
+        inward = p0 + u * s + left * side
+        outward = p0 + u * s - left * side
+        return DrawnGate(gid, a.id, (*map(float, inward), heading),
+                         (*map(float, outward), heading + math.pi))
+    return None
 
 
 def draw_spine(plot: PlotSpec, gate: int, offset: float, branches: bool,
@@ -675,4 +766,4 @@ def _to_plot(c: Candidate, frame: _Frame) -> Candidate:
                       for p in r.polygons], r.size) for r in c.rows]
     gates = [DrawnGate(g.id, g.aisle, pose(g.entrance), pose(g.exit)) for g in c.gates]
     return Candidate(c.orientation_deg, c.module, c.offset, c.inner_first, aisles, rows, gates,
-                     c.ringed, c.spine)
+                     c.ringed, c.spine, c.along)

@@ -6,10 +6,10 @@ corner, a T, a crossing). A turn at the tightest radius ``R`` of the plot's most
 vehicle type, from one lane into another, takes about ``R`` plus half the aisle's width of
 each aisle's length to begin and to straighten out (:func:`turn_reach`). So a car that has
 turned in at one junction of an aisle can turn out at another only where the two are
-far enough apart along the aisle (:data:`SPACING`); closer, the turns overlap and the aisle between
-them cannot be driven through without a multi-point turn (a ring of 13 m legs is such a
-ring: every corner is one). At a dead end a car turns round (a multi-point turn), so every
-junction of an aisle with a dead end leads to every other.
+far enough apart along the aisle, or are the aisle's two ends (:data:`SPACING`); closer,
+the turns overlap (a gate's T in the middle of a ring's 13 m leg cannot be turned at from
+either corner). At a dead end a car turns round (a multi-point turn), so every junction
+of an aisle with a dead end leads to every other.
 
 From each gate's mouth the junctions it leads to are followed; a candidate's *served* bays
 are those along an aisle some gate leads to. This is a bound drawn roughly, not a verdict:
@@ -35,10 +35,12 @@ SAME_JUNCTION = 0.5
 point of a spine) [m]."""
 SPACING = 1.6
 """Two junctions of an aisle lead to each other where they are at least this many
-:func:`turn_reach` apart along it. lotsim's junction turns at the valet car's radius
-straighten out 6 to 9.5 m past a corner and begin 4.4 to 8.5 m before the next, so a
-13 m leg (1.5 of its 8.47 m) cannot be driven from corner to corner and a 17 m module
-pitch (2.0) can; the factor sits between, erring towards the candidate."""
+:func:`turn_reach` apart along it, or are its two ends (a leg between two corners: a car
+swings through both corners' area, so a ring's 13 m legs are driven corner to corner).
+lotsim's junction turns at the valet car's radius straighten out 6 to 9.5 m past a corner
+and begin 4.4 to 8.5 m before a T, so a T 6.45 m from the corners of a 13 m leg (0.76 of
+its 8.47 m) cannot be turned at from either and T junctions a 17 m module pitch (2.0)
+apart can; the factor sits between, erring towards the candidate."""
 
 
 @dataclass(frozen=True, slots=True)
@@ -131,11 +133,12 @@ def circulation(plot: PlotSpec, cand: Candidate) -> Circulation:
     junctions = len(nodes)
     index = {a.id: i for i, a in enumerate(aisles)}
     mouths = []
-    for g in cand.gates:
+    for g in cand.gates:  # where the gate opens onto its aisle (a gate aisle's mouth)
         i = index[g.aisle]
+        s = 0.0 if aisles[i].role == "gate" else _station(aisles[i], np.asarray(g.entrance[:2]))
         k = len(nodes)
-        nodes.append([(i, 0.0)])
-        on_aisle[i].append((0.0, k))
+        nodes.append([(i, s)])
+        on_aisle[i].append((s, k))
         mouths.append(k)
 
     reach = turn_reach(plot)
@@ -149,7 +152,9 @@ def circulation(plot: PlotSpec, cand: Candidate) -> Circulation:
         for s in ends:
             dead += min((abs(s - s0) for s0, _ in points), default=length)
         for (s1, k1), (s2, k2) in ((p, q) for p in points for q in points if p < q):
-            if ends or abs(s2 - s1) >= SPACING * reach or k1 in mouths or k2 in mouths:
+            corners = abs(s1) < SAME_JUNCTION and abs(s2 - length) < SAME_JUNCTION
+            if ends or corners or abs(s2 - s1) >= SPACING * reach or k1 in mouths or \
+                    k2 in mouths:
                 links[k1].add(k2)
                 links[k2].add(k1)
     seen = set(mouths)

@@ -49,6 +49,7 @@ from lotsim.design.candidates import (
     Module,
     draw,
     draw_spine,
+    gate_edges,
     modules_of,
     orientations,
     pitch,
@@ -321,7 +322,9 @@ def _use_cell(counts: dict[str, int], use: str, ok: bool) -> str:
 
 def candidates(plot: PlotSpec, settings: LayoutSettings) -> list[Candidate]:
     """Every candidate of ``plot`` (drawn, not checked), in a fixed order: ring candidates by
-    module kind, orientation, offset, order of rows, islands ringed or not; then spine
+    module kind, orientation, offset, order of rows, islands ringed or not, the ring inside
+    perimeter rows everywhere or beside the boundary along the gates' edges
+    (:func:`~lotsim.design.candidates.gate_edges`); then spine
     candidates by gate, offset of branches, order of rows; a candidate drawn alike by other
     choices, once.
 
@@ -331,8 +334,8 @@ def candidates(plot: PlotSpec, settings: LayoutSettings) -> list[Candidate]:
     >>> plot = read_plot("boundary: [[0, 0], [60, 0], [60, 40], [0, 40]]\\n"
     ...                  "gates: [{id: in, at: [30, 0]}]\\nbays: {angles_deg: [90]}\\n")
     >>> drawn = candidates(plot, LayoutSettings(orientations=1, offsets=1))
-    >>> [(c.bays, c.spine is not None) for c in drawn]  # (bays drawn, a spine)
-    [(81, False), (30, True), (82, True), (80, True)]
+    >>> [(c.bays, "spine" if c.spine else "along" if c.along else "ring") for c in drawn]
+    [(81, 'ring'), (69, 'along'), (67, 'along'), (30, 'spine'), (82, 'spine'), (80, 'spine')]
     """
     out = []
     seen: set[tuple] = set()
@@ -346,13 +349,14 @@ def candidates(plot: PlotSpec, settings: LayoutSettings) -> list[Candidate]:
             seen.add(shape)
             out.append(c)
 
+    along = ((), gate_edges(plot))
     for module in modules_of(plot):
         step = pitch(module, plot)
         for theta in orientations(plot, settings.orientations):
-            for i, inner_first, ringed in itertools.product(
-                    range(settings.offsets), (False, True), (True, False)):
+            for i, inner_first, ringed, edges in itertools.product(
+                    range(settings.offsets), (False, True), (True, False), along):
                 keep(draw(plot, module, theta, step * i / settings.offsets, inner_first,
-                          ringed))
+                          ringed, edges))
     # spines from each gate, for plots too small or too narrow for a ring
     step = pitch(Module(90, False, plot.circulation_width), plot)
     for gate in range(len(plot.gates)):

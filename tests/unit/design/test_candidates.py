@@ -184,7 +184,10 @@ def test_a_gate_at_a_plot_s_corner_gets_candidates_whose_mouth_takes_it_in(x):
     assert drawn and max(c.bays for c in drawn) > 150
     for c in drawn:
         assert _violations(plot, c) == [], c.label
-        gate = next(a for a in c.aisles if a.id == "gate-south")
+        gate = next((a for a in c.aisles if a.id == "gate-south"), None)
+        if gate is None:  # the gate opens onto the ring beside its edge, abeam of it
+            assert c.along and abs(c.gates[0].entrance[0] - x) <= 3.5 + CLEAR + 1e-6
+            continue
         mouth = LineString([(gate.start[0] - gate.width / 2, 0.0),
                             (gate.start[0] + gate.width / 2, 0.0)])
         assert mouth.distance(Point(x, 0.0)) <= 0.06  # the gate lies in the aisle's mouth
@@ -229,3 +232,25 @@ def test_many_random_plots_give_bays_clear_of_everything(seed):
     for plot in _random_plots(100 + seed, 10):
         for cand in candidates(plot, LayoutSettings(orientations=3, offsets=2)):
             assert _violations(plot, cand) == [], cand.label
+
+
+def test_a_gate_on_an_edge_the_ring_runs_beside_opens_straight_onto_it():
+    # the 30 m strip, its gate in the middle of the south end: the ring's south leg runs
+    # beside that edge (half a 7 m aisle and the clearance in), with no perimeter row
+    # between; a car comes in on the lane nearer the boundary, which runs east (right-hand
+    # traffic), and leaves on the far lane, westward, both abeam of the gate
+    plot = read_plot(ROOT / "scenarios" / "plots" / "strip30x150.yaml")
+    module = modules_of(plot)[0]
+    cand = draw(plot, module, 90.0, 0.0, False, True, (0,))
+    assert cand is not None and cand.along == (0,)
+    assert not [a for a in cand.aisles if a.role == "gate"]
+    south = next(a for a in cand.aisles if a.id == cand.gates[0].aisle)
+    assert south.start[1] == pytest.approx(3.5 + CLEAR) == south.end[1]
+    (x, y, h), (x2, y2, h2) = cand.gates[0].entrance, cand.gates[0].exit
+    assert (x, y) == pytest.approx((15.0, 3.55 - 1.75))
+    assert math.cos(h) == pytest.approx(1.0)
+    assert (x2, y2) == pytest.approx((15.0, 3.55 + 1.75))
+    assert math.cos(h2) == pytest.approx(-1.0)
+    # no bay between the leg and the south boundary
+    assert not any(p.centroid.y < 3.55 for r in cand.rows for p in r.polygons)
+    assert _violations(plot, cand) == []

@@ -46,10 +46,10 @@ def test_a_ring_with_room_at_every_junction_serves_every_bay():
     assert judged.dead_end_length == 0.0
 
 
-def test_a_ring_of_13_m_legs_serves_only_its_gate_s_leg():
+def test_a_gate_s_t_in_the_middle_of_a_13_m_leg_serves_only_that_leg():
     # 13 m legs: the gate's T 6.5 m from each corner; a car at the valet car's 4.97 m radius
-    # cannot turn in at one and out at the next (the strip): the gate leads only to
-    # the south leg's bays and its own
+    # cannot turn out of the corner and in at the T, or the other way (the 30 m strip): the
+    # gate leads only to the south leg's bays and its own
     cand = _ring(13.0, 130.0, 6.5, {"r1": 4, "r2": 50, "r3": 4, "r4": 50, "gate": 0})
     assert circulation(PLOT, cand).served == 4
 
@@ -66,13 +66,16 @@ def test_a_spine_is_one_dead_end_as_long_as_the_spine():
     assert 147.0 < judged.dead_end_length < 150.0
 
 
-def test_the_strip_s_best_judged_candidate_is_one_a_car_can_circulate_in():
-    # every ring of the 30 m strip has 13 m short legs: judged to serve a handful of bays;
-    # the spine from the gate serves all it draws and comes first
+def test_the_strip_s_best_judged_candidate_is_its_ring_along_the_gate_s_edge():
+    # every ring inside perimeter rows all round the 30 m strip has 13 m short legs with the
+    # gate's T in the middle: judged to serve a handful of bays; the ring beside the gate's
+    # edge, the gate opening straight onto it, serves all it draws and comes first
     plot = read_plot(STRIP)
     drawn = candidates(plot, LayoutSettings(orientations=2, offsets=1))
     judged = sorted(((circulation(plot, c).served, c.bays, c) for c in drawn),
                     key=lambda t: (-t[0], -t[1]))
-    assert judged[0][2].spine is not None and judged[0][0] == judged[0][1]
-    rings = [(s, b) for s, b, c in judged if c.spine is None]
+    best = judged[0][2]
+    assert best.along == (0,) and judged[0][0] == best.bays
+    assert not any(a.role == "gate" for a in best.aisles)
+    rings = [(s, b) for s, b, c in judged if c.spine is None and not c.along]
     assert rings and all(s < b / 4 for s, b in rings)
