@@ -117,12 +117,14 @@ class DrawnRow:
 
 @dataclass
 class DrawnGate:
-    """A gate's entrance and exit: poses (x, y, heading [rad]) on its aisle."""
+    """A gate's entrance and exit: poses (x, y, heading [rad]) on its aisle; its ``mouth``,
+    the stretch of boundary, as wide as the aisle, where the aisle meets it."""
 
     id: str
     aisle: str
     entrance: tuple[float, float, float]
     exit: tuple[float, float, float]
+    mouth: tuple[Point2, Point2] | None = None
 
 
 @dataclass
@@ -296,8 +298,10 @@ def draw(plot: PlotSpec, module: Module, orientation_deg: float, offset: float,
             [i.buffer(module.width / 2 + CLEAR + DEAD_END_ROOM, join_style="mitre")
              for i in islands]))
 
-    # module aisles: the parts inside the ring of lines along x, one pitch apart
+    # module aisles: the parts inside the ring of lines along x, one pitch apart, each at
+    # least a ring's inner row and its own row of bays from a ring leg it runs beside
     p = pitch(module, plot)
+    beside = ring_w / 2 + plot.bay_length + CLEAR + depth(module, plot) + module.width / 2
     x0, y0, x1, y1 = inside.bounds
     first = y0 + (offset % p)
     modules: list[tuple[Point2, Point2]] = []
@@ -321,7 +325,7 @@ def draw(plot: PlotSpec, module: Module, orientation_deg: float, offset: float,
             if seg.length <= ta + tb + 1.0:
                 continue
             core = _strip((ax + ta, y), (bx - tb, y), module.width + 2 * CLEAR)
-            if core.intersects(ring_strips):
+            if core.intersects(ring_strips) or _beside_ring(ax, bx, y, legs, beside):
                 continue
             if module.one_way and k % 2 == 1:
                 a, b = b, a
@@ -352,7 +356,8 @@ def draw(plot: PlotSpec, module: Module, orientation_deg: float, offset: float,
     aisles += gate_aisles
 
     strips = [_strip(a.start, a.end, a.width) for a in aisles]
-    things = _Things(strips + islands, [a.id for a in aisles] + [""] * len(islands))
+    things = _Things(strips + islands, [a.id for a in aisles] + [""] * len(islands),
+                     _mouths(plot, gates))
     room = outline.buffer(-(CLEAR - EPS), join_style="mitre")
     rows: list[DrawnRow] = []
     ring90 = Module(90, False, ring_w)
@@ -373,6 +378,31 @@ def draw(plot: PlotSpec, module: Module, orientation_deg: float, offset: float,
     cand = Candidate(orientation_deg, module, offset, inner_first, aisles, rows, gates,
                      ring_islands and bool(islands), along=tuple(along))
     return _to_plot(cand, frame)
+
+
+BESIDE_DEG = 15.0
+"""A module aisle runs beside a ring leg that makes less than this angle with it
+[degrees]."""
+
+
+def _beside_ring(ax: float, bx: float, y: float, legs: list[tuple[Point2, Point2]],
+                 room: float) -> bool:
+    """Whether the module aisle along x from ``ax`` to ``bx`` at ``y`` runs beside a ring leg
+    (within :data:`BESIDE_DEG` of its direction, alongside it for a metre or more) closer
+    than ``room`` [m], measured at the middle of the stretch they run alongside: two aisles
+    side by side with no room for a row of bays each between them."""
+    lo, hi = min(ax, bx), max(ax, bx)
+    for (px, py), (qx, qy) in legs:
+        dx, dy = qx - px, qy - py
+        if abs(dy) > math.sin(math.radians(BESIDE_DEG)) * math.hypot(dx, dy):
+            continue
+        a, b = max(lo, min(px, qx)), min(hi, max(px, qx))
+        if b - a < 1.0:
+            continue
+        mid = (a + b) / 2
+        if abs(py + (mid - px) * dy / dx - y) < room - EPS:
+            return True
+    return False
 
 
 def _ring_region(outline: Polygon, islands: list[Polygon], d: float,
@@ -522,8 +552,10 @@ def _gate_on_ring(plot: PlotSpec, gid: str, at: np.ndarray, aisles: list[DrawnAi
         left = np.array([-u[1], u[0]])
         inward = p0 + u * s + left * side
         outward = p0 + u * s - left * side
+        edge = p0 + u * s + left * math.copysign(w / 2 + CLEAR, off)
+        mouth = (tuple(map(float, edge - u * w / 2)), tuple(map(float, edge + u * w / 2)))
         return DrawnGate(gid, a.id, (*map(float, inward), heading),
-                         (*map(float, outward), heading + math.pi))
+                         (*map(float, outward), heading + math.pi), mouth)
     return None
 
 
@@ -543,8 +575,8 @@ def draw_spine(plot: PlotSpec, gate: int, offset: float, branches: bool,
     >>> plot = read_plot("boundary: [[0, 0], [24, 0], [24, 30], [0, 30]]\\n"
     ...                  "gates: [{id: in, at: [12, 0]}]\\n")
     >>> c = draw_spine(plot, 0, 0.0, False)
-    >>> [a.role for a in c.aisles], c.bays
-    (['gate'], 22)
+    >>> [a.role for a in c.aisles], c.bays  # none within 10 m of the gate's mouth
+    (['gate'], 16)
     """
     w = plot.circulation_width
     outline = Polygon(plot.boundary)
@@ -597,7 +629,8 @@ def draw_spine(plot: PlotSpec, gate: int, offset: float, branches: bool,
         aisles.append(drawn[0])
         gates.append(drawn[1])
     strips = [_strip(a.start, a.end, a.width) for a in aisles]
-    things = _Things(strips + islands, [a.id for a in aisles] + [""] * len(islands))
+    things = _Things(strips + islands, [a.id for a in aisles] + [""] * len(islands),
+                     _mouths(plot, gates))
     room = outline.buffer(-(CLEAR - EPS), join_style="mitre")
     rows: list[DrawnRow] = []
     spine90 = Module(90, False, w)
@@ -644,15 +677,34 @@ def _gate_poses(plot: PlotSpec, gid: str, aisle: str, start: np.ndarray, n: np.n
     rear = max(v.rear for v in plot.vehicle_types)
     inward = start + n * (rear + 0.5) + right * width / 4
     outward = start + n * (longest + 0.5) - right * width / 4
+    edge = start - n * GATE_INSET
+    mouth = (tuple(map(float, edge - right * width / 2)),
+             tuple(map(float, edge + right * width / 2)))
     return DrawnGate(gid, aisle, (*map(float, inward), heading),
-                     (*map(float, outward), heading + math.pi))
+                     (*map(float, outward), heading + math.pi), mouth)
+
+
+def _mouths(plot: PlotSpec, gates: list[DrawnGate]):
+    """Where no bay's centre may lie: within :attr:`PlotSpec.gate_clearance` of a gate's
+    mouth (None: nowhere)."""
+    if plot.gate_clearance <= 0:
+        return None
+    zones = [LineString(g.mouth).buffer(plot.gate_clearance) for g in gates
+             if g.mouth is not None]
+    if not zones:
+        return None
+    zone = unary_union(zones)
+    shapely.prepare(zone)
+    return zone
 
 
 class _Things:
     """What bays keep :data:`CLEAR` from: aisle strips (by aisle id), islands (id ``""``)
-    and the bays kept so far (each with its aisle and side)."""
+    and the bays kept so far (each with its aisle and side); and ``mouths``, what their
+    centres keep out of (:func:`_mouths`)."""
 
-    def __init__(self, shapes: list[Polygon], owners: list[str]):
+    def __init__(self, shapes: list[Polygon], owners: list[str], mouths=None):
+        self.mouths = mouths
         self.fixed = shapes
         self.owners = owners
         self.fixed_tree = shapely.STRtree(shapes)
@@ -663,7 +715,10 @@ class _Things:
     def clear(self, bay: Polygon, aisle: str, beside: tuple[str, str] | None = None) -> bool:
         """Whether ``bay`` keeps clear of everything but its own aisle, which it may
         touch (its entry lies on the aisle's edge), and, with ``beside`` (aisle, side), the
-        bays along that side, which it may touch as neighbours in a row do."""
+        bays along that side, which it may touch as neighbours in a row do; and keeps its
+        centre out of the gates' mouths."""
+        if self.mouths is not None and self.mouths.intersects(bay.centroid):
+            return False
         for i in self.fixed_tree.query(bay, predicate="dwithin", distance=CLEAR - EPS):
             if self.owners[i] != aisle or \
                     shapely.area(shapely.intersection(self.fixed[i], bay)) > 1e-6:
@@ -764,6 +819,8 @@ def _to_plot(c: Candidate, frame: _Frame) -> Candidate:
     rows = [DrawnRow(r.aisle, r.side, r.angle, r.start, r.count,
                      [Polygon(frame.to_plot(np.asarray(p.exterior.coords)))
                       for p in r.polygons], r.size) for r in c.rows]
-    gates = [DrawnGate(g.id, g.aisle, pose(g.entrance), pose(g.exit)) for g in c.gates]
+    gates = [DrawnGate(g.id, g.aisle, pose(g.entrance), pose(g.exit),
+                       None if g.mouth is None else (pt(g.mouth[0]), pt(g.mouth[1])))
+             for g in c.gates]
     return Candidate(c.orientation_deg, c.module, c.offset, c.inner_first, aisles, rows, gates,
                      c.ringed, c.spine, c.along)

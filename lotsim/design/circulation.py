@@ -98,7 +98,7 @@ def circulation(plot: PlotSpec, cand: Candidate) -> Circulation:
     ...                  "gates: [{id: in, at: [12, 0]}]\\n")
     >>> c = circulation(plot, draw_spine(plot, 0, 0.0, False))
     >>> c.served, round(c.dead_end_length)  # every bay served; the spine a 29 m dead end
-    (22, 29)
+    (16, 29)
     """
     aisles = cand.aisles
     lines = [LineString([a.start, a.end]) for a in aisles]

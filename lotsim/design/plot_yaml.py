@@ -21,6 +21,7 @@ from lotsim.design.plot import (
     BAY_LENGTH,
     BAY_WIDTH,
     DEFAULT_WIDTHS,
+    GATE_CLEARANCE,
     BuildingEntranceSpec,
     DemandSpec,
     GateSpec,
@@ -110,7 +111,7 @@ def parse_plot(root: YNode) -> PlotSpec:
         if got is not None:
             types, names = got
     bays = errors.attempt(_bays, f["bays"], default=None) if "bays" in f else None
-    angles, width, length = bays or (ANGLES, BAY_WIDTH, BAY_LENGTH)
+    angles, width, length, clearance = bays or (ANGLES, BAY_WIDTH, BAY_LENGTH, GATE_CLEARANCE)
     aisles = errors.attempt(_aisles, f["aisles"], default=None) if "aisles" in f else None
     one_way, widths, circulation = aisles or (True, dict(DEFAULT_WIDTHS),
                                               DEFAULT_WIDTHS[(90, "two-way")])
@@ -128,6 +129,7 @@ def parse_plot(root: YNode) -> PlotSpec:
     errors.check()
     return PlotSpec(name=name, boundary=boundary, gates=gates, vehicle_types=types,
                     islands=islands, angles=angles, bay_width=width, bay_length=length,
+                    gate_clearance=clearance,
                     one_way=one_way, aisle_widths=tuple(sorted(widths.items(),
                                                                key=lambda kv: (-kv[0][0],
                                                                                kv[0][1]))),
@@ -275,7 +277,7 @@ def _vehicle_types(node: YNode):
 
 
 def _bays(node: YNode):
-    f = node.fields(optional=["angles_deg", "width", "length"])
+    f = node.fields(optional=["angles_deg", "width", "length", "gate_clearance"])
     angles = ANGLES
     if "angles_deg" in f:
         got = []
@@ -289,7 +291,9 @@ def _bays(node: YNode):
         angles = tuple(sorted(got, reverse=True))
     width = f["width"].length(min=1.5, max=5.0) if "width" in f else BAY_WIDTH
     length = f["length"].length(min=3.0, max=12.0) if "length" in f else BAY_LENGTH
-    return angles, width, length
+    clearance = (f["gate_clearance"].length(min=0.0, max=100.0) if "gate_clearance" in f
+                 else GATE_CLEARANCE)
+    return angles, width, length, clearance
 
 
 def _aisles(node: YNode):

@@ -335,7 +335,7 @@ def candidates(plot: PlotSpec, settings: LayoutSettings) -> list[Candidate]:
     ...                  "gates: [{id: in, at: [30, 0]}]\\nbays: {angles_deg: [90]}\\n")
     >>> drawn = candidates(plot, LayoutSettings(orientations=1, offsets=1))
     >>> [(c.bays, "spine" if c.spine else "along" if c.along else "ring") for c in drawn]
-    [(81, 'ring'), (69, 'along'), (67, 'along'), (30, 'spine'), (82, 'spine'), (80, 'spine')]
+    [(73, 'ring'), (70, 'along'), (24, 'spine'), (74, 'spine'), (72, 'spine')]
     """
     out = []
     seen: set[tuple] = set()

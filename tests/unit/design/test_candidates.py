@@ -54,6 +54,14 @@ def _violations(plot, cand) -> list[str]:
     for i, j in zip(left, right, strict=True):
         if i < j and _overlaps(polys[i], polys[j]):
             wrong.append(f"bays {i} and {j} overlap")
+    for g in plot.gates:  # no bay's centre within the clearance of a gate (its mouth takes
+        # the gate in, to the 0.05 m its aisle is moved and the 0.02 m it begins inside)
+        at = Point(g.at)
+        slack = outline.exterior.distance(at) + CLEAR + 0.02 + 1e-6
+        for aisle, bay in bays:
+            if bay.centroid.distance(at) < plot.gate_clearance - slack:
+                wrong.append(f"a bay of {aisle} stands {bay.centroid.distance(at):.2f} m from "
+                             f"gate {g.id}")
     for a in cand.aisles:
         if not outline.buffer(1e-6).covers(LineString([a.start, a.end])):
             wrong.append(f"aisle {a.id} leaves the plot")
@@ -80,6 +88,9 @@ def test_the_oracle_sees_a_bay_that_overlaps():
     assert any("overlap" in w for w in _violations(plot, cand))
     row.polygons[0] = Polygon(plot.islands[0].polygon).buffer(-1)
     assert any("island" in w for w in _violations(plot, cand))
+    gate = plot.gates[0].at
+    row.polygons[0] = Point(gate[0], gate[1] + 6.0).buffer(1.0)
+    assert any("from gate" in w for w in _violations(plot, cand))
 
 
 def test_a_rectangle_s_ring_and_modules_are_where_a_person_puts_them():
@@ -254,3 +265,33 @@ def test_a_gate_on_an_edge_the_ring_runs_beside_opens_straight_onto_it():
     # no bay between the leg and the south boundary
     assert not any(p.centroid.y < 3.55 for r in cand.rows for p in r.polygons)
     assert _violations(plot, cand) == []
+
+
+def _alongside(a, b) -> float:
+    """How far aisles ``a`` and ``b``, parallel, run alongside each other [m]."""
+    u = np.subtract(a.end, a.start) / math.dist(a.start, a.end)
+    sa = sorted(float(np.dot(np.subtract(p, a.start), u)) for p in (a.start, a.end))
+    sb = sorted(float(np.dot(np.subtract(p, a.start), u)) for p in (b.start, b.end))
+    return min(sa[1], sb[1]) - max(sa[0], sb[0])
+
+
+@pytest.mark.parametrize("name", ["rect60x100", "trapezoid"])
+def test_no_module_runs_beside_a_ring_leg_closer_than_a_row_each_needs(name):
+    # between a module aisle and a ring leg it runs beside, room for the ring's inner row
+    # and the module's row: half of each aisle, the two bays' depths and the clearance (on
+    # the rectangle, the modules of the third offset would run 11.37 m from the south leg)
+    plot = read_plot(ROOT / "scenarios" / "plots" / f"{name}.yaml")
+    for cand in candidates(plot, LayoutSettings(orientations=1, offsets=3)):
+        rings = [a for a in cand.aisles if a.role == "ring"]
+        for m in (a for a in cand.aisles if a.role == "module"):
+            angle = math.radians(cand.module.angle)
+            deep = plot.bay_length * math.sin(angle) + plot.bay_width * math.cos(angle)
+            room = plot.circulation_width / 2 + plot.bay_length + CLEAR + deep + m.width / 2
+            line = LineString([m.start, m.end])
+            for r in rings:
+                cross = np.cross(np.subtract(m.end, m.start), np.subtract(r.end, r.start))
+                if abs(cross) > 1e-6 * math.dist(m.start, m.end) * math.dist(r.start, r.end):
+                    continue  # not parallel
+                if _alongside(m, r) >= 1.0:
+                    gap = line.distance(LineString([r.start, r.end]))
+                    assert gap >= room - 1e-6, (cand.label, m.id, r.id, gap)

@@ -16,7 +16,7 @@ gates: [{id: main, at: [30, 0]}]
 vehicle_types:
   - valet
   - {name: van, width: 2.0, front: 4.2, rear: 1.0, wheelbase: 3.3, max_steer_deg: 30}
-bays: {angles_deg: [90, 45], width: 2.4, length: 5.3}
+bays: {angles_deg: [90, 45], width: 2.4, length: 5.3, gate_clearance: 7.5}
 aisles:
   one_way: true
   widths: {90: {two-way: 6.5}, 45: {one-way: 4.0}}
@@ -32,6 +32,7 @@ def test_a_good_plot_reads_every_key():
     assert [v.name for v in plot.vehicle_types] == ["valet", "van"]
     assert plot.vehicle_names == ("valet", "")
     assert plot.angles == (90, 45) and (plot.bay_width, plot.bay_length) == (2.4, 5.3)
+    assert plot.gate_clearance == 7.5
     assert plot.aisle_width(90, "two-way") == 6.5 and plot.aisle_width(45, "one-way") == 4.0
     assert plot.aisle_width(60, "one-way") == 5.5  # the default, untouched
     assert plot.circulation_width == 6.5
@@ -46,6 +47,7 @@ def test_defaults():
                      "gates: [{id: g, at: [0, 20]}]\n")
     assert plot.angles == (90, 60, 45) and plot.one_way
     assert (plot.bay_width, plot.bay_length) == (2.5, 5.0)
+    assert plot.gate_clearance == 10.0  # two lengths of the valet car, 4.9 m
     assert plot.aisle_width(90, "two-way") == 7.0 and plot.circulation_width == 7.0
     assert [v.name for v in plot.vehicle_types] == ["valet"]
     assert plot.building_entrances == ()
@@ -58,6 +60,8 @@ def test_defaults():
     ("angles_deg: [90, 45]", "angles_deg: [90, 30]", "8:25: bays.angles_deg[1]",
      "expected one of 90, 60, 45, found 30"),
     ("width: 2.4", "width: -2", "8:37: bays.width", "expected a number ≥ 1.5"),
+    ("gate_clearance: 7.5", "gate_clearance: -1", "8:71: bays.gate_clearance",
+     "expected a number ≥ 0"),
     ("45: {one-way: 4.0}", "45: {two-way: 4.0}", "11:37: aisles.widths.45.two-way",
      "unknown key 'two-way'"),
     ("one_way: true", "one_way: yes", "10:12: aisles.one_way", "true or false"),
