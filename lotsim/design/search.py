@@ -7,7 +7,8 @@ the best run at the plot's demand, ranked (:func:`lay_out`).
 2. The candidates are taken in order of the bays their circulation serves, judged roughly
    from their aisles before any maneuver is planned
    (:func:`~lotsim.design.circulation.circulation`: the bays along aisles a gate leads to,
-   where every junction has room for its turns), most first, then of bays drawn, and each
+   where every junction has room for its turns) less what their dead ends cost, most first,
+   then of bays drawn, and each
    is *prepared*: its
    scenario is built and every bay's parking maneuver planned for every vehicle type, the
    lot's graph built, and reachability worked out, as ``lotsim validate`` does (with the
@@ -22,9 +23,10 @@ the best run at the plot's demand, ranked (:func:`lay_out`).
 3. Each candidate, once every bay left is usable, is run with the plot's demand
    (:class:`~lotsim.design.plot.DemandSpec`, by the planner of the settings): mean time
    to park and throughput, and whether ``lotsim check`` passes the run.
-4. Ranked by usable bays, then the length of their dead ends (a loop before a dead end of
-   as many bays), then mean time to park, then throughput, then the order they were drawn
-   in.
+4. Ranked by usable bays less what their dead ends cost
+   (:attr:`LayoutSettings.dead_end_cost`: a loop before a dead end of a few bays more),
+   then the length of their dead ends, then mean time to park, then throughput, then the
+   order they were drawn in.
 """
 
 from __future__ import annotations
@@ -105,11 +107,15 @@ class LayoutSettings:
         The cooperative planner of those runs (:data:`lotsim.sim.settings.PLANNERS`).
     workers : int or None
         Worker processes (None: one per core).
+    dead_end_cost : float
+        What 100 m of dead-end aisle costs a layout in the ranking, in bays [bays per
+        100 m]: a layout ranks by its usable bays less this for its dead ends, so that a
+        loop comes before a dead end of a few bays more (0: bays alone).
 
     Examples
     --------
     >>> LayoutSettings(offsets=2).describe()
-    'orientations 4, offsets 2, prepared 8, compared 4, planner hca'
+    'orientations 4, offsets 2, prepared 8, compared 4, planner hca, dead ends 2 bays per 100 m'
     >>> LayoutSettings(orientations=0)
     Traceback (most recent call last):
     ...
@@ -122,6 +128,7 @@ class LayoutSettings:
     compared: int = 4
     planner: str = "hca"
     workers: int | None = None
+    dead_end_cost: float = 2.0
 
     def __post_init__(self) -> None:
         for name, lo, hi in (("orientations", 1, 64), ("offsets", 1, 32),
@@ -134,13 +141,19 @@ class LayoutSettings:
         if self.planner not in PLANNERS:
             raise SettingsError("planner", f"expected one of {', '.join(PLANNERS)}, found "
                                            f"{self.planner!r}")
+        cost = self.dead_end_cost
+        if isinstance(cost, bool) or not isinstance(cost, (int, float)) or \
+                not 0.0 <= cost <= 1000.0:
+            raise SettingsError("dead_end_cost", f"expected 0 to 1000 bays per 100 m, found "
+                                                 f"{cost!r}")
         if self.workers is not None and not (isinstance(self.workers, int)
                                              and 1 <= self.workers <= 256):
             raise SettingsError("workers", f"expected 1 to 256, found {self.workers!r}")
 
     def describe(self) -> str:
         return (f"orientations {self.orientations}, offsets {self.offsets}, prepared "
-                f"{self.prepared}, compared {self.compared}, planner {self.planner}")
+                f"{self.prepared}, compared {self.compared}, planner {self.planner}, "
+                f"dead ends {self.dead_end_cost:g} bays per 100 m")
 
 
 @dataclass(frozen=True, slots=True)
@@ -210,6 +223,14 @@ class Evaluation:
     short: tuple[tuple[str, int], ...] = ()
     served: int = 0
     dead_end_length: float = 0.0
+    dead_end_cost: float = 0.0
+    """What 100 m of its dead ends cost it in the ranking [bays]
+    (:attr:`LayoutSettings.dead_end_cost`)."""
+
+    @property
+    def worth(self) -> float:
+        """Its usable bays less what its dead ends cost (:attr:`dead_end_cost`)."""
+        return self.bays - self.dead_end_cost * self.dead_end_length / 100.0
 
     @property
     def ok(self) -> bool:
@@ -248,14 +269,15 @@ class Evaluation:
 
     def rank_key(self) -> tuple:
         """Whether its bays meet ADA 2010 where the plot asks for accessible bays (those
-        that do first), then usable bays as laid out, access aisles and all (most first),
-        then dead-end length (shortest first: a loop before a dead end of as many bays, to
-        the decimetre), then mean time to park (shortest first; not run: last), then
+        that do first), then usable bays as laid out, access aisles and all, less what its
+        dead ends cost (:attr:`worth`, most first, to the hundredth of a bay), then
+        dead-end length (shortest first: a loop before a dead end of as many bays, to the
+        decimetre), then mean time to park (shortest first; not run: last), then
         throughput (most first), then the order drawn."""
         t = self.mean_time_to_park if self.mean_time_to_park is not None else math.inf
         q = self.throughput if self.throughput is not None else -math.inf
-        return (self.met is False, -self.bays, round(self.dead_end_length, 1), t, -q,
-                self.index)
+        return (self.met is False, -round(self.worth, 2), round(self.dead_end_length, 1), t,
+                -q, self.index)
 
 
 @dataclass(frozen=True, slots=True)
@@ -401,7 +423,13 @@ def lay_out(plot: PlotSpec, settings: LayoutSettings | None = None, *, keep: int
     clock = time.perf_counter()
     drawn = candidates(plot, settings)
     judged = [circulation(plot, c) for c in drawn]
-    order = sorted(range(len(drawn)), key=lambda k: (-judged[k].served, -drawn[k].bays, k))
+    cost = settings.dead_end_cost / 100.0
+
+    def judged_worth(k: int) -> float:
+        return judged[k].served - cost * judged[k].dead_end_length
+
+    order = sorted(range(len(drawn)), key=lambda k: (-round(judged_worth(k), 2),
+                                                     -drawn[k].bays, k))
     area = Polygon(plot.boundary).area
     budget = min(settings.prepared, len(order))
     done: list[Evaluation] = []
@@ -414,14 +442,15 @@ def lay_out(plot: PlotSpec, settings: LayoutSettings | None = None, *, keep: int
     while pos < budget:
         # a candidate that misses the standard asked for ranks below every one that meets it
         # the ones kept: the best `enough`, or as many as hold a usable bay
-        best = sorted((e.bays for e in done if e.met is not False and e.ok), reverse=True)
-        if best and judged[order[pos]].served < best[min(enough, len(best)) - 1]:
+        best = sorted((e.worth for e in done if e.met is not False and e.ok), reverse=True)
+        if best and judged_worth(order[pos]) < best[min(enough, len(best)) - 1] - 1e-9:
             if progress is not None:  # done: no candidate left is judged to beat them
                 progress(len(done), len(done))
             break
         picks = order[pos: min(budget, pos + batch)]
         done += [dataclasses.replace(e, served=judged[k].served,
-                                     dead_end_length=judged[k].dead_end_length)
+                                     dead_end_length=judged[k].dead_end_length,
+                                     dead_end_cost=settings.dead_end_cost)
                  for k, e in zip(picks, fork_map(
                      lambda k: evaluate(plot, drawn[k], k, area, settings), picks,
                      workers=workers), strict=True)]

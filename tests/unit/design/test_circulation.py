@@ -12,7 +12,8 @@ import pytest
 from lotsim.design.candidates import Candidate, DrawnAisle, DrawnGate, DrawnRow, Module
 from lotsim.design.circulation import circulation
 from lotsim.design.plot_yaml import read_plot
-from lotsim.design.search import LayoutSettings, candidates
+from lotsim.design.search import Evaluation, LayoutSettings, candidates
+from lotsim.errors import SettingsError
 
 STRIP = """\
 name: strip
@@ -79,3 +80,23 @@ def test_the_strip_s_best_judged_candidate_is_its_ring_along_the_gate_s_edge():
     assert not any(a.role == "gate" for a in best.aisles)
     rings = [(s, b) for s, b, c in judged if c.spine is None and not c.along]
     assert rings and all(s < b / 4 for s, b in rings)
+
+
+def _judged(index: int, bays: int, dead: float, cost: float = 2.0) -> Evaluation:
+    return Evaluation(index=index, label=f"#{index}", drawn=bays, bays=bays,
+                      aisle_length=300.0, area=6000.0, yaml="x", dead_end_length=dead,
+                      dead_end_cost=cost)
+
+
+def test_a_loop_ranks_before_a_dead_end_of_a_few_bays_more():
+    # 300 m of dead ends at 2 bays per 100 m cost 6 bays: a spine of 216 (worth 210) comes
+    # after a loop of 214, before one of 209, and after a spine of as many bays with less
+    spine, loop, small = _judged(0, 216, 300.0), _judged(1, 214, 0.0), _judged(2, 209, 0.0)
+    shorter = _judged(3, 216, 150.0)
+    ranked = sorted([spine, loop, small, shorter], key=Evaluation.rank_key)
+    assert [e.index for e in ranked] == [1, 3, 0, 2]
+    # with no cost, bays alone; then the shorter dead ends first among equals
+    free = [_judged(e.index, e.bays, e.dead_end_length, 0.0) for e in (spine, loop, shorter)]
+    assert [e.index for e in sorted(free, key=Evaluation.rank_key)] == [3, 0, 1]
+    with pytest.raises(SettingsError, match="dead_end_cost"):
+        LayoutSettings(dead_end_cost=-1.0)
