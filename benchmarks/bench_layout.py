@@ -10,10 +10,10 @@ the bays of the best layout (every one usable by the plot's vehicle types), bays
 m² per bay, the candidates drawn and prepared, the best's mean time to park and throughput
 at the plot's demand, and min / median / max wall time of ``--runs`` runs; for the
 100 x 60 m rectangle also the hand count (two-way 90° double-loaded modules of 2.5 x 5.0 m
-bays on 7 m aisles, a 7 m cross aisle at each end), and for every plot its bays against the
-rule of thumb's range and the length of the best's dead ends. The counts do not change
-from run to run or machine to machine; the times do (docs/performance.md gives them for
-one machine).
+bays on 7 m aisles, a 7 m cross aisle at each end) and for the 30 x 150 m strip (three
+rows on a loop), and for every plot its bays against the rule of thumb's range and the
+length of the best's dead ends. The counts do not change from run to run or machine to
+machine; the times do (docs/performance.md gives them for one machine).
 """
 
 from __future__ import annotations
@@ -104,6 +104,8 @@ def main() -> None:
                   f"{best['park [s]']} | {best['cars/h']} | {min(times):.1f} / "
                   f"{statistics.median(times):.1f} / {max(times):.1f} |")
     print(f"\nhand count of the 100 x 60 m rectangle: {hand_count(100, 60)} bays")
+    print(f"hand count of the 30 x 150 m strip (three rows on a loop, 5 + 7 + 5 + 7 + 5 m): "
+          f"{3 * math.floor((150 - 2 * 7.0) / 2.5)} bays")
 
 
 if __name__ == "__main__":
