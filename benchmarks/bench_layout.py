@@ -10,9 +10,10 @@ the bays of the best layout (every one usable by the plot's vehicle types), bays
 m² per bay, the candidates drawn and prepared, the best's mean time to park and throughput
 at the plot's demand, and min / median / max wall time of ``--runs`` runs; for the
 100 x 60 m rectangle also the hand count (two-way 90° double-loaded modules of 2.5 x 5.0 m
-bays on 7 m aisles, a 7 m cross aisle at each end), and for every plot its bays against the
-rule of thumb's range. The counts do not change from run to run or machine to machine; the
-times do (docs/performance.md gives them for one machine).
+bays on 7 m aisles, a 7 m cross aisle at each end) and for the 30 x 150 m strip (three
+rows on a loop), and for every plot its bays against the rule of thumb's range and the
+length of the best's dead ends. The counts do not change from run to run or machine to
+machine; the times do (docs/performance.md gives them for one machine).
 """
 
 from __future__ import annotations
@@ -61,6 +62,20 @@ def lay_out(plot: Path, out: Path, jobs: int | None) -> tuple[float, str]:
     return spent, done.stdout
 
 
+FIGURES = ("per 100 m²", "aisles [m]", "dead ends", "park [s]", "cars/h")
+"""The columns of the table ``lotsim layout`` prints after ``ADA``, in order."""
+
+
+def _best_line(said: str) -> dict[str, str]:
+    """The best candidate's figures from what ``lotsim layout`` printed, by column (a plot
+    that asks for bays by use has a column per use between ``drawn`` and ``ADA``)."""
+    lines = said.splitlines()
+    head = next(x for x in lines if x.startswith(" #")).split()
+    cells = next(x for x in lines if x.startswith(" 1 ")).split()
+    n = head.index("ADA") + 1
+    return {"bays": cells[1], **dict(zip(FIGURES, cells[n:n + len(FIGURES)], strict=True))}
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--runs", type=int, default=1)
@@ -71,24 +86,26 @@ def main() -> None:
         square.write_text(HECTARE)
         plots = [*sorted(PLOTS.glob("*.yaml")), square]
         print("| plot | area [m²] | bays | per 100 m² | m² per bay | against 25-30 m² | "
-              "drawn / prepared | park [s] | cars/h | wall min / median / max [s] |")
-        print("|---|---|---|---|---|---|---|---|---|---|")
+              "dead ends [m] | drawn / prepared | park [s] | cars/h | "
+              "wall min / median / max [s] |")
+        print("|---|---|---|---|---|---|---|---|---|---|---|")
         for plot in plots:
             times, said = [], ""
             for _ in range(args.runs):
                 spent, said = lay_out(plot, Path(tmp) / "lot.yaml", args.jobs)
                 times.append(spent)
             head = re.search(r": (\S+), (\d+) m²; (\d+) candidates drawn, (\d+) prepared", said)
-            best = re.search(r"^ 1\s+(\d+)\s+\d+\s+([\d.]+)\s+[\d.]+\s+([\d.]+)\s+(\d+)", said,
-                             re.M)
-            area, bays = float(head.group(2)), int(best.group(1))
+            best = _best_line(said)
+            area, bays = float(head.group(2)), int(best["bays"])
             per = area / bays
             verdict = "within" if 25 <= per <= 30 else ("denser" if per < 25 else "sparser")
-            print(f"| {head.group(1)} | {area:.0f} | {bays} | {best.group(2)} | {per:.1f} | "
-                  f"{verdict} | {head.group(3)} / {head.group(4)} | {best.group(3)} | "
-                  f"{best.group(4)} | {min(times):.1f} / {statistics.median(times):.1f} / "
-                  f"{max(times):.1f} |")
+            print(f"| {head.group(1)} | {area:.0f} | {bays} | {best['per 100 m²']} | {per:.1f} | "
+                  f"{verdict} | {best['dead ends']} | {head.group(3)} / {head.group(4)} | "
+                  f"{best['park [s]']} | {best['cars/h']} | {min(times):.1f} / "
+                  f"{statistics.median(times):.1f} / {max(times):.1f} |")
     print(f"\nhand count of the 100 x 60 m rectangle: {hand_count(100, 60)} bays")
+    print(f"hand count of the 30 x 150 m strip (three rows on a loop, 5 + 7 + 5 + 7 + 5 m): "
+          f"{3 * math.floor((150 - 2 * 7.0) / 2.5)} bays")
 
 
 if __name__ == "__main__":

@@ -117,12 +117,14 @@ class DrawnRow:
 
 @dataclass
 class DrawnGate:
-    """A gate's entrance and exit: poses (x, y, heading [rad]) on its aisle."""
+    """A gate's entrance and exit: poses (x, y, heading [rad]) on its aisle; its ``mouth``,
+    the stretch of boundary, as wide as the aisle, where the aisle meets it."""
 
     id: str
     aisle: str
     entrance: tuple[float, float, float]
     exit: tuple[float, float, float]
+    mouth: tuple[Point2, Point2] | None = None
 
 
 @dataclass
@@ -141,6 +143,8 @@ class Candidate:
     """Whether the ring also runs round each island."""
     spine: tuple[str, bool] | None = None
     """For a spine candidate (:func:`draw_spine`): its gate, and whether it has branches."""
+    along: tuple[int, ...] = ()
+    """The boundary's edges the ring runs beside, with no perimeter row (:func:`draw`)."""
 
     @property
     def bays(self) -> int:
@@ -161,6 +165,8 @@ class Candidate:
             return f"a 90° two-way spine from gate {gate}{what}"
         order = "inner rows first" if self.inner_first else "modules first"
         ring = ", islands ringed" if self.ringed else ""
+        if self.along:
+            ring += ", the ring along the gates' edges"
         return (f"{self.module.label} modules at {self.orientation_deg:.1f}°, offset "
                 f"{self.offset:.2f} m, {order}{ring}")
 
@@ -240,11 +246,15 @@ def _rings(region: Polygon) -> list[np.ndarray]:
 
 
 def draw(plot: PlotSpec, module: Module, orientation_deg: float, offset: float,
-         inner_first: bool, ring_islands: bool = True) -> Candidate | None:
+         inner_first: bool, ring_islands: bool = True, along: tuple[int, ...] = ()
+         ) -> Candidate | None:
     """One candidate of ``plot`` (see the module's description); None where the plot has no
     room for a ring, or a gate's aisle meets none. Without ``ring_islands``, the ring runs
     round the plot only, and a module aisle that meets an island ends short of it (a dead
-    end, where cars turn round; two-way modules only).
+    end, where cars turn round; two-way modules only). Along the boundary's edges
+    ``along`` (their indices: edge ``k`` runs from point ``k`` to the next), the ring runs
+    beside the boundary, with no perimeter row, and a gate on such an edge opens straight
+    onto the ring (:func:`_gate_on_ring`).
 
     Examples
     --------
@@ -261,7 +271,8 @@ def draw(plot: PlotSpec, module: Module, orientation_deg: float, offset: float,
     islands = [Polygon(frame.to_local(i.polygon)) for i in plot.islands]
     ring_w = plot.circulation_width
     perimeter = plot.bay_length + ring_w / 2 + CLEAR
-    inside = _ring_region(outline, islands if ring_islands else [], perimeter)
+    inside = _ring_region(outline, islands if ring_islands else [], perimeter, along,
+                          ring_w / 2 + CLEAR)
     if inside is None:
         return None
     if not ring_islands and (module.one_way or not islands):
@@ -287,8 +298,10 @@ def draw(plot: PlotSpec, module: Module, orientation_deg: float, offset: float,
             [i.buffer(module.width / 2 + CLEAR + DEAD_END_ROOM, join_style="mitre")
              for i in islands]))
 
-    # module aisles: the parts inside the ring of lines along x, one pitch apart
+    # module aisles: the parts inside the ring of lines along x, one pitch apart, each at
+    # least a ring's inner row and its own row of bays from a ring leg it runs beside
     p = pitch(module, plot)
+    beside = ring_w / 2 + plot.bay_length + CLEAR + depth(module, plot) + module.width / 2
     x0, y0, x1, y1 = inside.bounds
     first = y0 + (offset % p)
     modules: list[tuple[Point2, Point2]] = []
@@ -312,7 +325,7 @@ def draw(plot: PlotSpec, module: Module, orientation_deg: float, offset: float,
             if seg.length <= ta + tb + 1.0:
                 continue
             core = _strip((ax + ta, y), (bx - tb, y), module.width + 2 * CLEAR)
-            if core.intersects(ring_strips):
+            if core.intersects(ring_strips) or _beside_ring(ax, bx, y, legs, beside):
                 continue
             if module.one_way and k % 2 == 1:
                 a, b = b, a
@@ -328,6 +341,12 @@ def draw(plot: PlotSpec, module: Module, orientation_deg: float, offset: float,
     local_gates = frame.to_local([g.at for g in plot.gates])
     lines = [(LineString([a.start, a.end]), a) for a in aisles]
     for g, at in zip(plot.gates, local_gates, strict=True):
+        if edge_of(outline, at) in along:
+            gate = _gate_on_ring(plot, g.id, at, aisles)
+            if gate is None:
+                return None
+            gates.append(gate)
+            continue
         drawn = _gate(plot, g.id, at, outline, lines)
         if drawn is None:
             return None
@@ -337,7 +356,8 @@ def draw(plot: PlotSpec, module: Module, orientation_deg: float, offset: float,
     aisles += gate_aisles
 
     strips = [_strip(a.start, a.end, a.width) for a in aisles]
-    things = _Things(strips + islands, [a.id for a in aisles] + [""] * len(islands))
+    things = _Things(strips + islands, [a.id for a in aisles] + [""] * len(islands),
+                     _mouths(plot, gates))
     room = outline.buffer(-(CLEAR - EPS), join_style="mitre")
     rows: list[DrawnRow] = []
     ring90 = Module(90, False, ring_w)
@@ -356,14 +376,54 @@ def draw(plot: PlotSpec, module: Module, orientation_deg: float, offset: float,
                 rows += _pack(plot, a, side, mod, room, things)
     rows += _compact_rows(plot, sides, room, things, rows)
     cand = Candidate(orientation_deg, module, offset, inner_first, aisles, rows, gates,
-                     ring_islands and bool(islands))
+                     ring_islands and bool(islands), along=tuple(along))
     return _to_plot(cand, frame)
 
 
-def _ring_region(outline: Polygon, islands: list[Polygon], d: float) -> Polygon | None:
-    """The inside of the ring aisle: the outline shrunk by ``d``, less the islands grown by
-    ``d``; its largest part, simplified so that no leg is very short."""
-    inner = outline.buffer(-d, join_style="mitre")
+BESIDE_DEG = 15.0
+"""A module aisle runs beside a ring leg that makes less than this angle with it
+[degrees]."""
+
+
+def _beside_ring(ax: float, bx: float, y: float, legs: list[tuple[Point2, Point2]],
+                 room: float) -> bool:
+    """Whether the module aisle along x from ``ax`` to ``bx`` at ``y`` runs beside a ring leg
+    (within :data:`BESIDE_DEG` of its direction, alongside it for a metre or more) closer
+    than ``room`` [m], measured at the middle of the stretch they run alongside: two aisles
+    side by side with no room for a row of bays each between them."""
+    lo, hi = min(ax, bx), max(ax, bx)
+    for (px, py), (qx, qy) in legs:
+        dx, dy = qx - px, qy - py
+        if abs(dy) > math.sin(math.radians(BESIDE_DEG)) * math.hypot(dx, dy):
+            continue
+        a, b = max(lo, min(px, qx)), min(hi, max(px, qx))
+        if b - a < 1.0:
+            continue
+        mid = (a + b) / 2
+        if abs(py + (mid - px) * dy / dx - y) < room - EPS:
+            return True
+    return False
+
+
+def _ring_region(outline: Polygon, islands: list[Polygon], d: float,
+                 along: tuple[int, ...] = (), near: float = 0.0) -> Polygon | None:
+    """The inside of the ring aisle: the outline shrunk by ``d`` (by ``near`` along the
+    edges ``along``), less the islands grown by ``d``; its largest part, simplified so that
+    no leg is very short."""
+    if along:
+        inner = outline.buffer(-near, join_style="mitre")
+        pts = np.asarray(outline.exterior.coords)[:-1]
+        turn = 1.0 if outline.exterior.is_ccw else -1.0
+        for k in range(len(pts)):
+            if k in along:
+                continue
+            a, b = pts[k], pts[(k + 1) % len(pts)]
+            u = (b - a) / np.hypot(*(b - a))
+            n = turn * np.array([-u[1], u[0]])  # inward
+            inner = inner.difference(Polygon([a - u * d, b + u * d, b + u * d + n * d,
+                                              a - u * d + n * d]))
+    else:
+        inner = outline.buffer(-d, join_style="mitre")
     for isl in islands:
         inner = inner.difference(isl.buffer(d, join_style="mitre"))
     if inner.is_empty:
@@ -412,7 +472,7 @@ def _gate(plot: PlotSpec, gid: str, at: np.ndarray, outline: Polygon,
           lines: list[tuple[LineString, DrawnAisle]]) -> tuple[DrawnAisle, DrawnGate] | None:
     """The aisle from a gate square to its boundary edge into the lot, to the first aisle
     it meets, with the gate's entrance and exit on it; None when it meets none in reach."""
-    start, n = _inward(outline, at)
+    start, n = _inward(outline, at, plot.circulation_width)
     ray = LineString([start, start + n * GATE_MAX])
     best = None
     for line, _ in lines:
@@ -436,6 +496,69 @@ def _gate(plot: PlotSpec, gid: str, at: np.ndarray, outline: Polygon,
     return aisle, _gate_poses(plot, gid, aisle.id, start, n)
 
 
+def gate_edges(plot: PlotSpec) -> tuple[int, ...]:
+    """The boundary's edges a ring may run beside so that the gates open straight onto it:
+    each gate's edge, and the edge beyond the nearer corner of a gate closer to it than a
+    perimeter row and half the ring (its aisle would meet the ring at that corner)."""
+    outline = Polygon(plot.boundary)
+    pts = np.asarray(plot.boundary, dtype=float)
+    reach = plot.bay_length + plot.circulation_width / 2 + CLEAR
+    out: set[int] = set()
+    for g in plot.gates:
+        k = edge_of(outline, g.at)
+        a, b = pts[k], pts[(k + 1) % len(pts)]
+        s = float(np.dot(np.asarray(g.at) - a, (b - a) / np.hypot(*(b - a))))
+        out.add(k)
+        if s < reach:
+            out.add((k - 1) % len(pts))
+        if np.hypot(*(b - a)) - s < reach:
+            out.add((k + 1) % len(pts))
+    return tuple(sorted(out))
+
+
+def edge_of(outline: Polygon, at) -> int:
+    """The index of the boundary's edge nearest the point ``at`` (edge ``k`` runs from
+    point ``k`` to the next)."""
+    ring = np.asarray(outline.exterior.coords)
+    g = Point(at)
+    return int(np.argmin([LineString(ring[i:i + 2]).distance(g) for i in range(len(ring) - 1)]))
+
+
+def _gate_on_ring(plot: PlotSpec, gid: str, at: np.ndarray, aisles: list[DrawnAisle]
+                  ) -> DrawnGate | None:
+    """A gate that opens straight onto the ring leg running beside its edge: its entrance
+    on the leg's lane nearer the boundary, heading the way that lane runs, and its exit on
+    the other lane, heading the other way, both abeam of the gate (moved along the leg, at
+    most half its width and :data:`CLEAR`, where the gate lies beyond the leg's end); None
+    where no leg runs beside it."""
+    w = plot.circulation_width
+    g = np.asarray(at, dtype=float)
+    for a in aisles:
+        if a.role != "ring":
+            continue
+        p0, p1 = np.asarray(a.start, dtype=float), np.asarray(a.end, dtype=float)
+        length = float(np.hypot(*(p1 - p0)))
+        u = (p1 - p0) / length
+        s = float(np.dot(g - p0, u))
+        off = float(u[0] * (g - p0)[1] - u[1] * (g - p0)[0])  # > 0: the gate is left of it
+        if abs(abs(off) - (w / 2 + CLEAR)) > 0.5 or not -(w / 2 + CLEAR) - EPS <= s <= \
+                length + w / 2 + CLEAR + EPS:
+            continue
+        s = min(max(s, 0.0), length)
+        heading = math.atan2(u[1], u[0])
+        if off > 0:  # the lane nearer the gate runs against the leg
+            heading += math.pi
+        side = math.copysign(w / 4, off)
+        left = np.array([-u[1], u[0]])
+        inward = p0 + u * s + left * side
+        outward = p0 + u * s - left * side
+        edge = p0 + u * s + left * math.copysign(w / 2 + CLEAR, off)
+        mouth = (tuple(map(float, edge - u * w / 2)), tuple(map(float, edge + u * w / 2)))
+        return DrawnGate(gid, a.id, (*map(float, inward), heading),
+                         (*map(float, outward), heading + math.pi), mouth)
+    return None
+
+
 def draw_spine(plot: PlotSpec, gate: int, offset: float, branches: bool,
                branches_first: bool = True) -> Candidate | None:
     """A candidate for a plot too small or too narrow for a ring: a two-way *spine* aisle
@@ -452,15 +575,15 @@ def draw_spine(plot: PlotSpec, gate: int, offset: float, branches: bool,
     >>> plot = read_plot("boundary: [[0, 0], [24, 0], [24, 30], [0, 30]]\\n"
     ...                  "gates: [{id: in, at: [12, 0]}]\\n")
     >>> c = draw_spine(plot, 0, 0.0, False)
-    >>> [a.role for a in c.aisles], c.bays
-    (['gate'], 22)
+    >>> [a.role for a in c.aisles], c.bays  # none within 10 m of the gate's mouth
+    (['gate'], 16)
     """
     w = plot.circulation_width
     outline = Polygon(plot.boundary)
     islands = [Polygon(i.polygon) for i in plot.islands]
     blocked = unary_union([i.buffer(CLEAR) for i in islands]) if islands else None
     g = plot.gates[gate]
-    start, n = _inward(outline, np.asarray(g.at, dtype=float))
+    start, n = _inward(outline, np.asarray(g.at, dtype=float), w)
 
     def reach(p0: np.ndarray, u: np.ndarray, first: float) -> float:
         """How far an aisle from ``p0`` along ``u`` may run, its strip inside the plot and
@@ -506,7 +629,8 @@ def draw_spine(plot: PlotSpec, gate: int, offset: float, branches: bool,
         aisles.append(drawn[0])
         gates.append(drawn[1])
     strips = [_strip(a.start, a.end, a.width) for a in aisles]
-    things = _Things(strips + islands, [a.id for a in aisles] + [""] * len(islands))
+    things = _Things(strips + islands, [a.id for a in aisles] + [""] * len(islands),
+                     _mouths(plot, gates))
     room = outline.buffer(-(CLEAR - EPS), join_style="mitre")
     rows: list[DrawnRow] = []
     spine90 = Module(90, False, w)
@@ -520,18 +644,25 @@ def draw_spine(plot: PlotSpec, gate: int, offset: float, branches: bool,
                      aisles, rows, gates, spine=(g.id, branches))
 
 
-def _inward(outline: Polygon, at: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """The point :data:`GATE_INSET` inside the boundary from the point of it nearest ``at``,
-    and the unit square to its edge, inward."""
+def _inward(outline: Polygon, at: np.ndarray, width: float) -> tuple[np.ndarray, np.ndarray]:
+    """Where a gate's aisle of ``width`` [m] begins: :data:`GATE_INSET` inside the boundary
+    from the point of it nearest ``at``, moved along that edge, where the gate lies near one
+    of its ends, until the aisle's mouth lies on the edge with :data:`CLEAR` to spare (at
+    most half the width and that: the mouth still takes the gate in); and the unit square
+    to the edge, inward."""
     ring = np.asarray(outline.exterior.coords)
     g = Point(at)
     k = int(np.argmin([LineString(ring[i:i + 2]).distance(g) for i in range(len(ring) - 1)]))
     e = ring[k + 1] - ring[k]
-    e = e / np.hypot(*e)
+    span = float(np.hypot(*e))
+    e = e / span
     n = np.array([-e[1], e[0]])  # left of a counter-clockwise edge is inward
     if not outline.exterior.is_ccw:
         n = -n
-    start = np.asarray(outline.exterior.interpolate(outline.exterior.project(g)).coords[0])
+    s = float(np.dot(np.asarray(at, dtype=float) - ring[k], e))
+    room = width / 2 + CLEAR
+    s = min(max(s, room), span - room) if span >= 2 * room else span / 2
+    start = ring[k] + e * s
     return start + n * GATE_INSET, n
 
 
@@ -546,15 +677,34 @@ def _gate_poses(plot: PlotSpec, gid: str, aisle: str, start: np.ndarray, n: np.n
     rear = max(v.rear for v in plot.vehicle_types)
     inward = start + n * (rear + 0.5) + right * width / 4
     outward = start + n * (longest + 0.5) - right * width / 4
+    edge = start - n * GATE_INSET
+    mouth = (tuple(map(float, edge - right * width / 2)),
+             tuple(map(float, edge + right * width / 2)))
     return DrawnGate(gid, aisle, (*map(float, inward), heading),
-                     (*map(float, outward), heading + math.pi))
+                     (*map(float, outward), heading + math.pi), mouth)
+
+
+def _mouths(plot: PlotSpec, gates: list[DrawnGate]):
+    """Where no bay's centre may lie: within :attr:`PlotSpec.gate_clearance` of a gate's
+    mouth (None: nowhere)."""
+    if plot.gate_clearance <= 0:
+        return None
+    zones = [LineString(g.mouth).buffer(plot.gate_clearance) for g in gates
+             if g.mouth is not None]
+    if not zones:
+        return None
+    zone = unary_union(zones)
+    shapely.prepare(zone)
+    return zone
 
 
 class _Things:
     """What bays keep :data:`CLEAR` from: aisle strips (by aisle id), islands (id ``""``)
-    and the bays kept so far (each with its aisle and side)."""
+    and the bays kept so far (each with its aisle and side); and ``mouths``, what their
+    centres keep out of (:func:`_mouths`)."""
 
-    def __init__(self, shapes: list[Polygon], owners: list[str]):
+    def __init__(self, shapes: list[Polygon], owners: list[str], mouths=None):
+        self.mouths = mouths
         self.fixed = shapes
         self.owners = owners
         self.fixed_tree = shapely.STRtree(shapes)
@@ -565,7 +715,10 @@ class _Things:
     def clear(self, bay: Polygon, aisle: str, beside: tuple[str, str] | None = None) -> bool:
         """Whether ``bay`` keeps clear of everything but its own aisle, which it may
         touch (its entry lies on the aisle's edge), and, with ``beside`` (aisle, side), the
-        bays along that side, which it may touch as neighbours in a row do."""
+        bays along that side, which it may touch as neighbours in a row do; and keeps its
+        centre out of the gates' mouths."""
+        if self.mouths is not None and self.mouths.intersects(bay.centroid):
+            return False
         for i in self.fixed_tree.query(bay, predicate="dwithin", distance=CLEAR - EPS):
             if self.owners[i] != aisle or \
                     shapely.area(shapely.intersection(self.fixed[i], bay)) > 1e-6:
@@ -666,6 +819,8 @@ def _to_plot(c: Candidate, frame: _Frame) -> Candidate:
     rows = [DrawnRow(r.aisle, r.side, r.angle, r.start, r.count,
                      [Polygon(frame.to_plot(np.asarray(p.exterior.coords)))
                       for p in r.polygons], r.size) for r in c.rows]
-    gates = [DrawnGate(g.id, g.aisle, pose(g.entrance), pose(g.exit)) for g in c.gates]
+    gates = [DrawnGate(g.id, g.aisle, pose(g.entrance), pose(g.exit),
+                       None if g.mouth is None else (pt(g.mouth[0]), pt(g.mouth[1])))
+             for g in c.gates]
     return Candidate(c.orientation_deg, c.module, c.offset, c.inner_first, aisles, rows, gates,
-                     c.ringed, c.spine)
+                     c.ringed, c.spine, c.along)

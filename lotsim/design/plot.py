@@ -32,6 +32,11 @@ BAY_WIDTH = 2.5
 """Default bay width [m] (``docs/layout.md``)."""
 BAY_LENGTH = 5.0
 """Default bay length [m] (``docs/layout.md``)."""
+GATE_CLEARANCE = 10.0
+"""Default distance from a gate's mouth within which no bay's centre lies [m]
+(``docs/layout.md``): two lengths of the valet car (4.9 m), so that a car coming in is
+through the gate and straight before it meets a car backing out of a bay, and a car
+leaving does not back out across the lane of those coming in."""
 
 
 def _loc() -> Location | None:
@@ -157,6 +162,9 @@ class PlotSpec:
         The bay angles allowed [degrees], of :data:`ANGLES`.
     bay_width, bay_length : float
         The bay's size [m].
+    gate_clearance : float
+        No bay's centre lies within this distance of a gate's mouth [m] (0: bays may stand
+        at the mouth).
     one_way : bool
         Whether one-way aisles may be used (the angled modules are one-way).
     aisle_widths : tuple of ((angle, direction), width)
@@ -180,6 +188,7 @@ class PlotSpec:
     angles: tuple[int, ...] = ANGLES
     bay_width: float = BAY_WIDTH
     bay_length: float = BAY_LENGTH
+    gate_clearance: float = GATE_CLEARANCE
     one_way: bool = True
     aisle_widths: tuple[tuple[tuple[int, str], float], ...] = tuple(DEFAULT_WIDTHS.items())
     circulation_width: float = DEFAULT_WIDTHS[(90, "two-way")]

@@ -15,12 +15,13 @@ from shapely.geometry import Point as ShapelyPoint
 from shapely.geometry import Polygon
 from shapely.validation import explain_validity
 
-from lotsim.core.units import shown_length
+from lotsim.core.units import in_units, shown_length
 from lotsim.design.plot import (
     ANGLES,
     BAY_LENGTH,
     BAY_WIDTH,
     DEFAULT_WIDTHS,
+    GATE_CLEARANCE,
     BuildingEntranceSpec,
     DemandSpec,
     GateSpec,
@@ -110,7 +111,7 @@ def parse_plot(root: YNode) -> PlotSpec:
         if got is not None:
             types, names = got
     bays = errors.attempt(_bays, f["bays"], default=None) if "bays" in f else None
-    angles, width, length = bays or (ANGLES, BAY_WIDTH, BAY_LENGTH)
+    angles, width, length, clearance = bays or (ANGLES, BAY_WIDTH, BAY_LENGTH, GATE_CLEARANCE)
     aisles = errors.attempt(_aisles, f["aisles"], default=None) if "aisles" in f else None
     one_way, widths, circulation = aisles or (True, dict(DEFAULT_WIDTHS),
                                               DEFAULT_WIDTHS[(90, "two-way")])
@@ -120,12 +121,15 @@ def parse_plot(root: YNode) -> PlotSpec:
     if "vehicle_types" in f and ("bays" not in f or bays is not None):
         for n, v in zip(f["vehicle_types"].items(), types, strict=False):
             errors.attempt(_fits_bays, n, v, width, length, "bays" in f)
+    elif "vehicle_types" not in f and bays is not None:
+        errors.attempt(_default_fits_bays, f["bays"], types[0], width, length)
     demand = errors.attempt(_demand, f["demand"], default=None) if "demand" in f else None
     uses = (errors.attempt(_uses, f["uses"], types, width, length, entrances,
                            default=None) if "uses" in f else None)
     errors.check()
     return PlotSpec(name=name, boundary=boundary, gates=gates, vehicle_types=types,
                     islands=islands, angles=angles, bay_width=width, bay_length=length,
+                    gate_clearance=clearance,
                     one_way=one_way, aisle_widths=tuple(sorted(widths.items(),
                                                                key=lambda kv: (-kv[0][0],
                                                                                kv[0][1]))),
@@ -147,6 +151,21 @@ def _fits_bays(node: YNode, vehicle, width: float, length: float, given: bool) -
                              f"plot's bays {bay:.2f} m{which}: no bay of any layout would "
                              f"be usable for it; it needs bays of at least {car:.2f} m "
                              f"(bays: {{{key}: {need:g}}})")
+
+
+def _default_fits_bays(node: YNode, vehicle, width: float, length: float) -> None:
+    """Refuse bays too small for the default vehicle type (the plot names none) at its
+    ``bays`` section, before any layout is searched, with the size they need."""
+    for what, car, bay, key in (("wide", vehicle.width, width, "width"),
+                                ("long", vehicle.length, length, "length")):
+        if car > bay:
+            need = math.ceil(in_units(car, node.units) * 10 - 1e-9) / 10
+            shown = shown_length(car, node.units, ".2f")
+            raise node.error(f"expected bays at least {shown} {what} for the default vehicle "
+                             f"type {vehicle.name!r} (the plot names no vehicle_types), found "
+                             f"{shown_length(bay, node.units, '.2f')}: no bay of any layout "
+                             f"would be usable for it; give bays: {{{key}: {need:g}}}, or "
+                             f"vehicle_types that fit")
 
 
 def _refuse(node: YNode, message: str) -> None:
@@ -258,7 +277,7 @@ def _vehicle_types(node: YNode):
 
 
 def _bays(node: YNode):
-    f = node.fields(optional=["angles_deg", "width", "length"])
+    f = node.fields(optional=["angles_deg", "width", "length", "gate_clearance"])
     angles = ANGLES
     if "angles_deg" in f:
         got = []
@@ -272,7 +291,9 @@ def _bays(node: YNode):
         angles = tuple(sorted(got, reverse=True))
     width = f["width"].length(min=1.5, max=5.0) if "width" in f else BAY_WIDTH
     length = f["length"].length(min=3.0, max=12.0) if "length" in f else BAY_LENGTH
-    return angles, width, length
+    clearance = (f["gate_clearance"].length(min=0.0, max=100.0) if "gate_clearance" in f
+                 else GATE_CLEARANCE)
+    return angles, width, length, clearance
 
 
 def _aisles(node: YNode):

@@ -4,7 +4,12 @@ the best run at the plot's demand, ranked (:func:`lay_out`).
 1. Every candidate of the plot is drawn (:mod:`lotsim.design.candidates`: each module kind
    the plot allows, each orientation, each offset, either order of rows); drawing is
    geometry only and quick.
-2. The candidates are taken in order of bays drawn, most first, and each is *prepared*: its
+2. The candidates are taken in order of the bays their circulation serves, judged roughly
+   from their aisles before any maneuver is planned
+   (:func:`~lotsim.design.circulation.circulation`: the bays along aisles a gate leads to,
+   where every junction has room for its turns) less what their dead ends cost, most first,
+   then of bays drawn, and each
+   is *prepared*: its
    scenario is built and every bay's parking maneuver planned for every vehicle type, the
    lot's graph built, and reachability worked out, as ``lotsim validate`` does (with the
    on-disk cache as ``lotsim validate`` uses it: laying the same plot out again loads its
@@ -12,14 +17,16 @@ the best run at the plot's demand, ranked (:func:`lay_out`).
    some type cannot reach, park in or leave for an exit are dropped and the rest prepared
    again, until every bay is usable (``lotsim validate --strict`` passes). Candidates are
    independent: they are prepared on the worker pool (:func:`lotsim.core.workers.fork_map`),
-   a batch at a time, and the search stops when no candidate left can have more usable
-   bays than the ones it keeps (a candidate never has more usable bays than it has drawn),
-   or after :attr:`LayoutSettings.prepared` candidates.
+   a batch at a time, and the search stops when no candidate left is judged to serve more
+   bays than the ones it keeps have usable (:attr:`LayoutSettings.compared`), or after
+   :attr:`LayoutSettings.prepared` candidates.
 3. Each candidate, once every bay left is usable, is run with the plot's demand
    (:class:`~lotsim.design.plot.DemandSpec`, by the planner of the settings): mean time
    to park and throughput, and whether ``lotsim check`` passes the run.
-4. Ranked by usable bays, then mean time to park, then throughput, then the order they were
-   drawn in.
+4. Ranked by usable bays less what their dead ends cost
+   (:attr:`LayoutSettings.dead_end_cost`: a loop before a dead end of a few bays more),
+   then the length of their dead ends, then mean time to park, then throughput, then the
+   order they were drawn in.
 """
 
 from __future__ import annotations
@@ -44,10 +51,12 @@ from lotsim.design.candidates import (
     Module,
     draw,
     draw_spine,
+    gate_edges,
     modules_of,
     orientations,
     pitch,
 )
+from lotsim.design.circulation import circulation
 from lotsim.design.plot import PlotSpec
 from lotsim.errors import ScenarioError, SettingsError
 from lotsim.io.imports.draft import (
@@ -90,17 +99,23 @@ class LayoutSettings:
         Most candidates prepared (their bays checked by the maneuver planner) and run at
         the plot's demand.
     compared : int
-        The search stops early only once it holds this many candidates (or as many as are
-        written) that no candidate left can beat: the candidates set side by side.
+        The search stops early once no candidate left is judged to beat this many
+        candidates it holds (or as many as are written; or all it holds with a usable bay,
+        when fewer): a candidate's circulation serves fewer bays than they have usable.
+        The candidates set side by side.
     planner : str
         The cooperative planner of those runs (:data:`lotsim.sim.settings.PLANNERS`).
     workers : int or None
         Worker processes (None: one per core).
+    dead_end_cost : float
+        What 100 m of dead-end aisle costs a layout in the ranking, in bays [bays per
+        100 m]: a layout ranks by its usable bays less this for its dead ends, so that a
+        loop comes before a dead end of a few bays more (0: bays alone).
 
     Examples
     --------
     >>> LayoutSettings(offsets=2).describe()
-    'orientations 4, offsets 2, prepared 8, compared 4, planner hca'
+    'orientations 4, offsets 2, prepared 8, compared 4, planner hca, dead ends 2 bays per 100 m'
     >>> LayoutSettings(orientations=0)
     Traceback (most recent call last):
     ...
@@ -113,6 +128,7 @@ class LayoutSettings:
     compared: int = 4
     planner: str = "hca"
     workers: int | None = None
+    dead_end_cost: float = 2.0
 
     def __post_init__(self) -> None:
         for name, lo, hi in (("orientations", 1, 64), ("offsets", 1, 32),
@@ -125,13 +141,19 @@ class LayoutSettings:
         if self.planner not in PLANNERS:
             raise SettingsError("planner", f"expected one of {', '.join(PLANNERS)}, found "
                                            f"{self.planner!r}")
+        cost = self.dead_end_cost
+        if isinstance(cost, bool) or not isinstance(cost, (int, float)) or \
+                not 0.0 <= cost <= 1000.0:
+            raise SettingsError("dead_end_cost", f"expected 0 to 1000 bays per 100 m, found "
+                                                 f"{cost!r}")
         if self.workers is not None and not (isinstance(self.workers, int)
                                              and 1 <= self.workers <= 256):
             raise SettingsError("workers", f"expected 1 to 256, found {self.workers!r}")
 
     def describe(self) -> str:
         return (f"orientations {self.orientations}, offsets {self.offsets}, prepared "
-                f"{self.prepared}, compared {self.compared}, planner {self.planner}")
+                f"{self.prepared}, compared {self.compared}, planner {self.planner}, "
+                f"dead ends {self.dead_end_cost:g} bays per 100 m")
 
 
 @dataclass(frozen=True, slots=True)
@@ -175,6 +197,11 @@ class Evaluation:
         checks them; None where the plot asks for no accessible bays.
     short : tuple of (use, bays)
         The bays by use asked for that it has no room for.
+    served : int
+        The bays its circulation was judged to serve before it was prepared
+        (:func:`~lotsim.design.circulation.circulation`).
+    dead_end_length : float
+        Aisle a car comes back along after a dead end, in all [m].
     """
 
     index: int
@@ -194,6 +221,16 @@ class Evaluation:
     by_use: tuple[tuple[str, int], ...] = ()
     met: bool | None = None
     short: tuple[tuple[str, int], ...] = ()
+    served: int = 0
+    dead_end_length: float = 0.0
+    dead_end_cost: float = 0.0
+    """What 100 m of its dead ends cost it in the ranking [bays]
+    (:attr:`LayoutSettings.dead_end_cost`)."""
+
+    @property
+    def worth(self) -> float:
+        """Its usable bays less what its dead ends cost (:attr:`dead_end_cost`)."""
+        return self.bays - self.dead_end_cost * self.dead_end_length / 100.0
 
     @property
     def ok(self) -> bool:
@@ -232,12 +269,15 @@ class Evaluation:
 
     def rank_key(self) -> tuple:
         """Whether its bays meet ADA 2010 where the plot asks for accessible bays (those
-        that do first), then usable bays as laid out, access aisles and all (most first),
-        then mean time to park (shortest first; not run: last), then throughput (most
-        first), then the order drawn."""
+        that do first), then usable bays as laid out, access aisles and all, less what its
+        dead ends cost (:attr:`worth`, most first, to the hundredth of a bay), then
+        dead-end length (shortest first: a loop before a dead end of as many bays, to the
+        decimetre), then mean time to park (shortest first; not run: last), then
+        throughput (most first), then the order drawn."""
         t = self.mean_time_to_park if self.mean_time_to_park is not None else math.inf
         q = self.throughput if self.throughput is not None else -math.inf
-        return (self.met is False, -self.bays, t, -q, self.index)
+        return (self.met is False, -round(self.worth, 2), round(self.dead_end_length, 1), t,
+                -q, self.index)
 
 
 @dataclass(frozen=True, slots=True)
@@ -262,7 +302,7 @@ class LayoutResult:
         asked = _columns(self.plot)
         uses = "".join(f"  {title:>{len(title)}}" for _, title in asked)
         head = (f"{'#':>2}  {'bays':>5}  {'drawn':>5}{uses}  {'ADA':>3}  {'per 100 m²':>10}  "
-                f"{'aisles [m]':>10}  {'park [s]':>8}  {'cars/h':>7}  layout")
+                f"{'aisles [m]':>10}  {'dead ends':>9}  {'park [s]':>8}  {'cars/h':>7}  layout")
         lines = [head]
         for k, e in enumerate(self.ranked[:most]):
             park = f"{e.mean_time_to_park:8.1f}" if e.mean_time_to_park is not None else \
@@ -274,7 +314,8 @@ class LayoutResult:
                             for u, title in asked)
             ada = "-" if e.met is None or not e.ok else ("yes" if e.met else "no")
             lines.append(f"{k + 1:>2}  {e.bays:>5}  {e.drawn:>5}{cells}  {ada:>3}  "
-                         f"{e.bays_per_100m2:>10.2f}  {e.aisle_length:>10.1f}  {park}  "
+                         f"{e.bays_per_100m2:>10.2f}  {e.aisle_length:>10.1f}  "
+                         f"{e.dead_end_length:>9.1f}  {park}  "
                          f"{rate}  {what}")
         return "\n".join(lines)
 
@@ -303,7 +344,9 @@ def _use_cell(counts: dict[str, int], use: str, ok: bool) -> str:
 
 def candidates(plot: PlotSpec, settings: LayoutSettings) -> list[Candidate]:
     """Every candidate of ``plot`` (drawn, not checked), in a fixed order: ring candidates by
-    module kind, orientation, offset, order of rows, islands ringed or not; then spine
+    module kind, orientation, offset, order of rows, islands ringed or not, the ring inside
+    perimeter rows everywhere or beside the boundary along the gates' edges
+    (:func:`~lotsim.design.candidates.gate_edges`); then spine
     candidates by gate, offset of branches, order of rows; a candidate drawn alike by other
     choices, once.
 
@@ -313,8 +356,8 @@ def candidates(plot: PlotSpec, settings: LayoutSettings) -> list[Candidate]:
     >>> plot = read_plot("boundary: [[0, 0], [60, 0], [60, 40], [0, 40]]\\n"
     ...                  "gates: [{id: in, at: [30, 0]}]\\nbays: {angles_deg: [90]}\\n")
     >>> drawn = candidates(plot, LayoutSettings(orientations=1, offsets=1))
-    >>> [(c.bays, c.spine is not None) for c in drawn]  # (bays drawn, a spine)
-    [(81, False), (30, True), (82, True), (80, True)]
+    >>> [(c.bays, "spine" if c.spine else "along" if c.along else "ring") for c in drawn]
+    [(73, 'ring'), (70, 'along'), (24, 'spine'), (74, 'spine'), (72, 'spine')]
     """
     out = []
     seen: set[tuple] = set()
@@ -328,13 +371,14 @@ def candidates(plot: PlotSpec, settings: LayoutSettings) -> list[Candidate]:
             seen.add(shape)
             out.append(c)
 
+    along = ((), gate_edges(plot))
     for module in modules_of(plot):
         step = pitch(module, plot)
         for theta in orientations(plot, settings.orientations):
-            for i, inner_first, ringed in itertools.product(
-                    range(settings.offsets), (False, True), (True, False)):
+            for i, inner_first, ringed, edges in itertools.product(
+                    range(settings.offsets), (False, True), (True, False), along):
                 keep(draw(plot, module, theta, step * i / settings.offsets, inner_first,
-                          ringed))
+                          ringed, edges))
     # spines from each gate, for plots too small or too narrow for a ring
     step = pitch(Module(90, False, plot.circulation_width), plot)
     for gate in range(len(plot.gates)):
@@ -363,8 +407,9 @@ def lay_out(plot: PlotSpec, settings: LayoutSettings | None = None, *, keep: int
             progress: Callable[[int, int], None] | None = None) -> LayoutResult:
     """Lay ``plot`` out (the module's description): the prepared candidates, best first.
 
-    The search stops early when no candidate left can have more usable bays than the
-    best ``keep`` (or :attr:`LayoutSettings.compared`, if more) found.
+    The search stops early when no candidate left is judged to serve more bays than the
+    best ``keep`` (or :attr:`LayoutSettings.compared`, if more) found have usable (or the
+    last of those found, when fewer hold a usable bay).
     ``progress(done, total)`` is called as candidates are prepared; ``total`` is the
     most that will be, and becomes ``done`` when the search ends.
 
@@ -377,7 +422,14 @@ def lay_out(plot: PlotSpec, settings: LayoutSettings | None = None, *, keep: int
     settings = settings or LayoutSettings()
     clock = time.perf_counter()
     drawn = candidates(plot, settings)
-    order = sorted(range(len(drawn)), key=lambda k: (-drawn[k].bays, k))
+    judged = [circulation(plot, c) for c in drawn]
+    cost = settings.dead_end_cost / 100.0
+
+    def judged_worth(k: int) -> float:
+        return judged[k].served - cost * judged[k].dead_end_length
+
+    order = sorted(range(len(drawn)), key=lambda k: (-round(judged_worth(k), 2),
+                                                     -drawn[k].bays, k))
     area = Polygon(plot.boundary).area
     budget = min(settings.prepared, len(order))
     done: list[Evaluation] = []
@@ -389,14 +441,19 @@ def lay_out(plot: PlotSpec, settings: LayoutSettings | None = None, *, keep: int
     enough = max(keep, settings.compared)
     while pos < budget:
         # a candidate that misses the standard asked for ranks below every one that meets it
-        best = sorted((e.bays for e in done if e.met is not False), reverse=True)
-        if len(best) >= enough and drawn[order[pos]].bays < best[enough - 1]:
-            if progress is not None:  # done: no candidate left can beat the ones kept
+        # the ones kept: the best `enough`, or as many as hold a usable bay
+        best = sorted((e.worth for e in done if e.met is not False and e.ok), reverse=True)
+        if best and judged_worth(order[pos]) < best[min(enough, len(best)) - 1] - 1e-9:
+            if progress is not None:  # done: no candidate left is judged to beat them
                 progress(len(done), len(done))
             break
         picks = order[pos: min(budget, pos + batch)]
-        done += fork_map(lambda k: evaluate(plot, drawn[k], k, area, settings), picks,
-                         workers=workers)
+        done += [dataclasses.replace(e, served=judged[k].served,
+                                     dead_end_length=judged[k].dead_end_length,
+                                     dead_end_cost=settings.dead_end_cost)
+                 for k, e in zip(picks, fork_map(
+                     lambda k: evaluate(plot, drawn[k], k, area, settings), picks,
+                     workers=workers), strict=True)]
         pos += len(picks)
         if progress is not None:
             progress(len(done), budget if pos < budget else len(done))

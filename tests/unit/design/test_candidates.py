@@ -10,7 +10,7 @@ import math
 import numpy as np
 import pytest
 import shapely
-from shapely.geometry import LineString, Polygon
+from shapely.geometry import LineString, Point, Polygon
 
 from conftest import ROOT
 from lotsim.design.candidates import CLEAR, draw, modules_of, orientations, pitch
@@ -54,6 +54,14 @@ def _violations(plot, cand) -> list[str]:
     for i, j in zip(left, right, strict=True):
         if i < j and _overlaps(polys[i], polys[j]):
             wrong.append(f"bays {i} and {j} overlap")
+    for g in plot.gates:  # no bay's centre within the clearance of a gate (its mouth takes
+        # the gate in, to the 0.05 m its aisle is moved and the 0.02 m it begins inside)
+        at = Point(g.at)
+        slack = outline.exterior.distance(at) + CLEAR + 0.02 + 1e-6
+        for aisle, bay in bays:
+            if bay.centroid.distance(at) < plot.gate_clearance - slack:
+                wrong.append(f"a bay of {aisle} stands {bay.centroid.distance(at):.2f} m from "
+                             f"gate {g.id}")
     for a in cand.aisles:
         if not outline.buffer(1e-6).covers(LineString([a.start, a.end])):
             wrong.append(f"aisle {a.id} leaves the plot")
@@ -80,6 +88,9 @@ def test_the_oracle_sees_a_bay_that_overlaps():
     assert any("overlap" in w for w in _violations(plot, cand))
     row.polygons[0] = Polygon(plot.islands[0].polygon).buffer(-1)
     assert any("island" in w for w in _violations(plot, cand))
+    gate = plot.gates[0].at
+    row.polygons[0] = Point(gate[0], gate[1] + 6.0).buffer(1.0)
+    assert any("from gate" in w for w in _violations(plot, cand))
 
 
 def test_a_rectangle_s_ring_and_modules_are_where_a_person_puts_them():
@@ -176,6 +187,25 @@ def test_spines_run_square_to_their_gate_s_edge_and_branch_at_right_angles():
         assert _violations(plot, c) == []
 
 
+@pytest.mark.parametrize("x", [0.0, 1.0, 2.0, 3.0])
+def test_a_gate_at_a_plot_s_corner_gets_candidates_whose_mouth_takes_it_in(x):
+    plot = read_plot("boundary: [[0, 0], [100, 0], [100, 60], [0, 60]]\n"
+                     f"gates: [{{id: south, at: [{x}, 0]}}]\nbays: {{angles_deg: [90]}}\n")
+    drawn = candidates(plot, LayoutSettings(orientations=2, offsets=1))
+    assert drawn and max(c.bays for c in drawn) > 150
+    for c in drawn:
+        assert _violations(plot, c) == [], c.label
+        gate = next((a for a in c.aisles if a.id == "gate-south"), None)
+        if gate is None:  # the gate opens onto the ring beside its edge, abeam of it
+            assert c.along and abs(c.gates[0].entrance[0] - x) <= 3.5 + CLEAR + 1e-6
+            continue
+        mouth = LineString([(gate.start[0] - gate.width / 2, 0.0),
+                            (gate.start[0] + gate.width / 2, 0.0)])
+        assert mouth.distance(Point(x, 0.0)) <= 0.06  # the gate lies in the aisle's mouth
+        strip = LineString([gate.start, gate.end]).buffer(gate.width / 2, cap_style="flat")
+        assert Polygon(plot.boundary).buffer(1e-6).covers(strip)
+
+
 def _random_plots(seed: int, count: int):
     """``count`` plots of 4 to 8 corners at random angles and 25-70 m from a centre (star
     shapes, concave as often as not), a gate at a random point of the edge, a 8 x 6 m
@@ -213,3 +243,55 @@ def test_many_random_plots_give_bays_clear_of_everything(seed):
     for plot in _random_plots(100 + seed, 10):
         for cand in candidates(plot, LayoutSettings(orientations=3, offsets=2)):
             assert _violations(plot, cand) == [], cand.label
+
+
+def test_a_gate_on_an_edge_the_ring_runs_beside_opens_straight_onto_it():
+    # the 30 m strip, its gate in the middle of the south end: the ring's south leg runs
+    # beside that edge (half a 7 m aisle and the clearance in), with no perimeter row
+    # between; a car comes in on the lane nearer the boundary, which runs east (right-hand
+    # traffic), and leaves on the far lane, westward, both abeam of the gate
+    plot = read_plot(ROOT / "scenarios" / "plots" / "strip30x150.yaml")
+    module = modules_of(plot)[0]
+    cand = draw(plot, module, 90.0, 0.0, False, True, (0,))
+    assert cand is not None and cand.along == (0,)
+    assert not [a for a in cand.aisles if a.role == "gate"]
+    south = next(a for a in cand.aisles if a.id == cand.gates[0].aisle)
+    assert south.start[1] == pytest.approx(3.5 + CLEAR) == south.end[1]
+    (x, y, h), (x2, y2, h2) = cand.gates[0].entrance, cand.gates[0].exit
+    assert (x, y) == pytest.approx((15.0, 3.55 - 1.75))
+    assert math.cos(h) == pytest.approx(1.0)
+    assert (x2, y2) == pytest.approx((15.0, 3.55 + 1.75))
+    assert math.cos(h2) == pytest.approx(-1.0)
+    # no bay between the leg and the south boundary
+    assert not any(p.centroid.y < 3.55 for r in cand.rows for p in r.polygons)
+    assert _violations(plot, cand) == []
+
+
+def _alongside(a, b) -> float:
+    """How far aisles ``a`` and ``b``, parallel, run alongside each other [m]."""
+    u = np.subtract(a.end, a.start) / math.dist(a.start, a.end)
+    sa = sorted(float(np.dot(np.subtract(p, a.start), u)) for p in (a.start, a.end))
+    sb = sorted(float(np.dot(np.subtract(p, a.start), u)) for p in (b.start, b.end))
+    return min(sa[1], sb[1]) - max(sa[0], sb[0])
+
+
+@pytest.mark.parametrize("name", ["rect60x100", "trapezoid"])
+def test_no_module_runs_beside_a_ring_leg_closer_than_a_row_each_needs(name):
+    # between a module aisle and a ring leg it runs beside, room for the ring's inner row
+    # and the module's row: half of each aisle, the two bays' depths and the clearance (on
+    # the rectangle, the modules of the third offset would run 11.37 m from the south leg)
+    plot = read_plot(ROOT / "scenarios" / "plots" / f"{name}.yaml")
+    for cand in candidates(plot, LayoutSettings(orientations=1, offsets=3)):
+        rings = [a for a in cand.aisles if a.role == "ring"]
+        for m in (a for a in cand.aisles if a.role == "module"):
+            angle = math.radians(cand.module.angle)
+            deep = plot.bay_length * math.sin(angle) + plot.bay_width * math.cos(angle)
+            room = plot.circulation_width / 2 + plot.bay_length + CLEAR + deep + m.width / 2
+            line = LineString([m.start, m.end])
+            for r in rings:
+                cross = np.cross(np.subtract(m.end, m.start), np.subtract(r.end, r.start))
+                if abs(cross) > 1e-6 * math.dist(m.start, m.end) * math.dist(r.start, r.end):
+                    continue  # not parallel
+                if _alongside(m, r) >= 1.0:
+                    gap = line.distance(LineString([r.start, r.end]))
+                    assert gap >= room - 1e-6, (cand.label, m.id, r.id, gap)

@@ -16,7 +16,7 @@ gates: [{id: main, at: [30, 0]}]
 vehicle_types:
   - valet
   - {name: van, width: 2.0, front: 4.2, rear: 1.0, wheelbase: 3.3, max_steer_deg: 30}
-bays: {angles_deg: [90, 45], width: 2.4, length: 5.3}
+bays: {angles_deg: [90, 45], width: 2.4, length: 5.3, gate_clearance: 7.5}
 aisles:
   one_way: true
   widths: {90: {two-way: 6.5}, 45: {one-way: 4.0}}
@@ -32,6 +32,7 @@ def test_a_good_plot_reads_every_key():
     assert [v.name for v in plot.vehicle_types] == ["valet", "van"]
     assert plot.vehicle_names == ("valet", "")
     assert plot.angles == (90, 45) and (plot.bay_width, plot.bay_length) == (2.4, 5.3)
+    assert plot.gate_clearance == 7.5
     assert plot.aisle_width(90, "two-way") == 6.5 and plot.aisle_width(45, "one-way") == 4.0
     assert plot.aisle_width(60, "one-way") == 5.5  # the default, untouched
     assert plot.circulation_width == 6.5
@@ -46,6 +47,7 @@ def test_defaults():
                      "gates: [{id: g, at: [0, 20]}]\n")
     assert plot.angles == (90, 60, 45) and plot.one_way
     assert (plot.bay_width, plot.bay_length) == (2.5, 5.0)
+    assert plot.gate_clearance == 10.0  # two lengths of the valet car, 4.9 m
     assert plot.aisle_width(90, "two-way") == 7.0 and plot.circulation_width == 7.0
     assert [v.name for v in plot.vehicle_types] == ["valet"]
     assert plot.building_entrances == ()
@@ -58,6 +60,8 @@ def test_defaults():
     ("angles_deg: [90, 45]", "angles_deg: [90, 30]", "8:25: bays.angles_deg[1]",
      "expected one of 90, 60, 45, found 30"),
     ("width: 2.4", "width: -2", "8:37: bays.width", "expected a number ≥ 1.5"),
+    ("gate_clearance: 7.5", "gate_clearance: -1", "8:71: bays.gate_clearance",
+     "expected a number ≥ 0"),
     ("45: {one-way: 4.0}", "45: {two-way: 4.0}", "11:37: aisles.widths.45.two-way",
      "unknown key 'two-way'"),
     ("one_way: true", "one_way: yes", "10:12: aisles.one_way", "true or false"),
@@ -110,6 +114,34 @@ def test_default_bays_too_short_for_a_van_are_said_to_be_the_default():
         read_plot("boundary: [[0, 0], [60, 0], [60, 40], [0, 40]]\n"
                   "gates: [{id: g, at: [0, 20]}]\n"
                   "vehicle_types: [valet, vclass]\n")
+
+
+@pytest.mark.parametrize("units, bays, where, says", [
+    # the valet car (the default type) is 4.9 m long and 1.8 m wide (seed 004's valet car)
+    ("m", "{length: 4.5}", "3:7", "at least 4.90 m long for the default vehicle type 'valet'"
+     " (the plot names no vehicle_types), found 4.50 m: no bay of any layout would be "
+     "usable for it; give bays: {length: 4.9}"),
+    ("m", "{width: 1.7, length: 6}", "3:7", "at least 1.80 m wide for the default vehicle "
+     "type 'valet' (the plot names no vehicle_types), found 1.70 m: no bay of any layout "
+     "would be usable for it; give bays: {width: 1.8}, or vehicle_types that fit"),
+    # 4.9 m is 16.076 ft: a bay of 16.1 ft holds it
+    ("ft", "{length: 15}", "3:7", "at least 16.08 ft long for the default vehicle type "
+     "'valet' (the plot names no vehicle_types), found 15.00 ft: no bay of any layout would "
+     "be usable for it; give bays: {length: 16.1}"),
+])
+def test_bays_too_small_for_the_default_type_are_refused_at_once(units, bays, where, says):
+    side = 200 if units == "ft" else 60
+    text = (f"boundary: [[0, 0], [{side}, 0], [{side}, {side}], [0, {side}]]\n"
+            f"gates: [{{id: g, at: [0, 20]}}]\nbays: {bays}\n")
+    if units == "ft":
+        text = "units: ft\n" + text
+        where = "4:7"
+    with pytest.raises(ScenarioError) as err:
+        read_plot(text)
+    message = str(err.value)
+    assert message.startswith(f"<plot>:{where}: bays: expected bays "), message
+    assert says in message, message
+    read_plot(text.replace(bays, "{length: 4.9}" if units == "m" else "{length: 16.1}"))
 
 
 def test_a_scenario_given_for_a_plot_is_named_as_one():
