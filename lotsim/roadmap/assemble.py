@@ -122,7 +122,7 @@ class _Network:
         return self.first[lid] + int(np.argmin(np.abs(self.index[lid] - s)))
 
 
-def _turns_and_backs(lot: Lot, attach: dict[str, list[tuple[str, float]]], vehicles,
+def _turns_and_turnarounds(lot: Lot, attach: dict[str, list[tuple[str, float]]], vehicles,
                      memo: RoadmapMemo, settings: RoadmapSettings
                      ) -> tuple[Tagged, Tagged, list[tuple[str, str]], list[str]]:
     """The junction turns and the turnarounds (at dead ends, multi-point junction turns,
@@ -138,16 +138,16 @@ def _turns_and_backs(lot: Lot, attach: dict[str, list[tuple[str, float]]], vehic
     for p in lot.exits:
         lid, st = portal_station(lot, p)
         exits[lid] = max(exits.get(lid, -math.inf), st)
-    multis, uturns = junction_backs(lot, tagged, designs, exits, memo, settings=settings)
+    multis, uturns = junction_turnarounds(lot, tagged, designs, exits, memo, settings=settings)
     stops: dict[str, float] = {}  # per lane, the last station a car parks or unparks at
     for links in attach.values():
         for lid, st in links:
             stops[lid] = max(stops.get(lid, -math.inf), st)
-    backs, no_back = dead_end_turnarounds(lot, turns, joins, exits, designs, stops,
+    turnarounds, no_turnaround = dead_end_turnarounds(lot, turns, joins, exits, designs, stops,
                                           [t for t, _ in multis], memo, settings=settings)
-    backs += multis + uturns
-    backs.sort(key=lambda c: -len(designs or ()) if c[1] is None else -len(c[1]))
-    return tagged, backs, joins, skipped + no_back
+    turnarounds += multis + uturns
+    turnarounds.sort(key=lambda c: -len(designs or ()) if c[1] is None else -len(c[1]))
+    return tagged, turnarounds, joins, skipped + no_turnaround
 
 
 def _lane_network(lot: Lot, attach: dict[str, list[tuple[str, float]]], node_spacing: float,
@@ -156,13 +156,14 @@ def _lane_network(lot: Lot, attach: dict[str, list[tuple[str, float]]], node_spa
     turnaround, gate, speed zone or (``attach``) parking maneuver begins or ends, with the
     lane edges, turns, turnarounds and joins between them, and the gates' nodes."""
     memo.check(lot, settings)
-    tagged, backs, joins, skipped = _turns_and_backs(lot, attach, vehicles, memo, settings)
+    tagged, turnarounds, joins, skipped = _turns_and_turnarounds(lot, attach, vehicles, memo,
+                                                                 settings)
     lanes = {lane.id: lane for lane in lot.lanes}
     stations: dict[str, list[float]] = {lid: [0.0, lane.length] for lid, lane in lanes.items()}
     for lid, lane in lanes.items():
         stations[lid] += [float(s) for s in lane.starts]
         stations[lid] += _zone_crossings(lot, lane)
-    for t in (*(t for t, _ in tagged), *(t for t, _ in backs)):
+    for t in (*(t for t, _ in tagged), *(t for t, _ in turnarounds)):
         stations[t.lane_a].append(t.station_a)
         stations[t.lane_b].append(t.station_b)
     portals = {p: portal_station(lot, p) for p in (*lot.entrances, *lot.exits)}
@@ -189,7 +190,7 @@ def _lane_network(lot: Lot, attach: dict[str, list[tuple[str, float]]], node_spa
         for k in range(len(st) - 1):
             piece = _lane_piece(lane, at[k], into[k], float(st[k + 1]), poses[k])
             _add_edge(g, lot, first + k, first + k + 1, (piece,), "lane")
-    for kind, links in (("turn", tagged), ("turnaround", backs)):
+    for kind, links in (("turn", tagged), ("turnaround", turnarounds)):
         for t, types in links:
             u, v = net.node_at(t.lane_a, t.station_a), net.node_at(t.lane_b, t.station_b)
             if not g.has_edge(u, v):
@@ -310,7 +311,7 @@ def _durations(lot: Lot, maneuvers: dict, leaving: dict, stays: dict, types: dic
     return duration
 
 
-def junction_backs(lot: Lot, tagged: Tagged, designs: dict[str, DesignVehicle] | None,
+def junction_turnarounds(lot: Lot, tagged: Tagged, designs: dict[str, DesignVehicle] | None,
                    exits: dict[str, float], memo: RoadmapMemo, *,
                    settings: RoadmapSettings | None = None) -> tuple[Tagged, Tagged]:
     """:func:`~lotsim.roadmap.junction_multipoints.junction_multipoints` and

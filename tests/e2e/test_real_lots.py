@@ -65,9 +65,9 @@ def test_every_free_slot_is_reachable_usable_and_left_again(lots, name):
 def test_a_cul_de_sac_is_left_by_a_multi_point_turn_at_its_closed_end(lots):
     sc, lg = lots["culdesac"]
     g = lg.graph
-    backs = [(u, v, d) for u, v, d in g.edges(data=True) if d["kind"] == "turnaround"]
-    assert backs
-    for u, v, d in backs:
+    turnarounds = [(u, v, d) for u, v, d in g.edges(data=True) if d["kind"] == "turnaround"]
+    assert turnarounds
+    for u, v, d in turnarounds:
         assert g.nodes[u]["lane"] == "a>" and g.nodes[v]["lane"] == "a<"
         assert {s.gear for s in d["path"]} == {1, -1}  # multi-point: forward and back
         _assert_turns_round_clear(d["path"], lg)
@@ -131,9 +131,9 @@ def test_short_arms_with_corner_bays_have_turnarounds_and_every_bay_is_left():
     # N1 too, in the closed west corner, where the full-lock shuffle finds no way out: the
     # multi-point search (arcs and straights in either gear) does
     assert not lg.infeasible.get("msv") and not no_in, (lg.infeasible, no_in)
-    backs = [d["path"] for _, _, d in lg.graph.edges(data=True) if d["kind"] == "turnaround"]
-    assert backs
-    for path in backs:
+    turnarounds = [d["path"] for _, _, d in lg.graph.edges(data=True) if d["kind"] == "turnaround"]
+    assert turnarounds
+    for path in turnarounds:
         _assert_turns_round_clear(path, lg)
     rr, doc = _run_checked(sc, lg)
     assert {v["status"] for v in doc["vehicles"]} == {"departed"}
@@ -178,11 +178,11 @@ def test_turnarounds_are_planned_for_each_vehicle_type_and_used_only_by_it():
     lg = prepare_graph(sc)
     g, lot = lg.graph, lg.lot
     types = {v.name: v for v in sc.vehicle_types}
-    backs = [(d["path"], d["types"]) for _, _, d in g.edges(data=True)
+    turnarounds = [(d["path"], d["types"]) for _, _, d in g.edges(data=True)
              if d["kind"] == "turnaround"]
-    assert backs and all(names == frozenset({"msv"}) for _, names in backs)
+    assert turnarounds and all(names == frozenset({"msv"}) for _, names in turnarounds)
     slots = shapely.union_all([s.shape for s in lot.slots])
-    for path, names in backs:  # clear and within the curvature limit for each type named
+    for path, names in turnarounds:  # clear and within the curvature limit for each type named
         poses = np.concatenate([s.sample(0.05) for s in path])
         for name in names:
             design = DesignVehicle.envelope([types[name]])
@@ -203,11 +203,11 @@ def test_a_narrow_cul_de_sac_lined_with_bays_is_turned_in_and_every_bay_left():
     found and no bay could be left)."""
     sc = _narrow_culdesac("[vw]")
     lg = prepare_graph(sc)
-    backs = [d["path"] for _, _, d in lg.graph.edges(data=True) if d["kind"] == "turnaround"]
-    assert backs
-    for path in backs:
+    turnarounds = [d["path"] for _, _, d in lg.graph.edges(data=True) if d["kind"] == "turnaround"]
+    assert turnarounds
+    for path in turnarounds:
         _assert_turns_round_clear(path, lg)
-    assert any(s.gear > 0 and s.curvature < 0 for s in backs[0])  # the S's right arc
+    assert any(s.gear > 0 and s.curvature < 0 for s in turnarounds[0])  # the S's right arc
     reach = lg.reachability()
     assert reach.ok, reach
     rr, doc = _run_checked(sc, lg)
@@ -658,6 +658,6 @@ def test_every_way_out_of_a_bay_leads_to_an_exit_even_from_a_closed_corner():
     assert {sid for sid, _ in leaves} == {s.id for s in lg.lot.slots}
     assert [(sid, g.nodes[v]["lane"], round(g.nodes[v]["station"], 1))
             for sid, v in leaves if v not in out] == []
-    backs = [d["path"] for _, _, d in g.edges(data=True) if d["kind"] == "turnaround"]
-    for path in backs:
+    turnarounds = [d["path"] for _, _, d in g.edges(data=True) if d["kind"] == "turnaround"]
+    for path in turnarounds:
         _assert_turns_round_clear(path, lg)

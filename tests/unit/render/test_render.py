@@ -194,13 +194,13 @@ def test_multi_point_turns_have_their_own_colour_and_key() -> None:
     sc = load_scenario(lots / "culdesac.yaml")
     lot = build_lot(sc.lot, DesignVehicle.envelope(sc.vehicle_types))
     g = build_graph(lot, vehicles=sc.vehicle_types)
-    backs = [d["path"] for *_, d in g.graph.edges(data=True) if d["kind"] == "turnaround"]
-    assert backs
+    turnarounds = [d["path"] for *_, d in g.graph.edges(data=True) if d["kind"] == "turnaround"]
+    assert turnarounds
     colour = li.GRAPH_EDGE["turnaround"]
     assert colour not in [c for k, c in li.GRAPH_EDGE.items() if k != "turnaround"]
     img = pixels(draw_lot(g, size=SIZE, labels=False, legend=False, show_graph=True))
     canvas = lot_layout(g, size=SIZE, show_graph=True, legend=False).canvas
-    for path in backs:
+    for path in turnarounds:
         pts = np.concatenate([s.sample(0.25) for s in path])[:, :2]
         px = np.rint(canvas.to_px(pts)).astype(int)
         assert np.all(img[px[:, 1], px[:, 0]] == colour, axis=1).mean() > 0.3

@@ -248,20 +248,20 @@ def test_junction_turns_join_aisles_with_feasible_arcs():
     # multi-point turn onto its down lane) to leave; so does a's east end. At the T a car
     # can also turn back, on a either way in b's mouth, and on b coming down in a's
     g = lg.graph
-    backs: dict[tuple[str, str], list] = {}
+    turnarounds: dict[tuple[str, str], list] = {}
     for u, v, d in g.edges(data=True):
         if d["kind"] == "turnaround":
-            backs.setdefault((g.nodes[u]["lane"], g.nodes[v]["lane"]), []).append(d["path"])
-    assert {pair: len(paths) for pair, paths in backs.items()} == {
+            turnarounds.setdefault((g.nodes[u]["lane"], g.nodes[v]["lane"]), []).append(d["path"])
+    assert {pair: len(paths) for pair, paths in turnarounds.items()} == {
         ("b>", "b<"): 1, ("a>", "a<"): 2, ("a<", "a>"): 1, ("b<", "b>"): 1}
-    t_uturns = [*backs["a<", "a>"], *backs["b<", "b>"],
-                *(p for p in backs["a>", "a<"] if p[0].start[0] < 40)]
+    t_uturns = [*turnarounds["a<", "a>"], *turnarounds["b<", "b>"],
+                *(p for p in turnarounds["a>", "a<"] if p[0].start[0] < 40)]
     for p in t_uturns:  # each begins at most 6 m before the crossing and ends near it
         x, y = p[0].start[:2]
         ex, ey = p[-1].end[:2]
         assert math.hypot(x - 30, y - 10) <= 3.5 + 6 + 1e-6
         assert math.hypot(ex - 30, ey - 10) <= 3.5 + 8 + 1e-6
-    path = backs["b>", "b<"][0]
+    path = turnarounds["b>", "b<"][0]
     assert {seg.gear for seg in path} == {1, -1}  # forward and back
     assert abs(wrap_angle(path[-1].end[2] - path[0].start[2])) == pytest.approx(math.pi)
     reach = lg.reachability()

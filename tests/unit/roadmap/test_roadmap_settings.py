@@ -130,10 +130,10 @@ def test_a_wider_turnaround_margin_keeps_every_turnaround_that_far_from_the_bays
 
     def nearest(margin: float) -> float:
         settings = RoadmapSettings(turnarounds=TurnaroundSettings(margin=margin))
-        backs = _edges(build_graph(lot, vehicles=sc.vehicle_types, settings=settings),
+        turnarounds = _edges(build_graph(lot, vehicles=sc.vehicle_types, settings=settings),
                        "turnaround")
-        assert backs
-        poses = np.concatenate([s.sample(0.05) for _, path in backs for s in path])
+        assert turnarounds
+        poses = np.concatenate([s.sample(0.05) for _, path in turnarounds for s in path])
         bodies = shapely.polygons(lot.design.footprints(poses))
         return min(shapely.distance(bodies, slots).min(), shapely.distance(bodies, edge).min())
 

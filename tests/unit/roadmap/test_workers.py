@@ -73,7 +73,7 @@ def test_turnarounds_searched_in_rounds_on_two_workers_are_those_searched_one_by
         searched.append((lane.id, back.id, body, tuple(starts), hi))
         return real_onto(lane, back, starts, hi, collider, body, radius, **tuned)
 
-    def backs(lg):
+    def turnaround_edges(lg):
         return sorted((u, v, d["path"]) for u, v, d in lg.graph.edges(data=True)
                       if d["kind"] == "turnaround")
 
@@ -82,7 +82,7 @@ def test_turnarounds_searched_in_rounds_on_two_workers_are_those_searched_one_by
     monkeypatch.setattr(turnarounds, "_reaching_onto", recording)
     monkeypatch.setattr(turnarounds, "_reaching_all", lambda todo, memo, *rest, **tuned: (
         jobs.update(todo), real_reaching_all(todo, memo, *rest, **tuned))[1])
-    found = backs(prepare_graph(sc, cache=False))
+    found = turnaround_edges(prepare_graph(sc, cache=False))
     assert len(searched) >= 8 and len(set(searched)) == len(searched)
     # a second build whose cars arrive elsewhere on a lane searches only from there
     ends = [job for job in jobs.values() if any(
@@ -97,10 +97,10 @@ def test_turnarounds_searched_in_rounds_on_two_workers_are_those_searched_one_by
         assert all(len(starts) == 1 for *_, starts, _ in searched)
     monkeypatch.setattr(remembered, "fork_map", real_fork_map)  # on two workers
     monkeypatch.setattr(turnarounds, "_reaching_onto", real_onto)
-    assert backs(prepare_graph(sc, cache=False)) == found
+    assert turnaround_edges(prepare_graph(sc, cache=False)) == found
     monkeypatch.setattr(turnarounds, "_reaching_all", lambda todo, memo, *rest, **tuned: {
         key: turnarounds._reaching_turnarounds(*job, **tuned) for key, job in todo.items()})
-    assert backs(prepare_graph(sc, cache=False)) == found
+    assert turnaround_edges(prepare_graph(sc, cache=False)) == found
 
 
 def test_junction_multipoints_and_uturns_found_at_once_are_those_found_one_after_another():
@@ -119,11 +119,11 @@ def test_junction_multipoints_and_uturns_found_at_once_are_those_found_one_after
         memo = RoadmapMemo(lot)
         tagged, _ = turns_of(lot, lane_collider(lot), designs, memo)
         exits = {portal_station(lot, p)[0]: portal_station(lot, p)[1] for p in lot.exits}
-        found.append(assemble.junction_backs(lot, tagged, designs, exits, memo) if at_once
+        found.append(assemble.junction_turnarounds(lot, tagged, designs, exits, memo) if at_once
                      else (junction_multipoints(lot, tagged, designs, exits, memo),
                            junction_uturns(lot, designs, memo)))
         # and again, from what the memo kept
-        assert assemble.junction_backs(lot, tagged, designs, exits, memo) == found[-1]
+        assert assemble.junction_turnarounds(lot, tagged, designs, exits, memo) == found[-1]
     multis, uturns = found[0]
     assert len(uturns) > 10 and found[0] == found[1]
 
