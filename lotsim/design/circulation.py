@@ -25,7 +25,7 @@ from dataclasses import dataclass
 import numpy as np
 from shapely.geometry import LineString
 
-from lotsim.design.candidates import Candidate, DrawnAisle
+from lotsim.design.drawn import Candidate, DrawnAisle
 from lotsim.design.plot import PlotSpec
 
 MEET = 1e-3

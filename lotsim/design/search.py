@@ -46,17 +46,10 @@ from lotsim.core.checks import range_problem
 from lotsim.core.units import LENGTH_UNITS
 from lotsim.core.workers import fork_map
 from lotsim.design.allocation import Allocation, Key, Stretch, allocate, stretches
-from lotsim.design.candidates import (
-    Candidate,
-    Module,
-    draw,
-    draw_spine,
-    gate_edges,
-    modules_of,
-    orientations,
-    pitch,
-)
+from lotsim.design.candidates import draw, draw_spine, modules_of, orientations, pitch
 from lotsim.design.circulation import circulation
+from lotsim.design.drawn import Candidate, Module
+from lotsim.design.gates import gate_edges
 from lotsim.design.plot import PlotSpec
 from lotsim.errors import ScenarioError, SettingsError
 from lotsim.io.imports.draft import (
@@ -346,7 +339,7 @@ def candidates(plot: PlotSpec, settings: LayoutSettings) -> list[Candidate]:
     """Every candidate of ``plot`` (drawn, not checked), in a fixed order: ring candidates by
     module kind, orientation, offset, order of rows, islands ringed or not, the ring inside
     perimeter rows everywhere or beside the boundary along the gates' edges
-    (:func:`~lotsim.design.candidates.gate_edges`); then spine
+    (:func:`~lotsim.design.gates.gate_edges`); then spine
     candidates by gate, offset of branches, order of rows; a candidate drawn alike by other
     choices, once.
 

@@ -9,8 +9,8 @@ import math
 
 import pytest
 
-from lotsim.design.candidates import Candidate, DrawnAisle, DrawnGate, DrawnRow, Module
 from lotsim.design.circulation import circulation
+from lotsim.design.drawn import Candidate, DrawnAisle, DrawnGate, DrawnRow, Module
 from lotsim.design.plot_yaml import read_plot
 from lotsim.design.search import Evaluation, LayoutSettings, candidates
 from lotsim.errors import SettingsError
