@@ -9,5 +9,7 @@ them from a file; :mod:`~lotsim.design.candidates` draws candidate layouts (what
 drawn as, :mod:`~lotsim.design.drawn`; their ring, :mod:`~lotsim.design.ring`; their gates'
 aisles and mouths, :mod:`~lotsim.design.gates`; their bays packed into rows,
 :mod:`~lotsim.design.packing`); :mod:`~lotsim.design.search` prepares, prunes, runs and
-ranks them.
+ranks them (how it searches, :mod:`~lotsim.design.settings`; a candidate prepared and run,
+:mod:`~lotsim.design.preparing`; what it finds and how that ranks,
+:mod:`~lotsim.design.results`).
 """

@@ -26,7 +26,7 @@ A *spine* candidate (:func:`draw_spine`), for a plot too small or too narrow for
 runs a two-way aisle straight in from a gate, as far as the plot allows, with bays along
 both sides, and perhaps branches off it at right angles, lined with bays too.
 
-Which bays are *usable* is not decided here: :mod:`lotsim.design.search` prepares the
+Which bays are *usable* is not decided here: :mod:`lotsim.design.preparing` prepares the
 candidate's scenario with lotsim's maneuver planner and reachability, and drops the bays
 some vehicle type cannot reach, park in or leave.
 

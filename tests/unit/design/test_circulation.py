@@ -12,7 +12,9 @@ import pytest
 from lotsim.design.circulation import circulation
 from lotsim.design.drawn import Candidate, DrawnAisle, DrawnGate, DrawnRow, Module
 from lotsim.design.plot_yaml import read_plot
-from lotsim.design.search import Evaluation, LayoutSettings, candidates
+from lotsim.design.results import Evaluation
+from lotsim.design.search import candidates
+from lotsim.design.settings import LayoutSettings
 from lotsim.errors import SettingsError
 
 STRIP = """\
