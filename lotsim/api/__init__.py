@@ -48,7 +48,8 @@ EXPORTS: dict[str, tuple[str, ...]] = {
     "lotsim.io.imports.report": ("ImportReport", "ImportedLot"),
     "lotsim.io.imports.dxf": ("DxfImportError", "DxfLayers", "DxfPlot"),
     "lotsim.api.layouts": ("layout", "layout_files"),
-    "lotsim.design.search": ("Evaluation", "LayoutResult", "LayoutSettings"),
+    "lotsim.design.results": ("Evaluation", "LayoutResult"),
+    "lotsim.design.settings": ("LayoutSettings",),
     "lotsim.design.plot": ("PlotSpec",),
     "lotsim.design.plot_yaml": ("read_plot",),
     # scenarios and what they hold
@@ -157,7 +158,8 @@ if TYPE_CHECKING:  # for type checkers and editors: the same names, imported eag
     from lotsim.core.atomic import OutputSet  # noqa: F401
     from lotsim.design.plot import PlotSpec  # noqa: F401
     from lotsim.design.plot_yaml import read_plot  # noqa: F401
-    from lotsim.design.search import Evaluation, LayoutResult, LayoutSettings  # noqa: F401
+    from lotsim.design.results import Evaluation, LayoutResult  # noqa: F401
+    from lotsim.design.settings import LayoutSettings  # noqa: F401
     from lotsim.errors import (  # noqa: F401
         DecisionError,
         InfeasibleManeuver,

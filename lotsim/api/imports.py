@@ -9,7 +9,7 @@ import os
 from collections.abc import Callable, Sequence
 from pathlib import Path
 
-from lotsim.design.search import LayoutSettings
+from lotsim.design.settings import LayoutSettings
 from lotsim.errors import ScenarioError
 from lotsim.io.imports.dxf import DxfLayers, DxfPlot
 from lotsim.io.imports.report import ImportedLot, ImportReport

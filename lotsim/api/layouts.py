@@ -11,7 +11,9 @@ from pathlib import Path
 from lotsim.core.atomic import atomic_write
 from lotsim.design.plot import PlotSpec
 from lotsim.design.plot_yaml import read_plot
-from lotsim.design.search import LayoutResult, LayoutSettings, lay_out
+from lotsim.design.results import LayoutResult
+from lotsim.design.search import lay_out
+from lotsim.design.settings import LayoutSettings
 from lotsim.errors import SettingsError
 
 PlotLike = PlotSpec | str | os.PathLike

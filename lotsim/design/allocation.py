@@ -95,7 +95,7 @@ class Allocation:
 
 
 def stretches(plot: PlotSpec, rows, keep: set[Key] | None) -> list[Stretch]:
-    """The unbroken runs of the drawn ``rows`` (:class:`~lotsim.design.candidates.DrawnRow`)
+    """The unbroken runs of the drawn ``rows`` (:class:`~lotsim.design.drawn.DrawnRow`)
     whose bays are in ``keep`` (None: all), in the rows' order; standard bays, or compact
     bays for a row of the compact size."""
     out = []

@@ -26,149 +26,52 @@ A *spine* candidate (:func:`draw_spine`), for a plot too small or too narrow for
 runs a two-way aisle straight in from a gate, as far as the plot allows, with bays along
 both sides, and perhaps branches off it at right angles, lined with bays too.
 
-Which bays are *usable* is not decided here: :mod:`lotsim.design.search` prepares the
+Which bays are *usable* is not decided here: :mod:`lotsim.design.preparing` prepares the
 candidate's scenario with lotsim's maneuver planner and reachability, and drops the bays
 some vehicle type cannot reach, park in or leave.
+
+What a candidate is drawn as is :mod:`~lotsim.design.drawn`'s; the ring's inside and how
+module aisles meet it, :mod:`~lotsim.design.ring`'s; the gates' aisles, entrances, exits
+and mouths, :mod:`~lotsim.design.gates`'; the bays packed into rows along the aisles,
+:mod:`~lotsim.design.packing`'s. This module draws the whole from them.
 """
 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
 
 import numpy as np
-import shapely
-from shapely.geometry import LineString, Point, Polygon
+from shapely.geometry import LineString, Polygon
 from shapely.ops import unary_union
 
+from lotsim.design.drawn import (
+    CLEAR,
+    EPS,
+    Candidate,
+    DrawnAisle,
+    DrawnGate,
+    DrawnRow,
+    Module,
+    Point2,
+)
+from lotsim.design.gates import (
+    GATE_MIN,
+    _gate,
+    _gate_on_ring,
+    _gate_poses,
+    _inward,
+    _mouths,
+    edge_of,
+)
+from lotsim.design.packing import _compact_rows, _pack, _Things
 from lotsim.design.plot import PlotSpec
-from lotsim.lot.kinds import KINDS
+from lotsim.design.ring import _beside_ring, _meets_ring, _ring_region, _rings, _side_is_inner
 
-Point2 = tuple[float, float]
-
-CLEAR = 0.05
-"""Bays, aisles and islands are kept this far apart in the drawing [m], so that the
-scenario's numbers, written to the centimetre, never make them overlap."""
-EPS = 1e-6
-"""Things drawn exactly :data:`CLEAR` apart are clear, whatever the rounding of a turned
-frame [m]."""
-PACK_STEP = 0.25
-"""Where a bay does not fit, the next one is tried this much further along the aisle [m]."""
 MIN_MODULE = 12.0
 """A module aisle shorter than this is not drawn [m]."""
-MIN_JUNCTION_DEG = 30.0
-"""A module or gate aisle meets the aisle it ends on at least at this angle [degrees]."""
-SIMPLIFY = 0.3
-"""The ring's outline is simplified within this [m]: no leg of a few centimetres."""
-MIN_LEG = 4.0
-"""A ring with a leg shorter than this is simplified further [m]."""
 DEAD_END_ROOM = 1.0
 """A module aisle that ends short of an island ends this much further from it than its
 half-width [m]."""
-GATE_INSET = 0.02
-"""A gate's aisle begins this far inside the boundary [m]: written to the centimetre, its
-first point stays inside."""
-GATE_MIN = 7.0
-"""A gate aisle is at least this long [m]: room for its entrance and exit."""
-GATE_MAX = 80.0
-"""A gate aisle meets another aisle within this distance of its gate [m]."""
-
-
-@dataclass(frozen=True, slots=True)
-class Module:
-    """A module kind: bays at ``angle`` [degrees] on aisles of ``width`` [m]; ``one_way``
-    aisles are driven one way."""
-
-    angle: int
-    one_way: bool
-    width: float
-
-    @property
-    def label(self) -> str:
-        return f"{self.angle}° {'one-way' if self.one_way else 'two-way'}"
-
-
-@dataclass
-class DrawnAisle:
-    """A straight aisle of a candidate, in plot coordinates: ``role`` is ``ring``,
-    ``module`` or ``gate``."""
-
-    id: str
-    start: Point2
-    end: Point2
-    width: float
-    one_way: bool
-    role: str
-
-
-@dataclass
-class DrawnRow:
-    """An unbroken run of equal bays along one side of an aisle; ``size`` (width, length
-    [m]) is that of compact bays, None the plot's bays."""
-
-    aisle: str
-    side: str
-    angle: int
-    start: float
-    count: int
-    polygons: list[Polygon] = field(default_factory=list)
-    size: tuple[float, float] | None = None
-
-
-@dataclass
-class DrawnGate:
-    """A gate's entrance and exit: poses (x, y, heading [rad]) on its aisle; its ``mouth``,
-    the stretch of boundary, as wide as the aisle, where the aisle meets it."""
-
-    id: str
-    aisle: str
-    entrance: tuple[float, float, float]
-    exit: tuple[float, float, float]
-    mouth: tuple[Point2, Point2] | None = None
-
-
-@dataclass
-class Candidate:
-    """One drawn layout: its aisles, rows and gates in plot coordinates, and the choices
-    that drew it."""
-
-    orientation_deg: float
-    module: Module
-    offset: float
-    inner_first: bool
-    aisles: list[DrawnAisle]
-    rows: list[DrawnRow]
-    gates: list[DrawnGate]
-    ringed: bool = False
-    """Whether the ring also runs round each island."""
-    spine: tuple[str, bool] | None = None
-    """For a spine candidate (:func:`draw_spine`): its gate, and whether it has branches."""
-    along: tuple[int, ...] = ()
-    """The boundary's edges the ring runs beside, with no perimeter row (:func:`draw`)."""
-
-    @property
-    def bays(self) -> int:
-        return sum(r.count for r in self.rows)
-
-    @property
-    def aisle_length(self) -> float:
-        """Total length of the aisles' centre lines [m]."""
-        return float(sum(math.dist(a.start, a.end) for a in self.aisles))
-
-    @property
-    def label(self) -> str:
-        if self.spine is not None:
-            gate, branches = self.spine
-            what = (f", branches from {self.offset:.2f} m, "
-                    f"{'spine rows first' if self.inner_first else 'branches first'}"
-                    if branches else "")
-            return f"a 90° two-way spine from gate {gate}{what}"
-        order = "inner rows first" if self.inner_first else "modules first"
-        ring = ", islands ringed" if self.ringed else ""
-        if self.along:
-            ring += ", the ring along the gates' edges"
-        return (f"{self.module.label} modules at {self.orientation_deg:.1f}°, offset "
-                f"{self.offset:.2f} m, {order}{ring}")
 
 
 def modules_of(plot: PlotSpec) -> list[Module]:
@@ -235,15 +138,6 @@ def _strip(a: Point2, b: Point2, width: float) -> Polygon:
     return LineString([a, b]).buffer(width / 2, cap_style="flat")
 
 
-def _rings(region: Polygon) -> list[np.ndarray]:
-    """The closed outlines (exterior, then holes) of ``region``, counter-clockwise, without
-    the repeated last point."""
-    out = []
-    for ring in [region.exterior, *region.interiors]:
-        pts = np.asarray(ring.coords)[:-1]
-        out.append(pts)
-    return out
-
 
 def draw(plot: PlotSpec, module: Module, orientation_deg: float, offset: float,
          inner_first: bool, ring_islands: bool = True, along: tuple[int, ...] = ()
@@ -254,7 +148,7 @@ def draw(plot: PlotSpec, module: Module, orientation_deg: float, offset: float,
     end, where cars turn round; two-way modules only). Along the boundary's edges
     ``along`` (their indices: edge ``k`` runs from point ``k`` to the next), the ring runs
     beside the boundary, with no perimeter row, and a gate on such an edge opens straight
-    onto the ring (:func:`_gate_on_ring`).
+    onto the ring (:func:`~lotsim.design.gates._gate_on_ring`).
 
     Examples
     --------
@@ -379,186 +273,6 @@ def draw(plot: PlotSpec, module: Module, orientation_deg: float, offset: float,
                      ring_islands and bool(islands), along=tuple(along))
     return _to_plot(cand, frame)
 
-
-BESIDE_DEG = 15.0
-"""A module aisle runs beside a ring leg that makes less than this angle with it
-[degrees]."""
-
-
-def _beside_ring(ax: float, bx: float, y: float, legs: list[tuple[Point2, Point2]],
-                 room: float) -> bool:
-    """Whether the module aisle along x from ``ax`` to ``bx`` at ``y`` runs beside a ring leg
-    (within :data:`BESIDE_DEG` of its direction, alongside it for a metre or more) closer
-    than ``room`` [m], measured at the middle of the stretch they run alongside: two aisles
-    side by side with no room for a row of bays each between them."""
-    lo, hi = min(ax, bx), max(ax, bx)
-    for (px, py), (qx, qy) in legs:
-        dx, dy = qx - px, qy - py
-        if abs(dy) > math.sin(math.radians(BESIDE_DEG)) * math.hypot(dx, dy):
-            continue
-        a, b = max(lo, min(px, qx)), min(hi, max(px, qx))
-        if b - a < 1.0:
-            continue
-        mid = (a + b) / 2
-        if abs(py + (mid - px) * dy / dx - y) < room - EPS:
-            return True
-    return False
-
-
-def _ring_region(outline: Polygon, islands: list[Polygon], d: float,
-                 along: tuple[int, ...] = (), near: float = 0.0) -> Polygon | None:
-    """The inside of the ring aisle: the outline shrunk by ``d`` (by ``near`` along the
-    edges ``along``), less the islands grown by ``d``; its largest part, simplified so that
-    no leg is very short."""
-    if along:
-        inner = outline.buffer(-near, join_style="mitre")
-        pts = np.asarray(outline.exterior.coords)[:-1]
-        turn = 1.0 if outline.exterior.is_ccw else -1.0
-        for k in range(len(pts)):
-            if k in along:
-                continue
-            a, b = pts[k], pts[(k + 1) % len(pts)]
-            u = (b - a) / np.hypot(*(b - a))
-            n = turn * np.array([-u[1], u[0]])  # inward
-            inner = inner.difference(Polygon([a - u * d, b + u * d, b + u * d + n * d,
-                                              a - u * d + n * d]))
-    else:
-        inner = outline.buffer(-d, join_style="mitre")
-    for isl in islands:
-        inner = inner.difference(isl.buffer(d, join_style="mitre"))
-    if inner.is_empty:
-        return None
-    if inner.geom_type != "Polygon":
-        parts = [g for g in getattr(inner, "geoms", []) if g.geom_type == "Polygon"]
-        if not parts:
-            return None
-        inner = max(parts, key=lambda g: (g.area, g.bounds))
-    tol = SIMPLIFY
-    for _ in range(6):
-        simple = inner.simplify(tol, preserve_topology=True)
-        if simple.is_valid and not simple.is_empty and simple.geom_type == "Polygon":
-            legs = [np.hypot(*np.diff(r, axis=0, append=r[:1]).T) for r in _rings(simple)]
-            if min(float(x.min()) for x in legs) >= MIN_LEG:
-                return shapely.geometry.polygon.orient(simple)
-        tol *= 2
-    return None
-
-
-def _meets_ring(p: Point2, ring_lines: list[LineString]) -> float | None:
-    """The angle [rad] at which a line along x through ``p`` meets the ring leg ``p`` lies
-    on, where it is at least :data:`MIN_JUNCTION_DEG`; else None."""
-    pt = Point(p)
-    for line in ring_lines:
-        if line.distance(pt) < 1e-6:
-            (ax, ay), (bx, by) = line.coords
-            ang = abs(math.degrees(math.atan2(by - ay, bx - ax))) % 180
-            ang = min(ang, 180 - ang)
-            if ang >= MIN_JUNCTION_DEG:
-                return math.radians(ang)
-    return None
-
-
-def _side_is_inner(a: DrawnAisle, side: str, inside: Polygon) -> bool:
-    """Whether ``side`` of ring aisle ``a`` faces the inside of the ring."""
-    mx, my = (a.start[0] + a.end[0]) / 2, (a.start[1] + a.end[1]) / 2
-    ux, uy = a.end[0] - a.start[0], a.end[1] - a.start[1]
-    n = math.hypot(ux, uy)
-    lx, ly = -uy / n, ux / n
-    s = 1.0 if side == "left" else -1.0
-    return inside.contains(Point(mx + s * lx * 0.5, my + s * ly * 0.5))
-
-
-def _gate(plot: PlotSpec, gid: str, at: np.ndarray, outline: Polygon,
-          lines: list[tuple[LineString, DrawnAisle]]) -> tuple[DrawnAisle, DrawnGate] | None:
-    """The aisle from a gate square to its boundary edge into the lot, to the first aisle
-    it meets, with the gate's entrance and exit on it; None when it meets none in reach."""
-    start, n = _inward(outline, at, plot.circulation_width)
-    ray = LineString([start, start + n * GATE_MAX])
-    best = None
-    for line, _ in lines:
-        hit = ray.intersection(line)
-        if hit.is_empty or hit.geom_type != "Point":
-            continue
-        t = float(np.dot(np.asarray(hit.coords[0]) - start, n))
-        (ax, ay), (bx, by) = line.coords
-        ang = abs(math.degrees(math.atan2(by - ay, bx - ax) - math.atan2(n[1], n[0]))) % 180
-        if min(ang, 180 - ang) < MIN_JUNCTION_DEG:
-            continue
-        if t >= GATE_MIN and (best is None or t < best[0]):
-            best = (t, np.asarray(hit.coords[0]))
-    if best is None:
-        return None
-    end = best[1]
-    if not outline.buffer(1e-6).covers(LineString([start, end])):
-        return None
-    aisle = DrawnAisle(f"gate-{gid}", tuple(start), tuple(end), plot.circulation_width, False,
-                       "gate")
-    return aisle, _gate_poses(plot, gid, aisle.id, start, n)
-
-
-def gate_edges(plot: PlotSpec) -> tuple[int, ...]:
-    """The boundary's edges a ring may run beside so that the gates open straight onto it:
-    each gate's edge, and the edge beyond the nearer corner of a gate closer to it than a
-    perimeter row and half the ring (its aisle would meet the ring at that corner)."""
-    outline = Polygon(plot.boundary)
-    pts = np.asarray(plot.boundary, dtype=float)
-    reach = plot.bay_length + plot.circulation_width / 2 + CLEAR
-    out: set[int] = set()
-    for g in plot.gates:
-        k = edge_of(outline, g.at)
-        a, b = pts[k], pts[(k + 1) % len(pts)]
-        s = float(np.dot(np.asarray(g.at) - a, (b - a) / np.hypot(*(b - a))))
-        out.add(k)
-        if s < reach:
-            out.add((k - 1) % len(pts))
-        if np.hypot(*(b - a)) - s < reach:
-            out.add((k + 1) % len(pts))
-    return tuple(sorted(out))
-
-
-def edge_of(outline: Polygon, at) -> int:
-    """The index of the boundary's edge nearest the point ``at`` (edge ``k`` runs from
-    point ``k`` to the next)."""
-    ring = np.asarray(outline.exterior.coords)
-    g = Point(at)
-    return int(np.argmin([LineString(ring[i:i + 2]).distance(g) for i in range(len(ring) - 1)]))
-
-
-def _gate_on_ring(plot: PlotSpec, gid: str, at: np.ndarray, aisles: list[DrawnAisle]
-                  ) -> DrawnGate | None:
-    """A gate that opens straight onto the ring leg running beside its edge: its entrance
-    on the leg's lane nearer the boundary, heading the way that lane runs, and its exit on
-    the other lane, heading the other way, both abeam of the gate (moved along the leg, at
-    most half its width and :data:`CLEAR`, where the gate lies beyond the leg's end); None
-    where no leg runs beside it."""
-    w = plot.circulation_width
-    g = np.asarray(at, dtype=float)
-    for a in aisles:
-        if a.role != "ring":
-            continue
-        p0, p1 = np.asarray(a.start, dtype=float), np.asarray(a.end, dtype=float)
-        length = float(np.hypot(*(p1 - p0)))
-        u = (p1 - p0) / length
-        s = float(np.dot(g - p0, u))
-        off = float(u[0] * (g - p0)[1] - u[1] * (g - p0)[0])  # > 0: the gate is left of it
-        if abs(abs(off) - (w / 2 + CLEAR)) > 0.5 or not -(w / 2 + CLEAR) - EPS <= s <= \
-                length + w / 2 + CLEAR + EPS:
-            continue
-        s = min(max(s, 0.0), length)
-        heading = math.atan2(u[1], u[0])
-        if off > 0:  # the lane nearer the gate runs against the leg
-            heading += math.pi
-        side = math.copysign(w / 4, off)
-        left = np.array([-u[1], u[0]])
-        inward = p0 + u * s + left * side
-        outward = p0 + u * s - left * side
-        edge = p0 + u * s + left * math.copysign(w / 2 + CLEAR, off)
-        mouth = (tuple(map(float, edge - u * w / 2)), tuple(map(float, edge + u * w / 2)))
-        return DrawnGate(gid, a.id, (*map(float, inward), heading),
-                         (*map(float, outward), heading + math.pi), mouth)
-    return None
-
-
 def draw_spine(plot: PlotSpec, gate: int, offset: float, branches: bool,
                branches_first: bool = True) -> Candidate | None:
     """A candidate for a plot too small or too narrow for a ring: a two-way *spine* aisle
@@ -643,165 +357,6 @@ def draw_spine(plot: PlotSpec, gate: int, offset: float, branches: bool,
     return Candidate(math.degrees(heading) % 180.0, spine90, offset, not branches_first,
                      aisles, rows, gates, spine=(g.id, branches))
 
-
-def _inward(outline: Polygon, at: np.ndarray, width: float) -> tuple[np.ndarray, np.ndarray]:
-    """Where a gate's aisle of ``width`` [m] begins: :data:`GATE_INSET` inside the boundary
-    from the point of it nearest ``at``, moved along that edge, where the gate lies near one
-    of its ends, until the aisle's mouth lies on the edge with :data:`CLEAR` to spare (at
-    most half the width and that: the mouth still takes the gate in); and the unit square
-    to the edge, inward."""
-    ring = np.asarray(outline.exterior.coords)
-    g = Point(at)
-    k = int(np.argmin([LineString(ring[i:i + 2]).distance(g) for i in range(len(ring) - 1)]))
-    e = ring[k + 1] - ring[k]
-    span = float(np.hypot(*e))
-    e = e / span
-    n = np.array([-e[1], e[0]])  # left of a counter-clockwise edge is inward
-    if not outline.exterior.is_ccw:
-        n = -n
-    s = float(np.dot(np.asarray(at, dtype=float) - ring[k], e))
-    room = width / 2 + CLEAR
-    s = min(max(s, room), span - room) if span >= 2 * room else span / 2
-    start = ring[k] + e * s
-    return start + n * GATE_INSET, n
-
-
-def _gate_poses(plot: PlotSpec, gid: str, aisle: str, start: np.ndarray, n: np.ndarray
-                ) -> DrawnGate:
-    """A gate's entrance and exit near the boundary, on the inward and outward lanes of its
-    aisle, which runs from ``start`` along ``n``."""
-    width = plot.circulation_width
-    heading = math.atan2(n[1], n[0])
-    right = np.array([n[1], -n[0]])
-    longest = max(v.front for v in plot.vehicle_types)
-    rear = max(v.rear for v in plot.vehicle_types)
-    inward = start + n * (rear + 0.5) + right * width / 4
-    outward = start + n * (longest + 0.5) - right * width / 4
-    edge = start - n * GATE_INSET
-    mouth = (tuple(map(float, edge - right * width / 2)),
-             tuple(map(float, edge + right * width / 2)))
-    return DrawnGate(gid, aisle, (*map(float, inward), heading),
-                     (*map(float, outward), heading + math.pi), mouth)
-
-
-def _mouths(plot: PlotSpec, gates: list[DrawnGate]):
-    """Where no bay's centre may lie: within :attr:`PlotSpec.gate_clearance` of a gate's
-    mouth (None: nowhere)."""
-    if plot.gate_clearance <= 0:
-        return None
-    zones = [LineString(g.mouth).buffer(plot.gate_clearance) for g in gates
-             if g.mouth is not None]
-    if not zones:
-        return None
-    zone = unary_union(zones)
-    shapely.prepare(zone)
-    return zone
-
-
-class _Things:
-    """What bays keep :data:`CLEAR` from: aisle strips (by aisle id), islands (id ``""``)
-    and the bays kept so far (each with its aisle and side); and ``mouths``, what their
-    centres keep out of (:func:`_mouths`)."""
-
-    def __init__(self, shapes: list[Polygon], owners: list[str], mouths=None):
-        self.mouths = mouths
-        self.fixed = shapes
-        self.owners = owners
-        self.fixed_tree = shapely.STRtree(shapes)
-        self.bays: list[Polygon] = []
-        self.bay_sides: list[tuple[str, str]] = []
-        self.bay_tree = None
-
-    def clear(self, bay: Polygon, aisle: str, beside: tuple[str, str] | None = None) -> bool:
-        """Whether ``bay`` keeps clear of everything but its own aisle, which it may
-        touch (its entry lies on the aisle's edge), and, with ``beside`` (aisle, side), the
-        bays along that side, which it may touch as neighbours in a row do; and keeps its
-        centre out of the gates' mouths."""
-        if self.mouths is not None and self.mouths.intersects(bay.centroid):
-            return False
-        for i in self.fixed_tree.query(bay, predicate="dwithin", distance=CLEAR - EPS):
-            if self.owners[i] != aisle or \
-                    shapely.area(shapely.intersection(self.fixed[i], bay)) > 1e-6:
-                return False
-        if self.bay_tree is None:
-            return True
-        for i in self.bay_tree.query(bay, predicate="dwithin", distance=CLEAR - EPS):
-            if beside is None or self.bay_sides[i] != beside or \
-                    shapely.area(shapely.intersection(self.bays[i], bay)) > 1e-6:
-                return False
-        return True
-
-    def add(self, bays: list[Polygon], side: tuple[str, str] = ("", "")) -> None:
-        self.bays += bays
-        self.bay_sides += [side] * len(bays)
-        if self.bays:
-            self.bay_tree = shapely.STRtree(self.bays)
-
-
-def _compact_rows(plot: PlotSpec, sides: list[tuple[DrawnAisle, str, Module]],
-                  room: Polygon, things: _Things, rows: list[DrawnRow]) -> list[DrawnRow]:
-    """Compact bays (``plot.uses.compact``) packed, side by side in the order the full
-    bays were, into what those left: a row's leftover length at its end, a stretch where
-    a full bay did not fit; none where the plot asks for none."""
-    size = plot.uses.compact
-    if size is None:
-        return []
-    full: dict[tuple[str, str], list[float]] = {}
-    for r in rows:
-        step = KINDS["perpendicular" if r.angle == 90 else "angled"].pitch(
-            plot.bay_width, plot.bay_length, math.radians(r.angle))
-        full.setdefault((r.aisle, r.side), []).append(r.start + r.count * step)
-    # tried first: right after each row of full bays, touching it as a neighbour does
-    return [r for a, side, mod in sides
-            for r in _pack(plot, a, side, mod, room, things, size,
-                           seeds=full.get((a.id, side), []))]
-
-
-def _pack(plot: PlotSpec, a: DrawnAisle, side: str, mod: Module, room: Polygon,
-          things: _Things, size: tuple[float, float] | None = None,
-          seeds: list[float] = ()) -> list[DrawnRow]:
-    """Bays packed along one side of aisle ``a`` from its first end (module docstring),
-    of the plot's size or of ``size`` (width, length [m]: compact bays, which may touch the
-    bays along the same side, and are tried at the stations of ``seeds`` too); ``things``
-    gains them."""
-    kind = KINDS["perpendicular" if mod.angle == 90 else "angled"]
-    angle = math.radians(mod.angle)
-    bay_w, bay_l = size or (plot.bay_width, plot.bay_length)
-    beside = (a.id, side) if size is not None else None
-    along = kind.frontage(bay_w, bay_l, angle)
-    step = kind.pitch(bay_w, bay_l, angle)
-    p0, p1 = np.asarray(a.start, dtype=float), np.asarray(a.end, dtype=float)
-    length = float(np.hypot(*(p1 - p0)))
-    u = (p1 - p0) / length
-    left = np.array([-u[1], u[0]])
-    n = left if side == "left" else -left
-    origin = p0 + n * a.width / 2
-    heading = math.atan2(u[1], u[0])
-    placed: list[tuple[float, Polygon]] = []
-    s = 0.0
-    while s + along <= length + 1e-9:
-        poly, _, _ = kind.place(origin, u, n, heading, s, bay_w, bay_l, angle,
-                                toward_traffic=side == "right" or a.one_way)
-        bay = Polygon(poly)
-        ok = room.covers(bay) and things.clear(bay, a.id, beside)
-        if ok and placed and abs(placed[-1][0] + step - s) > 1e-9:
-            ok = placed[-1][1].distance(bay) >= CLEAR - EPS
-        if ok:
-            placed.append((s, bay))
-            s += step
-        else:
-            later = [t for t in seeds if s + 1e-9 < t < s + PACK_STEP - 1e-9]
-            s = min(later) if later else s + PACK_STEP
-    rows: list[DrawnRow] = []
-    for s, bay in placed:
-        last = rows[-1] if rows else None
-        if last is not None and abs(last.start + last.count * step - s) < 1e-6:
-            last.count += 1
-            last.polygons.append(bay)
-        else:
-            rows.append(DrawnRow(a.id, side, mod.angle, s, 1, [bay], size))
-    things.add([b for _, b in placed], (a.id, side))
-    return rows
 
 
 def _to_plot(c: Candidate, frame: _Frame) -> Candidate:

@@ -13,7 +13,7 @@ of an aisle with a dead end leads to every other.
 
 From each gate's mouth the junctions it leads to are followed; a candidate's *served* bays
 are those along an aisle some gate leads to. This is a bound drawn roughly, not a verdict:
-the maneuver planner and reachability (:mod:`lotsim.design.search`) decide which bays are
+the maneuver planner and reachability (:mod:`lotsim.design.preparing`) decide which bays are
 usable; the bound decides only which candidates are worth preparing first.
 """
 
@@ -25,7 +25,7 @@ from dataclasses import dataclass
 import numpy as np
 from shapely.geometry import LineString
 
-from lotsim.design.candidates import Candidate, DrawnAisle
+from lotsim.design.drawn import Candidate, DrawnAisle
 from lotsim.design.plot import PlotSpec
 
 MEET = 1e-3

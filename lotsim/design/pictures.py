@@ -6,7 +6,7 @@ from __future__ import annotations
 
 from PIL import Image
 
-from lotsim.design.search import Evaluation, LayoutResult
+from lotsim.design.results import Evaluation, LayoutResult
 from lotsim.io.scenario_yaml import parse_scenario
 from lotsim.io.yamlnodes import parse_text
 from lotsim.render.lot_image import draw_lot

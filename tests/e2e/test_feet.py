@@ -168,7 +168,9 @@ def test_a_plot_in_feet_is_laid_out_in_feet(tmp_path):
     # the same candidate of the shipped storefront plot and of its feet copy, written as
     # lotsim layout writes it: the feet one states units: ft and reads back as the same lot
     from lotsim.design.allocation import allocate, stretches
-    from lotsim.design.search import LayoutSettings, candidates, scenario_text
+    from lotsim.design.preparing import scenario_text
+    from lotsim.design.search import candidates
+    from lotsim.design.settings import LayoutSettings
     from lotsim.io.scenario_yaml import read_scenario
 
     doc = yaml.safe_load((ROOT / "scenarios" / "plots" / "storefront_plot.yaml").read_text())

@@ -16,13 +16,10 @@ from unit.design.test_candidates import _violations
 
 from lotsim.design.allocation import allocate, group_span, stretches
 from lotsim.design.plot_yaml import read_plot
-from lotsim.design.search import (
-    Evaluation,
-    LayoutResult,
-    LayoutSettings,
-    candidates,
-    scenario_text,
-)
+from lotsim.design.preparing import scenario_text
+from lotsim.design.results import Evaluation, LayoutResult
+from lotsim.design.search import candidates
+from lotsim.design.settings import LayoutSettings
 from lotsim.io.scenario_yaml import parse_scenario
 from lotsim.io.yamlnodes import parse_text
 from lotsim.lot.build import build_lot

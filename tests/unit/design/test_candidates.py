@@ -13,9 +13,11 @@ import shapely
 from shapely.geometry import LineString, Point, Polygon
 
 from conftest import ROOT
-from lotsim.design.candidates import CLEAR, draw, modules_of, orientations, pitch
+from lotsim.design.candidates import draw, modules_of, orientations, pitch
+from lotsim.design.drawn import CLEAR
 from lotsim.design.plot_yaml import read_plot
-from lotsim.design.search import LayoutSettings, candidates
+from lotsim.design.search import candidates
+from lotsim.design.settings import LayoutSettings
 
 PLOTS = sorted((ROOT / "scenarios" / "plots").glob("*.yaml"))
 

@@ -9,10 +9,12 @@ import math
 
 import pytest
 
-from lotsim.design.candidates import Candidate, DrawnAisle, DrawnGate, DrawnRow, Module
 from lotsim.design.circulation import circulation
+from lotsim.design.drawn import Candidate, DrawnAisle, DrawnGate, DrawnRow, Module
 from lotsim.design.plot_yaml import read_plot
-from lotsim.design.search import Evaluation, LayoutSettings, candidates
+from lotsim.design.results import Evaluation
+from lotsim.design.search import candidates
+from lotsim.design.settings import LayoutSettings
 from lotsim.errors import SettingsError
 
 STRIP = """\
