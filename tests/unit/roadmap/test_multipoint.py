@@ -8,6 +8,7 @@ import numpy as np
 import pytest
 import shapely
 from shapely.geometry import box
+from small_lots import TINY_TEE
 
 from lotsim.core.geometry import Segment
 from lotsim.io.result import result_dict
@@ -119,32 +120,6 @@ def test_a_multi_point_path_is_not_found_when_the_lane_cannot_be_reached():
     got = plan_onto([(3.0, 1.0, math.pi / 2)], (0.0, 20.0, 0.0), 0.0, 10.0,
                     Collider([], lot), CAR, 5.0, budget=500)
     assert not got.found and got.value is None and got.reason
-
-
-TINY_TEE = """
-name: tiny-tee
-seed: 9
-vehicle_types: [vw]
-lot:
-  boundary: [[0, 0], [22.59, 0], [22.59, 18.25], [0, 18.25]]
-  aisles:
-    - {id: spur, centerline: [[11.495, 0], [11.495, 9.125]], width: 7.39}
-    - {id: a0, centerline: [[1.0, 9.125], [21.59, 9.125]], width: 7.39}
-  rows:
-    - {aisle: a0, side: right, kind: perpendicular, count: 2, slot_width: 2.4,
-       slot_length: 5.43, start: 0.0, id_prefix: W}
-    - {aisle: a0, side: right, kind: perpendicular, count: 2, slot_width: 2.4,
-       slot_length: 5.43, start: 14.69, id_prefix: E}
-    - {aisle: a0, side: left, kind: perpendicular, count: 2, slot_width: 2.4,
-       slot_length: 5.43, start: 0.0, id_prefix: N}
-  entrances:
-    - {id: gate-in, x: 13.342, y: 1.5, heading_deg: 90}
-  exits:
-    - {id: gate-out, x: 9.647, y: 4.5, heading_deg: -90}
-traffic:
-  patience: 600
-  stream: {count: 6, rate_per_hour: 60, dwell: [30, 64]}
-"""
 
 
 def test_a_spur_meeting_a_short_arm_is_turned_into_in_a_few_strokes_and_every_bay_used():

@@ -9,6 +9,7 @@ import math
 import numpy as np
 import pytest
 import shapely
+from small_lots import TINY_TEE
 
 from conftest import ROOT, scenario_from_text
 from lotsim.errors import SettingsError
@@ -26,29 +27,6 @@ from lotsim.roadmap.settings import (
 )
 
 LOTS = ROOT / "scenarios" / "lots"
-
-# A gate spur meeting a 7.4 m aisle at a T, whose east arm is too short past the corner bay
-# for one right turn: the turn from the spur onto the east-bound lane is a multi-point turn.
-TINY_TEE = """
-name: tiny-tee
-vehicle_types: [vw]
-lot:
-  boundary: [[0, 0], [22.59, 0], [22.59, 18.25], [0, 18.25]]
-  aisles:
-    - {id: spur, centerline: [[11.495, 0], [11.495, 9.125]], width: 7.39}
-    - {id: a0, centerline: [[1.0, 9.125], [21.59, 9.125]], width: 7.39}
-  rows:
-    - {aisle: a0, side: right, kind: perpendicular, count: 2, slot_width: 2.4,
-       slot_length: 5.43, start: 0.0, id_prefix: W}
-    - {aisle: a0, side: right, kind: perpendicular, count: 2, slot_width: 2.4,
-       slot_length: 5.43, start: 14.69, id_prefix: E}
-    - {aisle: a0, side: left, kind: perpendicular, count: 2, slot_width: 2.4,
-       slot_length: 5.43, start: 0.0, id_prefix: N}
-  entrances:
-    - {id: gate-in, x: 13.342, y: 1.5, heading_deg: 90}
-  exits:
-    - {id: gate-out, x: 9.647, y: 4.5, heading_deg: -90}
-"""
 
 
 def _lot(sc):
