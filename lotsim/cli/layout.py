@@ -35,8 +35,13 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="module offsets tried per direction (default %(default)s)")
     parser.add_argument("--prepared", type=int, metavar="N",
                         default=api.LayoutSettings().prepared,
-                        help="prepare and run at most N candidates, most bays drawn first "
-                        "(default %(default)s)")
+                        help="prepare and run at most N candidates, those whose aisles "
+                        "serve the most bays first (default %(default)s)")
+    parser.add_argument("--dead-end-cost", type=float, metavar="BAYS",
+                        default=api.LayoutSettings().dead_end_cost,
+                        help="what 100 m of dead-end aisle costs a layout in the ranking, in "
+                        "bays: a loop comes before a layout of up to this many bays more per "
+                        "100 m of dead ends (0: rank by bays alone; default %(default)s)")
     parser.add_argument("--jobs", type=int, metavar="N",
                         help="worker processes (default: one per core)")
 
@@ -48,7 +53,8 @@ def execute(args: argparse.Namespace) -> int:
     if not 1 <= args.show <= 100:
         return bad(f"--show: expected 1 to 100, found {args.show}")
     settings = api.LayoutSettings(orientations=args.orientations, offsets=args.offsets,
-                                  prepared=args.prepared, workers=args.jobs)
+                                  prepared=args.prepared, workers=args.jobs,
+                                  dead_end_cost=args.dead_end_cost)
     with api.OutputSet() as outputs:  # checked before the search, written whole or not at all
         # the next best layouts and the pictures go beside it, into the same staging folder
         staged = outputs.file(args.output, name=given("-o", args.output))

@@ -144,6 +144,21 @@ def test_the_same_plot_gives_the_same_bytes(tmp_path, monkeypatch):
     assert sorted(p.name for p in tmp_path.iterdir()) == ["a.yaml", "b.yaml", "small.yaml"]
 
 
+def test_the_dead_end_cost_is_set_on_the_command_line_and_written_with_the_search(
+        tmp_path, capsys):
+    plot = tmp_path / "small.yaml"
+    plot.write_text(SMALL)
+    out = tmp_path / "lot.yaml"
+    assert main(["layout", str(plot), "-o", str(out), "--orientations", "1", "--offsets",
+                 "1", "--prepared", "1", "--dead-end-cost", "7.5"]) == 0
+    assert "dead ends 7.5 bays per 100 m" in out.read_text()
+    assert main(["layout", str(plot), "-o", str(tmp_path / "no.yaml"),
+                 "--dead-end-cost", "-1"]) == 2
+    assert "--dead-end-cost: expected 0 to 1000 bays per 100 m, found -1.0" in \
+        capsys.readouterr().err
+    assert not (tmp_path / "no.yaml").exists()
+
+
 def test_keep_writes_the_next_best_beside_the_best(tmp_path, capsys):
     plot = tmp_path / "small.yaml"
     plot.write_text(SMALL)
