@@ -152,3 +152,25 @@ traffic:
   patience: 600
   stream: {count: 6, rate_per_hour: 60, dwell: [30, 64]}
 """
+
+
+DISCONNECTED = """\
+name: apart
+vehicle_types: [valet]
+lot:
+  boundary: [[0, 0], [60, 0], [60, 60], [0, 60]]
+  aisles:
+    - {id: a, centerline: [[0, 10], [60, 10]], width: 7.0, direction: one-way}
+    - {id: b, centerline: [[0, 45], [60, 45]], width: 7.0, direction: one-way}
+  rows:
+    - {aisle: a, side: left, kind: perpendicular, count: 3, slot_width: 2.5,
+       slot_length: 5.0, start: 10, id_prefix: A}
+    - {aisle: b, side: left, kind: perpendicular, count: 3, slot_width: 2.5,
+       slot_length: 5.0, start: 10, id_prefix: B}
+  entrances:
+    - {id: in, x: 2, y: 10, heading_deg: 0}
+  exits:
+    - {id: out, x: 54, y: 45, heading_deg: 0}
+"""
+"""Two one-way aisles that never meet: the entrance on the south one, the exit on the
+north one."""

@@ -5,6 +5,7 @@ import math
 import numpy as np
 import pytest
 import shapely
+from small_lots import DISCONNECTED
 
 from conftest import ONE_AISLE, SCENARIOS, graph_from_text, position, scenario_from_text
 from lotsim.core.geometry import wrap_angle
@@ -180,24 +181,6 @@ def test_speed_bump_lowers_the_limit_within_5_m(shipped_graphs):
             assert d["speed_limit"] == pytest.approx(10 * KMH)
             slow += 1
     assert slow >= 2 and fast > slow
-
-
-DISCONNECTED = """
-lot:
-  boundary: [[0, 0], [60, 0], [60, 60], [0, 60]]
-  aisles:
-    - {id: a, centerline: [[0, 10], [60, 10]], width: 7.0, direction: one-way}
-    - {id: b, centerline: [[0, 45], [60, 45]], width: 7.0, direction: one-way}
-  rows:
-    - {aisle: a, side: left, kind: perpendicular, count: 3, slot_width: 2.5,
-       slot_length: 5.0, start: 10, id_prefix: A}
-    - {aisle: b, side: left, kind: perpendicular, count: 3, slot_width: 2.5,
-       slot_length: 5.0, start: 10, id_prefix: B}
-  entrances:
-    - {id: in, x: 2, y: 10, heading_deg: 0}
-  exits:
-    - {id: out, x: 54, y: 45, heading_deg: 0}
-"""
 
 
 def test_unreachable_slots_are_reported_not_dropped():

@@ -10,32 +10,11 @@ from types import SimpleNamespace
 
 import networkx as nx
 import pytest
-from small_lots import CROSS, lot_of
+from small_lots import CROSS, DISCONNECTED, lot_of
 
 from lotsim.roadmap.assemble import build_graph
 from lotsim.roadmap.model import LotGraph
 from lotsim.roadmap.reach import find_reachability, lane_reach, reachable_ranges
-
-DISCONNECTED = """\
-name: apart
-vehicle_types: [valet]
-lot:
-  boundary: [[0, 0], [60, 0], [60, 60], [0, 60]]
-  aisles:
-    - {id: a, centerline: [[0, 10], [60, 10]], width: 7.0, direction: one-way}
-    - {id: b, centerline: [[0, 45], [60, 45]], width: 7.0, direction: one-way}
-  rows:
-    - {aisle: a, side: left, kind: perpendicular, count: 3, slot_width: 2.5,
-       slot_length: 5.0, start: 10, id_prefix: A}
-    - {aisle: b, side: left, kind: perpendicular, count: 3, slot_width: 2.5,
-       slot_length: 5.0, start: 10, id_prefix: B}
-  entrances:
-    - {id: in, x: 2, y: 10, heading_deg: 0}
-  exits:
-    - {id: out, x: 54, y: 45, heading_deg: 0}
-"""
-"""Two one-way aisles that never meet: the entrance on the south one, the exit on the
-north one."""
 
 
 def _search(links: dict, sources) -> set:
