@@ -40,6 +40,7 @@ import tempfile
 from collections.abc import Iterator
 from pathlib import Path
 
+from lotsim.core.keys import key_of
 from lotsim.core.packed import no_cycle_collection
 
 try:
@@ -95,12 +96,13 @@ def source_files() -> list[Path]:
     return sorted(PACKAGE_ROOT.rglob("*.py"))
 
 
-def key(kind: str, *parts: object) -> str:
-    """The entry name for ``parts`` (their ``repr``: give only values whose repr is their
-    content, such as frozen dataclasses of numbers and strings) under ``kind``."""
+def key(kind: str, made_from: object) -> str:
+    """The entry name under ``kind`` of what is made from ``made_from``, an instance of a
+    declared input type (:func:`lotsim.core.keys.inputs`), with this lotsim
+    (:func:`code_version`)."""
     h = hashlib.blake2b(digest_size=20)
     h.update(code_version().encode())
-    h.update(repr(parts).encode())
+    h.update(key_of(made_from))
     return f"{kind}-{h.hexdigest()}.pickle"
 
 

@@ -122,7 +122,7 @@ class Slot:
     angle: float
     width: float
     length: float
-    where: Location | None = field(default=None, repr=False)
+    where: Location | None = field(default=None, repr=False, compare=False)
     use: str = STANDARD
 
     @property
@@ -168,7 +168,7 @@ class AccessAisle:
     polygon: FloatArray
     slots: tuple[str, ...]
     width: float
-    where: Location | None = field(default=None, repr=False)
+    where: Location | None = field(default=None, repr=False, compare=False)
 
     @cached_property
     def shape(self) -> Polygon:
@@ -286,7 +286,7 @@ class Aisle:
     bend_sharpness: float  # of the clothoids into and out of its bends [1/m²]
     polygon: Polygon
     lanes: tuple[Lane, ...]
-    where: Location | None = field(default=None, repr=False)
+    where: Location | None = field(default=None, repr=False, compare=False)
     corner_sharpness: tuple[float, ...] = ()  # per corner where not bend_sharpness; inf: arc
 
     @cached_property
@@ -325,7 +325,7 @@ class Area:
     id: str
     kind: str
     polygon: Polygon
-    where: Location | None = field(default=None, repr=False)
+    where: Location | None = field(default=None, repr=False, compare=False)
 
 
 @dataclass(frozen=True, eq=False)

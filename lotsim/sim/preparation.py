@@ -10,26 +10,55 @@ import dataclasses
 from dataclasses import dataclass, field
 
 import lotsim.core.diskcache
+from lotsim.core.keys import inputs
 from lotsim.core.reusecheck import ReuseCheck
 from lotsim.core.workers import Aside
 from lotsim.lot.build import build_lot
 from lotsim.lot.model import DesignVehicle, Lot
+from lotsim.lot.spec import LotSpec
 from lotsim.lot.uses import refused_bays
 from lotsim.maneuvers.batch import plan_lot
 from lotsim.maneuvers.planner import ManeuverPlanner
+from lotsim.maneuvers.settings import ManeuverSettings
 from lotsim.roadmap.assemble import build_graph, lane_graph
 from lotsim.roadmap.memo import RoadmapMemo
 from lotsim.roadmap.model import LotGraph
 from lotsim.roadmap.reach import Reachability, maneuver_ranges
+from lotsim.roadmap.settings import RoadmapSettings
 from lotsim.roadmap.turnarounds import plan_turnarounds_ahead
 from lotsim.scenario import Scenario
 from lotsim.traffic.demand import arrivals
 from lotsim.traffic.searchgraph import SearchGraphMemo
+from lotsim.vehicles.model import VehicleType
 
 REMEMBER_FROM = 64
 """Fewest slots times vehicle types for which :func:`prepare` keeps a lot's maneuver answers
 for its later edits, by default (a smaller lot is planned in a second or two, about what
 reading and writing them would take)."""
+
+
+@inputs
+class PreparedFrom:
+    """What a prepared lot is made from (its name in the on-disk cache): the lot as
+    described, the vehicle types, the parked vehicle, whether cars leave and/or stay, the
+    graph's node spacing [m] and the maneuver and roadmap settings."""
+
+    lot: LotSpec
+    vehicle_types: tuple[VehicleType, ...]
+    parked_vehicle: VehicleType
+    leaves: tuple[bool, ...]
+    node_spacing: float
+    maneuvers: ManeuverSettings
+    roadmap: RoadmapSettings
+
+
+@inputs
+class StoreOf:
+    """The name of a store of remembered work on disk: the scenario's name and the
+    settings the work was done with (other settings, another store)."""
+
+    scenario: str
+    settings: ManeuverSettings | RoadmapSettings
 
 
 def prepare_graph(scenario: Scenario, *, node_spacing: float = 4.0, maneuvers: bool = True,
@@ -109,9 +138,9 @@ def prepare_lot(scenario: Scenario, *, node_spacing: float = 4.0, maneuvers: boo
         lg, planner = _prepared(scenario, leaves, None, node_spacing, progress,
                                 remember_from, check)
         return PreparedLot(scenario, lg, planner, graphs)
-    name = lotsim.core.diskcache.key("prepared", scenario.lot, scenario.vehicle_types,
-                                     scenario.parked_vehicle, sorted(leaves), node_spacing,
-                                     scenario.maneuvers, scenario.roadmap)
+    name = lotsim.core.diskcache.key("prepared", PreparedFrom(
+        scenario.lot, tuple(scenario.vehicle_types), scenario.parked_vehicle,
+        tuple(sorted(leaves)), node_spacing, scenario.maneuvers, scenario.roadmap))
     got = _cached(name)
     if got is None:
         with lotsim.core.diskcache.making(name):
@@ -179,7 +208,8 @@ def _prepared(scenario: Scenario, leaves: set[bool], name: str | None, node_spac
     # the dead ends' turnarounds, planned in time no other step wants (the graphs need them)
     with plan_turnarounds_ahead(memo, scenario.vehicle_types, settings=scenario.roadmap):
         planner = maneuver_planner(scenario, lot, memo=memo)
-        known_name = (lotsim.core.diskcache.key("maneuvers", scenario.name, planner.settings)
+        known_name = (lotsim.core.diskcache.key("maneuvers", StoreOf(scenario.name,
+                                                                         planner.settings))
                       if remember else None)
         known = _known(known_name)
         planned, infeasible, stays = plan_lot(planner, scenario.vehicle_types, progress=progress,
@@ -233,7 +263,7 @@ def _by_use(lot: Lot, scenario: Scenario, planned: dict, infeasible: dict[str, d
 def _roads_name(scenario: Scenario) -> str:
     """The on-disk name of the store of roadmap pieces for lots of the scenario's name and
     roadmap settings (:mod:`~lotsim.roadmap.remembered`)."""
-    return lotsim.core.diskcache.key("roadmap", scenario.name, scenario.roadmap)
+    return lotsim.core.diskcache.key("roadmap", StoreOf(scenario.name, scenario.roadmap))
 
 
 def _known(name: str | None) -> dict | None:
