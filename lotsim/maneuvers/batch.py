@@ -4,10 +4,10 @@ exactly the answers of searching them one after another."""
 
 from __future__ import annotations
 
-import hashlib
 import itertools
 from collections.abc import Callable, Iterable
 
+from lotsim.core.keys import inputs, key_of
 from lotsim.core.reusecheck import ReuseCheck
 from lotsim.core.workers import ForkPool, cores
 from lotsim.maneuvers.maneuver import Maneuver
@@ -162,20 +162,43 @@ class _Batch:
         return exact, (pair, fit_keys(exact, offers)[read - 1 if pair is not None else -1])
 
 
+@inputs
+class FitOf:
+    """Where ``known`` keeps a fit of a problem (by its exact key,
+    :func:`~lotsim.maneuvers.problem.exact_key`) to a class's offers: the maneuvers of the
+    offers it read (:attr:`Found.source`, in order), and whether the last of them fits
+    (else none of them does)."""
+
+    exact: bytes
+    offers: tuple[bytes, ...]
+    fits: bool
+
+
+@inputs
+class PosedBy:
+    """Where ``known`` keeps the digest, frame, lane station and shape of the problem made
+    from ``sources`` (:meth:`~lotsim.maneuvers.problem.LotProblems.sources`)."""
+
+    sources: bytes
+
+
+@inputs
+class ExactBy:
+    """Where ``known`` keeps the exact key (:func:`~lotsim.maneuvers.problem.exact_key`)
+    of the problem made from ``sources`` in ``style``."""
+
+    sources: bytes
+    style: str
+
+
 def fit_keys(exact: bytes, offers: list[Found]) -> list[bytes]:
-    """Where ``known`` keeps a fit of the problem with exact key ``exact`` to ``offers``:
-    by the maneuvers the offers up to the one that fits hold (:attr:`Found.source`; a fit
-    reads no offer after it, so it holds when those after change), one key for each offer
-    it may be; and where none fits, by them all (the last key)."""
-    h = hashlib.blake2b(exact, digest_size=20)
-    out = []
-    for found in offers:
-        h.update(found.source)
-        fits = h.copy()
-        fits.update(b" fits")
-        out.append(fits.digest())
-    h.update(b" none")
-    return [*out, h.digest()]
+    """Where ``known`` keeps a fit of the problem with exact key ``exact`` to ``offers``
+    (:class:`FitOf`): by the maneuvers the offers up to the one that fits hold (a fit reads
+    no offer after it, so it holds when those after change), one key for each offer it may
+    be; and where none fits, by them all (the last key)."""
+    sources = tuple(found.source for found in offers)
+    return [*(key_of(FitOf(exact, sources[:k + 1], True)) for k in range(len(sources))),
+            key_of(FitOf(exact, sources, False))]
 
 
 def _keep(known: dict, key: bytes, value: object) -> None:
@@ -185,15 +208,13 @@ def _keep(known: dict, key: bytes, value: object) -> None:
 
 
 def posed_key(source: bytes) -> bytes:
-    """Where ``known`` keeps the digest, frame, lane station and shape of the problem with
-    ``source`` (:meth:`~lotsim.maneuvers.problem.LotProblems.sources`)."""
-    return b"posed " + source
+    """The key of :class:`PosedBy` ``source``."""
+    return key_of(PosedBy(source))
 
 
 def exact_key_of(source: bytes, style: str) -> bytes:
-    """Where ``known`` keeps the exact key (:func:`~lotsim.maneuvers.problem.exact_key`)
-    of the problem with ``source`` in ``style``."""
-    return b"exact " + style.encode() + b" " + source
+    """The key of :class:`ExactBy` ``source`` and ``style``."""
+    return key_of(ExactBy(source, style))
 
 
 def prefetch(planner: ManeuverPlanner, vehicles: Iterable[VehicleType], *,

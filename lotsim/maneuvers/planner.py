@@ -21,11 +21,11 @@ on worker processes.
 from __future__ import annotations
 
 import dataclasses
-import hashlib
 import math
 
 from lotsim.core.checks import choice_problem
 from lotsim.core.geometry import Segment, same_pose
+from lotsim.core.keys import inputs, key_of
 from lotsim.core.lazy import LoadedBy
 from lotsim.core.outcome import Outcome, Status
 from lotsim.core.packed import pack, unpack
@@ -65,6 +65,17 @@ def misfit(vehicle: VehicleType, slot: Slot) -> str | None:
     if vehicle.length > slot.length:
         return f"the car is {vehicle.length:.2f} m long, the slot {slot.length:.2f} m"
     return None
+
+
+@inputs
+class ProblemAsked:
+    """What the planner keeps an answer by (:meth:`ManeuverPlanner.key`): the problem's
+    digest (:meth:`~lotsim.maneuvers.problem.LotProblems.digest`), the style, and how
+    many lanes serve the slot (which class of :mod:`~lotsim.maneuvers.reuse` it is in)."""
+
+    digest: bytes
+    style: str
+    lanes: int
 
 
 def search_maneuver(problem: ManeuverProblem, style: str, settings: ManeuverSettings, *,
@@ -473,10 +484,8 @@ class ManeuverPlanner:
         :mod:`~lotsim.maneuvers.reuse` it is in): equal keys plan equal maneuvers.
         ``digest`` is :meth:`~lotsim.maneuvers.problem.LotProblems.digest` of ``p`` when the
         caller has it."""
-        h = hashlib.blake2b(digest if digest is not None else self.problems.digest(p),
-                            digest_size=20)
-        h.update(f"{style} {lanes}".encode())
-        return h.digest()
+        return key_of(ProblemAsked(digest if digest is not None else self.problems.digest(p),
+                                   style, lanes))
 
     def _pose(self, vehicle: VehicleType, slot: Slot, lane: Lane, style: str
               ) -> tuple[bytes, LocalFrame, float, ManeuverProblem | None]:

@@ -30,6 +30,7 @@ from shapely.geometry import Polygon
 from shapely.geometry.base import BaseGeometry
 
 from lotsim.core.geometry import FloatArray, Segment, wrap_angle
+from lotsim.core.keys import inputs, key_of, unordered
 from lotsim.lot.kinds import kind_of
 from lotsim.lot.model import Lane, Lot, Slot
 from lotsim.maneuvers.settings import ManeuverSettings
@@ -380,24 +381,17 @@ class LotProblems:
         shape_wkb = shapely.to_wkb(shapes).tolist()
         outlines = _micro(_to_local(np.array([slot.polygon for _, slot, _ in triples],
                                              dtype=float), axes))
-        cars = {v: repr((v, self.margin, self.settings.sweep)).encode()
-                for v, _, _ in triples}
         keys, commons = [], []
+        margin, sweep = self.margin, self.settings.sweep
         for i, ((v, slot, _), (_, lane_y, lane_x, s0, half)) in enumerate(
                 zip(triples, heads, strict=True)):
             outline = outlines[i]
-            commons.append(_common(v, slot, outline, lane_y, half))
-            h = hashlib.blake2b(commons[-1], digest_size=20)
-            h.update(cars[v])
-            h.update(repr((float(halves[i]), float(tops[i]),
-                           round(lane_y, 6) if math.isfinite(lane_y) else None,
-                           self._along(lane_x, s0))).encode())
-            h.update(outline.tobytes())
-            h.update(shape_wkb[i])
-            h.update(ground_wkb[i])
-            for g in sorted(near_wkb[at[i]:at[i + 1]]):
-                h.update(g)
-            keys.append(h.digest())
+            commons.append(_shape_of(v, slot, outline, lane_y, half))
+            keys.append(key_of(WindowSeen(
+                commons[-1], v, margin, sweep, float(halves[i]), float(tops[i]),
+                round(lane_y, 6) if math.isfinite(lane_y) else None,
+                self._along(lane_x, s0), outline, shape_wkb[i], ground_wkb[i],
+                unordered(near_wkb[at[i]:at[i + 1]]))))
         first = {}
         for i, key in enumerate(keys):
             first.setdefault(key, i)
@@ -491,40 +485,28 @@ class LotProblems:
                         .query(boxes).tolist(), strict=True):
             edges[k].append(j)
         inside = shapely.covers(self._region, shapely.points(mids)).tolist()
-        cars = {v: repr((v, self.margin, self.settings.sweep)).encode() for v, _, _ in triples}
-        lanes: dict[str, bytes] = {}
-        aisles: dict[str, bytes] = {}
+        aisles = {name: self.lot.aisles[name] for name in {slot.aisle for _, slot, _ in triples}}
+        lines = {name: aisle.line.wkb for name, aisle in aisles.items()}
+        margin, sweep = self.margin, self.settings.sweep
         out = []
         for k, (v, slot, lane) in enumerate(triples):
-            got = lanes.get(lane.id)
-            if got is None:
-                got = lanes[lane.id] = repr((lane.id, lane.segments)).encode()
-            h = hashlib.blake2b(got, digest_size=20)
-            far = aisles.get(slot.aisle)
-            if far is None:  # the far side of the window
-                aisle = self.lot.aisles[slot.aisle]
-                far = aisles[slot.aisle] = repr(aisle.width).encode() + aisle.line.wkb
-            h.update(far)
             # the stretch of lane a maneuver may begin on, as far as the window holds it
             s_mid, half = float(stations[k]), float(halves[k]) + 1.0
             first, last = self._span(lane, s_mid)
-            h.update(repr((max(first, s_mid - half), min(last, s_mid + half))).encode())
-            h.update(cars[v])
-            h.update(repr((slot.id, slot.kind, slot.aisle, slot.width, slot.length,
-                           inside[k])).encode())
-            h.update(slot.polygon.tobytes())
-            h.update(slot.entry.tobytes())
-            h.update(near[at[k]:at[k + 1]])
-            h.update(wkb[int(mine[k])])
-            h.update(ends[sorted(edges[k])].tobytes())
-            out.append(h.digest())
+            aisle = aisles[slot.aisle]
+            out.append(key_of(ProblemSources(
+                v, margin, sweep, lane.id, lane.segments,
+                (max(first, s_mid - half), min(last, s_mid + half)), aisle.width,
+                lines[slot.aisle], slot.id, slot.kind, slot.aisle, slot.width, slot.length,
+                inside[k], slot.polygon, slot.entry, near[at[k]:at[k + 1]],
+                wkb[int(mine[k])], ends[sorted(edges[k])])))
         return out
 
     def shape(self, vehicle: VehicleType, slot: Slot, lane: Lane) -> bytes | None:
         """:func:`shape_key` of the problem of ``vehicle`` in ``slot`` from ``lane``."""
         frame, lane_y, _, _, half = self.head(vehicle, slot, lane)
         outline = _micro(frame.points_to_local(slot.polygon))
-        return shape_key(vehicle, slot, lane_y, half, _common(vehicle, slot, outline, lane_y,
+        return shape_key(vehicle, slot, lane_y, half, _shape_of(vehicle, slot, outline, lane_y,
                                                              half))
 
     def _along(self, lane_x: tuple[float, float], s0: float) -> tuple:
@@ -536,14 +518,10 @@ class LotProblems:
         return tuple(np.round(lane_x, 2)), phase
 
     def _hashed(self, v: VehicleType, slot: Slot, lane_y: float, lane_x: tuple[float, float],
-                s0: float, half: float, local: list[bytes], common: bytes) -> bytes:
-        """The digest of a problem from its head, its :func:`_common` and its rounded local
+                s0: float, half: float, local: list[bytes], common: ProblemShape) -> bytes:
+        """The digest of a problem from its head, its :func:`_shape_of` and its rounded local
         geometry (in any order)."""
-        h = hashlib.blake2b(common, digest_size=20)
-        h.update(repr(self._along(lane_x, s0)).encode())
-        for g in sorted(local):
-            h.update(g)
-        return h.digest()
+        return key_of(ProblemDigest(common, self._along(lane_x, s0), unordered(local)))
 
 
 def _half(vehicle: VehicleType) -> float:
@@ -552,28 +530,104 @@ def _half(vehicle: VehicleType) -> float:
     return 2 * vehicle.min_turning_radius + vehicle.length + 1.0
 
 
-def _common(vehicle: VehicleType, slot: Slot, outline: FloatArray, lane_y: float,
-            half: float) -> bytes:
-    """What a problem's digest and its shape (:func:`shape_key`) both hold: the car, the
-    slot's kind and ``outline`` (in the local frame) to 1 cm, the lane line (to 1 mm; None
-    where it bends) and the window's size."""
+@inputs
+class ProblemSources:
+    """What a problem is made from, to the last bit, before it is posed
+    (:meth:`LotProblems.sources`): the car with the margin and sweep [m]; its lane (id and
+    segments) and the stretch of it a maneuver may begin on, as far as the window holds it
+    [m]; the slot's aisle (width [m], line as WKB); the slot (id, kind, aisle, width and
+    length [m], whether its entry lies in the region, outline and entry); the neighbours
+    (the digests of their shapes, sorted: a set); the slot's own taken shape (WKB); and the
+    region's edges that meet the square about the slot (each ring oriented alike)."""
+
+    vehicle: VehicleType
+    margin: float
+    sweep: float
+    lane: str
+    lane_segments: tuple[Segment, ...]
+    stretch: tuple[float, float]
+    aisle_width: float
+    aisle_line: bytes
+    slot: str
+    kind: str
+    aisle: str
+    width: float
+    length: float
+    inside: bool
+    outline: FloatArray
+    entry: FloatArray
+    neighbours: bytes
+    taken: bytes
+    edges: FloatArray
+
+
+@inputs
+class ProblemShape:
+    """What a problem's digest and its shape (:func:`shape_key`) both hold: the car's body
+    (name, width, front and rear overhangs, wheelbase [m], steering limit [rad]), the
+    slot's kind and outline in the local frame to 1 cm (its corners sorted), the lane line
+    (y to 1 mm; None where it bends) and the window's half size (to 1 mm)."""
+
+    body: tuple[str, float, float, float, float, float]
+    kind: str
+    outline: FloatArray
+    lane_y: float | None
+    half: float
+
+
+@inputs
+class ProblemDigest:
+    """What a problem's digest (:meth:`LotProblems.digests`) is made from: its shape, the
+    stretch of lane a maneuver may begin on with the start grid's phase
+    (:meth:`LotProblems._along`), and its rounded local geometry as a set."""
+
+    shape: ProblemShape
+    along: tuple
+    local: tuple[bytes, ...]
+
+
+@inputs
+class WindowSeen:
+    """What poses a problem's rounded local geometry (:meth:`LotProblems.digests`): its
+    shape, the car with the margin and sweep [m], the window's half size and top [m],
+    the lane line (y to 1 µm), the stretch of lane, and the slot's outline, its shape, the
+    ground and the neighbours (as a set) in the slot's frame to 1 µm (WKB). Problems
+    alike in these are posed once."""
+
+    shape: ProblemShape
+    vehicle: VehicleType
+    margin: float
+    sweep: float
+    half: float
+    top: float
+    lane_y: float | None
+    along: tuple
+    outline: FloatArray
+    slot_shape: bytes
+    ground: bytes
+    near: tuple[bytes, ...]
+
+
+def _shape_of(vehicle: VehicleType, slot: Slot, outline: FloatArray, lane_y: float,
+            half: float) -> ProblemShape:
+    """The :class:`ProblemShape` of the problem of ``vehicle`` in ``slot`` (``outline`` in
+    the local frame, the lane line at ``lane_y``, a window of half size ``half``)."""
     outline = np.sort(np.round(outline, 2).reshape(-1, 2) + 0.0, axis=0)
-    head = (vehicle.name, vehicle.width, vehicle.front, vehicle.rear, vehicle.wheelbase,
-            vehicle.max_steer, slot.kind, round(lane_y, 3) if math.isfinite(lane_y) else None,
-            round(half, 3))
-    return repr(head).encode() + outline.tobytes()
+    return ProblemShape((vehicle.name, vehicle.width, vehicle.front, vehicle.rear,
+                         vehicle.wheelbase, vehicle.max_steer), slot.kind, outline,
+                        round(lane_y, 3) if math.isfinite(lane_y) else None, round(half, 3))
 
 
-def shape_key(vehicle: VehicleType, slot: Slot, lane_y: float, half: float, common: bytes
-              ) -> bytes | None:
+def shape_key(vehicle: VehicleType, slot: Slot, lane_y: float, half: float,
+              common: ProblemShape) -> bytes | None:
     """What problems that may share a maneuver have in common
     (:mod:`~lotsim.maneuvers.reuse`), or None for a problem that shares with none (a
-    parallel slot, a lane that bends beside the slot): their :func:`_common` — a digest
-    without the stretch of lane a maneuver may begin on, the start grid's phase and the
-    geometry around the slot."""
+    parallel slot, a lane that bends beside the slot): the key of their
+    :class:`ProblemShape` — a digest without the stretch of lane a maneuver may begin on,
+    the start grid's phase and the geometry around the slot."""
     if kind_of(slot).parks_along or not math.isfinite(lane_y):
         return None
-    return hashlib.blake2b(common, digest_size=20).digest()
+    return key_of(common)
 
 
 def _kept(known: dict, keys: list, make: Callable[[list[int]], Sequence]) -> list:
@@ -623,20 +677,40 @@ def _micro(xy: FloatArray) -> FloatArray:
     return np.round(xy, 6) + 0.0
 
 
+@inputs
+class ExactProblem:
+    """Everything a search of a problem in a style reads, floats to the last bit: the car,
+    the slot's kind, size [m] and outline, the frame, the lane (its line y, the stretch a
+    maneuver may begin on, the station at x = 0 [m]), the window's half size, the sweep,
+    the style, and as WKB the slot's shape, the allowed region, the window and the set of
+    obstacles (a search only asks whether a body meets any: their order is the lot's
+    tree's, which an edit elsewhere in the lot changes)."""
+
+    vehicle: VehicleType
+    kind: str
+    length: float
+    width: float
+    frame: LocalFrame
+    lane_y: float
+    lane_x: tuple[float, float]
+    lane_s0: float
+    half: float
+    sweep: float
+    style: str
+    outline: FloatArray
+    slot_shape: bytes
+    allowed: bytes
+    window: bytes
+    obstacles: tuple[bytes, ...]
+
+
 def exact_key(p: ManeuverProblem, style: str) -> bytes:
-    """Everything a search of ``p`` in ``style`` reads, floats to the last bit: the car, the
-    slot, the frame, the lane, the window, the allowed region and the set of obstacles. Problems
-    with equal keys, from any lot, are searched alike and have the same answer (for the
-    same settings and lotsim). :meth:`ManeuverPlanner.key` rounds to 1 cm instead: it
-    finds the problems of one lot that may share an answer."""
-    h = hashlib.blake2b(digest_size=20)
-    h.update(repr((p.vehicle, p.slot.kind, p.slot.length, p.slot.width, p.frame, p.lane_y,
-                   p.lane_x, p.lane_s0, p.half, p.sweep, style)).encode())
-    h.update(np.asarray(p.slot.polygon, dtype=float).tobytes())
-    for wkb in shapely.to_wkb([p.slot.shape, p.allowed, p.window]):
-        h.update(wkb)
-    # the obstacles as a set: a search only asks whether a body meets any (their order is
-    # the lot's tree's, which an edit elsewhere in the lot changes)
-    for wkb in sorted(shapely.to_wkb(p.obstacles)):
-        h.update(wkb)
-    return h.digest()
+    """The key of the :class:`ExactProblem` of ``p`` in ``style``. Problems with equal
+    keys, from any lot, are searched alike and have the same answer (for the same settings
+    and lotsim). :meth:`ManeuverPlanner.key` rounds to 1 cm instead: it finds the problems
+    of one lot that may share an answer."""
+    shape, allowed, window = shapely.to_wkb([p.slot.shape, p.allowed, p.window]).tolist()
+    return key_of(ExactProblem(
+        p.vehicle, p.slot.kind, p.slot.length, p.slot.width, p.frame, p.lane_y, p.lane_x,
+        p.lane_s0, p.half, p.sweep, style, np.asarray(p.slot.polygon, dtype=float), shape,
+        allowed, window, unordered(shapely.to_wkb(p.obstacles).tolist())))

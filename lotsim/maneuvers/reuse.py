@@ -27,13 +27,13 @@ asking.
 
 from __future__ import annotations
 
-import hashlib
 import math
 import pickle
 from collections.abc import Callable, Hashable, Sequence
 from dataclasses import dataclass
 
 from lotsim.core.geometry import Segment
+from lotsim.core.keys import inputs, key_of
 from lotsim.core.outcome import Outcome
 from lotsim.maneuvers.problem import ManeuverProblem
 from lotsim.maneuvers.settings import ManeuverSettings
@@ -67,6 +67,14 @@ class Found:
                    answer_key(pair) if named else None)
 
 
+@inputs
+class FoundAnswer:
+    """What names a found answer where fits of it are kept (:func:`answer_key`): its pieces
+    eased and as planned, and where each begins, pickled."""
+
+    pickled: bytes
+
+
 def answer_key(pair: Pair) -> bytes:
     """What names a found answer where fits of it are kept: its pieces eased and as
     planned, and where each begins, to the last bit (all :func:`fitted` reads of it), so a
@@ -75,8 +83,7 @@ def answer_key(pair: Pair) -> bytes:
     names are equal maneuvers, and a maneuver found again by the same steps is pickled
     alike."""
     answer, raw = pair
-    blob = pickle.dumps((answer.value, raw.value), protocol=5)
-    return hashlib.blake2b(blob, digest_size=20).digest()
+    return key_of(FoundAnswer(pickle.dumps((answer.value, raw.value), protocol=5)))
 
 
 def changes(segments: Sequence[Segment]) -> int:
