@@ -4,7 +4,6 @@ turn between the lanes themselves would touch a corner slot."""
 
 from __future__ import annotations
 
-import hashlib
 import itertools
 import math
 from dataclasses import dataclass
@@ -12,9 +11,10 @@ from dataclasses import dataclass
 import numpy as np
 
 from lotsim.core.geometry import Segment, cc_polyline, sample_segments, wrap_angle
+from lotsim.core.keys import inputs, key_of
 from lotsim.lot.build import SWEEP_STEP
 from lotsim.lot.clearance import Collider
-from lotsim.lot.model import unit
+from lotsim.lot.model import DesignVehicle, unit
 from lotsim.roadmap.lanes import EPS
 from lotsim.roadmap.model import Turn
 from lotsim.roadmap.settings import DEFAULTS, AreaTurnSettings
@@ -87,15 +87,25 @@ def candidates_shape(pa: Segment, pb: Segment, design, lot_speed: float,
     paths against the same obstacles."""
     blocks = _candidate_blocks(_Layout.of(pa, pb, (), (), settings), pa, pb, design,
                                lot_speed, settings)
-    h = hashlib.blake2b(repr((design, lot_speed)).encode(), digest_size=20)
     ox, oy, heading = frame
     c, s = math.cos(heading), math.sin(heading)
+    tried = []
     for pts, *_, r, sharp in blocks:
         dx, dy = pts[..., 0] - ox, pts[..., 1] - oy
         local = np.round(np.stack([c * dx + s * dy, c * dy - s * dx], axis=-1), 6) + 0.0
-        h.update(repr((r, sharp, local.shape)).encode())
-        h.update(local.tobytes())
-    return h.digest()
+        tried.append((r, sharp, local))
+    return key_of(AreaTurnsTried(design, lot_speed, tuple(tried)))
+
+
+@inputs
+class AreaTurnsTried:
+    """What a search of :func:`area_turns` tries (:func:`candidates_shape`): the car, the
+    lot's speed limit [m/s], and each block of candidates' corner radius [m], clothoid
+    sharpness [1/m²] and polylines in the junction's frame to the micrometre."""
+
+    design: DesignVehicle
+    lot_speed: float
+    blocks: tuple
 
 
 @dataclass(frozen=True)

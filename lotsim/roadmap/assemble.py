@@ -7,10 +7,8 @@ described in :mod:`lotsim.roadmap.model`."""
 
 from __future__ import annotations
 
-import hashlib
 import importlib
 import math
-import pickle
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
@@ -18,6 +16,7 @@ import numpy as np
 import shapely
 
 from lotsim.core.geometry import Pose, Segment, sample_segments, wrap_angle
+from lotsim.core.keys import inputs, key_of
 from lotsim.core.workers import fork_map
 from lotsim.lot.build import lane_collider
 from lotsim.lot.kinds import kind_of
@@ -27,13 +26,15 @@ from lotsim.roadmap.junctions import turns_of
 from lotsim.roadmap.lanes import EPS, lane_serves, portal_station
 from lotsim.roadmap.memo import RoadmapMemo, designs_of, types_key
 from lotsim.roadmap.model import LotGraph, Turn
-from lotsim.roadmap.remembered import handed_back, piece_key, take_back
+from lotsim.roadmap.remembered import handed_back, take_back
 from lotsim.roadmap.settings import RoadmapSettings, as_settings
 from lotsim.roadmap.turnarounds import Turnaround, dead_end_turnarounds
 from lotsim.roadmap.uturns import junction_uturns
 
 if TYPE_CHECKING:
     import networkx as nx
+
+    from lotsim.vehicles.model import VehicleType
 
 Tagged = list[tuple[Turn | Turnaround, "frozenset | None"]]
 """Turns or turnarounds, each with the vehicle types that can drive it (None: every type)."""
@@ -263,6 +264,17 @@ def _add_maneuvers(lot: Lot, net: _Network, slot_nodes: dict[str, int],
         e["length"] = min(e["length"], m.length)
 
 
+@inputs
+class PathTiming:
+    """What a maneuver's time for a vehicle type depends on: the type's whole description,
+    the speed limit along it [m/s] and its pieces' shapes (distance [m], curvature [1/m],
+    sharpness [1/m²] each), not where they lie."""
+
+    vehicle: VehicleType
+    limit: float
+    shapes: tuple[tuple[float, float, float], ...]
+
+
 def _durations(lot: Lot, maneuvers: dict, leaving: dict, stays: dict, types: dict,
                known: dict | None = None):
     """``duration(path, type name, speed limit)`` [s] of each of ``maneuvers`` (and its
@@ -287,13 +299,10 @@ def _durations(lot: Lot, maneuvers: dict, leaving: dict, stays: dict, types: dic
                 limit = _path_limit(lot, m)
                 for path in (m, leaving[key]) if both else (m,):
                     todo.setdefault(shape(path, key[0], limit), (path, key[0], limit))
-    # each shape by its key in ``known``: the type's whole description, not its name, and
-    # the limit and shape pickled (every float's bits)
+    # each shape by its key in ``known``: the type's whole description, not its name
     stored = {}
     if known is not None:
-        named = {name: piece_key(b"duration", v) for name, v in types.items()}
-        stored = {key: hashlib.blake2b(named[key[0]] + pickle.dumps(key[1:], protocol=5),
-                                       digest_size=20).digest() for key in todo}
+        stored = {key: key_of(PathTiming(types[key[0]], key[1], key[2])) for key in todo}
     timed = {key: known[name] for key, name in stored.items() if name in known}
     jobs = [(key, job) for key, job in todo.items() if key not in timed]
     parts = [jobs[k::8] for k in range(8)] if len(jobs) >= 64 else [jobs]

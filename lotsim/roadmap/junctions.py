@@ -13,6 +13,7 @@ import numpy as np
 import shapely
 
 from lotsim.core.geometry import Segment, cc_turn, sample_segments, wrap_angle
+from lotsim.core.keys import key_of
 from lotsim.core.outcome import Outcome, Status
 from lotsim.core.workers import fork_map
 from lotsim.lot.build import SWEEP_STEP
@@ -24,8 +25,10 @@ from lotsim.roadmap.memo import RoadmapMemo, types_key
 from lotsim.roadmap.model import Turn
 from lotsim.roadmap.remembered import (
     MISSING,
+    JunctionTurns,
+    ThroughTurns,
+    TurnSuits,
     keep,
-    piece_key,
     recall,
     verified,
     worked_out,
@@ -367,9 +370,8 @@ def turns_of(lot: Lot, collider: Collider, designs: dict[str, DesignVehicle] | N
             # memo's store where what its sweeps read is unchanged
             turns = list(found)
             base = memo.lot_key if memo.known is not None else b""
-            kinds = sorted(designs.items())
-            suited = piece_key(base, "suits", kinds)  # then each turn's own
-            suits = worked_out(memo, [piece_key(suited, t) for t in turns],
+            kinds = tuple(sorted(designs.items()))
+            suits = worked_out(memo, [key_of(TurnSuits(base, kinds, t)) for t in turns],
                                collider, lambda k, eye: _suited(turns[k], designs, eye))
             tagged = {t: names for t, names in zip(turns, suits, strict=True) if names}
             every = len(designs)
@@ -419,8 +421,8 @@ def turns_per_design(lot: Lot, collider: Collider, designs: list,
         memo.check(lot, settings)
     known = memo.known if memo is not None else None
     base = memo.lot_key if known is not None else b""
-    keys = [piece_key(base, "junction", design, a.id, sorted(gates.items()))
-            for design, a in jobs]
+    stations = tuple((at, tuple(st)) for at, st in sorted(gates.items()))
+    keys = [key_of(JunctionTurns(base, design, a.id, stations)) for design, a in jobs]
     found = [recall(known, key, collider) for key in keys]
     todo = [k for k, got in enumerate(found) if got is MISSING]
 
@@ -456,9 +458,9 @@ def turns_per_design(lot: Lot, collider: Collider, designs: list,
     chains = [(k, chain) for k in range(len(designs))
               for chain in through_chains(lot, per[k][0], settings=settings)]
     got = worked_out(
-        memo, [piece_key(base, "through", designs[k] or lot.design,
-                          [x.id if hasattr(x, "id") else x for x in chain])
-                for k, chain in chains], collider,
+        memo, [key_of(ThroughTurns(base, designs[k] or lot.design,
+                                   tuple(x.id if hasattr(x, "id") else x for x in chain)))
+               for k, chain in chains], collider,
         lambda j, eye: through_turn(lot, eye, designs[chains[j][0]], chains[j][1],
                                     settings=settings))
     through: list[list[Turn]] = [[] for _ in designs]

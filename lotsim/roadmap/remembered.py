@@ -19,33 +19,129 @@ same as without.
 
 from __future__ import annotations
 
-import hashlib
 from collections.abc import Callable, Sequence
+from typing import TYPE_CHECKING
 
+from lotsim.core.keys import inputs, key_of
 from lotsim.core.workers import fork_map
 from lotsim.lot.clearance import Collider, Watched
-from lotsim.lot.model import Lot
+from lotsim.lot.model import Aisle, DesignVehicle, Lane, Lot
+from lotsim.roadmap.model import Turn
 from lotsim.roadmap.multipoint import plan_onto
 from lotsim.roadmap.settings import MultipointSettings, RoadmapSettings
+
+if TYPE_CHECKING:
+    from lotsim.roadmap.turnarounds import Turnaround
 
 KEEP = 3
 """Most versions of one piece a store keeps (most recent first)."""
 
 
+@inputs
+class RoadmapLot:
+    """What every piece of a lot's roadmap reads besides its collisions: the lot's speed
+    limit [m/s], design vehicle, aisles and lanes, and the roadmap's settings."""
+
+    speed_limit: float
+    design: DesignVehicle
+    aisles: tuple[Aisle, ...]
+    lanes: tuple[Lane, ...]
+    settings: RoadmapSettings
+
+
 def lot_key(lot: Lot, settings: RoadmapSettings | None = None) -> bytes:
-    """What every piece of ``lot``'s roadmap reads besides its collisions: the lot's lanes,
-    aisles, speed limit and design vehicle, and the roadmap's ``settings`` (None: the
-    defaults)."""
-    aisles = [(a.id, a.centerline.tolist(), a.width, a.one_way) for a in lot.aisles.values()]
-    lanes = [(lane.id, lane.aisle, lane.segments) for lane in lot.lanes]
-    tuning = RoadmapSettings() if settings is None else settings
-    return hashlib.blake2b(repr((lot.speed_limit, lot.design, aisles, lanes, tuning)).encode(),
-                           digest_size=20).digest()
+    """The key of ``lot``'s :class:`RoadmapLot` with the roadmap's ``settings`` (None: the
+    defaults): what every piece's key begins with."""
+    return key_of(RoadmapLot(lot.speed_limit, lot.design, tuple(lot.aisles.values()),
+                             tuple(lot.lanes),
+                             RoadmapSettings() if settings is None else settings))
 
 
-def piece_key(base: bytes, *parts: object) -> bytes:
-    """The key of a piece: the lot's :func:`lot_key` and the piece's own arguments."""
-    return hashlib.blake2b(base + repr(parts).encode(), digest_size=20).digest()
+# The pieces of the store, each keyed by what it reads (``lot``: its lot's :func:`lot_key`)
+@inputs
+class JunctionTurns:
+    """The junction turns out of one lane for one design, and where the lot's gates lie:
+    ((lane id, ``"in"`` or ``"out"``), the entrances' or exits' stations on it [m]), by
+    lane."""
+
+    lot: bytes
+    design: DesignVehicle
+    lane: str
+    gates: tuple[tuple[tuple[str, str], tuple[float, ...]], ...]
+
+
+@inputs
+class ThroughTurns:
+    """The turns of one design through a chain of short stretches (lane ids and the
+    stations between them)."""
+
+    lot: bytes
+    design: DesignVehicle
+    chain: tuple
+
+
+@inputs
+class TurnSuits:
+    """Which of the vehicle types (name → design, by name) one turn suits."""
+
+    lot: bytes
+    designs: tuple[tuple[str, DesignVehicle], ...]
+    turn: Turn
+
+
+@inputs
+class TurnaroundSuits:
+    """Whether one turnaround suits one design."""
+
+    lot: bytes
+    turnaround: Turnaround
+    design: DesignVehicle
+
+
+@inputs
+class TurnaroundPlan:
+    """The turnarounds of a dead end: from ``lane`` onto its opposite ``back``, with the
+    body checked and the turning radius [m]."""
+
+    lot: bytes
+    lane: str
+    back: str
+    body: DesignVehicle
+    radius: float
+
+
+@inputs
+class ReachingSearch:
+    """A multi-point search onto a dead end's opposite lane from stations ``starts`` of
+    ``lane``, ending by ``hi`` along ``back`` [m], with the body checked and the radius."""
+
+    lot: bytes
+    lane: str
+    back: str
+    starts: tuple[float, ...]
+    hi: float
+    body: DesignVehicle
+    radius: float
+
+
+@inputs
+class OntoSearch:
+    """One multi-point search of ``what`` (a junction's multi-point turn, a U-turn): from
+    the stations ``starts`` of lane ``a`` (its straight starting at ``sa0``) onto lane
+    ``b`` (its straight starting at ``sb0``) between ``lo`` and ``hi`` along it [m], with
+    the body checked and the radius [m]."""
+
+    lot: bytes
+    what: str
+    a: str
+    sa0: float
+    b: str
+    sb0: float
+    starts: tuple[float, ...]
+    lo: float
+    hi: float
+    body: DesignVehicle
+    radius: float
 
 
 MISSING = object()
@@ -138,16 +234,16 @@ def worked_out(memo, keys: Sequence[bytes | None],
     return out
 
 
-def remembered(memo, key_parts: tuple, collider: Collider,
+def remembered(memo, piece: OntoSearch, collider: Collider,
                work: Callable[[Collider], object]) -> object:
     """``work(collider)`` — one search of a piece worked out in order with others (a
     junction's multi-point turn, a U-turn) — taken from ``memo``'s store
     (:attr:`~lotsim.roadmap.memo.RoadmapMemo.known`) where what it read is unchanged, else
     worked out and kept there (its key noted in ``memo.touched``, for a worker to hand
-    back: :func:`handed_back`). ``key_parts``: the search's own arguments."""
+    back: :func:`handed_back`). ``piece``: what the search reads but its collisions."""
     if memo.known is None:
         return work(collider)
-    key = piece_key(memo.lot_key, *key_parts)
+    key = key_of(piece)
     got = recall(memo.known, key, collider)
     if got is not MISSING:
         memo.recalled += 1
@@ -210,7 +306,8 @@ def plan_onto_remembered(memo, what: str, a, sa0: float, pa, b, sb0: float, pb,
     :class:`~lotsim.core.outcome.Outcome`."""
     collider, body = checks
     search = MultipointSettings() if settings is None else settings
-    return remembered(memo, (what, a.id, sa0, b.id, sb0, starts, lo, hi, body, radius),
-                      collider, lambda eye: plan_onto(list(pa.poses_at(starts)), pb.start,
-                                                      lo, hi, eye, body, radius,
-                                                      settings=search))
+    piece = OntoSearch(memo.lot_key if memo.known is not None else b"", what, a.id, sa0,
+                       b.id, sb0, tuple(starts), lo, hi, body, radius)
+    return remembered(memo, piece, collider,
+                      lambda eye: plan_onto(list(pa.poses_at(starts)), pb.start, lo, hi, eye,
+                                            body, radius, settings=search))

@@ -31,6 +31,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from lotsim.core.geometry import FloatArray, Segment, advance, sample_segments
+from lotsim.core.keys import key_of
 from lotsim.core.outcome import Outcome, Status
 from lotsim.core.workers import Background, cores
 from lotsim.lot.build import obstacle_polygons
@@ -49,7 +50,9 @@ from lotsim.roadmap.multipoint import (
 from lotsim.roadmap.remembered import (
     MISSING,
     STORE,
-    piece_key,
+    ReachingSearch,
+    TurnaroundPlan,
+    TurnaroundSuits,
     recall,
     recall_all,
     verified,
@@ -383,7 +386,7 @@ def _dead_end_plans(lot: Lot, per: dict[str, DesignVehicle], bodies: dict[str, t
     # store where what it read is unchanged
     checks = [(t, n) for t, names in tagged.items() for n in per if n not in names]
     base = memo.lot_key if memo.known is not None else b""
-    fits = worked_out(memo, [piece_key(base, "suits", t, per[n]) for t, n in checks],
+    fits = worked_out(memo, [key_of(TurnaroundSuits(base, t, per[n])) for t, n in checks],
                       [bodies[n][0] for _, n in checks],
                       lambda k, eye: suits(checks[k][0], per[checks[k][1]],
                                            (eye, bodies[checks[k][1]][1]),
@@ -461,7 +464,7 @@ def _plan_keys(memo: RoadmapMemo, jobs: dict) -> dict:
     if memo.known is None:
         return {}
     base = memo.lot_key
-    return {key: piece_key(base, "turnaround", lane.id, back.id, body, radius)
+    return {key: key_of(TurnaroundPlan(base, lane.id, back.id, body, radius))
             for key, (lane, back, _, body, radius) in jobs.items()}
 
 
@@ -504,7 +507,8 @@ def _reaching_all(jobs: dict, memo: dict, roads: RoadmapMemo | None = None, *,
                 out[key] = _reaching_turnarounds(*job, onto=onto, settings=settings)
         if not wanted:
             return out
-        pieces = {key: piece_key(base, "reach", lane.id, back.id, starts, hi, body, radius)
+        pieces = {key: key_of(ReachingSearch(base, lane.id, back.id, tuple(starts), hi, body,
+                                             radius))
                   for key, (lane, back, starts, hi, _, body, radius) in {**wanted,
                                                                          **spare}.items()}
         known = roads.known if roads is not None else None
