@@ -154,3 +154,22 @@ def test_keys_are_the_same_in_another_process():
                           check=True, env={"PYTHONHASHSEED": seed, "PATH": ""}).stdout
            for seed in ("1", "2", "3")}
     assert len(got) == 1 and len(got.pop().strip()) == 40
+
+
+def test_the_declared_types_docs_caching_names_are_declared_where_it_says():
+    """docs/caching.md's table of declared input types: each name is a declared type of
+    the module named after it."""
+    import importlib
+    import re
+    from pathlib import Path
+
+    text = (Path(__file__).resolve().parents[3] / "docs" / "caching.md").read_text()
+    table = text.split("## How a key is made")[1].split("## ")[0]
+    found = 0
+    for names, path in re.findall(r"((?:`[A-Z]\w+`(?:, )?)+) \(`(lotsim/[\w/]+)\.py`\)",
+                                  table):
+        module = importlib.import_module(path.replace("/", "."))
+        for name in re.findall(r"`(\w+)`", names):
+            assert getattr(getattr(module, name), "__key_inputs__", False), (path, name)
+            found += 1
+    assert found >= 20
