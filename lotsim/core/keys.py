@@ -73,7 +73,7 @@ def key_of(value: Any) -> bytes:
         raise TypeError(f"{type(value).__name__} is not a declared input type "
                         "(make it with lotsim.core.keys.inputs)")
     out: list[bytes] = []
-    _encode(value, out, type(value).__name__)
+    _encode(value, out, (type(value).__name__,))
     return hashlib.blake2b(b"".join(out), digest_size=DIGEST_SIZE).digest()
 
 
@@ -83,37 +83,60 @@ def unordered(items: Iterable[Any]) -> tuple[bytes, ...]:
     encoded = []
     for k, item in enumerate(items):
         out: list[bytes] = []
-        _encode(item, out, f"item {k}")
+        _encode(item, out, (("item",), k))
         encoded.append(b"".join(out))
     return tuple(sorted(encoded))
 
 
-def _encode(value: Any, out: list[bytes], where: str) -> None:
-    """Append the encoding of ``value`` (at ``where``, for errors) to ``out``: a tag, a
-    length where the size varies, and the content."""
-    if value is None:
-        out.append(b"N")
+def _float(x: float) -> bytes:
+    return b"n" if x != x else b"f" + _DOUBLE(x)  # (every NaN alike: no sum reads its payload)
+
+
+def _int(i: int) -> bytes:
+    text = str(i).encode()
+    return b"i%d:" % len(text) + text
+
+
+def _str(text: str) -> bytes:
+    raw = text.encode()
+    return b"s%d:" % len(raw) + raw
+
+
+_DOUBLE = struct.Struct("<d").pack
+_PLAIN = {float: _float, int: _int, str: _str, bytes: lambda b: b"b%d:" % len(b) + b,
+          bool: lambda b: b"T" if b else b"F", type(None): lambda _: b"N"}
+"""The encoding of a value of each plain type, by its exact type (the quick way)."""
+
+
+def _encode(value: Any, out: list[bytes], where: tuple) -> None:
+    """Append the encoding of ``value`` to ``out``: a tag, a length where the size varies,
+    and the content. ``where``: the path to it (a chain of (parent, step) pairs), for
+    errors."""
+    plain = _PLAIN.get(type(value))
+    if plain is not None:
+        out.append(plain(value))
+    elif isinstance(value, tuple):
+        out.append(b"(%d:" % len(value))
+        for k, item in enumerate(value):
+            plain = _PLAIN.get(type(item))
+            if plain is not None:
+                out.append(plain(item))
+            else:
+                _encode(item, out, (where, k))
     elif isinstance(value, bool | np.bool_):
         out.append(b"T" if value else b"F")
-    elif isinstance(value, int | np.integer):
-        text = str(int(value)).encode()
-        out.append(b"i%d:" % len(text) + text)
+    elif isinstance(value, int | np.integer) and not isinstance(value, enum.Enum):
+        out.append(_int(int(value)))
     elif isinstance(value, float | np.floating):
-        x = float(value)  # (every NaN alike: no sum reads its payload)
-        out.append(b"n" if x != x else b"f" + struct.pack("<d", x))
-    elif isinstance(value, str):
-        text = value.encode()
-        out.append(b"s%d:" % len(text) + text)
+        out.append(_float(float(value)))
+    elif isinstance(value, str) and not isinstance(value, enum.Enum):
+        out.append(_str(value))
     elif isinstance(value, bytes):
         out.append(b"b%d:" % len(value) + value)
     elif isinstance(value, enum.Enum):
         out.append(b"e")
         _encode(type(value).__qualname__, out, where)
         _encode(value.value, out, where)
-    elif isinstance(value, tuple):
-        out.append(b"(%d:" % len(value))
-        for k, item in enumerate(value):
-            _encode(item, out, f"{where}[{k}]")
     elif isinstance(value, frozenset):
         out.append(b"{")
         _encode(unordered(value), out, where)
@@ -121,7 +144,7 @@ def _encode(value: Any, out: list[bytes], where: str) -> None:
         if value.dtype == object:
             out.append(b"(%d:" % value.size)
             for k, item in enumerate(value.ravel().tolist()):
-                _encode(item, out, f"{where}[{k}]")
+                _encode(item, out, (where, k))
             return
         data = np.ascontiguousarray(value)
         head = f"{data.dtype.str}{data.shape}".encode()
@@ -131,14 +154,23 @@ def _encode(value: Any, out: list[bytes], where: str) -> None:
         out.append(b"g%d:" % len(wkb) + wkb)
     elif dataclasses.is_dataclass(value) and not isinstance(value, type):
         out.append(b"D")
-        _encode(f"{type(value).__module__}.{type(value).__qualname__}", out, where)
+        out.append(_str(f"{type(value).__module__}.{type(value).__qualname__}"))
         for f in dataclasses.fields(value):
             if f.compare:  # (a field left out of equality, such as where it was read, is
                 # not part of what the value is)
-                _encode(getattr(value, f.name), out, f"{where}.{f.name}")
+                _encode(getattr(value, f.name), out, (where, f.name))
     else:
         kind = type(value).__name__
         hint = " (give a tuple)" if isinstance(value, list) else (
             " (give a frozenset or unordered())" if isinstance(value, set) else (
                 " (give a tuple of its items)" if isinstance(value, dict) else ""))
-        raise TypeError(f"{where}: a {kind} cannot be part of a key{hint}")
+        raise TypeError(f"{_path(where)}: a {kind} cannot be part of a key{hint}")
+
+
+def _path(where: tuple) -> str:
+    """``where`` (:func:`_encode`) as it is written: ``Work.items[0].size``."""
+    steps = []
+    while len(where) == 2:
+        where, step = where
+        steps.append(f"[{step}]" if isinstance(step, int) else f".{step}")
+    return where[0] + "".join(reversed(steps))
