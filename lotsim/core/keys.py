@@ -158,7 +158,12 @@ def _encode(value: Any, out: list[bytes], where: tuple) -> None:
         for f in dataclasses.fields(value):
             if f.compare:  # (a field left out of equality, such as where it was read, is
                 # not part of what the value is)
-                _encode(getattr(value, f.name), out, (where, f.name))
+                item = getattr(value, f.name)
+                plain = _PLAIN.get(type(item))
+                if plain is not None:
+                    out.append(plain(item))
+                else:
+                    _encode(item, out, (where, f.name))
     else:
         kind = type(value).__name__
         hint = " (give a tuple)" if isinstance(value, list) else (

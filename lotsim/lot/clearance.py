@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import hashlib
 import math
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
@@ -12,6 +11,7 @@ import shapely
 from shapely.geometry.base import BaseGeometry
 
 from lotsim.core.geometry import FloatArray
+from lotsim.core.keys import inputs, key_of, unordered
 
 
 @dataclass(frozen=True, slots=True)
@@ -21,6 +21,29 @@ class Hit:
     index: int  # index of the first offending sample pair
     what: str  # label of what was hit, or the collider's edge ("the lot boundary")
     point: tuple[float, float]  # a point of the offending body [m]
+
+
+@inputs
+class CheckedAround:
+    """What a check of a body inside a box reads (:meth:`Collider.around`): what a body
+    leaving the allowed region runs into, the obstacles whose bounds meet the box in the
+    tree's order (a hit names the first) with their labels and shapes (WKB), and the
+    allowed region cut at the box (WKB, normalized)."""
+
+    edge: str
+    labels: tuple[str, ...]
+    shapes: tuple[bytes, ...]
+    allowed: bytes | None
+
+
+@inputs
+class SeenAround:
+    """What a check of a body inside a box reads, seen from a frame to the micrometre
+    (:meth:`Collider.local_digest`): the allowed region and the obstacles (a set), each cut
+    at the box (WKB, normalized); what an obstacle is called left out."""
+
+    allowed: bytes
+    obstacles: tuple[bytes, ...]
 
 
 def hulls(bodies: FloatArray, convex: bool = False) -> np.ndarray:
@@ -79,7 +102,7 @@ class Collider:
     def around_many(self, boxes: Sequence[tuple[float, float, float, float]]
                     ) -> list[bytes]:
         """:meth:`around` of each of ``boxes``, the shapes of all of them cut at once."""
-        out = [hashlib.blake2b(self.edge.encode(), digest_size=20) for _ in boxes]
+        out = [key_of(CheckedAround(self.edge, (), (), None))] * len(boxes)
         read = [i for i, b in enumerate(boxes) if b[0] <= b[2] and b[1] <= b[3]]
         if read:  # (an empty box: nothing was checked)
             areas = shapely.box(*np.array([boxes[i] for i in read], dtype=float).T)
@@ -93,12 +116,9 @@ class Collider:
             ends = np.searchsorted(of, np.arange(len(read) + 1))
             for j, i in enumerate(read):
                 mine = at[ends[j]:ends[j + 1]].tolist()
-                h = out[i]
-                h.update(repr([self.labels[k] for k in mine]).encode())
-                for k in mine:
-                    h.update(wkb[k])
-                h.update(cuts[j])
-        return [h.digest() for h in out]
+                out[i] = key_of(CheckedAround(self.edge, tuple(self.labels[k] for k in mine),
+                                              tuple(wkb[k] for k in mine), cuts[j]))
+        return out
 
     def local_digest(self, frame: tuple[float, float, float],
                      box: tuple[float, float, float, float]) -> bytes:
@@ -121,10 +141,7 @@ class Collider:
             return np.round(np.column_stack([c * dx + s * dy, c * dy - s * dx]), 6) + 0.0
 
         wkb = shapely.to_wkb(shapely.normalize(shapely.transform(cut, seen))).tolist()
-        h = hashlib.blake2b(wkb[-1], digest_size=20)
-        for g in sorted(wkb[:-1]):
-            h.update(g)
-        return h.digest()
+        return key_of(SeenAround(wkb[-1], unordered(wkb[:-1])))
 
     @staticmethod
     def sweeps(footprints: FloatArray) -> FloatArray:

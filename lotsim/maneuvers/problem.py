@@ -383,12 +383,13 @@ class LotProblems:
                                              dtype=float), axes))
         keys, commons = [], []
         margin, sweep = self.margin, self.settings.sweep
+        cars = _keyed_once([v for v, _, _ in triples], lambda v: CarChecked(v, margin, sweep))
         for i, ((v, slot, _), (_, lane_y, lane_x, s0, half)) in enumerate(
                 zip(triples, heads, strict=True)):
             outline = outlines[i]
             commons.append(_shape_of(v, slot, outline, lane_y, half))
             keys.append(key_of(WindowSeen(
-                commons[-1], v, margin, sweep, float(halves[i]), float(tops[i]),
+                commons[-1], cars[i], float(halves[i]), float(tops[i]),
                 round(lane_y, 6) if math.isfinite(lane_y) else None,
                 self._along(lane_x, s0), outline, shape_wkb[i], ground_wkb[i],
                 unordered(near_wkb[at[i]:at[i + 1]]))))
@@ -488,14 +489,17 @@ class LotProblems:
         aisles = {name: self.lot.aisles[name] for name in {slot.aisle for _, slot, _ in triples}}
         lines = {name: aisle.line.wkb for name, aisle in aisles.items()}
         margin, sweep = self.margin, self.settings.sweep
+        cars = _keyed_once([v for v, _, _ in triples], lambda v: CarChecked(v, margin, sweep))
+        lanes = _keyed_once([lane for _, _, lane in triples],
+                            lambda lane: LaneLine(lane.id, lane.segments))
         out = []
-        for k, (v, slot, lane) in enumerate(triples):
+        for k, (_, slot, lane) in enumerate(triples):
             # the stretch of lane a maneuver may begin on, as far as the window holds it
             s_mid, half = float(stations[k]), float(halves[k]) + 1.0
             first, last = self._span(lane, s_mid)
             aisle = aisles[slot.aisle]
             out.append(key_of(ProblemSources(
-                v, margin, sweep, lane.id, lane.segments,
+                cars[k], lanes[k],
                 (max(first, s_mid - half), min(last, s_mid + half)), aisle.width,
                 lines[slot.aisle], slot.id, slot.kind, slot.aisle, slot.width, slot.length,
                 inside[k], slot.polygon, slot.entry, near[at[k]:at[k + 1]],
@@ -531,20 +535,52 @@ def _half(vehicle: VehicleType) -> float:
 
 
 @inputs
-class ProblemSources:
-    """What a problem is made from, to the last bit, before it is posed
-    (:meth:`LotProblems.sources`): the car with the margin and sweep [m]; its lane (id and
-    segments) and the stretch of it a maneuver may begin on, as far as the window holds it
-    [m]; the slot's aisle (width [m], line as WKB); the slot (id, kind, aisle, width and
-    length [m], whether its entry lies in the region, outline and entry); the neighbours
-    (the digests of their shapes, sorted: a set); the slot's own taken shape (WKB); and the
-    region's edges that meet the square about the slot (each ring oriented alike)."""
+class CarChecked:
+    """The car a problem is posed for, with the margin kept from what it must not touch and
+    the sweep's step [m]: the key of this is a field of :class:`ProblemSources` and
+    :class:`WindowSeen`, made once per car (:func:`_keyed_once`) rather than in every
+    problem's key."""
 
     vehicle: VehicleType
     margin: float
     sweep: float
+
+
+@inputs
+class LaneLine:
+    """The lane a problem's maneuver begins on: its id and segments. The key of this is a
+    field of :class:`ProblemSources`, made once per lane (:func:`_keyed_once`)."""
+
     lane: str
-    lane_segments: tuple[Segment, ...]
+    segments: tuple[Segment, ...]
+
+
+def _keyed_once(things: Sequence[object], made: Callable[[object], object]) -> list[bytes]:
+    """The key of ``made(thing)`` for each of ``things`` (vehicle types, lanes: a few,
+    each in many problems), each distinct object keyed once."""
+    by: dict[int, bytes] = {}
+    out = []
+    for thing in things:
+        key = by.get(id(thing))
+        if key is None:
+            key = by[id(thing)] = key_of(made(thing))
+        out.append(key)
+    return out
+
+
+@inputs
+class ProblemSources:
+    """What a problem is made from, to the last bit, before it is posed
+    (:meth:`LotProblems.sources`): the car with the margin and sweep (the key of its
+    :class:`CarChecked`); its lane (the key of its :class:`LaneLine`) and the stretch of
+    it a maneuver may begin on, as far as the window holds it [m]; the slot's aisle (width
+    [m], line as WKB); the slot (id, kind, aisle, width and length [m], whether its entry
+    lies in the region, outline and entry); the neighbours (the digests of their shapes,
+    sorted: a set); the slot's own taken shape (WKB); and the region's edges that meet the
+    square about the slot (each ring oriented alike)."""
+
+    car: bytes
+    lane: bytes
     stretch: tuple[float, float]
     aisle_width: float
     aisle_line: bytes
@@ -589,15 +625,14 @@ class ProblemDigest:
 @inputs
 class WindowSeen:
     """What poses a problem's rounded local geometry (:meth:`LotProblems.digests`): its
-    shape, the car with the margin and sweep [m], the window's half size and top [m],
+    shape, the car with the margin and sweep (the key of its :class:`CarChecked`), the
+    window's half size and top [m],
     the lane line (y to 1 µm), the stretch of lane, and the slot's outline, its shape, the
     ground and the neighbours (as a set) in the slot's frame to 1 µm (WKB). Problems
     alike in these are posed once."""
 
     shape: ProblemShape
-    vehicle: VehicleType
-    margin: float
-    sweep: float
+    car: bytes
     half: float
     top: float
     lane_y: float | None
