@@ -8,13 +8,14 @@ are documented in ``docs/scenario.md``."""
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from collections.abc import Callable
 from typing import Any
 
 from lotsim.errors import SettingsError
 from lotsim.io.yamlnodes import YNode
-from lotsim.maneuvers.settings import ManeuverSettings
+from lotsim.maneuvers.settings import WAY_OUT, ManeuverSettings
 from lotsim.roadmap.settings import (
     GROUPS,
     KMH,
@@ -99,22 +100,34 @@ KEYS: dict[type, dict[str, tuple[str, Reader]]] = {
         "ease_ramps": ("ease_ramps", _lengths), "ease_drift": ("ease_drift", _length),
         "start_grid": ("start_grid", _length), "approach": ("approach", _length),
         "rough": ("rough", _length), "creep": ("creep", _length),
-        "way_out_budget": ("way_out_budget", _integer)},
+        "way_out": ("way_out", lambda n: _way_out(n))},
 }
 """For each settings class, its keys in a scenario file → (its field, how the value is
 read). Every field of each class has a key: a test holds them to it."""
+WAY_OUT_KEYS = {k: v for k, v in KEYS[MultipointSettings].items()
+                if k not in ("junction_starts", "junction_room", "uturn_land")}
+"""The keys of ``maneuvers.way_out``: the multi-point search's but those of junctions and
+U-turns, which a way out of a slot does not read."""
 
 
-def parse_settings(node: YNode, cls: type) -> Any:
-    """A ``cls`` (one of :data:`KEYS`) from a mapping of its keys; a key left out keeps its
-    default. Unknown keys, and values the settings refuse, are errors at their key."""
+def _way_out(node: YNode) -> MultipointSettings:
+    return parse_settings(node, MultipointSettings, keys=WAY_OUT_KEYS, base=WAY_OUT)
+
+
+def parse_settings(node: YNode, cls: type, *, keys: dict | None = None,
+                   base: Any = None) -> Any:
+    """A ``cls`` (one of :data:`KEYS`) from a mapping of its keys (``keys``: those of
+    :data:`KEYS` unless given); a key left out keeps its value in ``base`` (default: the
+    class's default). Unknown keys, and values the settings refuse, are errors at their
+    key."""
+    base = cls() if base is None else base
     if node.is_null:
-        return cls()
-    keys = KEYS[cls]
+        return base
+    keys = KEYS[cls] if keys is None else keys
     f = node.fields(optional=list(keys))
     values = {keys[k][0]: keys[k][1](n) for k, n in f.items()}
     try:
-        return cls(**values)
+        return dataclasses.replace(base, **values)
     except SettingsError as exc:
         key = next((k for k, (name, _) in keys.items() if name == exc.name), None)
         if key in f:

@@ -9,10 +9,14 @@ import math
 from dataclasses import dataclass
 
 from lotsim.core.checks import is_real, raise_first, range_problem, set_field, shown
+from lotsim.roadmap.settings import MultipointSettings
 
 MARGIN = 0.1
 """Default clearance of a parking maneuver to parked cars, walls and the aisle's far side
 [m] (after the unmanned-parking path-planning paper of a 2022 modelling contest)."""
+WAY_OUT = MultipointSettings(expansion_limit=1500)
+"""Default tuning of the multi-point search for a way out of a slot: the roadmap's
+multi-point search, expanding at most 1500 states (a slot with no way out costs them all)."""
 STYLES = ("any", "forward", "reverse")
 """Parking maneuvers: ``forward``: nose-in; ``reverse``: nose-out (backed in); ``any``: the
 better one."""
@@ -74,10 +78,12 @@ class ManeuverSettings:
     creep : float
         Shortest straight a closing move may begin with [m] (none at all is fine): where
         the curvature jumps cannot be eased the car stops at both ends of that straight.
-    way_out_budget : int
-        Most states the multi-point search for a way out of a perpendicular or angled slot
-        expands when the full-lock shuffle found none (a slot with no way out costs the
-        whole budget).
+    way_out : MultipointSettings
+        The multi-point search for a way out of a perpendicular or angled slot, tried when
+        the full-lock shuffle found none: its move, grid, prices, heuristic, last moves,
+        direction changes (at most ``max_changes`` too) and expansion limit (default 1500
+        states: a slot with no way out costs them all). Its junction and U-turn fields are
+        not read.
 
     Examples
     --------
@@ -105,7 +111,7 @@ class ManeuverSettings:
     approach: float = 0.5
     rough: float = 1.0
     creep: float = 0.1
-    way_out_budget: int = 1500
+    way_out: MultipointSettings = WAY_OUT
 
     def __post_init__(self) -> None:
         for key in ("closing_radii", "ease_ramps"):  # a list kept as a tuple: hashable
@@ -113,8 +119,10 @@ class ManeuverSettings:
                 set_field(self, key, tuple(getattr(self, key)))
         problems = [("margin", range_problem(self.margin, 0.0, 1.0, " m")),
                     ("max_changes", range_problem(self.max_changes, 0, 50, integer=True))]
-        for key in ("probe", "sweep", "parallel_heading_step", "candidates", "rough",
-                    "way_out_budget"):
+        if not isinstance(self.way_out, MultipointSettings):
+            problems.append(("way_out", "expected the multi-point search's settings "
+                             f"(MultipointSettings), found {self.way_out!r}"))
+        for key in ("probe", "sweep", "parallel_heading_step", "candidates", "rough"):
             value = getattr(self, key)
             problems.append((key, None if is_real(value) and value > 0
                              else f"expected a positive number, found {shown(value)}"))

@@ -82,7 +82,8 @@ def any_way_out(checks: Validity, style: str, heading_in: float, settings: Maneu
     multi-point search over arcs and straights in either gear
     (:func:`~lotsim.roadmap.multipoint.plan_onto`) from the parked pose, nose-in or nose-out
     as ``style`` allows, onto the lane within its reachable stretch, inside the same window
-    and clear of the same obstacles, expanding at most ``settings.way_out_budget`` states;
+    and clear of the same obstacles, tuned by ``settings.way_out`` (with at most
+    ``settings.max_changes`` direction changes);
     in leave-time, local frame. ``axle_of(heading)``: the rear-axle centre of the car
     parked at that heading."""
     p = checks.problem
@@ -99,8 +100,8 @@ def any_way_out(checks: Validity, style: str, heading_in: float, settings: Maneu
         return Outcome.failed(Status.INFEASIBLE, "the parked car would touch something")
     local = LocalChecks(checks)
     found = plan_onto(roots, (0.0, p.lane_y, 0.0), p.lane_x[0], p.lane_x[1], local, local,
-                      p.vehicle.min_turning_radius, max_changes=settings.max_changes,
-                      budget=settings.way_out_budget)
+                      p.vehicle.min_turning_radius, settings=settings.way_out,
+                      max_changes=min(settings.max_changes, settings.way_out.max_changes))
     if not found.found:
         return Outcome.failed(Status.NO_PATH, "no multi-point way out within the budget")
     return Outcome.of(list(found.value[1]))

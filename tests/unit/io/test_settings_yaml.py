@@ -11,7 +11,7 @@ import pytest
 
 from conftest import position, scenario_from_text
 from lotsim.errors import ScenarioError
-from lotsim.io.settings_yaml import KEYS
+from lotsim.io.settings_yaml import KEYS, WAY_OUT_KEYS
 from lotsim.maneuvers.settings import ManeuverSettings
 from lotsim.roadmap.settings import RoadmapSettings
 
@@ -43,6 +43,7 @@ maneuvers:
   margin: 0.15
   first_turn_deg: 30
   ease_ramps: [2.0, 1.0]
+  way_out: {weight: 2, cell: 0.25}
 """)
     assert sc.roadmap.turns.speeds == (2.5, 1.0)  # km/h → m/s
     assert sc.roadmap.turns.through_overlap == 12.0
@@ -54,6 +55,10 @@ maneuvers:
     assert sc.maneuvers.margin == 0.15
     assert math.isclose(sc.maneuvers.first_turn, math.pi / 6)
     assert sc.maneuvers.ease_ramps == (2.0, 1.0)
+    # the way out's own search: what is given over its defaults (1500 states, not 3000)
+    assert sc.maneuvers.way_out == dataclasses.replace(
+        ManeuverSettings().way_out, weight=2.0, cell=0.25)
+    assert sc.maneuvers.way_out.expansion_limit == 1500
 
 
 def test_lengths_in_a_file_in_feet_are_read_as_feet():
@@ -79,8 +84,10 @@ def test_lengths_in_a_file_in_feet_are_read_as_feet():
     ("roadmap:\n  turns: {speeds_kmh: [5, 10]}\n", "speeds_kmh: |[", "from the largest down"),
     ("roadmap:\n  multipoint: {expansion_limit: 2.5}\n", "expansion_limit: |2.5",
      "expected an integer"),
-    ("maneuvers:\n  way_out_budget: 0\n", "way_out_budget: |0", "maneuvers.way_out_budget: "
-                                                                "expected a positive number"),
+    ("maneuvers:\n  way_out: {expansion_limit: 0}\n", "expansion_limit: |0",
+     "maneuvers.way_out.expansion_limit: expected"),
+    ("maneuvers:\n  way_out: {uturn_land: [2, 8]}\n", "|uturn_land",
+     "unknown key 'uturn_land'"),
     ("maneuvers:\n  closing_radii: [0.5]\n", "closing_radii: |[", "multiples of at least 1"),
     ("maneuvers:\n  margin: 0.1\n  margin: 0.2\n", "|margin: 0.2", "duplicate key 'margin'"),
 ])
@@ -126,3 +133,4 @@ def test_the_page_shows_every_key_with_its_default():
     for group, cls in GROUPS.items():
         assert sorted(shown["roadmap"][group]) == sorted(KEYS[cls])
     assert sorted(shown["maneuvers"]) == sorted(KEYS[ManeuverSettings])
+    assert sorted(shown["maneuvers"]["way_out"]) == sorted(WAY_OUT_KEYS)

@@ -28,6 +28,7 @@ from lotsim.maneuvers.minslot import fewest_changes
 from lotsim.maneuvers.planner import ManeuverPlanner
 from lotsim.maneuvers.settings import ManeuverSettings
 from lotsim.maneuvers.validity import Validity
+from lotsim.roadmap.settings import MultipointSettings
 from lotsim.vehicles import CATALOGUE
 from oracles.maneuver_check import check_maneuver, parked_bodies
 
@@ -637,14 +638,36 @@ def test_the_settings_are_used():
     assert m.changes >= 1
     # (the multi-point way out keeps to no direction change too: a small budget for it)
     with pytest.raises(InfeasibleManeuver, match="up to 0 direction changes"):
-        ManeuverPlanner(lot, settings=ManeuverSettings(max_changes=0, way_out_budget=100)
-                        ).best(car, slot)
+        ManeuverPlanner(lot, settings=ManeuverSettings(
+            max_changes=0, way_out=MultipointSettings(expansion_limit=100))).best(car, slot)
     # no easing: the car stands to steer at every change of curvature
     plain = ManeuverPlanner(lot, settings=ManeuverSettings(ease_ramps=())).best(car, slot)
     assert not any(s.sharpness for s in plain.segments)
     assert any(s.sharpness for s in m.segments)
     assert len(plain.motion(car).steering_stops) > len(m.motion(car).steering_stops)
     assert plain.duration(car) > m.duration(car)
+
+
+def test_the_way_out_search_is_tuned_by_its_own_settings(monkeypatch):
+    """A bay of the narrow aisle is left by the multi-point way-out search too: it is
+    searched with ``way_out``'s tuning and at most both limits of direction changes."""
+    import lotsim.maneuvers.shuffle as shuffle
+
+    lot, _ = _lot(QUICK.replace("width: 7.0", "width: 4.6"))
+    car, slot = CATALOGUE["valet"], lot.slot_by_id["main-left-1"]
+    seen, real = [], shuffle.plan_onto
+
+    def spy(*args, settings, max_changes, **kw):
+        seen.append((settings, max_changes))
+        return real(*args, settings=settings, max_changes=max_changes, **kw)
+
+    monkeypatch.setattr(shuffle, "plan_onto", spy)
+    tuned = MultipointSettings(expansion_limit=700, max_changes=3, cell=0.25, weight=2.0)
+    for limit, want in ((8, 3), (2, 2)):
+        seen.clear()
+        ManeuverPlanner(lot, settings=ManeuverSettings(max_changes=limit, way_out=tuned)
+                        ).best(car, slot)
+        assert seen and all(s == tuned and m == want for s, m in seen), seen
 
 
 def test_maneuvers_start_on_a_half_metre_grid_of_lane_stations(shipped_graphs):
