@@ -27,7 +27,7 @@ from shapely.geometry.base import BaseGeometry
 
 from lotsim.core.checks import raise_first, range_problem
 from lotsim.core.geometry import FloatArray, Pose, Segment, sample_segments
-from lotsim.core.outcome import Status
+from lotsim.core.outcome import Outcome, Status
 from lotsim.core.units import in_units, shown_area, shown_length
 from lotsim.errors import Location
 from lotsim.lot.build import obstacle_polygons
@@ -317,13 +317,12 @@ def plan_route(lot: Lot, route: RouteSpec, settings: RouteSettings | None = None
         targets = sorted(targets, key=lambda t: math.dist(here[:2], t[0][:2]))
         found = None
         for frame, lo, hi in targets:
-            found = _straight_onto(here, frame, lo, hi, collider, body, settings.step)
-            if found is not None:
-                break
-            onto = plan_onto([here], frame, lo, hi, collider, body, v.min_turning_radius,
-                             max_changes=settings.max_changes, budget=settings.budget)
-            found = onto.value
-            if found is not None:
+            onto = _straight_onto(here, frame, lo, hi, collider, body, settings.step)
+            if not onto.found:
+                onto = plan_onto([here], frame, lo, hi, collider, body, v.min_turning_radius,
+                                 max_changes=settings.max_changes, budget=settings.budget)
+            if onto.found:
+                found = onto.value
                 break
         if found is None:
             return failed(_why_not(lot, here, place, targets, v, settings),
@@ -343,24 +342,28 @@ def plan_route(lot: Lot, route: RouteSpec, settings: RouteSettings | None = None
 
 
 def _straight_onto(here: Pose, frame: Pose, lo: float, hi: float, collider: Collider,
-                   body: DesignVehicle, step: float) -> tuple[int, tuple[Segment, ...]] | None:
+                   body: DesignVehicle, step: float
+                   ) -> Outcome[tuple[int, tuple[Segment, ...]]]:
     """A straight drive forward from ``here`` onto the stretch, when ``here`` lies on its
-    line at its heading before it and the way is clear; else None. (The multi-point
-    search lands by a last arc, so it does not find the plain straight.)"""
+    line at its heading before it and the way is clear, as
+    :func:`~lotsim.roadmap.multipoint.plan_onto` answers (the start's index, 0, and the
+    segments); else not found. (The multi-point search lands by a last arc, so it does not
+    find the plain straight.)"""
     c, s = math.cos(frame[2]), math.sin(frame[2])
     dx, dy = here[0] - frame[0], here[1] - frame[1]
     along, across = c * dx + s * dy, -s * dx + c * dy
     if abs(across) > 1e-6 or abs(math.remainder(here[2] - frame[2], 2 * math.pi)) > 1e-6:
-        return None
+        return Outcome.failed(Status.NO_PATH, "not on the stretch's line at its heading")
     if along > hi:
-        return None
+        return Outcome.failed(Status.NO_PATH, "past the stretch")
     seg = Segment(here, max(lo, along) - along, 0.0)
     if seg.length < 1e-9:
-        return 0, ()
+        return Outcome.of((0, ()))
     poses, _ = sample_segments([seg], step)
-    if collider.sweep_hit(body.footprints(poses)) is not None:
-        return None
-    return 0, (seg,)
+    hit = collider.sweep_hit(body.footprints(poses))
+    if hit is not None:
+        return Outcome.failed(Status.INFEASIBLE, f"the straight touches {hit.what}")
+    return Outcome.of((0, (seg,)))
 
 
 def sweep_envelope(footprints: FloatArray) -> BaseGeometry:
