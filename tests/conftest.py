@@ -8,6 +8,7 @@ import shutil
 import signal
 import tempfile
 import textwrap
+from collections.abc import Mapping
 from contextlib import contextmanager
 from pathlib import Path
 
@@ -95,19 +96,50 @@ def position(text: str, needle: str, nth: int = 0) -> tuple[int, int]:
     return line, col
 
 
-@pytest.fixture(scope="session")
-def shipped_graphs() -> dict[str, LotGraph]:
-    """Every shipped scenario's lot, prepared (by name, in SCENARIOS' order). Each of
-    pytest-xdist's workers starts at its own place in the list: two workers that want them
-    at once each prepare different lots and load the other's from the session's cache,
-    rather than one waiting for each lot the other is preparing."""
-    from lotsim.io.scenario_yaml import load_scenario
+HEAVY = ("day", "large_lot")
+"""Shipped scenarios whose lots take long to prepare: the tests of them are in the slow set."""
 
-    worker = int(os.environ.get("PYTEST_XDIST_WORKER", "gw0")[2:] or 0)
-    start = worker * len(SCENARIOS) // int(os.environ.get("PYTEST_XDIST_WORKER_COUNT", 1))
-    prepared = {p.stem: prepare_graph(load_scenario(p))
-                for p in SCENARIOS[start:] + SCENARIOS[:start]}
-    return {p.stem: prepared[p.stem] for p in SCENARIOS}
+
+def shipped(*leave_out: str) -> list:
+    """The shipped scenarios' names but ``leave_out``, as a test's parameters (those of
+    :data:`HEAVY` marked slow)."""
+    return [pytest.param(p.stem, marks=pytest.mark.slow) if p.stem in HEAVY else p.stem
+            for p in SCENARIOS if p.stem not in leave_out]
+
+
+SHIPPED = shipped()
+"""Every shipped scenario's name, as a test's parameters."""
+
+
+class ShippedGraphs(Mapping):
+    """Every shipped scenario's lot by name, in SCENARIOS' order, each prepared when first
+    asked for (a test of one lot prepares only that one; iterating prepares them all)."""
+
+    def __init__(self) -> None:
+        self._made: dict[str, LotGraph] = {}
+
+    def __getitem__(self, name: str) -> LotGraph:
+        from lotsim.io.scenario_yaml import load_scenario
+
+        if name not in self._made:
+            path = ROOT / "scenarios" / f"{name}.yaml"
+            if path not in SCENARIOS:
+                raise KeyError(name)
+            self._made[name] = prepare_graph(load_scenario(path))
+        return self._made[name]
+
+    def __iter__(self):
+        return (p.stem for p in SCENARIOS)
+
+    def __len__(self) -> int:
+        return len(SCENARIOS)
+
+
+@pytest.fixture(scope="session")
+def shipped_graphs() -> ShippedGraphs:
+    """The shipped scenarios' lots, prepared as asked for (:class:`ShippedGraphs`); the
+    session's cache shares them between pytest-xdist's workers."""
+    return ShippedGraphs()
 
 
 @pytest.fixture(scope="session")

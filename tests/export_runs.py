@@ -24,6 +24,16 @@ RUNS = {
 }
 """The runs every export is checked on: the README's, ladder's, and the quickstart lot's
 with cars inside it (:func:`inside_run`)."""
+SLOW_RUNS = ("ladder",)
+"""Runs whose planning takes long: their exports are checked in the slow set."""
+
+
+def run_params() -> list:
+    """:data:`RUNS`' names as a fixture's params, those of :data:`SLOW_RUNS` marked slow."""
+    import pytest
+
+    return [pytest.param(n, marks=pytest.mark.slow) if n in SLOW_RUNS else n
+            for n in sorted(RUNS)]
 
 
 def inside_run(path: Path):

@@ -93,7 +93,13 @@ def run_page(page: Path, namespace: dict) -> int:
     return len(found)
 
 
-@pytest.mark.parametrize("page", [p for p in PAGES if blocks(p)], ids=lambda p: p.name)
+SLOW_PAGES = ("layout.md",)
+"""Pages whose code lays out a plot (tens of seconds): run in the slow set."""
+
+
+@pytest.mark.parametrize("page", [
+    pytest.param(p, marks=pytest.mark.slow) if p.name in SLOW_PAGES else p
+    for p in PAGES if blocks(p)], ids=lambda p: p.name)
 def test_page_code_runs_as_written(page, tmp_path, monkeypatch):
     if page.name in NEEDS:
         modules, why = NEEDS[page.name]

@@ -49,6 +49,7 @@ def may_use(car: dict, slot: dict) -> bool:
     return True
 
 
+@pytest.mark.slow
 def test_the_run_checks_and_every_car_parks_where_its_type_may(result):
     report = api.check(result)
     assert report.ok, [str(v) for v in report.violations]
@@ -143,6 +144,7 @@ def test_the_counts_meet_ada_and_the_walks_go_over_the_pavement():
     assert "walk to shop_door over the pavement (straight line" in lines
 
 
+@pytest.mark.slow
 def test_a_stated_table_not_met_says_by_how_many():
     text = STOREFRONT.read_text(encoding="utf-8").replace(
         "standard: ADA 2010",

@@ -6,6 +6,8 @@ import os
 import subprocess
 import sys
 
+import pytest
+
 from conftest import ROOT
 
 
@@ -27,6 +29,7 @@ def _results(tmp_path, name, hashseeds, *extra) -> list[bytes]:
     return [(out / "result.json").read_bytes() for out, _ in procs]
 
 
+@pytest.mark.slow
 def test_results_do_not_depend_on_the_hash_seed(tmp_path):
     # the street: three vehicle types, arrivals and departures, parallel parking;
     # two rows: a full lot with a queue and cars turned away
@@ -35,6 +38,7 @@ def test_results_do_not_depend_on_the_hash_seed(tmp_path):
         assert a == b, name
 
 
+@pytest.mark.slow
 def test_booked_priorities_do_not_depend_on_the_hash_seed(tmp_path):
     a, b = _results(tmp_path, "street.yaml", (7, 99), "--priority", "shortest_first")
     assert a == b

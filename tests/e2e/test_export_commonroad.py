@@ -13,7 +13,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from export_runs import RUNS, need, result_path
+from export_runs import need, result_path, run_params
 from lotsim.api import load_result
 from lotsim.io.export.commonroad import COMMONROAD_VEHICLES, DT, trips
 from lotsim.io.export.tracks import resample, tracks
@@ -31,7 +31,7 @@ SUBSTEPS = 2
 """Runge-Kutta steps per state step (4th order: at 0.05 s its own error is below 1 µm)."""
 
 
-@pytest.fixture(scope="module", params=sorted(RUNS))
+@pytest.fixture(scope="module", params=run_params())
 def exported(request, tmp_path_factory):
     need("commonroad")
     import lotsim

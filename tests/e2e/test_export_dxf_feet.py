@@ -119,6 +119,7 @@ def test_texts_arrows_hatches_and_dashes_are_as_large_on_paper(drawings):
     assert fv.dxf.height * FOOT == pytest.approx(mv.dxf.height)
 
 
+@pytest.mark.slow
 def test_the_option_draws_a_lot_in_the_other_unit(tmp_path, capsys):
     need("ezdxf")
     feet = feet_file(tmp_path)

@@ -16,7 +16,7 @@ import numpy as np
 import pytest
 import shapely
 
-from export_runs import RUNS, need, result_path
+from export_runs import need, result_path, run_params
 from lotsim.api import load_result
 from lotsim.io.export.tracks import tracks
 
@@ -49,7 +49,7 @@ def odr_schema():
     return schema("opendrive_17_core.xsd")
 
 
-@pytest.fixture(scope="module", params=sorted(RUNS))
+@pytest.fixture(scope="module", params=run_params())
 def exported(request, tmp_path_factory):
     need("scenariogeneration")
     import lotsim

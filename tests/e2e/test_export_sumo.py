@@ -14,7 +14,7 @@ import xml.etree.ElementTree as ET
 import numpy as np
 import pytest
 
-from export_runs import RUNS, need, result_path
+from export_runs import need, result_path, run_params
 from lotsim.api import load_result
 from lotsim.io.export.sumo import FILES
 from lotsim.io.export.tracks import forward, tracks, visits
@@ -43,7 +43,7 @@ LOTSIM_POSE = (0.02, 0.05)
 """... and at lotsim's parked front-bumper centre within 2 cm [m] and 0.05° [deg]."""
 
 
-@pytest.fixture(scope="module", params=sorted(RUNS))
+@pytest.fixture(scope="module", params=run_params())
 def simulated(request, tmp_path_factory):
     """The run exported, and SUMO's stops, trips, positions and error log of it."""
     need("sumo")

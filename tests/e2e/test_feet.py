@@ -96,7 +96,8 @@ def test_a_scenario_in_feet_is_the_same_lot(tmp_path, name):
 
 
 # the storefront's run as well (its van-accessible row's access aisles): -m slow
-@pytest.mark.parametrize("name", [NAMES[0], pytest.param(NAMES[1], marks=pytest.mark.slow)])
+@pytest.mark.slow
+@pytest.mark.parametrize("name", NAMES)
 def test_a_scenario_in_feet_is_the_same_run(tmp_path, name):
     metric, feet = _both(tmp_path, name)
     # lengths in feet are read to the nanometre, so the run is the metric one, byte for byte
@@ -164,6 +165,7 @@ def test_validate_reports_a_feet_scenarios_lengths_in_feet(tmp_path):
         assert float(b["width_ft"]) == pytest.approx(float(a["width_m"]) / FOOT, abs=1e-3)
 
 
+@pytest.mark.slow
 def test_a_plot_in_feet_is_laid_out_in_feet(tmp_path):
     # the same candidate of the shipped storefront plot and of its feet copy, written as
     # lotsim layout writes it: the feet one states units: ft and reads back as the same lot

@@ -75,6 +75,7 @@ def _problems(outline, areas, aisles, slots) -> list[str]:
     return wrong
 
 
+@pytest.mark.slow
 def test_the_rectangle_beats_the_hand_count_and_validates_strictly(tmp_path):
     out = tmp_path / "lot.yaml"
     # the candidate with the most bays drawn, along the long side, prepared alone
@@ -115,6 +116,7 @@ def test_the_shapely_check_of_a_written_lot_can_fail():
     assert _problems(outline, {}, {}, outside) == [f"{slots[0][0]} leaves the plot"]
 
 
+@pytest.mark.slow
 def test_progress_ends_at_its_total_when_the_search_stops_early():
     # four may be prepared; the search stops after two, the rest drawing fewer bays
     calls: list[tuple[int, int]] = []
@@ -127,6 +129,7 @@ def test_progress_ends_at_its_total_when_the_search_stops_early():
     assert [d for d, _ in calls] == sorted(d for d, _ in calls)
 
 
+@pytest.mark.slow
 @pytest.mark.cores  # on the machine's cores, and on one (--jobs 1)
 def test_the_same_plot_gives_the_same_bytes(tmp_path, monkeypatch):
     monkeypatch.setenv("LOTSIM_CACHE_DIR", "off")  # both worked out, neither remembered
@@ -159,6 +162,7 @@ def test_the_dead_end_cost_is_set_on_the_command_line_and_written_with_the_searc
     assert not (tmp_path / "no.yaml").exists()
 
 
+@pytest.mark.slow
 def test_keep_writes_the_next_best_beside_the_best(tmp_path, capsys):
     plot = tmp_path / "small.yaml"
     plot.write_text(SMALL)

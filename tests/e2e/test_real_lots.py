@@ -51,6 +51,7 @@ def _turnaround_users(rr, lg):
     return n
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("name", FAST)
 def test_every_free_slot_is_reachable_usable_and_left_again(lots, name):
     sc, lg = lots[name]
@@ -116,6 +117,7 @@ traffic:
 """
 
 
+@pytest.mark.slow
 def test_short_arms_with_corner_bays_have_turnarounds_and_every_bay_is_left():
     """A gate spur meeting a short aisle at a T, two bays at each corner: a car that parks
     past the last turn off its lane (the arms are shorter than a dead end's 15 m) must turn
@@ -139,6 +141,7 @@ def test_short_arms_with_corner_bays_have_turnarounds_and_every_bay_is_left():
     assert {v["status"] for v in doc["vehicles"]} == {"departed"}
 
 
+@pytest.mark.slow
 def test_a_bay_no_car_can_reach_says_so_instead_of_failing_its_maneuver():
     """An aisle joined to nothing: its bays have no maneuver because no car gets beside
     them, and that is what the reason says (before: "no way out with up to 8 direction
@@ -168,6 +171,7 @@ def _narrow_culdesac(types: str):
     return scenario_from_text(text)
 
 
+@pytest.mark.slow
 def test_turnarounds_are_planned_for_each_vehicle_type_and_used_only_by_it():
     """A van that fits no bay of a narrow cul-de-sac has no room to turn round in it: the
     small car's turnaround is planned for the small car (before, for the envelope of the two,
@@ -197,6 +201,7 @@ def test_turnarounds_are_planned_for_each_vehicle_type_and_used_only_by_it():
         assert bool(kinds) == (name == "msv") and all(name in k for k in kinds)
 
 
+@pytest.mark.slow
 def test_a_narrow_cul_de_sac_lined_with_bays_is_turned_in_and_every_bay_left():
     """A 6.2 m aisle with bays on both sides: full-lock strokes turn a vw round almost in
     place, beside its lane, and the last move is an S across (before it, no turnaround was
@@ -340,6 +345,7 @@ traffic:
 """
 
 
+@pytest.mark.slow
 def test_a_van_that_cannot_turn_round_in_a_dead_end_leaves_its_bay_towards_the_other_lane():
     """A 6.6 m aisle with a dead end too tight for a van to turn round in: the van comes
     along the lane into it, parks, and leaves the bay straight onto the lane back out (the
@@ -456,6 +462,7 @@ def test_a_car_parks_on_one_pose_from_either_lane_and_leaves_by_the_nearer_gate(
         assert math.dist(gates[used], centre) <= nearest + 10.0, (v.id, v.slot, used)
 
 
+@pytest.mark.slow
 def test_a_car_that_stays_parks_with_its_lanes_best_and_one_that_leaves_on_the_shared_pose():
     """Cars that will not leave need not park so that they could leave towards either lane:
     they park as their lane's own best maneuver does (measured on the large lot: 1.72x
@@ -493,6 +500,7 @@ def test_a_car_that_stays_parks_with_its_lanes_best_and_one_that_leaves_on_the_s
     assert differ >= 2  # cars that stayed where the two differ
 
 
+@pytest.mark.slow
 def test_which_maneuvers_are_kept_follows_whether_cars_stay_or_leave(lots):
     """Where a kind of maneuver nobody uses begins would only be lane nodes in the way."""
     from conftest import scenario_from_text
@@ -518,6 +526,7 @@ def test_which_maneuvers_are_kept_follows_whether_cars_stay_or_leave(lots):
     assert flipped  # some slots are parked one way from one lane, the other from the other
 
 
+@pytest.mark.slow
 def test_junction_turns_are_built_for_each_vehicle_type_and_used_only_by_it():
     from conftest import scenario_from_text
     from lotsim.lot.model import DesignVehicle

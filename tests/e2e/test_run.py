@@ -9,7 +9,7 @@ import pickle
 import numpy as np
 import pytest
 
-from conftest import ONE_AISLE, SCENARIOS, position, scenario_from_text, static_times
+from conftest import HEAVY, ONE_AISLE, SCENARIOS, position, scenario_from_text, static_times
 from lotsim.cli import main
 from lotsim.core.outcome import Status
 from lotsim.errors import ScenarioError
@@ -76,7 +76,8 @@ _SHORTENED = {"large_lot": 12, "day": 8}
 
 
 @pytest.mark.parametrize("path,whole", [
-    *[pytest.param(p, p.stem not in _SHORTENED, id=p.stem) for p in SCENARIOS],
+    *[pytest.param(p, p.stem not in _SHORTENED, id=p.stem,
+                   marks=pytest.mark.slow if p.stem in HEAVY else ()) for p in SCENARIOS],
     *[pytest.param(p, True, id=f"{p.stem}-whole", marks=pytest.mark.slow)
       for p in SCENARIOS if p.stem in _SHORTENED]])
 def test_every_shipped_scenario_runs_and_passes_the_independent_check(path, whole,

@@ -74,6 +74,7 @@ def _check_examples(lots, seeds) -> None:
             assert result_dict(again) == result_dict(rr)
 
 
+@pytest.mark.slow
 def test_a_run_through_random_disturbances_is_checked_and_accounts_for_every_car(lots):
     _check_examples(lots, range(4))
 

@@ -134,6 +134,7 @@ def _fuzz(tmp_path, count: int, seed: int, *, maneuvers_every: int = 0) -> dict:
     return seen
 
 
+@pytest.mark.slow
 def test_mutated_scenarios_end_in_a_scenario_or_a_located_error(tmp_path):
     seen = _fuzz(tmp_path, QUICK, seed=2026)
     assert seen["error"] > QUICK // 4 and seen["ok"] > 5  # the mutations bite, and not all

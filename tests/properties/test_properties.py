@@ -539,6 +539,7 @@ def _run_profile(profile: str, size: dict, strategy=None, *,
     assert SEEN["refused"] <= most_refused * SEEN["drawn"], dict(SEEN)
 
 
+@pytest.mark.slow
 def test_random_lots_and_traffic_pass_the_independent_check():
     _run_profile("lotsim-fast", SMALL)
 

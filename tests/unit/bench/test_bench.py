@@ -476,6 +476,7 @@ def test_the_bench_plots_load_only_when_drawn():
     assert done.stdout.strip() == "[]"
 
 
+@pytest.mark.slow
 def test_the_real_demand_suite_in_small_reports_what_its_cars_paid(tmp_path):
     """The real-demand suite cut to 8 cars on the gate-spur lot, at its slowest and fastest
     rates: every run checks, and each row has the trip figures it is read for."""

@@ -98,6 +98,7 @@ def _workers(proc: subprocess.Popen) -> dict[int, float]:
     return found
 
 
+@pytest.mark.slow
 def test_ctrl_c_while_planning_writes_nothing(tmp_path):
     """The large lot takes ~20 s to prepare and plan: interrupted while its maneuvers are
     planned."""
@@ -111,6 +112,7 @@ def test_ctrl_c_while_planning_writes_nothing(tmp_path):
     assert not (tmp_path / "out").exists() or list((tmp_path / "out").iterdir()) == []
 
 
+@pytest.mark.slow
 def test_ctrl_c_while_drawing_the_gif_writes_nothing(tmp_path):
     """The mixed lot's GIF of its whole first quarter hour (quiet stretches kept) takes
     ~13 s after the result is staged: interrupted while its frames go into the temporary
@@ -163,6 +165,7 @@ def test_ctrl_c_while_rendering_leaves_an_older_gif_untouched(tmp_path, written,
     assert sorted(p.name for p in tmp_path.iterdir()) == ["old.gif", "out"]
 
 
+@pytest.mark.slow
 def test_ctrl_c_during_a_benchmark_on_two_processes_writes_nothing(tmp_path):
     """The runs in flight (each takes several seconds) are stopped with lotsim, and no
     worker prints a traceback."""

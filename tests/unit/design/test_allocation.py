@@ -165,6 +165,7 @@ def test_access_aisles_keep_off_the_way_and_the_bays_and_are_wide_enough():
                 assert bay.intersection(p).length == pytest.approx(5.0, abs=1e-6)
 
 
+@pytest.mark.slow
 def test_compact_bays_fill_what_full_bays_leave_and_never_take_their_place():
     plain = read_plot(PLOT.replace("[60, 0], [60, 40]", "[59, 0], [59, 40]"))
     compact = read_plot(PLOT.replace("[60, 0], [60, 40]", "[59, 0], [59, 40]")
@@ -239,6 +240,7 @@ def test_the_ranking_puts_the_standard_met_first_then_the_bays_laid_out():
 
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("door", ["[22, 20]", "[45, 28]"])
 def test_a_group_stands_where_its_walk_is_least_and_validate_walks_it_so(door):
     # against every place the group could stand, walked the allocator's way; and the walks

@@ -72,6 +72,7 @@ def _violations(plot, cand) -> list[str]:
     return wrong
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("path", PLOTS, ids=lambda p: p.stem)
 def test_every_drawn_bay_is_inside_the_plot_and_clear_of_islands_aisles_and_bays(path):
     plot = read_plot(path)
@@ -145,6 +146,7 @@ def test_angled_modules_are_one_way_and_lean_the_way_their_aisle_runs():
             assert math.degrees(math.acos(cos)) == pytest.approx(45.0)
 
 
+@pytest.mark.slow
 def test_no_two_candidates_are_alike():
     plot = read_plot(ROOT / "scenarios" / "plots" / "island.yaml")
     drawn = candidates(plot, LayoutSettings(orientations=1, offsets=3))
@@ -189,6 +191,7 @@ def test_spines_run_square_to_their_gate_s_edge_and_branch_at_right_angles():
         assert _violations(plot, c) == []
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("x", [0.0, 1.0, 2.0, 3.0])
 def test_a_gate_at_a_plot_s_corner_gets_candidates_whose_mouth_takes_it_in(x):
     plot = read_plot("boundary: [[0, 0], [100, 0], [100, 60], [0, 60]]\n"
@@ -233,6 +236,7 @@ def _random_plots(seed: int, count: int):
     return out
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("plot", _random_plots(5, 4), ids=lambda p: f"{len(p.boundary)}-gon")
 def test_random_plots_give_bays_clear_of_everything(plot):
     for cand in candidates(plot, LayoutSettings(orientations=2, offsets=1)):
@@ -277,6 +281,7 @@ def _alongside(a, b) -> float:
     return min(sa[1], sb[1]) - max(sa[0], sb[0])
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("name", ["rect60x100", "trapezoid"])
 def test_no_module_runs_beside_a_ring_leg_closer_than_a_row_each_needs(name):
     # between a module aisle and a ring leg it runs beside, room for the ring's inner row

@@ -130,6 +130,7 @@ def lanelet2_lot(tmp_path_factory):
     return report, tmp / "out" / "angled.yaml", rects, painted
 
 
+@pytest.mark.slow
 def test_lanelet2_angled_spots_are_angled_slots_at_their_angle(lanelet2_lot):
     report, path, rects, painted = lanelet2_lot
     (lot,) = report.lots
@@ -177,6 +178,7 @@ def osm_imported(tmp_path_factory):
     return report, tmp / "out" / "way-1.yaml", rects, painted
 
 
+@pytest.mark.slow
 def test_osm_angled_spaces_are_angled_slots_at_their_angle(osm_imported):
     """Within 5 cm: each bay is moved 2 cm off the aisle's edge, where its front corner lies,
     and drawn 1 cm inside its long sides. The lot's frame is centred on its centroid

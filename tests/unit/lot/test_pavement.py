@@ -178,6 +178,7 @@ def test_the_same_traffic_on_the_lot_paved_wall_to_wall_crosses_that_ground(pave
     assert "pavement" in {v.rule for v in report.violations}
 
 
+@pytest.mark.slow
 def test_a_parallel_slot_on_a_paved_lot_is_parked_in_up_to_the_kerb():
     """A car backing into a free-standing parallel bay swings its corner up to the
     pavement's edge: the margin it keeps to walls is not kept to the kerb."""

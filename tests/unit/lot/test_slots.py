@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 import shapely
 
-from conftest import ROOT, scenario_from_text
+from conftest import ROOT, SHIPPED, scenario_from_text
 from lotsim.errors import ScenarioError
 from lotsim.lot.build import build_lot
 from lotsim.lot.model import DesignVehicle
@@ -92,12 +92,12 @@ def test_angled_row_on_the_right_mirrors_the_left():
     assert right.heading == pytest.approx(-left.heading)
 
 
-def test_every_slot_polygon_is_counter_clockwise_with_its_size(shipped_graphs):
-    for lg in shipped_graphs.values():
-        for slot in lg.lot.slots:
-            poly = shapely.Polygon(slot.polygon)
-            assert poly.exterior.is_ccw
-            assert poly.area == pytest.approx(slot.width * slot.length)
+@pytest.mark.parametrize("name", SHIPPED)
+def test_every_slot_polygon_is_counter_clockwise_with_its_size(shipped_graphs, name):
+    for slot in shipped_graphs[name].lot.slots:
+        poly = shapely.Polygon(slot.polygon)
+        assert poly.exterior.is_ccw
+        assert poly.area == pytest.approx(slot.width * slot.length)
 
 
 def test_free_standing_slot_finds_its_aisle():

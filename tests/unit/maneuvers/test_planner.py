@@ -15,7 +15,7 @@ import numpy as np
 import pytest
 import shapely
 
-from conftest import ROOT, SCENARIOS, graph_from_text, scenario_from_text
+from conftest import HEAVY, ROOT, SCENARIOS, graph_from_text, scenario_from_text
 from lotsim.cli import main
 from lotsim.core.geometry import wrap_angle
 from lotsim.errors import InfeasibleManeuver, SettingsError
@@ -35,7 +35,7 @@ from oracles.maneuver_check import check_maneuver, parked_bodies
 
 # the large lot's 1040 bays are the other lots' perpendicular rows over again: -m slow
 @pytest.mark.parametrize("path", [
-    pytest.param(p, marks=pytest.mark.slow) if p.stem == "large_lot" else p for p in SCENARIOS
+    pytest.param(p, marks=pytest.mark.slow) if p.stem in HEAVY else p for p in SCENARIOS
 ], ids=lambda p: p.stem)
 def test_every_maneuver_of_every_shipped_slot_passes_the_independent_check(path, shipped_graphs):
     lg = shipped_graphs[path.stem]
@@ -540,6 +540,7 @@ def test_a_digest_depends_on_the_problem_alone(monkeypatch):
     assert 5 < len(set(got[0].values())) <= posed[0]
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("name", ["lots/culdesac", "lots/ring", "mixed_lot"])
 def test_a_batch_of_heads_is_each_slots_own_to_the_bit(name):
     """:meth:`LotProblems.heads` works a lot's frames out a lane at a time; each is the
@@ -630,6 +631,7 @@ def test_a_head_beside_a_bend_has_the_lanes_heading_there_and_no_lane_line():
         assert math.isnan(lane_y) and (lane_x, s0) == ((0.0, 0.0), 0.0)
 
 
+@pytest.mark.slow
 def test_the_settings_are_used():
     narrow = QUICK.replace("width: 7.0", "width: 4.6")
     lot, _ = _lot(narrow)
@@ -662,7 +664,8 @@ def test_the_way_out_search_is_tuned_by_its_own_settings(monkeypatch):
         return real(*args, settings=settings, max_changes=max_changes, **kw)
 
     monkeypatch.setattr(shuffle, "plan_onto", spy)
-    tuned = MultipointSettings(expansion_limit=700, max_changes=3, cell=0.25, weight=2.0)
+    # (a small expansion limit: what is asked of the search is what is checked)
+    tuned = MultipointSettings(expansion_limit=60, max_changes=3, cell=0.25, weight=2.0)
     for limit, want in ((8, 3), (2, 2)):
         seen.clear()
         ManeuverPlanner(lot, settings=ManeuverSettings(max_changes=limit, way_out=tuned)
@@ -774,6 +777,7 @@ def test_the_first_clear_path_is_the_first_row_that_passes_both_checks(before):
     assert first_clear(p, blocked[:before], step=1.0) is None
 
 
+@pytest.mark.slow
 def test_the_rough_pass_over_a_searchs_candidates_finds_what_checking_each_path_finds(
         monkeypatch):
     """``rough`` (the ways to the stops checked once, the closing moves as arrays) against

@@ -60,6 +60,7 @@ def _problems(planner, sc, lot):
     return out
 
 
+@pytest.mark.slow
 def test_most_bays_are_fitted_and_none_has_more_direction_changes_than_its_own_search(
         irregular):
     lot, sc, planner, *_ = irregular
@@ -123,6 +124,7 @@ def test_a_maneuver_fits_only_where_it_is_clear_and_begins_on_the_grid(irregular
     assert fitted(blocked, offer, planner.settings) is None
 
 
+@pytest.mark.slow
 def test_planned_on_two_processes_or_one_problem_at_a_time_the_answers_are_the_same(irregular):
     """prefetch answers each class in rounds on the workers; solving slot after slot on a
     fresh planner answers each class in this process, as its first problem is asked for."""

@@ -170,6 +170,7 @@ def _centre_px(renderer, v, k):
     return int(round(c[0])), int(round(c[1]))
 
 
+@pytest.mark.slow
 def test_a_vehicle_s_colour_is_under_its_footprint_centre(doc, tmp_path):
     settings = GifSettings(fps=20, speed=4, size=(800, 600), start=0.0)
     j, k = _moving_sample(doc, 4 / 20)
@@ -443,6 +444,7 @@ def test_the_readme_s_main_gif_shows_cars_moving_not_an_empty_lot(mixed_lot_doc)
     assert sum(shown) > 0.5 * len(shown), (sum(shown), len(shown))
 
 
+@pytest.mark.slow
 def test_render_writes_what_run_gif_wrote(tmp_path, capsys):
     # quickstart, its animation section asking for speed 2 (as it does) at a small size
     path = tmp_path / "s.yaml"

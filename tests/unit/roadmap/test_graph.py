@@ -7,7 +7,16 @@ import pytest
 import shapely
 from small_lots import DISCONNECTED
 
-from conftest import ONE_AISLE, SCENARIOS, graph_from_text, position, scenario_from_text
+from conftest import (
+    ONE_AISLE,
+    ROOT,
+    SCENARIOS,
+    SHIPPED,
+    graph_from_text,
+    position,
+    scenario_from_text,
+    shipped,
+)
 from lotsim.core.geometry import wrap_angle
 from lotsim.errors import ScenarioError
 from lotsim.sim.preparation import prepare_graph
@@ -28,100 +37,105 @@ def driven_length(path, step: float = 0.05) -> float:
     return float(sum(np.hypot(*np.diff(s.sample(step)[:, :2], axis=0).T).sum() for s in path))
 
 
-def test_every_edge_starts_and_ends_at_its_nodes_poses(shipped_graphs):
-    for name, lg in shipped_graphs.items():
-        g = lg.graph
-        for u, v, d in driven_edges(lg):
-            path = d["path"]
-            for pose, node in ((path[0].start, u), (path[-1].end, v)):
-                ref = g.nodes[node]["pose"]
-                assert math.dist(pose[:2], ref[:2]) < 1e-6, (name, u, v)
-                assert abs(wrap_angle(pose[2] - ref[2])) < 1e-6, (name, u, v)
-            # its length is the distance driven along it, measured on its poses 5 cm apart
-            assert d["length"] == pytest.approx(driven_length(path), rel=1e-4, abs=1e-3)
-            if d["kind"] == "lane":  # and a lane edge's, the stretch of lane between
-                gap = g.nodes[v]["station"] - g.nodes[u]["station"]
-                assert d["length"] == pytest.approx(gap, abs=1e-6), (name, u, v)
-            if d["kind"] == "turnaround":  # strokes: the car stops (and steers) at each cusp
-                for a, b in zip(path[:-1], path[1:], strict=True):
-                    assert np.allclose(a.end[:2], b.start[:2], atol=1e-9)
-                continue
-            # and the curvature is the nodes' at both ends, continuous in between
-            assert path[0].curvature == pytest.approx(g.nodes[u]["curvature"], abs=1e-9)
-            assert path[-1].end_curvature == pytest.approx(g.nodes[v]["curvature"], abs=1e-9)
+@pytest.mark.parametrize("name", SHIPPED)
+def test_every_edge_starts_and_ends_at_its_nodes_poses(shipped_graphs, name):
+    lg = shipped_graphs[name]
+    g = lg.graph
+    for u, v, d in driven_edges(lg):
+        path = d["path"]
+        for pose, node in ((path[0].start, u), (path[-1].end, v)):
+            ref = g.nodes[node]["pose"]
+            assert math.dist(pose[:2], ref[:2]) < 1e-6, (name, u, v)
+            assert abs(wrap_angle(pose[2] - ref[2])) < 1e-6, (name, u, v)
+        # its length is the distance driven along it, measured on its poses 5 cm apart
+        assert d["length"] == pytest.approx(driven_length(path), rel=1e-4, abs=1e-3)
+        if d["kind"] == "lane":  # and a lane edge's, the stretch of lane between
+            gap = g.nodes[v]["station"] - g.nodes[u]["station"]
+            assert d["length"] == pytest.approx(gap, abs=1e-6), (name, u, v)
+        if d["kind"] == "turnaround":  # strokes: the car stops (and steers) at each cusp
             for a, b in zip(path[:-1], path[1:], strict=True):
                 assert np.allclose(a.end[:2], b.start[:2], atol=1e-9)
-                assert abs(wrap_angle(a.end[2] - b.start[2])) < 1e-9
-                assert b.curvature == pytest.approx(a.end_curvature, abs=1e-9)
+            continue
+        # and the curvature is the nodes' at both ends, continuous in between
+        assert path[0].curvature == pytest.approx(g.nodes[u]["curvature"], abs=1e-9)
+        assert path[-1].end_curvature == pytest.approx(g.nodes[v]["curvature"], abs=1e-9)
+        for a, b in zip(path[:-1], path[1:], strict=True):
+            assert np.allclose(a.end[:2], b.start[:2], atol=1e-9)
+            assert abs(wrap_angle(a.end[2] - b.start[2])) < 1e-9
+            assert b.curvature == pytest.approx(a.end_curvature, abs=1e-9)
 
 
-def test_heading_is_continuous_through_every_lane_node(shipped_graphs):
-    for lg in shipped_graphs.values():
-        g = lg.graph
-        for n, data in g.nodes(data=True):
-            if data["kind"] != "lane":
-                continue
-            ins = [d["path"][-1].end[2] for _, _, d in g.in_edges(n, data=True) if d["path"]]
-            outs = [d["path"][0].start[2] for _, _, d in g.out_edges(n, data=True)
-                    if d["path"]]
-            for a in ins:
-                for b in outs:
-                    assert abs(wrap_angle(a - b)) < 1e-6
+@pytest.mark.parametrize("name", SHIPPED)
+def test_heading_is_continuous_through_every_lane_node(shipped_graphs, name):
+    lg = shipped_graphs[name]
+    g = lg.graph
+    for n, data in g.nodes(data=True):
+        if data["kind"] != "lane":
+            continue
+        ins = [d["path"][-1].end[2] for _, _, d in g.in_edges(n, data=True) if d["path"]]
+        outs = [d["path"][0].start[2] for _, _, d in g.out_edges(n, data=True)
+                if d["path"]]
+        for a in ins:
+            for b in outs:
+                assert abs(wrap_angle(a - b)) < 1e-6
 
 
-def test_curvature_never_exceeds_the_limit_of_the_vehicles_that_drive_it(shipped_graphs):
+@pytest.mark.parametrize("name", SHIPPED)
+def test_curvature_never_exceeds_the_limit_of_the_vehicles_that_drive_it(shipped_graphs, name):
     from lotsim.io.scenario_yaml import load_scenario
 
-    for path in SCENARIOS:
-        lg = shipped_graphs[path.stem]
-        radius = {v.name: v.min_turning_radius for v in load_scenario(path).vehicle_types}
-        for _, _, d in driven_edges(lg):
-            # an edge built for some types only (a small car's turnaround) is theirs
-            limit = 1 / (min(radius[t] for t in d["types"]) if d.get("types")
-                         else lg.lot.design.min_radius)
-            assert all(seg.max_curvature <= limit + 1e-9 for seg in d["path"])
-            if d["kind"] != "turnaround":
-                assert d["gear"] == 1  # lanes and turns are driven forward
+    path = ROOT / "scenarios" / f"{name}.yaml"
+    lg = shipped_graphs[path.stem]
+    radius = {v.name: v.min_turning_radius for v in load_scenario(path).vehicle_types}
+    for _, _, d in driven_edges(lg):
+        # an edge built for some types only (a small car's turnaround) is theirs
+        limit = 1 / (min(radius[t] for t in d["types"]) if d.get("types")
+                     else lg.lot.design.min_radius)
+        assert all(seg.max_curvature <= limit + 1e-9 for seg in d["path"])
+        if d["kind"] != "turnaround":
+            assert d["gear"] == 1  # lanes and turns are driven forward
 
 
-def test_shipped_lots_reach_every_free_slot_and_exit(shipped_graphs):
-    for name, lg in shipped_graphs.items():
-        reach = lg.reachability()
-        assert reach.ok, (name, reach)
-        assert lg.entrances and lg.exits
+@pytest.mark.parametrize("name", SHIPPED)
+def test_shipped_lots_reach_every_free_slot_and_exit(shipped_graphs, name):
+    lg = shipped_graphs[name]
+    reach = lg.reachability()
+    assert reach.ok, (name, reach)
+    assert lg.entrances and lg.exits
 
 
+@pytest.mark.parametrize("name", SHIPPED)
 def test_every_slot_is_linked_through_real_maneuvers_that_start_at_their_lane_node(
-        shipped_graphs):
-    for name, lg in shipped_graphs.items():
-        g = lg.graph
-        for slot in lg.lot.slots:
-            node = lg.slot_nodes[slot.id]
-            parks = list(g.in_edges(node, data=True))
-            assert parks, (name, slot.id)
-            ends = {}  # type → where the maneuvers a car can leave by park it
-            for _, _, d in parks:
-                for v, m in d["maneuvers"].items():
-                    ends.setdefault(v, []).append(m.end)
-            for u, _, d in parks:
-                assert d["kind"] == "park" and not d["placeholder"]
-                assert d["maneuvers"] or d["stays"]
-                pose = g.nodes[u]["pose"]
-                ms = [*d["maneuvers"].values(), *d.get("stays", {}).values()]
-                for m in ms:
-                    assert math.dist(m.start[:2], pose[:2]) < 1e-6, (name, slot.id)
-                    assert abs(wrap_angle(m.start[2] - pose[2])) < 1e-6, (name, slot.id)
-                assert d["length"] == pytest.approx(min(m.length for m in ms))
-                if d["maneuvers"]:
-                    leave = g.edges[node, u]
-                    assert (leave["kind"] == "leave"
-                            and set(leave["maneuvers"]) == set(d["maneuvers"]))
-                else:  # a maneuver for cars that stay only is never left by
-                    assert not g.has_edge(node, u) or not g.edges[node, u]["maneuvers"]
-                for v, m in d.get("stays", {}).items():
-                    # the lane's own best parks the other way round than the shared pose
-                    assert all(abs(abs(wrap_angle(m.end[2] - e[2])) - math.pi) < 0.1
-                               for e in ends[v]), (name, slot.id, v)
+        shipped_graphs, name):
+    lg = shipped_graphs[name]
+    g = lg.graph
+    for slot in lg.lot.slots:
+        node = lg.slot_nodes[slot.id]
+        parks = list(g.in_edges(node, data=True))
+        assert parks, (name, slot.id)
+        ends = {}  # type → where the maneuvers a car can leave by park it
+        for _, _, d in parks:
+            for v, m in d["maneuvers"].items():
+                ends.setdefault(v, []).append(m.end)
+        for u, _, d in parks:
+            assert d["kind"] == "park" and not d["placeholder"]
+            assert d["maneuvers"] or d["stays"]
+            pose = g.nodes[u]["pose"]
+            ms = [*d["maneuvers"].values(), *d.get("stays", {}).values()]
+            for m in ms:
+                assert math.dist(m.start[:2], pose[:2]) < 1e-6, (name, slot.id)
+                assert abs(wrap_angle(m.start[2] - pose[2])) < 1e-6, (name, slot.id)
+            assert d["length"] == pytest.approx(min(m.length for m in ms))
+            if d["maneuvers"]:
+                leave = g.edges[node, u]
+                assert (leave["kind"] == "leave"
+                        and set(leave["maneuvers"]) == set(d["maneuvers"]))
+            else:  # a maneuver for cars that stay only is never left by
+                assert not g.has_edge(node, u) or not g.edges[node, u]["maneuvers"]
+            for v, m in d.get("stays", {}).items():
+                # the lane's own best parks the other way round than the shared pose
+                assert all(abs(abs(wrap_angle(m.end[2] - e[2])) - math.pi) < 0.1
+                           for e in ends[v]), (name, slot.id, v)
 
 
 def test_without_maneuvers_slots_hang_off_marked_placeholders():
@@ -135,27 +149,27 @@ def test_without_maneuvers_slots_hang_off_marked_placeholders():
         assert parks and all(d["kind"] == "park" and d["placeholder"] for d in parks)
 
 
-def test_lane_and_turn_sweeps_touch_no_slot_or_area(shipped_graphs):
+# (the large lot's lanes and turns are the other lots' over again)
+@pytest.mark.parametrize("name", shipped("large_lot"))
+def test_lane_and_turn_sweeps_touch_no_slot_or_area(shipped_graphs, name):
     """Independent of the builder's checker: real vehicle footprints every 5 cm, via shapely."""
     from lotsim.io.scenario_yaml import load_scenario
 
-    for path in SCENARIOS:
-        lg = shipped_graphs[path.stem]
-        if len(lg.lot.slots) > 200:
-            continue  # the large lot is covered by the same code paths; keep the suite fast
-        lot = lg.lot
-        blockers = [s.shape for s in lot.slots] + [a.polygon for a in lot.areas]
-        tree = shapely.STRtree(blockers)
-        for vehicle in load_scenario(path).vehicle_types:
-            for _, _, d in driven_edges(lg):
-                if d.get("types") and vehicle.name not in d["types"]:
-                    continue  # built for other types only: this one never drives it
-                polys = shapely.polygons(vehicle.footprints(path_poses(d["path"], 0.05)))
-                left, right = tree.query(polys, predicate="intersects")
-                if left.size:
-                    area = shapely.area(shapely.intersection(polys[left],
-                                                             np.array(blockers)[right]))
-                    assert area.max() < 1e-6
+    path = ROOT / "scenarios" / f"{name}.yaml"
+    lg = shipped_graphs[name]
+    lot = lg.lot
+    blockers = [s.shape for s in lot.slots] + [a.polygon for a in lot.areas]
+    tree = shapely.STRtree(blockers)
+    for vehicle in load_scenario(path).vehicle_types:
+        for _, _, d in driven_edges(lg):
+            if d.get("types") and vehicle.name not in d["types"]:
+                continue  # built for other types only: this one never drives it
+            polys = shapely.polygons(vehicle.footprints(path_poses(d["path"], 0.05)))
+            left, right = tree.query(polys, predicate="intersects")
+            if left.size:
+                area = shapely.area(shapely.intersection(polys[left],
+                                                         np.array(blockers)[right]))
+                assert area.max() < 1e-6
 
 
 def test_one_way_aisles_carry_one_direction_and_two_way_both(shipped_graphs):

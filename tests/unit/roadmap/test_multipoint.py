@@ -87,6 +87,7 @@ def test_a_multi_point_path_lands_on_the_lane_within_its_stretch_clear_of_everyt
     assert shapely.covers(lot, _bodies(np.concatenate(poses), CAR)).all()
 
 
+@pytest.mark.slow
 def test_checking_states_ahead_in_one_batch_finds_what_checking_one_at_a_time_does():
     """The search checks the state it expands and the next few on its heap in one batch
     (``ahead``, :data:`lotsim.roadmap.multipoint.AHEAD` by default); the paths found, to the
@@ -185,6 +186,7 @@ traffic:
 """
 
 
+@pytest.mark.slow
 def test_a_6_m_tee_whose_exit_is_close_to_the_junction_is_left_by_a_multi_point_turn():
     """Everything tight: 6 m aisles, arms of 9 m, the exit 3.3 m down the spur. Every
     turn onto the outbound lane lands past the exit, and every turnaround at the end of

@@ -42,6 +42,7 @@ def test_turns_found_on_two_workers_are_those_each_type_finds_on_its_own():
     assert turns_per_design(lot, collider, designs) == expected
 
 
+@pytest.mark.slow
 def test_turns_through_stretches_on_two_workers_are_those_each_type_finds_on_its_own():
     # the gate spur's junctions close together, for two types: each stretch's turn a task
     # on forked workers, against each type's junction and through turns found in one go
@@ -57,6 +58,7 @@ def test_turns_through_stretches_on_two_workers_are_those_each_type_finds_on_its
     assert turns_per_design(lot, collider, designs) == expected
 
 
+@pytest.mark.slow
 def test_turnarounds_searched_in_rounds_on_two_workers_are_those_searched_one_by_one(
         monkeypatch):
     # the ladder's dead ends need multi-point turnarounds, some of them searched after
@@ -103,6 +105,7 @@ def test_turnarounds_searched_in_rounds_on_two_workers_are_those_searched_one_by
     assert turnaround_edges(prepare_graph(sc, cache=False)) == found
 
 
+@pytest.mark.slow
 def test_junction_multipoints_and_uturns_found_at_once_are_those_found_one_after_another():
     # the ladder's junctions: multi-point turns (none there) and U-turns, worked out
     # together on two forked workers for one lot, against each worked out in this process
@@ -210,6 +213,7 @@ def test_turnarounds_planned_ahead_make_the_same_graph_and_are_used(monkeypatch)
     assert ahead.skipped_turns == plain.skipped_turns
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("cores", [None, 1])
 def test_roadmap_pieces_remembered_from_an_earlier_lot_are_taken_only_where_unchanged(
         cores, monkeypatch):
@@ -252,6 +256,7 @@ def test_roadmap_pieces_remembered_from_an_earlier_lot_are_taken_only_where_unch
     assert third.recalled > 0 and third.worked > 0
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("lot_name", ["large_lot", "lots/gate_spur"])
 def test_junctions_alike_share_a_search_through_their_area_and_find_what_each_finds(
         lot_name, monkeypatch):
@@ -316,6 +321,7 @@ def test_obstacles_seen_from_a_place_are_digested_where_they_lie_about_it():
                                                                 (-6.0, -2.0, 6.0, 2.0)) != here
 
 
+@pytest.mark.slow
 def test_a_round_that_would_leave_a_core_idle_makes_the_next_search_it_may_want(monkeypatch):
     # a dead end whose cars arrive past where its first turnaround begins wants a second
     # search, from there: on two cores it is made with the first, in one round, and the

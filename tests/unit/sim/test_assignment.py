@@ -50,6 +50,7 @@ def test_a_probe_gets_its_rate_a_second_of_the_slots_way_and_at_least_its_floor(
     assert (tuned.probe_budget(10.0), tuned.probe_budget(100.0)) == (50, 200)
 
 
+@pytest.mark.slow  # the large lot is prepared for it
 def test_probe_budgets_on_the_large_lot_reach_both_sides_of_the_floor(shipped_graphs):
     # the default rate and floor matter on a real lot: the nearest slot's look gets the
     # floor, the farthest more

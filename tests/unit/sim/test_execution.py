@@ -39,6 +39,7 @@ def test_a_run_without_disturbances_is_driven_exactly_as_planned(planned):
     assert ex.execution.waited == pytest.approx(0.0, abs=1e-6)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("spec", [
     Disturbances(late_probability=0.3, late_max=10.0),
     Disturbances(speed=(0.6, 1.0)),

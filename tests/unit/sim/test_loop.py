@@ -12,6 +12,8 @@ from lotsim.sim.settings import RunSettings, RunTuning
 from lotsim.traffic.demand import Arrival
 from lotsim.traffic.plans import Plan
 
+pytestmark = pytest.mark.slow  # the large lot is prepared for them
+
 
 @pytest.fixture(scope="module")
 def large(shipped_graphs):

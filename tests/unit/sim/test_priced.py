@@ -18,6 +18,8 @@ from lotsim.traffic.demand import Arrival
 GATE_SPUR = ROOT / "scenarios" / "lots" / "gate_spur.yaml"
 
 
+pytestmark = pytest.mark.slow  # preparing the gate spur lot for them outweighs the rest
+
 @pytest.fixture(scope="module")
 def gate_spur():
     sc = load_scenario(GATE_SPUR)

@@ -67,6 +67,7 @@ def pair_side_by_side(doc: dict) -> tuple[dict, dict, float]:
     raise AssertionError("no two vehicles of the run are in the lot together")
 
 
+@pytest.mark.slow
 def test_a_car_moved_into_another_is_found_where_it_was_put(mixed_lot_doc):
     doc = copy.deepcopy(mixed_lot_doc)
     assert check_result(doc).ok
