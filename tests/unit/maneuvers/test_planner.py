@@ -705,9 +705,9 @@ def test_a_lot_planned_on_two_processes_gets_exactly_the_maneuvers_of_one_search
                 why[(v.name, slot.id)] = reason
     ahead = maneuver_planner(sc, lot)
     # two workers asked for: forked even for a lot this small
-    found, infeasible, stays = plan_lot(ahead, sc.vehicle_types, workers=2)
+    found, infeasible, park_only = plan_lot(ahead, sc.vehicle_types, workers=2)
     got = {k: m.segments for k, m in found.items()}
-    got.update({(*k, "own"): m.segments for k, m in stays.items()})
+    got.update({(*k, "own"): m.segments for k, m in park_only.items()})
     assert got == want
     assert {(n, sid): r for n, slots in infeasible.items() for sid, r in slots.items()} == why
     assert ahead.stats == alone.stats and ahead.stats["reused"] > 0
@@ -895,9 +895,9 @@ def test_every_maneuver_starts_on_the_lanes_start_grid_when_bays_are_off_its_pit
     lot, sc = _lot(ROW_OFF_GRID)
     planner = maneuver_planner(sc, lot)
     grid = planner.settings.start_grid
-    found, infeasible, stays = plan_lot(planner, sc.vehicle_types, workers=1)
+    found, infeasible, park_only = plan_lot(planner, sc.vehicle_types, workers=1)
     assert len(found) == 32 and not infeasible["valet"]
-    for m in [*found.values(), *stays.values()]:
+    for m in [*found.values(), *park_only.values()]:
         off = m.station / grid - round(m.station / grid)
         assert abs(off) < 1e-6, (m.slot, m.lane, m.station)
 
