@@ -394,7 +394,7 @@ def plan_lot(planner: ManeuverPlanner, vehicles: Iterable[VehicleType], *,
         ``(vehicle name, slot id, lane id)`` → Maneuver (:meth:`ManeuverPlanner.solve_all`).
     infeasible : dict
         vehicle name → {slot id: reason} for the slots it cannot use.
-    stays : dict
+    park_only : dict
         ``(vehicle name, slot id, lane id)`` → that lane's own best Maneuver, where it parks
         the other way round than the one in ``maneuvers`` (for cars that will not leave;
         :meth:`ManeuverPlanner.solve_lanes`).
@@ -407,7 +407,7 @@ def plan_lot(planner: ManeuverPlanner, vehicles: Iterable[VehicleType], *,
     prefetch(planner, vehicles, style=style, workers=workers, progress=progress, known=known,
              check=check)
     maneuvers: dict[tuple[str, str, str], Maneuver] = {}
-    stays: dict[tuple[str, str, str], Maneuver] = {}
+    park_only: dict[tuple[str, str, str], Maneuver] = {}
     infeasible: dict[str, dict[str, str]] = {}
     for v in vehicles:
         infeasible[v.name] = {}
@@ -416,7 +416,7 @@ def plan_lot(planner: ManeuverPlanner, vehicles: Iterable[VehicleType], *,
             for lane, m in found.items():
                 maneuvers[(v.name, slot.id, lane)] = m
             for lane, m in own.items():
-                stays[(v.name, slot.id, lane)] = m
+                park_only[(v.name, slot.id, lane)] = m
             if not found:
                 infeasible[v.name][slot.id] = why
-    return maneuvers, infeasible, stays
+    return maneuvers, infeasible, park_only

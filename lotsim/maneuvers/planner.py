@@ -466,9 +466,9 @@ class ManeuverPlanner:
                       for r, q in zip(tried[st], plain[st], strict=True)]
             if min(a.shortest_run(self._traits) for a in chosen) >= self.settings.min_stroke:
                 found = [a.value for a in chosen]
-                stays = {lane.id: tried[own[lane.id]][k].value
-                         for k, lane in enumerate(lanes) if own[lane.id] != st}
-                return {lane.id: m for lane, m in zip(lanes, found, strict=True)}, stays, ""
+                park_only = {lane.id: tried[own[lane.id]][k].value
+                             for k, lane in enumerate(lanes) if own[lane.id] != st}
+                return {lane.id: m for lane, m in zip(lanes, found, strict=True)}, park_only, ""
         # no one way of parking serves every lane: each lane's best, eased — left the way it
         # came in
         out = {lane.id: tried[own[lane.id]][k].value

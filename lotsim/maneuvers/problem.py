@@ -184,12 +184,12 @@ class LotProblems:
         if lot.pavement is not None:
             self._region = self._region.intersection(lot.pavement)
         self._index = {s.id: k for k, s in enumerate(lot.slots)}
-        self._heads: dict[tuple, tuple] = {}  # (vehicle, slot id, lane id) → its head
+        self._framings: dict[tuple, tuple] = {}  # (vehicle, slot id, lane id) → its framing
         self._far: dict[tuple, float] = {}  # (slot id, frame) → :meth:`_far_sides`
 
     def __getstate__(self) -> dict:
         # without what it worked out for problems (made again when asked for)
-        return {**self.__dict__, "_heads": {}, "_far": {}}
+        return {**self.__dict__, "_framings": {}, "_far": {}}
 
     @property
     def margin(self) -> float:
@@ -197,7 +197,7 @@ class LotProblems:
 
     def pose(self, vehicle: VehicleType, slot: Slot, lane: Lane) -> ManeuverProblem:
         """The problem of parking ``vehicle`` in ``slot`` from ``lane``."""
-        frame, lane_y, lane_x, s0, half = self.head(vehicle, slot, lane)
+        frame, lane_y, lane_x, s0, half = self.framing(vehicle, slot, lane)
         index = self._index[slot.id]
         win = self.window(slot, frame, half)
         shapely.prepare(win)
@@ -217,26 +217,26 @@ class LotProblems:
         return ManeuverProblem(vehicle, slot, lane, frame, lane_y, lane_x, s0, half, allowed,
                                obstacles, shapely.STRtree(obstacles), self.settings.sweep, win)
 
-    def head(self, vehicle: VehicleType, slot: Slot, lane: Lane
+    def framing(self, vehicle: VehicleType, slot: Slot, lane: Lane
              ) -> tuple[LocalFrame, float, tuple[float, float], float, float]:
         """A problem's frame, lane line (``lane_y``, NaN on a bend), the stretch of it a
         maneuver may begin on (``lane_x``), the lane station at x = 0 and the window's
-        half size (:meth:`heads` of the one triple)."""
-        return self.heads([(vehicle, slot, lane)])[0]
+        half size (:meth:`framings` of the one triple)."""
+        return self.framings([(vehicle, slot, lane)])[0]
 
-    def heads(self, triples: Sequence[tuple[VehicleType, Slot, Lane]]
-              ) -> list[tuple[LocalFrame, float, tuple[float, float], float, float]]:
-        """:meth:`head` of each triple: the slot's entry projected onto the lane a lane at
+    def framings(self, triples: Sequence[tuple[VehicleType, Slot, Lane]]
+                 ) -> list[tuple[LocalFrame, float, tuple[float, float], float, float]]:
+        """:meth:`framing` of each triple: the slot's entry projected onto the lane a lane at
         a time (lanes are told apart by their ids) and posed there
         (:meth:`~lotsim.lot.model.Lane.poses_at`), the rest in the sums of
         :meth:`LocalFrame.poses_to_local`, so the same floats. Each is worked out once and
         kept (a problem keyed in a batch is posed whole later, one at a time)."""
-        return _kept(self._heads, [(v, slot.id, lane.id) for v, slot, lane in triples],
-                     lambda at: self._made_heads([triples[k] for k in at]))
+        return _kept(self._framings, [(v, slot.id, lane.id) for v, slot, lane in triples],
+                     lambda at: self._made_framings([triples[k] for k in at]))
 
-    def _made_heads(self, triples: Sequence[tuple[VehicleType, Slot, Lane]]
-                    ) -> list[tuple[LocalFrame, float, tuple[float, float], float, float]]:
-        """:meth:`heads` of ``triples``, worked out."""
+    def _made_framings(self, triples: Sequence[tuple[VehicleType, Slot, Lane]]
+                       ) -> list[tuple[LocalFrame, float, tuple[float, float], float, float]]:
+        """:meth:`framings` of ``triples``, worked out."""
         n = len(triples)
         mids = np.array([slot.entry for _, slot, _ in triples], dtype=float).reshape(
             n, -1, 2).mean(axis=1)
@@ -350,9 +350,9 @@ class LotProblems:
         n = len(triples)
         if n == 0:
             return []
-        heads = self.heads(triples)
-        frames = [h[0] for h in heads]
-        halves = np.array([h[4] for h in heads])
+        framings = self.framings(triples)
+        frames = [f[0] for f in framings]
+        halves = np.array([f[4] for f in framings])
         tops = self._tops([slot for _, slot, _ in triples], frames, halves)
         # what may meet each window: what meets its bounds in the world, a millimetre wider
         # (touching is decided in the slot's frame, to the micrometre)
@@ -385,7 +385,7 @@ class LotProblems:
         margin, sweep = self.margin, self.settings.sweep
         cars = _keyed_once([v for v, _, _ in triples], lambda v: CarChecked(v, margin, sweep))
         for i, ((v, slot, _), (_, lane_y, lane_x, s0, half)) in enumerate(
-                zip(triples, heads, strict=True)):
+                zip(triples, framings, strict=True)):
             outline = outlines[i]
             commons.append(_shape_of(v, slot, outline, lane_y, half))
             keys.append(key_of(WindowSeen(
@@ -396,13 +396,13 @@ class LotProblems:
         first = {}
         for i, key in enumerate(keys):
             first.setdefault(key, i)
-        posed = self._posed_locally(list(first.values()), triples, heads, commons, wins,
+        posed = self._posed_locally(list(first.values()), triples, framings, commons, wins,
                                     ground, shapes, near, at)
-        return [(posed[first[key]], h[0], h[3], shape_key(v, slot, h[1], h[4], c))
-                for key, (v, slot, _), h, c in zip(keys, triples, heads, commons,
+        return [(posed[first[key]], f[0], f[3], shape_key(v, slot, f[1], f[4], c))
+                for key, (v, slot, _), f, c in zip(keys, triples, framings, commons,
                                                    strict=True)]
 
-    def _posed_locally(self, reps: list[int], triples, heads, commons, wins, ground, shapes,
+    def _posed_locally(self, reps: list[int], triples, framings, commons, wins, ground, shapes,
                        near, at) -> dict[int, bytes]:
         """:meth:`digests` of the triples ``reps``, from their windows and what meets each
         in its frame (``ground``, ``shapes``; ``near[at[i]:at[i + 1]]`` for triple ``i``):
@@ -434,7 +434,7 @@ class LotProblems:
         out = {}
         for q, i in enumerate(reps):
             v, slot, _ = triples[i]
-            _, lane_y, lane_x, s0, half = heads[i]
+            _, lane_y, lane_x, s0, half = framings[i]
             out[i] = self._hashed(v, slot, lane_y, lane_x, s0, half, per[q], commons[i])
         return out
 
@@ -451,10 +451,10 @@ class LotProblems:
         if n == 0:
             return []
         mids = np.array([slot.entry.mean(axis=0) for _, slot, _ in triples])
-        halves = np.array([self.head(v, slot, lane)[4] if kind_of(slot).parks_along
+        halves = np.array([self.framing(v, slot, lane)[4] if kind_of(slot).parks_along
                            else _half(v) for v, slot, lane in triples])
         reach = halves * math.sqrt(2.0) + 0.01  # the window, turned any way about the slot
-        # where along its lane each slot lies (as :meth:`head` finds it), for the stretch
+        # where along its lane each slot lies (as :meth:`framing` finds it), for the stretch
         # of lane its window holds
         stations = np.empty(n)
         by_lane: dict[str, list[int]] = {}
@@ -508,7 +508,7 @@ class LotProblems:
 
     def shape(self, vehicle: VehicleType, slot: Slot, lane: Lane) -> bytes | None:
         """:func:`shape_key` of the problem of ``vehicle`` in ``slot`` from ``lane``."""
-        frame, lane_y, _, _, half = self.head(vehicle, slot, lane)
+        frame, lane_y, _, _, half = self.framing(vehicle, slot, lane)
         outline = _micro(frame.points_to_local(slot.polygon))
         return shape_key(vehicle, slot, lane_y, half, _shape_of(vehicle, slot, outline, lane_y,
                                                              half))
@@ -523,14 +523,14 @@ class LotProblems:
 
     def _hashed(self, v: VehicleType, slot: Slot, lane_y: float, lane_x: tuple[float, float],
                 s0: float, half: float, local: list[bytes], common: ProblemShape) -> bytes:
-        """The digest of a problem from its head, its :func:`_shape_of` and its rounded local
+        """The digest of a problem from its framing, its :func:`_shape_of` and its rounded local
         geometry (in any order)."""
         return key_of(ProblemDigest(common, self._along(lane_x, s0), unordered(local)))
 
 
 def _half(vehicle: VehicleType) -> float:
     """Half the size of a problem's square window [m] (a parallel slot's grows with how far
-    its lane is: :meth:`LotProblems.head`)."""
+    its lane is: :meth:`LotProblems.framing`)."""
     return 2 * vehicle.min_turning_radius + vehicle.length + 1.0
 
 

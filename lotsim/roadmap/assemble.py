@@ -41,7 +41,7 @@ Tagged = list[tuple[Turn | Turnaround, "frozenset | None"]]
 
 
 def build_graph(lot: Lot, *, node_spacing: float = 4.0, maneuvers=None,
-                vehicles=(), stays=None, memo: RoadmapMemo | None = None,
+                vehicles=(), park_only=None, memo: RoadmapMemo | None = None,
                 settings: RoadmapSettings | None = None) -> LotGraph:
     """Build the drivable graph of ``lot``.
 
@@ -57,9 +57,9 @@ def build_graph(lot: Lot, *, node_spacing: float = 4.0, maneuvers=None,
         The scenario's types: the maneuvers' durations; with two or more, junction turns
         are built for each type's own outline and turning radius, and a turn only some
         types can drive says which (edge attribute ``types``, None for all).
-    stays : dict or None, keyword-only
+    park_only : dict or None, keyword-only
         Like ``maneuvers``: each lane's own best maneuver where the one in ``maneuvers``
-        parks the other way round, for cars that will not leave (a park edge's ``stays``).
+        parks the other way round, for cars that will not leave (a park edge's ``park_only``).
     memo : RoadmapMemo or None, keyword-only
         What an earlier build of ``lot``'s graph with the same settings worked out (turns,
         turnarounds); it takes what this one works out. The graph is the same without it.
@@ -79,14 +79,14 @@ def build_graph(lot: Lot, *, node_spacing: float = 4.0, maneuvers=None,
         ``memo`` is another lot's or was made with other settings.
     """
     settings = as_settings(settings, RoadmapSettings, "settings")
-    stays = {} if maneuvers is None else (stays or {})
+    park_only = {} if maneuvers is None else (park_only or {})
     attach = (_attachments(lot) if maneuvers is None
-              else _maneuver_attachments(lot, [*maneuvers.items(), *stays.items()]))
+              else _maneuver_attachments(lot, [*maneuvers.items(), *park_only.items()]))
     memo = memo or RoadmapMemo(lot, settings=settings)
     net = _lane_network(lot, attach, node_spacing, vehicles, memo, settings)
     slot_nodes, attachments = _add_slots(lot, net, attach if maneuvers is None else None)
     if maneuvers is not None:
-        _add_maneuvers(lot, net, slot_nodes, attachments, maneuvers, stays, vehicles,
+        _add_maneuvers(lot, net, slot_nodes, attachments, maneuvers, park_only, vehicles,
                        memo.known)
     return LotGraph(lot, net.graph, net.entrances, net.exits, slot_nodes, attachments,
                     net.skipped)
@@ -232,15 +232,15 @@ def _add_slots(lot: Lot, net: _Network, placeholders: dict[str, list[tuple[str, 
 
 
 def _add_maneuvers(lot: Lot, net: _Network, slot_nodes: dict[str, int],
-                   attachments: dict[str, list[int]], maneuvers: dict, stays: dict,
+                   attachments: dict[str, list[int]], maneuvers: dict, park_only: dict,
                    vehicles, known: dict | None = None) -> None:
     """Each slot's park and leave edges through ``maneuvers`` (and park edges through
-    ``stays``), with each type's duration (:func:`build_graph`; ``known``: the durations
+    ``park_only``), with each type's duration (:func:`build_graph`; ``known``: the durations
     an earlier preparation of the lot worked out, and kept)."""
     g = net.graph
     types = {v.name: v for v in vehicles}
     leaving = {key: m.reversed() for key, m in maneuvers.items()}  # each way out
-    duration = _durations(lot, maneuvers, leaving, stays, types, known)
+    duration = _durations(lot, maneuvers, leaving, park_only, types, known)
     for (vname, sid, lid), m in sorted(maneuvers.items(), key=lambda kv: kv[0]):
         a, node = net.node_at(lid, m.station), slot_nodes[sid]
         if a not in attachments[sid]:
@@ -253,14 +253,14 @@ def _add_maneuvers(lot: Lot, net: _Network, slot_nodes: dict[str, int],
             if vname in types:
                 e["duration"][vname] = duration(path, vname, limit)
             e["length"] = min(e["length"], path.length)
-    for (vname, sid, lid), m in sorted(stays.items(), key=lambda kv: kv[0]):
+    for (vname, sid, lid), m in sorted(park_only.items(), key=lambda kv: kv[0]):
         a, node = net.node_at(lid, m.station), slot_nodes[sid]
         limit = _path_limit(lot, m)
         e = _link(g, a, node, "park", m, limit)
-        e.setdefault("stays", {})[vname] = m
-        e["stay_limit"] = min(e.get("stay_limit", math.inf), limit)
+        e.setdefault("park_only", {})[vname] = m
+        e["park_only_limit"] = min(e.get("park_only_limit", math.inf), limit)
         if vname in types:
-            e.setdefault("stay_duration", {})[vname] = duration(m, vname, limit)
+            e.setdefault("park_only_duration", {})[vname] = duration(m, vname, limit)
         e["length"] = min(e["length"], m.length)
 
 
@@ -275,10 +275,10 @@ class PathTiming:
     shapes: tuple[tuple[float, float, float], ...]
 
 
-def _durations(lot: Lot, maneuvers: dict, leaving: dict, stays: dict, types: dict,
+def _durations(lot: Lot, maneuvers: dict, leaving: dict, park_only: dict, types: dict,
                known: dict | None = None):
     """``duration(path, type name, speed limit)`` [s] of each of ``maneuvers`` (and its
-    reverse in ``leaving``) and ``stays`` for the vehicle types in ``types``: a lot's
+    reverse in ``leaving``) and ``park_only`` for the vehicle types in ``types``: a lot's
     maneuvers repeat a few shapes, each timed once, on the workers, or taken from ``known``
     (a duration is a function of the shape, the vehicle type and the limit), where those
     timed now are kept."""
@@ -293,7 +293,7 @@ def _durations(lot: Lot, maneuvers: dict, leaving: dict, stays: dict, types: dic
         return vname, limit, got
 
     todo: dict[tuple, tuple] = {}
-    for kept, both in ((maneuvers, True), (stays, False)):
+    for kept, both in ((maneuvers, True), (park_only, False)):
         for key, m in kept.items():
             if key[0] in types:
                 limit = _path_limit(lot, m)

@@ -26,7 +26,7 @@ passing or standing at a node steers for it. Edges are pieces of path
   the link to its :class:`~lotsim.maneuvers.maneuver.Maneuver` (the leave edge
   holds them reversed), ``duration`` maps it to seconds, ``length`` is the
   shortest of them. A lane node sits exactly where each maneuver starts. A park
-  edge's ``stays`` (with ``stay_duration`` and ``stay_limit``) holds, per type,
+  edge's ``park_only`` (with ``park_only_duration`` and ``park_only_limit``) holds, per type,
   the lane's own best maneuver where the one in ``maneuvers`` parks the other
   way round so that the car can leave towards every lane: a car that will not
   leave may park with it (it has no leave edge). Built without maneuvers, the

@@ -126,7 +126,7 @@ class SlotAssigner:
             out: dict[str, tuple[float, int, int | None]] = {}
             for i, e in enumerate(sg.edges):
                 if e.kind == "park" and e.u in dist and (
-                        not leaving or ((e.u, e.v) in self.leave[vname] and not e.stay)):
+                        not leaving or ((e.u, e.v) in self.leave[vname] and not e.park_only)):
                     sid = self.lg.graph.nodes[e.v]["slot"]
                     tt, way_out = dist[e.u] + e.duration, None
                     if to_exit is not None:

@@ -66,7 +66,7 @@ def bay_pose(sg: SearchGraph, slot_node: int, leave_set, leaving: bool
         e = sg.edges[ei]
         if e.kind != "park":
             continue
-        if leaving and ((e.u, e.v) not in leave_set or e.stay):
+        if leaving and ((e.u, e.v) not in leave_set or e.park_only):
             continue
         pose = sg.parked_pose(ei)
         out = min((sg.edges[k].duration for k in sg.out.get(slot_node, ())

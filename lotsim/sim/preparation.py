@@ -89,7 +89,7 @@ def prepare_lot(scenario: Scenario, *, node_spacing: float = 4.0, maneuvers: boo
     A slot served by two lanes is parked on one pose from both, so that a car can leave
     towards either (:meth:`~lotsim.maneuvers.planner.ManeuverPlanner.solve_lanes`); where
     a lane's own best maneuver parks the other way round, it is kept too (a park edge's
-    ``stays``) for cars that will not leave. Which are kept follows the scenario's traffic:
+    ``park_only``) for cars that will not leave. Which are kept follows the scenario's traffic:
     with no car that stays, only the shared pose; with no car that leaves, only each lane's
     own best (where the others begin would only be lane nodes in the way); without
     traffic, the shared pose.
@@ -212,20 +212,22 @@ def _prepared(scenario: Scenario, leaves: set[bool], name: str | None, node_spac
                                                                          planner.settings))
                       if remember else None)
         known = _known(known_name)
-        planned, infeasible, stays = plan_lot(planner, scenario.vehicle_types, progress=progress,
-                                              known=known, check=check)
-        planned, infeasible, stays = _by_use(lot, scenario, planned, infeasible, stays)
+        planned, infeasible, park_only = plan_lot(planner, scenario.vehicle_types,
+                                                  progress=progress, known=known,
+                                                  check=check)
+        planned, infeasible, park_only = _by_use(lot, scenario, planned, infeasible,
+                                                 park_only)
         # what it learnt (if anything) written aside while the graph is built
         learnt = known_name is not None and planner.stats["planned"] > planner.stats["remembered"]
         with (Aside(lambda: lotsim.core.diskcache.store(known_name, known)) if learnt
               else contextlib.nullcontext()):
             if leaves == {False}:  # no car leaves: each lane's own best only
-                planned, stays = {**planned, **stays}, {}
+                planned, park_only = {**planned, **park_only}, {}
             elif leaves == {True}:
-                stays = {}  # no car stays: where those begin would only be nodes in the way
+                park_only = {}  # no car stays: where those begin would only be nodes in the way
             lg = build_graph(lot, node_spacing=node_spacing, maneuvers=planned,
-                             vehicles=scenario.vehicle_types, stays=stays, memo=memo,
-                             settings=scenario.roadmap)
+                             vehicles=scenario.vehicle_types, park_only=park_only,
+                             memo=memo, settings=scenario.roadmap)
             lg.infeasible = infeasible
             if roads_name is not None and (memo.worked or len(roads) != held):
                 lotsim.core.diskcache.store(roads_name, roads)  # it learnt something
@@ -244,20 +246,20 @@ def _prepared(scenario: Scenario, leaves: set[bool], name: str | None, node_spac
 
 
 def _by_use(lot: Lot, scenario: Scenario, planned: dict, infeasible: dict[str, dict[str, str]],
-            stays: dict) -> tuple[dict, dict[str, dict[str, str]], dict]:
+            park_only: dict) -> tuple[dict, dict[str, dict[str, str]], dict]:
     """The maneuvers and the slots each type cannot use, with the bays the scenario's rule
     keeps a type out of (:func:`~lotsim.lot.uses.refused_bays`) taken out of the first and
     put in the second, with the rule's reason: a type has no way into a bay it may not
     use, so no policy can send it there."""
     refused = refused_bays(lot.slots, scenario.vehicle_types)
     if not any(refused.values()):
-        return planned, infeasible, stays
+        return planned, infeasible, park_only
     out = {name: {**bays, **refused.get(name, {})} for name, bays in infeasible.items()}
 
     def kept(maneuvers: dict) -> dict:
         return {k: m for k, m in maneuvers.items() if k[1] not in refused.get(k[0], {})}
 
-    return kept(planned), out, kept(stays)
+    return kept(planned), out, kept(park_only)
 
 
 def _roads_name(scenario: Scenario) -> str:

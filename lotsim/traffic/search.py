@@ -75,7 +75,7 @@ class Goal:
     A car that will leave again (``park_by`` given) parks only by the park edges
     ``(lane node, slot node)`` in ``park_by``, those that park it on a pose it can leave
     by (:meth:`~lotsim.roadmap.model.LotGraph.leavable`), and never with a maneuver the lot
-    graph keeps for cars that stay (a park edge's ``stays``)."""
+    graph keeps for cars that stay (a park edge's ``park_only``)."""
 
     slot: int | None = None
     exits: tuple[int, ...] = ()
@@ -302,7 +302,7 @@ class _SpaceTimeSearch:
                     sg.parked_pose(ei), r.start_pose)):
                 continue
             if ek == "park" and (e.v != goal.slot or (
-                    goal.park_by is not None and (e.stay or (node, e.v) not in goal.park_by))):
+                    goal.park_by is not None and (e.park_only or (node, e.v) not in goal.park_by))):
                 continue
             if ek == "join":
                 if not out:

@@ -158,7 +158,7 @@ class Edge:
     maneuver: Maneuver | None = None  # a park or leave edge's, for this type
     duration: float = 0.0  # the maneuver's [s]
     limit: float = math.inf  # speed limit along the maneuver [m/s]
-    stay: bool = False  # a park edge only a car that will not leave may take
+    park_only: bool = False  # a park edge only a car that will not leave may take
 
 
 class SearchGraph:
@@ -212,14 +212,15 @@ class SearchGraph:
             if kind in ("park", "leave"):
                 # the maneuver a car may leave by again, and (park edges) the lane's own
                 # best where that differs, for a car that will not leave
-                for m, dur, lim, stay in (
+                for m, dur, lim, park_only in (
                         (d["maneuvers"].get(name), d["duration"].get(name, 0.0),
                          d["speed_limit"], False),
-                        (d.get("stays", {}).get(name), d.get("stay_duration", {}).get(name, 0.0),
-                         d.get("stay_limit", math.inf), True)):
+                        (d.get("park_only", {}).get(name),
+                         d.get("park_only_duration", {}).get(name, 0.0),
+                         d.get("park_only_limit", math.inf), True)):
                     if m is not None:
                         self._add(Edge(u, v, kind, float(m.length), min(float(lim), top), d,
-                                        m, float(dur), float(lim), stay))
+                                        m, float(dur), float(lim), park_only))
                 continue
             if d.get("placeholder"):
                 continue

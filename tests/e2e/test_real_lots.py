@@ -508,7 +508,7 @@ def test_which_maneuvers_are_kept_follows_whether_cars_stay_or_leave(lots):
 
     for name, (sc, lg) in lots.items():  # every car leaves: the shared pose only
         assert all(a.dwell is not None for a in arrivals(sc.traffic, sc.seed)), name
-        assert not any(d.get("stays") for *_, d in lg.graph.edges(data=True)), name
+        assert not any(d.get("park_only") for *_, d in lg.graph.edges(data=True)), name
     text = (LOTS / "culdesac.yaml").read_text().replace(", dwell: [300, 900]", "")
     prepared = prepare_lot(scenario_from_text(text))  # every car stays: each lane's own best
     lg, planner = prepared.lot_graph, prepared.maneuver_planner
@@ -516,7 +516,7 @@ def test_which_maneuvers_are_kept_follows_whether_cars_stay_or_leave(lots):
     g, flipped = lg.graph, 0
     for u, v, d in g.edges(data=True):
         if d["kind"] == "park":
-            assert not d.get("stays")
+            assert not d.get("park_only")
             slot = lg.lot.slot_by_id[g.nodes[v]["slot"]]
             m = d["maneuvers"]["valet"]
             own = planner.solve(CATALOGUE["valet"], slot, lanes[g.nodes[u]["lane"]]).value

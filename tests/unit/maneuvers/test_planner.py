@@ -542,8 +542,8 @@ def test_a_digest_depends_on_the_problem_alone(monkeypatch):
 
 @pytest.mark.slow
 @pytest.mark.parametrize("name", ["lots/culdesac", "lots/ring", "mixed_lot"])
-def test_a_batch_of_heads_is_each_slots_own_to_the_bit(name):
-    """:meth:`LotProblems.heads` works a lot's frames out a lane at a time; each is the
+def test_a_batch_of_framings_is_each_slots_own_to_the_bit(name):
+    """:meth:`LotProblems.framings` works a lot's frames out a lane at a time; each is the
     one the lane's own methods give, to the bit: the heading where the slot's entry
     projects onto the lane, and the lane line and lane station in that frame (on curved
     lanes and clothoids too)."""
@@ -556,7 +556,7 @@ def test_a_batch_of_heads_is_each_slots_own_to_the_bit(name):
     triples = [(sc.vehicle_types[0], slot, lane) for slot in lot.slots
                for lane in planner.lanes_for(slot)]
     for (_, slot, lane), (frame, lane_y, lane_x, s0, half) in zip(
-            triples, planner.problems.heads(triples), strict=True):
+            triples, planner.problems.framings(triples), strict=True):
         mid = slot.entry.mean(axis=0)
         station = lane.project((float(mid[0]), float(mid[1])))[0]
         heading = lane.pose_at(station)[2]
@@ -572,8 +572,8 @@ def test_a_batch_of_heads_is_each_slots_own_to_the_bit(name):
 
 
 
-def test_a_head_is_worked_out_once_and_read_again_as_it_was(monkeypatch):
-    """:meth:`LotProblems.heads` (and the windows' tops) keep what they work out: asked again
+def test_a_framing_is_worked_out_once_and_read_again_as_it_was(monkeypatch):
+    """:meth:`LotProblems.framings` (and the windows' tops) keep what they work out: asked again
     (a problem keyed in a batch and posed later on its own), they work nothing out and give
     the same values, the same as a fresh set of the lot's problems gives them; a pickled
     copy keeps none."""
@@ -586,20 +586,20 @@ def test_a_head_is_worked_out_once_and_read_again_as_it_was(monkeypatch):
     triples = [(v, slot, lane) for v in sc.vehicle_types for slot in lot.slots
                for lane in planner.lanes_for(slot)]
     problems = planner.problems
-    first = problems.heads(triples)
+    first = problems.framings(triples)
     fresh = pickle.loads(pickle.dumps(problems))
-    assert not fresh._heads and not fresh._far and len(problems._heads) == len(triples)
+    assert not fresh._framings and not fresh._far and len(problems._framings) == len(triples)
     made = []
-    real = LotProblems._made_heads
-    monkeypatch.setattr(LotProblems, "_made_heads",
+    real = LotProblems._made_framings
+    monkeypatch.setattr(LotProblems, "_made_framings",
                         lambda self, some: made.append(len(some)) or real(self, some))
     some = triples[::3]
-    assert problems.heads(some) == first[::3] and not made
-    assert [problems.head(*t) for t in some] == first[::3] and not made
-    assert fresh.heads(some) == first[::3] and made == [len(some)]
+    assert problems.framings(some) == first[::3] and not made
+    assert [problems.framing(*t) for t in some] == first[::3] and not made
+    assert fresh.framings(some) == first[::3] and made == [len(some)]
     # and so for how far the window reaches across the aisle
-    slots, frames = [t[1] for t in triples], [h[0] for h in first]
-    halves = np.array([h[4] for h in first])
+    slots, frames = [t[1] for t in triples], [f[0] for f in first]
+    halves = np.array([f[4] for f in first])
     tops = problems._tops(slots, frames, halves)
     monkeypatch.setattr(LotProblems, "_far_sides", lambda *_: pytest.fail("worked out again"))
     assert np.array_equal(problems._tops(slots[::2], frames[::2], halves[::2]), tops[::2])
@@ -607,8 +607,8 @@ def test_a_head_is_worked_out_once_and_read_again_as_it_was(monkeypatch):
     assert np.array_equal(fresh._tops(slots, frames, halves), tops)
 
 
-def test_a_head_beside_a_bend_has_the_lanes_heading_there_and_no_lane_line():
-    """:meth:`LotProblems.heads` beside an arc or a clothoid: the frame's heading is the
+def test_a_framing_beside_a_bend_has_the_lanes_heading_there_and_no_lane_line():
+    """:meth:`LotProblems.framings` beside an arc or a clothoid: the frame's heading is the
     lane's own where the slot's entry projects onto it, to the bit; the lane line is NaN."""
     from lotsim.core.geometry import Segment
     from lotsim.lot.model import Lane
@@ -623,8 +623,8 @@ def test_a_head_beside_a_bend_has_the_lanes_heading_there_and_no_lane_line():
     start = lane.pose_at(lane.project((float(mid[0]), float(mid[1])))[0] - 6.0)
     bent = [Lane(f"bent{k}{g}", lane.aisle, (Segment(start, 12.0, k, g),), lane.offset,
                  lane.with_polyline) for k, g in ((0.02, 0.0), (0.0, 0.004), (0.01, -0.002))]
-    heads = planner.problems.heads([(sc.vehicle_types[0], slot, b) for b in bent])
-    for other, (frame, lane_y, lane_x, s0, _) in zip(bent, heads, strict=True):
+    framings = planner.problems.framings([(sc.vehicle_types[0], slot, b) for b in bent])
+    for other, (frame, lane_y, lane_x, s0, _) in zip(bent, framings, strict=True):
         station = other.project((float(mid[0]), float(mid[1])))[0]
         assert 0.5 < station < 11.5
         assert frame.heading == other.pose_at(station)[2]
@@ -708,9 +708,9 @@ def test_a_lot_planned_on_two_processes_gets_exactly_the_maneuvers_of_one_search
                 why[(v.name, slot.id)] = reason
     ahead = maneuver_planner(sc, lot)
     # two workers asked for: forked even for a lot this small
-    found, infeasible, stays = plan_lot(ahead, sc.vehicle_types, workers=2)
+    found, infeasible, park_only = plan_lot(ahead, sc.vehicle_types, workers=2)
     got = {k: m.segments for k, m in found.items()}
-    got.update({(*k, "own"): m.segments for k, m in stays.items()})
+    got.update({(*k, "own"): m.segments for k, m in park_only.items()})
     assert got == want
     assert {(n, sid): r for n, slots in infeasible.items() for sid, r in slots.items()} == why
     assert ahead.stats == alone.stats and ahead.stats["reused"] > 0
@@ -899,9 +899,9 @@ def test_every_maneuver_starts_on_the_lanes_start_grid_when_bays_are_off_its_pit
     lot, sc = _lot(ROW_OFF_GRID)
     planner = maneuver_planner(sc, lot)
     grid = planner.settings.start_grid
-    found, infeasible, stays = plan_lot(planner, sc.vehicle_types, workers=1)
+    found, infeasible, park_only = plan_lot(planner, sc.vehicle_types, workers=1)
     assert len(found) == 32 and not infeasible["valet"]
-    for m in [*found.values(), *stays.values()]:
+    for m in [*found.values(), *park_only.values()]:
         off = m.station / grid - round(m.station / grid)
         assert abs(off) < 1e-6, (m.slot, m.lane, m.station)
 

@@ -45,8 +45,8 @@ def irregular():
     sc = scenario_from_text(IRREGULAR)
     lot = build_lot(sc.lot, DesignVehicle.envelope(sc.vehicle_types))
     planner = maneuver_planner(sc, lot)
-    found, infeasible, stays = plan_lot(planner, sc.vehicle_types, workers=2)
-    return lot, sc, planner, found, infeasible, stays
+    found, infeasible, park_only = plan_lot(planner, sc.vehicle_types, workers=2)
+    return lot, sc, planner, found, infeasible, park_only
 
 
 def _problems(planner, sc, lot):
@@ -80,13 +80,13 @@ def test_most_bays_are_fitted_and_none_has_more_direction_changes_than_its_own_s
 
 
 def test_every_fitted_maneuver_passes_the_independent_check_and_starts_on_the_grid(irregular):
-    lot, sc, planner, found, infeasible, stays = irregular
+    lot, sc, planner, found, infeasible, park_only = irregular
     kinds = {v.name: v for v in sc.vehicle_types}
     everyone = [*sc.vehicle_types, sc.parked_vehicle]
     fitted_triples = {(v, s, ln) for (v, s, ln, _), (key, _, _) in planner._posed.items()
                       if key in planner._fitted}
     checked = 0
-    for (vname, sid, lid), m in [*found.items(), *stays.items()]:
+    for (vname, sid, lid), m in [*found.items(), *park_only.items()]:
         if (vname, sid, lid) not in fitted_triples:
             continue
         slot = lot.slot_by_id[sid]
@@ -128,7 +128,7 @@ def test_a_maneuver_fits_only_where_it_is_clear_and_begins_on_the_grid(irregular
 def test_planned_on_two_processes_or_one_problem_at_a_time_the_answers_are_the_same(irregular):
     """prefetch answers each class in rounds on the workers; solving slot after slot on a
     fresh planner answers each class in this process, as its first problem is asked for."""
-    lot, sc, _, found, infeasible, stays = irregular
+    lot, sc, _, found, infeasible, park_only = irregular
     alone = maneuver_planner(sc, lot)
     want = {}
     for v in sc.vehicle_types:

@@ -119,9 +119,9 @@ def test_every_slot_is_linked_through_real_maneuvers_that_start_at_their_lane_no
                 ends.setdefault(v, []).append(m.end)
         for u, _, d in parks:
             assert d["kind"] == "park" and not d["placeholder"]
-            assert d["maneuvers"] or d["stays"]
+            assert d["maneuvers"] or d["park_only"]
             pose = g.nodes[u]["pose"]
-            ms = [*d["maneuvers"].values(), *d.get("stays", {}).values()]
+            ms = [*d["maneuvers"].values(), *d.get("park_only", {}).values()]
             for m in ms:
                 assert math.dist(m.start[:2], pose[:2]) < 1e-6, (name, slot.id)
                 assert abs(wrap_angle(m.start[2] - pose[2])) < 1e-6, (name, slot.id)
@@ -132,7 +132,7 @@ def test_every_slot_is_linked_through_real_maneuvers_that_start_at_their_lane_no
                         and set(leave["maneuvers"]) == set(d["maneuvers"]))
             else:  # a maneuver for cars that stay only is never left by
                 assert not g.has_edge(node, u) or not g.edges[node, u]["maneuvers"]
-            for v, m in d.get("stays", {}).items():
+            for v, m in d.get("park_only", {}).items():
                 # the lane's own best parks the other way round than the shared pose
                 assert all(abs(abs(wrap_angle(m.end[2] - e[2])) - math.pi) < 0.1
                            for e in ends[v]), (name, slot.id, v)
