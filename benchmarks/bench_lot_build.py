@@ -17,7 +17,7 @@ import numpy as np
 import shapely
 
 from lotsim.io.scenario_yaml import load_scenario
-from lotsim.lot.build import SWEEP_STEP, lane_collider
+from lotsim.lot.build import lane_collider
 from lotsim.lot.clearance import Collider
 from lotsim.sim.preparation import prepare_graph
 
@@ -45,7 +45,7 @@ def main(path: str = "scenarios/large_lot.yaml") -> None:
     obstacles = list(collider.tree.geometries)
     lanes = lot.lanes[:4]
     bodies = np.concatenate(
-        [Collider.sweeps(lot.design.footprints(lane.sample(SWEEP_STEP))) for lane in lanes]
+        [Collider.sweeps(lot.design.footprints(lane.sample(lot.settings.sweep))) for lane in lanes]
     )
     t3 = time.perf_counter()
     fast = collider.blocked(bodies)

@@ -8,7 +8,8 @@ FOOT = 0.3048
 
 LENGTHS = {"width", "length", "slot_width", "slot_length", "start", "gap", "at",
            "access_aisle_width", "bend_radius", "reach", "corner_radius", "x", "y", "within",
-           "front", "rear", "wheelbase", "circulation", "two-way", "one-way"}
+           "front", "rear", "wheelbase", "circulation", "two-way", "one-way",
+           "lane_clearance", "sweep"}
 """Keys whose number is a length [m], in the sections below (docs/scenario.md, layout.md)."""
 POINTS = {"boundary", "centerline", "polygon", "line", "center", "at"}
 """Keys whose value is a point or a list of points [m]."""

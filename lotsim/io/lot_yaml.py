@@ -10,8 +10,10 @@ import math
 
 from lotsim.core.units import shown_length
 from lotsim.errors import ErrorCollector, ScenarioError
+from lotsim.io.settings_yaml import parse_lot_settings
 from lotsim.io.yamlnodes import YNode
 from lotsim.lot.kinds import KINDS
+from lotsim.lot.settings import LotSettings
 from lotsim.lot.spec import (
     SIDES,
     SLOT_KINDS,
@@ -67,6 +69,7 @@ def parse_lot(node: YNode) -> LotSpec:
             "paved",
             "building_entrances",
             "standard",
+            "build",
         ],
     )
 
@@ -102,6 +105,7 @@ def parse_lot(node: YNode) -> LotSpec:
         paved=one("paved", _pavement, None),
         building_entrances=each("building_entrances", _building_entrance),
         standard=one("standard", _standard, None),
+        settings=one("build", parse_lot_settings, LotSettings()),
     )
     errors.check()
     spec = LotSpec(**parts, where=node.where, boundary_where=f["boundary"].where)

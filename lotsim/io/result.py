@@ -145,7 +145,8 @@ def tail_doc(rr: RunResult) -> dict:
         settings["horizon"] = s.horizon if math.isfinite(s.horizon) else None
     settings["tuning"] = dataclasses.asdict(s.tuning)
     settings["search"] = dataclasses.asdict(s.search)
-    # how the lot was prepared: its drivable graph and its parking maneuvers
+    # how the lot was prepared: its build, its drivable graph and its parking maneuvers
+    settings["lot"] = dataclasses.asdict(rr.scenario.lot.settings)
     settings["roadmap"] = dataclasses.asdict(rr.scenario.roadmap)
     settings["maneuvers"] = dataclasses.asdict(rr.scenario.maneuvers)
     # wall-clock timings differ run to run: they are printed, not written, so that the same

@@ -1,6 +1,8 @@
-"""A scenario file's ``roadmap`` and ``maneuvers`` sections → the frozen settings that prepare
-its lot (:class:`~lotsim.roadmap.settings.RoadmapSettings`,
-:class:`~lotsim.maneuvers.settings.ManeuverSettings`). Each key is read as what it measures
+"""A scenario file's ``roadmap`` and ``maneuvers`` sections, and its lot's ``build``
+mapping, → the frozen settings that prepare its lot
+(:class:`~lotsim.roadmap.settings.RoadmapSettings`,
+:class:`~lotsim.maneuvers.settings.ManeuverSettings`,
+:class:`~lotsim.lot.settings.LotSettings`). Each key is read as what it measures
 (lengths in the file's unit, speeds in km/h, angles in degrees), then the settings check
 their values as they do from Python: a value they refuse is reported at its key, with their
 message (``file:line:col: roadmap.turnarounds.margin: expected 0 to 1 m, found 2``). The keys
@@ -15,6 +17,7 @@ from typing import Any
 
 from lotsim.errors import SettingsError
 from lotsim.io.yamlnodes import YNode
+from lotsim.lot.settings import LotSettings
 from lotsim.maneuvers.settings import WAY_OUT, ManeuverSettings
 from lotsim.roadmap.settings import (
     GROUPS,
@@ -71,6 +74,8 @@ def _pair(n: YNode) -> tuple[float, float]:
 
 
 KEYS: dict[type, dict[str, tuple[str, Reader]]] = {
+    LotSettings: {"lane_clearance": ("lane_clearance", _length), "sweep": ("sweep", _length),
+                  "crawl_speed_kmh": ("crawl_speed", _kmh)},
     TurnSettings: {"speeds_kmh": ("speeds", _speeds_kmh),
                    "through_overlap": ("through_overlap", _length)},
     AreaTurnSettings: {"shifts": ("shifts", _lengths), "leads": ("leads", _lengths),
@@ -151,6 +156,21 @@ def parse_roadmap(node: YNode) -> RoadmapSettings:
         return RoadmapSettings()
     f = node.fields(optional=list(GROUPS))
     return RoadmapSettings(**{name: parse_settings(n, GROUPS[name]) for name, n in f.items()})
+
+
+def parse_lot_settings(node: YNode) -> LotSettings:
+    """A scenario's ``lot.build`` mapping: the keys of :data:`KEYS` for
+    :class:`~lotsim.lot.settings.LotSettings`.
+
+    >>> from lotsim.io.yamlnodes import parse_text
+    >>> parse_lot_settings(parse_text("crawl_speed_kmh: 1.8", "f.yaml")).crawl_speed
+    0.5
+    >>> parse_lot_settings(parse_text("sweep: 2", "f.yaml"))
+    Traceback (most recent call last):
+      ...
+    lotsim.errors.ScenarioError: f.yaml:1:8: sweep: expected 0.01 to 1 m, found 2
+    """
+    return parse_settings(node, LotSettings)
 
 
 def parse_maneuvers(node: YNode) -> ManeuverSettings:

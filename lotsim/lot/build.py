@@ -37,21 +37,17 @@ from lotsim.lot.model import (
 )
 from lotsim.lot.pavement import HEAL, pave
 from lotsim.lot.placing import place_slots
+from lotsim.lot.settings import LotSettings
 from lotsim.lot.spec import AisleSpec, LotSpec, OccupancySpec
 
-LANE_CLEARANCE = 0.15
-"""Free space each side of the widest vehicle within its lane [m]."""
 AREA_TOL = 1e-6
 """Overlaps smaller than this [m²] are touching, not overlapping."""
-SWEEP_STEP = 0.2
-"""Spacing of footprints when checking that a lane can be driven [m]."""
-CRAWL_SPEED = 0.25
-"""The slowest speed a bend of a lane is driven at [m/s] (0.9 km/h): corners too close for
-the clothoids the steering rate allows at that speed are refused."""
 
 
 def build_lot(spec: LotSpec, design: DesignVehicle) -> Lot:
-    """Build and check a lot for vehicles no larger than ``design``.
+    """Build and check a lot for vehicles no larger than ``design``, with the spec's
+    settings (:attr:`LotSpec.settings`: the lanes' clearance, the sweeps' spacing, the
+    crawl speed of bends), which the lot keeps (:attr:`Lot.settings`).
 
     Parameters
     ----------
@@ -64,8 +60,10 @@ def build_lot(spec: LotSpec, design: DesignVehicle) -> Lot:
     ScenarioError
         The first problem found, located in the scenario file.
     """
+    settings = spec.settings
     boundary = _polygon(spec.boundary, spec.boundary_where, "the lot boundary")
-    aisles = {a.id: _build_aisle(a, design, boundary, spec.speed_limit) for a in spec.aisles}
+    aisles = {a.id: _build_aisle(a, design, boundary, spec.speed_limit, settings)
+              for a in spec.aisles}
     areas = tuple(
         Area(a.id, a.kind, _polygon(a.polygon, a.where, f"{a.kind} {a.id!r}"), a.where)
         for a in spec.areas
@@ -80,7 +78,7 @@ def build_lot(spec: LotSpec, design: DesignVehicle) -> Lot:
     ground = boundary if pavement is None else pavement
     collider = Collider(obstacle_polygons(areas, slots, access),
                         drivable_region(boundary, aisles, design, ground), edge=edge_of(pavement))
-    aisles = {k: _fit_lanes(a, design, collider) for k, a in aisles.items()}
+    aisles = {k: _fit_lanes(a, design, collider, settings.sweep) for k, a in aisles.items()}
     zones = tuple(
         SpeedZone(b.id, "bump", LineString(b.line).buffer(b.reach), b.limit, LineString(b.line))
         for b in spec.speed_bumps
@@ -105,6 +103,7 @@ def build_lot(spec: LotSpec, design: DesignVehicle) -> Lot:
         design=design,
         pavement=pavement,
         access_aisles=access,
+        settings=settings,
     )
     return lot
 
@@ -196,19 +195,20 @@ def offset_polyline(points: FloatArray, right: float) -> FloatArray:
 
 
 def _build_aisle(spec: AisleSpec, design: DesignVehicle, boundary: Polygon,
-                 speed_limit: float) -> Aisle:
+                 speed_limit: float, settings: LotSettings) -> Aisle:
     line = np.asarray(spec.centerline, dtype=float)
     if not boundary.buffer(1e-6).covers(LineString(line)):
         raise ScenarioError(spec.where, f"aisle {spec.id!r} leaves the lot boundary")
     lanes_n = 1 if spec.one_way else 2
-    need = lanes_n * (design.width + 2 * LANE_CLEARANCE)
+    clearance = settings.lane_clearance
+    need = lanes_n * (design.width + 2 * clearance)
     if spec.width < need - 1e-9:
         kind = "one-way" if spec.one_way else "two-way"
         raise ScenarioError(
             spec.where,
             f"aisle {spec.id!r} is too narrow: a {kind} aisle needs {lanes_n} × "
-            f"({design.width:.2f} m widest vehicle + 2 × {LANE_CLEARANCE:.2f} m) = "
-            f"{need:.2f} m, found {spec.width:g} m",
+            f"({design.width:.2f} m widest vehicle + 2 × {clearance:.2f} m lane clearance)"
+            f" = {need:.2f} m, found {spec.width:g} m",
         )
     offset = lane_offset(spec)
     radius = spec.bend_radius if spec.bend_radius is not None else design.min_radius + offset
@@ -230,7 +230,7 @@ def _build_aisle(spec: AisleSpec, design: DesignVehicle, boundary: Polygon,
     # corners too close for the clothoids of cruising speed are driven slower, with
     # sharper ones: the sharpness each corner needs on the centre line and on every lane
     corners = np.full(max(len(line) - 2, 0), sharpness)
-    sharpest = design.sharpness(CRAWL_SPEED)
+    sharpest = design.sharpness(settings.crawl_speed)
     try:
         for k, (pts, radii) in enumerate([(line, radius), *drawn]):
             need = corner_sharpness(pts, radii, sharpness, sharpest)
@@ -238,7 +238,8 @@ def _build_aisle(spec: AisleSpec, design: DesignVehicle, boundary: Polygon,
     except ValueError as exc:
         raise ScenarioError(
             spec.where, f"aisle {spec.id!r}: curves too tight for a {radius:.2f} m bend: "
-            f"{exc}, even at a crawl of {CRAWL_SPEED * 3.6:.1f} km/h: lengthen the leg"
+            f"{exc}, even at a crawl of {settings.crawl_speed * 3.6:.1f} km/h: lengthen the "
+            f"leg"
             + (f", or give a smaller bend_radius (no less than "
                f"{design.min_radius + offset:.2f} m)" if radius > design.min_radius + offset
                + 1e-9 else "")
@@ -359,17 +360,18 @@ def _portal(spec, aisles: dict[str, Aisle], what: str) -> Portal:
     return Portal(spec.id, spec.pose, spec.where)
 
 
-def _fit_lanes(aisle: Aisle, design: DesignVehicle, collider: Collider) -> Aisle:
+def _fit_lanes(aisle: Aisle, design: DesignVehicle, collider: Collider, step: float
+               ) -> Aisle:
     """Shorten each lane where its ends cannot hold the vehicle (a dead end, a wall).
 
     Within one vehicle length of a lane's ends the lane is cut back to where the
-    design vehicle's sweep is clear; anything blocked further in means the aisle
-    is too narrow or its curves too tight for the vehicle.
+    design vehicle's sweep (footprints ``step`` apart [m]) is clear; anything blocked
+    further in means the aisle is too narrow or its curves too tight for the vehicle.
     """
     lanes = []
-    reach = design.front + design.rear + SWEEP_STEP
+    reach = design.front + design.rear + step
     for lane in aisle.lanes:
-        poses = lane.sample(SWEEP_STEP)
+        poses = lane.sample(step)
         st = np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(poses[:, :2], axis=0).T))])
         blocked = collider.blocked(Collider.sweeps(design.footprints(poses)))
         head = st[1:] <= reach  # pair i spans stations st[i]..st[i+1]
@@ -377,7 +379,7 @@ def _fit_lanes(aisle: Aisle, design: DesignVehicle, collider: Collider) -> Aisle
         s0 = float(st[np.flatnonzero(blocked & head).max() + 1]) if (blocked & head).any() else 0.0
         s1 = float(st[np.flatnonzero(blocked & tail).min()]) if (blocked & tail).any() else None
         inner = np.flatnonzero(blocked & ~head & ~tail)
-        if inner.size or (s1 is not None and s1 - s0 < SWEEP_STEP):
+        if inner.size or (s1 is not None and s1 - s0 < step):
             k = inner[0] if inner.size else int(np.flatnonzero(blocked)[0])
             hit = collider.first_hit(Collider.sweeps(design.footprints(poses[k : k + 2])))
             what = hit.what if hit is not None else "an obstacle"

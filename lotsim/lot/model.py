@@ -25,6 +25,7 @@ from lotsim.core.geometry import (
 )
 from lotsim.errors import Location
 from lotsim.lot.kinds import KINDS
+from lotsim.lot.settings import LotSettings
 from lotsim.lot.uses import STANDARD, USES
 
 
@@ -353,7 +354,8 @@ class Portal:
 
 @dataclass(frozen=True, eq=False)
 class Lot:
-    """A parking lot ready to be turned into a graph."""
+    """A parking lot ready to be turned into a graph; ``settings``: those it was built
+    with, which the roadmap's sweeps of junction turns read too."""
 
     boundary: Polygon
     aisles: dict[str, Aisle]
@@ -367,6 +369,7 @@ class Lot:
     design: DesignVehicle
     pavement: BaseGeometry | None = None  # None: paved wall to wall
     access_aisles: tuple[AccessAisle, ...] = ()
+    settings: LotSettings = field(default_factory=LotSettings)
 
     @property
     def ground(self) -> BaseGeometry:

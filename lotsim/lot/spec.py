@@ -12,9 +12,11 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 
+from lotsim.core.checks import raise_first
 from lotsim.core.geometry import Pose
 from lotsim.errors import Location
 from lotsim.lot.kinds import KINDS
+from lotsim.lot.settings import LotSettings
 from lotsim.lot.uses import STANDARD
 
 Point = tuple[float, float]
@@ -201,7 +203,8 @@ class StandardSpec:
 
 @dataclass(frozen=True, slots=True)
 class LotSpec:
-    """Everything the scenario says about the lot."""
+    """Everything the scenario says about the lot; ``settings``: how it is built (the
+    scenario's ``lot.build``), part of the prepared lot's cache key."""
 
     boundary: Points
     aisles: tuple[AisleSpec, ...]
@@ -219,3 +222,9 @@ class LotSpec:
     boundary_where: Location | None = _loc()
     building_entrances: tuple[BuildingEntranceSpec, ...] = ()
     standard: StandardSpec | None = None  # None: the built-in one (ADA 2010)
+    settings: LotSettings = field(default_factory=LotSettings)
+
+    def __post_init__(self) -> None:
+        if not isinstance(self.settings, LotSettings):
+            raise_first([("settings", f"expected LotSettings, found "
+                                      f"{type(self.settings).__name__}")])

@@ -12,9 +12,9 @@ import numpy as np
 
 from lotsim.core.geometry import Segment, cc_polyline, sample_segments, wrap_angle
 from lotsim.core.keys import inputs, key_of
-from lotsim.lot.build import SWEEP_STEP
 from lotsim.lot.clearance import Collider
 from lotsim.lot.model import DesignVehicle, unit
+from lotsim.lot.settings import DEFAULTS as LOT_DEFAULTS
 from lotsim.roadmap.lanes import EPS
 from lotsim.roadmap.model import Turn
 from lotsim.roadmap.settings import DEFAULTS, AreaTurnSettings
@@ -47,7 +47,8 @@ def _area_designs(design, lot_speed: float, settings: AreaTurnSettings
 def area_turns(a, sa0, pa, b, sb0, pb, design, collider: Collider,
                 lot_speed: float, via: tuple[Segment, ...] = (),
                 shifts: tuple[float, ...] = (), *,
-                settings: AreaTurnSettings = DEFAULTS.area_turns) -> list[Turn]:
+                settings: AreaTurnSettings = DEFAULTS.area_turns,
+                sweep: float = LOT_DEFAULTS.sweep) -> list[Turn]:
     """Turns from ``pa`` into ``pb`` that use the junction's whole area, as a driver does
     where the turn between the lanes themselves touches a corner slot: drift sideways from
     the lane (wide of the corner, across the oncoming lane where need be), turn, drift back
@@ -57,7 +58,8 @@ def area_turns(a, sa0, pa, b, sb0, pb, design, collider: Collider,
     is continuous-curvature, sized for the arc's speed.
     With ``via`` (a lane's straight between two junctions close together) the path runs
     along that straight, shifted by ``shifts``, from one turn into the next without
-    drifting back to its lane between them.
+    drifting back to its lane between them. A candidate is swept with footprints ``sweep``
+    apart [m] (the lot's :attr:`LotSettings.sweep <lotsim.lot.settings.LotSettings.sweep>`).
 
     The quickest clear one (length over design speed) is built and, when it is another,
     the most compact clear one (the least lane used before and after: it starts latest and
@@ -67,7 +69,7 @@ def area_turns(a, sa0, pa, b, sb0, pb, design, collider: Collider,
     blocks = _candidate_blocks(lay, pa, pb, design, lot_speed, settings)
     if not blocks:
         return []
-    found = _Candidates(blocks, design, collider)
+    found = _Candidates(blocks, design, collider, sweep)
     quick = found.first(np.lexsort((found.used, found.times)).tolist())
     if quick is None:
         return []
@@ -247,10 +249,11 @@ def _candidate_blocks(lay: _Layout, pa: Segment, pb: Segment, design, lot_speed:
 
 class _Candidates:
     """The candidate area turns of :func:`_candidate_blocks` as one list, with what is found
-    of each: whether it is clear of ``collider`` for ``design``, and its path."""
+    of each: whether it is clear of ``collider`` for ``design`` (swept with footprints
+    ``sweep`` apart [m]), and its path."""
 
-    def __init__(self, blocks: list[tuple], design, collider: Collider):
-        self.blocks, self.design, self.collider = blocks, design, collider
+    def __init__(self, blocks: list[tuple], design, collider: Collider, sweep: float):
+        self.blocks, self.design, self.collider, self.sweep = blocks, design, collider, sweep
         self.times, self.used, self.starts, self.ends = (
             np.concatenate([b[k] for b in blocks]) for k in range(1, 5))
         self.offsets = np.cumsum([0] + [len(b[1]) for b in blocks])
@@ -293,7 +296,7 @@ class _Candidates:
             for k in order[c0 : c0 + chunk]:
                 if k not in clear:
                     clear[k] = collider.sweep_hit(
-                        design.footprints(sample_segments(paths[k], SWEEP_STEP)[0])) is None
+                        design.footprints(sample_segments(paths[k], self.sweep)[0])) is None
                 if clear[k]:
                     return k
         return None

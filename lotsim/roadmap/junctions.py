@@ -16,7 +16,6 @@ from lotsim.core.geometry import Segment, cc_turn, sample_segments, wrap_angle
 from lotsim.core.keys import key_of
 from lotsim.core.outcome import Outcome, Status
 from lotsim.core.workers import fork_map
-from lotsim.lot.build import SWEEP_STEP
 from lotsim.lot.clearance import NOTHING_READ, Collider, Watched
 from lotsim.lot.model import DesignVehicle, Lot, unit
 from lotsim.roadmap.area_turns import area_turns, candidates_shape
@@ -76,10 +75,12 @@ def lane_crossing(pa: Segment, pb: Segment, aisle_a, aisle_b, reach: float
 
 
 def _fillet_between(a, sa0, pa, b, sb0, pb, aisle_a, aisle_b, reach, design,
-                    collider: Collider, lot_speed: float,
+                    collider: Collider, lot_speed: float, step: float,
                     gates: tuple[tuple[float, ...], tuple[float, ...]] = ((), ()), *,
                     settings: RoadmapSettings = DEFAULTS) -> Outcome[list[Turn]]:
-    """The turns from straight ``pa`` of lane ``a`` into straight ``pb`` of lane ``b``: the
+    """The turns from straight ``pa`` of lane ``a`` into straight ``pb`` of lane ``b``, each
+    swept with footprints ``step`` apart [m] (the lot's :attr:`LotSettings.sweep
+    <lotsim.lot.settings.LotSettings.sweep>`): the
     fastest that is clear and, when it is another, the tightest that is clear (the shortest
     tangent: it starts later and ends sooner, so it can reach a node the wide one passes
     by); and for each station of ``gates`` — entrances on ``a``, exits on ``b`` — the
@@ -116,7 +117,7 @@ def _fillet_between(a, sa0, pa, b, sb0, pb, aisle_a, aisle_b, reach, design,
             da = t - tangent
             start = tuple(float(v) for v in pa.poses_at(min(max(da, 0.0), pa.length))[0])
             segs, _ = cc_turn(delta, 1 / r, design.sharpness(speed), start)
-            hit = collider.sweep_hit(design.footprints(sample_segments(segs, SWEEP_STEP)[0]))
+            hit = collider.sweep_hit(design.footprints(sample_segments(segs, step)[0]))
             if hit is not None:
                 reason = f"touches {hit.what}"
             clear[k] = None if hit is not None else Turn(a.id, sa0 + da, b.id,
@@ -196,7 +197,8 @@ def wide_turns(lot: Lot, wides: list[_Wide], collider: Collider, *, run=fork_map
         w = wides[k]
         eye = Watched(collider)
         turns = area_turns(lanes[w.a], w.sa0, w.pa, lanes[w.b], w.sb0, w.pb, w.design, eye,
-                           lot.speed_limit, settings=settings.area_turns)
+                           lot.speed_limit, settings=settings.area_turns,
+                           sweep=lot.settings.sweep)
         return turns, eye.box
 
     groups: dict[bytes, list[int]] = {}
@@ -325,7 +327,7 @@ def _lane_junctions(lot: Lot, collider: Collider, design: DesignVehicle, a,
         for sa0, pa in straights(a):
             for sb0, pb in straights(b):
                 turn = _fillet_between(a, sa0, pa, b, sb0, pb, aisle_a, aisle_b, reach,
-                                       design, collider, lot.speed_limit,
+                                       design, collider, lot.speed_limit, lot.settings.sweep,
                                        (tuple(gates.get((a.id, "in"), ())),
                                         tuple(gates.get((b.id, "out"), ()))),
                                        settings=settings)
@@ -372,7 +374,8 @@ def turns_of(lot: Lot, collider: Collider, designs: dict[str, DesignVehicle] | N
             base = memo.lot_key if memo.known is not None else b""
             kinds = tuple(sorted(designs.items()))
             suits = worked_out(memo, [key_of(TurnSuits(base, kinds, t)) for t in turns],
-                               collider, lambda k, eye: _suited(turns[k], designs, eye))
+                               collider, lambda k, eye: _suited(turns[k], designs, eye,
+                                                                lot.settings.sweep))
             tagged = {t: names for t, names in zip(turns, suits, strict=True) if names}
             every = len(designs)
             notes = [reason if len(names) == every else f"{reason} (for {', '.join(names)})"
@@ -395,10 +398,11 @@ def _lane_turns(lot: Lot, collider: Collider, job: tuple, gates: dict,
     return turns, skipped
 
 
-def _suited(turn: Turn, designs: dict[str, DesignVehicle], collider: Collider) -> set[str]:
+def _suited(turn: Turn, designs: dict[str, DesignVehicle], collider: Collider, step: float
+            ) -> set[str]:
     """The vehicle types (of ``designs``) ``turn`` suits: no tighter than the type's
-    radius, and its swept body clear of ``collider``."""
-    poses = sample_segments(turn.segments, SWEEP_STEP)[0]
+    radius, and its swept body (footprints ``step`` apart [m]) clear of ``collider``."""
+    poses = sample_segments(turn.segments, step)[0]
     bend = max(seg.max_curvature for seg in turn.segments)
     return {name for name, design in designs.items()
             if bend <= 1 / design.min_radius + 1e-9

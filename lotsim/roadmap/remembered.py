@@ -26,6 +26,7 @@ from lotsim.core.keys import inputs, key_of
 from lotsim.core.workers import fork_map
 from lotsim.lot.clearance import Collider, Watched
 from lotsim.lot.model import Aisle, DesignVehicle, Lane, Lot
+from lotsim.lot.settings import LotSettings
 from lotsim.roadmap.model import Turn
 from lotsim.roadmap.multipoint import plan_onto
 from lotsim.roadmap.settings import MultipointSettings, RoadmapSettings
@@ -40,12 +41,14 @@ KEEP = 3
 @inputs
 class RoadmapLot:
     """What every piece of a lot's roadmap reads besides its collisions: the lot's speed
-    limit [m/s], design vehicle, aisles and lanes, and the roadmap's settings."""
+    limit [m/s], design vehicle, aisles and lanes, the settings it was built with (its
+    sweeps' spacing, which the turns' sweeps read) and the roadmap's settings."""
 
     speed_limit: float
     design: DesignVehicle
     aisles: tuple[Aisle, ...]
     lanes: tuple[Lane, ...]
+    lot_settings: LotSettings
     settings: RoadmapSettings
 
 
@@ -53,7 +56,7 @@ def lot_key(lot: Lot, settings: RoadmapSettings | None = None) -> bytes:
     """The key of ``lot``'s :class:`RoadmapLot` with the roadmap's ``settings`` (None: the
     defaults): what every piece's key begins with."""
     return key_of(RoadmapLot(lot.speed_limit, lot.design, tuple(lot.aisles.values()),
-                             tuple(lot.lanes),
+                             tuple(lot.lanes), lot.settings,
                              RoadmapSettings() if settings is None else settings))
 
 

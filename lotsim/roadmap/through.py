@@ -57,4 +57,5 @@ def through_turn(lot: Lot, collider: Collider, design: DesignVehicle | None,
     a, sa0, pa, b, sb0, pb, pc = chain
     area = settings.area_turns
     return area_turns(a, sa0, pa, b, sb0, pb, design or lot.design, collider,
-                      lot.speed_limit, via=(pc,), shifts=area.shifts, settings=area)
+                      lot.speed_limit, via=(pc,), shifts=area.shifts, settings=area,
+                      sweep=lot.settings.sweep)

@@ -16,9 +16,10 @@ from shapely.geometry import LineString, Point, Polygon
 
 from lotsim.core.corners import corner_sharpness
 from lotsim.core.geometry import FloatArray, cc_polyline, cc_turn, sample_segments
-from lotsim.lot.build import CRAWL_SPEED, SWEEP_STEP, bend_sharpness, offset_polyline
+from lotsim.lot.build import bend_sharpness, offset_polyline
 from lotsim.lot.clearance import Collider
 from lotsim.lot.model import DesignVehicle
+from lotsim.lot.settings import DEFAULTS as LOT_DEFAULTS
 
 
 def normalised(v: FloatArray) -> FloatArray:
@@ -99,7 +100,8 @@ class Bends:
     """How lotsim rounds an aisle's corners (:func:`~lotsim.lot.build.build_lot`): the
     default bend radius on the centre line, concentric on the lanes a quarter of the width
     either side (one lane on the line when one-way), clothoids of cruising speed, sharper
-    down to a crawl where legs are short."""
+    down to a crawl where legs are short; with the lot's default settings
+    (:data:`lotsim.lot.settings.DEFAULTS`: the lot written has no ``lot.build``)."""
 
     width: float
     two_way: bool
@@ -125,7 +127,7 @@ class Bends:
         offset = self.width / 4 if self.two_way else 0.0
         radius = self.design.min_radius + offset
         return (bend_sharpness(radius, offset, self.design, self.speed),
-                self.design.sharpness(CRAWL_SPEED))
+                self.design.sharpness(LOT_DEFAULTS.crawl_speed))
 
     def short(self, line: FloatArray) -> FloatArray:
         """By how much each leg is too short for the corners at its ends [m] (positive:
@@ -156,7 +158,7 @@ class Bends:
         parts = []
         for pts, radii, rev in self.paths(line)[1:]:
             segs = cc_polyline(pts, radii, sharp[::-1] if rev else sharp)
-            poses, _ = sample_segments(segs, SWEEP_STEP)
+            poses, _ = sample_segments(segs, LOT_DEFAULTS.sweep)
             hulls = shapely.convex_hull(shapely.multipoints(
                 Collider.sweeps(self.design.footprints(poses))))
             parts.append(shapely.union_all(hulls))

@@ -88,8 +88,9 @@ from lotsim.io.imports.osm_slots import (
 from lotsim.io.imports.report import ImportedLot, ImportReport
 from lotsim.io.lot_yaml import MAX_LOT_SIZE
 from lotsim.io.scenario_yaml import read_scenario
-from lotsim.lot.build import LANE_CLEARANCE, build_lot
+from lotsim.lot.build import build_lot
 from lotsim.lot.model import DesignVehicle, Lot
+from lotsim.lot.settings import DEFAULTS as LOT_DEFAULTS
 from lotsim.roadmap.assemble import build_graph
 from lotsim.roadmap.lanes import portal_station
 from lotsim.vehicles.catalogue import CATALOGUE, DEFAULT_VEHICLE
@@ -309,8 +310,10 @@ class _Drawn:
         no aisle."""
         notes: list[str] = []
         design = DesignVehicle.envelope([CATALOGUE[DEFAULT_VEHICLE]])
-        rules = AisleRules(least_two_way=2 * (design.width + 2 * LANE_CLEARANCE),
-                           least_one_way=design.width + 2 * LANE_CLEARANCE)
+        # the lot written has no lot.build: it is built with the default lane clearance
+        clearance = LOT_DEFAULTS.lane_clearance
+        rules = AisleRules(least_two_way=2 * (design.width + 2 * clearance),
+                           least_one_way=design.width + 2 * clearance)
         driveways = near.driveways(lot)
         ways = sorted(near.aisles + driveways)
         vertices, edges = clip_network(ways, near.xy, lot.buffer(CLIP_GROW), rules,

@@ -14,7 +14,7 @@ from conftest import scenario_from_text
 from lotsim.core.corners import corner_sharpness
 from lotsim.core.geometry import cc_polyline
 from lotsim.errors import ScenarioError
-from lotsim.lot.build import CRAWL_SPEED, build_lot
+from lotsim.lot.build import build_lot
 from lotsim.lot.model import DesignVehicle
 
 
@@ -94,7 +94,7 @@ def test_an_aisle_with_short_legs_is_built_and_its_lane_driven_slower():
     assert all(c > aisle.bend_sharpness for c in aisle.corners)
     # the speed the steering rate allows on those clothoids, above the crawl
     speed = design.max_curvature_rate / max(aisle.corners)
-    assert CRAWL_SPEED < speed < math.sqrt(design.max_lateral_accel * 4.97)
+    assert sc.lot.settings.crawl_speed < speed < math.sqrt(design.max_lateral_accel * 4.97)
 
 
 def test_an_aisle_no_car_can_drive_is_refused_where_it_is_written():

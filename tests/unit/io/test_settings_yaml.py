@@ -1,4 +1,5 @@
-"""A scenario file's ``roadmap`` and ``maneuvers`` sections: read as what each key
+"""A scenario file's ``roadmap`` and ``maneuvers`` sections (and its lot's ``build``, the
+rest of whose tests are in tests/unit/lot/test_lot_settings.py): read as what each key
 measures, refused at the key that is wrong with the settings' own message, and every
 setting has a key."""
 
@@ -12,6 +13,7 @@ import pytest
 from conftest import position, scenario_from_text
 from lotsim.errors import ScenarioError
 from lotsim.io.settings_yaml import KEYS, WAY_OUT_KEYS
+from lotsim.lot.settings import LotSettings
 from lotsim.maneuvers.settings import ManeuverSettings
 from lotsim.roadmap.settings import RoadmapSettings
 
@@ -134,3 +136,21 @@ def test_the_page_shows_every_key_with_its_default():
         assert sorted(shown["roadmap"][group]) == sorted(KEYS[cls])
     assert sorted(shown["maneuvers"]) == sorted(KEYS[ManeuverSettings])
     assert sorted(shown["maneuvers"]["way_out"]) == sorted(WAY_OUT_KEYS)
+
+
+def test_the_page_shows_every_key_of_lot_build_with_its_default():
+    """docs/scenario.md's block of ``lot.build``: read as a scenario's lot's, it gives the
+    default settings, and it names every key there is."""
+    import re
+
+    import yaml
+
+    from conftest import ROOT
+
+    page = (ROOT / "docs" / "scenario.md").read_text()
+    block = next(b for b in re.findall(r"```yaml\n(.*?)```", page, re.S)
+                 if b.startswith("lot:\n  build:"))
+    assert LOT.startswith("lot:\n")
+    sc = scenario_from_text(block + LOT.removeprefix("lot:\n"))
+    assert sc.lot.settings == LotSettings()
+    assert sorted(yaml.safe_load(block)["lot"]["build"]) == sorted(KEYS[LotSettings])

@@ -1,5 +1,6 @@
-"""A prepared lot is made with its scenario's roadmap and maneuver settings, cached under
-them, and a run's result.json says which they were, in numbers that make them again."""
+"""A prepared lot is made with its scenario's lot, roadmap and maneuver settings, cached
+under them, and a run's result.json says which they were, in numbers that make them
+again."""
 
 from __future__ import annotations
 
@@ -13,6 +14,7 @@ from lotsim.api.scenarios import EXAMPLE
 from lotsim.errors import SettingsError
 from lotsim.io.result import result_dict
 from lotsim.io.scenario_yaml import load_scenario
+from lotsim.lot.settings import LotSettings
 from lotsim.maneuvers.settings import ManeuverSettings
 from lotsim.roadmap.settings import (
     GROUPS,
@@ -72,14 +74,18 @@ def test_prepare_refuses_settings_of_another_kind():
 
 
 def test_result_json_writes_the_settings_the_lot_was_prepared_with_and_they_make_them_again():
-    text = EXAMPLE + ("roadmap:\n  turnarounds: {margin: 0.25}\n"
-                      "  multipoint: {expansion_limit: 2000}\n"
-                      "maneuvers: {margin: 0.2, ease_ramps: [2.0, 1.0]}\n")
+    lot = "\nlot:\n  build: {lane_clearance: 0.1, crawl_speed_kmh: 1.8}\n"
+    text = EXAMPLE.replace("\nlot:\n", lot) + ("roadmap:\n  turnarounds: {margin: 0.25}\n"
+                                               "  multipoint: {expansion_limit: 2000}\n"
+                                               "maneuvers: {margin: 0.2, "
+                                               "ease_ramps: [2.0, 1.0]}\n")
     prepared = lotsim.prepare(text, cache=False)
     doc = json.loads(json.dumps(result_dict(lotsim.run(prepared))))
     written = doc["settings"]
     assert written["roadmap"]["turnarounds"]["margin"] == 0.25
     assert written["maneuvers"]["margin"] == 0.2
+    assert written["lot"] == {"lane_clearance": 0.1, "sweep": 0.2, "crawl_speed": 0.5}
+    assert LotSettings(**written["lot"]) == prepared.scenario.lot.settings
     again = RoadmapSettings(**{name: GROUPS[name](**values)
                                for name, values in written["roadmap"].items()})
     assert again == WIDER == prepared.scenario.roadmap
