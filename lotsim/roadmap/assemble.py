@@ -16,16 +16,15 @@ import numpy as np
 import shapely
 
 from lotsim.core.geometry import Pose, Segment, sample_segments, wrap_angle
-from lotsim.core.keys import inputs, key_of
 from lotsim.core.workers import fork_map
 from lotsim.lot.build import lane_collider
 from lotsim.lot.kinds import kind_of
 from lotsim.lot.model import DesignVehicle, Lane, Lot, Slot
 from lotsim.roadmap.junction_multipoints import junction_multipoints
 from lotsim.roadmap.junctions import turns_of
-from lotsim.roadmap.lanes import EPS, lane_serves, portal_station
+from lotsim.roadmap.lanes import EPS, lane_serves, portal_station, speed_limit_along
 from lotsim.roadmap.memo import RoadmapMemo, designs_of, types_key
-from lotsim.roadmap.model import LotGraph, Turn
+from lotsim.roadmap.model import LotGraph, ParkingLink, Turn
 from lotsim.roadmap.remembered import handed_back, take_back
 from lotsim.roadmap.settings import RoadmapSettings, as_settings
 from lotsim.roadmap.turnarounds import Turnaround, dead_end_turnarounds
@@ -34,15 +33,15 @@ from lotsim.roadmap.uturns import junction_uturns
 if TYPE_CHECKING:
     import networkx as nx
 
-    from lotsim.vehicles.model import VehicleType
 
 Tagged = list[tuple[Turn | Turnaround, "frozenset | None"]]
 """Turns or turnarounds, each with the vehicle types that can drive it (None: every type)."""
 
 
-def build_graph(lot: Lot, *, node_spacing: float = 4.0, maneuvers=None,
-                vehicles=(), park_only=None, memo: RoadmapMemo | None = None,
-                settings: RoadmapSettings | None = None) -> LotGraph:
+def build_graph(lot: Lot, *, node_spacing: float = 4.0,
+                links: list[ParkingLink] | None = None, vehicles=(),
+                memo: RoadmapMemo | None = None, settings: RoadmapSettings | None = None
+                ) -> LotGraph:
     """Build the drivable graph of ``lot``.
 
     Parameters
@@ -50,16 +49,15 @@ def build_graph(lot: Lot, *, node_spacing: float = 4.0, maneuvers=None,
     lot : Lot
     node_spacing : float, keyword-only
         Largest distance between consecutive nodes along a lane [m].
-    maneuvers : dict or None, keyword-only
-        ``(vehicle name, slot id, lane id)`` → parking Maneuver, from
-        :func:`lotsim.maneuvers.batch.plan_lot`; ``None`` links slots by placeholders.
+    links : list of ParkingLink or None, keyword-only
+        Each vehicle type's way into each slot from each lane, and out again
+        (:func:`lotsim.maneuvers.links.parking_links`), recorded on the park and leave
+        edges as they come; a park-only link (no way out) on its park edge's
+        ``park_only``. ``None`` links slots by placeholders.
     vehicles : sequence of VehicleType, keyword-only
-        The scenario's types: the maneuvers' durations; with two or more, junction turns
-        are built for each type's own outline and turning radius, and a turn only some
-        types can drive says which (edge attribute ``types``, None for all).
-    park_only : dict or None, keyword-only
-        Like ``maneuvers``: each lane's own best maneuver where the one in ``maneuvers``
-        parks the other way round, for cars that will not leave (a park edge's ``park_only``).
+        The scenario's types: with two or more, junction turns are built for each type's
+        own outline and turning radius, and a turn only some types can drive says which
+        (edge attribute ``types``, None for all).
     memo : RoadmapMemo or None, keyword-only
         What an earlier build of ``lot``'s graph with the same settings worked out (turns,
         turnarounds); it takes what this one works out. The graph is the same without it.
@@ -79,15 +77,12 @@ def build_graph(lot: Lot, *, node_spacing: float = 4.0, maneuvers=None,
         ``memo`` is another lot's or was made with other settings.
     """
     settings = as_settings(settings, RoadmapSettings, "settings")
-    park_only = {} if maneuvers is None else (park_only or {})
-    attach = (_attachments(lot) if maneuvers is None
-              else _maneuver_attachments(lot, [*maneuvers.items(), *park_only.items()]))
+    attach = _attachments(lot) if links is None else _link_attachments(lot, links)
     memo = memo or RoadmapMemo(lot, settings=settings)
     net = _lane_network(lot, attach, node_spacing, vehicles, memo, settings)
-    slot_nodes, attachments = _add_slots(lot, net, attach if maneuvers is None else None)
-    if maneuvers is not None:
-        _add_maneuvers(lot, net, slot_nodes, attachments, maneuvers, park_only, vehicles,
-                       memo.known)
+    slot_nodes, attachments = _add_slots(lot, net, attach if links is None else None)
+    if links is not None:
+        _add_links(net, slot_nodes, attachments, links)
     return LotGraph(lot, net.graph, net.entrances, net.exits, slot_nodes, attachments,
                     net.skipped)
 
@@ -231,93 +226,35 @@ def _add_slots(lot: Lot, net: _Network, placeholders: dict[str, list[tuple[str, 
     return slot_nodes, attachments
 
 
-def _add_maneuvers(lot: Lot, net: _Network, slot_nodes: dict[str, int],
-                   attachments: dict[str, list[int]], maneuvers: dict, park_only: dict,
-                   vehicles, known: dict | None = None) -> None:
-    """Each slot's park and leave edges through ``maneuvers`` (and park edges through
-    ``park_only``), with each type's duration (:func:`build_graph`; ``known``: the durations
-    an earlier preparation of the lot worked out, and kept)."""
+def _add_links(net: _Network, slot_nodes: dict[str, int], attachments: dict[str, list[int]],
+               links: list[ParkingLink]) -> None:
+    """Each slot's park and leave edges through ``links`` (a park-only link: a park edge's
+    ``park_only`` maneuver, for cars that will not leave), as :func:`build_graph` records
+    them."""
     g = net.graph
-    types = {v.name: v for v in vehicles}
-    leaving = {key: m.reversed() for key, m in maneuvers.items()}  # each way out
-    duration = _durations(lot, maneuvers, leaving, park_only, types, known)
-    for (vname, sid, lid), m in sorted(maneuvers.items(), key=lambda kv: kv[0]):
-        a, node = net.node_at(lid, m.station), slot_nodes[sid]
-        if a not in attachments[sid]:
-            attachments[sid].append(a)
-        limit = _path_limit(lot, m)
-        back = leaving[vname, sid, lid]
-        for u, v, kind, path in ((a, node, "park", m), (node, a, "leave", back)):
-            e = _link(g, u, v, kind, path, limit)
-            e["maneuvers"][vname] = path
-            if vname in types:
-                e["duration"][vname] = duration(path, vname, limit)
-            e["length"] = min(e["length"], path.length)
-    for (vname, sid, lid), m in sorted(park_only.items(), key=lambda kv: kv[0]):
-        a, node = net.node_at(lid, m.station), slot_nodes[sid]
-        limit = _path_limit(lot, m)
-        e = _link(g, a, node, "park", m, limit)
-        e.setdefault("park_only", {})[vname] = m
-        e["park_only_limit"] = min(e.get("park_only_limit", math.inf), limit)
-        if vname in types:
-            e.setdefault("park_only_duration", {})[vname] = duration(m, vname, limit)
-        e["length"] = min(e["length"], m.length)
-
-
-@inputs
-class PathTiming:
-    """What a maneuver's time for a vehicle type depends on: the type's whole description,
-    the speed limit along it [m/s] and its pieces' shapes (distance [m], curvature [1/m],
-    sharpness [1/m²] each), not where they lie."""
-
-    vehicle: VehicleType
-    limit: float
-    shapes: tuple[tuple[float, float, float], ...]
-
-
-def _durations(lot: Lot, maneuvers: dict, leaving: dict, park_only: dict, types: dict,
-               known: dict | None = None):
-    """``duration(path, type name, speed limit)`` [s] of each of ``maneuvers`` (and its
-    reverse in ``leaving``) and ``park_only`` for the vehicle types in ``types``: a lot's
-    maneuvers repeat a few shapes, each timed once, on the workers, or taken from ``known``
-    (a duration is a function of the shape, the vehicle type and the limit), where those
-    timed now are kept."""
-
-    shapes: dict[int, tuple] = {}  # by the path's id: every path is held by the caller
-
-    def shape(path, vname: str, limit: float) -> tuple:
-        """What the maneuver's time depends on: its pieces' shapes, not where they lie."""
-        got = shapes.get(id(path))
-        if got is None:
-            got = shapes[id(path)] = path.shapes()
-        return vname, limit, got
-
-    todo: dict[tuple, tuple] = {}
-    for kept, both in ((maneuvers, True), (park_only, False)):
-        for key, m in kept.items():
-            if key[0] in types:
-                limit = _path_limit(lot, m)
-                for path in (m, leaving[key]) if both else (m,):
-                    todo.setdefault(shape(path, key[0], limit), (path, key[0], limit))
-    # each shape by its key in ``known``: the type's whole description, not its name
-    stored = {}
-    if known is not None:
-        stored = {key: key_of(PathTiming(types[key[0]], key[1], key[2])) for key in todo}
-    timed = {key: known[name] for key, name in stored.items() if name in known}
-    jobs = [(key, job) for key, job in todo.items() if key not in timed]
-    parts = [jobs[k::8] for k in range(8)] if len(jobs) >= 64 else [jobs]
-    times = fork_map(lambda part: [p.duration(types[v], lim) for _, (p, v, lim) in part],
-                     parts)
-    for part, ts in zip(parts, times, strict=True):
-        for (key, _), t in zip(part, ts, strict=True):
-            timed[key] = t
-            if known is not None:
-                known[stored[key]] = t
-
-    def duration(path, vname: str, limit: float) -> float:
-        return timed[shape(path, vname, limit)]
-
-    return duration
+    order = sorted(range(len(links)), key=lambda k: (links[k].leave is None, links[k].vehicle,
+                                                     links[k].slot, links[k].lane))
+    for link in (links[k] for k in order):
+        a, node = net.node_at(link.lane, link.station), slot_nodes[link.slot]
+        if link.leave is None:
+            e = _link(g, a, node, "park", link.park_gear, link.speed_limit)
+            e.setdefault("park_only", {})[link.vehicle] = link.park
+            e["park_only_limit"] = min(e.get("park_only_limit", math.inf), link.speed_limit)
+            if link.park_time is not None:
+                e.setdefault("park_only_duration", {})[link.vehicle] = link.park_time
+            e["length"] = min(e["length"], link.park_length)
+            continue
+        if a not in attachments[link.slot]:
+            attachments[link.slot].append(a)
+        for u, v, kind, path, gear, length, time in (
+                (a, node, "park", link.park, link.park_gear, link.park_length, link.park_time),
+                (node, a, "leave", link.leave, link.leave_gear, link.leave_length,
+                 link.leave_time)):
+            e = _link(g, u, v, kind, gear, link.speed_limit)
+            e["maneuvers"][link.vehicle] = path
+            if time is not None:
+                e["duration"][link.vehicle] = time
+            e["length"] = min(e["length"], length)
 
 
 def junction_turnarounds(lot: Lot, tagged: Tagged, designs: dict[str, DesignVehicle] | None,
@@ -344,12 +281,12 @@ def junction_turnarounds(lot: Lot, tagged: Tagged, designs: dict[str, DesignVehi
             junction_uturns(lot, designs, memo, settings=settings))
 
 
-def _link(g: nx.DiGraph, u: int, v: int, kind: str, path, limit: float) -> dict:
-    """The park or leave edge ``u`` → ``v``'s attributes, made (with no maneuver yet) if
-    new."""
+def _link(g: nx.DiGraph, u: int, v: int, kind: str, gear: int, limit: float) -> dict:
+    """The park or leave edge ``u`` → ``v``'s attributes, made (with no maneuver yet, first
+    in ``gear``) if new."""
     if not g.has_edge(u, v):
         g.add_edge(u, v, kind=kind, maneuvers={}, duration={}, length=math.inf,
-                   gear=path.gears[0], path=None, speed_limit=limit,
+                   gear=gear, path=None, speed_limit=limit,
                    placeholder=False)
     return g.edges[u, v]
 
@@ -365,12 +302,12 @@ def _add_placeholder(g: nx.DiGraph, lot: Lot, a: int, node: int, slot: Slot) -> 
                    maneuvers={}, duration={})
 
 
-def _maneuver_attachments(lot: Lot, maneuvers) -> dict[str, list[tuple[str, float]]]:
-    """Lane and station where each planned maneuver starts (``maneuvers``: pairs of
-    ``(vehicle name, slot id, lane id)`` and Maneuver)."""
+def _link_attachments(lot: Lot, links: list[ParkingLink]
+                      ) -> dict[str, list[tuple[str, float]]]:
+    """Lane and station where each link's maneuver starts, by slot."""
     out: dict[str, list[tuple[str, float]]] = {s.id: [] for s in lot.slots}
-    for (_, sid, lid), m in maneuvers:
-        out[sid].append((lid, m.station))
+    for link in links:
+        out[link.slot].append((link.lane, link.station))
     return out
 
 
@@ -396,24 +333,13 @@ def _lane_piece(lane: Lane, i: int, d0: float, s1: float, start: Pose) -> Segmen
                    seg.sharpness)
 
 
-def _path_limit(lot: Lot, path) -> float:
-    """Speed limit along ``path`` (segments, or a maneuver): the lowest zone it runs in
-    [m/s] (:func:`_zone_limit` of points 0.25 m apart; the lot's limit, unsampled, when the
-    lot has no zones)."""
+def _path_limit(lot: Lot, path: tuple[Segment, ...]) -> float:
+    """Speed limit along ``path``: the lowest zone it runs in [m/s]
+    (:func:`~lotsim.roadmap.lanes.speed_limit_along` of points 0.25 m apart; the lot's
+    limit, unsampled, when the lot has no zones)."""
     if not lot.zones:
         return lot.speed_limit
-    points = path.sample(0.25)[0] if hasattr(path, "sample") else sample_segments(path, 0.25)[0]
-    return _zone_limit(lot, points[:, :2])
-
-
-def _zone_limit(lot: Lot, points: np.ndarray) -> float:
-    """Speed limit along a path through ``points`` (N, 2): the lowest zone it runs in [m/s]."""
-    limit = lot.speed_limit
-    line = shapely.LineString(points) if lot.zones else None
-    for zone in lot.zones:
-        if zone.polygon.intersects(line) and zone.polygon.intersection(line).length > EPS:
-            limit = min(limit, zone.limit)
-    return limit
+    return speed_limit_along(lot, sample_segments(path, 0.25)[0][:, :2])
 
 
 def _add_edge(g: nx.DiGraph, lot: Lot, u: int, v: int, path: tuple[Segment, ...],

@@ -109,3 +109,14 @@ def portal_station(lot: Lot, portal: Portal) -> tuple[str, float]:
             f"({out:.2f} m²); cars appear and vanish at portals, so move it inward",
         )
     return best[1], best[2]
+
+
+def speed_limit_along(lot: Lot, points: np.ndarray) -> float:
+    """The speed limit along a path through ``points`` (N, 2): the lowest of the lot's
+    zones it runs in [m/s]."""
+    limit = lot.speed_limit
+    line = shapely.LineString(points) if lot.zones else None
+    for zone in lot.zones:
+        if zone.polygon.intersects(line) and zone.polygon.intersection(line).length > EPS:
+            limit = min(limit, zone.limit)
+    return limit

@@ -68,6 +68,48 @@ class Turn:
 
 
 @dataclass(frozen=True, slots=True)
+class ParkingLink:
+    """One vehicle type's way into one slot from one lane, and out again, as the maneuvers
+    hand it to the roadmap (:func:`lotsim.maneuvers.links.parking_links`): plain numbers
+    the roadmap reads, and the maneuvers themselves, which it only records on the park and
+    leave edges for the runs to drive.
+
+    Attributes
+    ----------
+    vehicle, slot, lane : str
+        The vehicle type's name, the slot's id and the lane's id.
+    station : float
+        Where along the lane the maneuver begins (and the way out ends) [m].
+    speed_limit : float
+        The lowest speed limit along it [m/s].
+    park : object
+        The maneuver into the slot (a :class:`~lotsim.maneuvers.maneuver.Maneuver`).
+    park_gear, park_length, park_time
+        Its first gear (+1 forward, -1 reverse), length [m] and time for the type [s]
+        (None: not timed, for a type the graph is not built for).
+    leave : object or None
+        The way out, the maneuver driven backwards (None: a park-only link, for cars that
+        will not leave: the lane's own best where the shared pose parks the other way).
+    leave_gear, leave_length, leave_time
+        The way out's first gear, length [m] and time [s], as for ``park``.
+    """
+
+    vehicle: str
+    slot: str
+    lane: str
+    station: float
+    speed_limit: float
+    park: object
+    park_gear: int
+    park_length: float
+    park_time: float | None
+    leave: object | None = None
+    leave_gear: int = 0
+    leave_length: float = 0.0
+    leave_time: float | None = None
+
+
+@dataclass(frozen=True, slots=True)
 class GraphFacts:
     """What ``lotsim validate`` says of a lot graph and checks traffic against, counted
     once and kept with the lot (in the on-disk cache too: a warm ``validate`` does not

@@ -18,6 +18,7 @@ from lotsim.lot.model import DesignVehicle, Lot
 from lotsim.lot.spec import LotSpec
 from lotsim.lot.uses import refused_bays
 from lotsim.maneuvers.batch import plan_lot
+from lotsim.maneuvers.links import parking_links
 from lotsim.maneuvers.planner import ManeuverPlanner
 from lotsim.maneuvers.settings import ManeuverSettings
 from lotsim.roadmap.assemble import build_graph, lane_graph
@@ -225,9 +226,11 @@ def _prepared(scenario: Scenario, leaves: set[bool], name: str | None, node_spac
                 planned, park_only = {**planned, **park_only}, {}
             elif leaves == {True}:
                 park_only = {}  # no car stays: where those begin would only be nodes in the way
-            lg = build_graph(lot, node_spacing=node_spacing, maneuvers=planned,
-                             vehicles=scenario.vehicle_types, park_only=park_only,
-                             memo=memo, settings=scenario.roadmap)
+            links = parking_links(lot, planned, park_only, scenario.vehicle_types,
+                                  known=memo.known)
+            lg = build_graph(lot, node_spacing=node_spacing, links=links,
+                             vehicles=scenario.vehicle_types, memo=memo,
+                             settings=scenario.roadmap)
             lg.infeasible = infeasible
             if roads_name is not None and (memo.worked or len(roads) != held):
                 lotsim.core.diskcache.store(roads_name, roads)  # it learnt something

@@ -135,3 +135,36 @@ def test_an_aisle_that_continues_as_another_is_joined_to_it():
     for u, v in joins:
         assert _same_pose(g.nodes[u]["pose"], g.nodes[v]["pose"])
         assert g.edges[u, v]["length"] == 0.0
+
+
+def test_parking_links_are_recorded_as_they_come_and_their_maneuvers_never_driven():
+    """The roadmap reads a link's numbers and only keeps its maneuvers: here bare objects,
+    which any use would break. A link with a way out gives a park edge and a leave edge from
+    the lane node at its station; a park-only link a park edge's ``park_only``; a bay with
+    no link no edge."""
+    from lotsim.roadmap.model import ParkingLink
+
+    lot = lot_of(CROSS)
+    park, leave, only = object(), object(), object()
+    links = [ParkingLink("valet", "N1", "a<", 22.0, 4.0, park, -1, 9.5, 12.0,
+                         leave, 1, 9.25, 10.0),
+             ParkingLink("valet", "N2", "a<", 18.0, 3.0, only, 1, 8.0, 9.0)]
+    lg = build_graph(lot, links=links)
+    g = lg.graph
+    at = {(d["lane"], round(d["station"], 9)): n for n, d in g.nodes(data=True)
+          if d["kind"] == "lane"}
+    a, b = at["a<", 22.0], at["a<", 18.0]
+    assert _same_pose(g.nodes[a]["pose"], (60.0 - 22.0, 31.75, np.pi), 1e-9)
+    n1, n2, n3 = (lg.slot_nodes[s] for s in ("N1", "N2", "N3"))
+    into, out = g.edges[a, n1], g.edges[n1, a]
+    assert (into["kind"], into["maneuvers"], into["duration"], into["gear"], into["length"],
+            into["speed_limit"]) == ("park", {"valet": park}, {"valet": 12.0}, -1, 9.5, 4.0)
+    assert (out["kind"], out["maneuvers"], out["duration"], out["gear"], out["length"]) == (
+        "leave", {"valet": leave}, {"valet": 10.0}, 1, 9.25)
+    only_edge = g.edges[b, n2]
+    assert (only_edge["park_only"], only_edge["park_only_duration"],
+            only_edge["park_only_limit"], only_edge["maneuvers"]) == (
+        {"valet": only}, {"valet": 9.0}, 3.0, {})
+    assert not g.has_edge(n2, b)  # a car that will not leave has no way out
+    assert g.degree(n3) == 0
+    assert a in lg.attachments["N1"]
