@@ -174,3 +174,15 @@ lot:
 """
 """Two one-way aisles that never meet: the entrance on the south one, the exit on the
 north one."""
+
+SHORT_LEGS = """\
+vehicle_types: [valet]
+lot:
+  boundary: [[0, 0], [40, 0], [40, 30], [0, 30]]
+  aisles:
+    - {id: ring, direction: one-way, width: 5.0,
+       centerline: [[3, 5], [30, 5], [30, LEG], [3, LEG]]}
+  entrances: [{id: in, x: 5, y: 5, heading_deg: 0}]
+"""
+"""A one-way aisle turning twice on a short leg (LEG - 5 m, LEG given by the test): as
+plain arcs its corners need 9.95 m of it."""

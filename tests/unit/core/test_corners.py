@@ -9,6 +9,7 @@ import math
 
 import numpy as np
 import pytest
+from small_lots import SHORT_LEGS
 
 from conftest import scenario_from_text
 from lotsim.core.corners import corner_sharpness
@@ -76,19 +77,10 @@ def test_a_leg_too_short_even_for_plain_arcs_is_refused_with_what_it_needs():
         corner_sharpness([[0, 0], [20, 0], [20, 9.9], [0, 9.9]], 4.97, 0.05, 10.0)
 
 
-LOOP = """\
-vehicle_types: [valet]
-lot:
-  boundary: [[0, 0], [40, 0], [40, 30], [0, 30]]
-  aisles:
-    - {id: ring, direction: one-way, width: 5.0,
-       centerline: [[3, 5], [30, 5], [30, LEG], [3, LEG]]}
-  entrances: [{id: in, x: 5, y: 5, heading_deg: 0}]
-"""
 
 
 def test_an_aisle_with_short_legs_is_built_and_its_lane_driven_slower():
-    sc = scenario_from_text(LOOP.replace("LEG", "16"))  # an 11 m leg
+    sc = scenario_from_text(SHORT_LEGS.replace("LEG", "16"))  # an 11 m leg
     design = DesignVehicle.envelope(sc.vehicle_types)
     aisle = build_lot(sc.lot, design).aisles["ring"]
     assert all(c > aisle.bend_sharpness for c in aisle.corners)
@@ -98,7 +90,7 @@ def test_an_aisle_with_short_legs_is_built_and_its_lane_driven_slower():
 
 
 def test_an_aisle_no_car_can_drive_is_refused_where_it_is_written():
-    sc_text = LOOP.replace("LEG", "14.9")  # a 9.9 m leg: arcs alone need 9.94 m
+    sc_text = SHORT_LEGS.replace("LEG", "14.9")  # a 9.9 m leg: arcs alone need 9.94 m
     with pytest.raises(ScenarioError) as err:
         sc = scenario_from_text(sc_text)
         build_lot(sc.lot, DesignVehicle.envelope(sc.vehicle_types))
@@ -112,7 +104,7 @@ def test_the_drawing_of_a_lot_keeps_each_corners_sharpness():
 
     from lotsim.io.lot_json import lot_from_json, lot_to_json
 
-    sc = scenario_from_text(LOOP.replace("LEG", "16"))
+    sc = scenario_from_text(SHORT_LEGS.replace("LEG", "16"))
     lot = build_lot(sc.lot, DesignVehicle.envelope(sc.vehicle_types))
     back = lot_from_json(json.loads(json.dumps(lot_to_json(lot))))
     assert back.aisles["ring"].corners == lot.aisles["ring"].corners

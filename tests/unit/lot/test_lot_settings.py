@@ -10,7 +10,7 @@ import math
 
 import pytest
 import shapely
-from small_lots import CROSS, lot_of
+from small_lots import CROSS, SHORT_LEGS, lot_of
 
 from conftest import position, scenario_from_text
 from lotsim.core.diskcache import key
@@ -92,21 +92,10 @@ def test_a_wider_lane_clearance_refuses_an_aisle_the_default_takes():
     assert _built(text, lane_clearance=0.0).aisles["a"].width == 2.15
 
 
-LOOP = """\
-vehicle_types: [valet]
-lot:
-  boundary: [[0, 0], [40, 0], [40, 30], [0, 30]]
-  aisles:
-    - {id: ring, direction: one-way, width: 5.0,
-       centerline: [[3, 5], [30, 5], [30, LEG], [3, LEG]]}
-  entrances: [{id: in, x: 5, y: 5, heading_deg: 0}]
-"""
-"""A one-way aisle turning twice on a short leg (LEG - 5 m): as plain arcs its corners need
-9.95 m of it."""
 
 
 def test_a_higher_crawl_speed_refuses_a_bend_the_default_takes():
-    text = LOOP.replace("LEG", "16")  # an 11 m leg: its corners are driven at 0.80 m/s
+    text = SHORT_LEGS.replace("LEG", "16")  # an 11 m leg: its corners are driven at 0.80 m/s
     aisle = _built(text).aisles["ring"]
     design = _built(text).design
     speed = design.max_curvature_rate / max(aisle.corners)
@@ -118,7 +107,7 @@ def test_a_higher_crawl_speed_refuses_a_bend_the_default_takes():
 
 
 def test_a_lower_crawl_speed_takes_a_bend_the_default_refuses():
-    text = LOOP.replace("LEG", "15.1")  # a 10.1 m leg: corners at about 0.12 m/s
+    text = SHORT_LEGS.replace("LEG", "15.1")  # a 10.1 m leg: corners at about 0.12 m/s
     with pytest.raises(ScenarioError, match="even at a crawl of 0.9 km/h"):
         _built(text)
     aisle = _built(text, crawl_speed=0.05).aisles["ring"]
