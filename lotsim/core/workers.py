@@ -177,7 +177,7 @@ class Background:
     >>> import time
     >>> with Background(lambda x: x * x, [1, 2, 3]) as bg:
     ...     for _ in range(500):  # (about 5 s at most)
-    ...         if len(bg.take()) == 3:
+    ...         if not bg.started or len(bg.take()) == 3:
     ...             break
     ...         time.sleep(0.01)
     ...     sorted(bg.take().items()) in ([(0, 1), (1, 4), (2, 9)], [])
@@ -201,6 +201,12 @@ class Background:
             self._conn.close()
             self._conn = None
         send.close()
+
+    @property
+    def started(self) -> bool:
+        """Whether a process works on the items (until :meth:`close`); when not,
+        :meth:`take` has no answers to give."""
+        return self._proc is not None
 
     def take(self) -> dict[int, object]:
         """The answers finished so far (index → answer), without waiting."""

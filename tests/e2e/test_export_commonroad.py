@@ -212,6 +212,7 @@ def test_a_planted_steering_jump_is_caught(exported):
     assert found and f"problem {trip.id} step {st[k - 1].time_step}:" in found[0], found
 
 
+@pytest.mark.slow
 def test_the_same_result_gives_the_same_files_whatever_the_day(exported, tmp_path):
     # CommonRoad's writer stamps the day it writes; the export fixes the date in the header
     import lotsim

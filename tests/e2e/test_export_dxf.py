@@ -241,6 +241,7 @@ USE_LAYERS = {"standard": "C-PRKG", "compact": "C-PRKG-CMPT", "accessible": "C-P
 """docs/export.md's layer of each use of bay, as the page gives them."""
 
 
+@pytest.mark.slow
 def test_a_lot_of_several_uses_has_each_bay_on_its_use_s_layer(tmp_path):
     source = ROOT / "scenarios" / "lots" / "storefront.yaml"
     doc = export(source, tmp_path)

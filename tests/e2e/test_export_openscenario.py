@@ -215,6 +215,7 @@ def planted(element: ET.Element, key: str, value: str):
             element.set(key, old)
 
 
+@pytest.mark.slow
 def test_lotsim_export_openscenario_writes_the_files_or_names_the_extra(
     tmp_path, capsys, monkeypatch
 ):

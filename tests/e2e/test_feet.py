@@ -132,6 +132,7 @@ def test_a_plot_in_feet_is_the_same_plot(tmp_path):
         assert vm.limits.max_accel == pytest.approx(vf.limits.max_accel)
 
 
+@pytest.mark.slow
 def test_validate_reports_a_feet_scenarios_lengths_in_feet(tmp_path):
     import csv
     import io

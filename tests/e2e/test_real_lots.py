@@ -24,13 +24,18 @@ LOTS = Path(__file__).resolve().parents[2] / "scenarios" / "lots"
 FAST = ("culdesac", "ladder", "short_loop")  # ring and gate_spur: -m slow
 
 
+class _Prepared(dict):
+    """Shipped lots by name, each loaded and prepared when a test first asks for it."""
+
+    def __missing__(self, name: str):
+        sc = load_scenario(LOTS / f"{name}.yaml")
+        self[name] = (sc, prepare_graph(sc))
+        return self[name]
+
+
 @pytest.fixture(scope="module")
 def lots():
-    out = {}
-    for name in FAST:
-        sc = load_scenario(LOTS / f"{name}.yaml")
-        out[name] = (sc, prepare_graph(sc))
-    return out
+    return _Prepared()
 
 
 def _run_checked(sc, lg):
@@ -249,6 +254,7 @@ def test_a_car_that_leaves_an_angled_bay_towards_a_dead_end_turns_round_there():
     assert _turnaround_users(rr, lg) == len(rr.vehicles)
 
 
+@pytest.mark.slow  # the ladder lot is prepared for it
 def test_a_right_turn_past_a_corner_bay_swings_wide_across_the_junction(lots):
     _, lg = lots["ladder"]
     g, lot = lg.graph, lg.lot
@@ -295,6 +301,7 @@ lot:
 """
 
 
+@pytest.mark.slow
 def test_a_van_swings_wide_round_a_corner_bay_onto_the_far_lane_before_turning():
     """A 5.37 m van (turning radius 6.19 m) turning right from one 7 m aisle into another
     round a bay at the corner: the way a driver does it is to move across onto the far lane
@@ -573,6 +580,7 @@ def test_a_lot_of_several_types_serves_each_by_its_own_turns():
     assert {v["status"] for v in doc["vehicles"]} == {"departed"}
 
 
+@pytest.mark.slow  # the ladder lot is prepared for it
 def test_a_car_whose_way_on_is_blocked_turns_back_at_a_junction(lots):
     # Walls held for ever (in the reservation table) across the ladder's west aisle north of
     # aisle a1, and across a1 east of the junction: a car come in at the south-west gate,
@@ -648,6 +656,7 @@ traffic:
 """
 
 
+@pytest.mark.slow
 def test_every_way_out_of_a_bay_leads_to_an_exit_even_from_a_closed_corner():
     # N1, in the closed west corner, is left westwards onto the lane's last 0.2 m, past
     # where every dead-end turnaround begins: a turnaround is planned from there (before,

@@ -401,6 +401,7 @@ def test_a_car_speeds_up_across_closely_spaced_nodes():
     assert best <= plan.end <= 1.1 * best
 
 
+@pytest.mark.slow
 def test_whca_replans_only_when_space_was_freed_and_that_changes_next_to_nothing(
         shipped_graphs):
     """A replan with nothing freed since the car's last search could only find what its

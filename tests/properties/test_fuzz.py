@@ -214,6 +214,7 @@ def _fuzz_run(tmp_path, capsys, count: int, seed: int) -> dict:
     return seen
 
 
+@pytest.mark.slow
 def test_mutated_scenarios_run_or_fail_cleanly(tmp_path, capsys, monkeypatch):
     _capped_gifs(monkeypatch)
     seen = _fuzz_run(tmp_path, capsys, QUICK_RUN, seed=11)

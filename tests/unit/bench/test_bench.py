@@ -218,6 +218,7 @@ def test_rows_agree_with_a_direct_run(local):
             2 / (parked[-1] - parked[0]) * 3600, abs=0.01)
 
 
+@pytest.mark.slow
 def test_a_process_pool_gives_the_same_table(local):
     path, out, _ = local
     rows = bench.run_suite(bench.load_suite(path), jobs=2)
@@ -236,6 +237,7 @@ def _dies(spec):
 _real_run_spec = bench.run_spec
 
 
+@pytest.mark.slow
 def test_a_dask_cluster_gives_the_same_table(local, tmp_path, monkeypatch):
     distributed = pytest.importorskip("distributed")
     path, out, _ = local

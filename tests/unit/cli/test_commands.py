@@ -330,6 +330,7 @@ def test_import_writes_the_lots_and_says_what_became_of_each(tmp_path, capsys):
     assert not (tmp_path / "x").exists() and not (tmp_path / "y").exists()
 
 
+@pytest.mark.slow
 def test_import_lanelet2_writes_the_map_and_refuses_options_it_does_not_take(tmp_path, capsys):
     source = ROOT / "tests" / "data" / "lanelet2" / "autonomoustuff_parking_lot.osm"
     out = tmp_path / "map"
@@ -454,6 +455,7 @@ def test_a_run_on_a_pipe_tells_its_trips_and_the_writing_of_its_result(tmp_path,
     assert "trips in and out planned: done" in err and "writing the result: done" in err
 
 
+@pytest.mark.slow
 def test_validate_takes_several_files_at_once_and_says_what_one_after_another_says(
         tmp_path, capsys):
     import lotsim

@@ -49,6 +49,7 @@ def test_a_bad_section_is_told_at_its_line_and_column(section, key, token, words
     assert words in str(err.value)
 
 
+@pytest.mark.slow
 def test_run_drives_the_plan_through_the_options_and_check_verifies_it(tmp_path, capsys):
     out = tmp_path / "o"
     code = main(["run", "scenarios/mixed_lot.yaml", "-o", str(out), "--no-gif",

@@ -145,6 +145,7 @@ def quickstart_result() -> bytes:
         return path.read_bytes()
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("written", [False, True])
 def test_ctrl_c_while_rendering_leaves_an_older_gif_untouched(tmp_path, written,
                                                               quickstart_result):
@@ -185,6 +186,7 @@ def test_ctrl_c_during_a_benchmark_on_two_processes_writes_nothing(tmp_path):
     assert not (tmp_path / "out").exists()
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("moment", ["starting", "importing"])
 def test_ctrl_c_while_benchmark_workers_start_is_one_line_and_exit_130(tmp_path, moment):
     """An interrupt while the pool's workers are still starting (the forkserver's children

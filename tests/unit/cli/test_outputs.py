@@ -138,6 +138,7 @@ def test_layout_checks_its_file_before_the_search_and_names_no_temporary(here, c
     assert _files(here) == ["file.txt", "plot.yaml"]
 
 
+@pytest.mark.slow
 def test_layout_makes_its_folder(here, capsys):
     (here / "plot.yaml").write_text(PLOT)
     assert main(["layout", "plot.yaml", "-o", "new/lot.yaml", "--offsets", "1",

@@ -4,6 +4,7 @@ far from them; a scenario without routes is refused (exit 2) and nothing is writ
 from __future__ import annotations
 
 import numpy as np
+import pytest
 import shapely
 from PIL import Image
 
@@ -25,6 +26,7 @@ def colour(img: Image.Image, canvas, xy) -> tuple[int, int, int]:
     return img.getpixel((int(x), int(y)))
 
 
+@pytest.mark.slow
 def test_show_routes_draws_the_envelopes_over_the_lot(tmp_path, capsys):
     plain, routed = tmp_path / "lot.png", tmp_path / "routes.png"
     size = f"{SIZE[0]}x{SIZE[1]}"

@@ -148,6 +148,7 @@ def test_the_lock_of_an_entry_goes_with_it_unless_it_is_held(folder):
     assert sorted(p.name for p in folder.iterdir()) == ["e8.pickle"]
 
 
+@pytest.mark.slow
 def test_validate_from_another_folder_and_process_finds_the_lot(tmp_path):
     """The key is the lot as written, not where the file lies nor the process's hash seed."""
     cache = tmp_path / "cache"
@@ -168,6 +169,7 @@ def test_validate_from_another_folder_and_process_finds_the_lot(tmp_path):
     assert said[1].replace(lotsim.core.diskcache.LOADED, "") == said[0]
 
 
+@pytest.mark.slow
 def test_a_warm_validate_does_not_load_the_graph_library(tmp_path):
     """Importing networkx took a fifth of a warm ``validate``: a lot from the cache makes
     its graph only when asked for it, and validate reads the counts kept with the lot."""

@@ -84,6 +84,7 @@ def _walk(slot, door=(22.0, 41.0)) -> float:
     return math.dist(slot.center, door)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("uses", ["uses: {accessible: ada_2010}\n",
                                   "uses: {accessible: ada_2010, ev: 10%}\n"])
 def test_as_the_standard_requires_meets_table_208_2_for_the_total_laid_out(uses):

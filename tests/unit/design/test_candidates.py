@@ -82,6 +82,7 @@ def test_every_drawn_bay_is_inside_the_plot_and_clear_of_islands_aisles_and_bays
         assert _violations(plot, cand) == [], cand.label
 
 
+@pytest.mark.slow
 def test_the_oracle_sees_a_bay_that_overlaps():
     # the checks above can fail: a bay moved onto its neighbour, or into the island
     plot = read_plot(ROOT / "scenarios" / "plots" / "island.yaml")

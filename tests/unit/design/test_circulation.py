@@ -57,6 +57,7 @@ def test_a_gate_s_t_in_the_middle_of_a_13_m_leg_serves_only_that_leg():
     assert circulation(PLOT, cand).served == 4
 
 
+@pytest.mark.slow
 def test_a_spine_is_one_dead_end_as_long_as_the_spine():
     plot = read_plot(STRIP)
     spine = next(c for c in candidates(plot, LayoutSettings(orientations=1, offsets=1))
@@ -69,6 +70,7 @@ def test_a_spine_is_one_dead_end_as_long_as_the_spine():
     assert 147.0 < judged.dead_end_length < 150.0
 
 
+@pytest.mark.slow
 def test_the_strip_s_best_judged_candidate_is_its_ring_along_the_gate_s_edge():
     # every ring inside perimeter rows all round the 30 m strip has 13 m short legs with the
     # gate's T in the middle: judged to serve a handful of bays; the ring beside the gate's

@@ -95,6 +95,7 @@ def test_the_spaces_hold_what_the_lot_has_in_its_order(lots):
     assert info["best"]["shortest"] == int(np.argmin(info["static_times"]))
 
 
+@pytest.mark.slow
 def test_the_shortest_baseline_plays_the_run_lotsim_plays(lots):
     for name, seeds in (("quickstart", [1]), ("mixed_lot", [4, 11])):
         prepared = lots[name]
@@ -106,6 +107,7 @@ def test_the_shortest_baseline_plays_the_run_lotsim_plays(lots):
             assert _doc(env.result()) == _doc(lotsim.run(prepared, settings)), (name, seed)
 
 
+@pytest.mark.slow
 def test_every_episode_checks_and_its_return_is_the_cars_minutes_to_park(lots):
     for name, prepared in lots.items():
         env = lotsim.envs.ParkingOperatorEnv(prepared)
@@ -201,6 +203,7 @@ def _replayed(prepared, settings, answers):
     return live
 
 
+@pytest.mark.slow
 def test_the_mask_marks_exactly_the_slots_a_stepped_run_accepts(lots):
     settings = lotsim.RunSettings()
     assert _mask_agrees_with_the_run(lots["quickstart"], settings, baselines.shortest,

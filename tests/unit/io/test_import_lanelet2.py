@@ -183,6 +183,7 @@ def test_the_closed_form_and_the_frame_agree_to_a_micrometre():
     assert np.allclose(x, np.radians(lon - ORIGIN[1]) * n_r * math.cos(la), atol=0.01)
 
 
+@pytest.mark.slow
 def test_an_import_is_byte_for_byte_the_same(imported, tmp_path):
     _, path, text, _ = imported
     import_lanelet2(MAP, tmp_path)

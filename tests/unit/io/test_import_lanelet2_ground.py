@@ -185,6 +185,7 @@ def test_the_shipped_map_imports_wherever_its_origin_is_put_nearby(tmp_path, at_
         assert {s.id for s in read_scenario(path).scenario.lot.slots} == slots
 
 
+@pytest.mark.slow
 def test_lotsim_import_takes_an_origin_that_used_to_refuse_the_map(tmp_path, capsys):
     lat, lon = ORIGIN[0] - 0.0001, ORIGIN[1]
     code = main(["import", "lanelet2", str(MAP), "-o", str(tmp_path),

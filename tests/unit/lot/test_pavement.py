@@ -166,6 +166,7 @@ def test_the_drawing_carries_the_pavement(paved_run):
     assert not lot.pavement.covers(box(0, 0, 5, 5))
 
 
+@pytest.mark.slow
 def test_the_same_traffic_on_the_lot_paved_wall_to_wall_crosses_that_ground(paved_run):
     """The test above can fail: planned on the lot paved wall to wall, the same cars cut
     the kerb corners, which the checker sees against the paved lot's pavement."""

@@ -148,6 +148,7 @@ def _grid_walk(region, start, goal, step: float) -> float:
     return nx.dijkstra_path_length(g, n - 2, n - 1)
 
 
+@pytest.mark.slow
 def test_a_dense_grid_walk_is_a_little_longer_never_shorter():
     ground, bays, islands = _blocks()
     wg = walking_ground(ground, bays, islands)

@@ -157,6 +157,7 @@ def _lot(text):
     return build_lot(scenario.lot, DesignVehicle.envelope(scenario.vehicle_types)), scenario
 
 
+@pytest.mark.slow
 def test_a_wide_aisle_needs_no_direction_change_and_a_narrow_one_needs_some():
     car = CATALOGUE["valet"]
     changes = {}
@@ -169,6 +170,7 @@ def test_a_wide_aisle_needs_no_direction_change_and_a_narrow_one_needs_some():
     assert changes[4.6] >= changes[6.0] >= changes[12.0]
 
 
+@pytest.mark.slow
 def test_forward_and_reverse_styles_park_nose_in_and_nose_out():
     lot, _ = _lot(QUICK)
     slot = lot.slot_by_id["main-left-6"]
@@ -335,6 +337,7 @@ def test_cli_maneuver_draws_one_and_reports_bad_input(tmp_path, capsys):
     assert "cannot park" in capsys.readouterr().err
 
 
+@pytest.mark.slow
 def test_the_maneuver_picture_rings_every_place_the_car_stops_to_steer():
     from lotsim.render.maneuver_image import KEY_BAND, STEER, draw_maneuver, maneuver_canvas
 
@@ -369,6 +372,7 @@ def _edge_share(img: np.ndarray, corners: np.ndarray, colour) -> float:
     return hits / 48
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("leave", [False, True], ids=["in", "out"])
 def test_the_maneuver_picture_keeps_title_and_key_off_the_lot_and_marks_both_ends(leave):
     from lotsim.api import maneuver_case
@@ -457,6 +461,7 @@ def test_the_problem_is_frozen_and_its_key_has_no_side_effects():
     assert len(keys) == 1 and planner.key(problem, "forward") not in keys
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("name", ["mixed_lot", "example"])
 def test_problems_keyed_together_are_keyed_as_one_at_a_time(shipped_graphs, name):
     """prefetch keys its problems in batches (one shapely call a step over all of them):

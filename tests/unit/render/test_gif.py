@@ -580,6 +580,7 @@ def test_front_wheels_turn_gradually_within_the_steering_rate(street):
     assert np.all(turn[both] <= rates[None, :].repeat(len(turn), 0)[both] * 0.1 + 1e-5)
 
 
+@pytest.mark.slow
 def test_a_run_leaves_no_gif_of_an_earlier_run_beside_its_result(tmp_path, capsys,
                                                                  monkeypatch):
     # run --no-gif into a folder holding an earlier run's GIF left it beside the new

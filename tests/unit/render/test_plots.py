@@ -161,6 +161,7 @@ def test_timeline_of_a_run_uses_the_gif_colours(quickstart_doc, tmp_path):
     assert parked >= 3
 
 
+@pytest.mark.slow
 def test_a_timeline_of_1000_vehicles_is_one_collection_of_bars(quickstart_doc):
     base = quickstart_doc["vehicles"]
     vehicles = []

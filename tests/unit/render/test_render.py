@@ -340,6 +340,7 @@ def _text_box(c, w: float, h: float, angle: float) -> np.ndarray:
                      for sx, sy in ((-1, -1), (1, -1), (1, 1), (-1, 1))])
 
 
+@pytest.mark.slow
 def test_slot_ids_of_a_big_lot_are_drawn_along_the_slots_where_they_fit_only_so() -> None:
     # show of the large lot drew no id at its largest size (4000 px): they fit only turned
     import shapely

@@ -265,6 +265,7 @@ def test_junction_turns_join_aisles_with_feasible_arcs():
     assert reach.unreachable["in"] == [] and reach.stranded["out"] == []
 
 
+@pytest.mark.slow
 def test_a_car_reaches_the_exit_of_a_short_spur_at_driving_speed_not_a_crawl():
     """A gate spur 12 m long meets an aisle at a T, its exit 4.5 m in from the boundary.
     The fastest turns into the spur's outbound lane end past the exit (they need a long

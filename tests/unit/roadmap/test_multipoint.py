@@ -123,6 +123,7 @@ def test_a_multi_point_path_is_not_found_when_the_lane_cannot_be_reached():
     assert not got.found and got.value is None and got.reason
 
 
+@pytest.mark.slow
 def test_a_spur_meeting_a_short_arm_is_turned_into_in_a_few_strokes_and_every_bay_used():
     """A gate spur meets a 7.4 m aisle at a T; its east arm is too short past the corner bay
     for one right turn (it touches E1). Before, no car reached E2; now the turn is made in

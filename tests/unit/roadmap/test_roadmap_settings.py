@@ -119,6 +119,7 @@ def test_a_wider_turnaround_margin_keeps_every_turnaround_that_far_from_the_bays
     assert nearest(0.1) < 0.3 - 1e-3
 
 
+@pytest.mark.slow
 def test_an_expansion_limit_too_small_leaves_the_short_arm_without_its_multi_point_turn():
     """The tee's only way from the spur onto the east-bound lane is a multi-point turn: a
     search that may expand one state finds none, and the dead end it also needed is noted."""
@@ -170,6 +171,7 @@ def test_junction_turns_are_sized_only_for_the_design_speeds_given():
     assert sized_by_speed(RoadmapSettings()) != []
 
 
+@pytest.mark.slow
 def test_the_default_settings_make_the_graph_made_without_any():
     sc = scenario_from_text(TINY_TEE)
     lot = _lot(sc)

@@ -65,6 +65,7 @@ def test_every_disturbed_run_passes_the_independent_check(planned, spec):
         assert doc["stalls"], "stalls at this rate over an hour must stop some car"
 
 
+@pytest.mark.slow
 def test_the_same_seed_drives_the_same_run_and_another_seed_another(planned):
     spec = Disturbances(late_probability=0.5, late_max=8.0, stall_rate=10.0, seed=3)
     a = result_dict(_executed(planned, spec))
@@ -99,6 +100,7 @@ def test_a_slow_car_drives_its_plan_stretched_by_its_factor(planned):
     assert lotsim.check(ex).ok
 
 
+@pytest.mark.slow
 def test_a_stall_driven_without_the_plans_order_collides_and_with_it_does_not(planned):
     # stop each car in turn for a minute at its first standstill on the lanes: with the
     # order of the plan the others wait for it; moved alone (the others on their plans),

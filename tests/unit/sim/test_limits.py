@@ -84,6 +84,7 @@ def test_a_million_vehicles_is_refused_when_read(tmp_path):
 
 
 # -- runs too big are stopped while they plan ------------------------------------------------
+@pytest.mark.slow
 def test_a_run_projected_past_its_time_limit_stops_early_and_writes_nothing(tmp_path, capsys):
     """100 000 cars through a 12-slot lot: the projection stops it after a few seconds,
     located at the stream, long before the limit itself would."""
@@ -241,6 +242,7 @@ def test_a_scenario_without_a_name_is_named_after_its_file_safely(tmp_path, monk
     assert sorted(p.name for p in tmp_path.iterdir()) == ["..my lot (v2).yaml", "runs"]
 
 
+@pytest.mark.slow
 def test_a_run_writes_only_inside_its_output_folder(tmp_path, monkeypatch):
     """Every file a run of a shipped scenario with an animation creates is in -o OUTDIR
     (quickstart, its animation section drawing a small GIF)."""

@@ -47,6 +47,7 @@ def test_a_car_longer_than_the_slot_is_refused_before_any_lane_is_worked_out(
         maneuver_case(SHORT, "P2", vehicle="corsa")
 
 
+@pytest.mark.slow
 def test_the_turns_kept_for_a_lot_answer_the_next_question_on_it(monkeypatch, tmp_path):
     monkeypatch.setenv("LOTSIM_CACHE_DIR", str(tmp_path))
     monkeypatch.setattr(preparation, "REMEMBER_FROM", 0)

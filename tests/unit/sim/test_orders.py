@@ -135,6 +135,7 @@ def test_order_crossover_gives_permutations_keeping_a_slice_of_the_first_parent(
             assert same.any() or n == 0
 
 
+@pytest.mark.slow
 def test_the_ga_never_does_worse_than_arrival_order_or_shortest_first(burst):
     sc, lg = burst
     cars = [Arrival(f"c{k}", "valet", "in", 1.0 * k) for k in range(5)]

@@ -79,6 +79,7 @@ def test_a_threshold_no_wait_reaches_changes_nothing(driven):
     assert calm.execution.repaired == 0
 
 
+@pytest.mark.slow
 def test_the_same_seed_repairs_alike(driven):
     _, _, repaired, drive = driven
     again = drive(5.0)

@@ -48,6 +48,7 @@ def _dense_overlap(a, b):
     return bool(shapely.intersects(shapely.polygons(at(a)), shapely.polygons(at(b))).any())
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("via", ["motion", "trajectory"])
 def test_random_crossings_that_touch_at_an_instant_are_always_caught(via):
     rng = np.random.default_rng(11)
@@ -216,6 +217,7 @@ def _brute_first_conflict(table, sw, offset, ignore):
     return None
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("few", [True, False])
 def test_queries_among_the_nearby_entries_answer_as_the_table_and_a_brute_force_do(few):
     # candidates gathered once over the cells and times of several queries (as a search
@@ -496,6 +498,7 @@ def test_reserving_a_swept_files_it_as_its_intervals_one_by_one():
                                  for i in range(n)]
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("few", [True, False])
 def test_blocked_departures_of_bodies_and_motions_are_those_a_brute_force_finds(few):
     # blocked (gathering its own candidates) against every entry and hull tested with

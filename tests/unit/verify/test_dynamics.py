@@ -226,6 +226,7 @@ def test_valid_result_passes(samples):
     assert report.stats["samples"] == len(samples["t"])
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("kink", [0.0, 0.001, 0.025, 0.045, 0.049])
 def test_a_curvature_kink_anywhere_in_an_interval_passes(kink):
     assert check_result(result_for(build(kink=kink))).ok
