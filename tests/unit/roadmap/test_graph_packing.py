@@ -26,8 +26,9 @@ def _same(a: nx.DiGraph, b: nx.DiGraph) -> None:
     assert all(a.edges[u, v] == b.edges[u, v] for u, v in a.edges)
 
 
-@pytest.mark.parametrize("name", ["scenarios/mixed_lot.yaml", "scenarios/street.yaml",
-                                  "scenarios/lots/ladder.yaml"])
+@pytest.mark.parametrize("name", [
+    "scenarios/mixed_lot.yaml", "scenarios/street.yaml",
+    pytest.param("scenarios/lots/ladder.yaml", marks=pytest.mark.slow)])  # (its preparation)
 def test_a_shipped_lot_graph_comes_back_in_the_same_order(name):
     g = prepare(name).lot_graph.graph
     back = unpack_graph(pack_graph(g))
