@@ -384,7 +384,6 @@ def test_the_header_keeps_every_tag_of_the_lot(real):
     assert "highway=residential way 22731285" in text  # the road of its gate
 
 
-@pytest.mark.slow
 def test_an_imported_real_lot_validates_runs_and_passes_the_checker(real):
     from lotsim.api import run, validate
     from lotsim.io.result import result_dict
