@@ -45,6 +45,7 @@ _EXPORTS = {
     "lotsim.maneuvers.settings": ("ManeuverSettings", "MinSlotSettings"),
     "lotsim.roadmap.settings": ("AreaTurnSettings", "MultipointSettings", "RoadmapSettings",
                                 "TurnSettings", "TurnaroundSettings"),
+    "lotsim.lot.settings": ("LotSettings",),
     "lotsim.errors": ("InfeasibleManeuver", "LimitExceeded", "Location", "LotsimError",
                       "DecisionError", "OutputError", "ReplayError", "ResultFormatError",
                       "ScenarioError", "ScenarioErrors", "SettingsError"),
@@ -127,6 +128,7 @@ if TYPE_CHECKING:  # for type checkers and editors: the same names, imported eag
         SettingsError,
     )
     from lotsim.io.imports.dxf import DxfLayers  # noqa: F401
+    from lotsim.lot.settings import LotSettings  # noqa: F401
     from lotsim.maneuvers.settings import ManeuverSettings, MinSlotSettings  # noqa: F401
     from lotsim.roadmap.settings import (  # noqa: F401
         AreaTurnSettings,

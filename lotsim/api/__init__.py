@@ -65,6 +65,7 @@ EXPORTS: dict[str, tuple[str, ...]] = {
     "lotsim.maneuvers.settings": ("MARGIN", "ManeuverSettings", "MinSlotSettings", "STYLES"),
     "lotsim.roadmap.settings": ("AreaTurnSettings", "MultipointSettings", "RoadmapSettings",
                                 "TurnSettings", "TurnaroundSettings"),
+    "lotsim.lot.settings": ("LotSettings",),
     "lotsim.maneuvers.slot_table": ("MinSlotTable", "check_slot_width"),
     # prepared lots, runs and their limits
     "lotsim.sim.preparation": ("PreparedLot",),
@@ -183,6 +184,7 @@ if TYPE_CHECKING:  # for type checkers and editors: the same names, imported eag
         load_scenario,
         read_scenario,
     )
+    from lotsim.lot.settings import LotSettings  # noqa: F401
     from lotsim.maneuvers.settings import (  # noqa: F401
         MARGIN,
         STYLES,

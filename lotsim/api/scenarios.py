@@ -14,6 +14,7 @@ from typing import Any
 
 from lotsim.errors import ScenarioError, SettingsError
 from lotsim.io.scenario_yaml import load_scenario
+from lotsim.lot.settings import LotSettings
 from lotsim.maneuvers.settings import ManeuverSettings
 from lotsim.roadmap.settings import RoadmapSettings, as_settings
 from lotsim.scenario import Scenario
@@ -71,9 +72,11 @@ def source_of(scenario: ScenarioLike | PreparedLot) -> str:
 
 
 def with_settings(scenario: Scenario, *, roadmap: RoadmapSettings | None = None,
-                  maneuvers: ManeuverSettings | None = None) -> Scenario:
-    """``scenario`` with ``roadmap`` and ``maneuvers`` in place of its own settings (None:
-    its own), each checked to be what it says (:class:`~lotsim.errors.SettingsError`).
+                  maneuvers: ManeuverSettings | None = None, lot: LotSettings | None = None
+                  ) -> Scenario:
+    """``scenario`` with ``roadmap``, ``maneuvers`` and ``lot`` (how its lot is built: its
+    spec's settings) in place of its own settings (None: its own), each checked to be what
+    it says (:class:`~lotsim.errors.SettingsError`).
 
     >>> sc = with_settings(load_scenario(EXAMPLE), maneuvers=ManeuverSettings(margin=0.2))
     >>> sc.maneuvers.margin, sc.roadmap == RoadmapSettings()
@@ -84,12 +87,15 @@ def with_settings(scenario: Scenario, *, roadmap: RoadmapSettings | None = None,
         changes["roadmap"] = as_settings(roadmap, RoadmapSettings, "roadmap")
     if maneuvers is not None:
         changes["maneuvers"] = as_settings(maneuvers, ManeuverSettings, "maneuvers")
+    if lot is not None:
+        changes["lot"] = dataclasses.replace(scenario.lot,
+                                             settings=as_settings(lot, LotSettings, "lot"))
     return dataclasses.replace(scenario, **changes) if changes else scenario
 
 
 def prepare(scenario: ScenarioLike, *, roadmap: RoadmapSettings | None = None,
-            maneuvers: ManeuverSettings | None = None, cache: bool = True,
-            progress=None) -> PreparedLot:
+            maneuvers: ManeuverSettings | None = None, lot: LotSettings | None = None,
+            cache: bool = True, progress=None) -> PreparedLot:
     """Build the scenario's lot for its vehicle types, plan every slot's maneuvers and the
     drivable graph through them, once, for any number of runs.
 
@@ -102,8 +108,12 @@ def prepare(scenario: ScenarioLike, *, roadmap: RoadmapSettings | None = None,
         (its file's ``roadmap`` section).
     maneuvers : ManeuverSettings, optional, keyword-only
         How the parking maneuvers are planned (clearance, direction changes, probes,
-        easing); default the scenario's (its file's ``maneuvers`` section). Both are kept in
-        the prepared lot's scenario, and a run's ``result.json`` writes them.
+        easing); default the scenario's (its file's ``maneuvers`` section).
+    lot : LotSettings, optional, keyword-only
+        How the lot is built (the free space beside the widest car in its lane, the
+        sweeps' spacing, the slowest a bend is driven); default the scenario's (its file's
+        ``lot.build``). All three are kept in the prepared lot's scenario, and a run's
+        ``result.json`` writes them.
     cache : bool, keyword-only
         Load a lot prepared before (same lot, vehicle types, settings and lotsim) from the
         on-disk cache (``LOTSIM_CACHE_DIR``; ``off`` turns it off) and store a new one
@@ -122,7 +132,7 @@ def prepare(scenario: ScenarioLike, *, roadmap: RoadmapSettings | None = None,
     ScenarioError
         When the layout does not hold together (overlaps, narrow aisles, ...).
     SettingsError
-        When ``roadmap`` or ``maneuvers`` is not a settings object of its kind.
+        When ``roadmap``, ``maneuvers`` or ``lot`` is not a settings object of its kind.
 
     Examples
     --------
@@ -132,7 +142,7 @@ def prepare(scenario: ScenarioLike, *, roadmap: RoadmapSettings | None = None,
     >>> prepare(EXAMPLE, maneuvers=ManeuverSettings(margin=0.15)).scenario.maneuvers.margin
     0.15
     """
-    sc = with_settings(scenario_of(scenario), roadmap=roadmap, maneuvers=maneuvers)
+    sc = with_settings(scenario_of(scenario), roadmap=roadmap, maneuvers=maneuvers, lot=lot)
     if progress is None:  # in a notebook, the cell shows it
         from lotsim.api.notebook import progress_for
 

@@ -11,7 +11,7 @@ import pytest
 import lotsim
 import lotsim.api
 from lotsim.api.scenarios import EXAMPLE
-from lotsim.errors import SettingsError
+from lotsim.errors import ScenarioError, SettingsError
 from lotsim.io.result import result_dict
 from lotsim.io.scenario_yaml import load_scenario
 from lotsim.lot.settings import LotSettings
@@ -51,6 +51,20 @@ def test_a_lot_prepared_with_other_settings_is_prepared_again_not_loaded(folder)
     # the margin given to prepare_lot and the same margin in the settings are one lot
     assert prepare_lot(sc, margin=0.2).lot_graph.from_cache
     assert not lotsim.prepare(sc, maneuvers=ManeuverSettings(max_changes=4)).lot_graph.from_cache
+    assert not lotsim.prepare(sc, lot=LotSettings(sweep=0.1)).lot_graph.from_cache
+    assert lotsim.prepare(sc, lot=LotSettings(sweep=0.1)).lot_graph.from_cache
+
+
+def test_the_lot_settings_given_to_prepare_build_the_lot():
+    prepared = lotsim.prepare(EXAMPLE, lot=LotSettings(lane_clearance=0.2), cache=False)
+    assert prepared.lot.settings == prepared.scenario.lot.settings == LotSettings(
+        lane_clearance=0.2)
+    # the example's 7 m one-way aisle as a two-way one: room for its two lanes with the
+    # default clearance, not with 1 m each side
+    two_way = EXAMPLE.replace("direction: one-way", "direction: two-way")
+    assert lotsim.prepare(two_way, cache=False).lot.aisles["main"]
+    with pytest.raises(ScenarioError, match="1.00 m lane clearance"):
+        lotsim.prepare(two_way, lot=LotSettings(lane_clearance=1.0), cache=False)
 
 
 def test_the_scenarios_maneuver_settings_plan_its_maneuvers():
@@ -71,6 +85,8 @@ def test_prepare_refuses_settings_of_another_kind():
         lotsim.prepare(EXAMPLE, roadmap=ManeuverSettings(), cache=False)
     with pytest.raises(SettingsError, match="maneuvers: expected ManeuverSettings"):
         lotsim.prepare(EXAMPLE, maneuvers={"margin": 0.2}, cache=False)
+    with pytest.raises(SettingsError, match="lot: expected LotSettings"):
+        lotsim.prepare(EXAMPLE, lot=RoadmapSettings(), cache=False)
 
 
 def test_result_json_writes_the_settings_the_lot_was_prepared_with_and_they_make_them_again():
