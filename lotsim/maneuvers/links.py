@@ -11,12 +11,9 @@ from lotsim.core.keys import inputs, key_of
 from lotsim.core.workers import fork_map
 from lotsim.lot.model import Lot
 from lotsim.maneuvers.maneuver import Maneuver
-from lotsim.roadmap.lanes import speed_limit_along
+from lotsim.roadmap.lanes import path_speed_limit
 from lotsim.roadmap.model import ParkingLink
 from lotsim.vehicles.model import VehicleType
-
-LIMIT_STEP = 0.25
-"""Spacing of the points along a maneuver at which the lot's speed zones are read [m]."""
 
 
 @inputs
@@ -64,11 +61,9 @@ def parking_links(lot: Lot, maneuvers: dict[tuple[str, str, str], Maneuver],
 
 
 def _limit(lot: Lot, m: Maneuver) -> float:
-    """The speed limit along ``m`` [m/s]: the lowest of the zones it runs in, read at
-    points :data:`LIMIT_STEP` apart (the lot's limit, unsampled, when it has no zones)."""
-    if not lot.zones:
-        return lot.speed_limit
-    return speed_limit_along(lot, m.sample(LIMIT_STEP)[0][:, :2])
+    """The speed limit along ``m`` [m/s]: the lowest of the zones it runs in
+    (:func:`~lotsim.roadmap.lanes.path_speed_limit`, as the roadmap reads its own paths)."""
+    return path_speed_limit(lot, lambda step: m.sample(step)[0])
 
 
 def _timed(paths: list[tuple[Maneuver, str, float]], types: dict[str, VehicleType],

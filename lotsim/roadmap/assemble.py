@@ -22,7 +22,7 @@ from lotsim.lot.kinds import kind_of
 from lotsim.lot.model import DesignVehicle, Lane, Lot, Slot
 from lotsim.roadmap.junction_multipoints import junction_multipoints
 from lotsim.roadmap.junctions import turns_of
-from lotsim.roadmap.lanes import EPS, lane_serves, portal_station, speed_limit_along
+from lotsim.roadmap.lanes import EPS, lane_serves, path_speed_limit, portal_station
 from lotsim.roadmap.memo import RoadmapMemo, designs_of, types_key
 from lotsim.roadmap.model import LotGraph, ParkingLink, Turn
 from lotsim.roadmap.remembered import handed_back, take_back
@@ -335,11 +335,8 @@ def _lane_piece(lane: Lane, i: int, d0: float, s1: float, start: Pose) -> Segmen
 
 def _path_limit(lot: Lot, path: tuple[Segment, ...]) -> float:
     """Speed limit along ``path``: the lowest zone it runs in [m/s]
-    (:func:`~lotsim.roadmap.lanes.speed_limit_along` of points 0.25 m apart; the lot's
-    limit, unsampled, when the lot has no zones)."""
-    if not lot.zones:
-        return lot.speed_limit
-    return speed_limit_along(lot, sample_segments(path, 0.25)[0][:, :2])
+    (:func:`~lotsim.roadmap.lanes.path_speed_limit`)."""
+    return path_speed_limit(lot, lambda step: sample_segments(path, step)[0])
 
 
 def _add_edge(g: nx.DiGraph, lot: Lot, u: int, v: int, path: tuple[Segment, ...],

@@ -111,6 +111,18 @@ def portal_station(lot: Lot, portal: Portal) -> tuple[str, float]:
     return best[1], best[2]
 
 
+ZONE_STEP = 0.25
+"""Spacing of the points along a path at which the lot's speed zones are read [m]."""
+
+
+def path_speed_limit(lot: Lot, sample) -> float:
+    """The speed limit along a path whose poses ``sample(step)`` gives (N, 3 or more), read
+    at :data:`ZONE_STEP` (the lot's limit, unsampled, when the lot has no zones) [m/s]."""
+    if not lot.zones:
+        return lot.speed_limit
+    return speed_limit_along(lot, sample(ZONE_STEP)[:, :2])
+
+
 def speed_limit_along(lot: Lot, points: np.ndarray) -> float:
     """The speed limit along a path through ``points`` (N, 2): the lowest of the lot's
     zones it runs in [m/s]."""
