@@ -198,11 +198,17 @@ def test_aside_left_by_an_error_or_interrupted_while_it_waits_does_not_hang(tmp_
         raise ValueError("the block failed before it waited")
     slow = Aside(lambda: (time.sleep(5), big)[1])
     # Ctrl-C reaches this process's main thread while it waits (sent to the thread itself:
-    # one sent to the process may be taken by another of its threads)
+    # one sent to the process may be taken by another of its threads); Python's own handler
+    # for it, which a process started in the background of a shell does not have (it
+    # inherits Ctrl-C ignored)
+    handler = signal.signal(signal.SIGINT, signal.default_int_handler)
     threading.Timer(0.3, signal.pthread_kill,
                     (threading.main_thread().ident, signal.SIGINT)).start()
     started = time.perf_counter()
-    with time_limit(20), pytest.raises(KeyboardInterrupt):
-        slow.wait()
+    try:
+        with time_limit(20), pytest.raises(KeyboardInterrupt):
+            slow.wait()
+    finally:
+        signal.signal(signal.SIGINT, handler)
     assert time.perf_counter() - started < 3  # not the 5 s it would take
     assert slow.wait() is None  # ended: nothing left to wait for
