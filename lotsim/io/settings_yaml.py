@@ -21,7 +21,7 @@ from lotsim.lot.settings import LotSettings
 from lotsim.maneuvers.settings import WAY_OUT, ManeuverSettings
 from lotsim.roadmap.settings import (
     GROUPS,
-    KMH,
+    KMH_PER_MS,
     AreaTurnSettings,
     MultipointSettings,
     RoadmapSettings,
@@ -53,7 +53,7 @@ def _integer(n: YNode) -> int:
 
 
 def _kmh(n: YNode) -> float:
-    return n.number(what="a speed in km/h") / KMH
+    return n.number(what="a speed in km/h") / KMH_PER_MS
 
 
 def _speeds_kmh(n: YNode) -> tuple[float, ...]:

@@ -26,9 +26,9 @@ from typing import Any
 
 from lotsim.core.checks import is_real, raise_first, range_problem, set_field
 
-KMH = 3.6
+KMH_PER_MS = 3.6
 """km/h in one m/s (a speed in km/h over this is in m/s, to the last bit as lotsim has
-always divided)."""
+always divided; :data:`lotsim.vehicles.KMH` is the other way round, m/s in one km/h)."""
 
 
 def _tuples(obj: object, names: Sequence[str]) -> None:
@@ -93,7 +93,8 @@ class TurnSettings:
         turn out of it for the two to be joined into one turn through the stretch.
     """
 
-    speeds: tuple[float, ...] = tuple(k / KMH for k in (15.0, 12.5, 10.0, 7.5, 5.0, 3.0, 1.5))
+    speeds: tuple[float, ...] = tuple(k / KMH_PER_MS
+                                      for k in (15.0, 12.5, 10.0, 7.5, 5.0, 3.0, 1.5))
     through_overlap: float = 15.0
 
     def __post_init__(self) -> None:
@@ -128,7 +129,7 @@ class AreaTurnSettings:
     shifts: tuple[float, ...] = (0.0, 1.0, -1.0, 2.0, -2.0, 3.0, -3.0, 4.0)
     leads: tuple[float, ...] = (1.5, 3.0, 4.5, 6.0, 9.0, 12.0)
     radii: tuple[float, ...] = (1.0, 1.5)
-    speeds: tuple[float, ...] = (5.0 / KMH, 3.0 / KMH, 1.5 / KMH)
+    speeds: tuple[float, ...] = (5.0 / KMH_PER_MS, 3.0 / KMH_PER_MS, 1.5 / KMH_PER_MS)
 
     def __post_init__(self) -> None:
         _tuples(self, ("shifts", "leads", "radii", "speeds"))
