@@ -599,7 +599,8 @@ def write(page: Page, path: Path, args: argparse.Namespace, took: float) -> None
         f"- mode: {mode}, {args.runs} run(s) of each timing; the whole command took "
         f"{took / 60:.1f} min",
         "",
-        "All figures come from one machine, which other jobs shared while they were measured:",
+        "All figures come from one machine, at the load above (this command's own work is a",
+        "load of 1 to 2 on 2 cores; more means other jobs shared the machine while it measured):",
         "times on another machine (or another moment) differ; the outcomes of the suites",
         "(times to park, expansions, gains) do not, and ratios between rows of this page",
         "carry over better than seconds.",
