@@ -361,14 +361,8 @@ def motions_at(motions: Sequence[Motion], taus: Sequence[FloatArray], *, wheelba
     worked out by itself, as alone.
     """
     taus = [np.asarray(t, dtype=float).reshape(-1) for t in taus]
-    tau = np.concatenate(taus) if taus else np.zeros(0)
-    n = len(tau)
-    poses = np.zeros((n, 3))
-    v = np.zeros(n)
-    steer = np.zeros(n)
-    gear = np.zeros(n, dtype=int)
     # the phases of all the motions, one table: each one's start in its motion's time (the
-    # running sums np.cumsum makes), and the strokes' profiles and segments, flat
+    # running sums np.cumsum makes); a motion with none stands nowhere (zeros)
     offsets: list[float] = []
     first: list[int] = []  # each motion's first phase
     count: list[int] = []  # and how many it has
@@ -381,16 +375,43 @@ def motions_at(motions: Sequence[Motion], taus: Sequence[FloatArray], *, wheelba
             offsets.append(acc)
             acc += ph.duration
         phases.extend(m.phases)
-    if not n or not phases:
-        return poses, v, steer, gear
-    sizes = [len(t) for t in taus]
-    motion_of = np.repeat(np.arange(len(motions)), sizes)
+    if len(motions) == 1:  # (numpy's own search)
+        tau = taus[0]
+        if not phases or not len(tau):
+            return np.zeros((len(tau), 3)), np.zeros(len(tau)), np.zeros(len(tau)), \
+                np.zeros(len(tau), dtype=int)
+        phase = np.clip(np.searchsorted(np.array(offsets), tau, side="left") - 1, 0,
+                        len(offsets) - 1)
+        return _phases_at(phases, phase, tau - np.array(offsets)[phase], wheelbase)
+    tau = np.concatenate(taus) if taus else np.zeros(0)
+    n = len(tau)
+    out = (np.zeros((n, 3)), np.zeros(n), np.zeros(n), np.zeros(n, dtype=int))
+    motion_of = np.repeat(np.arange(len(motions)), [len(t) for t in taus])
+    some = np.array(count)[motion_of] > 0
+    if not some.any():
+        return out
+    motion_of, tau = motion_of[some], tau[some]
     which = _rank(np.array(offsets), np.array(first), np.array(count), motion_of, tau,
                   strict=True)
-    which = np.clip(which - 1, 0, np.maximum(np.array(count)[motion_of] - 1, 0))
-    phase = np.array(first)[motion_of] + which
-    local = tau - np.array(offsets)[phase]
+    phase = np.array(first)[motion_of] + np.clip(which - 1, 0, np.array(count)[motion_of] - 1)
+    for col, got in zip(out, _phases_at(phases, phase, tau - np.array(offsets)[phase],
+                                        wheelbase), strict=True):
+        col[some] = got
+    return out
+
+
+def _phases_at(phases: Sequence[Phase], phase: np.ndarray, local: FloatArray,
+               wheelbase: float) -> tuple[FloatArray, ...]:
+    """:meth:`Motion.at`'s columns at times ``local`` [s] into ``phases[phase]``."""
     is_stroke = np.array([isinstance(ph, Stroke) for ph in phases])
+    if is_stroke.all():  # (no standing to steer: every sample drives)
+        poses, sp, kappa, g = _strokes_at(phases, is_stroke, phase, local)
+        return poses, g * sp, np.arctan(kappa * wheelbase), g
+    n = len(local)
+    poses = np.zeros((n, 3))
+    v = np.zeros(n)
+    steer = np.zeros(n)
+    gear = np.zeros(n, dtype=int)
     at_rest = ~is_stroke[phase]
     if at_rest.any():
         turns = [ph if isinstance(ph, Steering) else Steering((0.0, 0.0, 0.0), 0.0, 0.0, 0.0)
@@ -419,6 +440,9 @@ def _rank(values: FloatArray, first: np.ndarray, count: np.ndarray, group: np.nd
     """For each ``x[i]``, how many of its group's values (``values[first[g]:first[g] +
     count[g]]``, sorted, for ``g = group[i]``) are below it (``strict``), or at most it:
     :func:`numpy.searchsorted` of each group's values, ``side="left"`` or ``"right"``."""
+    if len(count) == 1:  # (one group: numpy's own search)
+        return np.searchsorted(values[first[0]: first[0] + count[0]], x,
+                               side="left" if strict else "right")
     width = int(count.max()) if len(count) else 0
     cols = np.arange(width)
     idx = first[:, None] + cols[None, :]
@@ -442,17 +466,22 @@ def _profiles_at(profiles: Sequence[Profile], which: np.ndarray, tau: FloatArray
                  ) -> tuple[FloatArray, FloatArray]:
     """Path lengths [m] and speeds [m/s] at times ``tau`` [s] along ``profiles[which]``
     (:meth:`Profile.at`)."""
-    first = np.cumsum([0] + [len(p.t) for p in profiles[:-1]])
-    count = np.array([len(p.t) for p in profiles])
-    t, s, v, a = (np.concatenate([getattr(p, c) for p in profiles]) for c in "tsva")
-    k = np.clip(_rank(t, first, count, which, tau, strict=False) - 1, 0,
-                count[which] - 2) + first[which]
+    if len(profiles) == 1:  # (one profile: its own arrays, and scalars for the tables)
+        t, s, v, a = (getattr(profiles[0], c) for c in "tsva")
+        k = np.clip(np.searchsorted(t, tau, side="right") - 1, 0, len(t) - 2)
+        end = len(t) - 1
+    else:
+        first = np.cumsum([0] + [len(p.t) for p in profiles[:-1]])
+        count = np.array([len(p.t) for p in profiles])
+        t, s, v, a = (np.concatenate([getattr(p, c) for p in profiles]) for c in "tsva")
+        k = np.clip(_rank(t, first, count, which, tau, strict=False) - 1, 0,
+                    count[which] - 2) + first[which]
+        end = (first + count - 1)[which]
     cell = t[k + 1] - t[k]
     jerk = np.where(cell > 0, (a[k + 1] - a[k]) / np.where(cell > 0, cell, 1.0), 0.0)
     d = np.clip(tau - t[k], 0.0, cell)
     pos = s[k] + v[k] * d + a[k] * d * d / 2 + jerk * d ** 3 / 6
     speed = v[k] + a[k] * d + jerk * d * d / 2
-    end = (first + count - 1)[which]
     done = tau >= t[end]  # the end exactly, without the cubic's rounding
     pos, speed = np.where(done, s[end], pos), np.where(done, v[end], speed)
     return np.clip(pos, 0.0, s[end]), np.maximum(speed, 0.0)
@@ -463,8 +492,6 @@ def _paths_at(strokes: Sequence[Stroke], which: np.ndarray, s: FloatArray
     """Poses (N, 3) and curvatures (N,) after path lengths ``s`` [m] along
     ``strokes[which]`` (:meth:`Stroke.poses`)."""
     segs = [g for st in strokes for g in st.segments]
-    first = np.cumsum([0] + [len(st.segments) for st in strokes[:-1]])
-    count = np.array([len(st.segments) for st in strokes])
     lengths = np.array([g.length for g in segs])
     starts: list[float] = []
     for st in strokes:  # (each stroke's running sums, as np.cumsum makes them)
@@ -473,13 +500,22 @@ def _paths_at(strokes: Sequence[Stroke], which: np.ndarray, s: FloatArray
             starts.append(acc)
             acc += g.length
     starts_a = np.array(starts)
-    pid = np.clip(_rank(starts_a, first, count, which, s, strict=False) - 1, 0,
-                  count[which] - 1) + first[which]
+    if len(strokes) == 1:  # (one stroke: numpy's own search, and its gear as a number)
+        pid = np.clip(np.searchsorted(starts_a, s, side="right") - 1, 0, len(segs) - 1)
+        gears: np.ndarray | int = strokes[0].gear
+    else:
+        first = np.cumsum([0] + [len(st.segments) for st in strokes[:-1]])
+        count = np.array([len(st.segments) for st in strokes])
+        pid = np.clip(_rank(starts_a, first, count, which, s, strict=False) - 1, 0,
+                      count[which] - 1) + first[which]
+        gears = np.array([st.gear for st in strokes])[which]
     into = np.clip(s - starts_a[pid], 0.0, lengths[pid])
     seg_start = np.array([g.start for g in segs]).reshape(-1, 3)[pid]
     kappa = np.array([g.curvature for g in segs])[pid]
     sigma = np.array([g.sharpness for g in segs])[pid]
-    dist = np.array([st.gear for st in strokes])[which] * into
+    dist = gears * into
+    if len(strokes) == 1:  # (as travel takes it)
+        return travel(seg_start, dist, kappa, sigma), kappa + sigma * into
     out = np.empty((len(s), 3))
     # a stroke whose samples meet a clothoid by itself (its quadrature follows its turn)
     curved = np.zeros(len(strokes), dtype=bool)
