@@ -6,6 +6,7 @@ import contextlib
 import dataclasses
 import gzip
 import io
+import itertools
 import json
 import math
 from collections.abc import Iterator
@@ -20,7 +21,7 @@ from lotsim.core.atomic import atomic_write
 from lotsim.io.lot_json import lot_to_json
 from lotsim.lot.uses import STANDARD
 from lotsim.sim.results import RunResult, VehicleRun
-from lotsim.vehicles.motion import Trajectory
+from lotsim.vehicles.motion import Trajectory, motions_at
 
 FORMAT = "lotsim-result"
 VERSION = 1
@@ -265,7 +266,44 @@ def samples(v: VehicleRun, *, dt: float = SAMPLE_DT) -> Trajectory | None:
     moves = [m for m in v.moves if m.kind != "outside"]
     if not moves:
         return None
+    # each move's sample times: the clock's instants k·dt within it, its start, its cusps and
+    # its end, in its own time; all the moves' motions then sampled in one batch
+    driven = [m for m in moves if m.motion is not None]
+    taus = []
+    if driven:
+        t0 = np.array([m.t0 for m in driven])
+        lo = np.floor(t0 / dt).astype(np.int64) + 1
+        hi = np.ceil(np.array([m.t1 for m in driven]) / dt).astype(np.int64)
+        n = np.maximum(hi - lo, 0)
+        ks = np.arange(int(n.sum())) - np.repeat(np.cumsum(n) - n - lo, n)
+        # and each move's start, cusps and end, from its phases' running sums (as
+        # Motion.cusps and Motion.duration make them)
+        extra: list[float] = []
+        owner: list[int] = []
+        ends = []
+        for j, m in enumerate(driven):
+            acc = 0.0
+            extra.append(acc)
+            for ph in m.motion.phases:
+                acc += ph.duration
+                extra.append(acc)
+            owner += [j] * (len(m.motion.phases) + 1)
+            ends.append(acc)
+        move = np.concatenate([np.repeat(np.arange(len(driven)), n), owner]).astype(np.int64)
+        tau = np.concatenate([ks * dt - np.repeat(t0, n), extra])
+        # sorted within each move, each instant once, and only those within the move
+        order = np.lexsort((tau, move))
+        move, tau = move[order], tau[order]
+        first = np.ones(len(tau), dtype=bool)
+        first[1:] = (move[1:] != move[:-1]) | (tau[1:] != tau[:-1])
+        keep = first & (tau >= 0) & (tau <= np.array(ends)[move])
+        move, tau = move[keep], tau[keep]
+        bound = [0, *np.cumsum(np.bincount(move, minlength=len(driven))).tolist()]
+        taus = [tau[a:z] for a, z in itertools.pairwise(bound)]
+        p, speed, steer, gear = motions_at([m.motion for m in driven], taus,
+                                           wheelbase=v.vehicle.wheelbase)
     parts: list[tuple[np.ndarray, ...]] = []
+    k = 0
     for m in moves:
         if m.motion is None:  # standing
             pose = m.end_pose
@@ -274,12 +312,10 @@ def samples(v: VehicleRun, *, dt: float = SAMPLE_DT) -> Trajectory | None:
             parts.append((t, z + pose[0], z + pose[1], z + pose[2], z, z + m.steer,
                           np.zeros(2, int)))
             continue
-        grid = np.arange(math.floor(m.t0 / dt) + 1, math.ceil(m.t1 / dt)) * dt
-        tau = np.unique(np.concatenate([[0.0], grid - m.t0, m.motion.cusps,
-                                        [m.motion.duration]]))
-        tau = tau[(tau >= 0) & (tau <= m.motion.duration)]
-        p, speed, steer, gear = m.motion.at(tau, wheelbase=v.vehicle.wheelbase)
-        parts.append((m.t0 + tau, p[:, 0], p[:, 1], p[:, 2], speed, steer, gear))
+        a, z = bound[k], bound[k + 1]
+        parts.append((m.t0 + taus[k], p[a:z, 0], p[a:z, 1], p[a:z, 2], speed[a:z],
+                      steer[a:z], gear[a:z]))
+        k += 1
     cols = [np.concatenate([p[k] for p in parts]) for k in range(7)]
     # one sample per instant: where moves meet the later move's first sample stays; two
     # samples microseconds apart (written to 1 µs) are one, at the earlier time
