@@ -275,7 +275,7 @@ class Stroke:
     def poses(self, s: FloatArray) -> tuple[FloatArray, FloatArray]:
         """Poses (N, 3) and curvatures (N,) after path lengths ``s`` [m]."""
         s = np.asarray(s, dtype=float).reshape(-1)
-        return _paths_at([self], np.zeros(s.size, dtype=int), s)
+        return _paths_at([self], np.zeros(s.size, dtype=int), s)[:2]
 
 
 @dataclass(frozen=True)
@@ -458,8 +458,8 @@ def _strokes_at(phases: Sequence[Phase], is_stroke: np.ndarray, phase: np.ndarra
     strokes = [ph for ph, s in zip(phases, is_stroke, strict=True) if s]
     which = (np.cumsum(is_stroke) - 1)[phase]  # each sample's stroke
     s, speed = _profiles_at([st.profile for st in strokes], which, local)
-    poses, kappa = _paths_at(strokes, which, s)
-    return poses, speed, kappa, np.array([st.gear for st in strokes])[which]
+    poses, kappa, gears = _paths_at(strokes, which, s)
+    return poses, speed, kappa, np.broadcast_to(gears, which.shape).astype(int)
 
 
 def _profiles_at(profiles: Sequence[Profile], which: np.ndarray, tau: FloatArray
@@ -488,9 +488,9 @@ def _profiles_at(profiles: Sequence[Profile], which: np.ndarray, tau: FloatArray
 
 
 def _paths_at(strokes: Sequence[Stroke], which: np.ndarray, s: FloatArray
-              ) -> tuple[FloatArray, FloatArray]:
-    """Poses (N, 3) and curvatures (N,) after path lengths ``s`` [m] along
-    ``strokes[which]`` (:meth:`Stroke.poses`)."""
+              ) -> tuple[FloatArray, FloatArray, np.ndarray | int]:
+    """Poses (N, 3), curvatures (N,) and gears (N,; one number for one stroke) after path
+    lengths ``s`` [m] along ``strokes[which]`` (:meth:`Stroke.poses`)."""
     segs = [g for st in strokes for g in st.segments]
     lengths = np.array([g.length for g in segs])
     starts: list[float] = []
@@ -515,7 +515,7 @@ def _paths_at(strokes: Sequence[Stroke], which: np.ndarray, s: FloatArray
     sigma = np.array([g.sharpness for g in segs])[pid]
     dist = gears * into
     if len(strokes) == 1:  # (as travel takes it)
-        return travel(seg_start, dist, kappa, sigma), kappa + sigma * into
+        return travel(seg_start, dist, kappa, sigma), kappa + sigma * into, gears
     out = np.empty((len(s), 3))
     # a stroke whose samples meet a clothoid by itself (its quadrature follows its turn)
     curved = np.zeros(len(strokes), dtype=bool)
@@ -526,7 +526,7 @@ def _paths_at(strokes: Sequence[Stroke], which: np.ndarray, s: FloatArray
     for j in np.flatnonzero(curved):
         sel = which == j
         out[sel] = travel(seg_start[sel], dist[sel], kappa[sel], sigma[sel])
-    return out, kappa + sigma * into
+    return out, kappa + sigma * into, gears
 
 
 def slowed(motion: Motion, factor: float) -> Motion:
