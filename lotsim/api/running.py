@@ -118,6 +118,7 @@ def run(scenario_or_prepared: ScenarioLike | PreparedLot, settings: RunSettings 
                                          "is done")
         from lotsim.io.result import ResultWriter
 
+        Path(write).parent.mkdir(parents=True, exist_ok=True)  # (as write_result)
         with ResultWriter(write, scenario, prepared.lot_graph) as out:
             rr = plan_run(scenario, settings, lot_graph=prepared.lot_graph,
                           progress=progress, memo=prepared.search_graphs, release=out.add)
