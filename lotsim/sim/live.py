@@ -418,11 +418,9 @@ class Live:
         loop = self._loop
         changes = (LotChanges(loop.closures, loop.taken_records, loop.replans, loop.stalls)
                    if loop.lot_events or loop.replans or loop.stalls else None)
-        released = self._release.seconds if self._release is not None else 0.0
         self._result = RunResult(self.prepared.scenario, self.prepared.lot_graph,
                                  self.settings, self.seed, cars,
-                                 self._took - self._worked - released,
-                                 motion_time=self._worked,
+                                 self._took - self._worked, motion_time=self._worked,
                                  lot_changes=changes)
         return self._result
 
@@ -458,13 +456,16 @@ class Live:
 
     def _timed(self, work: Callable[[], None]) -> None:
         """Do ``work``, counting its time, and apart the time it spent working out edge
-        motions and hulls first (in searches, or reserving what they found)."""
+        motions and hulls first (in searches, or reserving what they found); the time it
+        spent handing cars on (``release``: writing them) is not counted."""
         worked = sum(t.seconds for t in self._tallies)
+        released = self._release.seconds if self._release is not None else 0.0
         clock = time.perf_counter()
         try:
             work()
         finally:
-            self._took += time.perf_counter() - clock
+            self._took += time.perf_counter() - clock - (
+                self._release.seconds - released if self._release is not None else 0.0)
             self._worked += sum(t.seconds for t in self._tallies) - worked
 
 
