@@ -5,6 +5,7 @@ the JSON document of ``docs/result.md`` and :func:`lotsim.write_result` writes."
 from __future__ import annotations
 
 import dataclasses
+from pathlib import Path
 from typing import Any
 
 from lotsim.api.scenarios import (
@@ -22,7 +23,7 @@ from lotsim.traffic.disturbances import Disturbances
 
 def run(scenario_or_prepared: ScenarioLike | PreparedLot, settings: RunSettings | None = None,
         *, progress=None, disturbances: Disturbances | None = None,
-        **overrides: Any) -> RunResult:
+        write: str | Path | None = None, **overrides: Any) -> RunResult:
     """Plan the scenario's traffic: assign slots, plan every vehicle in, and out again.
 
     Parameters
@@ -43,6 +44,13 @@ def run(scenario_or_prepared: ScenarioLike | PreparedLot, settings: RunSettings 
         driven through them keeping the plan's order at every piece of the lot
         (:func:`lotsim.sim.execution.execute`): the result's moves are those executed, and
         its ``execution`` says what was drawn and what it did.
+    write : path, optional, keyword-only
+        Write the run's document there as the run goes (as :func:`write_result` would
+        after it, byte for byte; ``.json.gz`` for the compact form): each car once it is
+        done, its moves then let go, so that a long run's memory follows the cars present,
+        not those served. The result's cars keep their figures (``metrics()``,
+        ``trip_figures()``, ``hourly()``), not their moves. Atomic: nothing is at the path
+        unless the run ends. Not with disturbances.
     **overrides
         Fields of :class:`RunSettings` to change: ``planner``, ``assignment``, ``seed``,
         ``window``, ``omega``, ``retry``, ``order``, ``horizon``, ``priority``, ``ga``.
@@ -103,6 +111,19 @@ def run(scenario_or_prepared: ScenarioLike | PreparedLot, settings: RunSettings 
                                             f"{type(spec).__name__}")
     scenario = (prepared.scenario if disturbances is None
                 else dataclasses.replace(prepared.scenario, disturbances=disturbances))
+    if write is not None:
+        if spec is not None and spec.active:
+            raise SettingsError("write", "a run with disturbances is written when it ends "
+                                         "(write_result): they can still change a car that "
+                                         "is done")
+        from lotsim.io.result import ResultWriter
+
+        Path(write).parent.mkdir(parents=True, exist_ok=True)  # (as write_result)
+        with ResultWriter(write, scenario, prepared.lot_graph) as out:
+            rr = plan_run(scenario, settings, lot_graph=prepared.lot_graph,
+                          progress=progress, memo=prepared.search_graphs, release=out.add)
+            out.finish(rr)
+        return rr
     rr = plan_run(scenario, settings, lot_graph=prepared.lot_graph,
                   progress=progress, memo=prepared.search_graphs)
     if spec is not None and spec.driven:

@@ -109,14 +109,19 @@ def execute(args: argparse.Namespace) -> int:
                                    name=given("-o", out) if args.output else str(out))
         staged = {key: (outputs.file(path, name=_named(args, key, path))
                         if path is not None else None) for key, path in pictures.items()}
-        rr = _plan(args, scenario, settings, budget)
         drawn = any(p is not None for p in pictures.values())
-        with ProgressBar("writing the result") as bar:
-            if drawn:  # the pictures are drawn from the document
-                doc = api.result_dict(rr, progress=bar)
-                api.write_result(doc, result_json)
-            else:  # car by car, never the whole document at once
-                api.write_result(rr, result_json, progress=bar)
+        spec = args.disturbances  # (None: driven as planned)
+        # without pictures or disturbances, each car is written once it is done, as the run
+        # goes (its moves then let go): a day's run holds the cars present, not those served
+        streamed = not drawn and not (spec is not None and spec.active)
+        rr = _plan(args, scenario, settings, budget, write=result_json if streamed else None)
+        if not streamed:
+            with ProgressBar("writing the result") as bar:
+                if drawn:  # the pictures are drawn from the document
+                    doc = api.result_dict(rr, progress=bar)
+                    api.write_result(doc, result_json)
+                else:  # car by car, never the whole document at once
+                    api.write_result(rr, result_json, progress=bar)
         m = rr.metrics()
         _summary(args, scenario, rr, m)
         code, said = _draw(doc, pictures, staged, anim) if drawn else (EXIT_OK, [])
@@ -203,14 +208,16 @@ def _budget(args: argparse.Namespace) -> api.Budget | str:
     return api.Budget.default(memory=memory, seconds=None if t in (0, math.inf) else t)
 
 
-def _plan(args: argparse.Namespace, scenario, settings, budget) -> api.RunResult:
-    """Prepare the lot and run it within ``budget``, showing progress as it goes."""
+def _plan(args: argparse.Namespace, scenario, settings, budget, *,
+          write: Path | None = None) -> api.RunResult:
+    """Prepare the lot and run it within ``budget``, showing progress as it goes; with
+    ``write``, the result written there as the run goes."""
     with ProgressBar("trips in and out planned") as progress:
-        return _planned(args, scenario, settings, budget, progress)
+        return _planned(args, scenario, settings, budget, progress, write)
 
 
 def _planned(args: argparse.Namespace, scenario, settings, budget,
-             progress: ProgressBar) -> api.RunResult:
+             progress: ProgressBar, write: Path | None) -> api.RunResult:
     traffic = scenario.traffic
     where = traffic.streams[0].where if traffic.streams else traffic.where
     seen: list[bool] = []  # Ctrl-C, even where a finaliser swallowed its KeyboardInterrupt
@@ -220,7 +227,8 @@ def _planned(args: argparse.Namespace, scenario, settings, budget,
                 prepared = api.prepare(scenario, progress=bar)
             with api.collector_tuned():
                 rr = api.run(prepared, settings, progress=dog.progress,
-                             disturbances=args.disturbances or api.Disturbances())
+                             disturbances=args.disturbances or api.Disturbances(),
+                             write=write)
     else:  # the watchdog cannot project from trips: orders are tried
         with ProgressBar("trying orders") as bar, noting_sigint(seen), \
                 api.Watchdog(budget, where):
@@ -229,7 +237,8 @@ def _planned(args: argparse.Namespace, scenario, settings, budget,
             with api.collector_tuned():
                 rr = api.run(prepared, settings,
                              progress=bar if settings.priority == "ga" else None,
-                             disturbances=args.disturbances or api.Disturbances())
+                             disturbances=args.disturbances or api.Disturbances(),
+                             write=write)
         found = rr.ordering
         extra = (f", arrival order {found['fitness_arrival']:.1f} s, shortest first "
                  f"{found['fitness_shortest_first']:.1f} s ({found['evaluations']} orders "
@@ -278,7 +287,7 @@ def _summary(args: argparse.Namespace, scenario, rr, m: dict) -> None:
     away = (", and rejected cars' wait for a slot" if m["rejected"] else "")
     park = (f"mean {m['mean_time_to_park']:.1f} s, max {m['max_time_to_park']:.1f} s"
             if m["served"] else "no car parked")
-    moved = any(v.moves for v in rr.vehicles)
+    moved = any(v.end is not None for v in rr.vehicles)
     end = f"the last move ends at {m['makespan']:.1f} s" if moved else "no car moved"
     print(f"  time to park: {park}; total waiting {m['total_waiting']:.1f} s (queued outside "
           f"or standing on the way{away}); {end}")

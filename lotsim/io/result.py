@@ -20,6 +20,8 @@ from lotsim import __version__
 from lotsim.core.atomic import atomic_write
 from lotsim.io.lot_json import lot_to_json
 from lotsim.lot.uses import STANDARD
+from lotsim.roadmap.model import LotGraph
+from lotsim.scenario import Scenario
 from lotsim.sim.results import RunResult, VehicleRun
 from lotsim.vehicles.motion import Trajectory, motions_at
 
@@ -50,6 +52,7 @@ def result_dict(rr: RunResult, *, progress=None) -> dict:
     """The JSON document of a run; ``progress(done, total)`` is called as each vehicle's
     motion is sampled (a thousand cars take seconds). A long run is better written by
     :func:`write_run`, which never holds more than one car's samples."""
+    _not_written(rr)
     vehicles = []
     for k, v in enumerate(rr.vehicles):
         if progress is not None:
@@ -63,9 +66,12 @@ def result_dict(rr: RunResult, *, progress=None) -> dict:
 
 def lot_doc(rr: RunResult) -> dict:
     """The lot of a run's document (its ``lot``)."""
-    lg = rr.lot_graph
+    return _lot_doc(rr.scenario, rr.lot_graph)
+
+
+def _lot_doc(scenario: Scenario, lg: LotGraph) -> dict:
     lot = lg.lot
-    parked = rr.scenario.parked_vehicle
+    parked = scenario.parked_vehicle
     g = lg.graph
 
     def portal(name: str, node: int) -> dict:
@@ -74,7 +80,7 @@ def lot_doc(rr: RunResult) -> dict:
                                      round(float(th), 6)]}
 
     doc_lot = {
-        "name": rr.scenario.name,
+        "name": scenario.name,
         "boundary": _ring(lot.boundary),
         "slots": [{"id": s.id, "kind": s.kind, "polygon": np.round(s.polygon, 4).tolist(),
                    "occupied": s.id in lot.occupied} | (
@@ -169,20 +175,80 @@ def write_run(rr: RunResult, path: str | Path, *, progress=None) -> None:
     made, written and let go before the next car's (a day's cars hold gigabytes as one
     document). Atomically, and compressed for a ``.gz`` path, as :func:`write_json`;
     ``progress(done, total)`` as :func:`result_dict`'s."""
-    with _json_file(path) as fh:
-        fh.write(f'{{"format":{_dumps(FORMAT)},"version":{_dumps(VERSION)},'
-                 f'"lot":{_dumps(lot_doc(rr))},"vehicles":[')
+    _not_written(rr)
+    with ResultWriter(path, rr.scenario, rr.lot_graph) as out:
         n = len(rr.vehicles)
-        compact = str(path).endswith(COMPACT_SUFFIX)
         for k, v in enumerate(rr.vehicles):
             if progress is not None:
                 progress(k, n)
-            doc = vehicle_doc(v)
-            fh.write(("," if k else "") + _dumps(compact_vehicle(doc) if compact else doc))
+            out.add(v)
         if progress is not None:
             progress(n, n)
+        out.finish(rr)
+
+
+class ResultWriter:
+    """A run's document written car by car, as :func:`write_run` writes it, byte for byte:
+    the lot first, then each car as :meth:`add` is given it (in the result's order), and
+    the metrics and settings once the run has ended (:meth:`finish`). Atomic: the file is
+    at ``path`` only once the ``with`` block (or :meth:`close`) ends after :meth:`finish`;
+    nothing is left there otherwise.
+
+    For a run written as it goes, ``add`` is the run's ``release``
+    (:class:`lotsim.sim.live.Live`): each car is written once it is done, and the run keeps
+    only its figures (``lotsim.run(..., write=path)``).
+    """
+
+    def __init__(self, path: str | Path, scenario: Scenario, lot_graph: LotGraph):
+        self.path = path
+        self._stack = contextlib.ExitStack()
+        self._fh = self._stack.enter_context(_json_file(path))
+        self._compact = str(path).endswith(COMPACT_SUFFIX)
+        self.written = 0
+        """Cars written so far."""
+        self._ended = False
+        self._fh.write(f'{{"format":{_dumps(FORMAT)},"version":{_dumps(VERSION)},'
+                       f'"lot":{_dumps(_lot_doc(scenario, lot_graph))},"vehicles":[')
+
+    def add(self, v: VehicleRun) -> None:
+        """Write car ``v`` (made from its moves: before they are let go)."""
+        doc = vehicle_doc(v)
+        self._fh.write(("," if self.written else "")
+                       + _dumps(compact_vehicle(doc) if self._compact else doc))
+        self.written += 1
+
+    def finish(self, rr: RunResult) -> None:
+        """Write what follows the cars (:func:`tail_doc`) of the run whose cars were
+        added, every one of them."""
+        if self.written != len(rr.vehicles):
+            raise ValueError(f"{self.written} cars written of the run's "
+                             f"{len(rr.vehicles)}")
         tail = _dumps(tail_doc(rr))
-        fh.write("]," + tail[1:] + "\n")  # the tail's keys, after the vehicles'
+        self._fh.write("]," + tail[1:] + "\n")  # the tail's keys, after the vehicles'
+        self._ended = True
+
+    def close(self) -> None:
+        """Put the document at its path if :meth:`finish` was called, else leave nothing."""
+        if self._ended:
+            self._stack.close()
+        else:
+            self._stack.__exit__(RuntimeError, RuntimeError("unfinished"), None)
+
+    def __enter__(self) -> ResultWriter:
+        return self
+
+    def __exit__(self, kind, value, tb) -> None:
+        if kind is not None:
+            self._stack.__exit__(kind, value, tb)
+        else:
+            self.close()
+
+
+def _not_written(rr: RunResult) -> None:
+    """Refuse a run whose cars were written as it went (their moves let go)."""
+    if any(v.written is not None for v in rr.vehicles):
+        raise ValueError("this run's cars were written as it went (lotsim.run(..., write=)); "
+                         "its moves are gone: read the file it wrote")
 
 
 def _dumps(obj: object) -> str:

@@ -21,7 +21,7 @@ from lotsim.sim.loop import EventLoop
 from lotsim.sim.policies import ASK, SlotRequest
 from lotsim.sim.preparation import PreparedLot
 from lotsim.sim.repairs import LotChanges, check_lot_events, lot_event_problem
-from lotsim.sim.results import RunResult, VehicleRun
+from lotsim.sim.results import RunResult, VehicleRun, let_go
 from lotsim.sim.settings import RunSettings
 from lotsim.traffic.demand import Arrival, arrivals
 from lotsim.traffic.disturbances import MAX_STALL, Closure, TakenBay
@@ -53,6 +53,13 @@ class Live:
     progress : callable, optional, keyword-only
         Called as ``progress(done, total)`` as trips are dealt with (with a third argument,
         if it takes one: the run's clock and the cars served, as text).
+    release : callable, optional, keyword-only
+        Called with each car of the traffic once it is done and every car before it (in
+        the result's order: by arrival) has been released, while the run goes on (a
+        writer of the result, :class:`lotsim.io.result.ResultWriter`); the car then keeps
+        only the figures the run's metrics read (:func:`~lotsim.sim.results.let_go`). For a
+        day's run, whose memory then follows the cars present, not those served. Not with
+        disturbances or cars from outside (:meth:`add`): they can still change a car done.
 
     Raises
     ------
@@ -77,7 +84,8 @@ class Live:
 
     def __init__(self, prepared: PreparedLot, settings: RunSettings | None = None, *,
                  policy: Callable | str | None = None, traffic: bool = True,
-                 progress=None) -> None:
+                 progress=None, release: Callable[[VehicleRun], None] | None = None
+                 ) -> None:
         from lotsim.sim.running import check_traffic, turned_away
 
         if policy is not None and policy != ASK and not callable(policy):
@@ -102,6 +110,13 @@ class Live:
         check_lot_events(lg, spec)
         for event in (() if spec is None else (*spec.closures, *spec.taken)):
             self._loop.add_lot_event(event)
+        self._release = None
+        if release is not None:
+            if spec is not None and spec.active:
+                raise SettingsError("release", "a run with disturbances can still change a "
+                                               "car that is done: write it when it ends")
+            self._release = _InOrder(self._loop.vehicles, release)
+            self._loop.on_done = self._release.done
         self._tallies = {id(sg.tally): sg.tally for sg in self._loop.graphs.values()}.values()
         self._took = 0.0  # seconds spent dealing with events
         self._worked = 0.0  # of which working out edge motions first
@@ -189,6 +204,10 @@ class Live:
             leave, a pose on no lane, or ground another car stands or drives on now.
         """
         self._open()
+        if self._release is not None:
+            raise SettingsError("release", "a run that releases its cars as they are done "
+                                           "takes none from outside: one could come before "
+                                           "a car released")
         loop = self._loop
         lg = loop.lg
         now = self.now if math.isfinite(self.now) else 0.0
@@ -437,13 +456,16 @@ class Live:
 
     def _timed(self, work: Callable[[], None]) -> None:
         """Do ``work``, counting its time, and apart the time it spent working out edge
-        motions and hulls first (in searches, or reserving what they found)."""
+        motions and hulls first (in searches, or reserving what they found); the time it
+        spent handing cars on (``release``: writing them) is not counted."""
         worked = sum(t.seconds for t in self._tallies)
+        released = self._release.seconds if self._release is not None else 0.0
         clock = time.perf_counter()
         try:
             work()
         finally:
-            self._took += time.perf_counter() - clock
+            self._took += time.perf_counter() - clock - (
+                self._release.seconds - released if self._release is not None else 0.0)
             self._worked += sum(t.seconds for t in self._tallies) - worked
 
 
@@ -471,3 +493,25 @@ def _at(v: VehicleRun, t: float) -> tuple[str, tuple | None, float | None]:
         pose, speed = tuple(poses[0]), float(speeds[0])
     phase = {"park": "parking", "leave": "leaving", "parked": "parked"}.get(m.kind, "driving")
     return phase, pose, speed
+
+
+class _InOrder:
+    """Hands each car to ``release`` once it is done and every car before it in the
+    result's order (by arrival time, then id) has been handed on, then lets its moves go."""
+
+    def __init__(self, cars: list[VehicleRun], release: Callable[[VehicleRun], None]):
+        self._cars = sorted(cars, key=lambda v: (v.arrival.time, v.id))
+        self._next = 0
+        self._release = release
+        self.seconds = 0.0
+        """Spent in ``release`` (writing the cars: not planning)."""
+
+    def done(self, _: VehicleRun) -> None:
+        cars = self._cars
+        clock = time.perf_counter()
+        while self._next < len(cars) and cars[self._next].done:
+            v = cars[self._next]
+            self._release(v)
+            let_go(v)
+            self._next += 1
+        self.seconds += time.perf_counter() - clock

@@ -13,6 +13,7 @@ import heapq
 import math
 import time
 from collections import OrderedDict
+from collections.abc import Callable
 
 from lotsim.core.outcome import Status
 from lotsim.roadmap.model import LotGraph
@@ -79,6 +80,8 @@ class EventLoop:
                  traffic: list[Arrival], progress, memo: SearchGraphMemo | None = None,
                  *, turned_away: dict[str, str] | None = None, policy=None) -> None:
         self.lg = lg
+        self.on_done: Callable[[VehicleRun], None] | None = None
+        """Called with each vehicle as it is done (nothing more will happen to it)."""
         self.turned_away = turned_away or {}  # vehicle id → why the lot cannot serve it
         self.s = settings
         self.patience = scenario.traffic.patience if scenario.traffic else PATIENCE
@@ -223,6 +226,8 @@ class EventLoop:
     def finish(self, v: VehicleRun, status: str, reason: str = "") -> None:
         v.status, v.reason, v.done = status, reason, True
         self.handled(v, 2)
+        if self.on_done is not None:
+            self.on_done(v)
 
     def handled(self, v: VehicleRun, trips: int) -> None:
         """Count ``v``'s first ``trips`` trips (1: in, 2: in and out, if it leaves) as dealt

@@ -132,7 +132,8 @@ def genetic_order(scenario, settings: RunSettings, *, lot_graph, ga: GASettings,
 
 
 def plan_run(scenario, settings: RunSettings, *, lot_graph,
-             progress=None, memo: SearchGraphMemo | None = None) -> RunResult:
+             progress=None, memo: SearchGraphMemo | None = None,
+             release=None) -> RunResult:
     """Plan the scenario's traffic in the order ``settings`` asks for: ``settings.order`` if
     given, else chosen by ``settings.priority`` (:data:`PRIORITIES`; the GA with
     ``settings.ga``), then planned by :func:`lotsim.sim.running.simulate`.
@@ -148,7 +149,8 @@ def plan_run(scenario, settings: RunSettings, *, lot_graph,
     otherwise, as :func:`lotsim.sim.running.simulate` calls it, as trips are dealt with.
 
     ``memo`` holds the lot's search graphs for every run on it (a prepared lot's
-    ``search_graphs``); without one, the runs of this call share a new one.
+    ``search_graphs``); without one, the runs of this call share a new one. ``release``
+    is given to the run planned in the order chosen (:func:`~lotsim.sim.running.simulate`).
     """
     require_traffic(scenario)
     memo = SearchGraphMemo() if memo is None else memo
@@ -167,7 +169,7 @@ def plan_run(scenario, settings: RunSettings, *, lot_graph,
         record.update({k: v for k, v in found.items() if k != "fitness"})
     record["order_time"] = time.perf_counter() - clock
     rr = simulate(scenario, dataclasses.replace(settings, order=order), lot_graph=lot_graph,
-             progress=None if searching else progress, memo=memo)
+             progress=None if searching else progress, memo=memo, release=release)
     record["fitness"] = fitness(rr)
     rr.ordering = record
     return rr

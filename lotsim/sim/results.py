@@ -46,10 +46,45 @@ class VehicleRun:
     done: bool = False  # nothing more will happen to it
     waited_outside: float = 0.0  # before it was rejected [s]; 0 when rejected on arrival
     seen: int = 0  # the reservation table's releases when it last searched
+    written: Written | None = None
+    """What the run's figures read of its moves, once they were written out as the run went
+    and let go (:func:`let_go`; its ``moves`` are then empty); None while it has them."""
 
     @property
     def id(self) -> str:
         return self.arrival.id
+
+    @property
+    def end(self) -> float | None:
+        """When its last move ends [s] (None: it has none), its moves let go or not."""
+        if self.written is not None:
+            return self.written.end
+        return self.moves[-1].t1 if self.moves else None
+
+
+@dataclass(frozen=True, slots=True)
+class Written:
+    """What :meth:`RunResult.metrics`, :meth:`~RunResult.trip_figures` and
+    :meth:`~RunResult.hourly` read of a car's moves, kept when the moves are let go: the
+    length of each of its waits (inside and outside, in order) [s], when its plan began
+    (None: never), when its last move ended (None: no move) and its standing
+    (:func:`standing_times`) [s]. The same floats as the moves give."""
+
+    waits: tuple[float, ...]
+    start: float | None
+    end: float | None
+    standing: tuple[float, float, float]
+
+
+def let_go(v: VehicleRun) -> None:
+    """Keep of ``v``'s moves only what the run's figures read (:class:`Written`), and let
+    the moves go: for a car done and written out while the run goes on (a day's run then
+    holds the cars present, not those served)."""
+    if v.written is not None:
+        return
+    v.written = Written(tuple(_waits(v)), next((m.t0 for m in v.moves), None),
+                        v.moves[-1].t1 if v.moves else None, standing_times(v))
+    v.moves = []
 
 
 @dataclass
@@ -100,12 +135,11 @@ class RunResult:
         park = _times_to_park(self.vehicles)
         out["mean_time_to_park"] = float(np.mean(park)) if park else 0.0
         out["max_time_to_park"] = float(np.max(park)) if park else 0.0
-        out["total_waiting"] = float(sum(m.t1 - m.t0 for v in self.vehicles for m in v.moves
-                                         if m.kind in ("wait", "outside"))
+        out["total_waiting"] = float(sum(w for v in self.vehicles for w in _waits(v))
                                      + sum(_queued(v) for v in self.vehicles)
                                      + sum(v.waited_outside for v in self.vehicles
                                            if v.status == "rejected"))
-        ends = [v.moves[-1].t1 for v in self.vehicles if v.moves]
+        ends = [e for v in self.vehicles if (e := v.end) is not None]
         out["makespan"] = float(max(ends)) if ends else 0.0
         out["planning_time"] = self.planning_time
         out["planning_time_motions"] = self.motion_time
@@ -179,9 +213,17 @@ def _times_to_park(vehicles: list[VehicleRun]) -> list[float]:
             if v.parked_at is not None and v.arrival.slot is None]
 
 
+def _waits(v: VehicleRun):
+    """The length of each of ``v``'s waits, inside and outside, in order [s]."""
+    if v.written is not None:
+        return v.written.waits
+    return (m.t1 - m.t0 for m in v.moves if m.kind in ("wait", "outside"))
+
+
 def _queued(v: VehicleRun) -> float:
     """Time spent queued outside before the plan that brought it in began [s]."""
-    start = next((m.t0 for m in v.moves), None)
+    start = (v.written.start if v.written is not None
+             else next((m.t0 for m in v.moves), None))
     if start is None:
         return 0.0
     return max(0.0, start - v.arrival.time)
@@ -200,6 +242,8 @@ def standing_times(v: VehicleRun) -> tuple[float, float, float]:
     plan that brought it in, or until it was turned away), standing on the way in (its
     waits before it parked), and on the way out (from the end of its dwell to the first
     move of its way out, and its waits after that)."""
+    if v.written is not None:
+        return v.written.standing
     outside = _queued(v) + v.waited_outside + sum(
         m.t1 - m.t0 for m in v.moves if m.kind == "outside")
     parked = v.parked_at if v.parked_at is not None else float("inf")

@@ -156,7 +156,7 @@ def require_traffic(scenario: Scenario) -> None:
 
 
 def simulate(scenario: Scenario, settings: RunSettings | None = None, *, lot_graph=None,
-        progress=None, memo: SearchGraphMemo | None = None) -> RunResult:
+        progress=None, memo: SearchGraphMemo | None = None, release=None) -> RunResult:
     """Plan the scenario's traffic: assign slots, plan every vehicle in, and out again.
 
     Vehicles are planned one after another in arrival order (their priority),
@@ -183,6 +183,9 @@ def simulate(scenario: Scenario, settings: RunSettings | None = None, *, lot_gra
         The lot's search graphs, shared by the runs on it (a prepared lot's
         ``search_graphs``): later runs drive the edge motions the first worked out, and plan
         the same.
+    release : callable, optional
+        Given each car once it is done, in the result's order, while the run goes on; the
+        car then keeps only its figures (:class:`~lotsim.sim.live.Live`'s ``release``).
 
     The garbage collector is left as it is; a caller that runs many cars may ask for
     :func:`collector_tuned` around the call.
@@ -202,4 +205,4 @@ def simulate(scenario: Scenario, settings: RunSettings | None = None, *, lot_gra
     lg = lot_graph or prepare_graph(scenario)
     prepared = (PreparedLot(scenario, lg) if memo is None
                 else PreparedLot(scenario, lg, search_graphs=memo))
-    return Live(prepared, settings, progress=progress).finish()
+    return Live(prepared, settings, progress=progress, release=release).finish()
