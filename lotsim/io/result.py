@@ -200,7 +200,6 @@ class ResultWriter:
     """
 
     def __init__(self, path: str | Path, scenario: Scenario, lot_graph: LotGraph):
-        self.path = path
         self._stack = contextlib.ExitStack()
         self._fh = self._stack.enter_context(_json_file(path))
         self._compact = str(path).endswith(COMPACT_SUFFIX)
@@ -228,11 +227,15 @@ class ResultWriter:
         self._ended = True
 
     def close(self) -> None:
-        """Put the document at its path if :meth:`finish` was called, else leave nothing."""
+        """Put the document at its path; before :meth:`finish`, leave nothing there and
+        raise ``ValueError``."""
         if self._ended:
             self._stack.close()
-        else:
-            self._stack.__exit__(RuntimeError, RuntimeError("unfinished"), None)
+            return
+        unfinished = ValueError("the result was closed before the run ended (finish): "
+                                "nothing is written")
+        self._stack.__exit__(ValueError, unfinished, None)
+        raise unfinished
 
     def __enter__(self) -> ResultWriter:
         return self

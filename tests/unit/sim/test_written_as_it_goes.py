@@ -95,3 +95,10 @@ def test_lotsim_run_writes_the_result_as_it_goes(prepared, tmp_path, capsys):
     assert (tmp_path / "run" / "result.json.gz").read_bytes() == \
         (tmp_path / "after.json.gz").read_bytes()
     assert "writing the result" not in capsys.readouterr().err  # (no second pass)
+
+
+def test_a_writer_closed_before_the_run_ended_leaves_nothing_and_says_so(prepared, tmp_path):
+    with pytest.raises(ValueError, match="before the run ended"), \
+            result_io.ResultWriter(tmp_path / "r.json", prepared.scenario, prepared.lot_graph):
+        pass
+    assert list(tmp_path.iterdir()) == []
