@@ -82,8 +82,7 @@ def let_go(v: VehicleRun) -> None:
     holds the cars present, not those served)."""
     if v.written is not None:
         return
-    v.written = Written(tuple(_waits(v)), next((m.t0 for m in v.moves), None),
-                        v.moves[-1].t1 if v.moves else None, standing_times(v))
+    v.written = Written(tuple(_waits(v)), _start(v), v.end, standing_times(v))
     v.moves = []
 
 
@@ -220,10 +219,16 @@ def _waits(v: VehicleRun):
     return (m.t1 - m.t0 for m in v.moves if m.kind in ("wait", "outside"))
 
 
+def _start(v: VehicleRun) -> float | None:
+    """When ``v``'s first move began [s] (None: it has none)."""
+    if v.written is not None:
+        return v.written.start
+    return next((m.t0 for m in v.moves), None)
+
+
 def _queued(v: VehicleRun) -> float:
     """Time spent queued outside before the plan that brought it in began [s]."""
-    start = (v.written.start if v.written is not None
-             else next((m.t0 for m in v.moves), None))
+    start = _start(v)
     if start is None:
         return 0.0
     return max(0.0, start - v.arrival.time)
