@@ -7,6 +7,7 @@ from __future__ import annotations
 import os
 from collections.abc import Callable
 from pathlib import Path
+from typing import Any
 
 from lotsim.core.atomic import atomic_write
 from lotsim.design.plot import PlotSpec
@@ -22,7 +23,8 @@ PlotLike = PlotSpec | str | os.PathLike
 
 def layout(plot: PlotLike, output: str | os.PathLike | None = None, *, keep: int = 1,
            settings: LayoutSettings | None = None, pictures: bool = False,
-           progress: Callable[[int, int], None] | None = None) -> LayoutResult:
+           progress: Callable[[int, int], None] | None = None,
+           client: Any = None) -> LayoutResult:
     """Lay a lot out on ``plot``: the layout with the most bays that every vehicle type
     can reach, park in and leave (lotsim's maneuver planner and reachability decide, as
     ``lotsim validate --strict`` does), then the shortest mean time to park and the most
@@ -48,6 +50,12 @@ def layout(plot: PlotLike, output: str | os.PathLike | None = None, *, keep: int
     progress : callable, optional, keyword-only
         Called as ``progress(done, total)`` as candidates are prepared and run;
         ``total`` is the most that will be, and becomes ``done`` when the search ends.
+    client : distributed.Client, optional, keyword-only
+        Prepare the candidates on this Dask cluster (:func:`lotsim.bench.connect`, as
+        ``lotsim bench`` and ``lotsim validate`` use it), as many at a time as its workers
+        have threads, each on one core of the worker that takes it, instead of on
+        ``settings.workers`` local processes. The workers need lotsim installed, not the
+        plot file; the layout found is the same.
 
     Returns
     -------
@@ -87,7 +95,7 @@ def layout(plot: PlotLike, output: str | os.PathLike | None = None, *, keep: int
         paths = [out] + [out.with_name(f"{out.stem}-{k}{out.suffix}") for k in
                          range(2, keep + 1)]
     spec = plot if isinstance(plot, PlotSpec) else read_plot(plot)
-    found = lay_out(spec, settings, keep=keep, progress=progress)
+    found = lay_out(spec, settings, keep=keep, progress=progress, client=client)
     good = [e for e in found.ranked if e.ok]
     for path, e in zip(paths, good, strict=False):
         with atomic_write(path, "w", encoding="utf-8") as fh:

@@ -6,6 +6,7 @@ from __future__ import annotations
 import argparse
 
 from lotsim import api
+from lotsim.cli.bench import connected
 from lotsim.cli.output import EXIT_OK, bad, cannot_write, given, name_problem
 from lotsim.cli.progress import ProgressBar
 
@@ -42,8 +43,13 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="what 100 m of dead-end aisle costs a layout in the ranking, in "
                         "bays: a loop comes before a layout of up to this many bays more per "
                         "100 m of dead ends (0: rank by bays alone; default %(default)s)")
-    parser.add_argument("--jobs", type=int, metavar="N",
-                        help="worker processes (default: one per core)")
+    where = parser.add_mutually_exclusive_group()
+    where.add_argument("--jobs", type=int, metavar="N",
+                       help="worker processes (default: one per core)")
+    where.add_argument("--scheduler", metavar="ADDRESS",
+                       help="prepare the candidates on the Dask distributed cluster whose "
+                       "scheduler is at ADDRESS, as many at once as its workers have threads "
+                       "(pip install 'lotsim[dask]')")
 
 
 def execute(args: argparse.Namespace) -> int:
@@ -58,12 +64,18 @@ def execute(args: argparse.Namespace) -> int:
     with api.OutputSet() as outputs:  # checked before the search, written whole or not at all
         # the next best layouts and the pictures go beside it, into the same staging folder
         staged = outputs.file(args.output, name=given("-o", args.output))
+        client, problem = connected(args.scheduler)
+        if problem is not None:
+            return bad(problem)
         try:
             with ProgressBar("laying out") as bar, api.collector_tuned():
                 found = api.layout(args.plot, staged, keep=args.keep, settings=settings,
-                                   pictures=args.pictures, progress=bar)
+                                   pictures=args.pictures, progress=bar, client=client)
         except OSError as exc:
             return cannot_write(args.output, exc)
+        finally:
+            if client is not None:
+                client.close()
         outputs.commit()
     plot = found.plot
     print(f"{plot.source}: {plot.name}, {found.best.area:.0f} m²; {found.drawn} candidates "

@@ -17,8 +17,9 @@ the best run at the plot's demand, ranked (:func:`lay_out`).
    some type cannot reach, park in or leave for an exit are dropped and the rest prepared
    again, until every bay is usable (``lotsim validate --strict`` passes). Candidates are
    independent: they are prepared on the worker pool (:func:`lotsim.core.workers.fork_map`),
-   a batch at a time, and the search stops when no candidate left is judged to serve more
-   bays than the ones it keeps have usable
+   or on a Dask cluster when a client is given (one candidate a task, each on one core of
+   the worker that takes it), a batch at a time, and the search stops when no candidate
+   left is judged to serve more bays than the ones it keeps have usable
    (:attr:`~lotsim.design.settings.LayoutSettings.compared`), or after
    :attr:`~lotsim.design.settings.LayoutSettings.prepared` candidates.
 3. Each candidate, once every bay left is usable, is run with the plot's demand
@@ -42,6 +43,7 @@ import itertools
 import os
 import time
 from collections.abc import Callable
+from typing import Any
 
 from shapely.geometry import Polygon
 
@@ -119,14 +121,18 @@ def _shape(c: Candidate) -> tuple:
 
 
 def lay_out(plot: PlotSpec, settings: LayoutSettings | None = None, *, keep: int = 1,
-            progress: Callable[[int, int], None] | None = None) -> LayoutResult:
+            progress: Callable[[int, int], None] | None = None,
+            client: Any = None) -> LayoutResult:
     """Lay ``plot`` out (the module's description): the prepared candidates, best first.
 
     The search stops early when no candidate left is judged to serve more bays than the
     best ``keep`` (or :attr:`~lotsim.design.settings.LayoutSettings.compared`, if more)
     found have usable (or the last of those found, when fewer hold a usable bay).
     ``progress(done, total)`` is called as candidates are prepared; ``total`` is the
-    most that will be, and becomes ``done`` when the search ends.
+    most that will be, and becomes ``done`` when the search ends. With ``client`` (a
+    :class:`distributed.Client`, :func:`lotsim.bench.connect`) the candidates are prepared
+    on its Dask cluster, as many at a time as it has worker threads, instead of on
+    ``settings.workers`` local processes: the same candidates, the same answers.
 
     Raises
     ------
@@ -149,7 +155,7 @@ def lay_out(plot: PlotSpec, settings: LayoutSettings | None = None, *, keep: int
     budget = min(settings.prepared, len(order))
     done: list[Evaluation] = []
     workers = settings.workers
-    batch = max(1, workers or _cores())
+    batch = max(1, _threads(client) if client is not None else workers or _cores())
     if progress is not None:
         progress(0, budget)
     pos = 0
@@ -163,12 +169,15 @@ def lay_out(plot: PlotSpec, settings: LayoutSettings | None = None, *, keep: int
                 progress(len(done), len(done))
             break
         picks = order[pos: min(budget, pos + batch)]
+        if client is None:
+            found = fork_map(lambda k: evaluate(plot, drawn[k], k, area, settings), picks,
+                             workers=workers)
+        else:
+            found = _on_cluster(client, [(plot, drawn[k], k, area, settings) for k in picks])
         done += [dataclasses.replace(e, served=judged[k].served,
                                      dead_end_length=judged[k].dead_end_length,
                                      dead_end_cost=settings.dead_end_cost)
-                 for k, e in zip(picks, fork_map(
-                     lambda k: evaluate(plot, drawn[k], k, area, settings), picks,
-                     workers=workers), strict=True)]
+                 for k, e in zip(picks, found, strict=True)]
         pos += len(picks)
         if progress is not None:
             progress(len(done), budget if pos < budget else len(done))
@@ -184,6 +193,37 @@ def lay_out(plot: PlotSpec, settings: LayoutSettings | None = None, *, keep: int
 
 def _cores() -> int:
     return os.cpu_count() or 1
+
+
+def _threads(client: Any) -> int:
+    """How many tasks the cluster of ``client`` works on at once: its workers' threads."""
+    return sum(client.nthreads().values())
+
+
+def evaluate_job(job: tuple[PlotSpec, Candidate, int, float, LayoutSettings]) -> Evaluation:
+    """:func:`~lotsim.design.preparing.evaluate` of one ``(plot, candidate, index, area,
+    settings)``: a cluster worker's task (it pickles by name)."""
+    return evaluate(*job)
+
+
+def _on_cluster(client: Any, jobs: list[tuple]) -> list[Evaluation]:
+    """:func:`evaluate_job` of each of ``jobs`` on the Dask cluster of ``client``, in their
+    order; a candidate whose worker was lost fails, saying so."""
+    from lotsim.bench.runner import run_all
+
+    found: dict[int, Evaluation] = {}
+
+    def take(k: int, e: Evaluation) -> None:
+        found[k] = e
+
+    def lost(k: int, exc: BaseException) -> Evaluation:
+        plot, cand, index, area, _ = jobs[k]
+        return Evaluation(index=index, label=cand.label, drawn=cand.bays, area=area,
+                          aisle_length=cand.aisle_length, bays=0,
+                          problem=f"its worker was lost ({exc!r})")
+
+    run_all(evaluate_job, jobs, take, lost, client=client)
+    return [found[k] for k in range(len(jobs))]
 
 
 __all__ = ["lay_out", "candidates"]
