@@ -38,6 +38,7 @@ and mouths, :mod:`~lotsim.design.gates`'; the bays packed into rows along the ai
 
 from __future__ import annotations
 
+import dataclasses
 import math
 
 import numpy as np
@@ -56,11 +57,13 @@ from lotsim.design.drawn import (
 )
 from lotsim.design.gates import (
     GATE_MIN,
-    _gate,
+    _bends,
+    _gate_aisles,
     _gate_on_ring,
     _gate_poses,
     _inward,
     _mouths,
+    _ways_in,
     edge_of,
 )
 from lotsim.design.packing import _compact_rows, _pack, _Things
@@ -140,15 +143,17 @@ def _strip(a: Point2, b: Point2, width: float) -> Polygon:
 
 
 def draw(plot: PlotSpec, module: Module, orientation_deg: float, offset: float,
-         inner_first: bool, ring_islands: bool = True, along: tuple[int, ...] = ()
-         ) -> Candidate | None:
+         inner_first: bool, ring_islands: bool = True, along: tuple[int, ...] = (), *,
+         turned: bool = False) -> Candidate | None:
     """One candidate of ``plot`` (see the module's description); None where the plot has no
     room for a ring, or a gate's aisle meets none. Without ``ring_islands``, the ring runs
     round the plot only, and a module aisle that meets an island ends short of it (a dead
     end, where cars turn round; two-way modules only). Along the boundary's edges
     ``along`` (their indices: edge ``k`` runs from point ``k`` to the next), the ring runs
     beside the boundary, with no perimeter row, and a gate on such an edge opens straight
-    onto the ring (:func:`~lotsim.design.gates._gate_on_ring`).
+    onto the ring (:func:`~lotsim.design.gates._gate_on_ring`). With ``turned``, a gate
+    whose aisle cannot be drawn square to its edge gets one turned, straight or bent once
+    (:func:`~lotsim.design.gates._gate_aisles`).
 
     Examples
     --------
@@ -241,16 +246,17 @@ def draw(plot: PlotSpec, module: Module, orientation_deg: float, offset: float,
                 return None
             gates.append(gate)
             continue
-        drawn = _gate(plot, g.id, at, outline, lines)
+        drawn = _gate_aisles(plot, g.id, at, outline, lines, turned=turned)
         if drawn is None:
             return None
-        aisle, gate = drawn
-        gate_aisles.append(aisle)
-        gates.append(gate)
+        gate_aisles += drawn[0]
+        gates.append(drawn[1])
     aisles += gate_aisles
 
     strips = [_strip(a.start, a.end, a.width) for a in aisles]
-    things = _Things(strips + islands, [a.id for a in aisles] + [""] * len(islands),
+    bends = _bends(gate_aisles)
+    things = _Things(strips + islands + bends,
+                     [a.id for a in aisles] + [""] * (len(islands) + len(bends)),
                      _mouths(plot, gates))
     room = outline.buffer(-(CLEAR - EPS), join_style="mitre")
     rows: list[DrawnRow] = []
@@ -274,14 +280,17 @@ def draw(plot: PlotSpec, module: Module, orientation_deg: float, offset: float,
     return _to_plot(cand, frame)
 
 def draw_spine(plot: PlotSpec, gate: int, offset: float, branches: bool,
-               branches_first: bool = True) -> Candidate | None:
+               branches_first: bool = True, *, turned: bool = False) -> Candidate | None:
     """A candidate for a plot too small or too narrow for a ring: a two-way *spine* aisle
     from gate ``gate`` straight in, square to its edge, as far as the plot allows (a dead
     end, where cars turn round), with bays along both sides; with ``branches``, two-way
     aisles off it at right angles, one 90° module pitch apart from ``offset`` past the
-    gate's entrance and exit, each as long as the plot allows (dead ends too). The plot's
-    other gates each get an aisle to the first aisle they meet. None where the spine has no
-    room.
+    gate's entrance and exit, each as long as the plot allows (dead ends too). With
+    ``turned``, where the square spine has no room or no bay along it (a gate at a corner,
+    in a spike, on the edge of a notch), the spine is turned: of the ways in of
+    :func:`~lotsim.design.gates._ways_in`, the one that runs furthest; and the other
+    gates' aisles may turn (:func:`~lotsim.design.gates._gate_aisles`). The plot's other
+    gates each get an aisle to the first aisle they meet. None where the spine has no room.
 
     Examples
     --------
@@ -292,6 +301,16 @@ def draw_spine(plot: PlotSpec, gate: int, offset: float, branches: bool,
     >>> [a.role for a in c.aisles], c.bays  # none within 10 m of the gate's mouth
     (['gate'], 16)
     """
+    cand = _spine(plot, gate, offset, branches, branches_first, False, turned)
+    if turned and (cand is None or cand.bays == 0):
+        return _spine(plot, gate, offset, branches, branches_first, True, True) or cand
+    return cand
+
+
+def _spine(plot: PlotSpec, gate: int, offset: float, branches: bool, branches_first: bool,
+           turn: bool, turned: bool) -> Candidate | None:
+    """:func:`draw_spine`'s candidate, its spine square to the gate's edge or, with
+    ``turn``, turned; ``turned``: the other gates' aisles may turn."""
     w = plot.circulation_width
     outline = Polygon(plot.boundary)
     islands = [Polygon(i.polygon) for i in plot.islands]
@@ -315,12 +334,22 @@ def draw_spine(plot: PlotSpec, gate: int, offset: float, branches: bool,
         return lo - DEAD_END_ROOM
 
     length = reach(start, n, 1.0)
+    approach = None
+    if turn:  # as far in as the plot allows
+        ways = _ways_in(outline, np.asarray(g.at, dtype=float), w)
+        reaches = [reach(p0, d, 1.0) for p0, d in ways]
+        if not ways:
+            return None
+        k = int(np.argmax(reaches))  # the first of the longest
+        length, (start, n) = reaches[k], ways[k]
+        approach = (tuple(map(float, g.at)), tuple(map(float, start)))
     if length < GATE_MIN:
         return None
     heading = math.atan2(n[1], n[0])
     aisles = [DrawnAisle(f"gate-{g.id}", tuple(map(float, start)),
                          tuple(map(float, start + n * length)), w, False, "gate")]
-    gates = [_gate_poses(plot, g.id, aisles[0].id, start, n)]
+    gates = [dataclasses.replace(_gate_poses(plot, g.id, aisles[0].id, start, n),
+                                 approach=approach)]
     if branches:
         right = np.array([n[1], -n[0]])
         step = pitch(Module(90, False, w), plot)
@@ -337,13 +366,16 @@ def draw_spine(plot: PlotSpec, gate: int, offset: float, branches: bool,
             k += 1
     lines = [(LineString([a.start, a.end]), a) for a in aisles]
     for other in plot.gates[:gate] + plot.gates[gate + 1:]:
-        drawn = _gate(plot, other.id, np.asarray(other.at, dtype=float), outline, lines)
+        drawn = _gate_aisles(plot, other.id, np.asarray(other.at, dtype=float), outline,
+                             lines, turned=turned)
         if drawn is None:
             return None
-        aisles.append(drawn[0])
+        aisles += drawn[0]
         gates.append(drawn[1])
     strips = [_strip(a.start, a.end, a.width) for a in aisles]
-    things = _Things(strips + islands, [a.id for a in aisles] + [""] * len(islands),
+    bends = _bends(aisles)
+    things = _Things(strips + islands + bends,
+                     [a.id for a in aisles] + [""] * (len(islands) + len(bends)),
                      _mouths(plot, gates))
     room = outline.buffer(-(CLEAR - EPS), join_style="mitre")
     rows: list[DrawnRow] = []
@@ -375,7 +407,9 @@ def _to_plot(c: Candidate, frame: _Frame) -> Candidate:
                      [Polygon(frame.to_plot(np.asarray(p.exterior.coords)))
                       for p in r.polygons], r.size) for r in c.rows]
     gates = [DrawnGate(g.id, g.aisle, pose(g.entrance), pose(g.exit),
-                       None if g.mouth is None else (pt(g.mouth[0]), pt(g.mouth[1])))
+                       None if g.mouth is None else (pt(g.mouth[0]), pt(g.mouth[1])),
+                       None if g.approach is None else (pt(g.approach[0]),
+                                                        pt(g.approach[1])))
              for g in c.gates]
     return Candidate(c.orientation_deg, c.module, c.offset, c.inner_first, aisles, rows, gates,
                      c.ringed, c.spine, c.along)

@@ -65,13 +65,16 @@ class DrawnRow:
 @dataclass
 class DrawnGate:
     """A gate's entrance and exit: poses (x, y, heading [rad]) on its aisle; its ``mouth``,
-    the stretch of boundary, as wide as the aisle, where the aisle meets it."""
+    the stretch of boundary, as wide as the aisle, where the aisle meets it (for an aisle
+    turned from square to the boundary, its first cross-section, which lies in the plot);
+    and for such an aisle its ``approach``, from the gate to the middle of its mouth."""
 
     id: str
     aisle: str
     entrance: tuple[float, float, float]
     exit: tuple[float, float, float]
     mouth: tuple[Point2, Point2] | None = None
+    approach: tuple[Point2, Point2] | None = None
 
 
 @dataclass
