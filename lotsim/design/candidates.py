@@ -54,6 +54,7 @@ from lotsim.design.drawn import (
     DrawnRow,
     Module,
     Point2,
+    strip,
 )
 from lotsim.design.gates import (
     GATE_MIN,
@@ -137,9 +138,6 @@ class _Frame:
                                 p[:, 0] * self.s + p[:, 1] * self.c]) + self.o
 
 
-def _strip(a: Point2, b: Point2, width: float) -> Polygon:
-    return LineString([a, b]).buffer(width / 2, cap_style="flat")
-
 
 
 def draw(plot: PlotSpec, module: Module, orientation_deg: float, offset: float,
@@ -185,7 +183,7 @@ def draw(plot: PlotSpec, module: Module, orientation_deg: float, offset: float,
             legs.append((a, b))
             aisles.append(DrawnAisle(f"r{k + 1}-{i + 1}", a, b, ring_w, False, "ring"))
     ring_lines = [LineString(leg) for leg in legs]
-    ring_strips = unary_union([_strip(a, b, ring_w) for a, b in legs])
+    ring_strips = unary_union([strip(a, b, ring_w) for a, b in legs])
     kept_clear = unary_union([i.buffer(CLEAR) for i in islands]) if islands else None
     if kept_clear is not None and ring_strips.intersects(kept_clear):
         return None
@@ -223,7 +221,7 @@ def draw(plot: PlotSpec, module: Module, orientation_deg: float, offset: float,
                       for phi in ends)
             if seg.length <= ta + tb + 1.0:
                 continue
-            core = _strip((ax + ta, y), (bx - tb, y), module.width + 2 * CLEAR)
+            core = strip((ax + ta, y), (bx - tb, y), module.width + 2 * CLEAR)
             if core.intersects(ring_strips) or _beside_ring(ax, bx, y, legs, beside):
                 continue
             if module.one_way and k % 2 == 1:
@@ -253,7 +251,7 @@ def draw(plot: PlotSpec, module: Module, orientation_deg: float, offset: float,
         gates.append(drawn[1])
     aisles += gate_aisles
 
-    strips = [_strip(a.start, a.end, a.width) for a in aisles]
+    strips = [strip(a.start, a.end, a.width) for a in aisles]
     bends = _bends(gate_aisles)
     things = _Things(strips + islands + bends,
                      [a.id for a in aisles] + [""] * (len(islands) + len(bends)),
@@ -324,8 +322,8 @@ def _spine(plot: PlotSpec, gate: int, offset: float, branches: bool, branches_fi
         top = 2.0 * math.dist(*np.asarray(outline.bounds).reshape(2, 2))
         lo, hi = first, top
         def fits(t: float) -> bool:
-            strip = _strip(tuple(p0 + u * first), tuple(p0 + u * t), w)
-            return outline.covers(strip) and (blocked is None or strip.disjoint(blocked))
+            band = strip(tuple(p0 + u * first), tuple(p0 + u * t), w)
+            return outline.covers(band) and (blocked is None or band.disjoint(blocked))
         if not fits(first + 0.5):
             return 0.0
         while hi - lo > 0.05:
@@ -372,7 +370,7 @@ def _spine(plot: PlotSpec, gate: int, offset: float, branches: bool, branches_fi
             return None
         aisles += drawn[0]
         gates.append(drawn[1])
-    strips = [_strip(a.start, a.end, a.width) for a in aisles]
+    strips = [strip(a.start, a.end, a.width) for a in aisles]
     bends = _bends(aisles)
     things = _Things(strips + islands + bends,
                      [a.id for a in aisles] + [""] * (len(islands) + len(bends)),

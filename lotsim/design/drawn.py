@@ -7,9 +7,14 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 
-from shapely.geometry import Polygon
+from shapely.geometry import LineString, Polygon
 
 Point2 = tuple[float, float]
+
+
+def strip(a, b, width: float) -> Polygon:
+    """The pavement of an aisle of ``width`` [m] from ``a`` to ``b``, square at its ends."""
+    return LineString([a, b]).buffer(width / 2, cap_style="flat")
 
 CLEAR = 0.05
 """Bays, aisles and islands are kept this far apart in the drawing [m], so that the

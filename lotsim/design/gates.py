@@ -16,7 +16,14 @@ import shapely
 from shapely.geometry import LineString, Point, Polygon
 from shapely.ops import unary_union
 
-from lotsim.design.drawn import CLEAR, EPS, MIN_JUNCTION_DEG, DrawnAisle, DrawnGate
+from lotsim.design.drawn import (
+    CLEAR,
+    EPS,
+    MIN_JUNCTION_DEG,
+    DrawnAisle,
+    DrawnGate,
+    strip,
+)
 from lotsim.design.plot import PlotSpec
 
 GATE_INSET = 0.02
@@ -145,7 +152,7 @@ def _turned_gate(plot: PlotSpec, gid: str, at: np.ndarray, outline: Polygon,
     options.sort(key=lambda o: o[0])
     room = outline.buffer(EPS)
     shapely.prepare(room)
-    strips = [_strip(a.start, a.end, a.width) for a in aisles]
+    strips = [strip(a.start, a.end, a.width) for a in aisles]
     way_in = outline.buffer(APPROACH_SLACK)
     for _, pieces, met in options:
         if _clear(pieces, met, aisles, strips, room, w) and \
@@ -180,7 +187,7 @@ def _clear(pieces, met: tuple[int, ...], aisles: list[DrawnAisle], strips: list[
     inside it) runs into the corner's pavement: the strips of the aisles met there may
     take in all of it but its first metre."""
     bends = [Point(b) for _, b in pieces[:-1]]
-    drawn = unary_union([_strip(a, b, width) for a, b in pieces] +
+    drawn = unary_union([strip(a, b, width) for a, b in pieces] +
                         [p.buffer(width / 2) for p in bends])
     if not room.covers(drawn):
         return False
@@ -197,10 +204,10 @@ def _clear(pieces, met: tuple[int, ...], aisles: list[DrawnAisle], strips: list[
         if length <= trim + 1.0:
             return False
     kept = width + 2 * CLEAR
-    core = unary_union([_strip(p, q, kept) for p, q in pieces[:-1]] +
-                       [_strip(a, b - d * trim, kept)] +
+    core = unary_union([strip(p, q, kept) for p, q in pieces[:-1]] +
+                       [strip(a, b - d * trim, kept)] +
                        [p.buffer(kept / 2) for p in bends])
-    whole = core.union(_strip(b - d * trim, b, width))
+    whole = core.union(strip(b - d * trim, b, width))
     return not any((core if k in met else whole).intersects(strip)
                    for k, strip in enumerate(strips))
 
@@ -292,9 +299,6 @@ def _bisector(outline: Polygon, pts: np.ndarray, c: int) -> np.ndarray:
     v = v / np.hypot(*v)
     return v if outline.contains(Point(pts[c] + v * 1e-3)) else -v
 
-
-def _strip(a, b, width: float) -> Polygon:
-    return LineString([a, b]).buffer(width / 2, cap_style="flat")
 
 
 def gate_edges(plot: PlotSpec) -> tuple[int, ...]:
