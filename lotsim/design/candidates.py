@@ -244,7 +244,8 @@ def draw(plot: PlotSpec, module: Module, orientation_deg: float, offset: float,
                 return None
             gates.append(gate)
             continue
-        drawn = _gate_aisles(plot, g.id, at, outline, lines, turned=turned)
+        drawn = _gate_aisles(plot, g.id, at, outline, lines, turned=turned,
+                             islands=islands)
         if drawn is None:
             return None
         gate_aisles += drawn[0]
@@ -365,7 +366,7 @@ def _spine(plot: PlotSpec, gate: int, offset: float, branches: bool, branches_fi
     lines = [(LineString([a.start, a.end]), a) for a in aisles]
     for other in plot.gates[:gate] + plot.gates[gate + 1:]:
         drawn = _gate_aisles(plot, other.id, np.asarray(other.at, dtype=float), outline,
-                             lines, turned=turned)
+                             lines, turned=turned, islands=islands)
         if drawn is None:
             return None
         aisles += drawn[0]

@@ -81,20 +81,20 @@ def _gate(plot: PlotSpec, gid: str, at: np.ndarray, outline: Polygon,
 
 
 def _gate_aisles(plot: PlotSpec, gid: str, at: np.ndarray, outline: Polygon,
-                 lines: list[tuple[LineString, DrawnAisle]], *, turned: bool = False
-                 ) -> tuple[list[DrawnAisle], DrawnGate] | None:
+                 lines: list[tuple[LineString, DrawnAisle]], *, turned: bool = False,
+                 islands: list[Polygon] = ()) -> tuple[list[DrawnAisle], DrawnGate] | None:
     """A gate's aisle (its pieces) to the first aisle of ``lines`` it meets, with its
     entrance and exit: square to its edge (:func:`_gate`) where that can be drawn, else,
-    with ``turned``, turned, straight or bent once (:func:`_turned_gate`); None when
-    neither can."""
+    with ``turned``, turned, straight or bent once, clear of the ``islands``
+    (:func:`_turned_gate`); None when neither can."""
     drawn = _gate(plot, gid, at, outline, lines)
     if drawn is not None:
         return [drawn[0]], drawn[1]
-    return _turned_gate(plot, gid, at, outline, lines) if turned else None
+    return _turned_gate(plot, gid, at, outline, lines, islands) if turned else None
 
 
 def _turned_gate(plot: PlotSpec, gid: str, at: np.ndarray, outline: Polygon,
-                 lines: list[tuple[LineString, DrawnAisle]]
+                 lines: list[tuple[LineString, DrawnAisle]], islands: list[Polygon] = ()
                  ) -> tuple[list[DrawnAisle], DrawnGate] | None:
     """A gate's aisle turned from square to its edge, for a gate where the square one
     leaves the plot or meets no aisle: from a mouth of :func:`_ways_in` along its way,
@@ -105,7 +105,7 @@ def _turned_gate(plot: PlotSpec, gid: str, at: np.ndarray, outline: Polygon,
     Of these the shortest, from the gate, a bend counting :data:`BEND_COST`, whose strips
     (and the disc that rounds the bend) lie in the plot, clear of every aisle but the one
     met, and of that one short of where it is met: the aisle's pieces (the first named
-    ``gate-<id>``, the second ``gate-<id>-2``), and the gate's entrance and exit on the
+    ``gate-<id>``, the second ``bend1-<id>``), and the gate's entrance and exit on the
     first; None where there is none."""
     if not lines:
         return None
@@ -151,6 +151,8 @@ def _turned_gate(plot: PlotSpec, gid: str, at: np.ndarray, outline: Polygon,
                             [(p0, q[b]), (q[b], foot[b, j])], (int(j),)))
     options.sort(key=lambda o: o[0])
     room = outline.buffer(EPS)
+    if islands:  # (which a square gate aisle meets the ring round first)
+        room = room.difference(unary_union(islands))
     shapely.prepare(room)
     strips = [strip(a.start, a.end, a.width) for a in aisles]
     way_in = outline.buffer(APPROACH_SLACK)
@@ -166,7 +168,8 @@ def _turned(plot: PlotSpec, gid: str, g: np.ndarray, pieces: list[tuple[np.ndarr
     """A turned gate aisle of ``pieces`` (start, end) and its gate's entrance, exit, mouth
     and approach from the gate ``g``."""
     w = plot.circulation_width
-    ids = [f"gate-{gid}"] + [f"gate-{gid}-{k + 2}" for k in range(len(pieces) - 1)]
+    # the pieces after the first are "bend1-<id>", ...: no other aisle is named so
+    ids = [f"gate-{gid}"] + [f"bend{k + 1}-{gid}" for k in range(len(pieces) - 1)]
     aisles = [DrawnAisle(i, tuple(map(float, a)), tuple(map(float, b)), w, False, "gate")
               for i, (a, b) in zip(ids, pieces, strict=True)]
     p0, p1 = pieces[0]
