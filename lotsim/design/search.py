@@ -65,10 +65,11 @@ def candidates(plot: PlotSpec, settings: LayoutSettings) -> list[Candidate]:
     perimeter rows everywhere or beside the boundary along the gates' edges
     (:func:`~lotsim.design.gates.gate_edges`); then spine
     candidates by gate, offset of branches, order of rows; a candidate drawn alike by other
-    choices, once. Where none of the ring candidates can be drawn with the gates' aisles
-    square to the boundary, all of them are drawn again, and the spines, with the aisles
-    of the gates where the square one cannot be drawn turned, straight or bent once
-    (``turned`` of :func:`~lotsim.design.candidates.draw`), after those drawn before.
+    choices, once. Each candidate that draws nothing with the gates' aisles square to the
+    boundary is drawn again, after all those, with the aisles of the gates where the square
+    one cannot be drawn turned, straight or bent once (``turned`` of
+    :func:`~lotsim.design.candidates.draw` and
+    :func:`~lotsim.design.candidates.draw_spine`).
 
     Examples
     --------
@@ -92,28 +93,34 @@ def candidates(plot: PlotSpec, settings: LayoutSettings) -> list[Candidate]:
             out.append(c)
 
     along = ((), gate_edges(plot))
-    # with the gates' aisles square to the boundary; where that draws no ring candidate,
-    # again with them turned where they cannot be square (a gate at an acute corner, in
-    # a spike, on the edge of a notch)
-    for turned in (False, True):
-        if turned and any(c.spine is None for c in out):
-            break
-        for module in modules_of(plot):
-            step = pitch(module, plot)
-            for theta in orientations(plot, settings.orientations):
-                for i, inner_first, ringed, edges in itertools.product(
-                        range(settings.offsets), (False, True), (True, False), along):
-                    keep(draw(plot, module, theta, step * i / settings.offsets,
-                              inner_first, ringed, edges, turned=turned))
-        # spines from each gate, for plots too small or too narrow for a ring
-        step = pitch(Module(90, False, plot.circulation_width), plot)
-        for gate in range(len(plot.gates)):
-            for i, branches, first in itertools.product(range(settings.offsets),
-                                                        (False, True), (True, False)):
-                if not branches and (i or not first):
-                    continue
-                keep(draw_spine(plot, gate, step * i / settings.offsets, branches, first,
-                                turned=turned))
+    drawings = []  # (how it is drawn, its choices), in the order drawn
+    for module in modules_of(plot):
+        step = pitch(module, plot)
+        for theta in orientations(plot, settings.orientations):
+            for i, inner_first, ringed, edges in itertools.product(
+                    range(settings.offsets), (False, True), (True, False), along):
+                drawings.append((draw, (plot, module, theta, step * i / settings.offsets,
+                                        inner_first, ringed, edges)))
+    # spines from each gate, for plots too small or too narrow for a ring
+    step = pitch(Module(90, False, plot.circulation_width), plot)
+    for gate in range(len(plot.gates)):
+        for i, branches, first in itertools.product(range(settings.offsets), (False, True),
+                                                    (True, False)):
+            if not branches and (i or not first):
+                continue
+            drawings.append((draw_spine, (plot, gate, step * i / settings.offsets, branches,
+                                          first)))
+    # with the gates' aisles square to the boundary; those that draw nothing, again with
+    # the aisles turned where they cannot be square (a gate at an acute corner, in a
+    # spike, on the edge of a notch), after
+    failed = []
+    for how, choices in drawings:
+        c = how(*choices)
+        if c is None or c.bays == 0:
+            failed.append((how, choices))
+        keep(c)
+    for how, choices in failed:
+        keep(how(*choices, turned=True))
     return out
 
 

@@ -8,6 +8,7 @@ its mouth, and the bays clear of everything (:func:`test_candidates._violations`
 from __future__ import annotations
 
 import math
+from pathlib import Path
 
 import pytest
 from shapely.geometry import LineString, Point, Polygon
@@ -131,3 +132,22 @@ def test_the_oracle_sees_a_gate_aisle_that_leaves_the_plot_or_meets_nothing():
     last = [a for a in c.aisles if a.role == "gate"][-1]
     last.end = (last.end[0] + 0.5 * (last.end[0] - last.start[0]), last.end[1])
     assert any("ends on no aisle" in w or "leaves" in w for w in _gate_problems(plot, c))
+
+
+def test_only_a_candidate_that_cannot_have_square_gate_aisles_is_drawn_turned():
+    # 1 m from the south-west corner of a 100 x 60 m plot: a ring inside perimeter rows
+    # has no square gate aisle (it would leave the plot), so it comes turned, along the
+    # corner's bisector (45°); the ring along the gate's edges opens onto it square, as
+    # before, and a 100 x 60 m plot's gate at the middle of its side turns nowhere
+    root = Path(__file__).resolve().parents[3] / "scenarios" / "plots"
+    drawn = candidates(read_plot(root / "corner_gate.yaml"), SETTINGS)
+    turned = [c for c in drawn if c.gates[0].approach is not None]
+    square = [c for c in drawn if c.gates[0].approach is None]
+    assert turned and square
+    for c in turned:
+        gate = next(a for a in c.aisles if a.id == c.gates[0].aisle)
+        u = _unit(gate.start, gate.end)
+        assert math.degrees(math.atan2(u[1], u[0])) == pytest.approx(45.0, abs=5.0)
+        assert not c.along and _violations(read_plot(root / "corner_gate.yaml"), c) == []
+    assert all(c.gates[0].approach is None
+               for c in candidates(read_plot(root / "rect60x100.yaml"), SETTINGS))
