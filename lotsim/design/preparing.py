@@ -29,6 +29,8 @@ from lotsim.io.imports.draft import (
 from lotsim.io.result import result_dict
 from lotsim.io.scenario_yaml import parse_scenario
 from lotsim.io.yamlnodes import parse_text
+from lotsim.lot.pavement import pave
+from lotsim.lot.spec import PavementSpec
 from lotsim.lot.uses import MARKS
 from lotsim.sim.orders import plan_run
 from lotsim.sim.preparation import prepare_lot
@@ -141,7 +143,8 @@ def _use_figures(plot: PlotSpec, report, alloc: Allocation | None = None) -> dic
 
 def _run(sc, prepared, settings: LayoutSettings, e: Evaluation, clock: float) -> Evaluation:
     """``e`` with the figures of a run of its lot at the plot's demand: mean time to park,
-    cars parked per hour, and whether ``lotsim check`` passes the run."""
+    cars parked per hour, and whether ``lotsim check`` passes the run; and the ground its
+    aisles and bays take."""
     rr = plan_run(sc, RunSettings(planner=settings.planner), lot_graph=prepared.lot_graph)
     m = rr.metrics()
     parked = [v for v in rr.vehicles if v.parked_at is not None]
@@ -152,10 +155,12 @@ def _run(sc, prepared, settings: LayoutSettings, e: Evaluation, clock: float) ->
     else:
         rate = 0.0
     report = check_result(result_dict(rr))
+    lot = prepared.lot
+    paved = pave(PavementSpec(), lot.boundary, lot.aisles, lot.slots, []).area
     return dataclasses.replace(e, mean_time_to_park=float(m["mean_time_to_park"]),
                                throughput=rate, parked=len(parked),
                                vehicles=int(m["vehicles"]), checked=report.ok,
-                               seconds=time.perf_counter() - clock)
+                               paved=float(paved), seconds=time.perf_counter() - clock)
 
 
 def _short(message: str) -> str:

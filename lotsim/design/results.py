@@ -83,6 +83,15 @@ class Evaluation:
     dead_end_cost: float = 0.0
     """What 100 m of its dead ends cost it in the ranking [bays]
     (:attr:`~lotsim.design.settings.LayoutSettings.dead_end_cost`)."""
+    paved: float = 0.0
+    """The ground its usable bays and aisles take [m²]: the aisles with their kerb
+    corners and the bays, as a lot paved only there is
+    (:func:`~lotsim.lot.pavement.pave`; 0 when it failed)."""
+
+    @property
+    def paved_per_bay(self) -> float:
+        """Pavement per usable bay [m²] (:attr:`paved` over :attr:`bays`; 0: none)."""
+        return self.paved / self.bays if self.bays else 0.0
 
     @property
     def worth(self) -> float:
@@ -106,8 +115,9 @@ class Evaluation:
             run = (f"; a run of its demand: {self.parked} of {self.vehicles} cars parked, mean "
                    f"time to park {self.mean_time_to_park:.1f} s, {self.throughput:.0f} cars "
                    f"parked per hour, lotsim check {'passed' if self.checked else 'failed'}")
+        paved = f", paved {self.paved_per_bay:.1f} m² a bay" if self.paved else ""
         figures = comment(f"{self.bays} bays, each usable by every vehicle type "
-                          f"({self.bays_per_100m2:.2f} per 100 m²), aisles "
+                          f"({self.bays_per_100m2:.2f} per 100 m²{paved}), aisles "
                           f"{self.aisle_length:.1f} m{run}.")
         if self.by_use:
             figures += "\n" + comment(f"Bays by use: {self.uses_text()}.")
@@ -159,19 +169,21 @@ class LayoutResult:
         asked = _columns(self.plot)
         uses = "".join(f"  {title:>{len(title)}}" for _, title in asked)
         head = (f"{'#':>2}  {'bays':>5}  {'drawn':>5}{uses}  {'ADA':>3}  {'per 100 m²':>10}  "
-                f"{'aisles [m]':>10}  {'dead ends':>9}  {'park [s]':>8}  {'cars/h':>7}  layout")
+                f"{'paved/bay':>9}  {'aisles [m]':>10}  {'dead ends':>9}  {'park [s]':>8}  "
+                f"{'cars/h':>7}  layout")
         lines = [head]
         for k, e in enumerate(self.ranked[:most]):
             park = f"{e.mean_time_to_park:8.1f}" if e.mean_time_to_park is not None else \
                 f"{'-':>8}"
             rate = f"{e.throughput:7.0f}" if e.throughput is not None else f"{'-':>7}"
+            paved = f"{e.paved_per_bay:9.1f}" if e.ok and e.paved else f"{'-':>9}"
             what = e.label if e.ok else f"{e.label}: {e.problem}"
             counts = dict(e.by_use)
             cells = "".join(f"  {_use_cell(counts, u, e.ok):>{len(title)}}"
                             for u, title in asked)
             ada = "-" if e.met is None or not e.ok else ("yes" if e.met else "no")
             lines.append(f"{k + 1:>2}  {e.bays:>5}  {e.drawn:>5}{cells}  {ada:>3}  "
-                         f"{e.bays_per_100m2:>10.2f}  {e.aisle_length:>10.1f}  "
+                         f"{e.bays_per_100m2:>10.2f}  {paved}  {e.aisle_length:>10.1f}  "
                          f"{e.dead_end_length:>9.1f}  {park}  "
                          f"{rate}  {what}")
         return "\n".join(lines)

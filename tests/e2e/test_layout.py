@@ -273,3 +273,27 @@ def test_a_plot_with_uses_lays_out_into_a_lot_validate_counts_alike(tmp_path):
     result = lotsim.run(report.prepared)
     assert lotsim.check(result).ok  # no car on an access aisle; none in a bay its use bars
     assert "ADA" in found.table() and " yes " in found.table()
+
+
+def test_the_pavement_a_layout_takes_is_its_aisles_and_bays(tmp_path, capsys):
+    # shapely's count from the written lot: the union of the aisles' strips (square at
+    # their ends, as wide as written) and the bays, within the plot; the pavement lotsim
+    # reports adds the kerb corners where aisles join (at most four where two cross), each
+    # less than r² (1 - π/4) for r = 3 m, and nothing else
+    found = lotsim.layout(SMALL, settings=QUICK)
+    best = found.best
+    sc = scenario_from_text(best.yaml)
+    lot = build_lot(sc.lot, DesignVehicle.envelope(sc.vehicle_types))
+    ground = shapely.union_all([a.polygon for a in lot.aisles.values()]
+                               + [Polygon(s.polygon) for s in lot.slots])
+    ground = ground.intersection(Polygon(sc.lot.boundary))
+    joins = sum(1 for a in lot.aisles.values() for b in lot.aisles.values()
+                if a.id < b.id and a.polygon.intersects(b.polygon))
+    assert ground.area - 0.05 <= best.paved <= ground.area + joins * 4 * 9 * (1 - math.pi / 4)
+    assert best.bays * 2.5 * 5.0 < best.paved < Polygon(sc.lot.boundary).area
+    assert best.paved_per_bay == pytest.approx(best.paved / best.bays)
+    # the table and the written lot say it
+    assert f"paved {best.paved_per_bay:.1f} m² a bay" in best.document()
+    table = found.table()
+    assert "paved/bay" in table.splitlines()[0]
+    assert f"{best.paved_per_bay:9.1f}" in table.splitlines()[1]
