@@ -24,6 +24,7 @@ from dataclasses import dataclass
 
 import numpy as np
 from shapely.geometry import LineString
+from shapely.ops import nearest_points
 
 from lotsim.design.drawn import Candidate, DrawnAisle
 from lotsim.design.plot import PlotSpec
@@ -117,10 +118,11 @@ def circulation(plot: PlotSpec, cand: Candidate) -> Circulation:
             if lines[i].distance(lines[j]) >= MEET:
                 continue
             meet = lines[i].intersection(lines[j])
-            p = (np.asarray(meet.coords[0]) if not meet.is_empty and meet.geom_type ==
-                 "Point" else np.asarray(lines[i].interpolate(lines[i].project(
-                     lines[j].interpolate(0.0))).coords[0]))
-            si, sj = _station(aisles[i], p), _station(aisles[j], p)
+            if not meet.is_empty and meet.geom_type == "Point":
+                pi = pj = np.asarray(meet.coords[0])
+            else:  # touching short of crossing (to the last bit of a slanted leg), or along
+                pi, pj = (np.asarray(q.coords[0]) for q in nearest_points(lines[i], lines[j]))
+            si, sj = _station(aisles[i], pi), _station(aisles[j], pj)
             k = node_at(i, si)
             k = node_at(j, sj) if k is None else k
             if k is None:

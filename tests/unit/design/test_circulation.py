@@ -104,3 +104,24 @@ def test_a_loop_ranks_before_a_dead_end_of_a_few_bays_more():
     assert [e.index for e in sorted(free, key=Evaluation.rank_key)] == [3, 0, 1]
     with pytest.raises(SettingsError, match="dead_end_cost"):
         LayoutSettings(dead_end_cost=-1.0)
+
+
+def test_an_aisle_that_ends_a_hair_short_of_a_slanted_leg_meets_it_where_it_ends():
+    # a module aisle square up to a ring leg at 30°, ending 1e-9 m short of it (touching,
+    # not crossing, for shapely): it meets the leg there, and only its foot is a dead end;
+    # 2 m short of the leg it meets nothing, both its ends dead, its bays served by none
+    slope = math.tan(math.radians(30))
+    leg = DrawnAisle("r1", (0.0, 10.0), (100.0, 10.0 + 100.0 * slope), 7.0, False, "ring")
+    gate = DrawnAisle("gate", (20.0, 0.0), (20.0, 10.0 + 20.0 * slope), 7.0, False, "gate")
+    x, y = 60.0, 10.0 + 60.0 * slope
+    along = 1.0 / math.cos(math.radians(30))  # metres of leg a metre east
+    for short, served, dead in (
+            (1e-9, 5, 20.0 * along + 40.0 * along + y),  # the leg's ends, the module's foot
+            (2.0, 0, 20.0 * along + 80.0 * along + 2 * (y - 2.0))):
+        module = DrawnAisle("m1", (x, 0.0), (x, y - short), 7.0, False, "module")
+        cand = Candidate(0.0, Module(90, False, 7.0), 0.0, False, [leg, gate, module],
+                         [DrawnRow("m1", "left", 90, 0.0, 5)],
+                         [DrawnGate("south", "gate", (20.0, 1.0, 1.57), (20.0, 4.0, -1.57))])
+        judged = circulation(PLOT, cand)
+        assert judged.dead_end_length == pytest.approx(dead, abs=1e-6), short
+        assert judged.served == served, short
