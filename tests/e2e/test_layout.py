@@ -87,7 +87,8 @@ def test_the_rectangle_beats_the_hand_count_and_validates_strictly(tmp_path):
     assert out.read_text() == best.document()
     assert out.read_text().splitlines()[1] == (
         f"# {best.bays} bays, each usable by every vehicle type ({best.bays_per_100m2:.2f} per "
-        f"100 m²), aisles {best.aisle_length:.1f} m; a run of its demand: 30 of 30 cars "
+        f"100 m², paved {best.paved / best.bays:.1f} m² a bay), aisles "
+        f"{best.aisle_length:.1f} m; a run of its demand: 30 of 30 cars "
         f"parked, mean time to park {best.mean_time_to_park:.1f} s, {best.throughput:.0f} "
         "cars parked per hour, lotsim check passed.")
     report = lotsim.validate(out)
